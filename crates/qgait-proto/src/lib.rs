@@ -1,0 +1,1 @@
+//! qgait wire protocol (being written).

@@ -1,0 +1,1 @@
+//! qgait host library (being written).
