@@ -1,1 +1,37 @@
-//! qgait wire protocol (being written).
+#![doc = include_str!("../README.md")]
+#![no_std]
+#![warn(missing_docs)]
+
+mod cobs;
+mod crc;
+mod decoder;
+mod error;
+mod flags;
+mod frame;
+mod joint;
+mod messages;
+mod model;
+mod sizes;
+mod wire;
+
+pub use crate::crc::{crc32c, FRAME_CRC, FRAME_CRC_CHECK};
+pub use crate::decoder::{Feed, FrameDecoder};
+pub use crate::error::{DecodeError, EncodeError, ErrorKind};
+pub use crate::flags::{FrameFlags, QualityFlags};
+pub use crate::frame::{decode_frame, encode_frame, encode_raw_frame};
+pub use crate::joint::JointId;
+pub use crate::messages::{
+    point, segment, Config, JointAngle, Message, MissingPolicy, PoseFrame, Status,
+    MAX_POSE_ANGLES, PROTOCOL_VERSION,
+};
+pub use crate::model::ModelId;
+pub use crate::sizes::{
+    CONFIG_MAX_LEN, CRC_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN,
+    MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN,
+};
+pub use crate::wire::{decode_message, encode_message};
+
+/// Largest COBS encoding (delimiter excluded) of `len` bytes: `len + len / 254 + 1`.
+pub const fn cobs_max_encoded_len(len: usize) -> usize {
+    cobs::max_encoded_len(len)
+}

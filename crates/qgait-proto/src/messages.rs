@@ -1,0 +1,216 @@
+//! The messages: [`JointAngle`], [`PoseFrame`], [`Status`], [`Config`] and the top-level
+//! [`Message`] enum that is put on the wire.
+//!
+//! The serde derives exist for host-side convenience (JSON logs and the like). The wire bytes
+//! are defined by [`encode_message`](crate::encode_message) /
+//! [`decode_message`](crate::decode_message); decode with those (or
+//! [`FrameDecoder`](crate::FrameDecoder)) to get precise [`DecodeError`](crate::DecodeError)s.
+
+use serde::{Deserialize, Serialize};
+
+use crate::{JointId, ModelId};
+
+/// The protocol version written in every [`JointAngle`]. See `docs/protocol.md` for the
+/// versioning rules.
+pub const PROTOCOL_VERSION: u8 = 1;
+
+/// One joint angle of one sample, sent by an IMU node to the hub.
+///
+/// One packet carries exactly one joint; a node measuring several joints sends one packet per
+/// joint per sample, all with the same `seq` and `timestamp_us`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct JointAngle {
+    /// Protocol version of the sender; [`PROTOCOL_VERSION`] for this crate.
+    pub version: u8,
+    /// Id of the sending node.
+    pub node: u8,
+    /// Which joint coordinate this is.
+    pub joint: JointId,
+    /// Sample sequence number, wrapping at `u32::MAX`. Packets with the same `seq` belong to the
+    /// same sample.
+    pub seq: u32,
+    /// Sensor timestamp of the sample, microseconds (wraps after about 71.6 minutes).
+    pub timestamp_us: u32,
+    /// The angle, radians, OpenSim sign convention.
+    pub angle: f32,
+    /// [`QualityFlags`](crate::QualityFlags) bits.
+    pub quality: u8,
+}
+
+/// Maximum number of input angles in a [`PoseFrame`]: one per [`JointId`].
+pub const MAX_POSE_ANGLES: usize = JointId::COUNT;
+
+/// Indices into [`PoseFrame::points`].
+pub mod point {
+    /// Right hip joint centre.
+    pub const HIP_R: usize = 0;
+    /// Right knee joint centre.
+    pub const KNEE_R: usize = 1;
+    /// Right ankle joint centre.
+    pub const ANKLE_R: usize = 2;
+    /// Right toe.
+    pub const TOE_R: usize = 3;
+    /// Left hip joint centre.
+    pub const HIP_L: usize = 4;
+    /// Left knee joint centre.
+    pub const KNEE_L: usize = 5;
+    /// Left ankle joint centre.
+    pub const ANKLE_L: usize = 6;
+    /// Left toe.
+    pub const TOE_L: usize = 7;
+    /// Number of points.
+    pub const COUNT: usize = 8;
+}
+
+/// One computed pose, sent by the hub.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PoseFrame {
+    /// Sample sequence number (the `seq` of the [`JointAngle`]s it was computed from).
+    pub seq: u32,
+    /// The model used.
+    pub model: ModelId,
+    /// The input angles actually used (radians), in `model.required_joints()` order, so the host
+    /// can recompute the pose. Its length must equal `model.required_joints().len()`:
+    /// encoding or decoding anything else is an error.
+    pub angles: heapless::Vec<f32, MAX_POSE_ANGLES>,
+    /// Joint positions (metres, ground axes x forward, y up, z right, origin the pelvis origin),
+    /// in the order of the [`point`] indices: hip, knee, ankle, toe of the right leg, then the left.
+    pub points: [[f32; 3]; point::COUNT],
+    /// Distances between the legs (metres): knee-knee, ankle-ankle, toe-toe.
+    pub distances: [f32; 3],
+    /// [`FrameFlags`](crate::FrameFlags) bits.
+    pub flags: u8,
+}
+
+/// Counters of the hub, sent on request (see [`Config::request_status`]) or periodically.
+/// Every counter wraps at `u32::MAX`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Status {
+    /// Well-formed [`JointAngle`] packets accepted.
+    pub packets_accepted: u32,
+    /// Frames rejected for a CRC mismatch.
+    pub crc_errors: u32,
+    /// Frames rejected for bad COBS or too short to hold a message.
+    pub framing_errors: u32,
+    /// Frames longer than [`MAX_FRAME_LEN`](crate::MAX_FRAME_LEN).
+    pub oversize_frames: u32,
+    /// Packets of an unknown protocol version or unknown message tag.
+    pub unknown_version: u32,
+    /// Packets naming an unknown joint.
+    pub unknown_joint: u32,
+    /// Angles outside their physiological range.
+    pub out_of_range: u32,
+    /// Samples completed (a pose was computed).
+    pub samples_completed: u32,
+    /// Samples dropped because joints were missing.
+    pub samples_incomplete: u32,
+    /// Frames sent by the hub.
+    pub frames_sent: u32,
+    /// UART receive overruns (bytes lost in hardware).
+    pub uart_overruns: u32,
+    /// Milliseconds since the hub started (wraps after about 49.7 days).
+    pub uptime_ms: u32,
+    /// Packets that arrived after their sample had left the reorder window.
+    pub late_packets: u32,
+    /// Packets for a (sample, joint) already received.
+    pub duplicate_packets: u32,
+    /// Frames with a good CRC whose contents could not be decoded (bad postcard encoding,
+    /// unknown model, wrong angle count).
+    pub malformed: u32,
+}
+
+/// What the hub does when a sample is incomplete when its reorder window closes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum MissingPolicy {
+    /// Drop the sample: no pose frame is sent.
+    Drop = 0,
+    /// Use the last received angle of each missing joint and set [`FrameFlags::HELD`](crate::FrameFlags::HELD).
+    HoldLast = 1,
+}
+
+/// Anthropometry of one leg, metres, in the order of [`Config::anthropometry`]'s inner array.
+pub mod segment {
+    /// Half the distance between the hip joint centres.
+    pub const PELVIS_HALF_WIDTH: usize = 0;
+    /// Hip to knee.
+    pub const FEMUR: usize = 1;
+    /// Knee to ankle.
+    pub const TIBIA: usize = 2;
+    /// Ankle to toe.
+    pub const FOOT: usize = 3;
+    /// Number of segment lengths per leg.
+    pub const COUNT: usize = 4;
+}
+
+/// Configuration sent by the host to the hub.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// The model to compute poses with.
+    pub model: ModelId,
+    /// Segment lengths (metres) of the right leg (`[0]`) and the left leg (`[1]`), each indexed
+    /// by the [`segment`] constants; `None` keeps the hub's current (default) anthropometry.
+    pub anthropometry: Option<[[f32; segment::COUNT]; 2]>,
+    /// What to do with incomplete samples.
+    pub missing_policy: MissingPolicy,
+    /// How many samples the hub waits for late packets before closing a sample.
+    pub reorder_window: u8,
+    /// `true` asks the hub to answer with a [`Status`] message.
+    pub request_status: bool,
+}
+
+/// Every message of the protocol. The variant order is the wire tag (0, 1, 2, 3): new variants
+/// are only ever appended, existing ones never change.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Message {
+    /// Tag 0: node to hub.
+    JointAngle(JointAngle),
+    /// Tag 1: hub out.
+    PoseFrame(PoseFrame),
+    /// Tag 2: hub out.
+    Status(Status),
+    /// Tag 3: host to hub.
+    Config(Config),
+}
+
+impl Message {
+    /// The wire tag of this message (its variant index).
+    pub const fn tag(&self) -> u32 {
+        match self {
+            Message::JointAngle(_) => 0,
+            Message::PoseFrame(_) => 1,
+            Message::Status(_) => 2,
+            Message::Config(_) => 3,
+        }
+    }
+}
+
+impl From<JointAngle> for Message {
+    fn from(m: JointAngle) -> Self {
+        Message::JointAngle(m)
+    }
+}
+
+impl From<PoseFrame> for Message {
+    fn from(m: PoseFrame) -> Self {
+        Message::PoseFrame(m)
+    }
+}
+
+impl From<Status> for Message {
+    fn from(m: Status) -> Self {
+        Message::Status(m)
+    }
+}
+
+impl From<Config> for Message {
+    fn from(m: Config) -> Self {
+        Message::Config(m)
+    }
+}

@@ -1,0 +1,59 @@
+//! Maximum encoded sizes, computed from worst-case postcard encodings.
+//!
+//! postcard writes `u8` and `bool` as 1 byte, `f32` as 4 bytes, an `Option` tag as 1 byte, and
+//! `u32` and lengths as LEB128 varints of at most 5 bytes (7 bits per byte). A message tag and
+//! every enum value of this protocol fit one byte.
+
+use crate::{cobs, point, segment, JointId};
+
+/// Worst-case bytes of a postcard `u32` varint.
+const VARINT_U32: usize = 5;
+/// Bytes of an `f32`.
+const F32: usize = 4;
+/// Bytes of the message tag (tags < 128 are one varint byte).
+const TAG: usize = 1;
+
+/// Largest postcard encoding of a [`JointAngle`](crate::JointAngle) message, tag included:
+/// tag, version, node, joint, seq, timestamp_us, angle, quality.
+pub const JOINT_ANGLE_MAX_LEN: usize = TAG + 1 + 1 + 1 + VARINT_U32 + VARINT_U32 + F32 + 1;
+
+/// Largest postcard encoding of a [`PoseFrame`](crate::PoseFrame) message, tag included:
+/// tag, seq, model, angle count (1 byte, <= 17), 17 angles, 8 points of 3, 3 distances, flags.
+pub const POSE_FRAME_MAX_LEN: usize =
+    TAG + VARINT_U32 + 1 + 1 + JointId::COUNT * F32 + point::COUNT * 3 * F32 + 3 * F32 + 1;
+
+/// Number of `u32` counters in a [`Status`](crate::Status).
+pub const STATUS_COUNTERS: usize = 15;
+
+/// Largest postcard encoding of a [`Status`](crate::Status) message, tag included.
+pub const STATUS_MAX_LEN: usize = TAG + STATUS_COUNTERS * VARINT_U32;
+
+/// Largest postcard encoding of a [`Config`](crate::Config) message, tag included:
+/// tag, model, option tag, 2 x 4 lengths, missing policy, reorder window, request_status.
+pub const CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 2 * segment::COUNT * F32 + 1 + 1 + 1;
+
+const fn max(a: usize, b: usize) -> usize {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// Largest postcard encoding of any [`Message`](crate::Message) (no CRC, no framing).
+pub const MAX_MESSAGE_LEN: usize = max(
+    max(JOINT_ANGLE_MAX_LEN, POSE_FRAME_MAX_LEN),
+    max(STATUS_MAX_LEN, CONFIG_MAX_LEN),
+);
+
+/// Bytes of the CRC-32C appended to the message before COBS.
+pub const CRC_LEN: usize = 4;
+
+/// Largest frame on the wire: COBS of (message + CRC), plus the 0x00 delimiter.
+pub const MAX_FRAME_LEN: usize = cobs::max_encoded_len(MAX_MESSAGE_LEN + CRC_LEN) + 1;
+
+/// Largest frame carrying a [`JointAngle`](crate::JointAngle), delimiter included.
+pub const JOINT_ANGLE_MAX_FRAME_LEN: usize = cobs::max_encoded_len(JOINT_ANGLE_MAX_LEN + CRC_LEN) + 1;
+
+/// Smallest decoded frame that can hold a message: a tag byte plus the CRC.
+pub const MIN_PAYLOAD_LEN: usize = TAG + CRC_LEN;

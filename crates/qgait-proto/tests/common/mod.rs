@@ -1,0 +1,91 @@
+//! Shared helpers of the integration tests: sample messages and stream helpers.
+#![allow(dead_code)]
+
+use qgait_proto::{
+    encode_frame, Config, DecodeError, FrameDecoder, JointAngle, JointId, Message, MissingPolicy,
+    ModelId, PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
+};
+
+/// A typical joint-angle packet.
+pub fn joint_angle(seq: u32, joint: JointId, angle: f32) -> JointAngle {
+    JointAngle {
+        version: PROTOCOL_VERSION,
+        node: 3,
+        joint,
+        seq,
+        timestamp_us: seq.wrapping_mul(10_000),
+        angle,
+        quality: 0,
+    }
+}
+
+/// A pose frame of `model` with angles `0.1, 0.2, ...` and made-up points.
+pub fn pose_frame(seq: u32, model: ModelId) -> PoseFrame {
+    let mut angles = heapless::Vec::new();
+    for i in 0..model.required_joints().len() {
+        angles.push(0.1 * (i as f32 + 1.0)).expect("at most 17 angles");
+    }
+    let mut points = [[0.0f32; 3]; 8];
+    for (i, p) in points.iter_mut().enumerate() {
+        *p = [0.01 * i as f32, -0.1 * i as f32, if i < 4 { 0.08 } else { -0.08 }];
+    }
+    PoseFrame { seq, model, angles, points, distances: [0.16, 0.17, 0.18], flags: 0 }
+}
+
+/// A status with distinct counters.
+pub fn status() -> Status {
+    Status {
+        packets_accepted: 1_000_000,
+        crc_errors: 1,
+        framing_errors: 2,
+        oversize_frames: 3,
+        unknown_version: 4,
+        unknown_joint: 5,
+        out_of_range: 6,
+        samples_completed: 70_000,
+        samples_incomplete: 8,
+        frames_sent: 69_990,
+        uart_overruns: 9,
+        uptime_ms: 3_600_000,
+        late_packets: 10,
+        duplicate_packets: 11,
+        malformed: 12,
+    }
+}
+
+/// A config with anthropometry.
+pub fn config() -> Config {
+    Config {
+        model: ModelId::Phak,
+        anthropometry: Some([[0.0835, 0.396, 0.43, 0.2]; 2]),
+        missing_policy: MissingPolicy::HoldLast,
+        reorder_window: 4,
+        request_status: true,
+    }
+}
+
+/// One message of every kind.
+pub fn every_message() -> Vec<Message> {
+    vec![
+        joint_angle(7, JointId::KneeAngleR, -0.5).into(),
+        pose_frame(7, ModelId::Phak).into(),
+        status().into(),
+        config().into(),
+    ]
+}
+
+/// The frame of `msg`, as a Vec.
+pub fn frame(msg: &Message) -> Vec<u8> {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    encode_frame(msg, &mut buf).expect("encodes").to_vec()
+}
+
+/// Pushes `bytes` one at a time and collects every result.
+pub fn decode_all(decoder: &mut FrameDecoder, bytes: &[u8]) -> Vec<Result<Message, DecodeError>> {
+    bytes.iter().filter_map(|&b| decoder.push(b)).collect()
+}
+
+/// Bitwise equality (NaN-safe) of two messages: equal encodings.
+pub fn same(a: &Message, b: &Message) -> bool {
+    frame(a) == frame(b)
+}
