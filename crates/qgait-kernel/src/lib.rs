@@ -1,1 +1,27 @@
 #![no_std]
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod anthropometry;
+pub mod chain;
+mod error;
+pub mod metrics;
+pub mod models;
+mod pose;
+mod quat;
+pub mod reference;
+mod scalar;
+pub mod spline;
+pub mod trig;
+mod vec3;
+
+pub use anthropometry::{Anthropometry, Limb};
+pub use chain::{Axis, Chain, Frame, JointSpec, PointSpec, SplineTranslation};
+pub use error::ModelError;
+pub use models::{Hak, HakAngles, Phak, PhakAngles};
+pub use pose::{BilateralPose, Joint, LegPose, Side};
+pub use quat::Quat;
+pub use scalar::Real;
+pub use spline::Spline;
+pub use vec3::Vec3;

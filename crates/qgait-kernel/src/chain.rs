@@ -1,0 +1,235 @@
+//! Models as data: a fixed-size tree of joints evaluated with quaternions.
+//!
+//! A [`Chain`] is a constant description: joints in topological order, each with its offset from
+//! its parent (in the parent's frame), a body-fixed sequence of up to three rotation axes each
+//! driven by one input coordinate, and optionally translations that depend on a coordinate
+//! through a [`Spline`] (gait2392's knee). Output points are fixed offsets in a joint's frame.
+//! HAK, PHAK and gait2392 are three tables of this type; one evaluator serves them all.
+
+use crate::{ModelError, Quat, Real, Spline, Vec3};
+
+/// Most rotation axes one joint has (OpenSim's CustomJoint: three).
+pub const MAX_AXES: usize = 3;
+
+/// One rotation axis of a joint, driven by an input coordinate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Axis<T> {
+    /// Unit direction in the joint's frame after the earlier axes of the same joint
+    /// (body-fixed sequence). Normalised by [`Chain::new`].
+    pub direction: Vec3<T>,
+    /// Index of the coordinate (radians) in the chain's input array.
+    pub coordinate: usize,
+}
+
+/// One joint: where its frame sits on its parent and how it rotates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointSpec<T> {
+    /// Name, for messages and CLIs (e.g. `"hip_r"`).
+    pub name: &'static str,
+    /// Index of the parent joint (an earlier one), or `None` for the root (ground frame).
+    pub parent: Option<usize>,
+    /// Location of this joint's centre in the parent's frame (metres).
+    pub offset: Vec3<T>,
+    /// Body-fixed rotation sequence; only the first `n_axes` are used.
+    pub axes: [Axis<T>; MAX_AXES],
+    /// How many of `axes` this joint has (0 to [`MAX_AXES`]).
+    pub n_axes: usize,
+}
+
+impl<T: Real> JointSpec<T> {
+    /// A joint with the given axes `(direction, coordinate)`, in order.
+    pub fn new(name: &'static str, parent: Option<usize>, offset: Vec3<T>, axes: &[(Vec3<T>, usize)]) -> Self {
+        let mut a = [Axis { direction: Vec3::zero(), coordinate: 0 }; MAX_AXES];
+        let n_axes = axes.len().min(MAX_AXES);
+        for (slot, (direction, coordinate)) in a.iter_mut().zip(axes) {
+            *slot = Axis { direction: *direction, coordinate: *coordinate };
+        }
+        // More than MAX_AXES is reported by Chain::new through n_axes mismatch.
+        Self { name, parent, offset, axes: a, n_axes: if axes.len() > MAX_AXES { MAX_AXES + 1 } else { n_axes } }
+    }
+}
+
+/// A translation of a joint centre, along a fixed direction of the parent frame, by a spline of
+/// one coordinate (OpenSim: a CustomJoint translation driven by a function).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SplineTranslation<T> {
+    /// The joint whose centre moves.
+    pub joint: usize,
+    /// Direction in the parent frame (not rotated by the joint's own rotation).
+    pub direction: Vec3<T>,
+    /// The driving coordinate.
+    pub coordinate: usize,
+    /// Displacement (metres) as a function of the coordinate (radians).
+    pub spline: Spline<T>,
+}
+
+/// A named output point fixed in a joint's frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointSpec<T> {
+    /// Name (e.g. `"toe_r"`).
+    pub name: &'static str,
+    /// The joint whose frame carries the point.
+    pub body: usize,
+    /// Position in that frame (metres); zero for the joint centre itself.
+    pub offset: Vec3<T>,
+}
+
+/// Position and orientation of a joint frame in the ground frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame<T> {
+    /// Orientation (unit quaternion, frame to ground).
+    pub rotation: Quat<T>,
+    /// Origin (the joint centre) in ground.
+    pub origin: Vec3<T>,
+}
+
+impl<T: Real> Frame<T> {
+    /// The ground frame.
+    pub fn ground() -> Self {
+        Self { rotation: Quat::identity(), origin: Vec3::zero() }
+    }
+    /// Maps a point given in this frame to ground.
+    #[inline(always)]
+    pub fn transform(&self, p: Vec3<T>) -> Vec3<T> {
+        self.origin + self.rotation.rotate(p)
+    }
+}
+
+/// A validated model: `N` input coordinates, `J` joints, `P` output points and `S` spline
+/// translations, all in fixed-size arrays (no allocation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Chain<T, const N: usize, const J: usize, const P: usize, const S: usize> {
+    joints: [JointSpec<T>; J],
+    points: [PointSpec<T>; P],
+    /// Whether each point is its joint's centre (its rotation can be skipped).
+    at_origin: [bool; P],
+    splines: [SplineTranslation<T>; S],
+}
+
+impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Chain<T, N, J, P, S> {
+    /// Validates and builds a chain. Axes are normalised here, once.
+    pub fn new(
+        mut joints: [JointSpec<T>; J],
+        points: [PointSpec<T>; P],
+        splines: [SplineTranslation<T>; S],
+    ) -> Result<Self, ModelError> {
+        for (j, joint) in joints.iter_mut().enumerate() {
+            if joint.parent.is_some_and(|p| p >= j) {
+                return Err(ModelError::ParentOrder { joint: j });
+            }
+            if joint.n_axes > MAX_AXES {
+                return Err(ModelError::BadAxis { joint: j });
+            }
+            if !(joint.offset.x.is_finite() && joint.offset.y.is_finite() && joint.offset.z.is_finite()) {
+                return Err(ModelError::BadLength);
+            }
+            for axis in &mut joint.axes[..joint.n_axes] {
+                if axis.coordinate >= N {
+                    return Err(ModelError::CoordinateOutOfRange { joint: j });
+                }
+                let len = axis.direction.norm();
+                if !(len.is_finite() && len > T::ZERO) {
+                    return Err(ModelError::BadAxis { joint: j });
+                }
+                axis.direction = axis.direction * (T::ONE / len);
+            }
+        }
+        let mut at_origin = [false; P];
+        for (i, p) in points.iter().enumerate() {
+            if p.body >= J {
+                return Err(ModelError::BodyOutOfRange { index: i });
+            }
+            at_origin[i] = p.offset == Vec3::zero();
+        }
+        for (i, s) in splines.iter().enumerate() {
+            if s.joint >= J {
+                return Err(ModelError::BodyOutOfRange { index: i });
+            }
+            if s.coordinate >= N {
+                return Err(ModelError::CoordinateOutOfRange { joint: s.joint });
+            }
+        }
+        Ok(Self { joints, points, at_origin, splines })
+    }
+
+    /// The joints, in evaluation order.
+    pub fn joints(&self) -> &[JointSpec<T>; J] {
+        &self.joints
+    }
+
+    /// The output points, in output order.
+    pub fn points(&self) -> &[PointSpec<T>; P] {
+        &self.points
+    }
+
+    /// The coordinate-driven translations.
+    pub fn splines(&self) -> &[SplineTranslation<T>; S] {
+        &self.splines
+    }
+
+    /// Joint offsets for these coordinates: the constant offsets plus spline translations.
+    #[inline(always)]
+    pub fn offsets(&self, q: &[T; N]) -> [Vec3<T>; J] {
+        let mut offsets = self.joints.map(|j| j.offset);
+        for s in &self.splines {
+            offsets[s.joint] += s.direction * s.spline.eval(q[s.coordinate]);
+        }
+        offsets
+    }
+
+    /// Every joint frame in ground for coordinates `q` (radians). One half-angle sine/cosine
+    /// pair per axis, one quaternion product per axis, one vector rotation per non-root joint.
+    #[inline]
+    pub fn frames(&self, q: &[T; N]) -> [Frame<T>; J] {
+        let offsets = self.offsets(q);
+        let mut frames = [Frame::ground(); J];
+        for j in 0..J {
+            let joint = &self.joints[j];
+            let (mut rotation, origin) = match joint.parent {
+                Some(p) => (frames[p].rotation, frames[p].transform(offsets[j])),
+                None => (Quat::identity(), offsets[j]),
+            };
+            for axis in &joint.axes[..joint.n_axes] {
+                let (s, c) = q[axis.coordinate].half_angle_sin_cos();
+                rotation = rotation * Quat::from_axis_half_sin_cos(axis.direction, s, c);
+            }
+            frames[j] = Frame { rotation, origin };
+        }
+        frames
+    }
+
+    /// The output points in ground for coordinates `q` (radians): forward kinematics.
+    #[inline]
+    pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
+        let frames = self.frames(q);
+        let mut out = [Vec3::zero(); P];
+        for (i, p) in self.points.iter().enumerate() {
+            let f = &frames[p.body];
+            out[i] = if self.at_origin[i] { f.origin } else { f.transform(p.offset) };
+        }
+        out
+    }
+
+    /// Converts the whole description to another precision (e.g. an `f64` model for the
+    /// firmware's `f32`).
+    pub fn cast<U: Real>(&self) -> Chain<U, N, J, P, S> {
+        let v = |v: Vec3<T>| v.cast::<U>();
+        Chain {
+            joints: self.joints.map(|j| JointSpec {
+                name: j.name,
+                parent: j.parent,
+                offset: v(j.offset),
+                axes: j.axes.map(|a| Axis { direction: v(a.direction), coordinate: a.coordinate }),
+                n_axes: j.n_axes,
+            }),
+            points: self.points.map(|p| PointSpec { name: p.name, body: p.body, offset: v(p.offset) }),
+            at_origin: self.at_origin,
+            splines: self.splines.map(|s| SplineTranslation {
+                joint: s.joint,
+                direction: v(s.direction),
+                coordinate: s.coordinate,
+                spline: s.spline.cast(),
+            }),
+        }
+    }
+}

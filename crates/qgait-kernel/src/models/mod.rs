@@ -1,0 +1,26 @@
+//! The models, each a constant [`Chain`](crate::Chain) table built from a subject's lengths.
+//!
+//! | model | inputs (OpenSim coordinates, radians) | outputs |
+//! |---|---|---|
+//! | [`Hak`] | `hip_flexion`, `knee_angle`, `ankle_angle` of one leg | hip (origin), knee, ankle, toe |
+//! | [`Phak`] | `pelvis_rotation`, `pelvis_list`, then `hip_flexion`, `knee_angle`, `ankle_angle` right and left | hip, knee, ankle, toe of both legs, origin at the pelvis origin, ground axes |
+
+mod hak;
+mod phak;
+
+pub use hak::{Hak, HakAngles, HakChain};
+pub use phak::{Phak, PhakAngles, PhakChain};
+
+use crate::Vec3;
+use crate::Real;
+
+/// Unit axes, for model tables.
+pub(crate) fn x<T: Real>() -> Vec3<T> {
+    Vec3::unit_x()
+}
+pub(crate) fn y<T: Real>() -> Vec3<T> {
+    Vec3::unit_y()
+}
+pub(crate) fn z<T: Real>() -> Vec3<T> {
+    Vec3::unit_z()
+}

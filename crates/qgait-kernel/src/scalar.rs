@@ -1,0 +1,144 @@
+//! The scalar trait the kernel is generic over, implemented for `f32` and `f64`.
+
+use core::fmt::Debug;
+use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
+
+use crate::trig;
+
+/// A real number type the kernel computes in: `f32` on the device, `f64` on the host.
+///
+/// The one method that differs in substance between the two is
+/// [`half_angle_sin_cos`](Real::half_angle_sin_cos), the only transcendental function on the
+/// forward-kinematics hot path (one call per joint angle): `f64` calls `libm` (correctly rounded
+/// to within 1 ulp), `f32` evaluates a minimax polynomial (see [`crate::trig`]).
+pub trait Real:
+    Copy
+    + PartialEq
+    + PartialOrd
+    + Default
+    + Debug
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+    + 'static
+{
+    /// 0
+    const ZERO: Self;
+    /// 1
+    const ONE: Self;
+    /// 2
+    const TWO: Self;
+    /// 1/2
+    const HALF: Self;
+    /// Converts from `f64` (rounding to nearest for `f32`).
+    fn from_f64(x: f64) -> Self;
+    /// Converts to `f64` (exact for both implementations).
+    fn to_f64(self) -> f64;
+    /// Square root (NaN for negative input).
+    fn sqrt(self) -> Self;
+    /// Absolute value.
+    fn abs(self) -> Self;
+    /// `true` unless NaN or infinite.
+    fn is_finite(self) -> bool;
+    /// The smaller of two values (the other one if either is NaN).
+    fn min(self, other: Self) -> Self;
+    /// The larger of two values (the other one if either is NaN).
+    fn max(self, other: Self) -> Self;
+    /// Accurate `(sin x, cos x)` (libm in both precisions). Used by the reference methods and
+    /// metrics, not on the quaternion hot path.
+    fn sin_cos(self) -> (Self, Self);
+    /// `(sin(x/2), cos(x/2))` up to a common sign: exactly what a rotation quaternion about a
+    /// unit axis needs (`q` and `-q` are the same rotation). NaN or infinite `x` gives NaN.
+    fn half_angle_sin_cos(self) -> (Self, Self);
+}
+
+impl Real for f64 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const TWO: Self = 2.0;
+    const HALF: Self = 0.5;
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        libm::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        f64::min(self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f64::max(self, other)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        libm::sincos(self)
+    }
+    #[inline(always)]
+    fn half_angle_sin_cos(self) -> (Self, Self) {
+        libm::sincos(0.5 * self)
+    }
+}
+
+impl Real for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const TWO: Self = 2.0;
+    const HALF: Self = 0.5;
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        trig::sqrt_f32(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        f32::min(self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f32::max(self, other)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        libm::sincosf(self)
+    }
+    #[inline(always)]
+    fn half_angle_sin_cos(self) -> (Self, Self) {
+        trig::half_angle_sin_cos_f32(self)
+    }
+}

@@ -1,0 +1,189 @@
+//! OpenSim's `SimmSpline`: the cubic spline that drives gait2392's knee translations.
+
+use crate::{ModelError, Real};
+
+/// Most knots a [`Spline`] holds (gait2392's knee uses 12 and 7).
+pub const MAX_KNOTS: usize = 12;
+
+/// A natural cubic spline through up to [`MAX_KNOTS`] knots, exactly as OpenSim's `SimmSpline`:
+/// the Forsythe-Malcolm-Moler construction (tridiagonal system; at each end the third
+/// derivative equals that of the cubic through the four end knots; two knots give a line, three
+/// a parabola-like end condition) and linear extrapolation with the end slope outside the knots.
+///
+/// Coefficients are computed once in `f64` and stored in `T`; evaluation is allocation-free and
+/// finds the interval without data-dependent loops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spline<T> {
+    n: usize,
+    x: [T; MAX_KNOTS],
+    y: [T; MAX_KNOTS],
+    b: [T; MAX_KNOTS],
+    c: [T; MAX_KNOTS],
+    d: [T; MAX_KNOTS],
+}
+
+impl<T: Real> Spline<T> {
+    /// Builds the spline through knots `(x[i], y[i])`; `x` strictly increasing, 2 to
+    /// [`MAX_KNOTS`] knots, all finite.
+    pub fn new(x: &[f64], y: &[f64]) -> Result<Self, ModelError> {
+        let n = x.len();
+        if n != y.len() || !(2..=MAX_KNOTS).contains(&n) {
+            return Err(ModelError::SplineKnots);
+        }
+        if x.iter().chain(y).any(|v| !v.is_finite()) || x.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(ModelError::SplineKnots);
+        }
+        let (b, c, d) = fmm_coefficients(x, y);
+        let mut s = Self {
+            n,
+            x: [T::ZERO; MAX_KNOTS],
+            y: [T::ZERO; MAX_KNOTS],
+            b: [T::ZERO; MAX_KNOTS],
+            c: [T::ZERO; MAX_KNOTS],
+            d: [T::ZERO; MAX_KNOTS],
+        };
+        for i in 0..n {
+            s.x[i] = T::from_f64(x[i]);
+            s.y[i] = T::from_f64(y[i]);
+            s.b[i] = T::from_f64(b[i]);
+            s.c[i] = T::from_f64(c[i]);
+            s.d[i] = T::from_f64(d[i]);
+        }
+        Ok(s)
+    }
+
+    /// Number of knots.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    /// Always `false`: a spline has at least two knots.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The spline's value at `t` (linear extrapolation outside the knots; NaN for NaN).
+    #[inline]
+    pub fn eval(&self, t: T) -> T {
+        let last = self.n - 1;
+        if t < self.x[0] {
+            return self.y[0] + (t - self.x[0]) * self.b[0];
+        }
+        if t > self.x[last] {
+            return self.y[last] + (t - self.x[last]) * self.b[last];
+        }
+        // Interval index: how many interior knots lie at or below t (branch-free count).
+        let mut i = 0;
+        for k in 1..last {
+            i += (t >= self.x[k]) as usize;
+        }
+        let dx = t - self.x[i];
+        self.y[i] + dx * (self.b[i] + dx * (self.c[i] + dx * self.d[i]))
+    }
+
+    /// Converts to another precision.
+    pub fn cast<U: Real>(&self) -> Spline<U> {
+        let conv = |a: &[T; MAX_KNOTS]| a.map(|v| U::from_f64(v.to_f64()));
+        Spline { n: self.n, x: conv(&self.x), y: conv(&self.y), b: conv(&self.b), c: conv(&self.c), d: conv(&self.d) }
+    }
+}
+
+type Coefficients = ([f64; MAX_KNOTS], [f64; MAX_KNOTS], [f64; MAX_KNOTS]);
+
+/// Forsythe, Malcolm & Moler, *Computer Methods for Mathematical Computations* (1977),
+/// subroutine SPLINE, as used by OpenSim's SimmSpline: `y ≈ y[i] + b dx + c dx² + d dx³`.
+fn fmm_coefficients(x: &[f64], y: &[f64]) -> Coefficients {
+    let n = x.len();
+    let (mut b, mut c, mut d) = ([0.0; MAX_KNOTS], [0.0; MAX_KNOTS], [0.0; MAX_KNOTS]);
+    if n < 3 {
+        let slope = (y[1] - y[0]) / (x[1] - x[0]);
+        b[0] = slope;
+        b[1] = slope;
+        return (b, c, d);
+    }
+    let nm1 = n - 1;
+    let nm2 = n - 2;
+    // Tridiagonal system: b = diagonal, d = off-diagonal, c = right-hand side.
+    d[0] = x[1] - x[0];
+    c[1] = (y[1] - y[0]) / d[0];
+    for i in 1..nm1 {
+        d[i] = x[i + 1] - x[i];
+        b[i] = 2.0 * (d[i - 1] + d[i]);
+        c[i + 1] = (y[i + 1] - y[i]) / d[i];
+        c[i] = c[i + 1] - c[i];
+    }
+    // End conditions: third derivatives from divided differences of the end knots.
+    b[0] = -d[0];
+    b[nm1] = -d[nm2];
+    c[0] = 0.0;
+    c[nm1] = 0.0;
+    if n > 3 {
+        c[0] = c[2] / (x[3] - x[1]) - c[1] / (x[2] - x[0]);
+        c[nm1] = c[nm2] / (x[nm1] - x[n - 3]) - c[n - 3] / (x[nm2] - x[n - 4]);
+        c[0] = c[0] * d[0] * d[0] / (x[3] - x[0]);
+        c[nm1] = -c[nm1] * d[nm2] * d[nm2] / (x[nm1] - x[n - 4]);
+    }
+    // Forward elimination, then back substitution.
+    for i in 1..n {
+        let t = d[i - 1] / b[i - 1];
+        b[i] -= t * d[i - 1];
+        c[i] -= t * c[i - 1];
+    }
+    c[nm1] /= b[nm1];
+    for i in (0..nm1).rev() {
+        c[i] = (c[i] - d[i] * c[i + 1]) / b[i];
+    }
+    // Polynomial coefficients.
+    b[nm1] = (y[nm1] - y[nm2]) / d[nm2] + d[nm2] * (c[nm2] + 2.0 * c[nm1]);
+    for i in 0..nm1 {
+        b[i] = (y[i + 1] - y[i]) / d[i] - d[i] * (c[i + 1] + 2.0 * c[i]);
+        d[i] = (c[i + 1] - c[i]) / d[i];
+        c[i] *= 3.0;
+    }
+    c[nm1] *= 3.0;
+    d[nm1] = d[nm2];
+    (b, c, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolates_its_knots_and_reproduces_cubics() {
+        // A cubic is reproduced exactly by the FMM end conditions.
+        let f = |x: f64| 0.3 - 0.2 * x + 0.5 * x * x - 0.1 * x * x * x;
+        let xs = [-2.0, -1.2, -0.3, 0.4, 1.0, 2.5, 3.0];
+        let ys = xs.map(f);
+        let s = Spline::<f64>::new(&xs, &ys).unwrap();
+        for i in 0..=100 {
+            let t = -2.0 + 5.0 * i as f64 / 100.0;
+            assert!((s.eval(t) - f(t)).abs() < 1e-12, "{t}");
+        }
+        for (x, y) in xs.iter().zip(ys) {
+            assert!((s.eval(*x) - y).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn extrapolates_linearly_with_end_slopes() {
+        let xs = [0.0, 1.0, 2.0, 4.0];
+        let ys = [0.0, 1.0, 0.5, 2.0];
+        let s = Spline::<f64>::new(&xs, &ys).unwrap();
+        let h = 1e-6;
+        let left_slope = (s.eval(h) - s.eval(0.0)) / h;
+        assert!((s.eval(-1.0) - (0.0 - left_slope)).abs() < 1e-5);
+        let right_slope = (s.eval(4.0) - s.eval(4.0 - h)) / h;
+        assert!((s.eval(5.0) - (2.0 + right_slope)).abs() < 1e-5);
+        assert!(s.eval(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn rejects_bad_knots() {
+        assert!(Spline::<f64>::new(&[0.0], &[1.0]).is_err());
+        assert!(Spline::<f64>::new(&[0.0, 0.0], &[1.0, 2.0]).is_err());
+        assert!(Spline::<f64>::new(&[0.0, f64::NAN], &[1.0, 2.0]).is_err());
+        assert!(Spline::<f64>::new(&[0.0; 13], &[0.0; 13]).is_err());
+        assert!(Spline::<f64>::new(&[0.0, 1.0], &[1.0]).is_err());
+    }
+}
