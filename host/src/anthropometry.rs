@@ -1,0 +1,83 @@
+//! Segment lengths from a TOML file.
+//!
+//! Keys (metres): `pelvis_half_width`, `femur`, `tibia`, `foot`. Each may instead be given per
+//! side as `<key>_r` and `<key>_l`. A length not given keeps the gait2392 value (with a
+//! warning); unknown keys, giving both `<key>` and `<key>_r`/`_l`, non-numbers, and lengths that
+//! are not positive are errors. Example:
+//!
+//! ```toml
+//! pelvis_half_width = 0.0835
+//! femur_r = 0.40
+//! femur_l = 0.39
+//! tibia = 0.43
+//! foot = 0.21
+//! ```
+
+use std::path::Path;
+
+use qgait_kernel::anthropometry::{Anthropometry, Limb};
+
+use crate::mot::Warning;
+
+const KEYS: [&str; 4] = ["pelvis_half_width", "femur", "tibia", "foot"];
+
+/// Reads an anthropometry file.
+pub fn read(path: &Path) -> Result<(Anthropometry<f64>, Vec<Warning>), String> {
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    parse(&text, &shown)
+}
+
+/// Parses the text of an anthropometry file; `source` names it in messages.
+pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warning>), String> {
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| format!("{source}: {}", one_line(&e.to_string())))?;
+    for key in table.keys() {
+        let known = KEYS.iter().any(|k| key == k || key == &format!("{k}_r") || key == &format!("{k}_l"));
+        if !known {
+            return Err(format!(
+                "{source}: unknown key `{key}` (expected pelvis_half_width, femur, tibia, foot, each optionally with _r/_l)"
+            ));
+        }
+    }
+    let number = |key: &str| -> Result<Option<f64>, String> {
+        let Some(v) = table.get(key) else { return Ok(None) };
+        let x = match v {
+            toml::Value::Float(f) => *f,
+            toml::Value::Integer(i) => *i as f64,
+            other => return Err(format!("{source}: `{key}` must be a number in metres, found {}", other.type_str())),
+        };
+        let min_ok = if key.starts_with("pelvis") { x >= 0.0 } else { x > 0.0 };
+        if !x.is_finite() || !min_ok || x > 3.0 {
+            return Err(format!("{source}: `{key}` = {x} is not a plausible length in metres"));
+        }
+        Ok(Some(x))
+    };
+    let mut warnings = Vec::new();
+    let default = Limb::<f64>::gait2392();
+    let defaults = [default.pelvis_half_width, default.femur, default.tibia, default.foot];
+    let mut sides = [[0.0; 4]; 2];
+    for (i, key) in KEYS.iter().enumerate() {
+        let both = number(key)?;
+        for (s, suffix) in ["r", "l"].iter().enumerate() {
+            let split_key = format!("{key}_{suffix}");
+            let split = number(&split_key)?;
+            sides[s][i] = match (both, split) {
+                (Some(_), Some(_)) => return Err(format!("{source}: both `{key}` and `{split_key}` are given; use one")),
+                (Some(v), None) | (None, Some(v)) => v,
+                (None, None) => {
+                    warnings.push(Warning(format!(
+                        "{source}: no `{key}` or `{split_key}`; using the gait2392 value {} m",
+                        defaults[i]
+                    )));
+                    defaults[i]
+                }
+            };
+        }
+    }
+    let limb = |v: [f64; 4]| Limb { pelvis_half_width: v[0], femur: v[1], tibia: v[2], foot: v[3] };
+    Ok((Anthropometry { right: limb(sides[0]), left: limb(sides[1]) }, warnings))
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}

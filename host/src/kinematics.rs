@@ -1,0 +1,112 @@
+//! Motion table → kernel input → joint positions. All forward kinematics is done by
+//! `qgait_kernel::models`; this module only picks the columns and converts degrees to radians.
+
+use qgait_kernel::anthropometry::Anthropometry;
+use qgait_kernel::models::{Hak, HakAngles, Phak, PhakAngles};
+use qgait_kernel::BilateralPose;
+
+use crate::mot::{MotionTable, Warning};
+
+/// Which kernel model computes the joint positions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Model {
+    /// Each leg on its own as a sagittal hip-knee-ankle chain with the hip at the origin
+    /// (pelvis angles ignored).
+    Hak,
+    /// Both legs with the shared pelvis rotation and list; origin at the pelvis origin.
+    Phak,
+}
+
+/// Coordinates that are required (in [`PhakAngles::NAMES`] order, the leg ones).
+pub const LEG_COLUMNS: [&str; 6] =
+    ["hip_flexion_r", "knee_angle_r", "ankle_angle_r", "hip_flexion_l", "knee_angle_l", "ankle_angle_l"];
+
+/// Coordinates that count as 0 (with a warning) when a motion does not have them.
+pub const OPTIONAL_COLUMNS: [&str; 2] = ["pelvis_rotation", "pelvis_list"];
+
+/// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
+/// warning; a missing leg column is an error that names the file and the columns.
+pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), String> {
+    let missing: Vec<&str> = LEG_COLUMNS.iter().copied().filter(|c| table.column(c).is_none()).collect();
+    if !missing.is_empty() {
+        return Err(format!("{}: missing required column(s) {}", table.source(), missing.join(", ")));
+    }
+    let mut warnings = Vec::new();
+    let columns: Vec<Vec<f64>> = PhakAngles::<f64>::NAMES
+        .iter()
+        .map(|name| {
+            table.angle_radians(name).unwrap_or_else(|| {
+                warnings.push(Warning(format!("{}: no `{name}` column; taken as 0", table.source())));
+                vec![0.0; table.rows()]
+            })
+        })
+        .collect();
+    let angles = (0..table.rows())
+        .map(|r| {
+            let mut a = [0.0; 8];
+            for (slot, col) in a.iter_mut().zip(&columns) {
+                *slot = col[r];
+            }
+            PhakAngles::from_array(a)
+        })
+        .collect();
+    Ok((angles, warnings))
+}
+
+/// Evaluates one row with the chosen model.
+pub struct Evaluator {
+    model: Model,
+    phak: Phak<f64>,
+    hak_right: Hak<f64>,
+    hak_left: Hak<f64>,
+}
+
+impl Evaluator {
+    /// Builds the kernel models for these segment lengths (an error if the kernel rejects them).
+    pub fn new(model: Model, anthropometry: &Anthropometry<f64>) -> Result<Self, String> {
+        let bad = |e: qgait_kernel::ModelError| format!("segment lengths rejected by the kernel: {e}");
+        Ok(Self {
+            model,
+            phak: Phak::new(anthropometry).map_err(bad)?,
+            hak_right: Hak::new(&anthropometry.right).map_err(bad)?,
+            hak_left: Hak::new(&anthropometry.left).map_err(bad)?,
+        })
+    }
+
+    /// Joint positions (metres) for one set of angles (radians).
+    pub fn pose(&self, a: &PhakAngles<f64>) -> BilateralPose<f64> {
+        match self.model {
+            Model::Phak => self.phak.fk(a),
+            Model::Hak => BilateralPose {
+                right: self.hak_right.fk(&HakAngles {
+                    hip_flexion: a.hip_flexion_r,
+                    knee_angle: a.knee_angle_r,
+                    ankle_angle: a.ankle_angle_r,
+                }),
+                left: self.hak_left.fk(&HakAngles {
+                    hip_flexion: a.hip_flexion_l,
+                    knee_angle: a.knee_angle_l,
+                    ankle_angle: a.ankle_angle_l,
+                }),
+            },
+        }
+    }
+}
+
+/// Angles at `percent` of the cycle, linearly interpolated between the rows around it
+/// (`percent_of_rows` increasing, as from [`MotionTable::percent_of_cycle`]).
+pub fn angles_at(percent_of_rows: &[f64], angles: &[PhakAngles<f64>], percent: f64) -> PhakAngles<f64> {
+    let n = percent_of_rows.len();
+    let i = percent_of_rows.partition_point(|&p| p <= percent).clamp(1, n.max(2) - 1);
+    if n < 2 {
+        return angles[0];
+    }
+    let (p0, p1) = (percent_of_rows[i - 1], percent_of_rows[i]);
+    let w = ((percent - p0) / (p1 - p0)).clamp(0.0, 1.0);
+    let (a0, a1) = (angles[i - 1].to_array(), angles[i].to_array());
+    let mut out = [0.0; 8];
+    for k in 0..8 {
+        out[k] = a0[k] + w * (a1[k] - a0[k]);
+    }
+    PhakAngles::from_array(out)
+}

@@ -1,0 +1,106 @@
+//! Knee-knee, ankle-ankle and toe-toe distance over the cycle (the paper's Fig 10, Eqs 18-20).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use qgait_kernel::metrics::Distances;
+
+use super::figure::{self, draw_err, gait_color, Figure};
+use super::Analysis;
+
+const PANEL_W: u32 = 1000;
+const PANEL_H: u32 = 300;
+const HEADER: u32 = 80;
+
+/// Percent of the cycle where stance ends in normal gait (marked on the plots).
+pub const STANCE_END_PERCENT: f64 = 60.0;
+
+/// The three distance panels.
+pub struct DistanceFigure<'a> {
+    /// The gaits.
+    pub analysis: &'a Analysis,
+}
+
+/// The distances shown, with their titles.
+pub const MEASURES: [(&str, fn(&Distances<f64>) -> f64); 3] = [
+    ("knee-knee distance", |d| d.knee),
+    ("ankle-ankle distance", |d| d.ankle),
+    ("toe-toe distance", |d| d.toe),
+];
+
+impl Figure for DistanceFigure<'_> {
+    fn stem(&self) -> String {
+        "distances".into()
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (PANEL_W, HEADER + MEASURES.len() as u32 * PANEL_H)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (header, grid) = root.split_vertically(HEADER);
+        header
+            .draw_text("Distance between the two legs' joint centres over the gait cycle", &figure::bold(24), (16, 10))
+            .map_err(draw_err)?;
+        header
+            .draw_text(
+                "PHAK model, 3-D Euclidean distance (paper Eqs 18-20); dashed line: end of stance in normal gait (60 %)",
+                &figure::text(16),
+                (16, 46),
+            )
+            .map_err(draw_err)?;
+        let panels = grid.split_evenly((MEASURES.len(), 1));
+        for (panel, (title, measure)) in panels.iter().zip(MEASURES) {
+            let values = self.analysis.gaits.iter().flat_map(|g| g.distances.iter().map(measure));
+            let (y0, y1) = figure::padded_range(values, 0.08, 0.02);
+            let (y0, y1) = (y0.max(0.0), y1);
+            let mut chart = ChartBuilder::on(panel)
+                .caption(title, figure::bold(17))
+                .margin(10)
+                .x_label_area_size(44)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0.0..100.0, y0..y1)
+                .map_err(draw_err)?;
+            chart
+                .configure_mesh()
+                .x_labels(11)
+                .y_labels(6)
+                .x_desc("gait cycle (%)")
+                .y_desc("distance (m)")
+                .label_style(figure::text(13))
+                .axis_desc_style(figure::text(13))
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&|v| format!("{v:.2}"))
+                .light_line_style(WHITE.mix(0.0))
+                .bold_line_style(BLACK.mix(0.08))
+                .draw()
+                .map_err(draw_err)?;
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(STANCE_END_PERCENT, y0), (STANCE_END_PERCENT, y1)],
+                    8,
+                    6,
+                    BLACK.mix(0.5).stroke_width(1),
+                ))
+                .map_err(draw_err)?;
+            for (g, gait) in self.analysis.gaits.iter().enumerate() {
+                let color = gait_color(g);
+                let pts = gait.percent.iter().copied().zip(gait.distances.iter().map(measure));
+                chart
+                    .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                    .map_err(draw_err)?
+                    .label(gait.label.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3)));
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font(figure::text(14))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK.mix(0.4))
+                .draw()
+                .map_err(draw_err)?;
+        }
+        Ok(())
+    }
+}

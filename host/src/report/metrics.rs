@@ -1,0 +1,232 @@
+//! The report's tables, all values in metres (areas in m²), computed with
+//! `qgait_kernel::metrics`:
+//!
+//! - `metrics.csv`: per gait, side, joint and plane, the path statistics (min, max, mean, range
+//!   and centroid of both plane axes, and the area enclosed by the path);
+//! - `hip_shift.csv`: per gait and side, the mean hip position over the cycle minus that of the
+//!   first gait (dx, dy, dz) and its length (`shift`);
+//! - `distance_stats.csv`: min, max, mean and range of the knee-knee, ankle-ankle and toe-toe
+//!   distances;
+//! - `metrics.md`: the same three tables in Markdown (4 decimals), with the list of figures.
+//!
+//! CSV numbers are printed with Rust's `{}` (shortest round-trip representation).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use qgait_kernel::metrics::{path_stats, PathStats, Plane};
+use qgait_kernel::{Joint, Side};
+
+use super::distances::MEASURES;
+use super::{Analysis, Gait};
+
+/// Header of `metrics.csv`.
+pub const METRICS_HEADER: &str = "gait,side,joint,plane,axis_a,axis_b,n,min_a,min_b,max_a,max_b,mean_a,mean_b,range_a,range_b,centroid_a,centroid_b,area_m2";
+/// Header of `hip_shift.csv`.
+pub const HIP_SHIFT_HEADER: &str = "gait,reference,side,dx,dy,dz,shift";
+/// Header of `distance_stats.csv`.
+pub const DISTANCE_HEADER: &str = "gait,measure,min,max,mean,range";
+
+/// One row of the path statistics.
+pub struct PathRow<'a> {
+    /// The gait.
+    pub gait: &'a Gait,
+    /// Limb.
+    pub side: Side,
+    /// Joint.
+    pub joint: Joint,
+    /// Plane.
+    pub plane: Plane,
+    /// The statistics.
+    pub stats: PathStats<f64>,
+}
+
+/// Path statistics of every gait, side, joint and plane.
+pub fn path_rows(analysis: &Analysis) -> Vec<PathRow<'_>> {
+    let mut rows = Vec::new();
+    for gait in &analysis.gaits {
+        for side in Side::ALL {
+            for joint in Joint::ALL {
+                for plane in Plane::ALL {
+                    if let Some(stats) = path_stats(&gait.poses, side, joint, plane) {
+                        rows.push(PathRow { gait, side, joint, plane, stats });
+                    }
+                }
+            }
+        }
+    }
+    rows
+}
+
+/// Mean hip position (x, y, z) of a gait over its rows, from the kernel's path statistics.
+pub fn mean_hip(gait: &Gait, side: Side) -> Option<[f64; 3]> {
+    let sag = path_stats(&gait.poses, side, Joint::Hip, Plane::Sagittal)?;
+    let fro = path_stats(&gait.poses, side, Joint::Hip, Plane::Frontal)?;
+    Some([sag.mean[0], sag.mean[1], fro.mean[0]])
+}
+
+/// Hip shift of each gait relative to the first: (gait, side, [dx, dy, dz], length).
+pub fn hip_shifts(analysis: &Analysis) -> Vec<(&Gait, Side, [f64; 3], f64)> {
+    let Some(reference) = analysis.gaits.first() else { return Vec::new() };
+    let mut out = Vec::new();
+    for gait in &analysis.gaits {
+        for side in Side::ALL {
+            if let (Some(r), Some(m)) = (mean_hip(reference, side), mean_hip(gait, side)) {
+                let d = [m[0] - r[0], m[1] - r[1], m[2] - r[2]];
+                out.push((gait, side, d, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()));
+            }
+        }
+    }
+    out
+}
+
+/// Distance statistics: (gait, measure name, min, max, mean).
+pub fn distance_stats(analysis: &Analysis) -> Vec<(&Gait, &'static str, f64, f64, f64)> {
+    let mut out = Vec::new();
+    for gait in &analysis.gaits {
+        for (title, measure) in MEASURES {
+            let v: Vec<f64> = gait.distances.iter().map(measure).collect();
+            let min = v.iter().copied().fold(f64::INFINITY, f64::min);
+            let max = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let mean = v.iter().sum::<f64>() / v.len() as f64;
+            out.push((gait, title.trim_end_matches(" distance"), min, max, mean));
+        }
+    }
+    out
+}
+
+fn side_name(side: Side) -> &'static str {
+    match side {
+        Side::Right => "right",
+        Side::Left => "left",
+    }
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// Writes the CSV files and `metrics.md`; returns their paths.
+pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let paths = path_rows(analysis);
+    let shifts = hip_shifts(analysis);
+    let dists = distance_stats(analysis);
+    let reference = analysis.gaits.first().map(|g| g.label.as_str()).unwrap_or("");
+
+    let mut csv = String::from(METRICS_HEADER);
+    csv.push('\n');
+    for r in &paths {
+        let (a, b) = r.plane.axes();
+        let s = &r.stats;
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{a},{b},{},{},{},{},{},{},{},{},{},{},{},{}",
+            csv_field(&r.gait.label),
+            side_name(r.side),
+            r.joint.name(),
+            r.plane.name().to_lowercase(),
+            s.n,
+            s.min[0],
+            s.min[1],
+            s.max[0],
+            s.max[1],
+            s.mean[0],
+            s.mean[1],
+            s.range[0],
+            s.range[1],
+            s.centroid[0],
+            s.centroid[1],
+            s.area
+        );
+    }
+    let mut shift_csv = String::from(HIP_SHIFT_HEADER);
+    shift_csv.push('\n');
+    for (g, side, d, len) in &shifts {
+        let _ = writeln!(
+            shift_csv,
+            "{},{},{},{},{},{},{}",
+            csv_field(&g.label),
+            csv_field(reference),
+            side_name(*side),
+            d[0],
+            d[1],
+            d[2],
+            len
+        );
+    }
+    let mut dist_csv = String::from(DISTANCE_HEADER);
+    dist_csv.push('\n');
+    for (g, name, min, max, mean) in &dists {
+        let _ = writeln!(dist_csv, "{},{name},{min},{max},{mean},{}", csv_field(&g.label), max - min);
+    }
+
+    let md = markdown(analysis, &paths, &shifts, &dists, reference);
+    let mut written = Vec::new();
+    for (name, text) in
+        [("metrics.csv", csv), ("hip_shift.csv", shift_csv), ("distance_stats.csv", dist_csv), ("metrics.md", md)]
+    {
+        let path = dir.join(name);
+        std::fs::write(&path, text).with_context(|| format!("{}: cannot write", path.display()))?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+fn markdown(
+    analysis: &Analysis,
+    paths: &[PathRow<'_>],
+    shifts: &[(&Gait, Side, [f64; 3], f64)],
+    dists: &[(&Gait, &'static str, f64, f64, f64)],
+    reference: &str,
+) -> String {
+    let mut md = String::from("# qgait report\n\n");
+    md.push_str("Model: PHAK (origin at the pelvis origin, ground axes: x forward, y up, z right). ");
+    md.push_str("Lengths in metres, areas in square metres. Percent of cycle = time normalised from the first to the last row.\n\n");
+    md.push_str("| gait | source | rows |\n|---|---|---|\n");
+    for g in &analysis.gaits {
+        let _ = writeln!(md, "| {} | `{}` | {} |", g.label, g.source, g.poses.len());
+    }
+    md.push_str("\nFigures: `stick_sagittal`, `stick_frontal`, `stick_transverse` (Figs 5-7), `paths_sagittal` (Figs 8-9), ");
+    md.push_str("`distances` (Fig 10), each as `.png` and `.svg`.\n\n");
+
+    let _ = writeln!(md, "## Hip position shift relative to {reference}\n");
+    md.push_str("Mean hip-centre position over the cycle minus that of the first gait.\n\n");
+    md.push_str("| gait | side | dx (m) | dy (m) | dz (m) | shift (m) |\n|---|---|---:|---:|---:|---:|\n");
+    for (g, side, d, len) in shifts {
+        let _ = writeln!(md, "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} |", g.label, side_name(*side), d[0], d[1], d[2], len);
+    }
+
+    md.push_str("\n## Distance between the legs\n\n| gait | joints | min (m) | max (m) | mean (m) | range (m) |\n|---|---|---:|---:|---:|---:|\n");
+    for (g, name, min, max, mean) in dists {
+        let _ = writeln!(md, "| {} | {name} | {min:.4} | {max:.4} | {mean:.4} | {:.4} |", g.label, max - min);
+    }
+
+    md.push_str("\n## Joint paths\n\nPer plane, the two axes are given as a / b: sagittal x / y, frontal z / y, transverse x / z. ");
+    md.push_str("Area: area enclosed by the path over the cycle (shoelace formula).\n\n");
+    md.push_str("| gait | side | joint | plane | min a, b | max a, b | mean a, b | range a, b | centroid a, b | area (m²) |\n");
+    md.push_str("|---|---|---|---|---|---|---|---|---|---:|\n");
+    for r in paths {
+        let s = &r.stats;
+        let pair = |v: [f64; 2]| format!("{:.4}, {:.4}", v[0], v[1]);
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.6} |",
+            r.gait.label,
+            side_name(r.side),
+            r.joint.name(),
+            r.plane.name().to_lowercase(),
+            pair(s.min),
+            pair(s.max),
+            pair(s.mean),
+            pair(s.range),
+            pair(s.centroid),
+            s.area
+        );
+    }
+    md
+}

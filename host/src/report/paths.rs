@@ -1,0 +1,105 @@
+//! Sagittal paths of the hip, knee, ankle and toe over the cycle, right and left limb, gaits
+//! overlaid (the paper's Figs 8-9).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use qgait_kernel::metrics::Plane;
+use qgait_kernel::{Joint, Side};
+
+use super::figure::{self, draw_err, gait_color, Figure};
+use super::Analysis;
+
+const PANEL_W: u32 = 560;
+const PANEL_H: u32 = 300;
+const HEADER: u32 = 110;
+
+/// The 4 × 2 grid of sagittal joint paths.
+pub struct SagittalPaths<'a> {
+    /// The gaits.
+    pub analysis: &'a Analysis,
+}
+
+impl Figure for SagittalPaths<'_> {
+    fn stem(&self) -> String {
+        "paths_sagittal".into()
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (2 * PANEL_W, HEADER + Joint::ALL.len() as u32 * PANEL_H)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (header, grid) = root.split_vertically(HEADER);
+        header
+            .draw_text("Sagittal paths of the joint centres over one gait cycle", &figure::bold(24), (16, 10))
+            .map_err(draw_err)?;
+        header
+            .draw_text(
+                "PHAK model, origin at the pelvis origin; x forward, y up; each panel has its own scale; dot = 0 % of the cycle",
+                &figure::text(16),
+                (16, 44),
+            )
+            .map_err(draw_err)?;
+        let mut x = 16;
+        for (g, gait) in self.analysis.gaits.iter().enumerate() {
+            let color = gait_color(g);
+            header.draw(&PathElement::new(vec![(x, 87), (x + 36, 87)], color.stroke_width(3))).map_err(draw_err)?;
+            header.draw(&Text::new(gait.label.clone(), (x + 44, 78), figure::text(16))).map_err(draw_err)?;
+            x += 70 + 10 * gait.label.chars().count() as i32;
+        }
+
+        let panels = grid.split_evenly((Joint::ALL.len(), 2));
+        for (j, joint) in Joint::ALL.into_iter().enumerate() {
+            // Both limbs of a joint share ranges so they can be compared.
+            let all = || {
+                self.analysis.gaits.iter().flat_map(move |g| {
+                    g.poses.iter().flat_map(move |p| Side::ALL.into_iter().map(move |s| Plane::Sagittal.project(p.point(s, joint))))
+                })
+            };
+            let xr = figure::padded_range(all().map(|p| p[0]), 0.05, 0.01);
+            let yr = figure::padded_range(all().map(|p| p[1]), 0.08, 0.01);
+            for (s, side) in Side::ALL.into_iter().enumerate() {
+                let side_name = match side {
+                    Side::Right => "right",
+                    Side::Left => "left",
+                };
+                let mut chart = ChartBuilder::on(&panels[2 * j + s])
+                    .caption(format!("{} {}", side_name, joint.name()), figure::bold(17))
+                    .margin(10)
+                    .x_label_area_size(44)
+                    .y_label_area_size(70)
+                    .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+                    .map_err(draw_err)?;
+                chart
+                    .configure_mesh()
+                    .x_labels(6)
+                    .y_labels(5)
+                    .x_desc("x, forward (m)")
+                    .y_desc("y, up (m)")
+                    .label_style(figure::text(13))
+                    .axis_desc_style(figure::text(13))
+                    .x_label_formatter(&|v| format!("{v:.2}"))
+                    .y_label_formatter(&|v| format!("{v:.3}"))
+                    .light_line_style(WHITE.mix(0.0))
+                    .bold_line_style(BLACK.mix(0.08))
+                    .draw()
+                    .map_err(draw_err)?;
+                for (g, gait) in self.analysis.gaits.iter().enumerate() {
+                    let color = gait_color(g);
+                    let pts: Vec<(f64, f64)> = gait
+                        .poses
+                        .iter()
+                        .map(|p| {
+                            let [a, b] = Plane::Sagittal.project(p.point(side, joint));
+                            (a, b)
+                        })
+                        .collect();
+                    chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2))).map_err(draw_err)?;
+                    chart.draw_series(pts.first().map(|&p| Circle::new(p, 5, color.filled()))).map_err(draw_err)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}

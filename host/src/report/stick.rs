@@ -1,0 +1,152 @@
+//! Stick figures of both legs at 0-100 % of the cycle in one plane (the paper's Figs 5-7):
+//! one row of panels per gait, one column per percentage, the same scale on both axes.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use qgait_kernel::metrics::Plane;
+use qgait_kernel::{BilateralPose, Joint, Side, Vec3};
+
+use super::figure::{self, draw_err, Figure, LEFT_LEG, PELVIS, RIGHT_LEG};
+use super::{Analysis, STICK_PERCENTS};
+
+const PANEL: u32 = 300;
+const HEADER: u32 = 110;
+const MARGIN: u32 = 8;
+const X_LABEL_AREA: u32 = 42;
+const Y_LABEL_AREA: u32 = 62;
+const PANEL_TITLE: u32 = 26;
+
+/// The stick-figure grid of one plane.
+pub struct StickFigure<'a> {
+    analysis: &'a Analysis,
+    plane: Plane,
+    /// Poses per gait per percentage.
+    poses: Vec<Vec<BilateralPose<f64>>>,
+}
+
+impl<'a> StickFigure<'a> {
+    /// Computes the poses to draw.
+    pub fn new(analysis: &'a Analysis, plane: Plane) -> Self {
+        let poses = analysis
+            .gaits
+            .iter()
+            .map(|g| STICK_PERCENTS.iter().map(|&p| analysis.pose_at(g, p)).collect())
+            .collect();
+        Self { analysis, plane, poses }
+    }
+}
+
+/// Plane coordinates as drawn: (horizontal, vertical). The transverse plane is seen from above
+/// with x forward to the right, so +z (right) points down the page: it is drawn as -z.
+pub fn screen(plane: Plane, p: Vec3<f64>) -> (f64, f64) {
+    let [a, b] = plane.project(p);
+    match plane {
+        Plane::Transverse => (a, -b),
+        _ => (a, b),
+    }
+}
+
+/// Title and axis descriptions of a plane.
+pub fn plane_text(plane: Plane) -> (&'static str, &'static str, &'static str) {
+    match plane {
+        Plane::Sagittal => ("sagittal plane (x-y), seen from the right", "x, forward (m)", "y, up (m)"),
+        Plane::Frontal => ("frontal plane (z-y), seen from behind", "z, to the right (m)", "y, up (m)"),
+        Plane::Transverse => ("transverse plane (x-z), seen from above", "x, forward (m)", "z, to the right (m), +z down"),
+    }
+}
+
+impl Figure for StickFigure<'_> {
+    fn stem(&self) -> String {
+        format!("stick_{}", self.plane.name().to_lowercase())
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (STICK_PERCENTS.len() as u32 * PANEL, HEADER + self.analysis.gaits.len() as u32 * PANEL)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (header, grid) = root.split_vertically(HEADER);
+        let (title, x_desc, y_desc) = plane_text(self.plane);
+        header
+            .draw_text(&format!("Stick figures of both legs, {title}"), &figure::bold(24), (16, 10))
+            .map_err(draw_err)?;
+        header
+            .draw_text(
+                "PHAK model, origin at the pelvis origin (midway between the hips); same scale on both axes; one row per gait",
+                &figure::text(16),
+                (16, 44),
+            )
+            .map_err(draw_err)?;
+        draw_legend(&header, 16, 78)?;
+
+        // One range for every panel, equal scale on both axes.
+        let points = self.poses.iter().flatten().flat_map(|pose| {
+            Side::ALL.into_iter().flat_map(move |s| Joint::ALL.into_iter().map(move |j| screen(self.plane, pose.point(s, j))))
+        });
+        let (xs, ys): (Vec<f64>, Vec<f64>) = points.unzip();
+        let (x0, x1) = figure::padded_range(xs, 0.06, 0.1);
+        let (y0, y1) = figure::padded_range(ys, 0.06, 0.1);
+        let plot_w = (PANEL - 2 * MARGIN - Y_LABEL_AREA) as f64;
+        let plot_h = (PANEL - PANEL_TITLE - 2 * MARGIN - X_LABEL_AREA) as f64;
+        let scale = ((x1 - x0) / plot_w).max((y1 - y0) / plot_h); // metres per pixel
+        let (xc, yc) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+        let (xr, yr) = (xc - scale * plot_w / 2.0..xc + scale * plot_w / 2.0, yc - scale * plot_h / 2.0..yc + scale * plot_h / 2.0);
+
+        let panels = grid.split_evenly((self.analysis.gaits.len(), STICK_PERCENTS.len()));
+        for (g, gait) in self.analysis.gaits.iter().enumerate() {
+            for (k, &percent) in STICK_PERCENTS.iter().enumerate() {
+                let panel = &panels[g * STICK_PERCENTS.len() + k];
+                let area = panel.titled(&format!("{}, {percent} % of cycle", gait.label), figure::bold(15)).map_err(draw_err)?;
+                let mut chart = ChartBuilder::on(&area)
+                    .margin(MARGIN)
+                    .x_label_area_size(X_LABEL_AREA)
+                    .y_label_area_size(Y_LABEL_AREA)
+                    .build_cartesian_2d(xr.clone(), yr.clone())
+                    .map_err(draw_err)?;
+                let transverse = self.plane == Plane::Transverse;
+                chart
+                    .configure_mesh()
+                    .x_labels(5)
+                    .y_labels(5)
+                    .x_desc(x_desc)
+                    .y_desc(y_desc)
+                    .label_style(figure::text(12))
+                    .axis_desc_style(figure::text(12))
+                    .x_label_formatter(&|v| format!("{v:.1}"))
+                    .y_label_formatter(&|v| format!("{:.1}", if transverse { -v } else { *v } + 0.0))
+                    .light_line_style(WHITE.mix(0.0))
+                    .bold_line_style(BLACK.mix(0.08))
+                    .draw()
+                    .map_err(draw_err)?;
+                let pose = &self.poses[g][k];
+                let pelvis = [screen(self.plane, pose.right.hip), screen(self.plane, pose.left.hip)];
+                chart.draw_series(LineSeries::new(pelvis, PELVIS.stroke_width(3))).map_err(draw_err)?;
+                for (side, color) in [(Side::Left, LEFT_LEG), (Side::Right, RIGHT_LEG)] {
+                    let pts: Vec<(f64, f64)> = Joint::ALL.iter().map(|&j| screen(self.plane, pose.point(side, j))).collect();
+                    chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(3))).map_err(draw_err)?;
+                    chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled()))).map_err(draw_err)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The colour key shared by the stick figures.
+fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, x: i32, y: i32) -> anyhow::Result<()> {
+    let mut x = x;
+    for (color, text) in [
+        (RIGHT_LEG, "right leg"),
+        (LEFT_LEG, "left leg"),
+        (PELVIS, "pelvis (hip to hip)"),
+    ] {
+        area.draw(&PathElement::new(vec![(x, y + 9), (x + 36, y + 9)], color.stroke_width(3))).map_err(draw_err)?;
+        area.draw(&Text::new(text, (x + 44, y), figure::text(16))).map_err(draw_err)?;
+        x += 60 + 10 * text.len() as i32;
+    }
+    area.draw(&Circle::new((x + 6, y + 9), 4, BLACK.filled())).map_err(draw_err)?;
+    area.draw(&Text::new("joint centres, top to bottom: hip, knee, ankle, toe", (x + 18, y), figure::text(16)))
+        .map_err(draw_err)?;
+    Ok(())
+}
