@@ -5,9 +5,15 @@
 //! non-zero bytes, and a code below 0xFF means "a zero follows" (except at the very end). A
 //! block of 254 non-zero bytes has code 0xFF and no implied zero.
 
-/// The largest COBS encoding of `len` bytes (without the delimiter).
+/// The largest COBS encoding of `len` bytes (without the delimiter): one code byte per started
+/// block of 254 bytes, i.e. `len + ceil(len / 254)`, and 1 for empty input. Reached exactly by
+/// data without zero bytes.
 pub const fn max_encoded_len(len: usize) -> usize {
-    len + len / 254 + 1
+    if len == 0 {
+        1
+    } else {
+        len + len.div_ceil(254)
+    }
 }
 
 /// COBS-encodes `src` into `dst` (no delimiter). Returns the encoded length, or `None` if `dst`
@@ -68,4 +74,80 @@ pub fn decode_in_place(buf: &mut [u8]) -> Result<usize, InvalidCobs> {
         }
     }
     Ok(dst)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Deterministic pseudo-random bytes with many zeros and long non-zero runs.
+    fn sample(seed: u64, len: usize) -> [u8; 700] {
+        let mut out = [0u8; 700];
+        let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        let zero_rate = (seed % 5) as u32; // 0: no zeros at all
+        for b in out.iter_mut().take(len) {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let v = (x >> 24) as u8;
+            *b = if zero_rate > 0 && (x >> 40) as u32 % (8 * zero_rate) == 0 { 0 } else { v | 1 };
+        }
+        out
+    }
+
+    #[test]
+    fn encode_matches_the_cobs_crate_and_decodes_back() {
+        // From 1: the cobs crate encodes empty input as nothing, standard COBS (and we) as 0x01;
+        // frames are never empty.
+        for len in 1..600usize {
+            for seed in 0..5u64 {
+                let data = sample(seed + 5 * len as u64, len);
+                let data = &data[..len];
+                let mut ours = [0u8; 700];
+                let mut theirs = [0u8; 700];
+                let n = encode(data.iter().copied(), &mut ours).expect("buffer is large enough");
+                let m = ::cobs::encode(data, &mut theirs);
+                assert_eq!(&ours[..n], &theirs[..m], "len {len} seed {seed}");
+                assert!(n <= max_encoded_len(len), "len {len}: {n} > bound");
+                assert!(!ours[..n].contains(&0), "encoding contains a zero");
+                let decoded = decode_in_place(&mut ours[..n]).expect("valid COBS");
+                assert_eq!(&ours[..decoded], data, "len {len} seed {seed}");
+            }
+        }
+    }
+
+    #[test]
+    fn max_encoded_len_is_reached_by_zero_free_data() {
+        for len in [0usize, 1, 100, 253, 254, 255, 508, 509, 600] {
+            let data = [0x55u8; 600];
+            let mut out = [0u8; 700];
+            let n = encode(data[..len].iter().copied(), &mut out).expect("fits");
+            assert_eq!(n, max_encoded_len(len), "len {len}");
+        }
+    }
+
+    #[test]
+    fn encode_reports_a_short_buffer_instead_of_panicking() {
+        let data = [1u8, 0, 2, 3, 0, 0, 4];
+        let mut full = [0u8; 16];
+        let n = encode(data.iter().copied(), &mut full).expect("fits");
+        for size in 0..n {
+            let mut out = [0u8; 16];
+            assert_eq!(encode(data.iter().copied(), &mut out[..size]), None, "size {size}");
+        }
+    }
+
+    #[test]
+    fn decode_rejects_overrunning_code_and_embedded_zero() {
+        // 0x05 promises 4 data bytes, only 2 follow: a truncated frame.
+        assert_eq!(decode_in_place(&mut [0x05, 1, 2]), Err(InvalidCobs));
+        // A zero can never be inside a COBS frame.
+        assert_eq!(decode_in_place(&mut [0x02, 1, 0, 1]), Err(InvalidCobs));
+        // Empty input decodes to nothing.
+        assert_eq!(decode_in_place(&mut []), Ok(0));
+        // 03 11 22 02 33 -> 11 22 00 33
+        let mut buf = [0x03, 0x11, 0x22, 0x02, 0x33];
+        let n = decode_in_place(&mut buf).expect("valid");
+        assert_eq!(&buf[..n], &[0x11, 0x22, 0x00, 0x33]);
+    }
 }

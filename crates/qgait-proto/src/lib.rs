@@ -31,7 +31,7 @@ pub use crate::sizes::{
 };
 pub use crate::wire::{decode_message, encode_message};
 
-/// Largest COBS encoding (delimiter excluded) of `len` bytes: `len + len / 254 + 1`.
+/// Largest COBS encoding (delimiter excluded) of `len` bytes: `len + ceil(len / 254)`, 1 if empty.
 pub const fn cobs_max_encoded_len(len: usize) -> usize {
     cobs::max_encoded_len(len)
 }

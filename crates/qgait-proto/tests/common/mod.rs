@@ -89,3 +89,47 @@ pub fn decode_all(decoder: &mut FrameDecoder, bytes: &[u8]) -> Vec<Result<Messag
 pub fn same(a: &Message, b: &Message) -> bool {
     frame(a) == frame(b)
 }
+
+pub mod strategies;
+
+/// Small deterministic PRNG (xorshift64*), so every stream test is reproducible from its seed.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    pub fn next_u32(&mut self) -> u32 {
+        (self.next_u64() >> 32) as u32
+    }
+    pub fn byte(&mut self) -> u8 {
+        (self.next_u64() >> 56) as u8
+    }
+    /// Uniform in `0..n` (n > 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        ((self.next_u64() >> 32) as usize) % n
+    }
+    pub fn chance(&mut self, percent: u32) -> bool {
+        self.next_u32() % 100 < percent
+    }
+    pub fn f32_bits(&mut self) -> f32 {
+        f32::from_bits(self.next_u32())
+    }
+}
+
+/// The COBS code-byte positions of a frame body (delimiter excluded), walking the codes.
+pub fn code_positions(body: &[u8]) -> Vec<usize> {
+    let mut positions = Vec::new();
+    let mut i = 0;
+    while i < body.len() {
+        positions.push(i);
+        i += body[i] as usize;
+    }
+    positions
+}

@@ -1,0 +1,105 @@
+//! proptest strategies producing arbitrary valid messages (any bit pattern for floats, NaN
+//! included, any u32).
+
+use proptest::prelude::*;
+use qgait_proto::{
+    Config, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status,
+    MAX_POSE_ANGLES,
+};
+
+/// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
+pub fn any_f32_bits() -> impl Strategy<Value = f32> {
+    any::<u32>().prop_map(f32::from_bits)
+}
+
+/// u32 values spread over every varint length (1 to 5 bytes).
+pub fn any_varint_u32() -> impl Strategy<Value = u32> {
+    prop_oneof![0u32..128, 128u32..16_384, 16_384u32..2_097_152, 2_097_152u32..268_435_456, any::<u32>()]
+}
+
+pub fn joint_id() -> impl Strategy<Value = JointId> {
+    (0..JointId::COUNT as u8).prop_map(|i| JointId::from_index(i).expect("in range"))
+}
+
+pub fn model_id() -> impl Strategy<Value = ModelId> {
+    (0..ModelId::COUNT as u8).prop_map(|i| ModelId::from_index(i).expect("in range"))
+}
+
+pub fn joint_angle() -> impl Strategy<Value = JointAngle> {
+    (any::<u8>(), joint_id(), any_varint_u32(), any_varint_u32(), any_f32_bits(), any::<u8>()).prop_map(
+        |(node, joint, seq, timestamp_us, angle, quality)| JointAngle {
+            version: qgait_proto::PROTOCOL_VERSION,
+            node,
+            joint,
+            seq,
+            timestamp_us,
+            angle,
+            quality,
+        },
+    )
+}
+
+pub fn pose_frame() -> impl Strategy<Value = PoseFrame> {
+    (
+        any_varint_u32(),
+        model_id(),
+        proptest::collection::vec(any_f32_bits(), MAX_POSE_ANGLES),
+        proptest::collection::vec(any_f32_bits(), 24 + 3),
+        any::<u8>(),
+    )
+        .prop_map(|(seq, model, angles, coords, flags)| {
+            let n = model.required_joints().len();
+            let angles = heapless::Vec::from_slice(&angles[..n]).expect("n <= 17");
+            let mut points = [[0.0f32; 3]; 8];
+            for (i, p) in points.iter_mut().enumerate() {
+                p.copy_from_slice(&coords[3 * i..3 * i + 3]);
+            }
+            PoseFrame { seq, model, angles, points, distances: [coords[24], coords[25], coords[26]], flags }
+        })
+}
+
+pub fn status() -> impl Strategy<Value = Status> {
+    proptest::collection::vec(any_varint_u32(), 15).prop_map(|c| Status {
+        packets_accepted: c[0],
+        crc_errors: c[1],
+        framing_errors: c[2],
+        oversize_frames: c[3],
+        unknown_version: c[4],
+        unknown_joint: c[5],
+        out_of_range: c[6],
+        samples_completed: c[7],
+        samples_incomplete: c[8],
+        frames_sent: c[9],
+        uart_overruns: c[10],
+        uptime_ms: c[11],
+        late_packets: c[12],
+        duplicate_packets: c[13],
+        malformed: c[14],
+    })
+}
+
+pub fn config() -> impl Strategy<Value = Config> {
+    (
+        model_id(),
+        proptest::option::of(proptest::collection::vec(any_f32_bits(), 8)),
+        any::<bool>(),
+        any::<u8>(),
+        any::<bool>(),
+    )
+        .prop_map(|(model, lengths, hold, reorder_window, request_status)| Config {
+            model,
+            anthropometry: lengths.map(|l| [[l[0], l[1], l[2], l[3]], [l[4], l[5], l[6], l[7]]]),
+            missing_policy: if hold { MissingPolicy::HoldLast } else { MissingPolicy::Drop },
+            reorder_window,
+            request_status,
+        })
+}
+
+pub fn message() -> impl Strategy<Value = Message> {
+    prop_oneof![
+        joint_angle().prop_map(Message::JointAngle),
+        pose_frame().prop_map(Message::PoseFrame),
+        status().prop_map(Message::Status),
+        config().prop_map(Message::Config),
+    ]
+}

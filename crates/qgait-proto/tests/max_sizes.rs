@@ -1,0 +1,120 @@
+//! The MAX_* constants are true maxima: reached exactly by worst-case messages, and the
+//! decoder accepts a frame of exactly MAX_FRAME_LEN bytes but not one byte more.
+mod common;
+
+use qgait_proto::{
+    cobs_max_encoded_len, encode_frame, encode_message, Config, DecodeError, FrameDecoder,
+    JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status, CONFIG_MAX_LEN,
+    CRC_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN,
+    POSE_FRAME_MAX_LEN, STATUS_MAX_LEN,
+};
+
+/// Any float: an f32 is always 4 bytes.
+const ANGLE: f32 = 1.234_567_9;
+
+fn message_len(msg: &Message) -> usize {
+    let mut buf = [0u8; 512];
+    encode_message(msg, &mut buf).expect("encodes").len()
+}
+
+fn worst_joint_angle(seq: u32) -> JointAngle {
+    JointAngle {
+        version: 1,
+        node: 0xFF,
+        joint: JointId::MtpAngleL,
+        seq,
+        timestamp_us: u32::MAX,
+        angle: ANGLE,
+        quality: 0xFF,
+    }
+}
+
+fn worst_pose_frame(seq: u32) -> PoseFrame {
+    PoseFrame {
+        seq,
+        model: ModelId::Gait2392,
+        angles: heapless::Vec::from_slice(&[ANGLE; JointId::COUNT]).expect("17 fit"),
+        points: [[ANGLE; 3]; 8],
+        distances: [ANGLE; 3],
+        flags: 0xFF,
+    }
+}
+
+#[test]
+fn per_message_maxima_are_reached_exactly() {
+    let all_max = Status {
+        packets_accepted: u32::MAX,
+        crc_errors: u32::MAX,
+        framing_errors: u32::MAX,
+        oversize_frames: u32::MAX,
+        unknown_version: u32::MAX,
+        unknown_joint: u32::MAX,
+        out_of_range: u32::MAX,
+        samples_completed: u32::MAX,
+        samples_incomplete: u32::MAX,
+        frames_sent: u32::MAX,
+        uart_overruns: u32::MAX,
+        uptime_ms: u32::MAX,
+        late_packets: u32::MAX,
+        duplicate_packets: u32::MAX,
+        malformed: u32::MAX,
+    };
+    let config = Config {
+        model: ModelId::Gait2392,
+        anthropometry: Some([[ANGLE; 4]; 2]),
+        missing_policy: MissingPolicy::HoldLast,
+        reorder_window: 0xFF,
+        request_status: true,
+    };
+    assert_eq!(message_len(&worst_joint_angle(u32::MAX).into()), JOINT_ANGLE_MAX_LEN);
+    assert_eq!(message_len(&worst_pose_frame(u32::MAX).into()), POSE_FRAME_MAX_LEN);
+    assert_eq!(message_len(&all_max.into()), STATUS_MAX_LEN);
+    assert_eq!(message_len(&config.into()), CONFIG_MAX_LEN);
+    assert_eq!(
+        MAX_MESSAGE_LEN,
+        [JOINT_ANGLE_MAX_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN, CONFIG_MAX_LEN].into_iter().max().unwrap()
+    );
+    // Smaller values take fewer bytes: the maximum is not a constant size.
+    assert!(message_len(&worst_joint_angle(0).into()) < JOINT_ANGLE_MAX_LEN);
+}
+
+#[test]
+fn max_frame_len_is_reached_and_decoded() {
+    // Below 254 bytes COBS always adds exactly one code byte, zeros or not, so the largest
+    // message gives the largest frame.
+    assert!(MAX_MESSAGE_LEN + CRC_LEN < 254);
+    let frame = common::frame(&worst_pose_frame(u32::MAX).into());
+    assert_eq!(frame.len(), MAX_FRAME_LEN);
+    assert_eq!(MAX_FRAME_LEN, cobs_max_encoded_len(MAX_MESSAGE_LEN + CRC_LEN) + 1);
+    let mut decoder = FrameDecoder::new();
+    let got = common::decode_all(&mut decoder, &frame);
+    assert_eq!(got.len(), 1);
+    assert!(got[0].is_ok(), "{:?}", got[0]);
+
+    let ja = common::frame(&worst_joint_angle(u32::MAX).into());
+    assert_eq!(ja.len(), JOINT_ANGLE_MAX_FRAME_LEN);
+}
+
+#[test]
+fn one_byte_more_than_max_frame_len_is_oversize() {
+    let mut decoder = FrameDecoder::new();
+    // MAX_FRAME_LEN - 1 non-zero bytes fill the buffer without an error...
+    for _ in 0..MAX_FRAME_LEN - 1 {
+        assert_eq!(decoder.push(0x42), None);
+    }
+    // ...and one more is reported once as Oversize.
+    assert_eq!(decoder.push(0x42), Some(Err(DecodeError::Oversize)));
+    for _ in 0..1000 {
+        assert_eq!(decoder.push(0x42), None);
+    }
+    assert_eq!(decoder.push(0), None, "the delimiter ends the discarded frame silently");
+    let msg: Message = common::status().into();
+    assert_eq!(common::decode_all(&mut decoder, &common::frame(&msg)), vec![Ok(msg)]);
+}
+
+#[test]
+fn encode_frame_fits_a_max_frame_len_buffer() {
+    let msg: Message = worst_pose_frame(u32::MAX).into();
+    let mut exact = [0u8; MAX_FRAME_LEN];
+    assert!(encode_frame(&msg, &mut exact).is_ok());
+}

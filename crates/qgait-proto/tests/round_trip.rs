@@ -1,0 +1,136 @@
+//! Round trips of every message: message bytes, whole frames, the streaming decoder with any
+//! chunking. Floats are compared bit for bit (NaN payloads included).
+mod common;
+
+use common::strategies;
+use proptest::prelude::*;
+use qgait_proto::{
+    decode_frame, decode_message, encode_frame, encode_message, FrameDecoder, Message,
+    CONFIG_MAX_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
+    STATUS_MAX_LEN,
+};
+
+/// Two messages are the same iff their encodings are (every field has a fixed-size or
+/// self-delimiting encoding, floats as raw bits, so NaN payloads count). When no NaN is present
+/// they are also compared with `==`, as an independent check.
+fn assert_same(decoded: &Message, original: &Message) {
+    let mut a = [0u8; MAX_MESSAGE_LEN];
+    let mut b = [0u8; MAX_MESSAGE_LEN];
+    let a = encode_message(decoded, &mut a).expect("encodes").to_vec();
+    let b = encode_message(original, &mut b).expect("encodes").to_vec();
+    assert_eq!(a, b);
+    assert_eq!(core::mem::discriminant(decoded), core::mem::discriminant(original));
+    let has_nan = format!("{original:?}").contains("NaN");
+    if !has_nan {
+        assert_eq!(decoded, original);
+    }
+}
+
+fn kind_max_len(msg: &Message) -> usize {
+    match msg {
+        Message::JointAngle(_) => JOINT_ANGLE_MAX_LEN,
+        Message::PoseFrame(_) => POSE_FRAME_MAX_LEN,
+        Message::Status(_) => STATUS_MAX_LEN,
+        Message::Config(_) => CONFIG_MAX_LEN,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn message_bytes_round_trip(msg in strategies::message()) {
+        let mut buf = [0u8; MAX_MESSAGE_LEN];
+        let bytes = encode_message(&msg, &mut buf).expect("encodes");
+        prop_assert!(bytes.len() <= kind_max_len(&msg));
+        prop_assert_eq!(u32::from(bytes[0]), msg.tag());
+        let decoded = decode_message(bytes).expect("decodes");
+        assert_same(&decoded, &msg);
+    }
+
+    #[test]
+    fn postcard_of_the_public_types_is_the_wire_encoding(msg in strategies::message()) {
+        let mut a = [0u8; MAX_MESSAGE_LEN];
+        let mut b = [0u8; MAX_MESSAGE_LEN];
+        let ours = encode_message(&msg, &mut a).expect("encodes");
+        let plain = postcard::to_slice(&msg, &mut b).expect("encodes");
+        prop_assert_eq!(&ours[..], &plain[..]);
+    }
+
+    #[test]
+    fn frame_round_trips(msg in strategies::message()) {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let frame = encode_frame(&msg, &mut buf).expect("encodes");
+        prop_assert!(frame.len() <= MAX_FRAME_LEN);
+        prop_assert_eq!(frame.last(), Some(&0));
+        prop_assert!(!frame[..frame.len() - 1].contains(&0));
+        let mut body = frame[..frame.len() - 1].to_vec();
+        let decoded = decode_frame(&mut body).expect("decodes");
+        assert_same(&decoded, &msg);
+    }
+
+    /// A stream of frames cut into arbitrary chunks decodes to the same messages, in order,
+    /// whether fed by chunks or byte by byte.
+    #[test]
+    fn stream_round_trips_with_any_chunking(
+        msgs in proptest::collection::vec(strategies::message(), 1..8),
+        cuts in proptest::collection::vec(0usize..2000, 0..12),
+    ) {
+        let stream: Vec<u8> = msgs.iter().flat_map(common::frame).collect();
+        let mut cuts: Vec<usize> = cuts.into_iter().map(|c| c % (stream.len() + 1)).collect();
+        cuts.push(0);
+        cuts.push(stream.len());
+        cuts.sort_unstable();
+        let mut decoder = FrameDecoder::new();
+        let mut by_chunks = Vec::new();
+        for pair in cuts.windows(2) {
+            by_chunks.extend(decoder.feed(&stream[pair[0]..pair[1]]));
+        }
+        prop_assert_eq!(decoder.pending_len(), 0);
+        let by_bytes = common::decode_all(&mut FrameDecoder::new(), &stream);
+        prop_assert_eq!(by_chunks.len(), msgs.len());
+        prop_assert_eq!(by_bytes.len(), msgs.len());
+        for ((chunked, single), msg) in by_chunks.iter().zip(&by_bytes).zip(&msgs) {
+            assert_same(chunked.as_ref().expect("decodes"), msg);
+            assert_same(single.as_ref().expect("decodes"), msg);
+        }
+    }
+}
+
+#[test]
+fn joint_ids_round_trip_through_index_and_name() {
+    use qgait_proto::JointId;
+    assert_eq!(JointId::ALL.len(), JointId::COUNT);
+    for (i, joint) in JointId::ALL.iter().enumerate() {
+        assert_eq!(usize::from(joint.index()), i);
+        assert_eq!(JointId::from_index(joint.index()), Some(*joint));
+        assert_eq!(JointId::from_name(joint.name()), Some(*joint));
+    }
+    assert_eq!(JointId::from_index(17), None);
+    assert_eq!(JointId::from_index(255), None);
+    assert_eq!(JointId::from_name("hip_flexion_r"), Some(JointId::HipFlexionR));
+    assert_eq!(JointId::from_name("pelvis_list"), Some(JointId::PelvisList));
+    assert_eq!(JointId::from_name("lumbar_extension"), None);
+    assert_eq!(JointId::MtpAngleL.to_string(), "mtp_angle_l");
+}
+
+#[test]
+fn models_round_trip_and_list_their_joints() {
+    use qgait_proto::{JointId, ModelId};
+    for (i, model) in ModelId::ALL.iter().enumerate() {
+        assert_eq!(usize::from(model.index()), i);
+        assert_eq!(ModelId::from_index(model.index()), Some(*model));
+        assert_eq!(ModelId::from_name(model.name()), Some(*model));
+    }
+    assert_eq!(ModelId::from_index(3), None);
+    use JointId::*;
+    assert_eq!(
+        ModelId::Phak.required_joints(),
+        &[PelvisRotation, PelvisList, HipFlexionR, KneeAngleR, AnkleAngleR, HipFlexionL, KneeAngleL, AnkleAngleL]
+    );
+    assert_eq!(
+        ModelId::Hak.required_joints(),
+        &[HipFlexionR, KneeAngleR, AnkleAngleR, HipFlexionL, KneeAngleL, AnkleAngleL]
+    );
+    assert_eq!(ModelId::Gait2392.required_joints(), &JointId::ALL);
+}
