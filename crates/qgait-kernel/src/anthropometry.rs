@@ -33,11 +33,20 @@ impl<T: Real> Limb<T> {
     }
     /// From the four lengths in the order of [`to_array`](Self::to_array).
     pub fn from_array(a: [T; 4]) -> Self {
-        Self { pelvis_half_width: a[0], femur: a[1], tibia: a[2], foot: a[3] }
+        Self {
+            pelvis_half_width: a[0],
+            femur: a[1],
+            tibia: a[2],
+            foot: a[3],
+        }
     }
     /// Checks every length is finite and non-negative.
     pub fn validate(&self) -> Result<(), ModelError> {
-        if self.to_array().iter().all(|v| v.is_finite() && *v >= T::ZERO) {
+        if self
+            .to_array()
+            .iter()
+            .all(|v| v.is_finite() && *v >= T::ZERO)
+        {
             Ok(())
         } else {
             Err(ModelError::BadLength)
@@ -71,7 +80,10 @@ impl<T: Real> Anthropometry<T> {
     }
     /// The same lengths on both sides.
     pub fn symmetric(limb: Limb<T>) -> Self {
-        Self { right: limb, left: limb }
+        Self {
+            right: limb,
+            left: limb,
+        }
     }
     /// One side.
     pub fn limb(&self, side: Side) -> &Limb<T> {
@@ -82,7 +94,10 @@ impl<T: Real> Anthropometry<T> {
     }
     /// Converts to another precision.
     pub fn cast<U: Real>(self) -> Anthropometry<U> {
-        Anthropometry { right: self.right.cast(), left: self.left.cast() }
+        Anthropometry {
+            right: self.right.cast(),
+            left: self.left.cast(),
+        }
     }
 }
 

@@ -38,14 +38,35 @@ pub struct JointSpec<T> {
 
 impl<T: Real> JointSpec<T> {
     /// A joint with the given axes `(direction, coordinate)`, in order.
-    pub fn new(name: &'static str, parent: Option<usize>, offset: Vec3<T>, axes: &[(Vec3<T>, usize)]) -> Self {
-        let mut a = [Axis { direction: Vec3::zero(), coordinate: 0 }; MAX_AXES];
+    pub fn new(
+        name: &'static str,
+        parent: Option<usize>,
+        offset: Vec3<T>,
+        axes: &[(Vec3<T>, usize)],
+    ) -> Self {
+        let mut a = [Axis {
+            direction: Vec3::zero(),
+            coordinate: 0,
+        }; MAX_AXES];
         let n_axes = axes.len().min(MAX_AXES);
         for (slot, (direction, coordinate)) in a.iter_mut().zip(axes) {
-            *slot = Axis { direction: *direction, coordinate: *coordinate };
+            *slot = Axis {
+                direction: *direction,
+                coordinate: *coordinate,
+            };
         }
         // More than MAX_AXES is reported by Chain::new through n_axes mismatch.
-        Self { name, parent, offset, axes: a, n_axes: if axes.len() > MAX_AXES { MAX_AXES + 1 } else { n_axes } }
+        Self {
+            name,
+            parent,
+            offset,
+            axes: a,
+            n_axes: if axes.len() > MAX_AXES {
+                MAX_AXES + 1
+            } else {
+                n_axes
+            },
+        }
     }
 }
 
@@ -86,7 +107,10 @@ pub struct Frame<T> {
 impl<T: Real> Frame<T> {
     /// The ground frame.
     pub fn ground() -> Self {
-        Self { rotation: Quat::identity(), origin: Vec3::zero() }
+        Self {
+            rotation: Quat::identity(),
+            origin: Vec3::zero(),
+        }
     }
     /// Maps a point given in this frame to ground.
     #[inline(always)]
@@ -120,7 +144,10 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
             if joint.n_axes > MAX_AXES {
                 return Err(ModelError::BadAxis { joint: j });
             }
-            if !(joint.offset.x.is_finite() && joint.offset.y.is_finite() && joint.offset.z.is_finite()) {
+            if !(joint.offset.x.is_finite()
+                && joint.offset.y.is_finite()
+                && joint.offset.z.is_finite())
+            {
                 return Err(ModelError::BadLength);
             }
             for axis in &mut joint.axes[..joint.n_axes] {
@@ -149,7 +176,12 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 return Err(ModelError::CoordinateOutOfRange { joint: s.joint });
             }
         }
-        Ok(Self { joints, points, at_origin, splines })
+        Ok(Self {
+            joints,
+            points,
+            at_origin,
+            splines,
+        })
     }
 
     /// The joints, in evaluation order.
@@ -205,7 +237,11 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         let mut out = [Vec3::zero(); P];
         for (i, p) in self.points.iter().enumerate() {
             let f = &frames[p.body];
-            out[i] = if self.at_origin[i] { f.origin } else { f.transform(p.offset) };
+            out[i] = if self.at_origin[i] {
+                f.origin
+            } else {
+                f.transform(p.offset)
+            };
         }
         out
     }
@@ -219,10 +255,17 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 name: j.name,
                 parent: j.parent,
                 offset: v(j.offset),
-                axes: j.axes.map(|a| Axis { direction: v(a.direction), coordinate: a.coordinate }),
+                axes: j.axes.map(|a| Axis {
+                    direction: v(a.direction),
+                    coordinate: a.coordinate,
+                }),
                 n_axes: j.n_axes,
             }),
-            points: self.points.map(|p| PointSpec { name: p.name, body: p.body, offset: v(p.offset) }),
+            points: self.points.map(|p| PointSpec {
+                name: p.name,
+                body: p.body,
+                offset: v(p.offset),
+            }),
             at_origin: self.at_origin,
             splines: self.splines.map(|s| SplineTranslation {
                 joint: s.joint,

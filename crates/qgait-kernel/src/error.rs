@@ -37,11 +37,21 @@ pub enum ModelError {
 impl fmt::Display for ModelError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::ParentOrder { joint } => write!(f, "joint {joint} has a parent that is not an earlier joint"),
-            Self::CoordinateOutOfRange { joint } => write!(f, "joint {joint} reads a coordinate outside the input"),
-            Self::BodyOutOfRange { index } => write!(f, "point or spline {index} refers to a missing joint"),
-            Self::BadAxis { joint } => write!(f, "joint {joint} has a zero or non-finite rotation axis"),
-            Self::SplineKnots => f.write_str("a spline needs 2 to 12 finite knots with increasing x"),
+            Self::ParentOrder { joint } => {
+                write!(f, "joint {joint} has a parent that is not an earlier joint")
+            }
+            Self::CoordinateOutOfRange { joint } => {
+                write!(f, "joint {joint} reads a coordinate outside the input")
+            }
+            Self::BodyOutOfRange { index } => {
+                write!(f, "point or spline {index} refers to a missing joint")
+            }
+            Self::BadAxis { joint } => {
+                write!(f, "joint {joint} has a zero or non-finite rotation axis")
+            }
+            Self::SplineKnots => {
+                f.write_str("a spline needs 2 to 12 finite knots with increasing x")
+            }
             Self::BadLength => f.write_str("segment lengths must be finite and non-negative"),
         }
     }

@@ -25,7 +25,11 @@ impl<T: Real> Distances<T> {
 /// construction in the stick models).
 pub fn distances<T: Real>(pose: &BilateralPose<T>) -> Distances<T> {
     let d = |j| Vec3::distance(pose.point(Side::Right, j), pose.point(Side::Left, j));
-    Distances { knee: d(Joint::Knee), ankle: d(Joint::Ankle), toe: d(Joint::Toe) }
+    Distances {
+        knee: d(Joint::Knee),
+        ankle: d(Joint::Ankle),
+        toe: d(Joint::Toe),
+    }
 }
 
 /// An anatomical plane and the 2-D coordinates a point has in it.
@@ -124,12 +128,25 @@ impl<T: Real> PathStats<T> {
         } else {
             mean
         };
-        Some(Self { n, min, max, mean, range, centroid, area })
+        Some(Self {
+            n,
+            min,
+            max,
+            mean,
+            range,
+            centroid,
+            area,
+        })
     }
 }
 
 /// Statistics of one joint's path through `frames` on `plane`; `None` for no frames.
-pub fn path_stats<T: Real>(frames: &[BilateralPose<T>], side: Side, joint: Joint, plane: Plane) -> Option<PathStats<T>> {
+pub fn path_stats<T: Real>(
+    frames: &[BilateralPose<T>],
+    side: Side,
+    joint: Joint,
+    plane: Plane,
+) -> Option<PathStats<T>> {
     PathStats::from_points(frames.iter().map(|f| plane.project(f.point(side, joint))))
 }
 
@@ -139,7 +156,10 @@ mod tests {
 
     #[test]
     fn unit_square_has_area_one_and_centroid_half() {
-        for pts in [[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]] {
+        for pts in [
+            [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]],
+        ] {
             let s = PathStats::<f64>::from_points(pts).unwrap();
             assert!((s.area - 1.0).abs() < 1e-15);
             assert_eq!(s.centroid, [0.5, 0.5]);
@@ -151,7 +171,14 @@ mod tests {
     #[test]
     fn triangle_centroid_differs_from_vertex_mean_when_points_cluster() {
         // Extra collinear points on one edge move the mean but not the polygon centroid.
-        let s = PathStats::<f64>::from_points([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [0.0, 3.0]]).unwrap();
+        let s = PathStats::<f64>::from_points([
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [3.0, 0.0],
+            [0.0, 3.0],
+        ])
+        .unwrap();
         assert!((s.area - 4.5).abs() < 1e-12);
         assert!((s.centroid[0] - 1.0).abs() < 1e-12 && (s.centroid[1] - 1.0).abs() < 1e-12);
         assert!((s.mean[0] - 1.2).abs() < 1e-12);
@@ -159,7 +186,8 @@ mod tests {
 
     #[test]
     fn degenerate_path_falls_back_to_mean_and_empty_is_none() {
-        let s = PathStats::<f64>::from_points([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [1.0, 1.0]]).unwrap();
+        let s = PathStats::<f64>::from_points([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [1.0, 1.0]])
+            .unwrap();
         assert_eq!(s.area, 0.0);
         assert_eq!(s.centroid, s.mean);
         assert!(PathStats::<f64>::from_points([]).is_none());

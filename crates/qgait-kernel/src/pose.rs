@@ -82,7 +82,12 @@ impl<T: Real> LegPose<T> {
     }
     /// From four points in the order hip, knee, ankle, toe.
     pub fn from_points(p: [Vec3<T>; 4]) -> Self {
-        Self { hip: p[0], knee: p[1], ankle: p[2], toe: p[3] }
+        Self {
+            hip: p[0],
+            knee: p[1],
+            ankle: p[2],
+            toe: p[3],
+        }
     }
     /// The four points in the order hip, knee, ankle, toe.
     pub fn points(&self) -> [Vec3<T>; 4] {
@@ -122,6 +127,9 @@ impl<T: Real> BilateralPose<T> {
     }
     /// From eight points in output order.
     pub fn from_points(p: [Vec3<T>; 8]) -> Self {
-        Self { right: LegPose::from_points([p[0], p[1], p[2], p[3]]), left: LegPose::from_points([p[4], p[5], p[6], p[7]]) }
+        Self {
+            right: LegPose::from_points([p[0], p[1], p[2], p[3]]),
+            left: LegPose::from_points([p[4], p[5], p[6], p[7]]),
+        }
     }
 }

@@ -46,7 +46,12 @@ impl<T: Real> Quat<T> {
     /// Rotation about the unit `axis` given `sin` and `cos` of half the angle.
     #[inline(always)]
     pub fn from_axis_half_sin_cos(axis: Vec3<T>, sin_half: T, cos_half: T) -> Self {
-        Self::new(cos_half, axis.x * sin_half, axis.y * sin_half, axis.z * sin_half)
+        Self::new(
+            cos_half,
+            axis.x * sin_half,
+            axis.y * sin_half,
+            axis.z * sin_half,
+        )
     }
     /// Conjugate `w - v` (the inverse of a unit quaternion).
     #[inline(always)]
@@ -79,9 +84,21 @@ impl<T: Real> Quat<T> {
         let (w, x, y, z) = (self.w, self.x, self.y, self.z);
         let two = T::TWO;
         [
-            [T::ONE - two * (y * y + z * z), two * (x * y - w * z), two * (x * z + w * y)],
-            [two * (x * y + w * z), T::ONE - two * (x * x + z * z), two * (y * z - w * x)],
-            [two * (x * z - w * y), two * (y * z + w * x), T::ONE - two * (x * x + y * y)],
+            [
+                T::ONE - two * (y * y + z * z),
+                two * (x * y - w * z),
+                two * (x * z + w * y),
+            ],
+            [
+                two * (x * y + w * z),
+                T::ONE - two * (x * x + z * z),
+                two * (y * z - w * x),
+            ],
+            [
+                two * (x * z - w * y),
+                two * (y * z + w * x),
+                T::ONE - two * (x * x + y * y),
+            ],
         ]
     }
 }

@@ -84,7 +84,14 @@ impl<T: Real> Spline<T> {
     /// Converts to another precision.
     pub fn cast<U: Real>(&self) -> Spline<U> {
         let conv = |a: &[T; MAX_KNOTS]| a.map(|v| U::from_f64(v.to_f64()));
-        Spline { n: self.n, x: conv(&self.x), y: conv(&self.y), b: conv(&self.b), c: conv(&self.c), d: conv(&self.d) }
+        Spline {
+            n: self.n,
+            x: conv(&self.x),
+            y: conv(&self.y),
+            b: conv(&self.b),
+            c: conv(&self.c),
+            d: conv(&self.d),
+        }
     }
 }
 

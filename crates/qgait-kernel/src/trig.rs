@@ -17,15 +17,31 @@
 //! multiply-adds for the Cody-Waite subtraction and nine multiply-adds for the polynomials.
 
 /// sin r ≈ r·(S0 + S1 r² + S2 r⁴ + S3 r⁶ + S4 r⁸) on |r| ≤ pi/2.
-const S: [f32; 5] = [0.999_999_976_59, -0.166_666_476_347, 0.008_332_899_823_59, -0.000_198_008_977_769, 2.590_488_527_52e-6];
+#[allow(clippy::excessive_precision)] // the fitted values, as printed by the fit
+const S: [f32; 5] = [
+    0.999_999_976_59,
+    -0.166_666_476_347,
+    0.008_332_899_823_59,
+    -0.000_198_008_977_769,
+    2.590_488_527_52e-6,
+];
 /// cos r ≈ C0 + C1 r² + C2 r⁴ + C3 r⁶ + C4 r⁸ on |r| ≤ pi/2.
-const C: [f32; 5] = [0.999_999_953_465, -0.499_999_053_46, 0.041_663_584_677_8, -0.001_385_370_422_74, 2.315_393_022_46e-5];
+#[allow(clippy::excessive_precision)]
+const C: [f32; 5] = [
+    0.999_999_953_465,
+    -0.499_999_053_46,
+    0.041_663_584_677_8,
+    -0.001_385_370_422_74,
+    2.315_393_022_46e-5,
+];
 
 /// `1/pi`.
 const FRAC_1_PI: f32 = core::f32::consts::FRAC_1_PI;
-/// `pi` split in two (Cody-Waite): `PI_HI` is the `f32` nearest pi, `PI_LO` the rest.
-const PI_HI: f32 = 3.141_592_741_012_573_2;
-const PI_LO: f32 = -8.742_278_e-8;
+/// `pi` split in two (Cody-Waite): `PI_HI` has 8 significant bits, so `k * PI_HI` and
+/// `h - k * PI_HI` are exact for any practical `k`; `PI_LO` is the rest.
+const PI_HI: f32 = 3.140_625;
+#[allow(clippy::excessive_precision)]
+const PI_LO: f32 = 9.676_535_897_932_e-4;
 /// Adding then subtracting 1.5·2²³ rounds an `f32` of magnitude below 2²² to the nearest integer.
 const ROUND_MAGIC: f32 = 12_582_912.0;
 
@@ -62,12 +78,19 @@ mod tests {
         let mut max_err = 0.0f64;
         let n = 200_000;
         for i in 0..=n {
-            let x = -8.0 * core::f64::consts::PI + 16.0 * core::f64::consts::PI * (i as f64) / (n as f64);
+            let x = -8.0 * core::f64::consts::PI
+                + 16.0 * core::f64::consts::PI * (i as f64) / (n as f64);
             let (s, c) = half_angle_sin_cos_f32(x as f32);
             let (es, ec) = libm::sincos(0.5 * (x as f32) as f64);
             // compare up to the common sign
-            let sign = if (c as f64) * ec + (s as f64) * es < 0.0 { -1.0 } else { 1.0 };
-            max_err = max_err.max((sign * s as f64 - es).abs()).max((sign * c as f64 - ec).abs());
+            let sign = if (c as f64) * ec + (s as f64) * es < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            max_err = max_err
+                .max((sign * s as f64 - es).abs())
+                .max((sign * c as f64 - ec).abs());
         }
         assert!(max_err < 3e-7, "max error {max_err}");
     }

@@ -48,7 +48,11 @@ impl<T: Real> Vec3<T> {
     }
     /// Converts to another precision (through `f64`).
     pub fn cast<U: Real>(self) -> Vec3<U> {
-        Vec3::new(U::from_f64(self.x.to_f64()), U::from_f64(self.y.to_f64()), U::from_f64(self.z.to_f64()))
+        Vec3::new(
+            U::from_f64(self.x.to_f64()),
+            U::from_f64(self.y.to_f64()),
+            U::from_f64(self.z.to_f64()),
+        )
     }
     /// Dot product.
     #[inline(always)]
@@ -58,7 +62,11 @@ impl<T: Real> Vec3<T> {
     /// Cross product (right-handed).
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
-        Self::new(self.y * o.z - self.z * o.y, self.z * o.x - self.x * o.z, self.x * o.y - self.y * o.x)
+        Self::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
     }
     /// Euclidean length.
     pub fn norm(self) -> T {

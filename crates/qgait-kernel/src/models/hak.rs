@@ -27,7 +27,11 @@ impl<T: Real> HakAngles<T> {
     }
     /// From the angles in input order.
     pub fn from_array(a: [T; 3]) -> Self {
-        Self { hip_flexion: a[0], knee_angle: a[1], ankle_angle: a[2] }
+        Self {
+            hip_flexion: a[0],
+            knee_angle: a[1],
+            ankle_angle: a[2],
+        }
     }
 }
 
@@ -45,16 +49,44 @@ impl<T: Real> Hak<T> {
         let zero = T::ZERO;
         let joints = [
             JointSpec::new("hip", None, Vec3::zero(), &[(z(), 0)]),
-            JointSpec::new("knee", Some(0), Vec3::new(zero, -limb.femur, zero), &[(z(), 1)]),
-            JointSpec::new("ankle", Some(1), Vec3::new(zero, -limb.tibia, zero), &[(z(), 2)]),
+            JointSpec::new(
+                "knee",
+                Some(0),
+                Vec3::new(zero, -limb.femur, zero),
+                &[(z(), 1)],
+            ),
+            JointSpec::new(
+                "ankle",
+                Some(1),
+                Vec3::new(zero, -limb.tibia, zero),
+                &[(z(), 2)],
+            ),
         ];
         let points = [
-            PointSpec { name: "hip", body: 0, offset: Vec3::zero() },
-            PointSpec { name: "knee", body: 1, offset: Vec3::zero() },
-            PointSpec { name: "ankle", body: 2, offset: Vec3::zero() },
-            PointSpec { name: "toe", body: 2, offset: x::<T>() * limb.foot },
+            PointSpec {
+                name: "hip",
+                body: 0,
+                offset: Vec3::zero(),
+            },
+            PointSpec {
+                name: "knee",
+                body: 1,
+                offset: Vec3::zero(),
+            },
+            PointSpec {
+                name: "ankle",
+                body: 2,
+                offset: Vec3::zero(),
+            },
+            PointSpec {
+                name: "toe",
+                body: 2,
+                offset: x::<T>() * limb.foot,
+            },
         ];
-        Ok(Self { chain: Chain::new(joints, points, [])? })
+        Ok(Self {
+            chain: Chain::new(joints, points, [])?,
+        })
     }
 
     /// The chain table (for the matrix reference method and benchmarks).

@@ -11,8 +11,8 @@ mod phak;
 pub use hak::{Hak, HakAngles, HakChain};
 pub use phak::{Phak, PhakAngles, PhakChain};
 
-use crate::Vec3;
 use crate::Real;
+use crate::Vec3;
 
 /// Unit axes, for model tables.
 pub(crate) fn x<T: Real>() -> Vec3<T> {

@@ -1,7 +1,9 @@
 //! PHAK: the paper's 8-DoF bilateral pelvis-hip-knee-ankle chain (Figure 3, Eqs 16-17).
 
 use super::{x, y, z};
-use crate::{Anthropometry, BilateralPose, Chain, JointSpec, ModelError, PointSpec, Real, Side, Vec3};
+use crate::{
+    Anthropometry, BilateralPose, Chain, JointSpec, ModelError, PointSpec, Real, Side, Vec3,
+};
 
 /// PHAK's chain type: 8 coordinates, 7 joints (pelvis, then hip, knee, ankle per side), 8 points.
 pub type PhakChain<T> = Chain<T, 8, 7, 8, 0>;
@@ -94,18 +96,32 @@ impl<T: Real> Phak<T> {
             JointSpec::new("knee_l", Some(4), down(l.femur), &[(z(), 6)]),
             JointSpec::new("ankle_l", Some(5), down(l.tibia), &[(z(), 7)]),
         ];
-        let centre = |name, body| PointSpec { name, body, offset: Vec3::zero() };
+        let centre = |name, body| PointSpec {
+            name,
+            body,
+            offset: Vec3::zero(),
+        };
         let points = [
             centre("hip_r", 1),
             centre("knee_r", 2),
             centre("ankle_r", 3),
-            PointSpec { name: "toe_r", body: 3, offset: x::<T>() * r.foot },
+            PointSpec {
+                name: "toe_r",
+                body: 3,
+                offset: x::<T>() * r.foot,
+            },
             centre("hip_l", 4),
             centre("knee_l", 5),
             centre("ankle_l", 6),
-            PointSpec { name: "toe_l", body: 6, offset: x::<T>() * l.foot },
+            PointSpec {
+                name: "toe_l",
+                body: 6,
+                offset: x::<T>() * l.foot,
+            },
         ];
-        Ok(Self { chain: Chain::new(joints, points, [])? })
+        Ok(Self {
+            chain: Chain::new(joints, points, [])?,
+        })
     }
 
     /// The chain table (for the matrix reference method and benchmarks).

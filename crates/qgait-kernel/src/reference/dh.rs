@@ -28,5 +28,10 @@ pub fn hak_denavit_hartenberg<T: Real + RealField>(limb: &Limb<T>, q: &HakAngles
     let h12 = h1 * dh_transform(q.knee_angle, o, limb.tibia, o);
     let h123 = h12 * dh_transform(q.ankle_angle + half_pi, o, limb.foot, o);
     let origin = |m: &Matrix4<T>| Vec3::new(m[(0, 3)], m[(1, 3)], m[(2, 3)]);
-    LegPose { hip: Vec3::zero(), knee: origin(&h1), ankle: origin(&h12), toe: origin(&h123) }
+    LegPose {
+        hip: Vec3::zero(),
+        knee: origin(&h1),
+        ankle: origin(&h12),
+        toe: origin(&h123),
+    }
 }

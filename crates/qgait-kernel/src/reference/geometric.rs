@@ -12,5 +12,10 @@ pub fn hak_geometric<T: Real>(limb: &Limb<T>, q: &HakAngles<T>) -> LegPose<T> {
     let knee = Vec3::new(limb.femur * s1, -limb.femur * c1, zero);
     let ankle = knee + Vec3::new(limb.tibia * s12, -limb.tibia * c12, zero);
     let toe = ankle + Vec3::new(limb.foot * c123, limb.foot * s123, zero);
-    LegPose { hip: Vec3::zero(), knee, ankle, toe }
+    LegPose {
+        hip: Vec3::zero(),
+        knee,
+        ankle,
+        toe,
+    }
 }

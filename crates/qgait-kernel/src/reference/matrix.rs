@@ -38,13 +38,18 @@ fn apply<T: Real + RealField>(m: &Matrix4<T>, p: Vec3<T>) -> Vec3<T> {
 /// PHAK by homogeneous transforms, written out independently of the chain tables:
 /// `T_pelvis = R_y(rotation) R_x(list)`, then per side `Trans(0, 0, s w) R_z(hip)`,
 /// `Trans(0, -femur, 0) R_z(knee)`, `Trans(0, -tibia, 0) R_z(ankle)`, toe at `(foot, 0, 0)`.
-pub fn phak_homogeneous<T: Real + RealField>(a: &Anthropometry<T>, q: &PhakAngles<T>) -> BilateralPose<T> {
+pub fn phak_homogeneous<T: Real + RealField>(
+    a: &Anthropometry<T>,
+    q: &PhakAngles<T>,
+) -> BilateralPose<T> {
     let (x, y, z) = (Vec3::unit_x(), Vec3::unit_y(), Vec3::unit_z());
     let o = T::ZERO;
     let pelvis = rotation(y, q.pelvis_rotation) * rotation(x, q.pelvis_list);
     let leg = |side: Side, hip: T, knee: T, ankle: T| {
         let l = a.limb(side);
-        let t_hip = pelvis * translation(Vec3::new(o, o, side.sign::<T>() * l.pelvis_half_width)) * rotation(z, hip);
+        let t_hip = pelvis
+            * translation(Vec3::new(o, o, side.sign::<T>() * l.pelvis_half_width))
+            * rotation(z, hip);
         let t_knee = t_hip * translation(Vec3::new(o, -l.femur, o)) * rotation(z, knee);
         let t_ankle = t_knee * translation(Vec3::new(o, -l.tibia, o)) * rotation(z, ankle);
         LegPose {
@@ -55,7 +60,12 @@ pub fn phak_homogeneous<T: Real + RealField>(a: &Anthropometry<T>, q: &PhakAngle
         }
     };
     BilateralPose {
-        right: leg(Side::Right, q.hip_flexion_r, q.knee_angle_r, q.ankle_angle_r),
+        right: leg(
+            Side::Right,
+            q.hip_flexion_r,
+            q.knee_angle_r,
+            q.ankle_angle_r,
+        ),
         left: leg(Side::Left, q.hip_flexion_l, q.knee_angle_l, q.ankle_angle_l),
     }
 }
@@ -63,7 +73,13 @@ pub fn phak_homogeneous<T: Real + RealField>(a: &Anthropometry<T>, q: &PhakAngle
 /// Any chain evaluated with 4x4 homogeneous matrices: per joint
 /// `T_j = T_parent Trans(offset + splines) R(axis_1, q) R(axis_2, q) ...`. Same table, other
 /// algebra: the matrix method of the paper's cost comparison.
-pub fn chain_by_matrices<T: Real + RealField, const N: usize, const J: usize, const P: usize, const S: usize>(
+pub fn chain_by_matrices<
+    T: Real + RealField,
+    const N: usize,
+    const J: usize,
+    const P: usize,
+    const S: usize,
+>(
     chain: &Chain<T, N, J, P, S>,
     q: &[T; N],
 ) -> [Vec3<T>; P] {
