@@ -19,7 +19,7 @@ mod vec3;
 pub use anthropometry::{Anthropometry, Limb};
 pub use chain::{Axis, Chain, Frame, JointSpec, PointSpec, SplineTranslation};
 pub use error::ModelError;
-pub use models::{Hak, HakAngles, Phak, PhakAngles};
+pub use models::{Gait2392, Gait2392Geometry, Gait2392Pose, Hak, HakAngles, Phak, PhakAngles};
 pub use pose::{BilateralPose, Joint, LegPose, Side};
 pub use quat::Quat;
 pub use scalar::Real;
