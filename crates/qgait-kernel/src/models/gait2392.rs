@@ -122,7 +122,9 @@ pub struct Gait2392Geometry {
     pub left: LegGeometry,
 }
 
-/// The generic model's knee spline knots (identical for both knees).
+/// The generic model's knee spline knots (identical for both knees), as written in the model file
+/// (rounded degrees in radians: they are data, not approximations of pi).
+#[allow(clippy::approx_constant)]
 const KNEE_TX_X: [f64; 12] = [
     -2.0944, -1.74533, -1.39626, -1.0472, -0.698132, -0.349066, -0.174533, 0.197344, 0.337395,
     0.490178, 1.52146, 2.0944,
@@ -131,6 +133,7 @@ const KNEE_TX_Y: [f64; 12] = [
     -0.0032, 0.00179, 0.00411, 0.0041, 0.00212, -0.001, -0.0031, -0.005227, -0.005435, -0.005574,
     -0.005435, -0.00525,
 ];
+#[allow(clippy::approx_constant)]
 const KNEE_TY_X: [f64; 7] = [
     -2.0944, -1.22173, -0.523599, -0.349066, -0.174533, 0.159149, 2.0944,
 ];
