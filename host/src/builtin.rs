@@ -56,8 +56,16 @@ const FIT_SAMPLES: usize = 400;
 type KeyEvents = &'static [(f64, f64)];
 
 /// Hip flexion, degrees.
-pub const HIP_FLEXION: KeyEvents =
-    &[(0.0, 30.0), (10.0, 29.0), (30.0, 10.0), (50.0, -10.0), (62.0, 0.0), (75.0, 22.0), (87.0, 33.0), (100.0, 30.0)];
+pub const HIP_FLEXION: KeyEvents = &[
+    (0.0, 30.0),
+    (10.0, 29.0),
+    (30.0, 10.0),
+    (50.0, -10.0),
+    (62.0, 0.0),
+    (75.0, 22.0),
+    (87.0, 33.0),
+    (100.0, 30.0),
+];
 /// Knee flexion (clinical sign: flexion > 0), degrees.
 pub const KNEE_FLEXION: KeyEvents = &[
     (0.0, 5.0),
@@ -71,22 +79,52 @@ pub const KNEE_FLEXION: KeyEvents = &[
     (100.0, 5.0),
 ];
 /// Ankle dorsiflexion, degrees.
-pub const ANKLE_DORSIFLEXION: KeyEvents =
-    &[(0.0, 0.0), (10.0, -5.0), (30.0, 5.0), (48.0, 10.0), (62.0, -15.0), (75.0, -5.0), (87.0, 0.0), (100.0, 0.0)];
+pub const ANKLE_DORSIFLEXION: KeyEvents = &[
+    (0.0, 0.0),
+    (10.0, -5.0),
+    (30.0, 5.0),
+    (48.0, 10.0),
+    (62.0, -15.0),
+    (75.0, -5.0),
+    (87.0, 0.0),
+    (100.0, 0.0),
+];
 /// Pelvis rotation (right side forward > 0), degrees.
-pub const PELVIS_ROTATION: KeyEvents = &[(0.0, 5.0), (25.0, 0.0), (50.0, -5.0), (75.0, 0.0), (100.0, 5.0)];
+pub const PELVIS_ROTATION: KeyEvents = &[
+    (0.0, 5.0),
+    (25.0, 0.0),
+    (50.0, -5.0),
+    (75.0, 0.0),
+    (100.0, 5.0),
+];
 /// Pelvic obliquity as OpenSim `pelvis_list` (right side down > 0), degrees.
-pub const PELVIS_LIST: KeyEvents =
-    &[(0.0, 0.0), (15.0, -4.0), (35.0, -2.0), (50.0, 0.0), (65.0, 4.0), (85.0, 2.0), (100.0, 0.0)];
+pub const PELVIS_LIST: KeyEvents = &[
+    (0.0, 0.0),
+    (15.0, -4.0),
+    (35.0, -2.0),
+    (50.0, 0.0),
+    (65.0, 4.0),
+    (85.0, 2.0),
+    (100.0, 0.0),
+];
 
 /// Crouch change of one sagittal coordinate at severity 1.
 struct Crouch {
     offset_deg: f64,
     excursion_factor: f64,
 }
-const HIP_CROUCH: Crouch = Crouch { offset_deg: 33.0, excursion_factor: 1.0 };
-const KNEE_CROUCH: Crouch = Crouch { offset_deg: 28.0, excursion_factor: 0.6 };
-const ANKLE_CROUCH: Crouch = Crouch { offset_deg: 15.0, excursion_factor: 0.65 };
+const HIP_CROUCH: Crouch = Crouch {
+    offset_deg: 33.0,
+    excursion_factor: 1.0,
+};
+const KNEE_CROUCH: Crouch = Crouch {
+    offset_deg: 28.0,
+    excursion_factor: 0.6,
+};
+const ANKLE_CROUCH: Crouch = Crouch {
+    offset_deg: 15.0,
+    excursion_factor: 0.65,
+};
 
 /// A parsed `builtin:` specification.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,24 +144,27 @@ impl BuiltinSpec {
         let crouch = if kind == "normal" {
             0.0
         } else if let Some(s) = kind.strip_prefix("crouch=") {
-            let s: f64 = s.trim().parse().map_err(|_| format!("builtin:{text}: crouch severity `{s}` is not a number; {usage}"))?;
+            let s: f64 = s.trim().parse().map_err(|_| {
+                format!("builtin:{text}: crouch severity `{s}` is not a number; {usage}")
+            })?;
             if !(0.0..=1.0).contains(&s) {
-                return Err(format!("builtin:{text}: crouch severity {s} is outside 0..1"));
+                return Err(format!(
+                    "builtin:{text}: crouch severity {s} is outside 0..1"
+                ));
             }
             s
         } else {
-            return Err(format!("builtin:{text}: unknown built-in gait `{kind}`; {usage}"));
+            return Err(format!(
+                "builtin:{text}: unknown built-in gait `{kind}`; {usage}"
+            ));
         };
         let mut rows = DEFAULT_ROWS;
         for part in parts {
             match part.trim().strip_prefix("rows=") {
                 Some(n) => {
-                    rows = n
-                        .trim()
-                        .parse()
-                        .ok()
-                        .filter(|&n| n >= 2)
-                        .ok_or_else(|| format!("builtin:{text}: rows must be a whole number >= 2, found `{n}`"))?
+                    rows = n.trim().parse().ok().filter(|&n| n >= 2).ok_or_else(|| {
+                        format!("builtin:{text}: rows must be a whole number >= 2, found `{n}`")
+                    })?
                 }
                 None => return Err(format!("builtin:{text}: unknown option `{part}`; {usage}")),
             }
@@ -155,7 +196,9 @@ pub struct Harmonics {
 impl Harmonics {
     /// Fits the key-event polyline (which must start at 0 % and end at 100 %).
     pub fn fit(events: KeyEvents) -> Self {
-        let samples: Vec<f64> = (0..FIT_SAMPLES).map(|i| polyline(events, 100.0 * i as f64 / FIT_SAMPLES as f64)).collect();
+        let samples: Vec<f64> = (0..FIT_SAMPLES)
+            .map(|i| polyline(events, 100.0 * i as f64 / FIT_SAMPLES as f64))
+            .collect();
         let n = FIT_SAMPLES as f64;
         let a0 = samples.iter().sum::<f64>() / n;
         let (mut a, mut b) = ([0.0; HARMONICS], [0.0; HARMONICS]);
@@ -181,7 +224,11 @@ impl Harmonics {
 
 /// Linear interpolation of the key events at `percent` (0..100).
 fn polyline(events: KeyEvents, percent: f64) -> f64 {
-    let i = events.iter().rposition(|&(p, _)| p <= percent).unwrap_or(0).min(events.len() - 2);
+    let i = events
+        .iter()
+        .rposition(|&(p, _)| p <= percent)
+        .unwrap_or(0)
+        .min(events.len() - 2);
     let ((p0, v0), (p1, v1)) = (events[i], events[i + 1]);
     v0 + (v1 - v0) * (percent - p0) / (p1 - p0)
 }
@@ -206,24 +253,46 @@ pub const COLUMNS: [&str; 8] = [
 
 /// Generates the motion (degrees, one cycle over 1 s).
 pub fn generate(spec: &BuiltinSpec) -> MotionTable {
-    let (hip, knee, ankle) = (Harmonics::fit(HIP_FLEXION), Harmonics::fit(KNEE_FLEXION), Harmonics::fit(ANKLE_DORSIFLEXION));
+    let (hip, knee, ankle) = (
+        Harmonics::fit(HIP_FLEXION),
+        Harmonics::fit(KNEE_FLEXION),
+        Harmonics::fit(ANKLE_DORSIFLEXION),
+    );
     let (rotation, list) = (Harmonics::fit(PELVIS_ROTATION), Harmonics::fit(PELVIS_LIST));
     let s = spec.crouch;
     let leg = |p: f64| {
-        [crouched(&hip, &HIP_CROUCH, s, p), -crouched(&knee, &KNEE_CROUCH, s, p), crouched(&ankle, &ANKLE_CROUCH, s, p)]
+        [
+            crouched(&hip, &HIP_CROUCH, s, p),
+            -crouched(&knee, &KNEE_CROUCH, s, p),
+            crouched(&ankle, &ANKLE_CROUCH, s, p),
+        ]
     };
     let mut columns = vec![Vec::with_capacity(spec.rows); COLUMNS.len() + 1];
     for i in 0..spec.rows {
         let p = 100.0 * i as f64 / (spec.rows - 1) as f64;
         let (right, left) = (leg(p), leg(p + 50.0));
-        let row = [p / 100.0, list.eval(p), rotation.eval(p), right[0], right[1], right[2], left[0], left[1], left[2]];
+        let row = [
+            p / 100.0,
+            list.eval(p),
+            rotation.eval(p),
+            right[0],
+            right[1],
+            right[2],
+            left[0],
+            left[1],
+            left[2],
+        ];
         for (col, v) in columns.iter_mut().zip(row) {
             col.push(v);
         }
     }
-    let labels = std::iter::once("time").chain(COLUMNS).map(str::to_string).collect();
+    let labels = std::iter::once("time")
+        .chain(COLUMNS)
+        .map(str::to_string)
+        .collect();
     let name = spec.label().replace(':', "_");
-    MotionTable::new(name, spec.label(), true, labels, columns).expect("generated motion is well formed")
+    MotionTable::new(name, spec.label(), true, labels, columns)
+        .expect("generated motion is well formed")
 }
 
 #[cfg(test)]
@@ -232,18 +301,40 @@ mod tests {
 
     #[test]
     fn harmonics_follow_the_key_events() {
-        for events in [HIP_FLEXION, KNEE_FLEXION, ANKLE_DORSIFLEXION, PELVIS_ROTATION, PELVIS_LIST] {
+        for events in [
+            HIP_FLEXION,
+            KNEE_FLEXION,
+            ANKLE_DORSIFLEXION,
+            PELVIS_ROTATION,
+            PELVIS_LIST,
+        ] {
             let h = Harmonics::fit(events);
             for &(p, v) in events {
-                assert!((h.eval(p) - v).abs() < 4.5, "at {p} %: {} vs {v}", h.eval(p));
+                assert!(
+                    (h.eval(p) - v).abs() < 4.5,
+                    "at {p} %: {} vs {v}",
+                    h.eval(p)
+                );
             }
         }
     }
 
     #[test]
     fn spec_parsing() {
-        assert_eq!(BuiltinSpec::parse("normal").unwrap(), BuiltinSpec { crouch: 0.0, rows: 101 });
-        assert_eq!(BuiltinSpec::parse("crouch=0.6,rows=11").unwrap(), BuiltinSpec { crouch: 0.6, rows: 11 });
+        assert_eq!(
+            BuiltinSpec::parse("normal").unwrap(),
+            BuiltinSpec {
+                crouch: 0.0,
+                rows: 101
+            }
+        );
+        assert_eq!(
+            BuiltinSpec::parse("crouch=0.6,rows=11").unwrap(),
+            BuiltinSpec {
+                crouch: 0.6,
+                rows: 11
+            }
+        );
         assert!(BuiltinSpec::parse("crouch=1.5").is_err());
         assert!(BuiltinSpec::parse("crouch=x").is_err());
         assert!(BuiltinSpec::parse("run").is_err());

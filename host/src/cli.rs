@@ -83,7 +83,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
     };
     match cli.command {
-        Command::Fk { motion, model, anthropometry, output } => {
+        Command::Fk {
+            motion,
+            model,
+            anthropometry,
+            output,
+        } => {
             let anthro = load_anthropometry(anthropometry.as_deref(), &warn)?;
             let (table, w) = load_motion(&motion)?;
             warn(w);
@@ -103,16 +108,28 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             })?;
             progress.finish();
         }
-        Command::Report { motions, labels, anthropometry, output } => {
+        Command::Report {
+            motions,
+            labels,
+            anthropometry,
+            output,
+        } => {
             if labels.len() > motions.len() {
-                anyhow::bail!("{} --label values for {} motions", labels.len(), motions.len());
+                anyhow::bail!(
+                    "{} --label values for {} motions",
+                    labels.len(),
+                    motions.len()
+                );
             }
             let anthro = load_anthropometry(anthropometry.as_deref(), &warn)?;
             let mut tables = Vec::new();
             for (i, spec) in motions.iter().enumerate() {
                 let (table, w) = load_motion(spec)?;
                 warn(w);
-                let label = labels.get(i).cloned().unwrap_or_else(|| default_label(spec));
+                let label = labels
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| default_label(spec));
                 tables.push((label, table));
             }
             let rows: usize = tables.iter().map(|(_, t)| t.rows()).sum();
@@ -134,7 +151,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn load_anthropometry(path: Option<&Path>, warn: &impl Fn(Vec<Warning>)) -> anyhow::Result<Anthropometry<f64>> {
+fn load_anthropometry(
+    path: Option<&Path>,
+    warn: &impl Fn(Vec<Warning>),
+) -> anyhow::Result<Anthropometry<f64>> {
     match path {
         None => Ok(Anthropometry::gait2392()),
         Some(p) => {
@@ -147,12 +167,18 @@ fn load_anthropometry(path: Option<&Path>, warn: &impl Fn(Vec<Warning>)) -> anyh
 
 /// Writes to a file, or to stdout when `path` is `None`. A closed stdout pipe (e.g. `| head`) is
 /// not an error.
-fn write_output(path: Option<&Path>, body: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> anyhow::Result<()> {
+fn write_output(
+    path: Option<&Path>,
+    body: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> anyhow::Result<()> {
     match path {
         Some(p) => {
-            let file = File::create(p).with_context(|| format!("{}: cannot create", p.display()))?;
+            let file =
+                File::create(p).with_context(|| format!("{}: cannot create", p.display()))?;
             let mut out = BufWriter::new(file);
-            body(&mut out).and_then(|_| out.flush()).with_context(|| format!("{}: cannot write", p.display()))
+            body(&mut out)
+                .and_then(|_| out.flush())
+                .with_context(|| format!("{}: cannot write", p.display()))
         }
         None => {
             let stdout = io::stdout();

@@ -26,7 +26,11 @@ pub fn write_header<W: Write + ?Sized>(w: &mut W) -> io::Result<()> {
 }
 
 /// Writes one row.
-pub fn write_row<W: Write + ?Sized>(w: &mut W, time: f64, pose: &BilateralPose<f64>) -> io::Result<()> {
+pub fn write_row<W: Write + ?Sized>(
+    w: &mut W,
+    time: f64,
+    pose: &BilateralPose<f64>,
+) -> io::Result<()> {
     write!(w, "{time}")?;
     for side in Side::ALL {
         for joint in Joint::ALL {

@@ -18,8 +18,14 @@ pub enum Model {
 }
 
 /// Coordinates that are required (in [`PhakAngles::NAMES`] order, the leg ones).
-pub const LEG_COLUMNS: [&str; 6] =
-    ["hip_flexion_r", "knee_angle_r", "ankle_angle_r", "hip_flexion_l", "knee_angle_l", "ankle_angle_l"];
+pub const LEG_COLUMNS: [&str; 6] = [
+    "hip_flexion_r",
+    "knee_angle_r",
+    "ankle_angle_r",
+    "hip_flexion_l",
+    "knee_angle_l",
+    "ankle_angle_l",
+];
 
 /// Coordinates that count as 0 (with a warning) when a motion does not have them.
 pub const OPTIONAL_COLUMNS: [&str; 2] = ["pelvis_rotation", "pelvis_list"];
@@ -27,16 +33,27 @@ pub const OPTIONAL_COLUMNS: [&str; 2] = ["pelvis_rotation", "pelvis_list"];
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
 pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), String> {
-    let missing: Vec<&str> = LEG_COLUMNS.iter().copied().filter(|c| table.column(c).is_none()).collect();
+    let missing: Vec<&str> = LEG_COLUMNS
+        .iter()
+        .copied()
+        .filter(|c| table.column(c).is_none())
+        .collect();
     if !missing.is_empty() {
-        return Err(format!("{}: missing required column(s) {}", table.source(), missing.join(", ")));
+        return Err(format!(
+            "{}: missing required column(s) {}",
+            table.source(),
+            missing.join(", ")
+        ));
     }
     let mut warnings = Vec::new();
     let columns: Vec<Vec<f64>> = PhakAngles::<f64>::NAMES
         .iter()
         .map(|name| {
             table.angle_radians(name).unwrap_or_else(|| {
-                warnings.push(Warning(format!("{}: no `{name}` column; taken as 0", table.source())));
+                warnings.push(Warning(format!(
+                    "{}: no `{name}` column; taken as 0",
+                    table.source()
+                )));
                 vec![0.0; table.rows()]
             })
         })
@@ -64,7 +81,8 @@ pub struct Evaluator {
 impl Evaluator {
     /// Builds the kernel models for these segment lengths (an error if the kernel rejects them).
     pub fn new(model: Model, anthropometry: &Anthropometry<f64>) -> Result<Self, String> {
-        let bad = |e: qgait_kernel::ModelError| format!("segment lengths rejected by the kernel: {e}");
+        let bad =
+            |e: qgait_kernel::ModelError| format!("segment lengths rejected by the kernel: {e}");
         Ok(Self {
             model,
             phak: Phak::new(anthropometry).map_err(bad)?,
@@ -95,9 +113,15 @@ impl Evaluator {
 
 /// Angles at `percent` of the cycle, linearly interpolated between the rows around it
 /// (`percent_of_rows` increasing, as from [`MotionTable::percent_of_cycle`]).
-pub fn angles_at(percent_of_rows: &[f64], angles: &[PhakAngles<f64>], percent: f64) -> PhakAngles<f64> {
+pub fn angles_at(
+    percent_of_rows: &[f64],
+    angles: &[PhakAngles<f64>],
+    percent: f64,
+) -> PhakAngles<f64> {
     let n = percent_of_rows.len();
-    let i = percent_of_rows.partition_point(|&p| p <= percent).clamp(1, n.max(2) - 1);
+    let i = percent_of_rows
+        .partition_point(|&p| p <= percent)
+        .clamp(1, n.max(2) - 1);
     if n < 2 {
         return angles[0];
     }

@@ -98,9 +98,17 @@ impl MotionTable {
     ) -> Result<Self, String> {
         let source = source.into();
         if labels.len() != columns.len() {
-            return Err(format!("{source}: {} labels for {} columns", labels.len(), columns.len()));
+            return Err(format!(
+                "{source}: {} labels for {} columns",
+                labels.len(),
+                columns.len()
+            ));
         }
-        if labels.first().map(|l| !l.eq_ignore_ascii_case("time")).unwrap_or(true) {
+        if labels
+            .first()
+            .map(|l| !l.eq_ignore_ascii_case("time"))
+            .unwrap_or(true)
+        {
             return Err(format!("{source}: the first column must be `time`"));
         }
         let rows = columns[0].len();
@@ -109,29 +117,48 @@ impl MotionTable {
         }
         for (label, col) in labels.iter().zip(&columns) {
             if col.len() != rows {
-                return Err(format!("{source}: column `{label}` has {} rows, `time` has {rows}", col.len()));
+                return Err(format!(
+                    "{source}: column `{label}` has {} rows, `time` has {rows}",
+                    col.len()
+                ));
             }
             if let Some(i) = col.iter().position(|v| !v.is_finite()) {
-                return Err(format!("{source}: column `{label}` row {}: value is not finite", i + 1));
+                return Err(format!(
+                    "{source}: column `{label}` row {}: value is not finite",
+                    i + 1
+                ));
             }
         }
         if let Some(i) = columns[0].windows(2).position(|w| w[1] <= w[0]) {
             return Err(format!("{source}: time is not increasing at row {}", i + 2));
         }
         check_unique(&labels).map_err(|l| format!("{source}: column `{l}` appears twice"))?;
-        Ok(Self { name: name.into(), source, in_degrees, labels, columns })
+        Ok(Self {
+            name: name.into(),
+            source,
+            in_degrees,
+            labels,
+            columns,
+        })
     }
 
     /// Reads a `.mot`/`.sto` file.
     pub fn read(path: &Path) -> Result<(Self, Vec<Warning>), MotError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|error| MotError::Io { path: shown.clone(), error })?;
+        let text = std::fs::read_to_string(path).map_err(|error| MotError::Io {
+            path: shown.clone(),
+            error,
+        })?;
         Self::parse(&text, &shown)
     }
 
     /// Parses the text of a `.mot`/`.sto` file; `source` names it in errors and warnings.
     pub fn parse(text: &str, source: &str) -> Result<(Self, Vec<Warning>), MotError> {
-        let fmt_err = |line: usize, message: String| MotError::Format { path: source.to_string(), line, message };
+        let fmt_err = |line: usize, message: String| MotError::Format {
+            path: source.to_string(),
+            line,
+            message,
+        };
         let mut warnings = Vec::new();
         let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim_end()));
 
@@ -158,13 +185,24 @@ impl MotionTable {
             if let Some((key, value)) = t.split_once('=') {
                 let (key, value) = (key.trim(), value.trim());
                 match key.to_ascii_lowercase().as_str() {
-                    "nrows" => declared_rows = parse_count(value, no, source, &mut warnings, key).map(|n| (n, "nRows")),
-                    "ncolumns" => declared_cols = parse_count(value, no, source, &mut warnings, key).map(|n| (n, "nColumns")),
+                    "nrows" => {
+                        declared_rows =
+                            parse_count(value, no, source, &mut warnings, key).map(|n| (n, "nRows"))
+                    }
+                    "ncolumns" => {
+                        declared_cols = parse_count(value, no, source, &mut warnings, key)
+                            .map(|n| (n, "nColumns"))
+                    }
                     "indegrees" => {
                         in_degrees = Some(match value.to_ascii_lowercase().as_str() {
                             "yes" | "true" => true,
                             "no" | "false" => false,
-                            _ => return Err(fmt_err(no, format!("inDegrees must be `yes` or `no`, found `{value}`"))),
+                            _ => {
+                                return Err(fmt_err(
+                                    no,
+                                    format!("inDegrees must be `yes` or `no`, found `{value}`"),
+                                ))
+                            }
                         })
                     }
                     _ => {}
@@ -174,35 +212,65 @@ impl MotionTable {
             let mut words = t.split_whitespace();
             match words.next().map(str::to_ascii_lowercase).as_deref() {
                 Some("datarows") => {
-                    declared_rows =
-                        parse_count(words.next().unwrap_or(""), no, source, &mut warnings, "datarows").map(|n| (n, "datarows"))
+                    declared_rows = parse_count(
+                        words.next().unwrap_or(""),
+                        no,
+                        source,
+                        &mut warnings,
+                        "datarows",
+                    )
+                    .map(|n| (n, "datarows"))
                 }
                 Some("datacolumns") => {
-                    declared_cols = parse_count(words.next().unwrap_or(""), no, source, &mut warnings, "datacolumns")
-                        .map(|n| (n, "datacolumns"))
+                    declared_cols = parse_count(
+                        words.next().unwrap_or(""),
+                        no,
+                        source,
+                        &mut warnings,
+                        "datacolumns",
+                    )
+                    .map(|n| (n, "datacolumns"))
                 }
                 _ if first => name = t.to_string(),
                 _ => {}
             }
         }
         if !found_end {
-            return Err(fmt_err(last_line.max(1), "no `endheader` line: not an OpenSim .mot/.sto file".into()));
+            return Err(fmt_err(
+                last_line.max(1),
+                "no `endheader` line: not an OpenSim .mot/.sto file".into(),
+            ));
         }
         let in_degrees = in_degrees.unwrap_or_else(|| {
-            warnings.push(Warning(format!("{source}: header does not say inDegrees=yes/no; angles taken to be in degrees")));
+            warnings.push(Warning(format!(
+                "{source}: header does not say inDegrees=yes/no; angles taken to be in degrees"
+            )));
             true
         });
 
         // Column labels.
         let (label_line, labels) = loop {
             match lines.next() {
-                None => return Err(fmt_err(last_line + 1, "no column labels after `endheader`".into())),
+                None => {
+                    return Err(fmt_err(
+                        last_line + 1,
+                        "no column labels after `endheader`".into(),
+                    ))
+                }
                 Some((_, l)) if l.trim().is_empty() => continue,
-                Some((no, l)) => break (no, l.split_whitespace().map(str::to_string).collect::<Vec<_>>()),
+                Some((no, l)) => {
+                    break (
+                        no,
+                        l.split_whitespace().map(str::to_string).collect::<Vec<_>>(),
+                    )
+                }
             }
         };
         if !labels[0].eq_ignore_ascii_case("time") {
-            return Err(fmt_err(label_line, format!("the first column must be `time`, found `{}`", labels[0])));
+            return Err(fmt_err(
+                label_line,
+                format!("the first column must be `time`, found `{}`", labels[0]),
+            ));
         }
         if let Err(dup) = check_unique(&labels) {
             return Err(fmt_err(label_line, format!("column `{dup}` appears twice")));
@@ -221,29 +289,45 @@ impl MotionTable {
                 if i >= labels.len() {
                     continue;
                 }
-                let value = tok.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| MotError::BadNumber {
-                    path: source.to_string(),
-                    line: no,
-                    column: line[..start].chars().count() + 1,
-                    name: labels[i].clone(),
-                    text: tok.to_string(),
-                })?;
+                let value = tok
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| MotError::BadNumber {
+                        path: source.to_string(),
+                        line: no,
+                        column: line[..start].chars().count() + 1,
+                        name: labels[i].clone(),
+                        text: tok.to_string(),
+                    })?;
                 columns[i].push(value);
             }
             if count != labels.len() {
-                return Err(fmt_err(no, format!("row has {count} values but the header names {} columns", labels.len())));
+                return Err(fmt_err(
+                    no,
+                    format!(
+                        "row has {count} values but the header names {} columns",
+                        labels.len()
+                    ),
+                ));
             }
             let t = *columns[0].last().expect("row has a time value");
             if let Some(p) = prev_time {
                 if t <= p {
-                    return Err(fmt_err(no, format!("time {t} is not after the previous row's {p}")));
+                    return Err(fmt_err(
+                        no,
+                        format!("time {t} is not after the previous row's {p}"),
+                    ));
                 }
             }
             prev_time = Some(t);
         }
         let rows = columns[0].len();
         if rows == 0 {
-            return Err(fmt_err(label_line, "no data rows after the column labels".into()));
+            return Err(fmt_err(
+                label_line,
+                "no data rows after the column labels".into(),
+            ));
         }
         if let Some((n, key)) = declared_rows {
             if n != rows {
@@ -252,18 +336,43 @@ impl MotionTable {
         }
         if let Some((n, key)) = declared_cols {
             if n != labels.len() {
-                warnings.push(Warning(format!("{source}: header says {key}={n} but the file has {} columns", labels.len())));
+                warnings.push(Warning(format!(
+                    "{source}: header says {key}={n} but the file has {} columns",
+                    labels.len()
+                )));
             }
         }
-        Ok((Self { name, source: source.to_string(), in_degrees, labels, columns }, warnings))
+        Ok((
+            Self {
+                name,
+                source: source.to_string(),
+                in_degrees,
+                labels,
+                columns,
+            },
+            warnings,
+        ))
     }
 
     /// Writes the table as a `.mot` file (`nRows=` header style, tab separated, values printed
     /// with the shortest representation that reads back to the same `f64`).
     pub fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {
-        let name = if self.name.is_empty() { "motion" } else { &self.name };
-        writeln!(w, "{name}\nversion=1\nnRows={}\nnColumns={}", self.rows(), self.labels.len())?;
-        writeln!(w, "inDegrees={}\nendheader", if self.in_degrees { "yes" } else { "no" })?;
+        let name = if self.name.is_empty() {
+            "motion"
+        } else {
+            &self.name
+        };
+        writeln!(
+            w,
+            "{name}\nversion=1\nnRows={}\nnColumns={}",
+            self.rows(),
+            self.labels.len()
+        )?;
+        writeln!(
+            w,
+            "inDegrees={}\nendheader",
+            if self.in_degrees { "yes" } else { "no" }
+        )?;
         writeln!(w, "{}", self.labels.join("\t"))?;
         for r in 0..self.rows() {
             for (c, col) in self.columns.iter().enumerate() {
@@ -309,13 +418,21 @@ impl MotionTable {
 
     /// A column by label, as stored.
     pub fn column(&self, label: &str) -> Option<&[f64]> {
-        self.labels.iter().position(|l| l == label).map(|i| self.columns[i].as_slice())
+        self.labels
+            .iter()
+            .position(|l| l == label)
+            .map(|i| self.columns[i].as_slice())
     }
 
     /// An angle column by label, converted to radians if the table is in degrees.
     pub fn angle_radians(&self, label: &str) -> Option<Vec<f64>> {
-        let scale = if self.in_degrees { std::f64::consts::PI / 180.0 } else { 1.0 };
-        self.column(label).map(|c| c.iter().map(|v| v * scale).collect())
+        let scale = if self.in_degrees {
+            std::f64::consts::PI / 180.0
+        } else {
+            1.0
+        };
+        self.column(label)
+            .map(|c| c.iter().map(|v| v * scale).collect())
     }
 
     /// Percent of the cycle of every row: time normalised from the first row (0 %) to the last
@@ -338,7 +455,7 @@ fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
         while rest.next_if(|(_, c)| c.is_whitespace()).is_some() {}
         let (start, _) = *rest.peek()?;
         let mut end = line.len();
-        while let Some((i, c)) = rest.next() {
+        for (i, c) in rest.by_ref() {
             if c.is_whitespace() {
                 end = i;
                 break;
@@ -348,10 +465,18 @@ fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
     })
 }
 
-fn parse_count(value: &str, line: usize, source: &str, warnings: &mut Vec<Warning>, key: &str) -> Option<usize> {
+fn parse_count(
+    value: &str,
+    line: usize,
+    source: &str,
+    warnings: &mut Vec<Warning>,
+    key: &str,
+) -> Option<usize> {
     let parsed = value.trim().parse().ok();
     if parsed.is_none() {
-        warnings.push(Warning(format!("{source}:{line}: `{key}` is not a count (`{value}`); ignored")));
+        warnings.push(Warning(format!(
+            "{source}:{line}: `{key}` is not a count (`{value}`); ignored"
+        )));
     }
     parsed
 }
@@ -363,4 +488,116 @@ fn check_unique(labels: &[String]) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const NROWS_STYLE: &str = "walk\nversion=1\nnRows=2\nnColumns=3\ninDegrees=yes\nendheader\ntime\tknee_angle_r\tpelvis_ty\n0\t-10\t0.9\n0.5\t-20.5\t0.95\n";
+    const DATAROWS_STYLE: &str = "walk\ndatacolumns 3\ndatarows 2\nrange 0 0.5\nendheader\ntime  knee_angle_r  pelvis_ty\n  0   -10   0.9\n  0.5 -20.5 0.95\n";
+
+    #[test]
+    fn both_header_styles_read_the_same_data() {
+        let (a, wa) = MotionTable::parse(NROWS_STYLE, "a.mot").unwrap();
+        let (b, wb) = MotionTable::parse(DATAROWS_STYLE, "b.mot").unwrap();
+        assert!(wa.is_empty(), "{wa:?}");
+        // The datarows style has no inDegrees: degrees assumed, with a warning.
+        assert_eq!(wb.len(), 1, "{wb:?}");
+        assert!(wb[0].0.contains("inDegrees"));
+        assert_eq!(a.name(), "walk");
+        assert_eq!(a.labels(), b.labels());
+        assert_eq!(a.rows(), 2);
+        assert_eq!(a.column("knee_angle_r"), b.column("knee_angle_r"));
+        assert_eq!(a.column("pelvis_ty").unwrap(), &[0.9, 0.95]);
+        assert_eq!(a.percent_of_cycle(), vec![0.0, 100.0]);
+        let rad = a.angle_radians("knee_angle_r").unwrap();
+        assert!((rad[1] - (-20.5f64).to_radians()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn opensim4_sto_without_name_line() {
+        let text = "inDegrees=no\nDataType=double\nversion=3\nOpenSimVersion=4.5\nendheader\ntime\tq\n0\t0.25\n1\t0.5\n";
+        let (t, w) = MotionTable::parse(text, "x.sto").unwrap();
+        assert!(w.is_empty());
+        assert!(!t.in_degrees());
+        assert_eq!(t.angle_radians("q").unwrap(), vec![0.25, 0.5]);
+    }
+
+    #[test]
+    fn wrong_declared_row_count_is_a_warning_and_data_wins() {
+        let text = NROWS_STYLE.replace("nRows=2", "nRows=7");
+        let (t, w) = MotionTable::parse(&text, "a.mot").unwrap();
+        assert_eq!(t.rows(), 2);
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].0.contains("nRows=7") && w[0].0.contains("2 data rows"),
+            "{}",
+            w[0]
+        );
+    }
+
+    #[test]
+    fn bad_number_names_file_line_and_column() {
+        let text = NROWS_STYLE.replace("0.5\t-20.5", "0.5\t-2O.5");
+        let err = MotionTable::parse(&text, "a.mot").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "a.mot:9:5: bad number `-2O.5` in column `knee_angle_r` (expected a finite decimal number)"
+        );
+        let spaced = DATAROWS_STYLE.replace("0.5 -20.5 0.95", "0.5 -20.5 nan");
+        let err = MotionTable::parse(&spaced, "b.mot")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("b.mot:8:13: bad number `nan` in column `pelvis_ty`"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn layout_errors_name_the_line() {
+        let missing_value = NROWS_STYLE.replace("0.5\t-20.5\t0.95", "0.5\t-20.5");
+        assert_eq!(
+            MotionTable::parse(&missing_value, "a.mot")
+                .unwrap_err()
+                .to_string(),
+            "a.mot:9: row has 2 values but the header names 3 columns"
+        );
+        let no_end = NROWS_STYLE.replace("endheader\n", "");
+        assert!(MotionTable::parse(&no_end, "a.mot")
+            .unwrap_err()
+            .to_string()
+            .contains("no `endheader`"));
+        let backwards = NROWS_STYLE.replace("0.5\t-20.5", "0\t-20.5");
+        assert!(MotionTable::parse(&backwards, "a.mot")
+            .unwrap_err()
+            .to_string()
+            .starts_with("a.mot:9: time 0"));
+        let not_time = NROWS_STYLE.replace("time\t", "t\t");
+        assert!(MotionTable::parse(&not_time, "a.mot")
+            .unwrap_err()
+            .to_string()
+            .starts_with("a.mot:7: the first column"));
+        let header_only = "x\nendheader\ntime\ta\n";
+        assert!(MotionTable::parse(header_only, "a.mot")
+            .unwrap_err()
+            .to_string()
+            .contains("no data rows"));
+        let bad_degrees = NROWS_STYLE.replace("inDegrees=yes", "inDegrees=maybe");
+        assert!(MotionTable::parse(&bad_degrees, "a.mot")
+            .unwrap_err()
+            .to_string()
+            .starts_with("a.mot:5: inDegrees"));
+    }
+
+    #[test]
+    fn written_mot_reads_back_identically() {
+        let (t, _) = MotionTable::parse(DATAROWS_STYLE, "b.mot").unwrap();
+        let mut out = Vec::new();
+        t.write_mot(&mut out).unwrap();
+        let (back, w) = MotionTable::parse(std::str::from_utf8(&out).unwrap(), "b.mot").unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert_eq!(back, t);
+    }
 }

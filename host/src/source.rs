@@ -23,6 +23,9 @@ pub fn default_label(spec: &str) -> String {
     if spec.starts_with(BUILTIN_PREFIX) {
         spec.to_string()
     } else {
-        Path::new(spec).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| spec.to_string())
+        Path::new(spec)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| spec.to_string())
     }
 }

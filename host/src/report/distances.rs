@@ -20,8 +20,11 @@ pub struct DistanceFigure<'a> {
     pub analysis: &'a Analysis,
 }
 
+/// Picks one distance out of the three.
+pub type Measure = fn(&Distances<f64>) -> f64;
+
 /// The distances shown, with their titles.
-pub const MEASURES: [(&str, fn(&Distances<f64>) -> f64); 3] = [
+pub const MEASURES: [(&str, Measure); 3] = [
     ("knee-knee distance", |d| d.knee),
     ("ankle-ankle distance", |d| d.ankle),
     ("toe-toe distance", |d| d.toe),
@@ -40,7 +43,11 @@ impl Figure for DistanceFigure<'_> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
         header
-            .draw_text("Distance between the two legs' joint centres over the gait cycle", &figure::bold(24), (16, 10))
+            .draw_text(
+                "Distance between the two legs' joint centres over the gait cycle",
+                &figure::bold(24),
+                (16, 10),
+            )
             .map_err(draw_err)?;
         header
             .draw_text(
@@ -51,9 +58,14 @@ impl Figure for DistanceFigure<'_> {
             .map_err(draw_err)?;
         let panels = grid.split_evenly((MEASURES.len(), 1));
         for (panel, (title, measure)) in panels.iter().zip(MEASURES) {
-            let values = self.analysis.gaits.iter().flat_map(|g| g.distances.iter().map(measure));
+            let values = self
+                .analysis
+                .gaits
+                .iter()
+                .flat_map(|g| g.distances.iter().map(measure));
             let (y0, y1) = figure::padded_range(values, 0.08, 0.02);
-            let (y0, y1) = (y0.max(0.0), y1);
+            // Head room above the curves for the legend.
+            let (y0, y1) = (y0.max(0.0), y1 + 0.3 * (y1 - y0));
             let mut chart = ChartBuilder::on(panel)
                 .caption(title, figure::bold(17))
                 .margin(10)
@@ -70,7 +82,7 @@ impl Figure for DistanceFigure<'_> {
                 .label_style(figure::text(13))
                 .axis_desc_style(figure::text(13))
                 .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| format!("{v:.2}"))
+                .y_label_formatter(&|v| figure::tick(*v, 2))
                 .light_line_style(WHITE.mix(0.0))
                 .bold_line_style(BLACK.mix(0.08))
                 .draw()
@@ -85,12 +97,21 @@ impl Figure for DistanceFigure<'_> {
                 .map_err(draw_err)?;
             for (g, gait) in self.analysis.gaits.iter().enumerate() {
                 let color = gait_color(g);
-                let pts = gait.percent.iter().copied().zip(gait.distances.iter().map(measure));
+                let pts = gait
+                    .percent
+                    .iter()
+                    .copied()
+                    .zip(gait.distances.iter().map(measure));
                 chart
-                    .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                    .draw_series(LineSeries::new(
+                        pts,
+                        color.stroke_width(figure::gait_width(g, self.analysis.gaits.len())),
+                    ))
                     .map_err(draw_err)?
                     .label(gait.label.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3)));
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
+                    });
             }
             chart
                 .configure_series_labels()

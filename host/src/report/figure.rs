@@ -26,13 +26,21 @@ pub fn save<F: Figure>(figure: &F, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let svg = dir.join(format!("{stem}.svg"));
     {
         let root = BitMapBackend::new(&png, figure.size()).into_drawing_area();
-        figure.draw(&root).with_context(|| format!("drawing {}", png.display()))?;
-        root.present().map_err(draw_err).with_context(|| format!("writing {}", png.display()))?;
+        figure
+            .draw(&root)
+            .with_context(|| format!("drawing {}", png.display()))?;
+        root.present()
+            .map_err(draw_err)
+            .with_context(|| format!("writing {}", png.display()))?;
     }
     {
         let root = SVGBackend::new(&svg, figure.size()).into_drawing_area();
-        figure.draw(&root).with_context(|| format!("drawing {}", svg.display()))?;
-        root.present().map_err(draw_err).with_context(|| format!("writing {}", svg.display()))?;
+        figure
+            .draw(&root)
+            .with_context(|| format!("drawing {}", svg.display()))?;
+        root.present()
+            .map_err(draw_err)
+            .with_context(|| format!("writing {}", svg.display()))?;
     }
     Ok(vec![png, svg])
 }
@@ -75,7 +83,11 @@ pub const PELVIS: RGBColor = RGBColor(110, 110, 110);
 
 /// A range that contains `values` with a relative margin (and a minimum width, so a constant
 /// curve still gets a readable axis).
-pub fn padded_range(values: impl IntoIterator<Item = f64>, margin: f64, min_width: f64) -> (f64, f64) {
+pub fn padded_range(
+    values: impl IntoIterator<Item = f64>,
+    margin: f64,
+    min_width: f64,
+) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values {
         lo = lo.min(v);
@@ -87,4 +99,33 @@ pub fn padded_range(values: impl IntoIterator<Item = f64>, margin: f64, min_widt
     let width = (hi - lo).max(min_width);
     let mid = (lo + hi) / 2.0;
     (mid - width * (0.5 + margin), mid + width * (0.5 + margin))
+}
+
+/// A tick label with `decimals` decimals and no "-0.0".
+pub fn tick(v: f64, decimals: usize) -> String {
+    let s = format!("{v:.decimals$}");
+    match s.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => s,
+    }
+}
+
+/// Draws a polyline as separate segments (plotters' thick polylines draw spikes where a path
+/// turns back on itself).
+pub fn draw_polyline<DB: DrawingBackend, CT: plotters::coord::CoordTranslate<From = (f64, f64)>>(
+    area: &DrawingArea<DB, CT>,
+    points: &[(f64, f64)],
+    style: ShapeStyle,
+) -> anyhow::Result<()> {
+    for w in points.windows(2) {
+        area.draw(&PathElement::new(vec![w[0], w[1]], style))
+            .map_err(draw_err)?;
+    }
+    Ok(())
+}
+
+/// Line width of the n-th of `count` overlaid gaits: earlier gaits are drawn wider, so a curve
+/// hidden under an identical later one still shows as a coloured rim.
+pub fn gait_width(n: usize, count: usize) -> u32 {
+    2 + (count.saturating_sub(n + 1)).min(3) as u32
 }

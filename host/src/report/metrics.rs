@@ -50,7 +50,13 @@ pub fn path_rows(analysis: &Analysis) -> Vec<PathRow<'_>> {
             for joint in Joint::ALL {
                 for plane in Plane::ALL {
                     if let Some(stats) = path_stats(&gait.poses, side, joint, plane) {
-                        rows.push(PathRow { gait, side, joint, plane, stats });
+                        rows.push(PathRow {
+                            gait,
+                            side,
+                            joint,
+                            plane,
+                            stats,
+                        });
                     }
                 }
             }
@@ -68,13 +74,20 @@ pub fn mean_hip(gait: &Gait, side: Side) -> Option<[f64; 3]> {
 
 /// Hip shift of each gait relative to the first: (gait, side, [dx, dy, dz], length).
 pub fn hip_shifts(analysis: &Analysis) -> Vec<(&Gait, Side, [f64; 3], f64)> {
-    let Some(reference) = analysis.gaits.first() else { return Vec::new() };
+    let Some(reference) = analysis.gaits.first() else {
+        return Vec::new();
+    };
     let mut out = Vec::new();
     for gait in &analysis.gaits {
         for side in Side::ALL {
             if let (Some(r), Some(m)) = (mean_hip(reference, side), mean_hip(gait, side)) {
                 let d = [m[0] - r[0], m[1] - r[1], m[2] - r[2]];
-                out.push((gait, side, d, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()));
+                out.push((
+                    gait,
+                    side,
+                    d,
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt(),
+                ));
             }
         }
     }
@@ -116,7 +129,11 @@ pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>
     let paths = path_rows(analysis);
     let shifts = hip_shifts(analysis);
     let dists = distance_stats(analysis);
-    let reference = analysis.gaits.first().map(|g| g.label.as_str()).unwrap_or("");
+    let reference = analysis
+        .gaits
+        .first()
+        .map(|g| g.label.as_str())
+        .unwrap_or("");
 
     let mut csv = String::from(METRICS_HEADER);
     csv.push('\n');
@@ -162,14 +179,22 @@ pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>
     let mut dist_csv = String::from(DISTANCE_HEADER);
     dist_csv.push('\n');
     for (g, name, min, max, mean) in &dists {
-        let _ = writeln!(dist_csv, "{},{name},{min},{max},{mean},{}", csv_field(&g.label), max - min);
+        let _ = writeln!(
+            dist_csv,
+            "{},{name},{min},{max},{mean},{}",
+            csv_field(&g.label),
+            max - min
+        );
     }
 
     let md = markdown(analysis, &paths, &shifts, &dists, reference);
     let mut written = Vec::new();
-    for (name, text) in
-        [("metrics.csv", csv), ("hip_shift.csv", shift_csv), ("distance_stats.csv", dist_csv), ("metrics.md", md)]
-    {
+    for (name, text) in [
+        ("metrics.csv", csv),
+        ("hip_shift.csv", shift_csv),
+        ("distance_stats.csv", dist_csv),
+        ("metrics.md", md),
+    ] {
         let path = dir.join(name);
         std::fs::write(&path, text).with_context(|| format!("{}: cannot write", path.display()))?;
         written.push(path);
@@ -185,7 +210,9 @@ fn markdown(
     reference: &str,
 ) -> String {
     let mut md = String::from("# qgait report\n\n");
-    md.push_str("Model: PHAK (origin at the pelvis origin, ground axes: x forward, y up, z right). ");
+    md.push_str(
+        "Model: PHAK (origin at the pelvis origin, ground axes: x forward, y up, z right). ",
+    );
     md.push_str("Lengths in metres, areas in square metres. Percent of cycle = time normalised from the first to the last row.\n\n");
     md.push_str("| gait | source | rows |\n|---|---|---|\n");
     for g in &analysis.gaits {
@@ -196,14 +223,30 @@ fn markdown(
 
     let _ = writeln!(md, "## Hip position shift relative to {reference}\n");
     md.push_str("Mean hip-centre position over the cycle minus that of the first gait.\n\n");
-    md.push_str("| gait | side | dx (m) | dy (m) | dz (m) | shift (m) |\n|---|---|---:|---:|---:|---:|\n");
+    md.push_str(
+        "| gait | side | dx (m) | dy (m) | dz (m) | shift (m) |\n|---|---|---:|---:|---:|---:|\n",
+    );
     for (g, side, d, len) in shifts {
-        let _ = writeln!(md, "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} |", g.label, side_name(*side), d[0], d[1], d[2], len);
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} |",
+            g.label,
+            side_name(*side),
+            d[0],
+            d[1],
+            d[2],
+            len
+        );
     }
 
     md.push_str("\n## Distance between the legs\n\n| gait | joints | min (m) | max (m) | mean (m) | range (m) |\n|---|---|---:|---:|---:|---:|\n");
     for (g, name, min, max, mean) in dists {
-        let _ = writeln!(md, "| {} | {name} | {min:.4} | {max:.4} | {mean:.4} | {:.4} |", g.label, max - min);
+        let _ = writeln!(
+            md,
+            "| {} | {name} | {min:.4} | {max:.4} | {mean:.4} | {:.4} |",
+            g.label,
+            max - min
+        );
     }
 
     md.push_str("\n## Joint paths\n\nPer plane, the two axes are given as a / b: sagittal x / y, frontal z / y, transverse x / z. ");

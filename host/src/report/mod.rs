@@ -92,7 +92,8 @@ impl Analysis {
 
     /// The pose of a gait at a percent of its cycle (angles interpolated between rows, then FK).
     pub fn pose_at(&self, gait: &Gait, percent: f64) -> BilateralPose<f64> {
-        self.evaluator.pose(&kinematics::angles_at(&gait.percent, &gait.angles, percent))
+        self.evaluator
+            .pose(&kinematics::angles_at(&gait.percent, &gait.angles, percent))
     }
 }
 
@@ -100,11 +101,19 @@ impl Analysis {
 pub const FIGURE_COUNT: u64 = 5;
 
 /// Writes every figure and table into `dir` (created if needed); returns the files written.
-pub fn write_report(analysis: &Analysis, dir: &Path, progress: &Progress) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create directory", dir.display()))?;
+pub fn write_report(
+    analysis: &Analysis,
+    dir: &Path,
+    progress: &Progress,
+) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create directory", dir.display()))?;
     let mut files = Vec::new();
     for plane in kmetrics::Plane::ALL {
-        files.extend(figure::save(&stick::StickFigure::new(analysis, plane), dir)?);
+        files.extend(figure::save(
+            &stick::StickFigure::new(analysis, plane),
+            dir,
+        )?);
         progress.inc(1);
     }
     files.extend(figure::save(&paths::SagittalPaths { analysis }, dir)?);

@@ -32,11 +32,15 @@ impl Figure for SagittalPaths<'_> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
         header
-            .draw_text("Sagittal paths of the joint centres over one gait cycle", &figure::bold(24), (16, 10))
+            .draw_text(
+                "Sagittal paths of the joint centres over one gait cycle",
+                &figure::bold(24),
+                (16, 10),
+            )
             .map_err(draw_err)?;
         header
             .draw_text(
-                "PHAK model, origin at the pelvis origin; x forward, y up; each panel has its own scale; dot = 0 % of the cycle",
+                "PHAK model, origin at the pelvis origin; x forward, y up; each panel has its own scale; dot = 0 % of the cycle; identical curves overlap",
                 &figure::text(16),
                 (16, 44),
             )
@@ -44,8 +48,19 @@ impl Figure for SagittalPaths<'_> {
         let mut x = 16;
         for (g, gait) in self.analysis.gaits.iter().enumerate() {
             let color = gait_color(g);
-            header.draw(&PathElement::new(vec![(x, 87), (x + 36, 87)], color.stroke_width(3))).map_err(draw_err)?;
-            header.draw(&Text::new(gait.label.clone(), (x + 44, 78), figure::text(16))).map_err(draw_err)?;
+            header
+                .draw(&PathElement::new(
+                    vec![(x, 87), (x + 36, 87)],
+                    color.stroke_width(3),
+                ))
+                .map_err(draw_err)?;
+            header
+                .draw(&Text::new(
+                    gait.label.clone(),
+                    (x + 44, 78),
+                    figure::text(16),
+                ))
+                .map_err(draw_err)?;
             x += 70 + 10 * gait.label.chars().count() as i32;
         }
 
@@ -54,7 +69,11 @@ impl Figure for SagittalPaths<'_> {
             // Both limbs of a joint share ranges so they can be compared.
             let all = || {
                 self.analysis.gaits.iter().flat_map(move |g| {
-                    g.poses.iter().flat_map(move |p| Side::ALL.into_iter().map(move |s| Plane::Sagittal.project(p.point(s, joint))))
+                    g.poses.iter().flat_map(move |p| {
+                        Side::ALL
+                            .into_iter()
+                            .map(move |s| Plane::Sagittal.project(p.point(s, joint)))
+                    })
                 })
             };
             let xr = figure::padded_range(all().map(|p| p[0]), 0.05, 0.01);
@@ -79,8 +98,8 @@ impl Figure for SagittalPaths<'_> {
                     .y_desc("y, up (m)")
                     .label_style(figure::text(13))
                     .axis_desc_style(figure::text(13))
-                    .x_label_formatter(&|v| format!("{v:.2}"))
-                    .y_label_formatter(&|v| format!("{v:.3}"))
+                    .x_label_formatter(&|v| figure::tick(*v, 2))
+                    .y_label_formatter(&|v| figure::tick(*v, 3))
                     .light_line_style(WHITE.mix(0.0))
                     .bold_line_style(BLACK.mix(0.08))
                     .draw()
@@ -95,8 +114,14 @@ impl Figure for SagittalPaths<'_> {
                             (a, b)
                         })
                         .collect();
-                    chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2))).map_err(draw_err)?;
-                    chart.draw_series(pts.first().map(|&p| Circle::new(p, 5, color.filled()))).map_err(draw_err)?;
+                    figure::draw_polyline(
+                        chart.plotting_area(),
+                        &pts,
+                        color.stroke_width(figure::gait_width(g, self.analysis.gaits.len())),
+                    )?;
+                    chart
+                        .draw_series(pts.first().map(|&p| Circle::new(p, 5, color.filled())))
+                        .map_err(draw_err)?;
                 }
             }
         }

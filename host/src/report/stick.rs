@@ -30,9 +30,18 @@ impl<'a> StickFigure<'a> {
         let poses = analysis
             .gaits
             .iter()
-            .map(|g| STICK_PERCENTS.iter().map(|&p| analysis.pose_at(g, p)).collect())
+            .map(|g| {
+                STICK_PERCENTS
+                    .iter()
+                    .map(|&p| analysis.pose_at(g, p))
+                    .collect()
+            })
             .collect();
-        Self { analysis, plane, poses }
+        Self {
+            analysis,
+            plane,
+            poses,
+        }
     }
 }
 
@@ -49,9 +58,21 @@ pub fn screen(plane: Plane, p: Vec3<f64>) -> (f64, f64) {
 /// Title and axis descriptions of a plane.
 pub fn plane_text(plane: Plane) -> (&'static str, &'static str, &'static str) {
     match plane {
-        Plane::Sagittal => ("sagittal plane (x-y), seen from the right", "x, forward (m)", "y, up (m)"),
-        Plane::Frontal => ("frontal plane (z-y), seen from behind", "z, to the right (m)", "y, up (m)"),
-        Plane::Transverse => ("transverse plane (x-z), seen from above", "x, forward (m)", "z, to the right (m), +z down"),
+        Plane::Sagittal => (
+            "sagittal plane (x-y), seen from the right",
+            "x, forward (m)",
+            "y, up (m)",
+        ),
+        Plane::Frontal => (
+            "frontal plane (z-y), seen from behind",
+            "z, to the right (m)",
+            "y, up (m)",
+        ),
+        Plane::Transverse => (
+            "transverse plane (x-z), seen from above",
+            "x, forward (m)",
+            "z, to the right (m), +z down",
+        ),
     }
 }
 
@@ -61,7 +82,10 @@ impl Figure for StickFigure<'_> {
     }
 
     fn size(&self) -> (u32, u32) {
-        (STICK_PERCENTS.len() as u32 * PANEL, HEADER + self.analysis.gaits.len() as u32 * PANEL)
+        (
+            STICK_PERCENTS.len() as u32 * PANEL,
+            HEADER + self.analysis.gaits.len() as u32 * PANEL,
+        )
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
@@ -69,7 +93,11 @@ impl Figure for StickFigure<'_> {
         let (header, grid) = root.split_vertically(HEADER);
         let (title, x_desc, y_desc) = plane_text(self.plane);
         header
-            .draw_text(&format!("Stick figures of both legs, {title}"), &figure::bold(24), (16, 10))
+            .draw_text(
+                &format!("Stick figures of both legs, {title}"),
+                &figure::bold(24),
+                (16, 10),
+            )
             .map_err(draw_err)?;
         header
             .draw_text(
@@ -82,7 +110,11 @@ impl Figure for StickFigure<'_> {
 
         // One range for every panel, equal scale on both axes.
         let points = self.poses.iter().flatten().flat_map(|pose| {
-            Side::ALL.into_iter().flat_map(move |s| Joint::ALL.into_iter().map(move |j| screen(self.plane, pose.point(s, j))))
+            Side::ALL.into_iter().flat_map(move |s| {
+                Joint::ALL
+                    .into_iter()
+                    .map(move |j| screen(self.plane, pose.point(s, j)))
+            })
         });
         let (xs, ys): (Vec<f64>, Vec<f64>) = points.unzip();
         let (x0, x1) = figure::padded_range(xs, 0.06, 0.1);
@@ -91,13 +123,21 @@ impl Figure for StickFigure<'_> {
         let plot_h = (PANEL - PANEL_TITLE - 2 * MARGIN - X_LABEL_AREA) as f64;
         let scale = ((x1 - x0) / plot_w).max((y1 - y0) / plot_h); // metres per pixel
         let (xc, yc) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
-        let (xr, yr) = (xc - scale * plot_w / 2.0..xc + scale * plot_w / 2.0, yc - scale * plot_h / 2.0..yc + scale * plot_h / 2.0);
+        let (xr, yr) = (
+            xc - scale * plot_w / 2.0..xc + scale * plot_w / 2.0,
+            yc - scale * plot_h / 2.0..yc + scale * plot_h / 2.0,
+        );
 
         let panels = grid.split_evenly((self.analysis.gaits.len(), STICK_PERCENTS.len()));
         for (g, gait) in self.analysis.gaits.iter().enumerate() {
             for (k, &percent) in STICK_PERCENTS.iter().enumerate() {
                 let panel = &panels[g * STICK_PERCENTS.len() + k];
-                let area = panel.titled(&format!("{}, {percent} % of cycle", gait.label), figure::bold(15)).map_err(draw_err)?;
+                let area = panel
+                    .titled(
+                        &format!("{}, {percent} % of cycle", gait.label),
+                        figure::bold(15),
+                    )
+                    .map_err(draw_err)?;
                 let mut chart = ChartBuilder::on(&area)
                     .margin(MARGIN)
                     .x_label_area_size(X_LABEL_AREA)
@@ -113,19 +153,27 @@ impl Figure for StickFigure<'_> {
                     .y_desc(y_desc)
                     .label_style(figure::text(12))
                     .axis_desc_style(figure::text(12))
-                    .x_label_formatter(&|v| format!("{v:.1}"))
-                    .y_label_formatter(&|v| format!("{:.1}", if transverse { -v } else { *v } + 0.0))
+                    .x_label_formatter(&|v| figure::tick(*v, 1))
+                    .y_label_formatter(&|v| figure::tick(if transverse { -v } else { *v }, 1))
                     .light_line_style(WHITE.mix(0.0))
                     .bold_line_style(BLACK.mix(0.08))
                     .draw()
                     .map_err(draw_err)?;
                 let pose = &self.poses[g][k];
-                let pelvis = [screen(self.plane, pose.right.hip), screen(self.plane, pose.left.hip)];
-                chart.draw_series(LineSeries::new(pelvis, PELVIS.stroke_width(3))).map_err(draw_err)?;
+                let pelvis = [
+                    screen(self.plane, pose.right.hip),
+                    screen(self.plane, pose.left.hip),
+                ];
+                figure::draw_polyline(chart.plotting_area(), &pelvis, PELVIS.stroke_width(3))?;
                 for (side, color) in [(Side::Left, LEFT_LEG), (Side::Right, RIGHT_LEG)] {
-                    let pts: Vec<(f64, f64)> = Joint::ALL.iter().map(|&j| screen(self.plane, pose.point(side, j))).collect();
-                    chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(3))).map_err(draw_err)?;
-                    chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled()))).map_err(draw_err)?;
+                    let pts: Vec<(f64, f64)> = Joint::ALL
+                        .iter()
+                        .map(|&j| screen(self.plane, pose.point(side, j)))
+                        .collect();
+                    figure::draw_polyline(chart.plotting_area(), &pts, color.stroke_width(3))?;
+                    chart
+                        .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                        .map_err(draw_err)?;
                 }
             }
         }
@@ -134,19 +182,33 @@ impl Figure for StickFigure<'_> {
 }
 
 /// The colour key shared by the stick figures.
-fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, x: i32, y: i32) -> anyhow::Result<()> {
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    y: i32,
+) -> anyhow::Result<()> {
     let mut x = x;
     for (color, text) in [
         (RIGHT_LEG, "right leg"),
         (LEFT_LEG, "left leg"),
         (PELVIS, "pelvis (hip to hip)"),
     ] {
-        area.draw(&PathElement::new(vec![(x, y + 9), (x + 36, y + 9)], color.stroke_width(3))).map_err(draw_err)?;
-        area.draw(&Text::new(text, (x + 44, y), figure::text(16))).map_err(draw_err)?;
+        area.draw(&PathElement::new(
+            vec![(x, y + 9), (x + 36, y + 9)],
+            color.stroke_width(3),
+        ))
+        .map_err(draw_err)?;
+        area.draw(&Text::new(text, (x + 44, y), figure::text(16)))
+            .map_err(draw_err)?;
         x += 60 + 10 * text.len() as i32;
     }
-    area.draw(&Circle::new((x + 6, y + 9), 4, BLACK.filled())).map_err(draw_err)?;
-    area.draw(&Text::new("joint centres, top to bottom: hip, knee, ankle, toe", (x + 18, y), figure::text(16)))
+    area.draw(&Circle::new((x + 6, y + 9), 4, BLACK.filled()))
         .map_err(draw_err)?;
+    area.draw(&Text::new(
+        "joint centres: hip, knee, ankle, toe along each leg",
+        (x + 18, y),
+        figure::text(16),
+    ))
+    .map_err(draw_err)?;
     Ok(())
 }

@@ -1,0 +1,49 @@
+//! Helpers shared by the integration tests (included with `mod common;`).
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Runs the `qgait` binary with arguments.
+pub fn qgait(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_qgait"))
+        .args(args)
+        .output()
+        .expect("qgait runs")
+}
+
+/// stdout as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("utf-8 stdout")
+}
+
+/// stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8(o.stderr.clone()).expect("utf-8 stderr")
+}
+
+/// `<workspace root>/../shared`, or `$QGAIT_SHARED`; `None` (with the reason printed) when absent.
+pub fn shared_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("QGAIT_SHARED")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared"));
+    if dir.join("data/opensim/normal.mot").is_file() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "skipped: shared data not found at {} (set QGAIT_SHARED)",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// Parses the CSV written by `qgait fk` (header, rows of numbers).
+pub fn parse_fk_csv(text: &str) -> (String, Vec<Vec<f64>>) {
+    let mut lines = text.lines();
+    let header = lines.next().expect("header").to_string();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().expect("number")).collect())
+        .collect();
+    (header, rows)
+}

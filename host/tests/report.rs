@@ -1,0 +1,212 @@
+//! `qgait report`: files, figures and metrics, on the built-in gait and on the shared motions.
+
+mod common;
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use common::{qgait, shared_dir, stderr};
+
+const FIGURES: [&str; 5] = [
+    "stick_sagittal",
+    "stick_frontal",
+    "stick_transverse",
+    "paths_sagittal",
+    "distances",
+];
+
+fn run_report(args: &[&str], dir: &Path) {
+    let mut all = vec!["report"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", dir.to_str().unwrap()]);
+    let out = qgait(&all);
+    assert!(out.status.success(), "qgait {all:?}: {}", stderr(&out));
+}
+
+/// Rows of a CSV as maps from header name to field.
+fn csv(path: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(str::to_string))
+                .collect()
+        })
+        .collect()
+}
+
+fn num(row: &HashMap<String, String>, key: &str) -> f64 {
+    row[key]
+        .parse()
+        .unwrap_or_else(|_| panic!("{key} = {}", row[key]))
+}
+
+fn check_figures(dir: &Path, labels: &[&str]) {
+    for stem in FIGURES {
+        let png = std::fs::read(dir.join(format!("{stem}.png"))).unwrap();
+        assert!(
+            png.starts_with(b"\x89PNG\r\n\x1a\n"),
+            "{stem}.png is not a PNG"
+        );
+        let svg = std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg"), "{stem}.svg");
+        // Titles, axis units and every gait label are real text in the SVG.
+        assert!(svg.contains("(m)"), "{stem}.svg has no axis unit");
+        if stem != "paths_sagittal" && stem != "distances" {
+            for label in labels {
+                assert!(svg.contains(label), "{stem}.svg lacks label {label}");
+            }
+        }
+    }
+    let paths = std::fs::read_to_string(dir.join("paths_sagittal.svg")).unwrap();
+    let distances = std::fs::read_to_string(dir.join("distances.svg")).unwrap();
+    for label in labels {
+        assert!(
+            paths.contains(label) && distances.contains(label),
+            "legend lacks {label}"
+        );
+    }
+}
+
+#[test]
+fn report_on_builtin_gaits_writes_every_file_and_consistent_metrics() {
+    let dir = tempfile::tempdir().unwrap();
+    run_report(
+        &[
+            "builtin:normal,rows=41",
+            "builtin:crouch=1,rows=41",
+            "--label",
+            "normal",
+            "--label",
+            "crouch",
+        ],
+        dir.path(),
+    );
+    check_figures(dir.path(), &["normal", "crouch"]);
+
+    let metrics = csv(&dir.path().join("metrics.csv"));
+    assert_eq!(
+        metrics.len(),
+        2 * 2 * 4 * 3,
+        "gaits x sides x joints x planes"
+    );
+    for r in &metrics {
+        assert_eq!(num(r, "n"), 41.0);
+        for a in ["a", "b"] {
+            assert!(num(r, &format!("min_{a}")) <= num(r, &format!("mean_{a}")));
+            assert!(num(r, &format!("mean_{a}")) <= num(r, &format!("max_{a}")));
+            let range = num(r, &format!("max_{a}")) - num(r, &format!("min_{a}"));
+            assert!((num(r, &format!("range_{a}")) - range).abs() < 1e-12);
+        }
+        assert!(num(r, "area_m2") >= 0.0);
+        if r["plane"] != "sagittal" {
+            continue;
+        }
+        assert_eq!((r["axis_a"].as_str(), r["axis_b"].as_str()), ("x", "y"));
+    }
+    // Crouch raises the knee (more hip flexion): higher mean knee height in the sagittal plane.
+    let knee_y = |gait: &str| {
+        metrics
+            .iter()
+            .find(|r| {
+                r["gait"] == gait
+                    && r["side"] == "right"
+                    && r["joint"] == "knee"
+                    && r["plane"] == "sagittal"
+            })
+            .map(|r| num(r, "mean_b"))
+            .unwrap()
+    };
+    assert!(knee_y("crouch") > knee_y("normal") + 0.02);
+
+    // The built-in gaits share the pelvis curves: no hip shift.
+    let shift = csv(&dir.path().join("hip_shift.csv"));
+    assert_eq!(shift.len(), 4);
+    assert!(shift
+        .iter()
+        .all(|r| r["reference"] == "normal" && num(r, "shift").abs() < 1e-12));
+
+    let dist = csv(&dir.path().join("distance_stats.csv"));
+    assert_eq!(dist.len(), 2 * 3);
+    for r in &dist {
+        assert!(num(r, "min") <= num(r, "mean") && num(r, "mean") <= num(r, "max"));
+        // In PHAK each leg moves in its own plane through its hip, parallel to the other leg's
+        // plane and 2 x 0.0835 m from it (gait2392): no distance can be smaller.
+        assert!(num(r, "min") >= 0.167 - 1e-9, "{r:?}");
+    }
+    let md = std::fs::read_to_string(dir.path().join("metrics.md")).unwrap();
+    assert!(md.contains("## Hip position shift relative to normal"));
+    assert!(md.contains("| crouch | right | knee | sagittal |"));
+}
+
+#[test]
+fn report_on_the_shared_motions() {
+    let Some(shared) = shared_dir() else { return };
+    let data = shared.join("data/opensim");
+    let dir = tempfile::tempdir().unwrap();
+    let files: Vec<String> = ["normal", "crouch1", "crouch4"]
+        .iter()
+        .map(|n| data.join(format!("{n}.mot")).to_str().unwrap().to_string())
+        .collect();
+    run_report(
+        &[
+            &files[0], &files[1], &files[2], "--label", "N", "--label", "MC", "--label", "SC",
+        ],
+        dir.path(),
+    );
+    check_figures(dir.path(), &["N", "MC", "SC"]);
+
+    let metrics = csv(&dir.path().join("metrics.csv"));
+    assert_eq!(metrics.len(), 3 * 2 * 4 * 3);
+    let n_rows = |gait: &str| {
+        metrics
+            .iter()
+            .find(|r| r["gait"] == gait)
+            .map(|r| num(r, "n"))
+            .unwrap()
+    };
+    // Row counts come from the data (crouch1.mot declares nRows=120 but has 119 rows).
+    assert_eq!(
+        (n_rows("N"), n_rows("MC"), n_rows("SC")),
+        (51.0, 119.0, 101.0)
+    );
+
+    // The paper reports a hip shift of about 0.02 m for mild and 0.08 m for severe crouch;
+    // ours grows the same way.
+    let shift = csv(&dir.path().join("hip_shift.csv"));
+    let s = |gait: &str| {
+        shift
+            .iter()
+            .find(|r| r["gait"] == gait && r["side"] == "right")
+            .map(|r| num(r, "shift"))
+            .unwrap()
+    };
+    assert_eq!(s("N"), 0.0);
+    assert!(s("MC") > 0.005 && s("MC") < 0.04, "MC shift {}", s("MC"));
+    assert!(
+        s("SC") > 2.0 * s("MC") && s("SC") < 0.12,
+        "SC shift {}",
+        s("SC")
+    );
+
+    // Normal gait: toes and ankles swing wider apart than the knees.
+    let dist = csv(&dir.path().join("distance_stats.csv"));
+    let max = |gait: &str, m: &str| {
+        dist.iter()
+            .find(|r| r["gait"] == gait && r["measure"] == m)
+            .map(|r| num(r, "max"))
+            .unwrap()
+    };
+    assert!(max("N", "toe-toe") > max("N", "knee-knee") + 0.2);
+    // Crouch shortens the step: smaller maximal ankle-ankle distance.
+    assert!(max("SC", "ankle-ankle") < max("N", "ankle-ankle") - 0.1);
+}
