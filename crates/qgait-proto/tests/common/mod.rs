@@ -90,6 +90,7 @@ pub fn same(a: &Message, b: &Message) -> bool {
     frame(a) == frame(b)
 }
 
+pub mod random;
 pub mod strategies;
 
 /// Small deterministic PRNG (xorshift64*), so every stream test is reproducible from its seed.

@@ -1,0 +1,171 @@
+//! Random messages and random streams for the stream fuzz, from the seeded [`Rng`].
+
+use super::Rng;
+use qgait_proto::{
+    encode_frame, encode_message, encode_raw_frame, Config, JointAngle, JointId, Message,
+    MissingPolicy, ModelId, PoseFrame, Status, MAX_FRAME_LEN, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
+};
+
+/// A float that is usually ordinary and sometimes any bit pattern (NaN, inf, subnormal).
+fn float(rng: &mut Rng) -> f32 {
+    if rng.chance(10) {
+        rng.f32_bits()
+    } else {
+        (rng.next_u32() as f32 / u32::MAX as f32 - 0.5) * 4.0
+    }
+}
+
+/// A u32 of a random varint length.
+fn varint_u32(rng: &mut Rng) -> u32 {
+    let bits = [7u32, 14, 21, 28, 32][rng.below(5)];
+    rng.next_u32() >> (32 - bits)
+}
+
+/// Any valid message.
+pub fn message(rng: &mut Rng) -> Message {
+    match rng.below(4) {
+        0 => Message::JointAngle(JointAngle {
+            version: PROTOCOL_VERSION,
+            node: rng.byte(),
+            joint: JointId::ALL[rng.below(JointId::COUNT)],
+            seq: varint_u32(rng),
+            timestamp_us: varint_u32(rng),
+            angle: float(rng),
+            quality: rng.byte(),
+        }),
+        1 => {
+            let model = ModelId::ALL[rng.below(ModelId::COUNT)];
+            let mut angles = heapless::Vec::new();
+            for _ in model.required_joints() {
+                angles.push(float(rng)).expect("at most 17");
+            }
+            let mut points = [[0.0f32; 3]; 8];
+            for p in points.iter_mut().flatten() {
+                *p = float(rng);
+            }
+            Message::PoseFrame(PoseFrame {
+                seq: varint_u32(rng),
+                model,
+                angles,
+                points,
+                distances: [float(rng), float(rng), float(rng)],
+                flags: rng.byte(),
+            })
+        }
+        2 => Message::Status(Status {
+            packets_accepted: varint_u32(rng),
+            crc_errors: varint_u32(rng),
+            framing_errors: varint_u32(rng),
+            oversize_frames: varint_u32(rng),
+            unknown_version: varint_u32(rng),
+            unknown_joint: varint_u32(rng),
+            out_of_range: varint_u32(rng),
+            samples_completed: varint_u32(rng),
+            samples_incomplete: varint_u32(rng),
+            frames_sent: varint_u32(rng),
+            uart_overruns: varint_u32(rng),
+            uptime_ms: varint_u32(rng),
+            late_packets: varint_u32(rng),
+            duplicate_packets: varint_u32(rng),
+            malformed: varint_u32(rng),
+        }),
+        _ => Message::Config(Config {
+            model: ModelId::ALL[rng.below(ModelId::COUNT)],
+            anthropometry: if rng.chance(50) {
+                Some([[float(rng), float(rng), float(rng), float(rng)], [float(rng), float(rng), float(rng), float(rng)]])
+            } else {
+                None
+            },
+            missing_policy: if rng.chance(50) { MissingPolicy::Drop } else { MissingPolicy::HoldLast },
+            reorder_window: rng.byte(),
+            request_status: rng.chance(50),
+        }),
+    }
+}
+
+/// The frame of a message.
+pub fn frame_of(msg: &Message) -> Vec<u8> {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    encode_frame(msg, &mut buf).expect("valid messages encode").to_vec()
+}
+
+/// Applies 1 to 4 random byte-level mutations to `bytes`.
+pub fn mutate(rng: &mut Rng, bytes: &mut Vec<u8>) {
+    for _ in 0..1 + rng.below(4) {
+        if bytes.is_empty() {
+            bytes.push(rng.byte());
+            continue;
+        }
+        let at = rng.below(bytes.len());
+        match rng.below(7) {
+            0 => bytes[at] ^= 1 << rng.below(8),
+            1 => bytes[at] = rng.byte(),
+            2 => {
+                bytes.remove(at);
+            }
+            3 => bytes.insert(at, rng.byte()),
+            4 => bytes.truncate(at),
+            5 => bytes[at] = 0,
+            _ => {
+                let end = (at + 1 + rng.below(16)).min(bytes.len());
+                let copy = bytes[at..end].to_vec();
+                let to = rng.below(bytes.len() + 1);
+                bytes.splice(to..to, copy);
+            }
+        }
+    }
+}
+
+/// Builds a random stream of 1 to 12 pieces; returns its bytes and the good messages that were
+/// sent after a resynchronising 0x00 (they must all decode, in order).
+pub fn stream(rng: &mut Rng) -> (Vec<u8>, Vec<Message>) {
+    let mut bytes = Vec::new();
+    let mut goods = Vec::new();
+    for _ in 0..1 + rng.below(12) {
+        match rng.below(9) {
+            0 | 1 => {
+                let msg = message(rng);
+                bytes.push(0);
+                bytes.extend(frame_of(&msg));
+                goods.push(msg);
+            }
+            2 => {
+                // A valid frame without a leading 0x00: may merge with the noise before it.
+                bytes.extend(frame_of(&message(rng)));
+            }
+            3 | 4 => {
+                // A frame mutated on the wire (bit flips, truncation, lost or extra delimiters...).
+                let mut f = frame_of(&message(rng));
+                mutate(rng, &mut f);
+                bytes.extend(f);
+            }
+            5 => {
+                // Message bytes mutated before framing: a good CRC over bad contents.
+                let mut buf = [0u8; MAX_MESSAGE_LEN];
+                let mut payload = encode_message(&message(rng), &mut buf).expect("encodes").to_vec();
+                mutate(rng, &mut payload);
+                let mut out = vec![0u8; 2 * payload.len() + 16];
+                bytes.extend_from_slice(encode_raw_frame(&payload, &mut out).expect("fits"));
+            }
+            6 => {
+                // Random garbage with a random density of zeros.
+                let zeros = [0u32, 1, 5, 30][rng.below(4)];
+                for _ in 0..rng.below(300) {
+                    bytes.push(if rng.chance(zeros) { 0 } else { rng.byte() });
+                }
+            }
+            7 => {
+                // A long run without a delimiter: oversize.
+                for _ in 0..MAX_FRAME_LEN - 5 + rng.below(600) {
+                    bytes.push(rng.byte() | 1);
+                }
+            }
+            _ => {
+                for _ in 0..rng.below(4) {
+                    bytes.push(0);
+                }
+            }
+        }
+    }
+    (bytes, goods)
+}

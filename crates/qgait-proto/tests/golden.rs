@@ -1,0 +1,277 @@
+//! Golden vectors: the hex blocks of docs/protocol.md are checked byte for byte against the
+//! encoder, and decoded back. The document is parsed, so it cannot drift from the code.
+//!
+//! A block is a fenced code block whose info string is `hex golden=NAME` (bytes as hex pairs)
+//! or `text golden=constants` (`NAME = value` lines). To print every block as it should read:
+//! `QGAIT_PRINT_GOLDEN=1 cargo test -p qgait-proto --test golden -- --nocapture`.
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use qgait_proto::{
+    crc32c, encode_message, encode_raw_frame, Config, DecodeError, FrameDecoder, FrameFlags,
+    JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, QualityFlags, Status,
+    CRC_LEN, FRAME_CRC_CHECK, MAX_FRAME_LEN, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
+};
+
+fn protocol_md() -> String {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/protocol.md");
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Every `golden=NAME` block of the document: NAME -> the block's lines.
+fn golden_blocks(doc: &str) -> BTreeMap<String, Vec<String>> {
+    let mut blocks = BTreeMap::new();
+    let mut lines = doc.lines();
+    while let Some(line) = lines.next() {
+        let Some(info) = line.trim().strip_prefix("```") else { continue };
+        let Some(name) = info.split_whitespace().find_map(|w| w.strip_prefix("golden=")) else {
+            continue;
+        };
+        let body: Vec<String> =
+            lines.by_ref().take_while(|l| !l.trim().starts_with("```")).map(str::to_owned).collect();
+        assert!(blocks.insert(name.to_owned(), body).is_none(), "golden block {name} twice");
+    }
+    blocks
+}
+
+fn parse_hex(lines: &[String]) -> Vec<u8> {
+    lines
+        .iter()
+        .flat_map(|l| l.split_whitespace())
+        .map(|pair| u8::from_str_radix(pair, 16).unwrap_or_else(|e| panic!("bad hex {pair:?}: {e}")))
+        .collect()
+}
+
+fn to_hex_block(name: &str, bytes: &[u8]) -> String {
+    let mut s = format!("```hex golden={name}\n");
+    for row in bytes.chunks(16) {
+        let row: Vec<String> = row.iter().map(|b| format!("{b:02x}")).collect();
+        s += &row.join(" ");
+        s += "\n";
+    }
+    s + "```"
+}
+
+fn joint_angle() -> JointAngle {
+    JointAngle {
+        version: PROTOCOL_VERSION,
+        node: 2,
+        joint: JointId::KneeAngleR,
+        seq: 300,
+        timestamp_us: 1_234_567,
+        angle: -0.5,
+        quality: QualityFlags::MAG_DISTURBED,
+    }
+}
+
+/// The golden messages, by name.
+fn golden_messages() -> Vec<(&'static str, Message)> {
+    vec![
+        ("joint-angle", joint_angle().into()),
+        (
+            "pose-frame",
+            PoseFrame {
+                seq: 300,
+                model: ModelId::Hak,
+                angles: heapless::Vec::from_slice(&[0.5, -0.25, 0.125, -0.5, 0.0, 0.25]).expect("6 fit"),
+                points: [
+                    [0.0, 0.0, 0.0625],
+                    [0.25, -0.375, 0.0625],
+                    [0.0, -0.75, 0.0625],
+                    [0.1875, -0.75, 0.0625],
+                    [0.0, 0.0, -0.0625],
+                    [-0.125, -0.375, -0.0625],
+                    [-0.25, -0.75, -0.0625],
+                    [-0.0625, -0.75, -0.0625],
+                ],
+                distances: [0.4375, 0.3125, 0.25],
+                flags: FrameFlags::HELD,
+            }
+            .into(),
+        ),
+        (
+            "status",
+            Status {
+                packets_accepted: 1_000_000,
+                crc_errors: 3,
+                framing_errors: 1,
+                oversize_frames: 0,
+                unknown_version: 0,
+                unknown_joint: 2,
+                out_of_range: 5,
+                samples_completed: 62_500,
+                samples_incomplete: 7,
+                frames_sent: 62_500,
+                uart_overruns: 0,
+                uptime_ms: 600_000,
+                late_packets: 4,
+                duplicate_packets: 0,
+                malformed: 0,
+            }
+            .into(),
+        ),
+        (
+            "config",
+            Config {
+                model: ModelId::Phak,
+                anthropometry: Some([[0.0625, 0.375, 0.4375, 0.25], [0.0625, 0.375, 0.4375, 0.25]]),
+                missing_policy: MissingPolicy::HoldLast,
+                reorder_window: 4,
+                request_status: false,
+            }
+            .into(),
+        ),
+        (
+            "config-status-request",
+            Config {
+                model: ModelId::Gait2392,
+                anthropometry: None,
+                missing_policy: MissingPolicy::Drop,
+                reorder_window: 0,
+                request_status: true,
+            }
+            .into(),
+        ),
+    ]
+}
+
+/// Golden frames that must fail, by name: their message bytes and the expected error.
+fn golden_errors() -> Vec<(&'static str, Vec<u8>, DecodeError)> {
+    let mut good = [0u8; MAX_MESSAGE_LEN];
+    let ja = encode_message(&joint_angle().into(), &mut good).expect("encodes").to_vec();
+    let mut wrong_version = ja.clone();
+    wrong_version[1] = 2;
+    let mut unknown_joint = ja.clone();
+    unknown_joint[3] = 17;
+    vec![
+        ("error-unknown-version", wrong_version, DecodeError::UnknownVersion(2)),
+        ("error-unknown-joint", unknown_joint, DecodeError::UnknownJoint(17)),
+    ]
+}
+
+fn frame_of_payload(payload: &[u8]) -> Vec<u8> {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    encode_raw_frame(payload, &mut buf).expect("fits").to_vec()
+}
+
+/// Every block the document must hold, as it must read.
+fn expected_blocks() -> BTreeMap<String, Vec<u8>> {
+    let mut blocks = BTreeMap::new();
+    for (name, msg) in golden_messages() {
+        let mut buf = [0u8; MAX_MESSAGE_LEN];
+        let bytes = encode_message(&msg, &mut buf).expect("encodes").to_vec();
+        blocks.insert(format!("{name}.frame"), common::frame(&msg));
+        blocks.insert(format!("{name}.message"), bytes);
+    }
+    for (name, payload, _) in golden_errors() {
+        blocks.insert(format!("{name}.frame"), frame_of_payload(&payload));
+    }
+    let bad_crc = {
+        let mut f = common::frame(&joint_angle().into());
+        let last_crc_byte = f.len() - 2;
+        f[last_crc_byte] ^= 0x01;
+        f
+    };
+    blocks.insert("error-crc.frame".to_owned(), bad_crc);
+    blocks
+}
+
+fn constants() -> Vec<String> {
+    vec![
+        format!("PROTOCOL_VERSION = {PROTOCOL_VERSION}"),
+        format!("MAX_MESSAGE_LEN = {MAX_MESSAGE_LEN}"),
+        format!("CRC_LEN = {CRC_LEN}"),
+        format!("MAX_FRAME_LEN = {MAX_FRAME_LEN}"),
+        format!("JOINT_ANGLE_MAX_LEN = {}", qgait_proto::JOINT_ANGLE_MAX_LEN),
+        format!("JOINT_ANGLE_MAX_FRAME_LEN = {}", qgait_proto::JOINT_ANGLE_MAX_FRAME_LEN),
+        format!("POSE_FRAME_MAX_LEN = {}", qgait_proto::POSE_FRAME_MAX_LEN),
+        format!("STATUS_MAX_LEN = {}", qgait_proto::STATUS_MAX_LEN),
+        format!("CONFIG_MAX_LEN = {}", qgait_proto::CONFIG_MAX_LEN),
+        format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
+    ]
+}
+
+#[test]
+fn print_blocks_on_request() {
+    if std::env::var_os("QGAIT_PRINT_GOLDEN").is_none() {
+        return;
+    }
+    for (name, bytes) in expected_blocks() {
+        println!("{}\n", to_hex_block(&name, &bytes));
+    }
+    println!("```text golden=constants\n{}\n```", constants().join("\n"));
+}
+
+#[test]
+fn document_holds_exactly_the_golden_blocks() {
+    let doc = golden_blocks(&protocol_md());
+    let mut want: Vec<String> = expected_blocks().into_keys().collect();
+    want.push("constants".to_owned());
+    want.sort();
+    let have: Vec<String> = doc.into_keys().collect();
+    assert_eq!(have, want);
+}
+
+#[test]
+fn golden_hex_matches_the_encoder_byte_for_byte() {
+    let doc = golden_blocks(&protocol_md());
+    for (name, bytes) in expected_blocks() {
+        let block = doc.get(&name).unwrap_or_else(|| panic!("docs/protocol.md lacks {name}"));
+        assert_eq!(parse_hex(block), bytes, "{name} should read:\n{}", to_hex_block(&name, &bytes));
+    }
+}
+
+#[test]
+fn golden_frames_decode_to_the_golden_messages() {
+    let doc = golden_blocks(&protocol_md());
+    for (name, msg) in golden_messages() {
+        let frame = parse_hex(&doc[&format!("{name}.frame")]);
+        assert_eq!(common::decode_all(&mut FrameDecoder::new(), &frame), vec![Ok(msg.clone())], "{name}");
+        let message = parse_hex(&doc[&format!("{name}.message")]);
+        assert_eq!(qgait_proto::decode_message(&message), Ok(msg), "{name}");
+    }
+}
+
+#[test]
+fn golden_error_frames_give_their_errors() {
+    let doc = golden_blocks(&protocol_md());
+    let mut cases: Vec<(String, DecodeError)> =
+        golden_errors().into_iter().map(|(n, _, e)| (n.to_owned(), e)).collect();
+    cases.push(("error-crc".to_owned(), DecodeError::Crc));
+    for (name, expected) in cases {
+        let frame = parse_hex(&doc[&format!("{name}.frame")]);
+        assert_eq!(common::decode_all(&mut FrameDecoder::new(), &frame), vec![Err(expected)], "{name}");
+    }
+}
+
+#[test]
+fn golden_constants_match_the_crate() {
+    let doc = golden_blocks(&protocol_md());
+    let block: Vec<String> = doc["constants"].iter().map(|l| l.trim().to_owned()).filter(|l| !l.is_empty()).collect();
+    assert_eq!(block, constants());
+}
+
+/// The CRC is the documented CRC-32C: a bitwise implementation written from the document's
+/// parameters (reflected polynomial 0x82F63B78, init and xorout 0xFFFFFFFF) agrees with it.
+#[test]
+fn crc_is_crc32c_as_documented() {
+    fn crc32c_bitwise(bytes: &[u8]) -> u32 {
+        let mut crc = 0xFFFF_FFFFu32;
+        for &b in bytes {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 != 0 { (crc >> 1) ^ 0x82F6_3B78 } else { crc >> 1 };
+            }
+        }
+        crc ^ 0xFFFF_FFFF
+    }
+    assert_eq!(crc32c(b"123456789"), 0xE306_9283);
+    assert_eq!(crc32c_bitwise(b"123456789"), FRAME_CRC_CHECK);
+    let mut rng = common::Rng::new(5);
+    for len in 0..300 {
+        let data: Vec<u8> = (0..len).map(|_| rng.byte()).collect();
+        assert_eq!(crc32c(&data), crc32c_bitwise(&data), "len {len}");
+    }
+}
