@@ -84,13 +84,17 @@ mod tests {
     fn sample(seed: u64, len: usize) -> [u8; 700] {
         let mut out = [0u8; 700];
         let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-        let zero_rate = (seed % 5) as u32; // 0: no zeros at all
+        let zero_rate = (seed % 5) as u32; // zeros in 8 * zero_rate / 256 of the bytes; 0: none
         for b in out.iter_mut().take(len) {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
             let v = (x >> 24) as u8;
-            *b = if zero_rate > 0 && (x >> 40) as u32 % (8 * zero_rate) == 0 { 0 } else { v | 1 };
+            *b = if ((x >> 40) & 0xFF) < u64::from(8 * zero_rate) {
+                0
+            } else {
+                v | 1
+            };
         }
         out
     }
@@ -133,7 +137,11 @@ mod tests {
         let n = encode(data.iter().copied(), &mut full).expect("fits");
         for size in 0..n {
             let mut out = [0u8; 16];
-            assert_eq!(encode(data.iter().copied(), &mut out[..size]), None, "size {size}");
+            assert_eq!(
+                encode(data.iter().copied(), &mut out[..size]),
+                None,
+                "size {size}"
+            );
         }
     }
 

@@ -16,7 +16,8 @@ impl QualityFlags {
     /// Magnetic disturbance detected (heading-dependent angles less reliable).
     pub const MAG_DISTURBED: u8 = 1 << 3;
     /// Every bit defined above.
-    pub const ALL: u8 = Self::LOW_CONFIDENCE | Self::SATURATED | Self::UNCALIBRATED | Self::MAG_DISTURBED;
+    pub const ALL: u8 =
+        Self::LOW_CONFIDENCE | Self::SATURATED | Self::UNCALIBRATED | Self::MAG_DISTURBED;
 }
 
 /// Bits of [`PoseFrame::flags`](crate::PoseFrame::flags). `0` means every joint of the sample

@@ -1,8 +1,8 @@
 //! Whole frames: message bytes + CRC-32C (little-endian) → COBS → 0x00.
 
 use crate::{
-    cobs, crc::crc32c, decode_message, encode_message, DecodeError, EncodeError, Message,
-    CRC_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
+    cobs, crc::crc32c, decode_message, encode_message, DecodeError, EncodeError, Message, CRC_LEN,
+    MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
 };
 
 /// Encodes `msg` as one complete frame into `out` and returns it, trailing 0x00 included.
@@ -23,7 +23,8 @@ pub fn encode_raw_frame<'a>(payload: &[u8], out: &'a mut [u8]) -> Result<&'a [u8
     let crc = crc32c(payload).to_le_bytes();
     let bytes = payload.iter().copied().chain(crc);
     let len = cobs::encode(bytes, out).ok_or(EncodeError::BufferTooSmall { needed })?;
-    *out.get_mut(len).ok_or(EncodeError::BufferTooSmall { needed })? = 0;
+    *out.get_mut(len)
+        .ok_or(EncodeError::BufferTooSmall { needed })? = 0;
     Ok(out.get(..=len).unwrap_or(&[]))
 }
 

@@ -3,6 +3,7 @@
 #![warn(missing_docs)]
 
 mod cobs;
+mod counting;
 mod crc;
 mod decoder;
 mod error;
@@ -21,8 +22,8 @@ pub use crate::flags::{FrameFlags, QualityFlags};
 pub use crate::frame::{decode_frame, encode_frame, encode_raw_frame};
 pub use crate::joint::JointId;
 pub use crate::messages::{
-    point, segment, Config, JointAngle, Message, MissingPolicy, PoseFrame, Status,
-    MAX_POSE_ANGLES, PROTOCOL_VERSION,
+    point, segment, Config, JointAngle, Message, MissingPolicy, PoseFrame, Status, MAX_POSE_ANGLES,
+    PROTOCOL_VERSION,
 };
 pub use crate::model::ModelId;
 pub use crate::sizes::{

@@ -53,7 +53,8 @@ pub const CRC_LEN: usize = 4;
 pub const MAX_FRAME_LEN: usize = cobs::max_encoded_len(MAX_MESSAGE_LEN + CRC_LEN) + 1;
 
 /// Largest frame carrying a [`JointAngle`](crate::JointAngle), delimiter included.
-pub const JOINT_ANGLE_MAX_FRAME_LEN: usize = cobs::max_encoded_len(JOINT_ANGLE_MAX_LEN + CRC_LEN) + 1;
+pub const JOINT_ANGLE_MAX_FRAME_LEN: usize =
+    cobs::max_encoded_len(JOINT_ANGLE_MAX_LEN + CRC_LEN) + 1;
 
 /// Smallest decoded frame that can hold a message: a tag byte plus the CRC.
 pub const MIN_PAYLOAD_LEN: usize = TAG + CRC_LEN;

@@ -29,7 +29,8 @@ pub fn encode_message<'a>(msg: &Message, out: &'a mut [u8]) -> Result<&'a mut [u
 
 /// Decodes one message from its postcard bytes (no CRC, no framing). Every byte must be used.
 pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
-    let (tag, body) = postcard::take_from_bytes::<u32>(bytes).map_err(|_| DecodeError::Malformed)?;
+    let (tag, body) =
+        postcard::take_from_bytes::<u32>(bytes).map_err(|_| DecodeError::Malformed)?;
     match tag {
         0 => decode_joint_angle(body).map(Message::JointAngle),
         1 => decode_pose_frame(body).map(Message::PoseFrame),

@@ -28,7 +28,10 @@ fn errors_then_next(bad: &[u8], next: &Message) -> Vec<DecodeError> {
     let results = decode_all(&mut FrameDecoder::new(), &stream);
     let (last, errors) = results.split_last().expect("at least the good frame");
     assert_eq!(last, &Ok(next.clone()), "next good frame after {bad:02x?}");
-    errors.iter().map(|r| r.clone().expect_err("only errors before the good frame")).collect()
+    errors
+        .iter()
+        .map(|r| r.clone().expect_err("only errors before the good frame"))
+        .collect()
 }
 
 fn raw_frame(payload: &[u8]) -> Vec<u8> {
@@ -49,7 +52,11 @@ fn bit_flip_in_a_data_byte_is_a_crc_error() {
                 if bad[pos] == 0 {
                     continue; // a new delimiter: see bit_flip_to_zero_splits_the_frame
                 }
-                assert_eq!(errors_then_next(&bad, &good_b()), vec![DecodeError::Crc], "pos {pos} bit {bit}");
+                assert_eq!(
+                    errors_then_next(&bad, &good_b()),
+                    vec![DecodeError::Crc],
+                    "pos {pos} bit {bit}"
+                );
             }
         }
     }
@@ -92,11 +99,17 @@ fn bit_flip_in_a_code_byte_is_a_framing_or_crc_error() {
                 }
                 let errors = errors_then_next(&bad, &good_a());
                 assert_eq!(errors.len(), 1, "pos {pos} bit {bit}: {errors:?}");
-                assert!(matches!(errors[0], DecodeError::Cobs | DecodeError::Crc), "{errors:?}");
+                assert!(
+                    matches!(errors[0], DecodeError::Cobs | DecodeError::Crc),
+                    "{errors:?}"
+                );
                 kinds.push(errors[0]);
             }
         }
-        assert!(kinds.contains(&DecodeError::Cobs), "a code byte pointing past the end is Cobs");
+        assert!(
+            kinds.contains(&DecodeError::Cobs),
+            "a code byte pointing past the end is Cobs"
+        );
     }
 }
 
@@ -109,7 +122,13 @@ fn bit_flip_to_zero_splits_the_frame_into_reported_fragments() {
     let errors = errors_then_next(&bad, &good_a());
     assert!(!errors.is_empty() && errors.len() <= 2, "{errors:?}");
     for e in errors {
-        assert!(matches!(e, DecodeError::Cobs | DecodeError::Crc | DecodeError::TooShort), "{e:?}");
+        assert!(
+            matches!(
+                e,
+                DecodeError::Cobs | DecodeError::Crc | DecodeError::TooShort
+            ),
+            "{e:?}"
+        );
     }
 }
 
@@ -132,7 +151,12 @@ fn truncation_is_reported_and_the_next_frame_decodes() {
             } else {
                 DecodeError::Crc
             };
-            assert_eq!(errors_then_next(&bad, &good_c()), vec![expected], "keep {keep} of {}", body.len());
+            assert_eq!(
+                errors_then_next(&bad, &good_c()),
+                vec![expected],
+                "keep {keep} of {}",
+                body.len()
+            );
         }
     }
 }
@@ -164,21 +188,33 @@ fn leading_delimiter_makes_a_lost_delimiter_harmless() {
 fn oversize_is_reported_once_then_resynchronises() {
     let mut rng = Rng::new(7);
     for extra in [1usize, 2, 50, 1000, 10_000] {
-        let garbage: Vec<u8> = (0..MAX_FRAME_LEN - 1 + extra).map(|_| rng.byte() | 1).collect();
+        let garbage: Vec<u8> = (0..MAX_FRAME_LEN - 1 + extra)
+            .map(|_| rng.byte() | 1)
+            .collect();
         let mut bad = garbage.clone();
         bad.push(0);
-        assert_eq!(errors_then_next(&bad, &good_b()), vec![DecodeError::Oversize], "extra {extra}");
+        assert_eq!(
+            errors_then_next(&bad, &good_b()),
+            vec![DecodeError::Oversize],
+            "extra {extra}"
+        );
         // A real frame too long to be one (e.g. from a future version): the same.
         let mut buf = vec![0u8; 2 * garbage.len() + 16];
         let long = encode_raw_frame(&garbage, &mut buf).expect("fits").to_vec();
-        assert_eq!(errors_then_next(&long, &good_a()), vec![DecodeError::Oversize]);
+        assert_eq!(
+            errors_then_next(&long, &good_a()),
+            vec![DecodeError::Oversize]
+        );
     }
 }
 
 #[test]
 fn wrong_version_is_unknown_version() {
     for version in [0u8, 2, 0x7F, 0x80, 0xFF] {
-        let msg = Message::JointAngle(JointAngle { version, ..common::joint_angle(9, JointId::KneeAngleL, -1.0) });
+        let msg = Message::JointAngle(JointAngle {
+            version,
+            ..common::joint_angle(9, JointId::KneeAngleL, -1.0)
+        });
         let errors = errors_then_next(&frame(&msg), &good_a());
         assert_eq!(errors, vec![DecodeError::UnknownVersion(version)]);
         assert_eq!(errors[0].kind(), ErrorKind::UnknownVersion);
@@ -188,7 +224,10 @@ fn wrong_version_is_unknown_version() {
 #[test]
 fn unknown_version_is_reported_even_if_the_rest_differs() {
     // A version-2 packet may have another layout: only its first body byte is looked at.
-    let errors = errors_then_next(&raw_frame(&[0x00, 0x02, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]), &good_a());
+    let errors = errors_then_next(
+        &raw_frame(&[0x00, 0x02, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
+        &good_a(),
+    );
     assert_eq!(errors, vec![DecodeError::UnknownVersion(2)]);
 }
 
@@ -196,7 +235,9 @@ fn unknown_version_is_reported_even_if_the_rest_differs() {
 fn unknown_joint_is_unknown_joint() {
     for joint in [17u8, 18, 0x7F, 0x80, 0xFF] {
         // tag 0, version 1, node 3, joint, seq 5, timestamp 300 (0xAC 0x02), angle 1.0, quality 0
-        let payload = [0x00, 0x01, 0x03, joint, 0x05, 0xAC, 0x02, 0x00, 0x00, 0x80, 0x3F, 0x00];
+        let payload = [
+            0x00, 0x01, 0x03, joint, 0x05, 0xAC, 0x02, 0x00, 0x00, 0x80, 0x3F, 0x00,
+        ];
         let errors = errors_then_next(&raw_frame(&payload), &good_c());
         assert_eq!(errors, vec![DecodeError::UnknownJoint(joint)]);
         assert_eq!(errors[0].kind(), ErrorKind::UnknownJoint);
@@ -204,7 +245,9 @@ fn unknown_joint_is_unknown_joint() {
         let mut ok = payload;
         ok[3] = JointId::KneeAngleR.index();
         let results = decode_all(&mut FrameDecoder::new(), &raw_frame(&ok));
-        assert!(matches!(&results[..], [Ok(Message::JointAngle(j))] if j.joint == JointId::KneeAngleR && j.timestamp_us == 300));
+        assert!(
+            matches!(&results[..], [Ok(Message::JointAngle(j))] if j.joint == JointId::KneeAngleR && j.timestamp_us == 300)
+        );
     }
 }
 
@@ -214,8 +257,15 @@ fn garbage_between_frames_is_reported_and_costs_at_most_the_frame_it_runs_into()
     for round in 0..500 {
         let len = 1 + rng.below(if round % 10 == 0 { 600 } else { 40 });
         let zero_percent = [0u32, 2, 10, 50][round % 4];
-        let garbage: Vec<u8> =
-            (0..len).map(|_| if rng.chance(zero_percent) { 0 } else { rng.byte() }).collect();
+        let garbage: Vec<u8> = (0..len)
+            .map(|_| {
+                if rng.chance(zero_percent) {
+                    0
+                } else {
+                    rng.byte()
+                }
+            })
+            .collect();
         for resync in [false, true] {
             let mut stream = frame(&good_a());
             stream.extend_from_slice(&garbage);
@@ -226,21 +276,35 @@ fn garbage_between_frames_is_reported_and_costs_at_most_the_frame_it_runs_into()
             stream.extend(frame(&good_c()));
             let results = decode_all(&mut FrameDecoder::new(), &stream);
             let oks: Vec<&Message> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
-            let errors: Vec<&DecodeError> = results.iter().filter_map(|r| r.as_ref().err()).collect();
+            let errors: Vec<&DecodeError> =
+                results.iter().filter_map(|r| r.as_ref().err()).collect();
             let b_survives = resync || garbage.last() == Some(&0);
-            let expected: Vec<Message> =
-                if b_survives { vec![good_a(), good_b(), good_c()] } else { vec![good_a(), good_c()] };
-            assert_eq!(oks.into_iter().cloned().collect::<Vec<_>>(), expected, "round {round} {garbage:02x?}");
+            let expected: Vec<Message> = if b_survives {
+                vec![good_a(), good_b(), good_c()]
+            } else {
+                vec![good_a(), good_c()]
+            };
+            assert_eq!(
+                oks.into_iter().cloned().collect::<Vec<_>>(),
+                expected,
+                "round {round} {garbage:02x?}"
+            );
             assert_eq!(results.first(), Some(&Ok(good_a())));
             assert_eq!(results.last(), Some(&Ok(good_c())));
             if garbage.iter().any(|&b| b != 0) {
-                assert!(!errors.is_empty(), "garbage must be reported: {garbage:02x?}");
+                assert!(
+                    !errors.is_empty(),
+                    "garbage must be reported: {garbage:02x?}"
+                );
             }
             for e in errors {
                 assert!(
                     matches!(
                         e,
-                        DecodeError::Cobs | DecodeError::Crc | DecodeError::TooShort | DecodeError::Oversize
+                        DecodeError::Cobs
+                            | DecodeError::Crc
+                            | DecodeError::TooShort
+                            | DecodeError::Oversize
                     ),
                     "random garbage fails framing or CRC, got {e:?}"
                 );
@@ -254,31 +318,83 @@ fn bad_contents_with_a_good_crc_are_reported_by_kind() {
     use DecodeError::*;
     let cases: Vec<(&str, Vec<u8>, DecodeError)> = vec![
         ("unknown tag 4", vec![0x04], UnknownMessage(4)),
-        ("unknown tag 200 (two-byte varint)", vec![0xC8, 0x01, 0x00], UnknownMessage(200)),
-        ("tag varint too long", vec![0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01], Malformed),
-        ("joint angle body cut short", vec![0x00, 0x01, 0x03, 0x06], Malformed),
-        ("joint angle with a trailing byte", vec![0x00, 0x01, 0x03, 0x06, 0x05, 0x05, 0, 0, 0, 0, 0, 0xEE], Malformed),
+        (
+            "unknown tag 200 (two-byte varint)",
+            vec![0xC8, 0x01, 0x00],
+            UnknownMessage(200),
+        ),
+        (
+            "tag varint too long",
+            vec![0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01],
+            Malformed,
+        ),
+        (
+            "joint angle body cut short",
+            vec![0x00, 0x01, 0x03, 0x06],
+            Malformed,
+        ),
+        (
+            "joint angle with a trailing byte",
+            vec![0x00, 0x01, 0x03, 0x06, 0x05, 0x05, 0, 0, 0, 0, 0, 0xEE],
+            Malformed,
+        ),
         ("empty status body", vec![0x02], Malformed),
-        ("pose frame of unknown model 3", pose_payload(3, 6), UnknownModel(3)),
-        ("HAK pose frame with 5 angles", pose_payload(0, 5), AngleCount { expected: 6, got: 5 }),
-        ("pose frame with 18 angles (over capacity)", pose_payload(2, 18), Malformed),
-        ("config of unknown model 9", vec![0x03, 9, 0, 0, 4, 1], UnknownModel(9)),
-        ("config with option tag 2", vec![0x03, 1, 2, 0, 4, 1], Malformed),
-        ("config with missing policy 2", vec![0x03, 1, 0, 2, 4, 1], Malformed),
+        (
+            "pose frame of unknown model 3",
+            pose_payload(3, 6),
+            UnknownModel(3),
+        ),
+        (
+            "HAK pose frame with 5 angles",
+            pose_payload(0, 5),
+            AngleCount {
+                expected: 6,
+                got: 5,
+            },
+        ),
+        (
+            "pose frame with 18 angles (over capacity)",
+            pose_payload(2, 18),
+            Malformed,
+        ),
+        (
+            "config of unknown model 9",
+            vec![0x03, 9, 0, 0, 4, 1],
+            UnknownModel(9),
+        ),
+        (
+            "config with option tag 2",
+            vec![0x03, 1, 2, 0, 4, 1],
+            Malformed,
+        ),
+        (
+            "config with missing policy 2",
+            vec![0x03, 1, 0, 2, 4, 1],
+            Malformed,
+        ),
         ("config with bool 2", vec![0x03, 1, 0, 0, 4, 2], Malformed),
     ];
     for (what, payload, expected) in cases {
-        assert_eq!(errors_then_next(&raw_frame(&payload), &good_a()), vec![expected], "{what}");
+        assert_eq!(
+            errors_then_next(&raw_frame(&payload), &good_a()),
+            vec![expected],
+            "{what}"
+        );
     }
     // A valid config, for contrast with the cases above.
     let results = decode_all(&mut FrameDecoder::new(), &raw_frame(&[0x03, 1, 0, 0, 4, 1]));
-    assert!(matches!(&results[..], [Ok(Message::Config(c))] if c.model == ModelId::Phak && c.request_status));
+    assert!(
+        matches!(&results[..], [Ok(Message::Config(c))] if c.model == ModelId::Phak && c.request_status)
+    );
 }
 
 /// Message bytes of a pose frame with `count` angles, all values 0.
 fn pose_payload(model: u8, count: u8) -> Vec<u8> {
     let mut p = vec![0x01, 0x05, model, count];
-    p.extend(std::iter::repeat_n(0u8, 4 * count as usize + 4 * 24 + 4 * 3));
+    p.extend(std::iter::repeat_n(
+        0u8,
+        4 * count as usize + 4 * 24 + 4 * 3,
+    ));
     p.push(0);
     p
 }
@@ -290,10 +406,16 @@ fn frames_shorter_than_tag_and_crc_are_too_short() {
         let mut bad = vec![payload_len as u8 + 1];
         bad.extend(std::iter::repeat_n(0x11, payload_len));
         bad.push(0);
-        assert_eq!(errors_then_next(&bad, &good_b()), vec![DecodeError::TooShort]);
+        assert_eq!(
+            errors_then_next(&bad, &good_b()),
+            vec![DecodeError::TooShort]
+        );
     }
     // Tag plus CRC but the payload is only the CRC of nothing: 4 bytes, too short.
-    assert_eq!(errors_then_next(&raw_frame(&[]), &good_b()), vec![DecodeError::TooShort]);
+    assert_eq!(
+        errors_then_next(&raw_frame(&[]), &good_b()),
+        vec![DecodeError::TooShort]
+    );
 }
 
 #[test]
@@ -303,13 +425,22 @@ fn encode_frame_rejects_a_short_buffer_and_a_wrong_angle_count() {
     let full = frame(&msg);
     for size in 0..full.len() {
         let mut buf = vec![0u8; size];
-        assert!(matches!(encode_frame(&msg, &mut buf), Err(EncodeError::BufferTooSmall { .. })), "size {size}");
+        assert!(
+            matches!(
+                encode_frame(&msg, &mut buf),
+                Err(EncodeError::BufferTooSmall { .. })
+            ),
+            "size {size}"
+        );
     }
     let mut pose = common::pose_frame(1, ModelId::Phak);
     pose.angles.pop();
     let mut buf = [0u8; MAX_FRAME_LEN];
     assert_eq!(
         encode_frame(&pose.into(), &mut buf),
-        Err(EncodeError::AngleCount { expected: 8, got: 7 })
+        Err(EncodeError::AngleCount {
+            expected: 8,
+            got: 7
+        })
     );
 }

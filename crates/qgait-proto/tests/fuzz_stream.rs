@@ -22,10 +22,15 @@ use qgait_proto::{
 
 /// A comparable form of a result: messages as their bytes (NaN-safe).
 fn key(result: &Result<Message, DecodeError>) -> Result<Vec<u8>, DecodeError> {
-    result.as_ref().map(|m| {
-        let mut buf = [0u8; MAX_MESSAGE_LEN];
-        encode_message(m, &mut buf).expect("decoded messages re-encode").to_vec()
-    }).map_err(|e| *e)
+    result
+        .as_ref()
+        .map(|m| {
+            let mut buf = [0u8; MAX_MESSAGE_LEN];
+            encode_message(m, &mut buf)
+                .expect("decoded messages re-encode")
+                .to_vec()
+        })
+        .map_err(|e| *e)
 }
 
 /// The reference model of the stream decoder.
@@ -87,7 +92,10 @@ fn run(seed: u64, streams: u64) -> Tally {
                 next = expected.next();
             }
         }
-        assert_eq!(next, None, "seed {seed}: a good frame was lost in {stream:02x?}");
+        assert_eq!(
+            next, None,
+            "seed {seed}: a good frame was lost in {stream:02x?}"
+        );
 
         tally.streams += 1;
         tally.bytes += stream.len() as u64;
@@ -103,7 +111,10 @@ fn run(seed: u64, streams: u64) -> Tally {
 }
 
 fn env_u64(name: &str, default: u64) -> u64 {
-    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
 }
 
 fn report(tally: &Tally, seed: u64) {
@@ -134,7 +145,10 @@ fn stream_fuzz() {
             ErrorKind::AngleCount,
             ErrorKind::Malformed,
         ] {
-            assert!(tally.errors.contains_key(&format!("{kind:?}")), "{kind:?} never produced");
+            assert!(
+                tally.errors.contains_key(&format!("{kind:?}")),
+                "{kind:?} never produced"
+            );
         }
     }
 }
@@ -155,9 +169,13 @@ fn random_bytes_never_panic_and_match_the_reference() {
     let mut rng = Rng::new(99);
     for round in 0..2_000 {
         let zeros = [0u32, 1, 3, 10, 50][round % 5];
-        let stream: Vec<u8> =
-            (0..rng.below(1_000)).map(|_| if rng.chance(zeros) { 0 } else { rng.byte() }).collect();
-        let got: Vec<_> = common::decode_all(&mut FrameDecoder::new(), &stream).iter().map(key).collect();
+        let stream: Vec<u8> = (0..rng.below(1_000))
+            .map(|_| if rng.chance(zeros) { 0 } else { rng.byte() })
+            .collect();
+        let got: Vec<_> = common::decode_all(&mut FrameDecoder::new(), &stream)
+            .iter()
+            .map(key)
+            .collect();
         let want: Vec<_> = reference(&stream).iter().map(key).collect();
         assert_eq!(got, want);
     }

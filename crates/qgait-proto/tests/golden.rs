@@ -11,8 +11,8 @@ use std::path::PathBuf;
 
 use qgait_proto::{
     crc32c, encode_message, encode_raw_frame, Config, DecodeError, FrameDecoder, FrameFlags,
-    JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, QualityFlags, Status,
-    CRC_LEN, FRAME_CRC_CHECK, MAX_FRAME_LEN, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
+    JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, QualityFlags, Status, CRC_LEN,
+    FRAME_CRC_CHECK, MAX_FRAME_LEN, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
 };
 
 fn protocol_md() -> String {
@@ -25,13 +25,24 @@ fn golden_blocks(doc: &str) -> BTreeMap<String, Vec<String>> {
     let mut blocks = BTreeMap::new();
     let mut lines = doc.lines();
     while let Some(line) = lines.next() {
-        let Some(info) = line.trim().strip_prefix("```") else { continue };
-        let Some(name) = info.split_whitespace().find_map(|w| w.strip_prefix("golden=")) else {
+        let Some(info) = line.trim().strip_prefix("```") else {
             continue;
         };
-        let body: Vec<String> =
-            lines.by_ref().take_while(|l| !l.trim().starts_with("```")).map(str::to_owned).collect();
-        assert!(blocks.insert(name.to_owned(), body).is_none(), "golden block {name} twice");
+        let Some(name) = info
+            .split_whitespace()
+            .find_map(|w| w.strip_prefix("golden="))
+        else {
+            continue;
+        };
+        let body: Vec<String> = lines
+            .by_ref()
+            .take_while(|l| !l.trim().starts_with("```"))
+            .map(str::to_owned)
+            .collect();
+        assert!(
+            blocks.insert(name.to_owned(), body).is_none(),
+            "golden block {name} twice"
+        );
     }
     blocks
 }
@@ -40,7 +51,9 @@ fn parse_hex(lines: &[String]) -> Vec<u8> {
     lines
         .iter()
         .flat_map(|l| l.split_whitespace())
-        .map(|pair| u8::from_str_radix(pair, 16).unwrap_or_else(|e| panic!("bad hex {pair:?}: {e}")))
+        .map(|pair| {
+            u8::from_str_radix(pair, 16).unwrap_or_else(|e| panic!("bad hex {pair:?}: {e}"))
+        })
         .collect()
 }
 
@@ -75,7 +88,8 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
             PoseFrame {
                 seq: 300,
                 model: ModelId::Hak,
-                angles: heapless::Vec::from_slice(&[0.5, -0.25, 0.125, -0.5, 0.0, 0.25]).expect("6 fit"),
+                angles: heapless::Vec::from_slice(&[0.5, -0.25, 0.125, -0.5, 0.0, 0.25])
+                    .expect("6 fit"),
                 points: [
                     [0.0, 0.0, 0.0625],
                     [0.25, -0.375, 0.0625],
@@ -140,14 +154,24 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
 /// Golden frames that must fail, by name: their message bytes and the expected error.
 fn golden_errors() -> Vec<(&'static str, Vec<u8>, DecodeError)> {
     let mut good = [0u8; MAX_MESSAGE_LEN];
-    let ja = encode_message(&joint_angle().into(), &mut good).expect("encodes").to_vec();
+    let ja = encode_message(&joint_angle().into(), &mut good)
+        .expect("encodes")
+        .to_vec();
     let mut wrong_version = ja.clone();
     wrong_version[1] = 2;
     let mut unknown_joint = ja.clone();
     unknown_joint[3] = 17;
     vec![
-        ("error-unknown-version", wrong_version, DecodeError::UnknownVersion(2)),
-        ("error-unknown-joint", unknown_joint, DecodeError::UnknownJoint(17)),
+        (
+            "error-unknown-version",
+            wrong_version,
+            DecodeError::UnknownVersion(2),
+        ),
+        (
+            "error-unknown-joint",
+            unknown_joint,
+            DecodeError::UnknownJoint(17),
+        ),
     ]
 }
 
@@ -185,7 +209,10 @@ fn constants() -> Vec<String> {
         format!("CRC_LEN = {CRC_LEN}"),
         format!("MAX_FRAME_LEN = {MAX_FRAME_LEN}"),
         format!("JOINT_ANGLE_MAX_LEN = {}", qgait_proto::JOINT_ANGLE_MAX_LEN),
-        format!("JOINT_ANGLE_MAX_FRAME_LEN = {}", qgait_proto::JOINT_ANGLE_MAX_FRAME_LEN),
+        format!(
+            "JOINT_ANGLE_MAX_FRAME_LEN = {}",
+            qgait_proto::JOINT_ANGLE_MAX_FRAME_LEN
+        ),
         format!("POSE_FRAME_MAX_LEN = {}", qgait_proto::POSE_FRAME_MAX_LEN),
         format!("STATUS_MAX_LEN = {}", qgait_proto::STATUS_MAX_LEN),
         format!("CONFIG_MAX_LEN = {}", qgait_proto::CONFIG_MAX_LEN),
@@ -218,8 +245,15 @@ fn document_holds_exactly_the_golden_blocks() {
 fn golden_hex_matches_the_encoder_byte_for_byte() {
     let doc = golden_blocks(&protocol_md());
     for (name, bytes) in expected_blocks() {
-        let block = doc.get(&name).unwrap_or_else(|| panic!("docs/protocol.md lacks {name}"));
-        assert_eq!(parse_hex(block), bytes, "{name} should read:\n{}", to_hex_block(&name, &bytes));
+        let block = doc
+            .get(&name)
+            .unwrap_or_else(|| panic!("docs/protocol.md lacks {name}"));
+        assert_eq!(
+            parse_hex(block),
+            bytes,
+            "{name} should read:\n{}",
+            to_hex_block(&name, &bytes)
+        );
     }
 }
 
@@ -228,7 +262,11 @@ fn golden_frames_decode_to_the_golden_messages() {
     let doc = golden_blocks(&protocol_md());
     for (name, msg) in golden_messages() {
         let frame = parse_hex(&doc[&format!("{name}.frame")]);
-        assert_eq!(common::decode_all(&mut FrameDecoder::new(), &frame), vec![Ok(msg.clone())], "{name}");
+        assert_eq!(
+            common::decode_all(&mut FrameDecoder::new(), &frame),
+            vec![Ok(msg.clone())],
+            "{name}"
+        );
         let message = parse_hex(&doc[&format!("{name}.message")]);
         assert_eq!(qgait_proto::decode_message(&message), Ok(msg), "{name}");
     }
@@ -237,19 +275,29 @@ fn golden_frames_decode_to_the_golden_messages() {
 #[test]
 fn golden_error_frames_give_their_errors() {
     let doc = golden_blocks(&protocol_md());
-    let mut cases: Vec<(String, DecodeError)> =
-        golden_errors().into_iter().map(|(n, _, e)| (n.to_owned(), e)).collect();
+    let mut cases: Vec<(String, DecodeError)> = golden_errors()
+        .into_iter()
+        .map(|(n, _, e)| (n.to_owned(), e))
+        .collect();
     cases.push(("error-crc".to_owned(), DecodeError::Crc));
     for (name, expected) in cases {
         let frame = parse_hex(&doc[&format!("{name}.frame")]);
-        assert_eq!(common::decode_all(&mut FrameDecoder::new(), &frame), vec![Err(expected)], "{name}");
+        assert_eq!(
+            common::decode_all(&mut FrameDecoder::new(), &frame),
+            vec![Err(expected)],
+            "{name}"
+        );
     }
 }
 
 #[test]
 fn golden_constants_match_the_crate() {
     let doc = golden_blocks(&protocol_md());
-    let block: Vec<String> = doc["constants"].iter().map(|l| l.trim().to_owned()).filter(|l| !l.is_empty()).collect();
+    let block: Vec<String> = doc["constants"]
+        .iter()
+        .map(|l| l.trim().to_owned())
+        .filter(|l| !l.is_empty())
+        .collect();
     assert_eq!(block, constants());
 }
 
@@ -262,7 +310,11 @@ fn crc_is_crc32c_as_documented() {
         for &b in bytes {
             crc ^= u32::from(b);
             for _ in 0..8 {
-                crc = if crc & 1 != 0 { (crc >> 1) ^ 0x82F6_3B78 } else { crc >> 1 };
+                crc = if crc & 1 != 0 {
+                    (crc >> 1) ^ 0x82F6_3B78
+                } else {
+                    crc >> 1
+                };
             }
         }
         crc ^ 0xFFFF_FFFF

@@ -66,13 +66,27 @@ fn per_message_maxima_are_reached_exactly() {
         reorder_window: 0xFF,
         request_status: true,
     };
-    assert_eq!(message_len(&worst_joint_angle(u32::MAX).into()), JOINT_ANGLE_MAX_LEN);
-    assert_eq!(message_len(&worst_pose_frame(u32::MAX).into()), POSE_FRAME_MAX_LEN);
+    assert_eq!(
+        message_len(&worst_joint_angle(u32::MAX).into()),
+        JOINT_ANGLE_MAX_LEN
+    );
+    assert_eq!(
+        message_len(&worst_pose_frame(u32::MAX).into()),
+        POSE_FRAME_MAX_LEN
+    );
     assert_eq!(message_len(&all_max.into()), STATUS_MAX_LEN);
     assert_eq!(message_len(&config.into()), CONFIG_MAX_LEN);
     assert_eq!(
         MAX_MESSAGE_LEN,
-        [JOINT_ANGLE_MAX_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN, CONFIG_MAX_LEN].into_iter().max().unwrap()
+        [
+            JOINT_ANGLE_MAX_LEN,
+            POSE_FRAME_MAX_LEN,
+            STATUS_MAX_LEN,
+            CONFIG_MAX_LEN
+        ]
+        .into_iter()
+        .max()
+        .unwrap()
     );
     // Smaller values take fewer bytes: the maximum is not a constant size.
     assert!(message_len(&worst_joint_angle(0).into()) < JOINT_ANGLE_MAX_LEN);
@@ -82,10 +96,13 @@ fn per_message_maxima_are_reached_exactly() {
 fn max_frame_len_is_reached_and_decoded() {
     // Below 254 bytes COBS always adds exactly one code byte, zeros or not, so the largest
     // message gives the largest frame.
-    assert!(MAX_MESSAGE_LEN + CRC_LEN < 254);
+    const { assert!(MAX_MESSAGE_LEN + CRC_LEN < 254) };
     let frame = common::frame(&worst_pose_frame(u32::MAX).into());
     assert_eq!(frame.len(), MAX_FRAME_LEN);
-    assert_eq!(MAX_FRAME_LEN, cobs_max_encoded_len(MAX_MESSAGE_LEN + CRC_LEN) + 1);
+    assert_eq!(
+        MAX_FRAME_LEN,
+        cobs_max_encoded_len(MAX_MESSAGE_LEN + CRC_LEN) + 1
+    );
     let mut decoder = FrameDecoder::new();
     let got = common::decode_all(&mut decoder, &frame);
     assert_eq!(got.len(), 1);
@@ -107,9 +124,16 @@ fn one_byte_more_than_max_frame_len_is_oversize() {
     for _ in 0..1000 {
         assert_eq!(decoder.push(0x42), None);
     }
-    assert_eq!(decoder.push(0), None, "the delimiter ends the discarded frame silently");
+    assert_eq!(
+        decoder.push(0),
+        None,
+        "the delimiter ends the discarded frame silently"
+    );
     let msg: Message = common::status().into();
-    assert_eq!(common::decode_all(&mut decoder, &common::frame(&msg)), vec![Ok(msg)]);
+    assert_eq!(
+        common::decode_all(&mut decoder, &common::frame(&msg)),
+        vec![Ok(msg)]
+    );
 }
 
 #[test]

@@ -19,7 +19,10 @@ fn assert_same(decoded: &Message, original: &Message) {
     let a = encode_message(decoded, &mut a).expect("encodes").to_vec();
     let b = encode_message(original, &mut b).expect("encodes").to_vec();
     assert_eq!(a, b);
-    assert_eq!(core::mem::discriminant(decoded), core::mem::discriminant(original));
+    assert_eq!(
+        core::mem::discriminant(decoded),
+        core::mem::discriminant(original)
+    );
     let has_nan = format!("{original:?}").contains("NaN");
     if !has_nan {
         assert_eq!(decoded, original);
@@ -108,7 +111,10 @@ fn joint_ids_round_trip_through_index_and_name() {
     }
     assert_eq!(JointId::from_index(17), None);
     assert_eq!(JointId::from_index(255), None);
-    assert_eq!(JointId::from_name("hip_flexion_r"), Some(JointId::HipFlexionR));
+    assert_eq!(
+        JointId::from_name("hip_flexion_r"),
+        Some(JointId::HipFlexionR)
+    );
     assert_eq!(JointId::from_name("pelvis_list"), Some(JointId::PelvisList));
     assert_eq!(JointId::from_name("lumbar_extension"), None);
     assert_eq!(JointId::MtpAngleL.to_string(), "mtp_angle_l");
@@ -126,11 +132,27 @@ fn models_round_trip_and_list_their_joints() {
     use JointId::*;
     assert_eq!(
         ModelId::Phak.required_joints(),
-        &[PelvisRotation, PelvisList, HipFlexionR, KneeAngleR, AnkleAngleR, HipFlexionL, KneeAngleL, AnkleAngleL]
+        &[
+            PelvisRotation,
+            PelvisList,
+            HipFlexionR,
+            KneeAngleR,
+            AnkleAngleR,
+            HipFlexionL,
+            KneeAngleL,
+            AnkleAngleL
+        ]
     );
     assert_eq!(
         ModelId::Hak.required_joints(),
-        &[HipFlexionR, KneeAngleR, AnkleAngleR, HipFlexionL, KneeAngleL, AnkleAngleL]
+        &[
+            HipFlexionR,
+            KneeAngleR,
+            AnkleAngleR,
+            HipFlexionL,
+            KneeAngleL,
+            AnkleAngleL
+        ]
     );
     assert_eq!(ModelId::Gait2392.required_joints(), &JointId::ALL);
 }

@@ -23,13 +23,26 @@ pub fn joint_angle(seq: u32, joint: JointId, angle: f32) -> JointAngle {
 pub fn pose_frame(seq: u32, model: ModelId) -> PoseFrame {
     let mut angles = heapless::Vec::new();
     for i in 0..model.required_joints().len() {
-        angles.push(0.1 * (i as f32 + 1.0)).expect("at most 17 angles");
+        angles
+            .push(0.1 * (i as f32 + 1.0))
+            .expect("at most 17 angles");
     }
     let mut points = [[0.0f32; 3]; 8];
     for (i, p) in points.iter_mut().enumerate() {
-        *p = [0.01 * i as f32, -0.1 * i as f32, if i < 4 { 0.08 } else { -0.08 }];
+        *p = [
+            0.01 * i as f32,
+            -0.1 * i as f32,
+            if i < 4 { 0.08 } else { -0.08 },
+        ];
     }
-    PoseFrame { seq, model, angles, points, distances: [0.16, 0.17, 0.18], flags: 0 }
+    PoseFrame {
+        seq,
+        model,
+        angles,
+        points,
+        distances: [0.16, 0.17, 0.18],
+        flags: 0,
+    }
 }
 
 /// A status with distinct counters.

@@ -72,11 +72,18 @@ pub fn message(rng: &mut Rng) -> Message {
         _ => Message::Config(Config {
             model: ModelId::ALL[rng.below(ModelId::COUNT)],
             anthropometry: if rng.chance(50) {
-                Some([[float(rng), float(rng), float(rng), float(rng)], [float(rng), float(rng), float(rng), float(rng)]])
+                Some([
+                    [float(rng), float(rng), float(rng), float(rng)],
+                    [float(rng), float(rng), float(rng), float(rng)],
+                ])
             } else {
                 None
             },
-            missing_policy: if rng.chance(50) { MissingPolicy::Drop } else { MissingPolicy::HoldLast },
+            missing_policy: if rng.chance(50) {
+                MissingPolicy::Drop
+            } else {
+                MissingPolicy::HoldLast
+            },
             reorder_window: rng.byte(),
             request_status: rng.chance(50),
         }),
@@ -86,7 +93,9 @@ pub fn message(rng: &mut Rng) -> Message {
 /// The frame of a message.
 pub fn frame_of(msg: &Message) -> Vec<u8> {
     let mut buf = [0u8; MAX_FRAME_LEN];
-    encode_frame(msg, &mut buf).expect("valid messages encode").to_vec()
+    encode_frame(msg, &mut buf)
+        .expect("valid messages encode")
+        .to_vec()
 }
 
 /// Applies 1 to 4 random byte-level mutations to `bytes`.
@@ -142,7 +151,9 @@ pub fn stream(rng: &mut Rng) -> (Vec<u8>, Vec<Message>) {
             5 => {
                 // Message bytes mutated before framing: a good CRC over bad contents.
                 let mut buf = [0u8; MAX_MESSAGE_LEN];
-                let mut payload = encode_message(&message(rng), &mut buf).expect("encodes").to_vec();
+                let mut payload = encode_message(&message(rng), &mut buf)
+                    .expect("encodes")
+                    .to_vec();
                 mutate(rng, &mut payload);
                 let mut out = vec![0u8; 2 * payload.len() + 16];
                 bytes.extend_from_slice(encode_raw_frame(&payload, &mut out).expect("fits"));
@@ -161,9 +172,8 @@ pub fn stream(rng: &mut Rng) -> (Vec<u8>, Vec<Message>) {
                 }
             }
             _ => {
-                for _ in 0..rng.below(4) {
-                    bytes.push(0);
-                }
+                let zeros = rng.below(4);
+                bytes.extend(std::iter::repeat_n(0u8, zeros));
             }
         }
     }

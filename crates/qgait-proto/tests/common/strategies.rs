@@ -14,7 +14,13 @@ pub fn any_f32_bits() -> impl Strategy<Value = f32> {
 
 /// u32 values spread over every varint length (1 to 5 bytes).
 pub fn any_varint_u32() -> impl Strategy<Value = u32> {
-    prop_oneof![0u32..128, 128u32..16_384, 16_384u32..2_097_152, 2_097_152u32..268_435_456, any::<u32>()]
+    prop_oneof![
+        0u32..128,
+        128u32..16_384,
+        16_384u32..2_097_152,
+        2_097_152u32..268_435_456,
+        any::<u32>()
+    ]
 }
 
 pub fn joint_id() -> impl Strategy<Value = JointId> {
@@ -26,17 +32,25 @@ pub fn model_id() -> impl Strategy<Value = ModelId> {
 }
 
 pub fn joint_angle() -> impl Strategy<Value = JointAngle> {
-    (any::<u8>(), joint_id(), any_varint_u32(), any_varint_u32(), any_f32_bits(), any::<u8>()).prop_map(
-        |(node, joint, seq, timestamp_us, angle, quality)| JointAngle {
-            version: qgait_proto::PROTOCOL_VERSION,
-            node,
-            joint,
-            seq,
-            timestamp_us,
-            angle,
-            quality,
-        },
+    (
+        any::<u8>(),
+        joint_id(),
+        any_varint_u32(),
+        any_varint_u32(),
+        any_f32_bits(),
+        any::<u8>(),
     )
+        .prop_map(
+            |(node, joint, seq, timestamp_us, angle, quality)| JointAngle {
+                version: qgait_proto::PROTOCOL_VERSION,
+                node,
+                joint,
+                seq,
+                timestamp_us,
+                angle,
+                quality,
+            },
+        )
 }
 
 pub fn pose_frame() -> impl Strategy<Value = PoseFrame> {
@@ -54,7 +68,14 @@ pub fn pose_frame() -> impl Strategy<Value = PoseFrame> {
             for (i, p) in points.iter_mut().enumerate() {
                 p.copy_from_slice(&coords[3 * i..3 * i + 3]);
             }
-            PoseFrame { seq, model, angles, points, distances: [coords[24], coords[25], coords[26]], flags }
+            PoseFrame {
+                seq,
+                model,
+                angles,
+                points,
+                distances: [coords[24], coords[25], coords[26]],
+                flags,
+            }
         })
 }
 
@@ -86,13 +107,20 @@ pub fn config() -> impl Strategy<Value = Config> {
         any::<u8>(),
         any::<bool>(),
     )
-        .prop_map(|(model, lengths, hold, reorder_window, request_status)| Config {
-            model,
-            anthropometry: lengths.map(|l| [[l[0], l[1], l[2], l[3]], [l[4], l[5], l[6], l[7]]]),
-            missing_policy: if hold { MissingPolicy::HoldLast } else { MissingPolicy::Drop },
-            reorder_window,
-            request_status,
-        })
+        .prop_map(
+            |(model, lengths, hold, reorder_window, request_status)| Config {
+                model,
+                anthropometry: lengths
+                    .map(|l| [[l[0], l[1], l[2], l[3]], [l[4], l[5], l[6], l[7]]]),
+                missing_policy: if hold {
+                    MissingPolicy::HoldLast
+                } else {
+                    MissingPolicy::Drop
+                },
+                reorder_window,
+                request_status,
+            },
+        )
 }
 
 pub fn message() -> impl Strategy<Value = Message> {
