@@ -6,6 +6,7 @@
 pub mod anthropometry;
 pub mod chain;
 mod error;
+pub mod lanes;
 pub mod metrics;
 pub mod models;
 mod pose;

@@ -49,6 +49,9 @@ pub trait Real:
     fn min(self, other: Self) -> Self;
     /// The larger of two values (the other one if either is NaN).
     fn max(self, other: Self) -> Self;
+    /// `if self < other { if_less } else { otherwise }` (lane by lane for lane arrays; NaN
+    /// compares false). The only comparison the evaluator makes (spline intervals).
+    fn lt_select(self, other: Self, if_less: Self, otherwise: Self) -> Self;
     /// Accurate `(sin x, cos x)` (libm in both precisions). Used by the reference methods and
     /// metrics, not on the quaternion hot path.
     fn sin_cos(self) -> (Self, Self);
@@ -89,6 +92,14 @@ impl Real for f64 {
     #[inline(always)]
     fn max(self, other: Self) -> Self {
         f64::max(self, other)
+    }
+    #[inline(always)]
+    fn lt_select(self, other: Self, if_less: Self, otherwise: Self) -> Self {
+        if self < other {
+            if_less
+        } else {
+            otherwise
+        }
     }
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
@@ -132,6 +143,14 @@ impl Real for f32 {
     #[inline(always)]
     fn max(self, other: Self) -> Self {
         f32::max(self, other)
+    }
+    #[inline(always)]
+    fn lt_select(self, other: Self, if_less: Self, otherwise: Self) -> Self {
+        if self < other {
+            if_less
+        } else {
+            otherwise
+        }
     }
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {

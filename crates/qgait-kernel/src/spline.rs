@@ -11,7 +11,7 @@ pub const MAX_KNOTS: usize = 12;
 /// a parabola-like end condition) and linear extrapolation with the end slope outside the knots.
 ///
 /// Coefficients are computed once in `f64` and stored in `T`; evaluation is allocation-free and
-/// finds the interval without data-dependent loops.
+/// branch-free.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spline<T> {
     n: usize,
@@ -63,22 +63,26 @@ impl<T: Real> Spline<T> {
     }
 
     /// The spline's value at `t` (linear extrapolation outside the knots; NaN for NaN).
+    /// Branch-free: the interval is chosen by [`Real::lt_select`], so it also runs lane-wise.
     #[inline]
     pub fn eval(&self, t: T) -> T {
         let last = self.n - 1;
-        if t < self.x[0] {
-            return self.y[0] + (t - self.x[0]) * self.b[0];
-        }
-        if t > self.x[last] {
-            return self.y[last] + (t - self.x[last]) * self.b[last];
-        }
-        // Interval index: how many interior knots lie at or below t (branch-free count).
-        let mut i = 0;
+        // The cubic of the last knot at or below t (the first one below x[1]).
+        let (mut x, mut y, mut b, mut c, mut d) = (self.x[0], self.y[0], self.b[0], self.c[0], self.d[0]);
         for k in 1..last {
-            i += (t >= self.x[k]) as usize;
+            let xk = self.x[k];
+            x = t.lt_select(xk, x, xk);
+            y = t.lt_select(xk, y, self.y[k]);
+            b = t.lt_select(xk, b, self.b[k]);
+            c = t.lt_select(xk, c, self.c[k]);
+            d = t.lt_select(xk, d, self.d[k]);
         }
-        let dx = t - self.x[i];
-        self.y[i] + dx * (self.b[i] + dx * (self.c[i] + dx * self.d[i]))
+        let dx = t - x;
+        let inside = y + dx * (b + dx * (c + dx * d));
+        let below = self.y[0] + (t - self.x[0]) * self.b[0];
+        let above = self.y[last] + (t - self.x[last]) * self.b[last];
+        let v = t.lt_select(self.x[0], below, inside);
+        self.x[last].lt_select(t, above, v)
     }
 
     /// Converts to another precision.

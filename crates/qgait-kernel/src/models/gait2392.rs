@@ -3,6 +3,7 @@
 //! subject-scaled models change only the numbers in [`Gait2392Geometry`].
 
 use super::{x, y, z};
+use crate::lanes::LaneScalar;
 use crate::spline::MAX_KNOTS;
 use crate::{
     BilateralPose, Chain, JointSpec, LegPose, ModelError, PointSpec, Real, Side, Spline,
@@ -366,5 +367,16 @@ impl<T: Real> Gait2392<T> {
         Gait2392Pose {
             points: self.chain.forward(q),
         }
+    }
+
+    /// Forward kinematics of many frames (the SIMD batch path): `out[i] = fk(q[i])` for `i`
+    /// below the shorter length, which is returned.
+    pub fn fk_batch(&self, q: &[[T; 17]], out: &mut [Gait2392Pose<T>]) -> usize
+    where
+        T: LaneScalar,
+    {
+        let n = q.len().min(out.len());
+        self.chain.forward_batch(n, |i| q[i], |i, points| out[i] = Gait2392Pose { points });
+        n
     }
 }

@@ -1,6 +1,7 @@
 //! HAK: the paper's 3-DoF sagittal hip-knee-ankle-toe chain (Figure 2, Eqs 12-15).
 
 use super::{x, z};
+use crate::lanes::LaneScalar;
 use crate::{Chain, JointSpec, LegPose, Limb, ModelError, PointSpec, Real, Vec3};
 
 /// HAK's chain type: 3 coordinates, 3 joints, 4 points, no splines.
@@ -98,5 +99,16 @@ impl<T: Real> Hak<T> {
     #[inline]
     pub fn fk(&self, q: &HakAngles<T>) -> LegPose<T> {
         LegPose::from_points(self.chain.forward(&q.to_array()))
+    }
+
+    /// Forward kinematics of many frames (the SIMD batch path): `out[i] = fk(q[i])` for `i`
+    /// below the shorter length, which is returned.
+    pub fn fk_batch(&self, q: &[HakAngles<T>], out: &mut [LegPose<T>]) -> usize
+    where
+        T: LaneScalar,
+    {
+        let n = q.len().min(out.len());
+        self.chain.forward_batch(n, |i| q[i].to_array(), |i, p| out[i] = LegPose::from_points(p));
+        n
     }
 }

@@ -1,6 +1,7 @@
 //! PHAK: the paper's 8-DoF bilateral pelvis-hip-knee-ankle chain (Figure 3, Eqs 16-17).
 
 use super::{x, y, z};
+use crate::lanes::LaneScalar;
 use crate::{
     Anthropometry, BilateralPose, Chain, JointSpec, ModelError, PointSpec, Real, Side, Vec3,
 };
@@ -133,5 +134,17 @@ impl<T: Real> Phak<T> {
     #[inline]
     pub fn fk(&self, q: &PhakAngles<T>) -> BilateralPose<T> {
         BilateralPose::from_points(self.chain.forward(&q.to_array()))
+    }
+
+    /// Forward kinematics of many frames (the SIMD batch path, see
+    /// [`Chain::forward_batch`]): `out[i] = fk(q[i])` for `i` below the shorter length, which
+    /// is returned.
+    pub fn fk_batch(&self, q: &[PhakAngles<T>], out: &mut [BilateralPose<T>]) -> usize
+    where
+        T: LaneScalar,
+    {
+        let n = q.len().min(out.len());
+        self.chain.forward_batch(n, |i| q[i].to_array(), |i, p| out[i] = BilateralPose::from_points(p));
+        n
     }
 }
