@@ -8,7 +8,9 @@
 //! result is reduced to its mean plus the first [`HARMONICS`] Fourier harmonics (a truncated
 //! discrete Fourier series over 400 samples). The left limb is the right limb half a cycle
 //! later. The output columns carry OpenSim gait2392 names and signs (hip flexion > 0, knee
-//! flexion < 0 as `knee_angle`, ankle dorsiflexion > 0), in degrees.
+//! flexion < 0 as `knee_angle`, ankle dorsiflexion > 0), in degrees. The fitted curves pass
+//! within 3.6° of every key event (the largest miss is the knee's swing peak, 56.6° for 60°;
+//! hip and ankle within 1.7°, pelvis within 0.4°).
 //!
 //! # Sources of the values
 //! Typical adult values at the gait events of Perry J. & Burnfield J. M., *Gait Analysis: Normal
@@ -28,8 +30,10 @@
 //!
 //! # Crouch severity
 //! `crouch=s` (0 ≤ s ≤ 1) moves the sagittal angles toward a severe crouch gait like the shared
-//! OpenSim `crouch4.mot` (mean hip flexion about 45°, knee flexion about 50°, ankle
-//! dorsiflexion 5-23°, with a smaller knee and ankle excursion): each angle becomes
+//! OpenSim `crouch4.mot` (cycle means: hip flexion 45°, knee flexion 50°, ankle dorsiflexion
+//! 23° right and 5° left, with a smaller knee and ankle excursion than normal gait). The normal
+//! curves have cycle means of 15° hip flexion, 21° knee flexion and -1° ankle dorsiflexion; at
+//! s = 1 they become 48°, 49° and 14°. Each angle becomes
 //! `mean + (1 - s (1 - k)) (curve - mean) + s Δ` with
 //!
 //! | coordinate | Δ at s = 1 | excursion factor k at s = 1 |

@@ -1,7 +1,7 @@
 //! The `qgait` command line: argument definitions and the commands.
 
 use std::fs::File;
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -97,7 +97,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 warn(w);
             }
             let evaluator = Evaluator::new(model, &anthro).map_err(anyhow::Error::msg)?;
-            let progress = Progress::new(angles.len() as u64, "fk", cli.quiet || output.is_none());
+            // No bar while CSV goes to the same terminal.
+            let csv_on_terminal = output.is_none() && io::stdout().is_terminal();
+            let progress = Progress::new(angles.len() as u64, "fk", cli.quiet || csv_on_terminal);
             write_output(output.as_deref(), |out| {
                 fk_csv::write_header(out)?;
                 for (t, a) in table.time().iter().zip(&angles) {

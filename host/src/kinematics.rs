@@ -134,3 +134,55 @@ pub fn angles_at(
     }
     PhakAngles::from_array(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn angles(v: f64) -> PhakAngles<f64> {
+        PhakAngles::from_array([v, -v, 2.0 * v, v, v, v, v, 3.0 * v])
+    }
+
+    #[test]
+    fn angles_at_interpolates_between_rows_and_clamps_at_the_ends() {
+        let percent = [0.0, 50.0, 100.0];
+        let rows = [angles(0.0), angles(1.0), angles(3.0)];
+        assert_eq!(angles_at(&percent, &rows, 0.0), angles(0.0));
+        assert_eq!(angles_at(&percent, &rows, 25.0), angles(0.5));
+        assert_eq!(angles_at(&percent, &rows, 50.0), angles(1.0));
+        assert_eq!(angles_at(&percent, &rows, 75.0), angles(2.0));
+        assert_eq!(angles_at(&percent, &rows, 100.0), angles(3.0));
+        assert_eq!(angles_at(&percent, &rows, 120.0), angles(3.0));
+        assert_eq!(angles_at(&[0.0], &[angles(4.0)], 60.0), angles(4.0));
+    }
+
+    #[test]
+    fn columns_map_to_the_kernel_order_in_radians() {
+        let labels = [
+            "time",
+            "ankle_angle_l",
+            "pelvis_list",
+            "hip_flexion_r",
+            "knee_angle_r",
+            "ankle_angle_r",
+        ]
+        .into_iter()
+        .chain(["hip_flexion_l", "knee_angle_l", "pelvis_rotation"])
+        .map(String::from)
+        .collect();
+        let cols = (0..9)
+            .map(|i| vec![i as f64 * 10.0, i as f64 * 10.0 + 1.0])
+            .collect();
+        let table = MotionTable::new("t", "t.mot", true, labels, cols).unwrap();
+        let (a, w) = phak_angles(&table).unwrap();
+        assert!(w.is_empty());
+        let deg: Vec<f64> = a[0]
+            .to_array()
+            .iter()
+            .map(|r| r.to_degrees().round())
+            .collect();
+        // NAMES order: pelvis_rotation, pelvis_list, hip_r, knee_r, ankle_r, hip_l, knee_l, ankle_l.
+        assert_eq!(PhakAngles::<f64>::NAMES[0], "pelvis_rotation");
+        assert_eq!(deg, vec![80.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 10.0]);
+    }
+}

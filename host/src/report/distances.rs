@@ -9,7 +9,7 @@ use super::Analysis;
 
 const PANEL_W: u32 = 1000;
 const PANEL_H: u32 = 300;
-const HEADER: u32 = 80;
+const HEADER: u32 = 110;
 
 /// Percent of the cycle where stance ends in normal gait (marked on the plots).
 pub const STANCE_END_PERCENT: f64 = 60.0;
@@ -56,6 +56,7 @@ impl Figure for DistanceFigure<'_> {
                 (16, 46),
             )
             .map_err(draw_err)?;
+        figure::draw_gait_legend(&header, self.analysis, 16, 78)?;
         let panels = grid.split_evenly((MEASURES.len(), 1));
         for (panel, (title, measure)) in panels.iter().zip(MEASURES) {
             let values = self
@@ -64,8 +65,7 @@ impl Figure for DistanceFigure<'_> {
                 .iter()
                 .flat_map(|g| g.distances.iter().map(measure));
             let (y0, y1) = figure::padded_range(values, 0.08, 0.02);
-            // Head room above the curves for the legend.
-            let (y0, y1) = (y0.max(0.0), y1 + 0.3 * (y1 - y0));
+            let (y0, y1) = (y0.max(0.0), y1);
             let mut chart = ChartBuilder::on(panel)
                 .caption(title, figure::bold(17))
                 .margin(10)
@@ -113,14 +113,6 @@ impl Figure for DistanceFigure<'_> {
                         PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
                     });
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .label_font(figure::text(14))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.4))
-                .draw()
-                .map_err(draw_err)?;
         }
         Ok(())
     }

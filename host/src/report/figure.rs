@@ -129,3 +129,25 @@ pub fn draw_polyline<DB: DrawingBackend, CT: plotters::coord::CoordTranslate<Fro
 pub fn gait_width(n: usize, count: usize) -> u32 {
     2 + (count.saturating_sub(n + 1)).min(3) as u32
 }
+
+/// One legend entry per gait (a line in its colour and its label), in a row from (x, y).
+pub fn draw_gait_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    analysis: &super::Analysis,
+    x: i32,
+    y: i32,
+) -> anyhow::Result<()> {
+    let mut x = x;
+    for (g, gait) in analysis.gaits.iter().enumerate() {
+        let color = gait_color(g);
+        area.draw(&PathElement::new(
+            vec![(x, y + 9), (x + 36, y + 9)],
+            color.stroke_width(4),
+        ))
+        .map_err(draw_err)?;
+        area.draw(&Text::new(gait.label.clone(), (x + 44, y), text(16)))
+            .map_err(draw_err)?;
+        x += 70 + 10 * gait.label.chars().count() as i32;
+    }
+    Ok(())
+}

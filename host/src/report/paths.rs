@@ -45,24 +45,7 @@ impl Figure for SagittalPaths<'_> {
                 (16, 44),
             )
             .map_err(draw_err)?;
-        let mut x = 16;
-        for (g, gait) in self.analysis.gaits.iter().enumerate() {
-            let color = gait_color(g);
-            header
-                .draw(&PathElement::new(
-                    vec![(x, 87), (x + 36, 87)],
-                    color.stroke_width(3),
-                ))
-                .map_err(draw_err)?;
-            header
-                .draw(&Text::new(
-                    gait.label.clone(),
-                    (x + 44, 78),
-                    figure::text(16),
-                ))
-                .map_err(draw_err)?;
-            x += 70 + 10 * gait.label.chars().count() as i32;
-        }
+        figure::draw_gait_legend(&header, self.analysis, 16, 78)?;
 
         let panels = grid.split_evenly((Joint::ALL.len(), 2));
         for (j, joint) in Joint::ALL.into_iter().enumerate() {
