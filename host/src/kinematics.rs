@@ -41,7 +41,7 @@ pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<War
     if !missing.is_empty() {
         return Err(format!(
             "{}: missing required column(s) {}",
-            table.source(),
+            table.labels_location(),
             missing.join(", ")
         ));
     }

@@ -81,6 +81,8 @@ pub struct MotionTable {
     source: String,
     in_degrees: bool,
     labels: Vec<String>,
+    /// 1-based line of the column labels in the file (`None` for generated tables).
+    labels_line: Option<usize>,
     /// Column-major: `columns[c][row]`.
     columns: Vec<Vec<f64>>,
 }
@@ -138,6 +140,7 @@ impl MotionTable {
             source,
             in_degrees,
             labels,
+            labels_line: None,
             columns,
         })
     }
@@ -348,6 +351,7 @@ impl MotionTable {
                 source: source.to_string(),
                 in_degrees,
                 labels,
+                labels_line: Some(label_line),
                 columns,
             },
             warnings,
@@ -394,6 +398,15 @@ impl MotionTable {
     /// Where the data came from (a path or a `builtin:` spec).
     pub fn source(&self) -> &str {
         &self.source
+    }
+
+    /// Where the column labels are, for messages: `file:line`, or just the source for a
+    /// generated table.
+    pub fn labels_location(&self) -> String {
+        match self.labels_line {
+            Some(line) => format!("{}:{line}", self.source),
+            None => self.source.clone(),
+        }
     }
 
     /// Whether angle columns are in degrees (`inDegrees=yes`).
@@ -598,6 +611,13 @@ mod tests {
         t.write_mot(&mut out).unwrap();
         let (back, w) = MotionTable::parse(std::str::from_utf8(&out).unwrap(), "b.mot").unwrap();
         assert!(w.is_empty(), "{w:?}");
-        assert_eq!(back, t);
+        assert_eq!(
+            (back.name(), back.in_degrees(), back.labels()),
+            (t.name(), t.in_degrees(), t.labels())
+        );
+        for label in t.labels() {
+            assert_eq!(back.column(label), t.column(label));
+        }
+        assert_eq!(back.labels_location(), "b.mot:7");
     }
 }

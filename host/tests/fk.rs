@@ -192,8 +192,9 @@ fn missing_required_column_is_an_error_and_missing_pelvis_is_zero_with_a_warning
     assert!(!out.status.success());
     let err = stderr(&out);
     assert!(
-        err.starts_with("error: ")
-            && err.contains("missing required column(s) knee_angle_r, ankle_angle_r"),
+        err.starts_with(&format!(
+            "error: {no_knee}:4: missing required column(s) knee_angle_r, ankle_angle_r"
+        )),
         "{err}"
     );
     assert_eq!(err.lines().count(), 1, "{err}");

@@ -2,7 +2,9 @@
 //! `qgait_kernel::metrics`:
 //!
 //! - `metrics.csv`: per gait, side, joint and plane, the path statistics (min, max, mean, range
-//!   and centroid of both plane axes, and the area enclosed by the path);
+//!   and centroid of both plane axes, and the area enclosed by the path: the net shoelace area of
+//!   the closed path, so the lobes of a figure-eight path traversed in opposite directions
+//!   cancel);
 //! - `hip_shift.csv`: per gait and side, the mean hip position over the cycle minus that of the
 //!   first gait (dx, dy, dz) and its length (`shift`);
 //! - `distance_stats.csv`: min, max, mean and range of the knee-knee, ankle-ankle and toe-toe
