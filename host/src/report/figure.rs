@@ -110,8 +110,8 @@ pub fn tick(v: f64, decimals: usize) -> String {
     }
 }
 
-/// Draws a polyline as separate segments (plotters' thick polylines draw spikes where a path
-/// turns back on itself).
+/// Draws a polyline as separate segments with round joins (plotters' thick polylines draw
+/// spikes where a path turns back on itself, and plain segments leave notches at the joints).
 pub fn draw_polyline<DB: DrawingBackend, CT: plotters::coord::CoordTranslate<From = (f64, f64)>>(
     area: &DrawingArea<DB, CT>,
     points: &[(f64, f64)],
@@ -120,6 +120,18 @@ pub fn draw_polyline<DB: DrawingBackend, CT: plotters::coord::CoordTranslate<Fro
     for w in points.windows(2) {
         area.draw(&PathElement::new(vec![w[0], w[1]], style))
             .map_err(draw_err)?;
+    }
+    if style.stroke_width >= 3 {
+        let joint = ShapeStyle {
+            color: style.color,
+            filled: true,
+            stroke_width: 0,
+        };
+        let radius = style.stroke_width as i32 / 2;
+        for &p in points.iter().skip(1).take(points.len().saturating_sub(2)) {
+            area.draw(&Circle::new(p, radius, joint))
+                .map_err(draw_err)?;
+        }
     }
     Ok(())
 }

@@ -220,8 +220,26 @@ fn markdown(
     for g in &analysis.gaits {
         let _ = writeln!(md, "| {} | `{}` | {} |", g.label, g.source, g.poses.len());
     }
-    md.push_str("\nFigures: `stick_sagittal`, `stick_frontal`, `stick_transverse` (Figs 5-7), `paths_sagittal` (Figs 8-9), ");
-    md.push_str("`distances` (Fig 10), each as `.png` and `.svg`.\n\n");
+    md.push_str("\n## Figures\n\nEach also as `.svg`.\n\n");
+    for (stem, title) in [
+        (
+            "stick_sagittal",
+            "Stick figures, sagittal plane (paper Fig 5)",
+        ),
+        (
+            "stick_frontal",
+            "Stick figures, frontal plane (paper Fig 6)",
+        ),
+        (
+            "stick_transverse",
+            "Stick figures, transverse plane (paper Fig 7)",
+        ),
+        ("paths_sagittal", "Sagittal joint paths (paper Figs 8-9)"),
+        ("distances", "Inter-limb distances (paper Fig 10)"),
+    ] {
+        let _ = writeln!(md, "- {title}: [{stem}.png]({stem}.png)");
+    }
+    md.push('\n');
 
     let _ = writeln!(md, "## Hip position shift relative to {reference}\n");
     md.push_str("Mean hip-centre position over the cycle minus that of the first gait.\n\n");
