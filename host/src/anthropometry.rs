@@ -30,9 +30,15 @@ pub fn read(path: &Path) -> Result<(Anthropometry<f64>, Vec<Warning>), String> {
 
 /// Parses the text of an anthropometry file; `source` names it in messages.
 pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warning>), String> {
-    let table: toml::Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| format!("{source}: {}", one_line(&e.to_string())))?;
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+            format!("{source}:{line}:{column}: {}", one_line(e.message()))
+        }
+        None => format!("{source}: {}", one_line(e.message())),
+    })?;
     for key in table.keys() {
         let known = KEYS
             .iter()
@@ -78,12 +84,12 @@ pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warnin
         default.foot,
     ];
     let mut sides = [[0.0; 4]; 2];
+    let mut missing: [Vec<&str>; 2] = [Vec::new(), Vec::new()];
     for (i, key) in KEYS.iter().enumerate() {
         let both = number(key)?;
         for (s, suffix) in ["r", "l"].iter().enumerate() {
             let split_key = format!("{key}_{suffix}");
-            let split = number(&split_key)?;
-            sides[s][i] = match (both, split) {
+            sides[s][i] = match (both, number(&split_key)?) {
                 (Some(_), Some(_)) => {
                     return Err(format!(
                         "{source}: both `{key}` and `{split_key}` are given; use one"
@@ -91,13 +97,18 @@ pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warnin
                 }
                 (Some(v), None) | (None, Some(v)) => v,
                 (None, None) => {
-                    warnings.push(Warning(format!(
-                        "{source}: no `{key}` or `{split_key}`; using the gait2392 value {} m",
-                        defaults[i]
-                    )));
+                    missing[s].push(*key);
                     defaults[i]
                 }
             };
+        }
+    }
+    for (s, side) in ["right", "left"].iter().enumerate() {
+        if !missing[s].is_empty() {
+            warnings.push(Warning(format!(
+                "{source}: no {} for the {side} side; using the gait2392 value(s)",
+                missing[s].join(", ")
+            )));
         }
     }
     let limb = |v: [f64; 4]| Limb {
@@ -140,7 +151,8 @@ mod tests {
         let (a, w) = parse("femur = 1\n", "a.toml").unwrap();
         assert_eq!(a.right.femur, 1.0);
         assert_eq!(a.left.tibia, Limb::<f64>::gait2392().tibia);
-        assert_eq!(w.len(), 6);
+        assert_eq!(w.len(), 2);
+        assert_eq!(w[0].0, "a.toml: no pelvis_half_width, tibia, foot for the right side; using the gait2392 value(s)");
     }
 
     #[test]
@@ -150,7 +162,7 @@ mod tests {
             ("femr = 0.4\n", "unknown key `femr`"),
             ("femur = \"long\"\n", "must be a number"),
             ("femur = -0.4\n", "not a plausible length"),
-            ("femur = \n", "a.toml: "),
+            ("tibia = 0.4\nfemur = \n", "a.toml:2:9: "),
         ] {
             let err = parse(text, "a.toml").unwrap_err();
             assert!(err.contains(needle), "{text:?}: {err}");
