@@ -1,1 +1,52 @@
-fn main() {}
+//! Developer tasks of qgait (`cargo xtask <command>` from the repository root).
+//!
+//! - `test`: every test suite — host workspace, hub host tests, firmware builds for both
+//!   boards, on-target tests and the UART end-to-end session under QEMU — then a summary.
+//! - `qemu-run ELF`: the firmware's cargo runner (firmware/.cargo/config.toml): runs `ELF` on
+//!   QEMU mps2-an386, decodes its defmt logs, exits with QEMU's status. The application ELF
+//!   (`qgait-firmware`) gets the end-to-end UART session of [`session`]; any other ELF (the
+//!   on-target tests) runs until it exits.
+//! - `footprint`: flash and static RAM of the release builds of both boards, and the peak
+//!   stack measured under QEMU.
+
+mod cargo;
+mod defmt_log;
+mod elf_size;
+mod footprint;
+mod gait;
+mod qemu;
+mod session;
+mod test;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+const USAGE: &str = "usage: cargo xtask <command>
+  test                 run every test suite (host, firmware builds, QEMU) and summarise
+  qemu-run ELF [ARGS]  run a firmware ELF under QEMU mps2-an386 with decoded defmt logs
+  footprint            flash, static RAM and peak stack of the release firmware";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("test") => test::run(),
+        Some("footprint") => footprint::run(),
+        Some("qemu-run") => match args.get(1) {
+            Some(elf) => qemu::run_elf(&PathBuf::from(elf)),
+            None => Err(format!("qemu-run needs the ELF path\n{USAGE}")),
+        },
+        _ => Err(USAGE.to_string()),
+    };
+    match result {
+        Ok(code) => code,
+        Err(message) => {
+            eprintln!("xtask: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The repository root (xtask's parent directory).
+fn repo_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}

@@ -1,0 +1,419 @@
+//! Sample assembly: per-joint packets gathered by sequence number in a small reorder window.
+//!
+//! Every IMU node sends one [`JointAngle`](qgait_proto::JointAngle) per joint per sample, all
+//! tagged with the sample's sequence number. Packets arrive interleaved and slightly out of
+//! order. The [`Assembler`] keeps the last `window` sequence numbers open: a sample completes
+//! as soon as every joint the model needs has arrived, and a sample that leaves the window
+//! incomplete is either dropped or completed with the last known values
+//! ([`MissingPolicy`](qgait_proto::MissingPolicy)). Packets older than the window, duplicates
+//! and joints the model does not use are reported to the caller, which counts them.
+//!
+//! Sequence numbers wrap around (`u32`). A jump of more than [`RESYNC_DISTANCE`] samples either
+//! way (a node restarted, or a long outage) abandons the open samples and restarts the window
+//! at the new number, so a restarted sender is never taken for an endless stream of late
+//! packets.
+
+use qgait_proto::JointId;
+
+/// The deepest reorder window the assembler supports (samples).
+pub const MAX_WINDOW: usize = 8;
+
+/// Sequence-number distance beyond which the window restarts (see the module docs).
+pub const RESYNC_DISTANCE: u32 = 1024;
+
+const JOINTS: usize = JointId::COUNT;
+
+/// A set of joints, one bit per [`JointId::index`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct JointSet(u32);
+
+impl JointSet {
+    /// The empty set.
+    pub const EMPTY: JointSet = JointSet(0);
+
+    /// The set of `joints`.
+    pub fn of(joints: &[JointId]) -> JointSet {
+        joints.iter().fold(JointSet::EMPTY, |s, &j| s.with(j))
+    }
+
+    /// This set plus `joint`.
+    pub fn with(self, joint: JointId) -> JointSet {
+        JointSet(self.0 | 1 << joint.index())
+    }
+
+    /// Whether `joint` is in the set.
+    pub fn contains(self, joint: JointId) -> bool {
+        self.0 & (1 << joint.index()) != 0
+    }
+
+    /// Whether every joint of `other` is in this set.
+    pub fn contains_all(self, other: JointSet) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// The joints of `other` that are not in this set.
+    pub fn missing_from(self, other: JointSet) -> JointSet {
+        JointSet(other.0 & !self.0)
+    }
+
+    /// Number of joints in the set.
+    pub fn len(self) -> u32 {
+        self.0.count_ones()
+    }
+
+    /// Whether the set is empty.
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+}
+
+/// One assembled sample: an angle for every joint the model needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Sample {
+    /// Sequence number shared by the sample's packets.
+    pub seq: u32,
+    /// Angles in radians indexed by [`JointId::index`]; only the model's joints are meaningful.
+    pub angles: [f32; JOINTS],
+    /// Joints whose angle was held from an earlier sample (empty unless the policy holds).
+    pub held: JointSet,
+}
+
+impl Sample {
+    /// The angle of `joint` (radians).
+    pub fn angle(&self, joint: JointId) -> f32 {
+        self.angles[joint.index() as usize]
+    }
+}
+
+/// What happened to one packet given to [`Assembler::push`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum PacketOutcome {
+    /// Stored in an open sample (which may have completed: see the events).
+    Stored,
+    /// Older than the reorder window: dropped.
+    Late,
+    /// This joint of this sample had already arrived, or the sample was already complete.
+    Duplicate,
+    /// The configured model does not use this joint: dropped.
+    NotRequired,
+    /// The sequence number jumped by more than [`RESYNC_DISTANCE`]: the window restarted there
+    /// and the packet was stored.
+    Resynced,
+}
+
+/// A sample leaving the assembler, reported through the callback of [`Assembler::push`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SampleEvent {
+    /// Every required joint arrived.
+    Complete(Sample),
+    /// The sample left the window incomplete and its missing joints were filled with the last
+    /// known values (policy `HoldLast`); `sample.held` says which.
+    Held(Sample),
+    /// The sample left the window incomplete and was dropped; `missing` says which joints
+    /// never arrived.
+    Dropped {
+        /// Sequence number of the dropped sample.
+        seq: u32,
+        /// Required joints that never arrived.
+        missing: JointSet,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SlotState {
+    Free,
+    Open,
+    Done,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    state: SlotState,
+    seq: u32,
+    present: JointSet,
+    angles: [f32; JOINTS],
+}
+
+impl Slot {
+    const FREE: Slot = Slot { state: SlotState::Free, seq: 0, present: JointSet::EMPTY, angles: [0.0; JOINTS] };
+}
+
+/// The reorder window (see the module docs).
+#[derive(Debug, Clone)]
+pub struct Assembler {
+    slots: [Slot; MAX_WINDOW],
+    window: u32,
+    required: JointSet,
+    hold_last: bool,
+    newest: Option<u32>,
+    /// Newest angle of each joint among the samples that already left the window (the values
+    /// hold-last uses: always older than the sample being completed).
+    last_angle: [f32; JOINTS],
+    /// Joints with a value in `last_angle`.
+    known: JointSet,
+}
+
+impl Assembler {
+    /// An empty assembler needing `required` joints, with a window of `window` samples
+    /// (clamped to `1..=MAX_WINDOW`), holding last values for incomplete samples if `hold_last`.
+    pub fn new(required: &[JointId], window: u8, hold_last: bool) -> Assembler {
+        Assembler {
+            slots: [Slot::FREE; MAX_WINDOW],
+            window: (window as u32).clamp(1, MAX_WINDOW as u32),
+            required: JointSet::of(required),
+            hold_last,
+            newest: None,
+            last_angle: [0.0; JOINTS],
+            known: JointSet::EMPTY,
+        }
+    }
+
+    /// The window depth in samples.
+    pub fn window(&self) -> u8 {
+        self.window as u8
+    }
+
+    /// Number of samples currently open (some but not all joints arrived).
+    pub fn open_samples(&self) -> usize {
+        self.slots.iter().filter(|s| s.state == SlotState::Open).count()
+    }
+
+    /// Takes one packet. Samples that complete or leave the window are reported to `on_event`
+    /// in sequence order (evictions first, then the packet's own sample if it completed).
+    pub fn push(
+        &mut self,
+        seq: u32,
+        joint: JointId,
+        angle: f32,
+        on_event: &mut impl FnMut(SampleEvent),
+    ) -> PacketOutcome {
+        if !self.required.contains(joint) {
+            return PacketOutcome::NotRequired;
+        }
+        let mut outcome = PacketOutcome::Stored;
+        match self.newest {
+            None => self.newest = Some(seq),
+            Some(newest) => {
+                let ahead = seq.wrapping_sub(newest);
+                let behind = newest.wrapping_sub(seq);
+                if ahead != 0 && ahead <= RESYNC_DISTANCE {
+                    self.advance_to(seq, on_event);
+                } else if ahead == 0 || behind < self.window {
+                    // Inside the window.
+                } else if behind <= RESYNC_DISTANCE {
+                    return PacketOutcome::Late;
+                } else {
+                    self.flush(on_event);
+                    self.newest = Some(seq);
+                    outcome = PacketOutcome::Resynced;
+                }
+            }
+        }
+        // Every used slot holds a distinct sequence number inside the window, so when `seq` has
+        // no slot yet a free one exists.
+        let index = match self.slots.iter().position(|s| s.state != SlotState::Free && s.seq == seq) {
+            Some(i) => i,
+            None => match self.slots.iter().position(|s| s.state == SlotState::Free) {
+                Some(i) => {
+                    self.slots[i] = Slot { state: SlotState::Open, seq, ..Slot::FREE };
+                    i
+                }
+                None => return PacketOutcome::Late,
+            },
+        };
+        let slot = &mut self.slots[index];
+        if slot.state == SlotState::Done || slot.present.contains(joint) {
+            return PacketOutcome::Duplicate;
+        }
+        slot.angles[joint.index() as usize] = angle;
+        slot.present = slot.present.with(joint);
+        if slot.present.contains_all(self.required) {
+            slot.state = SlotState::Done;
+            on_event(SampleEvent::Complete(Sample { seq, angles: slot.angles, held: JointSet::EMPTY }));
+        }
+        outcome
+    }
+
+    /// Closes every open sample (as if the window had moved past them), reporting each one.
+    pub fn flush(&mut self, on_event: &mut impl FnMut(SampleEvent)) {
+        while let Some(i) = self.oldest_slot(|_| true) {
+            self.retire(i, on_event);
+        }
+    }
+
+    /// Moves the newest sequence number to `seq`, retiring the samples that leave the window.
+    fn advance_to(&mut self, seq: u32, on_event: &mut impl FnMut(SampleEvent)) {
+        let window = self.window;
+        // Samples with `seq - s >= window` leave the window, oldest first.
+        while let Some(i) = self.oldest_slot(|s| seq.wrapping_sub(s) >= window) {
+            self.retire(i, on_event);
+        }
+        self.newest = Some(seq);
+    }
+
+    /// The used slot with the oldest sequence number among those `leaving` selects.
+    fn oldest_slot(&self, leaving: impl Fn(u32) -> bool) -> Option<usize> {
+        let newest = self.newest.unwrap_or(0);
+        self.slots
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.state != SlotState::Free && leaving(s.seq))
+            .max_by_key(|(_, s)| newest.wrapping_sub(s.seq))
+            .map(|(i, _)| i)
+    }
+
+    /// Frees slot `i`: an open sample is completed with held values or dropped; then its
+    /// angles become the last known values.
+    fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent)) {
+        let slot = self.slots[i];
+        self.slots[i] = Slot::FREE;
+        if slot.state == SlotState::Open {
+            let missing = slot.present.missing_from(self.required);
+            if self.hold_last && self.known.contains_all(missing) {
+                let mut angles = slot.angles;
+                for j in JointId::ALL.iter().filter(|&&j| missing.contains(j)) {
+                    angles[j.index() as usize] = self.last_angle[j.index() as usize];
+                }
+                on_event(SampleEvent::Held(Sample { seq: slot.seq, angles, held: missing }));
+            } else {
+                on_event(SampleEvent::Dropped { seq: slot.seq, missing });
+            }
+        }
+        for j in JointId::ALL.iter().filter(|&&j| slot.present.contains(j)) {
+            self.last_angle[j.index() as usize] = slot.angles[j.index() as usize];
+            self.known = self.known.with(*j);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::vec::Vec;
+
+    const TWO: [JointId; 2] = [JointId::HipFlexionR, JointId::KneeAngleR];
+
+    fn push(a: &mut Assembler, seq: u32, joint: JointId, angle: f32) -> (PacketOutcome, Vec<SampleEvent>) {
+        let mut events = Vec::new();
+        let outcome = a.push(seq, joint, angle, &mut |e| events.push(e));
+        (outcome, events)
+    }
+
+    #[test]
+    fn sample_completes_when_every_required_joint_arrived() {
+        let mut a = Assembler::new(&TWO, 4, false);
+        assert_eq!(push(&mut a, 7, JointId::KneeAngleR, -0.5), (PacketOutcome::Stored, Vec::new()));
+        let (outcome, events) = push(&mut a, 7, JointId::HipFlexionR, 0.25);
+        assert_eq!(outcome, PacketOutcome::Stored);
+        match events.as_slice() {
+            [SampleEvent::Complete(s)] => {
+                assert_eq!(s.seq, 7);
+                assert_eq!(s.angle(JointId::HipFlexionR), 0.25);
+                assert_eq!(s.angle(JointId::KneeAngleR), -0.5);
+                assert!(s.held.is_empty());
+            }
+            other => panic!("unexpected events {other:?}"),
+        }
+        assert_eq!(a.open_samples(), 0);
+    }
+
+    #[test]
+    fn packets_of_a_completed_sample_are_duplicates() {
+        let mut a = Assembler::new(&TWO, 4, false);
+        push(&mut a, 1, JointId::HipFlexionR, 0.0);
+        push(&mut a, 1, JointId::KneeAngleR, 0.0);
+        assert_eq!(push(&mut a, 1, JointId::KneeAngleR, 0.0).0, PacketOutcome::Duplicate);
+        push(&mut a, 2, JointId::KneeAngleR, 0.0);
+        assert_eq!(push(&mut a, 2, JointId::KneeAngleR, 0.0).0, PacketOutcome::Duplicate);
+    }
+
+    #[test]
+    fn sample_leaving_the_window_incomplete_is_dropped_in_order() {
+        let mut a = Assembler::new(&TWO, 3, false);
+        push(&mut a, 10, JointId::HipFlexionR, 0.0);
+        push(&mut a, 11, JointId::KneeAngleR, 0.0);
+        push(&mut a, 12, JointId::KneeAngleR, 0.0);
+        // 14 pushes 10 and 11 out (window 3 keeps 12, 13, 14).
+        let (_, events) = push(&mut a, 14, JointId::KneeAngleR, 0.0);
+        assert_eq!(
+            events,
+            [
+                SampleEvent::Dropped { seq: 10, missing: JointSet::of(&[JointId::KneeAngleR]) },
+                SampleEvent::Dropped { seq: 11, missing: JointSet::of(&[JointId::HipFlexionR]) },
+            ]
+        );
+        assert_eq!(push(&mut a, 11, JointId::HipFlexionR, 0.0).0, PacketOutcome::Late);
+        // 12 is still open and completes.
+        let (_, events) = push(&mut a, 12, JointId::HipFlexionR, 0.0);
+        assert!(matches!(events.as_slice(), [SampleEvent::Complete(s)] if s.seq == 12));
+    }
+
+    #[test]
+    fn hold_last_fills_missing_joints_with_the_newest_known_value() {
+        let mut a = Assembler::new(&TWO, 2, true);
+        push(&mut a, 1, JointId::HipFlexionR, 0.1);
+        push(&mut a, 1, JointId::KneeAngleR, -0.1);
+        push(&mut a, 2, JointId::HipFlexionR, 0.2);
+        let (_, events) = push(&mut a, 4, JointId::HipFlexionR, 0.4);
+        match events.as_slice() {
+            [SampleEvent::Held(s)] => {
+                assert_eq!(s.seq, 2);
+                assert_eq!(s.angle(JointId::HipFlexionR), 0.2);
+                assert_eq!(s.angle(JointId::KneeAngleR), -0.1);
+                assert_eq!(s.held, JointSet::of(&[JointId::KneeAngleR]));
+            }
+            other => panic!("unexpected events {other:?}"),
+        }
+    }
+
+    #[test]
+    fn hold_last_drops_when_a_joint_was_never_seen() {
+        let mut a = Assembler::new(&TWO, 1, true);
+        push(&mut a, 1, JointId::HipFlexionR, 0.1);
+        let (_, events) = push(&mut a, 2, JointId::HipFlexionR, 0.1);
+        assert_eq!(events, [SampleEvent::Dropped { seq: 1, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+    }
+
+    #[test]
+    fn joints_the_model_does_not_use_are_reported() {
+        let mut a = Assembler::new(&TWO, 4, false);
+        assert_eq!(push(&mut a, 1, JointId::PelvisTilt, 0.0).0, PacketOutcome::NotRequired);
+        assert_eq!(a.open_samples(), 0);
+    }
+
+    #[test]
+    fn sequence_numbers_wrap_around() {
+        let mut a = Assembler::new(&TWO, 2, false);
+        push(&mut a, u32::MAX, JointId::HipFlexionR, 0.0);
+        push(&mut a, 0, JointId::HipFlexionR, 0.0);
+        let (_, events) = push(&mut a, u32::MAX, JointId::KneeAngleR, 0.0);
+        assert!(matches!(events.as_slice(), [SampleEvent::Complete(s)] if s.seq == u32::MAX));
+        let (_, events) = push(&mut a, 1, JointId::KneeAngleR, 0.0);
+        assert_eq!(events, []);
+        let (_, events) = push(&mut a, 2, JointId::KneeAngleR, 0.0);
+        assert_eq!(events, [SampleEvent::Dropped { seq: 0, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+    }
+
+    #[test]
+    fn a_restarted_sender_resyncs_instead_of_being_late_forever() {
+        let mut a = Assembler::new(&TWO, 4, false);
+        push(&mut a, 1_000_000, JointId::HipFlexionR, 0.0);
+        let (outcome, events) = push(&mut a, 0, JointId::HipFlexionR, 0.0);
+        assert_eq!(outcome, PacketOutcome::Resynced);
+        assert_eq!(events, [SampleEvent::Dropped { seq: 1_000_000, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+        let (outcome, events) = push(&mut a, 0, JointId::KneeAngleR, 0.0);
+        assert_eq!(outcome, PacketOutcome::Stored);
+        assert!(matches!(events.as_slice(), [SampleEvent::Complete(s)] if s.seq == 0));
+    }
+
+    #[test]
+    fn window_is_clamped() {
+        assert_eq!(Assembler::new(&TWO, 0, false).window(), 1);
+        assert_eq!(Assembler::new(&TWO, 200, false).window(), MAX_WINDOW as u8);
+    }
+}

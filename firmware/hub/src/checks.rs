@@ -1,0 +1,513 @@
+//! Scenario checks of the whole pipeline, shared by the host tests (`tests/checks.rs`) and the
+//! firmware's on-target tests under QEMU, so the same assertions run on both.
+//!
+//! Each check drives a [`Hub`] over a [`MemorySerial`] with a scripted byte stream and checks
+//! the frames it writes back and its [`Status`] counters. A failure names the check's line.
+
+use qgait_proto::{
+    encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags, JointAngle, JointId, Message, MissingPolicy,
+    ModelId, PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
+};
+
+use crate::assembly::{Sample, JointSet};
+use crate::clock::ManualClock;
+use crate::hub::Hub;
+use crate::kinematics::Kinematics;
+use crate::memory_serial::MemorySerial;
+
+/// A failed check: what did not hold, and where.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CheckFailure {
+    /// The condition that did not hold, as written in the source.
+    pub what: &'static str,
+    /// Line in `checks.rs`.
+    pub line: u32,
+}
+
+/// Result of one check.
+pub type CheckResult = Result<(), CheckFailure>;
+
+macro_rules! ensure {
+    ($cond:expr) => {
+        if !$cond {
+            return Err(CheckFailure { what: stringify!($cond), line: line!() });
+        }
+    };
+}
+
+/// Every check with its name.
+pub const ALL: &[(&str, fn() -> CheckResult)] = &[
+    ("clean_stream_gives_one_pose_per_sample", clean_stream_gives_one_pose_per_sample),
+    ("pose_matches_the_kernel", pose_matches_the_kernel),
+    ("packets_reordered_within_the_window_still_complete", packets_reordered_within_the_window_still_complete),
+    ("late_and_duplicate_packets_are_counted_and_dropped", late_and_duplicate_packets_are_counted_and_dropped),
+    ("incomplete_sample_is_dropped_and_counted", incomplete_sample_is_dropped_and_counted),
+    ("hold_last_policy_sends_flagged_frames", hold_last_policy_sends_flagged_frames),
+    ("corrupt_frames_are_counted_and_the_next_packet_is_processed", corrupt_frames_are_counted_and_the_next_packet_is_processed),
+    ("unknown_joint_and_version_are_counted", unknown_joint_and_version_are_counted),
+    ("angles_out_of_range_are_flagged_and_non_finite_ones_dropped", angles_out_of_range_are_flagged_and_non_finite_ones_dropped),
+    ("uart_overrun_is_counted", uart_overrun_is_counted),
+    ("config_switches_model_and_answers_status_request", config_switches_model_and_answers_status_request),
+    ("unusable_config_is_refused_and_counted", unusable_config_is_refused_and_counted),
+    ("status_is_sent_periodically", status_is_sent_periodically),
+    ("random_bytes_never_stop_the_pipeline", random_bytes_never_stop_the_pipeline),
+];
+
+/// Serial port of the checks: room for a few hundred packets each way.
+pub type CheckSerial = MemorySerial<4096, 8192>;
+
+/// The hub under test.
+pub type CheckHub<'c> = Hub<CheckSerial, &'c ManualClock>;
+
+/// Status period of the hubs the checks build (milliseconds).
+pub const STATUS_PERIOD_MS: u32 = 1000;
+
+/// A PHAK-like gait angle of `joint` at sample `seq` (radians, inside the joint's range).
+pub fn gait_angle(joint: JointId, seq: u32) -> f32 {
+    let phase = (seq % 100) as f32 / 100.0;
+    // A triangle wave in [-1, 1]: cheap, deterministic, no trigonometry needed.
+    let tri = if phase < 0.5 { 4.0 * phase - 1.0 } else { 3.0 - 4.0 * phase };
+    let (mid, amp) = match joint {
+        JointId::PelvisRotation => (0.0, 0.1),
+        JointId::PelvisList => (0.0, 0.05),
+        JointId::HipFlexionR => (0.2, 0.4),
+        JointId::HipFlexionL => (0.2, -0.4),
+        JointId::KneeAngleR => (-0.6, 0.5),
+        JointId::KneeAngleL => (-0.6, -0.5),
+        JointId::AnkleAngleR => (0.0, 0.2),
+        JointId::AnkleAngleL => (0.0, -0.2),
+        _ => (0.0, 0.1),
+    };
+    mid + amp * tri
+}
+
+/// The `JointAngle` packet of `joint` in sample `seq`.
+pub fn packet(seq: u32, joint: JointId) -> JointAngle {
+    JointAngle {
+        version: PROTOCOL_VERSION,
+        node: joint.index(),
+        joint,
+        seq,
+        timestamp_us: seq.wrapping_mul(10_000),
+        angle: gait_angle(joint, seq),
+        quality: 0,
+    }
+}
+
+/// Queues the encoded frame of `message` on `serial`; false if it did not fit.
+pub fn send(serial: &mut CheckSerial, message: &Message) -> bool {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    match encode_frame(message, &mut buf) {
+        Ok(frame) => serial.receive(frame) == frame.len(),
+        Err(_) => false,
+    }
+}
+
+/// Queues every packet of sample `seq` for `model`, in the model's joint order.
+pub fn send_sample(serial: &mut CheckSerial, model: ModelId, seq: u32) -> bool {
+    model.required_joints().iter().all(|&j| send(serial, &Message::JointAngle(packet(seq, j))))
+}
+
+/// Polls until the serial port has nothing left to read.
+pub fn drain(hub: &mut CheckHub<'_>) {
+    while hub.serial_mut().pending() > 0 {
+        hub.poll();
+    }
+}
+
+/// Decodes what the hub wrote, calling `on` for each message; returns the number of frames
+/// that did not decode.
+pub fn each_output(hub: &mut CheckHub<'_>, mut on: impl FnMut(&Message)) -> u32 {
+    let mut decoder = FrameDecoder::new();
+    let mut bad = 0;
+    for &b in hub.serial_mut().transmitted() {
+        match decoder.push(b) {
+            Some(Ok(m)) => on(&m),
+            Some(Err(_)) => bad += 1,
+            None => {}
+        }
+    }
+    bad
+}
+
+/// The pose frames the hub wrote, as (count, sequence numbers in order via `on`).
+fn poses(hub: &mut CheckHub<'_>, mut on: impl FnMut(&PoseFrame)) -> Result<u32, CheckFailure> {
+    let mut n = 0;
+    let bad = each_output(hub, |m| {
+        if let Message::PoseFrame(p) = m {
+            n += 1;
+            on(p);
+        }
+    });
+    ensure!(bad == 0);
+    Ok(n)
+}
+
+/// The last status frame the hub wrote.
+fn last_status(hub: &mut CheckHub<'_>) -> Option<Status> {
+    let mut last = None;
+    each_output(hub, |m| {
+        if let Message::Status(s) = m {
+            last = Some(*s);
+        }
+    });
+    last
+}
+
+fn new_hub(clock: &ManualClock) -> Result<CheckHub<'_>, CheckFailure> {
+    Hub::new(CheckSerial::new(), clock, STATUS_PERIOD_MS)
+        .map_err(|_| CheckFailure { what: "Hub::new refused the default model", line: line!() })
+}
+
+fn config(model: ModelId, policy: MissingPolicy, window: u8, request_status: bool) -> Message {
+    Message::Config(Config { model, anthropometry: None, missing_policy: policy, reorder_window: window, request_status })
+}
+
+/// 20 PHAK samples sent in order give 20 pose frames with the right sequence numbers.
+pub fn clean_stream_gives_one_pose_per_sample() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    for seq in 0..20 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+    }
+    drain(&mut hub);
+    let mut expected_seq = 0;
+    let mut in_order = true;
+    let n = poses(&mut hub, |p| {
+        in_order &= p.seq == expected_seq && p.model == ModelId::Phak && p.flags == 0 && p.angles.len() == 8;
+        expected_seq += 1;
+    })?;
+    ensure!(n == 20);
+    ensure!(in_order);
+    let s = hub.status();
+    ensure!(s.packets_accepted == 160);
+    ensure!(s.samples_completed == 20);
+    ensure!(s.frames_sent == 20);
+    ensure!(s.samples_incomplete == 0 && s.late_packets == 0 && s.crc_errors == 0);
+    Ok(())
+}
+
+/// The points and distances of a frame are the kernel's f32 FK of the sample's angles, and
+/// the angles are echoed in the model's joint order.
+pub fn pose_matches_the_kernel() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 37));
+    drain(&mut hub);
+    let mut frame = None;
+    poses(&mut hub, |p| frame = Some(p.clone()))?;
+    let Some(frame) = frame else { return Err(CheckFailure { what: "no pose frame", line: line!() }) };
+    let mut angles = [0.0; JointId::COUNT];
+    for j in JointId::ALL {
+        angles[j.index() as usize] = gait_angle(j, 37);
+    }
+    let sample = Sample { seq: 37, angles, held: JointSet::EMPTY };
+    let Ok(kinematics) = Kinematics::new(ModelId::Phak, None) else {
+        return Err(CheckFailure { what: "Kinematics::new", line: line!() });
+    };
+    let expected = kinematics.pose_frame(&sample, 0);
+    ensure!(frame == expected);
+    for (a, j) in frame.angles.iter().zip(ModelId::Phak.required_joints()) {
+        ensure!(*a == gait_angle(*j, 37));
+    }
+    // Legs of a standing-ish pose: hips at pelvis height, toes below the knees.
+    ensure!(frame.points[0][1].abs() < 0.1 && frame.points[3][1] < frame.points[1][1]);
+    ensure!(frame.distances.iter().all(|d| d.is_finite() && *d > 0.0));
+    Ok(())
+}
+
+/// Packets of samples 0..3 interleaved and shuffled (window 4) all complete.
+pub fn packets_reordered_within_the_window_still_complete() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let joints = ModelId::Phak.required_joints();
+    // Round-robin over samples, joints in reverse order.
+    for j in joints.iter().rev() {
+        for seq in [2u32, 0, 3, 1] {
+            ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(seq, *j))));
+        }
+    }
+    drain(&mut hub);
+    let mut seen = 0u32;
+    let n = poses(&mut hub, |p| seen |= 1 << p.seq)?;
+    ensure!(n == 4 && seen == 0b1111);
+    let s = hub.status();
+    ensure!(s.samples_completed == 4 && s.samples_incomplete == 0 && s.late_packets == 0);
+    Ok(())
+}
+
+/// A packet older than the window and a repeated packet are counted and change nothing.
+pub fn late_and_duplicate_packets_are_counted_and_dropped() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, JointId::HipFlexionR))));
+    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, JointId::HipFlexionR))));
+    for seq in 1..=5 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+    }
+    // Sample 0 left the window (4) when sample 4 arrived.
+    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, JointId::KneeAngleR))));
+    // Sample 5 is complete: another packet of it is a duplicate.
+    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(5, JointId::KneeAngleR))));
+    drain(&mut hub);
+    let s = hub.status();
+    ensure!(s.duplicate_packets == 2);
+    ensure!(s.late_packets == 1);
+    ensure!(s.samples_completed == 5);
+    ensure!(s.samples_incomplete == 1);
+    ensure!(poses(&mut hub, |_| {})? == 5);
+    Ok(())
+}
+
+/// With the default drop policy a sample missing a joint gives no frame and is counted.
+pub fn incomplete_sample_is_dropped_and_counted() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    for seq in 0..10 {
+        for &j in ModelId::Phak.required_joints() {
+            if !(seq == 3 && j == JointId::AnkleAngleL) {
+                ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(seq, j))));
+            }
+        }
+    }
+    drain(&mut hub);
+    let mut has_3 = false;
+    let n = poses(&mut hub, |p| has_3 |= p.seq == 3)?;
+    ensure!(n == 9 && !has_3);
+    let s = hub.status();
+    ensure!(s.samples_incomplete == 1 && s.samples_completed == 9);
+    Ok(())
+}
+
+/// With hold-last the same stream gives 10 frames, sample 3 flagged and holding sample 2's angle.
+pub fn hold_last_policy_sends_flagged_frames() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send(hub.serial_mut(), &config(ModelId::Phak, MissingPolicy::HoldLast, 2, false)));
+    for seq in 0..10 {
+        for &j in ModelId::Phak.required_joints() {
+            if !(seq == 3 && j == JointId::AnkleAngleL) {
+                ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(seq, j))));
+            }
+        }
+    }
+    drain(&mut hub);
+    let mut held = None;
+    let mut others_clean = true;
+    let n = poses(&mut hub, |p| {
+        if p.seq == 3 {
+            held = Some(p.clone());
+        } else {
+            others_clean &= p.flags == 0;
+        }
+    })?;
+    ensure!(n == 10 && others_clean);
+    let Some(held) = held else { return Err(CheckFailure { what: "no frame for sample 3", line: line!() }) };
+    ensure!(held.flags == FrameFlags::MISSING | FrameFlags::HELD);
+    // ankle_angle_l is the last PHAK joint.
+    ensure!(held.angles[7] == gait_angle(JointId::AnkleAngleL, 2));
+    ensure!(hub.status().samples_incomplete == 0);
+    Ok(())
+}
+
+/// Garbage, a frame with a bad CRC, a truncated frame and an oversize run are counted, and
+/// the sample after them is processed.
+pub fn corrupt_frames_are_counted_and_the_next_packet_is_processed() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let Ok(frame) = encode_frame(&Message::JointAngle(packet(0, JointId::HipFlexionR)), &mut buf) else {
+        return Err(CheckFailure { what: "encode", line: line!() });
+    };
+    let len = frame.len();
+    // Bad CRC: flip a bit of the body (keeping it non-zero).
+    let mut bad_crc = [0u8; MAX_FRAME_LEN];
+    bad_crc[..len].copy_from_slice(&buf[..len]);
+    bad_crc[3] ^= if bad_crc[3] == 0x01 { 0x02 } else { 0x01 };
+    ensure!(hub.serial_mut().receive(&bad_crc[..len]) == len);
+    // Truncated: the first half of a frame, then a delimiter.
+    ensure!(hub.serial_mut().receive(&buf[..len / 2]) == len / 2);
+    ensure!(hub.serial_mut().receive(&[0]) == 1);
+    // Oversize: more than MAX_FRAME_LEN non-zero bytes, then a delimiter.
+    for _ in 0..MAX_FRAME_LEN + 10 {
+        ensure!(hub.serial_mut().receive(&[0x55]) == 1);
+    }
+    ensure!(hub.serial_mut().receive(&[0]) == 1);
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 1));
+    drain(&mut hub);
+    let s = hub.status();
+    ensure!(s.crc_errors == 1);
+    ensure!(s.framing_errors + s.crc_errors + s.malformed >= 2);
+    ensure!(s.oversize_frames == 1);
+    ensure!(s.samples_completed == 1);
+    ensure!(poses(&mut hub, |_| {})? == 1);
+    Ok(())
+}
+
+/// Raw payloads with an unknown joint byte and an unknown version are counted per kind.
+pub fn unknown_joint_and_version_are_counted() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    // postcard JointAngle: tag 0, version, node, joint, seq (varint), timestamp (varint), f32 LE, quality.
+    let unknown_joint = [0u8, PROTOCOL_VERSION, 1, 99, 5, 0, 0, 0, 0, 0, 0];
+    let unknown_version = [0u8, PROTOCOL_VERSION + 7, 1, 3, 5, 0, 0, 0, 0, 0, 0];
+    for payload in [&unknown_joint[..], &unknown_version[..]] {
+        let Ok(frame) = encode_raw_frame(payload, &mut buf) else {
+            return Err(CheckFailure { what: "encode_raw_frame", line: line!() });
+        };
+        let n = frame.len();
+        ensure!(hub.serial_mut().receive(&buf[..n]) == n);
+    }
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 6));
+    drain(&mut hub);
+    let s = hub.status();
+    ensure!(s.unknown_joint == 1);
+    ensure!(s.unknown_version == 1);
+    ensure!(s.samples_completed == 1);
+    Ok(())
+}
+
+/// An implausible but finite angle is used and flagged; a NaN angle is dropped (the sample
+/// then lacks that joint).
+pub fn angles_out_of_range_are_flagged_and_non_finite_ones_dropped() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    for &j in ModelId::Phak.required_joints() {
+        let mut p = packet(0, j);
+        if j == JointId::KneeAngleR {
+            p.angle = 1.5; // knee hyperextended by 86 degrees
+        }
+        ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
+    }
+    for &j in ModelId::Phak.required_joints() {
+        let mut p = packet(1, j);
+        if j == JointId::HipFlexionL {
+            p.angle = f32::NAN;
+        }
+        ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
+    }
+    for seq in 2..6 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+    }
+    drain(&mut hub);
+    let mut flagged = 0;
+    let mut first_flag = 0;
+    let n = poses(&mut hub, |p| {
+        if p.flags & FrameFlags::OUT_OF_RANGE != 0 {
+            flagged += 1;
+            first_flag = p.seq;
+        }
+    })?;
+    ensure!(n == 5 && flagged == 1 && first_flag == 0);
+    let s = hub.status();
+    ensure!(s.out_of_range == 2);
+    ensure!(s.samples_incomplete == 1);
+    Ok(())
+}
+
+/// A receive overrun reported by the port is counted; the bytes around it still decode.
+pub fn uart_overrun_is_counted() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 0));
+    ensure!(hub.serial_mut().receive_overrun());
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 1));
+    drain(&mut hub);
+    let s = hub.status();
+    ensure!(s.uart_overruns == 1);
+    ensure!(s.samples_completed == 2);
+    Ok(())
+}
+
+/// A Config switches to HAK (6 joints, 6 angles per frame) and its status request is answered.
+pub fn config_switches_model_and_answers_status_request() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send(hub.serial_mut(), &config(ModelId::Hak, MissingPolicy::Drop, 3, true)));
+    ensure!(send_sample(hub.serial_mut(), ModelId::Hak, 0));
+    drain(&mut hub);
+    ensure!(hub.config().model == ModelId::Hak && hub.config().reorder_window == 3);
+    let mut hak_frames = 0;
+    let n = poses(&mut hub, |p| hak_frames += u32::from(p.model == ModelId::Hak && p.angles.len() == 6))?;
+    ensure!(n == 1 && hak_frames == 1);
+    let Some(status) = last_status(&mut hub) else { return Err(CheckFailure { what: "no status", line: line!() }) };
+    ensure!(status.frames_sent == 1 && status.packets_accepted == 0);
+    // HAK legs hang from a level pelvis: the hips are on the z axis.
+    let mut hips_on_axis = false;
+    poses(&mut hub, |p| hips_on_axis = p.points[0][0] == 0.0 && p.points[0][1] == 0.0 && p.points[0][2] > 0.0)?;
+    ensure!(hips_on_axis);
+    Ok(())
+}
+
+/// gait2392 and a negative femur are refused and counted; the hub keeps computing PHAK.
+pub fn unusable_config_is_refused_and_counted() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send(hub.serial_mut(), &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)));
+    let mut legs = [[0.0835, 0.4, 0.43, 0.21]; 2];
+    legs[1][1] = -0.4;
+    let bad = Config {
+        model: ModelId::Phak,
+        anthropometry: Some(legs),
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 4,
+        request_status: false,
+    };
+    ensure!(send(hub.serial_mut(), &Message::Config(bad)));
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 0));
+    drain(&mut hub);
+    ensure!(hub.status().malformed == 2);
+    ensure!(hub.config().model == ModelId::Phak);
+    ensure!(poses(&mut hub, |_| {})? == 1);
+    Ok(())
+}
+
+/// A status frame goes out once per period, with the uptime.
+pub fn status_is_sent_periodically() -> CheckResult {
+    let clock = ManualClock::new(5_000);
+    let mut hub = new_hub(&clock)?;
+    hub.poll();
+    ensure!(last_status(&mut hub).is_none());
+    clock.advance(STATUS_PERIOD_MS);
+    hub.poll();
+    hub.poll();
+    clock.advance(STATUS_PERIOD_MS / 2);
+    hub.poll();
+    let mut count = 0;
+    each_output(&mut hub, |m| count += u32::from(matches!(m, Message::Status(_))));
+    ensure!(count == 1);
+    ensure!(last_status(&mut hub).map(|s| s.uptime_ms) == Some(STATUS_PERIOD_MS));
+    clock.advance(STATUS_PERIOD_MS / 2);
+    hub.poll();
+    ensure!(last_status(&mut hub).map(|s| s.frames_sent) == Some(2));
+    Ok(())
+}
+
+/// Pseudo-random bytes (including zeros) between good samples: each good sample still
+/// produces its pose, and the hub keeps answering.
+pub fn random_bytes_never_stop_the_pipeline() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let mut state = 0x2545_F491_u32;
+    for seq in 0..12 {
+        for _ in 0..150 {
+            // xorshift32
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            ensure!(hub.serial_mut().receive(&[state as u8]) == 1);
+        }
+        // End any half-frame the noise left open, then a good sample.
+        ensure!(hub.serial_mut().receive(&[0]) == 1);
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+        drain(&mut hub);
+    }
+    let s = hub.status();
+    ensure!(s.samples_completed == 12);
+    let errors = s.crc_errors + s.framing_errors + s.oversize_frames + s.malformed + s.unknown_version + s.unknown_joint;
+    ensure!(errors > 0);
+    ensure!(poses(&mut hub, |_| {})? == 12);
+    Ok(())
+}

@@ -1,0 +1,262 @@
+//! The [`Hub`]: serial bytes in, decoded packets, sample assembly, poses and status out.
+
+use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
+use qgait_proto::{
+    encode_frame, Config, FrameDecoder, FrameFlags, JointAngle, Message, MissingPolicy, ModelId, Status, MAX_FRAME_LEN,
+};
+
+use crate::assembly::{Assembler, PacketOutcome, SampleEvent, MAX_WINDOW};
+use crate::clock::Clock;
+use crate::counters::{bump, count_decode_error};
+use crate::kinematics::{ConfigError, Kinematics};
+use crate::limits::in_range;
+
+/// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
+pub const MAX_BYTES_PER_POLL: usize = 256;
+
+/// Default reorder window (samples).
+pub const DEFAULT_WINDOW: u8 = 4;
+
+/// Default period of unsolicited [`Status`] frames (milliseconds).
+pub const DEFAULT_STATUS_PERIOD_MS: u32 = 1000;
+
+/// The configuration the hub starts with: PHAK, gait2392 anthropometry, drop incomplete
+/// samples, a window of [`DEFAULT_WINDOW`].
+pub const DEFAULT_CONFIG: Config = Config {
+    model: ModelId::Phak,
+    anthropometry: None,
+    missing_policy: MissingPolicy::Drop,
+    reorder_window: DEFAULT_WINDOW,
+    request_status: false,
+};
+
+/// What one [`Hub::poll`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PollSummary {
+    /// Bytes read from the serial port.
+    pub bytes: u32,
+    /// Frames (poses and status) written.
+    pub frames_sent: u32,
+    /// Whether one of them was a status frame (periodic or requested).
+    pub status_sent: bool,
+}
+
+/// The hub application, generic over its serial port and clock.
+///
+/// Feed it by calling [`poll`](Hub::poll) in the main loop. It never panics and never blocks
+/// on input: every malformed byte, frame or packet is counted in [`Status`] and decoding
+/// resumes at the next frame delimiter. It does block while writing a frame, as a UART
+/// always drains.
+pub struct Hub<S, C> {
+    serial: S,
+    clock: C,
+    decoder: FrameDecoder,
+    config: Config,
+    kinematics: Kinematics,
+    assembler: Assembler,
+    status: Status,
+    started_ms: u32,
+    last_status_ms: u32,
+    status_period_ms: u32,
+    status_frames: u32,
+    tx: [u8; MAX_FRAME_LEN],
+}
+
+impl<S, C> Hub<S, C>
+where
+    S: serial::Read<u8> + serial::Write<u8>,
+    C: Clock,
+{
+    /// A hub with [`DEFAULT_CONFIG`] sending a status frame every `status_period_ms`
+    /// (0 disables the periodic status).
+    ///
+    /// Fails only if the kernel refuses the default model, which its tests rule out.
+    pub fn new(serial: S, clock: C, status_period_ms: u32) -> Result<Self, ConfigError> {
+        let now = clock.now_ms();
+        let config = DEFAULT_CONFIG;
+        let kinematics = Kinematics::new(config.model, config.anthropometry)?;
+        Ok(Hub {
+            serial,
+            clock,
+            decoder: FrameDecoder::new(),
+            kinematics,
+            assembler: assembler_for(&config),
+            config,
+            status: Status::default(),
+            started_ms: now,
+            last_status_ms: now,
+            status_period_ms,
+            status_frames: 0,
+            tx: [0; MAX_FRAME_LEN],
+        })
+    }
+
+    /// Reads what the serial port has (at most [`MAX_BYTES_PER_POLL`] bytes), handles it, and
+    /// sends a periodic status frame when due.
+    pub fn poll(&mut self) -> PollSummary {
+        let sent_before = self.status.frames_sent;
+        let status_before = self.status_frames;
+        let mut bytes = 0;
+        while bytes < MAX_BYTES_PER_POLL as u32 {
+            match self.serial.read() {
+                Ok(byte) => {
+                    bytes += 1;
+                    if let Some(result) = self.decoder.push(byte) {
+                        match result {
+                            Ok(message) => self.handle(message),
+                            Err(error) => count_decode_error(&mut self.status, &error),
+                        }
+                    }
+                }
+                Err(nb::Error::WouldBlock) => break,
+                Err(nb::Error::Other(e)) => match e.kind() {
+                    SerialErrorKind::Overrun => bump(&mut self.status.uart_overruns),
+                    // Parity, noise, line framing: the frame's CRC or COBS check will fail too;
+                    // count the line error as a framing error.
+                    _ => bump(&mut self.status.framing_errors),
+                },
+            }
+        }
+        let now = self.clock.now_ms();
+        if self.status_period_ms != 0 && now.wrapping_sub(self.last_status_ms) >= self.status_period_ms {
+            self.send_status();
+        }
+        PollSummary {
+            bytes,
+            frames_sent: self.status.frames_sent.wrapping_sub(sent_before),
+            status_sent: self.status_frames != status_before,
+        }
+    }
+
+    /// The counters, with the current uptime.
+    pub fn status(&self) -> Status {
+        Status { uptime_ms: self.clock.now_ms().wrapping_sub(self.started_ms), ..self.status }
+    }
+
+    /// The configuration in force (its `request_status` is always `false`).
+    pub fn config(&self) -> Config {
+        self.config
+    }
+
+    /// The serial port, e.g. to inspect a test double.
+    pub fn serial_mut(&mut self) -> &mut S {
+        &mut self.serial
+    }
+
+    /// The clock.
+    pub fn clock(&self) -> &C {
+        &self.clock
+    }
+
+    fn handle(&mut self, message: Message) {
+        match message {
+            Message::JointAngle(packet) => self.on_packet(&packet),
+            Message::Config(config) => self.on_config(&config),
+            // Well-formed, but only a hub sends these: nothing to do with them here.
+            Message::PoseFrame(_) | Message::Status(_) => bump(&mut self.status.malformed),
+        }
+    }
+
+    fn on_packet(&mut self, packet: &JointAngle) {
+        if !packet.angle.is_finite() {
+            bump(&mut self.status.out_of_range);
+            return;
+        }
+        bump(&mut self.status.packets_accepted);
+        if !in_range(packet.joint, packet.angle) {
+            bump(&mut self.status.out_of_range);
+        }
+        let mut events: heapless::Vec<SampleEvent, { MAX_WINDOW + 1 }> = heapless::Vec::new();
+        // At most MAX_WINDOW evictions plus the packet's own sample: the Vec never fills.
+        let outcome = self.assembler.push(packet.seq, packet.joint, packet.angle, &mut |e| {
+            let _ = events.push(e);
+        });
+        match outcome {
+            PacketOutcome::Late => bump(&mut self.status.late_packets),
+            PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
+            PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
+        }
+        for event in events {
+            self.on_sample(event);
+        }
+    }
+
+    fn on_sample(&mut self, event: SampleEvent) {
+        let (sample, mut flags) = match event {
+            SampleEvent::Complete(sample) => (sample, 0),
+            SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
+            SampleEvent::Dropped { .. } => {
+                bump(&mut self.status.samples_incomplete);
+                return;
+            }
+        };
+        bump(&mut self.status.samples_completed);
+        let model = self.kinematics.model();
+        if model.required_joints().iter().any(|&j| !in_range(j, sample.angle(j))) {
+            flags |= FrameFlags::OUT_OF_RANGE;
+        }
+        let frame = self.kinematics.pose_frame(&sample, flags);
+        self.send(&Message::PoseFrame(frame));
+    }
+
+    fn on_config(&mut self, config: &Config) {
+        // A configuration the hub cannot use is counted and ignored; the old one stays.
+        if self.apply(config).is_err() {
+            bump(&mut self.status.malformed);
+        }
+        if config.request_status {
+            self.send_status();
+        }
+    }
+
+    fn apply(&mut self, config: &Config) -> Result<(), ConfigError> {
+        let new = Config { request_status: false, ..*config };
+        if new == self.config {
+            return Ok(());
+        }
+        let kinematics = Kinematics::new(new.model, new.anthropometry)?;
+        // Samples open under the old configuration are closed (and counted) first.
+        let mut events: heapless::Vec<SampleEvent, MAX_WINDOW> = heapless::Vec::new();
+        self.assembler.flush(&mut |e| {
+            let _ = events.push(e);
+        });
+        for event in events {
+            self.on_sample(event);
+        }
+        self.kinematics = kinematics;
+        self.assembler = assembler_for(&new);
+        self.config = new;
+        Ok(())
+    }
+
+    fn send_status(&mut self) {
+        self.last_status_ms = self.clock.now_ms();
+        // Counts itself: the status says how many frames were sent including this one.
+        let mut status = self.status();
+        status.frames_sent = status.frames_sent.wrapping_add(1);
+        self.send(&Message::Status(status));
+        self.status_frames = self.status_frames.wrapping_add(1);
+    }
+
+    /// Encodes and writes one frame; counts it if the whole frame went out.
+    fn send(&mut self, message: &Message) {
+        // Every message fits MAX_FRAME_LEN and the hub only builds frames with the right angle
+        // count, so encoding cannot fail; if it ever did, nothing is written.
+        let Ok(frame) = encode_frame(message, &mut self.tx) else { return };
+        for &byte in frame.iter() {
+            if nb::block!(self.serial.write(byte)).is_err() {
+                return;
+            }
+        }
+        bump(&mut self.status.frames_sent);
+    }
+}
+
+fn assembler_for(config: &Config) -> Assembler {
+    Assembler::new(
+        config.model.required_joints(),
+        config.reorder_window,
+        config.missing_policy == MissingPolicy::HoldLast,
+    )
+}

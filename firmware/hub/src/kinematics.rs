@@ -1,0 +1,112 @@
+//! Poses from assembled samples: the kernel's forward kinematics in `f32`, packed into a
+//! [`PoseFrame`].
+
+use qgait_kernel::metrics::distances;
+use qgait_kernel::{Anthropometry, BilateralPose, Limb, Phak, PhakAngles};
+use qgait_proto::{point, segment, FrameFlags, JointId, ModelId, PoseFrame};
+
+use crate::assembly::Sample;
+
+/// Why a configuration cannot be used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ConfigError {
+    /// The hub computes HAK and PHAK only; gait2392 poses are computed on the host.
+    UnsupportedModel(ModelId),
+    /// A segment length is not a finite number in `(0, MAX_SEGMENT_M]`.
+    BadSegment {
+        /// 0 = right leg, 1 = left leg.
+        leg: u8,
+        /// Index into the leg's lengths ([`qgait_proto::segment`]).
+        segment: u8,
+    },
+    /// The kernel refused the model (cannot happen with lengths that passed the checks above).
+    Kernel,
+}
+
+/// The longest segment length accepted (metres).
+pub const MAX_SEGMENT_M: f32 = 2.0;
+
+/// A configured model, ready to compute poses.
+#[derive(Debug, Clone)]
+pub struct Kinematics {
+    model: ModelId,
+    phak: Phak<f32>,
+}
+
+impl Kinematics {
+    /// The `model` with the given segment lengths (right, left; [`qgait_proto::segment`]
+    /// order), or gait2392's if `None`.
+    /// HAK is computed as PHAK with a level, forward-facing pelvis (see [`pose_frame`](Self::pose_frame)).
+    pub fn new(model: ModelId, lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Kinematics, ConfigError> {
+        if model == ModelId::Gait2392 {
+            return Err(ConfigError::UnsupportedModel(model));
+        }
+        let anthropometry = match lengths {
+            None => Anthropometry::gait2392(),
+            Some(legs) => Anthropometry { right: limb(&legs[0], 0)?, left: limb(&legs[1], 1)? },
+        };
+        let phak = Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)?;
+        Ok(Kinematics { model, phak })
+    }
+
+    /// The model poses are computed with.
+    pub fn model(&self) -> ModelId {
+        self.model
+    }
+
+    /// The pose of `sample`, with `flags` ([`FrameFlags`] bits) set by the caller.
+    ///
+    /// HAK has no pelvis joints: its legs hang from a level, forward-facing pelvis, i.e. PHAK
+    /// with zero pelvis rotation and list, so both models give points in the same frame.
+    pub fn pose_frame(&self, sample: &Sample, flags: u8) -> PoseFrame {
+        let (pelvis_rotation, pelvis_list) = match self.model {
+            ModelId::Hak => (0.0, 0.0),
+            _ => (sample.angle(JointId::PelvisRotation), sample.angle(JointId::PelvisList)),
+        };
+        let angles = PhakAngles {
+            pelvis_rotation,
+            pelvis_list,
+            hip_flexion_r: sample.angle(JointId::HipFlexionR),
+            knee_angle_r: sample.angle(JointId::KneeAngleR),
+            ankle_angle_r: sample.angle(JointId::AnkleAngleR),
+            hip_flexion_l: sample.angle(JointId::HipFlexionL),
+            knee_angle_l: sample.angle(JointId::KneeAngleL),
+            ankle_angle_l: sample.angle(JointId::AnkleAngleL),
+        };
+        let pose = self.phak.fk(&angles);
+        let d = distances(&pose);
+        let mut used = heapless::Vec::new();
+        for &joint in self.model.required_joints() {
+            // Capacity is JointId::COUNT, the most any model requires.
+            let _ = used.push(sample.angle(joint));
+        }
+        PoseFrame {
+            seq: sample.seq,
+            model: self.model,
+            angles: used,
+            points: points(&pose),
+            distances: [d.knee, d.ankle, d.toe],
+            flags: flags & FrameFlags::ALL,
+        }
+    }
+}
+
+fn limb(lengths: &[f32; segment::COUNT], leg: u8) -> Result<Limb<f32>, ConfigError> {
+    for (i, &l) in lengths.iter().enumerate() {
+        if !(l > 0.0 && l <= MAX_SEGMENT_M) {
+            return Err(ConfigError::BadSegment { leg, segment: i as u8 });
+        }
+    }
+    Ok(Limb {
+        pelvis_half_width: lengths[segment::PELVIS_HALF_WIDTH],
+        femur: lengths[segment::FEMUR],
+        tibia: lengths[segment::TIBIA],
+        foot: lengths[segment::FOOT],
+    })
+}
+
+/// The pose's joint centres in [`qgait_proto::point`] order (which is the kernel's order).
+pub fn points(pose: &BilateralPose<f32>) -> [[f32; 3]; point::COUNT] {
+    pose.points().map(|p| p.to_array())
+}

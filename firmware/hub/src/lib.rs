@@ -1,0 +1,19 @@
+#![doc = include_str!("../README.md")]
+#![no_std]
+#![warn(missing_docs)]
+
+pub mod assembly;
+#[cfg(feature = "checks")]
+pub mod checks;
+pub mod clock;
+pub mod counters;
+pub mod hub;
+pub mod kinematics;
+pub mod limits;
+pub mod memory_serial;
+
+pub use crate::assembly::{Assembler, JointSet, PacketOutcome, Sample, SampleEvent, MAX_WINDOW};
+pub use crate::clock::{Clock, ManualClock};
+pub use crate::hub::{Hub, PollSummary, DEFAULT_CONFIG, DEFAULT_STATUS_PERIOD_MS};
+pub use crate::kinematics::{ConfigError, Kinematics};
+pub use crate::memory_serial::MemorySerial;

@@ -1,0 +1,199 @@
+//! Driver of the nRF52840's UART0 (the legacy, non-DMA UART), polled, implementing the
+//! `embedded-hal-nb` and `embedded-io` serial traits. 8N1, no flow control.
+
+use core::ptr::{read_volatile, write_volatile};
+
+const TASKS_STARTRX: usize = 0x000;
+const TASKS_STARTTX: usize = 0x008;
+const EVENTS_RXDRDY: usize = 0x108;
+const EVENTS_TXDRDY: usize = 0x11C;
+const EVENTS_ERROR: usize = 0x124;
+const ERRORSRC: usize = 0x480;
+const ENABLE: usize = 0x500;
+const PSEL_RTS: usize = 0x508;
+const PSEL_TXD: usize = 0x50C;
+const PSEL_CTS: usize = 0x510;
+const PSEL_RXD: usize = 0x514;
+const RXD: usize = 0x518;
+const TXD: usize = 0x51C;
+const BAUDRATE: usize = 0x524;
+const CONFIG: usize = 0x56C;
+
+const ENABLE_UART: u32 = 4;
+const PSEL_DISCONNECTED: u32 = 1 << 31;
+const ERRORSRC_OVERRUN: u32 = 1 << 0;
+const ERRORSRC_PARITY: u32 = 1 << 1;
+
+/// BAUDRATE register value for 115200 baud.
+pub const BAUD_115200: u32 = 0x01D7_E000;
+/// BAUDRATE register value for 1 Mbaud.
+pub const BAUD_1M: u32 = 0x1000_0000;
+
+/// A receive error reported by ERRORSRC.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, defmt::Format)]
+pub enum UartError {
+    /// A byte arrived before the previous one was read.
+    Overrun,
+    /// Parity error.
+    Parity,
+    /// Framing error or break.
+    Framing,
+}
+
+impl embedded_hal_nb::serial::Error for UartError {
+    fn kind(&self) -> embedded_hal_nb::serial::ErrorKind {
+        use embedded_hal_nb::serial::ErrorKind;
+        match self {
+            UartError::Overrun => ErrorKind::Overrun,
+            UartError::Parity => ErrorKind::Parity,
+            UartError::Framing => ErrorKind::FrameFormat,
+        }
+    }
+}
+
+impl embedded_io::Error for UartError {
+    fn kind(&self) -> embedded_io::ErrorKind {
+        embedded_io::ErrorKind::Other
+    }
+}
+
+/// UART0 with its receiver and transmitter started.
+#[derive(Debug)]
+pub struct NrfUart {
+    base: usize,
+    tx_busy: bool,
+}
+
+impl NrfUart {
+    /// Enables the UART at `base` on GPIO `tx_pin` / `rx_pin` (port 0 pin numbers) at
+    /// `baudrate` (a BAUDRATE register value such as [`BAUD_115200`]).
+    ///
+    /// # Safety
+    /// `base` must be the address of an nRF52 UART that nothing else uses.
+    pub unsafe fn new(base: usize, tx_pin: u32, rx_pin: u32, baudrate: u32) -> NrfUart {
+        let uart = NrfUart { base, tx_busy: false };
+        uart.write_reg(PSEL_TXD, tx_pin & 0x3F);
+        uart.write_reg(PSEL_RXD, rx_pin & 0x3F);
+        uart.write_reg(PSEL_RTS, PSEL_DISCONNECTED);
+        uart.write_reg(PSEL_CTS, PSEL_DISCONNECTED);
+        uart.write_reg(BAUDRATE, baudrate);
+        uart.write_reg(CONFIG, 0);
+        uart.write_reg(ENABLE, ENABLE_UART);
+        uart.write_reg(TASKS_STARTRX, 1);
+        uart.write_reg(TASKS_STARTTX, 1);
+        uart
+    }
+
+    fn read_reg(&self, offset: usize) -> u32 {
+        // SAFETY: `new`'s contract: `base` is an nRF52 UART owned by this driver.
+        unsafe { read_volatile((self.base + offset) as *const u32) }
+    }
+
+    fn write_reg(&self, offset: usize, value: u32) {
+        // SAFETY: as in `read_reg`.
+        unsafe { write_volatile((self.base + offset) as *mut u32, value) }
+    }
+
+    fn tx_ready(&mut self) -> bool {
+        if self.tx_busy && self.read_reg(EVENTS_TXDRDY) != 0 {
+            self.tx_busy = false;
+        }
+        !self.tx_busy
+    }
+}
+
+impl embedded_hal_nb::serial::ErrorType for NrfUart {
+    type Error = UartError;
+}
+
+impl embedded_hal_nb::serial::Read<u8> for NrfUart {
+    fn read(&mut self) -> nb::Result<u8, UartError> {
+        if self.read_reg(EVENTS_ERROR) != 0 {
+            self.write_reg(EVENTS_ERROR, 0);
+            let source = self.read_reg(ERRORSRC);
+            self.write_reg(ERRORSRC, source); // write 1 to clear
+            return Err(nb::Error::Other(if source & ERRORSRC_OVERRUN != 0 {
+                UartError::Overrun
+            } else if source & ERRORSRC_PARITY != 0 {
+                UartError::Parity
+            } else {
+                UartError::Framing
+            }));
+        }
+        if self.read_reg(EVENTS_RXDRDY) != 0 {
+            // Clear the event before reading RXD, as the reference manual requires.
+            self.write_reg(EVENTS_RXDRDY, 0);
+            Ok(self.read_reg(RXD) as u8)
+        } else {
+            Err(nb::Error::WouldBlock)
+        }
+    }
+}
+
+impl embedded_hal_nb::serial::Write<u8> for NrfUart {
+    fn write(&mut self, byte: u8) -> nb::Result<(), UartError> {
+        if !self.tx_ready() {
+            return Err(nb::Error::WouldBlock);
+        }
+        self.write_reg(EVENTS_TXDRDY, 0);
+        self.write_reg(TXD, byte as u32);
+        self.tx_busy = true;
+        Ok(())
+    }
+
+    fn flush(&mut self) -> nb::Result<(), UartError> {
+        if self.tx_ready() {
+            Ok(())
+        } else {
+            Err(nb::Error::WouldBlock)
+        }
+    }
+}
+
+impl embedded_io::ErrorType for NrfUart {
+    type Error = UartError;
+}
+
+impl embedded_io::ReadReady for NrfUart {
+    fn read_ready(&mut self) -> Result<bool, UartError> {
+        Ok(self.read_reg(EVENTS_RXDRDY) != 0 || self.read_reg(EVENTS_ERROR) != 0)
+    }
+}
+
+impl embedded_io::Read for NrfUart {
+    /// Blocks until at least one byte arrived, then returns what is there (at most `buf.len()`).
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, UartError> {
+        let mut n = 0;
+        while n < buf.len() {
+            match embedded_hal_nb::serial::Read::read(self) {
+                Ok(b) => {
+                    buf[n] = b;
+                    n += 1;
+                }
+                Err(nb::Error::WouldBlock) if n > 0 => break,
+                Err(nb::Error::WouldBlock) => core::hint::spin_loop(),
+                Err(nb::Error::Other(e)) => return Err(e),
+            }
+        }
+        Ok(n)
+    }
+}
+
+impl embedded_io::WriteReady for NrfUart {
+    fn write_ready(&mut self) -> Result<bool, UartError> {
+        Ok(self.tx_ready())
+    }
+}
+
+impl embedded_io::Write for NrfUart {
+    fn write(&mut self, buf: &[u8]) -> Result<usize, UartError> {
+        for &b in buf {
+            nb::block!(embedded_hal_nb::serial::Write::write(self, b))?;
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> Result<(), UartError> {
+        nb::block!(embedded_hal_nb::serial::Write::flush(self))
+    }
+}

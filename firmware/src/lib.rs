@@ -1,0 +1,8 @@
+#![doc = include_str!("../README.md")]
+#![no_std]
+#![warn(missing_docs)]
+
+pub mod board;
+pub mod fault;
+pub mod selftest;
+pub mod stack;

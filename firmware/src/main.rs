@@ -1,0 +1,32 @@
+//! The qgait hub: per-joint IMU angle packets in on the UART, pose frames out.
+
+#![no_std]
+#![no_main]
+
+use cortex_m_rt::entry;
+use qgait_firmware::{board, stack};
+use qgait_hub::{Hub, DEFAULT_STATUS_PERIOD_MS};
+
+#[entry]
+fn main() -> ! {
+    let Some(board) = board::take() else {
+        defmt::error!("board peripherals already taken");
+        board::exit(1)
+    };
+    defmt::info!("qgait hub on {=str}, stack region {=u32} bytes (painted)", board::NAME, stack::size());
+    let mut hub = match Hub::new(board.serial, board.clock, DEFAULT_STATUS_PERIOD_MS) {
+        Ok(hub) => hub,
+        Err(e) => {
+            defmt::error!("default model refused: {}", e);
+            board::exit(1)
+        }
+    };
+    loop {
+        // Busy polling: the UART has a one-byte buffer (CMSDK) or a six-byte FIFO (nRF52).
+        let summary = hub.poll();
+        if summary.status_sent {
+            defmt::info!("status {}", hub.status());
+            defmt::info!("stack peak {=u32} bytes of {=u32}", stack::peak(), stack::size());
+        }
+    }
+}

@@ -1,0 +1,31 @@
+//! `cargo xtask test`: every suite in order, then one summary.
+
+use std::process::ExitCode;
+
+use crate::cargo::{firmware_runner_env, step, Step};
+use crate::repo_root;
+
+/// Runs the suites; fails if any did.
+pub fn run() -> Result<ExitCode, String> {
+    let root = repo_root();
+    let firmware = root.join("firmware");
+    let runner = [firmware_runner_env()?];
+    let steps: Vec<Step> = vec![
+        step("host workspace tests", &root, &["test", "--workspace"], &[]),
+        step("hub host tests", &root, &["test", "--manifest-path", "firmware/hub/Cargo.toml", "--features", "checks"], &[]),
+        step("firmware build, nrf52840", &firmware, &["build", "--release", "--no-default-features", "--features", "nrf52840"], &[]),
+        step("firmware build, mps2-an386", &firmware, &["build", "--release"], &[]),
+        step("on-target tests under QEMU", &firmware, &["test", "--release"], &runner),
+        step("UART session under QEMU", &firmware, &["run", "--release"], &runner),
+    ];
+    println!("\n==> summary");
+    for s in &steps {
+        println!("{:<28} {}", s.name, if s.ok { "ok" } else { "FAILED" });
+        for line in &s.summaries {
+            println!("    {line}");
+        }
+    }
+    let failed = steps.iter().filter(|s| !s.ok).count();
+    println!("{} of {} steps passed", steps.len() - failed, steps.len());
+    Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+}
