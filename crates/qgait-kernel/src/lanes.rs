@@ -118,7 +118,9 @@ impl<T: LaneScalar> Real for Lanes<T> {
     }
     #[inline(always)]
     fn lt_select(self, other: Self, if_less: Self, otherwise: Self) -> Self {
-        Lanes(core::array::from_fn(|i| self.0[i].lt_select(other.0[i], if_less.0[i], otherwise.0[i])))
+        Lanes(core::array::from_fn(|i| {
+            self.0[i].lt_select(other.0[i], if_less.0[i], otherwise.0[i])
+        }))
     }
     fn sin_cos(self) -> (Self, Self) {
         let sc = self.0.map(T::sin_cos);
@@ -135,23 +137,34 @@ impl<T: LaneScalar> Real for Lanes<T> {
     }
 }
 
-impl<T: LaneScalar, const N: usize, const J: usize, const P: usize, const S: usize> Chain<T, N, J, P, S> {
+impl<T: LaneScalar, const N: usize, const J: usize, const P: usize, const S: usize>
+    Chain<T, N, J, P, S>
+{
     /// Forward kinematics of many frames: `points(i, q(i))` for `i` in `0..frames`, in batches
     /// of [`LANES`] through [`Lanes<T>`] (the same evaluator as [`forward`](Chain::forward);
     /// results equal it to within the half-angle sine/cosine's rounding: the batch always uses
     /// the branch-free polynomial, the scalar `f64` path libm). Building the lane copy of the
     /// chain costs about one frame, so use it from a few dozen frames on.
-    pub fn forward_batch(&self, frames: usize, q: impl Fn(usize) -> [T; N], mut points: impl FnMut(usize, [Vec3<T>; P])) {
+    pub fn forward_batch(
+        &self,
+        frames: usize,
+        q: impl Fn(usize) -> [T; N],
+        mut points: impl FnMut(usize, [Vec3<T>; P]),
+    ) {
         let lanes: Chain<Lanes<T>, N, J, P, S> = self.cast();
         let mut start = 0;
         while start < frames {
             let n = (frames - start).min(LANES);
             // Gather: lane l holds frame start + l (the last frame repeated to fill the batch).
             let inputs: [[T; N]; LANES] = core::array::from_fn(|l| q(start + l.min(n - 1)));
-            let ql: [Lanes<T>; N] = core::array::from_fn(|c| Lanes(core::array::from_fn(|l| inputs[l][c])));
+            let ql: [Lanes<T>; N] =
+                core::array::from_fn(|c| Lanes(core::array::from_fn(|l| inputs[l][c])));
             let out = lanes.forward(&ql);
             for l in 0..n {
-                points(start + l, out.map(|p| Vec3::new(p.x.0[l], p.y.0[l], p.z.0[l])));
+                points(
+                    start + l,
+                    out.map(|p| Vec3::new(p.x.0[l], p.y.0[l], p.z.0[l])),
+                );
             }
             start += n;
         }

@@ -85,11 +85,17 @@ pub struct PathStats<T> {
     pub mean: [T; 2],
     /// Per-axis range (`max - min`).
     pub range: [T; 2],
-    /// Centroid of the closed polygon the path encloses (last point joined to the first); the
-    /// mean when the enclosed area is negligible (a path that retraces a line).
+    /// Centroid of the closed polygon the path encloses (last point joined to the first) when
+    /// the path winds one way; the mean of the points when it does not (a figure of eight,
+    /// whose lobes cancel, or a path that retraces a line), where a polygon centroid would be
+    /// meaningless and can even fall outside the path.
     pub centroid: [T; 2],
-    /// Area enclosed by the closed path (shoelace formula), square metres, >= 0.
+    /// Net area enclosed by the closed path (shoelace formula, absolute value), square metres.
+    /// For a figure of eight the lobes' areas subtract.
     pub area: T,
+    /// Whether the path winds one way (net area at least half the area swept from the first
+    /// point), so that `centroid` is the polygon's centroid rather than the mean.
+    pub winds_one_way: bool,
 }
 
 impl<T: Real> PathStats<T> {
@@ -101,7 +107,7 @@ impl<T: Real> PathStats<T> {
         let mut n = 1usize;
         // Shoelace sums relative to the first point (better conditioned; the closing edge back to
         // the first point then contributes nothing).
-        let (mut a2, mut cx, mut cy) = (T::ZERO, T::ZERO, T::ZERO);
+        let (mut a2, mut swept2, mut cx, mut cy) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
         let mut prev = [T::ZERO, T::ZERO];
         for p in it {
             for k in 0..2 {
@@ -112,6 +118,7 @@ impl<T: Real> PathStats<T> {
             let cur = [p[0] - first[0], p[1] - first[1]];
             let cross = prev[0] * cur[1] - cur[0] * prev[1];
             a2 += cross;
+            swept2 += cross.abs();
             cx += (prev[0] + cur[0]) * cross;
             cy += (prev[1] + cur[1]) * cross;
             prev = cur;
@@ -121,13 +128,13 @@ impl<T: Real> PathStats<T> {
         let mean = [sum[0] / count, sum[1] / count];
         let range = [max[0] - min[0], max[1] - min[1]];
         let area = (a2 * T::HALF).abs();
-        let scale = range[0] * range[0] + range[1] * range[1];
-        let centroid = if area > T::from_f64(1e-9) * scale {
-            let k = T::ONE / (T::from_f64(3.0) * a2);
-            [first[0] + cx * k, first[1] + cy * k]
-        } else {
-            mean
-        };
+        // Polygon centroid only when the fan of triangles from the first point mostly has one
+        // orientation, and never outside the bounding box (rounding on slivers).
+        let k = T::ONE / (T::from_f64(3.0) * a2);
+        let polygon = [first[0] + cx * k, first[1] + cy * k];
+        let inside = (0..2).all(|i| polygon[i] >= min[i] && polygon[i] <= max[i]);
+        let winds_one_way = area > T::ZERO && a2.abs() >= T::HALF * swept2 && inside;
+        let centroid = if winds_one_way { polygon } else { mean };
         Some(Self {
             n,
             min,
@@ -136,6 +143,7 @@ impl<T: Real> PathStats<T> {
             range,
             centroid,
             area,
+            winds_one_way,
         })
     }
 }
@@ -165,6 +173,7 @@ mod tests {
             assert_eq!(s.centroid, [0.5, 0.5]);
             assert_eq!(s.range, [1.0, 1.0]);
             assert_eq!(s.n, 4);
+            assert!(s.winds_one_way);
         }
     }
 
@@ -182,6 +191,25 @@ mod tests {
         assert!((s.area - 4.5).abs() < 1e-12);
         assert!((s.centroid[0] - 1.0).abs() < 1e-12 && (s.centroid[1] - 1.0).abs() < 1e-12);
         assert!((s.mean[0] - 1.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn figure_of_eight_uses_the_mean_not_a_runaway_centroid() {
+        // Two lobes of nearly equal area, opposite orientation (like a hip path in gait).
+        let pts = [
+            [0.0, 0.0],
+            [1.0, 1.0],
+            [2.0, 0.0],
+            [1.0, -1.0],
+            [0.0, 0.0],
+            [-1.0, 1.0],
+            [-2.0, 0.0],
+            [-1.01, -1.0],
+        ];
+        let s = PathStats::<f64>::from_points(pts).unwrap();
+        assert!(!s.winds_one_way);
+        assert_eq!(s.centroid, s.mean);
+        assert!(s.area < 0.05, "net area {}", s.area);
     }
 
     #[test]

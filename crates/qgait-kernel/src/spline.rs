@@ -68,7 +68,8 @@ impl<T: Real> Spline<T> {
     pub fn eval(&self, t: T) -> T {
         let last = self.n - 1;
         // The cubic of the last knot at or below t (the first one below x[1]).
-        let (mut x, mut y, mut b, mut c, mut d) = (self.x[0], self.y[0], self.b[0], self.c[0], self.d[0]);
+        let (mut x, mut y, mut b, mut c, mut d) =
+            (self.x[0], self.y[0], self.b[0], self.c[0], self.d[0]);
         for k in 1..last {
             let xk = self.x[k];
             x = t.lt_select(xk, x, xk);

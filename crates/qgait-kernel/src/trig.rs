@@ -151,14 +151,20 @@ mod tests {
         let mut max_err = 0.0f64;
         let n = 200_000;
         for i in 0..=n {
-            let x = -8.0 * core::f64::consts::PI + 16.0 * core::f64::consts::PI * (i as f64) / (n as f64);
+            let x = -8.0 * core::f64::consts::PI
+                + 16.0 * core::f64::consts::PI * (i as f64) / (n as f64);
             let (s, c) = half_angle_sin_cos_f64(x);
             let (es, ec) = libm::sincos(0.5 * x);
             let sign = if c * ec + s * es < 0.0 { -1.0 } else { 1.0 };
-            max_err = max_err.max((sign * s - es).abs()).max((sign * c - ec).abs());
+            max_err = max_err
+                .max((sign * s - es).abs())
+                .max((sign * c - ec).abs());
         }
         assert!(max_err < 1e-15, "max error {max_err}");
-        assert!(half_angle_sin_cos_f64(f64::NAN).0.is_nan() && half_angle_sin_cos_f64(f64::INFINITY).1.is_nan());
+        assert!(
+            half_angle_sin_cos_f64(f64::NAN).0.is_nan()
+                && half_angle_sin_cos_f64(f64::INFINITY).1.is_nan()
+        );
     }
 
     #[test]

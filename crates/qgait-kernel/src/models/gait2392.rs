@@ -376,7 +376,8 @@ impl<T: Real> Gait2392<T> {
         T: LaneScalar,
     {
         let n = q.len().min(out.len());
-        self.chain.forward_batch(n, |i| q[i], |i, points| out[i] = Gait2392Pose { points });
+        self.chain
+            .forward_batch(n, |i| q[i], |i, points| out[i] = Gait2392Pose { points });
         n
     }
 }

@@ -108,7 +108,11 @@ impl<T: Real> Hak<T> {
         T: LaneScalar,
     {
         let n = q.len().min(out.len());
-        self.chain.forward_batch(n, |i| q[i].to_array(), |i, p| out[i] = LegPose::from_points(p));
+        self.chain.forward_batch(
+            n,
+            |i| q[i].to_array(),
+            |i, p| out[i] = LegPose::from_points(p),
+        );
         n
     }
 }

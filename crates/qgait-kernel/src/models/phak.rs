@@ -144,7 +144,11 @@ impl<T: Real> Phak<T> {
         T: LaneScalar,
     {
         let n = q.len().min(out.len());
-        self.chain.forward_batch(n, |i| q[i].to_array(), |i, p| out[i] = BilateralPose::from_points(p));
+        self.chain.forward_batch(
+            n,
+            |i| q[i].to_array(),
+            |i, p| out[i] = BilateralPose::from_points(p),
+        );
         n
     }
 }
