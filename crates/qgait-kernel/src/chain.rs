@@ -127,6 +127,8 @@ pub struct Chain<T, const N: usize, const J: usize, const P: usize, const S: usi
     points: [PointSpec<T>; P],
     /// Whether each point is its joint's centre (its rotation can be skipped).
     at_origin: [bool; P],
+    /// For each joint, the range of `splines` (sorted by joint) that move it.
+    spline_ranges: [(u8, u8); J],
     splines: [SplineTranslation<T>; S],
 }
 
@@ -135,7 +137,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     pub fn new(
         mut joints: [JointSpec<T>; J],
         points: [PointSpec<T>; P],
-        splines: [SplineTranslation<T>; S],
+        mut splines: [SplineTranslation<T>; S],
     ) -> Result<Self, ModelError> {
         for (j, joint) in joints.iter_mut().enumerate() {
             if joint.parent.is_some_and(|p| p >= j) {
@@ -176,10 +178,21 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 return Err(ModelError::CoordinateOutOfRange { joint: s.joint });
             }
         }
+        if J > u8::MAX as usize || S > u8::MAX as usize {
+            return Err(ModelError::BodyOutOfRange { index: J.max(S) });
+        }
+        splines.sort_unstable_by_key(|s| s.joint);
+        let mut spline_ranges = [(0u8, 0u8); J];
+        for (j, range) in spline_ranges.iter_mut().enumerate() {
+            let start = splines.iter().take_while(|s| s.joint < j).count();
+            let end = start + splines[start..].iter().take_while(|s| s.joint == j).count();
+            *range = (start as u8, end as u8);
+        }
         Ok(Self {
             joints,
             points,
             at_origin,
+            spline_ranges,
             splines,
         })
     }
@@ -199,27 +212,28 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         &self.splines
     }
 
-    /// Joint offsets for these coordinates: the constant offsets plus spline translations.
+    /// Offset of joint `j` from its parent for coordinates `q`: the constant offset plus the
+    /// joint's spline translations.
     #[inline(always)]
-    pub fn offsets(&self, q: &[T; N]) -> [Vec3<T>; J] {
-        let mut offsets = self.joints.map(|j| j.offset);
-        for s in &self.splines {
-            offsets[s.joint] += s.direction * s.spline.eval(q[s.coordinate]);
+    pub fn offset(&self, j: usize, q: &[T; N]) -> Vec3<T> {
+        let (start, end) = self.spline_ranges[j];
+        let mut offset = self.joints[j].offset;
+        for s in &self.splines[start as usize..end as usize] {
+            offset += s.direction * s.spline.eval(q[s.coordinate]);
         }
-        offsets
+        offset
     }
 
     /// Every joint frame in ground for coordinates `q` (radians). One half-angle sine/cosine
     /// pair per axis, one quaternion product per axis, one vector rotation per non-root joint.
     #[inline]
     pub fn frames(&self, q: &[T; N]) -> [Frame<T>; J] {
-        let offsets = self.offsets(q);
         let mut frames = [Frame::ground(); J];
         for j in 0..J {
             let joint = &self.joints[j];
             let (mut rotation, origin) = match joint.parent {
-                Some(p) => (frames[p].rotation, frames[p].transform(offsets[j])),
-                None => (Quat::identity(), offsets[j]),
+                Some(p) => (frames[p].rotation, frames[p].transform(self.offset(j, q))),
+                None => (Quat::identity(), self.offset(j, q)),
             };
             for axis in &joint.axes[..joint.n_axes] {
                 let (s, c) = q[axis.coordinate].half_angle_sin_cos();
@@ -267,6 +281,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 offset: v(p.offset),
             }),
             at_origin: self.at_origin,
+            spline_ranges: self.spline_ranges,
             splines: self.splines.map(|s| SplineTranslation {
                 joint: s.joint,
                 direction: v(s.direction),

@@ -83,14 +83,13 @@ pub fn chain_by_matrices<
     chain: &Chain<T, N, J, P, S>,
     q: &[T; N],
 ) -> [Vec3<T>; P] {
-    let offsets = chain.offsets(q);
     let mut frames = [Matrix4::<T>::identity(); J];
     for (j, joint) in chain.joints().iter().enumerate() {
         let parent = match joint.parent {
             Some(p) => frames[p],
             None => Matrix4::identity(),
         };
-        let mut m = parent * translation(offsets[j]);
+        let mut m = parent * translation(chain.offset(j, q));
         for axis in &joint.axes[..joint.n_axes] {
             m *= rotation(axis.direction, q[axis.coordinate]);
         }
