@@ -36,8 +36,11 @@ macro_rules! ensure {
     };
 }
 
+/// A check: its name and the function that runs it.
+pub type NamedCheck = (&'static str, fn() -> CheckResult);
+
 /// Every check with its name.
-pub const ALL: &[(&str, fn() -> CheckResult)] = &[
+pub const ALL: &[NamedCheck] = &[
     ("clean_stream_gives_one_pose_per_sample", clean_stream_gives_one_pose_per_sample),
     ("pose_matches_the_kernel", pose_matches_the_kernel),
     ("packets_reordered_within_the_window_still_complete", packets_reordered_within_the_window_still_complete),
