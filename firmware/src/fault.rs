@@ -9,6 +9,8 @@ use crate::board;
 pub const PANIC_EXIT_CODE: i32 = 101;
 /// Exit status after a HardFault.
 pub const HARDFAULT_EXIT_CODE: i32 = 102;
+/// Exit status after an interrupt or exception that nothing handles.
+pub const UNEXPECTED_INTERRUPT_EXIT_CODE: i32 = 103;
 
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {

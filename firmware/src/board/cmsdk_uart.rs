@@ -1,11 +1,18 @@
 //! Driver of the ARM CMSDK APB UART (the UARTs of the MPS2 boards and QEMU's `mps2-an386`),
-//! polled, implementing the `embedded-hal-nb` and `embedded-io` serial traits.
+//! implementing the `embedded-hal-nb` and `embedded-io` serial traits. Reception is
+//! interrupt-driven into an [`RxRing`]; transmission is polled. One instance per program (the
+//! ring is a static).
 
 use core::ptr::{read_volatile, write_volatile};
+
+use cortex_m::peripheral::NVIC;
+
+use super::rx_ring::{Irq, RxRing};
 
 const DATA: usize = 0x00;
 const STATE: usize = 0x04;
 const CTRL: usize = 0x08;
+const INTCLEAR: usize = 0x0C;
 const BAUDDIV: usize = 0x10;
 
 const STATE_TXFULL: u32 = 1 << 0;
@@ -14,6 +21,10 @@ const STATE_RXOVR: u32 = 1 << 3;
 
 const CTRL_TXEN: u32 = 1 << 0;
 const CTRL_RXEN: u32 = 1 << 1;
+const CTRL_RXIE: u32 = 1 << 3;
+const INT_RX: u32 = 1 << 1;
+
+static RX: RxRing<Overrun> = RxRing::new();
 
 /// The only error the UART reports: a received byte was lost because the previous one had not
 /// been read yet.
@@ -41,18 +52,44 @@ pub struct CmsdkUart {
 
 impl CmsdkUart {
     /// Enables the UART at `base` with baud divider `bauddiv` (>= 16; the baud rate is the APB
-    /// clock divided by it).
+    /// clock divided by it) and its receive interrupt `irq`, whose handler must call
+    /// [`on_interrupt`](Self::on_interrupt).
     ///
     /// # Safety
-    /// `base` must be the address of a CMSDK UART that nothing else uses.
-    pub unsafe fn new(base: usize, bauddiv: u32) -> CmsdkUart {
+    /// `base` must be the address of a CMSDK UART that nothing else uses, `irq` its receive
+    /// interrupt, and no other `CmsdkUart` may exist.
+    pub unsafe fn new(base: usize, bauddiv: u32, irq: u16) -> CmsdkUart {
         let uart = CmsdkUart { base };
         uart.write_reg(BAUDDIV, bauddiv.max(16));
-        uart.write_reg(CTRL, CTRL_TXEN | CTRL_RXEN);
+        uart.write_reg(CTRL, CTRL_TXEN | CTRL_RXEN | CTRL_RXIE);
         // QEMU 7.2 may not deliver host bytes that arrived before RX was enabled until DATA is
         // read once (see qemu-notes.md); harmless on hardware (the byte would be stale anyway).
         let _ = uart.read_reg(DATA);
+        // SAFETY: the handler only touches the ring, which is interrupt-safe.
+        unsafe { NVIC::unmask(Irq(irq)) };
         uart
+    }
+
+    /// The receive interrupt handler's work: moves every received byte into the ring and
+    /// records overruns.
+    ///
+    /// # Safety
+    /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
+    pub unsafe fn on_interrupt(base: usize) {
+        let uart = CmsdkUart { base };
+        // Clear first: a byte arriving after the drain below raises the interrupt again.
+        uart.write_reg(INTCLEAR, INT_RX);
+        loop {
+            let state = uart.read_reg(STATE);
+            if state & STATE_RXOVR != 0 {
+                uart.write_reg(STATE, STATE_RXOVR); // write 1 to clear
+                RX.push_error(Overrun);
+            }
+            if state & STATE_RXFULL == 0 {
+                break;
+            }
+            RX.push(uart.read_reg(DATA) as u8, Overrun);
+        }
     }
 
     fn read_reg(&self, offset: usize) -> u32 {
@@ -65,10 +102,6 @@ impl CmsdkUart {
         unsafe { write_volatile((self.base + offset) as *mut u32, value) }
     }
 
-    fn rx_ready(&self) -> bool {
-        self.read_reg(STATE) & (STATE_RXFULL | STATE_RXOVR) != 0
-    }
-
     fn tx_ready(&self) -> bool {
         self.read_reg(STATE) & STATE_TXFULL == 0
     }
@@ -79,17 +112,12 @@ impl embedded_hal_nb::serial::ErrorType for CmsdkUart {
 }
 
 impl embedded_hal_nb::serial::Read<u8> for CmsdkUart {
-    /// Reports a pending overrun once (clearing it), then the bytes that did arrive.
+    /// Reports each overrun (hardware, or ring full) once, in order with the bytes.
     fn read(&mut self) -> nb::Result<u8, Overrun> {
-        let state = self.read_reg(STATE);
-        if state & STATE_RXOVR != 0 {
-            self.write_reg(STATE, STATE_RXOVR); // write 1 to clear
-            return Err(nb::Error::Other(Overrun));
-        }
-        if state & STATE_RXFULL != 0 {
-            Ok(self.read_reg(DATA) as u8)
-        } else {
-            Err(nb::Error::WouldBlock)
+        match RX.pop() {
+            Some(Ok(byte)) => Ok(byte),
+            Some(Err(e)) => Err(nb::Error::Other(e)),
+            None => Err(nb::Error::WouldBlock),
         }
     }
 }
@@ -119,7 +147,7 @@ impl embedded_io::ErrorType for CmsdkUart {
 
 impl embedded_io::ReadReady for CmsdkUart {
     fn read_ready(&mut self) -> Result<bool, Overrun> {
-        Ok(self.rx_ready())
+        Ok(RX.is_ready())
     }
 }
 

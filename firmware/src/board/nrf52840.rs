@@ -6,6 +6,8 @@ use core::sync::atomic::{AtomicBool, Ordering};
 
 use defmt_rtt as _;
 
+use cortex_m_rt::exception;
+
 use super::nrf_uart::{NrfUart, BAUD_115200};
 use super::{Board, SysTickClock};
 
@@ -16,6 +18,8 @@ pub const NAME: &str = "nrf52840";
 pub type Serial = NrfUart;
 
 const UART0_BASE: usize = 0x4000_2000;
+/// The UARTE0_UART0 interrupt line.
+const UART0_IRQ: i16 = 2;
 const TX_PIN: u32 = 6;
 const RX_PIN: u32 = 8;
 const CORE_HZ: u32 = 64_000_000;
@@ -29,8 +33,21 @@ pub fn take() -> Option<Board> {
     }
     let core = cortex_m::Peripherals::take()?;
     // SAFETY: UART0 is used only through this driver, created once (guarded by TAKEN).
-    let serial = unsafe { NrfUart::new(UART0_BASE, TX_PIN, RX_PIN, BAUD_115200) };
+    let serial = unsafe { NrfUart::new(UART0_BASE, TX_PIN, RX_PIN, BAUD_115200, UART0_IRQ as u16) };
     Some(Board { serial, clock: SysTickClock::start(core.SYST, CORE_HZ) })
+}
+
+/// Every device interrupt lands here (no PAC, so cortex-m-rt's table points all of them at
+/// `DefaultHandler`): UART0's is served, anything else is a bug that ends the run.
+#[exception]
+unsafe fn DefaultHandler(irqn: i16) {
+    if irqn == UART0_IRQ {
+        // SAFETY: UART0_BASE is the UART created in `take` with this interrupt.
+        unsafe { NrfUart::on_interrupt(UART0_BASE) };
+    } else {
+        defmt::error!("unexpected interrupt {=i16}", irqn);
+        exit(crate::fault::UNEXPECTED_INTERRUPT_EXIT_CODE);
+    }
 }
 
 /// Ends the run. There is no host to report to: success idles, failure resets the MCU so the

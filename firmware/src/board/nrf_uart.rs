@@ -1,13 +1,20 @@
-//! Driver of the nRF52840's UART0 (the legacy, non-DMA UART), polled, implementing the
-//! `embedded-hal-nb` and `embedded-io` serial traits. 8N1, no flow control.
+//! Driver of the nRF52840's UART0 (the legacy, non-DMA UART), implementing the
+//! `embedded-hal-nb` and `embedded-io` serial traits. 8N1, no flow control. Reception is
+//! interrupt-driven into an [`RxRing`]; transmission is polled. One instance per program (the
+//! ring is a static).
 
 use core::ptr::{read_volatile, write_volatile};
+
+use cortex_m::peripheral::NVIC;
+
+use super::rx_ring::{Irq, RxRing};
 
 const TASKS_STARTRX: usize = 0x000;
 const TASKS_STARTTX: usize = 0x008;
 const EVENTS_RXDRDY: usize = 0x108;
 const EVENTS_TXDRDY: usize = 0x11C;
 const EVENTS_ERROR: usize = 0x124;
+const INTENSET: usize = 0x304;
 const ERRORSRC: usize = 0x480;
 const ENABLE: usize = 0x500;
 const PSEL_RTS: usize = 0x508;
@@ -23,6 +30,10 @@ const ENABLE_UART: u32 = 4;
 const PSEL_DISCONNECTED: u32 = 1 << 31;
 const ERRORSRC_OVERRUN: u32 = 1 << 0;
 const ERRORSRC_PARITY: u32 = 1 << 1;
+const INT_RXDRDY: u32 = 1 << 2;
+const INT_ERROR: u32 = 1 << 9;
+
+static RX: RxRing<UartError> = RxRing::new();
 
 /// BAUDRATE register value for 115200 baud.
 pub const BAUD_115200: u32 = 0x01D7_E000;
@@ -66,11 +77,13 @@ pub struct NrfUart {
 
 impl NrfUart {
     /// Enables the UART at `base` on GPIO `tx_pin` / `rx_pin` (port 0 pin numbers) at
-    /// `baudrate` (a BAUDRATE register value such as [`BAUD_115200`]).
+    /// `baudrate` (a BAUDRATE register value such as [`BAUD_115200`]), with its interrupt
+    /// `irq`, whose handler must call [`on_interrupt`](Self::on_interrupt).
     ///
     /// # Safety
-    /// `base` must be the address of an nRF52 UART that nothing else uses.
-    pub unsafe fn new(base: usize, tx_pin: u32, rx_pin: u32, baudrate: u32) -> NrfUart {
+    /// `base` must be the address of an nRF52 UART that nothing else uses, `irq` its interrupt,
+    /// and no other `NrfUart` may exist.
+    pub unsafe fn new(base: usize, tx_pin: u32, rx_pin: u32, baudrate: u32, irq: u16) -> NrfUart {
         let uart = NrfUart { base, tx_busy: false };
         uart.write_reg(PSEL_TXD, tx_pin & 0x3F);
         uart.write_reg(PSEL_RXD, rx_pin & 0x3F);
@@ -79,9 +92,42 @@ impl NrfUart {
         uart.write_reg(BAUDRATE, baudrate);
         uart.write_reg(CONFIG, 0);
         uart.write_reg(ENABLE, ENABLE_UART);
+        uart.write_reg(INTENSET, INT_RXDRDY | INT_ERROR);
         uart.write_reg(TASKS_STARTRX, 1);
         uart.write_reg(TASKS_STARTTX, 1);
+        // SAFETY: the handler only touches the ring, which is interrupt-safe.
+        unsafe { NVIC::unmask(Irq(irq)) };
         uart
+    }
+
+    /// The interrupt handler's work: records receive errors and moves every received byte
+    /// (the FIFO holds up to six) into the ring.
+    ///
+    /// # Safety
+    /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
+    pub unsafe fn on_interrupt(base: usize) {
+        let uart = NrfUart { base, tx_busy: false };
+        if uart.read_reg(EVENTS_ERROR) != 0 {
+            uart.write_reg(EVENTS_ERROR, 0);
+            let source = uart.read_reg(ERRORSRC);
+            uart.write_reg(ERRORSRC, source); // write 1 to clear
+            RX.push_error(if source & ERRORSRC_OVERRUN != 0 {
+                UartError::Overrun
+            } else if source & ERRORSRC_PARITY != 0 {
+                UartError::Parity
+            } else {
+                UartError::Framing
+            });
+        }
+        while uart.read_reg(EVENTS_RXDRDY) != 0 {
+            // Clear the event before reading RXD, as the reference manual requires; it is set
+            // again while the FIFO holds more.
+            uart.write_reg(EVENTS_RXDRDY, 0);
+            RX.push(uart.read_reg(RXD) as u8, UartError::Overrun);
+        }
+        // Read back so the cleared events reach the peripheral before the handler returns
+        // (otherwise the interrupt fires again at once).
+        let _ = uart.read_reg(EVENTS_ERROR);
     }
 
     fn read_reg(&self, offset: usize) -> u32 {
@@ -107,25 +153,12 @@ impl embedded_hal_nb::serial::ErrorType for NrfUart {
 }
 
 impl embedded_hal_nb::serial::Read<u8> for NrfUart {
+    /// Reports each receive error (hardware, or ring full) once, in order with the bytes.
     fn read(&mut self) -> nb::Result<u8, UartError> {
-        if self.read_reg(EVENTS_ERROR) != 0 {
-            self.write_reg(EVENTS_ERROR, 0);
-            let source = self.read_reg(ERRORSRC);
-            self.write_reg(ERRORSRC, source); // write 1 to clear
-            return Err(nb::Error::Other(if source & ERRORSRC_OVERRUN != 0 {
-                UartError::Overrun
-            } else if source & ERRORSRC_PARITY != 0 {
-                UartError::Parity
-            } else {
-                UartError::Framing
-            }));
-        }
-        if self.read_reg(EVENTS_RXDRDY) != 0 {
-            // Clear the event before reading RXD, as the reference manual requires.
-            self.write_reg(EVENTS_RXDRDY, 0);
-            Ok(self.read_reg(RXD) as u8)
-        } else {
-            Err(nb::Error::WouldBlock)
+        match RX.pop() {
+            Some(Ok(byte)) => Ok(byte),
+            Some(Err(e)) => Err(nb::Error::Other(e)),
+            None => Err(nb::Error::WouldBlock),
         }
     }
 }
@@ -156,7 +189,7 @@ impl embedded_io::ErrorType for NrfUart {
 
 impl embedded_io::ReadReady for NrfUart {
     fn read_ready(&mut self) -> Result<bool, UartError> {
-        Ok(self.read_reg(EVENTS_RXDRDY) != 0 || self.read_reg(EVENTS_ERROR) != 0)
+        Ok(RX.is_ready())
     }
 }
 
