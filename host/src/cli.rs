@@ -1,21 +1,20 @@
 //! The `qgait` command line: argument definitions and the commands.
 
 use std::fs::File;
-use std::io::{self, BufWriter, IsTerminal, Write};
+use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use qgait_kernel::anthropometry::Anthropometry;
 
-use crate::kinematics::{self, Evaluator, Model};
+use crate::anthropometry;
 use crate::mot::Warning;
 use crate::progress::Progress;
 use crate::report::{self, Analysis};
 use crate::source::{default_label, load_motion};
-use crate::{anthropometry, fk_csv};
 
-/// Forward kinematics of the human lower limbs with quaternions (HAK and PHAK models).
+/// Forward kinematics of the human lower limbs with quaternions (HAK, PHAK and gait2392 models).
 ///
 /// MOTION is an OpenSim .mot/.sto file, or a built-in normative gait: `builtin:normal`,
 /// `builtin:crouch=S` (crouch severity 0..1), optionally followed by `,rows=N`.
@@ -34,20 +33,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Joint positions (metres) for every row of a motion, as CSV.
-    Fk {
-        /// Motion file (.mot/.sto) or `builtin:...`.
-        motion: String,
-        /// Kinematic model.
-        #[arg(long, value_enum, default_value = "phak")]
-        model: Model,
-        /// Segment lengths (TOML: pelvis_half_width, femur, tibia, foot, each optionally _r/_l);
-        /// default gait2392.
-        #[arg(long, value_name = "FILE.toml")]
-        anthropometry: Option<PathBuf>,
-        /// Output CSV file (default: standard output).
-        #[arg(short, long, value_name = "OUT.csv")]
-        output: Option<PathBuf>,
-    },
+    Fk(crate::cli_gait2392::FkArgs),
     /// Figures and metrics of one or more gaits overlaid (the paper's Figs 5-10).
     Report {
         /// Motion files (.mot/.sto) or `builtin:...`; the first is the reference for the hip shift.
@@ -71,6 +57,13 @@ pub enum Command {
         #[arg(short, long, value_name = "OUT.mot")]
         output: Option<PathBuf>,
     },
+    /// OpenSim models: `model import MODEL.osim -o SUBJECT.toml`.
+    #[command(subcommand)]
+    Model(crate::cli_gait2392::ModelCommand),
+    /// Computed joint centres as an OpenSim marker file (.trc) and table (.sto).
+    Export(crate::cli_gait2392::ExportArgs),
+    /// How far PHAK (8 DoF) is from gait2392, per point, and what each feature costs (Markdown).
+    Fidelity(crate::cli_gait2392::FidelityArgs),
 }
 
 /// Runs a parsed command line.
@@ -83,33 +76,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
     };
     match cli.command {
-        Command::Fk {
-            motion,
-            model,
-            anthropometry,
-            output,
-        } => {
-            let anthro = load_anthropometry(anthropometry.as_deref(), &warn)?;
-            let (table, w) = load_motion(&motion)?;
-            warn(w);
-            let (angles, w) = kinematics::phak_angles(&table).map_err(anyhow::Error::msg)?;
-            if model == Model::Phak {
-                warn(w);
-            }
-            let evaluator = Evaluator::new(model, &anthro).map_err(anyhow::Error::msg)?;
-            // No bar while CSV goes to the same terminal.
-            let csv_on_terminal = output.is_none() && io::stdout().is_terminal();
-            let progress = Progress::new(angles.len() as u64, "fk", cli.quiet || csv_on_terminal);
-            write_output(output.as_deref(), |out| {
-                fk_csv::write_header(out)?;
-                for (t, a) in table.time().iter().zip(&angles) {
-                    fk_csv::write_row(out, *t, &evaluator.pose(a))?;
-                    progress.inc(1);
-                }
-                Ok(())
-            })?;
-            progress.finish();
-        }
+        Command::Fk(args) => crate::cli_gait2392::run_fk(args, cli.quiet)?,
         Command::Report {
             motions,
             labels,
@@ -149,11 +116,14 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             warn(w);
             write_output(output.as_deref(), |out| table.write_mot(out))?;
         }
+        Command::Model(c) => crate::cli_gait2392::run_model(c, cli.quiet)?,
+        Command::Export(args) => crate::cli_gait2392::run_export(args, cli.quiet)?,
+        Command::Fidelity(args) => crate::cli_gait2392::run_fidelity(args, cli.quiet)?,
     }
     Ok(())
 }
 
-fn load_anthropometry(
+pub(crate) fn load_anthropometry(
     path: Option<&Path>,
     warn: &impl Fn(Vec<Warning>),
 ) -> anyhow::Result<Anthropometry<f64>> {
@@ -169,7 +139,7 @@ fn load_anthropometry(
 
 /// Writes to a file, or to stdout when `path` is `None`. A closed stdout pipe (e.g. `| head`) is
 /// not an error.
-fn write_output(
+pub(crate) fn write_output(
     path: Option<&Path>,
     body: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> anyhow::Result<()> {

@@ -4,9 +4,15 @@
 pub mod anthropometry;
 pub mod builtin;
 pub mod cli;
+pub mod cli_gait2392;
+pub mod export;
+pub mod fidelity;
 pub mod fk_csv;
 pub mod kinematics;
+pub mod model_spec;
 pub mod mot;
+pub mod osim_import;
 pub mod progress;
 pub mod report;
 pub mod source;
+pub mod subject;

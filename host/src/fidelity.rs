@@ -1,0 +1,401 @@
+//! `qgait fidelity`: how far the paper's 8-DoF PHAK (with gait2392's segment lengths) is from
+//! OpenSim's gait2392 chain on the same motion, and which of gait2392's features costs most.
+//!
+//! Both models are evaluated by the kernel on every row (gait2392: the generic geometry, the
+//! motion's 17 coordinates, absent ones 0; PHAK: [`Anthropometry::gait2392`] and its 8
+//! coordinates). Points: hip, knee, ankle, toe (gait2392: the toe tip) of each leg; deviation =
+//! Euclidean distance in mm. Two comparisons:
+//!
+//! - **raw**: both in their own output frame (origin at the pelvis origin, ground axes). PHAK's
+//!   hips are at (0, 0, ±w), gait2392's at (-0.0707, -0.0661, ±0.0835) in the pelvis frame, so
+//!   this includes a constant ~97 mm hip offset.
+//! - **hip-relative**: every point of a leg minus that leg's hip centre, in each model (so the
+//!   hips agree by construction and only the leg below the hip is compared).
+//!
+//! Ablations switch one gait2392 feature off at a time (in the coordinates or the geometry) and
+//! report the deviation from PHAK that remains, and the feature's own effect (full gait2392
+//! versus gait2392 with that feature off). With all of them off gait2392 becomes PHAK, so the
+//! last ablation must give ~0: a check of the whole comparison.
+
+use qgait_kernel::anthropometry::Anthropometry;
+use qgait_kernel::models::gait2392::{Knots, COORDINATES};
+use qgait_kernel::{Gait2392, Gait2392Geometry, Phak, PhakAngles, Quat, Spline, Vec3};
+
+use crate::kinematics;
+use crate::model_spec::{gait2392_coordinates, point_names};
+use crate::mot::{MotionTable, Warning};
+
+/// One gait2392 feature that PHAK lacks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Feature {
+    /// Hip adduction and rotation (PHAK: flexion only).
+    HipAdductionRotation,
+    /// Pelvis tilt (PHAK: rotation and list only).
+    PelvisTilt,
+    /// Knee translation with knee angle (PHAK: a hinge).
+    KneeTranslation,
+    /// The oblique ankle axis (PHAK: +z).
+    AnkleAxis,
+    /// Pelvis order tilt, list, rotation (PHAK: rotation, then list).
+    PelvisOrder,
+    /// Hip centres behind and below the pelvis origin (PHAK: (0, 0, ±w)).
+    HipCentres,
+    /// Femur and foot directions (PHAK: straight segments along -y and +x).
+    SegmentDirections,
+}
+
+impl Feature {
+    /// All, in report order.
+    pub const ALL: [Feature; 7] = [
+        Feature::HipAdductionRotation,
+        Feature::PelvisTilt,
+        Feature::KneeTranslation,
+        Feature::AnkleAxis,
+        Feature::PelvisOrder,
+        Feature::HipCentres,
+        Feature::SegmentDirections,
+    ];
+
+    /// What switching it off does.
+    pub fn off_description(self) -> &'static str {
+        match self {
+            Feature::HipAdductionRotation => "hip adduction and rotation set to 0",
+            Feature::PelvisTilt => "pelvis tilt set to 0",
+            Feature::KneeTranslation => "knee translation frozen at its knee_angle = 0 value",
+            Feature::AnkleAxis => "ankle axis replaced by +z",
+            Feature::PelvisOrder => "pelvis rotation applied before list (PHAK's order)",
+            Feature::HipCentres => "hip centres moved to PHAK's (0, 0, ±0.0835)",
+            Feature::SegmentDirections => {
+                "femur straight down (knee at (0, -femur) at knee_angle = 0) and toe tip on the ankle's +x at PHAK's foot length"
+            }
+        }
+    }
+}
+
+fn index(name: &str) -> usize {
+    COORDINATES
+        .iter()
+        .position(|c| *c == name)
+        .expect("a gait2392 coordinate")
+}
+
+fn spline_at_zero(k: &Knots) -> f64 {
+    Spline::<f64>::new(&k.x[..k.n], &k.y[..k.n])
+        .expect("generic knots are valid")
+        .eval(0.0)
+}
+
+fn constant(v: f64) -> Knots {
+    Knots::new(&[-1.0, 1.0], &[v, v])
+}
+
+fn shifted(k: &Knots, d: f64) -> Knots {
+    let y: Vec<f64> = k.y[..k.n].iter().map(|v| v + d).collect();
+    Knots::new(&k.x[..k.n], &y)
+}
+
+/// Tilt, list, rotation (body-fixed Z-X-Y) of the rotation `Rz(tilt) Ry(rotation) Rx(list)`:
+/// gait2392's pelvis angles that give PHAK's rotation-then-list order.
+fn pelvis_in_phak_order(tilt: f64, list: f64, rotation: f64) -> (f64, f64, f64) {
+    let q = Quat::from_axis_angle(Vec3::unit_z(), tilt)
+        * Quat::from_axis_angle(Vec3::unit_y(), rotation)
+        * Quat::from_axis_angle(Vec3::unit_x(), list);
+    let r = q.to_rotation_matrix();
+    // Rz(a) Rx(b) Ry(c): r[2][1] = sin b, r[2][0] = -cos b sin c, r[2][2] = cos b cos c,
+    // r[0][1] = -sin a cos b, r[1][1] = cos a cos b.
+    let b = r[2][1].clamp(-1.0, 1.0).asin();
+    let c = (-r[2][0]).atan2(r[2][2]);
+    let a = (-r[0][1]).atan2(r[1][1]);
+    (a, b, c)
+}
+
+/// gait2392 with `off` switched off: its geometry and coordinates.
+fn ablate(
+    off: &[Feature],
+    q: &[[f64; 17]],
+    phak: &Anthropometry<f64>,
+) -> (Gait2392Geometry, Vec<[f64; 17]>) {
+    let generic = Gait2392Geometry::generic();
+    let mut g = generic;
+    let mut q = q.to_vec();
+    for f in off {
+        for (leg, orig, side) in [
+            (&mut g.right, &generic.right, phak.right),
+            (&mut g.left, &generic.left, phak.left),
+        ] {
+            let sign = orig.hip_in_pelvis[2].signum();
+            match f {
+                Feature::KneeTranslation => {
+                    // Commutes with SegmentDirections: a shift of a constant is a constant.
+                    leg.knee_tx = constant(spline_at_zero(&leg.knee_tx));
+                    leg.knee_ty = constant(spline_at_zero(&leg.knee_ty));
+                }
+                Feature::AnkleAxis => leg.ankle_axis = [0.0, 0.0, 1.0],
+                Feature::HipCentres => {
+                    leg.hip_in_pelvis = [0.0, 0.0, sign * side.pelvis_half_width]
+                }
+                Feature::SegmentDirections => {
+                    leg.knee_tx = shifted(&leg.knee_tx, -spline_at_zero(&orig.knee_tx));
+                    leg.knee_ty =
+                        shifted(&leg.knee_ty, -side.femur - spline_at_zero(&orig.knee_ty));
+                    leg.ankle_in_tibia = [0.0, -side.tibia, 0.0];
+                    leg.subtalar_in_talus = [0.0; 3];
+                    leg.mtp_in_calcn = [0.0; 3];
+                    leg.toetip_in_toes = [side.foot, 0.0, 0.0];
+                }
+                _ => {}
+            }
+        }
+        for row in q.iter_mut() {
+            match f {
+                Feature::HipAdductionRotation => {
+                    for c in [
+                        "hip_adduction_r",
+                        "hip_rotation_r",
+                        "hip_adduction_l",
+                        "hip_rotation_l",
+                    ] {
+                        row[index(c)] = 0.0;
+                    }
+                }
+                Feature::PelvisTilt => row[index("pelvis_tilt")] = 0.0,
+                _ => {}
+            }
+        }
+    }
+    // The order change reads the (possibly zeroed) tilt, so it comes last.
+    if off.contains(&Feature::PelvisOrder) {
+        let (t, l, r) = (
+            index("pelvis_tilt"),
+            index("pelvis_list"),
+            index("pelvis_rotation"),
+        );
+        for row in q.iter_mut() {
+            (row[t], row[l], row[r]) = pelvis_in_phak_order(row[t], row[l], row[r]);
+        }
+    }
+    (g, q)
+}
+
+/// Max and mean of a set of distances (metres in, mm out).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Stat {
+    /// Largest (mm).
+    pub max: f64,
+    /// Mean (mm).
+    pub mean: f64,
+}
+
+fn stat(d: impl Iterator<Item = f64>) -> Stat {
+    let (mut max, mut sum, mut n) = (0.0f64, 0.0, 0usize);
+    for v in d {
+        max = max.max(v);
+        sum += v;
+        n += 1;
+    }
+    Stat {
+        max: max * 1e3,
+        mean: if n == 0 { 0.0 } else { sum / n as f64 * 1e3 },
+    }
+}
+
+/// Per row, the 8 points (PHAK output order).
+type Points = Vec<[Vec3<f64>; 8]>;
+
+fn hip_relative(p: &[Vec3<f64>; 8]) -> [Vec3<f64>; 8] {
+    core::array::from_fn(|k| p[k] - p[if k < 4 { 0 } else { 4 }])
+}
+
+/// Per point k, the distances over all rows.
+fn distances(a: &Points, b: &Points, relative: bool) -> [Vec<f64>; 8] {
+    core::array::from_fn(|k| {
+        a.iter()
+            .zip(b)
+            .map(|(pa, pb)| {
+                let (pa, pb) = if relative {
+                    (hip_relative(pa), hip_relative(pb))
+                } else {
+                    (*pa, *pb)
+                };
+                Vec3::distance(pa[k], pb[k])
+            })
+            .collect()
+    })
+}
+
+/// One ablation's numbers (all points and rows).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AblationResult {
+    /// The features switched off (empty: full gait2392).
+    pub off: Vec<Feature>,
+    /// Deviation from PHAK that remains, raw.
+    pub raw: Stat,
+    /// Deviation from PHAK that remains, hip-relative.
+    pub relative: Stat,
+    /// Full gait2392 versus this ablation (raw): how much the feature moves the points.
+    pub own_effect: Stat,
+}
+
+/// Everything `qgait fidelity` reports for one motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fidelity {
+    /// The motion's label.
+    pub label: String,
+    /// Number of rows.
+    pub rows: usize,
+    /// Per point (`hip_r` ... `toe_l`): (name, raw, hip-relative).
+    pub per_point: Vec<(String, Stat, Stat)>,
+    /// Full gait2392, each feature off on its own, then all off.
+    pub ablations: Vec<AblationResult>,
+}
+
+/// Compares PHAK with gait2392 on one motion.
+pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warning>), String> {
+    let (q, mut warnings) = gait2392_coordinates(table)?;
+    let (angles, w) = kinematics::phak_angles(table)?;
+    for x in w {
+        if !warnings.contains(&x) {
+            warnings.push(x);
+        }
+    }
+    let anthro = Anthropometry::<f64>::gait2392();
+    let phak = Phak::<f64>::new(&anthro).map_err(|e| e.to_string())?;
+    let phak_points: Points = angles
+        .iter()
+        .map(|a: &PhakAngles<f64>| phak.fk(a).points())
+        .collect();
+    let gait2392 = |off: &[Feature]| -> Result<Points, String> {
+        let (g, q) = ablate(off, &q, &anthro);
+        let model = Gait2392::<f64>::new(&g).map_err(|e| e.to_string())?;
+        Ok(q.iter().map(|q| model.fk(q).bilateral().points()).collect())
+    };
+    let full = gait2392(&[])?;
+    let raw = distances(&full, &phak_points, false);
+    let rel = distances(&full, &phak_points, true);
+    let per_point = point_names(false)
+        .into_iter()
+        .enumerate()
+        .map(|(k, name)| {
+            (
+                name,
+                stat(raw[k].iter().copied()),
+                stat(rel[k].iter().copied()),
+            )
+        })
+        .collect();
+    let mut sets: Vec<Vec<Feature>> = vec![Vec::new()];
+    sets.extend(Feature::ALL.iter().map(|f| vec![*f]));
+    sets.push(Feature::ALL.to_vec());
+    let mut ablations = Vec::new();
+    for off in sets {
+        let g = gait2392(&off)?;
+        let all = |d: [Vec<f64>; 8]| stat(d.into_iter().flatten());
+        ablations.push(AblationResult {
+            raw: all(distances(&g, &phak_points, false)),
+            relative: all(distances(&g, &phak_points, true)),
+            own_effect: all(distances(&full, &g, false)),
+            off,
+        });
+    }
+    Ok((
+        Fidelity {
+            label: label.to_string(),
+            rows: table.rows(),
+            per_point,
+            ablations,
+        },
+        warnings,
+    ))
+}
+
+fn off_name(off: &[Feature]) -> String {
+    match off {
+        [] => "none (full gait2392)".into(),
+        [f] => f.off_description().into(),
+        _ => "all of the above (gait2392 becomes PHAK)".into(),
+    }
+}
+
+/// The report as Markdown: a summary over the motions, then per motion the per-point and the
+/// ablation tables. Millimetres with 2 decimals (3 significant digits for the ~0 check).
+pub fn markdown(results: &[Fidelity]) -> String {
+    let mut s = String::new();
+    let mm = |v: f64| format!("{v:.2}");
+    s.push_str("## Summary: PHAK (gait2392 lengths) vs gait2392, all 8 points (mm)\n\n");
+    s.push_str("| motion | rows | raw max | raw mean | hip-relative max | hip-relative mean | largest own effect (mean) |\n");
+    s.push_str("|---|---:|---:|---:|---:|---:|---|\n");
+    for r in results {
+        let full = &r.ablations[0];
+        let biggest = r.ablations[1..=Feature::ALL.len()]
+            .iter()
+            .max_by(|a, b| a.own_effect.mean.total_cmp(&b.own_effect.mean))
+            .expect("one ablation per feature");
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} ({} mm) |\n",
+            r.label,
+            r.rows,
+            mm(full.raw.max),
+            mm(full.raw.mean),
+            mm(full.relative.max),
+            mm(full.relative.mean),
+            off_name(&biggest.off),
+            mm(biggest.own_effect.mean)
+        ));
+    }
+    for r in results {
+        s.push_str(&format!("\n## {} ({} rows)\n\n", r.label, r.rows));
+        s.push_str("Deviation of PHAK from gait2392 per point (mm):\n\n");
+        s.push_str("| point | raw max | raw mean | hip-relative max | hip-relative mean |\n");
+        s.push_str("|---|---:|---:|---:|---:|\n");
+        for (name, raw, rel) in &r.per_point {
+            s.push_str(&format!(
+                "| {name} | {} | {} | {} | {} |\n",
+                mm(raw.max),
+                mm(raw.mean),
+                mm(rel.max),
+                mm(rel.mean)
+            ));
+        }
+        s.push_str("\ngait2392 features switched off one at a time (all points, mm): deviation from PHAK that remains, and the feature's own effect (full gait2392 vs gait2392 without it):\n\n");
+        s.push_str("| switched off | raw max | raw mean | hip-relative max | hip-relative mean | own effect max | own effect mean |\n");
+        s.push_str("|---|---:|---:|---:|---:|---:|---:|\n");
+        for a in &r.ablations {
+            let fmt = |v: f64| {
+                if a.off.len() > 1 {
+                    format!("{v:.2e}")
+                } else {
+                    mm(v)
+                }
+            };
+            s.push_str(&format!(
+                "| {} | {} | {} | {} | {} | {} | {} |\n",
+                off_name(&a.off),
+                fmt(a.raw.max),
+                fmt(a.raw.mean),
+                fmt(a.relative.max),
+                fmt(a.relative.mean),
+                mm(a.own_effect.max),
+                mm(a.own_effect.mean)
+            ));
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pelvis_order_angles_reproduce_phak_rotation() {
+        let (t, l, r) = pelvis_in_phak_order(0.0, 0.2, -0.4);
+        let gait = Quat::from_axis_angle(Vec3::unit_z(), t)
+            * Quat::from_axis_angle(Vec3::unit_x(), l)
+            * Quat::from_axis_angle(Vec3::unit_y(), r);
+        let phak = Quat::from_axis_angle(Vec3::unit_y(), -0.4)
+            * Quat::from_axis_angle(Vec3::unit_x(), 0.2);
+        let v = Vec3::new(0.3, -0.7, 0.5);
+        assert!(gait.rotate(v).max_abs_diff(phak.rotate(v)) < 1e-15);
+        assert!(t.abs() > 1e-3, "the orders differ, so tilt is needed: {t}");
+    }
+}

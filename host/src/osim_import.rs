@@ -1,0 +1,718 @@
+//! `qgait model import`: the leg chain of a gait2392-family OpenSim model (`.osim`, OpenSim
+//! 3.x or 4.x XML) as a [`Gait2392Geometry`].
+//!
+//! The chain is found by body: the joints whose children are `pelvis`, `femur_<s>`, `tibia_<s>`,
+//! `talus_<s>`, `calcn_<s>` and `toes_<s>` (`s` = `r`, `l`), each of whose parent must be the
+//! previous body (`ground` for the pelvis). Both XML layouts are read:
+//!
+//! - 3.x (`Version` < 30000): each joint is nested in its child `<Body>` as
+//!   `<Joint><CustomJoint>` with `<parent_body>`, `<location_in_parent>`,
+//!   `<orientation_in_parent>`, `<location>`, `<orientation>`; transform functions are wrapped
+//!   in `<function>`.
+//! - 4.x: joints are in `<JointSet>`; `<socket_parent_frame>`/`<socket_child_frame>` name a
+//!   `PhysicalOffsetFrame` in the joint's `<frames>` (its `<socket_parent>` is the body, its
+//!   `<translation>`/`<orientation>` the offset) or a body directly; functions are elements
+//!   with `name="function"`.
+//!
+//! What is read: the parent offsets (hip, ankle, subtalar, MTP centres; a knee offset is added
+//! to the knee splines), the `CustomJoint` rotation axes with their coordinates, and the knee's
+//! two translation functions. Functions supported: `Constant` (0 on unused axes),
+//! `LinearFunction` (`1 0` on rotations; any line on a knee translation), `SimmSpline` (knee
+//! translations), and any of these inside a `MultiplierFunction` (what OpenSim 4's scale tool
+//! writes). Refused, with an error that names the joint or constraint: other joint types,
+//! non-zero `orientation_in_parent`/`orientation`/child `location`, `reverse`, rotations that
+//! are not the gait2392 coordinates (in gait2392's order and, for pelvis and knee, about
+//! gait2392's axes), translations other than the knee's, other function types (e.g.
+//! `NaturalCubicSpline`, `GCVSpline`), more than 12 spline knots, and constraints (e.g. a
+//! `CoordinateCouplerConstraint`) that involve the chain.
+//!
+//! The toe tip (gait2392 carries no markers): markers `R.Toe.Tip`/`L.Toe.Tip` on `calcn_<s>` or
+//! `toes_<s>` from a marker file given with `--markers`, else from the model's own `MarkerSet`,
+//! else the generic station (0.0812, 0.007, ∓0.00108) in `toes_<s>` multiplied axis by axis by
+//! the toes' geometry scale factors (3.x `<VisibleObject><scale_factors>`, 4.x
+//! `<attached_geometry>` mesh `<scale_factors>`: OpenSim's scale tool multiplies them by the
+//! body's scale factors; 1 when absent).
+
+use qgait_kernel::models::gait2392::{Knots, LegGeometry, COORDINATES};
+use qgait_kernel::Gait2392Geometry;
+use roxmltree::{Document, Node};
+
+/// An imported model: the geometry and one line per choice made (for the file's comment).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Imported {
+    /// The numbers.
+    pub geometry: Gait2392Geometry,
+    /// How the file was read and where the toe tip came from.
+    pub notes: Vec<String>,
+}
+
+/// The generic toe tip in `toes_r` (left: z negated).
+pub const GENERIC_TOETIP_RIGHT: [f64; 3] = [0.0812, 0.007, -0.00108];
+
+/// Imports `text` (an `.osim` file named `source` in messages); `markers` is an optional
+/// marker file (text and name) holding `R.Toe.Tip`/`L.Toe.Tip`.
+pub fn import(text: &str, source: &str, markers: Option<(&str, &str)>) -> Result<Imported, String> {
+    let doc = Document::parse(text).map_err(|e| format!("{source}: not XML: {e}"))?;
+    let err = |m: String| format!("{source}: {m}");
+    let version: u32 = doc
+        .descendants()
+        .find(|n| n.has_tag_name("OpenSimDocument"))
+        .and_then(|n| n.attribute("Version"))
+        .and_then(|v| v.trim().parse().ok())
+        .ok_or_else(|| err("no <OpenSimDocument Version=...>: not an OpenSim model".into()))?;
+    let joints = read_joints(&doc).map_err(err)?;
+    check_constraints(&doc).map_err(err)?;
+    let mut notes = vec![format!(
+        "imported from {source} (OpenSim {} format, Version={version}) by qgait model import",
+        if version < 30000 { "3.x" } else { "4.x" }
+    )];
+    let pelvis = chain_joint(&joints, "ground", "pelvis").map_err(err)?;
+    check_pelvis(pelvis).map_err(err)?;
+    let marker_doc = match markers {
+        Some((t, s)) => Some((
+            Document::parse(t).map_err(|e| format!("{s}: not XML: {e}"))?,
+            s,
+        )),
+        None => None,
+    };
+    let mut legs = Vec::new();
+    for s in ["r", "l"] {
+        let mut leg = read_leg(&joints, s).map_err(err)?;
+        let (tip, note) = toe_tip(&doc, source, marker_doc.as_ref(), s, &leg).map_err(err)?;
+        leg.toetip_in_toes = tip;
+        notes.push(note);
+        legs.push(leg);
+    }
+    Ok(Imported {
+        geometry: Gait2392Geometry {
+            right: legs[0],
+            left: legs[1],
+        },
+        notes,
+    })
+}
+
+/// A transform function, with any `MultiplierFunction` scale applied.
+#[derive(Debug, Clone, PartialEq)]
+enum Function {
+    Constant(f64),
+    /// `slope * q + intercept`.
+    Linear(f64, f64),
+    SimmSpline(Vec<f64>, Vec<f64>),
+    /// A type qgait does not evaluate (its XML tag).
+    Other(String),
+}
+
+#[derive(Debug, Clone)]
+struct TransformAxis {
+    name: String,
+    coordinates: Vec<String>,
+    axis: [f64; 3],
+    function: Function,
+}
+
+#[derive(Debug, Clone)]
+struct Joint {
+    name: String,
+    kind: String,
+    parent: String,
+    child: String,
+    location_in_parent: [f64; 3],
+    orientation_in_parent: [f64; 3],
+    location_in_child: [f64; 3],
+    orientation_in_child: [f64; 3],
+    reverse: bool,
+    axes: Vec<TransformAxis>,
+}
+
+fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
+    n.children().find(|c| c.is_element() && c.has_tag_name(tag))
+}
+
+fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
+    child(n, tag).map(|c| c.text().unwrap_or("").trim())
+}
+
+fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
+    s.split_whitespace()
+        .map(|v| {
+            v.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("{what}: bad number `{v}`"))
+        })
+        .collect()
+}
+
+fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
+    match text_of(n, tag) {
+        None => Ok([0.0; 3]),
+        Some(t) => {
+            let v = numbers(t, &format!("{what} <{tag}>"))?;
+            <[f64; 3]>::try_from(v.as_slice())
+                .map_err(|_| format!("{what} <{tag}>: expected 3 numbers, found `{t}`"))
+        }
+    }
+}
+
+fn name_of(n: Node) -> String {
+    n.attribute("name").unwrap_or("").to_string()
+}
+
+/// Parses a function element (`<Constant>`, `<LinearFunction>`, ...).
+fn function(n: Node, what: &str) -> Result<Function, String> {
+    let tag = n.tag_name().name();
+    Ok(match tag {
+        "Constant" => Function::Constant(
+            numbers(text_of(n, "value").unwrap_or("0"), what)?
+                .first()
+                .copied()
+                .unwrap_or(0.0),
+        ),
+        "LinearFunction" => {
+            let c = numbers(text_of(n, "coefficients").unwrap_or(""), what)?;
+            match c.as_slice() {
+                [a, b] => Function::Linear(*a, *b),
+                _ => return Err(format!("{what}: LinearFunction needs 2 coefficients")),
+            }
+        }
+        "SimmSpline" => Function::SimmSpline(
+            numbers(text_of(n, "x").unwrap_or(""), what)?,
+            numbers(text_of(n, "y").unwrap_or(""), what)?,
+        ),
+        "MultiplierFunction" => {
+            let inner = child(n, "function")
+                .and_then(|f| f.children().find(|c| c.is_element()))
+                .ok_or_else(|| format!("{what}: MultiplierFunction without a function"))?;
+            let scale = numbers(text_of(n, "scale").unwrap_or("1"), what)?
+                .first()
+                .copied()
+                .unwrap_or(1.0);
+            match function(inner, what)? {
+                Function::Constant(c) => Function::Constant(c * scale),
+                Function::Linear(a, b) => Function::Linear(a * scale, b * scale),
+                Function::SimmSpline(x, y) => {
+                    Function::SimmSpline(x, y.into_iter().map(|v| v * scale).collect())
+                }
+                Function::Other(t) => Function::Other(format!("MultiplierFunction({t})")),
+            }
+        }
+        other => Function::Other(other.to_string()),
+    })
+}
+
+fn transform_axes(joint: Node, joint_name: &str) -> Result<Vec<TransformAxis>, String> {
+    let Some(st) = child(joint, "SpatialTransform") else {
+        return Ok(Vec::new());
+    };
+    let mut axes = Vec::new();
+    for ta in st.children().filter(|c| c.has_tag_name("TransformAxis")) {
+        let name = name_of(ta);
+        let what = format!("joint `{joint_name}` {name}");
+        let coordinates: Vec<String> = text_of(ta, "coordinates")
+            .unwrap_or("")
+            .split_whitespace()
+            .map(String::from)
+            .collect();
+        let axis = vec3(ta, "axis", &what)?;
+        let f_node = ta.children().filter(|c| c.is_element()).find_map(|c| {
+            if c.has_tag_name("function") {
+                c.children().find(|f| f.is_element())
+            } else if c.attribute("name") == Some("function") {
+                Some(c)
+            } else {
+                None
+            }
+        });
+        let function = match f_node {
+            Some(f) => function(f, &what)?,
+            None if coordinates.is_empty() => Function::Constant(0.0),
+            None => return Err(format!("{what}: no function")),
+        };
+        axes.push(TransformAxis {
+            name,
+            coordinates,
+            axis,
+            function,
+        });
+    }
+    Ok(axes)
+}
+
+fn last_path_part(p: &str) -> &str {
+    p.trim()
+        .trim_end_matches('/')
+        .rsplit('/')
+        .next()
+        .unwrap_or("")
+}
+
+/// 4.x: a joint's frame socket → (body, translation, orientation).
+fn resolve_frame(
+    joint: Node,
+    socket: &str,
+    joint_name: &str,
+) -> Result<(String, [f64; 3], [f64; 3]), String> {
+    let target =
+        text_of(joint, socket).ok_or_else(|| format!("joint `{joint_name}`: no <{socket}>"))?;
+    let frame_name = last_path_part(target);
+    let offset = child(joint, "frames").and_then(|f| {
+        f.children()
+            .find(|c| c.is_element() && c.attribute("name") == Some(frame_name))
+    });
+    match offset {
+        Some(frame) => {
+            if !frame.has_tag_name("PhysicalOffsetFrame") {
+                return Err(format!(
+                    "joint `{joint_name}`: frame `{frame_name}` is a {} (only PhysicalOffsetFrame is supported)",
+                    frame.tag_name().name()
+                ));
+            }
+            let parent = text_of(frame, "socket_parent").unwrap_or("");
+            if !(parent.starts_with("/bodyset/") || parent == "/ground") {
+                return Err(format!(
+                    "joint `{joint_name}`: frame `{frame_name}` hangs on `{parent}` (only a body or ground is supported)"
+                ));
+            }
+            let what = format!("joint `{joint_name}` frame `{frame_name}`");
+            Ok((
+                last_path_part(parent).to_string(),
+                vec3(frame, "translation", &what)?,
+                vec3(frame, "orientation", &what)?,
+            ))
+        }
+        None => Ok((frame_name.to_string(), [0.0; 3], [0.0; 3])),
+    }
+}
+
+fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
+    let mut joints = Vec::new();
+    // 4.x: <JointSet><objects>...
+    for set in doc.descendants().filter(|n| n.has_tag_name("JointSet")) {
+        for j in child(set, "objects")
+            .into_iter()
+            .flat_map(|o| o.children().filter(|c| c.is_element()))
+        {
+            let name = name_of(j);
+            let (parent, lp, op) = resolve_frame(j, "socket_parent_frame", &name)?;
+            let (child_body, lc, oc) = resolve_frame(j, "socket_child_frame", &name)?;
+            joints.push(Joint {
+                kind: j.tag_name().name().to_string(),
+                parent,
+                child: child_body,
+                location_in_parent: lp,
+                orientation_in_parent: op,
+                location_in_child: lc,
+                orientation_in_child: oc,
+                reverse: text_of(j, "reverse") == Some("true"),
+                axes: transform_axes(j, &name)?,
+                name,
+            });
+        }
+    }
+    // 3.x: <Body name=...><Joint><CustomJoint ...>
+    for body in doc.descendants().filter(|n| n.has_tag_name("Body")) {
+        let Some(j) = child(body, "Joint").and_then(|j| j.children().find(|c| c.is_element()))
+        else {
+            continue;
+        };
+        let name = name_of(j);
+        let what = format!("joint `{name}`");
+        joints.push(Joint {
+            kind: j.tag_name().name().to_string(),
+            parent: text_of(j, "parent_body").unwrap_or("").to_string(),
+            child: name_of(body),
+            location_in_parent: vec3(j, "location_in_parent", &what)?,
+            orientation_in_parent: vec3(j, "orientation_in_parent", &what)?,
+            location_in_child: vec3(j, "location", &what)?,
+            orientation_in_child: vec3(j, "orientation", &what)?,
+            reverse: text_of(j, "reverse") == Some("true"),
+            axes: transform_axes(j, &name)?,
+            name,
+        });
+    }
+    Ok(joints)
+}
+
+/// The joint moving `child`, checked to hang on `parent` and to be a plain `CustomJoint`.
+fn chain_joint<'a>(joints: &'a [Joint], parent: &str, child: &str) -> Result<&'a Joint, String> {
+    let found: Vec<&Joint> = joints.iter().filter(|j| j.child == child).collect();
+    let j = match found.as_slice() {
+        [j] => *j,
+        [] => {
+            return Err(format!(
+                "no joint moves body `{child}` (expected gait2392's chain ground-pelvis-femur-tibia-talus-calcn-toes)"
+            ))
+        }
+        _ => return Err(format!("several joints move body `{child}`")),
+    };
+    let name = &j.name;
+    if j.parent != parent {
+        return Err(format!(
+            "joint `{name}` connects `{}` to `{child}`; gait2392's chain needs `{parent}`",
+            j.parent
+        ));
+    }
+    if j.kind != "CustomJoint" {
+        return Err(format!(
+            "joint `{name}` is a {} (only CustomJoint is supported)",
+            j.kind
+        ));
+    }
+    for (what, v) in [
+        (
+            "orientation_in_parent (parent frame orientation)",
+            j.orientation_in_parent,
+        ),
+        (
+            "location in the child (child frame translation)",
+            j.location_in_child,
+        ),
+        (
+            "orientation in the child (child frame orientation)",
+            j.orientation_in_child,
+        ),
+    ] {
+        if v != [0.0; 3] {
+            return Err(format!(
+                "joint `{name}`: non-zero {what} {v:?} is not supported"
+            ));
+        }
+    }
+    if j.reverse {
+        return Err(format!("joint `{name}`: reverse=true is not supported"));
+    }
+    Ok(j)
+}
+
+/// The rotations that move (Constant 0 ones dropped): (axis, coordinate), checked against the
+/// expected coordinates in order.
+fn rotations(j: &Joint, expected: &[String]) -> Result<Vec<[f64; 3]>, String> {
+    let mut out = Vec::new();
+    let mut coords = Vec::new();
+    for ax in j.axes.iter().filter(|a| a.name.starts_with("rotation")) {
+        let what = format!("joint `{}` {}", j.name, ax.name);
+        match &ax.function {
+            Function::Constant(c) if *c == 0.0 => {}
+            Function::Constant(c) => {
+                return Err(format!(
+                    "{what}: a constant rotation of {c} rad is not supported"
+                ))
+            }
+            Function::Linear(a, b) if *a == 1.0 && *b == 0.0 && ax.coordinates.len() == 1 => {
+                out.push(ax.axis);
+                coords.push(ax.coordinates[0].clone());
+            }
+            Function::Linear(a, b) => {
+                return Err(format!(
+                    "{what}: LinearFunction {a} {b} of {:?} is not supported on a rotation (only the identity 1 0 of one coordinate)",
+                    ax.coordinates
+                ))
+            }
+            Function::SimmSpline(..) => {
+                return Err(format!("{what}: a SimmSpline rotation is not supported"))
+            }
+            Function::Other(t) => {
+                return Err(format!("{what}: function type {t} is not supported"))
+            }
+        }
+    }
+    if coords != expected {
+        return Err(format!(
+            "joint `{}` rotates by coordinates [{}]; gait2392's chain needs [{}] in that order",
+            j.name,
+            coords.join(", "),
+            expected.join(", ")
+        ));
+    }
+    Ok(out)
+}
+
+fn no_translation(j: &Joint) -> Result<(), String> {
+    for ax in j.axes.iter().filter(|a| a.name.starts_with("translation")) {
+        if ax.function != Function::Constant(0.0) {
+            return Err(format!(
+                "joint `{}` {}: a translation ({:?}) is not supported here (only the knee translates)",
+                j.name, ax.name, ax.function
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn same_axis(a: [f64; 3], b: [f64; 3]) -> bool {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    n > 0.0 && (0..3).all(|i| (a[i] / n - b[i]).abs() < 1e-12)
+}
+
+fn check_pelvis(j: &Joint) -> Result<(), String> {
+    let names = ["pelvis_tilt", "pelvis_list", "pelvis_rotation"].map(String::from);
+    let axes = rotations(j, &names)?;
+    for (a, e) in axes
+        .iter()
+        .zip([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    {
+        if !same_axis(*a, e) {
+            return Err(format!(
+                "joint `{}`: pelvis axes {axes:?} are not gait2392's z, x, y",
+                j.name
+            ));
+        }
+    }
+    // Pelvis translations are not an input (origin at the pelvis origin): any function is fine.
+    Ok(())
+}
+
+fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
+    let mut tx: Option<(Vec<f64>, Vec<f64>)> = None;
+    let mut ty: Option<(Vec<f64>, Vec<f64>)> = None;
+    for ax in j.axes.iter().filter(|a| a.name.starts_with("translation")) {
+        let what = format!("joint `{}` {}", j.name, ax.name);
+        if ax.function == Function::Constant(0.0) {
+            continue;
+        }
+        if !matches!(ax.function, Function::Constant(_)) && ax.coordinates != [coordinate] {
+            return Err(format!(
+                "{what}: a function of {:?}; gait2392's knee translates with {coordinate} only",
+                ax.coordinates
+            ));
+        }
+        let knots = match &ax.function {
+            Function::SimmSpline(x, y) => {
+                if x.len() != y.len() || x.len() < 2 || x.len() > qgait_kernel::spline::MAX_KNOTS {
+                    return Err(format!(
+                        "{what}: SimmSpline with {} x and {} y knots (qgait supports 2 to {})",
+                        x.len(),
+                        y.len(),
+                        qgait_kernel::spline::MAX_KNOTS
+                    ));
+                }
+                (x.clone(), y.clone())
+            }
+            // A line is the 2-knot spline through two of its points (linear extrapolation).
+            Function::Linear(a, b) => (vec![-1.0, 1.0], vec![b - a, b + a]),
+            Function::Constant(c) => (vec![-1.0, 1.0], vec![*c, *c]),
+            Function::Other(t) => {
+                return Err(format!(
+                    "{what}: function type {t} is not supported (the knee needs SimmSpline, LinearFunction or Constant)"
+                ))
+            }
+        };
+        let slot = if same_axis(ax.axis, [1.0, 0.0, 0.0]) {
+            &mut tx
+        } else if same_axis(ax.axis, [0.0, 1.0, 0.0]) {
+            &mut ty
+        } else {
+            return Err(format!(
+                "{what}: translation along {:?} is not supported (only the femur's x and y)",
+                ax.axis
+            ));
+        };
+        if slot.is_some() {
+            return Err(format!("{what}: two translations along the same axis"));
+        }
+        *slot = Some(knots);
+    }
+    let l = j.location_in_parent;
+    if l[2] != 0.0 {
+        return Err(format!(
+            "joint `{}`: a knee offset along z ({}) is not supported",
+            j.name, l[2]
+        ));
+    }
+    // The knee's parent offset adds to its translations (both are in the femur frame).
+    let with_offset = |k: Option<(Vec<f64>, Vec<f64>)>, d: f64| {
+        let (x, y) = k.unwrap_or((vec![-1.0, 1.0], vec![0.0, 0.0]));
+        let y: Vec<f64> = if d == 0.0 {
+            y
+        } else {
+            y.iter().map(|v| v + d).collect()
+        };
+        Knots::new(&x, &y)
+    };
+    Ok((with_offset(tx, l[0]), with_offset(ty, l[1])))
+}
+
+fn read_leg(joints: &[Joint], s: &str) -> Result<LegGeometry, String> {
+    let names = |c: &[&str]| -> Vec<String> { c.iter().map(|n| format!("{n}_{s}")).collect() };
+    let hip = chain_joint(joints, "pelvis", &format!("femur_{s}"))?;
+    let knee = chain_joint(joints, &format!("femur_{s}"), &format!("tibia_{s}"))?;
+    let ankle = chain_joint(joints, &format!("tibia_{s}"), &format!("talus_{s}"))?;
+    let subtalar = chain_joint(joints, &format!("talus_{s}"), &format!("calcn_{s}"))?;
+    let mtp = chain_joint(joints, &format!("calcn_{s}"), &format!("toes_{s}"))?;
+    let hip_axes = rotations(
+        hip,
+        &names(&["hip_flexion", "hip_adduction", "hip_rotation"]),
+    )?;
+    no_translation(hip)?;
+    let knee_axis = rotations(knee, &names(&["knee_angle"]))?;
+    if !same_axis(knee_axis[0], [0.0, 0.0, 1.0]) {
+        return Err(format!(
+            "joint `{}`: knee axis {:?} is not gait2392's z",
+            knee.name, knee_axis[0]
+        ));
+    }
+    let (knee_tx, knee_ty) = knee_knots(knee, &format!("knee_angle_{s}"))?;
+    let one_axis = |j: &Joint, coordinate: &str| -> Result<[f64; 3], String> {
+        no_translation(j)?;
+        Ok(rotations(j, &names(&[coordinate]))?[0])
+    };
+    debug_assert!(COORDINATES.contains(&format!("mtp_angle_{s}").as_str()));
+    Ok(LegGeometry {
+        hip_in_pelvis: hip.location_in_parent,
+        hip_axes: [hip_axes[0], hip_axes[1], hip_axes[2]],
+        knee_tx,
+        knee_ty,
+        ankle_in_tibia: ankle.location_in_parent,
+        ankle_axis: one_axis(ankle, "ankle_angle")?,
+        subtalar_in_talus: subtalar.location_in_parent,
+        subtalar_axis: one_axis(subtalar, "subtalar_angle")?,
+        mtp_in_calcn: mtp.location_in_parent,
+        mtp_axis: one_axis(mtp, "mtp_angle")?,
+        toetip_in_toes: [0.0; 3],
+    })
+}
+
+/// Constraints that touch the chain (its coordinates or bodies) are refused.
+fn check_constraints(doc: &Document) -> Result<(), String> {
+    let mut chain: Vec<String> = COORDINATES.iter().map(|c| c.to_string()).collect();
+    for s in ["r", "l"] {
+        for b in ["femur", "tibia", "talus", "calcn", "toes"] {
+            chain.push(format!("{b}_{s}"));
+        }
+    }
+    chain.push("pelvis".into());
+    for set in doc
+        .descendants()
+        .filter(|n| n.has_tag_name("ConstraintSet"))
+    {
+        for c in child(set, "objects")
+            .into_iter()
+            .flat_map(|o| o.children().filter(|c| c.is_element()))
+        {
+            let off = text_of(c, "isDisabled") == Some("true")
+                || text_of(c, "isEnforced") == Some("false");
+            if off {
+                continue;
+            }
+            let words: Vec<&str> = c
+                .descendants()
+                .filter_map(|d| d.text())
+                .flat_map(|t| t.split(|ch: char| ch.is_whitespace() || ch == '/'))
+                .collect();
+            if let Some(hit) = chain.iter().find(|n| words.contains(&n.as_str())) {
+                return Err(format!(
+                    "{} `{}` constrains `{hit}` of the leg chain; constraints are not supported",
+                    c.tag_name().name(),
+                    name_of(c)
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A marker `name` in a document: (body, location).
+fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
+    let Some(m) = doc
+        .descendants()
+        .find(|n| n.has_tag_name("Marker") && n.attribute("name") == Some(name))
+    else {
+        return Ok(None);
+    };
+    let body = text_of(m, "socket_parent_frame")
+        .or_else(|| text_of(m, "body"))
+        .map(last_path_part)
+        .unwrap_or("")
+        .to_string();
+    Ok(Some((
+        body,
+        vec3(m, "location", &format!("marker `{name}`"))?,
+    )))
+}
+
+/// The toes body's geometry scale factors (1 when absent).
+fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
+    let Some(body) = doc
+        .descendants()
+        .find(|n| n.has_tag_name("Body") && n.attribute("name") == Some(&format!("toes_{s}")))
+    else {
+        return [1.0; 3];
+    };
+    let scale = child(body, "VisibleObject")
+        .and_then(|v| child(v, "scale_factors"))
+        .or_else(|| {
+            child(body, "attached_geometry")
+                .and_then(|g| g.children().find(|c| c.is_element()))
+                .and_then(|m| child(m, "scale_factors"))
+        })
+        .and_then(|n| n.text())
+        .and_then(|t| numbers(t, "").ok())
+        .and_then(|v| <[f64; 3]>::try_from(v.as_slice()).ok());
+    scale.unwrap_or([1.0; 3])
+}
+
+fn toe_tip(
+    model: &Document,
+    source: &str,
+    markers: Option<&(Document, &str)>,
+    s: &str,
+    leg: &LegGeometry,
+) -> Result<([f64; 3], String), String> {
+    let name = if s == "r" { "R.Toe.Tip" } else { "L.Toe.Tip" };
+    let found = match markers {
+        Some((doc, file)) => marker(doc, name)?.map(|m| (m, *file)),
+        None => None,
+    };
+    let found = match found {
+        Some(f) => Some(f),
+        None => marker(model, name)?.map(|m| (m, source)),
+    };
+    if let Some(((body, loc), file)) = found {
+        let tip = if body == format!("toes_{s}") {
+            loc
+        } else if body == format!("calcn_{s}") {
+            // The MTP joint has no orientation offset (checked), so toes = calcn - MTP centre.
+            [0, 1, 2].map(|i| loc[i] - leg.mtp_in_calcn[i])
+        } else {
+            return Err(format!(
+                "marker `{name}` is on `{body}`; the toe tip must be on calcn_{s} or toes_{s}"
+            ));
+        };
+        return Ok((
+            tip,
+            format!("toe tip {s}: marker {name} from {file} on {body} at {loc:?}"),
+        ));
+    }
+    let k = toes_scale(model, s);
+    let g = GENERIC_TOETIP_RIGHT;
+    let z = if s == "r" { g[2] } else { -g[2] };
+    let tip = [g[0] * k[0], g[1] * k[1], z * k[2]];
+    Ok((
+        tip,
+        format!(
+            "toe tip {s}: no {name} marker; generic ({}, {}, {z}) in toes_{s} times the toes' geometry scale factors {k:?}",
+            g[0], g[1]
+        ),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn functions_with_multipliers_scale_their_values() {
+        let xml = r#"<MultiplierFunction name="function"><function><SimmSpline><x>0 1</x><y>1 2</y></SimmSpline></function><scale>1.5</scale></MultiplierFunction>"#;
+        let doc = Document::parse(xml).unwrap();
+        assert_eq!(
+            function(doc.root_element(), "t").unwrap(),
+            Function::SimmSpline(vec![0.0, 1.0], vec![1.5, 3.0])
+        );
+        let doc = Document::parse("<NaturalCubicSpline/>").unwrap();
+        assert_eq!(
+            function(doc.root_element(), "t").unwrap(),
+            Function::Other("NaturalCubicSpline".into())
+        );
+    }
+}

@@ -1,0 +1,251 @@
+//! `SUBJECT.toml`: a gait2392-family subject model, the numbers of
+//! [`Gait2392Geometry`] one to one (metres, unit axes, OpenSim frames; knee spline abscissae in
+//! radians). Written by `qgait model import`, read by `--model SUBJECT.toml`.
+//!
+//! ```toml
+//! [right]
+//! hip_in_pelvis = [-0.0707, -0.0661, 0.0835]
+//! hip_axes = [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+//! ankle_in_tibia = [0.0, -0.43, 0.0]
+//! ankle_axis = [-0.105014, -0.174022, 0.979126]
+//! subtalar_in_talus = [-0.04877, -0.04195, 0.00792]
+//! subtalar_axis = [0.78718, 0.604747, -0.120949]
+//! mtp_in_calcn = [0.1788, -0.002, 0.00108]
+//! mtp_axis = [-0.580954, 0.0, 0.813936]
+//! toetip_in_toes = [0.0812, 0.007, -0.00108]
+//!
+//! [right.knee_tx]
+//! x = [-2.0944, -1.74533, ...]
+//! y = [-0.0032, 0.00179, ...]
+//!
+//! [right.knee_ty]
+//! x = [...]
+//! y = [...]
+//!
+//! [left]
+//! ...
+//! ```
+//!
+//! Every key is required; unknown keys are errors; the kernel checks the rest (finite numbers,
+//! non-zero axes, 2 to 12 knots with increasing `x`) when the model is built.
+
+use std::path::Path;
+
+use qgait_kernel::models::gait2392::{Knots, LegGeometry};
+use qgait_kernel::{Gait2392, Gait2392Geometry};
+use serde::{Deserialize, Serialize};
+
+/// The file: one table per leg.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SubjectFile {
+    /// Right leg.
+    pub right: LegFile,
+    /// Left leg.
+    pub left: LegFile,
+}
+
+/// One leg; field names and meaning as [`LegGeometry`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct LegFile {
+    pub hip_in_pelvis: Vec<f64>,
+    pub hip_axes: Vec<Vec<f64>>,
+    pub ankle_in_tibia: Vec<f64>,
+    pub ankle_axis: Vec<f64>,
+    pub subtalar_in_talus: Vec<f64>,
+    pub subtalar_axis: Vec<f64>,
+    pub mtp_in_calcn: Vec<f64>,
+    pub mtp_axis: Vec<f64>,
+    pub toetip_in_toes: Vec<f64>,
+    pub knee_tx: KnotsFile,
+    pub knee_ty: KnotsFile,
+}
+
+/// Spline knots: `x` (radians of `knee_angle`), `y` (metres).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KnotsFile {
+    /// Abscissae, strictly increasing.
+    pub x: Vec<f64>,
+    /// Values, as many as `x`.
+    pub y: Vec<f64>,
+}
+
+impl KnotsFile {
+    fn from_knots(k: &Knots) -> Self {
+        Self {
+            x: k.x[..k.n].to_vec(),
+            y: k.y[..k.n].to_vec(),
+        }
+    }
+}
+
+impl LegFile {
+    fn from_leg(l: &LegGeometry) -> Self {
+        Self {
+            hip_in_pelvis: l.hip_in_pelvis.to_vec(),
+            hip_axes: l.hip_axes.iter().map(|a| a.to_vec()).collect(),
+            ankle_in_tibia: l.ankle_in_tibia.to_vec(),
+            ankle_axis: l.ankle_axis.to_vec(),
+            subtalar_in_talus: l.subtalar_in_talus.to_vec(),
+            subtalar_axis: l.subtalar_axis.to_vec(),
+            mtp_in_calcn: l.mtp_in_calcn.to_vec(),
+            mtp_axis: l.mtp_axis.to_vec(),
+            toetip_in_toes: l.toetip_in_toes.to_vec(),
+            knee_tx: KnotsFile::from_knots(&l.knee_tx),
+            knee_ty: KnotsFile::from_knots(&l.knee_ty),
+        }
+    }
+
+    fn to_leg(&self, side: &str) -> Result<LegGeometry, String> {
+        let knots = |k: &KnotsFile, name: &str| {
+            if k.x.len() != k.y.len() {
+                return Err(format!(
+                    "[{side}.{name}]: {} x values but {} y values",
+                    k.x.len(),
+                    k.y.len()
+                ));
+            }
+            Ok(Knots::new(&k.x, &k.y))
+        };
+        let three = |v: &[f64], name: &str| -> Result<[f64; 3], String> {
+            <[f64; 3]>::try_from(v)
+                .map_err(|_| format!("[{side}] {name}: expected 3 numbers, found {}", v.len()))
+        };
+        Ok(LegGeometry {
+            hip_in_pelvis: three(&self.hip_in_pelvis, "hip_in_pelvis")?,
+            hip_axes: match self.hip_axes.as_slice() {
+                [a, b, c] => [
+                    three(a, "hip_axes[0]")?,
+                    three(b, "hip_axes[1]")?,
+                    three(c, "hip_axes[2]")?,
+                ],
+                other => {
+                    return Err(format!(
+                        "[{side}] hip_axes: expected 3 axes, found {}",
+                        other.len()
+                    ))
+                }
+            },
+            knee_tx: knots(&self.knee_tx, "knee_tx")?,
+            knee_ty: knots(&self.knee_ty, "knee_ty")?,
+            ankle_in_tibia: three(&self.ankle_in_tibia, "ankle_in_tibia")?,
+            ankle_axis: three(&self.ankle_axis, "ankle_axis")?,
+            subtalar_in_talus: three(&self.subtalar_in_talus, "subtalar_in_talus")?,
+            subtalar_axis: three(&self.subtalar_axis, "subtalar_axis")?,
+            mtp_in_calcn: three(&self.mtp_in_calcn, "mtp_in_calcn")?,
+            mtp_axis: three(&self.mtp_axis, "mtp_axis")?,
+            toetip_in_toes: three(&self.toetip_in_toes, "toetip_in_toes")?,
+        })
+    }
+}
+
+impl SubjectFile {
+    /// The file for a geometry.
+    pub fn from_geometry(g: &Gait2392Geometry) -> Self {
+        Self {
+            right: LegFile::from_leg(&g.right),
+            left: LegFile::from_leg(&g.left),
+        }
+    }
+
+    /// The geometry (not yet checked by the kernel; see [`parse`]).
+    pub fn to_geometry(&self) -> Result<Gait2392Geometry, String> {
+        Ok(Gait2392Geometry {
+            right: self.right.to_leg("right")?,
+            left: self.left.to_leg("left")?,
+        })
+    }
+}
+
+/// The text of a subject file: `comment` lines (each prefixed with `# `), then the tables.
+pub fn to_toml(g: &Gait2392Geometry, comment: &[String]) -> String {
+    let mut text = String::new();
+    for line in comment {
+        text.push_str("# ");
+        text.push_str(line);
+        text.push('\n');
+    }
+    if !comment.is_empty() {
+        text.push('\n');
+    }
+    text.push_str(
+        &toml::to_string(&SubjectFile::from_geometry(g))
+            .expect("plain numbers always serialise to TOML"),
+    );
+    text
+}
+
+/// Parses a subject file and checks it with the kernel; `source` names it in messages.
+pub fn parse(text: &str, source: &str) -> Result<Gait2392Geometry, String> {
+    let file: SubjectFile = toml::from_str(text).map_err(|e| {
+        let msg = e.message().split_whitespace().collect::<Vec<_>>().join(" ");
+        match e.span() {
+            Some(span) => {
+                let before = &text[..span.start.min(text.len())];
+                let line = before.matches('\n').count() + 1;
+                let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+                format!("{source}:{line}:{column}: {msg}")
+            }
+            None => format!("{source}: {msg}"),
+        }
+    })?;
+    let g = file.to_geometry().map_err(|e| format!("{source}: {e}"))?;
+    Gait2392::<f64>::new(&g)
+        .map_err(|e| format!("{source}: subject model rejected by the kernel: {e}"))?;
+    Ok(g)
+}
+
+/// Reads a subject file.
+pub fn read(path: &Path) -> Result<Gait2392Geometry, String> {
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    parse(&text, &shown)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generic_round_trips_exactly() {
+        let g = Gait2392Geometry::generic();
+        let text = to_toml(&g, &["a comment".into()]);
+        assert!(text.starts_with("# a comment\n"), "{text}");
+        assert_eq!(parse(&text, "s.toml").unwrap(), g);
+    }
+
+    #[test]
+    fn bad_files_are_errors_that_name_the_problem() {
+        let good = to_toml(&Gait2392Geometry::generic(), &[]);
+        for (text, needle) in [
+            (
+                good.replace("mtp_axis", "mtp_axes"),
+                "unknown field `mtp_axes`",
+            ),
+            (
+                good.replacen(
+                    "ankle_axis = [-0.105014, -0.174022, 0.979126]",
+                    "ankle_axis = [0.0, 0.0, 0.0]",
+                    1,
+                ),
+                "rejected by the kernel: joint 3 has a zero",
+            ),
+            (
+                good.replacen("x = [-2.0944, ", "x = [", 1),
+                "11 x values but 12 y values",
+            ),
+            (
+                good.replacen("hip_in_pelvis = [", "hip_in_pelvis = [1.0, ", 1),
+                "[right] hip_in_pelvis: expected 3 numbers, found 4",
+            ),
+            (good.replacen("mtp_axis = [", "mtp_axis = \"", 1), "s.toml:"),
+        ] {
+            let err = parse(&text, "s.toml").unwrap_err();
+            assert!(err.contains(needle), "{needle}: {err}");
+            assert!(!err.contains('\n'), "{err}");
+        }
+    }
+}
