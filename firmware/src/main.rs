@@ -21,6 +21,7 @@ fn main() -> ! {
             board::exit(1)
         }
     };
+    defmt::info!("hub state {=usize} bytes (on the stack)", core::mem::size_of_val(&hub));
     loop {
         // Busy polling: the UART has a one-byte buffer (CMSDK) or a six-byte FIFO (nRF52).
         let summary = hub.poll();
