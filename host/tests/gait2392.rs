@@ -589,3 +589,46 @@ fn export_writes_a_trc_and_an_sto_that_read_back_as_the_fk_csv() {
     assert!(!out.status.success());
     assert!(stderr(&out).contains("--trc"), "{}", stderr(&out));
 }
+
+#[test]
+fn a_knee_offset_folds_into_the_splines_and_a_linear_knee_translation_is_a_two_knot_line() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let v3 = std::fs::read_to_string(shared.join("data/opensim").join(MODELS[0])).unwrap();
+    let knee = v3.find("<CustomJoint name=\"knee_r\">").unwrap();
+    let spline_start = knee + v3[knee..].find("<SimmSpline>").unwrap();
+    let spline_end =
+        spline_start + v3[spline_start..].find("</SimmSpline>").unwrap() + "</SimmSpline>".len();
+    let edited = format!(
+        "{}{}{}",
+        &v3[..spline_start],
+        "<LinearFunction><coefficients> 0.01 -0.004</coefficients></LinearFunction>",
+        v3[spline_end..].replacen(
+            "<location_in_parent> 0 0 0</location_in_parent>",
+            "<location_in_parent> 0.001 -0.002 0</location_in_parent>",
+            1
+        )
+    );
+    let path = dir.path().join("knee.osim");
+    std::fs::write(&path, edited).unwrap();
+    let g = qgait::subject::read(&import(&path, dir.path(), "knee.toml")).unwrap();
+    let generic = Gait2392Geometry::generic();
+    // translation1: the line 0.01 q - 0.004 plus the offset 0.001, as two knots.
+    let tx = g.right.knee_tx;
+    let line = qgait_kernel::Spline::<f64>::new(&tx.x[..tx.n], &tx.y[..tx.n]).unwrap();
+    for q in [-2.0, -0.5, 0.0, 0.3, 1.7] {
+        assert!(
+            (line.eval(q) - (0.01 * q - 0.004 + 0.001)).abs() < 1e-15,
+            "{q}"
+        );
+    }
+    // translation2: the generic spline shifted by the offset -0.002.
+    let ty = g.right.knee_ty;
+    for k in 0..ty.n {
+        assert!((ty.y[k] - (generic.right.knee_ty.y[k] - 0.002)).abs() < 1e-15);
+    }
+    assert_eq!(
+        g.left.knee_tx, generic.left.knee_tx,
+        "the left knee is untouched"
+    );
+}
