@@ -190,7 +190,7 @@ pub fn run_model(c: ModelCommand, quiet: bool) -> anyhow::Result<()> {
             std::fs::write(&output, text)
                 .with_context(|| format!("{}: cannot write", output.display()))?;
             if !quiet {
-                for n in &imported.notes[1..] {
+                for n in imported.notes.iter().skip(1) {
                     eprintln!("note: {n}");
                 }
                 eprintln!("wrote {}", output.display());

@@ -66,6 +66,7 @@ pub fn import(text: &str, source: &str, markers: Option<(&str, &str)>) -> Result
         "imported from {source} (OpenSim {} format, Version={version}) by qgait model import",
         if version < 30000 { "3.x" } else { "4.x" }
     )];
+    notes.extend(non_zero_defaults(&doc));
     let pelvis = chain_joint(&joints, "ground", "pelvis").map_err(err)?;
     check_pelvis(pelvis).map_err(err)?;
     let marker_doc = match markers {
@@ -610,6 +611,23 @@ fn check_constraints(doc: &Document) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Notes for chain coordinates whose `default_value` is not 0: OpenSim uses the default for a
+/// coordinate a motion lacks, qgait uses 0.
+fn non_zero_defaults(doc: &Document) -> Vec<String> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("Coordinate"))
+        .filter_map(|c| {
+            let name = c.attribute("name")?;
+            let v: f64 = text_of(c, "default_value")?.parse().ok()?;
+            (COORDINATES.contains(&name) && v != 0.0).then(|| {
+                format!(
+                    "coordinate {name} has default_value {v} in the model; qgait takes a coordinate absent from a motion as 0"
+                )
+            })
+        })
+        .collect()
 }
 
 /// A marker `name` in a document: (body, location).

@@ -165,6 +165,15 @@ fn fk_gait2392_without_points_has_the_standard_columns_and_warns_for_absent_coor
         e.contains("--points (subtalar and MTP) needs a gait2392 model"),
         "{e}"
     );
+    let e = run_err(&[
+        "fk",
+        "builtin:normal",
+        "--model",
+        "gait2392",
+        "--anthropometry",
+        "a.toml",
+    ]);
+    assert!(e.contains("--anthropometry sets HAK/PHAK lengths"), "{e}");
     let e = run_err(&["fk", "builtin:normal", "--model", "gait9999"]);
     assert!(e.contains("unknown model `gait9999`"), "{e}");
 }
@@ -631,4 +640,32 @@ fn a_knee_offset_folds_into_the_splines_and_a_linear_knee_translation_is_a_two_k
         g.left.knee_tx, generic.left.knee_tx,
         "the left knee is untouched"
     );
+}
+
+#[test]
+fn a_non_zero_coordinate_default_is_noted() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let v4 = std::fs::read_to_string(shared.join("data/opensim").join(MODELS[1])).unwrap();
+    let c = v4.find("<Coordinate name=\"mtp_angle_r\">").unwrap();
+    let edited = format!(
+        "{}{}",
+        &v4[..c],
+        v4[c..].replacen(
+            "<default_value>0</default_value>",
+            "<default_value>0.25</default_value>",
+            1
+        )
+    );
+    let path = dir.path().join("default.osim");
+    std::fs::write(&path, edited).unwrap();
+    let out = dir.path().join("d.toml");
+    let (_, err) = run_ok(&["model", "import", s(&path), "-o", s(&out)]);
+    assert!(
+        err.contains("note: coordinate mtp_angle_r has default_value 0.25 in the model; qgait takes a coordinate absent from a motion as 0"),
+        "{err}"
+    );
+    assert!(std::fs::read_to_string(&out)
+        .unwrap()
+        .contains("# coordinate mtp_angle_r has default_value 0.25"));
 }
