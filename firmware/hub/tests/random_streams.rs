@@ -44,13 +44,13 @@ fn run(seed: u32) {
     let mut damaged = 0;
     for seq in 0..samples {
         // The last window's worth of samples is always clean so every damaged one is evicted.
-        let damage = (seq + 4 < samples && rng.next() % 3 == 0).then(|| (rng.next() % 8) as usize);
+        let damage = (seq + 4 < samples && rng.next().is_multiple_of(3)).then(|| (rng.next() % 8) as usize);
         send_sample(hub.serial_mut(), seq, damage);
         match damage {
             Some(_) => damaged += 1,
             None => expected.push(seq),
         }
-        if rng.next() % 2 == 0 {
+        if rng.next().is_multiple_of(2) {
             let noise: Vec<u8> = (0..rng.next() % 300).map(|_| (rng.next() % 255 + 1) as u8).collect();
             hub.serial_mut().receive(&noise);
             hub.serial_mut().receive(&[0]);
