@@ -110,3 +110,66 @@ fn limb(lengths: &[f32; segment::COUNT], leg: u8) -> Result<Limb<f32>, ConfigErr
 pub fn points(pose: &BilateralPose<f32>) -> [[f32; 3]; point::COUNT] {
     pose.points().map(|p| p.to_array())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::JointSet;
+    use qgait_kernel::{Hak, HakAngles};
+
+    fn sample(angles: &[(JointId, f32)]) -> Sample {
+        let mut all = [0.0; JointId::COUNT];
+        for &(j, a) in angles {
+            all[j.index() as usize] = a;
+        }
+        Sample { seq: 1, angles: all, held: JointSet::EMPTY }
+    }
+
+    #[test]
+    fn hak_frames_are_the_kernels_hak_legs_hung_at_the_hips() {
+        let lengths = [[0.08, 0.40, 0.42, 0.20], [0.09, 0.38, 0.44, 0.21]];
+        let k = Kinematics::new(ModelId::Hak, Some(lengths)).unwrap();
+        let s = sample(&[
+            (JointId::HipFlexionR, 0.4),
+            (JointId::KneeAngleR, -0.9),
+            (JointId::AnkleAngleR, 0.1),
+            (JointId::HipFlexionL, -0.2),
+            (JointId::KneeAngleL, -0.3),
+            (JointId::AnkleAngleL, -0.15),
+            // Ignored by HAK.
+            (JointId::PelvisList, 0.3),
+        ]);
+        let frame = k.pose_frame(&s, 0);
+        for (leg, (offset, sign)) in [(0usize, 1.0f32), (4, -1.0)].into_iter().enumerate() {
+            let limb = Limb::from_array(lengths[leg]);
+            let q = |j: JointId| s.angle(j);
+            let angles = if leg == 0 {
+                HakAngles { hip_flexion: q(JointId::HipFlexionR), knee_angle: q(JointId::KneeAngleR), ankle_angle: q(JointId::AnkleAngleR) }
+            } else {
+                HakAngles { hip_flexion: q(JointId::HipFlexionL), knee_angle: q(JointId::KneeAngleL), ankle_angle: q(JointId::AnkleAngleL) }
+            };
+            let hak = Hak::new(&limb).unwrap().fk(&angles);
+            let hip = [0.0, 0.0, sign * lengths[leg][0]];
+            for (i, p) in hak.points().iter().enumerate() {
+                let want = p.to_array();
+                let got = frame.points[offset + i];
+                for k in 0..3 {
+                    assert!((got[k] - hip[k] - want[k]).abs() < 1e-6, "leg {leg} point {i}: {got:?} vs {want:?}");
+                }
+            }
+        }
+        assert_eq!(frame.angles.as_slice(), &[0.4, -0.9, 0.1, -0.2, -0.3, -0.15]);
+    }
+
+    #[test]
+    fn lengths_outside_zero_to_two_metres_are_refused() {
+        let mut lengths = [[0.08, 0.40, 0.42, 0.20]; 2];
+        lengths[1][2] = 0.0;
+        assert_eq!(Kinematics::new(ModelId::Phak, Some(lengths)).unwrap_err(), ConfigError::BadSegment { leg: 1, segment: 2 });
+        lengths[1][2] = f32::NAN;
+        assert!(Kinematics::new(ModelId::Phak, Some(lengths)).is_err());
+        lengths[1][2] = 2.5;
+        assert!(Kinematics::new(ModelId::Phak, Some(lengths)).is_err());
+        assert_eq!(Kinematics::new(ModelId::Gait2392, None).unwrap_err(), ConfigError::UnsupportedModel(ModelId::Gait2392));
+    }
+}
