@@ -53,6 +53,7 @@ pub const ALL: &[NamedCheck] = &[
     ("uart_overrun_is_counted", uart_overrun_is_counted),
     ("config_switches_model_and_answers_status_request", config_switches_model_and_answers_status_request),
     ("unusable_config_is_refused_and_counted", unusable_config_is_refused_and_counted),
+    ("status_request_keeps_open_samples", status_request_keeps_open_samples),
     ("status_is_sent_periodically", status_is_sent_periodically),
     ("random_bytes_never_stop_the_pipeline", random_bytes_never_stop_the_pipeline),
 ];
@@ -464,6 +465,25 @@ pub fn unusable_config_is_refused_and_counted() -> CheckResult {
     ensure!(hub.status().malformed == 2);
     ensure!(hub.config().model == ModelId::Phak);
     ensure!(poses(&mut hub, |_| {})? == 1);
+    Ok(())
+}
+
+/// A status request repeating the configuration in force leaves the open samples alone.
+pub fn status_request_keeps_open_samples() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let joints = ModelId::Phak.required_joints();
+    for &j in &joints[..4] {
+        ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, j))));
+    }
+    ensure!(send(hub.serial_mut(), &config(ModelId::Phak, MissingPolicy::Drop, 4, true)));
+    for &j in &joints[4..] {
+        ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, j))));
+    }
+    drain(&mut hub);
+    ensure!(last_status(&mut hub).is_some());
+    ensure!(poses(&mut hub, |_| {})? == 1);
+    ensure!(hub.status().samples_incomplete == 0 && hub.status().malformed == 0);
     Ok(())
 }
 
