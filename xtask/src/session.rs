@@ -165,97 +165,141 @@ fn accept(listener: &UnixListener, deadline: Instant) -> Result<UnixStream, Stri
     }
 }
 
-/// Runs the session against `elf` and prints its report.
-pub fn run(elf: &Path) -> Result<Report, String> {
-    let deadline = Instant::now() + DEADLINE;
+/// Binds the UART socket, starts QEMU on it and accepts its connection.
+fn connect(elf: &Path, deadline: Instant) -> Result<(Qemu, UnixStream), String> {
     let socket = std::env::temp_dir().join(format!("qgait-uart-{}.sock", std::process::id()));
     let _ = std::fs::remove_file(&socket);
     let listener = UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
-    let qemu = Qemu::start(elf, Some(&socket))?;
-    let stream = accept(&listener, deadline);
-    let _ = std::fs::remove_file(&socket);
-    let mut stream = match stream {
-        Ok(s) => s,
-        Err(e) => {
-            qemu.stop();
-            return Err(e);
-        }
+    let started = Qemu::start(elf, Some(&socket));
+    let accepted = match &started {
+        Ok(_) => accept(&listener, deadline),
+        Err(_) => Err(String::new()),
     };
-    let plan = plan();
-    let mut writer = stream.try_clone().map_err(|e| e.to_string())?;
-    let bytes = plan.bytes.clone();
-    let sender = thread::spawn(move || writer.write_all(&bytes));
-    stream.set_read_timeout(Some(Duration::from_millis(50))).map_err(|e| e.to_string())?;
+    let _ = std::fs::remove_file(&socket);
+    match (started, accepted) {
+        (Ok(qemu), Ok(stream)) => Ok((qemu, stream)),
+        (Ok(qemu), Err(e)) => {
+            qemu.stop();
+            Err(e)
+        }
+        (Err(e), _) => Err(e),
+    }
+}
 
-    let phak = Phak::new(&Anthropometry::<f64>::gait2392()).map_err(|e| format!("kernel: {e}"))?;
+/// What came back from the firmware.
+#[derive(Default)]
+struct Received {
+    poses: u32,
+    worst_error_m: f64,
+    wrong_angles: u32,
+    undecodable: u32,
+    seen: Vec<u32>,
+    status: Option<Status>,
+    read_error: Option<String>,
+}
+
+/// Reads frames until the `Status` answering the request arrives (or the deadline).
+fn receive(stream: &mut UnixStream, phak: &Phak<f64>, plan: &Plan, deadline: Instant) -> Received {
+    let mut r = Received::default();
     let mut decoder = FrameDecoder::new();
-    let (mut poses, mut worst, mut bad_angles, mut bad_frames) = (0u32, 0.0f64, 0u32, 0u32);
-    let mut seen = vec![false; SAMPLES as usize];
-    let mut status: Option<Status> = None;
     let mut buf = [0u8; 1024];
-    while status.is_none() && Instant::now() < deadline {
+    while r.status.is_none() && Instant::now() < deadline {
         let n = match stream.read(&mut buf) {
             Ok(0) => break,
             Ok(n) => n,
             Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => continue,
-            Err(e) => return Err(format!("reading the UART socket: {e}")),
+            Err(e) => {
+                r.read_error = Some(format!("reading the UART socket: {e}"));
+                break;
+            }
         };
         for &byte in &buf[..n] {
             match decoder.push(byte) {
                 Some(Ok(Message::PoseFrame(frame))) => {
-                    poses += 1;
-                    if let Some(s) = seen.get_mut(frame.seq as usize) {
-                        *s = true;
-                    }
-                    let (err, angles_ok) = compare(&phak, &frame);
-                    worst = worst.max(err);
-                    bad_angles += u32::from(!angles_ok);
+                    r.poses += 1;
+                    r.seen.push(frame.seq);
+                    let (err, angles_ok) = compare(phak, &frame);
+                    r.worst_error_m = r.worst_error_m.max(err);
+                    r.wrong_angles += u32::from(!angles_ok);
                 }
-                Some(Ok(Message::Status(s))) if s.packets_accepted >= plan.packets_accepted => status = Some(s),
+                Some(Ok(Message::Status(s))) if s.packets_accepted >= plan.packets_accepted => r.status = Some(s),
                 Some(Ok(_)) => {}
-                Some(Err(_)) => bad_frames += 1,
+                Some(Err(_)) => r.undecodable += 1,
                 None => {}
             }
         }
     }
-    // The firmware logs its stack peak right after sending the status: let that line through.
-    thread::sleep(Duration::from_millis(200));
-    let finished = qemu.stop();
-    let _ = sender.join();
+    r
+}
 
-    let stack_peak = finished.log.iter().filter_map(|l| l.split("stack peak ").nth(1)?.split(' ').next()?.parse().ok()).max();
+/// Everything in `r` that does not match the plan.
+fn evaluate(r: &Received, plan: &Plan) -> Vec<String> {
     let mut failures = Vec::new();
     let mut check = |ok: bool, what: String| {
         if !ok {
             failures.push(what);
         }
     };
-    let expected_poses = SAMPLES - 1;
-    check(poses == expected_poses, format!("{poses} pose frames, expected {expected_poses}"));
-    check(!seen[INCOMPLETE_SEQ as usize], format!("sample {INCOMPLETE_SEQ} lacked a joint but got a pose"));
-    check(worst <= TOLERANCE_M, format!("largest |f32 - f64| {worst:.3e} m > {TOLERANCE_M:.0e} m"));
-    check(bad_angles == 0, format!("{bad_angles} frames echo other angles than those sent"));
-    check(bad_frames == 0, format!("{bad_frames} frames from the firmware did not decode"));
-    match &status {
-        None => check(false, "no Status frame answered the request".into()),
-        Some(s) => {
-            let decode_errors =
-                s.crc_errors + s.framing_errors + s.oversize_frames + s.malformed + s.unknown_version + s.unknown_joint;
-            check(s.packets_accepted == plan.packets_accepted, format!("packets_accepted {} != {}", s.packets_accepted, plan.packets_accepted));
-            check(s.samples_completed == expected_poses, format!("samples_completed {} != {expected_poses}", s.samples_completed));
-            check(s.samples_incomplete == 1, format!("samples_incomplete {} != 1", s.samples_incomplete));
-            check(s.duplicate_packets == 1, format!("duplicate_packets {} != 1", s.duplicate_packets));
-            check(s.late_packets == 1, format!("late_packets {} != 1", s.late_packets));
-            check(decode_errors == plan.decode_errors, format!("decode errors {decode_errors} != {}", plan.decode_errors));
-            check(s.uart_overruns == 0, format!("uart_overruns {} != 0", s.uart_overruns));
-        }
+    if let Some(e) = &r.read_error {
+        check(false, e.clone());
     }
+    let expected_poses = SAMPLES - 1;
+    check(r.poses == expected_poses, format!("{} pose frames, expected {expected_poses}", r.poses));
+    check(!r.seen.contains(&INCOMPLETE_SEQ), format!("sample {INCOMPLETE_SEQ} lacked a joint but got a pose"));
+    check(r.worst_error_m <= TOLERANCE_M, format!("largest |f32 - f64| {:.3e} m > {TOLERANCE_M:.0e} m", r.worst_error_m));
+    check(r.wrong_angles == 0, format!("{} frames echo other angles than those sent", r.wrong_angles));
+    check(r.undecodable == 0, format!("{} frames from the firmware did not decode", r.undecodable));
+    let Some(s) = &r.status else {
+        check(false, "no Status frame answered the request".into());
+        return failures;
+    };
+    let decode_errors = s.crc_errors + s.framing_errors + s.oversize_frames + s.malformed + s.unknown_version + s.unknown_joint;
+    let counters = [
+        ("packets_accepted", s.packets_accepted, plan.packets_accepted),
+        ("samples_completed", s.samples_completed, expected_poses),
+        ("samples_incomplete", s.samples_incomplete, 1),
+        ("duplicate_packets", s.duplicate_packets, 1),
+        ("late_packets", s.late_packets, 1),
+        ("decode errors", decode_errors, plan.decode_errors),
+        ("uart_overruns", s.uart_overruns, 0),
+    ];
+    for (name, got, want) in counters {
+        check(got == want, format!("{name} {got} != {want}"));
+    }
+    failures
+}
+
+/// Runs the session against `elf` and prints its report.
+pub fn run(elf: &Path) -> Result<Report, String> {
+    let phak = Phak::new(&Anthropometry::<f64>::gait2392()).map_err(|e| format!("kernel: {e}"))?;
+    let plan = plan();
+    let deadline = Instant::now() + DEADLINE;
+    let (qemu, mut stream) = connect(elf, deadline)?;
+    let mut writer = match (stream.try_clone(), stream.set_read_timeout(Some(Duration::from_millis(50)))) {
+        (Ok(w), Ok(())) => w,
+        (Err(e), _) | (_, Err(e)) => {
+            qemu.stop();
+            return Err(format!("setting up the UART socket: {e}"));
+        }
+    };
+    let bytes = plan.bytes.clone();
+    let sender = thread::spawn(move || writer.write_all(&bytes));
+    let received = receive(&mut stream, &phak, &plan, deadline);
+    // The firmware logs its stack peak right after sending the status: let that line through.
+    thread::sleep(Duration::from_millis(200));
+    let finished = qemu.stop();
+    let _ = sender.join();
+
+    let stack_peak = finished.log.iter().filter_map(|l| l.split("stack peak ").nth(1)?.split(' ').next()?.parse().ok()).max();
+    let failures = evaluate(&received, &plan);
     println!(
-        "uart session: {SAMPLES} samples ({} bytes) in, {poses} poses out, largest |f32 - f64| {worst:.2e} m, stack peak {} bytes",
+        "uart session: {SAMPLES} samples ({} bytes) in, {} poses out, largest |f32 - f64| {:.2e} m, stack peak {} bytes",
         plan.bytes.len(),
+        received.poses,
+        received.worst_error_m,
         stack_peak.map_or("?".to_string(), |p: u32| p.to_string())
     );
-    if let Some(s) = &status {
+    if let Some(s) = &received.status {
         println!("uart session: status {s:?}");
     }
     for f in &failures {
