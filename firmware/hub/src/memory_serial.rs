@@ -58,12 +58,6 @@ impl<const RX: usize, const TX: usize> MemorySerial<RX, TX> {
     pub fn tx_overflowed(&self) -> bool {
         self.tx_overflow
     }
-
-    /// Forgets what was written.
-    pub fn clear_transmitted(&mut self) {
-        self.tx.clear();
-        self.tx_overflow = false;
-    }
 }
 
 impl<const RX: usize, const TX: usize> serial::ErrorType for MemorySerial<RX, TX> {
