@@ -143,7 +143,8 @@ const KNEE_TY_Y: [f64; 7] = [
 ];
 
 impl LegGeometry {
-    /// The generic gait2392 right leg (`gait2392_simbody.osim`).
+    /// The generic gait2392 right leg, with every number as written in `gait2392_simbody.osim`
+    /// (the axes to 8 digits; `gait2392-geometry.md` rounds them to 6).
     pub fn generic_right() -> Self {
         Self {
             hip_in_pelvis: [-0.0707, -0.0661, 0.0835],
@@ -151,11 +152,11 @@ impl LegGeometry {
             knee_tx: Knots::new(&KNEE_TX_X, &KNEE_TX_Y),
             knee_ty: Knots::new(&KNEE_TY_X, &KNEE_TY_Y),
             ankle_in_tibia: [0.0, -0.43, 0.0],
-            ankle_axis: [-0.105014, -0.174022, 0.979126],
+            ankle_axis: [-0.10501355, -0.17402245, 0.97912632],
             subtalar_in_talus: [-0.04877, -0.04195, 0.00792],
-            subtalar_axis: [0.78718, 0.604747, -0.120949],
+            subtalar_axis: [0.78717961, 0.60474746, -0.12094949],
             mtp_in_calcn: [0.1788, -0.002, 0.00108],
-            mtp_axis: [-0.580954, 0.0, 0.813936],
+            mtp_axis: [-0.5809544, 0.0, 0.81393611],
             toetip_in_toes: [0.0812, 0.007, -0.00108],
         }
     }
