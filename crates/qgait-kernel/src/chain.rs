@@ -95,6 +95,27 @@ pub struct PointSpec<T> {
     pub offset: Vec3<T>,
 }
 
+/// How an axis composes onto a rotation: the coordinate axes take a cheaper product.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum AxisKind {
+    X,
+    Y,
+    Z,
+    General,
+}
+
+impl AxisKind {
+    fn of<T: Real>(d: Vec3<T>) -> Self {
+        let (o, i) = (T::ZERO, T::ONE);
+        match (d.x == i, d.y == i, d.z == i) {
+            (true, _, _) if d.y == o && d.z == o => AxisKind::X,
+            (_, true, _) if d.x == o && d.z == o => AxisKind::Y,
+            (_, _, true) if d.x == o && d.y == o => AxisKind::Z,
+            _ => AxisKind::General,
+        }
+    }
+}
+
 /// Position and orientation of a joint frame in the ground frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame<T> {
@@ -129,6 +150,8 @@ pub struct Chain<T, const N: usize, const J: usize, const P: usize, const S: usi
     at_origin: [bool; P],
     /// For each joint, the range of `splines` (sorted by joint) that move it.
     spline_ranges: [(u8, u8); J],
+    /// For each joint axis, whether it is +x, +y, +z or another direction.
+    axis_kinds: [[AxisKind; MAX_AXES]; J],
     splines: [SplineTranslation<T>; S],
 }
 
@@ -188,13 +211,8 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
             let end = start + splines[start..].iter().take_while(|s| s.joint == j).count();
             *range = (start as u8, end as u8);
         }
-        Ok(Self {
-            joints,
-            points,
-            at_origin,
-            spline_ranges,
-            splines,
-        })
+        let axis_kinds = joints.map(|j| j.axes.map(|a| AxisKind::of(a.direction)));
+        Ok(Self { joints, points, at_origin, spline_ranges, axis_kinds, splines })
     }
 
     /// The joints, in evaluation order.
@@ -225,8 +243,9 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     }
 
     /// Every joint frame in ground for coordinates `q` (radians). One half-angle sine/cosine
-    /// pair per axis, one quaternion product per axis, one vector rotation per non-root joint.
-    #[inline]
+    /// pair per axis, one quaternion product per axis (half of one for the coordinate axes), one
+    /// vector rotation per non-root joint.
+    #[inline(always)]
     pub fn frames(&self, q: &[T; N]) -> [Frame<T>; J] {
         let mut frames = [Frame::ground(); J];
         for j in 0..J {
@@ -235,9 +254,14 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 Some(p) => (frames[p].rotation, frames[p].transform(self.offset(j, q))),
                 None => (Quat::identity(), self.offset(j, q)),
             };
-            for axis in &joint.axes[..joint.n_axes] {
+            for (axis, kind) in joint.axes[..joint.n_axes].iter().zip(&self.axis_kinds[j]) {
                 let (s, c) = q[axis.coordinate].half_angle_sin_cos();
-                rotation = rotation * Quat::from_axis_half_sin_cos(axis.direction, s, c);
+                rotation = match kind {
+                    AxisKind::X => rotation.then_about_x(s, c),
+                    AxisKind::Y => rotation.then_about_y(s, c),
+                    AxisKind::Z => rotation.then_about_z(s, c),
+                    AxisKind::General => rotation * Quat::from_axis_half_sin_cos(axis.direction, s, c),
+                };
             }
             frames[j] = Frame { rotation, origin };
         }
@@ -245,7 +269,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     }
 
     /// The output points in ground for coordinates `q` (radians): forward kinematics.
-    #[inline]
+    #[inline(always)]
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
         let frames = self.frames(q);
         let mut out = [Vec3::zero(); P];
@@ -282,6 +306,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
             }),
             at_origin: self.at_origin,
             spline_ranges: self.spline_ranges,
+            axis_kinds: self.axis_kinds,
             splines: self.splines.map(|s| SplineTranslation {
                 joint: s.joint,
                 direction: v(s.direction),

@@ -8,7 +8,7 @@ use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 use crate::{trig, Chain, Real, Vec3};
 
 /// Frames evaluated together by the batch path.
-pub const LANES: usize = 8;
+pub const LANES: usize = 4;
 
 /// [`LANES`] values of `T`, one per frame of a batch. Comparisons (`PartialOrd`) are
 /// lexicographic and meaningless here: lane-wise choices go through [`Real::lt_select`].
