@@ -13,6 +13,7 @@ mod joint;
 mod messages;
 mod model;
 mod sizes;
+mod subject;
 mod wire;
 
 pub use crate::crc::{crc32c, FRAME_CRC, FRAME_CRC_CHECK};
@@ -28,7 +29,11 @@ pub use crate::messages::{
 pub use crate::model::ModelId;
 pub use crate::sizes::{
     CONFIG_MAX_LEN, CRC_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN,
-    MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN,
+    MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
+    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+};
+pub use crate::subject::{
+    KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,
 };
 pub use crate::wire::{decode_message, encode_message};
 

@@ -1,5 +1,5 @@
 //! The messages: [`JointAngle`], [`PoseFrame`], [`Status`], [`Config`] and the top-level
-//! [`Message`] enum that is put on the wire.
+//! [`Message`] enum that is put on the wire (the subject-model messages are in `subject.rs`).
 //!
 //! The serde derives exist for host-side convenience (JSON logs and the like). The wire bytes
 //! are defined by [`encode_message`](crate::encode_message) /
@@ -8,7 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{JointId, ModelId};
+use crate::{JointId, ModelId, SubjectConfig, SubjectKnee, SubjectLeg};
 
 /// The protocol version written in every [`JointAngle`]. See `docs/protocol.md` for the
 /// versioning rules.
@@ -120,6 +120,10 @@ pub struct Status {
     /// Frames with a good CRC whose contents could not be decoded (bad postcard encoding,
     /// unknown model, wrong angle count).
     pub malformed: u32,
+    /// Configurations the hub could not use and ignored, keeping the one in force: a
+    /// [`Config`] with unusable segment lengths, a [`SubjectConfig`](crate::SubjectConfig)
+    /// whose model is incomplete or refused by the kernel.
+    pub config_rejected: u32,
 }
 
 /// What the hub does when a sample is incomplete when its reorder window closes.
@@ -164,7 +168,7 @@ pub struct Config {
     pub request_status: bool,
 }
 
-/// Every message of the protocol. The variant order is the wire tag (0, 1, 2, 3): new variants
+/// Every message of the protocol. The variant order is the wire tag (0 to 6): new variants
 /// are only ever appended, existing ones never change.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -177,6 +181,12 @@ pub enum Message {
     Status(Status),
     /// Tag 3: host to hub.
     Config(Config),
+    /// Tag 4: host to hub, a part of a subject model.
+    SubjectLeg(SubjectLeg),
+    /// Tag 5: host to hub, a part of a subject model.
+    SubjectKnee(SubjectKnee),
+    /// Tag 6: host to hub, switch to a subject model.
+    SubjectConfig(SubjectConfig),
 }
 
 impl Message {
@@ -187,6 +197,9 @@ impl Message {
             Message::PoseFrame(_) => 1,
             Message::Status(_) => 2,
             Message::Config(_) => 3,
+            Message::SubjectLeg(_) => 4,
+            Message::SubjectKnee(_) => 5,
+            Message::SubjectConfig(_) => 6,
         }
     }
 }
@@ -212,5 +225,23 @@ impl From<Status> for Message {
 impl From<Config> for Message {
     fn from(m: Config) -> Self {
         Message::Config(m)
+    }
+}
+
+impl From<SubjectLeg> for Message {
+    fn from(m: SubjectLeg) -> Self {
+        Message::SubjectLeg(m)
+    }
+}
+
+impl From<SubjectKnee> for Message {
+    fn from(m: SubjectKnee) -> Self {
+        Message::SubjectKnee(m)
+    }
+}
+
+impl From<SubjectConfig> for Message {
+    fn from(m: SubjectConfig) -> Self {
+        Message::SubjectConfig(m)
     }
 }

@@ -4,7 +4,7 @@
 //! `u32` and lengths as LEB128 varints of at most 5 bytes (7 bits per byte). A message tag and
 //! every enum value of this protocol fit one byte.
 
-use crate::{cobs, point, segment, JointId};
+use crate::{cobs, point, segment, JointId, MAX_KNEE_KNOTS};
 
 /// Worst-case bytes of a postcard `u32` varint.
 const VARINT_U32: usize = 5;
@@ -23,7 +23,7 @@ pub const POSE_FRAME_MAX_LEN: usize =
     TAG + VARINT_U32 + 1 + 1 + JointId::COUNT * F32 + point::COUNT * 3 * F32 + 3 * F32 + 1;
 
 /// Number of `u32` counters in a [`Status`](crate::Status).
-pub const STATUS_COUNTERS: usize = 15;
+pub const STATUS_COUNTERS: usize = 16;
 
 /// Largest postcard encoding of a [`Status`](crate::Status) message, tag included.
 pub const STATUS_MAX_LEN: usize = TAG + STATUS_COUNTERS * VARINT_U32;
@@ -31,6 +31,19 @@ pub const STATUS_MAX_LEN: usize = TAG + STATUS_COUNTERS * VARINT_U32;
 /// Largest postcard encoding of a [`Config`](crate::Config) message, tag included:
 /// tag, model, option tag, 2 x 4 lengths, missing policy, reorder window, request_status.
 pub const CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 2 * segment::COUNT * F32 + 1 + 1 + 1;
+
+/// Largest postcard encoding of a [`SubjectLeg`](crate::SubjectLeg) message, tag included:
+/// tag, upload, leg, 11 vectors of 3 `f32` (hip centre, 3 hip axes, ankle, subtalar and MTP
+/// centres and axes, toe tip).
+pub const SUBJECT_LEG_MAX_LEN: usize = TAG + 1 + 1 + 11 * 3 * F32;
+
+/// Largest postcard encoding of a [`SubjectKnee`](crate::SubjectKnee) message, tag included:
+/// tag, upload, leg, direction, knot count (1 byte, <= 12), 12 knots of 2 `f32`.
+pub const SUBJECT_KNEE_MAX_LEN: usize = TAG + 1 + 1 + 1 + 1 + MAX_KNEE_KNOTS * 2 * F32;
+
+/// Largest postcard encoding of a [`SubjectConfig`](crate::SubjectConfig) message, tag
+/// included: tag, upload, missing policy, reorder window, request_status.
+pub const SUBJECT_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 1 + 1;
 
 const fn max(a: usize, b: usize) -> usize {
     if a > b {
@@ -42,8 +55,14 @@ const fn max(a: usize, b: usize) -> usize {
 
 /// Largest postcard encoding of any [`Message`](crate::Message) (no CRC, no framing).
 pub const MAX_MESSAGE_LEN: usize = max(
-    max(JOINT_ANGLE_MAX_LEN, POSE_FRAME_MAX_LEN),
-    max(STATUS_MAX_LEN, CONFIG_MAX_LEN),
+    max(
+        max(JOINT_ANGLE_MAX_LEN, POSE_FRAME_MAX_LEN),
+        max(STATUS_MAX_LEN, CONFIG_MAX_LEN),
+    ),
+    max(
+        max(SUBJECT_LEG_MAX_LEN, SUBJECT_KNEE_MAX_LEN),
+        SUBJECT_CONFIG_MAX_LEN,
+    ),
 );
 
 /// Bytes of the CRC-32C appended to the message before COBS.

@@ -9,8 +9,9 @@ use serde::de::DeserializeOwned;
 use serde::Deserialize;
 
 use crate::{
-    Config, DecodeError, EncodeError, JointAngle, JointId, Message, MissingPolicy, ModelId,
-    PoseFrame, Status, MAX_MESSAGE_LEN, MAX_POSE_ANGLES, PROTOCOL_VERSION,
+    Config, DecodeError, EncodeError, JointAngle, JointId, KneeDirection, Leg, Message,
+    MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg,
+    MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 
 /// Encodes `msg` as postcard bytes (no CRC, no framing) into `out`, returning the used part.
@@ -36,6 +37,9 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         1 => decode_pose_frame(body).map(Message::PoseFrame),
         2 => take_all::<Status>(body).map(Message::Status),
         3 => decode_config(body).map(Message::Config),
+        4 => decode_subject_leg(body).map(Message::SubjectLeg),
+        5 => decode_subject_knee(body).map(Message::SubjectKnee),
+        6 => decode_subject_config(body).map(Message::SubjectConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -123,17 +127,94 @@ struct ConfigWire {
     request_status: bool,
 }
 
+fn missing_policy(byte: u8) -> Result<MissingPolicy, DecodeError> {
+    match byte {
+        0 => Ok(MissingPolicy::Drop),
+        1 => Ok(MissingPolicy::HoldLast),
+        _ => Err(DecodeError::Malformed),
+    }
+}
+
+fn leg(byte: u8) -> Result<Leg, DecodeError> {
+    Leg::from_index(byte).ok_or(DecodeError::Malformed)
+}
+
 fn decode_config(body: &[u8]) -> Result<Config, DecodeError> {
     let w: ConfigWire = take_all(body)?;
-    let missing_policy = match w.missing_policy {
-        0 => MissingPolicy::Drop,
-        1 => MissingPolicy::HoldLast,
-        _ => return Err(DecodeError::Malformed),
-    };
+    let missing_policy = missing_policy(w.missing_policy)?;
     Ok(Config {
         model: ModelId::from_index(w.model).ok_or(DecodeError::UnknownModel(w.model))?,
         anthropometry: w.anthropometry,
         missing_policy,
+        reorder_window: w.reorder_window,
+        request_status: w.request_status,
+    })
+}
+
+#[derive(Deserialize)]
+struct SubjectLegWire {
+    upload: u8,
+    leg: u8,
+    hip_in_pelvis: [f32; 3],
+    hip_axes: [[f32; 3]; 3],
+    ankle_in_tibia: [f32; 3],
+    ankle_axis: [f32; 3],
+    subtalar_in_talus: [f32; 3],
+    subtalar_axis: [f32; 3],
+    mtp_in_calcn: [f32; 3],
+    mtp_axis: [f32; 3],
+    toetip_in_toes: [f32; 3],
+}
+
+fn decode_subject_leg(body: &[u8]) -> Result<SubjectLeg, DecodeError> {
+    let w: SubjectLegWire = take_all(body)?;
+    Ok(SubjectLeg {
+        upload: w.upload,
+        leg: leg(w.leg)?,
+        hip_in_pelvis: w.hip_in_pelvis,
+        hip_axes: w.hip_axes,
+        ankle_in_tibia: w.ankle_in_tibia,
+        ankle_axis: w.ankle_axis,
+        subtalar_in_talus: w.subtalar_in_talus,
+        subtalar_axis: w.subtalar_axis,
+        mtp_in_calcn: w.mtp_in_calcn,
+        mtp_axis: w.mtp_axis,
+        toetip_in_toes: w.toetip_in_toes,
+    })
+}
+
+#[derive(Deserialize)]
+struct SubjectKneeWire {
+    upload: u8,
+    leg: u8,
+    direction: u8,
+    // More than MAX_KNEE_KNOTS fails to deserialise: Malformed.
+    knots: heapless::Vec<[f32; 2], MAX_KNEE_KNOTS>,
+}
+
+fn decode_subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
+    let w: SubjectKneeWire = take_all(body)?;
+    Ok(SubjectKnee {
+        upload: w.upload,
+        leg: leg(w.leg)?,
+        direction: KneeDirection::from_index(w.direction).ok_or(DecodeError::Malformed)?,
+        knots: w.knots,
+    })
+}
+
+#[derive(Deserialize)]
+struct SubjectConfigWire {
+    upload: u8,
+    missing_policy: u8,
+    reorder_window: u8,
+    request_status: bool,
+}
+
+fn decode_subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
+    let w: SubjectConfigWire = take_all(body)?;
+    Ok(SubjectConfig {
+        upload: w.upload,
+        missing_policy: missing_policy(w.missing_policy)?,
         reorder_window: w.reorder_window,
         request_status: w.request_status,
     })

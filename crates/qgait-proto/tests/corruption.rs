@@ -317,7 +317,7 @@ fn garbage_between_frames_is_reported_and_costs_at_most_the_frame_it_runs_into()
 fn bad_contents_with_a_good_crc_are_reported_by_kind() {
     use DecodeError::*;
     let cases: Vec<(&str, Vec<u8>, DecodeError)> = vec![
-        ("unknown tag 4", vec![0x04], UnknownMessage(4)),
+        ("unknown tag 7", vec![0x07], UnknownMessage(7)),
         (
             "unknown tag 200 (two-byte varint)",
             vec![0xC8, 0x01, 0x00],
@@ -373,6 +373,32 @@ fn bad_contents_with_a_good_crc_are_reported_by_kind() {
             Malformed,
         ),
         ("config with bool 2", vec![0x03, 1, 0, 0, 4, 2], Malformed),
+        ("subject leg of leg 2", subject_leg_payload(2), Malformed),
+        (
+            "subject leg one float short",
+            subject_leg_payload(0)[..130].to_vec(),
+            Malformed,
+        ),
+        (
+            "subject knee of direction 2",
+            subject_knee_payload(0, 2, 3),
+            Malformed,
+        ),
+        (
+            "subject knee with 13 knots (over capacity)",
+            subject_knee_payload(1, 0, 13),
+            Malformed,
+        ),
+        (
+            "subject config with missing policy 2",
+            vec![0x06, 7, 2, 4, 0],
+            Malformed,
+        ),
+        (
+            "subject config with a trailing byte",
+            vec![0x06, 7, 0, 4, 0, 0],
+            Malformed,
+        ),
     ];
     for (what, payload, expected) in cases {
         assert_eq!(
@@ -443,4 +469,18 @@ fn encode_frame_rejects_a_short_buffer_and_a_wrong_angle_count() {
             got: 7
         })
     );
+}
+
+/// Message bytes of a subject leg part for `leg`, every number 0.
+fn subject_leg_payload(leg: u8) -> Vec<u8> {
+    let mut p = vec![0x04, 7, leg];
+    p.extend(std::iter::repeat_n(0u8, 33 * 4));
+    p
+}
+
+/// Message bytes of a subject knee part with `count` knots, every number 0.
+fn subject_knee_payload(leg: u8, direction: u8, count: u8) -> Vec<u8> {
+    let mut p = vec![0x05, 7, leg, direction, count];
+    p.extend(std::iter::repeat_n(0u8, 8 * count as usize));
+    p
 }

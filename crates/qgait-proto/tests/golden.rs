@@ -123,6 +123,7 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
                 late_packets: 4,
                 duplicate_packets: 0,
                 malformed: 0,
+                config_rejected: 1,
             }
             .into(),
         ),
@@ -148,6 +149,9 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
             }
             .into(),
         ),
+        ("subject-leg", common::subject_leg().into()),
+        ("subject-knee", common::subject_knee().into()),
+        ("subject-config", common::subject_config().into()),
     ]
 }
 
@@ -216,6 +220,13 @@ fn constants() -> Vec<String> {
         format!("POSE_FRAME_MAX_LEN = {}", qgait_proto::POSE_FRAME_MAX_LEN),
         format!("STATUS_MAX_LEN = {}", qgait_proto::STATUS_MAX_LEN),
         format!("CONFIG_MAX_LEN = {}", qgait_proto::CONFIG_MAX_LEN),
+        format!("SUBJECT_LEG_MAX_LEN = {}", qgait_proto::SUBJECT_LEG_MAX_LEN),
+        format!("SUBJECT_KNEE_MAX_LEN = {}", qgait_proto::SUBJECT_KNEE_MAX_LEN),
+        format!(
+            "SUBJECT_CONFIG_MAX_LEN = {}",
+            qgait_proto::SUBJECT_CONFIG_MAX_LEN
+        ),
+        format!("MAX_KNEE_KNOTS = {}", qgait_proto::MAX_KNEE_KNOTS),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
     ]
 }

@@ -4,9 +4,10 @@ mod common;
 
 use qgait_proto::{
     cobs_max_encoded_len, encode_frame, encode_message, Config, DecodeError, FrameDecoder,
-    JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status, CONFIG_MAX_LEN,
-    CRC_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN,
-    POSE_FRAME_MAX_LEN, STATUS_MAX_LEN,
+    JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, Status,
+    SubjectConfig, SubjectKnee, SubjectLeg, CONFIG_MAX_LEN, CRC_LEN, JOINT_ANGLE_MAX_FRAME_LEN,
+    JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
+    STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 
 /// Any float: an f32 is always 4 bytes.
@@ -58,6 +59,32 @@ fn per_message_maxima_are_reached_exactly() {
         late_packets: u32::MAX,
         duplicate_packets: u32::MAX,
         malformed: u32::MAX,
+        config_rejected: u32::MAX,
+    };
+    let leg = SubjectLeg {
+        upload: 0xFF,
+        leg: Leg::Left,
+        hip_in_pelvis: [ANGLE; 3],
+        hip_axes: [[ANGLE; 3]; 3],
+        ankle_in_tibia: [ANGLE; 3],
+        ankle_axis: [ANGLE; 3],
+        subtalar_in_talus: [ANGLE; 3],
+        subtalar_axis: [ANGLE; 3],
+        mtp_in_calcn: [ANGLE; 3],
+        mtp_axis: [ANGLE; 3],
+        toetip_in_toes: [ANGLE; 3],
+    };
+    let knee = SubjectKnee {
+        upload: 0xFF,
+        leg: Leg::Left,
+        direction: KneeDirection::Ty,
+        knots: heapless::Vec::from_slice(&[[ANGLE; 2]; MAX_KNEE_KNOTS]).expect("12 fit"),
+    };
+    let subject_config = SubjectConfig {
+        upload: 0xFF,
+        missing_policy: MissingPolicy::HoldLast,
+        reorder_window: 0xFF,
+        request_status: true,
     };
     let config = Config {
         model: ModelId::Gait2392,
@@ -76,13 +103,19 @@ fn per_message_maxima_are_reached_exactly() {
     );
     assert_eq!(message_len(&all_max.into()), STATUS_MAX_LEN);
     assert_eq!(message_len(&config.into()), CONFIG_MAX_LEN);
+    assert_eq!(message_len(&leg.into()), SUBJECT_LEG_MAX_LEN);
+    assert_eq!(message_len(&knee.into()), SUBJECT_KNEE_MAX_LEN);
+    assert_eq!(message_len(&subject_config.into()), SUBJECT_CONFIG_MAX_LEN);
     assert_eq!(
         MAX_MESSAGE_LEN,
         [
             JOINT_ANGLE_MAX_LEN,
             POSE_FRAME_MAX_LEN,
             STATUS_MAX_LEN,
-            CONFIG_MAX_LEN
+            CONFIG_MAX_LEN,
+            SUBJECT_LEG_MAX_LEN,
+            SUBJECT_KNEE_MAX_LEN,
+            SUBJECT_CONFIG_MAX_LEN,
         ]
         .into_iter()
         .max()

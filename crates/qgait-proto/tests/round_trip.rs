@@ -7,7 +7,7 @@ use proptest::prelude::*;
 use qgait_proto::{
     decode_frame, decode_message, encode_frame, encode_message, FrameDecoder, Message,
     CONFIG_MAX_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
-    STATUS_MAX_LEN,
+    STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 
 /// Two messages are the same iff their encodings are (every field has a fixed-size or
@@ -35,6 +35,9 @@ fn kind_max_len(msg: &Message) -> usize {
         Message::PoseFrame(_) => POSE_FRAME_MAX_LEN,
         Message::Status(_) => STATUS_MAX_LEN,
         Message::Config(_) => CONFIG_MAX_LEN,
+        Message::SubjectLeg(_) => SUBJECT_LEG_MAX_LEN,
+        Message::SubjectKnee(_) => SUBJECT_KNEE_MAX_LEN,
+        Message::SubjectConfig(_) => SUBJECT_CONFIG_MAX_LEN,
     }
 }
 

@@ -155,6 +155,10 @@ where
             Message::Config(config) => self.on_config(&config),
             // Well-formed, but only a hub sends these: nothing to do with them here.
             Message::PoseFrame(_) | Message::Status(_) => bump(&mut self.status.malformed),
+            // Subject models: handled in a following change.
+            Message::SubjectLeg(_) | Message::SubjectKnee(_) | Message::SubjectConfig(_) => {
+                bump(&mut self.status.config_rejected)
+            }
         }
     }
 

@@ -2,8 +2,9 @@
 #![allow(dead_code)]
 
 use qgait_proto::{
-    encode_frame, Config, DecodeError, FrameDecoder, JointAngle, JointId, Message, MissingPolicy,
-    ModelId, PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    encode_frame, Config, DecodeError, FrameDecoder, JointAngle, JointId, KneeDirection, Leg,
+    Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg,
+    MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 /// A typical joint-angle packet.
@@ -63,6 +64,7 @@ pub fn status() -> Status {
         late_packets: 10,
         duplicate_packets: 11,
         malformed: 12,
+        config_rejected: 13,
     }
 }
 
@@ -84,7 +86,56 @@ pub fn every_message() -> Vec<Message> {
         pose_frame(7, ModelId::Phak).into(),
         status().into(),
         config().into(),
+        subject_leg().into(),
+        subject_knee().into(),
+        subject_config().into(),
     ]
+}
+
+/// The generic gait2392 right leg as a subject-model part.
+pub fn subject_leg() -> SubjectLeg {
+    SubjectLeg {
+        upload: 7,
+        leg: Leg::Right,
+        hip_in_pelvis: [-0.0707, -0.0661, 0.0835],
+        hip_axes: [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        ankle_in_tibia: [0.0, -0.43, 0.0],
+        ankle_axis: [-0.105_013_55, -0.174_022_45, 0.979_126_3],
+        subtalar_in_talus: [-0.04877, -0.04195, 0.00792],
+        subtalar_axis: [0.787_179_6, 0.604_747_5, -0.120_949_49],
+        mtp_in_calcn: [0.1788, -0.002, 0.00108],
+        mtp_axis: [-0.580_954_4, 0.0, 0.813_936_1],
+        toetip_in_toes: [0.0812, 0.007, -0.00108],
+    }
+}
+
+/// The generic gait2392 left knee_ty spline as a subject-model part.
+pub fn subject_knee() -> SubjectKnee {
+    let knots = [
+        [-2.0944, -0.4226],
+        [-1.22173, -0.4082],
+        [-0.523599, -0.399],
+        [-0.349066, -0.3976],
+        [-0.174533, -0.3966],
+        [0.159149, -0.395264],
+        [2.0944, -0.396],
+    ];
+    SubjectKnee {
+        upload: 7,
+        leg: Leg::Left,
+        direction: KneeDirection::Ty,
+        knots: heapless::Vec::from_slice(&knots).expect("7 knots fit"),
+    }
+}
+
+/// Switch to upload 7, hold last, window 4, status requested.
+pub fn subject_config() -> SubjectConfig {
+    SubjectConfig {
+        upload: 7,
+        missing_policy: MissingPolicy::HoldLast,
+        reorder_window: 4,
+        request_status: true,
+    }
 }
 
 /// The frame of `msg`, as a Vec.

@@ -2,8 +2,9 @@
 
 use super::Rng;
 use qgait_proto::{
-    encode_frame, encode_message, encode_raw_frame, Config, JointAngle, JointId, Message,
-    MissingPolicy, ModelId, PoseFrame, Status, MAX_FRAME_LEN, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
+    encode_frame, encode_message, encode_raw_frame, Config, JointAngle, JointId, KneeDirection,
+    Leg, Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee,
+    SubjectLeg, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
 };
 
 /// A float that is usually ordinary and sometimes any bit pattern (NaN, inf, subnormal).
@@ -23,7 +24,7 @@ fn varint_u32(rng: &mut Rng) -> u32 {
 
 /// Any valid message.
 pub fn message(rng: &mut Rng) -> Message {
-    match rng.below(4) {
+    match rng.below(7) {
         0 => Message::JointAngle(JointAngle {
             version: PROTOCOL_VERSION,
             node: rng.byte(),
@@ -68,6 +69,46 @@ pub fn message(rng: &mut Rng) -> Message {
             late_packets: varint_u32(rng),
             duplicate_packets: varint_u32(rng),
             malformed: varint_u32(rng),
+            config_rejected: varint_u32(rng),
+        }),
+        4 => Message::SubjectLeg(SubjectLeg {
+            upload: rng.byte(),
+            leg: Leg::ALL[rng.below(2)],
+            hip_in_pelvis: [float(rng), float(rng), float(rng)],
+            hip_axes: [
+                [float(rng), float(rng), float(rng)],
+                [float(rng), float(rng), float(rng)],
+                [float(rng), float(rng), float(rng)],
+            ],
+            ankle_in_tibia: [float(rng), float(rng), float(rng)],
+            ankle_axis: [float(rng), float(rng), float(rng)],
+            subtalar_in_talus: [float(rng), float(rng), float(rng)],
+            subtalar_axis: [float(rng), float(rng), float(rng)],
+            mtp_in_calcn: [float(rng), float(rng), float(rng)],
+            mtp_axis: [float(rng), float(rng), float(rng)],
+            toetip_in_toes: [float(rng), float(rng), float(rng)],
+        }),
+        5 => {
+            let mut knots = heapless::Vec::new();
+            for _ in 0..rng.below(MAX_KNEE_KNOTS + 1) {
+                knots.push([float(rng), float(rng)]).expect("at most MAX_KNEE_KNOTS");
+            }
+            Message::SubjectKnee(SubjectKnee {
+                upload: rng.byte(),
+                leg: Leg::ALL[rng.below(2)],
+                direction: KneeDirection::ALL[rng.below(2)],
+                knots,
+            })
+        }
+        6 => Message::SubjectConfig(SubjectConfig {
+            upload: rng.byte(),
+            missing_policy: if rng.chance(50) {
+                MissingPolicy::Drop
+            } else {
+                MissingPolicy::HoldLast
+            },
+            reorder_window: rng.byte(),
+            request_status: rng.chance(50),
         }),
         _ => Message::Config(Config {
             model: ModelId::ALL[rng.below(ModelId::COUNT)],
@@ -88,6 +129,11 @@ pub fn message(rng: &mut Rng) -> Message {
             request_status: rng.chance(50),
         }),
     }
+}
+
+/// Bytes of the postcard varint of `v`.
+fn varint_len(v: u32) -> usize {
+    (1..5).find(|&n| v < 1 << (7 * n)).unwrap_or(5)
 }
 
 /// The frame of a message.
@@ -150,11 +196,17 @@ pub fn stream(rng: &mut Rng) -> (Vec<u8>, Vec<Message>) {
             }
             5 => {
                 // Message bytes mutated before framing: a good CRC over bad contents.
+                let msg = message(rng);
                 let mut buf = [0u8; MAX_MESSAGE_LEN];
-                let mut payload = encode_message(&message(rng), &mut buf)
-                    .expect("encodes")
-                    .to_vec();
-                mutate(rng, &mut payload);
+                let mut payload = encode_message(&msg, &mut buf).expect("encodes").to_vec();
+                match &msg {
+                    Message::PoseFrame(p) if rng.chance(30) => {
+                        // Another model's id over these angles: an angle count mismatch.
+                        let at = 1 + varint_len(p.seq);
+                        payload[at] = (payload[at] + 1 + rng.below(2) as u8) % 3;
+                    }
+                    _ => mutate(rng, &mut payload),
+                }
                 let mut out = vec![0u8; 2 * payload.len() + 16];
                 bytes.extend_from_slice(encode_raw_frame(&payload, &mut out).expect("fits"));
             }

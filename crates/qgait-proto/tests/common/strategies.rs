@@ -3,8 +3,8 @@
 
 use proptest::prelude::*;
 use qgait_proto::{
-    Config, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status,
-    MAX_POSE_ANGLES,
+    Config, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
+    Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
 };
 
 /// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
@@ -80,7 +80,7 @@ pub fn pose_frame() -> impl Strategy<Value = PoseFrame> {
 }
 
 pub fn status() -> impl Strategy<Value = Status> {
-    proptest::collection::vec(any_varint_u32(), 15).prop_map(|c| Status {
+    proptest::collection::vec(any_varint_u32(), 16).prop_map(|c| Status {
         packets_accepted: c[0],
         crc_errors: c[1],
         framing_errors: c[2],
@@ -96,6 +96,7 @@ pub fn status() -> impl Strategy<Value = Status> {
         late_packets: c[12],
         duplicate_packets: c[13],
         malformed: c[14],
+        config_rejected: c[15],
     })
 }
 
@@ -129,5 +130,74 @@ pub fn message() -> impl Strategy<Value = Message> {
         pose_frame().prop_map(Message::PoseFrame),
         status().prop_map(Message::Status),
         config().prop_map(Message::Config),
+        subject_leg().prop_map(Message::SubjectLeg),
+        subject_knee().prop_map(Message::SubjectKnee),
+        subject_config().prop_map(Message::SubjectConfig),
     ]
+}
+
+fn missing_policy(hold: bool) -> MissingPolicy {
+    if hold {
+        MissingPolicy::HoldLast
+    } else {
+        MissingPolicy::Drop
+    }
+}
+
+fn leg(right: bool) -> Leg {
+    if right {
+        Leg::Right
+    } else {
+        Leg::Left
+    }
+}
+
+pub fn subject_leg() -> impl Strategy<Value = SubjectLeg> {
+    (
+        any::<u8>(),
+        any::<bool>(),
+        proptest::collection::vec(any_f32_bits(), 33),
+    )
+        .prop_map(|(upload, right, v)| {
+            let at = |i: usize| [v[3 * i], v[3 * i + 1], v[3 * i + 2]];
+            SubjectLeg {
+                upload,
+                leg: leg(right),
+                hip_in_pelvis: at(0),
+                hip_axes: [at(1), at(2), at(3)],
+                ankle_in_tibia: at(4),
+                ankle_axis: at(5),
+                subtalar_in_talus: at(6),
+                subtalar_axis: at(7),
+                mtp_in_calcn: at(8),
+                mtp_axis: at(9),
+                toetip_in_toes: at(10),
+            }
+        })
+}
+
+pub fn subject_knee() -> impl Strategy<Value = SubjectKnee> {
+    (
+        any::<u8>(),
+        any::<bool>(),
+        any::<bool>(),
+        proptest::collection::vec([any_f32_bits(), any_f32_bits()], 0..=MAX_KNEE_KNOTS),
+    )
+        .prop_map(|(upload, right, tx, knots)| SubjectKnee {
+            upload,
+            leg: leg(right),
+            direction: if tx { KneeDirection::Tx } else { KneeDirection::Ty },
+            knots: heapless::Vec::from_slice(&knots).expect("at most MAX_KNEE_KNOTS"),
+        })
+}
+
+pub fn subject_config() -> impl Strategy<Value = SubjectConfig> {
+    (any::<u8>(), any::<bool>(), any::<u8>(), any::<bool>()).prop_map(
+        |(upload, hold, reorder_window, request_status)| SubjectConfig {
+            upload,
+            missing_policy: missing_policy(hold),
+            reorder_window,
+            request_status,
+        },
+    )
 }
