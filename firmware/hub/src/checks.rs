@@ -4,12 +4,14 @@
 //! Each check drives a [`Hub`] over a [`MemorySerial`] with a scripted byte stream and checks
 //! the frames it writes back and its [`Status`] counters. A failure names the check's line.
 
+use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
     encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags, JointAngle, JointId, Message, MissingPolicy,
-    ModelId, PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 use crate::assembly::{Sample, JointSet};
+use crate::subject::parts_of;
 use crate::clock::ManualClock;
 use crate::hub::Hub;
 use crate::kinematics::Kinematics;
@@ -55,6 +57,10 @@ pub const ALL: &[NamedCheck] = &[
     ("unusable_config_is_refused_and_counted", unusable_config_is_refused_and_counted),
     ("status_request_keeps_open_samples", status_request_keeps_open_samples),
     ("status_is_sent_periodically", status_is_sent_periodically),
+    ("gait2392_config_gives_frames_of_the_generic_model", gait2392_config_gives_frames_of_the_generic_model),
+    ("subject_model_switches_only_when_complete", subject_model_switches_only_when_complete),
+    ("invalid_subject_model_is_rejected_and_counted", invalid_subject_model_is_rejected_and_counted),
+    ("parts_of_another_upload_discard_the_held_ones", parts_of_another_upload_discard_the_held_ones),
     ("random_bytes_never_stop_the_pipeline", random_bytes_never_stop_the_pipeline),
 ];
 
@@ -445,11 +451,19 @@ pub fn config_switches_model_and_answers_status_request() -> CheckResult {
     Ok(())
 }
 
-/// gait2392 and a negative femur are refused and counted; the hub keeps computing PHAK.
+/// gait2392 with segment lengths and a negative femur are refused and counted; the hub keeps
+/// computing PHAK.
 pub fn unusable_config_is_refused_and_counted() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    ensure!(send(hub.serial_mut(), &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)));
+    let with_lengths = Config {
+        model: ModelId::Gait2392,
+        anthropometry: Some([[0.0835, 0.4, 0.43, 0.21]; 2]),
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 4,
+        request_status: false,
+    };
+    ensure!(send(hub.serial_mut(), &Message::Config(with_lengths)));
     let mut legs = [[0.0835, 0.4, 0.43, 0.21]; 2];
     legs[1][1] = -0.4;
     let bad = Config {
@@ -462,7 +476,7 @@ pub fn unusable_config_is_refused_and_counted() -> CheckResult {
     ensure!(send(hub.serial_mut(), &Message::Config(bad)));
     ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 0));
     drain(&mut hub);
-    ensure!(hub.status().malformed == 2);
+    ensure!(hub.status().config_rejected == 2 && hub.status().malformed == 0);
     ensure!(hub.config().model == ModelId::Phak);
     ensure!(poses(&mut hub, |_| {})? == 1);
     Ok(())
@@ -532,5 +546,167 @@ pub fn random_bytes_never_stop_the_pipeline() -> CheckResult {
     let errors = s.crc_errors + s.framing_errors + s.oversize_frames + s.malformed + s.unknown_version + s.unknown_joint;
     ensure!(errors > 0);
     ensure!(poses(&mut hub, |_| {})? == 12);
+    Ok(())
+}
+
+/// A subject gait2392 model: the generic one scaled by 1.1 (right leg) and 0.95 (left leg),
+/// positions and knee translations alike, as OpenSim's scaling does.
+pub fn scaled_subject() -> Gait2392Geometry {
+    let mut g = Gait2392Geometry::generic();
+    for (leg, s) in [(&mut g.right, 1.1), (&mut g.left, 0.95)] {
+        for p in [
+            &mut leg.hip_in_pelvis,
+            &mut leg.ankle_in_tibia,
+            &mut leg.subtalar_in_talus,
+            &mut leg.mtp_in_calcn,
+            &mut leg.toetip_in_toes,
+        ] {
+            *p = p.map(|c| c * s);
+        }
+        for k in [&mut leg.knee_tx, &mut leg.knee_ty] {
+            for y in k.y.iter_mut() {
+                *y *= s;
+            }
+        }
+    }
+    g
+}
+
+/// Queues the 6 parts of `geometry` as upload `upload` (with `skip` parts left out at the end).
+pub fn send_subject(serial: &mut CheckSerial, geometry: &Gait2392Geometry, upload: u8, skip: usize) -> bool {
+    let Ok((legs, knees)) = parts_of(geometry, upload) else { return false };
+    let mut messages: heapless::Vec<Message, 6> = heapless::Vec::new();
+    for leg in legs {
+        let _ = messages.push(Message::SubjectLeg(leg));
+    }
+    for knee in knees {
+        let _ = messages.push(Message::SubjectKnee(knee));
+    }
+    let n = messages.len().saturating_sub(skip);
+    messages[..n].iter().all(|m| send(serial, m))
+}
+
+/// The message switching to the subject model of `upload`, drop policy, window 4.
+pub fn subject_config(upload: u8, request_status: bool) -> Message {
+    Message::SubjectConfig(SubjectConfig { upload, missing_policy: MissingPolicy::Drop, reorder_window: 4, request_status })
+}
+
+/// The frame a hub computing `kinematics` sends for sample `seq` of [`gait_angle`]s.
+fn expected_frame(kinematics: &Kinematics, seq: u32) -> PoseFrame {
+    let mut angles = [0.0; JointId::COUNT];
+    for j in JointId::ALL {
+        angles[j.index() as usize] = gait_angle(j, seq);
+    }
+    kinematics.pose_frame(&Sample { seq, angles, held: JointSet::EMPTY }, 0)
+}
+
+/// A Config for gait2392 gives frames with all 17 angles, equal to the generic model's.
+pub fn gait2392_config_gives_frames_of_the_generic_model() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send(hub.serial_mut(), &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)));
+    for seq in 0..3 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, seq));
+    }
+    drain(&mut hub);
+    let Ok(generic) = Kinematics::gait2392(&Gait2392Geometry::generic()) else {
+        return Err(CheckFailure { what: "Kinematics::gait2392(generic)", line: line!() });
+    };
+    let mut all_equal = true;
+    let mut seq = 0;
+    let n = poses(&mut hub, |p| {
+        all_equal &= p.angles.len() == 17 && *p == expected_frame(&generic, seq);
+        seq += 1;
+    })?;
+    ensure!(n == 3 && all_equal);
+    ensure!(hub.status().samples_completed == 3 && hub.status().config_rejected == 0);
+    Ok(())
+}
+
+/// Five parts and a SubjectConfig: refused, PHAK stays. The sixth part and the SubjectConfig
+/// again: the hub computes the subject's model, which is not the generic one.
+pub fn subject_model_switches_only_when_complete() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let subject = scaled_subject();
+    ensure!(send_subject(hub.serial_mut(), &subject, 9, 1));
+    ensure!(send(hub.serial_mut(), &subject_config(9, true)));
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 0));
+    drain(&mut hub);
+    ensure!(hub.status().config_rejected == 1);
+    ensure!(hub.config().model == ModelId::Phak && hub.subject().is_none());
+    ensure!(last_status(&mut hub).map(|s| s.config_rejected) == Some(1));
+    ensure!(send_subject(hub.serial_mut(), &subject, 9, 0));
+    ensure!(send(hub.serial_mut(), &subject_config(9, false)));
+    for seq in 1..4 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, seq));
+    }
+    drain(&mut hub);
+    ensure!(hub.status().config_rejected == 1);
+    ensure!(hub.config().model == ModelId::Gait2392 && hub.subject() == Some(9));
+    // What the hub holds is the subject rounded to f32 on the wire.
+    let Ok(held) = hub.subject_parts().geometry(9) else {
+        return Err(CheckFailure { what: "the hub's parts make no model", line: line!() });
+    };
+    let (Ok(mine), Ok(generic)) = (Kinematics::gait2392(&held), Kinematics::gait2392(&Gait2392Geometry::generic())) else {
+        return Err(CheckFailure { what: "Kinematics::gait2392", line: line!() });
+    };
+    let (mut subject_frames, mut far_from_generic) = (0, true);
+    poses(&mut hub, |p| {
+        if p.model == ModelId::Gait2392 {
+            subject_frames += u32::from(*p == expected_frame(&mine, p.seq));
+            let g = expected_frame(&generic, p.seq);
+            // The 1.1-scaled right leg: its toe is centimetres away from the generic toe.
+            far_from_generic &= (p.points[3][1] - g.points[3][1]).abs() > 0.02;
+        }
+    })?;
+    ensure!(subject_frames == 3 && far_from_generic);
+    // A Config switches back to a built-in model; the subject's SubjectConfig again to it.
+    ensure!(send(hub.serial_mut(), &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)));
+    drain(&mut hub);
+    ensure!(hub.subject().is_none());
+    ensure!(send(hub.serial_mut(), &subject_config(9, false)));
+    drain(&mut hub);
+    ensure!(hub.subject() == Some(9) && hub.status().config_rejected == 1);
+    Ok(())
+}
+
+/// A subject model with a zero ankle axis (refused by the kernel), one with a hip 5 m from the
+/// pelvis, and one with knots out of order are each counted; the model in force stays.
+pub fn invalid_subject_model_is_rejected_and_counted() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let mut zero_axis = scaled_subject();
+    zero_axis.left.ankle_axis = [0.0; 3];
+    let mut far_hip = scaled_subject();
+    far_hip.right.hip_in_pelvis[2] = 5.0;
+    let mut unordered = scaled_subject();
+    unordered.right.knee_ty.x.swap(1, 2);
+    for (upload, geometry) in [(1, zero_axis), (2, far_hip), (3, unordered)] {
+        ensure!(send_subject(hub.serial_mut(), &geometry, upload, 0));
+        ensure!(send(hub.serial_mut(), &subject_config(upload, false)));
+        drain(&mut hub);
+    }
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 0));
+    drain(&mut hub);
+    ensure!(hub.status().config_rejected == 3 && hub.status().malformed == 0);
+    ensure!(hub.config().model == ModelId::Phak && hub.subject().is_none());
+    ensure!(poses(&mut hub, |_| {})? == 1);
+    Ok(())
+}
+
+/// A part of another upload discards the parts held: the first upload is then incomplete.
+pub fn parts_of_another_upload_discard_the_held_ones() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let subject = scaled_subject();
+    ensure!(send_subject(hub.serial_mut(), &subject, 1, 0));
+    drain(&mut hub);
+    ensure!(hub.subject_parts().upload() == Some(1) && hub.subject_parts().count() == 6);
+    ensure!(send_subject(hub.serial_mut(), &subject, 2, 5));
+    ensure!(send(hub.serial_mut(), &subject_config(1, false)));
+    drain(&mut hub);
+    ensure!(hub.subject_parts().upload() == Some(2) && hub.subject_parts().count() == 1);
+    ensure!(hub.status().config_rejected == 1 && hub.subject().is_none());
     Ok(())
 }

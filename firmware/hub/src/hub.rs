@@ -2,7 +2,8 @@
 
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
 use qgait_proto::{
-    encode_frame, Config, FrameDecoder, FrameFlags, JointAngle, Message, MissingPolicy, ModelId, Status, MAX_FRAME_LEN,
+    encode_frame, Config, FrameDecoder, FrameFlags, JointAngle, Message, MissingPolicy, ModelId, Status, SubjectConfig,
+    MAX_FRAME_LEN,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent, MAX_WINDOW};
@@ -10,6 +11,7 @@ use crate::clock::Clock;
 use crate::counters::{bump, count_decode_error};
 use crate::kinematics::{ConfigError, Kinematics};
 use crate::limits::in_range;
+use crate::subject::SubjectParts;
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
@@ -53,6 +55,9 @@ pub struct Hub<S, C> {
     clock: C,
     decoder: FrameDecoder,
     config: Config,
+    /// The upload of the subject model in force, if the model is a subject's gait2392.
+    subject: Option<u8>,
+    subject_parts: SubjectParts,
     kinematics: Kinematics,
     assembler: Assembler,
     status: Status,
@@ -83,6 +88,8 @@ where
             kinematics,
             assembler: assembler_for(&config),
             config,
+            subject: None,
+            subject_parts: SubjectParts::new(),
             status: Status::default(),
             started_ms: now,
             last_status_ms: now,
@@ -134,9 +141,20 @@ where
         Status { uptime_ms: self.clock.now_ms().wrapping_sub(self.started_ms), ..self.status }
     }
 
-    /// The configuration in force (its `request_status` is always `false`).
+    /// The configuration in force (its `request_status` is always `false`). With a subject
+    /// model its model is gait2392 and [`subject`](Self::subject) says which.
     pub fn config(&self) -> Config {
         self.config
+    }
+
+    /// The upload of the subject gait2392 model in force, `None` with a built-in model.
+    pub fn subject(&self) -> Option<u8> {
+        self.subject
+    }
+
+    /// The subject-model parts held (see [`SubjectParts`]).
+    pub fn subject_parts(&self) -> &SubjectParts {
+        &self.subject_parts
     }
 
     /// The serial port, e.g. to inspect a test double.
@@ -153,12 +171,11 @@ where
         match message {
             Message::JointAngle(packet) => self.on_packet(&packet),
             Message::Config(config) => self.on_config(&config),
+            Message::SubjectLeg(part) => self.subject_parts.add_leg(&part),
+            Message::SubjectKnee(part) => self.subject_parts.add_knee(&part),
+            Message::SubjectConfig(config) => self.on_subject_config(&config),
             // Well-formed, but only a hub sends these: nothing to do with them here.
             Message::PoseFrame(_) | Message::Status(_) => bump(&mut self.status.malformed),
-            // Subject models: handled in a following change.
-            Message::SubjectLeg(_) | Message::SubjectKnee(_) | Message::SubjectConfig(_) => {
-                bump(&mut self.status.config_rejected)
-            }
         }
     }
 
@@ -206,20 +223,45 @@ where
 
     fn on_config(&mut self, config: &Config) {
         // A configuration the hub cannot use is counted and ignored; the old one stays.
-        if self.apply(config).is_err() {
-            bump(&mut self.status.malformed);
+        let new = Config { request_status: false, ..*config };
+        let result = self.apply(new, None, |_| Kinematics::new(new.model, new.anthropometry));
+        self.after_config(result, config.request_status);
+    }
+
+    fn on_subject_config(&mut self, config: &SubjectConfig) {
+        let new = Config {
+            model: ModelId::Gait2392,
+            anthropometry: None,
+            missing_policy: config.missing_policy,
+            reorder_window: config.reorder_window,
+            request_status: false,
+        };
+        let upload = config.upload;
+        let result = self.apply(new, Some(upload), |parts| Kinematics::gait2392(&parts.geometry(upload)?));
+        self.after_config(result, config.request_status);
+    }
+
+    fn after_config(&mut self, result: Result<(), ConfigError>, request_status: bool) {
+        if result.is_err() {
+            bump(&mut self.status.config_rejected);
         }
-        if config.request_status {
+        if request_status {
             self.send_status();
         }
     }
 
-    fn apply(&mut self, config: &Config) -> Result<(), ConfigError> {
-        let new = Config { request_status: false, ..*config };
-        if new == self.config {
+    /// Switches to `new` (with the subject model `subject`), the model built by `kinematics`
+    /// unless `new` is the configuration in force.
+    fn apply(
+        &mut self,
+        new: Config,
+        subject: Option<u8>,
+        kinematics: impl FnOnce(&SubjectParts) -> Result<Kinematics, ConfigError>,
+    ) -> Result<(), ConfigError> {
+        if new == self.config && subject == self.subject {
             return Ok(());
         }
-        let kinematics = Kinematics::new(new.model, new.anthropometry)?;
+        let kinematics = kinematics(&self.subject_parts)?;
         // Samples open under the old configuration are closed (and counted) first.
         let mut events: heapless::Vec<SampleEvent, MAX_WINDOW> = heapless::Vec::new();
         self.assembler.flush(&mut |e| {
@@ -231,6 +273,7 @@ where
         self.kinematics = kinematics;
         self.assembler = assembler_for(&new);
         self.config = new;
+        self.subject = subject;
         Ok(())
     }
 

@@ -2,7 +2,7 @@
 //! [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, BilateralPose, Limb, Phak, PhakAngles};
+use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles};
 use qgait_proto::{point, segment, FrameFlags, JointId, ModelId, PoseFrame};
 
 use crate::assembly::Sample;
@@ -11,8 +11,9 @@ use crate::assembly::Sample;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ConfigError {
-    /// The hub computes HAK and PHAK only; gait2392 poses are computed on the host.
-    UnsupportedModel(ModelId),
+    /// Segment lengths were given with gait2392, whose lengths are in its model (generic or
+    /// subject).
+    AnthropometryWithGait2392,
     /// A segment length is not a finite number in `(0, MAX_SEGMENT_M]`.
     BadSegment {
         /// 0 = right leg, 1 = left leg.
@@ -20,34 +21,75 @@ pub enum ConfigError {
         /// Index into the leg's lengths ([`qgait_proto::segment`]).
         segment: u8,
     },
-    /// The kernel refused the model (cannot happen with lengths that passed the checks above).
+    /// The kernel refused the model: for HAK and PHAK this cannot happen with lengths that
+    /// passed the checks above; for a subject gait2392, e.g. a zero axis or knots out of order.
     Kernel,
+    /// A subject model was asked for before all its parts arrived.
+    SubjectIncomplete {
+        /// The upload asked for.
+        upload: u8,
+        /// Parts of it held (of [`qgait_proto::SUBJECT_PARTS`]).
+        parts: u8,
+    },
+    /// A position or knee spline value of a subject model is not a finite number within
+    /// `MAX_SEGMENT_M`.
+    SubjectOutOfRange {
+        /// 0 = right leg, 1 = left leg.
+        leg: u8,
+    },
+    /// A knee spline has more knots than a `SubjectKnee` carries.
+    SubjectKnots {
+        /// 0 = right leg, 1 = left leg.
+        leg: u8,
+    },
 }
 
-/// The longest segment length accepted (metres).
+/// The longest segment length accepted, and the largest coordinate of a subject model's
+/// positions and knee translations (metres).
 pub const MAX_SEGMENT_M: f32 = 2.0;
 
 /// A configured model, ready to compute poses.
 #[derive(Debug, Clone)]
 pub struct Kinematics {
     model: ModelId,
-    phak: Phak<f32>,
+    chain: ModelChain,
+}
+
+/// The kernel model that computes the poses.
+#[derive(Debug, Clone)]
+// One Kinematics lives in the hub, for its whole life: boxing is not an option without a heap.
+#[allow(clippy::large_enum_variant)]
+enum ModelChain {
+    /// HAK and PHAK.
+    Phak(Phak<f32>),
+    /// gait2392, generic or subject-specific.
+    Gait2392(Gait2392<f32>),
 }
 
 impl Kinematics {
     /// The `model` with the given segment lengths (right, left; [`qgait_proto::segment`]
     /// order), or gait2392's if `None`.
     /// HAK is computed as PHAK with a level, forward-facing pelvis (see [`pose_frame`](Self::pose_frame)).
+    /// gait2392 is the generic model (its lengths are its own: `lengths` must be `None`).
     pub fn new(model: ModelId, lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Kinematics, ConfigError> {
         if model == ModelId::Gait2392 {
-            return Err(ConfigError::UnsupportedModel(model));
+            if lengths.is_some() {
+                return Err(ConfigError::AnthropometryWithGait2392);
+            }
+            return Kinematics::gait2392(&Gait2392Geometry::generic());
         }
         let anthropometry = match lengths {
             None => Anthropometry::gait2392(),
             Some(legs) => Anthropometry { right: limb(&legs[0], 0)?, left: limb(&legs[1], 1)? },
         };
         let phak = Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)?;
-        Ok(Kinematics { model, phak })
+        Ok(Kinematics { model, chain: ModelChain::Phak(phak) })
+    }
+
+    /// gait2392 with these numbers (generic or a subject's), in `f32`.
+    pub fn gait2392(geometry: &Gait2392Geometry) -> Result<Kinematics, ConfigError> {
+        let chain = Gait2392::new(geometry).map_err(|_| ConfigError::Kernel)?;
+        Ok(Kinematics { model: ModelId::Gait2392, chain: ModelChain::Gait2392(chain) })
     }
 
     /// The model poses are computed with.
@@ -59,22 +101,14 @@ impl Kinematics {
     ///
     /// HAK has no pelvis joints: its legs hang from a level, forward-facing pelvis, i.e. PHAK
     /// with zero pelvis rotation and list, so both models give points in the same frame.
+    ///
+    /// gait2392 takes all 17 angles (its coordinates are in [`JointId`] order) and reports the
+    /// hip, knee, ankle and toe tip of each leg.
     pub fn pose_frame(&self, sample: &Sample, flags: u8) -> PoseFrame {
-        let (pelvis_rotation, pelvis_list) = match self.model {
-            ModelId::Hak => (0.0, 0.0),
-            _ => (sample.angle(JointId::PelvisRotation), sample.angle(JointId::PelvisList)),
+        let pose = match &self.chain {
+            ModelChain::Phak(phak) => phak.fk(&self.phak_angles(sample)),
+            ModelChain::Gait2392(g) => g.fk(&sample.angles).bilateral(),
         };
-        let angles = PhakAngles {
-            pelvis_rotation,
-            pelvis_list,
-            hip_flexion_r: sample.angle(JointId::HipFlexionR),
-            knee_angle_r: sample.angle(JointId::KneeAngleR),
-            ankle_angle_r: sample.angle(JointId::AnkleAngleR),
-            hip_flexion_l: sample.angle(JointId::HipFlexionL),
-            knee_angle_l: sample.angle(JointId::KneeAngleL),
-            ankle_angle_l: sample.angle(JointId::AnkleAngleL),
-        };
-        let pose = self.phak.fk(&angles);
         let d = distances(&pose);
         let mut used = heapless::Vec::new();
         for &joint in self.model.required_joints() {
@@ -88,6 +122,25 @@ impl Kinematics {
             points: points(&pose),
             distances: [d.knee, d.ankle, d.toe],
             flags: flags & FrameFlags::ALL,
+        }
+    }
+}
+
+impl Kinematics {
+    fn phak_angles(&self, sample: &Sample) -> PhakAngles<f32> {
+        let (pelvis_rotation, pelvis_list) = match self.model {
+            ModelId::Hak => (0.0, 0.0),
+            _ => (sample.angle(JointId::PelvisRotation), sample.angle(JointId::PelvisList)),
+        };
+        PhakAngles {
+            pelvis_rotation,
+            pelvis_list,
+            hip_flexion_r: sample.angle(JointId::HipFlexionR),
+            knee_angle_r: sample.angle(JointId::KneeAngleR),
+            ankle_angle_r: sample.angle(JointId::AnkleAngleR),
+            hip_flexion_l: sample.angle(JointId::HipFlexionL),
+            knee_angle_l: sample.angle(JointId::KneeAngleL),
+            ankle_angle_l: sample.angle(JointId::AnkleAngleL),
         }
     }
 }
@@ -170,6 +223,29 @@ mod tests {
         assert!(Kinematics::new(ModelId::Phak, Some(lengths)).is_err());
         lengths[1][2] = 2.5;
         assert!(Kinematics::new(ModelId::Phak, Some(lengths)).is_err());
-        assert_eq!(Kinematics::new(ModelId::Gait2392, None).unwrap_err(), ConfigError::UnsupportedModel(ModelId::Gait2392));
+        assert_eq!(
+            Kinematics::new(ModelId::Gait2392, Some([[0.08, 0.40, 0.42, 0.20]; 2])).unwrap_err(),
+            ConfigError::AnthropometryWithGait2392
+        );
+    }
+
+    #[test]
+    fn gait2392_frames_are_the_kernels_bilateral_pose_of_all_17_angles() {
+        let k = Kinematics::new(ModelId::Gait2392, None).unwrap();
+        let mut angles = [0.0f32; JointId::COUNT];
+        for (i, a) in angles.iter_mut().enumerate() {
+            *a = 0.05 * (i as f32 - 8.0);
+        }
+        let s = Sample { seq: 3, angles, held: JointSet::EMPTY };
+        let frame = k.pose_frame(&s, 0);
+        let want = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap().fk(&angles);
+        let b = want.bilateral();
+        assert_eq!(frame.points, points(&b));
+        assert_eq!(frame.angles.as_slice(), &angles[..]);
+        assert_eq!(frame.model, ModelId::Gait2392);
+        let d = distances(&b);
+        assert_eq!(frame.distances, [d.knee, d.ankle, d.toe]);
+        // The toe tip, not the MTP joint, is the frame's toe.
+        assert_eq!(frame.points[point::TOE_R], want.points[5].to_array());
     }
 }
