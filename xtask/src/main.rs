@@ -9,6 +9,7 @@
 //! - `footprint`: flash and static RAM of the release builds of both boards, and the peak
 //!   stack measured under QEMU.
 
+mod bench;
 mod cargo;
 mod defmt_log;
 mod elf_size;
@@ -24,13 +25,16 @@ use std::process::ExitCode;
 const USAGE: &str = "usage: cargo xtask <command>
   test                 run every test suite (host, firmware builds, QEMU) and summarise
   qemu-run ELF [ARGS]  run a firmware ELF under QEMU mps2-an386 with decoded defmt logs
-  footprint            flash, static RAM and peak stack of the release firmware";
+  footprint            flash, static RAM and peak stack of the release firmware
+  bench [--no-host] [--no-footprint]
+                       every benchmark figure (device, footprint, host), one `NAME VALUE` line each";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("test") => test::run(),
         Some("footprint") => footprint::run(),
+        Some("bench") => bench::run(&args[1..]),
         Some("qemu-run") => match args.get(1) {
             Some(elf) => qemu::run_elf(&PathBuf::from(elf)),
             None => Err(format!("qemu-run needs the ELF path\n{USAGE}")),

@@ -1,0 +1,506 @@
+//! Device benchmark: instructions per call of the kernel's forward kinematics and of one whole
+//! hub sample, counted under QEMU `-icount shift=0,align=off` (one virtual nanosecond per
+//! instruction, so SysTick on the 25 MHz core clock ticks once per 40 instructions).
+//!
+//! Each figure is the average over many calls with inputs that change on every call
+//! (`black_box`), minus the same loop with an empty body. Results are `println!`ed as
+//! `bench NAME VALUE` lines; `cargo xtask bench` (xtask/src/bench.rs) builds this binary, runs
+//! it under QEMU with `-icount` and turns the lines into its machine-readable output.
+//!
+//! The binary first runs a calibration loop of a known instruction count: without `-icount`
+//! (e.g. plain `cargo run --bin bench`) SysTick follows host time and the run fails instead of
+//! printing meaningless numbers.
+
+#![no_std]
+#![no_main]
+
+use core::hint::black_box;
+
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m::peripheral::SYST;
+use cortex_m_rt::entry;
+use embedded_hal_nb::serial;
+use qgait_firmware::board;
+use qgait_hub::{Hub, JointSet, Kinematics, ManualClock, Sample};
+use qgait_kernel::metrics::distances;
+use qgait_kernel::reference::chain_by_matrices;
+use qgait_kernel::trig::half_angle_sin_cos_f32;
+use qgait_kernel::{
+    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Hak, HakAngles, Limb, Phak, PhakAngles, Real,
+};
+use qgait_proto::{
+    crc32c, decode_message, encode_frame, encode_message, Config, FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION,
+};
+
+/// Virtual instructions per SysTick tick: 1 GHz instruction clock (`shift=0`) / 25 MHz.
+const INSTRUCTIONS_PER_TICK: u64 = 40;
+/// SysTick is a 24-bit down-counter.
+const RELOAD: u32 = 0x00FF_FFFF;
+/// Distinct input sets, cycled through (a power of two).
+const INPUTS: usize = 64;
+/// Calls per kernel measurement.
+const CALLS: u32 = 2048;
+/// Calls per measurement of the slow matrix method (libm `sincosf`).
+const MATRIX_CALLS: u32 = 256;
+/// Samples through the whole hub pipeline.
+const SAMPLES: u32 = 200;
+/// Bytes of the encoded packets of all samples (17 gait2392 packets of at most 21 bytes each).
+const RX_CAPACITY: usize = 72 * 1024;
+/// Exit status when the instruction counter does not count instructions.
+const NOT_COUNTING_EXIT_CODE: i32 = 3;
+/// Exit status when the hub pipeline did not produce the expected frames.
+const PIPELINE_EXIT_CODE: i32 = 4;
+
+#[entry]
+fn main() -> ! {
+    let Some(mut core) = cortex_m::Peripherals::take() else { board::exit(1) };
+    core.SYST.set_clock_source(SystClkSource::Core);
+    core.SYST.set_reload(RELOAD);
+    core.SYST.clear_current();
+    core.SYST.enable_counter();
+
+    calibrate();
+
+    let mut rng = Lcg(0x2545_F491);
+    let hak_in: [HakAngles<f32>; INPUTS] = core::array::from_fn(|_| HakAngles::from_array(rng.angles()));
+    let phak_in: [PhakAngles<f32>; INPUTS] = core::array::from_fn(|_| PhakAngles::from_array(rng.angles()));
+    let g_in: [[f32; 17]; INPUTS] = core::array::from_fn(|_| rng.angles());
+    let scalars: [f32; INPUTS] = core::array::from_fn(|_| rng.angles::<1>()[0]);
+
+    let hak = Hak::<f32>::new(&Limb::gait2392()).unwrap_or_else(|_| board::exit(1));
+    let phak = Phak::<f32>::new(&Anthropometry::gait2392()).unwrap_or_else(|_| board::exit(1));
+    let g = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap_or_else(|_| board::exit(1));
+
+    report("empty_loop.ticks", bench_empty(&phak_in, CALLS) as f32, 1.0);
+    let scalar_base = bench_empty(&scalars, CALLS);
+    net("trig.half_angle_sin_cos", bench_half_angle(&scalars, CALLS), scalar_base, CALLS);
+    net("trig.libm_sincosf", bench_libm_sincos(&scalars, MATRIX_CALLS), bench_empty(&scalars, MATRIX_CALLS), MATRIX_CALLS);
+    net("trig.sqrt_f32", bench_sqrt(&scalars, CALLS), scalar_base, CALLS);
+
+    let hak_base = bench_empty(&hak_in, CALLS);
+    net("hak.quat", bench_hak_quat(&hak, &hak_in, CALLS), hak_base, CALLS);
+    net("hak.matrix", bench_hak_matrix(&hak, &hak_in, MATRIX_CALLS), bench_empty(&hak_in, MATRIX_CALLS), MATRIX_CALLS);
+
+    let phak_base = bench_empty(&phak_in, CALLS);
+    net("phak.quat", bench_phak_quat(&phak, &phak_in, CALLS), phak_base, CALLS);
+    net("phak.quat_frames", bench_phak_frames(&phak, &phak_in, CALLS), phak_base, CALLS);
+    net("phak.matrix", bench_phak_matrix(&phak, &phak_in, MATRIX_CALLS), bench_empty(&phak_in, MATRIX_CALLS), MATRIX_CALLS);
+
+    let g_base = bench_empty(&g_in, CALLS);
+    net("gait2392.quat", bench_gait2392_quat(&g, &g_in, CALLS), g_base, CALLS);
+    net("gait2392.quat_frames", bench_gait2392_frames(&g, &g_in, CALLS), g_base, CALLS);
+    net("gait2392.matrix", bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS), bench_empty(&g_in, MATRIX_CALLS), MATRIX_CALLS);
+
+    sample_sections(&phak_in);
+    whole_sample(ModelId::Phak, "sample");
+    whole_sample(ModelId::Gait2392, "sample_gait2392");
+
+    board::exit(0)
+}
+
+/// Reads SysTick's current value (counts down).
+#[inline(always)]
+fn now() -> u32 {
+    SYST::get_current()
+}
+
+/// Ticks from `start` to `end` of the down-counter (one wrap at most: 671 M instructions).
+#[inline(always)]
+fn ticks(start: u32, end: u32) -> u32 {
+    start.wrapping_sub(end) & RELOAD
+}
+
+/// Runs `body(i)` for `i` in `0..n` between two SysTick readings; returns the ticks.
+#[inline(always)]
+fn timed(n: u32, mut body: impl FnMut(usize)) -> u32 {
+    let start = now();
+    for i in 0..n as usize {
+        body(i);
+    }
+    ticks(start, now())
+}
+
+/// Prints `bench NAME VALUE` with `VALUE = x / divisor` to one decimal.
+fn report(name: &str, x: f32, divisor: f32) {
+    let tenths = (10.0 * x / divisor + 0.5) as u32;
+    defmt::println!("bench {=str} {=u32}.{=u32}", name, tenths / 10, tenths % 10);
+}
+
+/// Reports `name.instructions_per_call` from the ticks of `n` calls minus the empty loop's.
+fn net(name: &str, ticks: u32, base: u32, n: u32) {
+    let instructions = (ticks as i64 - base as i64) * INSTRUCTIONS_PER_TICK as i64;
+    defmt::println!("bench {=str}.ticks {=u32} base {=u32} calls {=u32}", name, ticks, base, n);
+    let tenths = (instructions * 10 + n as i64 / 2) / n as i64;
+    defmt::println!("bench {=str}.instructions_per_call {=i64}.{=i64}", name, tenths / 10, (tenths % 10).abs());
+}
+
+/// A loop of `n` `subs`/`bne` pairs (2n instructions) must take 2n / 40 ticks: otherwise QEMU
+/// is not counting instructions (`-icount shift=0,align=off` missing) and the run fails.
+fn calibrate() {
+    const LOOPS: u32 = 1_000_000;
+    let start = now();
+    // SAFETY: a register-only countdown loop; touches no memory, no stack.
+    unsafe {
+        core::arch::asm!("1:", "subs {0}, {0}, #1", "bne 1b", inout(reg) LOOPS => _, options(nomem, nostack));
+    }
+    let measured = ticks(start, now()) as u64 * INSTRUCTIONS_PER_TICK;
+    let expected = 2 * LOOPS as u64;
+    defmt::println!("bench calibration.instructions {=u64} expected {=u64}", measured, expected);
+    if measured.abs_diff(expected) > expected / 1000 {
+        defmt::error!("SysTick does not count instructions: run QEMU with -icount shift=0,align=off");
+        board::exit(NOT_COUNTING_EXIT_CODE)
+    }
+}
+
+/// Deterministic pseudo-random gait-like angles in [-0.75, 0.75] rad.
+struct Lcg(u32);
+
+impl Lcg {
+    fn angles<const N: usize>(&mut self) -> [f32; N] {
+        core::array::from_fn(|_| {
+            self.0 = self.0.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            ((self.0 >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 1.5
+        })
+    }
+}
+
+// Each measured loop is its own non-inlined function, so its code size can be read from the
+// ELF's symbol table (the kernel's share per model; see xtask/src/bench.rs).
+
+#[inline(never)]
+fn bench_empty<I>(inputs: &[I; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(&inputs[i % INPUTS]);
+    })
+}
+
+#[inline(never)]
+fn bench_half_angle(x: &[f32; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(half_angle_sin_cos_f32(*black_box(&x[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_libm_sincos(x: &[f32; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(Real::sin_cos(*black_box(&x[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_sqrt(x: &[f32; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(Real::sqrt(black_box(&x[i % INPUTS]).abs()));
+    })
+}
+
+#[inline(never)]
+fn bench_hak_quat(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_hak_matrix(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
+    })
+}
+
+#[inline(never)]
+fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).chain().frames(&black_box(&q[i % INPUTS]).to_array()));
+    })
+}
+
+#[inline(never)]
+fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).chain().frames(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_matrix(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(chain_by_matrices(black_box(model).chain(), black_box(&q[i % INPUTS])));
+    })
+}
+
+/// The PHAK packet of `joint` in sample `seq`, with an angle that changes every sample.
+fn packet(seq: u32, joint: JointId, rng: &mut Lcg) -> JointAngle {
+    JointAngle {
+        version: PROTOCOL_VERSION,
+        node: joint.index(),
+        joint,
+        seq,
+        timestamp_us: seq.wrapping_mul(10_000),
+        angle: 0.5 * rng.angles::<1>()[0],
+        quality: 0,
+    }
+}
+
+/// The parts of one sample, each measured on its own: frame decoding of the 8 packets, the
+/// pose frame (FK, distances, packing), the inter-limb distances alone, and frame encoding.
+fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
+    let mut rng = Lcg(7);
+    // The encoded packets of INPUTS samples, one byte stream per sample.
+    let mut streams: [heapless::Vec<u8, 192>; INPUTS] = core::array::from_fn(|_| heapless::Vec::new());
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    for (seq, stream) in streams.iter_mut().enumerate() {
+        for &joint in ModelId::Phak.required_joints() {
+            let Ok(frame) = encode_frame(&Message::JointAngle(packet(seq as u32, joint, &mut rng)), &mut buf) else {
+                board::exit(PIPELINE_EXIT_CODE)
+            };
+            if stream.extend_from_slice(frame).is_err() {
+                board::exit(PIPELINE_EXIT_CODE)
+            }
+        }
+    }
+    defmt::println!("bench sample.rx_bytes {=usize}", streams[0].len());
+    let n = CALLS / 4;
+    let base = bench_empty(&streams, n);
+    net("sample.decode_8_packets", bench_decode(&streams, n), base, n);
+
+    let payloads: [heapless::Vec<u8, 32>; INPUTS] = core::array::from_fn(|i| {
+        let mut out = [0u8; 32];
+        let p = packet(i as u32, JointId::KneeAngleR, &mut rng);
+        let len = encode_message(&Message::JointAngle(p), &mut out).map(|m| m.len()).unwrap_or(0);
+        heapless::Vec::from_slice(&out[..len]).unwrap_or_default()
+    });
+    defmt::println!("bench sample.packet_payload_bytes {=usize}", payloads[0].len());
+    let base = bench_empty(&payloads, CALLS);
+    net("sample.crc32c_packet", bench_crc(&payloads, CALLS), base, CALLS);
+    net("sample.decode_message_packet", bench_decode_message(&payloads, CALLS), base, CALLS);
+
+    let kinematics = Kinematics::new(ModelId::Phak, None).unwrap_or_else(|_| board::exit(1));
+    let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
+        let mut s = Sample { seq: i as u32, angles: [0.0; JointId::COUNT], held: JointSet::EMPTY };
+        for (&j, &a) in ModelId::Phak.required_joints().iter().zip(phak_in[i].to_array().iter()) {
+            s.angles[j.index() as usize] = a;
+        }
+        s
+    });
+    let base = bench_empty(&samples, CALLS);
+    net("sample.pose_frame", bench_pose_frame(&kinematics, &samples, CALLS), base, CALLS);
+
+    let phak = Phak::<f32>::new(&Anthropometry::gait2392()).unwrap_or_else(|_| board::exit(1));
+    let poses: [BilateralPose<f32>; INPUTS] = core::array::from_fn(|i| phak.fk(&phak_in[i]));
+    net("sample.distances", bench_distances(&poses, CALLS), bench_empty(&poses, CALLS), CALLS);
+
+    let frames: [Message; INPUTS] = core::array::from_fn(|i| Message::PoseFrame(kinematics.pose_frame(&samples[i], 0)));
+    let Ok(len) = encode_frame(&frames[0], &mut buf).map(|f| f.len()) else { board::exit(PIPELINE_EXIT_CODE) };
+    defmt::println!("bench sample.tx_bytes {=usize}", len);
+    net("sample.encode_pose_frame", bench_encode(&frames, CALLS), bench_empty(&frames, CALLS), CALLS);
+    net("sample.encode_message_pose_frame", bench_encode_message(&frames, CALLS), bench_empty(&frames, CALLS), CALLS);
+    defmt::println!(
+        "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize}",
+        core::mem::size_of::<Message>(),
+        core::mem::size_of::<qgait_proto::PoseFrame>(),
+        core::mem::size_of::<Kinematics>(),
+        core::mem::size_of::<FrameDecoder>()
+    );
+}
+
+#[inline(never)]
+fn bench_crc(payloads: &[heapless::Vec<u8, 32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(crc32c(black_box(&payloads[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_decode_message(payloads: &[heapless::Vec<u8, 32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        if let Ok(m) = decode_message(black_box(&payloads[i % INPUTS])) {
+            black_box(&m);
+        }
+    })
+}
+
+#[inline(never)]
+fn bench_encode_message(frames: &[Message; INPUTS], n: u32) -> u32 {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    timed(n, |i| {
+        black_box(encode_message(black_box(&frames[i % INPUTS]), &mut buf).map(|m| m.len()).ok());
+    })
+}
+
+#[inline(never)]
+fn bench_decode(streams: &[heapless::Vec<u8, 192>; INPUTS], n: u32) -> u32 {
+    let mut decoder = FrameDecoder::new();
+    timed(n, |i| {
+        for &b in black_box(&streams[i % INPUTS]).iter() {
+            if let Some(result) = decoder.push(b) {
+                black_box(&result);
+            }
+        }
+    })
+}
+
+#[inline(never)]
+fn bench_pose_frame(k: &Kinematics, samples: &[Sample; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(k).pose_frame(black_box(&samples[i % INPUTS]), 0));
+    })
+}
+
+#[inline(never)]
+fn bench_distances(poses: &[BilateralPose<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(distances(black_box(&poses[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_encode(frames: &[Message; INPUTS], n: u32) -> u32 {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    timed(n, |i| {
+        black_box(encode_frame(black_box(&frames[i % INPUTS]), &mut buf).map(|f| f.len()).ok());
+    })
+}
+
+/// A serial port double with the least overhead: reads a byte stream from memory, counts and
+/// checksums what is written (a UART's data register write costs about as much).
+struct StreamSerial<'a> {
+    rx: &'a [u8],
+    pos: usize,
+    tx_bytes: u32,
+    tx_sum: u32,
+}
+
+impl serial::ErrorType for StreamSerial<'_> {
+    type Error = core::convert::Infallible;
+}
+
+impl serial::Read<u8> for StreamSerial<'_> {
+    #[inline]
+    fn read(&mut self) -> nb::Result<u8, Self::Error> {
+        match self.rx.get(self.pos) {
+            Some(&b) => {
+                self.pos += 1;
+                Ok(b)
+            }
+            None => Err(nb::Error::WouldBlock),
+        }
+    }
+}
+
+impl serial::Write<u8> for StreamSerial<'_> {
+    #[inline]
+    fn write(&mut self, byte: u8) -> nb::Result<(), Self::Error> {
+        self.tx_bytes += 1;
+        self.tx_sum = self.tx_sum.wrapping_mul(31).wrapping_add(byte as u32);
+        Ok(())
+    }
+
+    fn flush(&mut self) -> nb::Result<(), Self::Error> {
+        Ok(())
+    }
+}
+
+/// SAMPLES samples of `model` through the hub (drop policy, window 4): bytes in, frame
+/// decoding, sample assembly, FK, pose frame encoding, bytes out. The serial double's own cost
+/// (the same reads and writes without the hub) is measured and reported separately, and
+/// subtracted. A `Config` selecting `model` goes first (not counted).
+fn whole_sample(model: ModelId, name: &str) {
+    let mut rng = Lcg(11);
+    let mut rx: heapless::Vec<u8, RX_CAPACITY> = heapless::Vec::new();
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let config = Config { model, anthropometry: None, missing_policy: MissingPolicy::Drop, reorder_window: 4, request_status: false };
+    let Ok(config_len) = encode_frame(&Message::Config(config), &mut buf).map(|f| f.len()) else { board::exit(PIPELINE_EXIT_CODE) };
+    if rx.extend_from_slice(&buf[..config_len]).is_err() {
+        board::exit(PIPELINE_EXIT_CODE)
+    }
+    for seq in 0..SAMPLES {
+        for &joint in model.required_joints() {
+            let ok = encode_frame(&Message::JointAngle(packet(seq, joint, &mut rng)), &mut buf)
+                .is_ok_and(|frame| rx.extend_from_slice(frame).is_ok());
+            if !ok {
+                board::exit(PIPELINE_EXIT_CODE)
+            }
+        }
+    }
+    let clock = ManualClock::new(0);
+    // Status period 0: no periodic status frame, only pose frames.
+    let Ok(mut hub) = Hub::new(StreamSerial { rx: &rx[..config_len], pos: 0, tx_bytes: 0, tx_sum: 0 }, &clock, 0) else {
+        board::exit(1)
+    };
+    defmt::println!("bench size.hub_bytes {=usize}", core::mem::size_of_val(&hub));
+    run_hub(&mut hub);
+    hub.serial_mut().rx = &rx[config_len..];
+    hub.serial_mut().pos = 0;
+    let hub_ticks = run_hub(&mut hub);
+    let status = hub.status();
+    let tx_bytes = hub.serial_mut().tx_bytes;
+    defmt::println!(
+        "bench {=str}.check model {=str} samples_completed {=u32} frames_sent {=u32} rx_bytes {=usize} tx_bytes {=u32}",
+        name,
+        hub.config().model.name(),
+        status.samples_completed,
+        status.frames_sent,
+        rx.len() - config_len,
+        tx_bytes
+    );
+    if hub.config().model != model || status.samples_completed != SAMPLES || status.frames_sent != SAMPLES {
+        defmt::error!("the hub did not turn every sample into a pose frame");
+        board::exit(PIPELINE_EXIT_CODE)
+    }
+    let mut io = StreamSerial { rx: &rx[config_len..], pos: 0, tx_bytes: 0, tx_sum: 0 };
+    let io_ticks = serial_io_only(&mut io, tx_bytes);
+    let mut label: heapless::String<48> = heapless::String::new();
+    let mut named = |suffix: &str| {
+        label.clear();
+        let _ = label.push_str(name);
+        let _ = label.push_str(suffix);
+        label.clone()
+    };
+    net(&named(".serial_double"), io_ticks, 0, SAMPLES);
+    net(&named(".gross"), hub_ticks, 0, SAMPLES);
+    net(&named(".net"), hub_ticks, io_ticks, SAMPLES);
+}
+
+#[inline(never)]
+fn run_hub(hub: &mut Hub<StreamSerial<'_>, &ManualClock>) -> u32 {
+    let start = now();
+    while black_box(&mut *hub).poll().bytes > 0 {}
+    ticks(start, now())
+}
+
+/// The serial double's share: read every byte until it would block, write `tx_bytes` bytes.
+#[inline(never)]
+fn serial_io_only(io: &mut StreamSerial<'_>, tx_bytes: u32) -> u32 {
+    use serial::{Read as _, Write as _};
+    let start = now();
+    while let Ok(b) = black_box(&mut *io).read() {
+        black_box(b);
+    }
+    for i in 0..tx_bytes {
+        let _ = black_box(&mut *io).write(black_box(i as u8));
+    }
+    ticks(start, now())
+}

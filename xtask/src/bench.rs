@@ -1,0 +1,291 @@
+//! `cargo xtask bench`: every benchmark figure of BENCHMARKS.md, one machine-readable line per
+//! figure on stdout (`NAME VALUE`); builds, QEMU and criterion output go to stderr.
+//!
+//! - Device: the firmware's `bench` binary under QEMU mps2-an386 with `-icount shift=0,align=off`
+//!   (instructions per call), run twice; the two runs must agree to 1 %.
+//! - Footprint: flash and static RAM of the release firmware (mps2-an386), its peak stack from
+//!   the UART session, and the code size of each measured loop in the bench ELF (the kernel's
+//!   share per model and method).
+//! - Host: criterion's medians (`target/criterion/**/new/estimates.json`) of the kernel's `fk`
+//!   bench, and of the decode + verify bench of the host crate when it exists.
+//!
+//! `--no-host` skips the criterion benches (they take minutes and want a quiet machine).
+
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
+
+use object::{Object, ObjectSymbol};
+
+use crate::elf_size::footprint;
+use crate::repo_root;
+
+/// Longest one QEMU run of the bench binary may take.
+const QEMU_TIMEOUT: Duration = Duration::from_secs(120);
+/// Largest relative difference accepted between the two device runs.
+const REPEATABILITY: f64 = 0.01;
+/// Frames per call of the kernel's batch benches (`BATCH` in crates/qgait-kernel/benches/fk.rs).
+const KERNEL_BATCH: f64 = 4096.0;
+
+/// Device figures: (name printed by the bench binary, name printed here).
+const DEVICE: &[(&str, &str)] = &[
+    ("hak.quat", "device.hak.quat.instructions_per_frame"),
+    ("hak.matrix", "device.hak.matrix.instructions_per_frame"),
+    ("phak.quat", "device.phak.quat.instructions_per_frame"),
+    ("phak.quat_frames", "device.phak.quat.joint_frames_instructions"),
+    ("phak.matrix", "device.phak.matrix.instructions_per_frame"),
+    ("gait2392.quat", "device.gait2392.quat.instructions_per_frame"),
+    ("gait2392.quat_frames", "device.gait2392.quat.joint_frames_instructions"),
+    ("gait2392.matrix", "device.gait2392.matrix.instructions_per_frame"),
+    ("trig.half_angle_sin_cos", "device.trig.half_angle_sin_cos.instructions_per_call"),
+    ("trig.libm_sincosf", "device.trig.libm_sincosf.instructions_per_call"),
+    ("trig.sqrt_f32", "device.trig.sqrt_f32.instructions_per_call"),
+    ("sample.net", "device.sample.instructions"),
+    ("sample.gross", "device.sample.with_serial_double_instructions"),
+    ("sample.serial_double", "device.sample.serial_double_instructions"),
+    ("sample.decode_8_packets", "device.sample.decode_8_packets_instructions"),
+    ("sample.pose_frame", "device.sample.pose_frame_instructions"),
+    ("sample.distances", "device.sample.distances_instructions"),
+    ("sample.encode_pose_frame", "device.sample.encode_pose_frame_instructions"),
+    ("sample.encode_message_pose_frame", "device.sample.encode_message_pose_frame_instructions"),
+    ("sample.crc32c_packet", "device.sample.crc32c_packet_instructions"),
+    ("sample.decode_message_packet", "device.sample.decode_message_packet_instructions"),
+    ("sample_gait2392.net", "device.sample_gait2392.instructions"),
+    ("sample_gait2392.serial_double", "device.sample_gait2392.serial_double_instructions"),
+];
+
+/// Code size of each model and method in the bench ELF: (figure name, measured loop function,
+/// kernel functions the compiler kept out of line for it, if present). The loop is the kernel
+/// call inlined into a counting loop: the empty loop's size is subtracted. libm's `sincosf`,
+/// which every matrix method calls, is its own figure.
+const CODE: &[(&str, &str, &[&str])] = &[
+    ("firmware.kernel.hak.quat.code_bytes", "bench_hak_quat", &["Hak$LT$T$GT$2fk"]),
+    ("firmware.kernel.hak.matrix.code_bytes", "bench_hak_matrix", &[]),
+    ("firmware.kernel.phak.quat.code_bytes", "bench_phak_quat", &["Phak$LT$T$GT$2fk"]),
+    ("firmware.kernel.phak.matrix.code_bytes", "bench_phak_matrix", &[]),
+    ("firmware.kernel.gait2392.quat.code_bytes", "bench_gait2392_quat", &["Gait2392$LT$T$GT$2fk", "Spline$LT$T$GT$4eval"]),
+    ("firmware.kernel.gait2392.matrix.code_bytes", "bench_gait2392_matrix", &["Spline$LT$T$GT$4eval"]),
+    ("firmware.libm_sincosf.code_bytes", "", &["sincosf7sincosf", "k_sinf6k_sinf", "k_cosf6k_cosf", "rem_pio2f", "rem_pio2_large"]),
+];
+
+/// Host figures: (criterion directory under target/criterion, figure name, frames per iteration).
+const HOST: &[(&str, &str, f64)] = &[
+    ("single_frame_f64/hak_quat", "host.hak.f64.quat.single_ns_per_frame", 1.0),
+    ("single_frame_f64/hak_matrix", "host.hak.f64.matrix.single_ns_per_frame", 1.0),
+    ("single_frame_f64/phak_quat", "host.phak.f64.quat.single_ns_per_frame", 1.0),
+    ("single_frame_f64/phak_matrix", "host.phak.f64.matrix.single_ns_per_frame", 1.0),
+    ("single_frame_f64/gait2392_quat", "host.gait2392.f64.quat.single_ns_per_frame", 1.0),
+    ("single_frame_f64/gait2392_matrix", "host.gait2392.f64.matrix.single_ns_per_frame", 1.0),
+    ("single_frame_f32/hak_quat", "host.hak.f32.quat.single_ns_per_frame", 1.0),
+    ("single_frame_f32/hak_matrix", "host.hak.f32.matrix.single_ns_per_frame", 1.0),
+    ("single_frame_f32/phak_quat", "host.phak.f32.quat.single_ns_per_frame", 1.0),
+    ("single_frame_f32/phak_matrix", "host.phak.f32.matrix.single_ns_per_frame", 1.0),
+    ("single_frame_f32/gait2392_quat", "host.gait2392.f32.quat.single_ns_per_frame", 1.0),
+    ("single_frame_f32/gait2392_matrix", "host.gait2392.f32.matrix.single_ns_per_frame", 1.0),
+    ("batch_f64/hak/4096", "host.hak.f64.batch_ns_per_frame", KERNEL_BATCH),
+    ("batch_f64/phak/4096", "host.phak.f64.batch_ns_per_frame", KERNEL_BATCH),
+    ("batch_f64/gait2392/4096", "host.gait2392.f64.batch_ns_per_frame", KERNEL_BATCH),
+    ("batch_f64/phak_loop_of_single/4096", "host.phak.f64.loop_of_single_ns_per_frame", KERNEL_BATCH),
+    ("batch_f32/hak/4096", "host.hak.f32.batch_ns_per_frame", KERNEL_BATCH),
+    ("batch_f32/phak/4096", "host.phak.f32.batch_ns_per_frame", KERNEL_BATCH),
+    ("batch_f32/gait2392/4096", "host.gait2392.f32.batch_ns_per_frame", KERNEL_BATCH),
+    ("batch_f32/phak_loop_of_single/4096", "host.phak.f32.loop_of_single_ns_per_frame", KERNEL_BATCH),
+];
+
+/// Runs every benchmark and prints the figures.
+pub fn run(args: &[String]) -> Result<ExitCode, String> {
+    let host = !args.iter().any(|a| a == "--no-host");
+    let footprint = !args.iter().any(|a| a == "--no-footprint");
+    if let Some(other) = args.iter().find(|a| *a != "--no-host" && *a != "--no-footprint") {
+        return Err(format!("bench: unknown argument {other} (--no-host, --no-footprint)"));
+    }
+    device()?;
+    if footprint {
+        firmware_footprint()?;
+    }
+    if host {
+        host_benches()?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn figure(name: &str, value: impl std::fmt::Display) {
+    println!("{name} {value}");
+}
+
+fn firmware_target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| repo_root().join("firmware/target"))
+}
+
+/// `cargo ARGS` in `dir`, all of its output to stderr.
+fn cargo(dir: &Path, args: &[&str]) -> Result<(), String> {
+    eprintln!("==> cargo {} (in {})", args.join(" "), dir.display());
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::from(std::io::stderr()))
+        .status()
+        .map_err(|e| format!("starting cargo: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("cargo {} failed", args.join(" ")))
+    }
+}
+
+/// Device instruction counts: two runs of the bench binary, compared, then printed.
+fn device() -> Result<(), String> {
+    cargo(&repo_root().join("firmware"), &["build", "--release", "--bin", "bench"])?;
+    let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/bench");
+    let bytes = std::fs::read(&elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
+    let first = run_bench_elf(&elf, &bytes)?;
+    let second = run_bench_elf(&elf, &bytes)?;
+    for (key, name) in DEVICE {
+        let key = format!("{key}.instructions_per_call");
+        let (Some(&a), Some(&b)) = (first.get(&key), second.get(&key)) else {
+            return Err(format!("the bench binary printed no {key}"));
+        };
+        if (a - b).abs() > REPEATABILITY * a.abs().max(1.0) {
+            return Err(format!("{name}: runs differ by more than 1 %: {a} vs {b}"));
+        }
+        eprintln!("{name}: run 1 {a}, run 2 {b}");
+        figure(name, format!("{:.0}", (a + b) / 2.0));
+    }
+    let empty = function_size(&bytes, "bench_empty").ok_or("no bench_empty in the bench ELF")?;
+    for (name, function, helpers) in CODE {
+        let mut size = 0;
+        if !function.is_empty() {
+            size += function_size(&bytes, function).ok_or_else(|| format!("no {function} in the bench ELF"))?;
+            size = size.saturating_sub(empty);
+        }
+        size += helpers.iter().filter_map(|h| function_size(&bytes, h)).sum::<u64>();
+        figure(name, size);
+    }
+    Ok(())
+}
+
+/// Runs the bench ELF once under QEMU with instruction counting; returns its `bench NAME VALUE`
+/// figures.
+fn run_bench_elf(elf: &Path, bytes: &[u8]) -> Result<BTreeMap<String, f64>, String> {
+    let table = crate::defmt_log::table(bytes)?;
+    eprintln!("==> qemu-system-arm -M mps2-an386 -icount shift=0,align=off -kernel {}", elf.display());
+    let mut child = Command::new("qemu-system-arm")
+        .args(["-M", "mps2-an386", "-display", "none", "-monitor", "none", "-nodefaults"])
+        .args(["-semihosting-config", "enable=on,target=native", "-icount", "shift=0,align=off", "-kernel"])
+        .arg(elf)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| format!("starting qemu-system-arm (is it installed?): {e}"))?;
+    let mut stdout = child.stdout.take().ok_or("no QEMU stdout")?;
+    let reader = std::thread::spawn(move || {
+        let mut raw = Vec::new();
+        let _ = stdout.read_to_end(&mut raw);
+        raw
+    });
+    let deadline = Instant::now() + QEMU_TIMEOUT;
+    let code = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break status.code(),
+            Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
+            _ => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+        }
+    };
+    let raw = reader.join().map_err(|_| "QEMU output reader panicked")?;
+    let mut decoder = table.new_stream_decoder();
+    decoder.received(&raw);
+    let mut figures = BTreeMap::new();
+    while let Ok(frame) = decoder.decode() {
+        let line = frame.display_message().to_string();
+        eprintln!("  {line}");
+        let mut words = line.split_whitespace();
+        if let (Some("bench"), Some(key), Some(value), None) = (words.next(), words.next(), words.next(), words.next()) {
+            if let Ok(v) = value.parse::<f64>() {
+                figures.insert(key.to_string(), v);
+            }
+        }
+    }
+    match code {
+        Some(0) => Ok(figures),
+        Some(c) => Err(format!("the bench binary exited with status {c}")),
+        None => Err(format!("the bench binary did not finish within {QEMU_TIMEOUT:?}")),
+    }
+}
+
+/// Size of the first function whose (mangled) name contains `name`, if any.
+fn function_size(elf: &[u8], name: &str) -> Option<u64> {
+    let file = object::File::parse(elf).ok()?;
+    file.symbols()
+        .filter(|s| s.kind() == object::SymbolKind::Text)
+        .find(|s| s.name().is_ok_and(|n| n.contains(name)))
+        .map(|s| s.size())
+}
+
+/// Flash, static RAM and peak stack of the release application firmware (mps2-an386).
+fn firmware_footprint() -> Result<(), String> {
+    cargo(&repo_root().join("firmware"), &["build", "--release", "--bin", "qgait-firmware"])?;
+    let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/qgait-firmware");
+    let bytes = std::fs::read(&elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
+    let f = footprint(&bytes)?;
+    // The UART session (which logs the painted stack's peak) in a child xtask, so its log goes
+    // to stderr and stdout keeps only the figures.
+    let exe = std::env::current_exe().map_err(|e| format!("locating xtask: {e}"))?;
+    eprintln!("==> {} qemu-run {}", exe.display(), elf.display());
+    let out = Command::new(exe)
+        .arg("qemu-run")
+        .arg(&elf)
+        .stderr(Stdio::inherit())
+        .output()
+        .map_err(|e| format!("running the UART session: {e}"))?;
+    let log = String::from_utf8_lossy(&out.stdout);
+    eprint!("{log}");
+    if !out.status.success() {
+        return Err("the UART session failed".into());
+    }
+    let peak = log
+        .lines()
+        .filter_map(|l| l.split("stack peak ").nth(1)?.split(' ').next()?.parse::<u64>().ok())
+        .max()
+        .ok_or("the firmware logged no stack peak")?;
+    figure("firmware.flash_bytes", f.flash);
+    figure("firmware.static_ram_bytes", f.static_ram);
+    figure("firmware.peak_stack_bytes", peak);
+    figure("firmware.ram_bytes", f.static_ram + peak);
+    Ok(())
+}
+
+/// Criterion benches of the root workspace, then their medians.
+fn host_benches() -> Result<(), String> {
+    let root = repo_root();
+    cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fk"])?;
+    let criterion =
+        std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("target")).join("criterion");
+    for (dir, name, frames) in HOST {
+        let median = criterion_median_ns(&criterion.join(dir))?;
+        figure(name, format!("{:.2}", median / frames));
+    }
+    Ok(())
+}
+
+/// Criterion's median estimate (ns per iteration) of one benchmark directory.
+fn criterion_median_ns(dir: &Path) -> Result<f64, String> {
+    let path = dir.join("new/estimates.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+    // {"mean":{...},"median":{"confidence_interval":{...},"point_estimate":123.4,...},...}
+    let median = text.split("\"median\"").nth(1).ok_or_else(|| format!("no median in {}", path.display()))?;
+    let value = median
+        .split("\"point_estimate\":")
+        .nth(1)
+        .and_then(|v| v.split([',', '}']).next())
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .ok_or_else(|| format!("no median point estimate in {}", path.display()))?;
+    Ok(value)
+}
