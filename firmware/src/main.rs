@@ -4,8 +4,12 @@
 #![no_main]
 
 use cortex_m_rt::entry;
+use qgait_firmware::board::{Board, Serial, SysTickClock};
 use qgait_firmware::{board, stack};
 use qgait_hub::{Hub, DEFAULT_STATUS_PERIOD_MS};
+
+/// The application: the hub on this board's UART and clock.
+type AppHub = Hub<Serial, SysTickClock>;
 
 #[entry]
 fn main() -> ! {
@@ -14,20 +18,35 @@ fn main() -> ! {
         board::exit(1)
     };
     defmt::info!("qgait hub on {=str}, stack region {=u32} bytes (painted)", board::NAME, stack::size());
-    let mut hub = match Hub::new(board.serial, board.clock, DEFAULT_STATUS_PERIOD_MS) {
-        Ok(hub) => hub,
-        Err(e) => {
-            defmt::error!("default model refused: {}", e);
-            board::exit(1)
-        }
-    };
-    defmt::info!("hub state {=usize} bytes (on the stack)", core::mem::size_of_val(&hub));
+    let hub = init_hub(board);
+    defmt::info!("hub state {=usize} bytes (static)", core::mem::size_of_val(hub));
     loop {
         // Busy polling: the UART has a one-byte buffer (CMSDK) or a six-byte FIFO (nRF52).
         let summary = hub.poll();
         if summary.status_sent {
             defmt::info!("status {}", hub.status());
             defmt::info!("stack peak {=u32} bytes of {=u32}", stack::peak(), stack::size());
+        }
+    }
+}
+
+/// Builds the hub into its static. A function of its own, never inlined, so the temporaries of
+/// construction live in a stack frame that is gone before the main loop starts, and the hub
+/// itself is not part of `main`'s frame.
+#[inline(never)]
+fn init_hub(board: Board) -> &'static mut AppHub {
+    let hub = match Hub::new(board.serial, board.clock, DEFAULT_STATUS_PERIOD_MS) {
+        Ok(hub) => hub,
+        Err(e) => {
+            defmt::error!("default model refused: {}", e);
+            board::exit(1)
+        }
+    };
+    match cortex_m::singleton!(: AppHub = hub) {
+        Some(hub) => hub,
+        None => {
+            defmt::error!("the hub was built twice");
+            board::exit(1)
         }
     }
 }

@@ -221,6 +221,9 @@ where
         self.send(&Message::PoseFrame(frame));
     }
 
+    // The configuration paths build a whole model (kilobytes of temporaries): never inlined,
+    // so their frames exist only while a configuration is applied, not in every poll.
+    #[inline(never)]
     fn on_config(&mut self, config: &Config) {
         // A configuration the hub cannot use is counted and ignored; the old one stays.
         let new = Config { request_status: false, ..*config };
@@ -228,6 +231,7 @@ where
         self.after_config(result, config.request_status);
     }
 
+    #[inline(never)]
     fn on_subject_config(&mut self, config: &SubjectConfig) {
         let new = Config {
             model: ModelId::Gait2392,

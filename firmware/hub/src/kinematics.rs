@@ -87,6 +87,9 @@ impl Kinematics {
     }
 
     /// gait2392 with these numbers (generic or a subject's), in `f32`.
+    // Never inlined: building gait2392 takes kilobytes of stack, which `new` then reserves
+    // only when the model is gait2392.
+    #[inline(never)]
     pub fn gait2392(geometry: &Gait2392Geometry) -> Result<Kinematics, ConfigError> {
         let chain = Gait2392::new(geometry).map_err(|_| ConfigError::Kernel)?;
         Ok(Kinematics { model: ModelId::Gait2392, chain: ModelChain::Gait2392(chain) })
