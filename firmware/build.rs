@@ -2,15 +2,16 @@
 //! - puts the enabled board's memory layout in the linker's path as `memory.x` and passes the
 //!   cortex-m-rt and defmt linker scripts (here, not in .cargo/config.toml, so host builds are
 //!   unaffected);
-//! - computes the expected poses of the on-target kernel test with the same kernel in `f64` on
-//!   the host, into `$OUT_DIR/kernel_cases.rs`.
+//! - computes the expected poses of the on-target kernel tests with the same kernel in `f64` on
+//!   the host, into `$OUT_DIR/kernel_cases.rs` (PHAK) and `$OUT_DIR/gait2392_cases.rs`
+//!   (gait2392, generic and a subject model).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::{env, fs};
 
 use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, Limb, Phak, PhakAngles};
+use qgait_kernel::{Anthropometry, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles};
 
 /// Number of pseudo-random PHAK inputs per anthropometry (plus the fixed edge cases).
 const RANDOM_CASES: usize = 40;
@@ -29,6 +30,7 @@ fn main() {
         println!("cargo:rustc-link-arg=-Tdefmt.x");
     }
     fs::write(out.join("kernel_cases.rs"), kernel_cases()).expect("write kernel_cases.rs");
+    fs::write(out.join("gait2392_cases.rs"), gait2392_cases()).expect("write gait2392_cases.rs");
 }
 
 /// A small deterministic generator (xorshift64*), so the cases never change between builds.
@@ -93,6 +95,112 @@ fn kernel_cases() -> String {
             let points = pose.points().map(|p| p.to_array());
             let d = distances(&pose).to_array();
             writeln!(s, "    ({i}, {angles:?}, {points:?}, {d:?}),").unwrap();
+        }
+    }
+    s.push_str("];\n");
+    s
+}
+
+/// Number of pseudo-random gait2392 inputs per model (plus the fixed cases).
+const GAIT2392_RANDOM_CASES: usize = 20;
+
+/// gait2392 inputs in f32 (17 coordinates, `JointId` order): neutral, two extreme poses and
+/// pseudo-random poses over gait-like ranges.
+fn gait2392_inputs() -> Vec<[f32; 17]> {
+    let mut cases = vec![
+        [0.0; 17],
+        [0.3, 0.3, 0.6, 2.0, 0.5, 0.7, -2.0, 0.5, 0.3, 0.5, -0.5, -0.8, -0.7, 0.1, -0.7, -0.3, -0.5],
+        [-0.3, -0.2, -0.6, -0.5, -0.8, -0.7, 0.1, -0.7, -0.3, -0.5, 2.0, 0.5, 0.7, -2.0, 0.5, 0.3, 0.5],
+    ];
+    let leg = |rng: &mut Rng| {
+        [
+            rng.range(-0.5, 1.2),  // hip_flexion
+            rng.range(-0.4, 0.3),  // hip_adduction
+            rng.range(-0.4, 0.4),  // hip_rotation
+            rng.range(-2.0, 0.1),  // knee_angle
+            rng.range(-0.6, 0.5),  // ankle_angle
+            rng.range(-0.3, 0.3),  // subtalar_angle
+            rng.range(-0.5, 0.5),  // mtp_angle
+        ]
+    };
+    let mut rng = Rng(0xD1B5_4A32_D192_ED03);
+    for _ in 0..GAIT2392_RANDOM_CASES {
+        let mut q = [0.0f32; 17];
+        q[0] = rng.range(-0.3, 0.3); // pelvis_tilt
+        q[1] = rng.range(-0.3, 0.3); // pelvis_list
+        q[2] = rng.range(-0.6, 0.6); // pelvis_rotation
+        q[3..10].copy_from_slice(&leg(&mut rng));
+        q[10..17].copy_from_slice(&leg(&mut rng));
+        cases.push(q);
+    }
+    cases
+}
+
+/// A subject model: the generic gait2392 scaled per leg and per segment (pelvis, femur, tibia,
+/// foot) as OpenSim's scale tool does, with a knee spline of a different shape on the left.
+fn subject() -> Gait2392Geometry {
+    let mut g = Gait2392Geometry::generic();
+    for (leg, [pelvis, femur, tibia, foot]) in [(&mut g.right, [1.08, 1.12, 1.05, 0.97]), (&mut g.left, [1.08, 0.96, 1.1, 1.04])] {
+        let scale = |v: &mut [f64; 3], s: f64| *v = v.map(|c| c * s);
+        scale(&mut leg.hip_in_pelvis, pelvis);
+        scale(&mut leg.ankle_in_tibia, tibia);
+        scale(&mut leg.subtalar_in_talus, foot);
+        scale(&mut leg.mtp_in_calcn, foot);
+        scale(&mut leg.toetip_in_toes, foot);
+        for k in [&mut leg.knee_tx, &mut leg.knee_ty] {
+            for y in k.y[..k.n].iter_mut() {
+                *y *= femur;
+            }
+        }
+    }
+    for (i, y) in g.left.knee_tx.y[..g.left.knee_tx.n].iter_mut().enumerate() {
+        *y += 0.001 * i as f64;
+    }
+    g
+}
+
+/// `g` with every number rounded to f32, as the hub receives it in `SubjectLeg`/`SubjectKnee`.
+fn rounded_to_f32(g: &Gait2392Geometry) -> Gait2392Geometry {
+    let r = |v: f64| v as f32 as f64;
+    let mut out = *g;
+    for leg in [&mut out.right, &mut out.left] {
+        for v in [
+            &mut leg.hip_in_pelvis,
+            &mut leg.ankle_in_tibia,
+            &mut leg.ankle_axis,
+            &mut leg.subtalar_in_talus,
+            &mut leg.subtalar_axis,
+            &mut leg.mtp_in_calcn,
+            &mut leg.mtp_axis,
+            &mut leg.toetip_in_toes,
+        ] {
+            *v = v.map(r);
+        }
+        leg.hip_axes = leg.hip_axes.map(|a| a.map(r));
+        for k in [&mut leg.knee_tx, &mut leg.knee_ty] {
+            k.x = k.x.map(r);
+            k.y = k.y.map(r);
+        }
+    }
+    out
+}
+
+fn gait2392_cases() -> String {
+    let mut s = String::new();
+    s.push_str("// Generated by build.rs: gait2392 poses computed by qgait-kernel in f64 on the host.\n");
+    s.push_str("/// The subject model of model index 1 (before rounding to f32 on the wire).\n");
+    // Every field of the geometry types is public, so their Debug form is a struct expression.
+    writeln!(s, "pub fn subject() -> Gait2392Geometry {{ {:?} }}", subject()).unwrap();
+    s.push_str("/// (model: 0 generic, 1 the subject rounded to f32; the 17 angles in f32; the 12 points\n");
+    s.push_str("/// [m] in kernel order; knee, ankle and toe-tip distances [m]).\n");
+    s.push_str("pub const CASES: &[(usize, [f32; 17], [[f64; 3]; 12], [f64; 3])] = &[\n");
+    for (i, g) in [Gait2392Geometry::generic(), rounded_to_f32(&subject())].iter().enumerate() {
+        let model = Gait2392::<f64>::new(g).expect("valid gait2392 geometry");
+        for q in gait2392_inputs() {
+            let pose = model.fk(&q.map(f64::from));
+            let points = pose.points.map(|p| p.to_array());
+            let d = distances(&pose.bilateral()).to_array();
+            writeln!(s, "    ({i}, {q:?}, {points:?}, {d:?}),").unwrap();
         }
     }
     s.push_str("];\n");

@@ -1,5 +1,6 @@
 //! On-target tests, run under QEMU by `cargo test --release` (see README): the kernel in f32
-//! on the Cortex-M4F against f64 values computed on the host at build time, and the hub's
+//! on the Cortex-M4F against f64 values computed on the host at build time (PHAK here,
+//! gait2392 and a subject model sent to the hub in `on_target/gait2392.rs`), and the hub's
 //! shared scenario checks (sample assembly, error counting, configuration) on the target.
 //! Ends with the line `N passed, M failed`.
 
@@ -11,6 +12,9 @@ use qgait_firmware::selftest::{Failure, Harness};
 use qgait_firmware::stack;
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{Anthropometry, Limb, Phak, PhakAngles};
+
+#[path = "on_target/gait2392.rs"]
+mod gait2392;
 
 mod expected {
     include!(concat!(env!("OUT_DIR"), "/kernel_cases.rs"));
@@ -91,6 +95,8 @@ fn main() -> ! {
     h.run("kernel_f32_points_match_host_f64", kernel_f32_points_match_host_f64);
     h.run("kernel_f32_distances_match_host_f64", kernel_f32_distances_match_host_f64);
     h.run("kernel_cases_are_not_degenerate", kernel_cases_are_not_degenerate);
+    h.run("gait2392_f32_points_match_host_f64", gait2392::gait2392_f32_points_match_host_f64);
+    h.run("subject_model_on_the_hub_matches_host_f64", gait2392::subject_model_on_the_hub_matches_host_f64);
     for (name, check) in qgait_hub::checks::ALL {
         h.run(name, || check().map_err(|f| Failure { what: f.what, line: f.line, value: None }));
     }

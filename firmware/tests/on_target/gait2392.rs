@@ -1,0 +1,132 @@
+//! On-target gait2392 tests: the f32 kernel on the Cortex-M4F against f64 values computed on
+//! the host at build time, directly and through the hub with a subject model sent in parts.
+
+use qgait_firmware::selftest::Failure;
+use qgait_hub::checks::{drain, each_output, send, CheckSerial};
+use qgait_hub::{parts_of, Hub, ManualClock};
+use qgait_kernel::metrics::distances;
+use qgait_kernel::{Gait2392, Gait2392Geometry, Real};
+use qgait_proto::{JointAngle, JointId, Message, MissingPolicy, ModelId, SubjectConfig, PROTOCOL_VERSION};
+
+mod expected {
+    use qgait_kernel::models::gait2392::{Knots, LegGeometry};
+    use qgait_kernel::Gait2392Geometry;
+    include!(concat!(env!("OUT_DIR"), "/gait2392_cases.rs"));
+}
+
+/// Largest accepted distance between an f32 point and its f64 value (metres): 10 µm.
+const POINT_TOLERANCE_M: f64 = 1e-5;
+
+/// The kernel points reported in a `PoseFrame`: hip, knee, ankle, toe tip of each leg.
+const FRAME_POINTS: [usize; 8] = [0, 1, 2, 5, 6, 7, 8, 11];
+
+fn fail(what: &'static str, line: u32, value: f64) -> Failure {
+    Failure { what, line, value: Some(value) }
+}
+
+/// Generic gait2392 in f32 against f64: every one of the 12 points of every case.
+pub fn gait2392_f32_points_match_host_f64() -> Result<(), Failure> {
+    let model = Gait2392::<f32>::new(&Gait2392Geometry::generic())
+        .map_err(|_| Failure { what: "Gait2392::new refused the generic model", line: line!(), value: None })?;
+    let mut worst = 0.0f64;
+    let mut cases = 0;
+    for (_, q, points, want_d) in expected::CASES.iter().filter(|c| c.0 == 0) {
+        let pose = model.fk(q);
+        for (got, want) in pose.points.iter().zip(points) {
+            let got = got.to_array();
+            for k in 0..3 {
+                worst = worst.max((f64::from(got[k]) - want[k]).abs());
+            }
+        }
+        let d = distances(&pose.bilateral()).to_array();
+        for k in 0..3 {
+            worst = worst.max((f64::from(d[k]) - want_d[k]).abs());
+        }
+        cases += 1;
+    }
+    defmt::info!("gait2392 f32 vs f64: largest point error {=f64} m over {=usize} cases", worst, cases);
+    if cases == 0 {
+        return Err(fail("no generic cases", line!(), 0.0));
+    }
+    if worst <= POINT_TOLERANCE_M {
+        Ok(())
+    } else {
+        Err(fail("largest f32 gait2392 point error (m)", line!(), worst))
+    }
+}
+
+/// A subject model sent to the hub in its 6 parts and switched to by a `SubjectConfig`: every
+/// pose frame the hub sends for the cases equals the host's f64 prediction within 10 µm, and
+/// differs from the generic model's by centimetres.
+pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
+    let clock = ManualClock::new(0);
+    let mut hub = Hub::new(CheckSerial::new(), &clock, 0)
+        .map_err(|_| Failure { what: "Hub::new", line: line!(), value: None })?;
+    let (legs, knees) = parts_of(&expected::subject(), 42)
+        .map_err(|_| Failure { what: "parts_of the subject", line: line!(), value: None })?;
+    let config = SubjectConfig { upload: 42, missing_policy: MissingPolicy::Drop, reorder_window: 2, request_status: false };
+    let sent = legs.iter().all(|l| send(hub.serial_mut(), &Message::SubjectLeg(*l)))
+        && knees.iter().all(|k| send(hub.serial_mut(), &Message::SubjectKnee(k.clone())))
+        && send(hub.serial_mut(), &Message::SubjectConfig(config));
+    if !sent {
+        return Err(Failure { what: "the model did not fit the serial buffer", line: line!(), value: None });
+    }
+    drain(&mut hub);
+    if hub.subject() != Some(42) {
+        return Err(fail("config_rejected after the subject model", line!(), f64::from(hub.status().config_rejected)));
+    }
+    let subject_cases: heapless::Vec<_, 32> = expected::CASES.iter().filter(|c| c.0 == 1).collect();
+    for (seq, (_, q, _, _)) in subject_cases.iter().enumerate() {
+        for joint in JointId::ALL {
+            let packet = JointAngle {
+                version: PROTOCOL_VERSION,
+                node: joint.index(),
+                joint,
+                seq: seq as u32,
+                timestamp_us: 0,
+                angle: q[joint.index() as usize],
+                quality: 0,
+            };
+            if !send(hub.serial_mut(), &Message::JointAngle(packet)) {
+                return Err(Failure { what: "a packet did not fit the serial buffer", line: line!(), value: None });
+            }
+        }
+        drain(&mut hub);
+    }
+    let (mut worst, mut frames, mut nearest_generic) = (0.0f64, 0usize, f64::MAX);
+    let bad = each_output(&mut hub, |m| {
+        let Message::PoseFrame(p) = m else { return };
+        let Some((_, q, want, want_d)) = subject_cases.get(p.seq as usize) else { return };
+        frames += usize::from(p.model == ModelId::Gait2392 && p.angles.as_slice() == &q[..]);
+        for (got, &i) in p.points.iter().zip(&FRAME_POINTS) {
+            for k in 0..3 {
+                worst = worst.max((f64::from(got[k]) - want[i][k]).abs());
+            }
+        }
+        for k in 0..3 {
+            worst = worst.max((f64::from(p.distances[k]) - want_d[k]).abs());
+        }
+        // The same angles in the generic model: the right toe tip moves by centimetres.
+        if let Some((_, _, generic, _)) = expected::CASES.iter().find(|c| c.0 == 0 && c.1 == *q) {
+            let d = (0..3).map(|k| (want[5][k] - generic[5][k]) * (want[5][k] - generic[5][k])).sum::<f64>();
+            nearest_generic = nearest_generic.min(Real::sqrt(d));
+        }
+    });
+    defmt::info!(
+        "subject gait2392 on the hub vs f64: largest error {=f64} m over {=usize} frames; toe tip >= {=f64} m from the generic model's",
+        worst,
+        frames,
+        nearest_generic
+    );
+    if bad != 0 || frames != subject_cases.len() || subject_cases.is_empty() {
+        return Err(fail("subject pose frames received", line!(), frames as f64));
+    }
+    if nearest_generic < 0.01 {
+        return Err(fail("subject toe tip vs generic (m)", line!(), nearest_generic));
+    }
+    if worst <= POINT_TOLERANCE_M {
+        Ok(())
+    } else {
+        Err(fail("largest subject point error on the hub (m)", line!(), worst))
+    }
+}
