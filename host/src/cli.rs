@@ -64,6 +64,8 @@ pub enum Command {
     Export(crate::cli_gait2392::ExportArgs),
     /// How far PHAK (8 DoF) is from gait2392, per point, and what each feature costs (Markdown).
     Fidelity(crate::cli_gait2392::FidelityArgs),
+    /// The frames that configure a hub (model, lengths, policy, window), to send to its UART.
+    Config(crate::cli_config::ConfigArgs),
 }
 
 /// Runs a parsed command line.
@@ -119,6 +121,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Model(c) => crate::cli_gait2392::run_model(c, cli.quiet)?,
         Command::Export(args) => crate::cli_gait2392::run_export(args, cli.quiet)?,
         Command::Fidelity(args) => crate::cli_gait2392::run_fidelity(args, cli.quiet)?,
+        Command::Config(args) => crate::cli_config::run_config(args, cli.quiet)?,
     }
     Ok(())
 }

@@ -4,10 +4,12 @@
 pub mod anthropometry;
 pub mod builtin;
 pub mod cli;
+pub mod cli_config;
 pub mod cli_gait2392;
 pub mod export;
 pub mod fidelity;
 pub mod fk_csv;
+pub mod hub_config;
 pub mod kinematics;
 pub mod model_spec;
 pub mod mot;

@@ -1,0 +1,287 @@
+//! The messages that configure a qgait hub (`qgait config`): a `Config` for HAK, PHAK and the
+//! generic gait2392, or a subject gait2392 model as its six parts (`SubjectLeg`,
+//! `SubjectKnee`) followed by the `SubjectConfig` that switches to it. Layouts:
+//! `docs/protocol.md`, sections 4.4 to 4.6.
+
+use qgait_kernel::anthropometry::Anthropometry;
+use qgait_kernel::models::gait2392::{Knots, LegGeometry};
+use qgait_kernel::Gait2392Geometry;
+use qgait_proto::{
+    crc32c, encode_frame, encode_message, Config, KneeDirection, Leg, Message, MissingPolicy,
+    ModelId, SubjectConfig, SubjectKnee, SubjectLeg, MAX_FRAME_LEN, MAX_KNEE_KNOTS,
+    MAX_MESSAGE_LEN,
+};
+
+/// The model a hub is configured with.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HubModel {
+    /// HAK or PHAK, with segment lengths or the hub's current ones (`None`).
+    Stick {
+        /// `ModelId::Hak` or `ModelId::Phak`.
+        model: ModelId,
+        /// Segment lengths.
+        anthropometry: Option<Anthropometry<f64>>,
+    },
+    /// The generic gait2392.
+    Gait2392,
+    /// A subject gait2392 model, sent in parts under `upload` (`None`: derived from the
+    /// model's numbers, see [`messages`]).
+    Subject {
+        /// The model.
+        geometry: Box<Gait2392Geometry>,
+        /// The upload id.
+        upload: Option<u8>,
+    },
+}
+
+/// The settings every configuration carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HubSettings {
+    /// Incomplete samples: drop or hold the last values.
+    pub missing_policy: MissingPolicy,
+    /// Reorder window (samples).
+    pub reorder_window: u8,
+    /// Ask the hub for a `Status` in answer.
+    pub request_status: bool,
+}
+
+/// The messages to send, in order. A subject model's upload id, unless given, is the low byte
+/// of the CRC-32C of its parts' message bytes: sending another model never reuses the id of
+/// the parts a hub holds (except by a 1-in-256 chance), so a lost part can never leave a hub
+/// mixing two models.
+pub fn messages(model: &HubModel, settings: HubSettings) -> Result<Vec<Message>, String> {
+    let config = |model: ModelId, anthropometry: Option<[[f32; 4]; 2]>| {
+        Message::Config(Config {
+            model,
+            anthropometry,
+            missing_policy: settings.missing_policy,
+            reorder_window: settings.reorder_window,
+            request_status: settings.request_status,
+        })
+    };
+    match model {
+        HubModel::Stick {
+            model,
+            anthropometry,
+        } => {
+            let lengths = anthropometry.map(|a| {
+                [a.right, a.left].map(|limb| limb.to_array().map(|l| l as f32))
+            });
+            Ok(vec![config(*model, lengths)])
+        }
+        HubModel::Gait2392 => Ok(vec![config(ModelId::Gait2392, None)]),
+        HubModel::Subject { geometry, upload } => {
+            let id = match upload {
+                Some(id) => *id,
+                None => {
+                    let probe = subject_parts(geometry, 0)?;
+                    let mut bytes = Vec::new();
+                    for m in &probe {
+                        let mut buf = [0u8; MAX_MESSAGE_LEN];
+                        let encoded = encode_message(m, &mut buf).map_err(|e| e.to_string())?;
+                        bytes.extend_from_slice(encoded);
+                    }
+                    crc32c(&bytes) as u8
+                }
+            };
+            let mut out = subject_parts(geometry, id)?;
+            out.push(Message::SubjectConfig(SubjectConfig {
+                upload: id,
+                missing_policy: settings.missing_policy,
+                reorder_window: settings.reorder_window,
+                request_status: settings.request_status,
+            }));
+            Ok(out)
+        }
+    }
+}
+
+/// The frames of `messages`, each preceded by a 0x00 (which a receiver skips, and which ends
+/// any partial frame it had).
+pub fn frames(messages: &[Message]) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    for m in messages {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let frame = encode_frame(m, &mut buf).map_err(|e| e.to_string())?;
+        out.push(0);
+        out.extend_from_slice(frame);
+    }
+    Ok(out)
+}
+
+/// The six parts of a subject model, numbers rounded to `f32`: the legs (right, left), then
+/// the knee splines (right tx, right ty, left tx, left ty).
+pub fn subject_parts(g: &Gait2392Geometry, upload: u8) -> Result<Vec<Message>, String> {
+    let v = |a: [f64; 3]| a.map(|c| c as f32);
+    let mut out = Vec::new();
+    for (leg, l) in [(Leg::Right, &g.right), (Leg::Left, &g.left)] {
+        out.push(Message::SubjectLeg(SubjectLeg {
+            upload,
+            leg,
+            hip_in_pelvis: v(l.hip_in_pelvis),
+            hip_axes: l.hip_axes.map(v),
+            ankle_in_tibia: v(l.ankle_in_tibia),
+            ankle_axis: v(l.ankle_axis),
+            subtalar_in_talus: v(l.subtalar_in_talus),
+            subtalar_axis: v(l.subtalar_axis),
+            mtp_in_calcn: v(l.mtp_in_calcn),
+            mtp_axis: v(l.mtp_axis),
+            toetip_in_toes: v(l.toetip_in_toes),
+        }));
+    }
+    for (leg, l) in [(Leg::Right, &g.right), (Leg::Left, &g.left)] {
+        for (direction, k) in [(KneeDirection::Tx, &l.knee_tx), (KneeDirection::Ty, &l.knee_ty)] {
+            out.push(Message::SubjectKnee(knee_part(upload, leg, direction, k)?));
+        }
+    }
+    Ok(out)
+}
+
+fn knee_part(
+    upload: u8,
+    leg: Leg,
+    direction: KneeDirection,
+    k: &Knots,
+) -> Result<SubjectKnee, String> {
+    let name = || {
+        format!(
+            "{} knee_{}",
+            ["right", "left"][leg as usize],
+            ["tx", "ty"][direction as usize]
+        )
+    };
+    if k.n > MAX_KNEE_KNOTS {
+        return Err(format!(
+            "{}: more than {MAX_KNEE_KNOTS} knots cannot be sent to the hub",
+            name()
+        ));
+    }
+    let knots: Vec<[f32; 2]> = (0..k.n).map(|i| [k.x[i] as f32, k.y[i] as f32]).collect();
+    Ok(SubjectKnee {
+        upload,
+        leg,
+        direction,
+        knots: heapless::Vec::from_slice(&knots).map_err(|_| name())?,
+    })
+}
+
+/// The model a hub assembles from `parts` (the inverse of [`subject_parts`]), or `None` if a
+/// part is missing: what the host predicts the hub computes with.
+pub fn geometry_of_parts(parts: &[Message]) -> Option<Gait2392Geometry> {
+    let leg = |side: Leg| -> Option<LegGeometry> {
+        let l = parts.iter().find_map(|m| match m {
+            Message::SubjectLeg(l) if l.leg == side => Some(l),
+            _ => None,
+        })?;
+        let knots = |direction: KneeDirection| {
+            parts.iter().find_map(|m| match m {
+                Message::SubjectKnee(k) if k.leg == side && k.direction == direction => {
+                    let x: Vec<f64> = k.knots.iter().map(|p| f64::from(p[0])).collect();
+                    let y: Vec<f64> = k.knots.iter().map(|p| f64::from(p[1])).collect();
+                    Some(Knots::new(&x, &y))
+                }
+                _ => None,
+            })
+        };
+        let v = |a: [f32; 3]| a.map(f64::from);
+        Some(LegGeometry {
+            hip_in_pelvis: v(l.hip_in_pelvis),
+            hip_axes: l.hip_axes.map(v),
+            knee_tx: knots(KneeDirection::Tx)?,
+            knee_ty: knots(KneeDirection::Ty)?,
+            ankle_in_tibia: v(l.ankle_in_tibia),
+            ankle_axis: v(l.ankle_axis),
+            subtalar_in_talus: v(l.subtalar_in_talus),
+            subtalar_axis: v(l.subtalar_axis),
+            mtp_in_calcn: v(l.mtp_in_calcn),
+            mtp_axis: v(l.mtp_axis),
+            toetip_in_toes: v(l.toetip_in_toes),
+        })
+    };
+    Some(Gait2392Geometry {
+        right: leg(Leg::Right)?,
+        left: leg(Leg::Left)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qgait_proto::FrameDecoder;
+
+    const SETTINGS: HubSettings = HubSettings {
+        missing_policy: MissingPolicy::HoldLast,
+        reorder_window: 3,
+        request_status: true,
+    };
+
+    fn decode(bytes: &[u8]) -> Vec<Message> {
+        let mut d = FrameDecoder::new();
+        bytes
+            .iter()
+            .filter_map(|&b| d.push(b))
+            .map(|r| r.expect("every frame decodes"))
+            .collect()
+    }
+
+    #[test]
+    fn a_subject_model_goes_out_as_six_parts_then_its_config() {
+        let mut g = Gait2392Geometry::generic();
+        g.right.ankle_in_tibia[1] = -0.47;
+        let model = HubModel::Subject {
+            geometry: Box::new(g),
+            upload: None,
+        };
+        let sent = decode(&frames(&messages(&model, SETTINGS).unwrap()).unwrap());
+        assert_eq!(sent.len(), 7);
+        let Message::SubjectConfig(c) = sent[6] else {
+            panic!("{:?}", sent[6])
+        };
+        assert!(c.request_status && c.reorder_window == 3);
+        assert!(sent[..6].iter().all(|m| match m {
+            Message::SubjectLeg(l) => l.upload == c.upload,
+            Message::SubjectKnee(k) => k.upload == c.upload,
+            _ => false,
+        }));
+        let back = geometry_of_parts(&sent[..6]).unwrap();
+        assert_eq!(back.right.ankle_in_tibia[1], -0.47f32 as f64);
+        assert_eq!(back.left.knee_tx.n, 12);
+        assert!((back.left.mtp_axis[2] - g.left.mtp_axis[2]).abs() < 1e-7);
+        // Another model gets another upload id; the same model the same one.
+        let generic = HubModel::Subject {
+            geometry: Box::new(Gait2392Geometry::generic()),
+            upload: None,
+        };
+        let other = messages(&generic, SETTINGS).unwrap();
+        assert!(matches!(other[6], Message::SubjectConfig(o) if o.upload != c.upload));
+        assert_eq!(messages(&model, SETTINGS).unwrap()[6], sent[6]);
+    }
+
+    #[test]
+    fn built_in_models_are_one_config() {
+        let a = Anthropometry::<f64>::gait2392();
+        let stick = HubModel::Stick {
+            model: ModelId::Phak,
+            anthropometry: Some(a),
+        };
+        let sent = decode(&frames(&messages(&stick, SETTINGS).unwrap()).unwrap());
+        let [Message::Config(c)] = sent.as_slice() else {
+            panic!("{sent:?}")
+        };
+        assert_eq!(c.model, ModelId::Phak);
+        assert_eq!(
+            c.anthropometry.unwrap()[1],
+            a.left.to_array().map(|l| l as f32)
+        );
+        let g = messages(&HubModel::Gait2392, SETTINGS).unwrap();
+        assert!(matches!(g.as_slice(), [Message::Config(c)] if c.model == ModelId::Gait2392 && c.anthropometry.is_none()));
+    }
+
+    #[test]
+    fn too_many_knots_are_an_error_naming_the_spline() {
+        let mut g = Gait2392Geometry::generic();
+        g.left.knee_ty.n = 13;
+        let err = subject_parts(&g, 1).unwrap_err();
+        assert!(err.contains("left knee_ty"), "{err}");
+    }
+}

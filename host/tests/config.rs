@@ -1,0 +1,120 @@
+//! `qgait config`: the frames written for built-in and subject models decode to the documented
+//! messages, and bad combinations are one-line errors.
+
+mod common;
+
+use std::path::Path;
+
+use common::{qgait, stderr};
+use qgait::hub_config::geometry_of_parts;
+use qgait_kernel::Gait2392Geometry;
+use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId};
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Runs `qgait config ARGS -o out.bin` and decodes the file.
+fn config(dir: &Path, args: &[&str]) -> Vec<Message> {
+    let out = dir.join("out.bin");
+    let mut all: Vec<&str> = vec!["config"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", s(&out)]);
+    let run = qgait(&all);
+    assert!(run.status.success(), "{args:?}: {}", stderr(&run));
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(bytes.first(), Some(&0), "frames start after a delimiter");
+    let mut d = FrameDecoder::new();
+    bytes
+        .iter()
+        .filter_map(|&b| d.push(b))
+        .map(|r| r.expect("every frame decodes"))
+        .collect()
+}
+
+#[test]
+fn phak_with_lengths_hold_and_window() {
+    let dir = tempfile::tempdir().unwrap();
+    let lengths = dir.path().join("a.toml");
+    std::fs::write(
+        &lengths,
+        "pelvis_half_width = 0.09\nfemur = 0.41\ntibia = 0.44\nfoot = 0.21\n",
+    )
+    .unwrap();
+    let sent = config(
+        dir.path(),
+        &[
+            "--model",
+            "phak",
+            "--anthropometry",
+            s(&lengths),
+            "--policy",
+            "hold",
+            "--window",
+            "3",
+        ],
+    );
+    let [Message::Config(c)] = sent.as_slice() else {
+        panic!("{sent:?}")
+    };
+    assert_eq!(c.model, ModelId::Phak);
+    assert_eq!(c.missing_policy, MissingPolicy::HoldLast);
+    assert_eq!(c.reorder_window, 3);
+    assert!(c.request_status);
+    assert_eq!(c.anthropometry, Some([[0.09, 0.41, 0.44, 0.21]; 2]));
+}
+
+#[test]
+fn subject_toml_is_six_parts_and_a_subject_config() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gait2392Geometry::generic();
+    g.left.toetip_in_toes[0] = 0.09;
+    let file = dir.path().join("subject.toml");
+    std::fs::write(&file, qgait::subject::to_toml(&g, &[])).unwrap();
+    let sent = config(
+        dir.path(),
+        &["--model", s(&file), "--upload", "17", "--no-status-request"],
+    );
+    assert_eq!(sent.len(), 7);
+    let Message::SubjectConfig(c) = sent[6] else {
+        panic!("{:?}", sent[6])
+    };
+    assert_eq!((c.upload, c.request_status, c.reorder_window), (17, false, 4));
+    let back = geometry_of_parts(&sent[..6]).unwrap();
+    assert_eq!(back.left.toetip_in_toes[0], 0.09f32 as f64);
+    assert_eq!(back.right.knee_tx.n, g.right.knee_tx.n);
+}
+
+#[test]
+fn generic_gait2392_is_one_config() {
+    let dir = tempfile::tempdir().unwrap();
+    let sent = config(dir.path(), &["--model", "gait2392"]);
+    assert!(
+        matches!(sent.as_slice(), [Message::Config(c)] if c.model == ModelId::Gait2392 && c.anthropometry.is_none())
+    );
+}
+
+#[test]
+fn bad_combinations_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.bin");
+    let lengths = dir.path().join("a.toml");
+    std::fs::write(&lengths, "femur = 0.41\n").unwrap();
+    for (args, needle) in [
+        (
+            vec!["--model", "gait2392", "--anthropometry", s(&lengths)],
+            "--anthropometry applies to hak and phak only",
+        ),
+        (vec!["--model", "phak", "--upload", "3"], "--upload applies"),
+        (vec!["--model", "nonsense"], "unknown model `nonsense`"),
+    ] {
+        let mut all = vec!["config"];
+        all.extend(args);
+        all.extend(["-o", s(&out)]);
+        let run = qgait(&all);
+        assert!(!run.status.success(), "{all:?}");
+        let e = stderr(&run);
+        assert!(e.contains(needle) && e.trim_end().lines().count() == 1, "{e}");
+    }
+    assert!(!out.exists());
+}
