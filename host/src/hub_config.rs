@@ -64,9 +64,8 @@ pub fn messages(model: &HubModel, settings: HubSettings) -> Result<Vec<Message>,
             model,
             anthropometry,
         } => {
-            let lengths = anthropometry.map(|a| {
-                [a.right, a.left].map(|limb| limb.to_array().map(|l| l as f32))
-            });
+            let lengths = anthropometry
+                .map(|a| [a.right, a.left].map(|limb| limb.to_array().map(|l| l as f32)));
             Ok(vec![config(*model, lengths)])
         }
         HubModel::Gait2392 => Ok(vec![config(ModelId::Gait2392, None)]),
@@ -130,7 +129,10 @@ pub fn subject_parts(g: &Gait2392Geometry, upload: u8) -> Result<Vec<Message>, S
         }));
     }
     for (leg, l) in [(Leg::Right, &g.right), (Leg::Left, &g.left)] {
-        for (direction, k) in [(KneeDirection::Tx, &l.knee_tx), (KneeDirection::Ty, &l.knee_ty)] {
+        for (direction, k) in [
+            (KneeDirection::Tx, &l.knee_tx),
+            (KneeDirection::Ty, &l.knee_ty),
+        ] {
             out.push(Message::SubjectKnee(knee_part(upload, leg, direction, k)?));
         }
     }
@@ -274,7 +276,9 @@ mod tests {
             a.left.to_array().map(|l| l as f32)
         );
         let g = messages(&HubModel::Gait2392, SETTINGS).unwrap();
-        assert!(matches!(g.as_slice(), [Message::Config(c)] if c.model == ModelId::Gait2392 && c.anthropometry.is_none()));
+        assert!(
+            matches!(g.as_slice(), [Message::Config(c)] if c.model == ModelId::Gait2392 && c.anthropometry.is_none())
+        );
     }
 
     #[test]

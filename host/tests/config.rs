@@ -79,7 +79,10 @@ fn subject_toml_is_six_parts_and_a_subject_config() {
     let Message::SubjectConfig(c) = sent[6] else {
         panic!("{:?}", sent[6])
     };
-    assert_eq!((c.upload, c.request_status, c.reorder_window), (17, false, 4));
+    assert_eq!(
+        (c.upload, c.request_status, c.reorder_window),
+        (17, false, 4)
+    );
     let back = geometry_of_parts(&sent[..6]).unwrap();
     assert_eq!(back.left.toetip_in_toes[0], 0.09f32 as f64);
     assert_eq!(back.right.knee_tx.n, g.right.knee_tx.n);
@@ -114,7 +117,10 @@ fn bad_combinations_are_one_line_errors() {
         let run = qgait(&all);
         assert!(!run.status.success(), "{all:?}");
         let e = stderr(&run);
-        assert!(e.contains(needle) && e.trim_end().lines().count() == 1, "{e}");
+        assert!(
+            e.contains(needle) && e.trim_end().lines().count() == 1,
+            "{e}"
+        );
     }
     assert!(!out.exists());
 }

@@ -221,7 +221,10 @@ fn constants() -> Vec<String> {
         format!("STATUS_MAX_LEN = {}", qgait_proto::STATUS_MAX_LEN),
         format!("CONFIG_MAX_LEN = {}", qgait_proto::CONFIG_MAX_LEN),
         format!("SUBJECT_LEG_MAX_LEN = {}", qgait_proto::SUBJECT_LEG_MAX_LEN),
-        format!("SUBJECT_KNEE_MAX_LEN = {}", qgait_proto::SUBJECT_KNEE_MAX_LEN),
+        format!(
+            "SUBJECT_KNEE_MAX_LEN = {}",
+            qgait_proto::SUBJECT_KNEE_MAX_LEN
+        ),
         format!(
             "SUBJECT_CONFIG_MAX_LEN = {}",
             qgait_proto::SUBJECT_CONFIG_MAX_LEN

@@ -91,7 +91,9 @@ pub fn message(rng: &mut Rng) -> Message {
         5 => {
             let mut knots = heapless::Vec::new();
             for _ in 0..rng.below(MAX_KNEE_KNOTS + 1) {
-                knots.push([float(rng), float(rng)]).expect("at most MAX_KNEE_KNOTS");
+                knots
+                    .push([float(rng), float(rng)])
+                    .expect("at most MAX_KNEE_KNOTS");
             }
             Message::SubjectKnee(SubjectKnee {
                 upload: rng.byte(),

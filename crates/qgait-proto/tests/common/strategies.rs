@@ -186,7 +186,11 @@ pub fn subject_knee() -> impl Strategy<Value = SubjectKnee> {
         .prop_map(|(upload, right, tx, knots)| SubjectKnee {
             upload,
             leg: leg(right),
-            direction: if tx { KneeDirection::Tx } else { KneeDirection::Ty },
+            direction: if tx {
+                KneeDirection::Tx
+            } else {
+                KneeDirection::Ty
+            },
             knots: heapless::Vec::from_slice(&knots).expect("at most MAX_KNEE_KNOTS"),
         })
 }
