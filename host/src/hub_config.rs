@@ -167,6 +167,14 @@ fn knee_part(
     })
 }
 
+/// The model a hub computes with after receiving `g` in parts: `g` with every number rounded
+/// to `f32`. Recomputing a subject model's poses in `f64` with it (rather than with `g`) leaves
+/// only the hub's `f32` arithmetic as the difference.
+pub fn as_the_hub_receives(g: &Gait2392Geometry) -> Result<Gait2392Geometry, String> {
+    let parts = subject_parts(g, 0)?;
+    geometry_of_parts(&parts).ok_or_else(|| "a subject model part is missing".to_string())
+}
+
 /// The model a hub assembles from `parts` (the inverse of [`subject_parts`]), or `None` if a
 /// part is missing: what the host predicts the hub computes with.
 pub fn geometry_of_parts(parts: &[Message]) -> Option<Gait2392Geometry> {
@@ -246,6 +254,7 @@ mod tests {
             _ => false,
         }));
         let back = geometry_of_parts(&sent[..6]).unwrap();
+        assert_eq!(as_the_hub_receives(&g).unwrap(), back);
         assert_eq!(back.right.ankle_in_tibia[1], -0.47f32 as f64);
         assert_eq!(back.left.knee_tx.n, 12);
         assert!((back.left.mtp_axis[2] - g.left.mtp_axis[2]).abs() < 1e-7);

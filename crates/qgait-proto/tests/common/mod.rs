@@ -109,7 +109,9 @@ pub fn subject_leg() -> SubjectLeg {
     }
 }
 
-/// The generic gait2392 left knee_ty spline as a subject-model part.
+/// The generic gait2392 left knee_ty spline as a subject-model part (knots as the model file
+/// writes them: rounded degrees in radians, data rather than approximations of pi).
+#[allow(clippy::approx_constant)]
 pub fn subject_knee() -> SubjectKnee {
     let knots = [
         [-2.0944, -0.4226],
