@@ -103,8 +103,8 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
                 worst = worst.max((f64::from(got[k]) - want[i][k]).abs());
             }
         }
-        for k in 0..3 {
-            worst = worst.max((f64::from(p.distances[k]) - want_d[k]).abs());
+        for (got, want) in p.distances.iter().zip(want_d) {
+            worst = worst.max((f64::from(*got) - want).abs());
         }
         // The same angles in the generic model: the right toe tip moves by centimetres.
         if let Some((_, _, generic, _)) = expected::CASES.iter().find(|c| c.0 == 0 && c.1 == *q) {
