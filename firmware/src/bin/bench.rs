@@ -318,11 +318,13 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     net("sample.encode_pose_frame", bench_encode(&frames, CALLS), bench_empty(&frames, CALLS), CALLS);
     net("sample.encode_message_pose_frame", bench_encode_message(&frames, CALLS), bench_empty(&frames, CALLS), CALLS);
     defmt::println!(
-        "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize}",
+        "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize} phak {=usize} gait2392 {=usize}",
         core::mem::size_of::<Message>(),
         core::mem::size_of::<qgait_proto::PoseFrame>(),
         core::mem::size_of::<Kinematics>(),
-        core::mem::size_of::<FrameDecoder>()
+        core::mem::size_of::<FrameDecoder>(),
+        core::mem::size_of::<Phak<f32>>(),
+        core::mem::size_of::<Gait2392<f32>>()
     );
 }
 
