@@ -668,6 +668,29 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     ensure!(send(hub.serial_mut(), &subject_config(9, false)));
     drain(&mut hub);
     ensure!(hub.subject() == Some(9) && hub.status().config_rejected == 1);
+    // A part resent under the same upload with other numbers takes effect with the next
+    // SubjectConfig, even one repeating the settings in force.
+    let mut longer = subject;
+    longer.right.ankle_in_tibia[1] -= 0.05;
+    ensure!(send_subject(hub.serial_mut(), &longer, 9, 0));
+    ensure!(send(hub.serial_mut(), &subject_config(9, false)));
+    ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, 4));
+    drain(&mut hub);
+    let Ok(held) = hub.subject_parts().geometry(9) else {
+        return Err(CheckFailure { what: "the hub's parts make no model", line: line!() });
+    };
+    let Ok(longer_kinematics) = Kinematics::gait2392(&held) else {
+        return Err(CheckFailure { what: "Kinematics::gait2392", line: line!() });
+    };
+    let mut sample_4 = None;
+    poses(&mut hub, |p| {
+        if p.seq == 4 {
+            sample_4 = Some(p.clone());
+        }
+    })?;
+    let Some(sample_4) = sample_4 else { return Err(CheckFailure { what: "no frame for sample 4", line: line!() }) };
+    ensure!(sample_4 == expected_frame(&longer_kinematics, 4));
+    ensure!(sample_4 != expected_frame(&mine, 4));
     Ok(())
 }
 

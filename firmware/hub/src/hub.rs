@@ -57,6 +57,8 @@ pub struct Hub<S, C> {
     config: Config,
     /// The upload of the subject model in force, if the model is a subject's gait2392.
     subject: Option<u8>,
+    /// The [`SubjectParts::generation`] the subject model in force was built from.
+    subject_generation: u32,
     subject_parts: SubjectParts,
     kinematics: Kinematics,
     assembler: Assembler,
@@ -89,6 +91,7 @@ where
             assembler: assembler_for(&config),
             config,
             subject: None,
+            subject_generation: 0,
             subject_parts: SubjectParts::new(),
             status: Status::default(),
             started_ms: now,
@@ -262,7 +265,10 @@ where
         subject: Option<u8>,
         kinematics: impl FnOnce(&SubjectParts) -> Result<Kinematics, ConfigError>,
     ) -> Result<(), ConfigError> {
-        if new == self.config && subject == self.subject {
+        // Nothing to do if nothing changed, a subject model's parts included (a host may resend
+        // a part under the same upload id).
+        let generation = self.subject_parts.generation();
+        if new == self.config && subject == self.subject && (subject.is_none() || generation == self.subject_generation) {
             return Ok(());
         }
         let kinematics = kinematics(&self.subject_parts)?;
@@ -278,6 +284,7 @@ where
         self.assembler = assembler_for(&new);
         self.config = new;
         self.subject = subject;
+        self.subject_generation = generation;
         Ok(())
     }
 

@@ -15,6 +15,9 @@ const _: () = assert!(MAX_KNEE_KNOTS <= qgait_kernel::spline::MAX_KNOTS);
 #[derive(Debug, Clone, Default)]
 pub struct SubjectParts {
     upload: Option<u8>,
+    /// Counts every part taken (wrapping): tells whether the parts changed since a model was
+    /// built from them.
+    generation: u32,
     legs: [Option<SubjectLeg>; 2],
     /// Indexed by leg, then direction.
     knees: [[Option<SubjectKnee>; 2]; 2],
@@ -23,25 +26,32 @@ pub struct SubjectParts {
 impl SubjectParts {
     /// No parts.
     pub const fn new() -> Self {
-        SubjectParts { upload: None, legs: [None, None], knees: [[None, None], [None, None]] }
+        SubjectParts { upload: None, generation: 0, legs: [None, None], knees: [[None, None], [None, None]] }
     }
 
     /// Keeps a leg part. A part of another upload than the parts held discards them first; a
     /// part for a leg already held replaces it.
     pub fn add_leg(&mut self, part: &SubjectLeg) {
         self.start(part.upload);
+        self.generation = self.generation.wrapping_add(1);
         self.legs[part.leg as usize] = Some(*part);
     }
 
     /// Keeps a knee part (same rules as [`add_leg`](Self::add_leg)).
     pub fn add_knee(&mut self, part: &SubjectKnee) {
         self.start(part.upload);
+        self.generation = self.generation.wrapping_add(1);
         self.knees[part.leg as usize][part.direction as usize] = Some(part.clone());
     }
 
     /// The upload whose parts are held, if any.
     pub fn upload(&self) -> Option<u8> {
         self.upload
+    }
+
+    /// Changes whenever a part is taken.
+    pub fn generation(&self) -> u32 {
+        self.generation
     }
 
     /// Number of the 6 parts held.
@@ -69,7 +79,7 @@ impl SubjectParts {
 
     fn start(&mut self, upload: u8) {
         if self.upload != Some(upload) {
-            *self = SubjectParts { upload: Some(upload), ..SubjectParts::new() };
+            *self = SubjectParts { upload: Some(upload), generation: self.generation, ..SubjectParts::new() };
         }
     }
 }
