@@ -20,6 +20,13 @@ fn main() -> ! {
     defmt::info!("qgait hub on {=str}, stack region {=u32} bytes (painted)", board::NAME, stack::size());
     let hub = init_hub(board);
     defmt::info!("hub state {=usize} bytes (static)", core::mem::size_of_val(hub));
+    serve(hub)
+}
+
+/// The main loop. Never inlined, so its frame (the per-poll temporaries) and `init_hub`'s are
+/// never on the stack at the same time.
+#[inline(never)]
+fn serve(hub: &'static mut AppHub) -> ! {
     loop {
         // Busy polling: the UART has a one-byte buffer (CMSDK) or a six-byte FIFO (nRF52).
         let summary = hub.poll();

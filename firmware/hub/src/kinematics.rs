@@ -76,7 +76,7 @@ impl Kinematics {
             if lengths.is_some() {
                 return Err(ConfigError::AnthropometryWithGait2392);
             }
-            return Kinematics::gait2392(&Gait2392Geometry::generic());
+            return Kinematics::generic_gait2392();
         }
         let anthropometry = match lengths {
             None => Anthropometry::gait2392(),
@@ -84,6 +84,12 @@ impl Kinematics {
         };
         let phak = Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)?;
         Ok(Kinematics { model, chain: ModelChain::Phak(phak) })
+    }
+
+    /// The generic gait2392 (its geometry is built in this frame, not in `new`'s).
+    #[inline(never)]
+    fn generic_gait2392() -> Result<Kinematics, ConfigError> {
+        Kinematics::gait2392(&Gait2392Geometry::generic())
     }
 
     /// gait2392 with these numbers (generic or a subject's), in `f32`.
