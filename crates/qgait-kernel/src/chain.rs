@@ -116,6 +116,41 @@ impl AxisKind {
     }
 }
 
+/// How an offset is rotated: along a coordinate axis it is one column of the rotation matrix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum OffsetKind {
+    Zero,
+    X,
+    Y,
+    Z,
+    General,
+}
+
+impl OffsetKind {
+    fn of<T: Real>(v: Vec3<T>) -> Self {
+        let o = T::ZERO;
+        match (v.x != o, v.y != o, v.z != o) {
+            (false, false, false) => OffsetKind::Zero,
+            (true, false, false) => OffsetKind::X,
+            (false, true, false) => OffsetKind::Y,
+            (false, false, true) => OffsetKind::Z,
+            _ => OffsetKind::General,
+        }
+    }
+
+    /// `R(rotation) v` for a `v` of this kind.
+    #[inline(always)]
+    fn rotate<T: Real>(self, rotation: Quat<T>, v: Vec3<T>) -> Vec3<T> {
+        match self {
+            OffsetKind::Zero => Vec3::zero(),
+            OffsetKind::X => rotation.rotate_x(v.x),
+            OffsetKind::Y => rotation.rotate_y(v.y),
+            OffsetKind::Z => rotation.rotate_z(v.z),
+            OffsetKind::General => rotation.rotate(v),
+        }
+    }
+}
+
 /// Position and orientation of a joint frame in the ground frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame<T> {
@@ -146,8 +181,10 @@ impl<T: Real> Frame<T> {
 pub struct Chain<T, const N: usize, const J: usize, const P: usize, const S: usize> {
     joints: [JointSpec<T>; J],
     points: [PointSpec<T>; P],
-    /// Whether each point is its joint's centre (its rotation can be skipped).
-    at_origin: [bool; P],
+    /// How each point's offset is rotated (zero: the joint centre itself).
+    point_kinds: [OffsetKind; P],
+    /// How each joint's offset is rotated (`General` when splines move it).
+    offset_kinds: [OffsetKind; J],
     /// For each joint, the range of `splines` (sorted by joint) that move it.
     spline_ranges: [(u8, u8); J],
     /// For each joint axis, whether it is +x, +y, +z or another direction.
@@ -186,12 +223,12 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 axis.direction = axis.direction * (T::ONE / len);
             }
         }
-        let mut at_origin = [false; P];
+        let mut point_kinds = [OffsetKind::General; P];
         for (i, p) in points.iter().enumerate() {
             if p.body >= J {
                 return Err(ModelError::BodyOutOfRange { index: i });
             }
-            at_origin[i] = p.offset == Vec3::zero();
+            point_kinds[i] = OffsetKind::of(p.offset);
         }
         for (i, s) in splines.iter().enumerate() {
             if s.joint >= J {
@@ -212,7 +249,21 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
             *range = (start as u8, end as u8);
         }
         let axis_kinds = joints.map(|j| j.axes.map(|a| AxisKind::of(a.direction)));
-        Ok(Self { joints, points, at_origin, spline_ranges, axis_kinds, splines })
+        let mut offset_kinds = joints.map(|j| OffsetKind::of(j.offset));
+        for (kind, range) in offset_kinds.iter_mut().zip(&spline_ranges) {
+            if range.0 != range.1 {
+                *kind = OffsetKind::General;
+            }
+        }
+        Ok(Self {
+            joints,
+            points,
+            point_kinds,
+            offset_kinds,
+            spline_ranges,
+            axis_kinds,
+            splines,
+        })
     }
 
     /// The joints, in evaluation order.
@@ -251,7 +302,11 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         for j in 0..J {
             let joint = &self.joints[j];
             let (mut rotation, origin) = match joint.parent {
-                Some(p) => (frames[p].rotation, frames[p].transform(self.offset(j, q))),
+                Some(p) => {
+                    let parent = &frames[p];
+                    let moved = self.offset_kinds[j].rotate(parent.rotation, self.offset(j, q));
+                    (parent.rotation, parent.origin + moved)
+                }
                 None => (Quat::identity(), self.offset(j, q)),
             };
             for (axis, kind) in joint.axes[..joint.n_axes].iter().zip(&self.axis_kinds[j]) {
@@ -260,7 +315,9 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                     AxisKind::X => rotation.then_about_x(s, c),
                     AxisKind::Y => rotation.then_about_y(s, c),
                     AxisKind::Z => rotation.then_about_z(s, c),
-                    AxisKind::General => rotation * Quat::from_axis_half_sin_cos(axis.direction, s, c),
+                    AxisKind::General => {
+                        rotation * Quat::from_axis_half_sin_cos(axis.direction, s, c)
+                    }
                 };
             }
             frames[j] = Frame { rotation, origin };
@@ -275,11 +332,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         let mut out = [Vec3::zero(); P];
         for (i, p) in self.points.iter().enumerate() {
             let f = &frames[p.body];
-            out[i] = if self.at_origin[i] {
-                f.origin
-            } else {
-                f.transform(p.offset)
-            };
+            out[i] = f.origin + self.point_kinds[i].rotate(f.rotation, p.offset);
         }
         out
     }
@@ -304,7 +357,8 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 body: p.body,
                 offset: v(p.offset),
             }),
-            at_origin: self.at_origin,
+            point_kinds: self.point_kinds,
+            offset_kinds: self.offset_kinds,
             spline_ranges: self.spline_ranges,
             axis_kinds: self.axis_kinds,
             splines: self.splines.map(|s| SplineTranslation {

@@ -57,17 +57,32 @@ impl<T: Real> Quat<T> {
     /// (8 multiplications instead of the general product's 16).
     #[inline(always)]
     pub fn then_about_x(self, s: T, c: T) -> Self {
-        Self::new(self.w * c - self.x * s, self.w * s + self.x * c, self.y * c + self.z * s, self.z * c - self.y * s)
+        Self::new(
+            self.w * c - self.x * s,
+            self.w * s + self.x * c,
+            self.y * c + self.z * s,
+            self.z * c - self.y * s,
+        )
     }
     /// `self * (c + s j)`: composes a rotation about +y.
     #[inline(always)]
     pub fn then_about_y(self, s: T, c: T) -> Self {
-        Self::new(self.w * c - self.y * s, self.x * c - self.z * s, self.w * s + self.y * c, self.x * s + self.z * c)
+        Self::new(
+            self.w * c - self.y * s,
+            self.x * c - self.z * s,
+            self.w * s + self.y * c,
+            self.x * s + self.z * c,
+        )
     }
     /// `self * (c + s k)`: composes a rotation about +z.
     #[inline(always)]
     pub fn then_about_z(self, s: T, c: T) -> Self {
-        Self::new(self.w * c - self.z * s, self.x * c + self.y * s, self.y * c - self.x * s, self.w * s + self.z * c)
+        Self::new(
+            self.w * c - self.z * s,
+            self.x * c + self.y * s,
+            self.y * c - self.x * s,
+            self.w * s + self.z * c,
+        )
     }
     /// Conjugate `w - v` (the inverse of a unit quaternion).
     #[inline(always)]
@@ -94,6 +109,40 @@ impl<T: Real> Quat<T> {
         let u = self.vector();
         let t = u.cross(v) * T::TWO;
         v + t * self.w + u.cross(t)
+    }
+    /// `R(q) (l e_x)`: a vector along +x rotated, as `l` times the first column of the rotation
+    /// matrix (6 multiplications, against about 18 for [`rotate`](Self::rotate)).
+    #[inline(always)]
+    pub fn rotate_x(self, l: T) -> Vec3<T> {
+        let (w, x, y, z) = (self.w, self.x, self.y, self.z);
+        let l2 = l * T::TWO;
+        Vec3::new(
+            l - l2 * (y * y + z * z),
+            l2 * (x * y + w * z),
+            l2 * (x * z - w * y),
+        )
+    }
+    /// `R(q) (l e_y)`: the second column of the rotation matrix times `l`.
+    #[inline(always)]
+    pub fn rotate_y(self, l: T) -> Vec3<T> {
+        let (w, x, y, z) = (self.w, self.x, self.y, self.z);
+        let l2 = l * T::TWO;
+        Vec3::new(
+            l2 * (x * y - w * z),
+            l - l2 * (x * x + z * z),
+            l2 * (y * z + w * x),
+        )
+    }
+    /// `R(q) (l e_z)`: the third column of the rotation matrix times `l`.
+    #[inline(always)]
+    pub fn rotate_z(self, l: T) -> Vec3<T> {
+        let (w, x, y, z) = (self.w, self.x, self.y, self.z);
+        let l2 = l * T::TWO;
+        Vec3::new(
+            l2 * (x * z + w * y),
+            l2 * (y * z - w * x),
+            l - l2 * (x * x + y * y),
+        )
     }
     /// The 3x3 rotation matrix (row-major) of this unit quaternion.
     pub fn to_rotation_matrix(self) -> [[T; 3]; 3] {
