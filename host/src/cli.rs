@@ -66,6 +66,14 @@ pub enum Command {
     Fidelity(crate::cli_gait2392::FidelityArgs),
     /// The frames that configure a hub (model, lengths, policy, window), to send to its UART.
     Config(crate::cli_config::ConfigArgs),
+    /// The byte stream the IMU nodes send for a motion (one JointAngle packet per joint per row).
+    Packets(crate::cli_device::PacketsArgs),
+    /// Decodes a hub log (pose frames, status; damaged frames reported and skipped).
+    Decode(crate::cli_device::DecodeArgs),
+    /// Recomputes every pose frame of a hub log with the f64 kernel; fails on errors or gaps.
+    Verify(crate::cli_device::VerifyArgs),
+    /// Runs the hub firmware under QEMU with a motion streamed into its UART.
+    Emulate(crate::cli_device::EmulateArgs),
 }
 
 /// Runs a parsed command line.
@@ -122,6 +130,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(args) => crate::cli_gait2392::run_export(args, cli.quiet)?,
         Command::Fidelity(args) => crate::cli_gait2392::run_fidelity(args, cli.quiet)?,
         Command::Config(args) => crate::cli_config::run_config(args, cli.quiet)?,
+        Command::Packets(args) => crate::cli_device::run_packets(args, cli.quiet)?,
+        Command::Decode(args) => crate::cli_device::run_decode(args, cli.quiet)?,
+        Command::Verify(args) => {
+            if !crate::cli_device::run_verify(args, cli.quiet)? {
+                anyhow::bail!("verification failed");
+            }
+        }
+        Command::Emulate(args) => {
+            if !crate::cli_device::run_emulate(args, cli.quiet)? {
+                anyhow::bail!("emulation failed");
+            }
+        }
     }
     Ok(())
 }

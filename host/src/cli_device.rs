@@ -1,0 +1,437 @@
+//! The device commands: `qgait packets`, `decode`, `verify` and `emulate` (module [`crate::device`]).
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{self, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+use clap::{Args, ValueEnum};
+use qgait_kernel::anthropometry::Anthropometry;
+use qgait_kernel::Gait2392Geometry;
+use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
+
+use crate::device::frames_csv;
+use crate::device::log::{HubLog, LogDecoder, Record};
+use crate::device::packets::{Samples, Timing};
+use crate::device::qemu::Echo;
+use crate::device::session::{self, closing_frames, InputCounts, Limits};
+use crate::device::verify::{DeviceModel, Expected, Verification};
+use crate::device::firmware;
+use crate::hub_config::{frames, messages, HubModel, HubSettings};
+use crate::kinematics::Model;
+use crate::model_spec::ModelSpec;
+use crate::source::load_motion;
+
+/// The model the hub computes with, as on the command line of `qgait config`.
+#[derive(Debug, Args, Clone)]
+pub struct DeviceModelArgs {
+    /// The hub's model: `hak`, `phak` (the hub's default), `gait2392`, or a SUBJECT.toml from
+    /// `qgait model import`.
+    #[arg(long, default_value = "phak", value_name = "hak|phak|gait2392|SUBJECT.toml")]
+    pub model: String,
+    /// The hub's segment lengths (TOML, as for `qgait fk`; HAK and PHAK). Default gait2392's,
+    /// the hub's own default.
+    #[arg(long, value_name = "FILE.toml")]
+    pub anthropometry: Option<PathBuf>,
+}
+
+/// The model, loaded: what to send the hub, what to send it for, and how to recompute.
+struct LoadedModel {
+    hub: HubModel,
+    wire: ModelId,
+    device: DeviceModel,
+}
+
+impl DeviceModelArgs {
+    fn load(&self, quiet: bool) -> anyhow::Result<LoadedModel> {
+        let spec = ModelSpec::load(&self.model).map_err(anyhow::Error::msg)?;
+        let anthropometry = match &self.anthropometry {
+            None => None,
+            Some(p) => {
+                let (a, w) = crate::anthropometry::read(p).map_err(anyhow::Error::msg)?;
+                if !quiet {
+                    w.iter().for_each(|w| eprintln!("warning: {w}"));
+                }
+                Some(a)
+            }
+        };
+        let lengths = anthropometry.unwrap_or_else(Anthropometry::gait2392);
+        Ok(match spec {
+            ModelSpec::Stick(m) => {
+                let wire = if m == Model::Hak { ModelId::Hak } else { ModelId::Phak };
+                LoadedModel {
+                    hub: HubModel::Stick { model: wire, anthropometry },
+                    wire,
+                    device: DeviceModel::new(&lengths, &Gait2392Geometry::generic()).map_err(anyhow::Error::msg)?,
+                }
+            }
+            ModelSpec::Gait2392 { geometry, name } => {
+                if self.anthropometry.is_some() {
+                    bail!("--anthropometry applies to hak and phak only: {name} has its own segment lengths");
+                }
+                let device = DeviceModel::new(&lengths, &geometry).map_err(anyhow::Error::msg)?;
+                let hub = if name == "gait2392" { HubModel::Gait2392 } else { HubModel::Subject { geometry, upload: None } };
+                LoadedModel { hub, wire: ModelId::Gait2392, device }
+            }
+        })
+    }
+}
+
+/// `qgait packets` arguments.
+#[derive(Debug, Args)]
+pub struct PacketsArgs {
+    /// Motion file (.mot/.sto) or `builtin:...`.
+    pub motion: String,
+    /// Samples per second (default: the motion's time column).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// Model whose joints are sent (one packet per joint per row).
+    #[arg(long, value_enum, default_value = "phak")]
+    pub model: WireModel,
+    /// Output file (the byte stream, as the nodes send it).
+    #[arg(short, long, value_name = "STREAM.bin")]
+    pub output: PathBuf,
+}
+
+/// A model id on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum WireModel {
+    /// 6 joints: hip flexion, knee, ankle of both legs.
+    Hak,
+    /// 8 joints: HAK plus pelvis rotation and list.
+    Phak,
+    /// All 17 gait2392 coordinates.
+    Gait2392,
+}
+
+impl From<WireModel> for ModelId {
+    fn from(m: WireModel) -> ModelId {
+        match m {
+            WireModel::Hak => ModelId::Hak,
+            WireModel::Phak => ModelId::Phak,
+            WireModel::Gait2392 => ModelId::Gait2392,
+        }
+    }
+}
+
+/// `qgait decode` arguments.
+#[derive(Debug, Args)]
+pub struct DecodeArgs {
+    /// Hub log: a file, `-` for standard input, or a serial device (e.g. /dev/ttyACM0, set to
+    /// raw mode first: `stty -F /dev/ttyACM0 115200 raw -echo`).
+    pub log: String,
+    /// Output format on standard output.
+    #[arg(long, value_enum, default_value = "csv")]
+    pub format: Format,
+}
+
+/// `qgait decode --format`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// One row per pose frame: seq, time (empty), the `fk` columns.
+    Csv,
+    /// One JSON object per frame (pose, status, other) and per damaged frame.
+    Jsonl,
+}
+
+/// `qgait verify` arguments.
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// Hub log (what the hub sent), or `-` for standard input.
+    pub log: String,
+    /// Largest accepted error per point (micrometres).
+    #[arg(long, default_value_t = 10.0, value_name = "UM")]
+    pub tol_um: f64,
+    /// The model and lengths the hub was configured with.
+    #[command(flatten)]
+    pub model: DeviceModelArgs,
+}
+
+/// `qgait emulate` arguments.
+#[derive(Debug, Args)]
+pub struct EmulateArgs {
+    /// Motion file (.mot/.sto) or `builtin:...` to stream (its packets as `qgait packets`
+    /// makes them).
+    #[arg(required_unless_present = "stream", conflicts_with = "stream")]
+    pub motion: Option<String>,
+    /// A byte stream to send as it is (e.g. from `qgait packets`).
+    #[arg(long, value_name = "STREAM.bin")]
+    pub stream: Option<PathBuf>,
+    /// Firmware ELF (default: the release build of firmware/, built if missing).
+    #[arg(long, value_name = "PATH")]
+    pub elf: Option<PathBuf>,
+    /// Samples per second for MOTION (default: its time column).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// The hub's configuration, sent before the stream.
+    #[command(flatten)]
+    pub model: DeviceModelArgs,
+    /// Samples the hub waits for late packets.
+    #[arg(long, default_value_t = 4, value_name = "N")]
+    pub window: u8,
+    /// Write the frames (the `fk` columns plus `seq`) to this CSV.
+    #[arg(long, value_name = "OUT.csv")]
+    pub frames_csv: Option<PathBuf>,
+    /// Write everything the hub sent (its UART output) to this file.
+    #[arg(long, value_name = "LOG.bin")]
+    pub log: Option<PathBuf>,
+    /// Check every frame against the f64 kernel and that no sample is missing.
+    #[arg(long)]
+    pub verify: bool,
+    /// Tolerance of --verify (micrometres).
+    #[arg(long, default_value_t = 10.0, value_name = "UM")]
+    pub tol_um: f64,
+}
+
+/// Runs `qgait packets`.
+pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
+    let (table, w) = load_motion(&args.motion)?;
+    let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
+    let (samples, w2) = Samples::from_motion(&table, args.model.into(), timing).map_err(anyhow::Error::msg)?;
+    if !quiet {
+        w.iter().chain(&w2).for_each(|w| eprintln!("warning: {w}"));
+    }
+    let packets: Vec<_> = samples.all_packets().collect();
+    let bytes = crate::device::packets::stream(&packets);
+    std::fs::write(&args.output, &bytes).with_context(|| format!("{}: cannot write", args.output.display()))?;
+    if !quiet {
+        eprintln!("wrote {} packets ({} samples × {} joints), {} bytes, to {}", packets.len(), samples.len(), ModelId::from(args.model).required_joints().len(), bytes.len(), args.output.display());
+    }
+    Ok(())
+}
+
+fn open_input(path: &str) -> anyhow::Result<Box<dyn Read>> {
+    if path == "-" {
+        Ok(Box::new(io::stdin()))
+    } else {
+        Ok(Box::new(File::open(path).with_context(|| format!("{path}: cannot open"))?))
+    }
+}
+
+fn json_f32(x: f32) -> String {
+    if x.is_finite() {
+        format!("{}", f64::from(x))
+    } else {
+        "null".into()
+    }
+}
+
+fn json_pose(p: &PoseFrame) -> String {
+    let angles: Vec<String> = p.angles.iter().map(|&a| json_f32(a)).collect();
+    let points: Vec<String> = p.points.iter().map(|q| format!("[{},{},{}]", json_f32(q[0]), json_f32(q[1]), json_f32(q[2]))).collect();
+    let d: Vec<String> = p.distances.iter().map(|&x| json_f32(x)).collect();
+    format!(
+        r#"{{"type":"pose","seq":{},"model":"{}","flags":{},"angles":[{}],"points":[{}],"distances":[{}]}}"#,
+        p.seq,
+        p.model,
+        p.flags,
+        angles.join(","),
+        points.join(","),
+        d.join(",")
+    )
+}
+
+/// The counters of a status, `name=value` each.
+pub fn status_fields(s: &Status) -> Vec<(&'static str, u32)> {
+    vec![
+        ("packets_accepted", s.packets_accepted),
+        ("crc_errors", s.crc_errors),
+        ("framing_errors", s.framing_errors),
+        ("oversize_frames", s.oversize_frames),
+        ("unknown_version", s.unknown_version),
+        ("unknown_joint", s.unknown_joint),
+        ("out_of_range", s.out_of_range),
+        ("samples_completed", s.samples_completed),
+        ("samples_incomplete", s.samples_incomplete),
+        ("frames_sent", s.frames_sent),
+        ("uart_overruns", s.uart_overruns),
+        ("uptime_ms", s.uptime_ms),
+        ("late_packets", s.late_packets),
+        ("duplicate_packets", s.duplicate_packets),
+        ("malformed", s.malformed),
+        ("config_rejected", s.config_rejected),
+    ]
+}
+
+fn json_status(s: &Status) -> String {
+    let f: Vec<String> = status_fields(s).iter().map(|(k, v)| format!(r#""{k}":{v}"#)).collect();
+    format!(r#"{{"type":"status",{}}}"#, f.join(","))
+}
+
+/// Runs `qgait decode`.
+pub fn run_decode(args: DecodeArgs, quiet: bool) -> anyhow::Result<()> {
+    let mut input = open_input(&args.log)?;
+    let stdout = io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    if args.format == Format::Csv {
+        writeln!(out, "{}", frames_csv::header())?;
+    }
+    let mut decoder = LogDecoder::new();
+    let mut buf = vec![0u8; 65536];
+    let mut reported = 0u32;
+    let mut write_error = None;
+    loop {
+        let n = match input.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e).with_context(|| format!("{}: cannot read", args.log)),
+        };
+        decoder.feed(&buf[..n], |record| {
+            let line = match (&record, args.format) {
+                (Record::Message { message: Message::PoseFrame(p), .. }, Format::Csv) => {
+                    let mut row = Vec::new();
+                    let _ = frames_csv::write(&mut row, std::slice::from_ref(p), &HashMap::new());
+                    let text = String::from_utf8_lossy(&row).into_owned();
+                    text.split_once('\n').map(|(_, r)| r.trim_end().to_string())
+                }
+                (Record::Message { message: Message::PoseFrame(p), .. }, Format::Jsonl) => Some(json_pose(p)),
+                (Record::Message { message: Message::Status(s), .. }, Format::Jsonl) => Some(json_status(s)),
+                (Record::Message { message: Message::Status(s), .. }, Format::Csv) => {
+                    if !quiet {
+                        let f: Vec<String> = status_fields(s).iter().map(|(k, v)| format!("{k}={v}")).collect();
+                        eprintln!("status: {}", f.join(" "));
+                    }
+                    None
+                }
+                (Record::Message { message, .. }, Format::Jsonl) => Some(format!(r#"{{"type":"other","tag":{}}}"#, message.tag())),
+                (Record::Message { .. }, Format::Csv) => None,
+                (Record::Damaged { offset, error }, format) => {
+                    if !quiet && reported < 20 {
+                        eprintln!("damaged frame ending at byte {offset}: {error} (skipped)");
+                    }
+                    reported += 1;
+                    (format == Format::Jsonl).then(|| format!(r#"{{"type":"damaged","offset":{offset},"error":"{:?}"}}"#, error.kind()))
+                }
+            };
+            if let Some(l) = line {
+                if let Err(e) = writeln!(out, "{l}") {
+                    write_error.get_or_insert(e);
+                }
+            }
+        });
+        if let Some(e) = write_error.take() {
+            if e.kind() == io::ErrorKind::BrokenPipe {
+                return Ok(());
+            }
+            return Err(e).context("cannot write to standard output");
+        }
+    }
+    match out.flush() {
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => return Ok(()),
+        other => other.context("cannot write to standard output")?,
+    }
+    if reported > 20 && !quiet {
+        eprintln!("... {} more damaged frames", reported - 20);
+    }
+    eprintln!("decoded {}", decoder.counts());
+    Ok(())
+}
+
+fn read_all(path: &str) -> anyhow::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    open_input(path)?.read_to_end(&mut bytes).with_context(|| format!("{path}: cannot read"))?;
+    Ok(bytes)
+}
+
+/// Runs `qgait verify`; `Ok(false)` when the check failed.
+pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
+    let model = args.model.load(quiet)?;
+    let log = HubLog::decode(&read_all(&args.log)?);
+    eprintln!("decoded {}", log.counts);
+    if log.poses.is_empty() {
+        bail!("{}: no pose frames", args.log);
+    }
+    let v = Verification::run(&model.device, &log.poses, Expected::FirstToLast);
+    let tol = args.tol_um * 1e-6;
+    println!("{}", v.report(tol));
+    Ok(v.passed(tol))
+}
+
+/// The stream and its packets' times for `qgait emulate`.
+fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Result<(Vec<u8>, HashMap<u32, f64>, Option<u32>)> {
+    let (stream, count) = match (&args.motion, &args.stream) {
+        (Some(motion), None) => {
+            let (table, w) = load_motion(motion)?;
+            let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
+            let (samples, w2) = Samples::from_motion(&table, wire, timing).map_err(anyhow::Error::msg)?;
+            if !quiet {
+                w.iter().chain(&w2).for_each(|w| eprintln!("warning: {w}"));
+            }
+            let packets: Vec<_> = samples.all_packets().collect();
+            (crate::device::packets::stream(&packets), Some(samples.len() as u32))
+        }
+        (None, Some(path)) => (std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?, None),
+        _ => bail!("give either MOTION or --stream STREAM.bin"),
+    };
+    let mut times = HashMap::new();
+    for m in FrameDecoder::new().feed(&stream).flatten() {
+        if let Message::JointAngle(p) = m {
+            times.entry(p.seq).or_insert(f64::from(p.timestamp_us) * 1e-6);
+        }
+    }
+    Ok((stream, times, count))
+}
+
+/// Runs `qgait emulate`; `Ok(false)` when --verify failed or the session did not end normally.
+pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
+    let model = args.model.load(quiet)?;
+    let (stream, times, count) = emulate_input(&args, model.wire, quiet)?;
+    let elf = firmware::locate(args.elf.as_deref()).map_err(anyhow::Error::msg)?;
+    let settings = HubSettings { missing_policy: MissingPolicy::Drop, reorder_window: args.window, request_status: false };
+    let config = messages(&model.hub, settings).map_err(anyhow::Error::msg)?;
+    let mut input = frames(&config).map_err(anyhow::Error::msg)?;
+    input.extend_from_slice(&stream);
+    let last = config.last().context("no configuration message")?;
+    input.extend(closing_frames(last).map_err(anyhow::Error::msg)?);
+    let expected = InputCounts::of(&input);
+    if !quiet {
+        eprintln!("running {} under QEMU mps2-an386: {} bytes into UART0", elf.display(), input.len());
+    }
+    let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
+    let out = session::run(&elf, input, expected, echo, Limits::for_stream(stream.len())).map_err(anyhow::Error::msg)?;
+    if let Some(path) = &args.log {
+        std::fs::write(path, &out.uart).with_context(|| format!("{}: cannot write", path.display()))?;
+    }
+    let log = HubLog::decode(&out.uart);
+    eprintln!("hub sent {} in {:.2} s", log.counts, out.elapsed.as_secs_f64());
+    if let Some(path) = &args.frames_csv {
+        write_file(path, |w| frames_csv::write(w, &log.poses, &times))?;
+        if !quiet {
+            eprintln!("wrote {} frames to {}", log.poses.len(), path.display());
+        }
+    }
+    let mut ok = true;
+    match &out.status {
+        Some(s) => {
+            println!("device status:");
+            for (k, v) in status_fields(s) {
+                println!("  {k:<20} {v}");
+            }
+        }
+        None => {
+            ok = false;
+            eprintln!("error: {}", out.problem.as_deref().unwrap_or("no status from the hub"));
+        }
+    }
+    if args.verify {
+        let expected = match count {
+            Some(n) => Expected::Range { first: 0, count: n },
+            None => Expected::FirstToLast,
+        };
+        let v = Verification::run(&model.device, &log.poses, expected);
+        let tol = args.tol_um * 1e-6;
+        println!("{}", v.report(tol));
+        ok &= v.passed(tol);
+    }
+    Ok(ok)
+}
+
+fn write_file(path: &Path, body: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> anyhow::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
+    let mut w = BufWriter::new(File::create(path).with_context(|| format!("{}: cannot create", path.display()))?);
+    body(&mut w).and_then(|_| w.flush()).with_context(|| format!("{}: cannot write", path.display()))
+}

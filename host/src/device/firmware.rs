@@ -1,0 +1,70 @@
+//! Finding the hub firmware's ELF, and building it when it is missing.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The firmware's target triple.
+pub const TARGET: &str = "thumbv7em-none-eabihf";
+
+/// The repository root: the first directory from the current one upwards that has
+/// `firmware/Cargo.toml`, else the one this program was built from.
+pub fn repo_root() -> PathBuf {
+    if let Ok(cwd) = std::env::current_dir() {
+        for dir in cwd.ancestors() {
+            if dir.join("firmware/Cargo.toml").is_file() {
+                return dir.to_path_buf();
+            }
+        }
+    }
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// Where `cargo build --release` in `firmware/` puts the hub's ELF: under `$CARGO_TARGET_DIR`
+/// when it is set, else `firmware/target`.
+pub fn default_elf(root: &Path) -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("firmware/target"));
+    target.join(TARGET).join("release/qgait-firmware")
+}
+
+/// The command that builds the firmware, for messages.
+pub fn build_command(root: &Path) -> String {
+    format!("cd {} && cargo build --release   (needs `rustup target add {TARGET}`)", root.join("firmware").display())
+}
+
+/// Builds the release firmware with cargo (output on stderr).
+pub fn build(root: &Path) -> Result<(), String> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .args(["build", "--release"])
+        .current_dir(root.join("firmware"))
+        .status()
+        .map_err(|e| format!("starting cargo: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("building the firmware failed ({status}); build it by hand: {}", build_command(root)))
+    }
+}
+
+/// The ELF to run: `elf` if given (it must exist), else the default release build, built
+/// first if it is missing and `firmware/` is there.
+pub fn locate(elf: Option<&Path>) -> Result<PathBuf, String> {
+    if let Some(p) = elf {
+        return if p.is_file() { Ok(p.to_path_buf()) } else { Err(format!("{}: no such firmware ELF", p.display())) };
+    }
+    let root = repo_root();
+    let path = default_elf(&root);
+    if path.is_file() {
+        return Ok(path);
+    }
+    if !root.join("firmware/Cargo.toml").is_file() {
+        return Err(format!("no firmware ELF at {} and no firmware/ to build it from: give --elf PATH", path.display()));
+    }
+    eprintln!("{} is missing: building the firmware", path.display());
+    build(&root)?;
+    if path.is_file() {
+        Ok(path)
+    } else {
+        Err(format!("the firmware build did not produce {}: give --elf PATH", path.display()))
+    }
+}

@@ -1,0 +1,107 @@
+//! The frames CSV of `qgait emulate --frames-csv` and `qgait decode --format csv`: the `qgait fk`
+//! columns (`time`, then hip/knee/ankle/toe × x,y,z, right leg then left) with `seq` in front,
+//! one row per `PoseFrame`. `time` is the sample's sensor time in seconds when it is known (from
+//! the stream that was sent), else empty. Points as the hub sent them (f32, printed as f64).
+
+use std::collections::HashMap;
+use std::io::{self, Write};
+
+use qgait_proto::PoseFrame;
+
+/// The header line (without the newline).
+pub fn header() -> String {
+    format!("seq,{}", crate::fk_csv::header())
+}
+
+/// Writes the header and one row per frame; `time_s` gives the time of a sequence number.
+pub fn write<W: Write + ?Sized>(w: &mut W, frames: &[PoseFrame], time_s: &HashMap<u32, f64>) -> io::Result<()> {
+    writeln!(w, "{}", header())?;
+    for f in frames {
+        write!(w, "{},", f.seq)?;
+        if let Some(t) = time_s.get(&f.seq) {
+            write!(w, "{t}")?;
+        }
+        for p in &f.points {
+            write!(w, ",{},{},{}", f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))?;
+        }
+        w.write_all(b"\n")?;
+    }
+    Ok(())
+}
+
+/// A frames CSV read back: per row the sequence number, the time (s) if present, and the 8
+/// points (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FramesTable {
+    /// Sequence numbers.
+    pub seq: Vec<u32>,
+    /// Times (s), `None` where the column is empty.
+    pub time: Vec<Option<f64>>,
+    /// The 8 points of each row, [`crate::model_spec::point_names`] order.
+    pub points: Vec<[[f64; 3]; 8]>,
+}
+
+/// Whether `text` starts with the frames CSV header.
+pub fn is_frames_csv(text: &str) -> bool {
+    text.lines().next().is_some_and(|l| l.trim_end() == header())
+}
+
+/// Parses a frames CSV; errors name the line.
+pub fn parse(text: &str, source: &str) -> Result<FramesTable, String> {
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, h)) if h.trim_end() == header() => {}
+        _ => return Err(format!("{source}:1: not a frames CSV (expected the header `{}`)", header())),
+    }
+    let mut t = FramesTable { seq: Vec::new(), time: Vec::new(), points: Vec::new() };
+    for (i, line) in lines {
+        let line = line.trim_end();
+        if line.is_empty() {
+            continue;
+        }
+        let cells: Vec<&str> = line.split(',').collect();
+        if cells.len() != 26 {
+            return Err(format!("{source}:{}: {} values, expected 26", i + 1, cells.len()));
+        }
+        let bad = |what: &str, v: &str| format!("{source}:{}: bad {what} `{v}`", i + 1);
+        t.seq.push(cells[0].parse().map_err(|_| bad("seq", cells[0]))?);
+        t.time.push(if cells[1].is_empty() { None } else { Some(cells[1].parse().map_err(|_| bad("time", cells[1]))?) });
+        let mut p = [[0.0; 3]; 8];
+        for (k, v) in cells[2..].iter().enumerate() {
+            p[k / 3][k % 3] = v.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| bad("number", v))?;
+        }
+        t.points.push(p);
+    }
+    Ok(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qgait_proto::ModelId;
+
+    #[test]
+    fn frames_round_trip_through_the_csv() {
+        let frame = |seq: u32| PoseFrame {
+            seq,
+            model: ModelId::Hak,
+            angles: heapless::Vec::from_slice(&[0.0; 6]).unwrap(),
+            points: core::array::from_fn(|i| [i as f32 * 0.25, -0.5, seq as f32]),
+            distances: [0.0; 3],
+            flags: 0,
+        };
+        let mut out = Vec::new();
+        write(&mut out, &[frame(3), frame(4)], &HashMap::from([(3, 0.03)])).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.starts_with("seq,time,hip_r_x,"));
+        assert!(is_frames_csv(&text));
+        let t = parse(&text, "f.csv").unwrap();
+        assert_eq!(t.seq, [3, 4]);
+        assert_eq!(t.time, [Some(0.03), None]);
+        assert_eq!(t.points[1][7], [1.75, -0.5, 4.0]);
+        let e = parse("seq,time\n", "x.csv").unwrap_err();
+        assert!(e.starts_with("x.csv:1: not a frames CSV"), "{e}");
+        let e = parse(&text.replace("0.03", "abc"), "f.csv").unwrap_err();
+        assert!(e.contains("f.csv:2: bad time `abc`"), "{e}");
+    }
+}

@@ -1,0 +1,154 @@
+//! The byte stream the IMU nodes send for a motion: one `JointAngle` packet per joint the model
+//! needs per row, sequence number = row index (`qgait packets`).
+
+use qgait_proto::{encode_frame, JointAngle, JointId, Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION};
+
+use crate::kinematics;
+use crate::model_spec::gait2392_coordinates;
+use crate::mot::{MotionTable, Warning};
+
+/// The samples of a motion as a node network would measure them: per row, the angle of every
+/// joint the model needs, in [`ModelId::required_joints`] order (radians), and a timestamp.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Samples {
+    /// The model whose joints are sent.
+    pub model: ModelId,
+    /// Sensor time of each row (µs; wraps after 2^32 - 1 like the wire field).
+    pub timestamps_us: Vec<u32>,
+    /// Per row, one angle per joint of `model.required_joints()` (radians).
+    pub angles: Vec<Vec<f64>>,
+}
+
+/// Where the timestamps come from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Timing {
+    /// The motion's `time` column, relative to its first row.
+    TimeColumn,
+    /// Row `i` at `i / rate` seconds.
+    Rate(f64),
+}
+
+/// Microseconds as the wire's wrapping `u32`.
+fn wire_us(seconds: f64) -> u32 {
+    (seconds * 1e6).round().rem_euclid(4_294_967_296.0) as u32
+}
+
+impl Samples {
+    /// The joints of `model` from every row of `table` (missing optional columns count as 0,
+    /// with a warning each, as for `qgait fk`).
+    pub fn from_motion(table: &MotionTable, model: ModelId, timing: Timing) -> Result<(Samples, Vec<Warning>), String> {
+        let (angles, warnings): (Vec<Vec<f64>>, Vec<Warning>) = match model {
+            ModelId::Hak | ModelId::Phak => {
+                let (rows, w) = kinematics::phak_angles(table)?;
+                // PhakAngles order is PHAK's joint order; HAK is its last six.
+                let skip = if model == ModelId::Hak { 2 } else { 0 };
+                let warnings = if model == ModelId::Hak { Vec::new() } else { w };
+                (rows.iter().map(|a| a.to_array()[skip..].to_vec()).collect(), warnings)
+            }
+            ModelId::Gait2392 => {
+                let (rows, w) = gait2392_coordinates(table)?;
+                (rows.iter().map(|q| q.to_vec()).collect(), w)
+            }
+        };
+        let timestamps_us = match timing {
+            Timing::TimeColumn => {
+                let t0 = table.time().first().copied().unwrap_or(0.0);
+                table.time().iter().map(|&t| wire_us(t - t0)).collect()
+            }
+            Timing::Rate(hz) => {
+                if !(hz.is_finite() && hz > 0.0) {
+                    return Err(format!("--rate {hz}: expected a positive number of samples per second"));
+                }
+                (0..table.rows()).map(|i| wire_us(i as f64 / hz)).collect()
+            }
+        };
+        Ok((Samples { model, timestamps_us, angles }, warnings))
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.angles.len()
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.angles.is_empty()
+    }
+
+    /// The packets of row `row` (sequence number `row`, wrapping), in joint order.
+    pub fn packets(&self, row: usize) -> impl Iterator<Item = JointAngle> + '_ {
+        let joints = self.model.required_joints();
+        joints.iter().zip(&self.angles[row]).map(move |(&joint, &angle)| packet(row as u32, self.timestamps_us[row], joint, angle as f32))
+    }
+
+    /// Every packet, row after row.
+    pub fn all_packets(&self) -> impl Iterator<Item = JointAngle> + '_ {
+        (0..self.len()).flat_map(move |row| self.packets(row))
+    }
+}
+
+/// One packet as a node sends it: node id = joint id (one node per joint), quality 0 (good).
+pub fn packet(seq: u32, timestamp_us: u32, joint: JointId, angle: f32) -> JointAngle {
+    JointAngle { version: PROTOCOL_VERSION, node: joint.index(), joint, seq, timestamp_us, angle, quality: 0 }
+}
+
+/// Appends one framed message (its trailing 0x00 included).
+pub fn push_frame(out: &mut Vec<u8>, message: &Message) {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    // Every message of the protocol fits MAX_FRAME_LEN, and these have the right angle counts.
+    let frame = encode_frame(message, &mut buf).expect("a protocol message fits MAX_FRAME_LEN");
+    out.extend_from_slice(frame);
+}
+
+/// The stream of `packets`: a 0x00 first (so the first frame survives any earlier line noise),
+/// then each packet's frame.
+pub fn stream<'a>(packets: impl IntoIterator<Item = &'a JointAngle>) -> Vec<u8> {
+    let mut out = vec![0u8];
+    for p in packets {
+        push_frame(&mut out, &Message::JointAngle(*p));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qgait_proto::FrameDecoder;
+
+    fn table() -> MotionTable {
+        let labels = ["time", "pelvis_list", "pelvis_rotation", "hip_flexion_r", "knee_angle_r", "ankle_angle_r", "hip_flexion_l", "knee_angle_l", "ankle_angle_l"];
+        let cols = (0..9).map(|c| (0..3).map(|r| if c == 0 { 10.0 + 0.01 * r as f64 } else { (c * 10 + r) as f64 }).collect()).collect();
+        MotionTable::new("t", "t.mot", true, labels.iter().map(|s| s.to_string()).collect(), cols).unwrap()
+    }
+
+    #[test]
+    fn one_packet_per_joint_per_row_with_the_row_as_seq() {
+        let (s, w) = Samples::from_motion(&table(), ModelId::Phak, Timing::TimeColumn).unwrap();
+        assert!(w.is_empty());
+        let packets: Vec<JointAngle> = s.all_packets().collect();
+        assert_eq!(packets.len(), 3 * 8);
+        let bytes = stream(&packets);
+        let decoded: Vec<_> = FrameDecoder::new().feed(&bytes).collect::<Result<_, _>>().unwrap();
+        assert_eq!(decoded.len(), 24);
+        for (i, m) in decoded.iter().enumerate() {
+            let Message::JointAngle(p) = m else { panic!("{m:?}") };
+            assert_eq!(p.seq as usize, i / 8);
+            assert_eq!(p.joint, ModelId::Phak.required_joints()[i % 8]);
+            assert_eq!(p.timestamp_us, [0, 10_000, 20_000][i / 8]);
+        }
+        // hip_flexion_r of row 1 is column 3: 31 degrees.
+        let Message::JointAngle(p) = &decoded[8 + 2] else { unreachable!() };
+        assert_eq!(p.angle, 31f64.to_radians() as f32);
+    }
+
+    #[test]
+    fn rate_sets_the_timestamps_and_hak_sends_six_joints() {
+        let (s, _) = Samples::from_motion(&table(), ModelId::Hak, Timing::Rate(200.0)).unwrap();
+        assert_eq!(s.timestamps_us, [0, 5000, 10_000]);
+        assert_eq!(s.packets(2).count(), 6);
+        assert!(Samples::from_motion(&table(), ModelId::Hak, Timing::Rate(0.0)).is_err());
+        let (g, w) = Samples::from_motion(&table(), ModelId::Gait2392, Timing::TimeColumn).unwrap();
+        assert_eq!(g.packets(0).count(), 17);
+        assert_eq!(w.len(), 9, "{w:?}");
+    }
+}

@@ -1,0 +1,138 @@
+//! Running a firmware ELF on QEMU's mps2-an386 (Cortex-M4F) with semihosting, its defmt log
+//! decoded from QEMU's stdout, always under a timeout. The one QEMU runner of the project:
+//! `qgait emulate`, the end-to-end tests and the xtask runner all use it.
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::thread::{self, JoinHandle};
+use std::time::{Duration, Instant};
+
+use crate::device::defmt_log;
+
+/// The QEMU executable.
+pub const QEMU: &str = "qemu-system-arm";
+
+/// Where decoded log lines go as they arrive (they are also kept in [`Finished::log`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Echo {
+    /// Printed on standard output.
+    Stdout,
+    /// Printed on standard error, each line prefixed with `device: `.
+    Stderr,
+    /// Only kept.
+    Quiet,
+}
+
+/// A running QEMU and the thread decoding its log.
+pub struct Qemu {
+    child: Child,
+    log: Option<JoinHandle<Vec<String>>>,
+    lines: mpsc::Receiver<String>,
+}
+
+/// How a run ended, with the decoded log lines.
+#[derive(Debug, Clone)]
+pub struct Finished {
+    /// QEMU's exit status (the firmware's semihosting exit code), `None` if it was killed.
+    pub code: Option<i32>,
+    /// Every decoded log line.
+    pub log: Vec<String>,
+}
+
+/// Whether `qemu-system-arm` can be started (`--version` answers).
+pub fn available() -> bool {
+    Command::new(QEMU).arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok_and(|s| s.success())
+}
+
+impl Qemu {
+    /// Starts `elf` with its log printed on stdout; UART0 is connected to the Unix socket
+    /// `uart_socket` (QEMU connects to it as a client, so bind it first) or to nothing.
+    pub fn start(elf: &Path, uart_socket: Option<&Path>) -> Result<Qemu, String> {
+        Self::start_with(elf, uart_socket, Echo::Stdout)
+    }
+
+    /// [`start`](Self::start) with the log going to `echo`.
+    pub fn start_with(elf: &Path, uart_socket: Option<&Path>, echo: Echo) -> Result<Qemu, String> {
+        let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
+        let table = defmt_log::table(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
+        let mut cmd = Command::new(QEMU);
+        cmd.args(["-M", "mps2-an386", "-display", "none", "-monitor", "none", "-nodefaults"])
+            .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
+            .arg(elf);
+        if let Some(socket) = uart_socket {
+            cmd.arg("-chardev").arg(format!("socket,id=u0,path={}", socket.display())).args(["-serial", "chardev:u0"]);
+        }
+        cmd.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
+        let mut child = cmd.spawn().map_err(|e| {
+            format!("starting {QEMU}: {e} (install it: `apt-get install qemu-system-arm`, or `cargo xtask demo` does it)")
+        })?;
+        let stdout = child.stdout.take().ok_or("no QEMU stdout")?;
+        let stderr = child.stderr.take().ok_or("no QEMU stderr")?;
+        thread::spawn(move || {
+            for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+                // Harmless: the board's Ethernet controller has no network.
+                if !line.contains("has no peer") {
+                    eprintln!("{line}");
+                }
+            }
+        });
+        let (tx, lines) = mpsc::channel();
+        let log = thread::spawn(move || {
+            let mut kept = Vec::new();
+            defmt_log::decode_stream(&table, stdout, |l| {
+                match echo {
+                    Echo::Stdout => println!("{l}"),
+                    Echo::Stderr => eprintln!("device: {l}"),
+                    Echo::Quiet => {}
+                }
+                let _ = tx.send(l.to_string());
+                kept.push(l.to_string());
+            });
+            kept
+        });
+        Ok(Qemu { child, log: Some(log), lines })
+    }
+
+    /// Log lines decoded since the last call (without waiting).
+    pub fn new_lines(&self) -> Vec<String> {
+        self.lines.try_iter().collect()
+    }
+
+    /// Waits for QEMU to exit, killing it after `timeout`.
+    pub fn wait(mut self, timeout: Duration) -> Finished {
+        let deadline = Instant::now() + timeout;
+        let code = loop {
+            match self.child.try_wait() {
+                Ok(Some(status)) => break status.code(),
+                Ok(None) if Instant::now() < deadline => thread::sleep(Duration::from_millis(5)),
+                _ => {
+                    eprintln!("QEMU still running after {timeout:?}: killed");
+                    break None;
+                }
+            }
+        };
+        self.finish(code)
+    }
+
+    /// Stops QEMU (the application firmware never exits by itself).
+    pub fn stop(self) -> Finished {
+        self.finish(None)
+    }
+
+    fn finish(mut self, code: Option<i32>) -> Finished {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let log = self.log.take().and_then(|h| h.join().ok()).unwrap_or_default();
+        Finished { code, log }
+    }
+}
+
+impl Drop for Qemu {
+    /// Never leaves QEMU running, whatever path dropped it (an error, a panic).
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}

@@ -1,0 +1,215 @@
+//! One run of the hub firmware under QEMU with a byte stream fed into its UART0: QEMU's UART is
+//! connected to a Unix socket that this process binds, a thread writes the stream while this
+//! one reads what the hub sends back, until the `Status` that answers the closing request.
+//!
+//! QEMU's CMSDK UART model takes one byte at a time and only when the firmware has read the
+//! previous one, so the writer is throttled by the firmware and nothing is lost. The socket is
+//! kept open until QEMU has been stopped, or the tail of the output would be lost.
+
+use std::io::{Read, Write};
+use std::os::unix::net::{UnixListener, UnixStream};
+use std::path::{Path, PathBuf};
+use std::thread;
+use std::time::{Duration, Instant};
+
+use qgait_proto::{FrameDecoder, Message, Status};
+
+use crate::device::log::{LogDecoder, Record};
+use crate::device::packets::push_frame;
+use crate::device::qemu::{Echo, Qemu};
+
+/// Limits of a session.
+#[derive(Debug, Clone, Copy)]
+pub struct Limits {
+    /// The whole session (QEMU is stopped and the run fails after it).
+    pub total: Duration,
+    /// Longest wait for QEMU to connect to the socket.
+    pub connect: Duration,
+    /// After the first status that shows every input frame consumed, how long to wait for a
+    /// later one (the answer to the closing request may follow a periodic status).
+    pub grace: Duration,
+}
+
+impl Limits {
+    /// Limits for a stream of `bytes` bytes: 30 s plus 1 ms per 20 bytes (QEMU's UART moves a
+    /// byte in 10-40 µs on a busy 2-core machine).
+    pub fn for_stream(bytes: usize) -> Limits {
+        Limits {
+            total: Duration::from_secs(30) + Duration::from_millis(bytes as u64 / 20),
+            connect: Duration::from_secs(10),
+            grace: Duration::from_millis(500),
+        }
+    }
+}
+
+/// What the input will make the hub count once it has consumed it all (the hub uses the same
+/// decoder as the host, so these are exact).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct InputCounts {
+    /// Joint-angle packets with a finite angle (`packets_accepted`).
+    pub accepted: u32,
+    /// Frames the decoder rejects (the sum of the hub's decode-error counters).
+    pub rejected: u32,
+}
+
+impl InputCounts {
+    /// Counts `input` with the protocol's decoder.
+    pub fn of(input: &[u8]) -> InputCounts {
+        let mut c = InputCounts::default();
+        for result in FrameDecoder::new().feed(input) {
+            match result {
+                Ok(Message::JointAngle(p)) if p.angle.is_finite() => c.accepted += 1,
+                Ok(_) => {}
+                Err(_) => c.rejected += 1,
+            }
+        }
+        c
+    }
+
+    /// Whether `status` shows all of it consumed.
+    pub fn consumed_by(&self, s: &Status) -> bool {
+        let rejected = s.crc_errors + s.framing_errors + s.oversize_frames + s.unknown_version + s.unknown_joint + s.malformed;
+        s.packets_accepted >= self.accepted && rejected >= self.rejected
+    }
+}
+
+/// The frames that end a session: a 0x00 (so that line noise just before cannot swallow them),
+/// then `configuration` (the last `Config` or `SubjectConfig` sent) with its reorder window
+/// changed, which makes the hub close (and count) the samples still open in its window, and
+/// a status request.
+pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, String> {
+    let toggle = |w: u8| if w == 1 { 2 } else { 1 };
+    let closing = match configuration {
+        Message::Config(c) => Message::Config(qgait_proto::Config { reorder_window: toggle(c.reorder_window), request_status: true, ..*c }),
+        Message::SubjectConfig(c) => Message::SubjectConfig(qgait_proto::SubjectConfig { reorder_window: toggle(c.reorder_window), request_status: true, ..*c }),
+        other => return Err(format!("not a configuration message: {other:?}")),
+    };
+    let mut out = vec![0u8];
+    push_frame(&mut out, &closing);
+    Ok(out)
+}
+
+/// What came back.
+#[derive(Debug, Clone)]
+pub struct SessionOutput {
+    /// Every byte the hub sent on its UART.
+    pub uart: Vec<u8>,
+    /// The status answering the closing request (`None` if it never came).
+    pub status: Option<Status>,
+    /// The firmware's decoded defmt log.
+    pub log: Vec<String>,
+    /// Wall time from QEMU's start to the closing status.
+    pub elapsed: Duration,
+    /// Why the session did not end normally, if it did not.
+    pub problem: Option<String>,
+}
+
+fn socket_path() -> PathBuf {
+    static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    std::env::temp_dir().join(format!("qgait-uart-{}-{n}.sock", std::process::id()))
+}
+
+fn accept(listener: &UnixListener, deadline: Instant) -> Result<UnixStream, String> {
+    listener.set_nonblocking(true).map_err(|e| e.to_string())?;
+    loop {
+        match listener.accept() {
+            Ok((stream, _)) => {
+                stream.set_nonblocking(false).map_err(|e| e.to_string())?;
+                return Ok(stream);
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock && Instant::now() < deadline => {
+                thread::sleep(Duration::from_millis(2))
+            }
+            Err(e) => return Err(format!("QEMU did not connect to the UART socket: {e}")),
+        }
+    }
+}
+
+/// Binds the UART socket, starts QEMU on it and accepts its connection.
+fn connect(elf: &Path, echo: Echo, limits: &Limits) -> Result<(Qemu, UnixStream), String> {
+    let socket = socket_path();
+    let _ = std::fs::remove_file(&socket);
+    let listener = UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
+    let started = Qemu::start_with(elf, Some(&socket), echo);
+    let accepted = match &started {
+        Ok(_) => accept(&listener, Instant::now() + limits.connect),
+        Err(_) => Err(String::new()),
+    };
+    let _ = std::fs::remove_file(&socket);
+    match (started, accepted) {
+        (Ok(qemu), Ok(stream)) => Ok((qemu, stream)),
+        (Ok(qemu), Err(e)) => {
+            qemu.stop();
+            Err(e)
+        }
+        (Err(e), _) => Err(e),
+    }
+}
+
+/// Runs `elf`, writes `input` (which must end with [`closing_frames`]) into its UART and
+/// collects the output until the status that answers the closing request. `expected` is
+/// [`InputCounts::of`] the input.
+pub fn run(elf: &Path, input: Vec<u8>, expected: InputCounts, echo: Echo, limits: Limits) -> Result<SessionOutput, String> {
+    let started = Instant::now();
+    let deadline = started + limits.total;
+    let (qemu, mut stream) = connect(elf, echo, &limits)?;
+    let mut writer = match (stream.try_clone(), stream.set_read_timeout(Some(Duration::from_millis(50)))) {
+        (Ok(w), Ok(())) => w,
+        (Err(e), _) | (_, Err(e)) => {
+            qemu.stop();
+            return Err(format!("setting up the UART socket: {e}"));
+        }
+    };
+    let sender = thread::spawn(move || writer.write_all(&input).map_err(|e| format!("writing to the UART socket: {e}")));
+
+    let mut uart = Vec::new();
+    let mut decoder = LogDecoder::new();
+    let mut status = None;
+    let mut done_at: Option<Instant> = None;
+    let mut problem = None;
+    let mut buf = [0u8; 4096];
+    loop {
+        let now = Instant::now();
+        if done_at.is_some_and(|t| now >= t + limits.grace) {
+            break;
+        }
+        if now >= deadline {
+            problem = Some(format!("no closing status within {:.0?}", limits.total));
+            break;
+        }
+        let n = match stream.read(&mut buf) {
+            Ok(0) => {
+                problem = Some("QEMU closed the UART (the firmware stopped?)".into());
+                break;
+            }
+            Ok(n) => n,
+            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => continue,
+            Err(e) => {
+                problem = Some(format!("reading the UART socket: {e}"));
+                break;
+            }
+        };
+        uart.extend_from_slice(&buf[..n]);
+        decoder.feed(&buf[..n], |r| {
+            if let Record::Message { message: Message::Status(s), .. } = r {
+                if expected.consumed_by(&s) {
+                    done_at.get_or_insert_with(Instant::now);
+                    status = Some(s);
+                }
+            }
+        });
+    }
+    let elapsed = started.elapsed();
+    // The firmware logs after sending a status: let that line through, then stop QEMU before
+    // closing the socket.
+    thread::sleep(Duration::from_millis(50));
+    let finished = qemu.stop();
+    drop(stream);
+    if let Ok(Err(e)) = sender.join() {
+        if problem.is_none() && status.is_none() {
+            problem = Some(e);
+        }
+    }
+    Ok(SessionOutput { uart, status, log: finished.log, elapsed, problem })
+}
