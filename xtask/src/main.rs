@@ -1,5 +1,7 @@
 //! Developer tasks of qgait (`cargo xtask <command>` from the repository root).
 //!
+//! - `demo`: installs the firmware target and QEMU if missing, builds the release firmware, runs
+//!   it under QEMU on the built-in normal gait, verifies every frame and draws them (`out/demo`).
 //! - `test`: every test suite — host workspace, hub host tests, firmware builds for both
 //!   boards, on-target tests and the UART end-to-end session under QEMU — then a summary.
 //! - `qemu-run ELF`: the firmware's cargo runner (firmware/.cargo/config.toml): runs `ELF` on
@@ -12,18 +14,21 @@
 mod bench;
 mod cargo;
 mod defmt_log;
+mod demo;
 mod elf_size;
 mod footprint;
 mod gait;
 mod qemu;
 mod session;
 mod test;
+mod toolchain;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage: cargo xtask <command>
-  test                 run every test suite (host, firmware builds, QEMU) and summarise
+  demo                 the firmware under QEMU on the built-in gait: frames decoded, verified, drawn into out/demo
+  test                 run every test suite (host, firmware builds, QEMU, end-to-end) and summarise
   qemu-run ELF [ARGS]  run a firmware ELF under QEMU mps2-an386 with decoded defmt logs
   footprint            flash, static RAM and peak stack of the release firmware
   bench [--no-host] [--no-footprint]
@@ -33,6 +38,7 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("test") => test::run(),
+        Some("demo") => demo::run_demo(),
         Some("footprint") => footprint::run(),
         Some("bench") => bench::run(&args[1..]),
         Some("qemu-run") => match args.get(1) {

@@ -7,14 +7,19 @@ use crate::repo_root;
 
 /// Runs the suites; fails if any did.
 pub fn run() -> Result<ExitCode, String> {
+    crate::toolchain::ensure()?;
     let root = repo_root();
     let firmware = root.join("firmware");
     let runner = [firmware_runner_env()?];
+    // The firmware is built first: the host workspace tests include the end-to-end tests
+    // (host/tests/e2e_qemu.rs), which run this ELF under QEMU.
+    let mps2 = step("firmware build, mps2-an386", &firmware, &["build", "--release"], &[]);
+    let elf = [("QGAIT_FIRMWARE_ELF", qgait::device::firmware::default_elf(&root).display().to_string())];
     let steps: Vec<Step> = vec![
-        step("host workspace tests", &root, &["test", "--workspace"], &[]),
+        mps2,
+        step("host workspace tests", &root, &["test", "--workspace"], &elf),
         step("hub host tests", &root, &["test", "--manifest-path", "firmware/hub/Cargo.toml", "--features", "checks"], &[]),
         step("firmware build, nrf52840", &firmware, &["build", "--release", "--no-default-features", "--features", "nrf52840"], &[]),
-        step("firmware build, mps2-an386", &firmware, &["build", "--release"], &[]),
         step("on-target tests under QEMU", &firmware, &["test", "--release"], &runner),
         step("UART session under QEMU", &firmware, &["run", "--release"], &runner),
     ];

@@ -2,13 +2,20 @@
 //! connected to a Unix socket that this process binds, a thread writes the stream while this
 //! one reads what the hub sends back, until the `Status` that answers the closing request.
 //!
-//! QEMU's CMSDK UART model takes one byte at a time and only when the firmware has read the
-//! previous one, so the writer is throttled by the firmware and nothing is lost. The socket is
-//! kept open until QEMU has been stopped, or the tail of the output would be lost.
+//! QEMU's CMSDK UART model takes one byte at a time when the firmware has read the previous
+//! one, but unlike a real line it has no baud rate: while the hub is stuck writing a frame
+//! (its transmitter waits for this process to read), its receive interrupt keeps taking bytes,
+//! and on a busy machine its 512-byte receive ring overflows. So the writer paces itself like
+//! a flow-controlled line: at most [`IN_FLIGHT`] bytes beyond the last sample the hub answered
+//! with a pose frame (or beyond everything sent, after [`IDLE`] without an answer). The socket
+//! is kept open until QEMU has been stopped, or the tail of the output would be lost.
 
 use std::io::{Read, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -17,6 +24,50 @@ use qgait_proto::{FrameDecoder, Message, Status};
 use crate::device::log::{LogDecoder, Record};
 use crate::device::packets::push_frame;
 use crate::device::qemu::{Echo, Qemu};
+
+/// Most bytes sent beyond what the hub is known to have consumed (less than its 512-byte ring).
+pub const IN_FLIGHT: usize = 384;
+
+/// Without a pose frame for this long, the hub is taken to have consumed everything sent.
+pub const IDLE: Duration = Duration::from_millis(30);
+
+/// For each sample, the input offset just past its last packet (a pose frame for the sample
+/// means the hub has read that far).
+fn sample_ends(input: &[u8]) -> HashMap<u32, usize> {
+    let mut ends = HashMap::new();
+    let mut decoder = FrameDecoder::new();
+    for (i, &b) in input.iter().enumerate() {
+        if let Some(Ok(Message::JointAngle(p))) = decoder.push(b) {
+            ends.insert(p.seq, i + 1);
+        }
+    }
+    ends
+}
+
+/// Writes `input`, at most [`IN_FLIGHT`] bytes beyond `acked`.
+fn paced_write(mut w: UnixStream, input: &[u8], acked: &AtomicUsize, stop: &AtomicBool) -> Result<(), String> {
+    let mut sent = 0;
+    let mut last_progress = Instant::now();
+    let mut last_acked = 0;
+    while sent < input.len() && !stop.load(Ordering::Relaxed) {
+        let a = acked.load(Ordering::Relaxed);
+        if a != last_acked {
+            last_acked = a;
+            last_progress = Instant::now();
+        } else if last_progress.elapsed() >= IDLE {
+            acked.fetch_max(sent, Ordering::Relaxed);
+            last_progress = Instant::now();
+        }
+        let allowed = (acked.load(Ordering::Relaxed) + IN_FLIGHT).min(input.len());
+        if sent < allowed {
+            w.write_all(&input[sent..allowed]).map_err(|e| format!("writing to the UART socket: {e}"))?;
+            sent = allowed;
+        } else {
+            thread::sleep(Duration::from_micros(200));
+        }
+    }
+    Ok(())
+}
 
 /// Limits of a session.
 #[derive(Debug, Clone, Copy)]
@@ -154,14 +205,20 @@ pub fn run(elf: &Path, input: Vec<u8>, expected: InputCounts, echo: Echo, limits
     let started = Instant::now();
     let deadline = started + limits.total;
     let (qemu, mut stream) = connect(elf, echo, &limits)?;
-    let mut writer = match (stream.try_clone(), stream.set_read_timeout(Some(Duration::from_millis(50)))) {
+    let writer = match (stream.try_clone(), stream.set_read_timeout(Some(Duration::from_millis(50)))) {
         (Ok(w), Ok(())) => w,
         (Err(e), _) | (_, Err(e)) => {
             qemu.stop();
             return Err(format!("setting up the UART socket: {e}"));
         }
     };
-    let sender = thread::spawn(move || writer.write_all(&input).map_err(|e| format!("writing to the UART socket: {e}")));
+    let ends = sample_ends(&input);
+    let acked = Arc::new(AtomicUsize::new(0));
+    let stop = Arc::new(AtomicBool::new(false));
+    let sender = {
+        let (acked, stop) = (acked.clone(), stop.clone());
+        thread::spawn(move || paced_write(writer, &input, &acked, &stop))
+    };
 
     let mut uart = Vec::new();
     let mut decoder = LogDecoder::new();
@@ -191,19 +248,24 @@ pub fn run(elf: &Path, input: Vec<u8>, expected: InputCounts, echo: Echo, limits
             }
         };
         uart.extend_from_slice(&buf[..n]);
-        decoder.feed(&buf[..n], |r| {
-            if let Record::Message { message: Message::Status(s), .. } = r {
-                if expected.consumed_by(&s) {
-                    done_at.get_or_insert_with(Instant::now);
-                    status = Some(s);
+        decoder.feed(&buf[..n], |r| match r {
+            Record::Message { message: Message::PoseFrame(p), .. } => {
+                if let Some(&end) = ends.get(&p.seq) {
+                    acked.fetch_max(end, Ordering::Relaxed);
                 }
             }
+            Record::Message { message: Message::Status(s), .. } if expected.consumed_by(&s) => {
+                done_at.get_or_insert_with(Instant::now);
+                status = Some(s);
+            }
+            _ => {}
         });
     }
     let elapsed = started.elapsed();
     // The firmware logs after sending a status: let that line through, then stop QEMU before
     // closing the socket.
     thread::sleep(Duration::from_millis(50));
+    stop.store(true, Ordering::Relaxed);
     let finished = qemu.stop();
     drop(stream);
     if let Ok(Err(e)) = sender.join() {

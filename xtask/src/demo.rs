@@ -1,0 +1,40 @@
+//! `cargo xtask demo`: the main job in one command. Installs what is missing (rustup target,
+//! QEMU), builds the release firmware, runs it under QEMU on the built-in normal gait (its
+//! packets streamed into UART0), decodes and verifies every frame against the f64 kernel, and
+//! draws the device's frames into `out/demo/`.
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use qgait::cli::{run, Cli};
+
+use crate::cargo::step;
+use crate::repo_root;
+
+/// The folder the demo writes to, relative to the repository root.
+pub const OUT: &str = "out/demo";
+
+fn qgait(args: &[&str]) -> Result<(), String> {
+    println!("\n==> qgait {}", args.join(" "));
+    let cli = Cli::try_parse_from(std::iter::once("qgait").chain(args.iter().copied())).map_err(|e| e.to_string())?;
+    run(cli).map_err(|e| format!("qgait {}: {e:#}", args[0]))
+}
+
+/// Runs the demo.
+pub fn run_demo() -> Result<ExitCode, String> {
+    crate::toolchain::ensure()?;
+    let root = repo_root();
+    if !step("firmware build, mps2-an386", &root.join("firmware"), &["build", "--release"], &[]).ok {
+        return Err("building the firmware failed".into());
+    }
+    let out = root.join(OUT);
+    std::fs::create_dir_all(&out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+    let frames = out.join("frames.csv");
+    let log = out.join("hub.bin");
+    let figures = out.join("figures");
+    let (frames, log, figures) = (frames.to_string_lossy(), log.to_string_lossy(), figures.to_string_lossy());
+    qgait(&["emulate", "builtin:normal", "--verify", "--frames-csv", &frames, "--log", &log])?;
+    qgait(&["report", &frames, "--label", "device (QEMU)", "-o", &figures])?;
+    println!("\ndemo: frames, hub log and figures in {}", out.canonicalize().unwrap_or(out).display());
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,50 @@
+//! Making sure what the firmware needs is installed: the rustup target and QEMU (installed when
+//! missing: `rustup target add`, and `apt-get install qemu-system-arm` when running as root).
+
+use std::process::{Command, Stdio};
+
+use qgait::device::firmware::TARGET;
+use qgait::device::qemu;
+
+fn run(program: &str, args: &[&str]) -> Result<(), String> {
+    println!("==> {program} {}", args.join(" "));
+    let status = Command::new(program).args(args).status().map_err(|e| format!("starting {program}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`{program} {}` failed ({status})", args.join(" ")))
+    }
+}
+
+fn target_installed() -> bool {
+    Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .stderr(Stdio::null())
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).lines().any(|l| l.trim() == TARGET))
+}
+
+fn is_root() -> bool {
+    Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+/// Installs the firmware target and QEMU if they are missing.
+pub fn ensure() -> Result<(), String> {
+    if !target_installed() {
+        run("rustup", &["target", "add", TARGET])?;
+    }
+    if !qemu::available() {
+        if !is_root() {
+            return Err(format!(
+                "{} is not installed and this is not root: install it (Debian/Ubuntu: `sudo apt-get install -y qemu-system-arm`) and run again",
+                qemu::QEMU
+            ));
+        }
+        run("apt-get", &["update"])?;
+        run("apt-get", &["install", "-y", "qemu-system-arm"])?;
+        if !qemu::available() {
+            return Err(format!("{} still does not start after installing it", qemu::QEMU));
+        }
+    }
+    Ok(())
+}
