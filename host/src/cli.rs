@@ -36,7 +36,8 @@ pub enum Command {
     Fk(crate::cli_gait2392::FkArgs),
     /// Figures and metrics of one or more gaits overlaid (the paper's Figs 5-10).
     Report {
-        /// Motion files (.mot/.sto) or `builtin:...`; the first is the reference for the hip shift.
+        /// Motion files (.mot/.sto), `builtin:...`, or frames CSVs of a device (`qgait emulate
+        /// --frames-csv`, drawn as they are); the first is the reference for the hip shift.
         #[arg(required = true)]
         motions: Vec<String>,
         /// Label of each motion in legends and tables, in order (default: the file stem).
@@ -102,19 +103,32 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let anthro = load_anthropometry(anthropometry.as_deref(), &warn)?;
             let mut tables = Vec::new();
+            // Frames CSVs (a device's poses, `qgait emulate --frames-csv`) by position.
+            let mut frames = Vec::new();
             for (i, spec) in motions.iter().enumerate() {
-                let (table, w) = load_motion(spec)?;
-                warn(w);
                 let label = labels
                     .get(i)
                     .cloned()
                     .unwrap_or_else(|| default_label(spec));
+                if spec.ends_with(".csv") {
+                    let text = std::fs::read_to_string(spec)
+                        .with_context(|| format!("{spec}: cannot read"))?;
+                    let table = crate::device::frames_csv::parse(&text, spec)
+                        .map_err(anyhow::Error::msg)?;
+                    frames.push((i, label, spec.clone(), table));
+                    continue;
+                }
+                let (table, w) = load_motion(spec)?;
+                warn(w);
                 tables.push((label, table));
             }
             let rows: usize = tables.iter().map(|(_, t)| t.rows()).sum();
             let progress = Progress::new(rows as u64 + report::FIGURE_COUNT, "report", cli.quiet);
-            let (analysis, w) = Analysis::new(&tables, &anthro, &progress)?;
+            let (mut analysis, w) = Analysis::new(&tables, &anthro, &progress)?;
             warn(w);
+            for (i, label, spec, table) in &frames {
+                analysis.insert_frames(*i, label, spec, table)?;
+            }
             let files = report::write_report(&analysis, &output, &progress)?;
             progress.finish();
             if !cli.quiet {

@@ -34,7 +34,8 @@ pub fn run_demo() -> Result<ExitCode, String> {
     let figures = out.join("figures");
     let (frames, log, figures) = (frames.to_string_lossy(), log.to_string_lossy(), figures.to_string_lossy());
     qgait(&["emulate", "builtin:normal", "--verify", "--frames-csv", &frames, "--log", &log])?;
-    qgait(&["report", &frames, "--label", "device (QEMU)", "-o", &figures])?;
+    // The device's frames beside the host's f64 computation of the same gait.
+    qgait(&["report", &frames, "builtin:normal", "--label", "device (QEMU, f32)", "--label", "host (f64)", "-o", &figures])?;
     println!("\ndemo: frames, hub log and figures in {}", out.canonicalize().unwrap_or(out).display());
     Ok(ExitCode::SUCCESS)
 }

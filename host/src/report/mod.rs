@@ -24,7 +24,9 @@ use anyhow::Context;
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::metrics::{self as kmetrics, Distances};
 use qgait_kernel::models::PhakAngles;
-use qgait_kernel::BilateralPose;
+use qgait_kernel::{BilateralPose, LegPose, Vec3};
+
+use crate::device::frames_csv::FramesTable;
 
 use crate::kinematics::{self, Evaluator, Model};
 use crate::mot::{MotionTable, Warning};
@@ -41,7 +43,7 @@ pub struct Gait {
     pub source: String,
     /// Percent of the cycle of each row.
     pub percent: Vec<f64>,
-    /// PHAK angles (radians) of each row.
+    /// PHAK angles (radians) of each row; empty for a gait given as points (a device's frames).
     pub angles: Vec<PhakAngles<f64>>,
     /// Joint positions (metres) of each row.
     pub poses: Vec<BilateralPose<f64>>,
@@ -90,11 +92,60 @@ impl Analysis {
         Ok((Self { evaluator, gaits }, warnings))
     }
 
-    /// The pose of a gait at a percent of its cycle (angles interpolated between rows, then FK).
+    /// The pose of a gait at a percent of its cycle (angles interpolated between rows, then FK;
+    /// for a gait given as points, the points interpolated).
     pub fn pose_at(&self, gait: &Gait, percent: f64) -> BilateralPose<f64> {
+        if gait.angles.is_empty() {
+            return points_at(gait, percent);
+        }
         self.evaluator
             .pose(&kinematics::angles_at(&gait.percent, &gait.angles, percent))
     }
+
+    /// Adds a gait given as the points of a frames CSV (`qgait emulate --frames-csv`), at
+    /// position `index`. Percent of the cycle from its times (or sequence numbers if it has none).
+    pub fn insert_frames(&mut self, index: usize, label: &str, source: &str, table: &FramesTable) -> anyhow::Result<()> {
+        if table.points.len() < 2 {
+            anyhow::bail!("{source}: a frames CSV needs at least 2 rows");
+        }
+        let x: Vec<f64> = match table.time.iter().copied().collect::<Option<Vec<f64>>>() {
+            Some(t) => t,
+            None => table.seq.iter().map(|&s| f64::from(s)).collect(),
+        };
+        let (first, last) = (x[0], x[x.len() - 1]);
+        if !(last > first) || x.windows(2).any(|w| w[1] < w[0]) {
+            anyhow::bail!("{source}: rows must be in increasing time (or seq) order");
+        }
+        let percent = x.iter().map(|v| 100.0 * (v - first) / (last - first)).collect();
+        let poses: Vec<BilateralPose<f64>> = table.points.iter().map(|p| pose_from_points(p)).collect();
+        let distances = poses.iter().map(kmetrics::distances).collect();
+        let gait = Gait { label: label.to_string(), source: source.to_string(), percent, angles: Vec::new(), poses, distances };
+        self.gaits.insert(index.min(self.gaits.len()), gait);
+        Ok(())
+    }
+}
+
+fn pose_from_points(p: &[[f64; 3]; 8]) -> BilateralPose<f64> {
+    let v = |i: usize| Vec3::new(p[i][0], p[i][1], p[i][2]);
+    BilateralPose {
+        right: LegPose { hip: v(0), knee: v(1), ankle: v(2), toe: v(3) },
+        left: LegPose { hip: v(4), knee: v(5), ankle: v(6), toe: v(7) },
+    }
+}
+
+/// The points of a point-only gait at `percent`, linearly interpolated between rows.
+fn points_at(gait: &Gait, percent: f64) -> BilateralPose<f64> {
+    let n = gait.percent.len();
+    let i = gait.percent.partition_point(|&p| p <= percent).clamp(1, n - 1);
+    let (p0, p1) = (gait.percent[i - 1], gait.percent[i]);
+    let w = ((percent - p0) / (p1 - p0)).clamp(0.0, 1.0);
+    let (a, b) = (gait.poses[i - 1].points(), gait.poses[i].points());
+    let mut q = [[0.0; 3]; 8];
+    for k in 0..8 {
+        let (pa, pb) = (a[k].to_array(), b[k].to_array());
+        q[k] = core::array::from_fn(|c| pa[c] + w * (pb[c] - pa[c]));
+    }
+    pose_from_points(&q)
 }
 
 /// Number of figures a report draws (for progress).
