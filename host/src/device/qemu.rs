@@ -14,6 +14,23 @@ use crate::device::defmt_log;
 /// The QEMU executable.
 pub const QEMU: &str = "qemu-system-arm";
 
+/// The escape (command) key of QEMU's character multiplexer, set with `-echr` (default 0x01,
+/// which COBS frames are full of).
+pub const ESCAPE: u8 = 0x1c;
+
+/// `bytes` as the multiplexer of [`Qemu::start_buffered`] must receive them: each [`ESCAPE`]
+/// doubled (the multiplexer turns "escape, escape" into one escape byte for the UART).
+pub fn escape(bytes: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(bytes.len() + bytes.len() / 128);
+    for &b in bytes {
+        out.push(b);
+        if b == ESCAPE {
+            out.push(b);
+        }
+    }
+    out
+}
+
 /// Where decoded log lines go as they arrive (they are also kept in [`Finished::log`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Echo {
@@ -55,14 +72,32 @@ impl Qemu {
 
     /// [`start`](Self::start) with the log going to `echo`.
     pub fn start_with(elf: &Path, uart_socket: Option<&Path>, echo: Echo) -> Result<Qemu, String> {
+        Self::launch(elf, uart_socket.map(|s| (s, false)), echo)
+    }
+
+    /// [`start_with`](Self::start_with), with QEMU's multiplexer between the socket and UART0: it
+    /// keeps up to 32 bytes ready for the UART, which then takes its next byte the moment the
+    /// firmware reads one, instead of waiting for QEMU's I/O thread each time (several times
+    /// faster). The multiplexer reads [`ESCAPE`] as a command key: send every input byte
+    /// through [`escape`]. Nothing paces the input then: the sender must (see
+    /// [`session`](crate::device::session)).
+    pub fn start_buffered(elf: &Path, uart_socket: &Path, echo: Echo) -> Result<Qemu, String> {
+        Self::launch(elf, Some((uart_socket, true)), echo)
+    }
+
+    fn launch(elf: &Path, uart: Option<(&Path, bool)>, echo: Echo) -> Result<Qemu, String> {
         let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
         let table = defmt_log::table(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
         let mut cmd = Command::new(QEMU);
         cmd.args(["-M", "mps2-an386", "-display", "none", "-monitor", "none", "-nodefaults"])
             .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
             .arg(elf);
-        if let Some(socket) = uart_socket {
-            cmd.arg("-chardev").arg(format!("socket,id=u0,path={}", socket.display())).args(["-serial", "chardev:u0"]);
+        if let Some((socket, mux)) = uart {
+            let suffix = if mux { ",mux=on" } else { "" };
+            cmd.arg("-chardev").arg(format!("socket,id=u0,path={}{suffix}", socket.display())).args(["-serial", "chardev:u0"]);
+            if mux {
+                cmd.args(["-echr", &ESCAPE.to_string()]);
+            }
         }
         cmd.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
         let mut child = cmd.spawn().map_err(|e| {

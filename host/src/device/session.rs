@@ -3,10 +3,11 @@
 //! one reads what the hub sends back, until the `Status` that answers the closing request.
 //!
 //! QEMU's CMSDK UART model takes one byte at a time when the firmware has read the previous
-//! one, but unlike a real line it has no baud rate: while the hub is stuck writing a frame
-//! (its transmitter waits for this process to read), its receive interrupt keeps taking bytes,
-//! and on a busy machine its 512-byte receive ring overflows. So the writer paces itself like
-//! a flow-controlled line: at most [`IN_FLIGHT`] bytes beyond the last sample the hub answered
+//! one. Fed straight from the socket, each byte waits for a round trip through QEMU's I/O
+//! thread; behind QEMU's multiplexer ([`Qemu::start_buffered`]) the next byte is ready at once,
+//! several times faster. But unlike a real line there is no baud rate then: while the hub is
+//! busy writing a frame its receive interrupt keeps taking bytes, and its 512-byte receive ring
+//! overflows. So the writer paces itself like a flow-controlled line: at most [`IN_FLIGHT`] bytes beyond the last sample the hub answered
 //! with a pose frame (or beyond everything sent, after [`IDLE`] without an answer). The socket
 //! is kept open until QEMU has been stopped, or the tail of the output would be lost.
 
@@ -23,7 +24,7 @@ use qgait_proto::{FrameDecoder, Message, Status};
 
 use crate::device::log::{LogDecoder, Record};
 use crate::device::packets::push_frame;
-use crate::device::qemu::{Echo, Qemu};
+use crate::device::qemu::{escape, Echo, Qemu};
 
 /// Most bytes sent beyond what the hub is known to have consumed (less than its 512-byte ring).
 pub const IN_FLIGHT: usize = 384;
@@ -60,7 +61,7 @@ fn paced_write(mut w: UnixStream, input: &[u8], acked: &AtomicUsize, stop: &Atom
         }
         let allowed = (acked.load(Ordering::Relaxed) + IN_FLIGHT).min(input.len());
         if sent < allowed {
-            w.write_all(&input[sent..allowed]).map_err(|e| format!("writing to the UART socket: {e}"))?;
+            w.write_all(&escape(&input[sent..allowed])).map_err(|e| format!("writing to the UART socket: {e}"))?;
             sent = allowed;
         } else {
             thread::sleep(Duration::from_micros(200));
@@ -182,7 +183,7 @@ fn connect(elf: &Path, echo: Echo, limits: &Limits) -> Result<(Qemu, UnixStream)
     let socket = socket_path();
     let _ = std::fs::remove_file(&socket);
     let listener = UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
-    let started = Qemu::start_with(elf, Some(&socket), echo);
+    let started = Qemu::start_buffered(elf, &socket, echo);
     let accepted = match &started {
         Ok(_) => accept(&listener, Instant::now() + limits.connect),
         Err(_) => Err(String::new()),
