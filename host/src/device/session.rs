@@ -27,7 +27,7 @@ use crate::device::packets::push_frame;
 use crate::device::qemu::{escape, Echo, Qemu};
 
 /// Most bytes sent beyond what the hub is known to have consumed (less than its 512-byte ring).
-pub const IN_FLIGHT: usize = 384;
+pub const IN_FLIGHT: usize = 480;
 
 /// Without a pose frame for this long, the hub is taken to have consumed everything sent.
 pub const IDLE: Duration = Duration::from_millis(30);
@@ -64,7 +64,7 @@ fn paced_write(mut w: UnixStream, input: &[u8], acked: &AtomicUsize, stop: &Atom
             w.write_all(&escape(&input[sent..allowed])).map_err(|e| format!("writing to the UART socket: {e}"))?;
             sent = allowed;
         } else {
-            thread::sleep(Duration::from_micros(200));
+            thread::sleep(Duration::from_micros(50));
         }
     }
     Ok(())
