@@ -11,13 +11,13 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
 
+use crate::device::firmware;
 use crate::device::frames_csv;
 use crate::device::log::{HubLog, LogDecoder, Record};
 use crate::device::packets::{Samples, Timing};
 use crate::device::qemu::Echo;
 use crate::device::session::{self, closing_frames, InputCounts, Limits};
 use crate::device::verify::{DeviceModel, Expected, Verification};
-use crate::device::firmware;
 use crate::hub_config::{frames, messages, HubModel, HubSettings};
 use crate::kinematics::Model;
 use crate::model_spec::ModelSpec;
@@ -28,7 +28,11 @@ use crate::source::load_motion;
 pub struct DeviceModelArgs {
     /// The hub's model: `hak`, `phak` (the hub's default), `gait2392`, or a SUBJECT.toml from
     /// `qgait model import`.
-    #[arg(long, default_value = "phak", value_name = "hak|phak|gait2392|SUBJECT.toml")]
+    #[arg(
+        long,
+        default_value = "phak",
+        value_name = "hak|phak|gait2392|SUBJECT.toml"
+    )]
     pub model: String,
     /// The hub's segment lengths (TOML, as for `qgait fk`; HAK and PHAK). Default gait2392's,
     /// the hub's own default.
@@ -59,11 +63,19 @@ impl DeviceModelArgs {
         let lengths = anthropometry.unwrap_or_else(Anthropometry::gait2392);
         Ok(match spec {
             ModelSpec::Stick(m) => {
-                let wire = if m == Model::Hak { ModelId::Hak } else { ModelId::Phak };
+                let wire = if m == Model::Hak {
+                    ModelId::Hak
+                } else {
+                    ModelId::Phak
+                };
                 LoadedModel {
-                    hub: HubModel::Stick { model: wire, anthropometry },
+                    hub: HubModel::Stick {
+                        model: wire,
+                        anthropometry,
+                    },
                     wire,
-                    device: DeviceModel::new(&lengths, &Gait2392Geometry::generic()).map_err(anyhow::Error::msg)?,
+                    device: DeviceModel::new(&lengths, &Gait2392Geometry::generic())
+                        .map_err(anyhow::Error::msg)?,
                 }
             }
             ModelSpec::Gait2392 { geometry, name } => {
@@ -71,8 +83,19 @@ impl DeviceModelArgs {
                     bail!("--anthropometry applies to hak and phak only: {name} has its own segment lengths");
                 }
                 let device = DeviceModel::new(&lengths, &geometry).map_err(anyhow::Error::msg)?;
-                let hub = if name == "gait2392" { HubModel::Gait2392 } else { HubModel::Subject { geometry, upload: None } };
-                LoadedModel { hub, wire: ModelId::Gait2392, device }
+                let hub = if name == "gait2392" {
+                    HubModel::Gait2392
+                } else {
+                    HubModel::Subject {
+                        geometry,
+                        upload: None,
+                    }
+                };
+                LoadedModel {
+                    hub,
+                    wire: ModelId::Gait2392,
+                    device,
+                }
             }
         })
     }
@@ -188,15 +211,24 @@ pub struct EmulateArgs {
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     let (table, w) = load_motion(&args.motion)?;
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
-    let (samples, w2) = Samples::from_motion(&table, args.model.into(), timing).map_err(anyhow::Error::msg)?;
+    let (samples, w2) =
+        Samples::from_motion(&table, args.model.into(), timing).map_err(anyhow::Error::msg)?;
     if !quiet {
         w.iter().chain(&w2).for_each(|w| eprintln!("warning: {w}"));
     }
     let packets: Vec<_> = samples.all_packets().collect();
     let bytes = crate::device::packets::stream(&packets);
-    std::fs::write(&args.output, &bytes).with_context(|| format!("{}: cannot write", args.output.display()))?;
+    std::fs::write(&args.output, &bytes)
+        .with_context(|| format!("{}: cannot write", args.output.display()))?;
     if !quiet {
-        eprintln!("wrote {} packets ({} samples × {} joints), {} bytes, to {}", packets.len(), samples.len(), ModelId::from(args.model).required_joints().len(), bytes.len(), args.output.display());
+        eprintln!(
+            "wrote {} packets ({} samples × {} joints), {} bytes, to {}",
+            packets.len(),
+            samples.len(),
+            ModelId::from(args.model).required_joints().len(),
+            bytes.len(),
+            args.output.display()
+        );
     }
     Ok(())
 }
@@ -205,7 +237,9 @@ fn open_input(path: &str) -> anyhow::Result<Box<dyn Read>> {
     if path == "-" {
         Ok(Box::new(io::stdin()))
     } else {
-        Ok(Box::new(File::open(path).with_context(|| format!("{path}: cannot open"))?))
+        Ok(Box::new(
+            File::open(path).with_context(|| format!("{path}: cannot open"))?,
+        ))
     }
 }
 
@@ -219,7 +253,11 @@ fn json_f32(x: f32) -> String {
 
 fn json_pose(p: &PoseFrame) -> String {
     let angles: Vec<String> = p.angles.iter().map(|&a| json_f32(a)).collect();
-    let points: Vec<String> = p.points.iter().map(|q| format!("[{},{},{}]", json_f32(q[0]), json_f32(q[1]), json_f32(q[2]))).collect();
+    let points: Vec<String> = p
+        .points
+        .iter()
+        .map(|q| format!("[{},{},{}]", json_f32(q[0]), json_f32(q[1]), json_f32(q[2])))
+        .collect();
     let d: Vec<String> = p.distances.iter().map(|&x| json_f32(x)).collect();
     format!(
         r#"{{"type":"pose","seq":{},"model":"{}","flags":{},"angles":[{}],"points":[{}],"distances":[{}]}}"#,
@@ -255,7 +293,10 @@ pub fn status_fields(s: &Status) -> Vec<(&'static str, u32)> {
 }
 
 fn json_status(s: &Status) -> String {
-    let f: Vec<String> = status_fields(s).iter().map(|(k, v)| format!(r#""{k}":{v}"#)).collect();
+    let f: Vec<String> = status_fields(s)
+        .iter()
+        .map(|(k, v)| format!(r#""{k}":{v}"#))
+        .collect();
     format!(r#"{{"type":"status",{}}}"#, f.join(","))
 }
 
@@ -280,29 +321,63 @@ pub fn run_decode(args: DecodeArgs, quiet: bool) -> anyhow::Result<()> {
         };
         decoder.feed(&buf[..n], |record| {
             let line = match (&record, args.format) {
-                (Record::Message { message: Message::PoseFrame(p), .. }, Format::Csv) => {
+                (
+                    Record::Message {
+                        message: Message::PoseFrame(p),
+                        ..
+                    },
+                    Format::Csv,
+                ) => {
                     let mut row = Vec::new();
                     let _ = frames_csv::write(&mut row, std::slice::from_ref(p), &HashMap::new());
                     let text = String::from_utf8_lossy(&row).into_owned();
                     text.split_once('\n').map(|(_, r)| r.trim_end().to_string())
                 }
-                (Record::Message { message: Message::PoseFrame(p), .. }, Format::Jsonl) => Some(json_pose(p)),
-                (Record::Message { message: Message::Status(s), .. }, Format::Jsonl) => Some(json_status(s)),
-                (Record::Message { message: Message::Status(s), .. }, Format::Csv) => {
+                (
+                    Record::Message {
+                        message: Message::PoseFrame(p),
+                        ..
+                    },
+                    Format::Jsonl,
+                ) => Some(json_pose(p)),
+                (
+                    Record::Message {
+                        message: Message::Status(s),
+                        ..
+                    },
+                    Format::Jsonl,
+                ) => Some(json_status(s)),
+                (
+                    Record::Message {
+                        message: Message::Status(s),
+                        ..
+                    },
+                    Format::Csv,
+                ) => {
                     if !quiet {
-                        let f: Vec<String> = status_fields(s).iter().map(|(k, v)| format!("{k}={v}")).collect();
+                        let f: Vec<String> = status_fields(s)
+                            .iter()
+                            .map(|(k, v)| format!("{k}={v}"))
+                            .collect();
                         eprintln!("status: {}", f.join(" "));
                     }
                     None
                 }
-                (Record::Message { message, .. }, Format::Jsonl) => Some(format!(r#"{{"type":"other","tag":{}}}"#, message.tag())),
+                (Record::Message { message, .. }, Format::Jsonl) => {
+                    Some(format!(r#"{{"type":"other","tag":{}}}"#, message.tag()))
+                }
                 (Record::Message { .. }, Format::Csv) => None,
                 (Record::Damaged { offset, error }, format) => {
                     if !quiet && reported < 20 {
                         eprintln!("damaged frame ending at byte {offset}: {error} (skipped)");
                     }
                     reported += 1;
-                    (format == Format::Jsonl).then(|| format!(r#"{{"type":"damaged","offset":{offset},"error":"{:?}"}}"#, error.kind()))
+                    (format == Format::Jsonl).then(|| {
+                        format!(
+                            r#"{{"type":"damaged","offset":{offset},"error":"{:?}"}}"#,
+                            error.kind()
+                        )
+                    })
                 }
             };
             if let Some(l) = line {
@@ -331,7 +406,9 @@ pub fn run_decode(args: DecodeArgs, quiet: bool) -> anyhow::Result<()> {
 
 fn read_all(path: &str) -> anyhow::Result<Vec<u8>> {
     let mut bytes = Vec::new();
-    open_input(path)?.read_to_end(&mut bytes).with_context(|| format!("{path}: cannot read"))?;
+    open_input(path)?
+        .read_to_end(&mut bytes)
+        .with_context(|| format!("{path}: cannot read"))?;
     Ok(bytes)
 }
 
@@ -349,37 +426,66 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     Ok(v.passed(tol))
 }
 
+/// What `qgait emulate` sends: the stream, the time (s) of each sample, and the number of
+/// samples when it made the stream itself (sequence numbers 0..n).
+struct EmulateInput {
+    stream: Vec<u8>,
+    times: HashMap<u32, f64>,
+    count: Option<u32>,
+}
+
 /// The stream and its packets' times for `qgait emulate`.
-fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Result<(Vec<u8>, HashMap<u32, f64>, Option<u32>)> {
+fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Result<EmulateInput> {
     let (stream, count) = match (&args.motion, &args.stream) {
         (Some(motion), None) => {
             let (table, w) = load_motion(motion)?;
             let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
-            let (samples, w2) = Samples::from_motion(&table, wire, timing).map_err(anyhow::Error::msg)?;
+            let (samples, w2) =
+                Samples::from_motion(&table, wire, timing).map_err(anyhow::Error::msg)?;
             if !quiet {
                 w.iter().chain(&w2).for_each(|w| eprintln!("warning: {w}"));
             }
             let packets: Vec<_> = samples.all_packets().collect();
-            (crate::device::packets::stream(&packets), Some(samples.len() as u32))
+            (
+                crate::device::packets::stream(&packets),
+                Some(samples.len() as u32),
+            )
         }
-        (None, Some(path)) => (std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?, None),
+        (None, Some(path)) => (
+            std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?,
+            None,
+        ),
         _ => bail!("give either MOTION or --stream STREAM.bin"),
     };
     let mut times = HashMap::new();
     for m in FrameDecoder::new().feed(&stream).flatten() {
         if let Message::JointAngle(p) = m {
-            times.entry(p.seq).or_insert(f64::from(p.timestamp_us) * 1e-6);
+            times
+                .entry(p.seq)
+                .or_insert(f64::from(p.timestamp_us) * 1e-6);
         }
     }
-    Ok((stream, times, count))
+    Ok(EmulateInput {
+        stream,
+        times,
+        count,
+    })
 }
 
 /// Runs `qgait emulate`; `Ok(false)` when --verify failed or the session did not end normally.
 pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let model = args.model.load(quiet)?;
-    let (stream, times, count) = emulate_input(&args, model.wire, quiet)?;
+    let EmulateInput {
+        stream,
+        times,
+        count,
+    } = emulate_input(&args, model.wire, quiet)?;
     let elf = firmware::locate(args.elf.as_deref()).map_err(anyhow::Error::msg)?;
-    let settings = HubSettings { missing_policy: MissingPolicy::Drop, reorder_window: args.window, request_status: false };
+    let settings = HubSettings {
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: args.window,
+        request_status: false,
+    };
     let config = messages(&model.hub, settings).map_err(anyhow::Error::msg)?;
     let mut input = frames(&config).map_err(anyhow::Error::msg)?;
     input.extend_from_slice(&stream);
@@ -387,15 +493,31 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     input.extend(closing_frames(last).map_err(anyhow::Error::msg)?);
     let expected = InputCounts::of(&input);
     if !quiet {
-        eprintln!("running {} under QEMU mps2-an386: {} bytes into UART0", elf.display(), input.len());
+        eprintln!(
+            "running {} under QEMU mps2-an386: {} bytes into UART0",
+            elf.display(),
+            input.len()
+        );
     }
     let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
-    let out = session::run(&elf, input, expected, echo, Limits::for_stream(stream.len())).map_err(anyhow::Error::msg)?;
+    let out = session::run(
+        &elf,
+        input,
+        expected,
+        echo,
+        Limits::for_stream(stream.len()),
+    )
+    .map_err(anyhow::Error::msg)?;
     if let Some(path) = &args.log {
-        std::fs::write(path, &out.uart).with_context(|| format!("{}: cannot write", path.display()))?;
+        std::fs::write(path, &out.uart)
+            .with_context(|| format!("{}: cannot write", path.display()))?;
     }
     let log = HubLog::decode(&out.uart);
-    eprintln!("hub sent {} in {:.2} s", log.counts, out.elapsed.as_secs_f64());
+    eprintln!(
+        "hub sent {} in {:.2} s",
+        log.counts,
+        out.elapsed.as_secs_f64()
+    );
     if let Some(path) = &args.frames_csv {
         write_file(path, |w| frames_csv::write(w, &log.poses, &times))?;
         if !quiet {
@@ -412,7 +534,10 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         }
         None => {
             ok = false;
-            eprintln!("error: {}", out.problem.as_deref().unwrap_or("no status from the hub"));
+            eprintln!(
+                "error: {}",
+                out.problem.as_deref().unwrap_or("no status from the hub")
+            );
         }
     }
     if args.verify {
@@ -428,10 +553,18 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     Ok(ok)
 }
 
-fn write_file(path: &Path, body: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> anyhow::Result<()> {
+fn write_file(
+    path: &Path,
+    body: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> anyhow::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create directory", dir.display()))?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
     }
-    let mut w = BufWriter::new(File::create(path).with_context(|| format!("{}: cannot create", path.display()))?);
-    body(&mut w).and_then(|_| w.flush()).with_context(|| format!("{}: cannot write", path.display()))
+    let mut w = BufWriter::new(
+        File::create(path).with_context(|| format!("{}: cannot create", path.display()))?,
+    );
+    body(&mut w)
+        .and_then(|_| w.flush())
+        .with_context(|| format!("{}: cannot write", path.display()))
 }

@@ -11,7 +11,7 @@
 
 mod common;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -34,20 +34,35 @@ const WINDOW: u8 = 4;
 fn firmware_elf() -> Option<PathBuf> {
     let elf = std::env::var_os("QGAIT_FIRMWARE_ELF")
         .map(PathBuf::from)
-        .unwrap_or_else(|| firmware::default_elf(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")));
+        .unwrap_or_else(|| {
+            firmware::default_elf(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(".."))
+        });
     if !qemu::available() {
-        eprintln!("skipped: {} is not installed (cargo xtask test installs it)", qemu::QEMU);
+        eprintln!(
+            "skipped: {} is not installed (cargo xtask test installs it)",
+            qemu::QEMU
+        );
         return None;
     }
     if !elf.is_file() {
-        eprintln!("skipped: no firmware at {} (build it: {}; cargo xtask test does)", elf.display(), firmware::build_command(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")));
+        eprintln!(
+            "skipped: no firmware at {} (build it: {}; cargo xtask test does)",
+            elf.display(),
+            firmware::build_command(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(".."))
+        );
         return None;
     }
     Some(elf)
 }
 
 fn config() -> Config {
-    Config { model: ModelId::Phak, anthropometry: None, missing_policy: MissingPolicy::Drop, reorder_window: WINDOW, request_status: false }
+    Config {
+        model: ModelId::Phak,
+        anthropometry: None,
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: WINDOW,
+        request_status: false,
+    }
 }
 
 /// What one run gave back.
@@ -59,7 +74,7 @@ struct Run {
 
 /// Sends `stream` (framed packets) to the hub, after a PHAK configuration and before the
 /// closing request.
-fn run(elf: &PathBuf, stream: &[u8], what: &str) -> Run {
+fn run(elf: &Path, stream: &[u8], what: &str) -> Run {
     // One QEMU at a time: they share 2 cores with everything else.
     static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
@@ -69,17 +84,45 @@ fn run(elf: &PathBuf, stream: &[u8], what: &str) -> Run {
     input.extend(closing_frames(&Message::Config(config())).unwrap());
     let expected = InputCounts::of(&input);
     let started = Instant::now();
-    let out = session::run(elf, input, expected, Echo::Quiet, Limits::for_stream(stream.len())).expect("QEMU runs");
+    let out = session::run(
+        elf,
+        input,
+        expected,
+        Echo::Quiet,
+        Limits::for_stream(stream.len()),
+    )
+    .expect("QEMU runs");
     let seconds = started.elapsed().as_secs_f64();
-    let status = out.status.unwrap_or_else(|| panic!("{what}: {}; log ends: {:?}", out.problem.unwrap_or_default(), &out.log[out.log.len().saturating_sub(4)..]));
+    let status = out.status.unwrap_or_else(|| {
+        panic!(
+            "{what}: {}; log ends: {:?}",
+            out.problem.unwrap_or_default(),
+            &out.log[out.log.len().saturating_sub(4)..]
+        )
+    });
     let log = HubLog::decode(&out.uart);
-    assert_eq!(log.counts.damaged_total(), 0, "{what}: the hub's own output was damaged: {}", log.counts);
-    eprintln!("{what}: {} bytes in, {} frames out in {seconds:.2} s", stream.len(), log.poses.len());
-    Run { log, status, seconds }
+    assert_eq!(
+        log.counts.damaged_total(),
+        0,
+        "{what}: the hub's own output was damaged: {}",
+        log.counts
+    );
+    eprintln!(
+        "{what}: {} bytes in, {} frames out in {seconds:.2} s",
+        stream.len(),
+        log.poses.len()
+    );
+    Run {
+        log,
+        status,
+        seconds,
+    }
 }
 
 fn samples_of(table: &MotionTable) -> Samples {
-    Samples::from_motion(table, ModelId::Phak, Timing::TimeColumn).expect("PHAK columns").0
+    Samples::from_motion(table, ModelId::Phak, Timing::TimeColumn)
+        .expect("PHAK columns")
+        .0
 }
 
 fn packets_by_sample(s: &Samples) -> Vec<Vec<JointAngle>> {
@@ -88,46 +131,112 @@ fn packets_by_sample(s: &Samples) -> Vec<Vec<JointAngle>> {
 
 /// A clean stream: every sample gives a frame equal to the f64 kernel's, none is missing, and
 /// the status counts exactly the packets and samples sent.
-fn clean(elf: &PathBuf, samples: &Samples, what: &str) -> f64 {
-    let stream = damage(&packets_by_sample(samples), &FaultPlan::none(u32::from(WINDOW)));
+fn clean(elf: &Path, samples: &Samples, what: &str) -> f64 {
+    let stream = damage(
+        &packets_by_sample(samples),
+        &FaultPlan::none(u32::from(WINDOW)),
+    );
     let r = run(elf, &stream, what);
-    let v = Verification::run(&DeviceModel::defaults(), &r.log.poses, Expected::Range { first: 0, count: samples.len() as u32 });
+    let v = Verification::run(
+        &DeviceModel::defaults(),
+        &r.log.poses,
+        Expected::Range {
+            first: 0,
+            count: samples.len() as u32,
+        },
+    );
     assert!(v.passed(TOLERANCE_M), "{what}:\n{}", v.report(TOLERANCE_M));
-    assert_eq!(v.frames, samples.len() as u64, "{what}: one frame per sample");
+    assert_eq!(
+        v.frames,
+        samples.len() as u64,
+        "{what}: one frame per sample"
+    );
     let n = samples.len() as u32;
     let s = &r.status;
-    assert_eq!((s.packets_accepted, s.samples_completed, s.samples_incomplete), (8 * n, n, 0), "{what}: {s:?}");
-    let errors = s.crc_errors + s.framing_errors + s.oversize_frames + s.unknown_version + s.unknown_joint + s.malformed;
-    assert_eq!((errors, s.late_packets, s.duplicate_packets, s.uart_overruns), (0, 0, 0, 0), "{what}: {s:?}");
+    assert_eq!(
+        (
+            s.packets_accepted,
+            s.samples_completed,
+            s.samples_incomplete
+        ),
+        (8 * n, n, 0),
+        "{what}: {s:?}"
+    );
+    let errors = s.crc_errors
+        + s.framing_errors
+        + s.oversize_frames
+        + s.unknown_version
+        + s.unknown_joint
+        + s.malformed;
+    assert_eq!(
+        (errors, s.late_packets, s.duplicate_packets, s.uart_overruns),
+        (0, 0, 0, 0),
+        "{what}: {s:?}"
+    );
     eprintln!("{what}: largest error {:.3} µm", v.max_error() * 1e6);
     r.seconds
 }
 
 /// A damaged stream: every sample whose packets all arrived intact has a correct frame, no
 /// other sample has one, and the status counts every damaged frame and incomplete sample.
-fn damaged(elf: &PathBuf, samples: &Samples, plan: FaultPlan, what: &str) {
+fn damaged(elf: &Path, samples: &Samples, plan: FaultPlan, what: &str) {
     let stream = damage(&packets_by_sample(samples), &plan);
     let arrivals = Arrivals::of(&stream);
     let r = run(elf, &stream, what);
-    let intact: Vec<u32> = (0..samples.len() as u32).filter(|&s| arrivals.intact(s, ModelId::Phak)).collect();
+    let intact: Vec<u32> = (0..samples.len() as u32)
+        .filter(|&s| arrivals.intact(s, ModelId::Phak))
+        .collect();
     let partial = arrivals.partial(ModelId::Phak);
-    assert!(intact.len() < samples.len() && !partial.is_empty(), "{what}: the plan damaged nothing");
+    assert!(
+        intact.len() < samples.len() && !partial.is_empty(),
+        "{what}: the plan damaged nothing"
+    );
     // Frames come in completion order (a reordered sample may complete after a later one).
     let mut got: Vec<u32> = r.log.poses.iter().map(|p| p.seq).collect();
     got.sort_unstable();
-    assert_eq!(got, intact, "{what}: one frame for each intact sample, none for the others");
-    let v = Verification::run(&DeviceModel::defaults(), &r.log.poses, Expected::FirstToLast);
-    assert!(v.max_error() <= TOLERANCE_M, "{what}:\n{}", v.report(TOLERANCE_M));
+    assert_eq!(
+        got, intact,
+        "{what}: one frame for each intact sample, none for the others"
+    );
+    let v = Verification::run(
+        &DeviceModel::defaults(),
+        &r.log.poses,
+        Expected::FirstToLast,
+    );
+    assert!(
+        v.max_error() <= TOLERANCE_M,
+        "{what}:\n{}",
+        v.report(TOLERANCE_M)
+    );
     // Every frame echoes the angles that were sent for its sample.
     for p in &r.log.poses {
         let sent: Vec<f32> = samples.packets(p.seq as usize).map(|a| a.angle).collect();
-        assert_eq!(p.angles.as_slice(), sent.as_slice(), "{what}: seq {}", p.seq);
+        assert_eq!(
+            p.angles.as_slice(),
+            sent.as_slice(),
+            "{what}: seq {}",
+            p.seq
+        );
     }
     let (s, e) = (&r.status, &arrivals.status);
-    let counters = |s: &Status| [s.packets_accepted, s.crc_errors, s.framing_errors, s.oversize_frames, s.unknown_version, s.unknown_joint, s.malformed];
+    let counters = |s: &Status| {
+        [
+            s.packets_accepted,
+            s.crc_errors,
+            s.framing_errors,
+            s.oversize_frames,
+            s.unknown_version,
+            s.unknown_joint,
+            s.malformed,
+        ]
+    };
     assert_eq!(counters(s), counters(e), "{what}: decode counters (accepted, crc, framing, oversize, version, joint, malformed)\n{s:?}");
     assert_eq!(s.samples_completed as usize, intact.len(), "{what}: {s:?}");
-    assert_eq!(s.samples_incomplete as usize, partial.len(), "{what}: {s:?}");
+    assert_eq!(
+        s.samples_incomplete as usize,
+        partial.len(),
+        "{what}: {s:?}"
+    );
     assert_eq!((s.late_packets, s.uart_overruns), (0, 0), "{what}: {s:?}");
     eprintln!(
         "{what}: {} samples, {} intact, {} incomplete counted, {} damaged frames counted, largest error {:.3} µm",
@@ -140,7 +249,14 @@ fn damaged(elf: &PathBuf, samples: &Samples, plan: FaultPlan, what: &str) {
 }
 
 fn plan(seed: u64) -> FaultPlan {
-    FaultPlan { seed, flip: 0.02, drop: 0.02, reorder: 0.5, window: u32::from(WINDOW), garbage: 0.01 }
+    FaultPlan {
+        seed,
+        flip: 0.02,
+        drop: 0.02,
+        reorder: 0.5,
+        window: u32::from(WINDOW),
+        garbage: 0.01,
+    }
 }
 
 fn builtin(spec: &str) -> Samples {
@@ -152,19 +268,31 @@ fn builtin_gait_clean_and_damaged() {
     let Some(elf) = firmware_elf() else { return };
     let s = builtin("builtin:normal");
     clean(&elf, &s, "builtin:normal");
-    damaged(&elf, &builtin("builtin:normal,rows=400"), plan(1), "builtin:normal,rows=400 damaged (seed 1)");
+    damaged(
+        &elf,
+        &builtin("builtin:normal,rows=400"),
+        plan(1),
+        "builtin:normal,rows=400 damaged (seed 1)",
+    );
 }
 
 #[test]
 fn shared_motions_clean_and_damaged() {
     let Some(elf) = firmware_elf() else { return };
-    let Some(shared) = common::shared_dir() else { return };
+    let Some(shared) = common::shared_dir() else {
+        return;
+    };
     for (i, name) in ["normal", "crouch1", "crouch4"].into_iter().enumerate() {
         let path = shared.join(format!("data/opensim/{name}.mot"));
         let (table, _) = MotionTable::read(&path).expect("shared motion");
         let s = samples_of(&table);
         clean(&elf, &s, name);
-        damaged(&elf, &s, plan(10 + i as u64), &format!("{name} damaged (seed {})", 10 + i));
+        damaged(
+            &elf,
+            &s,
+            plan(10 + i as u64),
+            &format!("{name} damaged (seed {})", 10 + i),
+        );
     }
 }
 
@@ -175,8 +303,12 @@ fn recording(samples: usize) -> Samples {
     let rows = cycle.len() - 1; // the last row repeats the first
     Samples {
         model: ModelId::Phak,
-        timestamps_us: (0..samples).map(|i| (i as u32).wrapping_mul(10_000)).collect(),
-        angles: (0..samples).map(|i| cycle.angles[i % rows].clone()).collect(),
+        timestamps_us: (0..samples)
+            .map(|i| (i as u32).wrapping_mul(10_000))
+            .collect(),
+        angles: (0..samples)
+            .map(|i| cycle.angles[i % rows].clone())
+            .collect(),
     }
 }
 

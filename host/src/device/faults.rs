@@ -64,7 +64,14 @@ pub struct FaultPlan {
 impl FaultPlan {
     /// No damage at all.
     pub fn none(window: u32) -> FaultPlan {
-        FaultPlan { seed: 0, flip: 0.0, drop: 0.0, reorder: 0.0, window, garbage: 0.0 }
+        FaultPlan {
+            seed: 0,
+            flip: 0.0,
+            drop: 0.0,
+            reorder: 0.0,
+            window,
+            garbage: 0.0,
+        }
     }
 }
 
@@ -130,14 +137,24 @@ impl Arrivals {
 
     /// Whether every joint `model` needs arrived for sample `seq`.
     pub fn intact(&self, seq: u32, model: ModelId) -> bool {
-        self.packets.get(&seq).is_some_and(|ps| model.required_joints().iter().all(|j| ps.iter().any(|p| p.joint == *j)))
+        self.packets.get(&seq).is_some_and(|ps| {
+            model
+                .required_joints()
+                .iter()
+                .all(|j| ps.iter().any(|p| p.joint == *j))
+        })
     }
 
     /// Samples of which some but not all joints of `model` arrived.
     pub fn partial(&self, model: ModelId) -> Vec<u32> {
         self.packets
             .iter()
-            .filter(|(seq, ps)| !self.intact(**seq, model) && ps.iter().any(|p| model.required_joints().contains(&p.joint)))
+            .filter(|(seq, ps)| {
+                !self.intact(**seq, model)
+                    && ps
+                        .iter()
+                        .any(|p| model.required_joints().contains(&p.joint))
+            })
             .map(|(seq, _)| *seq)
             .collect()
     }
@@ -149,7 +166,15 @@ mod tests {
     use crate::device::packets::packet;
 
     fn samples(n: u32) -> Vec<Vec<JointAngle>> {
-        (0..n).map(|s| ModelId::Phak.required_joints().iter().map(|&j| packet(s, s * 10, j, 0.01 * s as f32)).collect()).collect()
+        (0..n)
+            .map(|s| {
+                ModelId::Phak
+                    .required_joints()
+                    .iter()
+                    .map(|&j| packet(s, s * 10, j, 0.01 * s as f32))
+                    .collect()
+            })
+            .collect()
     }
 
     #[test]
@@ -163,18 +188,42 @@ mod tests {
 
     #[test]
     fn damage_is_seeded_and_reordering_stays_inside_the_window() {
-        let plan = FaultPlan { seed: 7, flip: 0.05, drop: 0.05, reorder: 0.5, window: 4, garbage: 0.05 };
+        let plan = FaultPlan {
+            seed: 7,
+            flip: 0.05,
+            drop: 0.05,
+            reorder: 0.5,
+            window: 4,
+            garbage: 0.05,
+        };
         let s = samples(400);
         let stream = damage(&s, &plan);
         assert_eq!(stream, damage(&s, &plan));
         assert_ne!(stream, damage(&s, &FaultPlan { seed: 8, ..plan }));
         let a = Arrivals::of(&stream);
-        let errors = a.status.crc_errors + a.status.framing_errors + a.status.oversize_frames + a.status.malformed;
-        assert!(errors > 0 && a.partial(ModelId::Phak).len() > 10, "{:?}", a.status);
+        let errors = a.status.crc_errors
+            + a.status.framing_errors
+            + a.status.oversize_frames
+            + a.status.malformed;
+        assert!(
+            errors > 0 && a.partial(ModelId::Phak).len() > 10,
+            "{:?}",
+            a.status
+        );
         // In arrival order, no packet comes after one of a sample `window` or more ahead.
         let mut newest = 0u32;
-        for r in FrameDecoder::new().feed(&damage(&s, &FaultPlan { flip: 0.0, drop: 0.0, garbage: 0.0, ..plan })) {
-            let Ok(Message::JointAngle(p)) = r else { panic!("{r:?}") };
+        for r in FrameDecoder::new().feed(&damage(
+            &s,
+            &FaultPlan {
+                flip: 0.0,
+                drop: 0.0,
+                garbage: 0.0,
+                ..plan
+            },
+        )) {
+            let Ok(Message::JointAngle(p)) = r else {
+                panic!("{r:?}")
+            };
             assert!(newest < p.seq + 4, "seq {} after {newest}", p.seq);
             newest = newest.max(p.seq);
         }

@@ -22,13 +22,18 @@ pub fn repo_root() -> PathBuf {
 /// Where `cargo build --release` in `firmware/` puts the hub's ELF: under `$CARGO_TARGET_DIR`
 /// when it is set, else `firmware/target`.
 pub fn default_elf(root: &Path) -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("firmware/target"));
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("firmware/target"));
     target.join(TARGET).join("release/qgait-firmware")
 }
 
 /// The command that builds the firmware, for messages.
 pub fn build_command(root: &Path) -> String {
-    format!("cd {} && cargo build --release   (needs `rustup target add {TARGET}`)", root.join("firmware").display())
+    format!(
+        "cd {} && cargo build --release   (needs `rustup target add {TARGET}`)",
+        root.join("firmware").display()
+    )
 }
 
 /// Builds the release firmware with cargo (output on stderr).
@@ -42,7 +47,10 @@ pub fn build(root: &Path) -> Result<(), String> {
     if status.success() {
         Ok(())
     } else {
-        Err(format!("building the firmware failed ({status}); build it by hand: {}", build_command(root)))
+        Err(format!(
+            "building the firmware failed ({status}); build it by hand: {}",
+            build_command(root)
+        ))
     }
 }
 
@@ -50,7 +58,11 @@ pub fn build(root: &Path) -> Result<(), String> {
 /// first if it is missing and `firmware/` is there.
 pub fn locate(elf: Option<&Path>) -> Result<PathBuf, String> {
     if let Some(p) = elf {
-        return if p.is_file() { Ok(p.to_path_buf()) } else { Err(format!("{}: no such firmware ELF", p.display())) };
+        return if p.is_file() {
+            Ok(p.to_path_buf())
+        } else {
+            Err(format!("{}: no such firmware ELF", p.display()))
+        };
     }
     let root = repo_root();
     let path = default_elf(&root);
@@ -58,13 +70,19 @@ pub fn locate(elf: Option<&Path>) -> Result<PathBuf, String> {
         return Ok(path);
     }
     if !root.join("firmware/Cargo.toml").is_file() {
-        return Err(format!("no firmware ELF at {} and no firmware/ to build it from: give --elf PATH", path.display()));
+        return Err(format!(
+            "no firmware ELF at {} and no firmware/ to build it from: give --elf PATH",
+            path.display()
+        ));
     }
     eprintln!("{} is missing: building the firmware", path.display());
     build(&root)?;
     if path.is_file() {
         Ok(path)
     } else {
-        Err(format!("the firmware build did not produce {}: give --elf PATH", path.display()))
+        Err(format!(
+            "the firmware build did not produce {}: give --elf PATH",
+            path.display()
+        ))
     }
 }

@@ -14,7 +14,11 @@ pub fn header() -> String {
 }
 
 /// Writes the header and one row per frame; `time_s` gives the time of a sequence number.
-pub fn write<W: Write + ?Sized>(w: &mut W, frames: &[PoseFrame], time_s: &HashMap<u32, f64>) -> io::Result<()> {
+pub fn write<W: Write + ?Sized>(
+    w: &mut W,
+    frames: &[PoseFrame],
+    time_s: &HashMap<u32, f64>,
+) -> io::Result<()> {
     writeln!(w, "{}", header())?;
     for f in frames {
         write!(w, "{},", f.seq)?;
@@ -22,7 +26,13 @@ pub fn write<W: Write + ?Sized>(w: &mut W, frames: &[PoseFrame], time_s: &HashMa
             write!(w, "{t}")?;
         }
         for p in &f.points {
-            write!(w, ",{},{},{}", f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))?;
+            write!(
+                w,
+                ",{},{},{}",
+                f64::from(p[0]),
+                f64::from(p[1]),
+                f64::from(p[2])
+            )?;
         }
         w.write_all(b"\n")?;
     }
@@ -43,7 +53,9 @@ pub struct FramesTable {
 
 /// Whether `text` starts with the frames CSV header.
 pub fn is_frames_csv(text: &str) -> bool {
-    text.lines().next().is_some_and(|l| l.trim_end() == header())
+    text.lines()
+        .next()
+        .is_some_and(|l| l.trim_end() == header())
 }
 
 /// Parses a frames CSV; errors name the line.
@@ -51,9 +63,18 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, String> {
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, h)) if h.trim_end() == header() => {}
-        _ => return Err(format!("{source}:1: not a frames CSV (expected the header `{}`)", header())),
+        _ => {
+            return Err(format!(
+                "{source}:1: not a frames CSV (expected the header `{}`)",
+                header()
+            ))
+        }
     }
-    let mut t = FramesTable { seq: Vec::new(), time: Vec::new(), points: Vec::new() };
+    let mut t = FramesTable {
+        seq: Vec::new(),
+        time: Vec::new(),
+        points: Vec::new(),
+    };
     for (i, line) in lines {
         let line = line.trim_end();
         if line.is_empty() {
@@ -61,14 +82,33 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, String> {
         }
         let cells: Vec<&str> = line.split(',').collect();
         if cells.len() != 26 {
-            return Err(format!("{source}:{}: {} values, expected 26", i + 1, cells.len()));
+            return Err(format!(
+                "{source}:{}: {} values, expected 26",
+                i + 1,
+                cells.len()
+            ));
         }
         let bad = |what: &str, v: &str| format!("{source}:{}: bad {what} `{v}`", i + 1);
-        t.seq.push(cells[0].parse().map_err(|_| bad("seq", cells[0]))?);
-        t.time.push(if cells[1].is_empty() { None } else { Some(cells[1].parse().map_err(|_| bad("time", cells[1]))?) });
+        t.seq
+            .push(cells[0].parse().map_err(|_| bad("seq", cells[0]))?);
+        t.time.push(if cells[1].is_empty() {
+            None
+        } else {
+            Some(
+                cells[1]
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| bad("time", cells[1]))?,
+            )
+        });
         let mut p = [[0.0; 3]; 8];
         for (k, v) in cells[2..].iter().enumerate() {
-            p[k / 3][k % 3] = v.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| bad("number", v))?;
+            p[k / 3][k % 3] = v
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| bad("number", v))?;
         }
         t.points.push(p);
     }

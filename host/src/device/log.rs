@@ -62,11 +62,19 @@ impl fmt::Display for Counts {
             self.damaged_total()
         )?;
         if !self.damaged.is_empty() {
-            let kinds: Vec<String> = self.damaged.iter().map(|(k, n)| format!("{k} {n}")).collect();
+            let kinds: Vec<String> = self
+                .damaged
+                .iter()
+                .map(|(k, n)| format!("{k} {n}"))
+                .collect();
             write!(f, " ({})", kinds.join(", "))?;
         }
         if self.unterminated > 0 {
-            write!(f, ", {} bytes at the end without a delimiter", self.unterminated)?;
+            write!(
+                f,
+                ", {} bytes at the end without a delimiter",
+                self.unterminated
+            )?;
         }
         Ok(())
     }
@@ -101,7 +109,11 @@ impl LogDecoder {
                     on_record(Record::Message { offset, message });
                 }
                 Some(Err(error)) => {
-                    *self.counts.damaged.entry(format!("{:?}", error.kind())).or_default() += 1;
+                    *self
+                        .counts
+                        .damaged
+                        .entry(format!("{:?}", error.kind()))
+                        .or_default() += 1;
                     on_record(Record::Damaged { offset, error });
                 }
             }
@@ -110,7 +122,10 @@ impl LogDecoder {
 
     /// The counts so far, with the bytes still waiting for a delimiter.
     pub fn counts(&self) -> Counts {
-        Counts { unterminated: self.decoder.pending_len(), ..self.counts.clone() }
+        Counts {
+            unterminated: self.decoder.pending_len(),
+            ..self.counts.clone()
+        }
     }
 }
 
@@ -155,7 +170,14 @@ mod tests {
         for i in 0..8 {
             angles.push(i as f32 * 0.1).unwrap();
         }
-        Message::PoseFrame(PoseFrame { seq, model: ModelId::Phak, angles, points: [[0.5; 3]; 8], distances: [0.2; 3], flags: 0 })
+        Message::PoseFrame(PoseFrame {
+            seq,
+            model: ModelId::Phak,
+            angles,
+            points: [[0.5; 3]; 8],
+            distances: [0.2; 3],
+            flags: 0,
+        })
     }
 
     #[test]
@@ -165,7 +187,13 @@ mod tests {
         let damaged_at = bytes.len() + 5;
         push_frame(&mut bytes, &pose(2));
         bytes[damaged_at] ^= 0x10;
-        push_frame(&mut bytes, &Message::Status(Status { packets_accepted: 7, ..Status::default() }));
+        push_frame(
+            &mut bytes,
+            &Message::Status(Status {
+                packets_accepted: 7,
+                ..Status::default()
+            }),
+        );
         push_frame(&mut bytes, &pose(3));
         bytes.extend_from_slice(&[1, 2, 3]);
         let mut records = Vec::new();
@@ -175,7 +203,11 @@ mod tests {
             d.feed(chunk, |r| records.push(r));
         }
         assert_eq!(records.len(), 4);
-        assert!(matches!(records[1], Record::Damaged { offset, .. } if offset as usize > damaged_at), "{:?}", records[1]);
+        assert!(
+            matches!(records[1], Record::Damaged { offset, .. } if offset as usize > damaged_at),
+            "{:?}",
+            records[1]
+        );
         let log = HubLog::decode(&bytes);
         assert_eq!(log.poses.iter().map(|p| p.seq).collect::<Vec<_>>(), [1, 3]);
         assert_eq!(log.statuses[0].packets_accepted, 7);
@@ -183,6 +215,9 @@ mod tests {
         assert_eq!(log.counts.unterminated, 3);
         assert_eq!(d.counts(), log.counts);
         let text = log.counts.to_string();
-        assert!(text.contains("2 pose frames, 1 status frames, 0 other messages, 1 damaged frames ("), "{text}");
+        assert!(
+            text.contains("2 pose frames, 1 status frames, 0 other messages, 1 damaged frames ("),
+            "{text}"
+        );
     }
 }

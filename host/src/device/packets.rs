@@ -1,7 +1,9 @@
 //! The byte stream the IMU nodes send for a motion: one `JointAngle` packet per joint the model
 //! needs per row, sequence number = row index (`qgait packets`).
 
-use qgait_proto::{encode_frame, JointAngle, JointId, Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION};
+use qgait_proto::{
+    encode_frame, JointAngle, JointId, Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION,
+};
 
 use crate::kinematics;
 use crate::model_spec::gait2392_coordinates;
@@ -36,14 +38,21 @@ fn wire_us(seconds: f64) -> u32 {
 impl Samples {
     /// The joints of `model` from every row of `table` (missing optional columns count as 0,
     /// with a warning each, as for `qgait fk`).
-    pub fn from_motion(table: &MotionTable, model: ModelId, timing: Timing) -> Result<(Samples, Vec<Warning>), String> {
+    pub fn from_motion(
+        table: &MotionTable,
+        model: ModelId,
+        timing: Timing,
+    ) -> Result<(Samples, Vec<Warning>), String> {
         let (angles, warnings): (Vec<Vec<f64>>, Vec<Warning>) = match model {
             ModelId::Hak | ModelId::Phak => {
                 let (rows, w) = kinematics::phak_angles(table)?;
                 // PhakAngles order is PHAK's joint order; HAK is its last six.
                 let skip = if model == ModelId::Hak { 2 } else { 0 };
                 let warnings = if model == ModelId::Hak { Vec::new() } else { w };
-                (rows.iter().map(|a| a.to_array()[skip..].to_vec()).collect(), warnings)
+                (
+                    rows.iter().map(|a| a.to_array()[skip..].to_vec()).collect(),
+                    warnings,
+                )
             }
             ModelId::Gait2392 => {
                 let (rows, w) = gait2392_coordinates(table)?;
@@ -57,12 +66,21 @@ impl Samples {
             }
             Timing::Rate(hz) => {
                 if !(hz.is_finite() && hz > 0.0) {
-                    return Err(format!("--rate {hz}: expected a positive number of samples per second"));
+                    return Err(format!(
+                        "--rate {hz}: expected a positive number of samples per second"
+                    ));
                 }
                 (0..table.rows()).map(|i| wire_us(i as f64 / hz)).collect()
             }
         };
-        Ok((Samples { model, timestamps_us, angles }, warnings))
+        Ok((
+            Samples {
+                model,
+                timestamps_us,
+                angles,
+            },
+            warnings,
+        ))
     }
 
     /// Number of rows.
@@ -78,7 +96,12 @@ impl Samples {
     /// The packets of row `row` (sequence number `row`, wrapping), in joint order.
     pub fn packets(&self, row: usize) -> impl Iterator<Item = JointAngle> + '_ {
         let joints = self.model.required_joints();
-        joints.iter().zip(&self.angles[row]).map(move |(&joint, &angle)| packet(row as u32, self.timestamps_us[row], joint, angle as f32))
+        joints
+            .iter()
+            .zip(&self.angles[row])
+            .map(move |(&joint, &angle)| {
+                packet(row as u32, self.timestamps_us[row], joint, angle as f32)
+            })
     }
 
     /// Every packet, row after row.
@@ -89,7 +112,15 @@ impl Samples {
 
 /// One packet as a node sends it: node id = joint id (one node per joint), quality 0 (good).
 pub fn packet(seq: u32, timestamp_us: u32, joint: JointId, angle: f32) -> JointAngle {
-    JointAngle { version: PROTOCOL_VERSION, node: joint.index(), joint, seq, timestamp_us, angle, quality: 0 }
+    JointAngle {
+        version: PROTOCOL_VERSION,
+        node: joint.index(),
+        joint,
+        seq,
+        timestamp_us,
+        angle,
+        quality: 0,
+    }
 }
 
 /// Appends one framed message (its trailing 0x00 included).
@@ -116,9 +147,38 @@ mod tests {
     use qgait_proto::FrameDecoder;
 
     fn table() -> MotionTable {
-        let labels = ["time", "pelvis_list", "pelvis_rotation", "hip_flexion_r", "knee_angle_r", "ankle_angle_r", "hip_flexion_l", "knee_angle_l", "ankle_angle_l"];
-        let cols = (0..9).map(|c| (0..3).map(|r| if c == 0 { 10.0 + 0.01 * r as f64 } else { (c * 10 + r) as f64 }).collect()).collect();
-        MotionTable::new("t", "t.mot", true, labels.iter().map(|s| s.to_string()).collect(), cols).unwrap()
+        let labels = [
+            "time",
+            "pelvis_list",
+            "pelvis_rotation",
+            "hip_flexion_r",
+            "knee_angle_r",
+            "ankle_angle_r",
+            "hip_flexion_l",
+            "knee_angle_l",
+            "ankle_angle_l",
+        ];
+        let cols = (0..9)
+            .map(|c| {
+                (0..3)
+                    .map(|r| {
+                        if c == 0 {
+                            10.0 + 0.01 * r as f64
+                        } else {
+                            (c * 10 + r) as f64
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        MotionTable::new(
+            "t",
+            "t.mot",
+            true,
+            labels.iter().map(|s| s.to_string()).collect(),
+            cols,
+        )
+        .unwrap()
     }
 
     #[test]
@@ -128,16 +188,23 @@ mod tests {
         let packets: Vec<JointAngle> = s.all_packets().collect();
         assert_eq!(packets.len(), 3 * 8);
         let bytes = stream(&packets);
-        let decoded: Vec<_> = FrameDecoder::new().feed(&bytes).collect::<Result<_, _>>().unwrap();
+        let decoded: Vec<_> = FrameDecoder::new()
+            .feed(&bytes)
+            .collect::<Result<_, _>>()
+            .unwrap();
         assert_eq!(decoded.len(), 24);
         for (i, m) in decoded.iter().enumerate() {
-            let Message::JointAngle(p) = m else { panic!("{m:?}") };
+            let Message::JointAngle(p) = m else {
+                panic!("{m:?}")
+            };
             assert_eq!(p.seq as usize, i / 8);
             assert_eq!(p.joint, ModelId::Phak.required_joints()[i % 8]);
             assert_eq!(p.timestamp_us, [0, 10_000, 20_000][i / 8]);
         }
         // hip_flexion_r of row 1 is column 3: 31 degrees.
-        let Message::JointAngle(p) = &decoded[8 + 2] else { unreachable!() };
+        let Message::JointAngle(p) = &decoded[8 + 2] else {
+            unreachable!()
+        };
         assert_eq!(p.angle, 31f64.to_radians() as f32);
     }
 

@@ -60,7 +60,12 @@ pub struct Finished {
 
 /// Whether `qemu-system-arm` can be started (`--version` answers).
 pub fn available() -> bool {
-    Command::new(QEMU).arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok_and(|s| s.success())
+    Command::new(QEMU)
+        .arg("--version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
 }
 
 impl Qemu {
@@ -89,17 +94,29 @@ impl Qemu {
         let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
         let table = defmt_log::table(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
         let mut cmd = Command::new(QEMU);
-        cmd.args(["-M", "mps2-an386", "-display", "none", "-monitor", "none", "-nodefaults"])
-            .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
-            .arg(elf);
+        cmd.args([
+            "-M",
+            "mps2-an386",
+            "-display",
+            "none",
+            "-monitor",
+            "none",
+            "-nodefaults",
+        ])
+        .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
+        .arg(elf);
         if let Some((socket, mux)) = uart {
             let suffix = if mux { ",mux=on" } else { "" };
-            cmd.arg("-chardev").arg(format!("socket,id=u0,path={}{suffix}", socket.display())).args(["-serial", "chardev:u0"]);
+            cmd.arg("-chardev")
+                .arg(format!("socket,id=u0,path={}{suffix}", socket.display()))
+                .args(["-serial", "chardev:u0"]);
             if mux {
                 cmd.args(["-echr", &ESCAPE.to_string()]);
             }
         }
-        cmd.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
+        cmd.stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
         let mut child = cmd.spawn().map_err(|e| {
             format!("starting {QEMU}: {e} (install it: `apt-get install qemu-system-arm`, or `cargo xtask demo` does it)")
         })?;
@@ -127,7 +144,11 @@ impl Qemu {
             });
             kept
         });
-        Ok(Qemu { child, log: Some(log), lines })
+        Ok(Qemu {
+            child,
+            log: Some(log),
+            lines,
+        })
     }
 
     /// Log lines decoded since the last call (without waiting).
@@ -159,7 +180,11 @@ impl Qemu {
     fn finish(mut self, code: Option<i32>) -> Finished {
         let _ = self.child.kill();
         let _ = self.child.wait();
-        let log = self.log.take().and_then(|h| h.join().ok()).unwrap_or_default();
+        let log = self
+            .log
+            .take()
+            .and_then(|h| h.join().ok())
+            .unwrap_or_default();
         Finished { code, log }
     }
 }

@@ -11,9 +11,9 @@
 //! with a pose frame (or beyond everything sent, after [`IDLE`] without an answer). The socket
 //! is kept open until QEMU has been stopped, or the tail of the output would be lost.
 
+use std::collections::HashMap;
 use std::io::{Read, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -46,7 +46,12 @@ fn sample_ends(input: &[u8]) -> HashMap<u32, usize> {
 }
 
 /// Writes `input`, at most [`IN_FLIGHT`] bytes beyond `acked`.
-fn paced_write(mut w: UnixStream, input: &[u8], acked: &AtomicUsize, stop: &AtomicBool) -> Result<(), String> {
+fn paced_write(
+    mut w: UnixStream,
+    input: &[u8],
+    acked: &AtomicUsize,
+    stop: &AtomicBool,
+) -> Result<(), String> {
     let mut sent = 0;
     let mut last_progress = Instant::now();
     let mut last_acked = 0;
@@ -61,7 +66,8 @@ fn paced_write(mut w: UnixStream, input: &[u8], acked: &AtomicUsize, stop: &Atom
         }
         let allowed = (acked.load(Ordering::Relaxed) + IN_FLIGHT).min(input.len());
         if sent < allowed {
-            w.write_all(&escape(&input[sent..allowed])).map_err(|e| format!("writing to the UART socket: {e}"))?;
+            w.write_all(&escape(&input[sent..allowed]))
+                .map_err(|e| format!("writing to the UART socket: {e}"))?;
             sent = allowed;
         } else {
             thread::sleep(Duration::from_micros(50));
@@ -120,7 +126,12 @@ impl InputCounts {
 
     /// Whether `status` shows all of it consumed.
     pub fn consumed_by(&self, s: &Status) -> bool {
-        let rejected = s.crc_errors + s.framing_errors + s.oversize_frames + s.unknown_version + s.unknown_joint + s.malformed;
+        let rejected = s.crc_errors
+            + s.framing_errors
+            + s.oversize_frames
+            + s.unknown_version
+            + s.unknown_joint
+            + s.malformed;
         s.packets_accepted >= self.accepted && rejected >= self.rejected
     }
 }
@@ -132,8 +143,16 @@ impl InputCounts {
 pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, String> {
     let toggle = |w: u8| if w == 1 { 2 } else { 1 };
     let closing = match configuration {
-        Message::Config(c) => Message::Config(qgait_proto::Config { reorder_window: toggle(c.reorder_window), request_status: true, ..*c }),
-        Message::SubjectConfig(c) => Message::SubjectConfig(qgait_proto::SubjectConfig { reorder_window: toggle(c.reorder_window), request_status: true, ..*c }),
+        Message::Config(c) => Message::Config(qgait_proto::Config {
+            reorder_window: toggle(c.reorder_window),
+            request_status: true,
+            ..*c
+        }),
+        Message::SubjectConfig(c) => Message::SubjectConfig(qgait_proto::SubjectConfig {
+            reorder_window: toggle(c.reorder_window),
+            request_status: true,
+            ..*c
+        }),
         other => return Err(format!("not a configuration message: {other:?}")),
     };
     let mut out = vec![0u8];
@@ -182,7 +201,8 @@ fn accept(listener: &UnixListener, deadline: Instant) -> Result<UnixStream, Stri
 fn connect(elf: &Path, echo: Echo, limits: &Limits) -> Result<(Qemu, UnixStream), String> {
     let socket = socket_path();
     let _ = std::fs::remove_file(&socket);
-    let listener = UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
+    let listener =
+        UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
     let started = Qemu::start_buffered(elf, &socket, echo);
     let accepted = match &started {
         Ok(_) => accept(&listener, Instant::now() + limits.connect),
@@ -202,11 +222,20 @@ fn connect(elf: &Path, echo: Echo, limits: &Limits) -> Result<(Qemu, UnixStream)
 /// Runs `elf`, writes `input` (which must end with [`closing_frames`]) into its UART and
 /// collects the output until the status that answers the closing request. `expected` is
 /// [`InputCounts::of`] the input.
-pub fn run(elf: &Path, input: Vec<u8>, expected: InputCounts, echo: Echo, limits: Limits) -> Result<SessionOutput, String> {
+pub fn run(
+    elf: &Path,
+    input: Vec<u8>,
+    expected: InputCounts,
+    echo: Echo,
+    limits: Limits,
+) -> Result<SessionOutput, String> {
     let started = Instant::now();
     let deadline = started + limits.total;
     let (qemu, mut stream) = connect(elf, echo, &limits)?;
-    let writer = match (stream.try_clone(), stream.set_read_timeout(Some(Duration::from_millis(50)))) {
+    let writer = match (
+        stream.try_clone(),
+        stream.set_read_timeout(Some(Duration::from_millis(50))),
+    ) {
         (Ok(w), Ok(())) => w,
         (Err(e), _) | (_, Err(e)) => {
             qemu.stop();
@@ -242,7 +271,14 @@ pub fn run(elf: &Path, input: Vec<u8>, expected: InputCounts, echo: Echo, limits
                 break;
             }
             Ok(n) => n,
-            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => continue,
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) =>
+            {
+                continue
+            }
             Err(e) => {
                 problem = Some(format!("reading the UART socket: {e}"));
                 break;
@@ -250,12 +286,18 @@ pub fn run(elf: &Path, input: Vec<u8>, expected: InputCounts, echo: Echo, limits
         };
         uart.extend_from_slice(&buf[..n]);
         decoder.feed(&buf[..n], |r| match r {
-            Record::Message { message: Message::PoseFrame(p), .. } => {
+            Record::Message {
+                message: Message::PoseFrame(p),
+                ..
+            } => {
                 if let Some(&end) = ends.get(&p.seq) {
                     acked.fetch_max(end, Ordering::Relaxed);
                 }
             }
-            Record::Message { message: Message::Status(s), .. } if expected.consumed_by(&s) => {
+            Record::Message {
+                message: Message::Status(s),
+                ..
+            } if expected.consumed_by(&s) => {
                 done_at.get_or_insert_with(Instant::now);
                 status = Some(s);
             }
@@ -274,5 +316,11 @@ pub fn run(elf: &Path, input: Vec<u8>, expected: InputCounts, echo: Echo, limits
             problem = Some(e);
         }
     }
-    Ok(SessionOutput { uart, status, log: finished.log, elapsed, problem })
+    Ok(SessionOutput {
+        uart,
+        status,
+        log: finished.log,
+        elapsed,
+        problem,
+    })
 }

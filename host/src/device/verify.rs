@@ -20,16 +20,22 @@ pub struct DeviceModel {
 impl DeviceModel {
     /// HAK and PHAK with `anthropometry`, gait2392 with `geometry` (the hub's defaults are
     /// gait2392's lengths and the generic model).
-    pub fn new(anthropometry: &Anthropometry<f64>, geometry: &Gait2392Geometry) -> Result<Self, String> {
+    pub fn new(
+        anthropometry: &Anthropometry<f64>,
+        geometry: &Gait2392Geometry,
+    ) -> Result<Self, String> {
         Ok(DeviceModel {
-            phak: Phak::new(anthropometry).map_err(|e| format!("segment lengths rejected by the kernel: {e}"))?,
-            gait2392: Gait2392::new(geometry).map_err(|e| format!("gait2392 model rejected by the kernel: {e}"))?,
+            phak: Phak::new(anthropometry)
+                .map_err(|e| format!("segment lengths rejected by the kernel: {e}"))?,
+            gait2392: Gait2392::new(geometry)
+                .map_err(|e| format!("gait2392 model rejected by the kernel: {e}"))?,
         })
     }
 
     /// The hub's defaults: gait2392 lengths for HAK/PHAK, the generic gait2392.
     pub fn defaults() -> Self {
-        Self::new(&Anthropometry::gait2392(), &Gait2392Geometry::generic()).expect("the kernel accepts its own defaults")
+        Self::new(&Anthropometry::gait2392(), &Gait2392Geometry::generic())
+            .expect("the kernel accepts its own defaults")
     }
 
     /// The pose the hub should have sent for `frame`'s angles, in `f64`. HAK is computed as the
@@ -37,9 +43,22 @@ impl DeviceModel {
     pub fn pose(&self, frame: &PoseFrame) -> BilateralPose<f64> {
         let a: Vec<f64> = frame.angles.iter().map(|&x| f64::from(x)).collect();
         match frame.model {
-            ModelId::Phak => self.phak.fk(&PhakAngles::from_array(core::array::from_fn(|i| a[i]))),
-            ModelId::Hak => self.phak.fk(&PhakAngles::from_array(core::array::from_fn(|i| if i < 2 { 0.0 } else { a[i - 2] }))),
-            ModelId::Gait2392 => self.gait2392.fk(&core::array::from_fn(|i| a[i])).bilateral(),
+            ModelId::Phak => self
+                .phak
+                .fk(&PhakAngles::from_array(core::array::from_fn(|i| a[i]))),
+            ModelId::Hak => self
+                .phak
+                .fk(&PhakAngles::from_array(core::array::from_fn(|i| {
+                    if i < 2 {
+                        0.0
+                    } else {
+                        a[i - 2]
+                    }
+                }))),
+            ModelId::Gait2392 => self
+                .gait2392
+                .fk(&core::array::from_fn(|i| a[i]))
+                .bilateral(),
         }
     }
 }
@@ -112,8 +131,15 @@ pub enum Expected {
 
 impl Verification {
     /// Checks `frames` against `model`.
-    pub fn run<'a>(model: &DeviceModel, frames: impl IntoIterator<Item = &'a PoseFrame>, expected: Expected) -> Verification {
-        let mut v = Verification { errors: vec![ErrorStat::default(); 11], ..Verification::default() };
+    pub fn run<'a>(
+        model: &DeviceModel,
+        frames: impl IntoIterator<Item = &'a PoseFrame>,
+        expected: Expected,
+    ) -> Verification {
+        let mut v = Verification {
+            errors: vec![ErrorStat::default(); 11],
+            ..Verification::default()
+        };
         let mut seqs = Vec::new();
         for frame in frames {
             v.frames += 1;
@@ -125,11 +151,19 @@ impl Verification {
             let pose = model.pose(frame);
             let mut worst = 0.0f64;
             for (i, (got, want)) in frame.points.iter().zip(pose.points()).enumerate() {
-                let d = (0..3).map(|k| (f64::from(got[k]) - want.to_array()[k]).powi(2)).sum::<f64>().sqrt();
+                let d = (0..3)
+                    .map(|k| (f64::from(got[k]) - want.to_array()[k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
                 v.errors[i].add(d);
                 worst = worst.max(if d.is_finite() { d } else { f64::INFINITY });
             }
-            for (i, (got, want)) in frame.distances.iter().zip(distances(&pose).to_array()).enumerate() {
+            for (i, (got, want)) in frame
+                .distances
+                .iter()
+                .zip(distances(&pose).to_array())
+                .enumerate()
+            {
                 let d = (f64::from(*got) - want).abs();
                 v.errors[8 + i].add(d);
                 worst = worst.max(if d.is_finite() { d } else { f64::INFINITY });
@@ -143,14 +177,20 @@ impl Verification {
             Expected::Range { first, .. } => first,
             Expected::FirstToLast => seqs.first().copied().unwrap_or(0),
         };
-        let mut rel: Vec<i64> = seqs.iter().map(|s| i64::from(s.wrapping_sub(base) as i32)).collect();
+        let mut rel: Vec<i64> = seqs
+            .iter()
+            .map(|s| i64::from(s.wrapping_sub(base) as i32))
+            .collect();
         rel.sort_unstable();
         let before = rel.len();
         rel.dedup();
         v.duplicates = (before - rel.len()) as u64;
         let (lo, hi) = match expected {
             Expected::Range { count, .. } => (0, i64::from(count) - 1),
-            Expected::FirstToLast => (rel.first().copied().unwrap_or(0), rel.last().copied().unwrap_or(-1)),
+            Expected::FirstToLast => (
+                rel.first().copied().unwrap_or(0),
+                rel.last().copied().unwrap_or(-1),
+            ),
         };
         let mut next = rel.iter().peekable();
         for r in lo..=hi {
@@ -175,20 +215,49 @@ impl Verification {
     /// The report: a table of max and mean error per point (µm), then the verdict lines.
     pub fn report(&self, tolerance_m: f64) -> String {
         let mut s = String::new();
-        let models: Vec<String> = self.models.iter().map(|(m, n)| format!("{n} {m}")).collect();
-        let _ = writeln!(s, "{} frames ({}) checked against the f64 kernel", self.frames, models.join(", "));
+        let models: Vec<String> = self
+            .models
+            .iter()
+            .map(|(m, n)| format!("{n} {m}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "{} frames ({}) checked against the f64 kernel",
+            self.frames,
+            models.join(", ")
+        );
         let _ = writeln!(s, "{:<12} {:>12} {:>12}", "point", "max (µm)", "mean (µm)");
         for (name, e) in error_names().iter().zip(&self.errors) {
-            let _ = writeln!(s, "{:<12} {:>12.4} {:>12.4}", name, e.max * 1e6, e.mean() * 1e6);
+            let _ = writeln!(
+                s,
+                "{:<12} {:>12.4} {:>12.4}",
+                name,
+                e.max * 1e6,
+                e.mean() * 1e6
+            );
         }
         if let Some((seq, w)) = self.worst {
-            let _ = writeln!(s, "largest error {:.4} µm (seq {seq}); tolerance {} µm", w * 1e6, tolerance_m * 1e6);
+            let _ = writeln!(
+                s,
+                "largest error {:.4} µm (seq {seq}); tolerance {} µm",
+                w * 1e6,
+                tolerance_m * 1e6
+            );
         }
-        let _ = writeln!(s, "missing samples: {}{}", self.missing.len(), preview(&self.missing));
+        let _ = writeln!(
+            s,
+            "missing samples: {}{}",
+            self.missing.len(),
+            preview(&self.missing)
+        );
         if self.duplicates > 0 {
             let _ = writeln!(s, "repeated sequence numbers: {}", self.duplicates);
         }
-        let verdict = if self.passed(tolerance_m) { "ok" } else { "FAILED" };
+        let verdict = if self.passed(tolerance_m) {
+            "ok"
+        } else {
+            "FAILED"
+        };
         let _ = write!(s, "verify: {verdict}");
         s
     }
@@ -200,7 +269,11 @@ fn preview(seqs: &[u32]) -> String {
         return String::new();
     }
     let shown: Vec<String> = seqs.iter().take(10).map(u32::to_string).collect();
-    format!(" ({}{})", shown.join(", "), if seqs.len() > 10 { ", ..." } else { "" })
+    format!(
+        " ({}{})",
+        shown.join(", "),
+        if seqs.len() > 10 { ", ..." } else { "" }
+    )
 }
 
 #[cfg(test)]
@@ -210,9 +283,18 @@ mod tests {
     fn frame(model: &DeviceModel, m: ModelId, seq: u32) -> PoseFrame {
         let mut angles = heapless::Vec::new();
         for (i, _) in m.required_joints().iter().enumerate() {
-            angles.push(0.05 * (i as f32 + seq as f32 * 0.3).sin()).unwrap();
+            angles
+                .push(0.05 * (i as f32 + seq as f32 * 0.3).sin())
+                .unwrap();
         }
-        let mut f = PoseFrame { seq, model: m, angles, points: [[0.0; 3]; 8], distances: [0.0; 3], flags: 0 };
+        let mut f = PoseFrame {
+            seq,
+            model: m,
+            angles,
+            points: [[0.0; 3]; 8],
+            distances: [0.0; 3],
+            flags: 0,
+        };
         let pose = model.pose(&f);
         f.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
         f.distances = distances(&pose).to_array().map(|x| x as f32);
@@ -234,9 +316,16 @@ mod tests {
         assert!(!v.passed(10e-6));
         assert_eq!(v.missing, [4]);
         assert_eq!(v.worst.unwrap().0, 2);
-        assert!((v.errors[3].max - 20e-6).abs() < 1e-7, "{}", v.errors[3].max);
+        assert!(
+            (v.errors[3].max - 20e-6).abs() < 1e-7,
+            "{}",
+            v.errors[3].max
+        );
         let report = v.report(10e-6);
-        assert!(report.contains("missing samples: 1 (4)") && report.ends_with("verify: FAILED"), "{report}");
+        assert!(
+            report.contains("missing samples: 1 (4)") && report.ends_with("verify: FAILED"),
+            "{report}"
+        );
         let v = Verification::run(&model, &frames[..3], Expected::Range { first: 0, count: 5 });
         assert_eq!(v.missing, [3, 4]);
     }

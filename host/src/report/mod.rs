@@ -104,7 +104,13 @@ impl Analysis {
 
     /// Adds a gait given as the points of a frames CSV (`qgait emulate --frames-csv`), at
     /// position `index`. Percent of the cycle from its times (or sequence numbers if it has none).
-    pub fn insert_frames(&mut self, index: usize, label: &str, source: &str, table: &FramesTable) -> anyhow::Result<()> {
+    pub fn insert_frames(
+        &mut self,
+        index: usize,
+        label: &str,
+        source: &str,
+        table: &FramesTable,
+    ) -> anyhow::Result<()> {
         if table.points.len() < 2 {
             anyhow::bail!("{source}: a frames CSV needs at least 2 rows");
         }
@@ -113,13 +119,23 @@ impl Analysis {
             None => table.seq.iter().map(|&s| f64::from(s)).collect(),
         };
         let (first, last) = (x[0], x[x.len() - 1]);
-        if !(last > first) || x.windows(2).any(|w| w[1] < w[0]) {
+        if last <= first || x.windows(2).any(|w| w[1] < w[0]) {
             anyhow::bail!("{source}: rows must be in increasing time (or seq) order");
         }
-        let percent = x.iter().map(|v| 100.0 * (v - first) / (last - first)).collect();
-        let poses: Vec<BilateralPose<f64>> = table.points.iter().map(|p| pose_from_points(p)).collect();
+        let percent = x
+            .iter()
+            .map(|v| 100.0 * (v - first) / (last - first))
+            .collect();
+        let poses: Vec<BilateralPose<f64>> = table.points.iter().map(pose_from_points).collect();
         let distances = poses.iter().map(kmetrics::distances).collect();
-        let gait = Gait { label: label.to_string(), source: source.to_string(), percent, angles: Vec::new(), poses, distances };
+        let gait = Gait {
+            label: label.to_string(),
+            source: source.to_string(),
+            percent,
+            angles: Vec::new(),
+            poses,
+            distances,
+        };
         self.gaits.insert(index.min(self.gaits.len()), gait);
         Ok(())
     }
@@ -128,15 +144,28 @@ impl Analysis {
 fn pose_from_points(p: &[[f64; 3]; 8]) -> BilateralPose<f64> {
     let v = |i: usize| Vec3::new(p[i][0], p[i][1], p[i][2]);
     BilateralPose {
-        right: LegPose { hip: v(0), knee: v(1), ankle: v(2), toe: v(3) },
-        left: LegPose { hip: v(4), knee: v(5), ankle: v(6), toe: v(7) },
+        right: LegPose {
+            hip: v(0),
+            knee: v(1),
+            ankle: v(2),
+            toe: v(3),
+        },
+        left: LegPose {
+            hip: v(4),
+            knee: v(5),
+            ankle: v(6),
+            toe: v(7),
+        },
     }
 }
 
 /// The points of a point-only gait at `percent`, linearly interpolated between rows.
 fn points_at(gait: &Gait, percent: f64) -> BilateralPose<f64> {
     let n = gait.percent.len();
-    let i = gait.percent.partition_point(|&p| p <= percent).clamp(1, n - 1);
+    let i = gait
+        .percent
+        .partition_point(|&p| p <= percent)
+        .clamp(1, n - 1);
     let (p0, p1) = (gait.percent[i - 1], gait.percent[i]);
     let w = ((percent - p0) / (p1 - p0)).clamp(0.0, 1.0);
     let (a, b) = (gait.poses[i - 1].points(), gait.poses[i].points());
