@@ -6,12 +6,14 @@
 //! the kernel in `f32`, as the firmware computes them) and a `Status` every 100 samples.
 //! Element throughput = frames: criterion prints frames per second per core.
 //!
-//! This benches qgait-proto's `FrameDecoder` and the kernel directly (the `qgait decode` /
-//! `verify` library functions did not exist when it was written).
+//! It benches the library functions behind `qgait decode` and `qgait verify`
+//! ([`HubLog::decode`], [`Verification::run`]).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use qgait::device::log::HubLog;
+use qgait::device::verify::{DeviceModel, Expected, Verification};
 use qgait_kernel::{Anthropometry, Phak, PhakAngles};
-use qgait_proto::{encode_frame, FrameDecoder, Message, ModelId, PoseFrame, Status, MAX_FRAME_LEN};
+use qgait_proto::{encode_frame, Message, ModelId, PoseFrame, Status, MAX_FRAME_LEN};
 use std::hint::black_box;
 
 /// Samples in the log (100 s at 100 Hz).
@@ -45,49 +47,27 @@ fn log() -> Vec<u8> {
     bytes
 }
 
-/// Decodes the log; returns the number of pose frames.
+/// `qgait decode`: the whole log decoded; returns the number of pose frames.
 fn decode(log: &[u8]) -> usize {
-    let mut decoder = FrameDecoder::new();
-    decoder.feed(log).filter(|m| matches!(m, Ok(Message::PoseFrame(_)))).count()
+    HubLog::decode(log).poses.len()
 }
 
-/// Decodes the log and recomputes every pose in f64; returns the number of poses beyond
-/// tolerance (0 for this log).
-fn decode_and_verify(log: &[u8], phak: &Phak<f64>) -> usize {
-    let mut decoder = FrameDecoder::new();
-    let mut bad = 0;
-    for message in decoder.feed(log) {
-        let Ok(Message::PoseFrame(frame)) = message else { continue };
-        let Ok(angles) = <[f32; 8]>::try_from(frame.angles.as_slice()) else {
-            bad += 1;
-            continue;
-        };
-        let pose = phak.fk(&PhakAngles::from_array(angles.map(f64::from)));
-        let worst = pose
-            .points()
-            .iter()
-            .zip(&frame.points)
-            .flat_map(|(want, got)| {
-                let w = want.to_array();
-                (0..3).map(move |k| (w[k] - f64::from(got[k])).abs())
-            })
-            .fold(0.0, f64::max);
-        if worst > TOLERANCE_M {
-            bad += 1;
-        }
-    }
-    bad
+/// `qgait verify`: decoded, then every pose recomputed by the f64 kernel and compared (points
+/// and distances), every sequence number accounted for; returns whether it passed.
+fn decode_and_verify(log: &[u8], model: &DeviceModel) -> bool {
+    let log = HubLog::decode(log);
+    Verification::run(model, &log.poses, Expected::Range { first: 0, count: SAMPLES }).passed(TOLERANCE_M)
 }
 
 fn benches(c: &mut Criterion) {
     let log = log();
-    let phak = Phak::<f64>::new(&Anthropometry::gait2392()).expect("gait2392 anthropometry");
+    let model = DeviceModel::defaults();
     assert_eq!(decode(&log), SAMPLES as usize);
-    assert_eq!(decode_and_verify(&log, &phak), 0);
+    assert!(decode_and_verify(&log, &model), "the log verifies");
     let mut group = c.benchmark_group("log");
     group.throughput(Throughput::Elements(u64::from(SAMPLES)));
     group.bench_function("decode", |b| b.iter(|| decode(black_box(&log))));
-    group.bench_function("decode_verify", |b| b.iter(|| decode_and_verify(black_box(&log), &phak)));
+    group.bench_function("decode_verify", |b| b.iter(|| decode_and_verify(black_box(&log), &model)));
     group.finish();
     eprintln!("log: {} bytes, {} pose frames", log.len(), SAMPLES);
 }
