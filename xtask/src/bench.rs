@@ -12,12 +12,12 @@
 //! `--no-host` skips the criterion benches (they take minutes and want a quiet machine).
 
 use std::collections::BTreeMap;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use object::{Object, ObjectSymbol};
+use qgait::device::qemu::Echo;
 
 use crate::elf_size::footprint;
 use crate::repo_root;
@@ -146,8 +146,8 @@ fn device() -> Result<(), String> {
     cargo(&repo_root().join("firmware"), &["build", "--release", "--bin", "bench"])?;
     let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/bench");
     let bytes = std::fs::read(&elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
-    let first = run_bench_elf(&elf, &bytes)?;
-    let second = run_bench_elf(&elf, &bytes)?;
+    let first = run_bench_elf(&elf)?;
+    let second = run_bench_elf(&elf)?;
     for (key, name) in DEVICE {
         let key = format!("{key}.instructions_per_call");
         let (Some(&a), Some(&b)) = (first.get(&key), second.get(&key)) else {
@@ -172,44 +172,13 @@ fn device() -> Result<(), String> {
     Ok(())
 }
 
-/// Runs the bench ELF once under QEMU with instruction counting; returns its `bench NAME VALUE`
-/// figures.
-fn run_bench_elf(elf: &Path, bytes: &[u8]) -> Result<BTreeMap<String, f64>, String> {
-    let table = crate::defmt_log::table(bytes)?;
+/// Runs the bench ELF once under QEMU with instruction counting (the shared runner,
+/// `qgait::device::qemu`); returns its `bench NAME VALUE` figures.
+fn run_bench_elf(elf: &Path) -> Result<BTreeMap<String, f64>, String> {
     eprintln!("==> qemu-system-arm -M mps2-an386 -icount shift=0,align=off -kernel {}", elf.display());
-    let mut child = Command::new("qemu-system-arm")
-        .args(["-M", "mps2-an386", "-display", "none", "-monitor", "none", "-nodefaults"])
-        .args(["-semihosting-config", "enable=on,target=native", "-icount", "shift=0,align=off", "-kernel"])
-        .arg(elf)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .map_err(|e| format!("starting qemu-system-arm (is it installed?): {e}"))?;
-    let mut stdout = child.stdout.take().ok_or("no QEMU stdout")?;
-    let reader = std::thread::spawn(move || {
-        let mut raw = Vec::new();
-        let _ = stdout.read_to_end(&mut raw);
-        raw
-    });
-    let deadline = Instant::now() + QEMU_TIMEOUT;
-    let code = loop {
-        match child.try_wait() {
-            Ok(Some(status)) => break status.code(),
-            Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
-            _ => {
-                let _ = child.kill();
-                let _ = child.wait();
-                break None;
-            }
-        }
-    };
-    let raw = reader.join().map_err(|_| "QEMU output reader panicked")?;
-    let mut decoder = table.new_stream_decoder();
-    decoder.received(&raw);
+    let finished = crate::qemu::Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)?.wait(QEMU_TIMEOUT);
     let mut figures = BTreeMap::new();
-    while let Ok(frame) = decoder.decode() {
-        let line = frame.display_message().to_string();
+    for line in &finished.log {
         eprintln!("  {line}");
         let mut words = line.split_whitespace();
         if let (Some("bench"), Some(key), Some(value), None) = (words.next(), words.next(), words.next(), words.next()) {
@@ -218,7 +187,7 @@ fn run_bench_elf(elf: &Path, bytes: &[u8]) -> Result<BTreeMap<String, f64>, Stri
             }
         }
     }
-    match code {
+    match finished.code {
         Some(0) => Ok(figures),
         Some(c) => Err(format!("the bench binary exited with status {c}")),
         None => Err(format!("the bench binary did not finish within {QEMU_TIMEOUT:?}")),

@@ -13,7 +13,6 @@
 
 mod bench;
 mod cargo;
-mod defmt_log;
 mod demo;
 mod elf_size;
 mod footprint;

@@ -77,7 +77,13 @@ impl Qemu {
 
     /// [`start`](Self::start) with the log going to `echo`.
     pub fn start_with(elf: &Path, uart_socket: Option<&Path>, echo: Echo) -> Result<Qemu, String> {
-        Self::launch(elf, uart_socket.map(|s| (s, false)), echo)
+        Self::launch(elf, uart_socket.map(|s| (s, false)), &[], echo)
+    }
+
+    /// Starts `elf` with no UART and extra QEMU arguments (e.g. `-icount shift=0,align=off` to
+    /// count instructions).
+    pub fn start_with_args(elf: &Path, args: &[&str], echo: Echo) -> Result<Qemu, String> {
+        Self::launch(elf, None, args, echo)
     }
 
     /// [`start_with`](Self::start_with), with QEMU's multiplexer between the socket and UART0: it
@@ -87,10 +93,10 @@ impl Qemu {
     /// through [`escape`]. Nothing paces the input then: the sender must (see
     /// [`session`](crate::device::session)).
     pub fn start_buffered(elf: &Path, uart_socket: &Path, echo: Echo) -> Result<Qemu, String> {
-        Self::launch(elf, Some((uart_socket, true)), echo)
+        Self::launch(elf, Some((uart_socket, true)), &[], echo)
     }
 
-    fn launch(elf: &Path, uart: Option<(&Path, bool)>, echo: Echo) -> Result<Qemu, String> {
+    fn launch(elf: &Path, uart: Option<(&Path, bool)>, extra: &[&str], echo: Echo) -> Result<Qemu, String> {
         let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
         let table = defmt_log::table(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
         let mut cmd = Command::new(QEMU);
@@ -114,6 +120,7 @@ impl Qemu {
                 cmd.args(["-echr", &ESCAPE.to_string()]);
             }
         }
+        cmd.args(extra);
         cmd.stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
