@@ -119,7 +119,6 @@ impl AxisKind {
 /// How an offset is rotated: along a coordinate axis it is one column of the rotation matrix.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum OffsetKind {
-    Zero,
     X,
     Y,
     Z,
@@ -130,7 +129,6 @@ impl OffsetKind {
     fn of<T: Real>(v: Vec3<T>) -> Self {
         let o = T::ZERO;
         match (v.x != o, v.y != o, v.z != o) {
-            (false, false, false) => OffsetKind::Zero,
             (true, false, false) => OffsetKind::X,
             (false, true, false) => OffsetKind::Y,
             (false, false, true) => OffsetKind::Z,
@@ -142,7 +140,6 @@ impl OffsetKind {
     #[inline(always)]
     fn rotate<T: Real>(self, rotation: Quat<T>, v: Vec3<T>) -> Vec3<T> {
         match self {
-            OffsetKind::Zero => Vec3::zero(),
             OffsetKind::X => rotation.rotate_x(v.x),
             OffsetKind::Y => rotation.rotate_y(v.y),
             OffsetKind::Z => rotation.rotate_z(v.z),
@@ -181,7 +178,9 @@ impl<T: Real> Frame<T> {
 pub struct Chain<T, const N: usize, const J: usize, const P: usize, const S: usize> {
     joints: [JointSpec<T>; J],
     points: [PointSpec<T>; P],
-    /// How each point's offset is rotated (zero: the joint centre itself).
+    /// Whether each point is its joint's centre (nothing to rotate).
+    at_origin: [bool; P],
+    /// How each point's offset is rotated.
     point_kinds: [OffsetKind; P],
     /// How each joint's offset is rotated (`General` when splines move it).
     offset_kinds: [OffsetKind; J],
@@ -223,11 +222,13 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 axis.direction = axis.direction * (T::ONE / len);
             }
         }
+        let mut at_origin = [false; P];
         let mut point_kinds = [OffsetKind::General; P];
         for (i, p) in points.iter().enumerate() {
             if p.body >= J {
                 return Err(ModelError::BodyOutOfRange { index: i });
             }
+            at_origin[i] = p.offset == Vec3::zero();
             point_kinds[i] = OffsetKind::of(p.offset);
         }
         for (i, s) in splines.iter().enumerate() {
@@ -258,6 +259,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         Ok(Self {
             joints,
             points,
+            at_origin,
             point_kinds,
             offset_kinds,
             spline_ranges,
@@ -332,7 +334,11 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         let mut out = [Vec3::zero(); P];
         for (i, p) in self.points.iter().enumerate() {
             let f = &frames[p.body];
-            out[i] = f.origin + self.point_kinds[i].rotate(f.rotation, p.offset);
+            out[i] = if self.at_origin[i] {
+                f.origin
+            } else {
+                f.origin + self.point_kinds[i].rotate(f.rotation, p.offset)
+            };
         }
         out
     }
@@ -357,6 +363,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 body: p.body,
                 offset: v(p.offset),
             }),
+            at_origin: self.at_origin,
             point_kinds: self.point_kinds,
             offset_kinds: self.offset_kinds,
             spline_ranges: self.spline_ranges,
