@@ -28,6 +28,9 @@ use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, Status};
 
 /// Largest accepted error of a point or distance (metres).
 const TOLERANCE_M: f64 = 10e-6;
+/// One QEMU at a time: they share 2 cores with everything else.
+static QEMU_TURN: Mutex<()> = Mutex::new(());
+
 /// The reorder window the tests configure.
 const WINDOW: u8 = 4;
 
@@ -75,9 +78,7 @@ struct Run {
 /// Sends `stream` (framed packets) to the hub, after a PHAK configuration and before the
 /// closing request.
 fn run(elf: &Path, stream: &[u8], what: &str) -> Run {
-    // One QEMU at a time: they share 2 cores with everything else.
-    static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
-    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
     let mut input = vec![0u8];
     qgait::device::packets::push_frame(&mut input, &Message::Config(config()));
     input.extend_from_slice(stream);
@@ -328,4 +329,35 @@ fn recording_of_100000_samples() {
     let Some(elf) = firmware_elf() else { return };
     let seconds = clean(&elf, &recording(100_000), "100,000-sample recording");
     eprintln!("100,000 samples: {seconds:.1} s");
+}
+
+#[test]
+fn emulate_command_verifies_and_writes_the_frames_csv() {
+    let Some(elf) = firmware_elf() else { return };
+    let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("frames.csv");
+    let o = common::qgait(&[
+        "emulate",
+        "builtin:crouch=0.5,rows=20",
+        "--verify",
+        "--elf",
+        elf.to_str().unwrap(),
+        "--frames-csv",
+        csv.to_str().unwrap(),
+    ]);
+    let (out, err) = (common::stdout(&o), common::stderr(&o));
+    assert!(o.status.success(), "{out}{err}");
+    assert!(
+        out.contains("samples_completed    20") && out.contains("verify: ok"),
+        "{out}"
+    );
+    assert!(
+        err.contains("device: INFO  qgait hub on mps2-an386"),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let table = qgait::device::frames_csv::parse(&text, "frames.csv").unwrap();
+    assert_eq!(table.seq, (0..20).collect::<Vec<u32>>());
+    assert_eq!(table.time[1], Some(0.052632), "20 rows over 1 s, in whole µs");
 }

@@ -29,8 +29,10 @@ use crate::device::qemu::{escape, Echo, Qemu};
 /// Most bytes sent beyond what the hub is known to have consumed (less than its 512-byte ring).
 pub const IN_FLIGHT: usize = 480;
 
-/// Without a pose frame for this long, the hub is taken to have consumed everything sent.
-pub const IDLE: Duration = Duration::from_millis(30);
+/// Without a pose frame for this long, the hub is taken to have consumed everything sent (only
+/// needed when every sample in flight is damaged, so none of them answers). Long enough for a
+/// QEMU descheduled on a busy machine: at 30 ms a 100,000-sample run overran the ring 51 times.
+pub const IDLE: Duration = Duration::from_millis(250);
 
 /// For each sample, the input offset just past its last packet (a pose frame for the sample
 /// means the hub has read that far).
