@@ -2,8 +2,16 @@
 //! implementing the `embedded-hal-nb` and `embedded-io` serial traits. Reception is
 //! interrupt-driven into an [`RxRing`]; transmission is polled. One instance per program (the
 //! ring is a static).
+//!
+//! Back-pressure: when the ring is full the interrupt handler leaves the next byte in the UART
+//! and masks the receive interrupt; the application unmasks it (and re-runs the handler) as soon
+//! as it has taken a byte. On hardware a sender that keeps going then overruns the UART's
+//! one-byte buffer, which is counted (`RXOVR`) like any overrun; under QEMU, whose UART only
+//! accepts a host byte when its buffer is empty, the host sender is simply held back, so a test
+//! loses nothing however slowly the emulated CPU runs on a loaded machine.
 
 use core::ptr::{read_volatile, write_volatile};
+use core::sync::atomic::{AtomicBool, Ordering};
 
 use cortex_m::peripheral::NVIC;
 
@@ -25,6 +33,8 @@ const CTRL_RXIE: u32 = 1 << 3;
 const INT_RX: u32 = 1 << 1;
 
 static RX: RxRing<Overrun> = RxRing::new();
+/// Set by the interrupt handler when it stopped receiving because the ring was full.
+static RX_PAUSED: AtomicBool = AtomicBool::new(false);
 
 /// The only error the UART reports: a received byte was lost because the previous one had not
 /// been read yet.
@@ -48,6 +58,7 @@ impl embedded_io::Error for Overrun {
 #[derive(Debug)]
 pub struct CmsdkUart {
     base: usize,
+    irq: u16,
 }
 
 impl CmsdkUart {
@@ -59,7 +70,7 @@ impl CmsdkUart {
     /// `base` must be the address of a CMSDK UART that nothing else uses, `irq` its receive
     /// interrupt, and no other `CmsdkUart` may exist.
     pub unsafe fn new(base: usize, bauddiv: u32, irq: u16) -> CmsdkUart {
-        let uart = CmsdkUart { base };
+        let uart = CmsdkUart { base, irq };
         uart.write_reg(BAUDDIV, bauddiv.max(16));
         uart.write_reg(CTRL, CTRL_TXEN | CTRL_RXEN | CTRL_RXIE);
         // QEMU 7.2 may not deliver host bytes that arrived before RX was enabled until DATA is
@@ -76,7 +87,7 @@ impl CmsdkUart {
     /// # Safety
     /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
     pub unsafe fn on_interrupt(base: usize) {
-        let uart = CmsdkUart { base };
+        let uart = CmsdkUart { base, irq: 0 };
         // Clear first: a byte arriving after the drain below raises the interrupt again.
         uart.write_reg(INTCLEAR, INT_RX);
         loop {
@@ -86,6 +97,12 @@ impl CmsdkUart {
                 RX.push_error(Overrun);
             }
             if state & STATE_RXFULL == 0 {
+                break;
+            }
+            if RX.is_full() {
+                // Leave the byte in the UART and stop until the application makes room.
+                RX_PAUSED.store(true, Ordering::Release);
+                uart.write_reg(CTRL, uart.read_reg(CTRL) & !CTRL_RXIE);
                 break;
             }
             RX.push(uart.read_reg(DATA) as u8, Overrun);
@@ -114,7 +131,14 @@ impl embedded_hal_nb::serial::ErrorType for CmsdkUart {
 impl embedded_hal_nb::serial::Read<u8> for CmsdkUart {
     /// Reports each overrun (hardware, or ring full) once, in order with the bytes.
     fn read(&mut self) -> nb::Result<u8, Overrun> {
-        match RX.pop() {
+        let popped = RX.pop();
+        if popped.is_some() && RX_PAUSED.swap(false, Ordering::AcqRel) {
+            // Room again: unmask the receive interrupt and run the handler for the byte waiting
+            // in the UART (unmasking alone does not raise the interrupt for it).
+            self.write_reg(CTRL, self.read_reg(CTRL) | CTRL_RXIE);
+            NVIC::pend(Irq(self.irq));
+        }
+        match popped {
             Some(Ok(byte)) => Ok(byte),
             Some(Err(e)) => Err(nb::Error::Other(e)),
             None => Err(nb::Error::WouldBlock),

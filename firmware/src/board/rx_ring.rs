@@ -58,6 +58,11 @@ impl<E: Copy> RxRing<E> {
         })
     }
 
+    /// Whether the ring has no room for another byte.
+    pub fn is_full(&self) -> bool {
+        critical_section::with(|cs| self.state.borrow_ref(cs).bytes.is_full())
+    }
+
     /// Whether a byte or an error is waiting.
     pub fn is_ready(&self) -> bool {
         critical_section::with(|cs| {
