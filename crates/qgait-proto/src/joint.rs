@@ -71,25 +71,9 @@ impl JointId {
         JointId::MtpAngleL,
     ];
 
-    const NAMES: [&'static str; Self::COUNT] = [
-        "pelvis_tilt",
-        "pelvis_list",
-        "pelvis_rotation",
-        "hip_flexion_r",
-        "hip_adduction_r",
-        "hip_rotation_r",
-        "knee_angle_r",
-        "ankle_angle_r",
-        "subtalar_angle_r",
-        "mtp_angle_r",
-        "hip_flexion_l",
-        "hip_adduction_l",
-        "hip_rotation_l",
-        "knee_angle_l",
-        "ankle_angle_l",
-        "subtalar_angle_l",
-        "mtp_angle_l",
-    ];
+    /// The OpenSim names, in discriminant order: the wire order is the kernel's gait2392
+    /// coordinate order, so a sample's 17 angles index the kernel's input directly.
+    const NAMES: [&'static str; Self::COUNT] = qgait_kernel::models::gait2392::COORDINATES;
 
     /// The wire byte of this joint (its discriminant), `0..COUNT`.
     pub const fn index(self) -> u8 {
