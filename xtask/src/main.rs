@@ -3,7 +3,8 @@
 //! - `demo`: installs the firmware target and QEMU if missing, builds the release firmware, runs
 //!   it under QEMU on the built-in normal gait, verifies every frame and draws them (`out/demo`).
 //! - `test`: every test suite — host workspace, hub host tests, firmware builds for both
-//!   boards, on-target tests and the UART end-to-end session under QEMU — then a summary.
+//!   boards, on-target tests, the UART end-to-end session and the 100,000-sample recording
+//!   under QEMU — then a summary.
 //! - `qemu-run ELF`: the firmware's cargo runner (firmware/.cargo/config.toml): runs `ELF` on
 //!   QEMU mps2-an386, decodes its defmt logs, exits with QEMU's status. The application ELF
 //!   (`qgait-firmware`) gets the end-to-end UART session of [`session`]; any other ELF (the

@@ -22,6 +22,13 @@ pub fn run() -> Result<ExitCode, String> {
         step("firmware build, nrf52840", &firmware, &["build", "--release", "--no-default-features", "--features", "nrf52840"], &[]),
         step("on-target tests under QEMU", &firmware, &["test", "--release"], &runner),
         step("UART session under QEMU", &firmware, &["run", "--release"], &runner),
+        // #[ignore]d in plain `cargo test` (about 4 minutes under QEMU), run here so CI covers it.
+        step(
+            "100,000-sample recording",
+            &root,
+            &["test", "-p", "qgait", "--test", "e2e_qemu", "recording_of_100000", "--", "--ignored", "--nocapture"],
+            &elf,
+        ),
     ];
     println!("\n==> summary");
     for s in &steps {
