@@ -33,6 +33,20 @@ pub const OPTIONAL_COLUMNS: [&str; 2] = ["pelvis_rotation", "pelvis_list"];
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
 pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), String> {
+    let (rows, warnings) = coordinate_rows(table, &PhakAngles::<f64>::NAMES)?;
+    Ok((
+        rows.into_iter().map(PhakAngles::from_array).collect(),
+        warnings,
+    ))
+}
+
+/// The coordinates `names` (radians, in that order) of every row of a motion. The PHAK leg
+/// columns ([`LEG_COLUMNS`]) are required: a missing one is an error naming the file and the
+/// columns; any other missing coordinate counts as 0 with one warning.
+pub fn coordinate_rows<const N: usize>(
+    table: &MotionTable,
+    names: &[&str; N],
+) -> Result<(Vec<[f64; N]>, Vec<Warning>), String> {
     let missing: Vec<&str> = LEG_COLUMNS
         .iter()
         .copied()
@@ -46,7 +60,7 @@ pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<War
         ));
     }
     let mut warnings = Vec::new();
-    let columns: Vec<Vec<f64>> = PhakAngles::<f64>::NAMES
+    let columns: Vec<Vec<f64>> = names
         .iter()
         .map(|name| {
             table.angle_radians(name).unwrap_or_else(|| {
@@ -58,16 +72,10 @@ pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<War
             })
         })
         .collect();
-    let angles = (0..table.rows())
-        .map(|r| {
-            let mut a = [0.0; 8];
-            for (slot, col) in a.iter_mut().zip(&columns) {
-                *slot = col[r];
-            }
-            PhakAngles::from_array(a)
-        })
+    let rows = (0..table.rows())
+        .map(|r| core::array::from_fn(|k| columns[k][r]))
         .collect();
-    Ok((angles, warnings))
+    Ok((rows, warnings))
 }
 
 /// Evaluates one row with the chosen model.

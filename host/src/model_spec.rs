@@ -8,7 +8,7 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::{Gait2392, Gait2392Geometry, Joint, Side, Vec3};
 
-use crate::kinematics::{self, Evaluator, Model, LEG_COLUMNS};
+use crate::kinematics::{self, Evaluator, Model};
 use crate::mot::{MotionTable, Warning};
 use crate::subject;
 
@@ -50,35 +50,7 @@ impl ModelSpec {
 /// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row. The leg columns
 /// of PHAK are required; the other 11 count as 0 with one warning each when absent.
 pub fn gait2392_coordinates(table: &MotionTable) -> Result<(Vec<[f64; 17]>, Vec<Warning>), String> {
-    let missing: Vec<&str> = LEG_COLUMNS
-        .iter()
-        .copied()
-        .filter(|c| table.column(c).is_none())
-        .collect();
-    if !missing.is_empty() {
-        return Err(format!(
-            "{}: missing required column(s) {}",
-            table.labels_location(),
-            missing.join(", ")
-        ));
-    }
-    let mut warnings = Vec::new();
-    let columns: Vec<Vec<f64>> = COORDINATES
-        .iter()
-        .map(|name| {
-            table.angle_radians(name).unwrap_or_else(|| {
-                warnings.push(Warning(format!(
-                    "{}: no `{name}` column; taken as 0",
-                    table.source()
-                )));
-                vec![0.0; table.rows()]
-            })
-        })
-        .collect();
-    let rows = (0..table.rows())
-        .map(|r| core::array::from_fn(|k| columns[k][r]))
-        .collect();
-    Ok((rows, warnings))
+    kinematics::coordinate_rows(table, &COORDINATES)
 }
 
 /// Names of the points of [`PointTrack`]: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,

@@ -96,7 +96,12 @@ impl Qemu {
         Self::launch(elf, Some((uart_socket, true)), &[], echo)
     }
 
-    fn launch(elf: &Path, uart: Option<(&Path, bool)>, extra: &[&str], echo: Echo) -> Result<Qemu, String> {
+    fn launch(
+        elf: &Path,
+        uart: Option<(&Path, bool)>,
+        extra: &[&str],
+        echo: Echo,
+    ) -> Result<Qemu, String> {
         let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
         let table = defmt_log::table(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
         let mut cmd = Command::new(QEMU);
