@@ -27,7 +27,8 @@ fn log() -> Vec<u8> {
     let mut bytes = Vec::new();
     let mut buf = [0u8; MAX_FRAME_LEN];
     for seq in 0..SAMPLES {
-        let angles: [f32; 8] = core::array::from_fn(|c| 0.6 * ((seq as f32 * 0.05) + c as f32).sin());
+        let angles: [f32; 8] =
+            core::array::from_fn(|c| 0.6 * ((seq as f32 * 0.05) + c as f32).sin());
         let pose = phak.fk(&PhakAngles::from_array(angles));
         let d = qgait_kernel::metrics::distances(&pose);
         let frame = PoseFrame {
@@ -40,8 +41,13 @@ fn log() -> Vec<u8> {
         };
         bytes.extend_from_slice(encode_frame(&Message::PoseFrame(frame), &mut buf).expect("fits"));
         if seq % 100 == 99 {
-            let status = Status { samples_completed: seq + 1, frames_sent: seq + 1, ..Status::default() };
-            bytes.extend_from_slice(encode_frame(&Message::Status(status), &mut buf).expect("fits"));
+            let status = Status {
+                samples_completed: seq + 1,
+                frames_sent: seq + 1,
+                ..Status::default()
+            };
+            bytes
+                .extend_from_slice(encode_frame(&Message::Status(status), &mut buf).expect("fits"));
         }
     }
     bytes
@@ -56,7 +62,15 @@ fn decode(log: &[u8]) -> usize {
 /// and distances), every sequence number accounted for; returns whether it passed.
 fn decode_and_verify(log: &[u8], model: &DeviceModel) -> bool {
     let log = HubLog::decode(log);
-    Verification::run(model, &log.poses, Expected::Range { first: 0, count: SAMPLES }).passed(TOLERANCE_M)
+    Verification::run(
+        model,
+        &log.poses,
+        Expected::Range {
+            first: 0,
+            count: SAMPLES,
+        },
+    )
+    .passed(TOLERANCE_M)
 }
 
 fn benches(c: &mut Criterion) {
@@ -67,7 +81,9 @@ fn benches(c: &mut Criterion) {
     let mut group = c.benchmark_group("log");
     group.throughput(Throughput::Elements(u64::from(SAMPLES)));
     group.bench_function("decode", |b| b.iter(|| decode(black_box(&log))));
-    group.bench_function("decode_verify", |b| b.iter(|| decode_and_verify(black_box(&log), &model)));
+    group.bench_function("decode_verify", |b| {
+        b.iter(|| decode_and_verify(black_box(&log), &model))
+    });
     group.finish();
     eprintln!("log: {} bytes, {} pose frames", log.len(), SAMPLES);
 }

@@ -359,5 +359,9 @@ fn emulate_command_verifies_and_writes_the_frames_csv() {
     let text = std::fs::read_to_string(&csv).unwrap();
     let table = qgait::device::frames_csv::parse(&text, "frames.csv").unwrap();
     assert_eq!(table.seq, (0..20).collect::<Vec<u32>>());
-    assert_eq!(table.time[1], Some(0.052632), "20 rows over 1 s, in whole µs");
+    assert_eq!(
+        table.time[1],
+        Some(0.052632),
+        "20 rows over 1 s, in whole µs"
+    );
 }
