@@ -116,9 +116,11 @@ impl AxisKind {
     }
 }
 
-/// How an offset is rotated: along a coordinate axis it is one column of the rotation matrix.
+/// How an offset is rotated: along a coordinate axis it is one column of the rotation matrix,
+/// and a zero offset (a root at the origin, a point at its joint's centre) stays zero.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum OffsetKind {
+    Zero,
     X,
     Y,
     Z,
@@ -129,6 +131,7 @@ impl OffsetKind {
     fn of<T: Real>(v: Vec3<T>) -> Self {
         let o = T::ZERO;
         match (v.x != o, v.y != o, v.z != o) {
+            (false, false, false) => OffsetKind::Zero,
             (true, false, false) => OffsetKind::X,
             (false, true, false) => OffsetKind::Y,
             (false, false, true) => OffsetKind::Z,
@@ -140,6 +143,7 @@ impl OffsetKind {
     #[inline(always)]
     fn rotate<T: Real>(self, rotation: Quat<T>, v: Vec3<T>) -> Vec3<T> {
         match self {
+            OffsetKind::Zero => Vec3::zero(),
             OffsetKind::X => rotation.rotate_x(v.x),
             OffsetKind::Y => rotation.rotate_y(v.y),
             OffsetKind::Z => rotation.rotate_z(v.z),
@@ -158,6 +162,11 @@ pub struct Frame<T> {
 }
 
 impl<T: Real> Frame<T> {
+    /// All zeros (not a rotation): what a frame array holds before it is filled.
+    const UNSET: Self = Self {
+        rotation: Quat::new(T::ZERO, T::ZERO, T::ZERO, T::ZERO),
+        origin: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+    };
     /// The ground frame.
     pub fn ground() -> Self {
         Self {
@@ -287,10 +296,13 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     /// joint's spline translations.
     #[inline(always)]
     pub fn offset(&self, j: usize, q: &[T; N]) -> Vec3<T> {
-        let (start, end) = self.spline_ranges[j];
         let mut offset = self.joints[j].offset;
-        for s in &self.splines[start as usize..end as usize] {
-            offset += s.direction * s.spline.eval(q[s.coordinate]);
+        if S > 0 {
+            // (A compile-time test: models without splines carry no spline code.)
+            let (start, end) = self.spline_ranges[j];
+            for s in &self.splines[start as usize..end as usize] {
+                offset += s.direction * s.spline.eval(q[s.coordinate]);
+            }
         }
         offset
     }
@@ -300,31 +312,52 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     /// vector rotation per non-root joint.
     #[inline(always)]
     pub fn frames(&self, q: &[T; N]) -> [Frame<T>; J] {
-        let mut frames = [Frame::ground(); J];
-        for j in 0..J {
-            let joint = &self.joints[j];
-            let (mut rotation, origin) = match joint.parent {
-                Some(p) => {
-                    let parent = &frames[p];
-                    let moved = self.offset_kinds[j].rotate(parent.rotation, self.offset(j, q));
-                    (parent.rotation, parent.origin + moved)
-                }
-                None => (Quat::identity(), self.offset(j, q)),
+        if J == 0 {
+            return [Frame::UNSET; J];
+        }
+        // The spline translations first, so that the joint loop makes no calls.
+        let mut slide = [T::ZERO; S];
+        for (value, s) in slide.iter_mut().zip(&self.splines) {
+            *value = s.spline.eval(q[s.coordinate]);
+        }
+        // Joint 0 is a root (parents come first), so its frame can fill the array that the
+        // other joints then overwrite in order: no separate initialisation pass.
+        let mut frames = [self.joint_frame(0, Frame::ground(), q, &slide); J];
+        for j in 1..J {
+            let parent = match self.joints[j].parent {
+                Some(p) => frames[p],
+                None => Frame::ground(),
             };
-            for (axis, kind) in joint.axes[..joint.n_axes].iter().zip(&self.axis_kinds[j]) {
-                let (s, c) = q[axis.coordinate].half_angle_sin_cos();
-                rotation = match kind {
-                    AxisKind::X => rotation.then_about_x(s, c),
-                    AxisKind::Y => rotation.then_about_y(s, c),
-                    AxisKind::Z => rotation.then_about_z(s, c),
-                    AxisKind::General => {
-                        rotation * Quat::from_axis_half_sin_cos(axis.direction, s, c)
-                    }
-                };
-            }
-            frames[j] = Frame { rotation, origin };
+            frames[j] = self.joint_frame(j, parent, q, &slide);
         }
         frames
+    }
+
+    /// The frame of joint `j` given its parent's frame (ground for a root) and the values of
+    /// the spline translations.
+    #[inline(always)]
+    fn joint_frame(&self, j: usize, parent: Frame<T>, q: &[T; N], slide: &[T; S]) -> Frame<T> {
+        let joint = &self.joints[j];
+        let mut offset = joint.offset;
+        if S > 0 {
+            let (start, end) = self.spline_ranges[j];
+            #[allow(clippy::needless_range_loop)] // (55 instructions fewer than zipped slices)
+            for k in start as usize..end as usize {
+                offset += self.splines[k].direction * slide[k];
+            }
+        }
+        let mut rotation = parent.rotation;
+        let origin = parent.origin + self.offset_kinds[j].rotate(rotation, offset);
+        for (axis, kind) in joint.axes[..joint.n_axes].iter().zip(&self.axis_kinds[j]) {
+            let (s, c) = q[axis.coordinate].half_angle_sin_cos();
+            rotation = match kind {
+                AxisKind::X => rotation.then_about_x(s, c),
+                AxisKind::Y => rotation.then_about_y(s, c),
+                AxisKind::Z => rotation.then_about_z(s, c),
+                AxisKind::General => rotation * Quat::from_axis_half_sin_cos(axis.direction, s, c),
+            };
+        }
+        Frame { rotation, origin }
     }
 
     /// The output points in ground for coordinates `q` (radians): forward kinematics.
