@@ -11,6 +11,7 @@ use cortex_m_rt::entry;
 use qgait_firmware::selftest::{Failure, Harness};
 use qgait_firmware::stack;
 use qgait_kernel::metrics::distances;
+use qgait_kernel::trig::sqrt_f32;
 use qgait_kernel::{Anthropometry, Limb, Phak, PhakAngles};
 
 #[path = "on_target/gait2392.rs"]
@@ -79,6 +80,33 @@ fn kernel_cases_are_not_degenerate() -> Result<(), Failure> {
     }
 }
 
+/// The kernel's `sqrt_f32` (the FPU's `vsqrt.f32` here) is correctly rounded: for 20,000
+/// positive floats spread over every exponent, no neighbouring `f32` squares closer to `x`
+/// (compared in f64, where the squares of floats are exact); and the IEEE special cases.
+fn sqrt_f32_is_correctly_rounded() -> Result<(), Failure> {
+    let mut bits = 0x2545_F491u32;
+    for _ in 0..20_000 {
+        bits = bits.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        let x = f32::from_bits(bits & 0x7f7f_ffff); // positive and finite
+        let y = sqrt_f32(x);
+        let miss = |r: f32| (f64::from(r) * f64::from(r) - f64::from(x)).abs();
+        let (below, above) = (f32::from_bits(y.to_bits().saturating_sub(1)), f32::from_bits(y.to_bits() + 1));
+        if !(miss(y) <= miss(below) && miss(y) <= miss(above)) {
+            return Err(Failure { what: "sqrt_f32 not the nearest float, at x", line: line!(), value: Some(f64::from(x)) });
+        }
+    }
+    let special = [(0.0f32, 0.0f32), (1.0, 1.0), (4.0, 2.0), (f32::INFINITY, f32::INFINITY)];
+    for (x, want) in special {
+        if sqrt_f32(x) != want {
+            return Err(Failure { what: "sqrt_f32 of a special value", line: line!(), value: Some(f64::from(x)) });
+        }
+    }
+    if !(sqrt_f32(-1.0).is_nan() && sqrt_f32(f32::NAN).is_nan()) {
+        return Err(Failure { what: "sqrt_f32 of a negative or NaN is not NaN", line: line!(), value: None });
+    }
+    Ok(())
+}
+
 /// The stack paint is in place below the deepest use so far, so stack::peak can measure.
 fn stack_paint_is_measurable() -> Result<(), Failure> {
     let (peak, size) = (stack::peak(), stack::size());
@@ -95,6 +123,7 @@ fn main() -> ! {
     h.run("kernel_f32_points_match_host_f64", kernel_f32_points_match_host_f64);
     h.run("kernel_f32_distances_match_host_f64", kernel_f32_distances_match_host_f64);
     h.run("kernel_cases_are_not_degenerate", kernel_cases_are_not_degenerate);
+    h.run("sqrt_f32_is_correctly_rounded", sqrt_f32_is_correctly_rounded);
     h.run("gait2392_f32_points_match_host_f64", gait2392::gait2392_f32_points_match_host_f64);
     h.run("subject_model_on_the_hub_matches_host_f64", gait2392::subject_model_on_the_hub_matches_host_f64);
     for (name, check) in qgait_hub::checks::ALL {
