@@ -17,18 +17,12 @@ pub enum Model {
     Phak,
 }
 
-/// Coordinates that are required (in [`PhakAngles::NAMES`] order, the leg ones).
-pub const LEG_COLUMNS: [&str; 6] = [
-    "hip_flexion_r",
-    "knee_angle_r",
-    "ankle_angle_r",
-    "hip_flexion_l",
-    "knee_angle_l",
-    "ankle_angle_l",
-];
+/// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`] (after the pelvis).
+pub const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
 
-/// Coordinates that count as 0 (with a warning) when a motion does not have them.
-pub const OPTIONAL_COLUMNS: [&str; 2] = ["pelvis_rotation", "pelvis_list"];
+/// Coordinates that count as 0 (with a warning) when a motion does not have them: the pelvis
+/// ones of [`PhakAngles::NAMES`].
+pub const OPTIONAL_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).0;
 
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
