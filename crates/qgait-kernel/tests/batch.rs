@@ -3,7 +3,7 @@
 
 mod common;
 
-use qgait_kernel::lanes::LANES;
+use qgait_kernel::lanes::{Simd, LANES};
 use qgait_kernel::{
     Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Gait2392Pose, Hak, HakAngles,
     LegPose, Limb, Phak, PhakAngles, Vec3,
@@ -78,5 +78,122 @@ fn hak_and_gait2392_batches_equal_single_frames() {
     g.fk_batch(&q, &mut out);
     for (qi, oi) in q.iter().zip(&out) {
         assert!(worst(&g.fk(qi).points, &oi.points) < 1e-14);
+    }
+}
+
+/// Every batch level this CPU runs (portable, and AVX2 / AVX-512 where present: the kernel is
+/// built with `std` for its tests) gives the single-frame poses, for lengths around every lane
+/// count, every model, both precisions.
+#[test]
+fn every_simd_level_equals_single_frames() {
+    let levels: Vec<Simd> = Simd::ALL.into_iter().filter(|l| l.is_supported()).collect();
+    println!(
+        "levels run here: {levels:?}; fk_batch uses {:?}",
+        Simd::detect()
+    );
+    assert!(levels.contains(&Simd::Portable) && levels.contains(&Simd::detect()));
+    let mut rng = common::rng(32);
+    let lengths = [
+        0,
+        1,
+        2,
+        3,
+        4,
+        5,
+        7,
+        8,
+        9,
+        15,
+        16,
+        17,
+        31,
+        33,
+        3 * 16 + 5,
+        1000,
+    ];
+    let phak = Phak::new(&Anthropometry::gait2392()).unwrap();
+    let phak32 = Phak::new(&Anthropometry::<f32>::gait2392()).unwrap();
+    let hak = Hak::new(&Limb::<f64>::gait2392()).unwrap();
+    let g = Gait2392::<f64>::new(&Gait2392Geometry::generic()).unwrap();
+    let g32 = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap();
+    for level in levels {
+        for frames in lengths {
+            let q8: Vec<[f64; 8]> = (0..frames)
+                .map(|_| common::random_angles(&mut rng))
+                .collect();
+            let q3: Vec<[f64; 3]> = (0..frames)
+                .map(|_| common::random_angles(&mut rng))
+                .collect();
+            let q17: Vec<[f64; 17]> = (0..frames)
+                .map(|_| common::random_angles::<17>(&mut rng).map(|v| v * 1.2))
+                .collect();
+            // Every frame written exactly once, in order of its index.
+            let check = |name: &str, worst: f64, tol: f64, seen: &[usize]| {
+                assert!(
+                    worst < tol,
+                    "{name} {level:?} {frames} frames: off by {worst:e}"
+                );
+                assert_eq!(seen, (0..frames).collect::<Vec<_>>(), "{name} {level:?}");
+            };
+            let mut seen = Vec::new();
+            let mut w = 0.0f64;
+            phak.chain().forward_batch_on(
+                level,
+                frames,
+                |i| q8[i],
+                |i, p| {
+                    seen.push(i);
+                    w = w.max(worst(&phak.fk(&PhakAngles::from_array(q8[i])).points(), &p));
+                },
+            );
+            check("phak f64", w, 1e-14, &seen);
+            let (mut seen, mut w) = (Vec::new(), 0.0f64);
+            let q8_32: Vec<[f32; 8]> = q8.iter().map(|a| a.map(|v| v as f32)).collect();
+            phak32.chain().forward_batch_on(
+                level,
+                frames,
+                |i| q8_32[i],
+                |i, p| {
+                    seen.push(i);
+                    let single = phak32.fk(&PhakAngles::from_array(q8_32[i])).points();
+                    w = w.max(worst(&single, &p));
+                },
+            );
+            check("phak f32", w, 1e-6, &seen);
+            let (mut seen, mut w) = (Vec::new(), 0.0f64);
+            hak.chain().forward_batch_on(
+                level,
+                frames,
+                |i| q3[i],
+                |i, p| {
+                    seen.push(i);
+                    w = w.max(worst(&hak.fk(&HakAngles::from_array(q3[i])).points(), &p));
+                },
+            );
+            check("hak f64", w, 1e-14, &seen);
+            let (mut seen, mut w) = (Vec::new(), 0.0f64);
+            g.chain().forward_batch_on(
+                level,
+                frames,
+                |i| q17[i],
+                |i, p| {
+                    seen.push(i);
+                    w = w.max(worst(&g.fk(&q17[i]).points, &p));
+                },
+            );
+            check("gait2392 f64", w, 1e-14, &seen);
+            let (mut seen, mut w) = (Vec::new(), 0.0f64);
+            let q17_32: Vec<[f32; 17]> = q17.iter().map(|a| a.map(|v| v as f32)).collect();
+            g32.chain().forward_batch_on(
+                level,
+                frames,
+                |i| q17_32[i],
+                |i, p| {
+                    seen.push(i);
+                    w = w.max(worst(&g32.fk(&q17_32[i]).points, &p));
+                },
+            );
+            check("gait2392 f32", w, 2e-6, &seen);
+        }
     }
 }
