@@ -14,10 +14,18 @@ pub const LANES: usize = 4;
 /// `L` values of `T` ([`LANES`] unless said otherwise), one per frame of a batch. Comparisons
 /// (`PartialOrd`) are lexicographic and meaningless here: lane-wise choices go through
 /// [`Real::lt_select`].
+///
+/// Aligned to 32 bytes (a whole AVX register for 4 `f64` or 8 `f32`; measured: the AVX-512
+/// level's PHAK `f64` batch took about 20 % longer with the arrays at their natural 8-byte
+/// alignment, whose 64-byte loads and stores then straddle cache lines).
+///
+/// `FUSED` lane arrays evaluate the half-angle polynomials with fused multiply-adds
+/// ([`LaneScalar::half_angle_sin_cos_fused`]); only the FMA levels of [`Simd`] use them.
 #[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
-pub struct Lanes<T, const L: usize = LANES>(pub [T; L]);
+#[repr(align(32))]
+pub struct Lanes<T, const L: usize = LANES, const FUSED: bool = false>(pub [T; L]);
 
-impl<T: Default + Copy, const L: usize> Default for Lanes<T, L> {
+impl<T: Default + Copy, const L: usize, const F: bool> Default for Lanes<T, L, F> {
     fn default() -> Self {
         Lanes([T::default(); L])
     }
@@ -29,6 +37,11 @@ impl<T: Default + Copy, const L: usize> Default for Lanes<T, L> {
 pub trait LaneScalar: Real {
     /// `(sin(x/2), cos(x/2))` up to a common sign, branch-free.
     fn half_angle_sin_cos_branchless(self) -> (Self, Self);
+
+    /// [`half_angle_sin_cos_branchless`](Self::half_angle_sin_cos_branchless) with fused
+    /// multiply-adds in the polynomials (the FMA levels of [`Simd`]; rounding differs from the
+    /// unfused form by about an ulp). Without `std` (no fused multiply-add in `core`), unfused.
+    fn half_angle_sin_cos_fused(self) -> (Self, Self);
 
     /// Frames evaluated together at `level`.
     fn lanes(level: Simd) -> usize;
@@ -45,11 +58,24 @@ pub trait LaneScalar: Real {
 }
 
 macro_rules! lane_scalar {
-    ($t:ty, $half_angle:path, avx2: $avx2:literal, avx512: $avx512:literal) => {
+    ($t:ty, $half_angle:path, $half_angle_with:path, avx2: $avx2:literal, avx512: $avx512:literal) => {
         impl LaneScalar for $t {
             #[inline(always)]
             fn half_angle_sin_cos_branchless(self) -> (Self, Self) {
                 $half_angle(self)
+            }
+
+            #[inline(always)]
+            fn half_angle_sin_cos_fused(self) -> (Self, Self) {
+                #[cfg(feature = "std")]
+                {
+                    extern crate std;
+                    $half_angle_with(self, <$t>::mul_add)
+                }
+                #[cfg(not(feature = "std"))]
+                {
+                    $half_angle(self)
+                }
             }
 
             fn lanes(level: Simd) -> usize {
@@ -70,21 +96,23 @@ macro_rules! lane_scalar {
                 #[cfg(all(feature = "std", target_arch = "x86_64"))]
                 match level {
                     Simd::Avx512 if level.is_supported() => {
-                        return x86::avx512::<_, N, J, P, S, $avx512>(chain, frames, q, points)
+                        return x86::avx512::<_, N, J, P, S, $avx512, true>(
+                            chain, frames, q, points,
+                        )
                     }
                     Simd::Avx2 if level.is_supported() => {
-                        return x86::avx2::<_, N, J, P, S, $avx2>(chain, frames, q, points)
+                        return x86::avx2::<_, N, J, P, S, $avx2, true>(chain, frames, q, points)
                     }
                     _ => {}
                 }
                 let _ = level;
-                batch::<_, N, J, P, S, LANES>(chain, frames, q, points)
+                batch::<_, N, J, P, S, LANES, false>(chain, frames, q, points)
             }
         }
     };
 }
-lane_scalar!(f32, trig::half_angle_sin_cos_f32, avx2: 8, avx512: 16);
-lane_scalar!(f64, trig::half_angle_sin_cos_f64, avx2: 4, avx512: 8);
+lane_scalar!(f32, trig::half_angle_sin_cos_f32, trig::half_angle_sin_cos_f32_with, avx2: 8, avx512: 16);
+lane_scalar!(f64, trig::half_angle_sin_cos_f64, trig::half_angle_sin_cos_f64_with, avx2: 4, avx512: 8);
 
 /// The instruction sets the batch path is compiled for. [`Chain::forward_batch`] (and every
 /// model's `fk_batch`) runs at [`Simd::detect`]: the same generic code, instantiated once per
@@ -95,8 +123,10 @@ pub enum Simd {
     /// The build's own target features (SSE2 on baseline x86-64), [`LANES`] lanes. Every
     /// target, with or without `std`.
     Portable,
-    /// x86-64 with AVX2 and FMA (the `x86-64-v3` level; FMA is enabled but the evaluator's
-    /// `a * b + c` is not fused, so results are bit-for-bit those of `Portable`).
+    /// x86-64 with AVX2 and FMA (the `x86-64-v3` level). The half-angle polynomials use fused
+    /// multiply-adds ([`LaneScalar::half_angle_sin_cos_fused`]); the rest of the evaluator's
+    /// `a * b + c` stays unfused (Rust does not contract), so results differ from `Portable`
+    /// by rounding only.
     Avx2,
     /// x86-64 with AVX-512F (and AVX2, FMA).
     Avx512,
@@ -142,19 +172,20 @@ fn batch<
     const P: usize,
     const S: usize,
     const L: usize,
+    const F: bool,
 >(
     chain: &Chain<T, N, J, P, S>,
     frames: usize,
     q: &impl Fn(usize) -> [T; N],
     points: &mut impl FnMut(usize, [Vec3<T>; P]),
 ) {
-    let lanes: Chain<Lanes<T, L>, N, J, P, S> = chain.cast();
+    let lanes: Chain<Lanes<T, L, F>, N, J, P, S> = chain.cast();
     let mut start = 0;
     while start < frames {
         let n = (frames - start).min(L);
         // Gather: lane l holds frame start + l (the last frame repeated to fill the batch).
         let inputs: [[T; N]; L] = core::array::from_fn(|l| q(start + l.min(n - 1)));
-        let ql: [Lanes<T, L>; N] =
+        let ql: [Lanes<T, L, F>; N] =
             core::array::from_fn(|c| Lanes(core::array::from_fn(|l| inputs[l][c])));
         let out = lanes.forward(&ql);
         // Scatter, reading each lane in place (a by-value `out.map` copies every point's lane
@@ -195,13 +226,14 @@ mod x86 {
         const P: usize,
         const S: usize,
         const L: usize,
+        const F: bool,
     >(
         chain: &Chain<T, N, J, P, S>,
         frames: usize,
         q: &impl Fn(usize) -> [T; N],
         points: &mut impl FnMut(usize, [Vec3<T>; P]),
     ) {
-        batch::<T, N, J, P, S, L>(chain, frames, q, points)
+        batch::<T, N, J, P, S, L, F>(chain, frames, q, points)
     }
 
     #[target_feature(enable = "avx512f,avx2,fma")]
@@ -212,13 +244,14 @@ mod x86 {
         const P: usize,
         const S: usize,
         const L: usize,
+        const F: bool,
     >(
         chain: &Chain<T, N, J, P, S>,
         frames: usize,
         q: &impl Fn(usize) -> [T; N],
         points: &mut impl FnMut(usize, [Vec3<T>; P]),
     ) {
-        batch::<T, N, J, P, S, L>(chain, frames, q, points)
+        batch::<T, N, J, P, S, L, F>(chain, frames, q, points)
     }
 
     /// The batch compiled for AVX2 + FMA. Panics unless [`has_avx2`].
@@ -229,6 +262,7 @@ mod x86 {
         const P: usize,
         const S: usize,
         const L: usize,
+        const F: bool,
     >(
         chain: &Chain<T, N, J, P, S>,
         frames: usize,
@@ -238,7 +272,7 @@ mod x86 {
         assert!(has_avx2());
         // SAFETY: the CPU has AVX2 and FMA (checked just above), the only requirement for
         // calling a function compiled with `target_feature(enable = "avx2,fma")`.
-        unsafe { avx2_impl::<T, N, J, P, S, L>(chain, frames, q, points) }
+        unsafe { avx2_impl::<T, N, J, P, S, L, F>(chain, frames, q, points) }
     }
 
     /// The batch compiled for AVX-512F. Panics unless [`has_avx512`].
@@ -249,6 +283,7 @@ mod x86 {
         const P: usize,
         const S: usize,
         const L: usize,
+        const F: bool,
     >(
         chain: &Chain<T, N, J, P, S>,
         frames: usize,
@@ -258,11 +293,11 @@ mod x86 {
         assert!(has_avx512());
         // SAFETY: the CPU has AVX-512F, AVX2 and FMA (checked just above), the only
         // requirement for calling a function compiled with those target features.
-        unsafe { avx512_impl::<T, N, J, P, S, L>(chain, frames, q, points) }
+        unsafe { avx512_impl::<T, N, J, P, S, L, F>(chain, frames, q, points) }
     }
 }
 
-impl<T: Copy, const L: usize> Lanes<T, L> {
+impl<T: Copy, const L: usize, const F: bool> Lanes<T, L, F> {
     /// Applies `f` lane by lane.
     #[inline(always)]
     fn map(self, f: impl Fn(T) -> T) -> Self {
@@ -277,14 +312,14 @@ impl<T: Copy, const L: usize> Lanes<T, L> {
 
 macro_rules! lane_op {
     ($trait:ident, $method:ident, $op:tt, $assign_trait:ident, $assign_method:ident) => {
-        impl<T: Real, const L: usize> $trait for Lanes<T, L> {
+        impl<T: Real, const L: usize, const F: bool> $trait for Lanes<T, L, F> {
             type Output = Self;
             #[inline(always)]
             fn $method(self, o: Self) -> Self {
                 self.zip(o, |a, b| a $op b)
             }
         }
-        impl<T: Real, const L: usize> $assign_trait for Lanes<T, L> {
+        impl<T: Real, const L: usize, const F: bool> $assign_trait for Lanes<T, L, F> {
             #[inline(always)]
             fn $assign_method(&mut self, o: Self) {
                 *self = *self $op o;
@@ -296,7 +331,7 @@ lane_op!(Add, add, +, AddAssign, add_assign);
 lane_op!(Sub, sub, -, SubAssign, sub_assign);
 lane_op!(Mul, mul, *, MulAssign, mul_assign);
 
-impl<T: Real, const L: usize> Div for Lanes<T, L> {
+impl<T: Real, const L: usize, const F: bool> Div for Lanes<T, L, F> {
     type Output = Self;
     #[inline(always)]
     fn div(self, o: Self) -> Self {
@@ -304,7 +339,7 @@ impl<T: Real, const L: usize> Div for Lanes<T, L> {
     }
 }
 
-impl<T: Real, const L: usize> Neg for Lanes<T, L> {
+impl<T: Real, const L: usize, const F: bool> Neg for Lanes<T, L, F> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -312,7 +347,7 @@ impl<T: Real, const L: usize> Neg for Lanes<T, L> {
     }
 }
 
-impl<T: LaneScalar, const L: usize> Real for Lanes<T, L> {
+impl<T: LaneScalar, const L: usize, const F: bool> Real for Lanes<T, L, F> {
     const ZERO: Self = Lanes([T::ZERO; L]);
     const ONE: Self = Lanes([T::ONE; L]);
     const TWO: Self = Lanes([T::TWO; L]);
@@ -357,7 +392,11 @@ impl<T: LaneScalar, const L: usize> Real for Lanes<T, L> {
         let mut s = [T::ZERO; L];
         let mut c = [T::ZERO; L];
         for i in 0..L {
-            (s[i], c[i]) = self.0[i].half_angle_sin_cos_branchless();
+            (s[i], c[i]) = if F {
+                self.0[i].half_angle_sin_cos_fused()
+            } else {
+                self.0[i].half_angle_sin_cos_branchless()
+            };
         }
         (Lanes(s), Lanes(c))
     }
