@@ -1,7 +1,9 @@
 #![no_std]
 #![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
-// One exception, `trig::vfp` (the FPU's square root on Arm hard-float targets): deny, not forbid.
+// Two exceptions, each allowed in its module with a SAFETY comment: `trig::vfp` (the FPU's
+// square root on Arm hard-float targets) and `lanes`' x86-64 module (the batch compiled with
+// AVX2 / AVX-512 target features, called after checking the CPU has them).
 #![deny(unsafe_code)]
 
 pub mod anthropometry;

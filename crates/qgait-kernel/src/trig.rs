@@ -51,14 +51,29 @@ const ROUND_MAGIC: f32 = 12_582_912.0;
 /// NaN or infinite `x` gives NaN.
 #[inline(always)]
 pub fn half_angle_sin_cos_f32(x: f32) -> (f32, f32) {
+    half_angle_sin_cos_f32_with(x, |a, b, c| a * b + c)
+}
+
+/// [`half_angle_sin_cos_f32`] with the polynomials' multiply-adds `a * b + c` done by
+/// `mul_add` (the batch path's FMA levels pass a fused multiply-add).
+#[inline(always)]
+pub fn half_angle_sin_cos_f32_with(x: f32, mul_add: impl Fn(f32, f32, f32) -> f32) -> (f32, f32) {
     let h = 0.5 * x;
     // k = round(h / pi), r = h - k pi in [-pi/2, pi/2]; sin and cos of r equal those of h up
     // to the common factor (-1)^k, which leaves the rotation unchanged.
     let k = (h * FRAC_1_PI + ROUND_MAGIC) - ROUND_MAGIC;
     let r = (h - k * PI_HI) - k * PI_LO;
     let r2 = r * r;
-    let s = r * (S[0] + r2 * (S[1] + r2 * (S[2] + r2 * (S[3] + r2 * S[4]))));
-    let c = C[0] + r2 * (C[1] + r2 * (C[2] + r2 * (C[3] + r2 * C[4])));
+    let s = r * mul_add(
+        mul_add(mul_add(mul_add(S[4], r2, S[3]), r2, S[2]), r2, S[1]),
+        r2,
+        S[0],
+    );
+    let c = mul_add(
+        mul_add(mul_add(mul_add(C[4], r2, C[3]), r2, C[2]), r2, C[1]),
+        r2,
+        C[0],
+    );
     (s, c)
 }
 
@@ -94,6 +109,13 @@ const C64: [f64; 9] = [
 /// `f64` rounding. Valid for |x| below about 2⁵⁰; NaN or infinite `x` gives NaN.
 #[inline(always)]
 pub fn half_angle_sin_cos_f64(x: f64) -> (f64, f64) {
+    half_angle_sin_cos_f64_with(x, |a, b, c| a * b + c)
+}
+
+/// [`half_angle_sin_cos_f64`] with the polynomials' multiply-adds `a * b + c` done by
+/// `mul_add` (the batch path's FMA levels pass a fused multiply-add).
+#[inline(always)]
+pub fn half_angle_sin_cos_f64_with(x: f64, mul_add: impl Fn(f64, f64, f64) -> f64) -> (f64, f64) {
     const ROUND_MAGIC_64: f64 = 6_755_399_441_055_744.0; // 1.5·2⁵²
     const PI_HI_64: f64 = 3.140_625;
     #[allow(clippy::excessive_precision)]
@@ -104,11 +126,11 @@ pub fn half_angle_sin_cos_f64(x: f64) -> (f64, f64) {
     let r2 = r * r;
     let mut s = S64[7];
     for c in S64[..7].iter().rev() {
-        s = s * r2 + c;
+        s = mul_add(s, r2, *c);
     }
     let mut c = C64[8];
     for k in C64[..8].iter().rev() {
-        c = c * r2 + k;
+        c = mul_add(c, r2, *k);
     }
     (r * s, c)
 }
