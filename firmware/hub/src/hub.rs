@@ -224,13 +224,14 @@ where
         self.send(&Message::PoseFrame(frame));
     }
 
-    // The configuration paths build a whole model (kilobytes of temporaries): never inlined,
-    // so their frames exist only while a configuration is applied, not in every poll.
+    // A configuration that changes nothing (e.g. one only asking for a status) is handled
+    // here, in a small frame: the frames that build a model (kilobytes of temporaries) are in
+    // `switch`, entered only when the configuration changes.
     #[inline(never)]
     fn on_config(&mut self, config: &Config) {
         // A configuration the hub cannot use is counted and ignored; the old one stays.
         let new = Config { request_status: false, ..*config };
-        let result = self.apply(new, None, |_| Kinematics::new(new.model, new.anthropometry));
+        let result = if self.in_force(&new, None) { Ok(()) } else { self.switch(new, None) };
         self.after_config(result, config.request_status);
     }
 
@@ -243,8 +244,8 @@ where
             reorder_window: config.reorder_window,
             request_status: false,
         };
-        let upload = config.upload;
-        let result = self.apply(new, Some(upload), |parts| Kinematics::gait2392(&parts.geometry(upload)?));
+        let subject = Some(config.upload);
+        let result = if self.in_force(&new, subject) { Ok(()) } else { self.switch(new, subject) };
         self.after_config(result, config.request_status);
     }
 
@@ -257,21 +258,24 @@ where
         }
     }
 
-    /// Switches to `new` (with the subject model `subject`), the model built by `kinematics`
-    /// unless `new` is the configuration in force.
-    fn apply(
-        &mut self,
-        new: Config,
-        subject: Option<u8>,
-        kinematics: impl FnOnce(&SubjectParts) -> Result<Kinematics, ConfigError>,
-    ) -> Result<(), ConfigError> {
-        // Nothing to do if nothing changed, a subject model's parts included (a host may resend
-        // a part under the same upload id).
-        let generation = self.subject_parts.generation();
-        if new == self.config && subject == self.subject && (subject.is_none() || generation == self.subject_generation) {
-            return Ok(());
-        }
-        let kinematics = kinematics(&self.subject_parts)?;
+    /// Whether `new` with the subject model `subject` is what is in force, a subject model's
+    /// parts included (a host may resend a part under the same upload id).
+    fn in_force(&self, new: &Config, subject: Option<u8>) -> bool {
+        *new == self.config
+            && subject == self.subject
+            && (subject.is_none() || self.subject_parts.generation() == self.subject_generation)
+    }
+
+    /// Switches to `new` with the subject model `subject` (the upload whose parts make the
+    /// gait2392 model), or to `new`'s built-in model if `None`.
+    // Never inlined: its frame holds the new model while the old one computes the samples
+    // still open.
+    #[inline(never)]
+    fn switch(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
+        let kinematics = match subject {
+            None => Kinematics::new(new.model, new.anthropometry)?,
+            Some(upload) => Kinematics::gait2392(&self.subject_parts.geometry(upload)?)?,
+        };
         // Samples open under the old configuration are closed (and counted) first.
         let mut events: heapless::Vec<SampleEvent, MAX_WINDOW> = heapless::Vec::new();
         self.assembler.flush(&mut |e| {
@@ -284,7 +288,7 @@ where
         self.assembler = assembler_for(&new);
         self.config = new;
         self.subject = subject;
-        self.subject_generation = generation;
+        self.subject_generation = self.subject_parts.generation();
         Ok(())
     }
 
