@@ -1,5 +1,7 @@
 //! The [`Hub`]: serial bytes in, decoded packets, sample assembly, poses and status out.
 
+use core::mem::MaybeUninit;
+
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
 use qgait_proto::{
     encode_frame, Config, FrameDecoder, FrameFlags, JointAngle, Message, MissingPolicy, ModelId, Status, SubjectConfig,
@@ -31,6 +33,9 @@ pub const DEFAULT_CONFIG: Config = Config {
     reorder_window: DEFAULT_WINDOW,
     request_status: false,
 };
+
+// `Hub::init` builds the default model as a PHAK chain.
+const _: () = assert!(matches!(DEFAULT_CONFIG.model, ModelId::Phak));
 
 /// What one [`Hub::poll`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -80,10 +85,25 @@ where
     ///
     /// Fails only if the kernel refuses the default model, which its tests rule out.
     pub fn new(serial: S, clock: C, status_period_ms: u32) -> Result<Self, ConfigError> {
+        let kinematics = Kinematics::new(DEFAULT_CONFIG.model, DEFAULT_CONFIG.anthropometry)?;
+        Ok(Self::with_kinematics(serial, clock, status_period_ms, kinematics))
+    }
+
+    /// The same hub as [`new`](Self::new), built in `slot` (e.g. a static): the hub (4 KB on a
+    /// Cortex-M) is never a temporary on the stack on its way there, only its model's chain is.
+    pub fn init(slot: &mut MaybeUninit<Self>, serial: S, clock: C, status_period_ms: u32) -> Result<&mut Self, ConfigError> {
+        // Only the PHAK chain is a temporary here (the default model is PHAK, asserted below):
+        // the `Kinematics` around it is built in the slot with the rest of the hub.
+        let phak = Kinematics::phak(DEFAULT_CONFIG.anthropometry)?;
+        let kinematics = Kinematics::of_phak(DEFAULT_CONFIG.model, phak);
+        Ok(slot.write(Self::with_kinematics(serial, clock, status_period_ms, kinematics)))
+    }
+
+    #[inline(always)]
+    fn with_kinematics(serial: S, clock: C, status_period_ms: u32, kinematics: Kinematics) -> Self {
         let now = clock.now_ms();
         let config = DEFAULT_CONFIG;
-        let kinematics = Kinematics::new(config.model, config.anthropometry)?;
-        Ok(Hub {
+        Hub {
             serial,
             clock,
             decoder: FrameDecoder::new(),
@@ -99,7 +119,7 @@ where
             status_period_ms,
             status_frames: 0,
             tx: [0; MAX_FRAME_LEN],
-        })
+        }
     }
 
     /// Reads what the serial port has (at most [`MAX_BYTES_PER_POLL`] bytes), handles it, and
@@ -268,15 +288,40 @@ where
 
     /// Switches to `new` with the subject model `subject` (the upload whose parts make the
     /// gait2392 model), or to `new`'s built-in model if `None`.
-    // Never inlined: its frame holds the new model while the old one computes the samples
-    // still open.
+    // Never inlined, and neither are the model builders it calls: the frames that hold a new
+    // model while the old one computes the samples still open exist only while switching.
     #[inline(never)]
     fn switch(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
+        if subject.is_none() && new.model != ModelId::Gait2392 {
+            // HAK and PHAK: only the chain (a third of a `Kinematics`) is a temporary.
+            let phak = Kinematics::phak(new.anthropometry)?;
+            self.close_open_samples();
+            self.kinematics = Kinematics::of_phak(new.model, phak);
+        } else {
+            self.switch_gait2392(&new, subject)?;
+        }
+        self.assembler = assembler_for(&new);
+        self.config = new;
+        self.subject = subject;
+        self.subject_generation = self.subject_parts.generation();
+        Ok(())
+    }
+
+    /// The model part of [`switch`](Self::switch) for gait2392, generic or a subject's.
+    #[inline(never)]
+    fn switch_gait2392(&mut self, new: &Config, subject: Option<u8>) -> Result<(), ConfigError> {
         let kinematics = match subject {
             None => Kinematics::new(new.model, new.anthropometry)?,
             Some(upload) => Kinematics::gait2392(&self.subject_parts.geometry(upload)?)?,
         };
-        // Samples open under the old configuration are closed (and counted) first.
+        self.close_open_samples();
+        self.kinematics = kinematics;
+        Ok(())
+    }
+
+    /// Closes (and counts, and sends) the samples open under the configuration in force.
+    #[inline(never)]
+    fn close_open_samples(&mut self) {
         let mut events: heapless::Vec<SampleEvent, MAX_WINDOW> = heapless::Vec::new();
         self.assembler.flush(&mut |e| {
             let _ = events.push(e);
@@ -284,12 +329,6 @@ where
         for event in events {
             self.on_sample(event);
         }
-        self.kinematics = kinematics;
-        self.assembler = assembler_for(&new);
-        self.config = new;
-        self.subject = subject;
-        self.subject_generation = self.subject_parts.generation();
-        Ok(())
     }
 
     fn send_status(&mut self) {

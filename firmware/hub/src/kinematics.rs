@@ -81,12 +81,25 @@ impl Kinematics {
             }
             return Kinematics::gait2392(&GENERIC_GAIT2392);
         }
+        Ok(Kinematics::of_phak(model, Kinematics::phak(lengths)?))
+    }
+
+    /// The PHAK chain (HAK's too) with these segment lengths, or gait2392's if `None`.
+    // Never inlined and returning only the chain (a third of a `Kinematics`): a caller builds
+    // the `Kinematics` around it where it is to live ([`Hub::init`](crate::Hub::init)).
+    #[inline(never)]
+    pub(crate) fn phak(lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Phak<f32>, ConfigError> {
         let anthropometry = match lengths {
             None => Anthropometry::gait2392(),
             Some(legs) => Anthropometry { right: limb(&legs[0], 0)?, left: limb(&legs[1], 1)? },
         };
-        let phak = Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)?;
-        Ok(Kinematics { model, chain: ModelChain::Phak(phak) })
+        Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)
+    }
+
+    /// HAK or PHAK (`model`, not gait2392) computed by [`phak`](Self::phak).
+    #[inline(always)]
+    pub(crate) fn of_phak(model: ModelId, phak: Phak<f32>) -> Kinematics {
+        Kinematics { model, chain: ModelChain::Phak(phak) }
     }
 
     /// The generic gait2392 geometry in `f32`: data computed at compile time (no `f64` on the

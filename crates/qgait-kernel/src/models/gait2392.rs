@@ -231,7 +231,11 @@ impl LegGeometry<f64> {
         }
         Self {
             hip_in_pelvis: p(self.hip_in_pelvis),
-            hip_axes: [a(self.hip_axes[0]), a(self.hip_axes[1]), a(self.hip_axes[2])],
+            hip_axes: [
+                a(self.hip_axes[0]),
+                a(self.hip_axes[1]),
+                a(self.hip_axes[2]),
+            ],
             knee_tx: self.knee_tx,
             knee_ty: self.knee_ty,
             ankle_in_tibia: p(self.ankle_in_tibia),
@@ -573,7 +577,13 @@ mod tests {
                 *a = (0.37 * (step * 17 + i) as f32).sin() * 1.9;
             }
             let want = exact.fk(&q.map(f64::from));
-            for (k, (a, b)) in in_f32.fk(&q).points.iter().zip(rounded.fk(&q).points).enumerate() {
+            for (k, (a, b)) in in_f32
+                .fk(&q)
+                .points
+                .iter()
+                .zip(rounded.fk(&q).points)
+                .enumerate()
+            {
                 for (c, (x, y)) in a.to_array().iter().zip(b.to_array()).enumerate() {
                     let w = want.points[k].to_array()[c];
                     // Both f32 models are within a micrometre of f64, and of each other.
