@@ -70,9 +70,7 @@ impl<T: Real> Spline<T> {
     /// Branch-free: the interval is chosen by [`Real::lt_select`], so it also runs lane-wise.
     #[inline]
     pub fn eval(&self, t: T) -> T {
-        // `n` is 2..=MAX_KNOTS by construction; the `min` lets the compiler see that `last`
-        // indexes the arrays (no bounds-check panic path).
-        let last = self.n.wrapping_sub(1).min(MAX_KNOTS - 1);
+        let last = self.n - 1;
         // The cubic of the last knot at or below t (the first one below x[1]).
         let (mut x, mut y, mut b, mut c, mut d) =
             (self.x[0], self.y[0], self.b[0], self.c[0], self.d[0]);
