@@ -310,12 +310,25 @@ where
     /// The model part of [`switch`](Self::switch) for gait2392, generic or a subject's.
     #[inline(never)]
     fn switch_gait2392(&mut self, new: &Config, subject: Option<u8>) -> Result<(), ConfigError> {
-        let kinematics = match subject {
-            None => Kinematics::new(new.model, new.anthropometry)?,
-            Some(upload) => Kinematics::gait2392(&self.subject_parts.geometry(upload)?)?,
+        let subject_geometry;
+        let geometry = match subject {
+            None if new.anthropometry.is_some() => return Err(ConfigError::AnthropometryWithGait2392),
+            None => Kinematics::generic_gait2392(),
+            Some(upload) => {
+                subject_geometry = self.subject_parts.geometry(upload)?;
+                &subject_geometry
+            }
         };
+        // The kernel's result is kept as it is until the chain moves into the hub, so the chain
+        // is copied once (the `Kinematics` around it is written in place).
+        let built = Kinematics::gait2392_chain(geometry);
+        if built.is_err() {
+            return Err(ConfigError::Kernel);
+        }
         self.close_open_samples();
-        self.kinematics = kinematics;
+        if let Ok(chain) = built {
+            self.kinematics = Kinematics::of_gait2392(chain);
+        }
         Ok(())
     }
 

@@ -2,7 +2,7 @@
 //! [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles};
+use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, ModelError, Phak, PhakAngles};
 use qgait_proto::{point, segment, FrameFlags, JointId, ModelId, PoseFrame};
 
 use crate::assembly::Sample;
@@ -114,8 +114,22 @@ impl Kinematics {
     // only when the model is gait2392.
     #[inline(never)]
     pub fn gait2392(geometry: &Gait2392Geometry<f32>) -> Result<Kinematics, ConfigError> {
-        let chain = Gait2392::from_geometry(geometry).map_err(|_| ConfigError::Kernel)?;
-        Ok(Kinematics { model: ModelId::Gait2392, chain: ModelChain::Gait2392(chain) })
+        let chain = Kinematics::gait2392_chain(geometry).map_err(|_| ConfigError::Kernel)?;
+        Ok(Kinematics::of_gait2392(chain))
+    }
+
+    /// The gait2392 chain for these numbers, built in `f32`.
+    // Never inlined, returning only the chain and the kernel's own result: the hub's model
+    // switch unwraps it where it builds the `Kinematics` around it, in place.
+    #[inline(never)]
+    pub(crate) fn gait2392_chain(geometry: &Gait2392Geometry<f32>) -> Result<Gait2392<f32>, ModelError> {
+        Gait2392::from_geometry(geometry)
+    }
+
+    /// gait2392 computed by `chain`.
+    #[inline(always)]
+    pub(crate) fn of_gait2392(chain: Gait2392<f32>) -> Kinematics {
+        Kinematics { model: ModelId::Gait2392, chain: ModelChain::Gait2392(chain) }
     }
 
     /// The model poses are computed with.
