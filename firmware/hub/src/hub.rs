@@ -293,14 +293,20 @@ where
     #[inline(never)]
     fn switch(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
         if subject.is_none() && new.model != ModelId::Gait2392 {
-            // HAK and PHAK: only the chain (a third of a `Kinematics`) is a temporary.
-            let phak = Kinematics::phak(new.anthropometry)?;
+            // HAK and PHAK: only the chain (a third of a `Kinematics`) is a temporary, kept in
+            // the kernel's result until it moves into the hub (one copy).
+            let built = Kinematics::phak(new.anthropometry);
+            if let Err(e) = built {
+                return Err(e);
+            }
             self.close_open_samples();
-            self.kinematics = Kinematics::of_phak(new.model, phak);
+            if let Ok(phak) = built {
+                self.kinematics = Kinematics::of_phak(new.model, phak);
+            }
         } else {
             self.switch_gait2392(&new, subject)?;
         }
-        self.assembler = assembler_for(&new);
+        set_assembler(&mut self.assembler, &new);
         self.config = new;
         self.subject = subject;
         self.subject_generation = self.subject_parts.generation();
@@ -365,6 +371,12 @@ where
         }
         bump(&mut self.status.frames_sent);
     }
+}
+
+/// `*assembler = assembler_for(config)`, in a frame of its own (not the model switch's).
+#[inline(never)]
+fn set_assembler(assembler: &mut Assembler, config: &Config) {
+    *assembler = assembler_for(config);
 }
 
 fn assembler_for(config: &Config) -> Assembler {
