@@ -296,8 +296,8 @@ where
             // HAK and PHAK: only the chain (a third of a `Kinematics`) is a temporary, kept in
             // the kernel's result until it moves into the hub (one copy).
             let built = Kinematics::phak(new.anthropometry);
-            if let Err(e) = built {
-                return Err(e);
+            if let Err(e) = &built {
+                return Err(*e);
             }
             self.close_open_samples();
             if let Ok(phak) = built {
