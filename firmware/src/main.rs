@@ -3,6 +3,8 @@
 #![no_std]
 #![no_main]
 
+use core::mem::MaybeUninit;
+
 use cortex_m_rt::entry;
 use qgait_firmware::board::{Board, Serial, SysTickClock};
 use qgait_firmware::{board, stack};
@@ -42,17 +44,16 @@ fn serve(hub: &'static mut AppHub) -> ! {
 /// itself is not part of `main`'s frame.
 #[inline(never)]
 fn init_hub(board: Board) -> &'static mut AppHub {
-    let hub = match Hub::new(board.serial, board.clock, DEFAULT_STATUS_PERIOD_MS) {
+    // The static starts uninitialised (no 4 KB value is moved into it) and `Hub::init` builds
+    // the hub in it: only the model's chain is a temporary on the stack.
+    let Some(slot) = cortex_m::singleton!(: MaybeUninit<AppHub> = MaybeUninit::uninit()) else {
+        defmt::error!("the hub was built twice");
+        board::exit(1)
+    };
+    match Hub::init(slot, board.serial, board.clock, DEFAULT_STATUS_PERIOD_MS) {
         Ok(hub) => hub,
         Err(e) => {
             defmt::error!("default model refused: {}", e);
-            board::exit(1)
-        }
-    };
-    match cortex_m::singleton!(: AppHub = hub) {
-        Some(hub) => hub,
-        None => {
-            defmt::error!("the hub was built twice");
             board::exit(1)
         }
     }

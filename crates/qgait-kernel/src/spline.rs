@@ -10,8 +10,8 @@ pub const MAX_KNOTS: usize = 12;
 /// derivative equals that of the cubic through the four end knots; two knots give a line, three
 /// a parabola-like end condition) and linear extrapolation with the end slope outside the knots.
 ///
-/// Coefficients are computed once in `f64` and stored in `T`; evaluation is allocation-free and
-/// branch-free.
+/// Coefficients are computed once (in `f64` by [`Spline::new`], in `T` by
+/// [`Spline::from_knots`]) and stored in `T`; evaluation is allocation-free and branch-free.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spline<T> {
     n: usize,
@@ -24,8 +24,17 @@ pub struct Spline<T> {
 
 impl<T: Real> Spline<T> {
     /// Builds the spline through knots `(x[i], y[i])`; `x` strictly increasing, 2 to
-    /// [`MAX_KNOTS`] knots, all finite.
+    /// [`MAX_KNOTS`] knots, all finite. The coefficients are computed in `f64`, then rounded to
+    /// `T` (see [`from_knots`](Self::from_knots) for the same in `T`).
     pub fn new(x: &[f64], y: &[f64]) -> Result<Self, ModelError> {
+        Spline::<f64>::from_knots(x, y).map(|s| s.cast())
+    }
+
+    /// The same spline as [`new`](Self::new), with its coefficients computed in `T` itself:
+    /// identical for `f64`; for `f32` it needs no double-precision arithmetic (a
+    /// microcontroller with a single-precision FPU builds it without software `f64`), and
+    /// differs from `new`'s rounded coefficients by a few `f32` ulps.
+    pub fn from_knots(x: &[T], y: &[T]) -> Result<Self, ModelError> {
         let n = x.len();
         if n != y.len() || !(2..=MAX_KNOTS).contains(&n) {
             return Err(ModelError::SplineKnots);
@@ -33,7 +42,6 @@ impl<T: Real> Spline<T> {
         if x.iter().chain(y).any(|v| !v.is_finite()) || x.windows(2).any(|w| w[1] <= w[0]) {
             return Err(ModelError::SplineKnots);
         }
-        let (b, c, d) = fmm_coefficients(x, y);
         let mut s = Self {
             n,
             x: [T::ZERO; MAX_KNOTS],
@@ -42,13 +50,9 @@ impl<T: Real> Spline<T> {
             c: [T::ZERO; MAX_KNOTS],
             d: [T::ZERO; MAX_KNOTS],
         };
-        for i in 0..n {
-            s.x[i] = T::from_f64(x[i]);
-            s.y[i] = T::from_f64(y[i]);
-            s.b[i] = T::from_f64(b[i]);
-            s.c[i] = T::from_f64(c[i]);
-            s.d[i] = T::from_f64(d[i]);
-        }
+        s.x[..n].copy_from_slice(x);
+        s.y[..n].copy_from_slice(y);
+        fmm_coefficients(&mut s);
         Ok(s)
     }
 
@@ -104,19 +108,22 @@ impl<T: Real> Spline<T> {
     }
 }
 
-type Coefficients = ([f64; MAX_KNOTS], [f64; MAX_KNOTS], [f64; MAX_KNOTS]);
-
 /// Forsythe, Malcolm & Moler, *Computer Methods for Mathematical Computations* (1977),
 /// subroutine SPLINE, as used by OpenSim's SimmSpline: `y ≈ y[i] + b dx + c dx² + d dx³`.
-fn fmm_coefficients(x: &[f64], y: &[f64]) -> Coefficients {
-    let n = x.len();
-    let (mut b, mut c, mut d) = ([0.0; MAX_KNOTS], [0.0; MAX_KNOTS], [0.0; MAX_KNOTS]);
+/// Fills `s.b`, `s.c`, `s.d` from the `s.n` knots in `s.x`, `s.y` (`2 <= n <= MAX_KNOTS`,
+/// checked by the caller), in `T`.
+fn fmm_coefficients<T: Real>(s: &mut Spline<T>) {
+    let n = s.n.clamp(2, MAX_KNOTS);
+    let (x, y) = (&s.x, &s.y);
+    let (b, c, d) = (&mut s.b, &mut s.c, &mut s.d);
     if n < 3 {
         let slope = (y[1] - y[0]) / (x[1] - x[0]);
         b[0] = slope;
         b[1] = slope;
-        return (b, c, d);
+        return;
     }
+    let two = T::TWO;
+    let three = T::TWO + T::ONE;
     let nm1 = n - 1;
     let nm2 = n - 2;
     // Tridiagonal system: b = diagonal, d = off-diagonal, c = right-hand side.
@@ -124,15 +131,15 @@ fn fmm_coefficients(x: &[f64], y: &[f64]) -> Coefficients {
     c[1] = (y[1] - y[0]) / d[0];
     for i in 1..nm1 {
         d[i] = x[i + 1] - x[i];
-        b[i] = 2.0 * (d[i - 1] + d[i]);
+        b[i] = two * (d[i - 1] + d[i]);
         c[i + 1] = (y[i + 1] - y[i]) / d[i];
         c[i] = c[i + 1] - c[i];
     }
     // End conditions: third derivatives from divided differences of the end knots.
     b[0] = -d[0];
     b[nm1] = -d[nm2];
-    c[0] = 0.0;
-    c[nm1] = 0.0;
+    c[0] = T::ZERO;
+    c[nm1] = T::ZERO;
     if n > 3 {
         c[0] = c[2] / (x[3] - x[1]) - c[1] / (x[2] - x[0]);
         c[nm1] = c[nm2] / (x[nm1] - x[n - 3]) - c[n - 3] / (x[nm2] - x[n - 4]);
@@ -145,20 +152,19 @@ fn fmm_coefficients(x: &[f64], y: &[f64]) -> Coefficients {
         b[i] -= t * d[i - 1];
         c[i] -= t * c[i - 1];
     }
-    c[nm1] /= b[nm1];
+    c[nm1] = c[nm1] / b[nm1];
     for i in (0..nm1).rev() {
         c[i] = (c[i] - d[i] * c[i + 1]) / b[i];
     }
     // Polynomial coefficients.
-    b[nm1] = (y[nm1] - y[nm2]) / d[nm2] + d[nm2] * (c[nm2] + 2.0 * c[nm1]);
+    b[nm1] = (y[nm1] - y[nm2]) / d[nm2] + d[nm2] * (c[nm2] + two * c[nm1]);
     for i in 0..nm1 {
-        b[i] = (y[i + 1] - y[i]) / d[i] - d[i] * (c[i + 1] + 2.0 * c[i]);
+        b[i] = (y[i + 1] - y[i]) / d[i] - d[i] * (c[i + 1] + two * c[i]);
         d[i] = (c[i + 1] - c[i]) / d[i];
-        c[i] *= 3.0;
+        c[i] *= three;
     }
-    c[nm1] *= 3.0;
+    c[nm1] *= three;
     d[nm1] = d[nm2];
-    (b, c, d)
 }
 
 #[cfg(test)]
@@ -201,5 +207,34 @@ mod tests {
         assert!(Spline::<f64>::new(&[0.0, f64::NAN], &[1.0, 2.0]).is_err());
         assert!(Spline::<f64>::new(&[0.0; 13], &[0.0; 13]).is_err());
         assert!(Spline::<f64>::new(&[0.0, 1.0], &[1.0]).is_err());
+    }
+
+    #[test]
+    // The knots are gait2392's data (rounded degrees in radians), not approximations of pi.
+    #[allow(clippy::approx_constant)]
+    fn from_knots_is_new_in_f64_and_within_f32_rounding_in_f32() {
+        let xs = [
+            -2.0944, -1.74533, -1.39626, -1.0472, -0.698132, -0.349066, -0.174533, 0.197344,
+            0.337395, 0.490178, 1.52146, 2.0944,
+        ];
+        let ys = [
+            -0.0032, 0.00179, 0.00411, 0.0041, 0.00212, -0.001, -0.0031, -0.005227, -0.005435,
+            -0.005574, -0.005435, -0.00525,
+        ];
+        for n in [2, 3, 4, 7, 12] {
+            let (x, y) = (&xs[..n], &ys[..n]);
+            assert_eq!(Spline::<f64>::from_knots(x, y), Spline::<f64>::new(x, y));
+            let x32: [f32; MAX_KNOTS] = xs.map(|v| v as f32);
+            let y32: [f32; MAX_KNOTS] = ys.map(|v| v as f32);
+            let s32 = Spline::<f32>::from_knots(&x32[..n], &y32[..n]).unwrap();
+            let s64 = Spline::<f64>::new(x, y).unwrap();
+            for i in 0..=400 {
+                let t = -2.5 + 5.0 * i as f64 / 400.0;
+                let err = (f64::from(s32.eval(t as f32)) - s64.eval(t)).abs();
+                assert!(err < 1e-8, "{n} knots at {t}: {err}");
+            }
+        }
+        assert!(Spline::<f32>::from_knots(&[0.0, 0.0], &[1.0, 2.0]).is_err());
+        assert!(Spline::<f32>::from_knots(&[0.0, f32::INFINITY], &[1.0, 2.0]).is_err());
     }
 }

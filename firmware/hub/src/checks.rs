@@ -609,7 +609,7 @@ pub fn gait2392_config_gives_frames_of_the_generic_model() -> CheckResult {
         ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, seq));
     }
     drain(&mut hub);
-    let Ok(generic) = Kinematics::gait2392(&Gait2392Geometry::generic()) else {
+    let Ok(generic) = Kinematics::gait2392(Kinematics::generic_gait2392()) else {
         return Err(CheckFailure { what: "Kinematics::gait2392(generic)", line: line!() });
     };
     let mut all_equal = true;
@@ -648,7 +648,7 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     let Ok(held) = hub.subject_parts().geometry(9) else {
         return Err(CheckFailure { what: "the hub's parts make no model", line: line!() });
     };
-    let (Ok(mine), Ok(generic)) = (Kinematics::gait2392(&held), Kinematics::gait2392(&Gait2392Geometry::generic())) else {
+    let (Ok(mine), Ok(generic)) = (Kinematics::gait2392(&held), Kinematics::gait2392(Kinematics::generic_gait2392())) else {
         return Err(CheckFailure { what: "Kinematics::gait2392", line: line!() });
     };
     let (mut subject_frames, mut far_from_generic) = (0, true);

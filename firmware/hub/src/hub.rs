@@ -1,5 +1,7 @@
 //! The [`Hub`]: serial bytes in, decoded packets, sample assembly, poses and status out.
 
+use core::mem::MaybeUninit;
+
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
 use qgait_proto::{
     encode_frame, Config, FrameDecoder, FrameFlags, JointAngle, Message, MissingPolicy, ModelId, Status, SubjectConfig,
@@ -31,6 +33,9 @@ pub const DEFAULT_CONFIG: Config = Config {
     reorder_window: DEFAULT_WINDOW,
     request_status: false,
 };
+
+// `Hub::init` builds the default model as a PHAK chain.
+const _: () = assert!(matches!(DEFAULT_CONFIG.model, ModelId::Phak));
 
 /// What one [`Hub::poll`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -80,10 +85,25 @@ where
     ///
     /// Fails only if the kernel refuses the default model, which its tests rule out.
     pub fn new(serial: S, clock: C, status_period_ms: u32) -> Result<Self, ConfigError> {
+        let kinematics = Kinematics::new(DEFAULT_CONFIG.model, DEFAULT_CONFIG.anthropometry)?;
+        Ok(Self::with_kinematics(serial, clock, status_period_ms, kinematics))
+    }
+
+    /// The same hub as [`new`](Self::new), built in `slot` (e.g. a static): the hub (4 KB on a
+    /// Cortex-M) is never a temporary on the stack on its way there, only its model's chain is.
+    pub fn init(slot: &mut MaybeUninit<Self>, serial: S, clock: C, status_period_ms: u32) -> Result<&mut Self, ConfigError> {
+        // Only the PHAK chain is a temporary here (the default model is PHAK, asserted below):
+        // the `Kinematics` around it is built in the slot with the rest of the hub.
+        let phak = Kinematics::phak(DEFAULT_CONFIG.anthropometry)?;
+        let kinematics = Kinematics::of_phak(DEFAULT_CONFIG.model, phak);
+        Ok(slot.write(Self::with_kinematics(serial, clock, status_period_ms, kinematics)))
+    }
+
+    #[inline(always)]
+    fn with_kinematics(serial: S, clock: C, status_period_ms: u32, kinematics: Kinematics) -> Self {
         let now = clock.now_ms();
         let config = DEFAULT_CONFIG;
-        let kinematics = Kinematics::new(config.model, config.anthropometry)?;
-        Ok(Hub {
+        Hub {
             serial,
             clock,
             decoder: FrameDecoder::new(),
@@ -99,7 +119,7 @@ where
             status_period_ms,
             status_frames: 0,
             tx: [0; MAX_FRAME_LEN],
-        })
+        }
     }
 
     /// Reads what the serial port has (at most [`MAX_BYTES_PER_POLL`] bytes), handles it, and
@@ -224,13 +244,14 @@ where
         self.send(&Message::PoseFrame(frame));
     }
 
-    // The configuration paths build a whole model (kilobytes of temporaries): never inlined,
-    // so their frames exist only while a configuration is applied, not in every poll.
+    // A configuration that changes nothing (e.g. one only asking for a status) is handled
+    // here, in a small frame: the frames that build a model (kilobytes of temporaries) are in
+    // `switch`, entered only when the configuration changes.
     #[inline(never)]
     fn on_config(&mut self, config: &Config) {
         // A configuration the hub cannot use is counted and ignored; the old one stays.
         let new = Config { request_status: false, ..*config };
-        let result = self.apply(new, None, |_| Kinematics::new(new.model, new.anthropometry));
+        let result = if self.in_force(&new, None) { Ok(()) } else { self.switch(new, None) };
         self.after_config(result, config.request_status);
     }
 
@@ -243,8 +264,8 @@ where
             reorder_window: config.reorder_window,
             request_status: false,
         };
-        let upload = config.upload;
-        let result = self.apply(new, Some(upload), |parts| Kinematics::gait2392(&parts.geometry(upload)?));
+        let subject = Some(config.upload);
+        let result = if self.in_force(&new, subject) { Ok(()) } else { self.switch(new, subject) };
         self.after_config(result, config.request_status);
     }
 
@@ -257,22 +278,69 @@ where
         }
     }
 
-    /// Switches to `new` (with the subject model `subject`), the model built by `kinematics`
-    /// unless `new` is the configuration in force.
-    fn apply(
-        &mut self,
-        new: Config,
-        subject: Option<u8>,
-        kinematics: impl FnOnce(&SubjectParts) -> Result<Kinematics, ConfigError>,
-    ) -> Result<(), ConfigError> {
-        // Nothing to do if nothing changed, a subject model's parts included (a host may resend
-        // a part under the same upload id).
-        let generation = self.subject_parts.generation();
-        if new == self.config && subject == self.subject && (subject.is_none() || generation == self.subject_generation) {
-            return Ok(());
+    /// Whether `new` with the subject model `subject` is what is in force, a subject model's
+    /// parts included (a host may resend a part under the same upload id).
+    fn in_force(&self, new: &Config, subject: Option<u8>) -> bool {
+        *new == self.config
+            && subject == self.subject
+            && (subject.is_none() || self.subject_parts.generation() == self.subject_generation)
+    }
+
+    /// Switches to `new` with the subject model `subject` (the upload whose parts make the
+    /// gait2392 model), or to `new`'s built-in model if `None`.
+    // Never inlined, and neither are the model builders it calls: the frames that hold a new
+    // model while the old one computes the samples still open exist only while switching.
+    #[inline(never)]
+    fn switch(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
+        if subject.is_none() && new.model != ModelId::Gait2392 {
+            // HAK and PHAK: only the chain (a third of a `Kinematics`) is a temporary, kept in
+            // the kernel's result until it moves into the hub (one copy).
+            let built = Kinematics::phak(new.anthropometry);
+            if let Err(e) = &built {
+                return Err(*e);
+            }
+            self.close_open_samples();
+            if let Ok(phak) = built {
+                self.kinematics = Kinematics::of_phak(new.model, phak);
+            }
+        } else {
+            self.switch_gait2392(&new, subject)?;
         }
-        let kinematics = kinematics(&self.subject_parts)?;
-        // Samples open under the old configuration are closed (and counted) first.
+        set_assembler(&mut self.assembler, &new);
+        self.config = new;
+        self.subject = subject;
+        self.subject_generation = self.subject_parts.generation();
+        Ok(())
+    }
+
+    /// The model part of [`switch`](Self::switch) for gait2392, generic or a subject's.
+    #[inline(never)]
+    fn switch_gait2392(&mut self, new: &Config, subject: Option<u8>) -> Result<(), ConfigError> {
+        let subject_geometry;
+        let geometry = match subject {
+            None if new.anthropometry.is_some() => return Err(ConfigError::AnthropometryWithGait2392),
+            None => Kinematics::generic_gait2392(),
+            Some(upload) => {
+                subject_geometry = self.subject_parts.geometry(upload)?;
+                &subject_geometry
+            }
+        };
+        // The kernel's result is kept as it is until the chain moves into the hub, so the chain
+        // is copied once (the `Kinematics` around it is written in place).
+        let built = Kinematics::gait2392_chain(geometry);
+        if built.is_err() {
+            return Err(ConfigError::Kernel);
+        }
+        self.close_open_samples();
+        if let Ok(chain) = built {
+            self.kinematics = Kinematics::of_gait2392(chain);
+        }
+        Ok(())
+    }
+
+    /// Closes (and counts, and sends) the samples open under the configuration in force.
+    #[inline(never)]
+    fn close_open_samples(&mut self) {
         let mut events: heapless::Vec<SampleEvent, MAX_WINDOW> = heapless::Vec::new();
         self.assembler.flush(&mut |e| {
             let _ = events.push(e);
@@ -280,12 +348,6 @@ where
         for event in events {
             self.on_sample(event);
         }
-        self.kinematics = kinematics;
-        self.assembler = assembler_for(&new);
-        self.config = new;
-        self.subject = subject;
-        self.subject_generation = generation;
-        Ok(())
     }
 
     fn send_status(&mut self) {
@@ -309,6 +371,12 @@ where
         }
         bump(&mut self.status.frames_sent);
     }
+}
+
+/// `*assembler = assembler_for(config)`, in a frame of its own (not the model switch's).
+#[inline(never)]
+fn set_assembler(assembler: &mut Assembler, config: &Config) {
+    *assembler = assembler_for(config);
 }
 
 fn assembler_for(config: &Config) -> Assembler {

@@ -2,7 +2,7 @@
 //! [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles};
+use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, ModelError, Phak, PhakAngles};
 use qgait_proto::{point, segment, FrameFlags, JointId, ModelId, PoseFrame};
 
 use crate::assembly::Sample;
@@ -44,6 +44,9 @@ pub enum ConfigError {
     },
 }
 
+/// The generic gait2392 in `f32`, rounded from the kernel's `f64` numbers at compile time.
+static GENERIC_GAIT2392: Gait2392Geometry<f32> = Gait2392Geometry::generic().to_f32();
+
 /// The longest segment length accepted, and the largest coordinate of a subject model's
 /// positions and knee translations (metres).
 pub const MAX_SEGMENT_M: f32 = 2.0;
@@ -76,29 +79,57 @@ impl Kinematics {
             if lengths.is_some() {
                 return Err(ConfigError::AnthropometryWithGait2392);
             }
-            return Kinematics::generic_gait2392();
+            return Kinematics::gait2392(&GENERIC_GAIT2392);
         }
+        Ok(Kinematics::of_phak(model, Kinematics::phak(lengths)?))
+    }
+
+    /// The PHAK chain (HAK's too) with these segment lengths, or gait2392's if `None`.
+    // Never inlined and returning only the chain (a third of a `Kinematics`): a caller builds
+    // the `Kinematics` around it where it is to live ([`Hub::init`](crate::Hub::init)).
+    #[inline(never)]
+    pub(crate) fn phak(lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Phak<f32>, ConfigError> {
         let anthropometry = match lengths {
             None => Anthropometry::gait2392(),
             Some(legs) => Anthropometry { right: limb(&legs[0], 0)?, left: limb(&legs[1], 1)? },
         };
-        let phak = Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)?;
-        Ok(Kinematics { model, chain: ModelChain::Phak(phak) })
+        Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)
     }
 
-    /// The generic gait2392 (its geometry is built in this frame, not in `new`'s).
-    #[inline(never)]
-    fn generic_gait2392() -> Result<Kinematics, ConfigError> {
-        Kinematics::gait2392(&Gait2392Geometry::generic())
+    /// HAK or PHAK (`model`, not gait2392) computed by [`phak`](Self::phak).
+    #[inline(always)]
+    pub(crate) fn of_phak(model: ModelId, phak: Phak<f32>) -> Kinematics {
+        Kinematics { model, chain: ModelChain::Phak(phak) }
     }
 
-    /// gait2392 with these numbers (generic or a subject's), in `f32`.
+    /// The generic gait2392 geometry in `f32`: data computed at compile time (no `f64` on the
+    /// device).
+    pub fn generic_gait2392() -> &'static Gait2392Geometry<f32> {
+        &GENERIC_GAIT2392
+    }
+
+    /// gait2392 with these numbers (generic or a subject's), built in `f32` (the knee splines'
+    /// coefficients included, [`Gait2392::from_geometry`]).
     // Never inlined: building gait2392 takes kilobytes of stack, which `new` then reserves
     // only when the model is gait2392.
     #[inline(never)]
-    pub fn gait2392(geometry: &Gait2392Geometry) -> Result<Kinematics, ConfigError> {
-        let chain = Gait2392::new(geometry).map_err(|_| ConfigError::Kernel)?;
-        Ok(Kinematics { model: ModelId::Gait2392, chain: ModelChain::Gait2392(chain) })
+    pub fn gait2392(geometry: &Gait2392Geometry<f32>) -> Result<Kinematics, ConfigError> {
+        let chain = Kinematics::gait2392_chain(geometry).map_err(|_| ConfigError::Kernel)?;
+        Ok(Kinematics::of_gait2392(chain))
+    }
+
+    /// The gait2392 chain for these numbers, built in `f32`.
+    // Never inlined, returning only the chain and the kernel's own result: the hub's model
+    // switch unwraps it where it builds the `Kinematics` around it, in place.
+    #[inline(never)]
+    pub(crate) fn gait2392_chain(geometry: &Gait2392Geometry<f32>) -> Result<Gait2392<f32>, ModelError> {
+        Gait2392::from_geometry(geometry)
+    }
+
+    /// gait2392 computed by `chain`.
+    #[inline(always)]
+    pub(crate) fn of_gait2392(chain: Gait2392<f32>) -> Kinematics {
+        Kinematics { model: ModelId::Gait2392, chain: ModelChain::Gait2392(chain) }
     }
 
     /// The model poses are computed with.
@@ -247,7 +278,7 @@ mod tests {
         }
         let s = Sample { seq: 3, angles, held: JointSet::EMPTY };
         let frame = k.pose_frame(&s, 0);
-        let want = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap().fk(&angles);
+        let want = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32()).unwrap().fk(&angles);
         let b = want.bilateral();
         assert_eq!(frame.points, points(&b));
         assert_eq!(frame.angles.as_slice(), &angles[..]);
@@ -256,5 +287,10 @@ mod tests {
         assert_eq!(frame.distances, [d.knee, d.ankle, d.toe]);
         // The toe tip, not the MTP joint, is the frame's toe.
         assert_eq!(frame.points[point::TOE_R], want.points[5].to_array());
+        // Within a micrometre of the model whose splines are built in f64.
+        let rounded = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap().fk(&angles).bilateral();
+        for (a, b) in frame.points.iter().flatten().zip(points(&rounded).iter().flatten()) {
+            assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+        }
     }
 }

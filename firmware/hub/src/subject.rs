@@ -1,15 +1,17 @@
 //! Subject-specific gait2392 models arriving in parts: [`SubjectParts`] keeps the
 //! [`SubjectLeg`] and [`SubjectKnee`] messages of one upload and assembles them into the
-//! kernel's [`Gait2392Geometry`] once all six are there.
+//! kernel's [`Gait2392Geometry`] once all six are there, in `f32` as they travel (the hub
+//! builds the model in `f32`, with no double-precision arithmetic on the device).
 
 use qgait_kernel::models::gait2392::{Knots, LegGeometry};
+use qgait_kernel::spline::MAX_KNOTS;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{KneeDirection, Leg, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS};
 
 use crate::kinematics::{ConfigError, MAX_SEGMENT_M};
 
 // A knee part the protocol can carry always fits the kernel's spline.
-const _: () = assert!(MAX_KNEE_KNOTS <= qgait_kernel::spline::MAX_KNOTS);
+const _: () = assert!(MAX_KNEE_KNOTS <= MAX_KNOTS);
 
 /// The parts of one upload received so far.
 #[derive(Debug, Clone, Default)]
@@ -62,12 +64,12 @@ impl SubjectParts {
     /// The model of `upload`: all 6 parts must be held, every position and knot value must be
     /// within [`MAX_SEGMENT_M`] (finite). The kernel checks the rest (axes, knot order) when the
     /// model is built.
-    pub fn geometry(&self, upload: u8) -> Result<Gait2392Geometry, ConfigError> {
+    pub fn geometry(&self, upload: u8) -> Result<Gait2392Geometry<f32>, ConfigError> {
         if self.upload != Some(upload) {
             return Err(ConfigError::SubjectIncomplete { upload, parts: 0 });
         }
         let incomplete = ConfigError::SubjectIncomplete { upload, parts: self.count() as u8 };
-        let leg = |side: Leg| -> Result<LegGeometry, ConfigError> {
+        let leg = |side: Leg| -> Result<LegGeometry<f32>, ConfigError> {
             let i = side as usize;
             let (Some(l), [Some(tx), Some(ty)]) = (&self.legs[i], &self.knees[i]) else {
                 return Err(incomplete);
@@ -84,44 +86,38 @@ impl SubjectParts {
     }
 }
 
-fn position(v: [f32; 3], leg: Leg) -> Result<[f64; 3], ConfigError> {
+fn position(v: [f32; 3], leg: Leg) -> Result<[f32; 3], ConfigError> {
     if v.iter().all(|c| c.abs() <= MAX_SEGMENT_M) {
-        Ok(v.map(f64::from))
+        Ok(v)
     } else {
         Err(ConfigError::SubjectOutOfRange { leg: leg as u8 })
     }
 }
 
-fn axis(v: [f32; 3]) -> [f64; 3] {
-    v.map(f64::from)
-}
-
-fn knots(part: &SubjectKnee) -> Result<Knots, ConfigError> {
-    let mut x = [0.0f64; MAX_KNEE_KNOTS];
-    let mut y = [0.0f64; MAX_KNEE_KNOTS];
-    for (i, [kx, ky]) in part.knots.iter().enumerate() {
+fn knots(part: &SubjectKnee) -> Result<Knots<f32>, ConfigError> {
+    // MAX_KNEE_KNOTS <= MAX_KNOTS (asserted above): every knot of the part has a slot.
+    let mut k = Knots { n: part.knots.len(), x: [0.0; MAX_KNOTS], y: [0.0; MAX_KNOTS] };
+    for ((x, y), [kx, ky]) in k.x.iter_mut().zip(k.y.iter_mut()).zip(&part.knots) {
         if ky.abs() > MAX_SEGMENT_M {
             return Err(ConfigError::SubjectOutOfRange { leg: part.leg as u8 });
         }
-        x[i] = f64::from(*kx);
-        y[i] = f64::from(*ky);
+        (*x, *y) = (*kx, *ky);
     }
-    let n = part.knots.len();
-    Ok(Knots::new(&x[..n], &y[..n]))
+    Ok(k)
 }
 
-fn leg_geometry(l: &SubjectLeg, tx: &SubjectKnee, ty: &SubjectKnee) -> Result<LegGeometry, ConfigError> {
+fn leg_geometry(l: &SubjectLeg, tx: &SubjectKnee, ty: &SubjectKnee) -> Result<LegGeometry<f32>, ConfigError> {
     Ok(LegGeometry {
         hip_in_pelvis: position(l.hip_in_pelvis, l.leg)?,
-        hip_axes: l.hip_axes.map(axis),
+        hip_axes: l.hip_axes,
         knee_tx: knots(tx)?,
         knee_ty: knots(ty)?,
         ankle_in_tibia: position(l.ankle_in_tibia, l.leg)?,
-        ankle_axis: axis(l.ankle_axis),
+        ankle_axis: l.ankle_axis,
         subtalar_in_talus: position(l.subtalar_in_talus, l.leg)?,
-        subtalar_axis: axis(l.subtalar_axis),
+        subtalar_axis: l.subtalar_axis,
         mtp_in_calcn: position(l.mtp_in_calcn, l.leg)?,
-        mtp_axis: axis(l.mtp_axis),
+        mtp_axis: l.mtp_axis,
         toetip_in_toes: position(l.toetip_in_toes, l.leg)?,
     })
 }
@@ -184,7 +180,7 @@ mod tests {
     extern crate std;
     use super::*;
 
-    fn rounded(g: &Gait2392Geometry) -> Gait2392Geometry {
+    fn rounded(g: &Gait2392Geometry) -> Gait2392Geometry<f32> {
         let (legs, knees) = parts_of(g, 4).unwrap();
         let mut parts = SubjectParts::new();
         for l in &legs {
@@ -202,11 +198,12 @@ mod tests {
         let r = rounded(&g);
         assert_eq!(r.left.knee_tx.n, 12);
         assert_eq!(r.right.knee_ty.n, 7);
-        assert_eq!(r.right.hip_in_pelvis, g.right.hip_in_pelvis.map(|c| c as f32 as f64));
-        assert_eq!(r.left.knee_ty.y[..7], g.left.knee_ty.y[..7].iter().map(|&c| c as f32 as f64).collect::<std::vec::Vec<_>>()[..]);
-        assert_eq!(r.left.mtp_axis, g.left.mtp_axis.map(|c| c as f32 as f64));
-        // Rounding twice changes nothing more.
-        assert_eq!(rounded(&r), r);
+        assert_eq!(r.right.hip_in_pelvis, g.right.hip_in_pelvis.map(|c| c as f32));
+        assert_eq!(r.left.knee_ty.y[..7], g.left.knee_ty.y[..7].iter().map(|&c| c as f32).collect::<std::vec::Vec<_>>()[..]);
+        assert_eq!(r.left.mtp_axis, g.left.mtp_axis.map(|c| c as f32));
+        // Everything is the geometry rounded to f32, and rounding twice changes nothing more.
+        assert_eq!(r, g.to_f32());
+        assert_eq!(rounded(&r.cast()), r);
     }
 
     #[test]

@@ -51,25 +51,26 @@ pub const POINTS: [&str; 12] = [
     "toetip_l",
 ];
 
-/// Knots of one spline (`x` in radians, `y` in metres), up to [`MAX_KNOTS`].
+/// Knots of one spline (`x` in radians, `y` in metres), up to [`MAX_KNOTS`], in `f64` (the
+/// default) or `f32` (a device's copy, see [`Gait2392::from_geometry`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Knots {
+pub struct Knots<T = f64> {
     /// Number of knots used.
     pub n: usize,
     /// Abscissae (strictly increasing).
-    pub x: [f64; MAX_KNOTS],
+    pub x: [T; MAX_KNOTS],
     /// Values.
-    pub y: [f64; MAX_KNOTS],
+    pub y: [T; MAX_KNOTS],
 }
 
-impl Knots {
+impl<T: Real> Knots<T> {
     /// From slices of equal length (at most [`MAX_KNOTS`]; extra knots make [`Gait2392::new`]
     /// fail).
-    pub fn new(x: &[f64], y: &[f64]) -> Self {
+    pub fn new(x: &[T], y: &[T]) -> Self {
         let mut k = Self {
             n: x.len().min(y.len()),
-            x: [0.0; MAX_KNOTS],
-            y: [0.0; MAX_KNOTS],
+            x: [T::ZERO; MAX_KNOTS],
+            y: [T::ZERO; MAX_KNOTS],
         };
         if x.len() != y.len() || x.len() > MAX_KNOTS {
             k.n = MAX_KNOTS + 1;
@@ -79,48 +80,107 @@ impl Knots {
         k.y[..y.len()].copy_from_slice(y);
         k
     }
-    fn spline<T: Real>(&self) -> Result<Spline<T>, ModelError> {
-        if self.n > MAX_KNOTS {
-            return Err(ModelError::SplineKnots);
+
+    /// In another precision (rounding to nearest for `f32`).
+    pub fn cast<U: Real>(&self) -> Knots<U> {
+        Knots {
+            n: self.n,
+            x: self.x.map(|v| U::from_f64(v.to_f64())),
+            y: self.y.map(|v| U::from_f64(v.to_f64())),
         }
-        Spline::new(&self.x[..self.n], &self.y[..self.n])
+    }
+
+    /// The spline through these knots, its coefficients computed in `T`.
+    fn spline(&self) -> Result<Spline<T>, ModelError> {
+        match (self.x.get(..self.n), self.y.get(..self.n)) {
+            (Some(x), Some(y)) => Spline::from_knots(x, y),
+            _ => Err(ModelError::SplineKnots),
+        }
     }
 }
 
-/// The numbers of one leg (metres, unit axes; frames and names as in OpenSim).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LegGeometry {
-    /// Hip centre in the pelvis frame (`hip` joint `location_in_parent`).
-    pub hip_in_pelvis: [f64; 3],
-    /// Hip flexion, adduction and rotation axes (body-fixed sequence).
-    pub hip_axes: [[f64; 3]; 3],
-    /// Knee centre translation along the femur's x as a function of `knee_angle`.
-    pub knee_tx: Knots,
-    /// Knee centre translation along the femur's y as a function of `knee_angle`.
-    pub knee_ty: Knots,
-    /// Ankle centre in the tibia frame.
-    pub ankle_in_tibia: [f64; 3],
-    /// Ankle axis.
-    pub ankle_axis: [f64; 3],
-    /// Subtalar centre in the talus frame.
-    pub subtalar_in_talus: [f64; 3],
-    /// Subtalar axis.
-    pub subtalar_axis: [f64; 3],
-    /// MTP centre in the calcaneus frame.
-    pub mtp_in_calcn: [f64; 3],
-    /// MTP axis.
-    pub mtp_axis: [f64; 3],
-    /// Toe tip (the gait2392 marker set's `Toe.Tip`) in the toes frame.
-    pub toetip_in_toes: [f64; 3],
+impl Knots<f64> {
+    /// The knots of `x` and `y`, at compile time.
+    const fn of<const N: usize>(x: &[f64; N], y: &[f64; N]) -> Self {
+        let mut k = Knots {
+            n: N,
+            x: [0.0; MAX_KNOTS],
+            y: [0.0; MAX_KNOTS],
+        };
+        let mut i = 0;
+        while i < N {
+            k.x[i] = x[i];
+            k.y[i] = y[i];
+            i += 1;
+        }
+        k
+    }
+
+    /// The spline through these knots, its coefficients computed in `f64` and rounded to `T`.
+    fn spline_rounded<T: Real>(&self) -> Result<Spline<T>, ModelError> {
+        match (self.x.get(..self.n), self.y.get(..self.n)) {
+            (Some(x), Some(y)) => Spline::new(x, y),
+            _ => Err(ModelError::SplineKnots),
+        }
+    }
+
+    /// Rounded to `f32`, at compile time if wanted.
+    pub const fn to_f32(&self) -> Knots<f32> {
+        Knots {
+            n: self.n,
+            x: round(&self.x),
+            y: round(&self.y),
+        }
+    }
 }
 
-/// The numbers of the whole chain: one leg each side (a scaled subject may differ per side).
+/// `v` rounded to `f32`, element by element (a `const fn`).
+const fn round<const N: usize>(v: &[f64; N]) -> [f32; N] {
+    let mut out = [0.0; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = v[i] as f32;
+        i += 1;
+    }
+    out
+}
+
+/// The numbers of one leg (metres, unit axes; frames and names as in OpenSim), in `f64` (the
+/// default) or `f32`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Gait2392Geometry {
+pub struct LegGeometry<T = f64> {
+    /// Hip centre in the pelvis frame (`hip` joint `location_in_parent`).
+    pub hip_in_pelvis: [T; 3],
+    /// Hip flexion, adduction and rotation axes (body-fixed sequence).
+    pub hip_axes: [[T; 3]; 3],
+    /// Knee centre translation along the femur's x as a function of `knee_angle`.
+    pub knee_tx: Knots<T>,
+    /// Knee centre translation along the femur's y as a function of `knee_angle`.
+    pub knee_ty: Knots<T>,
+    /// Ankle centre in the tibia frame.
+    pub ankle_in_tibia: [T; 3],
+    /// Ankle axis.
+    pub ankle_axis: [T; 3],
+    /// Subtalar centre in the talus frame.
+    pub subtalar_in_talus: [T; 3],
+    /// Subtalar axis.
+    pub subtalar_axis: [T; 3],
+    /// MTP centre in the calcaneus frame.
+    pub mtp_in_calcn: [T; 3],
+    /// MTP axis.
+    pub mtp_axis: [T; 3],
+    /// Toe tip (the gait2392 marker set's `Toe.Tip`) in the toes frame.
+    pub toetip_in_toes: [T; 3],
+}
+
+/// The numbers of the whole chain: one leg each side (a scaled subject may differ per side), in
+/// `f64` (the default) or `f32`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Gait2392Geometry<T = f64> {
     /// Right leg.
-    pub right: LegGeometry,
+    pub right: LegGeometry<T>,
     /// Left leg.
-    pub left: LegGeometry,
+    pub left: LegGeometry<T>,
 }
 
 /// The generic model's knee spline knots (identical for both knees), as written in the model file
@@ -142,15 +202,15 @@ const KNEE_TY_Y: [f64; 7] = [
     -0.4226, -0.4082, -0.399, -0.3976, -0.3966, -0.395264, -0.396,
 ];
 
-impl LegGeometry {
+impl LegGeometry<f64> {
     /// The generic gait2392 right leg, with every number as written in `gait2392_simbody.osim`
     /// (the axes to 8 digits; `gait2392-geometry.md` rounds them to 6).
-    pub fn generic_right() -> Self {
+    pub const fn generic_right() -> Self {
         Self {
             hip_in_pelvis: [-0.0707, -0.0661, 0.0835],
             hip_axes: [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
-            knee_tx: Knots::new(&KNEE_TX_X, &KNEE_TX_Y),
-            knee_ty: Knots::new(&KNEE_TY_X, &KNEE_TY_Y),
+            knee_tx: Knots::of(&KNEE_TX_X, &KNEE_TX_Y),
+            knee_ty: Knots::of(&KNEE_TY_X, &KNEE_TY_Y),
             ankle_in_tibia: [0.0, -0.43, 0.0],
             ankle_axis: [-0.10501355, -0.17402245, 0.97912632],
             subtalar_in_talus: [-0.04877, -0.04195, 0.00792],
@@ -161,11 +221,58 @@ impl LegGeometry {
         }
     }
 
+    /// [`mirrored`](Self::mirrored), at compile time.
+    const fn mirrored_const(&self) -> Self {
+        const fn p(v: [f64; 3]) -> [f64; 3] {
+            [v[0], v[1], -v[2]]
+        }
+        const fn a(v: [f64; 3]) -> [f64; 3] {
+            [-v[0], -v[1], v[2]]
+        }
+        Self {
+            hip_in_pelvis: p(self.hip_in_pelvis),
+            hip_axes: [
+                a(self.hip_axes[0]),
+                a(self.hip_axes[1]),
+                a(self.hip_axes[2]),
+            ],
+            knee_tx: self.knee_tx,
+            knee_ty: self.knee_ty,
+            ankle_in_tibia: p(self.ankle_in_tibia),
+            ankle_axis: a(self.ankle_axis),
+            subtalar_in_talus: p(self.subtalar_in_talus),
+            subtalar_axis: a(self.subtalar_axis),
+            mtp_in_calcn: p(self.mtp_in_calcn),
+            mtp_axis: a(self.mtp_axis),
+            toetip_in_toes: p(self.toetip_in_toes),
+        }
+    }
+
+    /// Rounded to `f32`, at compile time if wanted.
+    pub const fn to_f32(&self) -> LegGeometry<f32> {
+        let h = &self.hip_axes;
+        LegGeometry {
+            hip_in_pelvis: round(&self.hip_in_pelvis),
+            hip_axes: [round(&h[0]), round(&h[1]), round(&h[2])],
+            knee_tx: self.knee_tx.to_f32(),
+            knee_ty: self.knee_ty.to_f32(),
+            ankle_in_tibia: round(&self.ankle_in_tibia),
+            ankle_axis: round(&self.ankle_axis),
+            subtalar_in_talus: round(&self.subtalar_in_talus),
+            subtalar_axis: round(&self.subtalar_axis),
+            mtp_in_calcn: round(&self.mtp_in_calcn),
+            mtp_axis: round(&self.mtp_axis),
+            toetip_in_toes: round(&self.toetip_in_toes),
+        }
+    }
+}
+
+impl<T: Real> LegGeometry<T> {
     /// This leg reflected through the sagittal plane: positions `(x, y, -z)`, rotation axes as
     /// axial vectors `(-x, -y, z)`. `generic_right().mirrored()` is gait2392's left leg.
     pub fn mirrored(&self) -> Self {
-        let p = |v: [f64; 3]| [v[0], v[1], -v[2]];
-        let a = |v: [f64; 3]| [-v[0], -v[1], v[2]];
+        let p = |v: [T; 3]| [v[0], v[1], -v[2]];
+        let a = |v: [T; 3]| [-v[0], -v[1], v[2]];
         Self {
             hip_in_pelvis: p(self.hip_in_pelvis),
             hip_axes: self.hip_axes.map(a),
@@ -180,22 +287,60 @@ impl LegGeometry {
             toetip_in_toes: p(self.toetip_in_toes),
         }
     }
+
+    /// In another precision (rounding to nearest for `f32`).
+    pub fn cast<U: Real>(&self) -> LegGeometry<U> {
+        let v = |a: [T; 3]| a.map(|c| U::from_f64(c.to_f64()));
+        LegGeometry {
+            hip_in_pelvis: v(self.hip_in_pelvis),
+            hip_axes: self.hip_axes.map(v),
+            knee_tx: self.knee_tx.cast(),
+            knee_ty: self.knee_ty.cast(),
+            ankle_in_tibia: v(self.ankle_in_tibia),
+            ankle_axis: v(self.ankle_axis),
+            subtalar_in_talus: v(self.subtalar_in_talus),
+            subtalar_axis: v(self.subtalar_axis),
+            mtp_in_calcn: v(self.mtp_in_calcn),
+            mtp_axis: v(self.mtp_axis),
+            toetip_in_toes: v(self.toetip_in_toes),
+        }
+    }
 }
 
-impl Gait2392Geometry {
+impl Gait2392Geometry<f64> {
     /// The generic, unscaled gait2392 (1.8 m, 75 kg).
-    pub fn generic() -> Self {
+    pub const fn generic() -> Self {
         let right = LegGeometry::generic_right();
         Self {
             right,
-            left: right.mirrored(),
+            left: right.mirrored_const(),
         }
     }
+
+    /// Rounded to `f32`, at compile time if wanted: `Gait2392Geometry::generic().to_f32()` in a
+    /// `const` is the generic model as data, with no `f64` arithmetic on a device.
+    pub const fn to_f32(&self) -> Gait2392Geometry<f32> {
+        Gait2392Geometry {
+            right: self.right.to_f32(),
+            left: self.left.to_f32(),
+        }
+    }
+}
+
+impl<T: Real> Gait2392Geometry<T> {
     /// One leg.
-    pub fn leg(&self, side: Side) -> &LegGeometry {
+    pub fn leg(&self, side: Side) -> &LegGeometry<T> {
         match side {
             Side::Right => &self.right,
             Side::Left => &self.left,
+        }
+    }
+
+    /// In another precision (rounding to nearest for `f32`).
+    pub fn cast<U: Real>(&self) -> Gait2392Geometry<U> {
+        Gait2392Geometry {
+            right: self.right.cast(),
+            left: self.left.cast(),
         }
     }
 }
@@ -258,9 +403,34 @@ pub struct Gait2392<T> {
 }
 
 impl<T: Real> Gait2392<T> {
-    /// The chain for these numbers.
+    /// The chain for these numbers. The knee splines' coefficients are computed in `f64` and
+    /// rounded to `T`.
     pub fn new(g: &Gait2392Geometry) -> Result<Self, ModelError> {
-        let v = Vec3::<T>::from_f64;
+        let knees = [
+            g.right.knee_tx.spline_rounded()?,
+            g.right.knee_ty.spline_rounded()?,
+            g.left.knee_tx.spline_rounded()?,
+            g.left.knee_ty.spline_rounded()?,
+        ];
+        Self::with_knees(&g.cast(), knees)
+    }
+
+    /// The chain for these numbers given in `T`, everything computed in `T`: for `f32`, no
+    /// double-precision arithmetic at all (what a device with a single-precision FPU wants;
+    /// its knee splines differ from [`new`](Self::new)'s by a few `f32` ulps).
+    pub fn from_geometry(g: &Gait2392Geometry<T>) -> Result<Self, ModelError> {
+        let knees = [
+            g.right.knee_tx.spline()?,
+            g.right.knee_ty.spline()?,
+            g.left.knee_tx.spline()?,
+            g.left.knee_ty.spline()?,
+        ];
+        Self::with_knees(g, knees)
+    }
+
+    /// The chain for `g`, with the knee splines `[right tx, right ty, left tx, left ty]`.
+    fn with_knees(g: &Gait2392Geometry<T>, knees: [Spline<T>; 4]) -> Result<Self, ModelError> {
+        let v = |a: [T; 3]| Vec3::new(a[0], a[1], a[2]);
         let leg_joints = |s: Side, first: usize, coord: usize| {
             let l = g.leg(s);
             let [a1, a2, a3] = l.hip_axes.map(v);
@@ -327,28 +497,25 @@ impl<T: Real> Gait2392<T> {
         };
         let [p0, p1, p2, p3, p4, p5] = leg_points(Side::Right, 1);
         let [p6, p7, p8, p9, p10, p11] = leg_points(Side::Left, 6);
-        let knee = |s: Side,
-                    joint: usize,
-                    coordinate: usize|
-         -> Result<[SplineTranslation<T>; 2], ModelError> {
-            let l = g.leg(s);
-            Ok([
+        let [r_tx, r_ty, l_tx, l_ty] = knees;
+        let knee = |joint: usize, coordinate: usize, tx: Spline<T>, ty: Spline<T>| {
+            [
                 SplineTranslation {
                     joint,
                     direction: x(),
                     coordinate,
-                    spline: l.knee_tx.spline()?,
+                    spline: tx,
                 },
                 SplineTranslation {
                     joint,
                     direction: y(),
                     coordinate,
-                    spline: l.knee_ty.spline()?,
+                    spline: ty,
                 },
-            ])
+            ]
         };
-        let [s0, s1] = knee(Side::Right, 2, 6)?;
-        let [s2, s3] = knee(Side::Left, 7, 13)?;
+        let [s0, s1] = knee(2, 6, r_tx, r_ty);
+        let [s2, s3] = knee(7, 13, l_tx, l_ty);
         let chain = Chain::new(
             joints,
             [p0, p1, p2, p3, p4, p5, p6, p7, p8, p9, p10, p11],
@@ -380,5 +547,57 @@ impl<T: Real> Gait2392<T> {
         self.chain
             .forward_batch(n, |i| q[i], |i, points| out[i] = Gait2392Pose { points });
         n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn const_f32_geometry_is_the_generic_one_rounded() {
+        const G32: Gait2392Geometry<f32> = Gait2392Geometry::generic().to_f32();
+        let g = Gait2392Geometry::generic();
+        assert_eq!(G32, g.cast::<f32>());
+        assert_eq!(g.left, g.right.mirrored());
+        assert_eq!(G32.left, G32.right.mirrored());
+        assert_eq!(g.cast::<f32>().cast::<f64>().cast::<f32>(), G32);
+    }
+
+    #[test]
+    fn from_geometry_is_new_in_f64_and_close_to_it_in_f32() {
+        let g = Gait2392Geometry::generic();
+        let exact = Gait2392::<f64>::new(&g).unwrap();
+        assert_eq!(Gait2392::<f64>::from_geometry(&g).unwrap(), exact);
+        let rounded = Gait2392::<f32>::new(&g).unwrap();
+        let in_f32 = Gait2392::<f32>::from_geometry(&g.to_f32()).unwrap();
+        let mut q = [0.0f32; 17];
+        for step in 0..200 {
+            for (i, a) in q.iter_mut().enumerate() {
+                *a = (0.37 * (step * 17 + i) as f32).sin() * 1.9;
+            }
+            let want = exact.fk(&q.map(f64::from));
+            for (k, (a, b)) in in_f32
+                .fk(&q)
+                .points
+                .iter()
+                .zip(rounded.fk(&q).points)
+                .enumerate()
+            {
+                for (c, (x, y)) in a.to_array().iter().zip(b.to_array()).enumerate() {
+                    let w = want.points[k].to_array()[c];
+                    // Both f32 models are within a micrometre of f64, and of each other.
+                    assert!((f64::from(*x) - w).abs() < 1e-6 && (f64::from(y) - w).abs() < 1e-6);
+                }
+            }
+        }
+        let mut bad = g.to_f32();
+        bad.left.knee_ty.x.swap(1, 2);
+        assert_eq!(
+            Gait2392::<f32>::from_geometry(&bad).unwrap_err(),
+            ModelError::SplineKnots
+        );
+        bad.left.knee_ty.n = MAX_KNOTS + 1;
+        assert!(Gait2392::<f32>::from_geometry(&bad).is_err());
     }
 }
