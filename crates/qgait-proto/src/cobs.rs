@@ -48,6 +48,36 @@ pub fn encode(src: impl IntoIterator<Item = u8>, dst: &mut [u8]) -> Option<usize
     Some(out)
 }
 
+/// The longest data [`encode_in_place`] takes: every block then has fewer than 254 non-zero
+/// bytes, so no 0xFF code (and no extra code byte) is ever needed.
+pub const IN_PLACE_MAX_LEN: usize = 253;
+
+/// COBS-encodes, in place, the `len` data bytes at `buf[1..=len]`, and writes the 0x00
+/// delimiter at `buf[len + 1]`: `buf[..len + 2]` is then the whole frame. Returns `len + 2`, or
+/// `None` (and `buf` unspecified) if `len > IN_PLACE_MAX_LEN` or `buf` is shorter than `len + 2`.
+///
+/// With fewer than 254 data bytes COBS replaces each zero byte (and a virtual zero after the
+/// data, which becomes the delimiter) by the distance to the next one, the first code byte
+/// going in front: one pass, no byte moves.
+pub fn encode_in_place(buf: &mut [u8], len: usize) -> Option<usize> {
+    if len > IN_PLACE_MAX_LEN {
+        return None;
+    }
+    let frame = buf.get_mut(..len + 2)?;
+    let (data, delimiter) = frame.split_at_mut(len + 1);
+    *delimiter.first_mut()? = 0;
+    let mut code_at = 0;
+    for i in 1..data.len() {
+        if data[i] == 0 {
+            // i - code_at <= len <= 253: fits a code byte.
+            data[code_at] = (i - code_at) as u8;
+            code_at = i;
+        }
+    }
+    data[code_at] = (data.len() - code_at) as u8;
+    Some(len + 2)
+}
+
 /// The frame's COBS structure is invalid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct InvalidCobs;
@@ -64,9 +94,13 @@ pub fn decode_in_place(buf: &mut [u8]) -> Result<usize, InvalidCobs> {
         if code == 0 || end > len {
             return Err(InvalidCobs);
         }
-        // dst <= src always holds, so the copy stays inside `buf`.
-        buf.copy_within(src + 1..end, dst);
-        dst += code - 1;
+        // dst <= src always holds, so the moves stay inside `buf`. A byte loop: blocks are
+        // short (a few bytes between zeros), where a memmove call costs more than the bytes.
+        for i in src + 1..end {
+            let byte = buf[i];
+            buf[dst] = byte;
+            dst += 1;
+        }
         src = end;
         if code != 0xFF && src < len {
             *buf.get_mut(dst).ok_or(InvalidCobs)? = 0;
@@ -118,6 +152,40 @@ mod tests {
                 assert_eq!(&ours[..decoded], data, "len {len} seed {seed}");
             }
         }
+    }
+
+    #[test]
+    fn in_place_encoding_equals_the_general_encoder() {
+        for len in 0..=IN_PLACE_MAX_LEN {
+            for seed in 0..8u64 {
+                let data = sample(seed + 8 * len as u64, len);
+                let data = &data[..len];
+                let mut general = [0u8; 700];
+                let n = encode(data.iter().copied(), &mut general).expect("fits");
+                // Garbage around the data: the encoder must not depend on it.
+                let mut buf = [0xA5u8; 300];
+                buf[1..=len].copy_from_slice(data);
+                assert_eq!(
+                    encode_in_place(&mut buf, len),
+                    Some(n + 1),
+                    "len {len} seed {seed}"
+                );
+                assert_eq!(&buf[..n], &general[..n], "len {len} seed {seed}");
+                assert_eq!(buf[n], 0, "delimiter");
+                assert_eq!(buf[n + 1..], [0xA5u8; 300][n + 1..], "wrote past the frame");
+            }
+        }
+    }
+
+    #[test]
+    fn in_place_encoding_refuses_long_data_and_short_buffers() {
+        let mut buf = [1u8; 300];
+        assert_eq!(encode_in_place(&mut buf, IN_PLACE_MAX_LEN + 1), None);
+        for size in 0..7 {
+            let mut small = [1u8; 7];
+            assert_eq!(encode_in_place(&mut small[..size], 5), None, "size {size}");
+        }
+        assert_eq!(encode_in_place(&mut [1u8; 7], 5), Some(7));
     }
 
     #[test]
