@@ -91,8 +91,9 @@ pub fn decode_frame(frame: &mut [u8]) -> Result<Message, DecodeError> {
 /// The checks of [`decode_frame`] before the message: COBS-decodes `frame` in place, checks
 /// its length and CRC, and returns the message bytes (CRC excluded).
 pub(crate) fn check_frame(frame: &mut [u8]) -> Result<&[u8], DecodeError> {
-    let len = cobs::decode_in_place(frame).map_err(|_| DecodeError::Cobs)?;
-    let payload = frame.get(..len).ok_or(DecodeError::Cobs)?;
+    let range = cobs::decode_in_place_unshifted(frame).map_err(|_| DecodeError::Cobs)?;
+    let payload = frame.get(range).ok_or(DecodeError::Cobs)?;
+    let len = payload.len();
     if len < MIN_PAYLOAD_LEN {
         return Err(DecodeError::TooShort);
     }

@@ -57,16 +57,22 @@ pub(crate) fn encode_pose_frame_message<'a>(
     head[1..=seq.len()].copy_from_slice(seq);
     head[1 + seq.len()] = frame.model.index();
     head[2 + seq.len()] = angles.len() as u8;
-    let (floats, flags) = rest.split_at_mut(rest.len() - 1);
-    let values = angles
-        .iter()
-        .chain(frame.points.as_flattened())
-        .chain(&frame.distances);
-    for (slot, value) in floats.chunks_exact_mut(4).zip(values) {
-        slot.copy_from_slice(&value.to_le_bytes());
-    }
+    let (angle_bytes, rest) = rest.split_at_mut(4 * angles.len());
+    put_f32s(angle_bytes, angles);
+    let (point_bytes, rest) = rest.split_at_mut(4 * 3 * point::COUNT);
+    put_f32s(point_bytes, frame.points.as_flattened());
+    let (distance_bytes, flags) = rest.split_at_mut(4 * 3);
+    put_f32s(distance_bytes, &frame.distances);
     flags[0] = frame.flags;
     Ok(out)
+}
+
+/// Writes `values` as postcard writes `f32`s (4 bytes, little-endian) into `out`.
+#[inline(always)]
+fn put_f32s(out: &mut [u8], values: &[f32]) {
+    for (slot, value) in out.chunks_exact_mut(4).zip(values) {
+        slot.copy_from_slice(&value.to_le_bytes());
+    }
 }
 
 /// Most bytes of a `u32` varint.

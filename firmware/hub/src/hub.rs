@@ -2,8 +2,8 @@
 
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
 use qgait_proto::{
-    encode_frame, Config, FrameDecoder, FrameFlags, JointAngle, Message, MissingPolicy, ModelId, Status, SubjectConfig,
-    MAX_FRAME_LEN,
+    decode_message, decode_packet, encode_frame, encode_pose_frame, Config, DecodeError, FrameDecoder, FrameFlags,
+    JointAngle, Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent, MAX_WINDOW};
@@ -112,11 +112,20 @@ where
             match self.serial.read() {
                 Ok(byte) => {
                     bytes += 1;
-                    if let Some(result) = self.decoder.push(byte) {
-                        match result {
-                            Ok(message) => self.handle(message),
-                            Err(error) => count_decode_error(&mut self.status, &error),
-                        }
+                    // The frame checks (COBS, CRC) in the decoder; joint-angle packets, one per
+                    // frame on a busy line, decoded straight from its buffer; anything else
+                    // through the general decoder, out of line.
+                    match self.decoder.push_frame(byte) {
+                        None => {}
+                        Some(Ok(message)) => match decode_packet(message) {
+                            Some(Ok(packet)) => self.on_packet(&packet),
+                            Some(Err(error)) => count_decode_error(&mut self.status, &error),
+                            None => {
+                                let message = decode_message(message);
+                                self.on_message(message)
+                            }
+                        },
+                        Some(Err(error)) => count_decode_error(&mut self.status, &error),
                     }
                 }
                 Err(nb::Error::WouldBlock) => break,
@@ -170,6 +179,15 @@ where
         &self.clock
     }
 
+    /// A frame that is not a joint-angle packet (rare: configuration, or errors).
+    #[inline(never)]
+    fn on_message(&mut self, message: Result<Message, DecodeError>) {
+        match message {
+            Ok(message) => self.handle(message),
+            Err(error) => count_decode_error(&mut self.status, &error),
+        }
+    }
+
     fn handle(&mut self, message: Message) {
         match message {
             Message::JointAngle(packet) => self.on_packet(&packet),
@@ -221,7 +239,7 @@ where
             flags |= FrameFlags::OUT_OF_RANGE;
         }
         let frame = self.kinematics.pose_frame(&sample, flags);
-        self.send(&Message::PoseFrame(frame));
+        self.send_pose(&frame);
     }
 
     // The configuration paths build a whole model (kilobytes of temporaries): never inlined,
@@ -302,13 +320,25 @@ where
         // Every message fits MAX_FRAME_LEN and the hub only builds frames with the right angle
         // count, so encoding cannot fail; if it ever did, nothing is written.
         let Ok(frame) = encode_frame(message, &mut self.tx) else { return };
-        for &byte in frame.iter() {
-            if nb::block!(self.serial.write(byte)).is_err() {
-                return;
-            }
-        }
-        bump(&mut self.status.frames_sent);
+        write_frame(&mut self.serial, &mut self.status, frame);
     }
+
+    /// [`send`](Self::send) of a pose frame, encoded in place in the transmit buffer without
+    /// building a [`Message`].
+    fn send_pose(&mut self, frame: &PoseFrame) {
+        let Ok(frame) = encode_pose_frame(frame, &mut self.tx) else { return };
+        write_frame(&mut self.serial, &mut self.status, frame);
+    }
+}
+
+/// Writes `frame` byte by byte; counts it in `status` if the whole frame went out.
+fn write_frame<S: serial::Write<u8>>(serial: &mut S, status: &mut Status, frame: &[u8]) {
+    for &byte in frame {
+        if nb::block!(serial.write(byte)).is_err() {
+            return;
+        }
+    }
+    bump(&mut status.frames_sent);
 }
 
 fn assembler_for(config: &Config) -> Assembler {
