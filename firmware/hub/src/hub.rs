@@ -209,37 +209,22 @@ where
         if !in_range(packet.joint, packet.angle) {
             bump(&mut self.status.out_of_range);
         }
-        let mut events: heapless::Vec<SampleEvent, { MAX_WINDOW + 1 }> = heapless::Vec::new();
-        // At most MAX_WINDOW evictions plus the packet's own sample: the Vec never fills.
-        let outcome = self.assembler.push(packet.seq, packet.joint, packet.angle, &mut |e| {
-            let _ = events.push(e);
-        });
+        // The samples the packet completes or pushes out of the window are handled as the
+        // assembler reports them (it and the output are disjoint parts of the hub), not
+        // collected first: no copies of the events.
+        let Hub { assembler, kinematics, status, serial, tx, .. } = self;
+        let mut output = Output { kinematics, status, serial, tx };
+        let outcome = assembler.push(packet.seq, packet.joint, packet.angle, &mut |e| output.on_sample(e));
         match outcome {
             PacketOutcome::Late => bump(&mut self.status.late_packets),
             PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
             PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
         }
-        for event in events {
-            self.on_sample(event);
-        }
     }
 
     fn on_sample(&mut self, event: SampleEvent) {
-        let (sample, mut flags) = match event {
-            SampleEvent::Complete(sample) => (sample, 0),
-            SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
-            SampleEvent::Dropped { .. } => {
-                bump(&mut self.status.samples_incomplete);
-                return;
-            }
-        };
-        bump(&mut self.status.samples_completed);
-        let model = self.kinematics.model();
-        if model.required_joints().iter().any(|&j| !in_range(j, sample.angle(j))) {
-            flags |= FrameFlags::OUT_OF_RANGE;
-        }
-        let frame = self.kinematics.pose_frame(&sample, flags);
-        self.send_pose(&frame);
+        let Hub { kinematics, status, serial, tx, .. } = self;
+        Output { kinematics, status, serial, tx }.on_sample(event);
     }
 
     // The configuration paths build a whole model (kilobytes of temporaries): never inlined,
@@ -323,11 +308,41 @@ where
         write_frame(&mut self.serial, &mut self.status, frame);
     }
 
-    /// [`send`](Self::send) of a pose frame, encoded in place in the transmit buffer without
-    /// building a [`Message`].
+}
+
+/// The parts of the hub that turn samples into pose frames on the serial port: borrowed apart
+/// from the assembler, which reports the samples.
+struct Output<'a, S> {
+    kinematics: &'a Kinematics,
+    status: &'a mut Status,
+    serial: &'a mut S,
+    tx: &'a mut [u8; MAX_FRAME_LEN],
+}
+
+impl<S: serial::Write<u8>> Output<'_, S> {
+    fn on_sample(&mut self, event: SampleEvent) {
+        let (sample, mut flags) = match event {
+            SampleEvent::Complete(sample) => (sample, 0),
+            SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
+            SampleEvent::Dropped { .. } => {
+                bump(&mut self.status.samples_incomplete);
+                return;
+            }
+        };
+        bump(&mut self.status.samples_completed);
+        let model = self.kinematics.model();
+        if model.required_joints().iter().any(|&j| !in_range(j, sample.angle(j))) {
+            flags |= FrameFlags::OUT_OF_RANGE;
+        }
+        let frame = self.kinematics.pose_frame(&sample, flags);
+        self.send_pose(&frame);
+    }
+
+    /// Sends a pose frame, encoded in place in the transmit buffer without building a
+    /// [`Message`].
     fn send_pose(&mut self, frame: &PoseFrame) {
-        let Ok(frame) = encode_pose_frame(frame, &mut self.tx) else { return };
-        write_frame(&mut self.serial, &mut self.status, frame);
+        let Ok(frame) = encode_pose_frame(frame, self.tx) else { return };
+        write_frame(self.serial, self.status, frame);
     }
 }
 
