@@ -99,17 +99,34 @@ fn varint_u32(mut value: u32, buf: &mut [u8; VARINT_U32_MAX]) -> &[u8] {
 /// over-long encodings of small values (e.g. `80 00` for 0) are accepted.
 #[inline(always)]
 fn take_varint_u32(bytes: &[u8]) -> Result<(u32, &[u8]), DecodeError> {
-    let mut value = 0u32;
-    for (i, &byte) in bytes.iter().enumerate().take(VARINT_U32_MAX) {
-        value |= u32::from(byte & 0x7F) << (7 * i);
-        if byte & 0x80 == 0 {
-            if i == VARINT_U32_MAX - 1 && byte > 0x0F {
-                return Err(DecodeError::Malformed);
-            }
-            return Ok((value, bytes.get(i + 1..).unwrap_or(&[])));
-        }
+    // Written out byte by byte (the compiler keeps a loop otherwise): most values end in the
+    // first two or three bytes.
+    let (&b0, rest) = bytes.split_first().ok_or(DecodeError::Malformed)?;
+    let value = u32::from(b0 & 0x7F);
+    if b0 < 0x80 {
+        return Ok((value, rest));
     }
-    Err(DecodeError::Malformed)
+    let (&b1, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    let value = value | u32::from(b1 & 0x7F) << 7;
+    if b1 < 0x80 {
+        return Ok((value, rest));
+    }
+    let (&b2, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    let value = value | u32::from(b2 & 0x7F) << 14;
+    if b2 < 0x80 {
+        return Ok((value, rest));
+    }
+    let (&b3, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    let value = value | u32::from(b3 & 0x7F) << 21;
+    if b3 < 0x80 {
+        return Ok((value, rest));
+    }
+    // The fifth byte holds the last 4 bits and ends the varint.
+    let (&b4, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    if b4 > 0x0F {
+        return Err(DecodeError::Malformed);
+    }
+    Ok((value | u32::from(b4) << 28, rest))
 }
 
 /// The hub's fast path: if `bytes` (one message, as [`decode_message`] takes it) is a

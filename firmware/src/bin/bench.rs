@@ -297,6 +297,19 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     let base = bench_empty(&payloads, CALLS);
     net("sample.crc32c_packet", bench_crc(&payloads, CALLS), base, CALLS);
     net("sample.decode_message_packet", bench_decode_message(&payloads, CALLS), base, CALLS);
+    net("sample.decode_packet", bench_decode_packet(&payloads, CALLS), base, CALLS);
+    // One packet frame's bytes into the decoder, then its delimiter (the frame checks): the
+    // same bytes followed by a reset instead of the delimiter are the base, so the figure is
+    // the checks alone; the base against the empty loop is the per-byte cost of 16 bytes.
+    let frames: [heapless::Vec<u8, 32>; INPUTS] = core::array::from_fn(|i| {
+        let mut out = [0u8; 32];
+        let p = packet(i as u32, JointId::KneeAngleR, &mut rng);
+        let len = encode_frame(&Message::JointAngle(p), &mut out).map(|f| f.len()).unwrap_or(1);
+        heapless::Vec::from_slice(&out[..len - 1]).unwrap_or_default()
+    });
+    let bytes_only = bench_frame_bytes(&frames, CALLS, false);
+    net("sample.packet_frame_bytes", bytes_only, bench_empty(&frames, CALLS), CALLS);
+    net("sample.packet_frame_checks", bench_frame_bytes(&frames, CALLS, true), bytes_only, CALLS);
 
     let kinematics = Kinematics::new(ModelId::Phak, None).unwrap_or_else(|_| board::exit(1));
     let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
@@ -342,6 +355,29 @@ fn bench_decode_message(payloads: &[heapless::Vec<u8, 32>; INPUTS], n: u32) -> u
     timed(n, |i| {
         if let Ok(m) = decode_message(black_box(&payloads[i % INPUTS])) {
             black_box(&m);
+        }
+    })
+}
+
+#[inline(never)]
+fn bench_decode_packet(payloads: &[heapless::Vec<u8, 32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(decode_packet(black_box(&payloads[i % INPUTS])));
+    })
+}
+
+/// Each frame's bytes through `push_frame`, then the delimiter if `delimit`, else a reset.
+#[inline(never)]
+fn bench_frame_bytes(frames: &[heapless::Vec<u8, 32>; INPUTS], n: u32, delimit: bool) -> u32 {
+    let mut decoder = FrameDecoder::new();
+    timed(n, |i| {
+        for &b in black_box(&frames[i % INPUTS]).iter() {
+            black_box(decoder.push_frame(b).is_some());
+        }
+        if black_box(delimit) {
+            black_box(decoder.push_frame(0).map(|f| f.map(|m| m.len())));
+        } else {
+            decoder.reset();
         }
     })
 }
