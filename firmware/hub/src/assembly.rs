@@ -245,9 +245,22 @@ impl Assembler {
     /// Moves the newest sequence number to `seq`, retiring the samples that leave the window.
     fn advance_to(&mut self, seq: u32, on_event: &mut impl FnMut(SampleEvent)) {
         let window = self.window;
-        // Samples with `seq - s >= window` leave the window, oldest first.
-        while let Some(i) = self.oldest_slot(|s| seq.wrapping_sub(s) >= window) {
-            self.retire(i, on_event);
+        if let Some(newest) = self.newest {
+            // Used slots hold samples `newest - window < s <= newest`, sample `s` in slot
+            // `s % MAX_WINDOW`; those with `seq - s >= window` leave the window, oldest first.
+            // `seq` is ahead of `newest` (by at most RESYNC_DISTANCE), so `seq - s` falls as `s`
+            // rises: the leaving ones are a run from the oldest.
+            let mut s = newest.wrapping_sub(window - 1);
+            for _ in 0..window {
+                if seq.wrapping_sub(s) < window {
+                    break;
+                }
+                let i = s as usize % MAX_WINDOW;
+                if self.slots[i].state != SlotState::Free && self.slots[i].seq == s {
+                    self.retire(i, on_event);
+                }
+                s = s.wrapping_add(1);
+            }
         }
         self.newest = Some(seq);
     }
