@@ -135,32 +135,62 @@ pub fn decode_in_place(buf: &mut [u8]) -> Result<usize, InvalidCobs> {
 /// [`decode_in_place`] without moving the data when it can: returns where in `buf` the decoded
 /// bytes are, with the same errors.
 ///
-/// A frame whose code bytes are all below 0xFF (every frame of up to 254 data bytes: all of
-/// this protocol's) decodes to `buf[1..]` with each code byte after the first replaced by the
-/// zero it stands for; the code chain is checked first (each code lands inside the frame or
-/// exactly at its end), then the codes are zeroed: two walks of a few steps, no byte moved.
-/// Any 0xFF (or 0x00) code goes to [`decode_in_place`].
+/// While the code bytes are below 0xFF (all of them in every frame of up to 254 data bytes:
+/// all of this protocol's) the decoded data is `buf[1..]` with each code byte after the first
+/// replaced by the zero it stands for: one walk along the code chain, replacing each code as it
+/// goes, no byte moved. From a 0xFF code on (no zero stands for it) the rest is decoded as
+/// [`decode_in_place`] does, moving bytes.
 pub fn decode_in_place_unshifted(buf: &mut [u8]) -> Result<core::ops::Range<usize>, InvalidCobs> {
     let len = buf.len();
-    let mut at = 0;
-    while let Some(&code) = buf.get(at) {
-        if code == 0xFF || code == 0 {
-            return decode_in_place(buf).map(|n| 0..n);
+    let Some(&first) = buf.first() else {
+        return Ok(0..0);
+    };
+    if first == 0xFF || first == 0 {
+        return decode_in_place(buf).map(|n| 0..n);
+    }
+    // buf[1..at] is the data decoded so far, `at` the position of the next code byte.
+    let mut at = usize::from(first);
+    while let Some(code) = buf.get_mut(at) {
+        let c = *code;
+        if c == 0xFF || c == 0 {
+            return decode_rest(buf, at).map(|end| 1..end);
         }
-        at += usize::from(code);
+        *code = 0;
+        at += usize::from(c);
     }
     if at > len {
         return Err(InvalidCobs);
     }
-    let Some(&first) = buf.first() else {
-        return Ok(0..0);
-    };
-    let mut at = usize::from(first);
-    while let Some(code) = buf.get_mut(at) {
-        at += usize::from(*code);
-        *code = 0;
-    }
     Ok(1..len)
+}
+
+/// [`decode_in_place`] from the code byte at `src`, the data before it decoded unshifted
+/// (`buf[1..src]`) and the zero of the previous block (whose code was below 0xFF) still to be
+/// written, at `src`; returns the end of the decoded data, which starts at `buf[1]`.
+fn decode_rest(buf: &mut [u8], mut src: usize) -> Result<usize, InvalidCobs> {
+    let len = buf.len();
+    let mut dst = src;
+    let mut zero_due = true;
+    while let Some(&code) = buf.get(src) {
+        let code = usize::from(code);
+        let end = src + code;
+        if code == 0 || end > len {
+            return Err(InvalidCobs);
+        }
+        // dst <= src always holds (the code byte is read before the zero may take its place).
+        if zero_due {
+            *buf.get_mut(dst).ok_or(InvalidCobs)? = 0;
+            dst += 1;
+        }
+        for i in src + 1..end {
+            let byte = buf[i];
+            buf[dst] = byte;
+            dst += 1;
+        }
+        src = end;
+        zero_due = code != 0xFF && src < len;
+    }
+    Ok(dst)
 }
 
 #[cfg(test)]
@@ -299,6 +329,23 @@ mod tests {
             }
         }
         assert!(checked > 5_000, "{checked}");
+        // Long runs after short blocks: 0xFF codes in the middle of the chain.
+        for k in [1usize, 250, 252, 253, 254, 255, 256, 300, 508, 509] {
+            for m in [0usize, 1, 37, 253, 254, 255] {
+                let mut data = std::vec![1u8, 0, 2, 0, 0];
+                data.extend(core::iter::repeat_n(7u8, k));
+                data.extend([0, 3]);
+                data.extend(core::iter::repeat_n(9u8, m));
+                let mut enc = [0u8; 1100];
+                let n = encode(data.iter().copied(), &mut enc).expect("fits");
+                let mut a = enc[..n].to_vec();
+                let mut b = enc[..n].to_vec();
+                let n = decode_in_place(&mut a).expect("valid");
+                assert_eq!(&a[..n], &data[..]);
+                let range = decode_in_place_unshifted(&mut b).expect("valid");
+                assert_eq!(&b[range], &data[..], "k {k} m {m}");
+            }
+        }
     }
 
     #[test]
