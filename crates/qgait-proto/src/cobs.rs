@@ -68,7 +68,21 @@ pub fn encode_in_place(buf: &mut [u8], len: usize) -> Option<usize> {
     *delimiter.first_mut()? = 0;
     let mut code_at = 0;
     let mut i = 1;
-    // Four bytes at a time while none is zero (most bytes of a pose frame's floats).
+    // Eight, then four bytes at a time while none is zero (most bytes of a pose frame's floats).
+    while let Some(&[b0, b1, b2, b3, b4, b5, b6, b7]) = data.get(i..i + 8) {
+        let w0 = u32::from_le_bytes([b0, b1, b2, b3]);
+        let w1 = u32::from_le_bytes([b4, b5, b6, b7]);
+        if has_zero_byte(w0) || has_zero_byte(w1) {
+            for k in i..i + 8 {
+                if data[k] == 0 {
+                    // k - code_at <= len <= 253: fits a code byte.
+                    data[code_at] = (k - code_at) as u8;
+                    code_at = k;
+                }
+            }
+        }
+        i += 8;
+    }
     while let Some(word) = data.get(i..i + 4) {
         let w = u32::from_le_bytes([word[0], word[1], word[2], word[3]]);
         if has_zero_byte(w) {
