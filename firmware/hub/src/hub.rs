@@ -321,7 +321,8 @@ struct Output<'a, S> {
 
 impl<S: serial::Write<u8>> Output<'_, S> {
     fn on_sample(&mut self, event: SampleEvent) {
-        let (sample, mut flags) = match event {
+        // By reference: the sample is not copied out of the event.
+        let (sample, mut flags) = match &event {
             SampleEvent::Complete(sample) => (sample, 0),
             SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
             SampleEvent::Dropped { .. } => {
@@ -334,7 +335,7 @@ impl<S: serial::Write<u8>> Output<'_, S> {
         if model.required_joints().iter().any(|&j| !in_range(j, sample.angle(j))) {
             flags |= FrameFlags::OUT_OF_RANGE;
         }
-        let frame = self.kinematics.pose_frame(&sample, flags);
+        let frame = self.kinematics.pose_frame(sample, flags);
         self.send_pose(&frame);
     }
 
