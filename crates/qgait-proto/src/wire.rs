@@ -133,7 +133,7 @@ fn take_varint_u32(bytes: &[u8]) -> Result<(u32, &[u8]), DecodeError> {
 /// [`JointAngle`] whose tag is the canonical single byte 0x00, its [`decode_message`] result
 /// without building a [`Message`]; `None` for any other message (decode those with
 /// [`decode_message`]).
-#[inline]
+#[inline(always)]
 pub fn decode_packet(bytes: &[u8]) -> Option<Result<JointAngle, DecodeError>> {
     match bytes.split_first() {
         Some((0, body)) => Some(decode_joint_angle(body)),
