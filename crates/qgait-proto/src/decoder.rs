@@ -1,9 +1,14 @@
 //! [`FrameDecoder`]: the streaming, resynchronising frame decoder.
 
-use crate::{decode_frame, DecodeError, Message, MAX_FRAME_LEN};
+use crate::frame::check_frame;
+use crate::{decode_message, DecodeError, Message, MAX_FRAME_LEN};
 
 /// Bytes a frame may have before its delimiter.
 const BUFFER_LEN: usize = MAX_FRAME_LEN - 1;
+
+/// `len` while an oversize frame is discarded: past the buffer, so the per-byte path's one
+/// bounds check sends every byte to [`FrameDecoder::overflow`].
+const DISCARDING: usize = BUFFER_LEN + 1;
 
 /// Streaming decoder: takes bytes as they arrive (one at a time or in chunks of any size) and
 /// yields one result per frame.
@@ -19,8 +24,8 @@ const BUFFER_LEN: usize = MAX_FRAME_LEN - 1;
 #[derive(Debug, Clone)]
 pub struct FrameDecoder {
     buf: [u8; BUFFER_LEN],
+    /// Bytes of the partial frame in `buf`, or [`DISCARDING`].
     len: usize,
-    discarding: bool,
 }
 
 impl Default for FrameDecoder {
@@ -35,21 +40,27 @@ impl FrameDecoder {
         FrameDecoder {
             buf: [0; BUFFER_LEN],
             len: 0,
-            discarding: false,
         }
     }
 
     /// Takes one byte; returns `Some` when it completes a frame (or overflows one).
+    #[inline]
     pub fn push(&mut self, byte: u8) -> Option<Result<Message, DecodeError>> {
+        self.push_frame(byte)
+            .map(|frame| frame.and_then(decode_message))
+    }
+
+    /// Takes one byte, like [`push`](Self::push), but stops short of decoding the message:
+    /// when the byte completes a frame that passes the frame checks (COBS, length, CRC) it
+    /// returns the message bytes, borrowed from the decoder, to be given to
+    /// [`decode_message`] (or [`decode_packet`](crate::decode_packet) first). The results and
+    /// errors are otherwise those of [`push`](Self::push).
+    ///
+    /// The per-byte path is one comparison with 0x00 and one bounds check.
+    #[inline(always)]
+    pub fn push_frame(&mut self, byte: u8) -> Option<Result<&[u8], DecodeError>> {
         if byte == 0 {
-            let len = core::mem::take(&mut self.len);
-            if core::mem::take(&mut self.discarding) || len == 0 {
-                return None;
-            }
-            return Some(decode_frame(self.buf.get_mut(..len)?));
-        }
-        if self.discarding {
-            return None;
+            return self.end_frame();
         }
         match self.buf.get_mut(self.len) {
             Some(slot) => {
@@ -57,12 +68,30 @@ impl FrameDecoder {
                 self.len += 1;
                 None
             }
-            None => {
-                self.len = 0;
-                self.discarding = true;
-                Some(Err(DecodeError::Oversize))
-            }
+            None => self.overflow(),
         }
+    }
+
+    /// A 0x00 arrived: checks the frame in the buffer, if any.
+    #[inline(never)]
+    fn end_frame(&mut self) -> Option<Result<&[u8], DecodeError>> {
+        let len = core::mem::take(&mut self.len);
+        if len == 0 || len == DISCARDING {
+            return None;
+        }
+        Some(check_frame(self.buf.get_mut(..len)?))
+    }
+
+    /// A non-zero byte found the buffer full: the frame is oversize (reported once), or is
+    /// being discarded already.
+    #[cold]
+    #[inline(never)]
+    fn overflow(&mut self) -> Option<Result<&[u8], DecodeError>> {
+        if self.len == DISCARDING {
+            return None;
+        }
+        self.len = DISCARDING;
+        Some(Err(DecodeError::Oversize))
     }
 
     /// Takes a chunk of bytes; the returned iterator yields one result per completed frame.
@@ -79,17 +108,20 @@ impl FrameDecoder {
     /// Forgets any partial frame (e.g. after a UART overrun): the next byte starts a new frame.
     pub fn reset(&mut self) {
         self.len = 0;
-        self.discarding = false;
     }
 
     /// Bytes of the current partial frame held in the buffer (0 while discarding).
     pub fn pending_len(&self) -> usize {
-        self.len
+        if self.is_discarding() {
+            0
+        } else {
+            self.len
+        }
     }
 
     /// `true` while an oversize frame is being discarded up to the next 0x00.
     pub fn is_discarding(&self) -> bool {
-        self.discarding
+        self.len == DISCARDING
     }
 }
 

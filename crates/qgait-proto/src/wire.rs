@@ -4,12 +4,18 @@
 //! protocol version by hand, then the body into mirror structs whose joint and model fields are
 //! raw bytes, so that an unknown tag, version, joint or model is reported as its own
 //! [`DecodeError`] instead of a generic postcard error.
+//!
+//! Two messages take a hand-written fast path, because the hub handles one of them per packet
+//! and one per sample: decoding a [`JointAngle`] ([`decode_packet`]) and encoding a
+//! [`PoseFrame`]. Their layout is postcard's (documented in `docs/protocol.md`); the unit tests
+//! below hold them to postcard itself, byte for byte, on random messages and on random bytes
+//! (the same bytes accepted, the same values, the same errors).
 
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 
 use crate::{
-    Config, DecodeError, EncodeError, JointAngle, JointId, KneeDirection, Leg, Message,
+    point, Config, DecodeError, EncodeError, JointAngle, JointId, KneeDirection, Leg, Message,
     MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg,
     MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
@@ -20,16 +26,126 @@ use crate::{
 /// [`PoseFrame`] does not have exactly `model.required_joints().len()` angles.
 pub fn encode_message<'a>(msg: &Message, out: &'a mut [u8]) -> Result<&'a mut [u8], EncodeError> {
     if let Message::PoseFrame(frame) = msg {
-        check_angle_count(frame.model, frame.angles.len())
-            .map_err(|(expected, got)| EncodeError::AngleCount { expected, got })?;
+        return encode_pose_frame_message(frame, out);
     }
     postcard::to_slice(msg, out).map_err(|_| EncodeError::BufferTooSmall {
         needed: MAX_MESSAGE_LEN,
     })
 }
 
+/// [`encode_message`] of `Message::PoseFrame(frame)`, without building the [`Message`]: the
+/// same bytes as postcard's, written by hand (46 `f32`s through postcard's serializer cost
+/// several times more on the hub).
+pub(crate) fn encode_pose_frame_message<'a>(
+    frame: &PoseFrame,
+    out: &'a mut [u8],
+) -> Result<&'a mut [u8], EncodeError> {
+    check_angle_count(frame.model, frame.angles.len())
+        .map_err(|(expected, got)| EncodeError::AngleCount { expected, got })?;
+    let angles = frame.angles.as_slice();
+    let mut seq = [0u8; VARINT_U32_MAX];
+    let seq = varint_u32(frame.seq, &mut seq);
+    // tag, seq, model, angle count (< 128: one varint byte), angles, points, distances, flags
+    let len = 1 + seq.len() + 2 + 4 * (angles.len() + 3 * point::COUNT + 3) + 1;
+    let Some(out) = out.get_mut(..len) else {
+        return Err(EncodeError::BufferTooSmall {
+            needed: MAX_MESSAGE_LEN,
+        });
+    };
+    let (head, rest) = out.split_at_mut(1 + seq.len() + 2);
+    head[0] = 1; // Message::PoseFrame's tag
+    head[1..=seq.len()].copy_from_slice(seq);
+    head[1 + seq.len()] = frame.model.index();
+    head[2 + seq.len()] = angles.len() as u8;
+    let (angle_bytes, rest) = rest.split_at_mut(4 * angles.len());
+    put_f32s(angle_bytes, angles);
+    let (point_bytes, rest) = rest.split_at_mut(4 * 3 * point::COUNT);
+    put_f32s(point_bytes, frame.points.as_flattened());
+    let (distance_bytes, flags) = rest.split_at_mut(4 * 3);
+    put_f32s(distance_bytes, &frame.distances);
+    flags[0] = frame.flags;
+    Ok(out)
+}
+
+/// Writes `values` as postcard writes `f32`s (4 bytes, little-endian) into `out`.
+#[inline(always)]
+fn put_f32s(out: &mut [u8], values: &[f32]) {
+    for (slot, value) in out.chunks_exact_mut(4).zip(values) {
+        slot.copy_from_slice(&value.to_le_bytes());
+    }
+}
+
+/// Most bytes of a `u32` varint.
+const VARINT_U32_MAX: usize = 5;
+
+/// postcard's varint of `value` (LEB128, 7 bits per byte, least significant first), in `buf`.
+fn varint_u32(mut value: u32, buf: &mut [u8; VARINT_U32_MAX]) -> &[u8] {
+    let mut len = 0;
+    for slot in buf.iter_mut() {
+        len += 1;
+        if value < 0x80 {
+            *slot = value as u8;
+            break;
+        }
+        *slot = (value as u8) | 0x80;
+        value >>= 7;
+    }
+    &buf[..len]
+}
+
+/// Reads postcard's varint `u32` at the start of `bytes`; returns it and the bytes after it.
+///
+/// As postcard: at most 5 bytes, the fifth at most 0x0F (the 4 bits left of a `u32`);
+/// over-long encodings of small values (e.g. `80 00` for 0) are accepted.
+#[inline(always)]
+fn take_varint_u32(bytes: &[u8]) -> Result<(u32, &[u8]), DecodeError> {
+    // Written out byte by byte (the compiler keeps a loop otherwise): most values end in the
+    // first two or three bytes.
+    let (&b0, rest) = bytes.split_first().ok_or(DecodeError::Malformed)?;
+    let value = u32::from(b0 & 0x7F);
+    if b0 < 0x80 {
+        return Ok((value, rest));
+    }
+    let (&b1, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    let value = value | u32::from(b1 & 0x7F) << 7;
+    if b1 < 0x80 {
+        return Ok((value, rest));
+    }
+    let (&b2, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    let value = value | u32::from(b2 & 0x7F) << 14;
+    if b2 < 0x80 {
+        return Ok((value, rest));
+    }
+    let (&b3, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    let value = value | u32::from(b3 & 0x7F) << 21;
+    if b3 < 0x80 {
+        return Ok((value, rest));
+    }
+    // The fifth byte holds the last 4 bits and ends the varint.
+    let (&b4, rest) = rest.split_first().ok_or(DecodeError::Malformed)?;
+    if b4 > 0x0F {
+        return Err(DecodeError::Malformed);
+    }
+    Ok((value | u32::from(b4) << 28, rest))
+}
+
+/// The hub's fast path: if `bytes` (one message, as [`decode_message`] takes it) is a
+/// [`JointAngle`] whose tag is the canonical single byte 0x00, its [`decode_message`] result
+/// without building a [`Message`]; `None` for any other message (decode those with
+/// [`decode_message`]).
+#[inline(always)]
+pub fn decode_packet(bytes: &[u8]) -> Option<Result<JointAngle, DecodeError>> {
+    match bytes.split_first() {
+        Some((0, body)) => Some(decode_joint_angle(body)),
+        _ => None,
+    }
+}
+
 /// Decodes one message from its postcard bytes (no CRC, no framing). Every byte must be used.
 pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
+    if let Some(packet) = decode_packet(bytes) {
+        return packet.map(Message::JointAngle);
+    }
     let (tag, body) =
         postcard::take_from_bytes::<u32>(bytes).map_err(|_| DecodeError::Malformed)?;
     match tag {
@@ -63,33 +179,34 @@ fn take_all<T: DeserializeOwned>(body: &[u8]) -> Result<T, DecodeError> {
     }
 }
 
-#[derive(Deserialize)]
-struct JointAngleWire {
-    version: u8,
-    node: u8,
-    joint: u8,
-    seq: u32,
-    timestamp_us: u32,
-    angle: f32,
-    quality: u8,
-}
-
+/// A [`JointAngle`]'s body (after the tag), by hand: version, node, joint, seq (varint),
+/// timestamp (varint), angle (`f32` LE), quality, and nothing after. The errors are those of
+/// the postcard decoding it replaces: the version first, then the layout (`Malformed`), then
+/// the joint.
+#[inline(always)]
 fn decode_joint_angle(body: &[u8]) -> Result<JointAngle, DecodeError> {
     // The version is the first byte of the body: check it before anything else, so a packet of
     // another version (whose layout may differ) is reported as such.
-    let version = *body.first().ok_or(DecodeError::Malformed)?;
+    let (&version, rest) = body.split_first().ok_or(DecodeError::Malformed)?;
     if version != PROTOCOL_VERSION {
         return Err(DecodeError::UnknownVersion(version));
     }
-    let w: JointAngleWire = take_all(body)?;
+    let [node, joint, rest @ ..] = rest else {
+        return Err(DecodeError::Malformed);
+    };
+    let (seq, rest) = take_varint_u32(rest)?;
+    let (timestamp_us, rest) = take_varint_u32(rest)?;
+    let &[a0, a1, a2, a3, quality] = rest else {
+        return Err(DecodeError::Malformed);
+    };
     Ok(JointAngle {
-        version: w.version,
-        node: w.node,
-        joint: JointId::from_index(w.joint).ok_or(DecodeError::UnknownJoint(w.joint))?,
-        seq: w.seq,
-        timestamp_us: w.timestamp_us,
-        angle: w.angle,
-        quality: w.quality,
+        version,
+        node: *node,
+        joint: JointId::from_index(*joint).ok_or(DecodeError::UnknownJoint(*joint))?,
+        seq,
+        timestamp_us,
+        angle: f32::from_le_bytes([a0, a1, a2, a3]),
+        quality,
     })
 }
 
@@ -218,4 +335,225 @@ fn decode_subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
         reorder_window: w.reorder_window,
         request_status: w.request_status,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+
+    use super::*;
+    use proptest::prelude::*;
+    use std::vec;
+    use std::vec::Vec;
+
+    /// The postcard decoding of a [`JointAngle`] body that [`decode_joint_angle`] replaces,
+    /// kept as the reference it is tested against.
+    fn decode_joint_angle_postcard(body: &[u8]) -> Result<JointAngle, DecodeError> {
+        #[derive(Deserialize)]
+        struct JointAngleWire {
+            version: u8,
+            node: u8,
+            joint: u8,
+            seq: u32,
+            timestamp_us: u32,
+            angle: f32,
+            quality: u8,
+        }
+        let version = *body.first().ok_or(DecodeError::Malformed)?;
+        if version != PROTOCOL_VERSION {
+            return Err(DecodeError::UnknownVersion(version));
+        }
+        let w: JointAngleWire = take_all(body)?;
+        Ok(JointAngle {
+            version: w.version,
+            node: w.node,
+            joint: JointId::from_index(w.joint).ok_or(DecodeError::UnknownJoint(w.joint))?,
+            seq: w.seq,
+            timestamp_us: w.timestamp_us,
+            angle: w.angle,
+            quality: w.quality,
+        })
+    }
+
+    /// The whole-message postcard decoding with the reference for tag 0.
+    fn decode_message_postcard(bytes: &[u8]) -> Result<Message, DecodeError> {
+        let (tag, body) =
+            postcard::take_from_bytes::<u32>(bytes).map_err(|_| DecodeError::Malformed)?;
+        if tag == 0 {
+            decode_joint_angle_postcard(body).map(Message::JointAngle)
+        } else {
+            decode_message(bytes)
+        }
+    }
+
+    /// Results compared with floats as bits (NaN payloads included).
+    fn same(a: &Result<Message, DecodeError>, b: &Result<Message, DecodeError>) -> bool {
+        match (a, b) {
+            (Ok(Message::JointAngle(x)), Ok(Message::JointAngle(y))) => {
+                x.angle.to_bits() == y.angle.to_bits()
+                    && JointAngle { angle: 0.0, ..*x } == JointAngle { angle: 0.0, ..*y }
+            }
+            (Ok(_), Ok(_)) => {
+                let mut x = [0u8; MAX_MESSAGE_LEN];
+                let mut y = [0u8; MAX_MESSAGE_LEN];
+                let (Ok(x), Ok(y)) = (
+                    postcard::to_slice(a.as_ref().unwrap(), &mut x),
+                    postcard::to_slice(b.as_ref().unwrap(), &mut y),
+                ) else {
+                    return false;
+                };
+                x == y
+            }
+            (Err(x), Err(y)) => x == y,
+            _ => false,
+        }
+    }
+
+    /// Bytes that look like a joint-angle packet, then mutated: every length around the real
+    /// ones, every varint length (canonical or not, over-long, unterminated), every version
+    /// and joint byte.
+    fn packet_like() -> impl Strategy<Value = Vec<u8>> {
+        let varint = prop_oneof![
+            any::<u32>().prop_map(|v| {
+                let mut b = [0u8; VARINT_U32_MAX];
+                varint_u32(v, &mut b).to_vec()
+            }),
+            proptest::collection::vec(any::<u8>(), 0..7),
+            proptest::collection::vec(
+                prop_oneof![Just(0x80u8), Just(0xFF), Just(0x0F), Just(0x10), Just(0)],
+                1..7
+            ),
+        ];
+        (
+            prop_oneof![
+                Just(vec![0u8]),
+                Just(vec![0x80, 0x00]),
+                proptest::collection::vec(any::<u8>(), 0..3)
+            ],
+            prop_oneof![4 => Just(PROTOCOL_VERSION), 1 => any::<u8>()],
+            any::<u8>(),
+            prop_oneof![0u8..20, any::<u8>()],
+            varint.clone(),
+            varint,
+            proptest::collection::vec(any::<u8>(), 0..8),
+        )
+            .prop_map(|(tag, version, node, joint, seq, ts, tail)| {
+                let mut v = tag;
+                v.extend([version, node, joint]);
+                v.extend(seq);
+                v.extend(ts);
+                v.extend(tail);
+                v
+            })
+    }
+
+    fn any_pose_frame() -> impl Strategy<Value = PoseFrame> {
+        (
+            prop_oneof![
+                0u32..128,
+                128u32..16_384,
+                16_384u32..2_097_152,
+                2_097_152u32..268_435_456,
+                any::<u32>()
+            ],
+            0u8..ModelId::COUNT as u8,
+            proptest::collection::vec(any::<u32>(), 46),
+            any::<u8>(),
+        )
+            .prop_map(|(seq, model, bits, flags)| {
+                let model = ModelId::from_index(model).unwrap();
+                let f = |i: usize| f32::from_bits(bits[i]);
+                let mut angles = heapless::Vec::new();
+                for i in 0..model.required_joints().len() {
+                    angles.push(f(i)).unwrap();
+                }
+                PoseFrame {
+                    seq,
+                    model,
+                    angles,
+                    points: core::array::from_fn(|p| core::array::from_fn(|k| f(17 + 3 * p + k))),
+                    distances: [f(41), f(42), f(43)],
+                    flags,
+                }
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 20_000, ..ProptestConfig::default() })]
+
+        /// The fast joint-angle decoding accepts exactly the bytes postcard accepts, with the
+        /// same values, and rejects the rest with the same errors.
+        #[test]
+        fn joint_angle_fast_path_is_postcard(bytes in packet_like()) {
+            let fast = decode_message(&bytes);
+            let reference = decode_message_postcard(&bytes);
+            prop_assert!(same(&fast, &reference), "{bytes:02x?}: {fast:?} vs {reference:?}");
+            match decode_packet(&bytes) {
+                Some(packet) => prop_assert!(same(&packet.map(Message::JointAngle), &reference)),
+                None => prop_assert_ne!(bytes.first(), Some(&0)),
+            }
+        }
+
+        /// The hand-written pose frame encoding is postcard's, byte for byte, in buffers of
+        /// every size (too small ones refused as postcard refuses them).
+        #[test]
+        fn pose_frame_fast_path_is_postcard(frame in any_pose_frame(), size in 0usize..MAX_MESSAGE_LEN + 4) {
+            let msg = Message::PoseFrame(frame.clone());
+            let mut a = [0u8; MAX_MESSAGE_LEN + 4];
+            let mut b = [0u8; MAX_MESSAGE_LEN + 4];
+            let fast = encode_message(&msg, &mut a[..size]).map(|m| m.to_vec());
+            let reference = postcard::to_slice(&msg, &mut b[..size]).map(|m| m.to_vec());
+            match (&fast, &reference) {
+                (Ok(x), Ok(y)) => prop_assert_eq!(x, y),
+                (Err(e), Err(_)) => prop_assert_eq!(*e, EncodeError::BufferTooSmall { needed: MAX_MESSAGE_LEN }),
+                _ => prop_assert!(false, "size {}: {:?} vs {:?}", size, fast, reference),
+            }
+        }
+    }
+
+    #[test]
+    fn pose_frame_with_the_wrong_angle_count_is_refused() {
+        let mut frame = PoseFrame {
+            seq: 1,
+            model: ModelId::Phak,
+            angles: heapless::Vec::from_slice(&[0.0; 7]).unwrap(),
+            points: [[0.0; 3]; point::COUNT],
+            distances: [0.0; 3],
+            flags: 0,
+        };
+        let mut buf = [0u8; MAX_MESSAGE_LEN];
+        let err = encode_message(&Message::PoseFrame(frame.clone()), &mut buf);
+        assert_eq!(
+            err.unwrap_err(),
+            EncodeError::AngleCount {
+                expected: 8,
+                got: 7
+            }
+        );
+        frame.angles.push(0.0).unwrap();
+        assert!(encode_message(&Message::PoseFrame(frame), &mut buf).is_ok());
+    }
+
+    #[test]
+    fn varints_are_postcards() {
+        for v in [
+            0,
+            1,
+            127,
+            128,
+            300,
+            16_383,
+            16_384,
+            1 << 21,
+            (1 << 28) - 1,
+            1 << 28,
+            u32::MAX,
+        ] {
+            let mut ours = [0u8; VARINT_U32_MAX];
+            let mut theirs = [0u8; VARINT_U32_MAX];
+            let theirs = postcard::to_slice(&v, &mut theirs).unwrap();
+            assert_eq!(varint_u32(v, &mut ours), &theirs[..], "{v}");
+            assert_eq!(take_varint_u32(theirs), Ok((v, &[][..])));
+        }
+    }
 }

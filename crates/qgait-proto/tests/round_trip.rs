@@ -5,9 +5,10 @@ mod common;
 use common::strategies;
 use proptest::prelude::*;
 use qgait_proto::{
-    decode_frame, decode_message, encode_frame, encode_message, FrameDecoder, Message,
-    CONFIG_MAX_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
-    STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    decode_frame, decode_message, encode_frame, encode_message, encode_pose_frame, EncodeError,
+    FrameDecoder, Message, CONFIG_MAX_LEN, CRC_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN,
+    MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
+    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 
 /// Two messages are the same iff their encodings are (every field has a fixed-size or
@@ -73,6 +74,61 @@ proptest! {
         let mut body = frame[..frame.len() - 1].to_vec();
         let decoded = decode_frame(&mut body).expect("decodes");
         assert_same(&decoded, &msg);
+    }
+
+    /// `encode_frame` into a buffer of any size: the frame iff it fits, else `BufferTooSmall`
+    /// with the COBS bound; the pose frame path (`encode_pose_frame`) gives the same bytes.
+    #[test]
+    fn frames_in_buffers_of_every_size(msg in strategies::message(), size in 0usize..MAX_FRAME_LEN + 2) {
+        let mut full = [0u8; MAX_FRAME_LEN];
+        let frame = encode_frame(&msg, &mut full).expect("encodes").to_vec();
+        let mut payload = [0u8; MAX_MESSAGE_LEN];
+        let payload_len = encode_message(&msg, &mut payload).expect("encodes").len();
+        let needed = qgait_proto::cobs_max_encoded_len(payload_len + CRC_LEN) + 1;
+        let mut buf = [0xA5u8; MAX_FRAME_LEN + 2];
+        let got = encode_frame(&msg, &mut buf[..size]).map(|f| f.to_vec());
+        if size >= frame.len() {
+            prop_assert_eq!(got, Ok(frame.clone()));
+        } else {
+            prop_assert_eq!(got, Err(EncodeError::BufferTooSmall { needed }));
+        }
+        if let Message::PoseFrame(pose) = &msg {
+            let mut buf = [0xA5u8; MAX_FRAME_LEN + 2];
+            let got = encode_pose_frame(pose, &mut buf[..size]).map(|f| f.to_vec());
+            if size >= frame.len() {
+                prop_assert_eq!(got, Ok(frame));
+            } else {
+                prop_assert_eq!(got, Err(EncodeError::BufferTooSmall { needed }));
+            }
+        }
+    }
+
+    /// `push_frame` + `decode_message` is `push`, byte for byte, on streams of good frames
+    /// with random bytes (often zeros) thrown in.
+    #[test]
+    fn push_frame_then_decode_message_is_push(
+        msgs in proptest::collection::vec(strategies::message(), 1..6),
+        noise in proptest::collection::vec((0usize..2000, prop_oneof![Just(0u8), any::<u8>()]), 0..10),
+    ) {
+        let mut stream: Vec<u8> = msgs.iter().flat_map(common::frame).collect();
+        for (at, byte) in noise {
+            let at = at % (stream.len() + 1);
+            stream.insert(at, byte);
+        }
+        let mut a = FrameDecoder::new();
+        let mut b = FrameDecoder::new();
+        for &byte in &stream {
+            let pushed = a.push(byte);
+            let framed = b.push_frame(byte).map(|f| f.and_then(decode_message));
+            prop_assert_eq!(pushed.is_some(), framed.is_some());
+            if let (Some(x), Some(y)) = (pushed, framed) {
+                match (x, y) {
+                    (Ok(x), Ok(y)) => assert_same(&x, &y),
+                    (x, y) => prop_assert_eq!(x.err(), y.err()),
+                }
+            }
+            prop_assert_eq!(a.pending_len(), b.pending_len());
+        }
     }
 
     /// A stream of frames cut into arbitrary chunks decodes to the same messages, in order,

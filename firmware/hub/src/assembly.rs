@@ -213,19 +213,16 @@ impl Assembler {
                 }
             }
         }
-        // Every used slot holds a distinct sequence number inside the window, so when `seq` has
-        // no slot yet a free one exists.
-        let index = match self.slots.iter().position(|s| s.state != SlotState::Free && s.seq == seq) {
-            Some(i) => i,
-            None => match self.slots.iter().position(|s| s.state == SlotState::Free) {
-                Some(i) => {
-                    self.slots[i] = Slot { state: SlotState::Open, seq, ..Slot::FREE };
-                    i
-                }
-                None => return PacketOutcome::Late,
-            },
-        };
-        let slot = &mut self.slots[index];
+        // Every used slot holds a sequence number inside the window (less than MAX_WINDOW
+        // apart from `seq`), so sample `seq` lives in slot `seq % MAX_WINDOW`: free, or holding
+        // `seq` itself.
+        let slot = &mut self.slots[seq as usize % MAX_WINDOW];
+        if slot.state == SlotState::Free {
+            *slot = Slot { state: SlotState::Open, seq, ..Slot::FREE };
+        } else if slot.seq != seq {
+            // Unreachable by the invariant above; refused rather than mixed into another sample.
+            return PacketOutcome::Late;
+        }
         if slot.state == SlotState::Done || slot.present.contains(joint) {
             return PacketOutcome::Duplicate;
         }
@@ -248,9 +245,22 @@ impl Assembler {
     /// Moves the newest sequence number to `seq`, retiring the samples that leave the window.
     fn advance_to(&mut self, seq: u32, on_event: &mut impl FnMut(SampleEvent)) {
         let window = self.window;
-        // Samples with `seq - s >= window` leave the window, oldest first.
-        while let Some(i) = self.oldest_slot(|s| seq.wrapping_sub(s) >= window) {
-            self.retire(i, on_event);
+        if let Some(newest) = self.newest {
+            // Used slots hold samples `newest - window < s <= newest`, sample `s` in slot
+            // `s % MAX_WINDOW`; those with `seq - s >= window` leave the window, oldest first.
+            // `seq` is ahead of `newest` (by at most RESYNC_DISTANCE), so `seq - s` falls as `s`
+            // rises: the leaving ones are a run from the oldest.
+            let mut s = newest.wrapping_sub(window - 1);
+            for _ in 0..window {
+                if seq.wrapping_sub(s) < window {
+                    break;
+                }
+                let i = s as usize % MAX_WINDOW;
+                if self.slots[i].state != SlotState::Free && self.slots[i].seq == s {
+                    self.retire(i, on_event);
+                }
+                s = s.wrapping_add(1);
+            }
         }
         self.newest = Some(seq);
     }
@@ -269,9 +279,10 @@ impl Assembler {
     /// Frees slot `i`: an open sample is completed with held values or dropped; then its
     /// angles become the last known values.
     fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent)) {
-        let slot = self.slots[i];
-        self.slots[i] = Slot::FREE;
-        if slot.state == SlotState::Open {
+        let Some(slot) = self.slots.get_mut(i) else { return };
+        let state = core::mem::replace(&mut slot.state, SlotState::Free);
+        let slot = &*slot;
+        if state == SlotState::Open {
             let missing = slot.present.missing_from(self.required);
             if self.hold_last && self.known.contains_all(missing) {
                 let mut angles = slot.angles;
@@ -283,9 +294,12 @@ impl Assembler {
                 on_event(SampleEvent::Dropped { seq: slot.seq, missing });
             }
         }
-        for j in JointId::ALL.iter().filter(|&&j| slot.present.contains(j)) {
-            self.last_angle[j.index() as usize] = slot.angles[j.index() as usize];
-            self.known = self.known.with(*j);
+        // The last known values are only ever read to hold missing joints.
+        if self.hold_last {
+            for j in JointId::ALL.iter().filter(|&&j| slot.present.contains(j)) {
+                self.last_angle[j.index() as usize] = slot.angles[j.index() as usize];
+                self.known = self.known.with(*j);
+            }
         }
     }
 }
@@ -415,5 +429,226 @@ mod tests {
     fn window_is_clamped() {
         assert_eq!(Assembler::new(&TWO, 0, false).window(), 1);
         assert_eq!(Assembler::new(&TWO, 200, false).window(), MAX_WINDOW as u8);
+    }
+    /// The assembler as it was before slots were indexed by sequence number (a linear search
+    /// for the sample's slot, every slot copied on retirement, the last values always kept):
+    /// the reference the current one must match event for event.
+    #[allow(dead_code)]
+    mod reference {
+        use super::super::{JointSet, PacketOutcome, Sample, SampleEvent, MAX_WINDOW, RESYNC_DISTANCE};
+        use qgait_proto::JointId;
+
+        const JOINTS: usize = JointId::COUNT;
+
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        enum SlotState {
+            Free,
+            Open,
+            Done,
+        }
+
+        #[derive(Debug, Clone, Copy)]
+        struct Slot {
+            state: SlotState,
+            seq: u32,
+            present: JointSet,
+            angles: [f32; JOINTS],
+        }
+
+        impl Slot {
+            const FREE: Slot = Slot { state: SlotState::Free, seq: 0, present: JointSet::EMPTY, angles: [0.0; JOINTS] };
+        }
+
+        /// The reorder window (see the module docs).
+        #[derive(Debug, Clone)]
+        pub struct Reference {
+            slots: [Slot; MAX_WINDOW],
+            window: u32,
+            required: JointSet,
+            hold_last: bool,
+            newest: Option<u32>,
+            /// Newest angle of each joint among the samples that already left the window (the values
+            /// hold-last uses: always older than the sample being completed).
+            last_angle: [f32; JOINTS],
+            /// Joints with a value in `last_angle`.
+            known: JointSet,
+        }
+
+        impl Reference {
+            /// An empty assembler needing `required` joints, with a window of `window` samples
+            /// (clamped to `1..=MAX_WINDOW`), holding last values for incomplete samples if `hold_last`.
+            pub fn new(required: &[JointId], window: u8, hold_last: bool) -> Reference {
+                Reference {
+                    slots: [Slot::FREE; MAX_WINDOW],
+                    window: (window as u32).clamp(1, MAX_WINDOW as u32),
+                    required: JointSet::of(required),
+                    hold_last,
+                    newest: None,
+                    last_angle: [0.0; JOINTS],
+                    known: JointSet::EMPTY,
+                }
+            }
+
+            /// The window depth in samples.
+            pub fn window(&self) -> u8 {
+                self.window as u8
+            }
+
+            /// Number of samples currently open (some but not all joints arrived).
+            pub fn open_samples(&self) -> usize {
+                self.slots.iter().filter(|s| s.state == SlotState::Open).count()
+            }
+
+            /// Takes one packet. Samples that complete or leave the window are reported to `on_event`
+            /// in sequence order (evictions first, then the packet's own sample if it completed).
+            pub fn push(
+                &mut self,
+                seq: u32,
+                joint: JointId,
+                angle: f32,
+                on_event: &mut impl FnMut(SampleEvent),
+            ) -> PacketOutcome {
+                if !self.required.contains(joint) {
+                    return PacketOutcome::NotRequired;
+                }
+                let mut outcome = PacketOutcome::Stored;
+                match self.newest {
+                    None => self.newest = Some(seq),
+                    Some(newest) => {
+                        let ahead = seq.wrapping_sub(newest);
+                        let behind = newest.wrapping_sub(seq);
+                        if ahead != 0 && ahead <= RESYNC_DISTANCE {
+                            self.advance_to(seq, on_event);
+                        } else if ahead == 0 || behind < self.window {
+                            // Inside the window.
+                        } else if behind <= RESYNC_DISTANCE {
+                            return PacketOutcome::Late;
+                        } else {
+                            self.flush(on_event);
+                            self.newest = Some(seq);
+                            outcome = PacketOutcome::Resynced;
+                        }
+                    }
+                }
+                // Every used slot holds a distinct sequence number inside the window, so when `seq` has
+                // no slot yet a free one exists.
+                let index = match self.slots.iter().position(|s| s.state != SlotState::Free && s.seq == seq) {
+                    Some(i) => i,
+                    None => match self.slots.iter().position(|s| s.state == SlotState::Free) {
+                        Some(i) => {
+                            self.slots[i] = Slot { state: SlotState::Open, seq, ..Slot::FREE };
+                            i
+                        }
+                        None => return PacketOutcome::Late,
+                    },
+                };
+                let slot = &mut self.slots[index];
+                if slot.state == SlotState::Done || slot.present.contains(joint) {
+                    return PacketOutcome::Duplicate;
+                }
+                slot.angles[joint.index() as usize] = angle;
+                slot.present = slot.present.with(joint);
+                if slot.present.contains_all(self.required) {
+                    slot.state = SlotState::Done;
+                    on_event(SampleEvent::Complete(Sample { seq, angles: slot.angles, held: JointSet::EMPTY }));
+                }
+                outcome
+            }
+
+            /// Closes every open sample (as if the window had moved past them), reporting each one.
+            pub fn flush(&mut self, on_event: &mut impl FnMut(SampleEvent)) {
+                while let Some(i) = self.oldest_slot(|_| true) {
+                    self.retire(i, on_event);
+                }
+            }
+
+            /// Moves the newest sequence number to `seq`, retiring the samples that leave the window.
+            fn advance_to(&mut self, seq: u32, on_event: &mut impl FnMut(SampleEvent)) {
+                let window = self.window;
+                // Samples with `seq - s >= window` leave the window, oldest first.
+                while let Some(i) = self.oldest_slot(|s| seq.wrapping_sub(s) >= window) {
+                    self.retire(i, on_event);
+                }
+                self.newest = Some(seq);
+            }
+
+            /// The used slot with the oldest sequence number among those `leaving` selects.
+            fn oldest_slot(&self, leaving: impl Fn(u32) -> bool) -> Option<usize> {
+                let newest = self.newest.unwrap_or(0);
+                self.slots
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, s)| s.state != SlotState::Free && leaving(s.seq))
+                    .max_by_key(|(_, s)| newest.wrapping_sub(s.seq))
+                    .map(|(i, _)| i)
+            }
+
+            /// Frees slot `i`: an open sample is completed with held values or dropped; then its
+            /// angles become the last known values.
+            fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent)) {
+                let slot = self.slots[i];
+                self.slots[i] = Slot::FREE;
+                if slot.state == SlotState::Open {
+                    let missing = slot.present.missing_from(self.required);
+                    if self.hold_last && self.known.contains_all(missing) {
+                        let mut angles = slot.angles;
+                        for j in JointId::ALL.iter().filter(|&&j| missing.contains(j)) {
+                            angles[j.index() as usize] = self.last_angle[j.index() as usize];
+                        }
+                        on_event(SampleEvent::Held(Sample { seq: slot.seq, angles, held: missing }));
+                    } else {
+                        on_event(SampleEvent::Dropped { seq: slot.seq, missing });
+                    }
+                }
+                for j in JointId::ALL.iter().filter(|&&j| slot.present.contains(j)) {
+                    self.last_angle[j.index() as usize] = slot.angles[j.index() as usize];
+                    self.known = self.known.with(*j);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn matches_the_reference_assembler_on_random_streams() {
+        let mut x = 0x9E37_79B9u32;
+        let mut next = |n: u32| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x % n
+        };
+        let joints = [JointId::PelvisList, JointId::HipFlexionR, JointId::KneeAngleR, JointId::AnkleAngleL];
+        let required = &joints[..3];
+        let mut compared = 0;
+        for round in 0..400 {
+            let window = (round % 10) as u8;
+            let hold_last = round % 3 == 0;
+            let mut a = Assembler::new(required, window, hold_last);
+            let mut r = reference::Reference::new(required, window, hold_last);
+            let mut seq = next(u32::MAX);
+            for _ in 0..300 {
+                // Mostly in order with jitter, sometimes far back or far ahead, sometimes wrapping.
+                seq = match next(20) {
+                    0 => seq.wrapping_add(next(3000)),
+                    1 => seq.wrapping_sub(next(3000)),
+                    2..=8 => seq.wrapping_add(1),
+                    _ => seq,
+                };
+                let s = seq.wrapping_sub(next(12));
+                let joint = joints[next(4) as usize];
+                let angle = next(1000) as f32 / 1000.0;
+                let (mut ea, mut er) = (Vec::new(), Vec::new());
+                let oa = a.push(s, joint, angle, &mut |e| ea.push(e));
+                let or = r.push(s, joint, angle, &mut |e| er.push(e));
+                assert_eq!((oa, &ea), (or, &er), "round {round} seq {s} {joint:?}");
+                assert_eq!(a.open_samples(), r.open_samples());
+                compared += ea.len();
+            }
+            let (mut ea, mut er) = (Vec::new(), Vec::new());
+            a.flush(&mut |e| ea.push(e));
+            r.flush(&mut |e| er.push(e));
+            assert_eq!(ea, er);
+        }
+        assert!(compared > 10_000, "{compared} events");
     }
 }

@@ -4,8 +4,8 @@ use core::mem::MaybeUninit;
 
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
 use qgait_proto::{
-    encode_frame, Config, FrameDecoder, FrameFlags, JointAngle, Message, MissingPolicy, ModelId, Status, SubjectConfig,
-    MAX_FRAME_LEN,
+    decode_message, decode_packet, encode_frame, encode_pose_frame, Config, DecodeError, FrameDecoder, FrameFlags,
+    JointAngle, Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent, MAX_WINDOW};
@@ -132,11 +132,20 @@ where
             match self.serial.read() {
                 Ok(byte) => {
                     bytes += 1;
-                    if let Some(result) = self.decoder.push(byte) {
-                        match result {
-                            Ok(message) => self.handle(message),
-                            Err(error) => count_decode_error(&mut self.status, &error),
-                        }
+                    // The frame checks (COBS, CRC) in the decoder; joint-angle packets, one per
+                    // frame on a busy line, decoded straight from its buffer; anything else
+                    // through the general decoder, out of line.
+                    match self.decoder.push_frame(byte) {
+                        None => {}
+                        Some(Ok(message)) => match decode_packet(message) {
+                            Some(Ok(packet)) => self.on_packet(&packet),
+                            Some(Err(error)) => count_decode_error(&mut self.status, &error),
+                            None => {
+                                let message = decode_message(message);
+                                self.on_message(message)
+                            }
+                        },
+                        Some(Err(error)) => count_decode_error(&mut self.status, &error),
                     }
                 }
                 Err(nb::Error::WouldBlock) => break,
@@ -190,6 +199,15 @@ where
         &self.clock
     }
 
+    /// A frame that is not a joint-angle packet (rare: configuration, or errors).
+    #[inline(never)]
+    fn on_message(&mut self, message: Result<Message, DecodeError>) {
+        match message {
+            Ok(message) => self.handle(message),
+            Err(error) => count_decode_error(&mut self.status, &error),
+        }
+    }
+
     fn handle(&mut self, message: Message) {
         match message {
             Message::JointAngle(packet) => self.on_packet(&packet),
@@ -211,37 +229,22 @@ where
         if !in_range(packet.joint, packet.angle) {
             bump(&mut self.status.out_of_range);
         }
-        let mut events: heapless::Vec<SampleEvent, { MAX_WINDOW + 1 }> = heapless::Vec::new();
-        // At most MAX_WINDOW evictions plus the packet's own sample: the Vec never fills.
-        let outcome = self.assembler.push(packet.seq, packet.joint, packet.angle, &mut |e| {
-            let _ = events.push(e);
-        });
+        // The samples the packet completes or pushes out of the window are handled as the
+        // assembler reports them (it and the output are disjoint parts of the hub), not
+        // collected first: no copies of the events.
+        let Hub { assembler, kinematics, status, serial, tx, .. } = self;
+        let mut output = Output { kinematics, status, serial, tx };
+        let outcome = assembler.push(packet.seq, packet.joint, packet.angle, &mut |e| output.on_sample(e));
         match outcome {
             PacketOutcome::Late => bump(&mut self.status.late_packets),
             PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
             PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
         }
-        for event in events {
-            self.on_sample(event);
-        }
     }
 
     fn on_sample(&mut self, event: SampleEvent) {
-        let (sample, mut flags) = match event {
-            SampleEvent::Complete(sample) => (sample, 0),
-            SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
-            SampleEvent::Dropped { .. } => {
-                bump(&mut self.status.samples_incomplete);
-                return;
-            }
-        };
-        bump(&mut self.status.samples_completed);
-        let model = self.kinematics.model();
-        if model.required_joints().iter().any(|&j| !in_range(j, sample.angle(j))) {
-            flags |= FrameFlags::OUT_OF_RANGE;
-        }
-        let frame = self.kinematics.pose_frame(&sample, flags);
-        self.send(&Message::PoseFrame(frame));
+        let Hub { kinematics, status, serial, tx, .. } = self;
+        Output { kinematics, status, serial, tx }.on_sample(event);
     }
 
     // A configuration that changes nothing (e.g. one only asking for a status) is handled
@@ -364,13 +367,56 @@ where
         // Every message fits MAX_FRAME_LEN and the hub only builds frames with the right angle
         // count, so encoding cannot fail; if it ever did, nothing is written.
         let Ok(frame) = encode_frame(message, &mut self.tx) else { return };
-        for &byte in frame.iter() {
-            if nb::block!(self.serial.write(byte)).is_err() {
+        write_frame(&mut self.serial, &mut self.status, frame);
+    }
+
+}
+
+/// The parts of the hub that turn samples into pose frames on the serial port: borrowed apart
+/// from the assembler, which reports the samples.
+struct Output<'a, S> {
+    kinematics: &'a Kinematics,
+    status: &'a mut Status,
+    serial: &'a mut S,
+    tx: &'a mut [u8; MAX_FRAME_LEN],
+}
+
+impl<S: serial::Write<u8>> Output<'_, S> {
+    fn on_sample(&mut self, event: SampleEvent) {
+        // By reference: the sample is not copied out of the event.
+        let (sample, mut flags) = match &event {
+            SampleEvent::Complete(sample) => (sample, 0),
+            SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
+            SampleEvent::Dropped { .. } => {
+                bump(&mut self.status.samples_incomplete);
                 return;
             }
+        };
+        bump(&mut self.status.samples_completed);
+        let model = self.kinematics.model();
+        if model.required_joints().iter().any(|&j| !in_range(j, sample.angle(j))) {
+            flags |= FrameFlags::OUT_OF_RANGE;
         }
-        bump(&mut self.status.frames_sent);
+        let frame = self.kinematics.pose_frame(sample, flags);
+        self.send_pose(&frame);
     }
+
+    /// Sends a pose frame, encoded in place in the transmit buffer without building a
+    /// [`Message`].
+    fn send_pose(&mut self, frame: &PoseFrame) {
+        let Ok(frame) = encode_pose_frame(frame, self.tx) else { return };
+        write_frame(self.serial, self.status, frame);
+    }
+}
+
+/// Writes `frame` byte by byte; counts it in `status` if the whole frame went out.
+fn write_frame<S: serial::Write<u8>>(serial: &mut S, status: &mut Status, frame: &[u8]) {
+    for &byte in frame {
+        if nb::block!(serial.write(byte)).is_err() {
+            return;
+        }
+    }
+    bump(&mut status.frames_sent);
 }
 
 /// `*assembler = assembler_for(config)`, in a frame of its own (not the model switch's).

@@ -29,6 +29,7 @@ pub fn range(joint: JointId) -> (f32, f32) {
 }
 
 /// Whether `angle` (radians) lies in the range of `joint`, margin included.
+#[inline]
 pub fn in_range(joint: JointId, angle: f32) -> bool {
     let (lo, hi) = range(joint);
     angle >= lo - MARGIN && angle <= hi + MARGIN

@@ -29,7 +29,8 @@ use qgait_kernel::{
     Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Hak, HakAngles, Limb, Phak, PhakAngles, Real,
 };
 use qgait_proto::{
-    crc32c, decode_message, encode_frame, encode_message, Config, FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    crc32c, decode_message, decode_packet, encode_frame, encode_message, encode_pose_frame, Config, FrameDecoder, JointAngle,
+    JointId, Message, MissingPolicy, ModelId, PoseFrame, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 /// Virtual instructions per SysTick tick: 1 GHz instruction clock (`shift=0`) / 25 MHz.
@@ -296,6 +297,19 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     let base = bench_empty(&payloads, CALLS);
     net("sample.crc32c_packet", bench_crc(&payloads, CALLS), base, CALLS);
     net("sample.decode_message_packet", bench_decode_message(&payloads, CALLS), base, CALLS);
+    net("sample.decode_packet", bench_decode_packet(&payloads, CALLS), base, CALLS);
+    // One packet frame's bytes into the decoder, then its delimiter (the frame checks): the
+    // same bytes followed by a reset instead of the delimiter are the base, so the figure is
+    // the checks alone; the base against the empty loop is the per-byte cost of 16 bytes.
+    let frames: [heapless::Vec<u8, 32>; INPUTS] = core::array::from_fn(|i| {
+        let mut out = [0u8; 32];
+        let p = packet(i as u32, JointId::KneeAngleR, &mut rng);
+        let len = encode_frame(&Message::JointAngle(p), &mut out).map(|f| f.len()).unwrap_or(1);
+        heapless::Vec::from_slice(&out[..len - 1]).unwrap_or_default()
+    });
+    let bytes_only = bench_frame_bytes(&frames, CALLS, false);
+    net("sample.packet_frame_bytes", bytes_only, bench_empty(&frames, CALLS), CALLS);
+    net("sample.packet_frame_checks", bench_frame_bytes(&frames, CALLS, true), bytes_only, CALLS);
 
     let kinematics = Kinematics::new(ModelId::Phak, None).unwrap_or_else(|_| board::exit(1));
     let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
@@ -312,10 +326,11 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     let poses: [BilateralPose<f32>; INPUTS] = core::array::from_fn(|i| phak.fk(&phak_in[i]));
     net("sample.distances", bench_distances(&poses, CALLS), bench_empty(&poses, CALLS), CALLS);
 
-    let frames: [Message; INPUTS] = core::array::from_fn(|i| Message::PoseFrame(kinematics.pose_frame(&samples[i], 0)));
+    let pose_frames: [PoseFrame; INPUTS] = core::array::from_fn(|i| kinematics.pose_frame(&samples[i], 0));
+    let frames: [Message; INPUTS] = core::array::from_fn(|i| Message::PoseFrame(pose_frames[i].clone()));
     let Ok(len) = encode_frame(&frames[0], &mut buf).map(|f| f.len()) else { board::exit(PIPELINE_EXIT_CODE) };
     defmt::println!("bench sample.tx_bytes {=usize}", len);
-    net("sample.encode_pose_frame", bench_encode(&frames, CALLS), bench_empty(&frames, CALLS), CALLS);
+    net("sample.encode_pose_frame", bench_encode(&pose_frames, CALLS), bench_empty(&pose_frames, CALLS), CALLS);
     net("sample.encode_message_pose_frame", bench_encode_message(&frames, CALLS), bench_empty(&frames, CALLS), CALLS);
     defmt::println!(
         "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize} phak {=usize} gait2392 {=usize}",
@@ -345,6 +360,29 @@ fn bench_decode_message(payloads: &[heapless::Vec<u8, 32>; INPUTS], n: u32) -> u
 }
 
 #[inline(never)]
+fn bench_decode_packet(payloads: &[heapless::Vec<u8, 32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(decode_packet(black_box(&payloads[i % INPUTS])));
+    })
+}
+
+/// Each frame's bytes through `push_frame`, then the delimiter if `delimit`, else a reset.
+#[inline(never)]
+fn bench_frame_bytes(frames: &[heapless::Vec<u8, 32>; INPUTS], n: u32, delimit: bool) -> u32 {
+    let mut decoder = FrameDecoder::new();
+    timed(n, |i| {
+        for &b in black_box(&frames[i % INPUTS]).iter() {
+            black_box(decoder.push_frame(b).is_some());
+        }
+        if black_box(delimit) {
+            black_box(decoder.push_frame(0).map(|f| f.map(|m| m.len())));
+        } else {
+            decoder.reset();
+        }
+    })
+}
+
+#[inline(never)]
 fn bench_encode_message(frames: &[Message; INPUTS], n: u32) -> u32 {
     let mut buf = [0u8; MAX_FRAME_LEN];
     timed(n, |i| {
@@ -355,10 +393,11 @@ fn bench_encode_message(frames: &[Message; INPUTS], n: u32) -> u32 {
 #[inline(never)]
 fn bench_decode(streams: &[heapless::Vec<u8, 192>; INPUTS], n: u32) -> u32 {
     let mut decoder = FrameDecoder::new();
+    // The hub's path: frame checks in the decoder, the packet decoded from its buffer.
     timed(n, |i| {
         for &b in black_box(&streams[i % INPUTS]).iter() {
-            if let Some(result) = decoder.push(b) {
-                black_box(&result);
+            if let Some(Ok(message)) = decoder.push_frame(b) {
+                black_box(&decode_packet(message));
             }
         }
     })
@@ -379,10 +418,11 @@ fn bench_distances(poses: &[BilateralPose<f32>; INPUTS], n: u32) -> u32 {
 }
 
 #[inline(never)]
-fn bench_encode(frames: &[Message; INPUTS], n: u32) -> u32 {
+fn bench_encode(frames: &[PoseFrame; INPUTS], n: u32) -> u32 {
     let mut buf = [0u8; MAX_FRAME_LEN];
+    // The hub's path: the pose frame encoded in place, without a `Message`.
     timed(n, |i| {
-        black_box(encode_frame(black_box(&frames[i % INPUTS]), &mut buf).map(|f| f.len()).ok());
+        black_box(encode_pose_frame(black_box(&frames[i % INPUTS]), &mut buf).map(|f| f.len()).ok());
     })
 }
 
