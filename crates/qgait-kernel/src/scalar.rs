@@ -60,104 +60,64 @@ pub trait Real:
     fn half_angle_sin_cos(self) -> (Self, Self);
 }
 
-impl Real for f64 {
-    const ZERO: Self = 0.0;
-    const ONE: Self = 1.0;
-    const TWO: Self = 2.0;
-    const HALF: Self = 0.5;
-    #[inline(always)]
-    fn from_f64(x: f64) -> Self {
-        x
-    }
-    #[inline(always)]
-    fn to_f64(self) -> f64 {
-        self
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        libm::sqrt(self)
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f64::abs(self)
-    }
-    #[inline(always)]
-    fn is_finite(self) -> bool {
-        f64::is_finite(self)
-    }
-    #[inline(always)]
-    fn min(self, other: Self) -> Self {
-        f64::min(self, other)
-    }
-    #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        f64::max(self, other)
-    }
-    #[inline(always)]
-    fn lt_select(self, other: Self, if_less: Self, otherwise: Self) -> Self {
-        if self < other {
-            if_less
-        } else {
-            otherwise
+/// `Real` for a primitive float: everything but the functions that differ by precision.
+macro_rules! impl_real {
+    ($t:ident, sqrt: $sqrt:path, sin_cos: $sin_cos:path, half_angle_sin_cos: $half:expr) => {
+        impl Real for $t {
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            const TWO: Self = 2.0;
+            const HALF: Self = 0.5;
+            #[inline(always)]
+            fn from_f64(x: f64) -> Self {
+                x as $t
+            }
+            #[inline(always)]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                $t::abs(self)
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                $t::is_finite(self)
+            }
+            #[inline(always)]
+            fn min(self, other: Self) -> Self {
+                $t::min(self, other)
+            }
+            #[inline(always)]
+            fn max(self, other: Self) -> Self {
+                $t::max(self, other)
+            }
+            #[inline(always)]
+            fn lt_select(self, other: Self, if_less: Self, otherwise: Self) -> Self {
+                if self < other {
+                    if_less
+                } else {
+                    otherwise
+                }
+            }
+            #[inline(always)]
+            fn sin_cos(self) -> (Self, Self) {
+                $sin_cos(self)
+            }
+            #[inline(always)]
+            fn half_angle_sin_cos(self) -> (Self, Self) {
+                let half: fn($t) -> ($t, $t) = $half;
+                half(self)
+            }
         }
-    }
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        libm::sincos(self)
-    }
-    #[inline(always)]
-    fn half_angle_sin_cos(self) -> (Self, Self) {
-        libm::sincos(0.5 * self)
-    }
+    };
 }
 
-impl Real for f32 {
-    const ZERO: Self = 0.0;
-    const ONE: Self = 1.0;
-    const TWO: Self = 2.0;
-    const HALF: Self = 0.5;
-    #[inline(always)]
-    fn from_f64(x: f64) -> Self {
-        x as f32
-    }
-    #[inline(always)]
-    fn to_f64(self) -> f64 {
-        self as f64
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        trig::sqrt_f32(self)
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f32::abs(self)
-    }
-    #[inline(always)]
-    fn is_finite(self) -> bool {
-        f32::is_finite(self)
-    }
-    #[inline(always)]
-    fn min(self, other: Self) -> Self {
-        f32::min(self, other)
-    }
-    #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        f32::max(self, other)
-    }
-    #[inline(always)]
-    fn lt_select(self, other: Self, if_less: Self, otherwise: Self) -> Self {
-        if self < other {
-            if_less
-        } else {
-            otherwise
-        }
-    }
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        libm::sincosf(self)
-    }
-    #[inline(always)]
-    fn half_angle_sin_cos(self) -> (Self, Self) {
-        trig::half_angle_sin_cos_f32(self)
-    }
-}
+// f64 (the host): libm throughout.
+impl_real!(f64, sqrt: libm::sqrt, sin_cos: libm::sincos, half_angle_sin_cos: |x| libm::sincos(0.5 * x));
+// f32 (the device): the FPU's square root and the kernel's half-angle polynomial (see `trig`).
+impl_real!(f32, sqrt: trig::sqrt_f32, sin_cos: libm::sincosf, half_angle_sin_cos: trig::half_angle_sin_cos_f32);
