@@ -9,6 +9,7 @@ compile_error!("enable exactly one board feature: `mps2-an386` or `nrf52840`");
 #[cfg(not(any(feature = "mps2-an386", feature = "nrf52840")))]
 compile_error!("enable one board feature: `mps2-an386` (default) or `nrf52840`");
 
+mod embedded_io_impl;
 pub mod rx_ring;
 pub mod systick_clock;
 
