@@ -26,7 +26,8 @@ pub struct Axis<T> {
 pub struct JointSpec<T> {
     /// Name, for messages and CLIs (e.g. `"hip_r"`).
     pub name: &'static str,
-    /// Index of the parent joint (an earlier one), or `None` for the root (ground frame).
+    /// Index of the parent joint (an earlier one), or `None` for the root (the ground frame is
+    /// its parent). The root is joint 0, and there is one.
     pub parent: Option<usize>,
     /// Location of this joint's centre in the parent's frame (metres).
     pub offset: Vec3<T>,
@@ -208,7 +209,8 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         mut splines: [SplineTranslation<T>; S],
     ) -> Result<Self, ModelError> {
         for (j, joint) in joints.iter_mut().enumerate() {
-            if joint.parent.is_some_and(|p| p >= j) {
+            // Joint 0 is the one root; every other joint hangs from an earlier one.
+            if joint.parent.map_or(j > 0, |p| p >= j) {
                 return Err(ModelError::ParentOrder { joint: j });
             }
             if joint.n_axes > MAX_AXES {
@@ -324,10 +326,8 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         // other joints then overwrite in order: no separate initialisation pass.
         let mut frames = [self.joint_frame(0, Frame::ground(), q, &slide); J];
         for j in 1..J {
-            let parent = match self.joints[j].parent {
-                Some(p) => frames[p],
-                None => Frame::ground(),
-            };
+            // (Chain::new: every joint after the first has an earlier parent.)
+            let parent = frames[self.joints[j].parent.unwrap_or(0)];
             frames[j] = self.joint_frame(j, parent, q, &slide);
         }
         frames

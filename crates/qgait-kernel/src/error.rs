@@ -7,7 +7,8 @@ use core::fmt;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum ModelError {
-    /// A joint names a parent that is not an earlier joint.
+    /// A joint names a parent that is not an earlier joint, or a joint other than the first
+    /// has no parent (a chain has one root, joint 0).
     ParentOrder {
         /// Index of the offending joint.
         joint: usize,
@@ -38,7 +39,10 @@ impl fmt::Display for ModelError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::ParentOrder { joint } => {
-                write!(f, "joint {joint} has a parent that is not an earlier joint")
+                write!(
+                    f,
+                    "joint {joint} has no parent or one that is not an earlier joint"
+                )
             }
             Self::CoordinateOutOfRange { joint } => {
                 write!(f, "joint {joint} reads a coordinate outside the input")
