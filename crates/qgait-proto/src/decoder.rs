@@ -62,6 +62,17 @@ impl FrameDecoder {
         if byte == 0 {
             return self.end_frame();
         }
+        self.push_data(byte).map(Err)
+    }
+
+    /// [`push_frame`](Self::push_frame) of a byte the caller knows is not the 0x00 delimiter
+    /// (give that to [`end_frame`](Self::end_frame)): `Some(`[`DecodeError::Oversize`]`)`
+    /// once when the frame outgrows the buffer, otherwise `None`. A caller that tests for the
+    /// delimiter itself keeps the per-byte path free of the frame result (about one
+    /// instruction a byte on the hub). A 0x00 given here is kept as data, so the frame then
+    /// fails its COBS check: an error, never a panic.
+    #[inline(always)]
+    pub fn push_data(&mut self, byte: u8) -> Option<DecodeError> {
         match self.buf.get_mut(self.len) {
             Some(slot) => {
                 *slot = byte;
@@ -72,9 +83,10 @@ impl FrameDecoder {
         }
     }
 
-    /// A 0x00 arrived: checks the frame in the buffer, if any.
+    /// The 0x00 delimiter arrived: checks the frame in the buffer, if any, as
+    /// [`push_frame`](Self::push_frame) does for a 0x00.
     #[inline(never)]
-    fn end_frame(&mut self) -> Option<Result<&[u8], DecodeError>> {
+    pub fn end_frame(&mut self) -> Option<Result<&[u8], DecodeError>> {
         let len = core::mem::take(&mut self.len);
         if len == 0 || len == DISCARDING {
             return None;
@@ -86,12 +98,12 @@ impl FrameDecoder {
     /// being discarded already.
     #[cold]
     #[inline(never)]
-    fn overflow(&mut self) -> Option<Result<&[u8], DecodeError>> {
+    fn overflow(&mut self) -> Option<DecodeError> {
         if self.len == DISCARDING {
             return None;
         }
         self.len = DISCARDING;
-        Some(Err(DecodeError::Oversize))
+        Some(DecodeError::Oversize)
     }
 
     /// Takes a chunk of bytes; the returned iterator yields one result per completed frame.

@@ -130,12 +130,19 @@ where
         let mut bytes = 0;
         while bytes < MAX_BYTES_PER_POLL as u32 {
             match self.serial.read() {
-                Ok(byte) => {
+                // Data bytes: into the decoder's buffer, nothing else on this path.
+                Ok(byte @ 1..) => {
+                    bytes += 1;
+                    if let Some(error) = self.decoder.push_data(byte) {
+                        count_decode_error(&mut self.status, &error);
+                    }
+                }
+                Ok(_delimiter) => {
                     bytes += 1;
                     // The frame checks (COBS, CRC) in the decoder; joint-angle packets, one per
                     // frame on a busy line, decoded straight from its buffer; anything else
                     // through the general decoder, out of line.
-                    match self.decoder.push_frame(byte) {
+                    match self.decoder.end_frame() {
                         None => {}
                         Some(Ok(message)) => match decode_packet(message) {
                             Some(Ok(packet)) => self.on_packet(&packet),
