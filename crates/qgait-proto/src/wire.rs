@@ -14,6 +14,7 @@
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 
+use crate::sizes::STATUS_COUNTERS;
 use crate::{
     point, Config, DecodeError, EncodeError, JointAngle, JointId, KneeDirection, Leg, Message,
     MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg,
@@ -65,6 +66,68 @@ pub(crate) fn encode_pose_frame_message<'a>(
     put_f32s(distance_bytes, &frame.distances);
     flags[0] = frame.flags;
     Ok(out)
+}
+
+/// [`encode_message`] of `Message::Status(status)`, without building the [`Message`]: the same
+/// bytes as postcard's (the tag, then the 16 counters as varints in declaration order), written
+/// by hand so that a hub, which encodes no other message with [`encode_message`], links no
+/// other message's serialiser.
+pub(crate) fn encode_status_message<'a>(
+    status: &Status,
+    out: &'a mut [u8],
+) -> Result<&'a mut [u8], EncodeError> {
+    // Every field named (no `..`): a counter added to `Status` must be added here.
+    let Status {
+        packets_accepted,
+        crc_errors,
+        framing_errors,
+        oversize_frames,
+        unknown_version,
+        unknown_joint,
+        out_of_range,
+        samples_completed,
+        samples_incomplete,
+        frames_sent,
+        uart_overruns,
+        uptime_ms,
+        late_packets,
+        duplicate_packets,
+        malformed,
+        config_rejected,
+    } = *status;
+    let counters: [u32; STATUS_COUNTERS] = [
+        packets_accepted,
+        crc_errors,
+        framing_errors,
+        oversize_frames,
+        unknown_version,
+        unknown_joint,
+        out_of_range,
+        samples_completed,
+        samples_incomplete,
+        frames_sent,
+        uart_overruns,
+        uptime_ms,
+        late_packets,
+        duplicate_packets,
+        malformed,
+        config_rejected,
+    ];
+    let too_small = EncodeError::BufferTooSmall {
+        needed: MAX_MESSAGE_LEN,
+    };
+    let (tag, mut rest) = out.split_first_mut().ok_or(too_small)?;
+    *tag = 2; // Message::Status's tag
+    let mut len = 1;
+    for counter in counters {
+        let mut buf = [0u8; VARINT_U32_MAX];
+        let varint = varint_u32(counter, &mut buf);
+        let (slot, after) = rest.split_at_mut_checked(varint.len()).ok_or(too_small)?;
+        slot.copy_from_slice(varint);
+        rest = after;
+        len += varint.len();
+    }
+    out.get_mut(..len).ok_or(too_small)
 }
 
 /// Writes `values` as postcard writes `f32`s (4 bytes, little-endian) into `out`.
@@ -156,6 +219,47 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         4 => decode_subject_leg(body).map(Message::SubjectLeg),
         5 => decode_subject_knee(body).map(Message::SubjectKnee),
         6 => decode_subject_config(body).map(Message::SubjectConfig),
+        unknown => Err(DecodeError::UnknownMessage(unknown)),
+    }
+}
+
+/// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
+/// and the ones only a hub sends, not decoded.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum HubMessage {
+    /// Tag 0.
+    JointAngle(JointAngle),
+    /// Tag 3.
+    Config(Config),
+    /// Tag 4.
+    SubjectLeg(SubjectLeg),
+    /// Tag 5.
+    SubjectKnee(SubjectKnee),
+    /// Tag 6.
+    SubjectConfig(SubjectConfig),
+    /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
+    /// Its body is not decoded: it may or may not be well-formed.
+    FromHub(u32),
+}
+
+/// [`decode_message`] for a hub: the messages sent to a hub are decoded exactly as
+/// [`decode_message`] decodes them (the same values, the same errors); a [`PoseFrame`] or a
+/// [`Status`] is reported as [`HubMessage::FromHub`] without decoding its body, so their
+/// decoders are not linked into a hub that does not call [`decode_message`].
+pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
+    if let Some(packet) = decode_packet(bytes) {
+        return packet.map(HubMessage::JointAngle);
+    }
+    let (tag, body) =
+        postcard::take_from_bytes::<u32>(bytes).map_err(|_| DecodeError::Malformed)?;
+    match tag {
+        0 => decode_joint_angle(body).map(HubMessage::JointAngle),
+        1 | 2 => Ok(HubMessage::FromHub(tag)),
+        3 => decode_config(body).map(HubMessage::Config),
+        4 => decode_subject_leg(body).map(HubMessage::SubjectLeg),
+        5 => decode_subject_knee(body).map(HubMessage::SubjectKnee),
+        6 => decode_subject_config(body).map(HubMessage::SubjectConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -503,6 +607,55 @@ mod tests {
             let mut b = [0u8; MAX_MESSAGE_LEN + 4];
             let fast = encode_message(&msg, &mut a[..size]).map(|m| m.to_vec());
             let reference = postcard::to_slice(&msg, &mut b[..size]).map(|m| m.to_vec());
+            match (&fast, &reference) {
+                (Ok(x), Ok(y)) => prop_assert_eq!(x, y),
+                (Err(e), Err(_)) => prop_assert_eq!(*e, EncodeError::BufferTooSmall { needed: MAX_MESSAGE_LEN }),
+                _ => prop_assert!(false, "size {}: {:?} vs {:?}", size, fast, reference),
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 20_000, ..ProptestConfig::default() })]
+
+        /// The hand-written status encoding is postcard's, byte for byte, and
+        /// `encode_message`'s, in buffers of every size (too small ones refused as postcard
+        /// refuses them).
+        #[test]
+        fn status_encoding_is_postcard(
+            counters in proptest::collection::vec(
+                prop_oneof![0u32..128, 128u32..16_384, 16_384u32..2_097_152, 2_097_152u32..268_435_456, any::<u32>()],
+                STATUS_COUNTERS,
+            ),
+            size in 0usize..MAX_MESSAGE_LEN + 4,
+        ) {
+            let c = |i: usize| counters[i];
+            let status = Status {
+                packets_accepted: c(0),
+                crc_errors: c(1),
+                framing_errors: c(2),
+                oversize_frames: c(3),
+                unknown_version: c(4),
+                unknown_joint: c(5),
+                out_of_range: c(6),
+                samples_completed: c(7),
+                samples_incomplete: c(8),
+                frames_sent: c(9),
+                uart_overruns: c(10),
+                uptime_ms: c(11),
+                late_packets: c(12),
+                duplicate_packets: c(13),
+                malformed: c(14),
+                config_rejected: c(15),
+            };
+            let msg = Message::Status(status);
+            let mut a = [0u8; MAX_MESSAGE_LEN + 4];
+            let mut b = [0u8; MAX_MESSAGE_LEN + 4];
+            let mut c = [0u8; MAX_MESSAGE_LEN + 4];
+            let fast = encode_status_message(&status, &mut a[..size]).map(|m| m.to_vec());
+            let reference = postcard::to_slice(&msg, &mut b[..size]).map(|m| m.to_vec());
+            let general = encode_message(&msg, &mut c[..size]).map(|m| m.to_vec());
+            prop_assert_eq!(&fast, &general);
             match (&fast, &reference) {
                 (Ok(x), Ok(y)) => prop_assert_eq!(x, y),
                 (Err(e), Err(_)) => prop_assert_eq!(*e, EncodeError::BufferTooSmall { needed: MAX_MESSAGE_LEN }),
