@@ -10,6 +10,9 @@
 //! [`PoseFrame`]. Their layout is postcard's (documented in `docs/protocol.md`); the unit tests
 //! below hold them to postcard itself, byte for byte, on random messages and on random bytes
 //! (the same bytes accepted, the same values, the same errors).
+//!
+//! A hub decodes with [`decode_hub_message`]: only the messages sent to a hub, their bodies
+//! deserialised field by field; `tests/hub_side.rs` holds it to [`decode_message`].
 
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
@@ -215,10 +218,10 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         0 => decode_joint_angle(body).map(Message::JointAngle),
         1 => decode_pose_frame(body).map(Message::PoseFrame),
         2 => take_all::<Status>(body).map(Message::Status),
-        3 => decode_config(body).map(Message::Config),
-        4 => decode_subject_leg(body).map(Message::SubjectLeg),
-        5 => decode_subject_knee(body).map(Message::SubjectKnee),
-        6 => decode_subject_config(body).map(Message::SubjectConfig),
+        3 => decode_config(take_all(body)?).map(Message::Config),
+        4 => decode_subject_leg(take_all(body)?).map(Message::SubjectLeg),
+        5 => decode_subject_knee(take_all(body)?).map(Message::SubjectKnee),
+        6 => decode_subject_config(take_all(body)?).map(Message::SubjectConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -256,10 +259,11 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
     match tag {
         0 => decode_joint_angle(body).map(HubMessage::JointAngle),
         1 | 2 => Ok(HubMessage::FromHub(tag)),
-        3 => decode_config(body).map(HubMessage::Config),
-        4 => decode_subject_leg(body).map(HubMessage::SubjectLeg),
-        5 => decode_subject_knee(body).map(HubMessage::SubjectKnee),
-        6 => decode_subject_config(body).map(HubMessage::SubjectConfig),
+        3 => decode_config(ConfigWire::take_fields(body)?).map(HubMessage::Config),
+        4 => decode_subject_leg(SubjectLegWire::take_fields(body)?).map(HubMessage::SubjectLeg),
+        5 => decode_subject_knee(SubjectKneeWire::take_fields(body)?).map(HubMessage::SubjectKnee),
+        6 => decode_subject_config(SubjectConfigWire::take_fields(body)?)
+            .map(HubMessage::SubjectConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -280,6 +284,26 @@ fn take_all<T: DeserializeOwned>(body: &[u8]) -> Result<T, DecodeError> {
     match postcard::take_from_bytes::<T>(body) {
         Ok((value, [])) => Ok(value),
         _ => Err(DecodeError::Malformed),
+    }
+}
+
+/// Deserialises a `T` at the start of `bytes`; returns it and the bytes after it.
+///
+/// The hub decodes its messages' bodies field by field with this (`take_fields`): a few
+/// small instances of postcard's deserialiser instead of one per mirror struct (a kilobyte
+/// each on a Cortex-M), for the same bytes accepted and the same values
+/// (`tests/hub_side.rs` holds them to [`decode_message`], which deserialises the mirror
+/// structs whole).
+fn take<T: DeserializeOwned>(bytes: &[u8]) -> Result<(T, &[u8]), DecodeError> {
+    postcard::take_from_bytes::<T>(bytes).map_err(|_| DecodeError::Malformed)
+}
+
+/// `Ok` if `rest` is empty: every byte of a body must be used.
+fn end(rest: &[u8]) -> Result<(), DecodeError> {
+    if rest.is_empty() {
+        Ok(())
+    } else {
+        Err(DecodeError::Malformed)
     }
 }
 
@@ -360,8 +384,26 @@ fn leg(byte: u8) -> Result<Leg, DecodeError> {
     Leg::from_index(byte).ok_or(DecodeError::Malformed)
 }
 
-fn decode_config(body: &[u8]) -> Result<Config, DecodeError> {
-    let w: ConfigWire = take_all(body)?;
+impl ConfigWire {
+    /// The body field by field (see [`take`]).
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (model, rest) = take(body)?;
+        let (anthropometry, rest) = take(rest)?;
+        let (missing_policy, rest) = take(rest)?;
+        let (reorder_window, rest) = take(rest)?;
+        let (request_status, rest) = take(rest)?;
+        end(rest)?;
+        Ok(Self {
+            model,
+            anthropometry,
+            missing_policy,
+            reorder_window,
+            request_status,
+        })
+    }
+}
+
+fn decode_config(w: ConfigWire) -> Result<Config, DecodeError> {
     let missing_policy = missing_policy(w.missing_policy)?;
     Ok(Config {
         model: ModelId::from_index(w.model).ok_or(DecodeError::UnknownModel(w.model))?,
@@ -387,8 +429,35 @@ struct SubjectLegWire {
     toetip_in_toes: [f32; 3],
 }
 
-fn decode_subject_leg(body: &[u8]) -> Result<SubjectLeg, DecodeError> {
-    let w: SubjectLegWire = take_all(body)?;
+impl SubjectLegWire {
+    /// The body field by field (see [`take`]): the 11 vectors in one loop.
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (upload, rest) = take(body)?;
+        let (leg, mut rest) = take(rest)?;
+        let mut v = [[0.0f32; 3]; 11];
+        for slot in &mut v {
+            (*slot, rest) = take(rest)?;
+        }
+        end(rest)?;
+        let [hip_in_pelvis, h0, h1, h2, ankle_in_tibia, ankle_axis, subtalar_in_talus, subtalar_axis, mtp_in_calcn, mtp_axis, toetip_in_toes] =
+            v;
+        Ok(Self {
+            upload,
+            leg,
+            hip_in_pelvis,
+            hip_axes: [h0, h1, h2],
+            ankle_in_tibia,
+            ankle_axis,
+            subtalar_in_talus,
+            subtalar_axis,
+            mtp_in_calcn,
+            mtp_axis,
+            toetip_in_toes,
+        })
+    }
+}
+
+fn decode_subject_leg(w: SubjectLegWire) -> Result<SubjectLeg, DecodeError> {
     Ok(SubjectLeg {
         upload: w.upload,
         leg: leg(w.leg)?,
@@ -413,8 +482,24 @@ struct SubjectKneeWire {
     knots: heapless::Vec<[f32; 2], MAX_KNEE_KNOTS>,
 }
 
-fn decode_subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
-    let w: SubjectKneeWire = take_all(body)?;
+impl SubjectKneeWire {
+    /// The body field by field (see [`take`]).
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (upload, rest) = take(body)?;
+        let (leg, rest) = take(rest)?;
+        let (direction, rest) = take(rest)?;
+        let (knots, rest) = take(rest)?;
+        end(rest)?;
+        Ok(Self {
+            upload,
+            leg,
+            direction,
+            knots,
+        })
+    }
+}
+
+fn decode_subject_knee(w: SubjectKneeWire) -> Result<SubjectKnee, DecodeError> {
     Ok(SubjectKnee {
         upload: w.upload,
         leg: leg(w.leg)?,
@@ -431,8 +516,24 @@ struct SubjectConfigWire {
     request_status: bool,
 }
 
-fn decode_subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
-    let w: SubjectConfigWire = take_all(body)?;
+impl SubjectConfigWire {
+    /// The body field by field (see [`take`]).
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (upload, rest) = take(body)?;
+        let (missing_policy, rest) = take(rest)?;
+        let (reorder_window, rest) = take(rest)?;
+        let (request_status, rest) = take(rest)?;
+        end(rest)?;
+        Ok(Self {
+            upload,
+            missing_policy,
+            reorder_window,
+            request_status,
+        })
+    }
+}
+
+fn decode_subject_config(w: SubjectConfigWire) -> Result<SubjectConfig, DecodeError> {
     Ok(SubjectConfig {
         upload: w.upload,
         missing_policy: missing_policy(w.missing_policy)?,
