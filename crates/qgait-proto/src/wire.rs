@@ -119,16 +119,21 @@ pub(crate) fn encode_status_message<'a>(
     let too_small = EncodeError::BufferTooSmall {
         needed: MAX_MESSAGE_LEN,
     };
-    let (tag, mut rest) = out.split_first_mut().ok_or(too_small)?;
-    *tag = 2; // Message::Status's tag
+    *out.first_mut().ok_or(too_small)? = 2; // Message::Status's tag
     let mut len = 1;
-    for counter in counters {
-        let mut buf = [0u8; VARINT_U32_MAX];
-        let varint = varint_u32(counter, &mut buf);
-        let (slot, after) = rest.split_at_mut_checked(varint.len()).ok_or(too_small)?;
-        slot.copy_from_slice(varint);
-        rest = after;
-        len += varint.len();
+    // The varints written straight into `out` (not with `varint_u32`, which the pose frame
+    // encoding then no longer has to itself: it would be a call there).
+    for mut value in counters {
+        loop {
+            let slot = out.get_mut(len).ok_or(too_small)?;
+            len += 1;
+            if value < 0x80 {
+                *slot = value as u8;
+                break;
+            }
+            *slot = (value as u8) | 0x80;
+            value >>= 7;
+        }
     }
     out.get_mut(..len).ok_or(too_small)
 }
@@ -208,6 +213,9 @@ pub fn decode_packet(bytes: &[u8]) -> Option<Result<JointAngle, DecodeError>> {
 }
 
 /// Decodes one message from its postcard bytes (no CRC, no framing). Every byte must be used.
+// Never inlined: with a single caller (a device's benchmark) the compiler would inline all 7
+// decoders there, and the joint-angle fast path at its head costs twice as much inlined.
+#[inline(never)]
 pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
     if let Some(packet) = decode_packet(bytes) {
         return packet.map(Message::JointAngle);
