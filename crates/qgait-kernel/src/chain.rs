@@ -253,7 +253,15 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         if J > u8::MAX as usize || S > u8::MAX as usize {
             return Err(ModelError::BodyOutOfRange { index: J.max(S) });
         }
-        splines.sort_unstable_by_key(|s| s.joint);
+        // By joint, in order of the description among a joint's splines: an insertion sort
+        // (models have a handful of splines).
+        for i in 1..S {
+            let mut k = i;
+            while k > 0 && splines[k - 1].joint > splines[k].joint {
+                splines.swap(k - 1, k);
+                k -= 1;
+            }
+        }
         let mut spline_ranges = [(0u8, 0u8); J];
         for (j, range) in spline_ranges.iter_mut().enumerate() {
             let start = splines.iter().take_while(|s| s.joint < j).count();

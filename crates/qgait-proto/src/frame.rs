@@ -1,10 +1,10 @@
 //! Whole frames: message bytes + CRC-32C (little-endian) → COBS → 0x00.
 
 use crate::crc::{self, crc32c};
-use crate::wire::encode_pose_frame_message;
+use crate::wire::{encode_pose_frame_message, encode_status_message};
 use crate::{
-    cobs, decode_message, encode_message, DecodeError, EncodeError, Message, PoseFrame, CRC_LEN,
-    MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
+    cobs, decode_message, encode_message, DecodeError, EncodeError, Message, PoseFrame, Status,
+    CRC_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
 };
 
 /// Encodes `msg` as one complete frame into `out` and returns it, trailing 0x00 included.
@@ -22,6 +22,17 @@ pub fn encode_pose_frame<'a>(
 ) -> Result<&'a [u8], EncodeError> {
     encode_frame_with(out, |payload| {
         encode_pose_frame_message(frame, payload).map(|m| m.len())
+    })
+}
+
+/// [`encode_frame`] of `Message::Status(status)`, without building the [`Message`]: the same
+/// bytes (the hub's path for its status frames, which links no other message's serialiser).
+pub fn encode_status_frame<'a>(
+    status: &Status,
+    out: &'a mut [u8],
+) -> Result<&'a [u8], EncodeError> {
+    encode_frame_with(out, |payload| {
+        encode_status_message(status, payload).map(|m| m.len())
     })
 }
 

@@ -20,7 +20,9 @@ pub use crate::crc::{crc32c, FRAME_CRC, FRAME_CRC_CHECK};
 pub use crate::decoder::{Feed, FrameDecoder};
 pub use crate::error::{DecodeError, EncodeError, ErrorKind};
 pub use crate::flags::{FrameFlags, QualityFlags};
-pub use crate::frame::{decode_frame, encode_frame, encode_pose_frame, encode_raw_frame};
+pub use crate::frame::{
+    decode_frame, encode_frame, encode_pose_frame, encode_raw_frame, encode_status_frame,
+};
 pub use crate::joint::JointId;
 pub use crate::messages::{
     point, segment, Config, JointAngle, Message, MissingPolicy, PoseFrame, Status, MAX_POSE_ANGLES,
@@ -35,7 +37,9 @@ pub use crate::sizes::{
 pub use crate::subject::{
     KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,
 };
-pub use crate::wire::{decode_message, decode_packet, encode_message};
+pub use crate::wire::{
+    decode_hub_message, decode_message, decode_packet, encode_message, HubMessage,
+};
 
 /// Largest COBS encoding (delimiter excluded) of `len` bytes: `len + ceil(len / 254)`, 1 if empty.
 pub const fn cobs_max_encoded_len(len: usize) -> usize {

@@ -10,10 +10,14 @@
 //! [`PoseFrame`]. Their layout is postcard's (documented in `docs/protocol.md`); the unit tests
 //! below hold them to postcard itself, byte for byte, on random messages and on random bytes
 //! (the same bytes accepted, the same values, the same errors).
+//!
+//! A hub decodes with [`decode_hub_message`]: only the messages sent to a hub, their bodies
+//! deserialised field by field; `tests/hub_side.rs` holds it to [`decode_message`].
 
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 
+use crate::sizes::STATUS_COUNTERS;
 use crate::{
     point, Config, DecodeError, EncodeError, JointAngle, JointId, KneeDirection, Leg, Message,
     MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg,
@@ -65,6 +69,73 @@ pub(crate) fn encode_pose_frame_message<'a>(
     put_f32s(distance_bytes, &frame.distances);
     flags[0] = frame.flags;
     Ok(out)
+}
+
+/// [`encode_message`] of `Message::Status(status)`, without building the [`Message`]: the same
+/// bytes as postcard's (the tag, then the 16 counters as varints in declaration order), written
+/// by hand so that a hub, which encodes no other message with [`encode_message`], links no
+/// other message's serialiser.
+pub(crate) fn encode_status_message<'a>(
+    status: &Status,
+    out: &'a mut [u8],
+) -> Result<&'a mut [u8], EncodeError> {
+    // Every field named (no `..`): a counter added to `Status` must be added here.
+    let Status {
+        packets_accepted,
+        crc_errors,
+        framing_errors,
+        oversize_frames,
+        unknown_version,
+        unknown_joint,
+        out_of_range,
+        samples_completed,
+        samples_incomplete,
+        frames_sent,
+        uart_overruns,
+        uptime_ms,
+        late_packets,
+        duplicate_packets,
+        malformed,
+        config_rejected,
+    } = *status;
+    let counters: [u32; STATUS_COUNTERS] = [
+        packets_accepted,
+        crc_errors,
+        framing_errors,
+        oversize_frames,
+        unknown_version,
+        unknown_joint,
+        out_of_range,
+        samples_completed,
+        samples_incomplete,
+        frames_sent,
+        uart_overruns,
+        uptime_ms,
+        late_packets,
+        duplicate_packets,
+        malformed,
+        config_rejected,
+    ];
+    let too_small = EncodeError::BufferTooSmall {
+        needed: MAX_MESSAGE_LEN,
+    };
+    *out.first_mut().ok_or(too_small)? = 2; // Message::Status's tag
+    let mut len = 1;
+    // The varints written straight into `out` (not with `varint_u32`, which the pose frame
+    // encoding then no longer has to itself: it would be a call there).
+    for mut value in counters {
+        loop {
+            let slot = out.get_mut(len).ok_or(too_small)?;
+            len += 1;
+            if value < 0x80 {
+                *slot = value as u8;
+                break;
+            }
+            *slot = (value as u8) | 0x80;
+            value >>= 7;
+        }
+    }
+    out.get_mut(..len).ok_or(too_small)
 }
 
 /// Writes `values` as postcard writes `f32`s (4 bytes, little-endian) into `out`.
@@ -142,6 +213,9 @@ pub fn decode_packet(bytes: &[u8]) -> Option<Result<JointAngle, DecodeError>> {
 }
 
 /// Decodes one message from its postcard bytes (no CRC, no framing). Every byte must be used.
+// Never inlined: with a single caller (a device's benchmark) the compiler would inline all 7
+// decoders there, and the joint-angle fast path at its head costs twice as much inlined.
+#[inline(never)]
 pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
     if let Some(packet) = decode_packet(bytes) {
         return packet.map(Message::JointAngle);
@@ -152,10 +226,52 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         0 => decode_joint_angle(body).map(Message::JointAngle),
         1 => decode_pose_frame(body).map(Message::PoseFrame),
         2 => take_all::<Status>(body).map(Message::Status),
-        3 => decode_config(body).map(Message::Config),
-        4 => decode_subject_leg(body).map(Message::SubjectLeg),
-        5 => decode_subject_knee(body).map(Message::SubjectKnee),
-        6 => decode_subject_config(body).map(Message::SubjectConfig),
+        3 => decode_config(take_all(body)?).map(Message::Config),
+        4 => decode_subject_leg(take_all(body)?).map(Message::SubjectLeg),
+        5 => decode_subject_knee(take_all(body)?).map(Message::SubjectKnee),
+        6 => decode_subject_config(take_all(body)?).map(Message::SubjectConfig),
+        unknown => Err(DecodeError::UnknownMessage(unknown)),
+    }
+}
+
+/// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
+/// and the ones only a hub sends, not decoded.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum HubMessage {
+    /// Tag 0.
+    JointAngle(JointAngle),
+    /// Tag 3.
+    Config(Config),
+    /// Tag 4.
+    SubjectLeg(SubjectLeg),
+    /// Tag 5.
+    SubjectKnee(SubjectKnee),
+    /// Tag 6.
+    SubjectConfig(SubjectConfig),
+    /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
+    /// Its body is not decoded: it may or may not be well-formed.
+    FromHub(u32),
+}
+
+/// [`decode_message`] for a hub: the messages sent to a hub are decoded exactly as
+/// [`decode_message`] decodes them (the same values, the same errors); a [`PoseFrame`] or a
+/// [`Status`] is reported as [`HubMessage::FromHub`] without decoding its body, so their
+/// decoders are not linked into a hub that does not call [`decode_message`].
+pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
+    if let Some(packet) = decode_packet(bytes) {
+        return packet.map(HubMessage::JointAngle);
+    }
+    let (tag, body) =
+        postcard::take_from_bytes::<u32>(bytes).map_err(|_| DecodeError::Malformed)?;
+    match tag {
+        0 => decode_joint_angle(body).map(HubMessage::JointAngle),
+        1 | 2 => Ok(HubMessage::FromHub(tag)),
+        3 => decode_config(ConfigWire::take_fields(body)?).map(HubMessage::Config),
+        4 => decode_subject_leg(SubjectLegWire::take_fields(body)?).map(HubMessage::SubjectLeg),
+        5 => decode_subject_knee(SubjectKneeWire::take_fields(body)?).map(HubMessage::SubjectKnee),
+        6 => decode_subject_config(SubjectConfigWire::take_fields(body)?)
+            .map(HubMessage::SubjectConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -176,6 +292,26 @@ fn take_all<T: DeserializeOwned>(body: &[u8]) -> Result<T, DecodeError> {
     match postcard::take_from_bytes::<T>(body) {
         Ok((value, [])) => Ok(value),
         _ => Err(DecodeError::Malformed),
+    }
+}
+
+/// Deserialises a `T` at the start of `bytes`; returns it and the bytes after it.
+///
+/// The hub decodes its messages' bodies field by field with this (`take_fields`): a few
+/// small instances of postcard's deserialiser instead of one per mirror struct (a kilobyte
+/// each on a Cortex-M), for the same bytes accepted and the same values
+/// (`tests/hub_side.rs` holds them to [`decode_message`], which deserialises the mirror
+/// structs whole).
+fn take<T: DeserializeOwned>(bytes: &[u8]) -> Result<(T, &[u8]), DecodeError> {
+    postcard::take_from_bytes::<T>(bytes).map_err(|_| DecodeError::Malformed)
+}
+
+/// `Ok` if `rest` is empty: every byte of a body must be used.
+fn end(rest: &[u8]) -> Result<(), DecodeError> {
+    if rest.is_empty() {
+        Ok(())
+    } else {
+        Err(DecodeError::Malformed)
     }
 }
 
@@ -256,8 +392,26 @@ fn leg(byte: u8) -> Result<Leg, DecodeError> {
     Leg::from_index(byte).ok_or(DecodeError::Malformed)
 }
 
-fn decode_config(body: &[u8]) -> Result<Config, DecodeError> {
-    let w: ConfigWire = take_all(body)?;
+impl ConfigWire {
+    /// The body field by field (see [`take`]).
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (model, rest) = take(body)?;
+        let (anthropometry, rest) = take(rest)?;
+        let (missing_policy, rest) = take(rest)?;
+        let (reorder_window, rest) = take(rest)?;
+        let (request_status, rest) = take(rest)?;
+        end(rest)?;
+        Ok(Self {
+            model,
+            anthropometry,
+            missing_policy,
+            reorder_window,
+            request_status,
+        })
+    }
+}
+
+fn decode_config(w: ConfigWire) -> Result<Config, DecodeError> {
     let missing_policy = missing_policy(w.missing_policy)?;
     Ok(Config {
         model: ModelId::from_index(w.model).ok_or(DecodeError::UnknownModel(w.model))?,
@@ -283,8 +437,35 @@ struct SubjectLegWire {
     toetip_in_toes: [f32; 3],
 }
 
-fn decode_subject_leg(body: &[u8]) -> Result<SubjectLeg, DecodeError> {
-    let w: SubjectLegWire = take_all(body)?;
+impl SubjectLegWire {
+    /// The body field by field (see [`take`]): the 11 vectors in one loop.
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (upload, rest) = take(body)?;
+        let (leg, mut rest) = take(rest)?;
+        let mut v = [[0.0f32; 3]; 11];
+        for slot in &mut v {
+            (*slot, rest) = take(rest)?;
+        }
+        end(rest)?;
+        let [hip_in_pelvis, h0, h1, h2, ankle_in_tibia, ankle_axis, subtalar_in_talus, subtalar_axis, mtp_in_calcn, mtp_axis, toetip_in_toes] =
+            v;
+        Ok(Self {
+            upload,
+            leg,
+            hip_in_pelvis,
+            hip_axes: [h0, h1, h2],
+            ankle_in_tibia,
+            ankle_axis,
+            subtalar_in_talus,
+            subtalar_axis,
+            mtp_in_calcn,
+            mtp_axis,
+            toetip_in_toes,
+        })
+    }
+}
+
+fn decode_subject_leg(w: SubjectLegWire) -> Result<SubjectLeg, DecodeError> {
     Ok(SubjectLeg {
         upload: w.upload,
         leg: leg(w.leg)?,
@@ -309,8 +490,24 @@ struct SubjectKneeWire {
     knots: heapless::Vec<[f32; 2], MAX_KNEE_KNOTS>,
 }
 
-fn decode_subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
-    let w: SubjectKneeWire = take_all(body)?;
+impl SubjectKneeWire {
+    /// The body field by field (see [`take`]).
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (upload, rest) = take(body)?;
+        let (leg, rest) = take(rest)?;
+        let (direction, rest) = take(rest)?;
+        let (knots, rest) = take(rest)?;
+        end(rest)?;
+        Ok(Self {
+            upload,
+            leg,
+            direction,
+            knots,
+        })
+    }
+}
+
+fn decode_subject_knee(w: SubjectKneeWire) -> Result<SubjectKnee, DecodeError> {
     Ok(SubjectKnee {
         upload: w.upload,
         leg: leg(w.leg)?,
@@ -327,8 +524,24 @@ struct SubjectConfigWire {
     request_status: bool,
 }
 
-fn decode_subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
-    let w: SubjectConfigWire = take_all(body)?;
+impl SubjectConfigWire {
+    /// The body field by field (see [`take`]).
+    fn take_fields(body: &[u8]) -> Result<Self, DecodeError> {
+        let (upload, rest) = take(body)?;
+        let (missing_policy, rest) = take(rest)?;
+        let (reorder_window, rest) = take(rest)?;
+        let (request_status, rest) = take(rest)?;
+        end(rest)?;
+        Ok(Self {
+            upload,
+            missing_policy,
+            reorder_window,
+            request_status,
+        })
+    }
+}
+
+fn decode_subject_config(w: SubjectConfigWire) -> Result<SubjectConfig, DecodeError> {
     Ok(SubjectConfig {
         upload: w.upload,
         missing_policy: missing_policy(w.missing_policy)?,
@@ -503,6 +716,55 @@ mod tests {
             let mut b = [0u8; MAX_MESSAGE_LEN + 4];
             let fast = encode_message(&msg, &mut a[..size]).map(|m| m.to_vec());
             let reference = postcard::to_slice(&msg, &mut b[..size]).map(|m| m.to_vec());
+            match (&fast, &reference) {
+                (Ok(x), Ok(y)) => prop_assert_eq!(x, y),
+                (Err(e), Err(_)) => prop_assert_eq!(*e, EncodeError::BufferTooSmall { needed: MAX_MESSAGE_LEN }),
+                _ => prop_assert!(false, "size {}: {:?} vs {:?}", size, fast, reference),
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 20_000, ..ProptestConfig::default() })]
+
+        /// The hand-written status encoding is postcard's, byte for byte, and
+        /// `encode_message`'s, in buffers of every size (too small ones refused as postcard
+        /// refuses them).
+        #[test]
+        fn status_encoding_is_postcard(
+            counters in proptest::collection::vec(
+                prop_oneof![0u32..128, 128u32..16_384, 16_384u32..2_097_152, 2_097_152u32..268_435_456, any::<u32>()],
+                STATUS_COUNTERS,
+            ),
+            size in 0usize..MAX_MESSAGE_LEN + 4,
+        ) {
+            let c = |i: usize| counters[i];
+            let status = Status {
+                packets_accepted: c(0),
+                crc_errors: c(1),
+                framing_errors: c(2),
+                oversize_frames: c(3),
+                unknown_version: c(4),
+                unknown_joint: c(5),
+                out_of_range: c(6),
+                samples_completed: c(7),
+                samples_incomplete: c(8),
+                frames_sent: c(9),
+                uart_overruns: c(10),
+                uptime_ms: c(11),
+                late_packets: c(12),
+                duplicate_packets: c(13),
+                malformed: c(14),
+                config_rejected: c(15),
+            };
+            let msg = Message::Status(status);
+            let mut a = [0u8; MAX_MESSAGE_LEN + 4];
+            let mut b = [0u8; MAX_MESSAGE_LEN + 4];
+            let mut c = [0u8; MAX_MESSAGE_LEN + 4];
+            let fast = encode_status_message(&status, &mut a[..size]).map(|m| m.to_vec());
+            let reference = postcard::to_slice(&msg, &mut b[..size]).map(|m| m.to_vec());
+            let general = encode_message(&msg, &mut c[..size]).map(|m| m.to_vec());
+            prop_assert_eq!(&fast, &general);
             match (&fast, &reference) {
                 (Ok(x), Ok(y)) => prop_assert_eq!(x, y),
                 (Err(e), Err(_)) => prop_assert_eq!(*e, EncodeError::BufferTooSmall { needed: MAX_MESSAGE_LEN }),

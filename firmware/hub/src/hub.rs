@@ -4,8 +4,8 @@ use core::mem::MaybeUninit;
 
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
 use qgait_proto::{
-    decode_message, decode_packet, encode_frame, encode_pose_frame, Config, DecodeError, FrameDecoder, FrameFlags,
-    JointAngle, Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN,
+    decode_hub_message, decode_packet, encode_pose_frame, encode_status_frame, Config, DecodeError, FrameDecoder,
+    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent, MAX_WINDOW};
@@ -148,7 +148,7 @@ where
                             Some(Ok(packet)) => self.on_packet(&packet),
                             Some(Err(error)) => count_decode_error(&mut self.status, &error),
                             None => {
-                                let message = decode_message(message);
+                                let message = decode_hub_message(message);
                                 self.on_message(message)
                             }
                         },
@@ -208,22 +208,23 @@ where
 
     /// A frame that is not a joint-angle packet (rare: configuration, or errors).
     #[inline(never)]
-    fn on_message(&mut self, message: Result<Message, DecodeError>) {
+    fn on_message(&mut self, message: Result<HubMessage, DecodeError>) {
         match message {
             Ok(message) => self.handle(message),
             Err(error) => count_decode_error(&mut self.status, &error),
         }
     }
 
-    fn handle(&mut self, message: Message) {
+    fn handle(&mut self, message: HubMessage) {
         match message {
-            Message::JointAngle(packet) => self.on_packet(&packet),
-            Message::Config(config) => self.on_config(&config),
-            Message::SubjectLeg(part) => self.subject_parts.add_leg(&part),
-            Message::SubjectKnee(part) => self.subject_parts.add_knee(&part),
-            Message::SubjectConfig(config) => self.on_subject_config(&config),
-            // Well-formed, but only a hub sends these: nothing to do with them here.
-            Message::PoseFrame(_) | Message::Status(_) => bump(&mut self.status.malformed),
+            HubMessage::JointAngle(packet) => self.on_packet(&packet),
+            HubMessage::Config(config) => self.on_config(&config),
+            HubMessage::SubjectLeg(part) => self.subject_parts.add_leg(&part),
+            HubMessage::SubjectKnee(part) => self.subject_parts.add_knee(&part),
+            HubMessage::SubjectConfig(config) => self.on_subject_config(&config),
+            // A pose frame or a status (well-formed or not: its body is not decoded): only a
+            // hub sends these, nothing to do with them here.
+            HubMessage::FromHub(_) => bump(&mut self.status.malformed),
         }
     }
 
@@ -365,16 +366,12 @@ where
         // Counts itself: the status says how many frames were sent including this one.
         let mut status = self.status();
         status.frames_sent = status.frames_sent.wrapping_add(1);
-        self.send(&Message::Status(status));
+        // A status fits MAX_FRAME_LEN, so encoding cannot fail; if it ever did, nothing is
+        // written.
+        if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
+            write_frame(&mut self.serial, &mut self.status, frame);
+        }
         self.status_frames = self.status_frames.wrapping_add(1);
-    }
-
-    /// Encodes and writes one frame; counts it if the whole frame went out.
-    fn send(&mut self, message: &Message) {
-        // Every message fits MAX_FRAME_LEN and the hub only builds frames with the right angle
-        // count, so encoding cannot fail; if it ever did, nothing is written.
-        let Ok(frame) = encode_frame(message, &mut self.tx) else { return };
-        write_frame(&mut self.serial, &mut self.status, frame);
     }
 
 }
@@ -409,7 +406,7 @@ impl<S: serial::Write<u8>> Output<'_, S> {
     }
 
     /// Sends a pose frame, encoded in place in the transmit buffer without building a
-    /// [`Message`].
+    /// [`Message`](qgait_proto::Message).
     fn send_pose(&mut self, frame: &PoseFrame) {
         let Ok(frame) = encode_pose_frame(frame, self.tx) else { return };
         write_frame(self.serial, self.status, frame);

@@ -388,6 +388,81 @@ impl<T: Real> Gait2392Pose<T> {
     }
 }
 
+/// The joints of one leg of [`Gait2392`]: hip, knee, ankle, subtalar, MTP, the hip's parent
+/// joint 0 (the pelvis), the others' the joint before; `first` is the hip's index, `coord` the
+/// hip flexion's coordinate.
+// Never inlined: one copy builds both legs (building a chain is not on any per-frame path).
+#[inline(never)]
+fn leg_joints<T: Real>(
+    l: &LegGeometry<T>,
+    s: Side,
+    first: usize,
+    coord: usize,
+) -> [JointSpec<T>; 5] {
+    let v = |a: [T; 3]| Vec3::new(a[0], a[1], a[2]);
+    let [a1, a2, a3] = l.hip_axes.map(v);
+    [
+        JointSpec::new(
+            ["hip_r", "hip_l"][s as usize],
+            Some(0),
+            v(l.hip_in_pelvis),
+            &[(a1, coord), (a2, coord + 1), (a3, coord + 2)],
+        ),
+        JointSpec::new(
+            ["knee_r", "knee_l"][s as usize],
+            Some(first),
+            Vec3::zero(),
+            &[(z(), coord + 3)],
+        ),
+        JointSpec::new(
+            ["ankle_r", "ankle_l"][s as usize],
+            Some(first + 1),
+            v(l.ankle_in_tibia),
+            &[(v(l.ankle_axis), coord + 4)],
+        ),
+        JointSpec::new(
+            ["subtalar_r", "subtalar_l"][s as usize],
+            Some(first + 2),
+            v(l.subtalar_in_talus),
+            &[(v(l.subtalar_axis), coord + 5)],
+        ),
+        JointSpec::new(
+            ["mtp_r", "mtp_l"][s as usize],
+            Some(first + 3),
+            v(l.mtp_in_calcn),
+            &[(v(l.mtp_axis), coord + 6)],
+        ),
+    ]
+}
+
+/// The points of one leg of [`Gait2392`]: the centres of its 5 joints (from `first`, the hip)
+/// and the toe tip.
+// Never inlined, as [`leg_joints`].
+#[inline(never)]
+fn leg_points<T: Real>(l: &LegGeometry<T>, s: Side, first: usize) -> [PointSpec<T>; 6] {
+    let at = |k: usize| PointSpec {
+        name: POINTS[side_base(s) + k],
+        body: first + k,
+        offset: Vec3::zero(),
+    };
+    [
+        at(0),
+        at(1),
+        at(2),
+        at(3),
+        at(4),
+        PointSpec {
+            name: POINTS[side_base(s) + 5],
+            body: first + 4,
+            offset: Vec3::new(
+                l.toetip_in_toes[0],
+                l.toetip_in_toes[1],
+                l.toetip_in_toes[2],
+            ),
+        },
+    ]
+}
+
 fn side_base(side: Side) -> usize {
     match side {
         Side::Right => 0,
@@ -430,45 +505,8 @@ impl<T: Real> Gait2392<T> {
 
     /// The chain for `g`, with the knee splines `[right tx, right ty, left tx, left ty]`.
     fn with_knees(g: &Gait2392Geometry<T>, knees: [Spline<T>; 4]) -> Result<Self, ModelError> {
-        let v = |a: [T; 3]| Vec3::new(a[0], a[1], a[2]);
-        let leg_joints = |s: Side, first: usize, coord: usize| {
-            let l = g.leg(s);
-            let [a1, a2, a3] = l.hip_axes.map(v);
-            [
-                JointSpec::new(
-                    ["hip_r", "hip_l"][s as usize],
-                    Some(0),
-                    v(l.hip_in_pelvis),
-                    &[(a1, coord), (a2, coord + 1), (a3, coord + 2)],
-                ),
-                JointSpec::new(
-                    ["knee_r", "knee_l"][s as usize],
-                    Some(first),
-                    Vec3::zero(),
-                    &[(z(), coord + 3)],
-                ),
-                JointSpec::new(
-                    ["ankle_r", "ankle_l"][s as usize],
-                    Some(first + 1),
-                    v(l.ankle_in_tibia),
-                    &[(v(l.ankle_axis), coord + 4)],
-                ),
-                JointSpec::new(
-                    ["subtalar_r", "subtalar_l"][s as usize],
-                    Some(first + 2),
-                    v(l.subtalar_in_talus),
-                    &[(v(l.subtalar_axis), coord + 5)],
-                ),
-                JointSpec::new(
-                    ["mtp_r", "mtp_l"][s as usize],
-                    Some(first + 3),
-                    v(l.mtp_in_calcn),
-                    &[(v(l.mtp_axis), coord + 6)],
-                ),
-            ]
-        };
-        let [r0, r1, r2, r3, r4] = leg_joints(Side::Right, 1, 3);
-        let [l0, l1, l2, l3, l4] = leg_joints(Side::Left, 6, 10);
+        let [r0, r1, r2, r3, r4] = leg_joints(&g.right, Side::Right, 1, 3);
+        let [l0, l1, l2, l3, l4] = leg_joints(&g.left, Side::Left, 6, 10);
         let pelvis = JointSpec::new(
             "pelvis",
             None,
@@ -476,27 +514,8 @@ impl<T: Real> Gait2392<T> {
             &[(z(), 0), (x(), 1), (y(), 2)],
         );
         let joints = [pelvis, r0, r1, r2, r3, r4, l0, l1, l2, l3, l4];
-        let leg_points = |s: Side, first: usize| {
-            let at = |k: usize| PointSpec {
-                name: POINTS[side_base(s) + k],
-                body: first + k,
-                offset: Vec3::zero(),
-            };
-            [
-                at(0),
-                at(1),
-                at(2),
-                at(3),
-                at(4),
-                PointSpec {
-                    name: POINTS[side_base(s) + 5],
-                    body: first + 4,
-                    offset: v(g.leg(s).toetip_in_toes),
-                },
-            ]
-        };
-        let [p0, p1, p2, p3, p4, p5] = leg_points(Side::Right, 1);
-        let [p6, p7, p8, p9, p10, p11] = leg_points(Side::Left, 6);
+        let [p0, p1, p2, p3, p4, p5] = leg_points(&g.right, Side::Right, 1);
+        let [p6, p7, p8, p9, p10, p11] = leg_points(&g.left, Side::Left, 6);
         let [r_tx, r_ty, l_tx, l_ty] = knees;
         let knee = |joint: usize, coordinate: usize, tx: Spline<T>, ty: Spline<T>| {
             [
