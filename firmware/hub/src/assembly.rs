@@ -12,6 +12,11 @@
 //! way (a node restarted, or a long outage) abandons the open samples and restarts the window
 //! at the new number, so a restarted sender is never taken for an endless stream of late
 //! packets.
+//!
+//! The caller judges each packet's angle in or out of range as it arrives
+//! ([`Assembler::push`]); a sample carries the joints whose angle was out of range
+//! ([`Sample::out_of_range`]), a held angle with the judgement of the packet it came from, so
+//! nothing re-checks the angles when a sample leaves.
 
 use qgait_proto::JointId;
 
@@ -57,6 +62,16 @@ impl JointSet {
         JointSet(other.0 & !self.0)
     }
 
+    /// The joints in this set or in `other`.
+    pub fn union(self, other: JointSet) -> JointSet {
+        JointSet(self.0 | other.0)
+    }
+
+    /// The joints in both this set and `other`.
+    pub fn intersection(self, other: JointSet) -> JointSet {
+        JointSet(self.0 & other.0)
+    }
+
     /// Number of joints in the set.
     pub fn len(self) -> u32 {
         self.0.count_ones()
@@ -78,6 +93,9 @@ pub struct Sample {
     pub angles: [f32; JOINTS],
     /// Joints whose angle was held from an earlier sample (empty unless the policy holds).
     pub held: JointSet,
+    /// Joints whose angle is out of range, as judged when its packet arrived (see
+    /// [`Assembler::push`]); a held angle is out of range if the packet it came from was.
+    pub out_of_range: JointSet,
 }
 
 impl Sample {
@@ -104,15 +122,16 @@ pub enum PacketOutcome {
     Resynced,
 }
 
-/// A sample leaving the assembler, reported through the callback of [`Assembler::push`].
+/// A sample leaving the assembler, reported through the callback of [`Assembler::push`]. The
+/// sample is lent from the assembler's window for the call, not copied out of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum SampleEvent {
+pub enum SampleEvent<'a> {
     /// Every required joint arrived.
-    Complete(Sample),
+    Complete(&'a Sample),
     /// The sample left the window incomplete and its missing joints were filled with the last
     /// known values (policy `HoldLast`); `sample.held` says which.
-    Held(Sample),
+    Held(&'a Sample),
     /// The sample left the window incomplete and was dropped; `missing` says which joints
     /// never arrived.
     Dropped {
@@ -133,13 +152,18 @@ enum SlotState {
 #[derive(Debug, Clone, Copy)]
 struct Slot {
     state: SlotState,
-    seq: u32,
     present: JointSet,
-    angles: [f32; JOINTS],
+    /// The sample as it is assembled: its sequence number, the angles of the `present` joints,
+    /// those of them whose packet was out of range; the events lend it.
+    sample: Sample,
 }
 
 impl Slot {
-    const FREE: Slot = Slot { state: SlotState::Free, seq: 0, present: JointSet::EMPTY, angles: [0.0; JOINTS] };
+    const FREE: Slot = Slot {
+        state: SlotState::Free,
+        present: JointSet::EMPTY,
+        sample: Sample { seq: 0, angles: [0.0; JOINTS], held: JointSet::EMPTY, out_of_range: JointSet::EMPTY },
+    };
 }
 
 /// The reorder window (see the module docs).
@@ -155,6 +179,8 @@ pub struct Assembler {
     last_angle: [f32; JOINTS],
     /// Joints with a value in `last_angle`.
     known: JointSet,
+    /// The joints of `known` whose value in `last_angle` came from an out-of-range packet.
+    last_out_of_range: JointSet,
 }
 
 impl Assembler {
@@ -169,6 +195,7 @@ impl Assembler {
             newest: None,
             last_angle: [0.0; JOINTS],
             known: JointSet::EMPTY,
+            last_out_of_range: JointSet::EMPTY,
         }
     }
 
@@ -182,13 +209,17 @@ impl Assembler {
         self.slots.iter().filter(|s| s.state == SlotState::Open).count()
     }
 
-    /// Takes one packet. Samples that complete or leave the window are reported to `on_event`
-    /// in sequence order (evictions first, then the packet's own sample if it completed).
+    /// Takes one packet: the angle of `joint` in sample `seq`, and whether the caller found it
+    /// out of range (carried to the sample's [`Sample::out_of_range`], and to later samples
+    /// that hold this angle). Samples that complete or leave the window are reported to
+    /// `on_event` in sequence order (evictions first, then the packet's own sample if it
+    /// completed).
     pub fn push(
         &mut self,
         seq: u32,
         joint: JointId,
         angle: f32,
+        out_of_range: bool,
         on_event: &mut impl FnMut(SampleEvent),
     ) -> PacketOutcome {
         if !self.required.contains(joint) {
@@ -218,19 +249,30 @@ impl Assembler {
         // `seq` itself.
         let slot = &mut self.slots[seq as usize % MAX_WINDOW];
         if slot.state == SlotState::Free {
-            *slot = Slot { state: SlotState::Open, seq, ..Slot::FREE };
-        } else if slot.seq != seq {
+            // The angles are left as the slot's last sample had them (not zeroed: a 68-byte
+            // copy per sample): only the angles of present joints are ever read (a sample
+            // completes with every required joint present, a held one overwrites the missing
+            // ones), and joints the model does not use are never stored, so stay 0.0.
+            slot.state = SlotState::Open;
+            slot.present = JointSet::EMPTY;
+            slot.sample.seq = seq;
+            slot.sample.held = JointSet::EMPTY;
+            slot.sample.out_of_range = JointSet::EMPTY;
+        } else if slot.sample.seq != seq {
             // Unreachable by the invariant above; refused rather than mixed into another sample.
             return PacketOutcome::Late;
         }
         if slot.state == SlotState::Done || slot.present.contains(joint) {
             return PacketOutcome::Duplicate;
         }
-        slot.angles[joint.index() as usize] = angle;
+        slot.sample.angles[joint.index() as usize] = angle;
         slot.present = slot.present.with(joint);
+        if out_of_range {
+            slot.sample.out_of_range = slot.sample.out_of_range.with(joint);
+        }
         if slot.present.contains_all(self.required) {
             slot.state = SlotState::Done;
-            on_event(SampleEvent::Complete(Sample { seq, angles: slot.angles, held: JointSet::EMPTY }));
+            on_event(SampleEvent::Complete(&slot.sample));
         }
         outcome
     }
@@ -256,7 +298,7 @@ impl Assembler {
                     break;
                 }
                 let i = s as usize % MAX_WINDOW;
-                if self.slots[i].state != SlotState::Free && self.slots[i].seq == s {
+                if self.slots[i].state != SlotState::Free && self.slots[i].sample.seq == s {
                     self.retire(i, on_event);
                 }
                 s = s.wrapping_add(1);
@@ -271,34 +313,41 @@ impl Assembler {
         self.slots
             .iter()
             .enumerate()
-            .filter(|(_, s)| s.state != SlotState::Free && leaving(s.seq))
-            .max_by_key(|(_, s)| newest.wrapping_sub(s.seq))
+            .filter(|(_, s)| s.state != SlotState::Free && leaving(s.sample.seq))
+            .max_by_key(|(_, s)| newest.wrapping_sub(s.sample.seq))
             .map(|(i, _)| i)
     }
 
-    /// Frees slot `i`: an open sample is completed with held values or dropped; then its
-    /// angles become the last known values.
+    /// Frees slot `i`: its angles become the last known values, and an open sample is
+    /// completed with held values (in the slot) or dropped.
     fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent)) {
-        let Some(slot) = self.slots.get_mut(i) else { return };
+        let Assembler { slots, required, hold_last, last_angle, known, last_out_of_range, .. } = self;
+        let Some(slot) = slots.get_mut(i) else { return };
         let state = core::mem::replace(&mut slot.state, SlotState::Free);
-        let slot = &*slot;
-        if state == SlotState::Open {
-            let missing = slot.present.missing_from(self.required);
-            if self.hold_last && self.known.contains_all(missing) {
-                let mut angles = slot.angles;
-                for j in JointId::ALL.iter().filter(|&&j| missing.contains(j)) {
-                    angles[j.index() as usize] = self.last_angle[j.index() as usize];
-                }
-                on_event(SampleEvent::Held(Sample { seq: slot.seq, angles, held: missing }));
-            } else {
-                on_event(SampleEvent::Dropped { seq: slot.seq, missing });
+        let present = slot.present;
+        let sample = &mut slot.sample;
+        // The last known values first: they are only ever read for the joints a sample lacks,
+        // never for this one's present joints, so the sample held below gets older ones.
+        if *hold_last {
+            for j in JointId::ALL.iter().filter(|&&j| present.contains(j)) {
+                last_angle[j.index() as usize] = sample.angles[j.index() as usize];
+                *known = known.with(*j);
             }
+            // The present joints' judgements replace the ones of their older values.
+            *last_out_of_range = present.missing_from(*last_out_of_range).union(sample.out_of_range);
         }
-        // The last known values are only ever read to hold missing joints.
-        if self.hold_last {
-            for j in JointId::ALL.iter().filter(|&&j| slot.present.contains(j)) {
-                self.last_angle[j.index() as usize] = slot.angles[j.index() as usize];
-                self.known = self.known.with(*j);
+        if state == SlotState::Open {
+            let missing = present.missing_from(*required);
+            if *hold_last && known.contains_all(missing) {
+                for j in JointId::ALL.iter().filter(|&&j| missing.contains(j)) {
+                    sample.angles[j.index() as usize] = last_angle[j.index() as usize];
+                }
+                sample.held = missing;
+                // A held angle is out of range if the packet it came from was.
+                sample.out_of_range = sample.out_of_range.union(last_out_of_range.intersection(missing));
+                on_event(SampleEvent::Held(sample));
+            } else {
+                on_event(SampleEvent::Dropped { seq: sample.seq, missing });
             }
         }
     }
@@ -312,9 +361,35 @@ mod tests {
 
     const TWO: [JointId; 2] = [JointId::HipFlexionR, JointId::KneeAngleR];
 
-    fn push(a: &mut Assembler, seq: u32, joint: JointId, angle: f32) -> (PacketOutcome, Vec<SampleEvent>) {
+    /// A [`SampleEvent`] as the tests keep it: the sample copied out of the assembler.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    enum Event {
+        Complete(Sample),
+        Held(Sample),
+        Dropped { seq: u32, missing: JointSet },
+    }
+
+    fn own(e: SampleEvent<'_>) -> Event {
+        match e {
+            SampleEvent::Complete(s) => Event::Complete(*s),
+            SampleEvent::Held(s) => Event::Held(*s),
+            SampleEvent::Dropped { seq, missing } => Event::Dropped { seq, missing },
+        }
+    }
+
+    fn push(a: &mut Assembler, seq: u32, joint: JointId, angle: f32) -> (PacketOutcome, Vec<Event>) {
+        push_judged(a, seq, joint, angle, false)
+    }
+
+    fn push_judged(
+        a: &mut Assembler,
+        seq: u32,
+        joint: JointId,
+        angle: f32,
+        out_of_range: bool,
+    ) -> (PacketOutcome, Vec<Event>) {
         let mut events = Vec::new();
-        let outcome = a.push(seq, joint, angle, &mut |e| events.push(e));
+        let outcome = a.push(seq, joint, angle, out_of_range, &mut |e| events.push(own(e)));
         (outcome, events)
     }
 
@@ -325,7 +400,7 @@ mod tests {
         let (outcome, events) = push(&mut a, 7, JointId::HipFlexionR, 0.25);
         assert_eq!(outcome, PacketOutcome::Stored);
         match events.as_slice() {
-            [SampleEvent::Complete(s)] => {
+            [Event::Complete(s)] => {
                 assert_eq!(s.seq, 7);
                 assert_eq!(s.angle(JointId::HipFlexionR), 0.25);
                 assert_eq!(s.angle(JointId::KneeAngleR), -0.5);
@@ -357,14 +432,14 @@ mod tests {
         assert_eq!(
             events,
             [
-                SampleEvent::Dropped { seq: 10, missing: JointSet::of(&[JointId::KneeAngleR]) },
-                SampleEvent::Dropped { seq: 11, missing: JointSet::of(&[JointId::HipFlexionR]) },
+                Event::Dropped { seq: 10, missing: JointSet::of(&[JointId::KneeAngleR]) },
+                Event::Dropped { seq: 11, missing: JointSet::of(&[JointId::HipFlexionR]) },
             ]
         );
         assert_eq!(push(&mut a, 11, JointId::HipFlexionR, 0.0).0, PacketOutcome::Late);
         // 12 is still open and completes.
         let (_, events) = push(&mut a, 12, JointId::HipFlexionR, 0.0);
-        assert!(matches!(events.as_slice(), [SampleEvent::Complete(s)] if s.seq == 12));
+        assert!(matches!(events.as_slice(), [Event::Complete(s)] if s.seq == 12));
     }
 
     #[test]
@@ -375,7 +450,7 @@ mod tests {
         push(&mut a, 2, JointId::HipFlexionR, 0.2);
         let (_, events) = push(&mut a, 4, JointId::HipFlexionR, 0.4);
         match events.as_slice() {
-            [SampleEvent::Held(s)] => {
+            [Event::Held(s)] => {
                 assert_eq!(s.seq, 2);
                 assert_eq!(s.angle(JointId::HipFlexionR), 0.2);
                 assert_eq!(s.angle(JointId::KneeAngleR), -0.1);
@@ -386,11 +461,63 @@ mod tests {
     }
 
     #[test]
+    fn a_sample_carries_its_out_of_range_joints() {
+        let mut a = Assembler::new(&TWO, 4, false);
+        push_judged(&mut a, 1, JointId::KneeAngleR, 1.5, true);
+        let (_, events) = push_judged(&mut a, 1, JointId::HipFlexionR, 0.2, false);
+        match events.as_slice() {
+            [Event::Complete(s)] => assert_eq!(s.out_of_range, JointSet::of(&[JointId::KneeAngleR])),
+            other => panic!("unexpected events {other:?}"),
+        }
+        push(&mut a, 2, JointId::KneeAngleR, -0.5);
+        let (_, events) = push(&mut a, 2, JointId::HipFlexionR, 0.2);
+        assert!(matches!(events.as_slice(), [Event::Complete(s)] if s.out_of_range.is_empty()));
+    }
+
+    #[test]
+    fn a_held_angle_keeps_the_judgement_of_its_packet() {
+        let mut a = Assembler::new(&TWO, 1, true);
+        // Sample 1: the knee out of range, the hip in range.
+        push_judged(&mut a, 1, JointId::KneeAngleR, 1.5, true);
+        push(&mut a, 1, JointId::HipFlexionR, 0.1);
+        // Sample 2 lacks the knee: it holds sample 1's out-of-range knee, and is flagged so
+        // though every packet of its own was in range.
+        push(&mut a, 2, JointId::HipFlexionR, 0.2);
+        let (_, events) = push(&mut a, 3, JointId::HipFlexionR, 0.3);
+        match events.as_slice() {
+            [Event::Held(s)] => {
+                assert_eq!(s.seq, 2);
+                assert_eq!(s.angle(JointId::KneeAngleR), 1.5);
+                assert_eq!(s.held, JointSet::of(&[JointId::KneeAngleR]));
+                assert_eq!(s.out_of_range, JointSet::of(&[JointId::KneeAngleR]));
+            }
+            other => panic!("unexpected events {other:?}"),
+        }
+        // Sample 3 lacks the knee too: still sample 1's knee, still flagged.
+        let (_, events) = push_judged(&mut a, 4, JointId::KneeAngleR, -0.4, false);
+        assert!(matches!(events.as_slice(),
+            [Event::Held(s)] if s.seq == 3 && s.out_of_range == JointSet::of(&[JointId::KneeAngleR])));
+        // Sample 4's knee arrived in range: sample 5, lacking the knee, holds that one, unflagged;
+        // its own out-of-range hip is flagged.
+        push(&mut a, 4, JointId::HipFlexionR, 0.4);
+        push_judged(&mut a, 5, JointId::HipFlexionR, 2.5, true);
+        let (_, events) = push(&mut a, 6, JointId::HipFlexionR, 0.6);
+        match events.as_slice() {
+            [Event::Held(s)] => {
+                assert_eq!(s.seq, 5);
+                assert_eq!(s.angle(JointId::KneeAngleR), -0.4);
+                assert_eq!(s.out_of_range, JointSet::of(&[JointId::HipFlexionR]));
+            }
+            other => panic!("unexpected events {other:?}"),
+        }
+    }
+
+    #[test]
     fn hold_last_drops_when_a_joint_was_never_seen() {
         let mut a = Assembler::new(&TWO, 1, true);
         push(&mut a, 1, JointId::HipFlexionR, 0.1);
         let (_, events) = push(&mut a, 2, JointId::HipFlexionR, 0.1);
-        assert_eq!(events, [SampleEvent::Dropped { seq: 1, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+        assert_eq!(events, [Event::Dropped { seq: 1, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
     }
 
     #[test]
@@ -406,11 +533,11 @@ mod tests {
         push(&mut a, u32::MAX, JointId::HipFlexionR, 0.0);
         push(&mut a, 0, JointId::HipFlexionR, 0.0);
         let (_, events) = push(&mut a, u32::MAX, JointId::KneeAngleR, 0.0);
-        assert!(matches!(events.as_slice(), [SampleEvent::Complete(s)] if s.seq == u32::MAX));
+        assert!(matches!(events.as_slice(), [Event::Complete(s)] if s.seq == u32::MAX));
         let (_, events) = push(&mut a, 1, JointId::KneeAngleR, 0.0);
         assert_eq!(events, []);
         let (_, events) = push(&mut a, 2, JointId::KneeAngleR, 0.0);
-        assert_eq!(events, [SampleEvent::Dropped { seq: 0, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+        assert_eq!(events, [Event::Dropped { seq: 0, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
     }
 
     #[test]
@@ -419,10 +546,10 @@ mod tests {
         push(&mut a, 1_000_000, JointId::HipFlexionR, 0.0);
         let (outcome, events) = push(&mut a, 0, JointId::HipFlexionR, 0.0);
         assert_eq!(outcome, PacketOutcome::Resynced);
-        assert_eq!(events, [SampleEvent::Dropped { seq: 1_000_000, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+        assert_eq!(events, [Event::Dropped { seq: 1_000_000, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
         let (outcome, events) = push(&mut a, 0, JointId::KneeAngleR, 0.0);
         assert_eq!(outcome, PacketOutcome::Stored);
-        assert!(matches!(events.as_slice(), [SampleEvent::Complete(s)] if s.seq == 0));
+        assert!(matches!(events.as_slice(), [Event::Complete(s)] if s.seq == 0));
     }
 
     #[test]
@@ -431,8 +558,10 @@ mod tests {
         assert_eq!(Assembler::new(&TWO, 200, false).window(), MAX_WINDOW as u8);
     }
     /// The assembler as it was before slots were indexed by sequence number (a linear search
-    /// for the sample's slot, every slot copied on retirement, the last values always kept):
-    /// the reference the current one must match event for event.
+    /// for the sample's slot, every slot copied on retirement, the last values always kept),
+    /// with the out-of-range judgements kept per joint as booleans beside the angles (the
+    /// assembler keeps them as sets): the reference the current one must match event for
+    /// event.
     #[allow(dead_code)]
     mod reference {
         use super::super::{JointSet, PacketOutcome, Sample, SampleEvent, MAX_WINDOW, RESYNC_DISTANCE};
@@ -453,10 +582,23 @@ mod tests {
             seq: u32,
             present: JointSet,
             angles: [f32; JOINTS],
+            /// Whether each joint's packet was out of range.
+            bad: [bool; JOINTS],
         }
 
         impl Slot {
-            const FREE: Slot = Slot { state: SlotState::Free, seq: 0, present: JointSet::EMPTY, angles: [0.0; JOINTS] };
+            const FREE: Slot = Slot {
+                state: SlotState::Free,
+                seq: 0,
+                present: JointSet::EMPTY,
+                angles: [0.0; JOINTS],
+                bad: [false; JOINTS],
+            };
+        }
+
+        /// The joints `bad` marks.
+        fn bad_set(bad: &[bool; JOINTS]) -> JointSet {
+            JointId::ALL.iter().filter(|j| bad[j.index() as usize]).fold(JointSet::EMPTY, |s, &j| s.with(j))
         }
 
         /// The reorder window (see the module docs).
@@ -472,6 +614,8 @@ mod tests {
             last_angle: [f32; JOINTS],
             /// Joints with a value in `last_angle`.
             known: JointSet,
+            /// Whether each value in `last_angle` came from an out-of-range packet.
+            last_bad: [bool; JOINTS],
         }
 
         impl Reference {
@@ -486,6 +630,7 @@ mod tests {
                     newest: None,
                     last_angle: [0.0; JOINTS],
                     known: JointSet::EMPTY,
+                    last_bad: [false; JOINTS],
                 }
             }
 
@@ -506,6 +651,7 @@ mod tests {
                 seq: u32,
                 joint: JointId,
                 angle: f32,
+                out_of_range: bool,
                 on_event: &mut impl FnMut(SampleEvent),
             ) -> PacketOutcome {
                 if !self.required.contains(joint) {
@@ -547,10 +693,16 @@ mod tests {
                     return PacketOutcome::Duplicate;
                 }
                 slot.angles[joint.index() as usize] = angle;
+                slot.bad[joint.index() as usize] = out_of_range;
                 slot.present = slot.present.with(joint);
                 if slot.present.contains_all(self.required) {
                     slot.state = SlotState::Done;
-                    on_event(SampleEvent::Complete(Sample { seq, angles: slot.angles, held: JointSet::EMPTY }));
+                    on_event(SampleEvent::Complete(&Sample {
+                        seq,
+                        angles: slot.angles,
+                        held: JointSet::EMPTY,
+                        out_of_range: bad_set(&slot.bad),
+                    }));
                 }
                 outcome
             }
@@ -592,16 +744,20 @@ mod tests {
                     let missing = slot.present.missing_from(self.required);
                     if self.hold_last && self.known.contains_all(missing) {
                         let mut angles = slot.angles;
+                        let mut bad = slot.bad;
                         for j in JointId::ALL.iter().filter(|&&j| missing.contains(j)) {
                             angles[j.index() as usize] = self.last_angle[j.index() as usize];
+                            bad[j.index() as usize] = self.last_bad[j.index() as usize];
                         }
-                        on_event(SampleEvent::Held(Sample { seq: slot.seq, angles, held: missing }));
+                        let out_of_range = bad_set(&bad);
+                        on_event(SampleEvent::Held(&Sample { seq: slot.seq, angles, held: missing, out_of_range }));
                     } else {
                         on_event(SampleEvent::Dropped { seq: slot.seq, missing });
                     }
                 }
                 for j in JointId::ALL.iter().filter(|&&j| slot.present.contains(j)) {
                     self.last_angle[j.index() as usize] = slot.angles[j.index() as usize];
+                    self.last_bad[j.index() as usize] = slot.bad[j.index() as usize];
                     self.known = self.known.with(*j);
                 }
             }
@@ -620,6 +776,9 @@ mod tests {
         let joints = [JointId::PelvisList, JointId::HipFlexionR, JointId::KneeAngleR, JointId::AnkleAngleL];
         let required = &joints[..3];
         let mut compared = 0;
+        // Held samples flagged by a held angle alone: the case the judgements of the last
+        // values are kept for.
+        let mut flagged_by_held = 0;
         for round in 0..400 {
             let window = (round % 10) as u8;
             let hold_last = round % 3 == 0;
@@ -637,18 +796,24 @@ mod tests {
                 let s = seq.wrapping_sub(next(12));
                 let joint = joints[next(4) as usize];
                 let angle = next(1000) as f32 / 1000.0;
+                let out_of_range = next(4) == 0;
                 let (mut ea, mut er) = (Vec::new(), Vec::new());
-                let oa = a.push(s, joint, angle, &mut |e| ea.push(e));
-                let or = r.push(s, joint, angle, &mut |e| er.push(e));
+                let oa = a.push(s, joint, angle, out_of_range, &mut |e| ea.push(own(e)));
+                let or = r.push(s, joint, angle, out_of_range, &mut |e| er.push(own(e)));
                 assert_eq!((oa, &ea), (or, &er), "round {round} seq {s} {joint:?}");
                 assert_eq!(a.open_samples(), r.open_samples());
                 compared += ea.len();
+                flagged_by_held += ea
+                    .iter()
+                    .filter(|e| matches!(e, Event::Held(s) if !s.out_of_range.intersection(s.held).is_empty()))
+                    .count();
             }
             let (mut ea, mut er) = (Vec::new(), Vec::new());
-            a.flush(&mut |e| ea.push(e));
-            r.flush(&mut |e| er.push(e));
+            a.flush(&mut |e| ea.push(own(e)));
+            r.flush(&mut |e| er.push(own(e)));
             assert_eq!(ea, er);
         }
         assert!(compared > 10_000, "{compared} events");
+        assert!(flagged_by_held > 100, "{flagged_by_held} held samples flagged by a held angle");
     }
 }

@@ -49,6 +49,7 @@ pub const ALL: &[NamedCheck] = &[
     ("late_and_duplicate_packets_are_counted_and_dropped", late_and_duplicate_packets_are_counted_and_dropped),
     ("incomplete_sample_is_dropped_and_counted", incomplete_sample_is_dropped_and_counted),
     ("hold_last_policy_sends_flagged_frames", hold_last_policy_sends_flagged_frames),
+    ("held_angle_out_of_range_is_flagged", held_angle_out_of_range_is_flagged),
     ("corrupt_frames_are_counted_and_the_next_packet_is_processed", corrupt_frames_are_counted_and_the_next_packet_is_processed),
     ("unknown_joint_and_version_are_counted", unknown_joint_and_version_are_counted),
     ("angles_out_of_range_are_flagged_and_non_finite_ones_dropped", angles_out_of_range_are_flagged_and_non_finite_ones_dropped),
@@ -212,7 +213,7 @@ pub fn pose_matches_the_kernel() -> CheckResult {
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, 37);
     }
-    let sample = Sample { seq: 37, angles, held: JointSet::EMPTY };
+    let sample = Sample { seq: 37, angles, held: JointSet::EMPTY, out_of_range: JointSet::EMPTY };
     let Ok(kinematics) = Kinematics::new(ModelId::Phak, None) else {
         return Err(CheckFailure { what: "Kinematics::new", line: line!() });
     };
@@ -318,6 +319,50 @@ pub fn hold_last_policy_sends_flagged_frames() -> CheckResult {
     // ankle_angle_l is the last PHAK joint.
     ensure!(held.angles[7] == gait_angle(JointId::AnkleAngleL, 2));
     ensure!(hub.status().samples_incomplete == 0);
+    Ok(())
+}
+
+/// Under hold-last, a sample holding an out-of-range angle from an earlier sample is flagged
+/// out of range though its own packets were all in range; one holding an in-range angle is not.
+pub fn held_angle_out_of_range_is_flagged() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send(hub.serial_mut(), &config(ModelId::Phak, MissingPolicy::HoldLast, 2, false)));
+    // Sample 3's right knee hyperextended; samples 4 and 6 lack the right knee (4 holds
+    // sample 3's, 6 holds sample 5's, in range).
+    for seq in 0..10 {
+        for &j in ModelId::Phak.required_joints() {
+            let mut p = packet(seq, j);
+            if j == JointId::KneeAngleR {
+                match seq {
+                    3 => p.angle = 1.5,
+                    4 | 6 => continue,
+                    _ => {}
+                }
+            }
+            ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
+        }
+    }
+    drain(&mut hub);
+    let mut flags = [0xFFu8; 10];
+    let mut knee_4 = 0.0;
+    let n = poses(&mut hub, |p| {
+        if let Some(f) = flags.get_mut(p.seq as usize) {
+            *f = p.flags;
+        }
+        if p.seq == 4 {
+            // knee_angle_r is PHAK's fourth joint.
+            knee_4 = p.angles[3];
+        }
+    })?;
+    ensure!(n == 10);
+    ensure!(flags[3] == FrameFlags::OUT_OF_RANGE);
+    ensure!(flags[4] == FrameFlags::MISSING | FrameFlags::HELD | FrameFlags::OUT_OF_RANGE);
+    ensure!(knee_4 == 1.5);
+    ensure!(flags[6] == FrameFlags::MISSING | FrameFlags::HELD);
+    ensure!(flags.iter().enumerate().all(|(seq, &f)| matches!(seq, 3 | 4 | 6) || f == 0));
+    let s = hub.status();
+    ensure!(s.out_of_range == 1 && s.samples_incomplete == 0 && s.samples_completed == 10);
     Ok(())
 }
 
@@ -597,7 +642,7 @@ fn expected_frame(kinematics: &Kinematics, seq: u32) -> PoseFrame {
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, seq);
     }
-    kinematics.pose_frame(&Sample { seq, angles, held: JointSet::EMPTY }, 0)
+    kinematics.pose_frame(&Sample { seq, angles, held: JointSet::EMPTY, out_of_range: JointSet::EMPTY }, 0)
 }
 
 /// A Config for gait2392 gives frames with all 17 angles, equal to the generic model's.

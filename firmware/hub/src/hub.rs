@@ -8,7 +8,7 @@ use qgait_proto::{
     FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN,
 };
 
-use crate::assembly::{Assembler, PacketOutcome, SampleEvent, MAX_WINDOW};
+use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::{bump, count_decode_error};
 use crate::kinematics::{ConfigError, Kinematics};
@@ -234,7 +234,10 @@ where
             return;
         }
         bump(&mut self.status.packets_accepted);
-        if !in_range(packet.joint, packet.angle) {
+        // Judged here, once per packet: the assembler carries the judgement to the samples
+        // that use this angle (held ones included), so no sample re-checks its angles.
+        let out_of_range = !in_range(packet.joint, packet.angle);
+        if out_of_range {
             bump(&mut self.status.out_of_range);
         }
         // The samples the packet completes or pushes out of the window are handled as the
@@ -242,17 +245,13 @@ where
         // collected first: no copies of the events.
         let Hub { assembler, kinematics, status, serial, tx, .. } = self;
         let mut output = Output { kinematics, status, serial, tx };
-        let outcome = assembler.push(packet.seq, packet.joint, packet.angle, &mut |e| output.on_sample(e));
+        let outcome =
+            assembler.push(packet.seq, packet.joint, packet.angle, out_of_range, &mut |e| output.on_sample(e));
         match outcome {
             PacketOutcome::Late => bump(&mut self.status.late_packets),
             PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
             PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
         }
-    }
-
-    fn on_sample(&mut self, event: SampleEvent) {
-        let Hub { kinematics, status, serial, tx, .. } = self;
-        Output { kinematics, status, serial, tx }.on_sample(event);
     }
 
     // A configuration that changes nothing (e.g. one only asking for a status) is handled
@@ -352,13 +351,9 @@ where
     /// Closes (and counts, and sends) the samples open under the configuration in force.
     #[inline(never)]
     fn close_open_samples(&mut self) {
-        let mut events: heapless::Vec<SampleEvent, MAX_WINDOW> = heapless::Vec::new();
-        self.assembler.flush(&mut |e| {
-            let _ = events.push(e);
-        });
-        for event in events {
-            self.on_sample(event);
-        }
+        let Hub { assembler, kinematics, status, serial, tx, .. } = self;
+        let mut output = Output { kinematics, status, serial, tx };
+        assembler.flush(&mut |e| output.on_sample(e));
     }
 
     fn send_status(&mut self) {
@@ -386,9 +381,9 @@ struct Output<'a, S> {
 }
 
 impl<S: serial::Write<u8>> Output<'_, S> {
-    fn on_sample(&mut self, event: SampleEvent) {
-        // By reference: the sample is not copied out of the event.
-        let (sample, mut flags) = match &event {
+    fn on_sample(&mut self, event: SampleEvent<'_>) {
+        // The sample stays in the assembler's slot: lent, not copied.
+        let (sample, mut flags) = match event {
             SampleEvent::Complete(sample) => (sample, 0),
             SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
             SampleEvent::Dropped { .. } => {
@@ -397,8 +392,9 @@ impl<S: serial::Write<u8>> Output<'_, S> {
             }
         };
         bump(&mut self.status.samples_completed);
-        let model = self.kinematics.model();
-        if model.required_joints().iter().any(|&j| !in_range(j, sample.angle(j))) {
+        // The joints judged out of range as their packets arrived (a held angle as its packet
+        // was): the angles are not checked again here.
+        if !sample.out_of_range.is_empty() {
             flags |= FrameFlags::OUT_OF_RANGE;
         }
         let frame = self.kinematics.pose_frame(sample, flags);
