@@ -91,8 +91,6 @@ pub struct Sample {
     pub seq: u32,
     /// Angles in radians indexed by [`JointId::index`]; only the model's joints are meaningful.
     pub angles: [f32; JOINTS],
-    /// Joints whose angle was held from an earlier sample (empty unless the policy holds).
-    pub held: JointSet,
     /// Joints whose angle is out of range, as judged when its packet arrived (see
     /// [`Assembler::push`]); a held angle is out of range if the packet it came from was.
     pub out_of_range: JointSet,
@@ -130,8 +128,13 @@ pub enum SampleEvent<'a> {
     /// Every required joint arrived.
     Complete(&'a Sample),
     /// The sample left the window incomplete and its missing joints were filled with the last
-    /// known values (policy `HoldLast`); `sample.held` says which.
-    Held(&'a Sample),
+    /// known values (policy `HoldLast`).
+    Held {
+        /// The sample, missing joints filled.
+        sample: &'a Sample,
+        /// The joints whose angle was held from an earlier sample.
+        held: JointSet,
+    },
     /// The sample left the window incomplete and was dropped; `missing` says which joints
     /// never arrived.
     Dropped {
@@ -142,16 +145,10 @@ pub enum SampleEvent<'a> {
     },
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum SlotState {
-    Free,
-    Open,
-    Done,
-}
-
+/// One sample of the window. Its state is in `present`: free if empty (a slot is opened by a
+/// packet it then stores), complete if it holds every required joint, open otherwise.
 #[derive(Debug, Clone, Copy)]
 struct Slot {
-    state: SlotState,
     present: JointSet,
     /// The sample as it is assembled: its sequence number, the angles of the `present` joints,
     /// those of them whose packet was out of range; the events lend it.
@@ -160,17 +157,22 @@ struct Slot {
 
 impl Slot {
     const FREE: Slot = Slot {
-        state: SlotState::Free,
         present: JointSet::EMPTY,
-        sample: Sample { seq: 0, angles: [0.0; JOINTS], held: JointSet::EMPTY, out_of_range: JointSet::EMPTY },
+        sample: Sample { seq: 0, angles: [0.0; JOINTS], out_of_range: JointSet::EMPTY },
     };
+
+    /// Whether the slot holds a sample (open or complete).
+    fn is_used(&self) -> bool {
+        !self.present.is_empty()
+    }
 }
 
 /// The reorder window (see the module docs).
 #[derive(Debug, Clone)]
 pub struct Assembler {
     slots: [Slot; MAX_WINDOW],
-    window: u32,
+    /// `1..=MAX_WINDOW`.
+    window: u8,
     required: JointSet,
     hold_last: bool,
     newest: Option<u32>,
@@ -189,7 +191,7 @@ impl Assembler {
     pub fn new(required: &[JointId], window: u8, hold_last: bool) -> Assembler {
         Assembler {
             slots: [Slot::FREE; MAX_WINDOW],
-            window: (window as u32).clamp(1, MAX_WINDOW as u32),
+            window: window.clamp(1, MAX_WINDOW as u8),
             required: JointSet::of(required),
             hold_last,
             newest: None,
@@ -201,12 +203,12 @@ impl Assembler {
 
     /// The window depth in samples.
     pub fn window(&self) -> u8 {
-        self.window as u8
+        self.window
     }
 
     /// Number of samples currently open (some but not all joints arrived).
     pub fn open_samples(&self) -> usize {
-        self.slots.iter().filter(|s| s.state == SlotState::Open).count()
+        self.slots.iter().filter(|s| s.is_used() && !s.present.contains_all(self.required)).count()
     }
 
     /// Takes one packet: the angle of `joint` in sample `seq`, and whether the caller found it
@@ -233,7 +235,7 @@ impl Assembler {
                 let behind = newest.wrapping_sub(seq);
                 if ahead != 0 && ahead <= RESYNC_DISTANCE {
                     self.advance_to(seq, on_event);
-                } else if ahead == 0 || behind < self.window {
+                } else if ahead == 0 || behind < self.window as u32 {
                     // Inside the window.
                 } else if behind <= RESYNC_DISTANCE {
                     return PacketOutcome::Late;
@@ -248,21 +250,19 @@ impl Assembler {
         // apart from `seq`), so sample `seq` lives in slot `seq % MAX_WINDOW`: free, or holding
         // `seq` itself.
         let slot = &mut self.slots[seq as usize % MAX_WINDOW];
-        if slot.state == SlotState::Free {
+        if !slot.is_used() {
             // The angles are left as the slot's last sample had them (not zeroed: a 68-byte
             // copy per sample): only the angles of present joints are ever read (a sample
             // completes with every required joint present, a held one overwrites the missing
             // ones), and joints the model does not use are never stored, so stay 0.0.
-            slot.state = SlotState::Open;
-            slot.present = JointSet::EMPTY;
             slot.sample.seq = seq;
-            slot.sample.held = JointSet::EMPTY;
             slot.sample.out_of_range = JointSet::EMPTY;
         } else if slot.sample.seq != seq {
             // Unreachable by the invariant above; refused rather than mixed into another sample.
             return PacketOutcome::Late;
         }
-        if slot.state == SlotState::Done || slot.present.contains(joint) {
+        // `joint` is required: present already in a complete sample too.
+        if slot.present.contains(joint) {
             return PacketOutcome::Duplicate;
         }
         slot.sample.angles[joint.index() as usize] = angle;
@@ -271,7 +271,6 @@ impl Assembler {
             slot.sample.out_of_range = slot.sample.out_of_range.with(joint);
         }
         if slot.present.contains_all(self.required) {
-            slot.state = SlotState::Done;
             on_event(SampleEvent::Complete(&slot.sample));
         }
         outcome
@@ -286,7 +285,7 @@ impl Assembler {
 
     /// Moves the newest sequence number to `seq`, retiring the samples that leave the window.
     fn advance_to(&mut self, seq: u32, on_event: &mut impl FnMut(SampleEvent)) {
-        let window = self.window;
+        let window = self.window as u32;
         if let Some(newest) = self.newest {
             // Used slots hold samples `newest - window < s <= newest`, sample `s` in slot
             // `s % MAX_WINDOW`; those with `seq - s >= window` leave the window, oldest first.
@@ -298,7 +297,7 @@ impl Assembler {
                     break;
                 }
                 let i = s as usize % MAX_WINDOW;
-                if self.slots[i].state != SlotState::Free && self.slots[i].sample.seq == s {
+                if self.slots[i].is_used() && self.slots[i].sample.seq == s {
                     self.retire(i, on_event);
                 }
                 s = s.wrapping_add(1);
@@ -313,7 +312,7 @@ impl Assembler {
         self.slots
             .iter()
             .enumerate()
-            .filter(|(_, s)| s.state != SlotState::Free && leaving(s.sample.seq))
+            .filter(|(_, s)| s.is_used() && leaving(s.sample.seq))
             .max_by_key(|(_, s)| newest.wrapping_sub(s.sample.seq))
             .map(|(i, _)| i)
     }
@@ -323,8 +322,11 @@ impl Assembler {
     fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent)) {
         let Assembler { slots, required, hold_last, last_angle, known, last_out_of_range, .. } = self;
         let Some(slot) = slots.get_mut(i) else { return };
-        let state = core::mem::replace(&mut slot.state, SlotState::Free);
-        let present = slot.present;
+        // Frees the slot.
+        let present = core::mem::take(&mut slot.present);
+        if present.is_empty() {
+            return;
+        }
         let sample = &mut slot.sample;
         // The last known values first: they are only ever read for the joints a sample lacks,
         // never for this one's present joints, so the sample held below gets older ones.
@@ -336,16 +338,16 @@ impl Assembler {
             // The present joints' judgements replace the ones of their older values.
             *last_out_of_range = present.missing_from(*last_out_of_range).union(sample.out_of_range);
         }
-        if state == SlotState::Open {
-            let missing = present.missing_from(*required);
+        let missing = present.missing_from(*required);
+        // Open, not complete.
+        if !missing.is_empty() {
             if *hold_last && known.contains_all(missing) {
                 for j in JointId::ALL.iter().filter(|&&j| missing.contains(j)) {
                     sample.angles[j.index() as usize] = last_angle[j.index() as usize];
                 }
-                sample.held = missing;
                 // A held angle is out of range if the packet it came from was.
                 sample.out_of_range = sample.out_of_range.union(last_out_of_range.intersection(missing));
-                on_event(SampleEvent::Held(sample));
+                on_event(SampleEvent::Held { sample, held: missing });
             } else {
                 on_event(SampleEvent::Dropped { seq: sample.seq, missing });
             }
@@ -365,14 +367,14 @@ mod tests {
     #[derive(Debug, Clone, Copy, PartialEq)]
     enum Event {
         Complete(Sample),
-        Held(Sample),
+        Held(Sample, JointSet),
         Dropped { seq: u32, missing: JointSet },
     }
 
     fn own(e: SampleEvent<'_>) -> Event {
         match e {
             SampleEvent::Complete(s) => Event::Complete(*s),
-            SampleEvent::Held(s) => Event::Held(*s),
+            SampleEvent::Held { sample, held } => Event::Held(*sample, held),
             SampleEvent::Dropped { seq, missing } => Event::Dropped { seq, missing },
         }
     }
@@ -404,7 +406,6 @@ mod tests {
                 assert_eq!(s.seq, 7);
                 assert_eq!(s.angle(JointId::HipFlexionR), 0.25);
                 assert_eq!(s.angle(JointId::KneeAngleR), -0.5);
-                assert!(s.held.is_empty());
             }
             other => panic!("unexpected events {other:?}"),
         }
@@ -450,11 +451,11 @@ mod tests {
         push(&mut a, 2, JointId::HipFlexionR, 0.2);
         let (_, events) = push(&mut a, 4, JointId::HipFlexionR, 0.4);
         match events.as_slice() {
-            [Event::Held(s)] => {
+            [Event::Held(s, held)] => {
                 assert_eq!(s.seq, 2);
                 assert_eq!(s.angle(JointId::HipFlexionR), 0.2);
                 assert_eq!(s.angle(JointId::KneeAngleR), -0.1);
-                assert_eq!(s.held, JointSet::of(&[JointId::KneeAngleR]));
+                assert_eq!(*held, JointSet::of(&[JointId::KneeAngleR]));
             }
             other => panic!("unexpected events {other:?}"),
         }
@@ -485,10 +486,10 @@ mod tests {
         push(&mut a, 2, JointId::HipFlexionR, 0.2);
         let (_, events) = push(&mut a, 3, JointId::HipFlexionR, 0.3);
         match events.as_slice() {
-            [Event::Held(s)] => {
+            [Event::Held(s, held)] => {
                 assert_eq!(s.seq, 2);
                 assert_eq!(s.angle(JointId::KneeAngleR), 1.5);
-                assert_eq!(s.held, JointSet::of(&[JointId::KneeAngleR]));
+                assert_eq!(*held, JointSet::of(&[JointId::KneeAngleR]));
                 assert_eq!(s.out_of_range, JointSet::of(&[JointId::KneeAngleR]));
             }
             other => panic!("unexpected events {other:?}"),
@@ -496,15 +497,16 @@ mod tests {
         // Sample 3 lacks the knee too: still sample 1's knee, still flagged.
         let (_, events) = push_judged(&mut a, 4, JointId::KneeAngleR, -0.4, false);
         assert!(matches!(events.as_slice(),
-            [Event::Held(s)] if s.seq == 3 && s.out_of_range == JointSet::of(&[JointId::KneeAngleR])));
+            [Event::Held(s, _)] if s.seq == 3 && s.out_of_range == JointSet::of(&[JointId::KneeAngleR])));
         // Sample 4's knee arrived in range: sample 5, lacking the knee, holds that one, unflagged;
         // its own out-of-range hip is flagged.
         push(&mut a, 4, JointId::HipFlexionR, 0.4);
         push_judged(&mut a, 5, JointId::HipFlexionR, 2.5, true);
         let (_, events) = push(&mut a, 6, JointId::HipFlexionR, 0.6);
         match events.as_slice() {
-            [Event::Held(s)] => {
+            [Event::Held(s, held)] => {
                 assert_eq!(s.seq, 5);
+                assert_eq!(*held, JointSet::of(&[JointId::KneeAngleR]));
                 assert_eq!(s.angle(JointId::KneeAngleR), -0.4);
                 assert_eq!(s.out_of_range, JointSet::of(&[JointId::HipFlexionR]));
             }
@@ -697,12 +699,7 @@ mod tests {
                 slot.present = slot.present.with(joint);
                 if slot.present.contains_all(self.required) {
                     slot.state = SlotState::Done;
-                    on_event(SampleEvent::Complete(&Sample {
-                        seq,
-                        angles: slot.angles,
-                        held: JointSet::EMPTY,
-                        out_of_range: bad_set(&slot.bad),
-                    }));
+                    on_event(SampleEvent::Complete(&Sample { seq, angles: slot.angles, out_of_range: bad_set(&slot.bad) }));
                 }
                 outcome
             }
@@ -750,7 +747,7 @@ mod tests {
                             bad[j.index() as usize] = self.last_bad[j.index() as usize];
                         }
                         let out_of_range = bad_set(&bad);
-                        on_event(SampleEvent::Held(&Sample { seq: slot.seq, angles, held: missing, out_of_range }));
+                        on_event(SampleEvent::Held { sample: &Sample { seq: slot.seq, angles, out_of_range }, held: missing });
                     } else {
                         on_event(SampleEvent::Dropped { seq: slot.seq, missing });
                     }
@@ -805,7 +802,7 @@ mod tests {
                 compared += ea.len();
                 flagged_by_held += ea
                     .iter()
-                    .filter(|e| matches!(e, Event::Held(s) if !s.out_of_range.intersection(s.held).is_empty()))
+                    .filter(|e| matches!(e, Event::Held(s, held) if !s.out_of_range.intersection(*held).is_empty()))
                     .count();
             }
             let (mut ea, mut er) = (Vec::new(), Vec::new());

@@ -213,7 +213,7 @@ pub fn pose_matches_the_kernel() -> CheckResult {
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, 37);
     }
-    let sample = Sample { seq: 37, angles, held: JointSet::EMPTY, out_of_range: JointSet::EMPTY };
+    let sample = Sample { seq: 37, angles, out_of_range: JointSet::EMPTY };
     let Ok(kinematics) = Kinematics::new(ModelId::Phak, None) else {
         return Err(CheckFailure { what: "Kinematics::new", line: line!() });
     };
@@ -642,7 +642,7 @@ fn expected_frame(kinematics: &Kinematics, seq: u32) -> PoseFrame {
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, seq);
     }
-    kinematics.pose_frame(&Sample { seq, angles, held: JointSet::EMPTY, out_of_range: JointSet::EMPTY }, 0)
+    kinematics.pose_frame(&Sample { seq, angles, out_of_range: JointSet::EMPTY }, 0)
 }
 
 /// A Config for gait2392 gives frames with all 17 angles, equal to the generic model's.

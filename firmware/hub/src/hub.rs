@@ -385,7 +385,7 @@ impl<S: serial::Write<u8>> Output<'_, S> {
         // The sample stays in the assembler's slot: lent, not copied.
         let (sample, mut flags) = match event {
             SampleEvent::Complete(sample) => (sample, 0),
-            SampleEvent::Held(sample) => (sample, FrameFlags::MISSING | FrameFlags::HELD),
+            SampleEvent::Held { sample, .. } => (sample, FrameFlags::MISSING | FrameFlags::HELD),
             SampleEvent::Dropped { .. } => {
                 bump(&mut self.status.samples_incomplete);
                 return;

@@ -215,7 +215,7 @@ mod tests {
         for &(j, a) in angles {
             all[j.index() as usize] = a;
         }
-        Sample { seq: 1, angles: all, held: JointSet::EMPTY, out_of_range: JointSet::EMPTY }
+        Sample { seq: 1, angles: all, out_of_range: JointSet::EMPTY }
     }
 
     #[test]
@@ -276,7 +276,7 @@ mod tests {
         for (i, a) in angles.iter_mut().enumerate() {
             *a = 0.05 * (i as f32 - 8.0);
         }
-        let s = Sample { seq: 3, angles, held: JointSet::EMPTY, out_of_range: JointSet::EMPTY };
+        let s = Sample { seq: 3, angles, out_of_range: JointSet::EMPTY };
         let frame = k.pose_frame(&s, 0);
         let want = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32()).unwrap().fk(&angles);
         let b = want.bilateral();

@@ -313,7 +313,7 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
 
     let kinematics = Kinematics::new(ModelId::Phak, None).unwrap_or_else(|_| board::exit(1));
     let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
-        let mut s = Sample { seq: i as u32, angles: [0.0; JointId::COUNT], held: JointSet::EMPTY, out_of_range: JointSet::EMPTY };
+        let mut s = Sample { seq: i as u32, angles: [0.0; JointId::COUNT], out_of_range: JointSet::EMPTY };
         for (&j, &a) in ModelId::Phak.required_joints().iter().zip(phak_in[i].to_array().iter()) {
             s.angles[j.index() as usize] = a;
         }
