@@ -13,7 +13,7 @@ use qgait_proto::{
 use crate::assembly::{Sample, JointSet};
 use crate::subject::parts_of;
 use crate::clock::ManualClock;
-use crate::hub::Hub;
+use crate::hub::{Hub, MAX_BYTES_PER_POLL};
 use crate::kinematics::Kinematics;
 use crate::memory_serial::MemorySerial;
 
@@ -63,6 +63,7 @@ pub const ALL: &[NamedCheck] = &[
     ("invalid_subject_model_is_rejected_and_counted", invalid_subject_model_is_rejected_and_counted),
     ("parts_of_another_upload_discard_the_held_ones", parts_of_another_upload_discard_the_held_ones),
     ("random_bytes_never_stop_the_pipeline", random_bytes_never_stop_the_pipeline),
+    ("each_poll_reads_at_most_max_bytes_per_poll", each_poll_reads_at_most_max_bytes_per_poll),
 ];
 
 /// Serial port of the checks: room for a few hundred packets each way.
@@ -591,6 +592,47 @@ pub fn random_bytes_never_stop_the_pipeline() -> CheckResult {
     let errors = s.crc_errors + s.framing_errors + s.oversize_frames + s.malformed + s.unknown_version + s.unknown_joint;
     ensure!(errors > 0);
     ensure!(poses(&mut hub, |_| {})? == 12);
+    Ok(())
+}
+
+/// Each poll reads what is pending up to MAX_BYTES_PER_POLL bytes (a line error read is not a
+/// byte), and stopping there mid-frame, mid-run or inside an oversize frame loses nothing.
+pub fn each_poll_reads_at_most_max_bytes_per_poll() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    for seq in 0..3 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+    }
+    ensure!(hub.serial_mut().receive_overrun());
+    // An oversize frame: reported once, its bytes discarded up to the delimiter.
+    for _ in 0..MAX_FRAME_LEN + 100 {
+        ensure!(hub.serial_mut().receive(&[0x55]) == 1);
+    }
+    ensure!(hub.serial_mut().receive(&[0]) == 1);
+    for seq in 3..6 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+    }
+    // Everything pending but the overrun is a byte.
+    let total = hub.serial_mut().pending() - 1;
+    ensure!(total > 3 * MAX_BYTES_PER_POLL);
+    let mut read = 0;
+    let mut polls = 0;
+    loop {
+        let summary = hub.poll();
+        polls += 1;
+        ensure!(summary.bytes as usize == (total - read).min(MAX_BYTES_PER_POLL));
+        read += summary.bytes as usize;
+        if summary.bytes == 0 {
+            break;
+        }
+    }
+    ensure!(read == total && hub.serial_mut().pending() == 0);
+    ensure!(polls == total.div_ceil(MAX_BYTES_PER_POLL) + 1);
+    let s = hub.status();
+    ensure!(s.uart_overruns == 1 && s.oversize_frames == 1);
+    ensure!(s.samples_completed == 6 && s.samples_incomplete == 0);
+    ensure!(s.crc_errors + s.framing_errors + s.malformed == 0);
+    ensure!(poses(&mut hub, |_| {})? == 6);
     Ok(())
 }
 

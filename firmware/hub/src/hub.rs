@@ -1,6 +1,7 @@
 //! The [`Hub`]: serial bytes in, decoded packets, sample assembly, poses and status out.
 
 use core::mem::MaybeUninit;
+use core::num::NonZeroU8;
 
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
 use qgait_proto::{
@@ -129,8 +130,24 @@ where
         let status_before = self.status_frames;
         let mut bytes = 0;
         while bytes < MAX_BYTES_PER_POLL as u32 {
-            match self.serial.read() {
-                // Data bytes: into the decoder's buffer, nothing else on this path.
+            // A run of data bytes straight into the decoder's buffer, nothing else on this
+            // path; it ends at the first read that is not a data byte, which is handled below.
+            let serial = &mut self.serial;
+            let (taken, stop) = self.decoder.push_data_while(MAX_BYTES_PER_POLL - bytes as usize, || {
+                match serial.read() {
+                    Ok(byte) => NonZeroU8::new(byte).ok_or(Ok(0)),
+                    Err(e) => Err(Err(e)),
+                }
+            });
+            bytes += taken as u32;
+            let read = match stop {
+                Some(read) => read,
+                None if bytes >= MAX_BYTES_PER_POLL as u32 => break,
+                // The buffer is full (or an oversize frame is discarded): the next byte goes
+                // the byte-by-byte way.
+                None => self.serial.read(),
+            };
+            match read {
                 Ok(byte @ 1..) => {
                     bytes += 1;
                     if let Some(error) = self.decoder.push_data(byte) {
