@@ -23,6 +23,17 @@ pub struct Spline<T> {
 }
 
 impl<T: Real> Spline<T> {
+    /// The spline without knots (all zero bits): zero everywhere. What an unset chain
+    /// ([`Chain::EMPTY`](crate::Chain::EMPTY)) holds; the constructors never return it.
+    pub const EMPTY: Self = Self {
+        n: 0,
+        x: [T::ZERO; MAX_KNOTS],
+        y: [T::ZERO; MAX_KNOTS],
+        b: [T::ZERO; MAX_KNOTS],
+        c: [T::ZERO; MAX_KNOTS],
+        d: [T::ZERO; MAX_KNOTS],
+    };
+
     /// Builds the spline through knots `(x[i], y[i])`; `x` strictly increasing, 2 to
     /// [`MAX_KNOTS`] knots, all finite. The coefficients are computed in `f64`, then rounded to
     /// `T` (see [`from_knots`](Self::from_knots) for the same in `T`).
@@ -61,9 +72,9 @@ impl<T: Real> Spline<T> {
         self.n
     }
 
-    /// Always `false`: a spline has at least two knots.
+    /// Whether this is [`EMPTY`](Self::EMPTY): a built spline has at least two knots.
     pub fn is_empty(&self) -> bool {
-        false
+        self.n == 0
     }
 
     /// The spline's value at `t` (linear extrapolation outside the knots; NaN for NaN).
@@ -74,7 +85,8 @@ impl<T: Real> Spline<T> {
     #[cfg_attr(feature = "std", inline(always))]
     #[cfg_attr(not(feature = "std"), inline)]
     pub fn eval(&self, t: T) -> T {
-        let last = self.n - 1;
+        // (Saturating: `EMPTY`, all zeros, evaluates to zero.)
+        let last = self.n.saturating_sub(1);
         // The cubic of the last knot at or below t (the first one below x[1]).
         let (mut x, mut y, mut b, mut c, mut d) =
             (self.x[0], self.y[0], self.b[0], self.c[0], self.d[0]);
