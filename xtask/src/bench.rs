@@ -235,6 +235,10 @@ fn firmware_footprint() -> Result<(), String> {
     figure("firmware.static_ram_bytes", f.static_ram);
     figure("firmware.peak_stack_bytes", peak);
     figure("firmware.ram_bytes", f.static_ram + peak);
+    // The bound from the disassembly: what no run can exceed.
+    let bound = crate::stack_bound::bound(&elf)?;
+    figure("firmware.stack_bound_bytes", bound.bytes);
+    figure("firmware.ram_bound_bytes", f.static_ram + bound.bytes);
     Ok(())
 }
 

@@ -1,5 +1,6 @@
-//! `cargo xtask footprint`: flash and static RAM of the release firmware for both boards, and
-//! the peak stack measured by stack painting during the UART session under QEMU.
+//! `cargo xtask footprint`: flash and static RAM of the release firmware for both boards, the
+//! peak stack measured by stack painting during the UART session under QEMU, and an upper
+//! bound of the stack from the disassembly.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -27,9 +28,21 @@ pub fn run() -> Result<ExitCode, String> {
     let nrf = build_and_measure("nrf52840", &["build", "--release", "--no-default-features", "--features", "nrf52840"])?;
     let mps2 = build_and_measure("mps2-an386", &["build", "--release"])?;
     let report = crate::session::run(&elf_path())?;
+    let bound = crate::stack_bound::bound(&elf_path())?;
     println!("\n{:<12} {:>10} {:>16} {:>16}", "board", "flash (B)", "static RAM (B)", "peak stack (B)");
     let peak = report.stack_peak.map_or("?".into(), |p| p.to_string());
     println!("{:<12} {:>10} {:>16} {:>16}", "mps2-an386", mps2.flash, mps2.static_ram, peak);
     println!("{:<12} {:>10} {:>16} {:>16}", "nrf52840", nrf.flash, nrf.static_ram, "(not run)");
+    println!(
+        "\nmps2-an386 stack bound (disassembly): {} bytes, RAM bound {} bytes; deepest path from Reset:",
+        bound.bytes,
+        mps2.static_ram + bound.bytes
+    );
+    for (function, frame) in &bound.main_path {
+        println!("  {frame:>6}  {function}");
+    }
+    for (handler, depth) in &bound.handlers {
+        println!("  handler {handler}: {depth} bytes + the exception frame");
+    }
     Ok(if report.passed() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
 }

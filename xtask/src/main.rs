@@ -3,14 +3,16 @@
 //! - `demo`: installs the firmware target and QEMU if missing, builds the release firmware, runs
 //!   it under QEMU on the built-in normal gait, verifies every frame and draws them (`out/demo`).
 //! - `test`: every test suite — host workspace, hub host tests, firmware builds for both
-//!   boards, on-target tests, the UART end-to-end session and the 100,000-sample recording
-//!   under QEMU — then a summary.
+//!   boards, the firmware's RAM bound (static RAM plus the stack bound of [`stack_bound`]
+//!   within 8 KiB), on-target tests, the UART end-to-end session and the 100,000-sample
+//!   recording under QEMU — then a summary.
 //! - `qemu-run ELF`: the firmware's cargo runner (firmware/.cargo/config.toml): runs `ELF` on
 //!   QEMU mps2-an386, decodes its defmt logs, exits with QEMU's status. The application ELF
 //!   (`qgait-firmware`) gets the end-to-end UART session of [`session`]; any other ELF (the
 //!   on-target tests) runs until it exits.
-//! - `footprint`: flash and static RAM of the release builds of both boards, and the peak
-//!   stack measured under QEMU.
+//! - `footprint`: flash and static RAM of the release builds of both boards, the peak stack
+//!   measured under QEMU, and an upper bound of the stack from the disassembly
+//!   ([`stack_bound`]).
 
 mod bench;
 mod cargo;
@@ -20,6 +22,7 @@ mod footprint;
 mod gait;
 mod qemu;
 mod session;
+mod stack_bound;
 mod test;
 mod toolchain;
 
@@ -30,7 +33,7 @@ const USAGE: &str = "usage: cargo xtask <command>
   demo                 the firmware under QEMU on the built-in gait: frames decoded, verified, drawn into out/demo
   test                 run every test suite (host, firmware builds, QEMU, end-to-end) and summarise
   qemu-run ELF [ARGS]  run a firmware ELF under QEMU mps2-an386 with decoded defmt logs
-  footprint            flash, static RAM and peak stack of the release firmware
+  footprint            flash, static RAM, peak stack and stack bound of the release firmware
   bench [--no-host] [--no-footprint]
                        every benchmark figure (device, footprint, host), one `NAME VALUE` line each";
 

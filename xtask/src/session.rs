@@ -1,7 +1,9 @@
 //! The end-to-end UART session with the application firmware under QEMU: a stream of PHAK
 //! joint-angle packets (interleaved across samples, with injected faults) goes in through
 //! UART0, the pose frames that come back are checked against the kernel in f64 on the host,
-//! and a requested `Status` must count every injected fault exactly.
+//! and a requested `Status` must count every injected fault exactly. The session ends with
+//! model switches (gait2392, HAK, a subject's gait2392 uploaded in parts, back to PHAK), so
+//! that the stack peak the firmware logs covers them.
 
 use std::io::{Read, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
@@ -9,8 +11,9 @@ use std::path::Path;
 use std::thread;
 use std::time::{Duration, Instant};
 
+use qgait::hub_config::{self, HubModel, HubSettings};
 use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, Phak, PhakAngles};
+use qgait_kernel::{Anthropometry, Gait2392Geometry, Limb, Phak, PhakAngles};
 use qgait_proto::{
     encode_frame, Config, FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status,
     MAX_FRAME_LEN, PROTOCOL_VERSION,
@@ -109,6 +112,24 @@ fn plan() -> Plan {
                 packets += 1;
             }
             _ => {}
+        }
+    }
+    // Every kind of model switch, so that the stack peak the firmware logs covers them: the
+    // generic gait2392, HAK with a subject's lengths, a subject gait2392 uploaded in parts,
+    // then back to the default PHAK with the status request.
+    let settings = HubSettings { missing_policy: MissingPolicy::Drop, reorder_window: 4, request_status: false };
+    let mut scaled = Gait2392Geometry::generic();
+    scaled.right.ankle_in_tibia[1] *= 1.1;
+    let hak = Limb { pelvis_half_width: 0.09, femur: 0.43, tibia: 0.41, foot: 0.17 };
+    let switches = [
+        HubModel::Gait2392,
+        HubModel::Stick { model: ModelId::Hak, anthropometry: Some(Anthropometry::symmetric(hak)) },
+        HubModel::Subject { geometry: Box::new(scaled), upload: None },
+    ];
+    for model in &switches {
+        let messages = hub_config::messages(model, settings).expect("the session's models are valid");
+        for message in &messages {
+            push_frame(&mut bytes, message);
         }
     }
     let request = Config {
@@ -262,6 +283,8 @@ fn evaluate(r: &Received, plan: &Plan) -> Vec<String> {
         ("late_packets", s.late_packets, 1),
         ("decode errors", decode_errors, plan.decode_errors),
         ("uart_overruns", s.uart_overruns, 0),
+        // All the model switches were accepted.
+        ("config_rejected", s.config_rejected, 0),
     ];
     for (name, got, want) in counters {
         check(got == want, format!("{name} {got} != {want}"));

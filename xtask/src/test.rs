@@ -15,8 +15,15 @@ pub fn run() -> Result<ExitCode, String> {
     // (host/tests/e2e_qemu.rs), which run this ELF under QEMU.
     let mps2 = step("firmware build, mps2-an386", &firmware, &["build", "--release"], &[]);
     let elf = [("QGAIT_FIRMWARE_ELF", qgait::device::firmware::default_elf(&root).display().to_string())];
+    // Static RAM plus the stack bound of the release build within 8 KiB (issue 8's target).
+    let ram = if mps2.ok {
+        crate::stack_bound::ram_step(&qgait::device::firmware::default_elf(&root))
+    } else {
+        Step { name: "RAM bound (disassembly)".into(), ok: false, summaries: vec!["not run: the firmware did not build".into()] }
+    };
     let steps: Vec<Step> = vec![
         mps2,
+        ram,
         step("host workspace tests", &root, &["test", "--workspace"], &elf),
         step("hub host tests", &root, &["test", "--manifest-path", "firmware/hub/Cargo.toml", "--features", "checks"], &[]),
         step("firmware build, nrf52840", &firmware, &["build", "--release", "--no-default-features", "--features", "nrf52840"], &[]),

@@ -33,6 +33,14 @@ pub fn ensure() -> Result<(), String> {
     if !target_installed() {
         run("rustup", &["target", "add", TARGET])?;
     }
+    if crate::stack_bound::objdump().is_none() {
+        // For the stack bound (`stack_bound`): Debian's llvm has llvm-objdump.
+        if !is_root() {
+            return Err("llvm-objdump is not installed and this is not root: install it (Debian/Ubuntu: `sudo apt-get install -y llvm`) and run again".into());
+        }
+        run("apt-get", &["update"])?;
+        run("apt-get", &["install", "-y", "llvm"])?;
+    }
     if !qemu::available() {
         if !is_root() {
             return Err(format!(

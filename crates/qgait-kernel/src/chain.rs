@@ -24,8 +24,6 @@ pub struct Axis<T> {
 /// One joint: where its frame sits on its parent and how it rotates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointSpec<T> {
-    /// Name, for messages and CLIs (e.g. `"hip_r"`).
-    pub name: &'static str,
     /// Index of the parent joint (an earlier one), or `None` for the root (the ground frame is
     /// its parent). The root is joint 0, and there is one.
     pub parent: Option<usize>,
@@ -39,12 +37,7 @@ pub struct JointSpec<T> {
 
 impl<T: Real> JointSpec<T> {
     /// A joint with the given axes `(direction, coordinate)`, in order.
-    pub fn new(
-        name: &'static str,
-        parent: Option<usize>,
-        offset: Vec3<T>,
-        axes: &[(Vec3<T>, usize)],
-    ) -> Self {
+    pub fn new(parent: Option<usize>, offset: Vec3<T>, axes: &[(Vec3<T>, usize)]) -> Self {
         let mut a = [Axis {
             direction: Vec3::zero(),
             coordinate: 0,
@@ -58,7 +51,6 @@ impl<T: Real> JointSpec<T> {
         }
         // More than MAX_AXES is reported by Chain::new through n_axes mismatch.
         Self {
-            name,
             parent,
             offset,
             axes: a,
@@ -85,11 +77,9 @@ pub struct SplineTranslation<T> {
     pub spline: Spline<T>,
 }
 
-/// A named output point fixed in a joint's frame.
+/// An output point fixed in a joint's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointSpec<T> {
-    /// Name (e.g. `"toe_r"`).
-    pub name: &'static str,
     /// The joint whose frame carries the point.
     pub body: usize,
     /// Position in that frame (metres); zero for the joint centre itself.
@@ -201,48 +191,133 @@ pub struct Chain<T, const N: usize, const J: usize, const P: usize, const S: usi
     splines: [SplineTranslation<T>; S],
 }
 
-impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Chain<T, N, J, P, S> {
-    /// Validates and builds a chain. Axes are normalised here, once.
-    pub fn new(
-        mut joints: [JointSpec<T>; J],
-        points: [PointSpec<T>; P],
-        mut splines: [SplineTranslation<T>; S],
-    ) -> Result<Self, ModelError> {
-        for (j, joint) in joints.iter_mut().enumerate() {
-            // Joint 0 is the one root; every other joint hangs from an earlier one.
-            if joint.parent.map_or(j > 0, |p| p >= j) {
-                return Err(ModelError::ParentOrder { joint: j });
+/// A model description given piece by piece: what [`Chain::rebuild`] and [`Chain::check`]
+/// read. A model implements it over its numbers (segment lengths, a gait2392 geometry), so a
+/// chain can be rebuilt where it lives without the whole description ever being a temporary
+/// (a device swapping models in a fixed slot). The pieces must be the same every time they
+/// are asked for.
+pub trait Description<T> {
+    /// Joint `j`, for `j` below the chain's `J`.
+    fn joint(&self, j: usize) -> JointSpec<T>;
+    /// Output point `i`, for `i` below the chain's `P`.
+    fn point(&self, i: usize) -> PointSpec<T>;
+    /// Spline translation `s`, for `s` below the chain's `S` (building its spline can fail).
+    fn spline(&self, s: usize) -> Result<SplineTranslation<T>, ModelError>;
+}
+
+/// A description held in three arrays (what [`Chain::new`] takes).
+struct Tables<T, const J: usize, const P: usize, const S: usize> {
+    joints: [JointSpec<T>; J],
+    points: [PointSpec<T>; P],
+    splines: [SplineTranslation<T>; S],
+}
+
+impl<T: Real, const J: usize, const P: usize, const S: usize> Description<T>
+    for Tables<T, J, P, S>
+{
+    fn joint(&self, j: usize) -> JointSpec<T> {
+        self.joints[j]
+    }
+    fn point(&self, i: usize) -> PointSpec<T> {
+        self.points[i]
+    }
+    fn spline(&self, s: usize) -> Result<SplineTranslation<T>, ModelError> {
+        Ok(self.splines[s])
+    }
+}
+
+impl<T: Real> JointSpec<T> {
+    /// No parent, no offset, no axes (all zero bits).
+    const EMPTY: Self = Self {
+        parent: None,
+        offset: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+        axes: [Axis {
+            direction: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+            coordinate: 0,
+        }; MAX_AXES],
+        n_axes: 0,
+    };
+
+    /// Checks joint `j` of a chain of `n` coordinates; returns its axes' lengths.
+    fn check(&self, j: usize, n: usize) -> Result<[T; MAX_AXES], ModelError> {
+        // Joint 0 is the one root; every other joint hangs from an earlier one.
+        if self.parent.map_or(j > 0, |p| p >= j) {
+            return Err(ModelError::ParentOrder { joint: j });
+        }
+        if self.n_axes > MAX_AXES {
+            return Err(ModelError::BadAxis { joint: j });
+        }
+        if !(self.offset.x.is_finite() && self.offset.y.is_finite() && self.offset.z.is_finite()) {
+            return Err(ModelError::BadLength);
+        }
+        let mut lengths = [T::ONE; MAX_AXES];
+        for (axis, length) in self.axes[..self.n_axes].iter().zip(&mut lengths) {
+            if axis.coordinate >= n {
+                return Err(ModelError::CoordinateOutOfRange { joint: j });
             }
-            if joint.n_axes > MAX_AXES {
+            *length = axis.direction.norm();
+            if !(length.is_finite() && *length > T::ZERO) {
                 return Err(ModelError::BadAxis { joint: j });
             }
-            if !(joint.offset.x.is_finite()
-                && joint.offset.y.is_finite()
-                && joint.offset.z.is_finite())
-            {
-                return Err(ModelError::BadLength);
-            }
-            for axis in &mut joint.axes[..joint.n_axes] {
-                if axis.coordinate >= N {
-                    return Err(ModelError::CoordinateOutOfRange { joint: j });
-                }
-                let len = axis.direction.norm();
-                if !(len.is_finite() && len > T::ZERO) {
-                    return Err(ModelError::BadAxis { joint: j });
-                }
-                axis.direction = axis.direction * (T::ONE / len);
-            }
         }
-        let mut at_origin = [false; P];
-        let mut point_kinds = [OffsetKind::General; P];
-        for (i, p) in points.iter().enumerate() {
-            if p.body >= J {
+        Ok(lengths)
+    }
+}
+
+impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Chain<T, N, J, P, S> {
+    /// The chain with nothing set (all zero bits): every joint a root at the origin without
+    /// axes, every point at the origin, every spline without knots; it maps any input to the
+    /// origin. A slot for [`rebuild`](Self::rebuild), e.g. where a device keeps its model.
+    pub const EMPTY: Self = Self {
+        joints: [JointSpec::EMPTY; J],
+        points: [PointSpec {
+            body: 0,
+            offset: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+        }; P],
+        at_origin: [false; P],
+        point_kinds: [OffsetKind::Zero; P],
+        offset_kinds: [OffsetKind::Zero; J],
+        spline_ranges: [(0, 0); J],
+        axis_kinds: [[AxisKind::X; MAX_AXES]; J],
+        splines: [SplineTranslation {
+            joint: 0,
+            direction: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+            coordinate: 0,
+            spline: Spline::EMPTY,
+        }; S],
+    };
+
+    /// Validates and builds a chain. Axes are normalised here, once.
+    pub fn new(
+        joints: [JointSpec<T>; J],
+        points: [PointSpec<T>; P],
+        splines: [SplineTranslation<T>; S],
+    ) -> Result<Self, ModelError> {
+        let mut chain = Self::EMPTY;
+        chain.rebuild(&Tables {
+            joints,
+            points,
+            splines,
+        })?;
+        Ok(chain)
+    }
+
+    /// Checks a description as [`rebuild`](Self::rebuild) would, storing nothing: `Ok` means
+    /// that `rebuild` with it succeeds.
+    pub fn check(description: &impl Description<T>) -> Result<(), ModelError> {
+        if J > u8::MAX as usize || S > u8::MAX as usize {
+            return Err(ModelError::BodyOutOfRange { index: J.max(S) });
+        }
+        for j in 0..J {
+            description.joint(j).check(j, N)?;
+        }
+        for i in 0..P {
+            if description.point(i).body >= J {
                 return Err(ModelError::BodyOutOfRange { index: i });
             }
-            at_origin[i] = p.offset == Vec3::zero();
-            point_kinds[i] = OffsetKind::of(p.offset);
         }
-        for (i, s) in splines.iter().enumerate() {
+        for i in 0..S {
+            let s = description.spline(i)?;
             if s.joint >= J {
                 return Err(ModelError::BodyOutOfRange { index: i });
             }
@@ -250,41 +325,62 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 return Err(ModelError::CoordinateOutOfRange { joint: s.joint });
             }
         }
-        if J > u8::MAX as usize || S > u8::MAX as usize {
-            return Err(ModelError::BodyOutOfRange { index: J.max(S) });
+        Ok(())
+    }
+
+    /// Rebuilds this chain in place from `description`, validated first
+    /// ([`check`](Self::check)): on an error the chain is unchanged. Only one piece of the
+    /// description at a time is a temporary, so a model can be swapped where it lives with
+    /// little stack. Axes are normalised here, once.
+    ///
+    /// (A description whose pieces change between the check and the writes leaves a mix of
+    /// old and new pieces, each valid on its own, so evaluating the chain still cannot fail.)
+    pub fn rebuild(&mut self, description: &impl Description<T>) -> Result<(), ModelError> {
+        Self::check(description)?;
+        for j in 0..J {
+            let mut joint = description.joint(j);
+            let lengths = joint.check(j, N)?;
+            let n_axes = joint.n_axes;
+            for (axis, length) in joint.axes[..n_axes].iter_mut().zip(lengths) {
+                axis.direction = axis.direction * (T::ONE / length);
+            }
+            self.joints[j] = joint;
+            self.axis_kinds[j] = joint.axes.map(|a| AxisKind::of(a.direction));
+        }
+        for i in 0..P {
+            let point = description.point(i);
+            self.points[i] = point;
+            self.at_origin[i] = point.offset == Vec3::zero();
+            self.point_kinds[i] = OffsetKind::of(point.offset);
+        }
+        for i in 0..S {
+            self.splines[i] = description.spline(i)?;
         }
         // By joint, in order of the description among a joint's splines: an insertion sort
         // (models have a handful of splines).
         for i in 1..S {
             let mut k = i;
-            while k > 0 && splines[k - 1].joint > splines[k].joint {
-                splines.swap(k - 1, k);
+            while k > 0 && self.splines[k - 1].joint > self.splines[k].joint {
+                self.splines.swap(k - 1, k);
                 k -= 1;
             }
         }
-        let mut spline_ranges = [(0u8, 0u8); J];
-        for (j, range) in spline_ranges.iter_mut().enumerate() {
-            let start = splines.iter().take_while(|s| s.joint < j).count();
-            let end = start + splines[start..].iter().take_while(|s| s.joint == j).count();
-            *range = (start as u8, end as u8);
+        for j in 0..J {
+            let start = self.splines.iter().take_while(|s| s.joint < j).count();
+            let end = start
+                + self.splines[start..]
+                    .iter()
+                    .take_while(|s| s.joint == j)
+                    .count();
+            self.spline_ranges[j] = (start as u8, end as u8);
+            // Splines move the joint centre along their directions: a general offset.
+            self.offset_kinds[j] = if start != end {
+                OffsetKind::General
+            } else {
+                OffsetKind::of(self.joints[j].offset)
+            };
         }
-        let axis_kinds = joints.map(|j| j.axes.map(|a| AxisKind::of(a.direction)));
-        let mut offset_kinds = joints.map(|j| OffsetKind::of(j.offset));
-        for (kind, range) in offset_kinds.iter_mut().zip(&spline_ranges) {
-            if range.0 != range.1 {
-                *kind = OffsetKind::General;
-            }
-        }
-        Ok(Self {
-            joints,
-            points,
-            at_origin,
-            point_kinds,
-            offset_kinds,
-            spline_ranges,
-            axis_kinds,
-            splines,
-        })
+        Ok(())
     }
 
     /// The joints, in evaluation order.
@@ -390,7 +486,6 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         let v = |v: Vec3<T>| v.cast::<U>();
         Chain {
             joints: self.joints.map(|j| JointSpec {
-                name: j.name,
                 parent: j.parent,
                 offset: v(j.offset),
                 axes: j.axes.map(|a| Axis {
@@ -400,7 +495,6 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 n_axes: j.n_axes,
             }),
             points: self.points.map(|p| PointSpec {
-                name: p.name,
                 body: p.body,
                 offset: v(p.offset),
             }),

@@ -14,7 +14,9 @@ pub const MAX_KNOTS: usize = 12;
 /// [`Spline::from_knots`]) and stored in `T`; evaluation is allocation-free and branch-free.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spline<T> {
-    n: usize,
+    /// Index of the last knot (the knot count less one; 0 for [`EMPTY`](Self::EMPTY), which has
+    /// none): what evaluation reads, with no arithmetic on it.
+    last: usize,
     x: [T; MAX_KNOTS],
     y: [T; MAX_KNOTS],
     b: [T; MAX_KNOTS],
@@ -23,6 +25,17 @@ pub struct Spline<T> {
 }
 
 impl<T: Real> Spline<T> {
+    /// The spline without knots (all zero bits): zero everywhere. What an unset chain
+    /// ([`Chain::EMPTY`](crate::Chain::EMPTY)) holds; the constructors never return it.
+    pub const EMPTY: Self = Self {
+        last: 0,
+        x: [T::ZERO; MAX_KNOTS],
+        y: [T::ZERO; MAX_KNOTS],
+        b: [T::ZERO; MAX_KNOTS],
+        c: [T::ZERO; MAX_KNOTS],
+        d: [T::ZERO; MAX_KNOTS],
+    };
+
     /// Builds the spline through knots `(x[i], y[i])`; `x` strictly increasing, 2 to
     /// [`MAX_KNOTS`] knots, all finite. The coefficients are computed in `f64`, then rounded to
     /// `T` (see [`from_knots`](Self::from_knots) for the same in `T`).
@@ -43,7 +56,7 @@ impl<T: Real> Spline<T> {
             return Err(ModelError::SplineKnots);
         }
         let mut s = Self {
-            n,
+            last: n - 1,
             x: [T::ZERO; MAX_KNOTS],
             y: [T::ZERO; MAX_KNOTS],
             b: [T::ZERO; MAX_KNOTS],
@@ -58,12 +71,16 @@ impl<T: Real> Spline<T> {
 
     /// Number of knots.
     pub fn len(&self) -> usize {
-        self.n
+        if self.last == 0 {
+            0
+        } else {
+            self.last + 1
+        }
     }
 
-    /// Always `false`: a spline has at least two knots.
+    /// Whether this is [`EMPTY`](Self::EMPTY): a built spline has at least two knots.
     pub fn is_empty(&self) -> bool {
-        false
+        self.last == 0
     }
 
     /// The spline's value at `t` (linear extrapolation outside the knots; NaN for NaN).
@@ -74,7 +91,8 @@ impl<T: Real> Spline<T> {
     #[cfg_attr(feature = "std", inline(always))]
     #[cfg_attr(not(feature = "std"), inline)]
     pub fn eval(&self, t: T) -> T {
-        let last = self.n - 1;
+        // (`EMPTY`, all zeros, evaluates to zero.)
+        let last = self.last;
         // The cubic of the last knot at or below t (the first one below x[1]).
         let (mut x, mut y, mut b, mut c, mut d) =
             (self.x[0], self.y[0], self.b[0], self.c[0], self.d[0]);
@@ -98,7 +116,7 @@ impl<T: Real> Spline<T> {
     pub fn cast<U: Real>(&self) -> Spline<U> {
         let conv = |a: &[T; MAX_KNOTS]| a.map(|v| U::from_f64(v.to_f64()));
         Spline {
-            n: self.n,
+            last: self.last,
             x: conv(&self.x),
             y: conv(&self.y),
             b: conv(&self.b),
@@ -110,10 +128,10 @@ impl<T: Real> Spline<T> {
 
 /// Forsythe, Malcolm & Moler, *Computer Methods for Mathematical Computations* (1977),
 /// subroutine SPLINE, as used by OpenSim's SimmSpline: `y ≈ y[i] + b dx + c dx² + d dx³`.
-/// Fills `s.b`, `s.c`, `s.d` from the `s.n` knots in `s.x`, `s.y` (`2 <= n <= MAX_KNOTS`,
+/// Fills `s.b`, `s.c`, `s.d` from the `s.last + 1` knots in `s.x`, `s.y` (`2 <= n <= MAX_KNOTS`,
 /// checked by the caller), in `T`.
 fn fmm_coefficients<T: Real>(s: &mut Spline<T>) {
-    let n = s.n.clamp(2, MAX_KNOTS);
+    let n = (s.last + 1).clamp(2, MAX_KNOTS);
     let (x, y) = (&s.x, &s.y);
     let (b, c, d) = (&mut s.b, &mut s.c, &mut s.d);
     if n < 3 {

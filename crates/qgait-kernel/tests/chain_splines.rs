@@ -23,22 +23,15 @@ fn translation(
 
 fn chain(splines: [SplineTranslation<f64>; 5]) -> Chain<f64, 3, 3, 3, 5> {
     let joints = [
-        JointSpec::new("a", None, Vec3::zero(), &[(Vec3::unit_z(), 0)]),
+        JointSpec::new(None, Vec3::zero(), &[(Vec3::unit_z(), 0)]),
+        JointSpec::new(Some(0), Vec3::new(0.1, -0.4, 0.0), &[(Vec3::unit_z(), 1)]),
         JointSpec::new(
-            "b",
-            Some(0),
-            Vec3::new(0.1, -0.4, 0.0),
-            &[(Vec3::unit_z(), 1)],
-        ),
-        JointSpec::new(
-            "c",
             Some(1),
             Vec3::new(0.0, -0.4, 0.02),
             &[(Vec3::new(0.2, 0.1, 1.0), 2)],
         ),
     ];
     let points = [0, 1, 2].map(|body| PointSpec {
-        name: "p",
         body,
         offset: Vec3::new(0.05, 0.0, 0.0),
     });

@@ -2,8 +2,10 @@
 
 use core::mem::MaybeUninit;
 use core::num::NonZeroU8;
+use core::ptr::addr_of_mut;
 
 use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
+use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_pose_frame, encode_status_frame, Config, DecodeError, FrameDecoder,
     FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN,
@@ -90,14 +92,64 @@ where
         Ok(Self::with_kinematics(serial, clock, status_period_ms, kinematics))
     }
 
-    /// The same hub as [`new`](Self::new), built in `slot` (e.g. a static): the hub (4 KB on a
-    /// Cortex-M) is never a temporary on the stack on its way there, only its model's chain is.
+    /// The same hub as [`new`](Self::new), built in `slot` (e.g. a static): neither the hub (4 KB
+    /// on a Cortex-M) nor its model's chain is ever a temporary on the stack on its way there.
+    /// Each field is written where it lives, the model as an empty one (a memset), which is
+    /// then built in place.
     pub fn init(slot: &mut MaybeUninit<Self>, serial: S, clock: C, status_period_ms: u32) -> Result<&mut Self, ConfigError> {
-        // Only the PHAK chain is a temporary here (the default model is PHAK, asserted below):
-        // the `Kinematics` around it is built in the slot with the rest of the hub.
-        let phak = Kinematics::phak(DEFAULT_CONFIG.anthropometry)?;
-        let kinematics = Kinematics::of_phak(DEFAULT_CONFIG.model, phak);
-        Ok(slot.write(Self::with_kinematics(serial, clock, status_period_ms, kinematics)))
+        let anthropometry = Kinematics::anthropometry(DEFAULT_CONFIG.anthropometry)?;
+        let now = clock.now_ms();
+        let config = DEFAULT_CONFIG;
+        let hub = slot.as_mut_ptr();
+        // SAFETY: `hub` points to memory valid for a `Hub` (the slot). Each field is written
+        // once through a pointer to it, never read and never referenced before; `assume_init`
+        // comes after the last field is written. `every_field_is_written` below names every
+        // field of `Hub` without `..`, so adding a field without writing it here does not
+        // compile.
+        #[allow(unsafe_code)]
+        let hub = unsafe {
+            addr_of_mut!((*hub).serial).write(serial);
+            addr_of_mut!((*hub).clock).write(clock);
+            addr_of_mut!((*hub).decoder).write(FrameDecoder::new());
+            addr_of_mut!((*hub).config).write(config);
+            addr_of_mut!((*hub).subject).write(None);
+            addr_of_mut!((*hub).subject_generation).write(0);
+            addr_of_mut!((*hub).subject_parts).write(SubjectParts::new());
+            addr_of_mut!((*hub).kinematics).write(Kinematics::EMPTY);
+            addr_of_mut!((*hub).assembler).write(assembler_for(&config));
+            addr_of_mut!((*hub).status).write(Status::default());
+            addr_of_mut!((*hub).started_ms).write(now);
+            addr_of_mut!((*hub).last_status_ms).write(now);
+            addr_of_mut!((*hub).status_period_ms).write(status_period_ms);
+            addr_of_mut!((*hub).status_frames).write(0);
+            addr_of_mut!((*hub).tx).write([0; MAX_FRAME_LEN]);
+            slot.assume_init_mut()
+        };
+        hub.kinematics.set_phak(config.model, &anthropometry)?;
+        Ok(hub)
+    }
+
+    /// The fields [`init`](Self::init) writes, named without `..`: a field added to `Hub` must
+    /// be added here, which is the reminder to write it in `init`.
+    #[allow(dead_code)]
+    fn every_field_is_written(self) {
+        let Hub {
+            serial: _,
+            clock: _,
+            decoder: _,
+            config: _,
+            subject: _,
+            subject_generation: _,
+            subject_parts: _,
+            kinematics: _,
+            assembler: _,
+            status: _,
+            started_ms: _,
+            last_status_ms: _,
+            status_period_ms: _,
+            status_frames: _,
+            tx: _,
+        } = self;
     }
 
     #[inline(always)]
@@ -314,22 +366,17 @@ where
     }
 
     /// Switches to `new` with the subject model `subject` (the upload whose parts make the
-    /// gait2392 model), or to `new`'s built-in model if `None`.
-    // Never inlined, and neither are the model builders it calls: the frames that hold a new
-    // model while the old one computes the samples still open exist only while switching.
+    /// gait2392 model), or to `new`'s built-in model if `None`. The new model is checked first
+    /// (the old one stays if it is refused), then the samples still open are closed under the
+    /// old one, then the new one is built in place of the old (see
+    /// [`Kinematics::set_phak`]): no chain is ever a temporary on the stack.
+    // Never inlined: its frame exists only while switching.
     #[inline(never)]
     fn switch(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
         if subject.is_none() && new.model != ModelId::Gait2392 {
-            // HAK and PHAK: only the chain (a third of a `Kinematics`) is a temporary, kept in
-            // the kernel's result until it moves into the hub (one copy).
-            let built = Kinematics::phak(new.anthropometry);
-            if let Err(e) = &built {
-                return Err(*e);
-            }
+            let anthropometry = Kinematics::anthropometry(new.anthropometry)?;
             self.close_open_samples();
-            if let Ok(phak) = built {
-                self.kinematics = Kinematics::of_phak(new.model, phak);
-            }
+            self.kinematics.set_phak(new.model, &anthropometry)?;
         } else {
             self.switch_gait2392(&new, subject)?;
         }
@@ -343,31 +390,17 @@ where
     /// The model part of [`switch`](Self::switch) for gait2392, generic or a subject's.
     #[inline(never)]
     fn switch_gait2392(&mut self, new: &Config, subject: Option<u8>) -> Result<(), ConfigError> {
-        let subject_geometry;
-        let geometry = match subject {
-            None if new.anthropometry.is_some() => return Err(ConfigError::AnthropometryWithGait2392),
-            None => Kinematics::generic_gait2392(),
-            Some(upload) => {
-                subject_geometry = self.subject_parts.geometry(upload)?;
-                &subject_geometry
-            }
-        };
-        // The kernel's result is kept as it is until the chain moves into the hub, so the chain
-        // is copied once (the `Kinematics` around it is written in place).
-        let built = Kinematics::gait2392_chain(geometry);
-        if built.is_err() {
-            return Err(ConfigError::Kernel);
-        }
+        Kinematics::check_gait2392(gait2392_geometry(&self.subject_parts, new, subject)?)?;
         self.close_open_samples();
-        if let Ok(chain) = built {
-            self.kinematics = Kinematics::of_gait2392(chain);
-        }
-        Ok(())
+        // Asked again (the samples closed borrowed the hub): the same reference.
+        let geometry = gait2392_geometry(&self.subject_parts, new, subject)?;
+        self.kinematics.set_gait2392(geometry)
     }
 
     /// Closes (and counts, and sends) the samples open under the configuration in force.
     #[inline(never)]
     fn close_open_samples(&mut self) {
+        // As in `on_packet`: the samples are handled as the assembler reports them.
         let Hub { assembler, kinematics, status, serial, tx, .. } = self;
         let mut output = Output { kinematics, status, serial, tx };
         assembler.flush(&mut |e| output.on_sample(e));
@@ -434,6 +467,16 @@ fn write_frame<S: serial::Write<u8>>(serial: &mut S, status: &mut Status, frame:
         }
     }
     bump(&mut status.frames_sent);
+}
+
+/// The gait2392 numbers `new` asks for: the generic model's, or by reference the subject's
+/// upload `subject`, where its parts were written.
+fn gait2392_geometry<'a>(parts: &'a SubjectParts, new: &Config, subject: Option<u8>) -> Result<&'a Gait2392Geometry<f32>, ConfigError> {
+    match subject {
+        None if new.anthropometry.is_some() => Err(ConfigError::AnthropometryWithGait2392),
+        None => Ok(Kinematics::generic_gait2392()),
+        Some(upload) => parts.geometry(upload),
+    }
 }
 
 /// `*assembler = assembler_for(config)`, in a frame of its own (not the model switch's).

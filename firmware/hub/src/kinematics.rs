@@ -2,7 +2,7 @@
 //! [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, ModelError, Phak, PhakAngles};
+use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles};
 use qgait_proto::{point, segment, FrameFlags, JointId, ModelId, PoseFrame};
 
 use crate::assembly::Sample;
@@ -62,6 +62,9 @@ pub struct Kinematics {
 #[derive(Debug, Clone)]
 // One Kinematics lives in the hub, for its whole life: boxing is not an option without a heap.
 #[allow(clippy::large_enum_variant)]
+// An explicit tag (no niche in the chains' bytes), so that `Kinematics::EMPTY` is all zero bits
+// and writing it is a memset, not a copy of a constant as large as the chain.
+#[repr(u32)]
 enum ModelChain {
     /// HAK and PHAK.
     Phak(Phak<f32>),
@@ -70,36 +73,55 @@ enum ModelChain {
 }
 
 impl Kinematics {
+    /// Nothing set yet (HAK on the kernel's empty PHAK chain: every point at the origin); a
+    /// slot that [`set_phak`](Self::set_phak) or [`set_gait2392`](Self::set_gait2392) fill in
+    /// place. All zero bits (HAK is model 0, the PHAK variant tag 0, the empty chain zeros), so
+    /// writing it compiles to a memset: no constant in flash, no copy on the stack.
+    pub(crate) const EMPTY: Kinematics = Kinematics { model: ModelId::Hak, chain: ModelChain::Phak(Phak::EMPTY) };
+
     /// The `model` with the given segment lengths (right, left; [`qgait_proto::segment`]
     /// order), or gait2392's if `None`.
     /// HAK is computed as PHAK with a level, forward-facing pelvis (see [`pose_frame`](Self::pose_frame)).
     /// gait2392 is the generic model (its lengths are its own: `lengths` must be `None`).
     pub fn new(model: ModelId, lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Kinematics, ConfigError> {
+        let mut kinematics = Kinematics::EMPTY;
         if model == ModelId::Gait2392 {
             if lengths.is_some() {
                 return Err(ConfigError::AnthropometryWithGait2392);
             }
-            return Kinematics::gait2392(&GENERIC_GAIT2392);
+            kinematics.set_gait2392(&GENERIC_GAIT2392)?;
+        } else {
+            kinematics.set_phak(model, &Kinematics::anthropometry(lengths)?)?;
         }
-        Ok(Kinematics::of_phak(model, Kinematics::phak(lengths)?))
+        Ok(kinematics)
     }
 
-    /// The PHAK chain (HAK's too) with these segment lengths, or gait2392's if `None`.
-    // Never inlined and returning only the chain (a third of a `Kinematics`): a caller builds
-    // the `Kinematics` around it where it is to live ([`Hub::init`](crate::Hub::init)).
-    #[inline(never)]
-    pub(crate) fn phak(lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Phak<f32>, ConfigError> {
+    /// The segment lengths of HAK or PHAK, checked (by the hub's limits and by the kernel)
+    /// without building anything: gait2392's if `None`.
+    pub(crate) fn anthropometry(lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Anthropometry<f32>, ConfigError> {
         let anthropometry = match lengths {
             None => Anthropometry::gait2392(),
             Some(legs) => Anthropometry { right: limb(&legs[0], 0)?, left: limb(&legs[1], 1)? },
         };
-        Phak::new(&anthropometry).map_err(|_| ConfigError::Kernel)
+        Phak::check(&anthropometry).map_err(|_| ConfigError::Kernel)?;
+        Ok(anthropometry)
     }
 
-    /// HAK or PHAK (`model`, not gait2392) computed by [`phak`](Self::phak).
-    #[inline(always)]
-    pub(crate) fn of_phak(model: ModelId, phak: Phak<f32>) -> Kinematics {
-        Kinematics { model, chain: ModelChain::Phak(phak) }
+    /// Makes this HAK or PHAK (`model`, not gait2392) with these lengths, rebuilt in place (no
+    /// copy of a chain on the stack). Unchanged if the kernel refuses the lengths, which
+    /// [`anthropometry`](Self::anthropometry) rules out.
+    // Never inlined: the kernel's rebuild is the deepest part of a model switch.
+    #[inline(never)]
+    pub(crate) fn set_phak(&mut self, model: ModelId, anthropometry: &Anthropometry<f32>) -> Result<(), ConfigError> {
+        Phak::check(anthropometry).map_err(|_| ConfigError::Kernel)?;
+        if !matches!(self.chain, ModelChain::Phak(_)) {
+            self.chain = ModelChain::Phak(Phak::EMPTY);
+        }
+        if let ModelChain::Phak(phak) = &mut self.chain {
+            phak.rebuild(anthropometry).map_err(|_| ConfigError::Kernel)?;
+        }
+        self.model = model;
+        Ok(())
     }
 
     /// The generic gait2392 geometry in `f32`: data computed at compile time (no `f64` on the
@@ -110,26 +132,31 @@ impl Kinematics {
 
     /// gait2392 with these numbers (generic or a subject's), built in `f32` (the knee splines'
     /// coefficients included, [`Gait2392::from_geometry`]).
-    // Never inlined: building gait2392 takes kilobytes of stack, which `new` then reserves
-    // only when the model is gait2392.
-    #[inline(never)]
     pub fn gait2392(geometry: &Gait2392Geometry<f32>) -> Result<Kinematics, ConfigError> {
-        let chain = Kinematics::gait2392_chain(geometry).map_err(|_| ConfigError::Kernel)?;
-        Ok(Kinematics::of_gait2392(chain))
+        let mut kinematics = Kinematics::EMPTY;
+        kinematics.set_gait2392(geometry)?;
+        Ok(kinematics)
     }
 
-    /// The gait2392 chain for these numbers, built in `f32`.
-    // Never inlined, returning only the chain and the kernel's own result: the hub's model
-    // switch unwraps it where it builds the `Kinematics` around it, in place.
+    /// Whether the kernel accepts gait2392 with these numbers, without building anything.
+    pub(crate) fn check_gait2392(geometry: &Gait2392Geometry<f32>) -> Result<(), ConfigError> {
+        Gait2392::check(geometry).map_err(|_| ConfigError::Kernel)
+    }
+
+    /// Makes this gait2392 with these numbers, rebuilt in place (no copy of a chain on the
+    /// stack). Unchanged if the kernel refuses them
+    /// ([`check_gait2392`](Self::check_gait2392) tells beforehand).
     #[inline(never)]
-    pub(crate) fn gait2392_chain(geometry: &Gait2392Geometry<f32>) -> Result<Gait2392<f32>, ModelError> {
-        Gait2392::from_geometry(geometry)
-    }
-
-    /// gait2392 computed by `chain`.
-    #[inline(always)]
-    pub(crate) fn of_gait2392(chain: Gait2392<f32>) -> Kinematics {
-        Kinematics { model: ModelId::Gait2392, chain: ModelChain::Gait2392(chain) }
+    pub(crate) fn set_gait2392(&mut self, geometry: &Gait2392Geometry<f32>) -> Result<(), ConfigError> {
+        Kinematics::check_gait2392(geometry)?;
+        if !matches!(self.chain, ModelChain::Gait2392(_)) {
+            self.chain = ModelChain::Gait2392(Gait2392::EMPTY);
+        }
+        if let ModelChain::Gait2392(g) = &mut self.chain {
+            g.rebuild(geometry).map_err(|_| ConfigError::Kernel)?;
+        }
+        self.model = ModelId::Gait2392;
+        Ok(())
     }
 
     /// The model poses are computed with.

@@ -13,37 +13,107 @@ use crate::kinematics::{ConfigError, MAX_SEGMENT_M};
 // A knee part the protocol can carry always fits the kernel's spline.
 const _: () = assert!(MAX_KNEE_KNOTS <= MAX_KNOTS);
 
-/// The parts of one upload received so far.
-#[derive(Debug, Clone, Default)]
+/// The parts of one upload received so far, kept as the geometry they make: each part is
+/// written into it as it arrives, so the model is built straight from here (no copy of the
+/// geometry on the stack when the hub switches to it).
+#[derive(Debug, Clone)]
 pub struct SubjectParts {
     upload: Option<u8>,
     /// Counts every part taken (wrapping): tells whether the parts changed since a model was
     /// built from them.
     generation: u32,
-    legs: [Option<SubjectLeg>; 2],
-    /// Indexed by leg, then direction.
-    knees: [[Option<SubjectKnee>; 2]; 2],
+    /// Which of the six parts are held ([`part_bit`]).
+    held: u8,
+    /// Which of the parts held have a position or knot value beyond [`MAX_SEGMENT_M`].
+    out_of_range: u8,
+    /// The parts held, in place; what is not held is stale or zero, never read.
+    geometry: Gait2392Geometry<f32>,
+}
+
+/// A leg without numbers (zeros, no knots).
+const NO_LEG: LegGeometry<f32> = LegGeometry {
+    hip_in_pelvis: [0.0; 3],
+    hip_axes: [[0.0; 3]; 3],
+    knee_tx: Knots { n: 0, x: [0.0; MAX_KNOTS], y: [0.0; MAX_KNOTS] },
+    knee_ty: Knots { n: 0, x: [0.0; MAX_KNOTS], y: [0.0; MAX_KNOTS] },
+    ankle_in_tibia: [0.0; 3],
+    ankle_axis: [0.0; 3],
+    subtalar_in_talus: [0.0; 3],
+    subtalar_axis: [0.0; 3],
+    mtp_in_calcn: [0.0; 3],
+    mtp_axis: [0.0; 3],
+    toetip_in_toes: [0.0; 3],
+};
+
+/// The bit of a part in [`SubjectParts`]' masks: per leg (right first) the leg part, then the
+/// knee's x and y parts.
+fn part_bit(leg: Leg, knee: Option<KneeDirection>) -> u8 {
+    let k = match knee {
+        None => 0,
+        Some(KneeDirection::Tx) => 1,
+        Some(KneeDirection::Ty) => 2,
+    };
+    1 << (3 * leg as u8 + k)
+}
+
+/// The three parts of a leg.
+fn leg_bits(leg: Leg) -> u8 {
+    0b111 << (3 * leg as u8)
+}
+
+impl Default for SubjectParts {
+    fn default() -> Self {
+        SubjectParts::new()
+    }
 }
 
 impl SubjectParts {
     /// No parts.
     pub const fn new() -> Self {
-        SubjectParts { upload: None, generation: 0, legs: [None, None], knees: [[None, None], [None, None]] }
+        SubjectParts {
+            upload: None,
+            generation: 0,
+            held: 0,
+            out_of_range: 0,
+            geometry: Gait2392Geometry { right: NO_LEG, left: NO_LEG },
+        }
     }
 
     /// Keeps a leg part. A part of another upload than the parts held discards them first; a
     /// part for a leg already held replaces it.
     pub fn add_leg(&mut self, part: &SubjectLeg) {
         self.start(part.upload);
-        self.generation = self.generation.wrapping_add(1);
-        self.legs[part.leg as usize] = Some(*part);
+        let g = self.leg_mut(part.leg);
+        g.hip_in_pelvis = part.hip_in_pelvis;
+        g.hip_axes = part.hip_axes;
+        g.ankle_in_tibia = part.ankle_in_tibia;
+        g.ankle_axis = part.ankle_axis;
+        g.subtalar_in_talus = part.subtalar_in_talus;
+        g.subtalar_axis = part.subtalar_axis;
+        g.mtp_in_calcn = part.mtp_in_calcn;
+        g.mtp_axis = part.mtp_axis;
+        g.toetip_in_toes = part.toetip_in_toes;
+        let positions = [part.hip_in_pelvis, part.ankle_in_tibia, part.subtalar_in_talus, part.mtp_in_calcn, part.toetip_in_toes];
+        let in_range = positions.iter().flatten().all(|c| c.abs() <= MAX_SEGMENT_M);
+        self.took(part_bit(part.leg, None), in_range);
     }
 
     /// Keeps a knee part (same rules as [`add_leg`](Self::add_leg)).
     pub fn add_knee(&mut self, part: &SubjectKnee) {
         self.start(part.upload);
-        self.generation = self.generation.wrapping_add(1);
-        self.knees[part.leg as usize][part.direction as usize] = Some(part.clone());
+        let g = self.leg_mut(part.leg);
+        let k = match part.direction {
+            KneeDirection::Tx => &mut g.knee_tx,
+            KneeDirection::Ty => &mut g.knee_ty,
+        };
+        // MAX_KNEE_KNOTS <= MAX_KNOTS (asserted above): every knot of the part has a slot.
+        k.n = part.knots.len();
+        for ((x, y), [kx, ky]) in k.x.iter_mut().zip(k.y.iter_mut()).zip(&part.knots) {
+            (*x, *y) = (*kx, *ky);
+        }
+        // (A NaN knot passes here; the kernel refuses it when the model is built.)
+        let in_range = !part.knots.iter().any(|[_, y]| y.abs() > MAX_SEGMENT_M);
+        self.took(part_bit(part.leg, Some(part.direction)), in_range);
     }
 
     /// The upload whose parts are held, if any.
@@ -58,68 +128,53 @@ impl SubjectParts {
 
     /// Number of the 6 parts held.
     pub fn count(&self) -> usize {
-        self.legs.iter().flatten().count() + self.knees.iter().flatten().flatten().count()
+        self.held.count_ones() as usize
     }
 
     /// The model of `upload`: all 6 parts must be held, every position and knot value must be
     /// within [`MAX_SEGMENT_M`] (finite). The kernel checks the rest (axes, knot order) when the
     /// model is built.
-    pub fn geometry(&self, upload: u8) -> Result<Gait2392Geometry<f32>, ConfigError> {
+    pub fn geometry(&self, upload: u8) -> Result<&Gait2392Geometry<f32>, ConfigError> {
         if self.upload != Some(upload) {
             return Err(ConfigError::SubjectIncomplete { upload, parts: 0 });
         }
-        let incomplete = ConfigError::SubjectIncomplete { upload, parts: self.count() as u8 };
-        let leg = |side: Leg| -> Result<LegGeometry<f32>, ConfigError> {
-            let i = side as usize;
-            let (Some(l), [Some(tx), Some(ty)]) = (&self.legs[i], &self.knees[i]) else {
-                return Err(incomplete);
-            };
-            leg_geometry(l, tx, ty)
-        };
-        Ok(Gait2392Geometry { right: leg(Leg::Right)?, left: leg(Leg::Left)? })
+        for leg in [Leg::Right, Leg::Left] {
+            if self.held & leg_bits(leg) != leg_bits(leg) {
+                return Err(ConfigError::SubjectIncomplete { upload, parts: self.count() as u8 });
+            }
+            if self.out_of_range & leg_bits(leg) != 0 {
+                return Err(ConfigError::SubjectOutOfRange { leg: leg as u8 });
+            }
+        }
+        Ok(&self.geometry)
     }
 
+    fn leg_mut(&mut self, leg: Leg) -> &mut LegGeometry<f32> {
+        match leg {
+            Leg::Right => &mut self.geometry.right,
+            Leg::Left => &mut self.geometry.left,
+        }
+    }
+
+    /// Records the part `bit` as held, in range or not.
+    fn took(&mut self, bit: u8, in_range: bool) {
+        self.generation = self.generation.wrapping_add(1);
+        self.held |= bit;
+        if in_range {
+            self.out_of_range &= !bit;
+        } else {
+            self.out_of_range |= bit;
+        }
+    }
+
+    /// Discards the parts held if they are of another upload than `upload`.
     fn start(&mut self, upload: u8) {
         if self.upload != Some(upload) {
-            *self = SubjectParts { upload: Some(upload), generation: self.generation, ..SubjectParts::new() };
+            self.upload = Some(upload);
+            self.held = 0;
+            self.out_of_range = 0;
         }
     }
-}
-
-fn position(v: [f32; 3], leg: Leg) -> Result<[f32; 3], ConfigError> {
-    if v.iter().all(|c| c.abs() <= MAX_SEGMENT_M) {
-        Ok(v)
-    } else {
-        Err(ConfigError::SubjectOutOfRange { leg: leg as u8 })
-    }
-}
-
-fn knots(part: &SubjectKnee) -> Result<Knots<f32>, ConfigError> {
-    // MAX_KNEE_KNOTS <= MAX_KNOTS (asserted above): every knot of the part has a slot.
-    let mut k = Knots { n: part.knots.len(), x: [0.0; MAX_KNOTS], y: [0.0; MAX_KNOTS] };
-    for ((x, y), [kx, ky]) in k.x.iter_mut().zip(k.y.iter_mut()).zip(&part.knots) {
-        if ky.abs() > MAX_SEGMENT_M {
-            return Err(ConfigError::SubjectOutOfRange { leg: part.leg as u8 });
-        }
-        (*x, *y) = (*kx, *ky);
-    }
-    Ok(k)
-}
-
-fn leg_geometry(l: &SubjectLeg, tx: &SubjectKnee, ty: &SubjectKnee) -> Result<LegGeometry<f32>, ConfigError> {
-    Ok(LegGeometry {
-        hip_in_pelvis: position(l.hip_in_pelvis, l.leg)?,
-        hip_axes: l.hip_axes,
-        knee_tx: knots(tx)?,
-        knee_ty: knots(ty)?,
-        ankle_in_tibia: position(l.ankle_in_tibia, l.leg)?,
-        ankle_axis: l.ankle_axis,
-        subtalar_in_talus: position(l.subtalar_in_talus, l.leg)?,
-        subtalar_axis: l.subtalar_axis,
-        mtp_in_calcn: position(l.mtp_in_calcn, l.leg)?,
-        mtp_axis: l.mtp_axis,
-        toetip_in_toes: position(l.toetip_in_toes, l.leg)?,
-    })
 }
 
 /// The parts of `geometry` (the inverse of [`SubjectParts::geometry`], rounding to `f32`): what
@@ -189,7 +244,7 @@ mod tests {
         for k in &knees {
             parts.add_knee(k);
         }
-        parts.geometry(4).unwrap()
+        *parts.geometry(4).unwrap()
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! subject-scaled models change only the numbers in [`Gait2392Geometry`].
 
 use super::{x, y, z};
+use crate::chain::Description;
 use crate::lanes::LaneScalar;
 use crate::spline::MAX_KNOTS;
 use crate::{
@@ -388,85 +389,121 @@ impl<T: Real> Gait2392Pose<T> {
     }
 }
 
-/// The joints of one leg of [`Gait2392`]: hip, knee, ankle, subtalar, MTP, the hip's parent
-/// joint 0 (the pelvis), the others' the joint before; `first` is the hip's index, `coord` the
-/// hip flexion's coordinate.
-// Never inlined: one copy builds both legs (building a chain is not on any per-frame path).
-#[inline(never)]
-fn leg_joints<T: Real>(
-    l: &LegGeometry<T>,
-    s: Side,
-    first: usize,
-    coord: usize,
-) -> [JointSpec<T>; 5] {
-    let v = |a: [T; 3]| Vec3::new(a[0], a[1], a[2]);
-    let [a1, a2, a3] = l.hip_axes.map(v);
-    [
-        JointSpec::new(
-            ["hip_r", "hip_l"][s as usize],
-            Some(0),
-            v(l.hip_in_pelvis),
-            &[(a1, coord), (a2, coord + 1), (a3, coord + 2)],
-        ),
-        JointSpec::new(
-            ["knee_r", "knee_l"][s as usize],
-            Some(first),
-            Vec3::zero(),
-            &[(z(), coord + 3)],
-        ),
-        JointSpec::new(
-            ["ankle_r", "ankle_l"][s as usize],
-            Some(first + 1),
-            v(l.ankle_in_tibia),
-            &[(v(l.ankle_axis), coord + 4)],
-        ),
-        JointSpec::new(
-            ["subtalar_r", "subtalar_l"][s as usize],
-            Some(first + 2),
-            v(l.subtalar_in_talus),
-            &[(v(l.subtalar_axis), coord + 5)],
-        ),
-        JointSpec::new(
-            ["mtp_r", "mtp_l"][s as usize],
-            Some(first + 3),
-            v(l.mtp_in_calcn),
-            &[(v(l.mtp_axis), coord + 6)],
-        ),
-    ]
+/// gait2392's chain for a geometry, piece by piece: the pelvis (tilt about +z, list about +x,
+/// rotation about +y), then per side (right first) hip, knee, ankle, subtalar and MTP, each
+/// hanging from the one before (the hips from the pelvis); points: per side the five joint
+/// centres and the toe tip; the knee centre slides along the femur's x and y by splines of
+/// `knee_angle`.
+struct Gait2392Description<'a, T> {
+    g: &'a Gait2392Geometry<T>,
+    /// The numbers in `f64` when the knee splines are computed in `f64` and rounded to `T`
+    /// ([`Gait2392::new`]); `None` computes them in `T`.
+    knees_in_f64: Option<&'a Gait2392Geometry<f64>>,
 }
 
-/// The points of one leg of [`Gait2392`]: the centres of its 5 joints (from `first`, the hip)
-/// and the toe tip.
-// Never inlined, as [`leg_joints`].
-#[inline(never)]
-fn leg_points<T: Real>(l: &LegGeometry<T>, s: Side, first: usize) -> [PointSpec<T>; 6] {
-    let at = |k: usize| PointSpec {
-        name: POINTS[side_base(s) + k],
-        body: first + k,
-        offset: Vec3::zero(),
-    };
-    [
-        at(0),
-        at(1),
-        at(2),
-        at(3),
-        at(4),
-        PointSpec {
-            name: POINTS[side_base(s) + 5],
-            body: first + 4,
-            offset: Vec3::new(
-                l.toetip_in_toes[0],
-                l.toetip_in_toes[1],
-                l.toetip_in_toes[2],
-            ),
-        },
-    ]
-}
-
+/// Index of a side's first point (its hip centre) in the output.
 fn side_base(side: Side) -> usize {
     match side {
         Side::Right => 0,
         Side::Left => 6,
+    }
+}
+
+/// Index of a side's hip joint (its leg's first joint) and of its hip flexion coordinate.
+fn leg_start(side: Side) -> (usize, usize) {
+    match side {
+        Side::Right => (1, 3),
+        Side::Left => (6, 10),
+    }
+}
+
+impl<T: Real> Description<T> for Gait2392Description<'_, T> {
+    fn joint(&self, j: usize) -> JointSpec<T> {
+        if j == 0 {
+            return JointSpec::new(None, Vec3::zero(), &[(z(), 0), (x(), 1), (y(), 2)]);
+        }
+        let side = if j < leg_start(Side::Left).0 {
+            Side::Right
+        } else {
+            Side::Left
+        };
+        let (first, coord) = leg_start(side);
+        let l = self.g.leg(side);
+        let v = |a: [T; 3]| Vec3::new(a[0], a[1], a[2]);
+        match j - first {
+            0 => {
+                let [a1, a2, a3] = l.hip_axes.map(v);
+                JointSpec::new(
+                    Some(0),
+                    v(l.hip_in_pelvis),
+                    &[(a1, coord), (a2, coord + 1), (a3, coord + 2)],
+                )
+            }
+            // The knee's centre moves by its splines only.
+            1 => JointSpec::new(Some(j - 1), Vec3::zero(), &[(z(), coord + 3)]),
+            2 => JointSpec::new(
+                Some(j - 1),
+                v(l.ankle_in_tibia),
+                &[(v(l.ankle_axis), coord + 4)],
+            ),
+            3 => JointSpec::new(
+                Some(j - 1),
+                v(l.subtalar_in_talus),
+                &[(v(l.subtalar_axis), coord + 5)],
+            ),
+            _ => JointSpec::new(
+                Some(j - 1),
+                v(l.mtp_in_calcn),
+                &[(v(l.mtp_axis), coord + 6)],
+            ),
+        }
+    }
+
+    fn point(&self, i: usize) -> PointSpec<T> {
+        let side = if i < side_base(Side::Left) {
+            Side::Right
+        } else {
+            Side::Left
+        };
+        let k = i - side_base(side);
+        let l = self.g.leg(side);
+        PointSpec {
+            // The five joint centres, then the toe tip on the MTP joint's frame (the toes).
+            body: leg_start(side).0 + k.min(4),
+            offset: if k == 5 {
+                Vec3::new(
+                    l.toetip_in_toes[0],
+                    l.toetip_in_toes[1],
+                    l.toetip_in_toes[2],
+                )
+            } else {
+                Vec3::zero()
+            },
+        }
+    }
+
+    fn spline(&self, s: usize) -> Result<SplineTranslation<T>, ModelError> {
+        // [right tx, right ty, left tx, left ty]: the knee (the joint after the hip) along the
+        // femur's x, then y, driven by the knee angle.
+        let side = if s < 2 { Side::Right } else { Side::Left };
+        let (first, coord) = leg_start(side);
+        let along_y = s % 2 == 1;
+        let spline = match self.knees_in_f64 {
+            Some(g) => {
+                let l = g.leg(side);
+                (if along_y { &l.knee_ty } else { &l.knee_tx }).spline_rounded()?
+            }
+            None => {
+                let l = self.g.leg(side);
+                (if along_y { &l.knee_ty } else { &l.knee_tx }).spline()?
+            }
+        };
+        Ok(SplineTranslation {
+            joint: first + 1,
+            direction: if along_y { y() } else { x() },
+            coordinate: coord + 3,
+            spline,
+        })
     }
 }
 
@@ -478,69 +515,48 @@ pub struct Gait2392<T> {
 }
 
 impl<T: Real> Gait2392<T> {
+    /// gait2392 with nothing set ([`Chain::EMPTY`]): a slot to [`rebuild`](Self::rebuild).
+    pub const EMPTY: Self = Self {
+        chain: Chain::EMPTY,
+    };
+
     /// The chain for these numbers. The knee splines' coefficients are computed in `f64` and
     /// rounded to `T`.
     pub fn new(g: &Gait2392Geometry) -> Result<Self, ModelError> {
-        let knees = [
-            g.right.knee_tx.spline_rounded()?,
-            g.right.knee_ty.spline_rounded()?,
-            g.left.knee_tx.spline_rounded()?,
-            g.left.knee_ty.spline_rounded()?,
-        ];
-        Self::with_knees(&g.cast(), knees)
+        let mut model = Self::EMPTY;
+        let in_t = g.cast();
+        model.chain.rebuild(&Gait2392Description {
+            g: &in_t,
+            knees_in_f64: Some(g),
+        })?;
+        Ok(model)
     }
 
     /// The chain for these numbers given in `T`, everything computed in `T`: for `f32`, no
     /// double-precision arithmetic at all (what a device with a single-precision FPU wants;
     /// its knee splines differ from [`new`](Self::new)'s by a few `f32` ulps).
     pub fn from_geometry(g: &Gait2392Geometry<T>) -> Result<Self, ModelError> {
-        let knees = [
-            g.right.knee_tx.spline()?,
-            g.right.knee_ty.spline()?,
-            g.left.knee_tx.spline()?,
-            g.left.knee_ty.spline()?,
-        ];
-        Self::with_knees(g, knees)
+        let mut model = Self::EMPTY;
+        model.rebuild(g)?;
+        Ok(model)
     }
 
-    /// The chain for `g`, with the knee splines `[right tx, right ty, left tx, left ty]`.
-    fn with_knees(g: &Gait2392Geometry<T>, knees: [Spline<T>; 4]) -> Result<Self, ModelError> {
-        let [r0, r1, r2, r3, r4] = leg_joints(&g.right, Side::Right, 1, 3);
-        let [l0, l1, l2, l3, l4] = leg_joints(&g.left, Side::Left, 6, 10);
-        let pelvis = JointSpec::new(
-            "pelvis",
-            None,
-            Vec3::zero(),
-            &[(z(), 0), (x(), 1), (y(), 2)],
-        );
-        let joints = [pelvis, r0, r1, r2, r3, r4, l0, l1, l2, l3, l4];
-        let [p0, p1, p2, p3, p4, p5] = leg_points(&g.right, Side::Right, 1);
-        let [p6, p7, p8, p9, p10, p11] = leg_points(&g.left, Side::Left, 6);
-        let [r_tx, r_ty, l_tx, l_ty] = knees;
-        let knee = |joint: usize, coordinate: usize, tx: Spline<T>, ty: Spline<T>| {
-            [
-                SplineTranslation {
-                    joint,
-                    direction: x(),
-                    coordinate,
-                    spline: tx,
-                },
-                SplineTranslation {
-                    joint,
-                    direction: y(),
-                    coordinate,
-                    spline: ty,
-                },
-            ]
-        };
-        let [s0, s1] = knee(2, 6, r_tx, r_ty);
-        let [s2, s3] = knee(7, 13, l_tx, l_ty);
-        let chain = Chain::new(
-            joints,
-            [p0, p1, p2, p3, p4, p5, p6, p7, p8, p9, p10, p11],
-            [s0, s1, s2, s3],
-        )?;
-        Ok(Self { chain })
+    /// Whether [`from_geometry`](Self::from_geometry) or [`rebuild`](Self::rebuild) accept these
+    /// numbers, without building anything.
+    pub fn check(g: &Gait2392Geometry<T>) -> Result<(), ModelError> {
+        Gait2392Chain::check(&Gait2392Description {
+            g,
+            knees_in_f64: None,
+        })
+    }
+
+    /// This model rebuilt in place as [`from_geometry`](Self::from_geometry) builds it (little
+    /// stack: see [`Chain::rebuild`]); unchanged on an error.
+    pub fn rebuild(&mut self, g: &Gait2392Geometry<T>) -> Result<(), ModelError> {
+        self.chain.rebuild(&Gait2392Description {
+            g,
+            knees_in_f64: None,
+        })
     }
 
     /// The chain table.

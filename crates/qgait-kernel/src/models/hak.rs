@@ -49,38 +49,24 @@ impl<T: Real> Hak<T> {
         limb.validate()?;
         let zero = T::ZERO;
         let joints = [
-            JointSpec::new("hip", None, Vec3::zero(), &[(z(), 0)]),
-            JointSpec::new(
-                "knee",
-                Some(0),
-                Vec3::new(zero, -limb.femur, zero),
-                &[(z(), 1)],
-            ),
-            JointSpec::new(
-                "ankle",
-                Some(1),
-                Vec3::new(zero, -limb.tibia, zero),
-                &[(z(), 2)],
-            ),
+            JointSpec::new(None, Vec3::zero(), &[(z(), 0)]),
+            JointSpec::new(Some(0), Vec3::new(zero, -limb.femur, zero), &[(z(), 1)]),
+            JointSpec::new(Some(1), Vec3::new(zero, -limb.tibia, zero), &[(z(), 2)]),
         ];
         let points = [
             PointSpec {
-                name: "hip",
                 body: 0,
                 offset: Vec3::zero(),
             },
             PointSpec {
-                name: "knee",
                 body: 1,
                 offset: Vec3::zero(),
             },
             PointSpec {
-                name: "ankle",
                 body: 2,
                 offset: Vec3::zero(),
             },
             PointSpec {
-                name: "toe",
                 body: 2,
                 offset: x::<T>() * limb.foot,
             },

@@ -1,9 +1,11 @@
 //! PHAK: the paper's 8-DoF bilateral pelvis-hip-knee-ankle chain (Figure 3, Eqs 16-17).
 
 use super::{x, y, z};
+use crate::chain::Description;
 use crate::lanes::LaneScalar;
 use crate::{
-    Anthropometry, BilateralPose, Chain, JointSpec, ModelError, PointSpec, Real, Side, Vec3,
+    Anthropometry, BilateralPose, Chain, JointSpec, ModelError, PointSpec, Real, Side,
+    SplineTranslation, Vec3,
 };
 
 /// PHAK's chain type: 8 coordinates, 7 joints (pelvis, then hip, knee, ankle per side), 8 points.
@@ -79,50 +81,87 @@ pub struct Phak<T> {
     chain: PhakChain<T>,
 }
 
+/// PHAK's chain for a subject's lengths, joint by joint: the pelvis (rotation about +y, then
+/// list about +x), then per side (right first) hip, knee and ankle flexion about +z; points: hip,
+/// knee, ankle and toe of each side.
+struct PhakDescription<'a, T> {
+    a: &'a Anthropometry<T>,
+}
+
+impl<T: Real> Description<T> for PhakDescription<'_, T> {
+    fn joint(&self, j: usize) -> JointSpec<T> {
+        let zero = T::ZERO;
+        if j == 0 {
+            return JointSpec::new(None, Vec3::zero(), &[(y(), 0), (x(), 1)]);
+        }
+        // Joints 1-3 the right hip, knee and ankle, 4-6 the left ones.
+        let (side, k) = if j <= 3 {
+            (Side::Right, j - 1)
+        } else {
+            (Side::Left, j - 4)
+        };
+        let limb = self.a.limb(side);
+        let first = 1 + 3 * side as usize;
+        let offset = match k {
+            0 => Vec3::new(zero, zero, side.sign::<T>() * limb.pelvis_half_width),
+            1 => Vec3::new(zero, -limb.femur, zero),
+            _ => Vec3::new(zero, -limb.tibia, zero),
+        };
+        let parent = if k == 0 { 0 } else { j - 1 };
+        JointSpec::new(Some(parent), offset, &[(z(), first + 1 + k)])
+    }
+
+    fn point(&self, i: usize) -> PointSpec<T> {
+        // Points 0-3 the right hip, knee, ankle and toe, 4-7 the left ones.
+        let (side, k) = if i < 4 {
+            (Side::Right, i)
+        } else {
+            (Side::Left, i - 4)
+        };
+        let first = 1 + 3 * side as usize;
+        PointSpec {
+            body: first + k.min(2),
+            offset: if k == 3 {
+                x::<T>() * self.a.limb(side).foot
+            } else {
+                Vec3::zero()
+            },
+        }
+    }
+
+    fn spline(&self, s: usize) -> Result<SplineTranslation<T>, ModelError> {
+        // PHAK has no spline translations (`S` = 0): never asked.
+        Err(ModelError::BodyOutOfRange { index: s })
+    }
+}
+
 impl<T: Real> Phak<T> {
+    /// PHAK with nothing set ([`Chain::EMPTY`]): a slot to [`rebuild`](Self::rebuild).
+    pub const EMPTY: Self = Self {
+        chain: Chain::EMPTY,
+    };
+
     /// PHAK with these lengths.
     pub fn new(a: &Anthropometry<T>) -> Result<Self, ModelError> {
+        let mut phak = Self::EMPTY;
+        phak.rebuild(a)?;
+        Ok(phak)
+    }
+
+    /// Whether [`new`](Self::new) or [`rebuild`](Self::rebuild) accept these lengths, without
+    /// building anything.
+    pub fn check(a: &Anthropometry<T>) -> Result<(), ModelError> {
         a.right.validate()?;
         a.left.validate()?;
-        let zero = T::ZERO;
-        let down = |l: T| Vec3::new(zero, -l, zero);
-        let hip = |s: Side| Vec3::new(zero, zero, s.sign::<T>() * a.limb(s).pelvis_half_width);
-        let (r, l) = (&a.right, &a.left);
-        let joints = [
-            JointSpec::new("pelvis", None, Vec3::zero(), &[(y(), 0), (x(), 1)]),
-            JointSpec::new("hip_r", Some(0), hip(Side::Right), &[(z(), 2)]),
-            JointSpec::new("knee_r", Some(1), down(r.femur), &[(z(), 3)]),
-            JointSpec::new("ankle_r", Some(2), down(r.tibia), &[(z(), 4)]),
-            JointSpec::new("hip_l", Some(0), hip(Side::Left), &[(z(), 5)]),
-            JointSpec::new("knee_l", Some(4), down(l.femur), &[(z(), 6)]),
-            JointSpec::new("ankle_l", Some(5), down(l.tibia), &[(z(), 7)]),
-        ];
-        let centre = |name, body| PointSpec {
-            name,
-            body,
-            offset: Vec3::zero(),
-        };
-        let points = [
-            centre("hip_r", 1),
-            centre("knee_r", 2),
-            centre("ankle_r", 3),
-            PointSpec {
-                name: "toe_r",
-                body: 3,
-                offset: x::<T>() * r.foot,
-            },
-            centre("hip_l", 4),
-            centre("knee_l", 5),
-            centre("ankle_l", 6),
-            PointSpec {
-                name: "toe_l",
-                body: 6,
-                offset: x::<T>() * l.foot,
-            },
-        ];
-        Ok(Self {
-            chain: Chain::new(joints, points, [])?,
-        })
+        PhakChain::check(&PhakDescription { a })
+    }
+
+    /// This PHAK rebuilt in place with these lengths (little stack: see [`Chain::rebuild`]);
+    /// unchanged on an error.
+    pub fn rebuild(&mut self, a: &Anthropometry<T>) -> Result<(), ModelError> {
+        a.right.validate()?;
+        a.left.validate()?;
+        self.chain.rebuild(&PhakDescription { a })
     }
 
     /// The chain table (for the matrix reference method and benchmarks).
