@@ -735,7 +735,7 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     let Ok(held) = hub.subject_parts().geometry(9) else {
         return Err(CheckFailure { what: "the hub's parts make no model", line: line!() });
     };
-    let (Ok(mine), Ok(generic)) = (Kinematics::gait2392(&held), Kinematics::gait2392(Kinematics::generic_gait2392())) else {
+    let (Ok(mine), Ok(generic)) = (Kinematics::gait2392(held), Kinematics::gait2392(Kinematics::generic_gait2392())) else {
         return Err(CheckFailure { what: "Kinematics::gait2392", line: line!() });
     };
     let (mut subject_frames, mut far_from_generic) = (0, true);
@@ -766,7 +766,7 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     let Ok(held) = hub.subject_parts().geometry(9) else {
         return Err(CheckFailure { what: "the hub's parts make no model", line: line!() });
     };
-    let Ok(longer_kinematics) = Kinematics::gait2392(&held) else {
+    let Ok(longer_kinematics) = Kinematics::gait2392(held) else {
         return Err(CheckFailure { what: "Kinematics::gait2392", line: line!() });
     };
     let mut sample_4 = None;
