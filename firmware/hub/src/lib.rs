@@ -1,6 +1,9 @@
 #![doc = include_str!("../README.md")]
 #![no_std]
 #![warn(missing_docs)]
+// One exception, allowed where it is with a SAFETY comment: `Hub::init` writing the hub's
+// fields in place into its uninitialised static.
+#![deny(unsafe_code)]
 
 pub mod assembly;
 #[cfg(feature = "checks")]
