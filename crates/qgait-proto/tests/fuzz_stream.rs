@@ -55,8 +55,8 @@ fn reference(stream: &[u8]) -> Vec<Result<Message, DecodeError>> {
     out
 }
 
-/// `stream` decoded as the hub's poll loop feeds the decoder: runs of data bytes through
-/// `push_data_while`, at most `max` (random) bytes a run, stopped by the delimiter (given to
+/// `stream` decoded as a byte-wise receive loop feeds the decoder (the hub's before it read in
+/// blocks): runs of data bytes through `push_data_while`, at most `max` (random) bytes a run, stopped by the delimiter (given to
 /// `end_frame`) or the end of the stream; after a run that stops short (full buffer, or
 /// discarding an oversize frame) the next byte goes through `push_data` or `end_frame`. Checks
 /// what each run reports on the way.
