@@ -1,6 +1,7 @@
 //! On-target tests, run under QEMU by `cargo test --release` (see README): the kernel in f32
 //! on the Cortex-M4F against f64 values computed on the host at build time (PHAK here,
-//! gait2392 and a subject model sent to the hub in `on_target/gait2392.rs`), and the hub's
+//! gait2392 and a subject model sent to the hub in `on_target/gait2392.rs`), the UART receive
+//! ring's block read (`on_target/rx_ring.rs`), and the hub's
 //! shared scenario checks (sample assembly, error counting, configuration) on the target.
 //! Ends with the line `N passed, M failed`.
 
@@ -16,6 +17,8 @@ use qgait_kernel::{Anthropometry, Limb, Phak, PhakAngles};
 
 #[path = "on_target/gait2392.rs"]
 mod gait2392;
+#[path = "on_target/rx_ring.rs"]
+mod rx_ring;
 
 mod expected {
     include!(concat!(env!("OUT_DIR"), "/kernel_cases.rs"));
@@ -126,6 +129,8 @@ fn main() -> ! {
     h.run("sqrt_f32_is_correctly_rounded", sqrt_f32_is_correctly_rounded);
     h.run("gait2392_f32_points_match_host_f64", gait2392::gait2392_f32_points_match_host_f64);
     h.run("subject_model_on_the_hub_matches_host_f64", gait2392::subject_model_on_the_hub_matches_host_f64);
+    h.run("rx_ring_block_read_wraps_around", rx_ring::rx_ring_block_read_wraps_around);
+    h.run("rx_ring_errors_come_after_the_bytes_before_them", rx_ring::rx_ring_errors_come_after_the_bytes_before_them);
     for (name, check) in qgait_hub::checks::ALL {
         h.run(name, || check().map_err(|f| Failure { what: f.what, line: f.line, value: None }));
     }

@@ -71,8 +71,9 @@ impl FrameDecoder {
     /// (give that to [`end_frame`](Self::end_frame)): `Some(`[`DecodeError::Oversize`]`)`
     /// once when the frame outgrows the buffer, otherwise `None`. A caller that tests for the
     /// delimiter itself keeps the per-byte path free of the frame result (about one
-    /// instruction a byte on the hub; [`push_data_while`](Self::push_data_while) saves more
-    /// on runs of bytes). A 0x00 given here is kept as data, so the frame then fails its COBS
+    /// instruction a byte); [`push_data_while`](Self::push_data_while) (bytes from a
+    /// function) and [`push_run`](Self::push_run) (bytes from a slice) save more on runs of
+    /// bytes. A 0x00 given here is kept as data, so the frame then fails its COBS
     /// check: an error, never a panic.
     #[inline(always)]
     pub fn push_data(&mut self, byte: u8) -> Option<DecodeError> {
@@ -88,8 +89,9 @@ impl FrameDecoder {
 
     /// Takes data bytes from `next` into the frame while it gives them: what
     /// [`push_data`](Self::push_data) does byte by byte, for a run of bytes, with the frame
-    /// length kept in a register instead of loaded and stored per byte (on the hub's receive
-    /// loop, five instructions a data byte instead of ten).
+    /// length kept in a register instead of loaded and stored per byte (on a receive loop that
+    /// reads byte by byte, five instructions a data byte instead of ten). A caller that reads
+    /// in blocks has [`push_run`](Self::push_run).
     ///
     /// Returns how many bytes it took, and why it stopped:
     ///
@@ -125,6 +127,57 @@ impl FrameDecoder {
         }
         self.len = start + taken;
         (taken, stop)
+    }
+
+    /// Takes the run of data bytes at the start of `chunk`, up to its first 0x00 (not taken):
+    /// what [`push_data`](Self::push_data) does byte by byte, for a slice (the hub reads
+    /// its serial port in blocks). The caller gives the 0x00, if the run stopped at one, to
+    /// [`end_frame`](Self::end_frame) and goes on after it.
+    ///
+    /// Returns how many bytes of `chunk` the run has (all of them if it holds no 0x00), and
+    /// `Some(`[`DecodeError::Oversize`]`)` once when the frame outgrows the buffer; the rest of
+    /// an oversize frame's bytes are discarded, here and in later runs, up to the next 0x00.
+    ///
+    /// The data bytes go four at a time (a word loaded, tested for a 0x00 byte and stored),
+    /// the last few of a run one at a time.
+    #[inline(always)]
+    pub fn push_run(&mut self, chunk: &[u8]) -> (usize, Option<DecodeError>) {
+        let start = self.len;
+        // Empty while discarding (`start` past the buffer).
+        let room = self.buf.get_mut(start..).unwrap_or_default();
+        // Four bytes at a time while none of them is 0x00 (one word load, test and store on
+        // a 32-bit MCU), then byte by byte up to the 0x00 or the end of the room or chunk.
+        let mut taken = 0;
+        for (slots, bytes) in room.chunks_exact_mut(4).zip(chunk.chunks_exact(4)) {
+            let Ok(word) = <[u8; 4]>::try_from(bytes) else {
+                break;
+            };
+            let word = u32::from_le_bytes(word);
+            if word.wrapping_sub(0x0101_0101) & !word & 0x8080_8080 != 0 {
+                break;
+            }
+            slots.copy_from_slice(bytes);
+            taken += 4;
+        }
+        let rest = room.get_mut(taken..).unwrap_or_default();
+        for (slot, &byte) in rest.iter_mut().zip(chunk.get(taken..).unwrap_or_default()) {
+            if byte == 0 {
+                break;
+            }
+            *slot = byte;
+            taken += 1;
+        }
+        self.len = start + taken;
+        let rest = chunk.get(taken..).unwrap_or_default();
+        match rest.first() {
+            None | Some(0) => (taken, None),
+            // No room for the next data byte: the frame is oversize (reported once), and the
+            // rest of the run is discarded.
+            Some(_) => {
+                let run = rest.iter().position(|&b| b == 0).unwrap_or(rest.len());
+                (taken + run, self.overflow())
+            }
+        }
     }
 
     /// The 0x00 delimiter arrived: checks the frame in the buffer, if any, as

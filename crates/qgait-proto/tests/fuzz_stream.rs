@@ -4,8 +4,10 @@
 //! - does not panic,
 //! - gives exactly the results of a plain reference model (split the stream at 0x00, skip empty
 //!   frames, a frame over MAX_FRAME_LEN - 1 bytes is one Oversize, every other frame goes to
-//!   `decode_frame`), whatever the chunking, and fed as the hub feeds it (runs of data bytes
-//!   through `push_data_while` of random lengths, the rest through `push_data`/`end_frame`),
+//!   `decode_frame`), whatever the chunking, fed as the hub feeds it (blocks of random
+//!   lengths, as a serial read gives them, each through `push_run` and `end_frame`), and fed
+//!   byte-wise runs (through `push_data_while` of random lengths, the rest through
+//!   `push_data`/`end_frame`),
 //! - decodes every good frame sent after a resynchronising 0x00, in order.
 //!
 //! `cargo test` runs 20 000 streams. More: `QGAIT_FUZZ_STREAMS=1000000 cargo test --release
@@ -53,8 +55,8 @@ fn reference(stream: &[u8]) -> Vec<Result<Message, DecodeError>> {
     out
 }
 
-/// `stream` decoded as the hub's poll loop feeds the decoder: runs of data bytes through
-/// `push_data_while`, at most `max` (random) bytes a run, stopped by the delimiter (given to
+/// `stream` decoded as a byte-wise receive loop feeds the decoder (the hub's before it read in
+/// blocks): runs of data bytes through `push_data_while`, at most `max` (random) bytes a run, stopped by the delimiter (given to
 /// `end_frame`) or the end of the stream; after a run that stops short (full buffer, or
 /// discarding an oversize frame) the next byte goes through `push_data` or `end_frame`. Checks
 /// what each run reports on the way.
@@ -120,6 +122,62 @@ fn decode_by_runs(rng: &mut Rng, stream: &[u8]) -> Vec<Result<Message, DecodeErr
     out
 }
 
+/// `stream` decoded as the hub's poll loop feeds the decoder: read in blocks of random lengths
+/// (what a serial read returns; a frame is split anywhere, the delimiter included), each
+/// block through `push_run` (a run of data bytes up to the next 0x00) and `end_frame` (the
+/// 0x00). Checks what each run reports on the way.
+fn decode_by_slices(rng: &mut Rng, stream: &[u8]) -> Vec<Result<Message, DecodeError>> {
+    let mut decoder = FrameDecoder::new();
+    let mut out = Vec::new();
+    let mut at = 0;
+    while at < stream.len() {
+        let len = match rng.below(4) {
+            0 => rng.below(3),
+            1 => 1 + rng.below(32),
+            2 => rng.below(2 * MAX_FRAME_LEN),
+            _ => stream.len(),
+        };
+        let block = &stream[at..(at + len).min(stream.len())];
+        at += block.len();
+        let mut pos = 0;
+        while pos < block.len() {
+            let pending = decoder.pending_len();
+            let discarding = decoder.is_discarding();
+            let (run, oversize) = decoder.push_run(&block[pos..]);
+            // The run is every byte up to the next 0x00 of the block, or to its end.
+            let want = block[pos..]
+                .iter()
+                .position(|&b| b == 0)
+                .unwrap_or(block.len() - pos);
+            assert_eq!(run, want);
+            let room = if discarding {
+                0
+            } else {
+                MAX_FRAME_LEN - 1 - pending
+            };
+            // Oversize once, when the run first finds no room.
+            assert_eq!(oversize.is_some(), !discarding && run > room);
+            if let Some(e) = oversize {
+                assert_eq!(e.kind(), ErrorKind::Oversize);
+                out.push(Err(e));
+            }
+            if !discarding && run <= room {
+                assert_eq!(decoder.pending_len(), pending + run);
+            } else {
+                assert!(decoder.is_discarding());
+            }
+            pos += run;
+            if pos < block.len() {
+                pos += 1;
+                if let Some(frame) = decoder.end_frame() {
+                    out.push(frame.and_then(decode_message));
+                }
+            }
+        }
+    }
+    out
+}
+
 #[derive(Default)]
 struct Tally {
     streams: u64,
@@ -157,6 +215,14 @@ fn run(seed: u64, streams: u64) -> Tally {
         assert_eq!(got, want, "seed {seed}: stream {stream:02x?}");
         let by_runs: Vec<_> = decode_by_runs(&mut runs, &stream).iter().map(key).collect();
         assert_eq!(by_runs, want, "seed {seed}: by runs: stream {stream:02x?}");
+        let by_slices: Vec<_> = decode_by_slices(&mut runs, &stream)
+            .iter()
+            .map(key)
+            .collect();
+        assert_eq!(
+            by_slices, want,
+            "seed {seed}: by slices: stream {stream:02x?}"
+        );
 
         let mut expected = goods.iter().map(|m| key(&Ok(m.clone())));
         let mut next = expected.next();
@@ -254,5 +320,10 @@ fn random_bytes_never_panic_and_match_the_reference() {
         assert_eq!(got, want);
         let by_runs: Vec<_> = decode_by_runs(&mut runs, &stream).iter().map(key).collect();
         assert_eq!(by_runs, want);
+        let by_slices: Vec<_> = decode_by_slices(&mut runs, &stream)
+            .iter()
+            .map(key)
+            .collect();
+        assert_eq!(by_slices, want);
     }
 }

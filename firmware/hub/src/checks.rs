@@ -13,7 +13,7 @@ use qgait_proto::{
 use crate::assembly::{Sample, JointSet};
 use crate::subject::parts_of;
 use crate::clock::ManualClock;
-use crate::hub::{Hub, MAX_BYTES_PER_POLL};
+use crate::hub::{Hub, MAX_BYTES_PER_POLL, READ_CHUNK};
 use crate::kinematics::Kinematics;
 use crate::memory_serial::MemorySerial;
 
@@ -64,6 +64,7 @@ pub const ALL: &[NamedCheck] = &[
     ("parts_of_another_upload_discard_the_held_ones", parts_of_another_upload_discard_the_held_ones),
     ("random_bytes_never_stop_the_pipeline", random_bytes_never_stop_the_pipeline),
     ("each_poll_reads_at_most_max_bytes_per_poll", each_poll_reads_at_most_max_bytes_per_poll),
+    ("frames_split_across_reads_and_polls_still_decode", frames_split_across_reads_and_polls_still_decode),
 ];
 
 /// Serial port of the checks: room for a few hundred packets each way.
@@ -633,6 +634,54 @@ pub fn each_poll_reads_at_most_max_bytes_per_poll() -> CheckResult {
     ensure!(s.samples_completed == 6 && s.samples_incomplete == 0);
     ensure!(s.crc_errors + s.framing_errors + s.malformed == 0);
     ensure!(poses(&mut hub, |_| {})? == 6);
+    Ok(())
+}
+
+/// The hub reads in blocks of READ_CHUNK bytes and a frame may end anywhere in one, or in the
+/// next poll's: samples whose bytes arrive in pieces of every length from 1 to 2 * READ_CHUNK
+/// + 1, a poll after each piece, all give their pose. An overrun queued after a piece that ends
+/// mid-frame is reported after that piece's bytes (the poll reads them all and counts it), and
+/// the frame it falls in still decodes (the port lost no byte).
+pub fn frames_split_across_reads_and_polls_still_decode() -> CheckResult {
+    const SAMPLES: u32 = 12;
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let mut stream: heapless::Vec<u8, 2048> = heapless::Vec::new();
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    for seq in 0..SAMPLES {
+        for &joint in ModelId::Phak.required_joints() {
+            let frame = encode_frame(&Message::JointAngle(packet(seq, joint)), &mut buf);
+            ensure!(frame.is_ok_and(|f| stream.extend_from_slice(f).is_ok()));
+        }
+    }
+    let (mut at, mut len, mut overrun_at) = (0, 1, None);
+    while at < stream.len() {
+        let end = (at + len).min(stream.len());
+        ensure!(hub.serial_mut().receive(&stream[at..end]) == end - at);
+        // Once, after a piece that ends inside a frame's data.
+        let mid_frame = end < stream.len() && stream[end - 1] != 0 && stream[end] != 0;
+        if overrun_at.is_none() && mid_frame && end > stream.len() / 2 {
+            ensure!(hub.serial_mut().receive_overrun());
+            overrun_at = Some(end);
+        }
+        let summary = hub.poll();
+        ensure!(summary.bytes as usize == end - at);
+        ensure!(hub.serial_mut().pending() == 0);
+        ensure!(hub.status().uart_overruns == overrun_at.is_some() as u32);
+        at = end;
+        len = len % (2 * READ_CHUNK + 1) + 1;
+    }
+    ensure!(overrun_at.is_some());
+    let s = hub.status();
+    ensure!(s.samples_completed == SAMPLES && s.samples_incomplete == 0);
+    ensure!(s.crc_errors + s.framing_errors + s.malformed + s.oversize_frames == 0);
+    let mut seq = 0;
+    let mut in_order = true;
+    ensure!(poses(&mut hub, |p| {
+        in_order &= p.seq == seq;
+        seq += 1;
+    })? == SAMPLES);
+    ensure!(in_order);
     Ok(())
 }
 

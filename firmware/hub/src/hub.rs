@@ -1,10 +1,10 @@
 //! The [`Hub`]: serial bytes in, decoded packets, sample assembly, poses and status out.
 
 use core::mem::MaybeUninit;
-use core::num::NonZeroU8;
 use core::ptr::addr_of_mut;
 
-use embedded_hal_nb::serial::{self, Error as _, ErrorKind as SerialErrorKind};
+use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
+use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_pose_frame, encode_status_frame, Config, DecodeError, FrameDecoder,
@@ -20,6 +20,9 @@ use crate::subject::SubjectParts;
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
+
+/// Bytes the hub asks the serial port for in one read (its receive buffer, in the hub).
+pub const READ_CHUNK: usize = 64;
 
 /// Default reorder window (samples).
 pub const DEFAULT_WINDOW: u8 = 4;
@@ -54,6 +57,12 @@ pub struct PollSummary {
 
 /// The hub application, generic over its serial port and clock.
 ///
+/// The serial port is an `embedded-io` one: the hub reads what it has in blocks of up to
+/// [`READ_CHUNK`] bytes (`ReadReady::read_ready` first, so a read never blocks) and writes each
+/// frame in one `write` call (or as many as the port needs). Its errors classify themselves
+/// as `embedded-hal-nb` serial errors do: an overrun is counted as such, any other line error
+/// as a framing error.
+///
 /// Feed it by calling [`poll`](Hub::poll) in the main loop. It never panics and never blocks
 /// on input: every malformed byte, frame or packet is counted in [`Status`] and decoding
 /// resumes at the next frame delimiter. It does block while writing a frame, as a UART
@@ -76,11 +85,14 @@ pub struct Hub<S, C> {
     status_period_ms: u32,
     status_frames: u32,
     tx: [u8; MAX_FRAME_LEN],
+    /// The bytes of the last read, handled before the next.
+    rx: [u8; READ_CHUNK],
 }
 
 impl<S, C> Hub<S, C>
 where
-    S: serial::Read<u8> + serial::Write<u8>,
+    S: Read + ReadReady + Write,
+    S::Error: LineError,
     C: Clock,
 {
     /// A hub with [`DEFAULT_CONFIG`] sending a status frame every `status_period_ms`
@@ -123,6 +135,7 @@ where
             addr_of_mut!((*hub).status_period_ms).write(status_period_ms);
             addr_of_mut!((*hub).status_frames).write(0);
             addr_of_mut!((*hub).tx).write([0; MAX_FRAME_LEN]);
+            addr_of_mut!((*hub).rx).write([0; READ_CHUNK]);
             slot.assume_init_mut()
         };
         hub.kinematics.set_phak(config.model, &anthropometry)?;
@@ -149,6 +162,7 @@ where
             status_period_ms: _,
             status_frames: _,
             tx: _,
+            rx: _,
         } = self;
     }
 
@@ -172,6 +186,7 @@ where
             status_period_ms,
             status_frames: 0,
             tx: [0; MAX_FRAME_LEN],
+            rx: [0; READ_CHUNK],
         }
     }
 
@@ -181,52 +196,22 @@ where
         let sent_before = self.status.frames_sent;
         let status_before = self.status_frames;
         let mut bytes = 0;
-        while bytes < MAX_BYTES_PER_POLL as u32 {
-            // A run of data bytes straight into the decoder's buffer, nothing else on this
-            // path; it ends at the first read that is not a data byte, which is handled below.
-            let serial = &mut self.serial;
-            let (taken, stop) = self.decoder.push_data_while(MAX_BYTES_PER_POLL - bytes as usize, || {
-                match serial.read() {
-                    Ok(byte) => NonZeroU8::new(byte).ok_or(Ok(0)),
-                    Err(e) => Err(Err(e)),
+        while bytes < MAX_BYTES_PER_POLL {
+            // Only what is there: `read` would block on an empty port.
+            if !matches!(self.serial.read_ready(), Ok(true)) {
+                break;
+            }
+            let want = READ_CHUNK.min(MAX_BYTES_PER_POLL - bytes);
+            match self.serial.read(&mut self.rx[..want]) {
+                // Nothing after all (a port at its end): as if nothing was ready.
+                Ok(0) => break,
+                Ok(n) => {
+                    let n = n.min(want);
+                    bytes += n;
+                    self.on_bytes(n);
                 }
-            });
-            bytes += taken as u32;
-            let read = match stop {
-                Some(read) => read,
-                None if bytes >= MAX_BYTES_PER_POLL as u32 => break,
-                // The buffer is full (or an oversize frame is discarded): the next byte goes
-                // the byte-by-byte way.
-                None => self.serial.read(),
-            };
-            match read {
-                Ok(byte @ 1..) => {
-                    bytes += 1;
-                    if let Some(error) = self.decoder.push_data(byte) {
-                        count_decode_error(&mut self.status, &error);
-                    }
-                }
-                Ok(_delimiter) => {
-                    bytes += 1;
-                    // The frame checks (COBS, CRC) in the decoder; joint-angle packets, one per
-                    // frame on a busy line, decoded straight from its buffer; anything else
-                    // through the general decoder, out of line.
-                    match self.decoder.end_frame() {
-                        None => {}
-                        Some(Ok(message)) => match decode_packet(message) {
-                            Some(Ok(packet)) => self.on_packet(&packet),
-                            Some(Err(error)) => count_decode_error(&mut self.status, &error),
-                            None => {
-                                let message = decode_hub_message(message);
-                                self.on_message(message)
-                            }
-                        },
-                        Some(Err(error)) => count_decode_error(&mut self.status, &error),
-                    }
-                }
-                Err(nb::Error::WouldBlock) => break,
-                Err(nb::Error::Other(e)) => match e.kind() {
-                    SerialErrorKind::Overrun => bump(&mut self.status.uart_overruns),
+                Err(e) => match e.kind() {
+                    LineErrorKind::Overrun => bump(&mut self.status.uart_overruns),
                     // Parity, noise, line framing: the frame's CRC or COBS check will fail too;
                     // count the line error as a framing error.
                     _ => bump(&mut self.status.framing_errors),
@@ -238,9 +223,43 @@ where
             self.send_status();
         }
         PollSummary {
-            bytes,
+            bytes: bytes as u32,
             frames_sent: self.status.frames_sent.wrapping_sub(sent_before),
             status_sent: self.status_frames != status_before,
+        }
+    }
+
+    /// Handles the first `n` bytes of the receive buffer: runs of data bytes straight into the
+    /// decoder's buffer, and at each 0x00 the frame they make. A frame may span reads: the
+    /// decoder keeps its part until the next.
+    #[inline(always)]
+    fn on_bytes(&mut self, n: usize) {
+        let mut pos = 0;
+        while pos < n {
+            let (run, oversize) = self.decoder.push_run(self.rx.get(pos..n).unwrap_or_default());
+            if let Some(error) = oversize {
+                count_decode_error(&mut self.status, &error);
+            }
+            pos += run;
+            if pos >= n {
+                break;
+            }
+            // The 0x00 delimiter. The frame checks (COBS, CRC) in the decoder; joint-angle
+            // packets, one per frame on a busy line, decoded straight from its buffer; anything
+            // else through the general decoder, out of line.
+            pos += 1;
+            match self.decoder.end_frame() {
+                None => {}
+                Some(Ok(message)) => match decode_packet(message) {
+                    Some(Ok(packet)) => self.on_packet(&packet),
+                    Some(Err(error)) => count_decode_error(&mut self.status, &error),
+                    None => {
+                        let message = decode_hub_message(message);
+                        self.on_message(message)
+                    }
+                },
+                Some(Err(error)) => count_decode_error(&mut self.status, &error),
+            }
         }
     }
 
@@ -430,7 +449,7 @@ struct Output<'a, S> {
     tx: &'a mut [u8; MAX_FRAME_LEN],
 }
 
-impl<S: serial::Write<u8>> Output<'_, S> {
+impl<S: Write> Output<'_, S> {
     fn on_sample(&mut self, event: SampleEvent<'_>) {
         // The sample stays in the assembler's slot: lent, not copied.
         let (sample, mut flags) = match event {
@@ -459,11 +478,14 @@ impl<S: serial::Write<u8>> Output<'_, S> {
     }
 }
 
-/// Writes `frame` byte by byte; counts it in `status` if the whole frame went out.
-fn write_frame<S: serial::Write<u8>>(serial: &mut S, status: &mut Status, frame: &[u8]) {
-    for &byte in frame {
-        if nb::block!(serial.write(byte)).is_err() {
-            return;
+/// Writes `frame`, in one `write` call if the port takes it all (a UART driver does); counts
+/// it in `status` if the whole frame went out. A write that fails, or takes nothing, ends the
+/// frame there (uncounted): the receiver's decoder drops the partial frame at the next 0x00.
+fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
+    while !frame.is_empty() {
+        match serial.write(frame) {
+            Ok(n) if n > 0 => frame = frame.get(n..).unwrap_or_default(),
+            _ => return,
         }
     }
     bump(&mut status.frames_sent);

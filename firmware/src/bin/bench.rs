@@ -19,9 +19,8 @@ use core::hint::black_box;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
-use embedded_hal_nb::serial;
 use qgait_firmware::board;
-use qgait_hub::{Hub, JointSet, Kinematics, ManualClock, Sample};
+use qgait_hub::{Hub, JointSet, Kinematics, ManualClock, Sample, READ_CHUNK};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::reference::chain_by_matrices;
 use qgait_kernel::trig::half_angle_sin_cos_f32;
@@ -426,44 +425,67 @@ fn bench_encode(frames: &[PoseFrame; INPUTS], n: u32) -> u32 {
     })
 }
 
-/// A serial port double with the least overhead: reads a byte stream from memory, counts and
-/// checksums what is written (a UART's data register write costs about as much). Its read and
-/// write are never inlined, as the firmware's UART driver's are not (one call a byte), so that
-/// the hub's code here is the firmware's and the double's own instructions can be told apart:
-/// [`serial_double_share`].
+/// A serial port double with the least overhead: reads a byte stream from memory (as much as
+/// asked each time, as a UART driver copies what its ring holds), counts and checksums what is
+/// written (a UART's data register write a byte costs about as much). Its `read_ready`, `read`
+/// and `write` are never inlined, as the firmware's UART driver's are not, so that the hub's
+/// code here is the firmware's and the double's own instructions can be told apart; it counts
+/// its calls, which [`serial_double_share`] makes again to time them.
 struct StreamSerial<'a> {
     rx: &'a [u8],
     pos: usize,
     tx_bytes: u32,
     tx_sum: u32,
+    ready_calls: u32,
+    reads: u32,
+    writes: u32,
 }
 
-impl serial::ErrorType for StreamSerial<'_> {
+impl<'a> StreamSerial<'a> {
+    fn new(rx: &'a [u8]) -> Self {
+        StreamSerial { rx, pos: 0, tx_bytes: 0, tx_sum: 0, ready_calls: 0, reads: 0, writes: 0 }
+    }
+}
+
+impl embedded_io::ErrorType for StreamSerial<'_> {
     type Error = core::convert::Infallible;
 }
 
-impl serial::Read<u8> for StreamSerial<'_> {
+impl embedded_io::ReadReady for StreamSerial<'_> {
     #[inline(never)]
-    fn read(&mut self) -> nb::Result<u8, Self::Error> {
-        match self.rx.get(self.pos) {
-            Some(&b) => {
-                self.pos += 1;
-                Ok(b)
-            }
-            None => Err(nb::Error::WouldBlock),
-        }
+    fn read_ready(&mut self) -> Result<bool, Self::Error> {
+        self.ready_calls += 1;
+        Ok(self.pos < self.rx.len())
     }
 }
 
-impl serial::Write<u8> for StreamSerial<'_> {
+impl embedded_io::Read for StreamSerial<'_> {
+    /// What is left of the stream, up to `buf.len()` (0 at its end: never blocks).
     #[inline(never)]
-    fn write(&mut self, byte: u8) -> nb::Result<(), Self::Error> {
-        self.tx_bytes += 1;
-        self.tx_sum = self.tx_sum.wrapping_mul(31).wrapping_add(byte as u32);
-        Ok(())
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
+        self.reads += 1;
+        let rest = self.rx.get(self.pos..).unwrap_or_default();
+        let n = rest.len().min(buf.len());
+        buf[..n].copy_from_slice(&rest[..n]);
+        self.pos += n;
+        Ok(n)
+    }
+}
+
+impl embedded_io::Write for StreamSerial<'_> {
+    #[inline(never)]
+    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        self.writes += 1;
+        let mut sum = self.tx_sum;
+        for &byte in buf {
+            sum = sum.wrapping_mul(31).wrapping_add(byte as u32);
+        }
+        self.tx_sum = sum;
+        self.tx_bytes += buf.len() as u32;
+        Ok(buf.len())
     }
 
-    fn flush(&mut self) -> nb::Result<(), Self::Error> {
+    fn flush(&mut self) -> Result<(), Self::Error> {
         Ok(())
     }
 }
@@ -492,16 +514,16 @@ fn whole_sample(model: ModelId, name: &str) {
     }
     let clock = ManualClock::new(0);
     // Status period 0: no periodic status frame, only pose frames.
-    let Ok(mut hub) = Hub::new(StreamSerial { rx: &rx[..config_len], pos: 0, tx_bytes: 0, tx_sum: 0 }, &clock, 0) else {
+    let Ok(mut hub) = Hub::new(StreamSerial::new(&rx[..config_len]), &clock, 0) else {
         board::exit(1)
     };
     defmt::println!("bench size.hub_bytes {=usize}", core::mem::size_of_val(&hub));
     run_hub(&mut hub);
-    hub.serial_mut().rx = &rx[config_len..];
-    hub.serial_mut().pos = 0;
+    *hub.serial_mut() = StreamSerial::new(&rx[config_len..]);
     let hub_ticks = run_hub(&mut hub);
     let status = hub.status();
-    let tx_bytes = hub.serial_mut().tx_bytes;
+    let io = hub.serial_mut();
+    let (tx_bytes, calls) = (io.tx_bytes, Calls { ready: io.ready_calls, reads: io.reads, writes: io.writes });
     defmt::println!(
         "bench {=str}.check model {=str} samples_completed {=u32} frames_sent {=u32} rx_bytes {=usize} tx_bytes {=u32}",
         name,
@@ -511,12 +533,19 @@ fn whole_sample(model: ModelId, name: &str) {
         rx.len() - config_len,
         tx_bytes
     );
+    defmt::println!(
+        "bench {=str}.serial_calls read_ready {=u32} read {=u32} write {=u32}",
+        name,
+        calls.ready,
+        calls.reads,
+        calls.writes
+    );
     if hub.config().model != model || status.samples_completed != SAMPLES || status.frames_sent != SAMPLES {
         defmt::error!("the hub did not turn every sample into a pose frame");
         board::exit(PIPELINE_EXIT_CODE)
     }
     let rx_bytes = (rx.len() - config_len) as u32;
-    let io_ticks = serial_double_share(&rx[config_len..], rx_bytes, tx_bytes);
+    let io_ticks = serial_double_share(&rx[config_len..], rx_bytes, tx_bytes, calls);
     let mut label: heapless::String<48> = heapless::String::new();
     let mut named = |suffix: &str| {
         label.clear();
@@ -536,41 +565,73 @@ fn run_hub(hub: &mut Hub<StreamSerial<'_>, &ManualClock>) -> u32 {
     ticks(start, now())
 }
 
-/// The serial double's own share of the hub run: the instructions inside its `read` and
-/// `write`, one call per byte each way. Each is timed in a loop of `n` calls and again with a
-/// function of the same signature that does nothing; the difference is what the double's
-/// bodies cost beyond an empty function. The call itself (argument set-up, `bl`, the result
-/// test) is the hub's work, as it is in the firmware, and so is not subtracted; nor is the
-/// empty function's own return (a `bx lr` or so a call), so the figure errs by about one
-/// instruction a byte towards counting too much, not too little.
-fn serial_double_share(rx: &[u8], rx_bytes: u32, tx_bytes: u32) -> u32 {
-    use serial::{Read as _, Write as _};
-    let mut io = StreamSerial { rx, pos: 0, tx_bytes: 0, tx_sum: 0 };
-    let reads = timed_calls(rx_bytes, &mut io, |io| black_box(io.read()).is_ok());
-    let empty_reads = timed_calls(rx_bytes, &mut io, |io| black_box(read_nothing(io)).is_ok());
-    let writes = timed_calls(tx_bytes, &mut io, |io| black_box(io.write(black_box(7))).is_ok());
-    let empty_writes = timed_calls(tx_bytes, &mut io, |io| black_box(write_nothing(io, black_box(7))).is_ok());
-    (reads + writes).saturating_sub(empty_reads + empty_writes)
+/// The calls the hub made to the serial double in a run.
+#[derive(Clone, Copy)]
+struct Calls {
+    ready: u32,
+    reads: u32,
+    writes: u32,
 }
 
-/// `n` calls of `call` on the double, timed.
+/// The serial double's own share of the hub run: the instructions inside its `read_ready`,
+/// `read` and `write`, as many calls of each as the hub made (`calls`), reading the same
+/// stream in blocks of the hub's [`READ_CHUNK`] and writing `tx_bytes` bytes over the `write`
+/// calls. Each kind is timed in a loop of those calls and again with a function of the same
+/// signature that does nothing; the difference is what the double's bodies cost beyond an
+/// empty function. The call itself (argument set-up, `bl`, the result test) is the hub's work,
+/// as it is in the firmware, and so is not subtracted; nor is the empty function's own return
+/// (a `bx lr` or so a call), so the figure errs by about one instruction a call towards
+/// counting too much, not too little.
+fn serial_double_share(rx: &[u8], rx_bytes: u32, tx_bytes: u32, calls: Calls) -> u32 {
+    use embedded_io::{Read as _, ReadReady as _, Write as _};
+    let mut io = StreamSerial::new(rx);
+    let mut buf = [0u8; READ_CHUNK];
+    let ready = timed_calls(calls.ready, &mut io, |io, _| black_box(io.read_ready()).is_ok());
+    let empty_ready = timed_calls(calls.ready, &mut io, |io, _| black_box(ready_nothing(io)).is_ok());
+    let reads = timed_calls(calls.reads, &mut io, |io, _| black_box(io.read(black_box(&mut buf))).is_ok());
+    if io.pos != rx_bytes as usize {
+        defmt::error!("the double's reads did not read the stream as the hub did");
+        board::exit(PIPELINE_EXIT_CODE)
+    }
+    let empty_reads = timed_calls(calls.reads, &mut io, |io, _| black_box(read_nothing(io, black_box(&mut buf))).is_ok());
+    // The frames written: `tx_bytes` over `calls.writes` writes, the remainder spread one byte
+    // a call over the first ones (the pose frames differ by a byte or two).
+    let frame = [0x55u8; MAX_FRAME_LEN];
+    let (per_call, longer) = (tx_bytes / calls.writes.max(1), tx_bytes % calls.writes.max(1));
+    let len = |i: u32| ((per_call + (i < longer) as u32) as usize).min(MAX_FRAME_LEN);
+    let writes = timed_calls(calls.writes, &mut io, |io, i| black_box(io.write(black_box(&frame[..len(i)]))).is_ok());
+    if io.tx_bytes != tx_bytes {
+        defmt::error!("the double's writes did not write what the hub did");
+        board::exit(PIPELINE_EXIT_CODE)
+    }
+    let empty_writes = timed_calls(calls.writes, &mut io, |io, i| black_box(write_nothing(io, black_box(&frame[..len(i)]))).is_ok());
+    (ready + reads + writes).saturating_sub(empty_ready + empty_reads + empty_writes)
+}
+
+/// `n` calls of `call` on the double (given the call's index), timed.
 #[inline(always)]
-fn timed_calls(n: u32, io: &mut StreamSerial<'_>, mut call: impl FnMut(&mut StreamSerial<'_>) -> bool) -> u32 {
+fn timed_calls(n: u32, io: &mut StreamSerial<'_>, mut call: impl FnMut(&mut StreamSerial<'_>, u32) -> bool) -> u32 {
     let start = now();
-    for _ in 0..n {
-        black_box(call(black_box(&mut *io)));
+    for i in 0..n {
+        black_box(call(black_box(&mut *io), i));
     }
     ticks(start, now())
 }
 
+/// A `read_ready` that does nothing, shaped as [`StreamSerial`]'s.
+#[inline(never)]
+fn ready_nothing(_io: &mut StreamSerial<'_>) -> Result<bool, core::convert::Infallible> {
+    Ok(true)
+}
+
 /// A read that does nothing, shaped as [`StreamSerial`]'s.
 #[inline(never)]
-fn read_nothing(_io: &mut StreamSerial<'_>) -> nb::Result<u8, core::convert::Infallible> {
+fn read_nothing(_io: &mut StreamSerial<'_>, _buf: &mut [u8]) -> Result<usize, core::convert::Infallible> {
     Ok(0)
 }
 
 /// A write that does nothing, shaped as [`StreamSerial`]'s.
 #[inline(never)]
-fn write_nothing(_io: &mut StreamSerial<'_>, _byte: u8) -> nb::Result<(), core::convert::Infallible> {
-    Ok(())
+fn write_nothing(_io: &mut StreamSerial<'_>, buf: &[u8]) -> Result<usize, core::convert::Infallible> {
+    Ok(buf.len())
 }

@@ -1,11 +1,13 @@
 //! Driver of the ARM CMSDK APB UART (the UARTs of the MPS2 boards and QEMU's `mps2-an386`),
-//! implementing the `embedded-hal-nb` and `embedded-io` serial traits. Reception is
-//! interrupt-driven into an [`RxRing`]; transmission is polled. One instance per program (the
-//! ring is a static).
+//! implementing the `embedded-io` serial traits (`Read` and `ReadReady`, `Write` and
+//! `WriteReady`): a read copies what the ring holds in one critical section, a write sends a
+//! buffer byte by byte. Reception is interrupt-driven into an [`RxRing`]; transmission is
+//! polled. One instance per program (the ring is a static). Its error also implements
+//! `embedded-hal-nb`'s serial `Error`, whose kind (overrun) the hub counts by.
 //!
 //! Back-pressure: when the ring is full the interrupt handler leaves the next byte in the UART
 //! and masks the receive interrupt; the application unmasks it (and re-runs the handler) as soon
-//! as it has taken a byte. On hardware a sender that keeps going then overruns the UART's
+//! as it has taken bytes. On hardware a sender that keeps going then overruns the UART's
 //! one-byte buffer, which is counted (`RXOVR`) like any overrun; under QEMU, whose UART only
 //! accepts a host byte when its buffer is empty, the host sender is simply held back, so a test
 //! loses nothing however slowly the emulated CPU runs on a loaded machine.
@@ -119,48 +121,23 @@ impl CmsdkUart {
         unsafe { write_volatile((self.base + offset) as *mut u32, value) }
     }
 
-    fn tx_ready(&self) -> bool {
+    fn tx_ready(&mut self) -> bool {
         self.read_reg(STATE) & STATE_TXFULL == 0
     }
-}
 
-impl embedded_hal_nb::serial::ErrorType for CmsdkUart {
-    type Error = Overrun;
-}
+    /// Writes `byte` to the transmit register (which has room: [`tx_ready`](Self::tx_ready)).
+    fn put(&mut self, byte: u8) {
+        self.write_reg(DATA, byte as u32);
+    }
 
-impl embedded_hal_nb::serial::Read<u8> for CmsdkUart {
-    /// Reports each overrun (hardware, or ring full) once, in order with the bytes.
-    fn read(&mut self) -> nb::Result<u8, Overrun> {
-        let popped = RX.pop();
-        if popped.is_some() && RX_PAUSED.swap(false, Ordering::AcqRel) {
-            // Room again: unmask the receive interrupt and run the handler for the byte waiting
-            // in the UART (unmasking alone does not raise the interrupt for it).
+    /// After a read took bytes or an error from the ring: if the interrupt handler paused
+    /// reception because the ring was full, there is room again, so it unmasks the receive
+    /// interrupt and runs the handler for the byte waiting in the UART (unmasking alone does
+    /// not raise the interrupt for it).
+    fn after_read(&mut self) {
+        if RX_PAUSED.swap(false, Ordering::AcqRel) {
             self.write_reg(CTRL, self.read_reg(CTRL) | CTRL_RXIE);
             NVIC::pend(Irq(self.irq));
-        }
-        match popped {
-            Some(Ok(byte)) => Ok(byte),
-            Some(Err(e)) => Err(nb::Error::Other(e)),
-            None => Err(nb::Error::WouldBlock),
-        }
-    }
-}
-
-impl embedded_hal_nb::serial::Write<u8> for CmsdkUart {
-    fn write(&mut self, byte: u8) -> nb::Result<(), Overrun> {
-        if self.tx_ready() {
-            self.write_reg(DATA, byte as u32);
-            Ok(())
-        } else {
-            Err(nb::Error::WouldBlock)
-        }
-    }
-
-    fn flush(&mut self) -> nb::Result<(), Overrun> {
-        if self.tx_ready() {
-            Ok(())
-        } else {
-            Err(nb::Error::WouldBlock)
         }
     }
 }

@@ -1,9 +1,12 @@
-//! embedded-io for the UART drivers: the byte-wise embedded-hal-nb traits each driver
-//! implements, lifted to buffers in one place.
+//! embedded-io for the UART drivers, in one place: block reads straight out of the receive
+//! ring, block writes through the transmit register byte by byte (the UARTs have no transmit
+//! FIFO to fill at once).
 
 /// Implements `embedded_io::{ErrorType, ReadReady, Read, WriteReady, Write}` for a UART type
-/// `$uart` that implements `embedded_hal_nb::serial::{Read, Write}<u8>` with error `$error`,
-/// has a `tx_ready(&self) -> bool` method, and whose receive ring is the static `$rx`.
+/// `$uart` with error `$error` whose receive ring is the static `$rx` (an `RxRing<$error>`),
+/// given its methods `tx_ready(&mut self) -> bool` (the transmit register takes a byte),
+/// `put(&mut self, byte: u8)` (writes it there) and `after_read(&mut self)` (called after each
+/// read that took something from the ring).
 macro_rules! impl_embedded_io {
     ($uart:ty, $error:ty, $rx:path) => {
         impl embedded_io::ErrorType for $uart {
@@ -11,28 +14,29 @@ macro_rules! impl_embedded_io {
         }
 
         impl embedded_io::ReadReady for $uart {
+            /// Whether a byte or a receive error is waiting: a `read` then does not block.
             fn read_ready(&mut self) -> Result<bool, $error> {
                 Ok($rx.is_ready())
             }
         }
 
         impl embedded_io::Read for $uart {
-            /// Blocks until at least one byte arrived, then returns what is there (at most
-            /// `buf.len()`).
+            /// Blocks until at least one byte arrived, then returns what is there, at most
+            /// `buf.len()`, copied out of the ring in one critical section. A receive error
+            /// (hardware, or ring full) is reported once, in order with the bytes: a read
+            /// stops short at it and the next read returns it.
             fn read(&mut self, buf: &mut [u8]) -> Result<usize, $error> {
-                let mut n = 0;
-                while n < buf.len() {
-                    match embedded_hal_nb::serial::Read::read(self) {
-                        Ok(b) => {
-                            buf[n] = b;
-                            n += 1;
-                        }
-                        Err(nb::Error::WouldBlock) if n > 0 => break,
-                        Err(nb::Error::WouldBlock) => core::hint::spin_loop(),
-                        Err(nb::Error::Other(e)) => return Err(e),
-                    }
+                if buf.is_empty() {
+                    return Ok(0);
                 }
-                Ok(n)
+                loop {
+                    let result = $rx.read(buf);
+                    if !matches!(result, Ok(0)) {
+                        self.after_read();
+                        return result;
+                    }
+                    core::hint::spin_loop();
+                }
             }
         }
 
@@ -43,15 +47,22 @@ macro_rules! impl_embedded_io {
         }
 
         impl embedded_io::Write for $uart {
+            /// Writes all of `buf`, each byte as soon as the transmit register takes it.
             fn write(&mut self, buf: &[u8]) -> Result<usize, $error> {
-                for &b in buf {
-                    nb::block!(embedded_hal_nb::serial::Write::write(self, b))?;
+                for &byte in buf {
+                    while !self.tx_ready() {
+                        core::hint::spin_loop();
+                    }
+                    self.put(byte);
                 }
                 Ok(buf.len())
             }
 
             fn flush(&mut self) -> Result<(), $error> {
-                nb::block!(embedded_hal_nb::serial::Write::flush(self))
+                while !self.tx_ready() {
+                    core::hint::spin_loop();
+                }
+                Ok(())
             }
         }
     };

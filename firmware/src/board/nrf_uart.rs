@@ -1,5 +1,7 @@
-//! Driver of the nRF52840's UART0 (the legacy, non-DMA UART), implementing the
-//! `embedded-hal-nb` and `embedded-io` serial traits. 8N1, no flow control. Reception is
+//! Driver of the nRF52840's UART0 (the legacy, non-DMA UART), implementing the `embedded-io`
+//! serial traits (`Read` and `ReadReady`: what the ring holds, copied in one critical section;
+//! `Write` and `WriteReady`: byte by byte). Its error also implements `embedded-hal-nb`'s
+//! serial `Error`, whose kinds the hub counts by. 8N1, no flow control. Reception is
 //! interrupt-driven into an [`RxRing`]; transmission is polled. One instance per program (the
 //! ring is a static).
 
@@ -146,41 +148,17 @@ impl NrfUart {
         }
         !self.tx_busy
     }
-}
 
-impl embedded_hal_nb::serial::ErrorType for NrfUart {
-    type Error = UartError;
-}
-
-impl embedded_hal_nb::serial::Read<u8> for NrfUart {
-    /// Reports each receive error (hardware, or ring full) once, in order with the bytes.
-    fn read(&mut self) -> nb::Result<u8, UartError> {
-        match RX.pop() {
-            Some(Ok(byte)) => Ok(byte),
-            Some(Err(e)) => Err(nb::Error::Other(e)),
-            None => Err(nb::Error::WouldBlock),
-        }
-    }
-}
-
-impl embedded_hal_nb::serial::Write<u8> for NrfUart {
-    fn write(&mut self, byte: u8) -> nb::Result<(), UartError> {
-        if !self.tx_ready() {
-            return Err(nb::Error::WouldBlock);
-        }
+    /// Writes `byte` to TXD (which has room: [`tx_ready`](Self::tx_ready)).
+    fn put(&mut self, byte: u8) {
         self.write_reg(EVENTS_TXDRDY, 0);
         self.write_reg(TXD, byte as u32);
         self.tx_busy = true;
-        Ok(())
     }
 
-    fn flush(&mut self) -> nb::Result<(), UartError> {
-        if self.tx_ready() {
-            Ok(())
-        } else {
-            Err(nb::Error::WouldBlock)
-        }
-    }
+    /// Nothing to do after a read: the handler never pauses reception (a full ring counts the
+    /// lost bytes as overruns).
+    fn after_read(&mut self) {}
 }
 
 super::embedded_io_impl::impl_embedded_io!(NrfUart, UartError, RX);

@@ -14,8 +14,17 @@ pub const RX_RING_LEN: usize = 512;
 const PENDING_ERRORS: usize = 4;
 
 struct State<E> {
-    bytes: Deque<u8, RX_RING_LEN>,
-    errors: Deque<E, PENDING_ERRORS>,
+    bytes: [u8; RX_RING_LEN],
+    /// Index in `bytes` of the oldest byte.
+    head: usize,
+    /// Bytes held, from `head` on (wrapping).
+    len: usize,
+    /// Bytes taken by the application so far (wrapping): with `len`, the position in the
+    /// stream of the next byte received.
+    taken: u32,
+    /// Each error with the position in the stream where it happened: the bytes received before
+    /// it are read before it is reported.
+    errors: Deque<(E, u32), PENDING_ERRORS>,
 }
 
 /// Bytes and receive errors, in a critical section on each access.
@@ -26,49 +35,92 @@ pub struct RxRing<E> {
 impl<E: Copy> RxRing<E> {
     /// An empty ring.
     pub const fn new() -> Self {
-        RxRing { state: Mutex::new(RefCell::new(State { bytes: Deque::new(), errors: Deque::new() })) }
+        RxRing {
+            state: Mutex::new(RefCell::new(State {
+                bytes: [0; RX_RING_LEN],
+                head: 0,
+                len: 0,
+                taken: 0,
+                errors: Deque::new(),
+            })),
+        }
     }
 
     /// Stores a received byte (interrupt side). A full ring loses the byte: that is reported
-    /// as `overrun`, like a hardware overrun.
+    /// as `overrun`, like a hardware overrun, after the bytes the ring holds.
     pub fn push(&self, byte: u8, overrun: E) {
         critical_section::with(|cs| {
             let mut s = self.state.borrow_ref_mut(cs);
-            if s.bytes.push_back(byte).is_err() {
-                let _ = s.errors.push_back(overrun);
+            if s.len < RX_RING_LEN {
+                let tail = (s.head + s.len) % RX_RING_LEN;
+                if let Some(slot) = s.bytes.get_mut(tail) {
+                    *slot = byte;
+                }
+                s.len += 1;
+            } else {
+                s.error_here(overrun);
             }
         });
     }
 
-    /// Records a receive error (interrupt side); beyond a few pending ones they are merged.
+    /// Records a receive error (interrupt side), after the bytes received so far; beyond a few
+    /// pending ones they are dropped.
     pub fn push_error(&self, error: E) {
-        critical_section::with(|cs| {
-            let _ = self.state.borrow_ref_mut(cs).errors.push_back(error);
-        });
+        critical_section::with(|cs| self.state.borrow_ref_mut(cs).error_here(error));
     }
 
-    /// The oldest pending error if any, else the oldest byte (application side).
-    pub fn pop(&self) -> Option<Result<u8, E>> {
+    /// Application side: copies the oldest bytes into `buf`, as many as there are up to
+    /// `buf.len()` and up to the next pending error, in one critical section; `Ok(0)` if there
+    /// are none (or `buf` is empty). When the next thing in the stream is an error, returns it
+    /// instead (once): errors come in order with the bytes.
+    pub fn read(&self, buf: &mut [u8]) -> Result<usize, E> {
         critical_section::with(|cs| {
             let mut s = self.state.borrow_ref_mut(cs);
-            match s.errors.pop_front() {
-                Some(e) => Some(Err(e)),
-                None => s.bytes.pop_front().map(Ok),
+            let mut n = s.len.min(buf.len());
+            if let Some(&(error, at)) = s.errors.front() {
+                // Bytes before the error (its position is never behind `taken`).
+                let before = at.wrapping_sub(s.taken) as usize;
+                if before == 0 {
+                    s.errors.pop_front();
+                    return Err(error);
+                }
+                n = n.min(before);
             }
+            // At most two pieces: up to the end of the array, then from its start.
+            let head = s.head;
+            let first = n.min(RX_RING_LEN - head);
+            if let (Some(dst), Some(src)) = (buf.get_mut(..first), s.bytes.get(head..head + first)) {
+                dst.copy_from_slice(src);
+            }
+            if let (Some(dst), Some(src)) = (buf.get_mut(first..n), s.bytes.get(..n - first)) {
+                dst.copy_from_slice(src);
+            }
+            s.head = (head + n) % RX_RING_LEN;
+            s.len -= n;
+            s.taken = s.taken.wrapping_add(n as u32);
+            Ok(n)
         })
     }
 
     /// Whether the ring has no room for another byte.
     pub fn is_full(&self) -> bool {
-        critical_section::with(|cs| self.state.borrow_ref(cs).bytes.is_full())
+        critical_section::with(|cs| self.state.borrow_ref(cs).len == RX_RING_LEN)
     }
 
     /// Whether a byte or an error is waiting.
     pub fn is_ready(&self) -> bool {
         critical_section::with(|cs| {
             let s = self.state.borrow_ref(cs);
-            !s.bytes.is_empty() || !s.errors.is_empty()
+            s.len != 0 || !s.errors.is_empty()
         })
+    }
+}
+
+impl<E: Copy> State<E> {
+    /// Records `error` after the bytes received so far.
+    fn error_here(&mut self, error: E) {
+        let at = self.taken.wrapping_add(self.len as u32);
+        let _ = self.errors.push_back((error, at));
     }
 }
 
