@@ -7,8 +7,11 @@ use core::cell::RefCell;
 use critical_section::Mutex;
 use heapless::Deque;
 
-/// Bytes the ring holds: 5 ms of input at 1 Mbaud.
-pub const RX_RING_LEN: usize = 512;
+/// Bytes the ring holds. The longest the hub goes without reading is while it writes a frame
+/// (transmission is polled): at most as many bytes arrive as leave, 151 for a PHAK pose frame
+/// (172 for gait2392's) at the same baud rate; 256 bytes hold that with room to spare (22 ms
+/// at 115200 baud, 2.5 ms at 1 Mbaud), and keep the firmware's RAM within 8 KiB.
+pub const RX_RING_LEN: usize = 256;
 
 /// Receive errors kept until the application reads them.
 const PENDING_ERRORS: usize = 4;
