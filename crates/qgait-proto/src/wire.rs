@@ -123,7 +123,13 @@ where
     }
     let (point_bytes, rest) = rest.split_at_mut(4 * 3 * point::COUNT);
     for (i, slot) in point_bytes.chunks_exact_mut(4 * 3).enumerate() {
-        put_f32s(slot, &(parts.point)(i));
+        let [x, y, z] = (parts.point)(i);
+        // A point's 12 bytes as an array: the three stores at fixed offsets, unchecked.
+        if let Ok(slot) = <&mut [u8; 12]>::try_from(slot) {
+            slot[..4].copy_from_slice(&x.to_le_bytes());
+            slot[4..8].copy_from_slice(&y.to_le_bytes());
+            slot[8..].copy_from_slice(&z.to_le_bytes());
+        }
     }
     let (distance_bytes, flags) = rest.split_at_mut(4 * 3);
     put_f32s(distance_bytes, &parts.distances);
