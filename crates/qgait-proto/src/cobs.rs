@@ -72,7 +72,8 @@ pub fn encode_in_place(buf: &mut [u8], len: usize) -> Option<usize> {
     while let Some(&[b0, b1, b2, b3, b4, b5, b6, b7]) = data.get(i..i + 8) {
         let w0 = u32::from_le_bytes([b0, b1, b2, b3]);
         let w1 = u32::from_le_bytes([b4, b5, b6, b7]);
-        if has_zero_byte(w0) || has_zero_byte(w1) {
+        // Both words' zero tests in one: a branch per eight bytes.
+        if zero_byte_bits(w0) | zero_byte_bits(w1) != 0 {
             for k in i..i + 8 {
                 if data[k] == 0 {
                     // k - code_at <= len <= 253: fits a code byte.
@@ -111,7 +112,13 @@ pub fn encode_in_place(buf: &mut [u8], len: usize) -> Option<usize> {
 /// a zero byte, and the lowest zero byte always sets its own).
 #[inline(always)]
 fn has_zero_byte(w: u32) -> bool {
-    w.wrapping_sub(0x0101_0101) & !w & 0x8080_8080 != 0
+    zero_byte_bits(w) != 0
+}
+
+/// Not zero iff a byte of `w` is zero (see [`has_zero_byte`]).
+#[inline(always)]
+fn zero_byte_bits(w: u32) -> u32 {
+    w.wrapping_sub(0x0101_0101) & !w & 0x8080_8080
 }
 
 /// The frame's COBS structure is invalid.

@@ -138,8 +138,10 @@ impl FrameDecoder {
     /// `Some(`[`DecodeError::Oversize`]`)` once when the frame outgrows the buffer; the rest of
     /// an oversize frame's bytes are discarded, here and in later runs, up to the next 0x00.
     ///
-    /// The data bytes go four at a time (a word loaded, tested for a 0x00 byte and stored),
-    /// the last few of a run one at a time.
+    /// The data bytes go four at a time (a word loaded, tested for a 0x00 byte and stored);
+    /// the word holding the 0x00 is stored whole and the run ends at its first 0x00 byte
+    /// (the bytes stored past the frame's length are scratch, overwritten by the next data
+    /// bytes); the last few bytes of a chunk or of the buffer's room one at a time.
     #[inline(always)]
     pub fn push_run(&mut self, chunk: &[u8]) -> (usize, Option<DecodeError>) {
         let start = self.len;
@@ -152,11 +154,18 @@ impl FrameDecoder {
             let Ok(word) = <[u8; 4]>::try_from(bytes) else {
                 break;
             };
-            let word = u32::from_le_bytes(word);
-            if word.wrapping_sub(0x0101_0101) & !word & 0x8080_8080 != 0 {
-                break;
-            }
             slots.copy_from_slice(bytes);
+            let word = u32::from_le_bytes(word);
+            // The top bit of each 0x00 byte, and perhaps of bytes above one; the lowest set
+            // bit is exactly the first 0x00's (a borrow only runs upwards from a 0x00).
+            let zeros = word.wrapping_sub(0x0101_0101) & !word & 0x8080_8080;
+            if zeros != 0 {
+                // The run ends before that 0x00: the bytes after it in the word, stored
+                // past the frame's length, are not taken.
+                taken += (zeros.trailing_zeros() / 8) as usize;
+                self.len = start + taken;
+                return (taken, None);
+            }
             taken += 4;
         }
         let rest = room.get_mut(taken..).unwrap_or_default();

@@ -1,7 +1,10 @@
 //! Whole frames: message bytes + CRC-32C (little-endian) → COBS → 0x00.
 
 use crate::crc::{self, crc32c};
-use crate::wire::{encode_pose_frame_message, encode_status_message};
+use crate::wire::{
+    encode_pose_frame_message, encode_pose_frame_parts_message, encode_status_message,
+    PoseFrameParts,
+};
 use crate::{
     cobs, decode_message, encode_message, DecodeError, EncodeError, Message, PoseFrame, Status,
     CRC_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
@@ -22,6 +25,22 @@ pub fn encode_pose_frame<'a>(
 ) -> Result<&'a [u8], EncodeError> {
     encode_frame_with(out, |payload| {
         encode_pose_frame_message(frame, payload).map(|m| m.len())
+    })
+}
+
+/// [`encode_pose_frame`] of the pose frame `parts` make, without building the [`PoseFrame`]:
+/// the same bytes, its angles and points read where they are as they are written (the hub
+/// sends each pose this way, straight from the sample and the kinematics' pose).
+pub fn encode_pose_frame_parts<'a, A, P>(
+    parts: &PoseFrameParts<A, P>,
+    out: &'a mut [u8],
+) -> Result<&'a [u8], EncodeError>
+where
+    A: Fn(usize) -> f32,
+    P: Fn(usize) -> [f32; 3],
+{
+    encode_frame_with(out, |payload| {
+        encode_pose_frame_parts_message(parts, payload).map(|m| m.len())
     })
 }
 

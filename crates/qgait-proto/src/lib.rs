@@ -21,7 +21,8 @@ pub use crate::decoder::{Feed, FrameDecoder};
 pub use crate::error::{DecodeError, EncodeError, ErrorKind};
 pub use crate::flags::{FrameFlags, QualityFlags};
 pub use crate::frame::{
-    decode_frame, encode_frame, encode_pose_frame, encode_raw_frame, encode_status_frame,
+    decode_frame, encode_frame, encode_pose_frame, encode_pose_frame_parts, encode_raw_frame,
+    encode_status_frame,
 };
 pub use crate::joint::JointId;
 pub use crate::messages::{
@@ -38,7 +39,7 @@ pub use crate::subject::{
     KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,
 };
 pub use crate::wire::{
-    decode_hub_message, decode_message, decode_packet, encode_message, HubMessage,
+    decode_hub_message, decode_message, decode_packet, encode_message, HubMessage, PoseFrameParts,
 };
 
 /// Largest COBS encoding (delimiter excluded) of `len` bytes: `len + ceil(len / 254)`, 1 if empty.

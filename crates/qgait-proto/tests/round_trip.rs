@@ -5,10 +5,10 @@ mod common;
 use common::strategies;
 use proptest::prelude::*;
 use qgait_proto::{
-    decode_frame, decode_message, encode_frame, encode_message, encode_pose_frame, EncodeError,
-    FrameDecoder, Message, CONFIG_MAX_LEN, CRC_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN,
-    MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
-    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    decode_frame, decode_message, encode_frame, encode_message, encode_pose_frame,
+    encode_pose_frame_parts, EncodeError, FrameDecoder, Message, PoseFrameParts, CONFIG_MAX_LEN,
+    CRC_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
+    STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 
 /// Two messages are the same iff their encodings are (every field has a fixed-size or
@@ -77,7 +77,8 @@ proptest! {
     }
 
     /// `encode_frame` into a buffer of any size: the frame iff it fits, else `BufferTooSmall`
-    /// with the COBS bound; the pose frame path (`encode_pose_frame`) gives the same bytes.
+    /// with the COBS bound; the pose frame paths (`encode_pose_frame`, `encode_pose_frame_parts`)
+    /// give the same bytes.
     #[test]
     fn frames_in_buffers_of_every_size(msg in strategies::message(), size in 0usize..MAX_FRAME_LEN + 2) {
         let mut full = [0u8; MAX_FRAME_LEN];
@@ -95,6 +96,18 @@ proptest! {
         if let Message::PoseFrame(pose) = &msg {
             let mut buf = [0xA5u8; MAX_FRAME_LEN + 2];
             let got = encode_pose_frame(pose, &mut buf[..size]).map(|f| f.to_vec());
+            // The same frame from its parts, as the hub encodes it.
+            let parts = PoseFrameParts {
+                seq: pose.seq,
+                model: pose.model,
+                angle: |i: usize| pose.angles[i],
+                point: |i: usize| pose.points[i],
+                distances: pose.distances,
+                flags: pose.flags,
+            };
+            let mut buf = [0xA5u8; MAX_FRAME_LEN + 2];
+            let from_parts = encode_pose_frame_parts(&parts, &mut buf[..size]).map(|f| f.to_vec());
+            prop_assert_eq!(&from_parts, &got);
             if size >= frame.len() {
                 prop_assert_eq!(got, Ok(frame));
             } else {

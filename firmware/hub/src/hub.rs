@@ -7,8 +7,8 @@ use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
-    decode_hub_message, decode_packet, encode_pose_frame, encode_status_frame, Config, DecodeError, FrameDecoder,
-    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN,
+    decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
+    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig, MAX_FRAME_LEN,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
@@ -466,14 +466,8 @@ impl<S: Write> Output<'_, S> {
         if !sample.out_of_range.is_empty() {
             flags |= FrameFlags::OUT_OF_RANGE;
         }
-        let frame = self.kinematics.pose_frame(sample, flags);
-        self.send_pose(&frame);
-    }
-
-    /// Sends a pose frame, encoded in place in the transmit buffer without building a
-    /// [`Message`](qgait_proto::Message).
-    fn send_pose(&mut self, frame: &PoseFrame) {
-        let Ok(frame) = encode_pose_frame(frame, self.tx) else { return };
+        // Encoded straight from the sample and the pose: no `PoseFrame` built and copied.
+        let Ok(frame) = self.kinematics.encode_pose_frame(sample, flags, self.tx) else { return };
         write_frame(self.serial, self.status, frame);
     }
 }

@@ -3,7 +3,9 @@
 
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles};
-use qgait_proto::{point, segment, FrameFlags, JointId, ModelId, PoseFrame};
+use qgait_proto::{
+    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, ModelId, PoseFrame, PoseFrameParts,
+};
 
 use crate::assembly::Sample;
 
@@ -172,10 +174,7 @@ impl Kinematics {
     /// gait2392 takes all 17 angles (its coordinates are in [`JointId`] order) and reports the
     /// hip, knee, ankle and toe tip of each leg.
     pub fn pose_frame(&self, sample: &Sample, flags: u8) -> PoseFrame {
-        let pose = match &self.chain {
-            ModelChain::Phak(phak) => phak.fk(&self.phak_angles(sample)),
-            ModelChain::Gait2392(g) => g.fk(&sample.angles).bilateral(),
-        };
+        let pose = self.pose(sample);
         let d = distances(&pose);
         let mut used = heapless::Vec::new();
         for &joint in self.model.required_joints() {
@@ -189,6 +188,35 @@ impl Kinematics {
             points: points(&pose),
             distances: [d.knee, d.ankle, d.toe],
             flags: flags & FrameFlags::ALL,
+        }
+    }
+
+    /// The frame of [`pose_frame`](Self::pose_frame)`(sample, flags)`, encoded into `out`
+    /// ([`encode_pose_frame_parts`]: the same bytes as `encode_pose_frame` of it) without
+    /// building the [`PoseFrame`]: the angles are read from the sample and the points from the
+    /// kernel's pose as they are written.
+    pub fn encode_pose_frame<'a>(&self, sample: &Sample, flags: u8, out: &'a mut [u8]) -> Result<&'a [u8], EncodeError> {
+        let pose = self.pose(sample);
+        let d = distances(&pose);
+        let joints = self.model.required_joints();
+        let points = pose.points();
+        let parts = PoseFrameParts {
+            seq: sample.seq,
+            model: self.model,
+            angle: |i: usize| joints.get(i).map_or(0.0, |&joint| sample.angle(joint)),
+            point: |i: usize| points.get(i).map_or([0.0; 3], |p| p.to_array()),
+            distances: [d.knee, d.ankle, d.toe],
+            flags: flags & FrameFlags::ALL,
+        };
+        encode_pose_frame_parts(&parts, out)
+    }
+
+    /// The kernel's pose of `sample` (see [`pose_frame`](Self::pose_frame)).
+    #[inline(always)]
+    fn pose(&self, sample: &Sample) -> BilateralPose<f32> {
+        match &self.chain {
+            ModelChain::Phak(phak) => phak.fk(&self.phak_angles(sample)),
+            ModelChain::Gait2392(g) => g.fk(&sample.angles).bilateral(),
         }
     }
 }
