@@ -22,7 +22,7 @@ use crate::subject::SubjectParts;
 pub const MAX_BYTES_PER_POLL: usize = 256;
 
 /// Bytes the hub asks the serial port for in one read (its receive buffer, in the hub).
-pub const READ_CHUNK: usize = 64;
+pub const READ_CHUNK: usize = 128;
 
 /// Default reorder window (samples).
 pub const DEFAULT_WINDOW: u8 = 4;
@@ -316,6 +316,7 @@ where
         }
     }
 
+    #[inline(always)]
     fn on_packet(&mut self, packet: &JointAngle) {
         if !packet.angle.is_finite() {
             bump(&mut self.status.out_of_range);
