@@ -39,36 +39,31 @@ pub fn encode_message<'a>(msg: &Message, out: &'a mut [u8]) -> Result<&'a mut [u
 
 /// [`encode_message`] of `Message::PoseFrame(frame)`, without building the [`Message`]: the
 /// same bytes as postcard's, written by hand (46 `f32`s through postcard's serializer cost
-/// several times more on the hub).
+/// several times more on the hub). The layout is [`encode_pose_frame_parts_message`]'s, once.
 pub(crate) fn encode_pose_frame_message<'a>(
     frame: &PoseFrame,
     out: &'a mut [u8],
 ) -> Result<&'a mut [u8], EncodeError> {
     check_angle_count(frame.model, frame.angles.len())
         .map_err(|(expected, got)| EncodeError::AngleCount { expected, got })?;
-    let angles = frame.angles.as_slice();
-    let mut seq = [0u8; VARINT_U32_MAX];
-    let seq = varint_u32(frame.seq, &mut seq);
-    // tag, seq, model, angle count (< 128: one varint byte), angles, points, distances, flags
-    let len = 1 + seq.len() + 2 + 4 * (angles.len() + 3 * point::COUNT + 3) + 1;
-    let Some(out) = out.get_mut(..len) else {
-        return Err(EncodeError::BufferTooSmall {
-            needed: MAX_MESSAGE_LEN,
-        });
-    };
-    let (head, rest) = out.split_at_mut(1 + seq.len() + 2);
-    head[0] = 1; // Message::PoseFrame's tag
-    head[1..=seq.len()].copy_from_slice(seq);
-    head[1 + seq.len()] = frame.model.index();
-    head[2 + seq.len()] = angles.len() as u8;
-    let (angle_bytes, rest) = rest.split_at_mut(4 * angles.len());
-    put_f32s(angle_bytes, angles);
-    let (point_bytes, rest) = rest.split_at_mut(4 * 3 * point::COUNT);
-    put_f32s(point_bytes, frame.points.as_flattened());
-    let (distance_bytes, flags) = rest.split_at_mut(4 * 3);
-    put_f32s(distance_bytes, &frame.distances);
-    flags[0] = frame.flags;
-    Ok(out)
+    encode_pose_frame_parts_message(&frame.parts(), out)
+}
+
+impl PoseFrame {
+    /// This frame as [`PoseFrameParts`] (what [`encode_pose_frame_parts`](crate::encode_pose_frame_parts)
+    /// takes). Encoded, they give this frame's bytes when its angle count is its model's.
+    pub fn parts(
+        &self,
+    ) -> PoseFrameParts<impl Fn(usize) -> f32 + '_, impl Fn(usize) -> [f32; 3] + '_> {
+        PoseFrameParts {
+            seq: self.seq,
+            model: self.model,
+            angle: |i: usize| self.angles.get(i).copied().unwrap_or(0.0),
+            point: |i: usize| self.points.get(i).copied().unwrap_or([0.0; 3]),
+            distances: self.distances,
+            flags: self.flags,
+        }
+    }
 }
 
 /// The fields of a [`PoseFrame`] where they already are, for
@@ -791,14 +786,7 @@ mod tests {
                 _ => prop_assert!(false, "size {}: {:?} vs {:?}", size, fast, reference),
             }
             // The same frame from its parts (the hub's path): the same bytes, the same refusals.
-            let parts = PoseFrameParts {
-                seq: frame.seq,
-                model: frame.model,
-                angle: |i: usize| frame.angles[i],
-                point: |i: usize| frame.points[i],
-                distances: frame.distances,
-                flags: frame.flags,
-            };
+            let parts = frame.parts();
             let mut c = [0u8; MAX_MESSAGE_LEN + 4];
             let from_parts = encode_pose_frame_parts_message(&parts, &mut c[..size]).map(|m| m.to_vec());
             prop_assert_eq!(from_parts, fast);

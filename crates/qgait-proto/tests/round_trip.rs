@@ -6,9 +6,9 @@ use common::strategies;
 use proptest::prelude::*;
 use qgait_proto::{
     decode_frame, decode_message, encode_frame, encode_message, encode_pose_frame,
-    encode_pose_frame_parts, EncodeError, FrameDecoder, Message, PoseFrameParts, CONFIG_MAX_LEN,
-    CRC_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
-    STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    encode_pose_frame_parts, EncodeError, FrameDecoder, Message, CONFIG_MAX_LEN, CRC_LEN,
+    JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN,
+    SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 
 /// Two messages are the same iff their encodings are (every field has a fixed-size or
@@ -97,14 +97,7 @@ proptest! {
             let mut buf = [0xA5u8; MAX_FRAME_LEN + 2];
             let got = encode_pose_frame(pose, &mut buf[..size]).map(|f| f.to_vec());
             // The same frame from its parts, as the hub encodes it.
-            let parts = PoseFrameParts {
-                seq: pose.seq,
-                model: pose.model,
-                angle: |i: usize| pose.angles[i],
-                point: |i: usize| pose.points[i],
-                distances: pose.distances,
-                flags: pose.flags,
-            };
+            let parts = pose.parts();
             let mut buf = [0xA5u8; MAX_FRAME_LEN + 2];
             let from_parts = encode_pose_frame_parts(&parts, &mut buf[..size]).map(|f| f.to_vec());
             prop_assert_eq!(&from_parts, &got);
