@@ -115,8 +115,10 @@ impl Kinematics {
     // Never inlined: the kernel's rebuild is the deepest part of a model switch.
     #[inline(never)]
     pub(crate) fn set_phak(&mut self, model: ModelId, anthropometry: &Anthropometry<f32>) -> Result<(), ConfigError> {
-        Phak::check(anthropometry).map_err(|_| ConfigError::Kernel)?;
         if !matches!(self.chain, ModelChain::Phak(_)) {
+            // The other model is given up only for lengths the kernel takes (a rebuild in the
+            // same variant checks them itself, before writing anything).
+            Phak::check(anthropometry).map_err(|_| ConfigError::Kernel)?;
             self.chain = ModelChain::Phak(Phak::EMPTY);
         }
         if let ModelChain::Phak(phak) = &mut self.chain {
@@ -150,8 +152,9 @@ impl Kinematics {
     /// ([`check_gait2392`](Self::check_gait2392) tells beforehand).
     #[inline(never)]
     pub(crate) fn set_gait2392(&mut self, geometry: &Gait2392Geometry<f32>) -> Result<(), ConfigError> {
-        Kinematics::check_gait2392(geometry)?;
         if !matches!(self.chain, ModelChain::Gait2392(_)) {
+            // As in `set_phak`: checked before the other model is given up.
+            Kinematics::check_gait2392(geometry)?;
             self.chain = ModelChain::Gait2392(Gait2392::EMPTY);
         }
         if let ModelChain::Gait2392(g) = &mut self.chain {
