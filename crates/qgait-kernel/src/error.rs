@@ -61,8 +61,4 @@ impl fmt::Display for ModelError {
     }
 }
 
-#[cfg(feature = "std")]
-extern crate std;
-
-#[cfg(feature = "std")]
-impl std::error::Error for ModelError {}
+impl core::error::Error for ModelError {}

@@ -41,7 +41,7 @@ pub trait LaneScalar: Real {
 
     /// [`half_angle_sin_cos_branchless`](Self::half_angle_sin_cos_branchless) with fused
     /// multiply-adds in the polynomials (the FMA levels of [`Simd`]; rounding differs from the
-    /// unfused form by about an ulp). Without `std` (no fused multiply-add in `core`), unfused.
+    /// unfused form by about an ulp). Without the `simd` feature (no fused multiply-add in `core`), unfused.
     fn half_angle_sin_cos_fused(self) -> (Self, Self);
 
     /// Frames evaluated together at `level`.
@@ -68,12 +68,12 @@ macro_rules! lane_scalar {
 
             #[inline(always)]
             fn half_angle_sin_cos_fused(self) -> (Self, Self) {
-                #[cfg(feature = "std")]
+                #[cfg(feature = "simd")]
                 {
                     extern crate std;
                     $half_angle_with(self, <$t>::mul_add)
                 }
-                #[cfg(not(feature = "std"))]
+                #[cfg(not(feature = "simd"))]
                 {
                     $half_angle(self)
                 }
@@ -94,7 +94,7 @@ macro_rules! lane_scalar {
                 q: &impl Fn(usize) -> [Self; N],
                 points: &mut impl FnMut(usize, [Vec3<Self>; P]),
             ) {
-                #[cfg(all(feature = "std", target_arch = "x86_64"))]
+                #[cfg(all(feature = "simd", target_arch = "x86_64"))]
                 match level {
                     Simd::Avx512 if level.is_supported() => {
                         return x86::avx512::<_, N, J, P, S, $avx512, true>(
@@ -122,7 +122,7 @@ lane_scalar!(f64, trig::half_angle_sin_cos_f64, trig::half_angle_sin_cos_f64_wit
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Simd {
     /// The build's own target features (SSE2 on baseline x86-64), [`LANES`] lanes. Every
-    /// target, with or without `std`.
+    /// target, with or without `simd`.
     Portable,
     /// x86-64 with AVX2 and FMA (the `x86-64-v3` level). The half-angle polynomials use fused
     /// multiply-adds ([`LaneScalar::half_angle_sin_cos_fused`]); the rest of the evaluator's
@@ -138,15 +138,15 @@ impl Simd {
     pub const ALL: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
 
     /// Whether this CPU runs `self`: always for `Portable`; the others need x86-64, the
-    /// kernel's `std` feature (for run-time CPU feature detection) and the CPU features.
+    /// kernel's `simd` feature (run-time CPU feature detection) and the CPU features.
     pub fn is_supported(self) -> bool {
         match self {
             Simd::Portable => true,
-            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            #[cfg(all(feature = "simd", target_arch = "x86_64"))]
             Simd::Avx2 => x86::has_avx2(),
-            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            #[cfg(all(feature = "simd", target_arch = "x86_64"))]
             Simd::Avx512 => x86::has_avx512(),
-            #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+            #[cfg(not(all(feature = "simd", target_arch = "x86_64")))]
             _ => false,
         }
     }
@@ -203,7 +203,7 @@ fn batch<
 }
 
 /// The x86-64 levels: the only unsafe code in the kernel.
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
+#[cfg(all(feature = "simd", target_arch = "x86_64"))]
 #[allow(unsafe_code)]
 mod x86 {
     extern crate std;

@@ -14,6 +14,7 @@ pub mod metrics;
 pub mod models;
 mod pose;
 mod quat;
+#[cfg(feature = "reference")]
 pub mod reference;
 mod scalar;
 pub mod spline;

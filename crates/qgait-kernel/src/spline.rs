@@ -85,11 +85,11 @@ impl<T: Real> Spline<T> {
 
     /// The spline's value at `t` (linear extrapolation outside the knots; NaN for NaN).
     /// Branch-free: the interval is chosen by [`Real::lt_select`], so it also runs lane-wise.
-    // Always inlined with `std` (the host), so the batch path's AVX functions compile it with
-    // their target features (an out-of-line copy is baseline SSE2 code, taking and returning
-    // lane arrays through memory); a plain hint without it (the device: flash size).
-    #[cfg_attr(feature = "std", inline(always))]
-    #[cfg_attr(not(feature = "std"), inline)]
+    // Always inlined with `simd`, so the batch path's AVX functions compile it with their
+    // target features (an out-of-line copy is baseline SSE2 code, taking and returning lane
+    // arrays through memory); a plain hint without it (the device: flash size).
+    #[cfg_attr(feature = "simd", inline(always))]
+    #[cfg_attr(not(feature = "simd"), inline)]
     pub fn eval(&self, t: T) -> T {
         // (`EMPTY`, all zeros, evaluates to zero.)
         let last = self.last;
