@@ -37,6 +37,7 @@ pub fn run() -> Result<ExitCode, String> {
             &elf,
         ),
     ];
+    let steps: Vec<Step> = steps.into_iter().chain(lint_steps(&root, &firmware)).collect();
     println!("\n==> summary");
     for s in &steps {
         println!("{:<28} {}", s.name, if s.ok { "ok" } else { "FAILED" });
@@ -47,4 +48,29 @@ pub fn run() -> Result<ExitCode, String> {
     let failed = steps.iter().filter(|s| !s.ok).count();
     println!("{} of {} steps passed", steps.len() - failed, steps.len());
     Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+}
+
+/// Formatting and lints, in both workspaces: `cargo fmt --check` and clippy on every target
+/// with warnings denied (the firmware for its own target, the hub also on the host with its
+/// `checks` feature, as its host tests build it).
+fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
+    const DENY: [&str; 2] = ["--", "-Dwarnings"];
+    let clippy = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut args = vec!["clippy"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&DENY);
+        args
+    };
+    vec![
+        step("format, host workspace", root, &["fmt", "--all", "--check"], &[]),
+        step("format, firmware workspace", firmware, &["fmt", "--all", "--check"], &[]),
+        step("clippy, host workspace", root, &clippy(&["--workspace", "--all-targets"]), &[]),
+        step("clippy, firmware", firmware, &clippy(&["--all-targets"]), &[]),
+        step(
+            "clippy, hub on the host",
+            root,
+            &clippy(&["--manifest-path", "firmware/hub/Cargo.toml", "--all-targets", "--features", "checks"]),
+            &[],
+        ),
+    ]
 }

@@ -1,4 +1,4 @@
-//! Making sure what the firmware needs is installed: the rustup target and QEMU (installed when
+//! Making sure what the tests need is installed: the rustup target, clippy and rustfmt, and QEMU (installed when
 //! missing: `rustup target add`, and `apt-get install qemu-system-arm` when running as root).
 
 use std::process::{Command, Stdio};
@@ -28,10 +28,20 @@ fn is_root() -> bool {
     Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
 }
 
-/// Installs the firmware target and QEMU if they are missing.
+fn components_installed() -> bool {
+    Command::new("rustup").args(["component", "list", "--installed"]).stderr(Stdio::null()).output().is_ok_and(|o| {
+        let list = String::from_utf8_lossy(&o.stdout);
+        ["clippy", "rustfmt"].iter().all(|c| list.lines().any(|l| l.starts_with(c)))
+    })
+}
+
+/// Installs the firmware target, the lint tools (clippy, rustfmt) and QEMU if they are missing.
 pub fn ensure() -> Result<(), String> {
     if !target_installed() {
         run("rustup", &["target", "add", TARGET])?;
+    }
+    if !components_installed() {
+        run("rustup", &["component", "add", "clippy", "rustfmt"])?;
     }
     if crate::stack_bound::objdump().is_none() {
         // For the stack bound (`stack_bound`): Debian's llvm has llvm-objdump.
