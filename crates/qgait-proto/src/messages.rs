@@ -10,6 +10,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::{JointId, ModelId, SubjectConfig, SubjectKnee, SubjectLeg};
 
+/// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for
+/// `1..=MAX_REORDER_WINDOW`.
+pub const MAX_REORDER_WINDOW: u8 = 8;
+
 /// The protocol version written in every [`JointAngle`]. See `docs/protocol.md` for the
 /// versioning rules.
 pub const PROTOCOL_VERSION: u8 = 1;
@@ -162,7 +166,8 @@ pub struct Config {
     pub anthropometry: Option<[[f32; segment::COUNT]; 2]>,
     /// What to do with incomplete samples.
     pub missing_policy: MissingPolicy,
-    /// How many samples the hub waits for late packets before closing a sample.
+    /// How many samples the hub waits for late packets before closing a sample:
+    /// `1..=`[`MAX_REORDER_WINDOW`]; a hub rejects (and counts) a configuration with another.
     pub reorder_window: u8,
     /// `true` asks the hub to answer with a [`Status`] message.
     pub request_status: bool,

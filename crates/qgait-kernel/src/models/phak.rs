@@ -175,6 +175,20 @@ impl<T: Real> Phak<T> {
         BilateralPose::from_points(self.chain.forward(&q.to_array()))
     }
 
+    /// HAK's pose of both legs: PHAK with a level, forward-facing pelvis (`q`'s pelvis angles
+    /// are ignored, as 0). This is what "HAK" means for both legs everywhere (host, hub, wire):
+    /// the hips at ±`pelvis_half_width` on the z axis, the origin midway between them, so HAK
+    /// and PHAK poses are in the same frame; each leg is [`Hak`](super::Hak)'s chain moved to
+    /// its hip.
+    #[inline]
+    pub fn fk_hak(&self, q: &PhakAngles<T>) -> BilateralPose<T> {
+        self.fk(&PhakAngles {
+            pelvis_rotation: T::ZERO,
+            pelvis_list: T::ZERO,
+            ..*q
+        })
+    }
+
     /// Forward kinematics of many frames (the SIMD batch path, see
     /// [`Chain::forward_batch`]): `out[i] = fk(q[i])` for `i` below the shorter length, which
     /// is returned.
