@@ -95,12 +95,21 @@ fn status_fields(s: &Status) -> [(&'static str, u32); 16] {
     ]
 }
 
-fn describe_output(message: &Message, out: &mut String) {
+const POINT_NAMES: [&str; 8] = ["hip_r", "knee_r", "ankle_r", "toe_r", "hip_l", "knee_l", "ankle_l", "toe_l"];
+
+fn describe_output(message: &Message, points: bool, out: &mut String) {
     match message {
         Message::PoseFrame(p) => {
             let angles: Vec<String> = p.angles.iter().map(|a| a.to_string()).collect();
             writeln!(out, "<- PoseFrame seq {}, {}, flags 0x{:02x}, angles {}", p.seq, p.model, p.flags, angles.join(" "))
                 .unwrap();
+            if points {
+                for (name, [x, y, z]) in POINT_NAMES.iter().zip(p.points) {
+                    writeln!(out, "     {name:<8} {x:>12} {y:>12} {z:>12}").unwrap();
+                }
+                let [knee, ankle, toe] = p.distances;
+                writeln!(out, "     distances knee-knee {knee}, ankle-ankle {ankle}, toe-toe {toe}").unwrap();
+            }
         }
         Message::Status(s) => {
             let nonzero: Vec<String> =
@@ -114,7 +123,8 @@ fn describe_output(message: &Message, out: &mut String) {
 /// Runs `steps` on a new hub (clock at 0, a status every 1000 ms) and writes the transcript:
 /// each step, then the frames the hub sent in answer (`<-`), then the counters that changed
 /// (`   +name n`; uptime and `frames_sent` left out: the frames are listed).
-fn transcript(steps: &[Step]) -> String {
+/// With `points`, each pose frame's points (x, y, z, metres) and distances follow it.
+fn transcript(steps: &[Step], points: bool) -> String {
     let clock = ManualClock::new(0);
     let mut hub: TestHub<'_> = Hub::new(Serial::new(), &clock, 1000).expect("default model");
     let mut out = String::new();
@@ -139,8 +149,17 @@ fn transcript(steps: &[Step]) -> String {
                 push(&mut hub, bytes);
             }
             Step::Sample(seq, packets) => {
-                let list: Vec<String> = packets.iter().map(|(j, a)| format!("{j} {a}")).collect();
-                writeln!(out, "-> seq {seq}: {}", list.join(", ")).unwrap();
+                // Wrapped at 100 columns, continued under the first packet.
+                let mut line = format!("-> seq {seq}:");
+                for (i, (j, a)) in packets.iter().enumerate() {
+                    let item = format!(" {j} {a}{}", if i + 1 < packets.len() { "," } else { "" });
+                    if line.len() + item.len() > 100 {
+                        writeln!(out, "{line}").unwrap();
+                        line = " ".repeat(format!("-> seq {seq}:").len());
+                    }
+                    line += &item;
+                }
+                writeln!(out, "{line}").unwrap();
                 for &(joint, angle) in packets {
                     push(&mut hub, &frame_bytes(&Message::JointAngle(packet(*seq, joint, angle))));
                 }
@@ -154,7 +173,7 @@ fn transcript(steps: &[Step]) -> String {
         let transmitted = hub.serial_mut().transmitted().to_vec();
         for &b in &transmitted[sent..] {
             match decoder.push(b) {
-                Some(Ok(m)) => describe_output(&m, &mut out),
+                Some(Ok(m)) => describe_output(&m, points, &mut out),
                 Some(Err(e)) => panic!("the hub sent a bad frame: {e:?}"),
                 None => {}
             }
@@ -185,8 +204,8 @@ fn config(model: ModelId, missing_policy: MissingPolicy, reorder_window: u8, req
     Message::Config(Config { model, anthropometry: None, missing_policy, reorder_window, request_status })
 }
 
-/// The example angle of `joint` in sample `seq`: a value per joint plus seq / 100, so that
-/// each angle says which sample it came from.
+/// The example angle of `joint` in sample `seq`: a value per joint plus (seq mod 10) / 100,
+/// so that each angle says which sample it came from.
 fn angle(joint: JointId, seq: u32) -> f32 {
     let base: i32 = match joint {
         JointId::HipFlexionR => 50,
@@ -197,7 +216,27 @@ fn angle(joint: JointId, seq: u32) -> f32 {
         JointId::AnkleAngleL => -10,
         _ => 0,
     };
-    (base + seq as i32) as f32 / 100.0
+    (base + (seq % 10) as i32) as f32 / 100.0
+}
+
+/// The gait2392 example's angle of `joint`.
+fn gait2392_angle(joint: JointId) -> f32 {
+    use JointId::*;
+    match joint {
+        PelvisTilt => -0.125,
+        PelvisList => 0.0625,
+        PelvisRotation => 0.25,
+        HipFlexionR | HipFlexionL => 0.5,
+        HipAdductionR => -0.125,
+        HipRotationL => 0.125,
+        KneeAngleR => -1.0,
+        KneeAngleL => -0.25,
+        AnkleAngleR => 0.25,
+        AnkleAngleL => -0.25,
+        SubtalarAngleR => 0.125,
+        MtpAngleL => 0.25,
+        _ => 0.0,
+    }
 }
 
 const HAK: [JointId; 6] = [
@@ -260,8 +299,8 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                 Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 4, false), "Config: HAK, drop, window 4"),
                 hak_sample(100, &[]),
                 one(101, HipFlexionR, angle(HipFlexionR, 101)),
-                one(96, HipFlexionR, angle(HipFlexionR, 96)),
                 one(97, HipFlexionR, angle(HipFlexionR, 97)),
+                one(98, HipFlexionR, angle(HipFlexionR, 98)),
                 one(2000, HipFlexionR, angle(HipFlexionR, 2000)),
                 one(0, HipFlexionR, angle(HipFlexionR, 0)),
                 hak_sample(0, &[HipFlexionR]),
@@ -284,6 +323,28 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
             ],
         ),
         (
+            "kinematics",
+            vec![
+                Step::Sample(
+                    1,
+                    vec![
+                        (PelvisRotation, 0.25),
+                        (PelvisList, -0.125),
+                        (HipFlexionR, 0.5),
+                        (KneeAngleR, -1.0),
+                        (AnkleAngleR, 0.25),
+                        (HipFlexionL, -0.25),
+                        (KneeAngleL, -0.5),
+                        (AnkleAngleL, -0.125),
+                    ],
+                ),
+                Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 1, false), "Config: HAK, drop, window 1"),
+                hak_sample(2, &[]),
+                Step::Frame(config(ModelId::Gait2392, MissingPolicy::Drop, 1, false), "Config: gait2392, drop, window 1"),
+                Step::Sample(3, JointId::ALL.iter().map(|&j| (j, gait2392_angle(j))).collect()),
+            ],
+        ),
+        (
             "status",
             vec![
                 Step::Wait(999),
@@ -296,8 +357,19 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                 ),
                 Step::Body(vec![0x03, 0x05, 0x00, 0x09, 0x04, 0x00], "a Config of model 5 (and missing policy 9)"),
                 Step::Body(vec![0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00], "a Status sent to the hub"),
+                Step::Raw(
+                    vec![0x01, 0x09, 0x02, 0x02, 0x06, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01, 0x07, 0xbf, 0x08, 0xce, 0x89, 0xb2, 0xed, 0x00],
+                    "the JointAngle of 7.1 with version 2",
+                ),
+                Step::Raw(
+                    vec![0x01, 0x09, 0x01, 0x02, 0x11, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01, 0x07, 0xbf, 0x08, 0x5c, 0x20, 0x35, 0x0b, 0x00],
+                    "the JointAngle of 7.1 with joint 17",
+                ),
+                Step::Body(vec![0x07], "a message of tag 7"),
+                Step::Wait(500),
                 Step::Frame(config(ModelId::Phak, MissingPolicy::Drop, 4, true), "Config: the one in force, status requested"),
-                Step::Wait(1000),
+                Step::Wait(999),
+                Step::Wait(1),
             ],
         ),
     ]
@@ -311,7 +383,7 @@ fn spec_examples_are_the_hubs_transcripts() {
     let mut names = Vec::new();
     for (name, steps) in examples() {
         names.push(name.to_owned());
-        let want = transcript(&steps);
+        let want = transcript(&steps, name == "kinematics");
         if print {
             println!("```text example={name}\n{want}\n```\n");
         }
