@@ -237,7 +237,11 @@ fn hak_hangs_each_leg_at_its_hip_at_plus_minus_the_half_width() {
             let o = 1 + 12 * side;
             assert_eq!(&r[o..o + 3], &[0.0, 0.0, z]);
             for joint in 0..4 {
-                assert_eq!(r[o + 3 * joint + 2], z, "HAK's legs are in the planes z = +/-w");
+                assert_eq!(
+                    r[o + 3 * joint + 2],
+                    z,
+                    "HAK's legs are in the planes z = +/-w"
+                );
             }
             // Femur length is preserved: |knee - hip| = 0.395846 (gait2392).
             let k = &r[o + 3..o + 6];

@@ -48,9 +48,15 @@ impl DeviceModel {
                 .phak
                 .fk(&PhakAngles::from_array(core::array::from_fn(|i| a[i]))),
             // HAK's six angles are PHAK's after the two pelvis ones.
-            ModelId::Hak => self.phak.fk_hak(&PhakAngles::from_array(core::array::from_fn(
-                |i| if i < 2 { 0.0 } else { a[i - 2] },
-            ))),
+            ModelId::Hak => self
+                .phak
+                .fk_hak(&PhakAngles::from_array(core::array::from_fn(|i| {
+                    if i < 2 {
+                        0.0
+                    } else {
+                        a[i - 2]
+                    }
+                }))),
             ModelId::Gait2392 => self
                 .gait2392
                 .fk(&core::array::from_fn(|i| a[i]))
