@@ -488,7 +488,7 @@ fn reorder_windows_outside_one_to_eight_are_rejected_and_counted() {
     }
     // The same for a SubjectConfig of a complete, valid subject model.
     let (legs, knees) = qgait_hub::parts_of(&qgait_kernel::Gait2392Geometry::generic(), 1).expect("parts");
-    legs.iter().for_each(|l| send(&mut hub, &Message::SubjectLeg(l.clone())));
+    legs.iter().for_each(|l| send(&mut hub, &Message::SubjectLeg(*l)));
     knees.iter().for_each(|k| send(&mut hub, &Message::SubjectKnee(k.clone())));
     let subject = |reorder_window| {
         Message::SubjectConfig(qgait_proto::SubjectConfig {
