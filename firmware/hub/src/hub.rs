@@ -379,6 +379,7 @@ where
 
     /// Makes `new` with the subject model `subject` the configuration in force, unless it
     /// already is.
+    #[inline(always)]
     fn apply(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
         if self.in_force(&new, subject) {
             Ok(())

@@ -223,11 +223,9 @@ impl Kinematics {
         match &self.chain {
             ModelChain::Phak(phak) => {
                 let q = phak_angles(sample);
-                match self.model {
-                    // The kernel's one HAK: PHAK with a level, forward-facing pelvis.
-                    ModelId::Hak => phak.fk_hak(&q),
-                    _ => phak.fk(&q),
-                }
+                // HAK is the kernel's `Phak::fk_hak`: PHAK with a level, forward-facing pelvis
+                // (written so, one `fk` call: one copy of the evaluator in flash).
+                phak.fk(&if self.model == ModelId::Hak { q.level_pelvis() } else { q })
             }
             ModelChain::Gait2392(g) => g.fk(&sample.angles).bilateral(),
         }

@@ -59,6 +59,15 @@ impl<T: Real> PhakAngles<T> {
             self.ankle_angle_l,
         ]
     }
+    /// These angles with a level, forward-facing pelvis (`pelvis_rotation` and `pelvis_list`
+    /// 0): HAK's input to PHAK ([`Phak::fk_hak`]).
+    pub fn level_pelvis(self) -> Self {
+        Self {
+            pelvis_rotation: T::ZERO,
+            pelvis_list: T::ZERO,
+            ..self
+        }
+    }
     /// From the angles in input order.
     pub fn from_array(a: [T; 8]) -> Self {
         Self {
@@ -182,11 +191,7 @@ impl<T: Real> Phak<T> {
     /// its hip.
     #[inline]
     pub fn fk_hak(&self, q: &PhakAngles<T>) -> BilateralPose<T> {
-        self.fk(&PhakAngles {
-            pelvis_rotation: T::ZERO,
-            pelvis_list: T::ZERO,
-            ..*q
-        })
+        self.fk(&q.level_pelvis())
     }
 
     /// Forward kinematics of many frames (the SIMD batch path, see
