@@ -24,8 +24,8 @@ pub struct ConfigArgs {
     /// What the hub does with a sample missing a joint.
     #[arg(long, value_enum, default_value = "drop")]
     pub policy: Policy,
-    /// Samples the hub waits for late packets (the hub clamps it to 1..=8).
-    #[arg(long, default_value_t = 4, value_name = "N")]
+    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
+    #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
     pub window: u8,
     /// Upload id of a subject model's parts (default: derived from the model's numbers).
     #[arg(long, value_name = "ID")]

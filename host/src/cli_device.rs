@@ -190,8 +190,8 @@ pub struct EmulateArgs {
     /// The hub's configuration, sent before the stream.
     #[command(flatten)]
     pub model: DeviceModelArgs,
-    /// Samples the hub waits for late packets.
-    #[arg(long, default_value_t = 4, value_name = "N")]
+    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
+    #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
     pub window: u8,
     /// Write the frames (the `fk` columns plus `seq`) to this CSV.
     #[arg(long, value_name = "OUT.csv")]

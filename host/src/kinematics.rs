@@ -2,7 +2,7 @@
 //! `qgait_kernel::models`; this module only picks the columns and converts degrees to radians.
 
 use qgait_kernel::anthropometry::Anthropometry;
-use qgait_kernel::models::{Hak, HakAngles, Phak, PhakAngles};
+use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::BilateralPose;
 
 use crate::mot::{MotionTable, Warning};
@@ -10,8 +10,9 @@ use crate::mot::{MotionTable, Warning};
 /// Which kernel model computes the joint positions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Model {
-    /// Each leg on its own as a sagittal hip-knee-ankle chain with the hip at the origin
-    /// (pelvis angles ignored).
+    /// Each leg a sagittal hip-knee-ankle chain hung at its hip from a level, forward-facing
+    /// pelvis (pelvis angles ignored): the hips at ±pelvis half-width on the z axis, as the hub
+    /// computes HAK ([`Phak::fk_hak`]), so HAK and PHAK poses are in the same frame.
     Hak,
     /// Both legs with the shared pelvis rotation and list; origin at the pelvis origin.
     Phak,
@@ -76,8 +77,6 @@ pub fn coordinate_rows<const N: usize>(
 pub struct Evaluator {
     model: Model,
     phak: Phak<f64>,
-    hak_right: Hak<f64>,
-    hak_left: Hak<f64>,
 }
 
 impl Evaluator {
@@ -88,8 +87,6 @@ impl Evaluator {
         Ok(Self {
             model,
             phak: Phak::new(anthropometry).map_err(bad)?,
-            hak_right: Hak::new(&anthropometry.right).map_err(bad)?,
-            hak_left: Hak::new(&anthropometry.left).map_err(bad)?,
         })
     }
 
@@ -97,18 +94,7 @@ impl Evaluator {
     pub fn pose(&self, a: &PhakAngles<f64>) -> BilateralPose<f64> {
         match self.model {
             Model::Phak => self.phak.fk(a),
-            Model::Hak => BilateralPose {
-                right: self.hak_right.fk(&HakAngles {
-                    hip_flexion: a.hip_flexion_r,
-                    knee_angle: a.knee_angle_r,
-                    ankle_angle: a.ankle_angle_r,
-                }),
-                left: self.hak_left.fk(&HakAngles {
-                    hip_flexion: a.hip_flexion_l,
-                    knee_angle: a.knee_angle_l,
-                    ankle_angle: a.ankle_angle_l,
-                }),
-            },
+            Model::Hak => self.phak.fk_hak(a),
         }
     }
 }

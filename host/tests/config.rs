@@ -124,3 +124,28 @@ fn bad_combinations_are_one_line_errors() {
     }
     assert!(!out.exists());
 }
+
+/// A reorder window a hub would reject (section 4.4 of the protocol) is refused here first.
+#[test]
+fn a_window_outside_one_to_eight_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.bin");
+    for window in ["0", "9"] {
+        let run = qgait(&[
+            "config",
+            "--model",
+            "hak",
+            "--window",
+            window,
+            "-o",
+            s(&out),
+        ]);
+        assert!(!run.status.success(), "--window {window}");
+        assert!(stderr(&run).contains("is not in 1..=8"), "{}", stderr(&run));
+    }
+    assert!(!out.exists());
+    assert_eq!(
+        config(dir.path(), &["--model", "hak", "--window", "8"]).len(),
+        1
+    );
+}

@@ -226,15 +226,22 @@ fn missing_required_column_is_an_error_and_missing_pelvis_is_zero_with_a_warning
     assert_eq!(&got[0][13..16], &[0.0, 0.0, -0.0835]);
 }
 
+/// HAK is the hub's HAK: each leg a sagittal chain hung at its hip, the hips at +/- the pelvis
+/// half-width on the z axis (PHAK with a level pelvis), so its points compare with PHAK's and
+/// with the hub's HAK frames.
 #[test]
-fn hak_puts_each_hip_at_the_origin_in_the_sagittal_plane() {
+fn hak_hangs_each_leg_at_its_hip_at_plus_minus_the_half_width() {
     let (_, rows, _) = fk_ok(&["fk", "builtin:crouch=0.3,rows=7", "--model", "hak"]);
     for r in &rows {
-        for side in 0..2 {
+        for (side, z) in [(0, 0.0835), (1, -0.0835)] {
             let o = 1 + 12 * side;
-            assert_eq!(&r[o..o + 3], &[0.0, 0.0, 0.0]);
+            assert_eq!(&r[o..o + 3], &[0.0, 0.0, z]);
             for joint in 0..4 {
-                assert_eq!(r[o + 3 * joint + 2], 0.0, "z must be 0 in HAK");
+                assert_eq!(
+                    r[o + 3 * joint + 2],
+                    z,
+                    "HAK's legs are in the planes z = +/-w"
+                );
             }
             // Femur length is preserved: |knee - hip| = 0.395846 (gait2392).
             let k = &r[o + 3..o + 6];

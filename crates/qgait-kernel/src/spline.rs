@@ -5,10 +5,11 @@ use crate::{ModelError, Real};
 /// Most knots a [`Spline`] holds (gait2392's knee uses 12 and 7).
 pub const MAX_KNOTS: usize = 12;
 
-/// A natural cubic spline through up to [`MAX_KNOTS`] knots, exactly as OpenSim's `SimmSpline`:
-/// the Forsythe-Malcolm-Moler construction (tridiagonal system; at each end the third
-/// derivative equals that of the cubic through the four end knots; two knots give a line, three
-/// a parabola-like end condition) and linear extrapolation with the end slope outside the knots.
+/// A cubic spline through up to [`MAX_KNOTS`] knots, exactly as OpenSim's `SimmSpline`: the
+/// Forsythe-Malcolm-Moler construction, not a natural spline (tridiagonal system; at each end
+/// the third derivative equals that of the cubic through the four end knots; two knots give a
+/// line, three a zero third derivative at the ends) and linear extrapolation with the end slope
+/// outside the knots. `docs/protocol.md` section 9.3 writes the algorithm out.
 ///
 /// Coefficients are computed once (in `f64` by [`Spline::new`], in `T` by
 /// [`Spline::from_knots`]) and stored in `T`; evaluation is allocation-free and branch-free.

@@ -6,6 +6,8 @@ mod common;
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{Anthropometry, Hak, HakAngles, Limb, Phak, PhakAngles, Side, Vec3};
 
+/// HAK for both legs ([`Phak::fk_hak`]): each leg is [`Hak`] hung at its hip, ±w on the z
+/// axis, whatever the pelvis angles given (ignored), and equal to PHAK with a level pelvis.
 #[test]
 fn zero_pelvis_angles_equal_hak_per_side_shifted_by_the_hip() {
     let a = Anthropometry {
@@ -20,10 +22,13 @@ fn zero_pelvis_angles_equal_hak_per_side_shifted_by_the_hip() {
     let phak = Phak::new(&a).unwrap();
     let mut rng = common::rng(3);
     for _ in 0..2000 {
-        let mut q = PhakAngles::from_array(common::random_angles(&mut rng));
+        let tilted = PhakAngles::from_array(common::random_angles(&mut rng));
+        let hak = phak.fk_hak(&tilted);
+        let mut q = tilted;
         q.pelvis_rotation = 0.0;
         q.pelvis_list = 0.0;
         let pose = phak.fk(&q);
+        assert_eq!(hak, pose);
         for (side, angles) in [
             (
                 Side::Right,

@@ -27,7 +27,7 @@ pub use crate::frame::{
 pub use crate::joint::JointId;
 pub use crate::messages::{
     point, segment, Config, JointAngle, Message, MissingPolicy, PoseFrame, Status, MAX_POSE_ANGLES,
-    PROTOCOL_VERSION,
+    MAX_REORDER_WINDOW, PROTOCOL_VERSION,
 };
 pub use crate::model::ModelId;
 pub use crate::sizes::{

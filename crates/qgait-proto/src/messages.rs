@@ -10,6 +10,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::{JointId, ModelId, SubjectConfig, SubjectKnee, SubjectLeg};
 
+/// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for
+/// `1..=MAX_REORDER_WINDOW`.
+pub const MAX_REORDER_WINDOW: u8 = 8;
+
 /// The protocol version written in every [`JointAngle`]. See `docs/protocol.md` for the
 /// versioning rules.
 pub const PROTOCOL_VERSION: u8 = 1;
@@ -120,9 +124,10 @@ pub struct Status {
     /// Frames with a good CRC whose contents could not be decoded (bad postcard encoding,
     /// unknown model, wrong angle count).
     pub malformed: u32,
-    /// Configurations the hub could not use and ignored, keeping the one in force: a
-    /// [`Config`] with unusable segment lengths, a [`SubjectConfig`](crate::SubjectConfig)
-    /// whose model is incomplete or refused by the kernel.
+    /// Configurations the hub could not use and ignored, keeping the one in force: a reorder
+    /// window outside `1..=`[`MAX_REORDER_WINDOW`], a [`Config`] with unusable segment lengths
+    /// (or lengths with gait2392), a [`SubjectConfig`](crate::SubjectConfig) whose model is
+    /// incomplete or refused by the kernel.
     pub config_rejected: u32,
 }
 
@@ -158,11 +163,13 @@ pub struct Config {
     /// The model to compute poses with.
     pub model: ModelId,
     /// Segment lengths (metres) of the right leg (`[0]`) and the left leg (`[1]`), each indexed
-    /// by the [`segment`] constants; `None` keeps the hub's current (default) anthropometry.
+    /// by the [`segment`] constants; `None` keeps the hub's current HAK and PHAK lengths
+    /// (gait2392's until a `Config` sets others, kept through other models).
     pub anthropometry: Option<[[f32; segment::COUNT]; 2]>,
     /// What to do with incomplete samples.
     pub missing_policy: MissingPolicy,
-    /// How many samples the hub waits for late packets before closing a sample.
+    /// How many samples the hub waits for late packets before closing a sample:
+    /// `1..=`[`MAX_REORDER_WINDOW`]; a hub rejects (and counts) a configuration with another.
     pub reorder_window: u8,
     /// `true` asks the hub to answer with a [`Status`] message.
     pub request_status: bool,

@@ -136,7 +136,8 @@ pub struct SubjectConfig {
     pub upload: u8,
     /// What to do with incomplete samples.
     pub missing_policy: MissingPolicy,
-    /// How many samples the hub waits for late packets before closing a sample.
+    /// How many samples the hub waits for late packets before closing a sample:
+    /// `1..=`[`MAX_REORDER_WINDOW`](crate::MAX_REORDER_WINDOW), as in [`Config`](crate::Config).
     pub reorder_window: u8,
     /// `true` asks the hub to answer with a [`Status`](crate::Status) message.
     pub request_status: bool,

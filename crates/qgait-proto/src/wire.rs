@@ -475,12 +475,14 @@ impl ConfigWire {
     }
 }
 
+/// The fields' values checked in wire order (section 5 of the spec): an unknown model before
+/// a bad missing policy.
 fn decode_config(w: ConfigWire) -> Result<Config, DecodeError> {
-    let missing_policy = missing_policy(w.missing_policy)?;
+    let model = ModelId::from_index(w.model).ok_or(DecodeError::UnknownModel(w.model))?;
     Ok(Config {
-        model: ModelId::from_index(w.model).ok_or(DecodeError::UnknownModel(w.model))?,
+        model,
         anthropometry: w.anthropometry,
-        missing_policy,
+        missing_policy: missing_policy(w.missing_policy)?,
         reorder_window: w.reorder_window,
         request_status: w.request_status,
     })

@@ -144,7 +144,7 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
                 model: ModelId::Gait2392,
                 anthropometry: None,
                 missing_policy: MissingPolicy::Drop,
-                reorder_window: 0,
+                reorder_window: 1,
                 request_status: true,
             }
             .into(),
@@ -165,7 +165,15 @@ fn golden_errors() -> Vec<(&'static str, Vec<u8>, DecodeError)> {
     wrong_version[1] = 2;
     let mut unknown_joint = ja.clone();
     unknown_joint[3] = 17;
+    // Section 5: the fields' values are checked in wire order, so a `Config` with an unknown
+    // model and a bad missing policy is an unknown model.
+    let unknown_model = vec![0x03, 0x05, 0x00, 0x09, 0x04, 0x00];
     vec![
+        (
+            "error-unknown-model",
+            unknown_model,
+            DecodeError::UnknownModel(5),
+        ),
         (
             "error-unknown-version",
             wrong_version,
@@ -230,6 +238,7 @@ fn constants() -> Vec<String> {
             qgait_proto::SUBJECT_CONFIG_MAX_LEN
         ),
         format!("MAX_KNEE_KNOTS = {}", qgait_proto::MAX_KNEE_KNOTS),
+        format!("MAX_REORDER_WINDOW = {}", qgait_proto::MAX_REORDER_WINDOW),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
     ]
 }

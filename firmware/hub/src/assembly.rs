@@ -20,8 +20,9 @@
 
 use qgait_proto::JointId;
 
-/// The deepest reorder window the assembler supports (samples).
-pub const MAX_WINDOW: usize = 8;
+/// The deepest reorder window the assembler supports (samples): the protocol's
+/// [`MAX_REORDER_WINDOW`](qgait_proto::MAX_REORDER_WINDOW), the deepest a configuration asks for.
+pub const MAX_WINDOW: usize = qgait_proto::MAX_REORDER_WINDOW as usize;
 
 /// Sequence-number distance beyond which the window restarts (see the module docs).
 pub const RESYNC_DISTANCE: u32 = 1024;

@@ -9,6 +9,7 @@ use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
     FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig, MAX_FRAME_LEN,
+    MAX_REORDER_WINDOW,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
@@ -30,8 +31,8 @@ pub const DEFAULT_WINDOW: u8 = 4;
 /// Default period of unsolicited [`Status`] frames (milliseconds).
 pub const DEFAULT_STATUS_PERIOD_MS: u32 = 1000;
 
-/// The configuration the hub starts with: PHAK, gait2392 anthropometry, drop incomplete
-/// samples, a window of [`DEFAULT_WINDOW`].
+/// The configuration the hub starts with: PHAK, gait2392 anthropometry (`None`), drop
+/// incomplete samples, a window of [`DEFAULT_WINDOW`].
 pub const DEFAULT_CONFIG: Config = Config {
     model: ModelId::Phak,
     anthropometry: None,
@@ -269,7 +270,9 @@ where
     }
 
     /// The configuration in force (its `request_status` is always `false`). With a subject
-    /// model its model is gait2392 and [`subject`](Self::subject) says which.
+    /// model its model is gait2392 and [`subject`](Self::subject) says which. Its
+    /// `anthropometry` is the HAK and PHAK segment lengths the hub keeps (`None`: gait2392's),
+    /// also while gait2392 is in force: a `Config` without lengths keeps them.
     pub fn config(&self) -> Config {
         self.config
     }
@@ -349,8 +352,14 @@ where
     #[inline(never)]
     fn on_config(&mut self, config: &Config) {
         // A configuration the hub cannot use is counted and ignored; the old one stays.
-        let new = Config { request_status: false, ..*config };
-        let result = if self.in_force(&new, None) { Ok(()) } else { self.switch(new, None) };
+        let result = if config.model == ModelId::Gait2392 && config.anthropometry.is_some() {
+            // gait2392's lengths are those of its model.
+            Err(ConfigError::AnthropometryWithGait2392)
+        } else {
+            // Without lengths, the HAK and PHAK lengths in force stay.
+            let anthropometry = config.anthropometry.or(self.config.anthropometry);
+            self.apply(Config { anthropometry, request_status: false, ..*config }, None)
+        };
         self.after_config(result, config.request_status);
     }
 
@@ -358,14 +367,25 @@ where
     fn on_subject_config(&mut self, config: &SubjectConfig) {
         let new = Config {
             model: ModelId::Gait2392,
-            anthropometry: None,
+            // Kept for a later HAK or PHAK.
+            anthropometry: self.config.anthropometry,
             missing_policy: config.missing_policy,
             reorder_window: config.reorder_window,
             request_status: false,
         };
-        let subject = Some(config.upload);
-        let result = if self.in_force(&new, subject) { Ok(()) } else { self.switch(new, subject) };
+        let result = self.apply(new, Some(config.upload));
         self.after_config(result, config.request_status);
+    }
+
+    /// Makes `new` with the subject model `subject` the configuration in force, unless it
+    /// already is.
+    #[inline(always)]
+    fn apply(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
+        if self.in_force(&new, subject) {
+            Ok(())
+        } else {
+            self.switch(new, subject)
+        }
     }
 
     fn after_config(&mut self, result: Result<(), ConfigError>, request_status: bool) {
@@ -393,12 +413,15 @@ where
     // Never inlined: its frame exists only while switching.
     #[inline(never)]
     fn switch(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
+        if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
+            return Err(ConfigError::ReorderWindow(new.reorder_window));
+        }
         if subject.is_none() && new.model != ModelId::Gait2392 {
             let anthropometry = Kinematics::anthropometry(new.anthropometry)?;
             self.close_open_samples();
             self.kinematics.set_phak(new.model, &anthropometry)?;
         } else {
-            self.switch_gait2392(&new, subject)?;
+            self.switch_gait2392(subject)?;
         }
         set_assembler(&mut self.assembler, &new);
         self.config = new;
@@ -409,11 +432,11 @@ where
 
     /// The model part of [`switch`](Self::switch) for gait2392, generic or a subject's.
     #[inline(never)]
-    fn switch_gait2392(&mut self, new: &Config, subject: Option<u8>) -> Result<(), ConfigError> {
-        Kinematics::check_gait2392(gait2392_geometry(&self.subject_parts, new, subject)?)?;
+    fn switch_gait2392(&mut self, subject: Option<u8>) -> Result<(), ConfigError> {
+        Kinematics::check_gait2392(gait2392_geometry(&self.subject_parts, subject)?)?;
         self.close_open_samples();
         // Asked again (the samples closed borrowed the hub): the same reference.
-        let geometry = gait2392_geometry(&self.subject_parts, new, subject)?;
+        let geometry = gait2392_geometry(&self.subject_parts, subject)?;
         self.kinematics.set_gait2392(geometry)
     }
 
@@ -486,11 +509,10 @@ fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) 
     bump(&mut status.frames_sent);
 }
 
-/// The gait2392 numbers `new` asks for: the generic model's, or by reference the subject's
-/// upload `subject`, where its parts were written.
-fn gait2392_geometry<'a>(parts: &'a SubjectParts, new: &Config, subject: Option<u8>) -> Result<&'a Gait2392Geometry<f32>, ConfigError> {
+/// The gait2392 numbers asked for: the generic model's, or by reference the subject's upload
+/// `subject`, where its parts were written.
+fn gait2392_geometry(parts: &SubjectParts, subject: Option<u8>) -> Result<&Gait2392Geometry<f32>, ConfigError> {
     match subject {
-        None if new.anthropometry.is_some() => Err(ConfigError::AnthropometryWithGait2392),
         None => Ok(Kinematics::generic_gait2392()),
         Some(upload) => parts.geometry(upload),
     }

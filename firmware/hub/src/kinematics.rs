@@ -39,6 +39,9 @@ pub enum ConfigError {
         /// 0 = right leg, 1 = left leg.
         leg: u8,
     },
+    /// The reorder window asked for is not in `1..=MAX_REORDER_WINDOW`
+    /// ([`qgait_proto::MAX_REORDER_WINDOW`]).
+    ReorderWindow(u8),
     /// A knee spline has more knots than a `SubjectKnee` carries.
     SubjectKnots {
         /// 0 = right leg, 1 = left leg.
@@ -218,28 +221,28 @@ impl Kinematics {
     #[inline(always)]
     fn pose(&self, sample: &Sample) -> BilateralPose<f32> {
         match &self.chain {
-            ModelChain::Phak(phak) => phak.fk(&self.phak_angles(sample)),
+            ModelChain::Phak(phak) => {
+                let q = phak_angles(sample);
+                // HAK is the kernel's `Phak::fk_hak`: PHAK with a level, forward-facing pelvis
+                // (written so, one `fk` call: one copy of the evaluator in flash).
+                phak.fk(&if self.model == ModelId::Hak { q.level_pelvis() } else { q })
+            }
             ModelChain::Gait2392(g) => g.fk(&sample.angles).bilateral(),
         }
     }
 }
 
-impl Kinematics {
-    fn phak_angles(&self, sample: &Sample) -> PhakAngles<f32> {
-        let (pelvis_rotation, pelvis_list) = match self.model {
-            ModelId::Hak => (0.0, 0.0),
-            _ => (sample.angle(JointId::PelvisRotation), sample.angle(JointId::PelvisList)),
-        };
-        PhakAngles {
-            pelvis_rotation,
-            pelvis_list,
-            hip_flexion_r: sample.angle(JointId::HipFlexionR),
-            knee_angle_r: sample.angle(JointId::KneeAngleR),
-            ankle_angle_r: sample.angle(JointId::AnkleAngleR),
-            hip_flexion_l: sample.angle(JointId::HipFlexionL),
-            knee_angle_l: sample.angle(JointId::KneeAngleL),
-            ankle_angle_l: sample.angle(JointId::AnkleAngleL),
-        }
+/// The PHAK angles of `sample` (HAK ignores the pelvis ones).
+fn phak_angles(sample: &Sample) -> PhakAngles<f32> {
+    PhakAngles {
+        pelvis_rotation: sample.angle(JointId::PelvisRotation),
+        pelvis_list: sample.angle(JointId::PelvisList),
+        hip_flexion_r: sample.angle(JointId::HipFlexionR),
+        knee_angle_r: sample.angle(JointId::KneeAngleR),
+        ankle_angle_r: sample.angle(JointId::AnkleAngleR),
+        hip_flexion_l: sample.angle(JointId::HipFlexionL),
+        knee_angle_l: sample.angle(JointId::KneeAngleL),
+        ankle_angle_l: sample.angle(JointId::AnkleAngleL),
     }
 }
 

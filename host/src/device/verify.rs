@@ -38,17 +38,19 @@ impl DeviceModel {
             .expect("the kernel accepts its own defaults")
     }
 
-    /// The pose the hub should have sent for `frame`'s angles, in `f64`. HAK is computed as the
-    /// hub does: PHAK with a level, forward-facing pelvis (legs hung at the hips).
+    /// The pose the hub should have sent for `frame`'s angles, in `f64`. HAK is the kernel's
+    /// [`Phak::fk_hak`], as on the hub and in `qgait fk --model hak`: the legs hung at the hips
+    /// of a level, forward-facing pelvis.
     pub fn pose(&self, frame: &PoseFrame) -> BilateralPose<f64> {
         let a: Vec<f64> = frame.angles.iter().map(|&x| f64::from(x)).collect();
         match frame.model {
             ModelId::Phak => self
                 .phak
                 .fk(&PhakAngles::from_array(core::array::from_fn(|i| a[i]))),
+            // HAK's six angles are PHAK's after the two pelvis ones.
             ModelId::Hak => self
                 .phak
-                .fk(&PhakAngles::from_array(core::array::from_fn(|i| {
+                .fk_hak(&PhakAngles::from_array(core::array::from_fn(|i| {
                     if i < 2 {
                         0.0
                     } else {

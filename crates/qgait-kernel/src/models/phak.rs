@@ -59,6 +59,15 @@ impl<T: Real> PhakAngles<T> {
             self.ankle_angle_l,
         ]
     }
+    /// These angles with a level, forward-facing pelvis (`pelvis_rotation` and `pelvis_list`
+    /// 0): HAK's input to PHAK ([`Phak::fk_hak`]).
+    pub fn level_pelvis(self) -> Self {
+        Self {
+            pelvis_rotation: T::ZERO,
+            pelvis_list: T::ZERO,
+            ..self
+        }
+    }
     /// From the angles in input order.
     pub fn from_array(a: [T; 8]) -> Self {
         Self {
@@ -173,6 +182,16 @@ impl<T: Real> Phak<T> {
     #[inline]
     pub fn fk(&self, q: &PhakAngles<T>) -> BilateralPose<T> {
         BilateralPose::from_points(self.chain.forward(&q.to_array()))
+    }
+
+    /// HAK's pose of both legs: PHAK with a level, forward-facing pelvis (`q`'s pelvis angles
+    /// are ignored, as 0). This is what "HAK" means for both legs everywhere (host, hub, wire):
+    /// the hips at ±`pelvis_half_width` on the z axis, the origin midway between them, so HAK
+    /// and PHAK poses are in the same frame; each leg is [`Hak`](super::Hak)'s chain moved to
+    /// its hip.
+    #[inline]
+    pub fn fk_hak(&self, q: &PhakAngles<T>) -> BilateralPose<T> {
+        self.fk(&q.level_pelvis())
     }
 
     /// Forward kinematics of many frames (the SIMD batch path, see
