@@ -298,3 +298,36 @@ pub fn run(
         problem,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qgait_proto::{Config, MissingPolicy, ModelId};
+
+    #[test]
+    fn the_closing_request_survives_noise_just_before_it() {
+        let config = Message::Config(Config {
+            model: ModelId::Phak,
+            anthropometry: None,
+            missing_policy: MissingPolicy::Drop,
+            reorder_window: 4,
+            request_status: false,
+        });
+        // A stream that ends with a burst of non-zero noise, no delimiter after it.
+        let mut input = vec![0u8];
+        input.extend((1..=40u8).map(|i| i.wrapping_mul(37) | 1));
+        input.extend(closing_frames(&config).unwrap());
+        let results: Vec<_> = FrameDecoder::new().feed(&input).collect();
+        assert_eq!(results.len(), 2, "{results:?}");
+        assert!(
+            results[0].is_err(),
+            "the noise is a damaged frame of its own"
+        );
+        let Ok(Message::Config(c)) = &results[1] else {
+            panic!("{results:?}")
+        };
+        assert!(c.request_status && c.reorder_window != 4, "{c:?}");
+        let counts = InputCounts::of(&input);
+        assert_eq!((counts.accepted, counts.rejected), (0, 1));
+    }
+}
