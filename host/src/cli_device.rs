@@ -200,7 +200,8 @@ pub struct EmulateArgs {
     /// Write everything the hub sent (its UART output) to this file.
     #[arg(long, value_name = "LOG.bin")]
     pub log: Option<PathBuf>,
-    /// Check every frame against the f64 kernel and that no sample is missing.
+    /// Check every frame against the f64 kernel and that no sample is missing (with --stream:
+    /// a frame for exactly the samples whose packets all arrived intact).
     #[arg(long)]
     pub verify: bool,
     /// Tolerance of --verify (micrometres).
