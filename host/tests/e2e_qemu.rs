@@ -418,6 +418,13 @@ fn emulate_command_on_a_radio_damaged_stream_of_2000_samples() {
     let (out, err) = (common::stdout(&o), common::stderr(&o));
     assert!(o.status.success(), "{out}{err}");
     assert!(out.contains("verify: ok"), "{out}");
+    assert!(
+        out.contains(&format!(
+            "input accounted for: {} packets accepted, {} damaged frames counted",
+            accounting.delivered, accounting.bad_runs
+        )),
+        "{out}"
+    );
     let counted = [
         "crc_errors",
         "framing_errors",

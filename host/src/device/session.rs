@@ -6,8 +6,8 @@
 //!
 //! The input is written as fast as the socket takes it: the emulated line is flow-controlled
 //! end to end, so the hub takes bytes at the pace it consumes them, whatever it makes of them
-//! (a damaged sample, which it answers with nothing, costs no more than a clean one), and no
-//! byte is lost however slowly the emulated CPU runs on a loaded machine:
+//! (a damaged sample, which it answers with nothing, holds nothing up), and no byte is lost
+//! however slowly the emulated CPU runs on a loaded machine:
 //!
 //! 1. QEMU's CMSDK UART model has a one-byte receive buffer and takes a host byte only when it
 //!    is empty;
