@@ -18,9 +18,9 @@
 //!   not end with a 0x00, so that it ran into them); `packets_accepted` = delivered;
 //! - the decode-error counters add up to the runs that are not a delivered packet:
 //!   `packets_accepted` + their sum = the non-empty runs of the stream (followed by a 0x00,
-//!   as the host's next request always is). A damaged packet is in
-//!   such a run (a flipped delimiter or a burst of non-zero noise makes one run of two frames;
-//!   a bit flipped to 0x00 makes two runs of one);
+//!   as the host's next request always is). Every damaged packet is in such a run: a flipped
+//!   delimiter makes one run of two frames, a burst of non-zero noise one run of the noise and
+//!   the next frame, a bit flipped to 0x00 two runs of one frame;
 //! - a dropped or damaged packet shows in its sample: with the drop policy,
 //!   `samples_completed` counts the samples whose packets were all delivered,
 //!   `samples_incomplete` those with some but not all (a sample that lost every packet never
