@@ -1,6 +1,6 @@
 //! The device commands: `qgait packets`, `decode`, `verify` and `emulate` (module [`crate::device`]).
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -11,6 +11,7 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
 
+use crate::device::faults::Arrivals;
 use crate::device::firmware;
 use crate::device::frames_csv;
 use crate::device::log::{HubLog, LogDecoder, Record};
@@ -199,7 +200,8 @@ pub struct EmulateArgs {
     /// Write everything the hub sent (its UART output) to this file.
     #[arg(long, value_name = "LOG.bin")]
     pub log: Option<PathBuf>,
-    /// Check every frame against the f64 kernel and that no sample is missing.
+    /// Check every frame against the f64 kernel and that no sample is missing (with --stream:
+    /// a frame for exactly the samples whose packets all arrived intact).
     #[arg(long)]
     pub verify: bool,
     /// Tolerance of --verify (micrometres).
@@ -531,6 +533,21 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             for (k, v) in status_fields(s) {
                 println!("  {k:<20} {v}");
             }
+            // The hub decodes as the host does: its counters must account for every frame
+            // of the input, damaged ones included.
+            let (got, want) = (InputCounts::counted_by(s), expected);
+            if got == want {
+                println!(
+                    "input accounted for: {} packets accepted, {} damaged frames counted",
+                    got.accepted, got.rejected
+                );
+            } else {
+                ok = false;
+                eprintln!(
+                    "error: the hub counted {} packets accepted and {} damaged frames; the input has {} and {}",
+                    got.accepted, got.rejected, want.accepted, want.rejected
+                );
+            }
         }
         None => {
             ok = false;
@@ -541,11 +558,33 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         }
     }
     if args.verify {
-        let expected = match count {
-            Some(n) => Expected::Range { first: 0, count: n },
-            None => Expected::FirstToLast,
+        let v = match count {
+            Some(n) => Verification::run(
+                &model.device,
+                &log.poses,
+                Expected::Range { first: 0, count: n },
+            ),
+            None => {
+                // A stream may have lost packets on the way (a radio link): a frame is due for
+                // exactly the samples whose packets all arrived intact.
+                let mut v = Verification::run(&model.device, &log.poses, Expected::FirstToLast);
+                let arrivals = Arrivals::of(&stream);
+                let intact = arrivals.intact_samples(model.wire);
+                let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
+                v.missing = intact.difference(&seen).copied().collect();
+                let unexpected = seen.difference(&intact).count();
+                println!(
+                    "stream: {} samples with every packet intact, {} with packets lost or damaged",
+                    intact.len(),
+                    arrivals.partial(model.wire).len()
+                );
+                if unexpected > 0 {
+                    ok = false;
+                    println!("frames for samples with packets lost or damaged: {unexpected}");
+                }
+                v
+            }
         };
-        let v = Verification::run(&model.device, &log.poses, expected);
         let tol = args.tol_um * 1e-6;
         println!("{}", v.report(tol));
         ok &= v.passed(tol);

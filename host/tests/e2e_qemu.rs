@@ -3,7 +3,8 @@
 //! against what the stream must make it count. Clean streams (the shared normal, crouch1 and
 //! crouch4 motions, the built-in gait, a 100,000-sample recording) and the same streams with
 //! seeded bit flips, dropped packets, packets reordered inside the reorder window, and bursts
-//! of line noise.
+//! of line noise; the reference damage of a radio link (`FaultPlan::radio_link`) on 2,000 and
+//! 5,000 samples, through the library and through `qgait emulate --stream`.
 //!
 //! Needs `qemu-system-arm` and the release firmware (`QGAIT_FIRMWARE_ELF`, else the default
 //! build location); each test is skipped, with the reason printed, when either is missing.
@@ -15,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use qgait::device::faults::{damage, Arrivals, FaultPlan};
+use qgait::device::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
 use qgait::device::firmware;
 use qgait::device::log::HubLog;
 use qgait::device::packets::{Samples, Timing};
@@ -136,7 +137,8 @@ fn clean(elf: &Path, samples: &Samples, what: &str) -> f64 {
     let stream = damage(
         &packets_by_sample(samples),
         &FaultPlan::none(u32::from(WINDOW)),
-    );
+    )
+    .stream;
     let r = run(elf, &stream, what);
     let v = Verification::run(
         &DeviceModel::defaults(),
@@ -179,11 +181,16 @@ fn clean(elf: &Path, samples: &Samples, what: &str) -> f64 {
 }
 
 /// A damaged stream: every sample whose packets all arrived intact has a correct frame, no
-/// other sample has one, and the status counts every damaged frame and incomplete sample.
+/// other sample has one, and the status accounts for every packet the link dropped or
+/// damaged ([`device::faults`](qgait::device::faults) says what that means): its decode
+/// counters equal the protocol decoder's on the damaged stream, and its accepted packets,
+/// decode errors and complete and incomplete samples equal what the link's ledger predicts.
 fn damaged(elf: &Path, samples: &Samples, plan: FaultPlan, what: &str) {
-    let stream = damage(&packets_by_sample(samples), &plan);
-    let arrivals = Arrivals::of(&stream);
-    let r = run(elf, &stream, what);
+    let d = damage(&packets_by_sample(samples), &plan);
+    let stream = &d.stream;
+    // As the hub reads it: the closing request starts with a 0x00.
+    let arrivals = Arrivals::of(&[stream.as_slice(), &[0]].concat());
+    let r = run(elf, stream, what);
     let intact: Vec<u32> = (0..samples.len() as u32)
         .filter(|&s| arrivals.intact(s, ModelId::Phak))
         .collect();
@@ -239,6 +246,12 @@ fn damaged(elf: &Path, samples: &Samples, plan: FaultPlan, what: &str) {
         "{what}: {s:?}"
     );
     assert_eq!((s.late_packets, s.uart_overruns), (0, 0), "{what}: {s:?}");
+    let accounting = d.accounting();
+    assert_eq!(
+        accounting.mismatches(s),
+        Vec::<String>::new(),
+        "{what}: {accounting:?}\n{s:?}"
+    );
     eprintln!(
         "{what}: {} samples, {} intact, {} incomplete counted, {} damaged frames counted, largest error {:.3} µm",
         samples.len(),
@@ -254,9 +267,11 @@ fn plan(seed: u64) -> FaultPlan {
         seed,
         flip: 0.02,
         drop: 0.02,
+        swap: 0.0,
         reorder: 0.5,
         window: u32::from(WINDOW),
         garbage: 0.01,
+        noise: Noise::Any,
     }
 }
 
@@ -329,6 +344,124 @@ fn recording_of_100000_samples() {
     let Some(elf) = firmware_elf() else { return };
     let seconds = clean(&elf, &recording(100_000), "100,000-sample recording");
     eprintln!("100,000 samples: {seconds:.1} s");
+}
+
+/// The reference damage of a radio link ([`FaultPlan::radio_link`]) on 2,000 samples of the
+/// built-in gait and on a 5,000-sample recording: the hub consumes a damaged stream at its own
+/// pace (a run that paced itself on the frames answered stalled on every damaged sample and
+/// ran out of time), and accounts for every packet lost.
+#[test]
+fn radio_link_damage_on_2000_and_5000_samples() {
+    let Some(elf) = firmware_elf() else { return };
+    let window = u32::from(WINDOW);
+    damaged(
+        &elf,
+        &builtin("builtin:normal,rows=2000"),
+        FaultPlan::radio_link(21, window),
+        "builtin:normal,rows=2000, radio link (seed 21)",
+    );
+    damaged(
+        &elf,
+        &recording(5000),
+        FaultPlan::radio_link(22, window),
+        "5,000-sample recording, radio link (seed 22)",
+    );
+}
+
+/// The value of `name` in the `device status:` lines of `qgait emulate`.
+fn status_value(out: &str, name: &str) -> u32 {
+    out.lines()
+        .find_map(|l| l.trim().strip_prefix(name)?.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no {name} in\n{out}"))
+}
+
+/// `qgait emulate --stream` on 2,000 samples damaged as by a radio link, ending with a burst of
+/// noise: it ends normally, writes a correct frame for exactly the samples whose packets all
+/// arrived intact (`--verify`), and its status accounts for every damaged packet.
+#[test]
+fn emulate_command_on_a_radio_damaged_stream_of_2000_samples() {
+    let Some(elf) = firmware_elf() else { return };
+    let samples = builtin("builtin:normal,rows=2000");
+    let mut d: Damaged = damage(
+        &packets_by_sample(&samples),
+        &FaultPlan::radio_link(5, u32::from(WINDOW)),
+    );
+    // Noise at the very end, with no delimiter after it.
+    d.stream.extend((1..=40u8).map(|i| i.wrapping_mul(37) | 1));
+    let accounting = d.accounting();
+    let complete: Vec<u32> = (0..samples.len() as u32)
+        .filter(|&seq| {
+            d.packets
+                .iter()
+                .filter(|(p, _)| p.seq == seq)
+                .all(|(_, f)| *f == Fate::Delivered)
+        })
+        .collect();
+    assert_eq!(complete.len() as u32, accounting.complete);
+    assert!(accounting.incomplete > 500, "{accounting:?}");
+
+    let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let (bad, csv) = (dir.path().join("bad.bin"), dir.path().join("f.csv"));
+    std::fs::write(&bad, &d.stream).unwrap();
+    let o = common::qgait(&[
+        "-q",
+        "emulate",
+        "--stream",
+        bad.to_str().unwrap(),
+        "--frames-csv",
+        csv.to_str().unwrap(),
+        "--verify",
+        "--elf",
+        elf.to_str().unwrap(),
+    ]);
+    let (out, err) = (common::stdout(&o), common::stderr(&o));
+    assert!(o.status.success(), "{out}{err}");
+    assert!(out.contains("verify: ok"), "{out}");
+    assert!(
+        out.contains(&format!(
+            "input accounted for: {} packets accepted, {} damaged frames counted",
+            accounting.delivered, accounting.bad_runs
+        )),
+        "{out}"
+    );
+    let counted = [
+        "crc_errors",
+        "framing_errors",
+        "oversize_frames",
+        "unknown_version",
+        "unknown_joint",
+        "malformed",
+    ]
+    .map(|n| status_value(&out, n))
+    .iter()
+    .sum::<u32>();
+    assert_eq!(
+        [
+            status_value(&out, "packets_accepted"),
+            counted,
+            status_value(&out, "samples_completed"),
+            status_value(&out, "samples_incomplete"),
+            status_value(&out, "late_packets"),
+            status_value(&out, "duplicate_packets"),
+            status_value(&out, "uart_overruns"),
+        ],
+        [
+            accounting.delivered,
+            accounting.bad_runs,
+            accounting.complete,
+            accounting.incomplete,
+            0,
+            0,
+            0
+        ],
+        "{accounting:?}\n{out}"
+    );
+    let table =
+        qgait::device::frames_csv::parse(&std::fs::read_to_string(&csv).unwrap(), "f.csv").unwrap();
+    let mut seqs = table.seq.clone();
+    seqs.sort_unstable();
+    assert_eq!(seqs, complete, "a frame for exactly the intact samples");
 }
 
 #[test]

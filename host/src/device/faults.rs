@@ -1,9 +1,33 @@
 //! Damaging a node stream the ways a radio link and a busy hub do, reproducibly (seeded):
-//! bit flips, dropped packets, packets reordered inside the hub's reorder window, and bursts of
-//! line noise. What the hub must make of the result is found by decoding it with the same
-//! protocol decoder (see [`Arrivals`]).
+//! bit flips, dropped packets, packets swapped inside a sample or reordered inside the hub's
+//! reorder window, and bursts of line noise ([`FaultPlan`]; [`FaultPlan::radio_link`] is the
+//! reference damage model). [`damage`] keeps a ledger of what happened to every packet
+//! ([`Damaged`]), from which [`Damaged::accounting`] says what a hub must count, without
+//! a protocol decoder; [`Arrivals`] says the same with the protocol's decoder, as the hub
+//! decodes it.
+//!
+//! # What a hub accounts for
+//!
+//! A hub sees bytes, not packets: the 0x00 delimiters cut the stream into runs, and each
+//! non-empty run is either one packet, accepted, or one damaged frame, counted once in exactly
+//! one of `crc_errors`, `framing_errors`, `oversize_frames`, `malformed`, `unknown_version`
+//! and `unknown_joint`. So for a damaged stream (nothing but joint-angle packets and noise):
+//!
+//! - every packet the link sent is delivered (its frame arrived whole, preceded by a 0x00),
+//!   dropped (never arrived) or damaged (a bit of its frame flipped, or the bytes before it did
+//!   not end with a 0x00, so that it ran into them); `packets_accepted` = delivered;
+//! - the decode-error counters add up to the runs that are not a delivered packet:
+//!   `packets_accepted` + their sum = the non-empty runs of the stream (followed by a 0x00,
+//!   as the host's next request always is). Every damaged packet is in such a run: a flipped
+//!   delimiter makes one run of two frames, a burst of non-zero noise one run of the noise and
+//!   the next frame, a bit flipped to 0x00 two runs of one frame;
+//! - a dropped or damaged packet shows in its sample: with the drop policy,
+//!   `samples_completed` counts the samples whose packets were all delivered,
+//!   `samples_incomplete` those with some but not all (a sample that lost every packet never
+//!   reached the hub, [`Accounting::vanished`]); nothing is late or duplicated when packets
+//!   only move inside the reorder window.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use qgait_proto::{FrameDecoder, JointAngle, Message, ModelId, Status};
 
@@ -44,7 +68,17 @@ impl Rng {
     }
 }
 
-/// How much damage, per packet or per block of samples.
+/// The bytes of a burst of line noise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Noise {
+    /// Any byte, 0x00 included (a burst may end the frame before it, or itself).
+    Any,
+    /// Never 0x00, as a line idling or ringing gives: the burst always runs into the next
+    /// frame, which it destroys.
+    NonZero,
+}
+
+/// How much damage, per packet, per sample or per block of samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FaultPlan {
     /// Seed of the generator.
@@ -53,12 +87,16 @@ pub struct FaultPlan {
     pub flip: f64,
     /// Probability that a packet is not sent.
     pub drop: f64,
+    /// Probability that a sample has two of its packets (chosen at random) trade places.
+    pub swap: f64,
     /// Probability that the packets of a block of `window` samples are shuffled together.
     pub reorder: f64,
     /// The hub's reorder window (samples): blocks never span more than this.
     pub window: u32,
-    /// Probability of a burst of random bytes (1 to 40, zeros included) after a packet.
+    /// Probability of a burst of 1 to 40 bytes of noise after a packet.
     pub garbage: f64,
+    /// The bytes of a burst.
+    pub noise: Noise,
 }
 
 impl FaultPlan {
@@ -68,21 +106,169 @@ impl FaultPlan {
             seed: 0,
             flip: 0.0,
             drop: 0.0,
+            swap: 0.0,
             reorder: 0.0,
             window,
             garbage: 0.0,
+            noise: Noise::Any,
+        }
+    }
+
+    /// The reference damage of a radio link: 4 % of packets with one bit flipped, 4 % dropped,
+    /// 2 % of samples with two packets swapped, and after 1 % of packets a burst of 1 to 40
+    /// non-zero bytes.
+    pub fn radio_link(seed: u64, window: u32) -> FaultPlan {
+        FaultPlan {
+            seed,
+            flip: 0.04,
+            drop: 0.04,
+            swap: 0.02,
+            reorder: 0.0,
+            window,
+            garbage: 0.01,
+            noise: Noise::NonZero,
         }
     }
 }
 
-/// The damaged stream of `samples` (each the packets of one sample, in sending order): a
-/// 0x00 first, then the frames with the damage of `plan`.
-pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Vec<u8> {
+/// What the link did to a packet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fate {
+    /// Its frame arrived whole, after a 0x00.
+    Delivered,
+    /// Not sent.
+    Dropped,
+    /// A bit of its frame flipped, or it ran into bytes not ended by a 0x00 (noise, or the
+    /// previous frame whose delimiter flipped).
+    Damaged,
+}
+
+/// A damaged stream and the ledger of what happened to each packet.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Damaged {
+    /// The bytes: a 0x00 first, then the frames with the damage.
+    pub stream: Vec<u8>,
+    /// Every packet, in the order the link sent them (after swaps and reordering), with its
+    /// fate.
+    pub packets: Vec<(JointAngle, Fate)>,
+    /// Samples with two packets swapped.
+    pub swapped: u32,
+    /// Bursts of noise.
+    pub bursts: u32,
+}
+
+/// What a hub must count for a [`Damaged`] stream (see the module docs), from the ledger and
+/// the delimiters alone, once the stream is followed by a 0x00 (as the host's next request
+/// is): noise after the last frame is then one more damaged run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Accounting {
+    /// Packets delivered: `packets_accepted`.
+    pub delivered: u32,
+    /// Packets dropped by the link.
+    pub dropped: u32,
+    /// Packets damaged on the link.
+    pub damaged: u32,
+    /// Non-empty runs between 0x00 bytes that are not a delivered packet: the sum of the
+    /// decode-error counters.
+    pub bad_runs: u32,
+    /// Samples whose packets were all delivered: `samples_completed`.
+    pub complete: u32,
+    /// Samples with some but not all packets delivered: `samples_incomplete` (drop policy).
+    pub incomplete: u32,
+    /// Samples none of whose packets was delivered (the hub never hears of them).
+    pub vanished: u32,
+}
+
+impl Accounting {
+    /// The sum of `s`'s decode-error counters.
+    pub fn decode_errors(s: &Status) -> u32 {
+        s.crc_errors
+            + s.framing_errors
+            + s.oversize_frames
+            + s.malformed
+            + s.unknown_version
+            + s.unknown_joint
+    }
+
+    /// Each counter of `s` (a hub's status after the stream, drop policy, nothing else sent
+    /// but configuration) that disagrees with this accounting, as `name got != expected`.
+    pub fn mismatches(&self, s: &Status) -> Vec<String> {
+        [
+            ("packets_accepted", s.packets_accepted, self.delivered),
+            ("decode errors", Self::decode_errors(s), self.bad_runs),
+            ("samples_completed", s.samples_completed, self.complete),
+            ("samples_incomplete", s.samples_incomplete, self.incomplete),
+            ("late_packets", s.late_packets, 0),
+            ("duplicate_packets", s.duplicate_packets, 0),
+            ("out_of_range", s.out_of_range, 0),
+            ("uart_overruns", s.uart_overruns, 0),
+        ]
+        .into_iter()
+        .filter(|(_, got, want)| got != want)
+        .map(|(name, got, want)| format!("{name} {got} != {want}"))
+        .collect()
+    }
+}
+
+impl Damaged {
+    /// Packets with fate `fate`.
+    pub fn count(&self, fate: Fate) -> u32 {
+        self.packets.iter().filter(|(_, f)| *f == fate).count() as u32
+    }
+
+    /// What a hub must count (see the module docs).
+    pub fn accounting(&self) -> Accounting {
+        let runs = self.stream.split(|&b| b == 0).filter(|r| !r.is_empty());
+        let delivered = self.count(Fate::Delivered);
+        // Per sample: packets sent, packets delivered.
+        let mut samples: BTreeMap<u32, (u32, u32)> = BTreeMap::new();
+        for (p, fate) in &self.packets {
+            let e = samples.entry(p.seq).or_default();
+            e.0 += 1;
+            e.1 += u32::from(*fate == Fate::Delivered);
+        }
+        let mut a = Accounting {
+            delivered,
+            dropped: self.count(Fate::Dropped),
+            damaged: self.count(Fate::Damaged),
+            bad_runs: runs.count() as u32 - delivered,
+            ..Accounting::default()
+        };
+        for (sent, got) in samples.values() {
+            match *got {
+                0 => a.vanished += 1,
+                g if g == *sent => a.complete += 1,
+                _ => a.incomplete += 1,
+            }
+        }
+        a
+    }
+}
+
+/// Damages `samples` (each the packets of one sample, in sending order) as `plan` says.
+pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Damaged {
     let mut rng = Rng::new(plan.seed);
     let window = plan.window.max(1) as usize;
-    let mut out = vec![0u8];
+    let mut d = Damaged {
+        stream: vec![0u8],
+        packets: Vec::new(),
+        swapped: 0,
+        bursts: 0,
+    };
+    let out = &mut d.stream;
     for block in samples.chunks(window) {
-        let mut packets: Vec<JointAngle> = block.iter().flatten().copied().collect();
+        let mut packets: Vec<JointAngle> = Vec::new();
+        for sample in block {
+            let start = packets.len();
+            packets.extend_from_slice(sample);
+            let n = sample.len();
+            if rng.chance(plan.swap) && n >= 2 {
+                let i = rng.below(n);
+                let j = (i + 1 + rng.below(n - 1)) % n;
+                packets.swap(start + i, start + j);
+                d.swapped += 1;
+            }
+        }
         if rng.chance(plan.reorder) {
             // Fisher-Yates.
             for i in (1..packets.len()).rev() {
@@ -91,21 +277,60 @@ pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Vec<u8> {
         }
         for p in packets {
             if rng.chance(plan.drop) {
+                d.packets.push((p, Fate::Dropped));
                 continue;
             }
+            // Bytes not ended by a 0x00 before the frame make one run with it.
+            let runs_in = out.last() != Some(&0);
             let start = out.len();
-            push_frame(&mut out, &Message::JointAngle(p));
-            if rng.chance(plan.flip) {
+            push_frame(out, &Message::JointAngle(p));
+            let flipped = rng.chance(plan.flip);
+            if flipped {
                 let i = start + rng.below(out.len() - start);
                 out[i] ^= 1 << rng.below(8);
             }
+            let fate = if runs_in || flipped {
+                Fate::Damaged
+            } else {
+                Fate::Delivered
+            };
+            d.packets.push((p, fate));
             if rng.chance(plan.garbage) {
                 let n = 1 + rng.below(40);
-                out.extend((0..n).map(|_| rng.next_u64() as u8));
+                d.bursts += 1;
+                out.extend((0..n).map(|_| match plan.noise {
+                    Noise::Any => rng.next_u64() as u8,
+                    Noise::NonZero => 1 + rng.below(255) as u8,
+                }));
             }
         }
     }
-    out
+    d
+}
+
+/// The samples of a clean stream of joint-angle packets (e.g. from `qgait packets`): each run
+/// of consecutive packets with the same sequence number is a sample. Anything else in the
+/// stream (a damaged frame, another message) is an error naming its byte offset.
+pub fn samples_of_stream(stream: &[u8]) -> Result<Vec<Vec<JointAngle>>, String> {
+    let mut samples: Vec<Vec<JointAngle>> = Vec::new();
+    let mut decoder = FrameDecoder::new();
+    for (i, &b) in stream.iter().enumerate() {
+        match decoder.push(b) {
+            None => {}
+            Some(Ok(Message::JointAngle(p))) => match samples.last_mut() {
+                Some(s) if s.first().is_some_and(|q| q.seq == p.seq) => s.push(p),
+                _ => samples.push(vec![p]),
+            },
+            Some(Ok(m)) => {
+                return Err(format!(
+                    "byte {i}: a {} message, not a joint-angle packet",
+                    m.tag()
+                ))
+            }
+            Some(Err(e)) => return Err(format!("byte {i}: a damaged frame ({e})")),
+        }
+    }
+    Ok(samples)
 }
 
 /// What a stream delivers to a hub, found with the protocol's decoder (as the hub decodes it).
@@ -145,6 +370,15 @@ impl Arrivals {
         })
     }
 
+    /// The samples of which every joint `model` needs arrived.
+    pub fn intact_samples(&self, model: ModelId) -> BTreeSet<u32> {
+        self.packets
+            .keys()
+            .copied()
+            .filter(|&s| self.intact(s, model))
+            .collect()
+    }
+
     /// Samples of which some but not all joints of `model` arrived.
     pub fn partial(&self, model: ModelId) -> Vec<u32> {
         self.packets
@@ -163,7 +397,20 @@ impl Arrivals {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::device::packets::packet;
+    use crate::device::packets::{packet, stream};
+    use qgait_proto::JointId;
+
+    /// The packets of `d` with fate `fate`, as (sequence number, joint) pairs in order.
+    fn keys(d: &Damaged, fate: Fate) -> Vec<(u32, JointId)> {
+        let mut k: Vec<_> = d
+            .packets
+            .iter()
+            .filter(|(_, f)| *f == fate)
+            .map(|(p, _)| (p.seq, p.joint))
+            .collect();
+        k.sort_unstable();
+        k
+    }
 
     fn samples(n: u32) -> Vec<Vec<JointAngle>> {
         (0..n)
@@ -177,13 +424,86 @@ mod tests {
             .collect()
     }
 
+    /// The ledger against the protocol's decoder: exactly the delivered packets decode, and
+    /// the accounting equals the decoder's counts.
+    fn ledger_agrees_with_the_decoder(d: &Damaged) -> Accounting {
+        // The stream as the hub reads it: followed by the 0x00 of the host's next request.
+        let a = Arrivals::of(&[d.stream.as_slice(), &[0]].concat());
+        let mut decoded: Vec<(u32, JointId)> = a
+            .packets
+            .values()
+            .flatten()
+            .map(|p| (p.seq, p.joint))
+            .collect();
+        decoded.sort_unstable();
+        assert_eq!(decoded, keys(d, Fate::Delivered));
+        // Every decoded packet is the one sent, bit for bit.
+        for (p, _) in d.packets.iter().filter(|(_, f)| *f == Fate::Delivered) {
+            assert!(a.packets[&p.seq].contains(p), "{p:?}");
+        }
+        let acc = d.accounting();
+        assert_eq!(acc.delivered, a.status.packets_accepted);
+        assert_eq!(acc.bad_runs, Accounting::decode_errors(&a.status));
+        assert_eq!(acc.complete as usize, a.intact_samples(ModelId::Phak).len());
+        assert_eq!(acc.incomplete as usize, a.partial(ModelId::Phak).len());
+        assert_eq!(
+            acc.delivered + acc.dropped + acc.damaged,
+            d.packets.len() as u32
+        );
+        acc
+    }
+
     #[test]
     fn no_damage_delivers_everything() {
-        let stream = damage(&samples(20), &FaultPlan::none(4));
-        let a = Arrivals::of(&stream);
+        let d = damage(&samples(20), &FaultPlan::none(4));
+        let a = Arrivals::of(&d.stream);
         assert_eq!(a.status.packets_accepted, 160);
         assert!((0..20).all(|s| a.intact(s, ModelId::Phak)));
         assert!(a.partial(ModelId::Phak).is_empty());
+        let acc = ledger_agrees_with_the_decoder(&d);
+        assert_eq!((acc.delivered, acc.bad_runs, acc.complete), (160, 0, 20));
+        assert_eq!(d.stream, stream(samples(20).iter().flatten()));
+    }
+
+    #[test]
+    fn radio_link_damage_at_its_rates_is_all_accounted_for() {
+        let s = samples(2000);
+        let plan = FaultPlan::radio_link(1, 4);
+        let d = damage(&s, &plan);
+        let acc = ledger_agrees_with_the_decoder(&d);
+        let sent = d.packets.len() as f64;
+        assert_eq!(sent, 16_000.0);
+        // Each rate within 5 standard deviations of its probability.
+        let near =
+            |got: f64, n: f64, p: f64| (got - n * p).abs() < 5.0 * (n * p * (1.0 - p)).sqrt();
+        assert!(near(f64::from(acc.dropped), sent, 0.04), "{acc:?}");
+        assert!(near(f64::from(d.swapped), 2000.0, 0.02), "{}", d.swapped);
+        assert!(near(f64::from(d.bursts), sent, 0.01), "{}", d.bursts);
+        // Flipped (4 % of those sent) plus those a burst ran into (1 %); about half the samples
+        // (0.91^8) lose none of their 8 packets.
+        assert!((600..900).contains(&acc.damaged), "{acc:?}");
+        assert!(acc.incomplete > 500 && acc.complete > 800, "{acc:?}");
+        // Swaps stay inside a sample.
+        let mut newest = 0;
+        for (p, _) in &d.packets {
+            assert!(p.seq + 1 >= newest, "seq {} after {newest}", p.seq);
+            newest = newest.max(p.seq);
+        }
+    }
+
+    #[test]
+    fn a_burst_of_non_zero_noise_destroys_the_next_packet_only() {
+        // Every packet followed by noise, nothing else.
+        let plan = FaultPlan {
+            garbage: 1.0,
+            noise: Noise::NonZero,
+            ..FaultPlan::none(4)
+        };
+        let d = damage(&samples(10), &plan);
+        let acc = ledger_agrees_with_the_decoder(&d);
+        // The first packet follows the leading 0x00; every later one runs into noise, and
+        // the last burst is a run of its own once the next 0x00 ends it.
+        assert_eq!((acc.delivered, acc.damaged, acc.bad_runs), (1, 79, 80));
     }
 
     #[test]
@@ -192,19 +512,19 @@ mod tests {
             seed: 7,
             flip: 0.05,
             drop: 0.05,
+            swap: 0.1,
             reorder: 0.5,
             window: 4,
             garbage: 0.05,
+            noise: Noise::Any,
         };
         let s = samples(400);
-        let stream = damage(&s, &plan);
-        assert_eq!(stream, damage(&s, &plan));
-        assert_ne!(stream, damage(&s, &FaultPlan { seed: 8, ..plan }));
-        let a = Arrivals::of(&stream);
-        let errors = a.status.crc_errors
-            + a.status.framing_errors
-            + a.status.oversize_frames
-            + a.status.malformed;
+        let d = damage(&s, &plan);
+        assert_eq!(d, damage(&s, &plan));
+        assert_ne!(d.stream, damage(&s, &FaultPlan { seed: 8, ..plan }).stream);
+        ledger_agrees_with_the_decoder(&d);
+        let a = Arrivals::of(&d.stream);
+        let errors = Accounting::decode_errors(&a.status);
         assert!(
             errors > 0 && a.partial(ModelId::Phak).len() > 10,
             "{:?}",
@@ -212,20 +532,33 @@ mod tests {
         );
         // In arrival order, no packet comes after one of a sample `window` or more ahead.
         let mut newest = 0u32;
-        for r in FrameDecoder::new().feed(&damage(
-            &s,
-            &FaultPlan {
-                flip: 0.0,
-                drop: 0.0,
-                garbage: 0.0,
-                ..plan
-            },
-        )) {
+        for r in FrameDecoder::new().feed(
+            &damage(
+                &s,
+                &FaultPlan {
+                    flip: 0.0,
+                    drop: 0.0,
+                    garbage: 0.0,
+                    ..plan
+                },
+            )
+            .stream,
+        ) {
             let Ok(Message::JointAngle(p)) = r else {
                 panic!("{r:?}")
             };
             assert!(newest < p.seq + 4, "seq {} after {newest}", p.seq);
             newest = newest.max(p.seq);
         }
+    }
+
+    #[test]
+    fn samples_are_read_back_from_a_clean_stream_and_damage_is_refused() {
+        let s = samples(30);
+        let clean = stream(s.iter().flatten());
+        assert_eq!(samples_of_stream(&clean).unwrap(), s);
+        let d = damage(&s, &FaultPlan::radio_link(3, 4));
+        let e = samples_of_stream(&d.stream).unwrap_err();
+        assert!(e.contains("damaged frame"), "{e}");
     }
 }

@@ -90,8 +90,8 @@ impl Qemu {
     /// keeps up to 32 bytes ready for the UART, which then takes its next byte the moment the
     /// firmware reads one, instead of waiting for QEMU's I/O thread each time (several times
     /// faster). The multiplexer reads [`ESCAPE`] as a command key: send every input byte
-    /// through [`escape`]. Nothing paces the input then: the sender must (see
-    /// [`session`](crate::device::session)).
+    /// through [`escape`]. It reads the socket only as far as its buffer has room, so the line
+    /// stays flow-controlled (see [`session`](crate::device::session)).
     pub fn start_buffered(elf: &Path, uart_socket: &Path, echo: Echo) -> Result<Qemu, String> {
         Self::launch(elf, Some((uart_socket, true)), &[], echo)
     }

@@ -2,78 +2,57 @@
 //! connected to a Unix socket that this process binds, a thread writes the stream while this
 //! one reads what the hub sends back, until the `Status` that answers the closing request.
 //!
-//! QEMU's CMSDK UART model takes one byte at a time when the firmware has read the previous
-//! one. Fed straight from the socket, each byte waits for a round trip through QEMU's I/O
-//! thread; behind QEMU's multiplexer ([`Qemu::start_buffered`]) the next byte is ready at once,
-//! several times faster. But unlike a real line there is no baud rate then: while the hub is
-//! busy writing a frame its receive interrupt keeps taking bytes, and its 512-byte receive ring
-//! overflows. So the writer paces itself like a flow-controlled line: at most [`IN_FLIGHT`] bytes beyond the last sample the hub answered
-//! with a pose frame (or beyond everything sent, after [`IDLE`] without an answer). The socket
-//! is kept open until QEMU has been stopped, or the tail of the output would be lost.
+//! # Flow control
+//!
+//! The input is written as fast as the socket takes it: the emulated line is flow-controlled
+//! end to end, so the hub takes bytes at the pace it consumes them, whatever it makes of them
+//! (a damaged sample, which it answers with nothing, holds nothing up), and no byte is lost
+//! however slowly the emulated CPU runs on a loaded machine:
+//!
+//! 1. QEMU's CMSDK UART model has a one-byte receive buffer and takes a host byte only when it
+//!    is empty;
+//! 2. behind QEMU's character multiplexer ([`Qemu::start_buffered`]) up to 32 more bytes wait
+//!    ready for it (so the UART takes its next byte the moment the firmware reads one, several
+//!    times faster than a round trip through QEMU's I/O thread per byte), and QEMU reads the
+//!    socket only as far as that buffer has room;
+//! 3. the firmware's receive interrupt moves bytes into its receive ring, and when the ring is
+//!    full it leaves the next byte in the UART and stops until the application has read some
+//!    (firmware `board/cmsdk_uart.rs`), so a hub busy writing a frame holds the line back
+//!    instead of overrunning its ring (`uart_overruns` stays 0);
+//! 4. so the socket fills and this process's writes block until the hub has read more.
+//!
+//! The session ends with [`closing_frames`], which start with a 0x00, so that noise at the end
+//! of the stream (a burst of non-zero bytes runs into whatever frame follows) is a damaged frame
+//! of its own and cannot swallow the closing request. The socket is kept open until QEMU has
+//! been stopped, or the tail of the output would be lost.
 
-use std::collections::HashMap;
 use std::io::{Read, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread;
 use std::time::{Duration, Instant};
 
 use qgait_proto::{FrameDecoder, Message, Status};
 
+use crate::device::faults::Accounting;
 use crate::device::log::{LogDecoder, Record};
 use crate::device::packets::push_frame;
 use crate::device::qemu::{escape, Echo, Qemu};
 
-/// Most bytes sent beyond what the hub is known to have consumed (less than its 512-byte ring).
-pub const IN_FLIGHT: usize = 480;
+/// Bytes written to the socket at a time (between checks of the stop flag).
+const CHUNK: usize = 4096;
 
-/// Without a pose frame for this long, the hub is taken to have consumed everything sent (only
-/// needed when every sample in flight is damaged, so none of them answers). Long enough for a
-/// QEMU descheduled on a busy machine: at 30 ms a 100,000-sample run overran the ring 51 times.
-pub const IDLE: Duration = Duration::from_millis(250);
-
-/// For each sample, the input offset just past its last packet (a pose frame for the sample
-/// means the hub has read that far).
-fn sample_ends(input: &[u8]) -> HashMap<u32, usize> {
-    let mut ends = HashMap::new();
-    let mut decoder = FrameDecoder::new();
-    for (i, &b) in input.iter().enumerate() {
-        if let Some(Ok(Message::JointAngle(p))) = decoder.push(b) {
-            ends.insert(p.seq, i + 1);
+/// Writes all of `input` (escaped for the multiplexer), blocking while the line is held back
+/// (see the module docs), until done or `stop`.
+fn write_input(mut w: UnixStream, input: &[u8], stop: &AtomicBool) -> Result<(), String> {
+    for chunk in input.chunks(CHUNK) {
+        if stop.load(Ordering::Relaxed) {
+            break;
         }
-    }
-    ends
-}
-
-/// Writes `input`, at most [`IN_FLIGHT`] bytes beyond `acked`.
-fn paced_write(
-    mut w: UnixStream,
-    input: &[u8],
-    acked: &AtomicUsize,
-    stop: &AtomicBool,
-) -> Result<(), String> {
-    let mut sent = 0;
-    let mut last_progress = Instant::now();
-    let mut last_acked = 0;
-    while sent < input.len() && !stop.load(Ordering::Relaxed) {
-        let a = acked.load(Ordering::Relaxed);
-        if a != last_acked {
-            last_acked = a;
-            last_progress = Instant::now();
-        } else if last_progress.elapsed() >= IDLE {
-            acked.fetch_max(sent, Ordering::Relaxed);
-            last_progress = Instant::now();
-        }
-        let allowed = (acked.load(Ordering::Relaxed) + IN_FLIGHT).min(input.len());
-        if sent < allowed {
-            w.write_all(&escape(&input[sent..allowed]))
-                .map_err(|e| format!("writing to the UART socket: {e}"))?;
-            sent = allowed;
-        } else {
-            thread::sleep(Duration::from_micros(50));
-        }
+        w.write_all(&escape(chunk))
+            .map_err(|e| format!("writing to the UART socket: {e}"))?;
     }
     Ok(())
 }
@@ -126,15 +105,18 @@ impl InputCounts {
         c
     }
 
+    /// What `status` shows counted.
+    pub fn counted_by(s: &Status) -> InputCounts {
+        InputCounts {
+            accepted: s.packets_accepted,
+            rejected: Accounting::decode_errors(s),
+        }
+    }
+
     /// Whether `status` shows all of it consumed.
     pub fn consumed_by(&self, s: &Status) -> bool {
-        let rejected = s.crc_errors
-            + s.framing_errors
-            + s.oversize_frames
-            + s.unknown_version
-            + s.unknown_joint
-            + s.malformed;
-        s.packets_accepted >= self.accepted && rejected >= self.rejected
+        let got = Self::counted_by(s);
+        got.accepted >= self.accepted && got.rejected >= self.rejected
     }
 }
 
@@ -244,12 +226,10 @@ pub fn run(
             return Err(format!("setting up the UART socket: {e}"));
         }
     };
-    let ends = sample_ends(&input);
-    let acked = Arc::new(AtomicUsize::new(0));
     let stop = Arc::new(AtomicBool::new(false));
     let sender = {
-        let (acked, stop) = (acked.clone(), stop.clone());
-        thread::spawn(move || paced_write(writer, &input, &acked, &stop))
+        let stop = stop.clone();
+        thread::spawn(move || write_input(writer, &input, &stop))
     };
 
     let mut uart = Vec::new();
@@ -289,14 +269,6 @@ pub fn run(
         uart.extend_from_slice(&buf[..n]);
         decoder.feed(&buf[..n], |r| match r {
             Record::Message {
-                message: Message::PoseFrame(p),
-                ..
-            } => {
-                if let Some(&end) = ends.get(&p.seq) {
-                    acked.fetch_max(end, Ordering::Relaxed);
-                }
-            }
-            Record::Message {
                 message: Message::Status(s),
                 ..
             } if expected.consumed_by(&s) => {
@@ -325,4 +297,37 @@ pub fn run(
         elapsed,
         problem,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qgait_proto::{Config, MissingPolicy, ModelId};
+
+    #[test]
+    fn the_closing_request_survives_noise_just_before_it() {
+        let config = Message::Config(Config {
+            model: ModelId::Phak,
+            anthropometry: None,
+            missing_policy: MissingPolicy::Drop,
+            reorder_window: 4,
+            request_status: false,
+        });
+        // A stream that ends with a burst of non-zero noise, no delimiter after it.
+        let mut input = vec![0u8];
+        input.extend((1..=40u8).map(|i| i.wrapping_mul(37) | 1));
+        input.extend(closing_frames(&config).unwrap());
+        let results: Vec<_> = FrameDecoder::new().feed(&input).collect();
+        assert_eq!(results.len(), 2, "{results:?}");
+        assert!(
+            results[0].is_err(),
+            "the noise is a damaged frame of its own"
+        );
+        let Ok(Message::Config(c)) = &results[1] else {
+            panic!("{results:?}")
+        };
+        assert!(c.request_status && c.reorder_window != 4, "{c:?}");
+        let counts = InputCounts::of(&input);
+        assert_eq!((counts.accepted, counts.rejected), (0, 1));
+    }
 }
