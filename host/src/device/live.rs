@@ -18,8 +18,9 @@ use crate::device::log::Record;
 /// Shortest time between two redraws.
 const REDRAW: Duration = Duration::from_millis(100);
 
-/// Counter fields per line of the redrawn view.
-const FIELDS_PER_LINE: usize = 4;
+/// Widest line of the redrawn view (a line longer than the terminal would wrap and upset the
+/// redrawing).
+const WIDTH: usize = 78;
 
 enum Display {
     Hidden,
@@ -166,12 +167,19 @@ impl LiveView {
                     "\nhub status ({:.1} s ago):",
                     (now - *at).as_secs_f64()
                 ));
-                for line in status_fields(s).chunks(FIELDS_PER_LINE) {
-                    text.push_str("\n ");
-                    for (k, v) in line {
-                        text.push_str(&format!(" {k} {v:<8}"));
+                let mut line = String::new();
+                for (k, v) in status_fields(s) {
+                    let field = format!("{k}={v}");
+                    if !line.is_empty() && line.len() + 2 + field.len() > WIDTH {
+                        text.push('\n');
+                        text.push_str(&line);
+                        line.clear();
                     }
+                    line.push_str("  ");
+                    line.push_str(&field);
                 }
+                text.push('\n');
+                text.push_str(&line);
             }
         }
         text
@@ -236,10 +244,17 @@ mod tests {
             "{text}"
         );
         assert_eq!(lines[1], "hub status (0.0 s ago):");
-        assert_eq!(lines.len(), 2 + 16 / FIELDS_PER_LINE, "{text}");
-        for (k, v) in status_fields(&status) {
-            assert!(text.contains(&format!(" {k} {v} ")), "{k} in\n{text}");
-        }
+        assert!(lines.iter().all(|l| l.len() <= WIDTH), "{text}");
+        let fields: Vec<String> = lines[2..]
+            .iter()
+            .flat_map(|l| l.split_whitespace())
+            .map(String::from)
+            .collect();
+        let want: Vec<String> = status_fields(&status)
+            .iter()
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect();
+        assert_eq!(fields, want);
         assert!(status_line(&status).starts_with("status: packets_accepted=16 crc_errors=1 "));
     }
 }

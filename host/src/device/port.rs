@@ -197,6 +197,7 @@ impl End {
 
 /// What [`read_log`] hands over.
 #[derive(Debug)]
+#[allow(clippy::large_enum_variant)] // handed over by value, never stored
 pub enum Event {
     /// A record, in arrival order.
     Record(Record),
