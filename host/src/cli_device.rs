@@ -163,7 +163,7 @@ pub struct PortArgs {
     #[arg(long, value_name = "RATE")]
     pub baud: Option<u32>,
     /// Stop after N pose frames.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub frames: Option<u64>,
     /// Stop after S seconds.
     #[arg(long, value_name = "S", value_parser = positive_seconds)]
@@ -172,8 +172,8 @@ pub struct PortArgs {
     #[arg(long, value_name = "S", value_parser = positive_seconds)]
     pub idle: Option<f64>,
     /// Live view of the hub's status counters on stderr while frames arrive: `auto` (when
-    /// LOG is a serial port and stderr a terminal), `on` (one `status:` line per status when
-    /// stderr is not a terminal), `off`.
+    /// LOG is a serial port and stderr a terminal that the rows do not go to), `on` (one
+    /// `status:` line per status when stderr is not such a terminal), `off`.
     #[arg(long, value_enum, default_value = "auto")]
     pub live: Live,
 }
@@ -206,14 +206,22 @@ impl PortArgs {
     }
 
     /// Opens `log` (warning when --baud does not apply), installs the Ctrl-C handler, and
-    /// makes the live view (`lines` when it should be status lines by default).
-    fn open(&self, log: &str, lines: bool, quiet: bool) -> anyhow::Result<(Input, LiveView)> {
+    /// makes the live view (`lines` when it should be status lines by default; `rows` when
+    /// standard output gets rows as they come, which a view redrawn on the same terminal would
+    /// garble).
+    fn open(
+        &self,
+        log: &str,
+        lines: bool,
+        rows: bool,
+        quiet: bool,
+    ) -> anyhow::Result<(Input, LiveView)> {
         let (input, warning) = Input::open(log, self.baud)?;
         if let Some(w) = warning.filter(|_| !quiet) {
             eprintln!("warning: {w}");
         }
         port::interrupt::install();
-        let terminal = io::stderr().is_terminal();
+        let terminal = io::stderr().is_terminal() && !(rows && io::stdout().is_terminal());
         let live = match self.live {
             Live::Off => false,
             Live::On => true,
@@ -428,7 +436,7 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
     // The `status:` lines of the CSV format are the live view's lines.
     let (mut input, mut view) =
         args.port
-            .open(&args.log, args.format == Format::Csv && !quiet, quiet)?;
+            .open(&args.log, args.format == Format::Csv && !quiet, true, quiet)?;
     if args.format == Format::Csv {
         writeln!(out, "{}", frames_csv::header())?;
     }
@@ -494,7 +502,7 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
 /// ([`Verifier`]): memory is independent of the log's length.
 pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     let model = args.model.load(quiet)?;
-    let (mut input, mut view) = args.port.open(&args.log, false, quiet)?;
+    let (mut input, mut view) = args.port.open(&args.log, false, false, quiet)?;
     let mut decoder = LogDecoder::new();
     let mut verifier = Verifier::new(&model.device, Expected::FirstToLast);
     let end = port::read_log(&mut input, &mut decoder, args.port.until(), |event| {
