@@ -5,8 +5,8 @@
 //! is opened as a serial port with the [`serial2`] crate: raw, 8 data bits, no parity, 1 stop bit,
 //! no flow control, at the baud rate asked for ([`DEFAULT_BAUD`], the hub's, by default), so it
 //! needs no `stty` first. Anything else (a regular file, a pipe, `-` for standard input) is read
-//! as it is. Reads of a serial port wait at most [`POLL`], so the end conditions are checked
-//! while the line is quiet.
+//! as it is. Reads of a serial port or of standard input wait at most [`POLL`], so the end
+//! conditions are checked while the line is quiet.
 //!
 //! A reading ends ([`End`]) at the end of the input, after a number of pose frames, after a
 //! time, after a time without a pose frame (once one came), on Ctrl-C or SIGTERM
@@ -123,11 +123,16 @@ impl Input {
         matches!(self.source, Source::Serial(_))
     }
 
-    /// Reads some bytes: `Ok(Some(0))` at the end of a file, `Ok(None)` when a serial port
-    /// had nothing for [`POLL`].
+    /// Reads some bytes: `Ok(Some(0))` at the end of a file, `Ok(None)` when a serial port or
+    /// standard input had nothing for [`POLL`].
     fn read(&mut self, buf: &mut [u8]) -> io::Result<Option<usize>> {
         match &mut self.source {
-            Source::Stdin(s) => s.read(buf).map(Some),
+            Source::Stdin(s) => {
+                if !readable(s, POLL)? {
+                    return Ok(None);
+                }
+                s.read(buf).map(Some)
+            }
             Source::File(f) => f.read(buf).map(Some),
             Source::Serial(p) => match p.read(buf) {
                 Ok(0) => Err(io::Error::new(
@@ -147,6 +152,30 @@ impl Input {
             },
         }
     }
+}
+
+/// Whether `input` has something to read (or its end) within `timeout`, so that a quiet pipe
+/// does not keep a reading from its end conditions.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn readable(input: &impl std::os::fd::AsRawFd, timeout: Duration) -> io::Result<bool> {
+    let mut fd = libc::pollfd {
+        fd: input.as_raw_fd(),
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    // SAFETY: one valid pollfd, for the duration of the call.
+    let n = unsafe { libc::poll(&mut fd, 1, timeout.as_millis() as libc::c_int) };
+    if n < 0 {
+        return Err(io::Error::last_os_error());
+    }
+    Ok(n > 0)
+}
+
+/// Elsewhere a read just waits.
+#[cfg(not(unix))]
+fn readable<T>(_: &T, _: Duration) -> io::Result<bool> {
+    Ok(true)
 }
 
 /// When to stop reading (besides the end of the input, Ctrl-C and SIGTERM).
