@@ -2,8 +2,9 @@
 
 use std::collections::{BTreeSet, HashMap};
 use std::fs::File;
-use std::io::{self, BufWriter, Read, Write};
+use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
@@ -14,11 +15,13 @@ use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Stat
 use crate::device::faults::Arrivals;
 use crate::device::firmware;
 use crate::device::frames_csv;
+use crate::device::live::LiveView;
 use crate::device::log::{HubLog, LogDecoder, Record};
 use crate::device::packets::{Samples, Timing};
+use crate::device::port::{self, Input, Until};
 use crate::device::qemu::Echo;
 use crate::device::session::{self, closing_frames, InputCounts, Limits};
-use crate::device::verify::{DeviceModel, Expected, Verification};
+use crate::device::verify::{DeviceModel, Expected, Verification, Verifier};
 use crate::hub_config::{frames, messages, HubModel, HubSettings};
 use crate::kinematics::Model;
 use crate::model_spec::ModelSpec;
@@ -142,12 +145,98 @@ impl From<WireModel> for ModelId {
 /// `qgait decode` arguments.
 #[derive(Debug, Args)]
 pub struct DecodeArgs {
-    /// Hub log: a file, `-` for standard input, or a serial device (e.g. /dev/ttyACM0, set to
-    /// raw mode first: `stty -F /dev/ttyACM0 115200 raw -echo`).
+    /// Hub log: a file, `-` for standard input, or a serial port (e.g. /dev/ttyACM0), opened
+    /// raw 8N1 at --baud.
     pub log: String,
     /// Output format on standard output.
     #[arg(long, value_enum, default_value = "csv")]
     pub format: Format,
+    /// Reading a live hub: baud rate, when to stop, live view.
+    #[command(flatten)]
+    pub port: PortArgs,
+}
+
+/// How a hub log is read when it arrives live (on a serial port); the limits apply to files
+/// too. Ctrl-C also stops a reading, with everything decoded so far written out whole.
+#[derive(Debug, Args, Clone)]
+pub struct PortArgs {
+    /// Baud rate of a serial port (LOG a terminal device) [default: 115200, the hub's].
+    #[arg(long, value_name = "RATE")]
+    pub baud: Option<u32>,
+    /// Stop after N pose frames.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: Option<u64>,
+    /// Stop after S seconds.
+    #[arg(long, value_name = "S", value_parser = positive_seconds)]
+    pub seconds: Option<f64>,
+    /// Stop when no pose frame has come for S seconds (once one has).
+    #[arg(long, value_name = "S", value_parser = positive_seconds)]
+    pub idle: Option<f64>,
+    /// Live view of the hub's status counters on stderr while frames arrive: `auto` (when
+    /// LOG is a serial port and stderr a terminal that the rows do not go to), `on` (one
+    /// `status:` line per status when stderr is not such a terminal), `off`.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub live: Live,
+}
+
+/// `--live`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Live {
+    /// When the log is a serial port and stderr a terminal.
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
+}
+
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{s}` is not a positive number of seconds")),
+    }
+}
+
+impl PortArgs {
+    fn until(&self) -> Until {
+        Until {
+            frames: self.frames,
+            time: self.seconds.map(Duration::from_secs_f64),
+            idle: self.idle.map(Duration::from_secs_f64),
+        }
+    }
+
+    /// Opens `log` (warning when --baud does not apply), installs the Ctrl-C handler, and
+    /// makes the live view (`lines` when it should be status lines by default; `rows` when
+    /// standard output gets rows as they come, which a view redrawn on the same terminal would
+    /// garble).
+    fn open(
+        &self,
+        log: &str,
+        lines: bool,
+        rows: bool,
+        quiet: bool,
+    ) -> anyhow::Result<(Input, LiveView)> {
+        let (input, warning) = Input::open(log, self.baud)?;
+        if let Some(w) = warning.filter(|_| !quiet) {
+            eprintln!("warning: {w}");
+        }
+        port::interrupt::install();
+        let terminal = io::stderr().is_terminal() && !(rows && io::stdout().is_terminal());
+        let live = match self.live {
+            Live::Off => false,
+            Live::On => true,
+            Live::Auto => input.is_serial() && !quiet,
+        };
+        let view = if live && terminal {
+            LiveView::redrawn()
+        } else if (live && self.live == Live::On) || lines {
+            LiveView::lines()
+        } else {
+            LiveView::hidden()
+        };
+        Ok((input, view))
+    }
 }
 
 /// `qgait decode --format`.
@@ -162,7 +251,7 @@ pub enum Format {
 /// `qgait verify` arguments.
 #[derive(Debug, Args)]
 pub struct VerifyArgs {
-    /// Hub log (what the hub sent), or `-` for standard input.
+    /// Hub log (what the hub sent): a file, `-` for standard input, or a serial port.
     pub log: String,
     /// Largest accepted error per point (micrometres).
     #[arg(long, default_value_t = 10.0, value_name = "UM")]
@@ -170,6 +259,9 @@ pub struct VerifyArgs {
     /// The model and lengths the hub was configured with.
     #[command(flatten)]
     pub model: DeviceModelArgs,
+    /// Reading a live hub: baud rate, when to stop, live view.
+    #[command(flatten)]
+    pub port: PortArgs,
 }
 
 /// `qgait emulate` arguments.
@@ -235,16 +327,6 @@ pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn open_input(path: &str) -> anyhow::Result<Box<dyn Read>> {
-    if path == "-" {
-        Ok(Box::new(io::stdin()))
-    } else {
-        Ok(Box::new(
-            File::open(path).with_context(|| format!("{path}: cannot open"))?,
-        ))
-    }
-}
-
 fn json_f32(x: f32) -> String {
     if x.is_finite() {
         format!("{}", f64::from(x))
@@ -302,127 +384,157 @@ fn json_status(s: &Status) -> String {
     format!(r#"{{"type":"status",{}}}"#, f.join(","))
 }
 
-/// Runs `qgait decode`.
+/// Runs `qgait decode`, the output on standard output.
 pub fn run_decode(args: DecodeArgs, quiet: bool) -> anyhow::Result<()> {
-    let mut input = open_input(&args.log)?;
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
+    decode_to(&args, &mut out, quiet)
+}
+
+/// One output line of `qgait decode` for `record`, if it has one.
+fn decode_line(record: &Record, format: Format) -> Option<String> {
+    match (record, format) {
+        (
+            Record::Message {
+                message: Message::PoseFrame(p),
+                ..
+            },
+            Format::Csv,
+        ) => {
+            let mut row = Vec::new();
+            let _ = frames_csv::write_row(&mut row, p, None);
+            row.pop();
+            Some(String::from_utf8_lossy(&row).into_owned())
+        }
+        (
+            Record::Message {
+                message: Message::PoseFrame(p),
+                ..
+            },
+            Format::Jsonl,
+        ) => Some(json_pose(p)),
+        (
+            Record::Message {
+                message: Message::Status(s),
+                ..
+            },
+            Format::Jsonl,
+        ) => Some(json_status(s)),
+        (Record::Message { message, .. }, Format::Jsonl) => {
+            Some(format!(r#"{{"type":"other","tag":{}}}"#, message.tag()))
+        }
+        (Record::Message { .. }, Format::Csv) => None,
+        (Record::Damaged { offset, error }, Format::Jsonl) => Some(format!(
+            r#"{{"type":"damaged","offset":{offset},"error":"{:?}"}}"#,
+            error.kind()
+        )),
+        (Record::Damaged { .. }, Format::Csv) => None,
+    }
+}
+
+/// `qgait decode` writing to `out` (flushed after each chunk read from a serial port, so rows
+/// come out as frames arrive). Memory is independent of the log's length.
+pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow::Result<()> {
+    // The `status:` lines of the CSV format are the live view's lines.
+    let (mut input, mut view) =
+        args.port
+            .open(&args.log, args.format == Format::Csv && !quiet, true, quiet)?;
     if args.format == Format::Csv {
         writeln!(out, "{}", frames_csv::header())?;
     }
+    let live = input.is_serial();
     let mut decoder = LogDecoder::new();
-    let mut buf = vec![0u8; 65536];
     let mut reported = 0u32;
     let mut write_error = None;
-    loop {
-        let n = match input.read(&mut buf) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e).with_context(|| format!("{}: cannot read", args.log)),
+    let mut pending = false;
+    let end = port::read_log(&mut input, &mut decoder, args.port.until(), |event| {
+        let record = match event {
+            port::Event::Record(r) => r,
+            port::Event::Chunk => {
+                if live && pending && write_error.is_none() {
+                    pending = false;
+                    if let Err(e) = out.flush() {
+                        write_error = Some(e);
+                    }
+                }
+                view.refresh();
+                return write_error.is_none();
+            }
         };
-        decoder.feed(&buf[..n], |record| {
-            let line = match (&record, args.format) {
-                (
-                    Record::Message {
-                        message: Message::PoseFrame(p),
-                        ..
-                    },
-                    Format::Csv,
-                ) => {
-                    let mut row = Vec::new();
-                    let _ = frames_csv::write(&mut row, std::slice::from_ref(p), &HashMap::new());
-                    let text = String::from_utf8_lossy(&row).into_owned();
-                    text.split_once('\n').map(|(_, r)| r.trim_end().to_string())
-                }
-                (
-                    Record::Message {
-                        message: Message::PoseFrame(p),
-                        ..
-                    },
-                    Format::Jsonl,
-                ) => Some(json_pose(p)),
-                (
-                    Record::Message {
-                        message: Message::Status(s),
-                        ..
-                    },
-                    Format::Jsonl,
-                ) => Some(json_status(s)),
-                (
-                    Record::Message {
-                        message: Message::Status(s),
-                        ..
-                    },
-                    Format::Csv,
-                ) => {
-                    if !quiet {
-                        let f: Vec<String> = status_fields(s)
-                            .iter()
-                            .map(|(k, v)| format!("{k}={v}"))
-                            .collect();
-                        eprintln!("status: {}", f.join(" "));
-                    }
-                    None
-                }
-                (Record::Message { message, .. }, Format::Jsonl) => {
-                    Some(format!(r#"{{"type":"other","tag":{}}}"#, message.tag()))
-                }
-                (Record::Message { .. }, Format::Csv) => None,
-                (Record::Damaged { offset, error }, format) => {
-                    if !quiet && reported < 20 {
-                        eprintln!("damaged frame ending at byte {offset}: {error} (skipped)");
-                    }
-                    reported += 1;
-                    (format == Format::Jsonl).then(|| {
-                        format!(
-                            r#"{{"type":"damaged","offset":{offset},"error":"{:?}"}}"#,
-                            error.kind()
-                        )
-                    })
-                }
-            };
-            if let Some(l) = line {
-                if let Err(e) = writeln!(out, "{l}") {
-                    write_error.get_or_insert(e);
-                }
+        view.record(&record);
+        if let Record::Damaged { offset, error } = &record {
+            if !quiet && reported < 20 {
+                view.message(&format!(
+                    "damaged frame ending at byte {offset}: {error} (skipped)"
+                ));
             }
-        });
-        if let Some(e) = write_error.take() {
-            if e.kind() == io::ErrorKind::BrokenPipe {
-                return Ok(());
-            }
-            return Err(e).context("cannot write to standard output");
+            reported += 1;
         }
-    }
-    match out.flush() {
+        if let Some(l) = decode_line(&record, args.format) {
+            pending = true;
+            if let Err(e) = writeln!(out, "{l}") {
+                write_error.get_or_insert(e);
+            }
+        }
+        true
+    });
+    view.finish();
+    let flushed = match write_error {
+        Some(e) => Err(e),
+        None => out.flush(),
+    };
+    match flushed {
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => return Ok(()),
         other => other.context("cannot write to standard output")?,
     }
     if reported > 20 && !quiet {
         eprintln!("... {} more damaged frames", reported - 20);
     }
+    if let Some(why) = end.describe().filter(|_| !quiet) {
+        eprintln!("{why}");
+    }
     eprintln!("decoded {}", decoder.counts());
-    Ok(())
+    match end {
+        port::End::Failed(e) => Err(e),
+        _ => Ok(()),
+    }
 }
 
-fn read_all(path: &str) -> anyhow::Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    open_input(path)?
-        .read_to_end(&mut bytes)
-        .with_context(|| format!("{path}: cannot read"))?;
-    Ok(bytes)
-}
-
-/// Runs `qgait verify`; `Ok(false)` when the check failed.
+/// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
+/// ([`Verifier`]): memory is independent of the log's length.
 pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     let model = args.model.load(quiet)?;
-    let log = HubLog::decode(&read_all(&args.log)?);
-    eprintln!("decoded {}", log.counts);
-    if log.poses.is_empty() {
+    let (mut input, mut view) = args.port.open(&args.log, false, false, quiet)?;
+    let mut decoder = LogDecoder::new();
+    let mut verifier = Verifier::new(&model.device, Expected::FirstToLast);
+    let end = port::read_log(&mut input, &mut decoder, args.port.until(), |event| {
+        match event {
+            port::Event::Record(record) => {
+                view.record(&record);
+                if let Record::Message {
+                    message: Message::PoseFrame(p),
+                    ..
+                } = &record
+                {
+                    verifier.add(p);
+                }
+            }
+            port::Event::Chunk => view.refresh(),
+        }
+        true
+    });
+    view.finish();
+    if let Some(why) = end.describe().filter(|_| !quiet) {
+        eprintln!("{why}");
+    }
+    eprintln!("decoded {}", decoder.counts());
+    if let port::End::Failed(e) = end {
+        return Err(e);
+    }
+    if verifier.frames() == 0 {
         bail!("{}: no pose frames", args.log);
     }
-    let v = Verification::run(&model.device, &log.poses, Expected::FirstToLast);
+    let v = verifier.finish();
     let tol = args.tol_um * 1e-6;
     println!("{}", v.report(tol));
     Ok(v.passed(tol))

@@ -21,22 +21,31 @@ pub fn write<W: Write + ?Sized>(
 ) -> io::Result<()> {
     writeln!(w, "{}", header())?;
     for f in frames {
-        write!(w, "{},", f.seq)?;
-        if let Some(t) = time_s.get(&f.seq) {
-            write!(w, "{t}")?;
-        }
-        for p in &f.points {
-            write!(
-                w,
-                ",{},{},{}",
-                f64::from(p[0]),
-                f64::from(p[1]),
-                f64::from(p[2])
-            )?;
-        }
-        w.write_all(b"\n")?;
+        write_row(w, f, time_s.get(&f.seq).copied())?;
     }
     Ok(())
+}
+
+/// Writes the row of one frame (after the [`header`]), with its time (s) if known.
+pub fn write_row<W: Write + ?Sized>(
+    w: &mut W,
+    f: &PoseFrame,
+    time_s: Option<f64>,
+) -> io::Result<()> {
+    write!(w, "{},", f.seq)?;
+    if let Some(t) = time_s {
+        write!(w, "{t}")?;
+    }
+    for p in &f.points {
+        write!(
+            w,
+            ",{},{},{}",
+            f64::from(p[0]),
+            f64::from(p[1]),
+            f64::from(p[2])
+        )?;
+    }
+    w.write_all(b"\n")
 }
 
 /// A frames CSV read back: per row the sequence number, the time (s) if present, and the 8

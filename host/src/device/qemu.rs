@@ -2,8 +2,8 @@
 //! decoded from QEMU's stdout, always under a timeout. The one QEMU runner of the project:
 //! `qgait emulate`, the end-to-end tests and the xtask runner all use it.
 
-use std::io::{BufRead, BufReader};
-use std::path::Path;
+use std::io::{self, BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::thread::{self, JoinHandle};
@@ -47,7 +47,22 @@ pub struct Qemu {
     child: Child,
     log: Option<JoinHandle<Vec<String>>>,
     lines: mpsc::Receiver<String>,
+    /// The devices QEMU redirected character devices to (`-serial pty`), as it announces them.
+    redirected: mpsc::Receiver<String>,
 }
+
+/// Where UART0 goes.
+enum Uart<'a> {
+    None,
+    /// A Unix socket, behind the multiplexer or not.
+    Socket(&'a Path, bool),
+    /// A pseudo-terminal QEMU makes.
+    Pty,
+}
+
+/// What QEMU prints first on stdout (before the firmware's defmt output) for `-serial pty`:
+/// `char device redirected to /dev/pts/3 (label serial0)`.
+const REDIRECTED: &str = "char device redirected to ";
 
 /// How a run ended, with the decoded log lines.
 #[derive(Debug, Clone)]
@@ -77,13 +92,14 @@ impl Qemu {
 
     /// [`start`](Self::start) with the log going to `echo`.
     pub fn start_with(elf: &Path, uart_socket: Option<&Path>, echo: Echo) -> Result<Qemu, String> {
-        Self::launch(elf, uart_socket.map(|s| (s, false)), &[], echo)
+        let uart = uart_socket.map_or(Uart::None, |s| Uart::Socket(s, false));
+        Self::launch(elf, uart, &[], echo)
     }
 
     /// Starts `elf` with no UART and extra QEMU arguments (e.g. `-icount shift=0,align=off` to
     /// count instructions).
     pub fn start_with_args(elf: &Path, args: &[&str], echo: Echo) -> Result<Qemu, String> {
-        Self::launch(elf, None, args, echo)
+        Self::launch(elf, Uart::None, args, echo)
     }
 
     /// [`start_with`](Self::start_with), with QEMU's multiplexer between the socket and UART0: it
@@ -93,15 +109,26 @@ impl Qemu {
     /// through [`escape`]. It reads the socket only as far as its buffer has room, so the line
     /// stays flow-controlled (see [`session`](crate::device::session)).
     pub fn start_buffered(elf: &Path, uart_socket: &Path, echo: Echo) -> Result<Qemu, String> {
-        Self::launch(elf, Some((uart_socket, true)), &[], echo)
+        Self::launch(elf, Uart::Socket(uart_socket, true), &[], echo)
     }
 
-    fn launch(
-        elf: &Path,
-        uart: Option<(&Path, bool)>,
-        extra: &[&str],
-        echo: Echo,
-    ) -> Result<Qemu, String> {
+    /// Starts `elf` with UART0 on a pseudo-terminal (`-serial pty`) and returns it with the
+    /// terminal's path (e.g. `/dev/pts/3`): a program reading the hub from a serial port reads
+    /// it there, through a real tty. QEMU has the master side and reads it only while the
+    /// firmware's UART can take a byte (so a writer is held back, nothing is lost); what the
+    /// hub sends while no one has the terminal open is dropped.
+    pub fn start_pty(elf: &Path, echo: Echo) -> Result<(Qemu, PathBuf), String> {
+        let qemu = Self::launch(elf, Uart::Pty, &[], echo)?;
+        match qemu.redirected.recv_timeout(Duration::from_secs(10)) {
+            Ok(path) => Ok((qemu, PathBuf::from(path))),
+            Err(_) => {
+                qemu.stop();
+                Err("QEMU did not say which pseudo-terminal it made for UART0".into())
+            }
+        }
+    }
+
+    fn launch(elf: &Path, uart: Uart, extra: &[&str], echo: Echo) -> Result<Qemu, String> {
         let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
         let table = defmt_log::table(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
         let mut cmd = Command::new(QEMU);
@@ -116,13 +143,19 @@ impl Qemu {
         ])
         .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
         .arg(elf);
-        if let Some((socket, mux)) = uart {
-            let suffix = if mux { ",mux=on" } else { "" };
-            cmd.arg("-chardev")
-                .arg(format!("socket,id=u0,path={}{suffix}", socket.display()))
-                .args(["-serial", "chardev:u0"]);
-            if mux {
-                cmd.args(["-echr", &ESCAPE.to_string()]);
+        match uart {
+            Uart::None => {}
+            Uart::Socket(socket, mux) => {
+                let suffix = if mux { ",mux=on" } else { "" };
+                cmd.arg("-chardev")
+                    .arg(format!("socket,id=u0,path={}{suffix}", socket.display()))
+                    .args(["-serial", "chardev:u0"]);
+                if mux {
+                    cmd.args(["-echr", &ESCAPE.to_string()]);
+                }
+            }
+            Uart::Pty => {
+                cmd.args(["-serial", "pty"]);
             }
         }
         cmd.args(extra);
@@ -142,10 +175,30 @@ impl Qemu {
                 }
             }
         });
+        let (redirect_tx, redirected) = mpsc::channel();
+        let pty = matches!(uart, Uart::Pty);
         let (tx, lines) = mpsc::channel();
         let log = thread::spawn(move || {
             let mut kept = Vec::new();
-            defmt_log::decode_stream(&table, stdout, |l| {
+            let mut stdout = BufReader::new(stdout);
+            // The announcement of the pseudo-terminal, if it is there, then the defmt stream.
+            let mut head = Vec::new();
+            let mut byte = [0u8];
+            while pty && matches!(stdout.read(&mut byte), Ok(1)) {
+                head.push(byte[0]);
+                let prefix = REDIRECTED.as_bytes();
+                if !(prefix.starts_with(&head) || head.starts_with(prefix)) {
+                    break;
+                }
+                if byte[0] == b'\n' {
+                    let line = String::from_utf8_lossy(&head[prefix.len()..]).into_owned();
+                    let path = line.split(" (").next().unwrap_or(&line).trim_end();
+                    let _ = redirect_tx.send(path.to_string());
+                    head.clear();
+                    break;
+                }
+            }
+            defmt_log::decode_stream(&table, io::Cursor::new(head).chain(stdout), |l| {
                 match echo {
                     Echo::Stdout => println!("{l}"),
                     Echo::Stderr => eprintln!("device: {l}"),
@@ -160,6 +213,7 @@ impl Qemu {
             child,
             log: Some(log),
             lines,
+            redirected,
         })
     }
 
