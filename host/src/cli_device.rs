@@ -21,7 +21,7 @@ use crate::device::packets::{Samples, Timing};
 use crate::device::port::{self, Input, Until};
 use crate::device::qemu::Echo;
 use crate::device::session::{self, closing_frames, InputCounts, Limits};
-use crate::device::verify::{DeviceModel, Expected, Verification, Verifier};
+use crate::device::verify::{DeviceModel, Expected, Verification, Verifier, MISSING_LISTED};
 use crate::hub_config::{frames, messages, HubModel, HubSettings};
 use crate::kinematics::Model;
 use crate::model_spec::ModelSpec;
@@ -683,7 +683,9 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 let arrivals = Arrivals::of(&stream);
                 let intact = arrivals.intact_samples(model.wire);
                 let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
-                v.missing = intact.difference(&seen).copied().collect();
+                let missing: Vec<u32> = intact.difference(&seen).copied().collect();
+                v.missing = missing.len() as u64;
+                v.missing_first = missing.into_iter().take(MISSING_LISTED).collect();
                 let unexpected = seen.difference(&intact).count();
                 println!(
                     "stream: {} samples with every packet intact, {} with packets lost or damaged",
