@@ -136,6 +136,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
         }
         Command::Motion { motion, output } => {
+            refuse_overwrite(output.as_deref(), &[&motion])?;
             let (table, w) = load_motion(&motion)?;
             warn(w);
             write_output(output.as_deref(), |out| table.write_mot(out))?;
@@ -172,6 +173,29 @@ pub(crate) fn load_anthropometry(
             Ok(a)
         }
     }
+}
+
+/// Refuses to write any of `outputs` over one of `inputs` (motion specs, model or other files
+/// given on the same command line): `qgait fk x.mot -o x.mot` would destroy its own input.
+/// Paths that do not exist yet (and `builtin:` specs) cannot be the same file.
+pub(crate) fn refuse_overwrite<'a>(
+    outputs: impl IntoIterator<Item = &'a Path>,
+    inputs: &[&str],
+) -> anyhow::Result<()> {
+    for out in outputs {
+        let Ok(out_real) = out.canonicalize() else {
+            continue;
+        };
+        for input in inputs {
+            if Path::new(input).canonicalize().is_ok_and(|i| i == out_real) {
+                anyhow::bail!(
+                    "{}: this output is also an input ({input}); refusing to overwrite it",
+                    out.display()
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Writes to a file, or to stdout when `path` is `None`. A closed stdout pipe (e.g. `| head`) is

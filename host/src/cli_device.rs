@@ -209,6 +209,7 @@ pub struct EmulateArgs {
 
 /// Runs `qgait packets`.
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
+    crate::cli::refuse_overwrite([args.output.as_path()], &[&args.motion])?;
     let (table, w) = load_motion(&args.motion)?;
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
     let (samples, w2) =

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use clap::{Args, Subcommand};
 
-use crate::cli::{load_anthropometry, write_output};
+use crate::cli::{load_anthropometry, refuse_overwrite, write_output};
 use crate::export;
 use crate::fidelity;
 use crate::model_spec::{self, ModelSpec, PointTrack};
@@ -23,12 +23,12 @@ use crate::subject;
 pub struct FkArgs {
     /// Motion file (.mot/.sto) or `builtin:...`.
     pub motion: String,
-    /// Kinematic model: `hak`, `phak`, `gait2392` (OpenSim's chain, generic), or a
-    /// SUBJECT.toml written by `qgait model import`.
+    /// Kinematic model: `hak`, `phak`, `gait2392` (OpenSim's chain, generic), a SUBJECT.toml
+    /// written by `qgait model import`, or an OpenSim model .osim (imported on the fly).
     #[arg(
         long,
         default_value = "phak",
-        value_name = "hak|phak|gait2392|SUBJECT.toml"
+        value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim"
     )]
     pub model: String,
     /// Segment lengths (TOML: pelvis_half_width, femur, tibia, foot, each optionally _r/_l);
@@ -68,11 +68,12 @@ pub enum ModelCommand {
 pub struct ExportArgs {
     /// Motion file (.mot/.sto) or `builtin:...`.
     pub motion: String,
-    /// Kinematic model: hak, phak, gait2392 or a SUBJECT.toml.
+    /// Kinematic model: hak, phak (the default everywhere), gait2392, a SUBJECT.toml or an
+    /// OpenSim model .osim.
     #[arg(
         long,
-        default_value = "gait2392",
-        value_name = "hak|phak|gait2392|SUBJECT.toml"
+        default_value = "phak",
+        value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim"
     )]
     pub model: String,
     /// Segment lengths for HAK/PHAK (TOML), default gait2392.
@@ -103,6 +104,13 @@ pub struct FidelityArgs {
     pub output: Option<PathBuf>,
 }
 
+/// The files a motion command reads: the motion, the model (when a file) and the lengths.
+fn inputs<'a>(motion: &'a str, model: &'a str, anthropometry: &'a Option<PathBuf>) -> Vec<&'a str> {
+    let mut v = vec![motion, model];
+    v.extend(anthropometry.as_ref().and_then(|p| p.to_str()));
+    v
+}
+
 /// Prints warnings unless quiet.
 fn warner(quiet: bool) -> impl Fn(Vec<Warning>) {
     move |warnings: Vec<Warning>| {
@@ -124,7 +132,10 @@ fn track(
     show_progress: bool,
 ) -> anyhow::Result<PointTrack> {
     let warn = warner(quiet);
-    let spec = ModelSpec::load(model).map_err(anyhow::Error::msg)?;
+    let (spec, notes) = ModelSpec::load_with_notes(model).map_err(anyhow::Error::msg)?;
+    if !quiet {
+        notes.iter().for_each(|n| eprintln!("note: {n}"));
+    }
     if anthropometry.is_some() && matches!(spec, ModelSpec::Gait2392 { .. }) {
         anyhow::bail!(
             "--anthropometry sets HAK/PHAK lengths; a gait2392 subject model comes from `qgait model import` (--model SUBJECT.toml)"
@@ -145,6 +156,10 @@ fn track(
 pub fn run_fk(a: FkArgs, quiet: bool) -> anyhow::Result<()> {
     // No bar while CSV goes to the same terminal.
     let csv_on_terminal = a.output.is_none() && io::stdout().is_terminal();
+    refuse_overwrite(
+        a.output.as_deref(),
+        &inputs(&a.motion, &a.model, &a.anthropometry),
+    )?;
     let t = track(
         &a.motion,
         &a.model,
@@ -167,6 +182,10 @@ pub fn run_model(c: ModelCommand, quiet: bool) -> anyhow::Result<()> {
             markers,
         } => {
             let shown = model.display().to_string();
+            let marker_path = markers.as_ref().map(|m| m.display().to_string());
+            let mut given = vec![shown.as_str()];
+            given.extend(marker_path.as_deref());
+            refuse_overwrite([output.as_path()], &given)?;
             let text =
                 std::fs::read_to_string(&model).with_context(|| format!("{shown}: cannot read"))?;
             let marker_text = match &markers {
@@ -202,6 +221,10 @@ pub fn run_model(c: ModelCommand, quiet: bool) -> anyhow::Result<()> {
 
 /// Runs `qgait export`.
 pub fn run_export(a: ExportArgs, quiet: bool) -> anyhow::Result<()> {
+    refuse_overwrite(
+        a.trc.iter().chain(&a.sto).map(PathBuf::as_path),
+        &inputs(&a.motion, &a.model, &a.anthropometry),
+    )?;
     let t = track(
         &a.motion,
         &a.model,
@@ -232,6 +255,8 @@ pub fn run_fidelity(a: FidelityArgs, quiet: bool) -> anyhow::Result<()> {
             a.motions.len()
         );
     }
+    let specs: Vec<&str> = a.motions.iter().map(String::as_str).collect();
+    refuse_overwrite(a.output.as_deref(), &specs)?;
     let warn = warner(quiet);
     let mut results = Vec::new();
     for (i, spec) in a.motions.iter().enumerate() {

@@ -27,23 +27,55 @@ pub enum ModelSpec {
 }
 
 impl ModelSpec {
-    /// `hak`, `phak`, `gait2392`, or the path of a `SUBJECT.toml` (read and checked here).
+    /// `hak`, `phak`, `gait2392`, the path of a `SUBJECT.toml` (read and checked here), or an
+    /// OpenSim model `.osim` (its leg chain imported as `qgait model import` does).
     pub fn load(arg: &str) -> Result<Self, String> {
-        match arg {
-            "hak" => Ok(Self::Stick(Model::Hak)),
-            "phak" => Ok(Self::Stick(Model::Phak)),
-            "gait2392" => Ok(Self::Gait2392 {
-                geometry: Box::new(Gait2392Geometry::generic()),
-                name: arg.to_string(),
-            }),
-            _ if arg.ends_with(".toml") || Path::new(arg).is_file() => Ok(Self::Gait2392 {
-                geometry: Box::new(subject::read(Path::new(arg))?),
-                name: arg.to_string(),
-            }),
-            _ => Err(format!(
-                "unknown model `{arg}` (expected hak, phak, gait2392 or a SUBJECT.toml file from `qgait model import`)"
-            )),
-        }
+        Self::load_with_notes(arg).map(|(spec, _)| spec)
+    }
+
+    /// [`ModelSpec::load`], with the notes of an `.osim` import (where the toe tip came from).
+    pub fn load_with_notes(arg: &str) -> Result<(Self, Vec<String>), String> {
+        let path = Path::new(arg);
+        let is_osim = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("osim"));
+        Ok(match arg {
+            "hak" => (Self::Stick(Model::Hak), Vec::new()),
+            "phak" => (Self::Stick(Model::Phak), Vec::new()),
+            "gait2392" => (
+                Self::Gait2392 {
+                    geometry: Box::new(Gait2392Geometry::generic()),
+                    name: arg.to_string(),
+                },
+                Vec::new(),
+            ),
+            _ if is_osim => {
+                let text =
+                    std::fs::read_to_string(path).map_err(|e| format!("{arg}: cannot read: {e}"))?;
+                let imported = crate::osim_import::import(&text, arg, None)?;
+                // The first note says where it was imported from; the others are worth showing.
+                let notes = imported.notes.into_iter().skip(1).collect();
+                (
+                    Self::Gait2392 {
+                        geometry: Box::new(imported.geometry),
+                        name: arg.to_string(),
+                    },
+                    notes,
+                )
+            }
+            _ if arg.ends_with(".toml") || path.is_file() => (
+                Self::Gait2392 {
+                    geometry: Box::new(subject::read(path)?),
+                    name: arg.to_string(),
+                },
+                Vec::new(),
+            ),
+            _ => {
+                return Err(format!(
+                    "unknown model `{arg}` (expected hak, phak, gait2392, a SUBJECT.toml file from `qgait model import`, or an OpenSim model .osim)"
+                ))
+            }
+        })
     }
 }
 
@@ -100,8 +132,7 @@ pub fn compute(
                         .into(),
                 );
             }
-            let (angles, w) = kinematics::phak_angles(table)?;
-            let warnings = if *m == Model::Phak { w } else { Vec::new() };
+            let (angles, warnings) = kinematics::stick_angles(table, *m)?;
             let evaluator = Evaluator::new(*m, anthropometry)?;
             let rows = angles
                 .iter()

@@ -5,7 +5,7 @@ use qgait_proto::{
     encode_frame, JointAngle, JointId, Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
-use crate::kinematics;
+use crate::kinematics::{self, Model};
 use crate::model_spec::gait2392_coordinates;
 use crate::mot::{MotionTable, Warning};
 
@@ -45,10 +45,14 @@ impl Samples {
     ) -> Result<(Samples, Vec<Warning>), String> {
         let (angles, warnings): (Vec<Vec<f64>>, Vec<Warning>) = match model {
             ModelId::Hak | ModelId::Phak => {
-                let (rows, w) = kinematics::phak_angles(table)?;
+                let stick = if model == ModelId::Hak {
+                    Model::Hak
+                } else {
+                    Model::Phak
+                };
+                let (rows, warnings) = kinematics::stick_angles(table, stick)?;
                 // PhakAngles order is PHAK's joint order; HAK is its last six.
                 let skip = if model == ModelId::Hak { 2 } else { 0 };
-                let warnings = if model == ModelId::Hak { Vec::new() } else { w };
                 (
                     rows.iter().map(|a| a.to_array()[skip..].to_vec()).collect(),
                     warnings,
@@ -184,7 +188,9 @@ mod tests {
     #[test]
     fn one_packet_per_joint_per_row_with_the_row_as_seq() {
         let (s, w) = Samples::from_motion(&table(), ModelId::Phak, Timing::TimeColumn).unwrap();
-        assert!(w.is_empty());
+        // The test angles put both knees and ankles out of range (40-80 degrees): warned only.
+        assert_eq!(w.len(), 4, "{w:?}");
+        assert!(w.iter().all(|w| w.0.contains("outside its range")), "{w:?}");
         let packets: Vec<JointAngle> = s.all_packets().collect();
         assert_eq!(packets.len(), 3 * 8);
         let bytes = stream(&packets);
@@ -216,6 +222,6 @@ mod tests {
         assert!(Samples::from_motion(&table(), ModelId::Hak, Timing::Rate(0.0)).is_err());
         let (g, w) = Samples::from_motion(&table(), ModelId::Gait2392, Timing::TimeColumn).unwrap();
         assert_eq!(g.packets(0).count(), 17);
-        assert_eq!(w.len(), 9, "{w:?}");
+        assert_eq!(w.len(), 9 + 4, "{w:?}");
     }
 }
