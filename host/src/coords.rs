@@ -14,6 +14,7 @@ use qgait_kernel::models::ranges;
 
 use crate::kinematics::LEG_COLUMNS;
 use crate::mot::{Header, NonFinite, Warning};
+use crate::source::MotionRows;
 
 /// Per picked column: how its values compare with the range.
 #[derive(Debug, Clone, Default)]
@@ -174,6 +175,73 @@ impl<const N: usize> Picker<N> {
             )));
         }
         warnings
+    }
+}
+
+/// The coordinates `N` names (radians) of each row of a motion read as it goes: a
+/// [`MotionRows`] through a [`Picker`], in memory independent of the number of rows.
+pub struct CoordRows<const N: usize> {
+    rows: MotionRows,
+    picker: Picker<N>,
+    warnings: Vec<Warning>,
+}
+
+impl<const N: usize> CoordRows<N> {
+    /// Maps `names` to the columns of `rows` (errors and warnings as [`Picker::new`]).
+    pub fn new(
+        rows: MotionRows,
+        names: &[&'static str; N],
+    ) -> Result<(Self, Vec<Warning>), String> {
+        let (picker, warnings) = Picker::new(rows.header(), names)?;
+        Ok((
+            Self {
+                rows,
+                picker,
+                warnings: Vec::new(),
+            },
+            warnings,
+        ))
+    }
+
+    /// The header of the motion.
+    pub fn header(&self) -> &Header {
+        self.rows.header()
+    }
+
+    /// The number of rows if known in advance.
+    pub fn size_hint(&self) -> Option<usize> {
+        self.rows.size_hint()
+    }
+
+    /// The time and the coordinates of the next row; `None` after the last.
+    pub fn next_row(&mut self) -> anyhow::Result<Option<(f64, [f64; N])>> {
+        let next = self.rows.next_row();
+        self.warnings.extend(self.rows.take_warnings());
+        let Some((row, at)) = next? else {
+            return Ok(None);
+        };
+        let q = self
+            .picker
+            .pick(
+                |c| row.values[c],
+                || at.to_string(),
+                |c| {
+                    row.non_finite
+                        .iter()
+                        .find(|(k, _)| *k == c)
+                        .map(|(_, nf)| nf)
+                },
+            )
+            .map_err(anyhow::Error::msg)?;
+        Ok(Some((row.values[0], q)))
+    }
+
+    /// The warnings found while reading (repeated times, the declared row count) and the range
+    /// warnings, once every row has been read.
+    pub fn finish(mut self) -> Vec<Warning> {
+        self.warnings.extend(self.rows.take_warnings());
+        self.warnings.extend(self.picker.finish());
+        self.warnings
     }
 }
 
