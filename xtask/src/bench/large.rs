@@ -23,7 +23,7 @@ use crate::repo_root;
 /// Rows of the generated motion (and samples of the log).
 pub const ROWS: usize = 1_000_000;
 
-const LABELS: &str = "time\\tpelvis_list\\tpelvis_rotation\\tpelvis_tilt\\thip_flexion_r\\thip_adduction_r\\thip_rotation_r\\tknee_angle_r\\tankle_angle_r\\thip_flexion_l\\thip_adduction_l\\thip_rotation_l\\tknee_angle_l\\tankle_angle_l\\tpelvis_ty\\tlumbar_bending\\tlumbar_rotation\\tlumbar_extension";
+const LABELS: &str = "time\tpelvis_list\tpelvis_rotation\tpelvis_tilt\thip_flexion_r\thip_adduction_r\thip_rotation_r\tknee_angle_r\tankle_angle_r\thip_flexion_l\thip_adduction_l\thip_rotation_l\tknee_angle_l\tankle_angle_l\tpelvis_ty\tlumbar_bending\tlumbar_rotation\tlumbar_extension";
 
 /// The PHAK angles (degrees, [`PhakAngles::NAMES`] order) of row `r`: a gait-like cycle of
 /// 100 rows that drifts slowly, so that no two cycles are the same.
@@ -48,7 +48,7 @@ fn write_motion(path: &Path) -> Result<u64, String> {
     let mut f = BufWriter::new(File::create(path).map_err(err)?);
     writeln!(
         f,
-        "large\\nversion=1\\nnRows={ROWS}\\nnColumns=18\\ninDegrees=yes\\nendheader\\n{LABELS}"
+        "large\nversion=1\nnRows={ROWS}\nnColumns=18\ninDegrees=yes\nendheader\n{LABELS}"
     )
     .map_err(err)?;
     for r in 0..ROWS {
@@ -58,7 +58,7 @@ fn write_motion(path: &Path) -> Result<u64, String> {
         let pelvis_tilt = -1.5 + 0.5 * a[0].to_radians().sin();
         writeln!(
             f,
-            "{t}\\t{}\\t{}\\t{pelvis_tilt}\\t{}\\t{}\\t{}\\t{}\\t{}\\t{}\\t{}\\t{}\\t{}\\t{}\\t0.96\\t0\\t0\\t0",
+            "{t}\t{}\t{}\t{pelvis_tilt}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t0.96\t0\t0\t0",
             a[1],
             a[0],
             a[2],
