@@ -136,6 +136,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
         }
         Command::Motion { motion, output } => {
+            refuse_overwrite(output.as_deref(), &[&motion])?;
             let (table, w) = load_motion(&motion)?;
             warn(w);
             write_output(output.as_deref(), |out| table.write_mot(out))?;
@@ -172,6 +173,134 @@ pub(crate) fn load_anthropometry(
             Ok(a)
         }
     }
+}
+
+/// Refuses to write any of `outputs` over one of `inputs` (motion specs, model or other files
+/// given on the same command line): `qgait fk x.mot -o x.mot` would destroy its own input.
+/// Paths that do not exist yet (and `builtin:` specs) cannot be the same file.
+pub(crate) fn refuse_overwrite<'a>(
+    outputs: impl IntoIterator<Item = &'a Path>,
+    inputs: &[&str],
+) -> anyhow::Result<()> {
+    for out in outputs {
+        let Ok(out_real) = out.canonicalize() else {
+            continue;
+        };
+        for input in inputs {
+            if Path::new(input).canonicalize().is_ok_and(|i| i == out_real) {
+                anyhow::bail!(
+                    "{}: this output is also an input ({input}); refusing to overwrite it",
+                    out.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A file being written: rows go to a temporary file beside it, renamed to `path` by
+/// [`OutputFile::commit`], so that an error half way (a bad row deep in a long motion) leaves no
+/// truncated output behind and an earlier file of that name untouched.
+pub(crate) struct OutputFile {
+    path: PathBuf,
+    temp: PathBuf,
+    out: Option<BufWriter<File>>,
+}
+
+impl OutputFile {
+    /// Creates the temporary file for `path`.
+    pub(crate) fn create(path: &Path) -> anyhow::Result<Self> {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let temp = path.with_file_name(format!(".{name}.qgait-partial"));
+        let file =
+            File::create(&temp).with_context(|| format!("{}: cannot create", path.display()))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            temp,
+            out: Some(BufWriter::with_capacity(1 << 16, file)),
+        })
+    }
+
+    /// The writer.
+    pub(crate) fn writer(&mut self) -> &mut BufWriter<File> {
+        self.out.as_mut().expect("not committed")
+    }
+
+    /// The file's path, for messages.
+    pub(crate) fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Flushes and renames the temporary file to the final path.
+    pub(crate) fn commit(mut self) -> anyhow::Result<()> {
+        let out = self.out.take().expect("committed once");
+        out.into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|f| f.sync_all())
+            .with_context(|| format!("{}: cannot write", self.path.display()))?;
+        std::fs::rename(&self.temp, &self.path)
+            .with_context(|| format!("{}: cannot write", self.path.display()))
+    }
+}
+
+impl Drop for OutputFile {
+    fn drop(&mut self) {
+        if self.out.take().is_some() {
+            let _ = std::fs::remove_file(&self.temp);
+        }
+    }
+}
+
+/// Runs `body` on a file (written through an [`OutputFile`]) or on stdout when `path` is
+/// `None`. A closed stdout pipe (e.g. `| head`) ends the body without an error.
+pub(crate) fn write_output_with(
+    path: Option<&Path>,
+    body: impl FnOnce(&mut dyn Write) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    match path {
+        Some(p) => {
+            let mut file = OutputFile::create(p)?;
+            body(file.writer()).map_err(|e| with_path(e, p))?;
+            file.commit()
+        }
+        None => {
+            let stdout = io::stdout();
+            let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+            let result = match body(&mut out) {
+                Ok(()) => out.flush().map_err(anyhow::Error::from),
+                Err(e) => {
+                    // What is still buffered is not passed on: a short motion with an error
+                    // leaves standard output empty (a long one has passed on its first rows).
+                    let _ = out.into_parts();
+                    Err(e)
+                }
+            };
+            match result {
+                Err(e) if is_broken_pipe(&e) => Ok(()),
+                Err(e) if e.downcast_ref::<io::Error>().is_some() => {
+                    Err(e.context("cannot write to standard output"))
+                }
+                other => other,
+            }
+        }
+    }
+}
+
+/// An I/O error of writing `path` gets the path in front; other errors are the input's own.
+pub(crate) fn with_path(e: anyhow::Error, path: &Path) -> anyhow::Error {
+    if e.downcast_ref::<io::Error>().is_some() {
+        e.context(format!("{}: cannot write", path.display()))
+    } else {
+        e
+    }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.downcast_ref::<io::Error>()
+        .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe)
 }
 
 /// Writes to a file, or to stdout when `path` is `None`. A closed stdout pipe (e.g. `| head`) is

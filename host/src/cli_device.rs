@@ -301,26 +301,30 @@ pub struct EmulateArgs {
     pub tol_um: f64,
 }
 
-/// Runs `qgait packets`.
+/// Runs `qgait packets`: each row's packets are written before the next row is read.
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
-    let (table, w) = load_motion(&args.motion)?;
+    crate::cli::refuse_overwrite([args.output.as_path()], &[&args.motion])?;
+    let warn = |w: Vec<crate::mot::Warning>| {
+        if !quiet {
+            w.iter().for_each(|w| eprintln!("warning: {w}"));
+        }
+    };
+    let (rows, w) = crate::source::MotionRows::open(&args.motion)?;
+    warn(w);
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
-    let (samples, w2) =
-        Samples::from_motion(&table, args.model.into(), timing).map_err(anyhow::Error::msg)?;
-    if !quiet {
-        w.iter().chain(&w2).for_each(|w| eprintln!("warning: {w}"));
-    }
-    let packets: Vec<_> = samples.all_packets().collect();
-    let bytes = crate::device::packets::stream(&packets);
-    std::fs::write(&args.output, &bytes)
-        .with_context(|| format!("{}: cannot write", args.output.display()))?;
+    let mut file = crate::cli::OutputFile::create(&args.output)?;
+    let (counts, w) =
+        crate::device::packets::write_stream(rows, args.model.into(), timing, &warn, file.writer())
+            .map_err(|e| crate::cli::with_path(e, &args.output))?;
+    file.commit()?;
+    warn(w);
     if !quiet {
         eprintln!(
             "wrote {} packets ({} samples × {} joints), {} bytes, to {}",
-            packets.len(),
-            samples.len(),
+            counts.packets,
+            counts.samples,
             ModelId::from(args.model).required_joints().len(),
-            bytes.len(),
+            counts.bytes,
             args.output.display()
         );
     }

@@ -8,14 +8,16 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use clap::{Args, Subcommand};
 
-use crate::cli::{load_anthropometry, write_output};
+use crate::cli::{
+    load_anthropometry, refuse_overwrite, with_path, write_output, write_output_with, OutputFile,
+};
 use crate::export;
 use crate::fidelity;
-use crate::model_spec::{self, ModelSpec, PointTrack};
+use crate::model_spec::{self, ModelSpec, PointModel};
 use crate::mot::Warning;
 use crate::osim_import;
 use crate::progress::Progress;
-use crate::source::{default_label, load_motion};
+use crate::source::{default_label, load_motion, MotionRows};
 use crate::subject;
 
 /// `qgait fk` arguments.
@@ -23,12 +25,12 @@ use crate::subject;
 pub struct FkArgs {
     /// Motion file (.mot/.sto) or `builtin:...`.
     pub motion: String,
-    /// Kinematic model: `hak`, `phak`, `gait2392` (OpenSim's chain, generic), or a
-    /// SUBJECT.toml written by `qgait model import`.
+    /// Kinematic model: `hak`, `phak`, `gait2392` (OpenSim's chain, generic), a SUBJECT.toml
+    /// written by `qgait model import`, or an OpenSim model .osim (imported on the fly).
     #[arg(
         long,
         default_value = "phak",
-        value_name = "hak|phak|gait2392|SUBJECT.toml"
+        value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim"
     )]
     pub model: String,
     /// Segment lengths (TOML: pelvis_half_width, femur, tibia, foot, each optionally _r/_l);
@@ -68,11 +70,12 @@ pub enum ModelCommand {
 pub struct ExportArgs {
     /// Motion file (.mot/.sto) or `builtin:...`.
     pub motion: String,
-    /// Kinematic model: hak, phak, gait2392 or a SUBJECT.toml.
+    /// Kinematic model: hak, phak (the default everywhere), gait2392, a SUBJECT.toml or an
+    /// OpenSim model .osim.
     #[arg(
         long,
-        default_value = "gait2392",
-        value_name = "hak|phak|gait2392|SUBJECT.toml"
+        default_value = "phak",
+        value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim"
     )]
     pub model: String,
     /// Segment lengths for HAK/PHAK (TOML), default gait2392.
@@ -103,6 +106,13 @@ pub struct FidelityArgs {
     pub output: Option<PathBuf>,
 }
 
+/// The files a motion command reads: the motion, the model (when a file) and the lengths.
+fn inputs<'a>(motion: &'a str, model: &'a str, anthropometry: &'a Option<PathBuf>) -> Vec<&'a str> {
+    let mut v = vec![motion, model];
+    v.extend(anthropometry.as_ref().and_then(|p| p.to_str()));
+    v
+}
+
 /// Prints warnings unless quiet.
 fn warner(quiet: bool) -> impl Fn(Vec<Warning>) {
     move |warnings: Vec<Warning>| {
@@ -114,48 +124,70 @@ fn warner(quiet: bool) -> impl Fn(Vec<Warning>) {
     }
 }
 
-/// Loads the motion and computes the model's points.
-fn track(
+/// The model and the rows of a motion, ready to run.
+struct Prepared {
+    model: PointModel,
+    rows: MotionRows,
+}
+
+/// Loads the model and opens the motion (its header warnings printed).
+fn prepare(
     motion: &str,
     model: &str,
     anthropometry: Option<&Path>,
     points: bool,
     quiet: bool,
-    show_progress: bool,
-) -> anyhow::Result<PointTrack> {
+) -> anyhow::Result<Prepared> {
     let warn = warner(quiet);
-    let spec = ModelSpec::load(model).map_err(anyhow::Error::msg)?;
+    let (spec, notes) = ModelSpec::load_with_notes(model).map_err(anyhow::Error::msg)?;
+    if !quiet {
+        notes.iter().for_each(|n| eprintln!("note: {n}"));
+    }
     if anthropometry.is_some() && matches!(spec, ModelSpec::Gait2392 { .. }) {
         anyhow::bail!(
             "--anthropometry sets HAK/PHAK lengths; a gait2392 subject model comes from `qgait model import` (--model SUBJECT.toml)"
         );
     }
     let anthro = load_anthropometry(anthropometry, &warn)?;
-    let (table, w) = load_motion(motion)?;
+    let model = PointModel::new(&spec, &anthro, points).map_err(anyhow::Error::msg)?;
+    let (rows, w) = MotionRows::open(motion)?;
     warn(w);
-    let progress = Progress::new(table.rows() as u64, "fk", quiet || !show_progress);
-    let (track, w) = model_spec::compute(&spec, &table, &anthro, points, || progress.inc(1))
-        .map_err(anyhow::Error::msg)?;
-    progress.finish();
-    warn(w);
-    Ok(track)
+    Ok(Prepared { model, rows })
 }
 
-/// Runs `qgait fk`.
+/// Runs `qgait fk`: each row is computed and written before the next is read.
 pub fn run_fk(a: FkArgs, quiet: bool) -> anyhow::Result<()> {
     // No bar while CSV goes to the same terminal.
     let csv_on_terminal = a.output.is_none() && io::stdout().is_terminal();
-    let t = track(
+    refuse_overwrite(
+        a.output.as_deref(),
+        &inputs(&a.motion, &a.model, &a.anthropometry),
+    )?;
+    let warn = warner(quiet);
+    let Prepared { model, rows } = prepare(
         &a.motion,
         &a.model,
         a.anthropometry.as_deref(),
         a.points,
         quiet,
-        !csv_on_terminal,
     )?;
-    write_output(a.output.as_deref(), |out| {
-        model_spec::write_csv(out, &t, || {})
-    })
+    let progress = Progress::new(
+        rows.size_hint().unwrap_or(0) as u64,
+        "fk",
+        quiet || csv_on_terminal,
+    );
+    let mut warnings = Vec::new();
+    write_output_with(a.output.as_deref(), |out| {
+        writeln!(out, "{}", model_spec::csv_header(&model.names()))?;
+        warnings = model.run(rows, &warn, |t, points| {
+            progress.inc(1);
+            Ok(model_spec::write_csv_row(out, t, points)?)
+        })?;
+        Ok(())
+    })?;
+    progress.finish();
+    warn(warnings);
+    Ok(())
 }
 
 /// Runs `qgait model ...`.
@@ -167,6 +199,10 @@ pub fn run_model(c: ModelCommand, quiet: bool) -> anyhow::Result<()> {
             markers,
         } => {
             let shown = model.display().to_string();
+            let marker_path = markers.as_ref().map(|m| m.display().to_string());
+            let mut given = vec![shown.as_str()];
+            given.extend(marker_path.as_deref());
+            refuse_overwrite([output.as_path()], &given)?;
             let text =
                 std::fs::read_to_string(&model).with_context(|| format!("{shown}: cannot read"))?;
             let marker_text = match &markers {
@@ -200,27 +236,87 @@ pub fn run_model(c: ModelCommand, quiet: bool) -> anyhow::Result<()> {
     }
 }
 
-/// Runs `qgait export`.
+/// Runs `qgait export`: rows are written as they are computed; for a `.trc` a first pass over
+/// the motion counts its rows and reads its first and last time (the header needs them).
 pub fn run_export(a: ExportArgs, quiet: bool) -> anyhow::Result<()> {
-    let t = track(
+    refuse_overwrite(
+        a.trc.iter().chain(&a.sto).map(PathBuf::as_path),
+        &inputs(&a.motion, &a.model, &a.anthropometry),
+    )?;
+    let warn = warner(quiet);
+    let trc_shape = match &a.trc {
+        Some(_) => Some(time_span(&a.motion)?),
+        None => None,
+    };
+    let Prepared { model, rows } = prepare(
         &a.motion,
         &a.model,
         a.anthropometry.as_deref(),
         a.points,
         quiet,
-        true,
     )?;
-    if let Some(p) = &a.trc {
-        let name = p
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        write_output(Some(p), |out| export::write_trc(out, &t, &name))?;
+    let names = model.names();
+    let progress = Progress::new(rows.size_hint().unwrap_or(0) as u64, "export", quiet);
+    let mut trc = match (&a.trc, trc_shape) {
+        (Some(p), Some((frames, first, last))) => {
+            let mut f = OutputFile::create(p)?;
+            let file_name = p
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let rate = export::rate(frames, first, last);
+            export::write_trc_header(f.writer(), &names, &file_name, frames, rate)
+                .with_context(|| format!("{}: cannot write", p.display()))?;
+            Some(f)
+        }
+        _ => None,
+    };
+    let mut sto = match &a.sto {
+        Some(p) => {
+            let mut f = OutputFile::create(p)?;
+            export::write_sto_header(f.writer(), &names)
+                .with_context(|| format!("{}: cannot write", p.display()))?;
+            Some(f)
+        }
+        None => None,
+    };
+    let mut frame = 0;
+    let warnings = model.run(rows, &warn, |t, points| {
+        progress.inc(1);
+        frame += 1;
+        if let Some(f) = &mut trc {
+            export::write_trc_row(f.writer(), frame, t, points)
+                .map_err(|e| with_path(e.into(), f.path()))?;
+        }
+        if let Some(f) = &mut sto {
+            export::write_sto_row(f.writer(), t, points)
+                .map_err(|e| with_path(e.into(), f.path()))?;
+        }
+        Ok(())
+    })?;
+    progress.finish();
+    if let Some(f) = trc {
+        f.commit()?;
     }
-    if let Some(p) = &a.sto {
-        write_output(Some(p), |out| export::write_sto(out, &t))?;
+    if let Some(f) = sto {
+        f.commit()?;
     }
+    warn(warnings);
     Ok(())
+}
+
+/// The number of rows of a motion and its first and last time, read as it goes.
+fn time_span(motion: &str) -> anyhow::Result<(usize, f64, f64)> {
+    let (mut rows, _) = MotionRows::open(motion)?;
+    let (mut n, mut first, mut last) = (0, 0.0, 0.0);
+    while let Some((row, _)) = rows.next_row()? {
+        if n == 0 {
+            first = row.values[0];
+        }
+        last = row.values[0];
+        n += 1;
+    }
+    Ok((n, first, last))
 }
 
 /// Runs `qgait fidelity`.
@@ -232,6 +328,8 @@ pub fn run_fidelity(a: FidelityArgs, quiet: bool) -> anyhow::Result<()> {
             a.motions.len()
         );
     }
+    let specs: Vec<&str> = a.motions.iter().map(String::as_str).collect();
+    refuse_overwrite(a.output.as_deref(), &specs)?;
     let warn = warner(quiet);
     let mut results = Vec::new();
     for (i, spec) in a.motions.iter().enumerate() {

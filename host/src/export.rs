@@ -8,28 +8,42 @@
 //! - `.sto` table, OpenSim 4 style: `inDegrees=no`, `DataType=double`, `version=3`,
 //!   `endheader`, then `time` and `<point>_x,_y,_z` columns as in `qgait fk`, tab separated.
 //!
-//! Numbers are printed with Rust's `{}` for `f64` (shortest round-trip text).
+//! Numbers are printed with Rust's `{}` for `f64` (shortest round-trip text). Rows are written
+//! as they are computed; the `.trc` header's frame count and rate come from a first pass over
+//! the motion's times, so memory does not grow with the number of rows.
 
 use std::io::{self, Write};
 
-use crate::model_spec::PointTrack;
+use qgait_kernel::Vec3;
 
 /// Frames per second from the time column.
 pub fn data_rate(time: &[f64]) -> f64 {
     match (time.first(), time.last()) {
-        (Some(a), Some(b)) if time.len() > 1 && b > a => (time.len() - 1) as f64 / (b - a),
+        (Some(&a), Some(&b)) => rate(time.len(), a, b),
         _ => 1.0,
     }
 }
 
-/// Writes the `.trc` marker file; `file_name` goes in its first line.
-pub fn write_trc<W: Write + ?Sized>(
+/// Frames per second of `rows` rows from `first` to `last` (s): `(rows - 1) / (last - first)`,
+/// 1 for a single row.
+pub fn rate(rows: usize, first: f64, last: f64) -> f64 {
+    if rows > 1 && last > first {
+        (rows - 1) as f64 / (last - first)
+    } else {
+        1.0
+    }
+}
+
+/// Writes the header of the `.trc` marker file: `file_name` in its first line, the points'
+/// `names` as markers, `frames` rows at `rate` frames per second.
+pub fn write_trc_header<W: Write + ?Sized>(
     w: &mut W,
-    track: &PointTrack,
+    names: &[String],
     file_name: &str,
+    frames: usize,
+    rate: f64,
 ) -> io::Result<()> {
-    let rate = data_rate(&track.time);
-    let (frames, markers) = (track.rows.len(), track.names.len());
+    let markers = names.len();
     writeln!(w, "PathFileType\t4\t(X/Y/Z)\t{file_name}")?;
     writeln!(
         w,
@@ -40,7 +54,7 @@ pub fn write_trc<W: Write + ?Sized>(
         "{rate}\t{rate}\t{frames}\t{markers}\tm\t{rate}\t1\t{frames}"
     )?;
     write!(w, "Frame#\tTime")?;
-    for n in &track.names {
+    for n in names {
         write!(w, "\t{n}\t\t")?;
     }
     writeln!(w)?;
@@ -49,36 +63,47 @@ pub fn write_trc<W: Write + ?Sized>(
         write!(w, "\tX{i}\tY{i}\tZ{i}")?;
     }
     writeln!(w)?;
-    writeln!(w)?;
-    for (frame, (t, row)) in track.time.iter().zip(&track.rows).enumerate() {
-        write!(w, "{}\t{t}", frame + 1)?;
-        for p in row {
-            write!(w, "\t{}\t{}\t{}", p.x, p.y, p.z)?;
-        }
-        writeln!(w)?;
-    }
-    Ok(())
+    writeln!(w)
 }
 
-/// Writes the `.sto` table.
-pub fn write_sto<W: Write + ?Sized>(w: &mut W, track: &PointTrack) -> io::Result<()> {
+/// Writes one `.trc` row (`frame` from 1).
+pub fn write_trc_row<W: Write + ?Sized>(
+    w: &mut W,
+    frame: usize,
+    time: f64,
+    points: &[Vec3<f64>],
+) -> io::Result<()> {
+    write!(w, "{frame}\t{time}")?;
+    for p in points {
+        write!(w, "\t{}\t{}\t{}", p.x, p.y, p.z)?;
+    }
+    writeln!(w)
+}
+
+/// Writes the header of the `.sto` table.
+pub fn write_sto_header<W: Write + ?Sized>(w: &mut W, names: &[String]) -> io::Result<()> {
     writeln!(w, "inDegrees=no")?;
     writeln!(w, "DataType=double")?;
     writeln!(w, "version=3")?;
     writeln!(w, "endheader")?;
     write!(w, "time")?;
-    for n in &track.names {
+    for n in names {
         write!(w, "\t{n}_x\t{n}_y\t{n}_z")?;
     }
-    writeln!(w)?;
-    for (t, row) in track.time.iter().zip(&track.rows) {
-        write!(w, "{t}")?;
-        for p in row {
-            write!(w, "\t{}\t{}\t{}", p.x, p.y, p.z)?;
-        }
-        writeln!(w)?;
+    writeln!(w)
+}
+
+/// Writes one `.sto` row.
+pub fn write_sto_row<W: Write + ?Sized>(
+    w: &mut W,
+    time: f64,
+    points: &[Vec3<f64>],
+) -> io::Result<()> {
+    write!(w, "{time}")?;
+    for p in points {
+        write!(w, "\t{}\t{}\t{}", p.x, p.y, p.z)?;
     }
-    Ok(())
+    writeln!(w)
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::BilateralPose;
 
+use crate::coords::Picker;
 use crate::mot::{MotionTable, Warning};
 
 /// Which kernel model computes the joint positions.
@@ -35,41 +36,59 @@ pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<War
     ))
 }
 
-/// The coordinates `names` (radians, in that order) of every row of a motion. The PHAK leg
-/// columns ([`LEG_COLUMNS`]) are required: a missing one is an error naming the file and the
-/// columns; any other missing coordinate counts as 0 with one warning.
+/// The coordinates HAK uses: the leg ones of [`PhakAngles::NAMES`].
+pub const HAK_NAMES: [&str; 6] = [
+    PhakAngles::<f64>::NAMES[2],
+    PhakAngles::<f64>::NAMES[3],
+    PhakAngles::<f64>::NAMES[4],
+    PhakAngles::<f64>::NAMES[5],
+    PhakAngles::<f64>::NAMES[6],
+    PhakAngles::<f64>::NAMES[7],
+];
+
+/// The angles `model` uses (radians) of every row, as [`PhakAngles`]: for HAK the pelvis
+/// columns are not read (0, no warning about them).
+pub fn stick_angles(
+    table: &MotionTable,
+    model: Model,
+) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), String> {
+    match model {
+        Model::Phak => phak_angles(table),
+        Model::Hak => {
+            let (rows, warnings) = coordinate_rows(table, &HAK_NAMES)?;
+            Ok((rows.into_iter().map(hak_as_phak).collect(), warnings))
+        }
+    }
+}
+
+/// HAK's six leg angles as [`PhakAngles`] with a level pelvis.
+pub fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
+    let mut all = [0.0; 8];
+    all[2..].copy_from_slice(&legs);
+    PhakAngles::from_array(all)
+}
+
+/// The coordinates `names` (radians, in that order) of every row of a motion, through
+/// [`Picker`]: the PHAK leg columns ([`LEG_COLUMNS`]) are required, any other missing
+/// coordinate counts as 0 with one warning, and angles outside their range are reported.
 pub fn coordinate_rows<const N: usize>(
     table: &MotionTable,
-    names: &[&str; N],
+    names: &[&'static str; N],
 ) -> Result<(Vec<[f64; N]>, Vec<Warning>), String> {
-    let missing: Vec<&str> = LEG_COLUMNS
-        .iter()
-        .copied()
-        .filter(|c| table.column(c).is_none())
-        .collect();
-    if !missing.is_empty() {
-        return Err(format!(
-            "{}: missing required column(s) {}",
-            table.labels_location(),
-            missing.join(", ")
-        ));
-    }
-    let mut warnings = Vec::new();
-    let columns: Vec<Vec<f64>> = names
-        .iter()
-        .map(|name| {
-            table.angle_radians(name).unwrap_or_else(|| {
-                warnings.push(Warning(format!(
-                    "{}: no `{name}` column; taken as 0",
-                    table.source()
-                )));
-                vec![0.0; table.rows()]
-            })
-        })
-        .collect();
+    let (mut picker, mut warnings) = Picker::new(table.header(), names)?;
     let rows = (0..table.rows())
-        .map(|r| core::array::from_fn(|k| columns[k][r]))
-        .collect();
+        .map(|r| {
+            picker.pick(
+                |c| table.value(r, c),
+                || match table.line(r) {
+                    Some(line) => format!("line {line}"),
+                    None => format!("row {}", r + 1),
+                },
+                |c| table.non_finite(c),
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    warnings.extend(picker.finish());
     Ok((rows, warnings))
 }
 
@@ -163,7 +182,14 @@ mod tests {
             .collect();
         let table = MotionTable::new("t", "t.mot", true, labels, cols).unwrap();
         let (a, w) = phak_angles(&table).unwrap();
-        assert!(w.is_empty());
+        // Knees at 40 and 70 degrees, ankles at 50 and 10, pelvis rotation 80: out of range
+        // only where the ranges say so (knee -120..10, ankle -40..30, each ± 10).
+        let out: Vec<&str> = w.iter().map(|w| w.0.split('`').nth(1).unwrap()).collect();
+        assert_eq!(
+            out,
+            ["knee_angle_r", "ankle_angle_r", "knee_angle_l"],
+            "{w:?}"
+        );
         let deg: Vec<f64> = a[0]
             .to_array()
             .iter()

@@ -7,6 +7,7 @@ pub mod cli;
 pub mod cli_config;
 pub mod cli_device;
 pub mod cli_gait2392;
+pub mod coords;
 pub mod device;
 pub mod export;
 pub mod fidelity;

@@ -6,10 +6,12 @@ use std::path::Path;
 
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::gait2392::COORDINATES;
-use qgait_kernel::{Gait2392, Gait2392Geometry, Joint, Side, Vec3};
+use qgait_kernel::{Gait2392, Gait2392Geometry, Joint, PhakAngles, Side, Vec3};
 
+use crate::coords::CoordRows;
 use crate::kinematics::{self, Evaluator, Model};
 use crate::mot::{MotionTable, Warning};
+use crate::source::MotionRows;
 use crate::subject;
 
 /// A model chosen on the command line.
@@ -27,23 +29,55 @@ pub enum ModelSpec {
 }
 
 impl ModelSpec {
-    /// `hak`, `phak`, `gait2392`, or the path of a `SUBJECT.toml` (read and checked here).
+    /// `hak`, `phak`, `gait2392`, the path of a `SUBJECT.toml` (read and checked here), or an
+    /// OpenSim model `.osim` (its leg chain imported as `qgait model import` does).
     pub fn load(arg: &str) -> Result<Self, String> {
-        match arg {
-            "hak" => Ok(Self::Stick(Model::Hak)),
-            "phak" => Ok(Self::Stick(Model::Phak)),
-            "gait2392" => Ok(Self::Gait2392 {
-                geometry: Box::new(Gait2392Geometry::generic()),
-                name: arg.to_string(),
-            }),
-            _ if arg.ends_with(".toml") || Path::new(arg).is_file() => Ok(Self::Gait2392 {
-                geometry: Box::new(subject::read(Path::new(arg))?),
-                name: arg.to_string(),
-            }),
-            _ => Err(format!(
-                "unknown model `{arg}` (expected hak, phak, gait2392 or a SUBJECT.toml file from `qgait model import`)"
-            )),
-        }
+        Self::load_with_notes(arg).map(|(spec, _)| spec)
+    }
+
+    /// [`ModelSpec::load`], with the notes of an `.osim` import (where the toe tip came from).
+    pub fn load_with_notes(arg: &str) -> Result<(Self, Vec<String>), String> {
+        let path = Path::new(arg);
+        let is_osim = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("osim"));
+        Ok(match arg {
+            "hak" => (Self::Stick(Model::Hak), Vec::new()),
+            "phak" => (Self::Stick(Model::Phak), Vec::new()),
+            "gait2392" => (
+                Self::Gait2392 {
+                    geometry: Box::new(Gait2392Geometry::generic()),
+                    name: arg.to_string(),
+                },
+                Vec::new(),
+            ),
+            _ if is_osim => {
+                let text =
+                    std::fs::read_to_string(path).map_err(|e| format!("{arg}: cannot read: {e}"))?;
+                let imported = crate::osim_import::import(&text, arg, None)?;
+                // The first note says where it was imported from; the others are worth showing.
+                let notes = imported.notes.into_iter().skip(1).collect();
+                (
+                    Self::Gait2392 {
+                        geometry: Box::new(imported.geometry),
+                        name: arg.to_string(),
+                    },
+                    notes,
+                )
+            }
+            _ if arg.ends_with(".toml") || path.is_file() => (
+                Self::Gait2392 {
+                    geometry: Box::new(subject::read(path)?),
+                    name: arg.to_string(),
+                },
+                Vec::new(),
+            ),
+            _ => {
+                return Err(format!(
+                    "unknown model `{arg}` (expected hak, phak, gait2392, a SUBJECT.toml file from `qgait model import`, or an OpenSim model .osim)"
+                ))
+            }
+        })
     }
 }
 
@@ -72,101 +106,125 @@ pub fn point_names(extra: bool) -> Vec<String> {
     names
 }
 
-/// Named points of every row of a motion (metres; origin and axes as the model's CSV).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PointTrack {
-    /// Point names ([`point_names`]).
-    pub names: Vec<String>,
-    /// Time of each row (s).
-    pub time: Vec<f64>,
-    /// Per row, one position per name.
-    pub rows: Vec<Vec<Vec3<f64>>>,
-}
-
-/// Computes the points of every row. `extra` adds subtalar and MTP (gait2392 models only; an
-/// error otherwise). `anthropometry` is for HAK/PHAK only.
-pub fn compute(
-    model: &ModelSpec,
-    table: &MotionTable,
-    anthropometry: &Anthropometry<f64>,
+/// A model ready to evaluate rows: the kernel model of a [`ModelSpec`] and the points it gives
+/// ([`point_names`]; metres, origin and axes as the model's CSV).
+pub struct PointModel {
+    kind: Kind,
     extra: bool,
-    mut on_row: impl FnMut(),
-) -> Result<(PointTrack, Vec<Warning>), String> {
-    let rows = match model {
-        ModelSpec::Stick(m) => {
-            if extra {
-                return Err(
-                    "--points (subtalar and MTP) needs a gait2392 model (--model gait2392 or SUBJECT.toml)"
-                        .into(),
-                );
-            }
-            let (angles, w) = kinematics::phak_angles(table)?;
-            let warnings = if *m == Model::Phak { w } else { Vec::new() };
-            let evaluator = Evaluator::new(*m, anthropometry)?;
-            let rows = angles
-                .iter()
-                .map(|a| {
-                    on_row();
-                    evaluator.pose(a).points().to_vec()
-                })
-                .collect();
-            (rows, warnings)
-        }
-        ModelSpec::Gait2392 { geometry, name } => {
-            let (q, warnings) = gait2392_coordinates(table)?;
-            let chain = Gait2392::<f64>::new(geometry)
-                .map_err(|e| format!("{name}: model rejected by the kernel: {e}"))?;
-            let rows = q
-                .iter()
-                .map(|q| {
-                    on_row();
-                    let pose = chain.fk(q);
-                    let mut p = pose.bilateral().points().to_vec();
-                    if extra {
-                        for side in Side::ALL {
-                            p.push(pose.subtalar(side));
-                            p.push(pose.mtp(side));
-                        }
-                    }
-                    p
-                })
-                .collect();
-            (rows, warnings)
-        }
-    };
-    Ok((
-        PointTrack {
-            names: point_names(extra),
-            time: table.time().to_vec(),
-            rows: rows.0,
-        },
-        rows.1,
-    ))
 }
 
-/// Writes a track as the `qgait fk` CSV: `time`, then `<name>_x,<name>_y,<name>_z` per point.
-/// For the standard 8 points this is exactly [`crate::fk_csv::header`].
-pub fn write_csv<W: std::io::Write + ?Sized>(
-    w: &mut W,
-    track: &PointTrack,
-    mut on_row: impl FnMut(),
-) -> std::io::Result<()> {
+enum Kind {
+    Stick(Model, Box<Evaluator>),
+    Gait2392(Box<Gait2392<f64>>),
+}
+
+impl PointModel {
+    /// The model of `spec`. `extra` adds subtalar and MTP (gait2392 models only; an error
+    /// otherwise). `anthropometry` is for HAK/PHAK only.
+    pub fn new(
+        spec: &ModelSpec,
+        anthropometry: &Anthropometry<f64>,
+        extra: bool,
+    ) -> Result<Self, String> {
+        let kind = match spec {
+            ModelSpec::Stick(m) => {
+                if extra {
+                    return Err(
+                        "--points (subtalar and MTP) needs a gait2392 model (--model gait2392, SUBJECT.toml or MODEL.osim)"
+                            .into(),
+                    );
+                }
+                Kind::Stick(*m, Box::new(Evaluator::new(*m, anthropometry)?))
+            }
+            ModelSpec::Gait2392 { geometry, name } => Kind::Gait2392(Box::new(
+                Gait2392::<f64>::new(geometry)
+                    .map_err(|e| format!("{name}: model rejected by the kernel: {e}"))?,
+            )),
+        };
+        Ok(Self { kind, extra })
+    }
+
+    /// The names of the points of each row.
+    pub fn names(&self) -> Vec<String> {
+        point_names(self.extra)
+    }
+
+    /// Evaluates every row of `rows` in turn, handing `each` the row's time and points; memory
+    /// does not grow with the number of rows. `warn` gets the warnings about the columns before
+    /// the first row; the warnings found while reading (ranges, row count) are returned.
+    pub fn run(
+        &self,
+        rows: MotionRows,
+        warn: &dyn Fn(Vec<Warning>),
+        mut each: impl FnMut(f64, &[Vec3<f64>]) -> anyhow::Result<()>,
+    ) -> anyhow::Result<Vec<Warning>> {
+        let mut points = Vec::with_capacity(12);
+        match &self.kind {
+            Kind::Stick(Model::Hak, evaluator) => {
+                drive(rows, &kinematics::HAK_NAMES, warn, |t, legs| {
+                    let pose = evaluator.pose(&kinematics::hak_as_phak(legs));
+                    each(t, &pose.points())
+                })
+            }
+            Kind::Stick(Model::Phak, evaluator) => {
+                drive(rows, &PhakAngles::<f64>::NAMES, warn, |t, a| {
+                    each(t, &evaluator.pose(&PhakAngles::from_array(a)).points())
+                })
+            }
+            Kind::Gait2392(chain) => drive(rows, &COORDINATES, warn, |t, q| {
+                let pose = chain.fk(&q);
+                points.clear();
+                points.extend_from_slice(&pose.bilateral().points());
+                if self.extra {
+                    for side in Side::ALL {
+                        points.push(pose.subtalar(side));
+                        points.push(pose.mtp(side));
+                    }
+                }
+                each(t, &points)
+            }),
+        }
+    }
+}
+
+/// Reads every row of `rows` as the coordinates `names` and hands them to `each`.
+pub fn drive<const N: usize>(
+    rows: MotionRows,
+    names: &[&'static str; N],
+    warn: &dyn Fn(Vec<Warning>),
+    mut each: impl FnMut(f64, [f64; N]) -> anyhow::Result<()>,
+) -> anyhow::Result<Vec<Warning>> {
+    let (mut coords, w) = CoordRows::new(rows, names).map_err(anyhow::Error::msg)?;
+    warn(w);
+    while let Some((t, q)) = coords.next_row()? {
+        each(t, q)?;
+    }
+    Ok(coords.finish())
+}
+
+/// The header of the `qgait fk` CSV for these points: `time`, then `<name>_x,<name>_y,<name>_z`
+/// per point. For the standard 8 points this is exactly [`crate::fk_csv::header`].
+pub fn csv_header(names: &[String]) -> String {
     let mut header = vec!["time".to_string()];
-    for n in &track.names {
+    for n in names {
         for axis in ["x", "y", "z"] {
             header.push(format!("{n}_{axis}"));
         }
     }
-    writeln!(w, "{}", header.join(","))?;
-    for (t, row) in track.time.iter().zip(&track.rows) {
-        write!(w, "{t}")?;
-        for p in row {
-            write!(w, ",{},{},{}", p.x, p.y, p.z)?;
-        }
-        w.write_all(b"\n")?;
-        on_row();
+    header.join(",")
+}
+
+/// Writes one row of the `qgait fk` CSV.
+pub fn write_csv_row<W: std::io::Write + ?Sized>(
+    w: &mut W,
+    time: f64,
+    points: &[Vec3<f64>],
+) -> std::io::Result<()> {
+    write!(w, "{time}")?;
+    for p in points {
+        write!(w, ",{},{},{}", p.x, p.y, p.z)?;
     }
-    Ok(())
+    w.write_all(b"\n")
 }
 
 #[cfg(test)]
@@ -175,17 +233,7 @@ mod tests {
 
     #[test]
     fn standard_names_give_the_fk_header() {
-        let track = PointTrack {
-            names: point_names(false),
-            time: vec![],
-            rows: vec![],
-        };
-        let mut out = Vec::new();
-        write_csv(&mut out, &track, || {}).unwrap();
-        assert_eq!(
-            String::from_utf8(out).unwrap().trim_end(),
-            crate::fk_csv::header()
-        );
+        assert_eq!(csv_header(&point_names(false)), crate::fk_csv::header());
         assert_eq!(
             point_names(true)[8..],
             ["subtalar_r", "mtp_r", "subtalar_l", "mtp_l"]

@@ -210,3 +210,22 @@ fn report_on_the_shared_motions() {
     // Crouch shortens the step: smaller maximal ankle-ankle distance.
     assert!(max("SC", "ankle-ankle") < max("N", "ankle-ankle") - 0.1);
 }
+
+#[test]
+fn the_figures_of_a_long_recording_stay_the_size_of_the_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r");
+    let o = qgait(&[
+        "-q",
+        "report",
+        "builtin:normal,rows=100000",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for svg in ["paths_sagittal.svg", "distances.svg"] {
+        let size = std::fs::metadata(out.join(svg)).unwrap().len();
+        // Every row drawn would be 100,000 segments per curve (tens of MB).
+        assert!(size < 3_000_000, "{svg}: {size} bytes");
+    }
+}

@@ -9,7 +9,13 @@
 //! - Host: criterion's medians (`target/criterion/**/new/estimates.json`) of the kernel's `fk`
 //!   bench and of the host crate's `decode_verify` bench.
 //!
-//! `--no-host` skips the criterion benches (they take minutes and want a quiet machine).
+//! - Large files: the release `qgait` on a generated 1,000,000-row motion (in a temporary
+//!   directory, removed afterwards): `fk`, `export`, `packets` and `report` on it, `decode` and
+//!   `verify` on a hub log of the same million samples; rows per second, MB per second and the
+//!   child's peak resident memory (`wait4`) of each (module [`large`]).
+//!
+//! `--no-host` skips the criterion benches (they take minutes and want a quiet machine);
+//! `--no-large` the large files; `--large-only` runs only those.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -20,6 +26,8 @@ use object::{Object, ObjectSymbol};
 use qgait::device::qemu::Echo;
 
 use crate::elf_size::footprint;
+
+mod large;
 use crate::repo_root;
 
 /// Longest one QEMU run of the bench binary may take.
@@ -101,17 +109,24 @@ const HOST: &[(&str, &str, f64)] = &[
 
 /// Runs every benchmark and prints the figures.
 pub fn run(args: &[String]) -> Result<ExitCode, String> {
-    let host = !args.iter().any(|a| a == "--no-host");
-    let footprint = !args.iter().any(|a| a == "--no-footprint");
-    if let Some(other) = args.iter().find(|a| *a != "--no-host" && *a != "--no-footprint") {
-        return Err(format!("bench: unknown argument {other} (--no-host, --no-footprint)"));
+    const FLAGS: [&str; 4] = ["--no-host", "--no-footprint", "--no-large", "--large-only"];
+    let has = |f: &str| args.iter().any(|a| a == f);
+    if let Some(other) = args.iter().find(|a| !FLAGS.contains(&a.as_str())) {
+        return Err(format!("bench: unknown argument {other} ({})", FLAGS.join(", ")));
+    }
+    if has("--large-only") {
+        large::run()?;
+        return Ok(ExitCode::SUCCESS);
     }
     device()?;
-    if footprint {
+    if !has("--no-footprint") {
         firmware_footprint()?;
     }
-    if host {
+    if !has("--no-host") {
         host_benches()?;
+    }
+    if !has("--no-large") {
+        large::run()?;
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -34,7 +34,7 @@ const USAGE: &str = "usage: cargo xtask <command>
   test                 run every test suite (host, firmware builds, QEMU, end-to-end) and summarise
   qemu-run ELF [ARGS]  run a firmware ELF under QEMU mps2-an386 with decoded defmt logs
   footprint            flash, static RAM, peak stack and stack bound of the release firmware
-  bench [--no-host] [--no-footprint]
+  bench [--no-host] [--no-footprint] [--no-large] [--large-only]
                        every benchmark figure (device, footprint, host), one `NAME VALUE` line each";
 
 fn main() -> ExitCode {

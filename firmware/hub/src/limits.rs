@@ -1,38 +1,30 @@
 //! Physiological ranges of the joint angles, used to flag implausible inputs.
 //!
-//! The ranges are the coordinate ranges of OpenSim's gait2392 model, widened by
+//! The ranges are the kernel's ([`qgait_kernel::models::ranges`]), widened by
 //! [`MARGIN`] so that a good IMU estimate near the end of a range is never flagged. An angle
 //! outside its range is still used (the pose is computed and sent with
 //! [`FrameFlags::OUT_OF_RANGE`](qgait_proto::FrameFlags::OUT_OF_RANGE)); an angle that is not a
 //! finite number is rejected.
 
+use qgait_kernel::models::ranges;
 use qgait_proto::JointId;
 
-/// Tolerance added to both ends of every range (radians, 10 degrees).
-pub const MARGIN: f32 = 0.174_532_93;
+/// Tolerance added to both ends of every range (radians, [`ranges::MARGIN_DEG`]).
+pub const MARGIN: f32 = (ranges::MARGIN_DEG * core::f64::consts::PI / 180.0) as f32;
 
 const DEG: f32 = core::f32::consts::PI / 180.0;
 
-/// The range `(min, max)` of `joint` in radians, before [`MARGIN`].
+/// The range `(min, max)` of `joint` in radians, before [`MARGIN`] (the kernel's
+/// [`ranges::RANGES_DEG`]; joint ids are the kernel's coordinate indices).
 pub fn range(joint: JointId) -> (f32, f32) {
-    let (lo, hi) = match joint {
-        JointId::PelvisTilt | JointId::PelvisList | JointId::PelvisRotation => (-90.0, 90.0),
-        JointId::HipFlexionR | JointId::HipFlexionL => (-30.0, 120.0),
-        JointId::HipAdductionR | JointId::HipAdductionL => (-50.0, 30.0),
-        JointId::HipRotationR | JointId::HipRotationL => (-40.0, 40.0),
-        JointId::KneeAngleR | JointId::KneeAngleL => (-120.0, 10.0),
-        JointId::AnkleAngleR | JointId::AnkleAngleL => (-40.0, 30.0),
-        JointId::SubtalarAngleR | JointId::SubtalarAngleL => (-20.0, 20.0),
-        JointId::MtpAngleR | JointId::MtpAngleL => (-30.0, 30.0),
-    };
-    (lo * DEG, hi * DEG)
+    let (lo, hi) = ranges::RANGES_DEG[joint.index() as usize];
+    (lo as f32 * DEG, hi as f32 * DEG)
 }
 
 /// Whether `angle` (radians) lies in the range of `joint`, margin included.
 #[inline]
 pub fn in_range(joint: JointId, angle: f32) -> bool {
-    let (lo, hi) = range(joint);
-    angle >= lo - MARGIN && angle <= hi + MARGIN
+    ranges::in_range(joint.index() as usize, angle)
 }
 
 #[cfg(test)]
@@ -45,6 +37,13 @@ mod tests {
         assert!(in_range(JointId::KneeAngleL, 20.0 * DEG - 1e-4));
         assert!(!in_range(JointId::KneeAngleL, 25.0 * DEG));
         assert!(!in_range(JointId::KneeAngleR, f32::NAN));
+    }
+
+    #[test]
+    fn joint_ids_are_the_kernels_coordinate_indices() {
+        for j in JointId::ALL {
+            assert_eq!(qgait_kernel::models::gait2392::COORDINATES[j.index() as usize], j.name());
+        }
     }
 
     #[test]

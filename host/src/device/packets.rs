@@ -1,13 +1,21 @@
 //! The byte stream the IMU nodes send for a motion: one `JointAngle` packet per joint the model
-//! needs per row, sequence number = row index (`qgait packets`).
+//! needs per row, sequence number = row index (`qgait packets`). [`write_stream`] writes it row
+//! by row as the motion is read (any length in constant memory); [`Samples`] holds a motion's
+//! samples for the emulator.
 
 use qgait_proto::{
     encode_frame, JointAngle, JointId, Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
-use crate::kinematics;
-use crate::model_spec::gait2392_coordinates;
+use std::cell::RefCell;
+
+use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::PhakAngles;
+
+use crate::kinematics::HAK_NAMES;
+use crate::model_spec::drive;
 use crate::mot::{MotionTable, Warning};
+use crate::source::MotionRows;
 
 /// The samples of a motion as a node network would measure them: per row, the angle of every
 /// joint the model needs, in [`ModelId::required_joints`] order (radians), and a timestamp.
@@ -43,36 +51,23 @@ impl Samples {
         model: ModelId,
         timing: Timing,
     ) -> Result<(Samples, Vec<Warning>), String> {
-        let (angles, warnings): (Vec<Vec<f64>>, Vec<Warning>) = match model {
-            ModelId::Hak | ModelId::Phak => {
-                let (rows, w) = kinematics::phak_angles(table)?;
-                // PhakAngles order is PHAK's joint order; HAK is its last six.
-                let skip = if model == ModelId::Hak { 2 } else { 0 };
-                let warnings = if model == ModelId::Hak { Vec::new() } else { w };
-                (
-                    rows.iter().map(|a| a.to_array()[skip..].to_vec()).collect(),
-                    warnings,
-                )
-            }
-            ModelId::Gait2392 => {
-                let (rows, w) = gait2392_coordinates(table)?;
-                (rows.iter().map(|q| q.to_vec()).collect(), w)
-            }
-        };
-        let timestamps_us = match timing {
-            Timing::TimeColumn => {
-                let t0 = table.time().first().copied().unwrap_or(0.0);
-                table.time().iter().map(|&t| wire_us(t - t0)).collect()
-            }
-            Timing::Rate(hz) => {
-                if !(hz.is_finite() && hz > 0.0) {
-                    return Err(format!(
-                        "--rate {hz}: expected a positive number of samples per second"
-                    ));
-                }
-                (0..table.rows()).map(|i| wire_us(i as f64 / hz)).collect()
-            }
-        };
+        let warnings = RefCell::new(Vec::new());
+        let mut timestamps_us = Vec::with_capacity(table.rows());
+        let mut angles = Vec::with_capacity(table.rows());
+        let end = for_each_sample(
+            MotionRows::from_table(table.clone()),
+            model,
+            timing,
+            &|w| warnings.borrow_mut().extend(w),
+            |_, ts, a| {
+                timestamps_us.push(ts);
+                angles.push(a.to_vec());
+                Ok(())
+            },
+        )
+        .map_err(|e| e.to_string())?;
+        let mut warnings = warnings.into_inner();
+        warnings.extend(end);
         Ok((
             Samples {
                 model,
@@ -108,6 +103,86 @@ impl Samples {
     pub fn all_packets(&self) -> impl Iterator<Item = JointAngle> + '_ {
         (0..self.len()).flat_map(move |row| self.packets(row))
     }
+}
+
+/// Reads every row of `rows` as a sample of `model` and hands `each` its sequence number (the
+/// row index, wrapping), timestamp and angles (radians, [`ModelId::required_joints`] order);
+/// memory does not grow with the number of rows. `warn` gets the warnings about the columns
+/// before the first row; the warnings found while reading are returned.
+pub fn for_each_sample(
+    rows: MotionRows,
+    model: ModelId,
+    timing: Timing,
+    warn: &dyn Fn(Vec<Warning>),
+    mut each: impl FnMut(u32, u32, &[f64]) -> anyhow::Result<()>,
+) -> anyhow::Result<Vec<Warning>> {
+    if let Timing::Rate(hz) = timing {
+        if !(hz.is_finite() && hz > 0.0) {
+            anyhow::bail!("--rate {hz}: expected a positive number of samples per second");
+        }
+    }
+    let mut row = 0usize;
+    let mut t0 = None;
+    let mut sample = |t: f64, angles: &[f64]| {
+        let seconds = match timing {
+            Timing::TimeColumn => t - *t0.get_or_insert(t),
+            Timing::Rate(hz) => row as f64 / hz,
+        };
+        let seq = row as u32;
+        row += 1;
+        each(seq, wire_us(seconds), angles)
+    };
+    // The coordinates are read in each model's joint order (PHAK's is PhakAngles', HAK's its
+    // last six, gait2392's the kernel's COORDINATES).
+    match model {
+        ModelId::Hak => drive(rows, &HAK_NAMES, warn, |t, q| sample(t, &q)),
+        ModelId::Phak => drive(rows, &PhakAngles::<f64>::NAMES, warn, |t, q| sample(t, &q)),
+        ModelId::Gait2392 => drive(rows, &COORDINATES, warn, |t, q| sample(t, &q)),
+    }
+}
+
+/// What [`write_stream`] wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StreamCounts {
+    /// Rows (samples).
+    pub samples: u64,
+    /// Packets.
+    pub packets: u64,
+    /// Bytes.
+    pub bytes: u64,
+}
+
+/// Writes the stream of [`stream`] for every row of `rows` as it is read: a 0x00, then each
+/// sample's packets (as [`Samples::packets`] makes them).
+pub fn write_stream(
+    rows: MotionRows,
+    model: ModelId,
+    timing: Timing,
+    warn: &dyn Fn(Vec<Warning>),
+    out: &mut dyn std::io::Write,
+) -> anyhow::Result<(StreamCounts, Vec<Warning>)> {
+    let joints = model.required_joints();
+    let mut counts = StreamCounts {
+        bytes: 1,
+        ..StreamCounts::default()
+    };
+    out.write_all(&[0])?;
+    let mut buf = Vec::with_capacity(joints.len() * MAX_FRAME_LEN);
+    let warnings = for_each_sample(rows, model, timing, warn, |seq, ts, angles| {
+        buf.clear();
+        for (&joint, &angle) in joints.iter().zip(angles) {
+            push_frame(
+                &mut buf,
+                &Message::JointAngle(packet(seq, ts, joint, angle as f32)),
+            );
+        }
+        out.write_all(&buf)?;
+        counts.samples += 1;
+        counts.packets += joints.len() as u64;
+        counts.bytes += buf.len() as u64;
+        Ok(())
+    })?;
+    Ok((counts, warnings))
 }
 
 /// One packet as a node sends it: node id = joint id (one node per joint), quality 0 (good).
@@ -184,7 +259,9 @@ mod tests {
     #[test]
     fn one_packet_per_joint_per_row_with_the_row_as_seq() {
         let (s, w) = Samples::from_motion(&table(), ModelId::Phak, Timing::TimeColumn).unwrap();
-        assert!(w.is_empty());
+        // The test angles put both knees and ankles out of range (40-80 degrees): warned only.
+        assert_eq!(w.len(), 4, "{w:?}");
+        assert!(w.iter().all(|w| w.0.contains("outside its range")), "{w:?}");
         let packets: Vec<JointAngle> = s.all_packets().collect();
         assert_eq!(packets.len(), 3 * 8);
         let bytes = stream(&packets);
@@ -216,6 +293,6 @@ mod tests {
         assert!(Samples::from_motion(&table(), ModelId::Hak, Timing::Rate(0.0)).is_err());
         let (g, w) = Samples::from_motion(&table(), ModelId::Gait2392, Timing::TimeColumn).unwrap();
         assert_eq!(g.packets(0).count(), 17);
-        assert_eq!(w.len(), 9, "{w:?}");
+        assert_eq!(w.len(), 9 + 4, "{w:?}");
     }
 }

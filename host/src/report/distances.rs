@@ -97,16 +97,17 @@ impl Figure for DistanceFigure<'_> {
                 .map_err(draw_err)?;
             for (g, gait) in self.analysis.gaits.iter().enumerate() {
                 let color = gait_color(g);
-                let pts = gait
-                    .percent
-                    .iter()
-                    .copied()
-                    .zip(gait.distances.iter().map(measure));
+                let pts = figure::decimate_series(
+                    chart.plotting_area(),
+                    gait.percent
+                        .iter()
+                        .copied()
+                        .zip(gait.distances.iter().map(measure)),
+                );
+                let style = color.stroke_width(figure::gait_width(g, self.analysis.gaits.len()));
+                figure::draw_polyline(chart.plotting_area(), &pts, style)?;
                 chart
-                    .draw_series(LineSeries::new(
-                        pts,
-                        color.stroke_width(figure::gait_width(g, self.analysis.gaits.len())),
-                    ))
+                    .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
                     .map_err(draw_err)?
                     .label(gait.label.clone())
                     .legend(move |(x, y)| {

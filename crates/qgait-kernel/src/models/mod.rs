@@ -9,6 +9,7 @@
 pub mod gait2392;
 mod hak;
 mod phak;
+pub mod ranges;
 
 pub use gait2392::{Gait2392, Gait2392Geometry, Gait2392Pose};
 pub use hak::{Hak, HakAngles, HakChain};

@@ -1,0 +1,348 @@
+//! The coordinates a model needs, picked from a motion's columns row by row: the one place that
+//! maps labels to a model's inputs, converts degrees to radians, refuses what the model cannot
+//! use (a missing leg column, a needed column that appears twice, a `nan` in a needed column)
+//! and checks every angle against its physiological range
+//! ([`qgait_kernel::models::ranges`]).
+//!
+//! Range check: an angle outside its range (widened by the kernel's margin) is used as it is and
+//! reported once per column at the end, with the number of such values and the first one (file
+//! and line). When a file in radians has values that would all be in range read as degrees, the
+//! warning says so: OpenSim's CMC and RRA write `Kinematics_q.sto` in degrees under
+//! `inDegrees=no`, and such a file otherwise gives a knee above the hip.
+
+use qgait_kernel::models::ranges;
+
+use crate::kinematics::LEG_COLUMNS;
+use crate::mot::{Header, NonFinite, Warning};
+use crate::source::MotionRows;
+
+/// Per picked column: how its values compare with the range.
+#[derive(Debug, Clone, Default)]
+struct RangeCheck {
+    /// Values read.
+    n: usize,
+    /// Values outside the range (after conversion to radians).
+    out: usize,
+    /// The first value outside (radians) and where.
+    first_out: Option<(f64, String)>,
+    /// Values outside the range when read as degrees (for files in radians).
+    out_as_degrees: usize,
+}
+
+/// Picks `N` named coordinates (radians) from each row of a motion.
+#[derive(Debug, Clone)]
+pub struct Picker<const N: usize> {
+    source: String,
+    scale: f64,
+    in_degrees: bool,
+    names: [&'static str; N],
+    /// Column of each name (`None`: absent, taken as 0).
+    columns: [Option<usize>; N],
+    /// Kernel coordinate index of each name, for the range check.
+    range_index: [Option<usize>; N],
+    checks: Vec<RangeCheck>,
+}
+
+impl<const N: usize> Picker<N> {
+    /// Maps `names` to the columns of `header`. The PHAK leg columns ([`LEG_COLUMNS`]) are
+    /// required (an error naming the file and the columns); any other missing name counts as 0
+    /// with one warning; a needed label that names two columns is an error.
+    pub fn new(header: &Header, names: &[&'static str; N]) -> Result<(Self, Vec<Warning>), String> {
+        let missing: Vec<&str> = LEG_COLUMNS
+            .iter()
+            .copied()
+            .filter(|c| header.index_of(c).is_none())
+            .collect();
+        if !missing.is_empty() {
+            return Err(format!(
+                "{}: missing required column(s) {}",
+                header.labels_location(),
+                missing.join(", ")
+            ));
+        }
+        let mut warnings = Vec::new();
+        for name in names {
+            if header.is_duplicated(name) {
+                return Err(format!(
+                    "{}: column `{name}` appears more than once and the model needs it: which one to use is ambiguous",
+                    header.labels_location()
+                ));
+            }
+        }
+        let columns = names.map(|name| {
+            let c = header.index_of(name);
+            if c.is_none() {
+                warnings.push(Warning(format!(
+                    "{}: no `{name}` column; taken as 0",
+                    header.source
+                )));
+            }
+            c
+        });
+        let scale = if header.in_degrees {
+            std::f64::consts::PI / 180.0
+        } else {
+            1.0
+        };
+        Ok((
+            Self {
+                source: header.source.clone(),
+                scale,
+                in_degrees: header.in_degrees,
+                names: *names,
+                columns,
+                range_index: names.map(ranges::index),
+                checks: vec![RangeCheck::default(); N],
+            },
+            warnings,
+        ))
+    }
+
+    /// The coordinates of one row: `value(c)` is the value of column `c` as stored; `at` says
+    /// where the row is (`line N` or `row N`); `non_finite(c)` where a non-finite value of
+    /// column `c` was read. A non-finite needed value is an error naming file, line and column.
+    pub fn pick<'a>(
+        &mut self,
+        value: impl Fn(usize) -> f64,
+        at: impl Fn() -> String,
+        non_finite: impl Fn(usize) -> Option<&'a NonFinite>,
+    ) -> Result<[f64; N], String> {
+        let mut out = [0.0; N];
+        for (k, slot) in out.iter_mut().enumerate() {
+            let Some(c) = self.columns[k] else { continue };
+            let raw = value(c);
+            if !raw.is_finite() {
+                return Err(match non_finite(c) {
+                    Some(nf) => format!(
+                        "{}:{}:{}: value `{}` in column `{}` is not a finite number, and the model needs this column",
+                        self.source, nf.line, nf.column, nf.text, self.names[k]
+                    ),
+                    None => format!(
+                        "{}: {}: value {raw} in column `{}` is not a finite number, and the model needs this column",
+                        self.source,
+                        at(),
+                        self.names[k]
+                    ),
+                });
+            }
+            let v = raw * self.scale;
+            *slot = v;
+            if let Some(i) = self.range_index[k] {
+                let check = &mut self.checks[k];
+                check.n += 1;
+                if !ranges::in_range(i, v) {
+                    check.out += 1;
+                    if check.first_out.is_none() {
+                        check.first_out = Some((v, at()));
+                    }
+                }
+                if !self.in_degrees && !ranges::in_range(i, raw.to_radians()) {
+                    check.out_as_degrees += 1;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The range warnings: one per column with values outside its range.
+    pub fn finish(self) -> Vec<Warning> {
+        let mut warnings = Vec::new();
+        let mut look_like_degrees = Vec::new();
+        for k in 0..N {
+            let check = &self.checks[k];
+            let (Some(i), Some((first, at))) = (self.range_index[k], &check.first_out) else {
+                continue;
+            };
+            let (lo, hi) = ranges::RANGES_DEG[i];
+            warnings.push(Warning(format!(
+                "{}: column `{}`: {} of {} values outside its range {lo}..{hi}° (± {}°), the first {}° at {at}",
+                self.source,
+                self.names[k],
+                check.out,
+                check.n,
+                ranges::MARGIN_DEG,
+                show_degrees(first.to_degrees()),
+            )));
+            if !self.in_degrees && check.out_as_degrees == 0 {
+                look_like_degrees.push(format!("`{}`", self.names[k]));
+            }
+        }
+        if !look_like_degrees.is_empty() {
+            warnings.push(Warning(format!(
+                "{}: the header says the angles are in radians (inDegrees=no), but {} would all be in range read as degrees: if the file is in degrees (as OpenSim's CMC and RRA write Kinematics_q.sto), set inDegrees=yes in its header",
+                self.source,
+                look_like_degrees.join(", ")
+            )));
+        }
+        warnings
+    }
+}
+
+/// The coordinates `N` names (radians) of each row of a motion read as it goes: a
+/// [`MotionRows`] through a [`Picker`], in memory independent of the number of rows.
+pub struct CoordRows<const N: usize> {
+    rows: MotionRows,
+    picker: Picker<N>,
+    warnings: Vec<Warning>,
+}
+
+impl<const N: usize> CoordRows<N> {
+    /// Maps `names` to the columns of `rows` (errors and warnings as [`Picker::new`]).
+    pub fn new(
+        rows: MotionRows,
+        names: &[&'static str; N],
+    ) -> Result<(Self, Vec<Warning>), String> {
+        let (picker, warnings) = Picker::new(rows.header(), names)?;
+        Ok((
+            Self {
+                rows,
+                picker,
+                warnings: Vec::new(),
+            },
+            warnings,
+        ))
+    }
+
+    /// The header of the motion.
+    pub fn header(&self) -> &Header {
+        self.rows.header()
+    }
+
+    /// The number of rows if known in advance.
+    pub fn size_hint(&self) -> Option<usize> {
+        self.rows.size_hint()
+    }
+
+    /// The time and the coordinates of the next row; `None` after the last.
+    pub fn next_row(&mut self) -> anyhow::Result<Option<(f64, [f64; N])>> {
+        let next = self.rows.next_row();
+        self.warnings.extend(self.rows.take_warnings());
+        let Some((row, at)) = next? else {
+            return Ok(None);
+        };
+        let q = self
+            .picker
+            .pick(
+                |c| row.values[c],
+                || at.to_string(),
+                |c| {
+                    row.non_finite
+                        .iter()
+                        .find(|(k, _)| *k == c)
+                        .map(|(_, nf)| nf)
+                },
+            )
+            .map_err(anyhow::Error::msg)?;
+        Ok(Some((row.values[0], q)))
+    }
+
+    /// The warnings found while reading (repeated times, the declared row count) and the range
+    /// warnings, once every row has been read.
+    pub fn finish(mut self) -> Vec<Warning> {
+        self.warnings.extend(self.rows.take_warnings());
+        self.warnings.extend(self.picker.finish());
+        self.warnings
+    }
+}
+
+/// An angle in degrees for a message: two decimals, or exponent notation when huge.
+fn show_degrees(d: f64) -> String {
+    if d.abs() < 1e6 {
+        format!("{d:.2}")
+    } else {
+        format!("{d:e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mot::MotionTable;
+
+    const NAMES: [&str; 8] = qgait_kernel::PhakAngles::<f64>::NAMES;
+
+    fn table(text: &str) -> MotionTable {
+        MotionTable::parse(text, "m.mot").unwrap().0
+    }
+
+    fn pick_all(t: &MotionTable) -> Result<(Vec<[f64; 8]>, Vec<Warning>), String> {
+        let (mut p, mut w) = Picker::new(t.header(), &NAMES)?;
+        let mut rows = Vec::new();
+        for r in 0..t.rows() {
+            rows.push(p.pick(
+                |c| t.value(r, c),
+                || format!("line {}", t.line(r).unwrap()),
+                |c| t.non_finite(c),
+            )?);
+        }
+        w.extend(p.finish());
+        Ok((rows, w))
+    }
+
+    const HEAD: &str = "m\nversion=1\ninDegrees=yes\nendheader\n";
+    const LEGS: &str =
+        "hip_flexion_r\tknee_angle_r\tankle_angle_r\thip_flexion_l\tknee_angle_l\tankle_angle_l";
+
+    #[test]
+    fn angles_out_of_range_are_warned_once_per_column_with_the_first_line() {
+        let text = format!(
+            "{HEAD}time\t{LEGS}\n0\t10\t-200\t0\t10\t-20\t0\n1\t10\t1e300\t0\t10\t-20\t0\n2\t10\t-30\t0\t10\t-20\t0\n"
+        );
+        let (_, w) = pick_all(&table(&text)).unwrap();
+        let knee: Vec<&Warning> = w.iter().filter(|w| w.0.contains("knee_angle_r")).collect();
+        assert_eq!(knee.len(), 1, "{w:?}");
+        assert!(
+            knee[0]
+                .0
+                .contains("2 of 3 values outside its range -120..10°")
+                && knee[0].0.contains("the first -200.00° at line 6"),
+            "{}",
+            knee[0]
+        );
+        assert!(!w.iter().any(|w| w.0.contains("knee_angle_l")), "{w:?}");
+        assert!(!w.iter().any(|w| w.0.contains("look")), "{w:?}");
+    }
+
+    #[test]
+    fn degrees_under_indegrees_no_are_named_as_such() {
+        let text = format!(
+            "m\nversion=1\ninDegrees=no\nendheader\ntime\t{LEGS}\n0\t30\t-60\t10\t-5\t-20\t0\n1\t25\t-50\t5\t0\t-10\t2\n"
+        );
+        let (_, w) = pick_all(&table(&text)).unwrap();
+        let hint = w.last().unwrap();
+        assert!(
+            hint.0.contains("inDegrees=no") && hint.0.contains("`knee_angle_r`"),
+            "{w:?}"
+        );
+        assert!(w
+            .iter()
+            .any(|w| w.0.contains("column `hip_flexion_r`: 2 of 2")));
+        // The same values in radians that are plausible give nothing.
+        let ok = format!(
+            "m\nversion=1\ninDegrees=no\nendheader\ntime\t{LEGS}\n0\t0.3\t-0.6\t0.1\t-0.05\t-0.2\t0\n1\t0.25\t-0.5\t0.05\t0\t-0.1\t0.02\n"
+        );
+        let (_, w) = pick_all(&table(&ok)).unwrap();
+        assert!(!w.iter().any(|w| w.0.contains("range")), "{w:?}");
+    }
+
+    #[test]
+    fn nan_and_duplicates_matter_only_in_needed_columns() {
+        let text = format!(
+            "{HEAD}time\t{LEGS}\tpelvis_tx\tforce\tforce\n0\t10\t-20\t0\t10\t-20\t0\tnan\t1\t2\n1\t10\t-20\t0\t10\t-20\t0\t0.5\t1\t2\n"
+        );
+        let (rows, _) = pick_all(&table(&text)).unwrap();
+        assert_eq!(rows.len(), 2);
+        let bad = text.replacen("\t-20\t0\t10", "\tNaN\t0\t10", 1);
+        let e = pick_all(&table(&bad)).unwrap_err();
+        assert_eq!(
+            e,
+            "m.mot:6:6: value `NaN` in column `knee_angle_r` is not a finite number, and the model needs this column"
+        );
+        let dup = text.replace("\tforce\tforce", "\tforce\tknee_angle_l");
+        let e = pick_all(&table(&dup)).unwrap_err();
+        assert!(
+            e.starts_with("m.mot:5: column `knee_angle_l` appears more than once"),
+            "{e}"
+        );
+    }
+}
