@@ -73,9 +73,8 @@ impl Input {
     /// Opens `path`: `-` is standard input, a terminal device a serial port at `baud` (default
     /// [`DEFAULT_BAUD`]), anything else a file. The warning says when `baud` does not apply.
     pub fn open(path: &str, baud: Option<u32>) -> anyhow::Result<(Input, Option<String>)> {
-        let ignored = |what: &str| {
-            baud.map(|b| format!("--baud {b} ignored: {path} is {what}, not a serial port"))
-        };
+        let ignored =
+            |what: &str| baud.map(|b| format!("--baud {b} ignored: {what} is not a serial port"));
         if path == "-" {
             let input = Input {
                 name: path.into(),
@@ -89,7 +88,7 @@ impl Input {
                 name: path.into(),
                 source: Source::File(file),
             };
-            return Ok((input, ignored("a file")));
+            return Ok((input, ignored(path)));
         }
         let rate = baud.unwrap_or(DEFAULT_BAUD);
         if rate == 0 {
@@ -391,7 +390,7 @@ mod tests {
         assert!(!input.is_serial());
         assert_eq!(
             warning.as_deref(),
-            Some(format!("--baud 9600 ignored: {name} is a file, not a serial port").as_str())
+            Some(format!("--baud 9600 ignored: {name} is not a serial port").as_str())
         );
         let mut decoder = LogDecoder::new();
         let mut seqs = Vec::new();
