@@ -209,8 +209,22 @@ fn decode_and_verify_read_the_hub_on_a_pseudo_terminal() {
         text.ends_with('\n') && err.contains("stopped: interrupted"),
         "{err}"
     );
+    // What the hub sends while no one has the terminal open is dropped by QEMU, so a status
+    // frame being sent at the moment a program opened it may arrive cut: at most that one, at
+    // the start.
+    let summary = err
+        .lines()
+        .find(|l| l.starts_with("decoded "))
+        .unwrap_or("");
+    let cut_at_start = err
+        .lines()
+        .filter_map(|l| l.strip_prefix("damaged frame ending at byte "))
+        .map(|l| l.split(':').next().unwrap().parse::<u64>().unwrap())
+        .all(|offset| offset < 128);
     assert!(
-        err.contains(&format!("{N} pose frames")) && err.contains(" 0 damaged frames"),
+        summary.contains(&format!(": {N} pose frames"))
+            && (summary.contains(" 0 damaged frames")
+                || summary.contains(" 1 damaged frames") && cut_at_start),
         "{err}"
     );
     let table = frames_csv::parse(&text, "decode output").unwrap();

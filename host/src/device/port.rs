@@ -5,8 +5,8 @@
 //! is opened as a serial port with the [`serial2`] crate: raw, 8 data bits, no parity, 1 stop bit,
 //! no flow control, at the baud rate asked for ([`DEFAULT_BAUD`], the hub's, by default), so it
 //! needs no `stty` first. Anything else (a regular file, a pipe, `-` for standard input) is read
-//! as it is. Reads of a serial port or of standard input wait at most [`POLL`], so the end
-//! conditions are checked while the line is quiet.
+//! as it is. A read waits at most [`POLL`], so the end conditions are checked while a serial
+//! port or a pipe is quiet.
 //!
 //! A reading ends ([`End`]) at the end of the input, after a number of pose frames, after a
 //! time, after a time without a pose frame (once one came), on Ctrl-C or SIGTERM
@@ -47,7 +47,8 @@ enum Source {
 }
 
 /// Whether `path` is a terminal device (opened without waiting for a modem's carrier and
-/// without becoming the controlling terminal).
+/// without becoming the controlling terminal), or a character device that cannot be opened
+/// (so that opening it as a serial port says why, e.g. a missing group membership).
 #[cfg(unix)]
 fn is_terminal_device(path: &Path) -> bool {
     use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
@@ -56,7 +57,7 @@ fn is_terminal_device(path: &Path) -> bool {
             .read(true)
             .custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY)
             .open(path)
-            .is_ok_and(|f| f.is_terminal())
+            .map_or(true, |f| f.is_terminal())
 }
 
 /// Whether `path` is a serial port (`COM3`, `\\.\COM12`).
@@ -72,9 +73,8 @@ impl Input {
     /// Opens `path`: `-` is standard input, a terminal device a serial port at `baud` (default
     /// [`DEFAULT_BAUD`]), anything else a file. The warning says when `baud` does not apply.
     pub fn open(path: &str, baud: Option<u32>) -> anyhow::Result<(Input, Option<String>)> {
-        let ignored = |what: &str| {
-            baud.map(|b| format!("--baud {b} ignored: {path} is {what}, not a serial port"))
-        };
+        let ignored =
+            |what: &str| baud.map(|b| format!("--baud {b} ignored: {what} is not a serial port"));
         if path == "-" {
             let input = Input {
                 name: path.into(),
@@ -88,7 +88,7 @@ impl Input {
                 name: path.into(),
                 source: Source::File(file),
             };
-            return Ok((input, ignored("a file")));
+            return Ok((input, ignored(path)));
         }
         let rate = baud.unwrap_or(DEFAULT_BAUD);
         if rate == 0 {
@@ -123,8 +123,8 @@ impl Input {
         matches!(self.source, Source::Serial(_))
     }
 
-    /// Reads some bytes: `Ok(Some(0))` at the end of a file, `Ok(None)` when a serial port or
-    /// standard input had nothing for [`POLL`].
+    /// Reads some bytes: `Ok(Some(0))` at the end of a file, `Ok(None)` when nothing came for
+    /// [`POLL`] (a serial port or a pipe).
     fn read(&mut self, buf: &mut [u8]) -> io::Result<Option<usize>> {
         match &mut self.source {
             Source::Stdin(s) => {
@@ -133,7 +133,13 @@ impl Input {
                 }
                 s.read(buf).map(Some)
             }
-            Source::File(f) => f.read(buf).map(Some),
+            Source::File(f) => {
+                // (A named pipe can be quiet; a regular file is always readable.)
+                if !readable(f, POLL)? {
+                    return Ok(None);
+                }
+                f.read(buf).map(Some)
+            }
             Source::Serial(p) => match p.read(buf) {
                 Ok(0) => Err(io::Error::new(
                     io::ErrorKind::UnexpectedEof,
@@ -384,7 +390,7 @@ mod tests {
         assert!(!input.is_serial());
         assert_eq!(
             warning.as_deref(),
-            Some(format!("--baud 9600 ignored: {name} is a file, not a serial port").as_str())
+            Some(format!("--baud 9600 ignored: {name} is not a serial port").as_str())
         );
         let mut decoder = LogDecoder::new();
         let mut seqs = Vec::new();
