@@ -49,6 +49,8 @@ impl<T: Real> Ranges<T> {
     /// The ranges written in `gait2392_simbody.osim` (hips +-120 degrees, knees -120 to +10,
     /// right ankle, subtalars and right MTP +-90, left ankle and left MTP +-60), except the
     /// pelvis, which is unbounded (turning: its +-90 degree range is not applied).
+    // The model file's numbers (radians rounded to 8 digits), not approximations of pi.
+    #[allow(clippy::approx_constant)]
     pub fn gait2392() -> Self {
         let inf = f64::INFINITY;
         let (hip, knee) = (2.094_395_1, (-2.094_395_1, 0.174_532_93));
@@ -198,6 +200,7 @@ pub fn closed_form<T: Real>(
 
 /// Solves `(H + damping I) x = b` for a symmetric positive semi-definite 6x6 `H` by Cholesky;
 /// `None` if it is not positive definite or the result is not finite.
+#[allow(clippy::needless_range_loop)] // (index arithmetic is the algorithm)
 fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
     let damping = T::from_f64(1e-6);
     let mut l = [[T::ZERO; 6]; 6];
@@ -211,7 +214,7 @@ fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
                 s -= l[i][k] * l[j][k];
             }
             if i == j {
-                if !(s > T::ZERO) {
+                if s <= T::ZERO {
                     return None;
                 }
                 l[i][i] = s.sqrt();
@@ -241,6 +244,7 @@ fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
 
 /// One Gauss-Newton step of one leg at the chain frames `frames` of coordinates `q`: updates
 /// the leg's six coordinates in `q` (clamped), unless no sensor of the leg is present.
+#[allow(clippy::needless_range_loop)] // (a symmetric matrix filled by index)
 fn gauss_newton_step<T: Real>(
     model: &Gait2392<T>,
     leg: &Leg,
