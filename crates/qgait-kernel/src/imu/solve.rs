@@ -124,15 +124,15 @@ fn axes<T: Real, const N: usize>(model: &Gait2392<T>, j: usize) -> [Vec3<T>; N] 
 }
 
 /// `value` moved by whole turns to within half a turn of `previous` (unchanged if either is
-/// not finite).
+/// not finite). The rounding runs (in `f64`) only when the two are more than half a turn
+/// apart.
 fn unwrap<T: Real>(value: T, previous: T) -> T {
-    let turn = core::f64::consts::TAU;
-    let k = libm::round((previous - value).to_f64() / turn);
-    if k.is_finite() && k != 0.0 {
-        value + T::from_f64(k * turn)
-    } else {
-        value
+    let d = previous - value;
+    if !d.is_finite() || d.abs() <= T::from_f64(core::f64::consts::PI) {
+        return value;
     }
+    let turn = core::f64::consts::TAU;
+    value + T::from_f64(libm::round(d.to_f64() / turn) * turn)
 }
 
 /// The closed form (see the [module](super) docs): each joint's relative rotation decomposed
