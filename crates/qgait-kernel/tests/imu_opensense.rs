@@ -136,4 +136,37 @@ fn tutorial_recording_against_opensense() {
     }
     eprintln!("pelvis_rotation over the whole recording: {lo:.1} to {hi:.1} deg");
     assert!(hi - lo > 360.0);
+
+    // The device's precision on the same recording: f32 readings, calibration, least squares
+    // and forward kinematics against the f64 path, frame by frame.
+    let model32 = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap();
+    let to32 = |o: &Orientations<f64>| Orientations {
+        q: o.q
+            .map(|q| q.map(|q| Quat::new(q.w as f32, q.x as f32, q.y as f32, q.z as f32))),
+    };
+    let cal32 =
+        Calibration::new(&model32, &to32(&pose[0].1), &Settings::opensense_tutorial()).unwrap();
+    let (mut s64, mut s32) = (Solver::<f64>::new(), Solver::<f32>::new());
+    let (mut angle, mut point) = (0.0f64, 0.0f64);
+    for (_, readings) in &walk {
+        let a = s64.solve(&model, &cal.segments(readings).unwrap(), Mode::LeastSquares);
+        let b = s32.solve(
+            &model32,
+            &cal32.segments(&to32(readings)).unwrap(),
+            Mode::LeastSquares,
+        );
+        for (x, y) in a.coordinates.iter().zip(b.coordinates) {
+            angle = angle.max((x - f64::from(y)).abs().to_degrees());
+        }
+        for (p, q) in model
+            .fk(&a.coordinates)
+            .points
+            .iter()
+            .zip(model32.fk(&b.coordinates).points)
+        {
+            point = point.max(p.max_abs_diff(q.cast()));
+        }
+    }
+    eprintln!("f32 against f64, whole recording: max angle difference {angle:.5} deg, max point difference {:.2} um", point * 1e6);
+    assert!(angle < 0.01 && point < 10e-6, "{angle} deg, {point} m");
 }
