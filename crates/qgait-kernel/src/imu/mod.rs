@@ -47,6 +47,10 @@
 //! torso, so [`ImuAngles::lumbar`] carries it beside the 17 chain coordinates). Not the MTP
 //! joints (no toe sensor): they stay at zero. Pelvis translations are not estimated.
 //!
+//! The calibration depends on the model only through its bodies' orientations in the default
+//! pose, which are all the ground's for gait2392 and every scaled subject of it: one
+//! calibration serves any of them (a device may keep it across model switches).
+//!
 //! **Missing sensors.** A segment without a reading (no sensor, or none this frame, or none in
 //! the calibration pose) constrains nothing: in the closed form, a joint whose parent or child
 //! segment has no orientation keeps its previous value (zero before the first frame); in the
@@ -58,7 +62,7 @@
 //! turn of the previous frame's, so it never wraps or jumps by 360 degrees, and the pelvis is
 //! never clamped (OpenSim's +-90 degree range is not applied).
 //!
-//! Everything is fixed size, allocation-free and generic over [`Real`](crate::Real): the
+//! Everything is fixed size, allocation-free and generic over [`Real`]: the
 //! device runs it in `f32`, the host in `f64`.
 
 mod calibration;
@@ -199,7 +203,7 @@ impl<T: Real> Default for Orientations<T> {
     }
 }
 
-/// Largest accepted distance of a reading's norm from 1 ([`unit`]): farther, the quaternion is
+/// Largest accepted distance of a reading's norm from 1 ([`unit()`]): farther, the quaternion is
 /// not a rotation (a corrupted or mis-scaled value); nearer, it is normalised.
 pub const UNIT_TOLERANCE: f64 = 0.1;
 

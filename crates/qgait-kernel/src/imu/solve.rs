@@ -145,6 +145,18 @@ pub fn closed_form<T: Real>(
     previous: &ImuAngles<T>,
     ranges: &Ranges<T>,
 ) -> ImuAngles<T> {
+    decompose(model, segments, previous, ranges, true)
+}
+
+/// [`closed_form`], the legs only if `legs` (otherwise they keep `previous`'s values: the
+/// least squares' warm start).
+fn decompose<T: Real>(
+    model: &Gait2392<T>,
+    segments: &Orientations<T>,
+    previous: &ImuAngles<T>,
+    ranges: &Ranges<T>,
+    legs: bool,
+) -> ImuAngles<T> {
     let mut out = *previous;
     out.held = 0;
     let pelvis = segments.get(Segment::Pelvis);
@@ -164,7 +176,7 @@ pub fn closed_form<T: Real>(
         }
         _ => out.held |= 0b111 << 17,
     }
-    for leg in &LEGS {
+    for leg in LEGS.iter().filter(|_| legs) {
         let [femur, tibia, calcn] = leg.segments.map(|s| segments.get(s));
         let c = leg.first;
         let q = &mut out.coordinates;
@@ -359,13 +371,12 @@ impl<T: Real> Solver<T> {
         segments: &Orientations<T>,
         mode: Mode,
     ) -> ImuAngles<T> {
-        let mut out = closed_form(model, segments, &self.previous, &self.ranges);
+        // The least squares starts from the previous frame's legs once it has one (the
+        // closed form only for the pelvis and lumbar joint), from the closed form before.
+        let legs = mode == Mode::ClosedForm || !self.started;
+        let mut out = decompose(model, segments, &self.previous, &self.ranges, legs);
         if mode == Mode::LeastSquares {
             let mut q = out.coordinates;
-            if self.started {
-                // Warm start: the legs from the previous frame, the pelvis from its sensor.
-                q[3..].copy_from_slice(&self.previous.coordinates[3..]);
-            }
             for _ in 0..self.iterations {
                 let frames = model.chain().frames(&q);
                 for leg in &LEGS {
