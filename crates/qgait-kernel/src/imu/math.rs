@@ -17,30 +17,28 @@ fn atan_unit<T: Real>(t: T) -> T {
     let halve = |t: T| t / (T::ONE + (T::ONE + t * t).sqrt());
     let z = halve(halve(t));
     let s = z * z;
-    // (-1)^k / (2k + 1), highest term first.
-    const C: [f64; 12] = [
-        -1.0 / 23.0,
-        1.0 / 21.0,
-        -1.0 / 19.0,
-        1.0 / 17.0,
-        -1.0 / 15.0,
-        1.0 / 13.0,
-        -1.0 / 11.0,
-        1.0 / 9.0,
-        -1.0 / 7.0,
-        1.0 / 5.0,
-        -1.0 / 3.0,
-        1.0,
-    ];
-    let terms = if single_precision::<T>() {
-        &C[6..]
+    // The series' coefficients (-1)^k / (2k + 1) as literals, so that converting them to `T`
+    // folds at compile time (a loop over an `f64` table converts at run time: in software on
+    // the device).
+    let c = |x: f64| T::from_f64(x);
+    let p = if single_precision::<T>() {
+        let p = c(-1.0 / 11.0) * s + c(1.0 / 9.0);
+        let p = p * s + c(-1.0 / 7.0);
+        let p = p * s + c(1.0 / 5.0);
+        p * s + c(-1.0 / 3.0)
     } else {
-        &C[..]
+        let p = c(-1.0 / 23.0) * s + c(1.0 / 21.0);
+        let p = p * s + c(-1.0 / 19.0);
+        let p = p * s + c(1.0 / 17.0);
+        let p = p * s + c(-1.0 / 15.0);
+        let p = p * s + c(1.0 / 13.0);
+        let p = p * s + c(-1.0 / 11.0);
+        let p = p * s + c(1.0 / 9.0);
+        let p = p * s + c(-1.0 / 7.0);
+        let p = p * s + c(1.0 / 5.0);
+        p * s + c(-1.0 / 3.0)
     };
-    let mut p = T::ZERO;
-    for c in terms {
-        p = p * s + T::from_f64(*c);
-    }
+    let p = p * s + T::ONE;
     T::from_f64(4.0) * z * p
 }
 
