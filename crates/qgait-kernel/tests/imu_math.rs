@@ -280,3 +280,28 @@ fn pelvis_rotation_turns_without_wrapping() {
     );
     assert!(out.coordinates[2].abs() <= core::f64::consts::PI);
 }
+
+#[test]
+fn heading_free_pelvis_removes_the_walking_direction() {
+    let model = model();
+    let (tilt, list): (f64, f64) = (0.1, -0.05);
+    for heading in [0.0, 1.0, 2.5, -2.0, 7.0] {
+        // Walking towards `heading` (plus a 0.05 rad sway), in the world-frame sequence tilt and
+        // list depend on the heading; relative to the heading they are the same every time.
+        let world = Quat::from_axis_angle(Vec3::unit_y(), heading)
+            * Quat::from_axis_angle(Vec3::unit_z(), tilt)
+            * Quat::from_axis_angle(Vec3::unit_x(), list)
+            * Quat::from_axis_angle(Vec3::unit_y(), 0.05);
+        let [t, l, r] = math::three_axes(world, [Vec3::unit_z(), Vec3::unit_x(), Vec3::unit_y()]);
+        let free = qgait_kernel::imu::heading_free_pelvis(&model, [t, l, r], heading);
+        assert!(
+            (free[0] - tilt).abs() < 1e-12 && (free[1] - list).abs() < 1e-12,
+            "{free:?}"
+        );
+        assert!((free[2] - 0.05).abs() < 1e-12, "{free:?}");
+        if heading == 2.5 {
+            // (Facing nearly backwards, the world-frame tilt and list are far from the truth.)
+            assert!((t - tilt).abs() > 0.1 && (l - list).abs() > 0.05, "{t} {l}");
+        }
+    }
+}

@@ -60,7 +60,9 @@
 //!
 //! **Turning.** `pelvis_rotation` is unbounded: each frame's value is unwrapped to within half a
 //! turn of the previous frame's, so it never wraps or jumps by 360 degrees, and the pelvis is
-//! never clamped (OpenSim's +-90 degree range is not applied).
+//! never clamped (OpenSim's +-90 degree range is not applied). [`heading_free_pelvis`]
+//! re-expresses the pelvis relative to a direction of progression, for analyses of turning
+//! walks (in the world frame, gait2392's tilt and list change with the walking direction).
 //!
 //! Everything is fixed size, allocation-free and generic over [`Real`]: the
 //! device runs it in `f32`, the host in `f64`.
@@ -70,7 +72,9 @@ pub mod math;
 mod solve;
 
 pub use calibration::{Calibration, Heading, HeadingAxis, Settings};
-pub use solve::{closed_form, ImuAngles, Mode, Ranges, Solver, ITERATIONS, LUMBAR};
+pub use solve::{
+    closed_form, heading_free_pelvis, ImuAngles, Mode, Ranges, Solver, ITERATIONS, LUMBAR,
+};
 
 use core::fmt;
 

@@ -210,6 +210,21 @@ fn decompose<T: Real>(
     out
 }
 
+/// The pelvis coordinates `[tilt, list, rotation]` re-expressed relative to a direction of
+/// progression `heading` (radians about the vertical y, e.g. a smoothed `pelvis_rotation`):
+/// the pelvis turned by `-heading` about the vertical and decomposed again. The solver reports
+/// the pelvis in the sensors' world frame as OpenSense does; gait2392's sequence puts the
+/// heading last, so there tilt and list change with the walking direction, and here they do
+/// not (facing the progression direction, the pelvis is as if walking along x).
+pub fn heading_free_pelvis<T: Real>(model: &Gait2392<T>, pelvis: [T; 3], heading: T) -> [T; 3] {
+    let axes: [Vec3<T>; 3] = axes(model, 0);
+    let p = Quat::from_axis_angle(Vec3::unit_y(), -heading)
+        * Quat::from_axis_angle(axes[0], pelvis[0])
+        * Quat::from_axis_angle(axes[1], pelvis[1])
+        * Quat::from_axis_angle(axes[2], pelvis[2]);
+    three_axes(p, axes)
+}
+
 /// Solves `(H + damping I) x = b` for a symmetric positive semi-definite 6x6 `H` by Cholesky;
 /// `None` if it is not positive definite or the result is not finite.
 #[allow(clippy::needless_range_loop)] // (index arithmetic is the algorithm)
