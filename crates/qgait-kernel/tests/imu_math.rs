@@ -305,3 +305,35 @@ fn heading_free_pelvis_removes_the_walking_direction() {
         }
     }
 }
+
+#[test]
+fn a_leg_back_from_a_sensor_gap_is_exact_at_once() {
+    // The right leg's three sensors drop out for half a second (the leg moves on meanwhile,
+    // its coordinates held); on the first frame back, the least squares is exact again at once
+    // (three Gauss-Newton iterations from the values held since before the gap).
+    let m = mountings(7);
+    let rec = recording(1.0, &m, &m, Disturbance::default());
+    let model = model();
+    let cal = Calibration::new(&model, &rec.calibration, &Settings::opensense_tutorial()).unwrap();
+    let mut solver = Solver::new();
+    for (k, (readings, q, _)) in rec.frames.iter().enumerate().take(71) {
+        let mut readings = *readings;
+        if (20..70).contains(&k) {
+            for s in [Segment::FemurR, Segment::TibiaR, Segment::CalcnR] {
+                readings.set(s, None);
+            }
+        }
+        let out = solver.solve(
+            &model,
+            &cal.segments(&readings).unwrap(),
+            Mode::LeastSquares,
+        );
+        if k == 70 {
+            assert_eq!(out.held, 0);
+            for c in 3..9 {
+                let e = (out.coordinates[c] - q[c]).abs() / DEG;
+                assert!(e < 0.01, "coordinate {c}: {e} deg");
+            }
+        }
+    }
+}
