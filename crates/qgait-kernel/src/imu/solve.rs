@@ -335,7 +335,7 @@ fn gauss_newton_step<T: Real>(
 }
 
 /// The state kept from frame to frame: the previous solution (warm start, held coordinates,
-/// unwrapping), the ranges and the mode.
+/// unwrapping), the clamping ranges and the iteration count.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Solver<T> {
     previous: ImuAngles<T>,
