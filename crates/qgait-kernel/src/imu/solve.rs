@@ -1,0 +1,428 @@
+//! Segment orientations to gait2392 coordinates: the closed form and the per-leg least squares.
+
+use super::math::{rotation_vector, three_axes, twist, two_axes};
+use super::{Orientations, Segment};
+use crate::chain::Frame;
+use crate::{Gait2392, Quat, Real, Vec3};
+
+/// Gauss-Newton iterations per frame of [`Mode::LeastSquares`] (the default of [`Solver`]).
+pub const ITERATIONS: usize = 3;
+
+/// gait2392's lumbar coordinates, the torso relative to the pelvis about z, x, y (body-fixed):
+/// OpenSim's names, in [`ImuAngles::lumbar`] order.
+pub const LUMBAR: [&str; 3] = ["lumbar_extension", "lumbar_bending", "lumbar_rotation"];
+
+/// The chain's 17 coordinates and the lumbar joint (radians).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImuAngles<T> {
+    /// In [`gait2392::COORDINATES`](crate::models::gait2392::COORDINATES) order.
+    pub coordinates: [T; 17],
+    /// In [`LUMBAR`] order.
+    pub lumbar: [T; 3],
+    /// Which of them kept their previous value this frame for want of a sensor: bit `i` for
+    /// coordinate `i`, bits 17 to 19 for the lumbar joint (the MTP joints, which no sensor
+    /// determines, are not flagged).
+    pub held: u32,
+}
+
+/// How coordinates are computed from segment orientations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Each joint's relative rotation decomposed into its axes (the cheap mode).
+    ClosedForm,
+    /// Per leg, the coordinates that minimise the squared orientation errors of the leg's
+    /// sensors (OpenSense's problem), by Gauss-Newton from the previous frame.
+    LeastSquares,
+}
+
+/// Coordinate ranges (radians): the least squares and the closed form clamp the leg
+/// coordinates to them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ranges<T> {
+    /// Lower bounds, in chain coordinate order.
+    pub min: [T; 17],
+    /// Upper bounds.
+    pub max: [T; 17],
+}
+
+impl<T: Real> Ranges<T> {
+    /// The ranges written in `gait2392_simbody.osim` (hips +-120 degrees, knees -120 to +10,
+    /// right ankle, subtalars and right MTP +-90, left ankle and left MTP +-60), except the
+    /// pelvis, which is unbounded (turning: its +-90 degree range is not applied).
+    // The model file's numbers (radians rounded to 8 digits), not approximations of pi.
+    #[allow(clippy::approx_constant)]
+    pub fn gait2392() -> Self {
+        let inf = f64::INFINITY;
+        let (hip, knee) = (2.094_395_1, (-2.094_395_1, 0.174_532_93));
+        let (r90, r60) = (1.570_796_33, 1.047_197_55);
+        let range: [(f64, f64); 17] = [
+            (-inf, inf),
+            (-inf, inf),
+            (-inf, inf),
+            (-hip, hip),
+            (-hip, hip),
+            (-hip, hip),
+            knee,
+            (-r90, r90),
+            (-r90, r90),
+            (-r90, r90),
+            (-hip, hip),
+            (-hip, hip),
+            (-hip, hip),
+            knee,
+            (-r60, r60),
+            (-r90, r90),
+            (-r60, r60),
+        ];
+        Self {
+            min: range.map(|r| T::from_f64(r.0)),
+            max: range.map(|r| T::from_f64(r.1)),
+        }
+    }
+
+    /// `q` clamped to the range of coordinate `i` (NaN stays NaN).
+    #[inline]
+    fn clamp(&self, i: usize, q: T) -> T {
+        if q < self.min[i] {
+            self.min[i]
+        } else if q > self.max[i] {
+            self.max[i]
+        } else {
+            q
+        }
+    }
+}
+
+/// One leg of the chain: its joints and coordinates.
+struct Leg {
+    /// Chain joints: hip (femur), knee (tibia), ankle (talus), subtalar (calcaneus).
+    hip: usize,
+    /// The segments with sensors: femur, tibia, calcaneus.
+    segments: [Segment; 3],
+    /// Index of the hip flexion coordinate; the leg's coordinates follow it (hip 3, knee,
+    /// ankle, subtalar, MTP).
+    first: usize,
+}
+
+const LEGS: [Leg; 2] = [
+    Leg {
+        hip: 1,
+        segments: [Segment::FemurR, Segment::TibiaR, Segment::CalcnR],
+        first: 3,
+    },
+    Leg {
+        hip: 6,
+        segments: [Segment::FemurL, Segment::TibiaL, Segment::CalcnL],
+        first: 10,
+    },
+];
+
+/// The unit axes of chain joint `j` (the first `N`).
+fn axes<T: Real, const N: usize>(model: &Gait2392<T>, j: usize) -> [Vec3<T>; N] {
+    let joint = &model.chain().joints()[j];
+    core::array::from_fn(|k| joint.axes[k].direction)
+}
+
+/// `value` moved by whole turns to within half a turn of `previous` (unchanged if either is
+/// not finite). The rounding runs (in `f64`) only when the two are more than half a turn
+/// apart.
+fn unwrap<T: Real>(value: T, previous: T) -> T {
+    let d = previous - value;
+    if !d.is_finite() || d.abs() <= T::from_f64(core::f64::consts::PI) {
+        return value;
+    }
+    let turn = core::f64::consts::TAU;
+    value + T::from_f64(libm::round(d.to_f64() / turn) * turn)
+}
+
+/// The closed form (see the [module](super) docs): each joint's relative rotation decomposed
+/// into its axes, for the segment orientations `segments` ([`Calibration::segments`](super::Calibration::segments)).
+/// Coordinates whose segments are missing keep their value in `previous`; `pelvis_rotation`
+/// is unwrapped relative to it. Leg coordinates are clamped to `ranges`.
+pub fn closed_form<T: Real>(
+    model: &Gait2392<T>,
+    segments: &Orientations<T>,
+    previous: &ImuAngles<T>,
+    ranges: &Ranges<T>,
+) -> ImuAngles<T> {
+    decompose(model, segments, previous, ranges, true)
+}
+
+/// [`closed_form`], the legs only if `legs` (otherwise they keep `previous`'s values: the
+/// least squares' warm start).
+fn decompose<T: Real>(
+    model: &Gait2392<T>,
+    segments: &Orientations<T>,
+    previous: &ImuAngles<T>,
+    ranges: &Ranges<T>,
+    legs: bool,
+) -> ImuAngles<T> {
+    let mut out = *previous;
+    out.held = 0;
+    let pelvis = segments.get(Segment::Pelvis);
+    match pelvis {
+        Some(p) => {
+            let [tilt, list, rotation] = three_axes(p, axes(model, 0));
+            out.coordinates[0] = tilt;
+            out.coordinates[1] = list;
+            out.coordinates[2] = unwrap(rotation, previous.coordinates[2]);
+        }
+        None => out.held |= 0b111,
+    }
+    match (pelvis, segments.get(Segment::Torso)) {
+        (Some(p), Some(t)) => {
+            let (x, y, z) = (Vec3::unit_x(), Vec3::unit_y(), Vec3::unit_z());
+            out.lumbar = three_axes(p.conj() * t, [z, x, y]);
+        }
+        _ => out.held |= 0b111 << 17,
+    }
+    for leg in LEGS.iter().filter(|_| legs) {
+        let [femur, tibia, calcn] = leg.segments.map(|s| segments.get(s));
+        let c = leg.first;
+        let q = &mut out.coordinates;
+        match (pelvis, femur) {
+            (Some(p), Some(f)) => {
+                let hip = three_axes(p.conj() * f, axes(model, leg.hip));
+                for (k, angle) in hip.into_iter().enumerate() {
+                    q[c + k] = ranges.clamp(c + k, angle);
+                }
+            }
+            _ => out.held |= 0b111 << c,
+        }
+        match (femur, tibia) {
+            (Some(f), Some(t)) => {
+                let [knee] = axes(model, leg.hip + 1);
+                q[c + 3] = ranges.clamp(c + 3, twist(f.conj() * t, knee));
+            }
+            _ => out.held |= 1 << (c + 3),
+        }
+        match (tibia, calcn) {
+            (Some(t), Some(f)) => {
+                let [ankle] = axes(model, leg.hip + 2);
+                let [subtalar] = axes(model, leg.hip + 3);
+                let [a, s] = two_axes(t.conj() * f, ankle, subtalar);
+                q[c + 4] = ranges.clamp(c + 4, a);
+                q[c + 5] = ranges.clamp(c + 5, s);
+            }
+            _ => out.held |= 0b11 << (c + 4),
+        }
+    }
+    out
+}
+
+/// The pelvis coordinates `[tilt, list, rotation]` re-expressed relative to a direction of
+/// progression `heading` (radians about the vertical y, e.g. a smoothed `pelvis_rotation`):
+/// the pelvis turned by `-heading` about the vertical and decomposed again. The solver reports
+/// the pelvis in the sensors' world frame as OpenSense does; gait2392's sequence puts the
+/// heading last, so there tilt and list change with the walking direction, and here they do
+/// not (facing the progression direction, the pelvis is as if walking along x).
+pub fn heading_free_pelvis<T: Real>(model: &Gait2392<T>, pelvis: [T; 3], heading: T) -> [T; 3] {
+    let axes: [Vec3<T>; 3] = axes(model, 0);
+    let p = Quat::from_axis_angle(Vec3::unit_y(), -heading)
+        * Quat::from_axis_angle(axes[0], pelvis[0])
+        * Quat::from_axis_angle(axes[1], pelvis[1])
+        * Quat::from_axis_angle(axes[2], pelvis[2]);
+    three_axes(p, axes)
+}
+
+/// Solves `(H + damping I) x = b` for a symmetric positive semi-definite 6x6 `H` by Cholesky;
+/// `None` if it is not positive definite or the result is not finite.
+#[allow(clippy::needless_range_loop)] // (index arithmetic is the algorithm)
+fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
+    let damping = T::from_f64(1e-6);
+    let mut l = [[T::ZERO; 6]; 6];
+    for i in 0..6 {
+        for j in 0..=i {
+            let mut s = h[i][j];
+            if i == j {
+                s += damping;
+            }
+            for k in 0..j {
+                s -= l[i][k] * l[j][k];
+            }
+            if i == j {
+                if s <= T::ZERO {
+                    return None;
+                }
+                l[i][i] = s.sqrt();
+            } else {
+                l[i][j] = s / l[j][j];
+            }
+        }
+    }
+    let mut y = [T::ZERO; 6];
+    for i in 0..6 {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= l[i][k] * y[k];
+        }
+        y[i] = s / l[i][i];
+    }
+    let mut x = [T::ZERO; 6];
+    for i in (0..6).rev() {
+        let mut s = y[i];
+        for k in i + 1..6 {
+            s -= l[k][i] * x[k];
+        }
+        x[i] = s / l[i][i];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// One Gauss-Newton step of one leg at the chain frames `frames` of coordinates `q`: updates
+/// the leg's six coordinates in `q` (clamped), unless no sensor of the leg is present.
+#[allow(clippy::needless_range_loop)] // (a symmetric matrix filled by index)
+fn gauss_newton_step<T: Real>(
+    model: &Gait2392<T>,
+    leg: &Leg,
+    frames: &[Frame<T>; 11],
+    segments: &Orientations<T>,
+    q: &mut [T; 17],
+    ranges: &Ranges<T>,
+) {
+    let c = leg.first;
+    // The six coordinates' axes in ground: the hip's three (body-fixed: the first in the
+    // pelvis frame, the second after the first rotation, the third in the femur frame), then
+    // the knee, ankle and subtalar axes in their child frames.
+    let [h1, h2, h3] = axes(model, leg.hip);
+    let pelvis = frames[0].rotation;
+    let after_flexion = pelvis * Quat::from_axis_angle(h1, q[c]);
+    let one = |j: usize| {
+        let [a] = axes(model, j);
+        frames[j].rotation.rotate(a)
+    };
+    let w = [
+        pelvis.rotate(h1),
+        after_flexion.rotate(h2),
+        frames[leg.hip].rotation.rotate(h3),
+        one(leg.hip + 1),
+        one(leg.hip + 2),
+        one(leg.hip + 3),
+    ];
+    // Femur: hip only; tibia: hip and knee; calcaneus: all six.
+    let bodies = [(leg.hip, 3), (leg.hip + 1, 4), (leg.hip + 3, 6)];
+    let mut h = [[T::ZERO; 6]; 6];
+    let mut g = [T::ZERO; 6];
+    let mut any = false;
+    for (segment, (body, n)) in leg.segments.into_iter().zip(bodies) {
+        let Some(measured) = segments.get(segment) else {
+            continue;
+        };
+        any = true;
+        // The error rotation in ground, model times measured inverse: the model's prediction
+        // turned by w_i dq_i moves it by w_i dq_i to first order.
+        let r = rotation_vector(frames[body].rotation * measured.conj());
+        for a in 0..n {
+            g[a] -= w[a].dot(r);
+            for b in 0..=a {
+                h[a][b] += w[a].dot(w[b]);
+            }
+        }
+    }
+    if !any {
+        return;
+    }
+    for a in 0..6 {
+        for b in a + 1..6 {
+            h[a][b] = h[b][a];
+        }
+    }
+    if let Some(step) = solve6(&h, &g) {
+        for (k, d) in step.into_iter().enumerate() {
+            q[c + k] = ranges.clamp(c + k, q[c + k] + d);
+        }
+    }
+}
+
+/// The state kept from frame to frame: the previous solution (warm start, held coordinates,
+/// unwrapping), the clamping ranges and the iteration count.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Solver<T> {
+    previous: ImuAngles<T>,
+    /// Whether `previous` holds a solution (false before the first frame and after a reset).
+    started: bool,
+    /// Clamping ranges.
+    pub ranges: Ranges<T>,
+    /// Gauss-Newton iterations per frame in [`Mode::LeastSquares`].
+    pub iterations: usize,
+}
+
+impl<T: Real> Default for Solver<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real> Solver<T> {
+    /// A solver with gait2392's ranges and [`ITERATIONS`] iterations, before its first frame
+    /// (every coordinate zero).
+    pub fn new() -> Self {
+        Self {
+            previous: ImuAngles::default(),
+            started: false,
+            ranges: Ranges::gait2392(),
+            iterations: ITERATIONS,
+        }
+    }
+
+    /// Forgets the previous frame: the next frame starts from the closed form, and held
+    /// coordinates from zero.
+    pub fn reset(&mut self) {
+        self.previous = ImuAngles::default();
+        self.started = false;
+    }
+
+    /// The last frame's solution (all zero before the first).
+    pub fn previous(&self) -> &ImuAngles<T> {
+        &self.previous
+    }
+
+    /// The coordinates for one frame's segment orientations
+    /// ([`Calibration::segments`](super::Calibration::segments)), in `mode`; remembered for
+    /// the next frame.
+    pub fn solve(
+        &mut self,
+        model: &Gait2392<T>,
+        segments: &Orientations<T>,
+        mode: Mode,
+    ) -> ImuAngles<T> {
+        // The least squares starts from the previous frame's legs once it has one (the
+        // closed form only for the pelvis and lumbar joint), from the closed form before.
+        let legs = mode == Mode::ClosedForm || !self.started;
+        let mut out = decompose(model, segments, &self.previous, &self.ranges, legs);
+        if mode == Mode::LeastSquares {
+            let mut q = out.coordinates;
+            for _ in 0..self.iterations {
+                let frames = model.chain().frames(&q);
+                for leg in &LEGS {
+                    gauss_newton_step(model, leg, &frames, segments, &mut q, &self.ranges);
+                }
+            }
+            out.coordinates = q;
+            // Held: the coordinates that no present sensor depends on.
+            out.held &= !(0x3fff << 3);
+            for leg in &LEGS {
+                let present = leg.segments.map(|s| segments.get(s).is_some());
+                let hip = present.iter().any(|&p| p);
+                let knee = present[1] || present[2];
+                let foot = present[2];
+                let c = leg.first;
+                if !hip {
+                    out.held |= 0b111 << c;
+                }
+                if !knee {
+                    out.held |= 1 << (c + 3);
+                }
+                if !foot {
+                    out.held |= 0b11 << (c + 4);
+                }
+            }
+            if segments.get(Segment::Pelvis).is_none() {
+                out.held |= 0b111;
+            }
+        }
+        self.previous = out;
+        self.started = true;
+        out
+    }
+}
