@@ -23,6 +23,11 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
 
 #[exception]
 unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    defmt::error!("HardFault: pc={=u32:#010x} lr={=u32:#010x} xpsr={=u32:#010x}", frame.pc(), frame.lr(), frame.xpsr());
+    defmt::error!(
+        "HardFault: pc={=u32:#010x} lr={=u32:#010x} xpsr={=u32:#010x}",
+        frame.pc(),
+        frame.lr(),
+        frame.xpsr()
+    );
     board::exit(HARDFAULT_EXIT_CODE)
 }

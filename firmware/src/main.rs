@@ -19,9 +19,16 @@ fn main() -> ! {
         defmt::error!("board peripherals already taken");
         board::exit(1)
     };
-    defmt::info!("qgait hub on {=str}, stack region {=u32} bytes (painted)", board::NAME, stack::size());
+    defmt::info!(
+        "qgait hub on {=str}, stack region {=u32} bytes (painted)",
+        board::NAME,
+        stack::size()
+    );
     let hub = init_hub(board);
-    defmt::info!("hub state {=usize} bytes (static)", core::mem::size_of_val(hub));
+    defmt::info!(
+        "hub state {=usize} bytes (static)",
+        core::mem::size_of_val(hub)
+    );
     serve(hub)
 }
 
@@ -34,7 +41,11 @@ fn serve(hub: &'static mut AppHub) -> ! {
         let summary = hub.poll();
         if summary.status_sent {
             defmt::info!("status {}", hub.status());
-            defmt::info!("stack peak {=u32} bytes of {=u32}", stack::peak(), stack::size());
+            defmt::info!(
+                "stack peak {=u32} bytes of {=u32}",
+                stack::peak(),
+                stack::size()
+            );
         }
     }
 }

@@ -25,7 +25,10 @@ pub struct Harness {
 impl Harness {
     /// An empty harness.
     pub const fn new() -> Self {
-        Harness { passed: 0, failed: 0 }
+        Harness {
+            passed: 0,
+            failed: 0,
+        }
     }
 
     /// Runs one test and records its result.
@@ -38,7 +41,13 @@ impl Harness {
             Err(e) => {
                 self.failed += 1;
                 let f: Failure = e.into();
-                defmt::error!("test {=str} ... FAILED: {=str} (line {=u32}, value {})", name, f.what, f.line, f.value);
+                defmt::error!(
+                    "test {=str} ... FAILED: {=str} (line {=u32}, value {})",
+                    name,
+                    f.what,
+                    f.line,
+                    f.value
+                );
             }
         }
     }
@@ -46,6 +55,10 @@ impl Harness {
     /// Prints the summary line and ends the run: status 0 if nothing failed, 1 otherwise.
     pub fn finish(self) -> ! {
         defmt::println!("{=u32} passed, {=u32} failed", self.passed, self.failed);
-        board::exit(if self.failed == 0 && self.passed > 0 { 0 } else { 1 })
+        board::exit(if self.failed == 0 && self.passed > 0 {
+            0
+        } else {
+            1
+        })
     }
 }

@@ -14,7 +14,10 @@ extern "C" {
 
 fn bounds() -> (usize, usize) {
     // Only the addresses of the linker symbols are taken, never their contents.
-    (core::ptr::addr_of!(_stack_end) as usize, core::ptr::addr_of!(_stack_start) as usize)
+    (
+        core::ptr::addr_of!(_stack_end) as usize,
+        core::ptr::addr_of!(_stack_start) as usize,
+    )
 }
 
 /// Size of the stack region (bytes).

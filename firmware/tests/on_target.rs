@@ -30,8 +30,15 @@ const POINT_TOLERANCE_M: f64 = 5e-6;
 
 fn phak(subject: usize) -> Result<Phak<f32>, Failure> {
     let legs = expected::SUBJECTS[subject];
-    let a = Anthropometry { right: Limb::from_array(legs[0]), left: Limb::from_array(legs[1]) };
-    Phak::new(&a).map_err(|_| Failure { what: "Phak::new refused the subject", line: line!(), value: None })
+    let a = Anthropometry {
+        right: Limb::from_array(legs[0]),
+        left: Limb::from_array(legs[1]),
+    };
+    Phak::new(&a).map_err(|_| Failure {
+        what: "Phak::new refused the subject",
+        line: line!(),
+        value: None,
+    })
 }
 
 /// Every case: each f32 point within POINT_TOLERANCE_M of the f64 point (largest error logged).
@@ -47,11 +54,19 @@ fn kernel_f32_points_match_host_f64() -> Result<(), Failure> {
             }
         }
     }
-    defmt::info!("kernel f32 vs f64: largest point error {=f64} m over {=usize} cases", worst, expected::CASES.len());
+    defmt::info!(
+        "kernel f32 vs f64: largest point error {=f64} m over {=usize} cases",
+        worst,
+        expected::CASES.len()
+    );
     if worst <= POINT_TOLERANCE_M {
         Ok(())
     } else {
-        Err(Failure { what: "largest f32 point error (m)", line: line!(), value: Some(worst) })
+        Err(Failure {
+            what: "largest f32 point error (m)",
+            line: line!(),
+            value: Some(worst),
+        })
     }
 }
 
@@ -68,7 +83,11 @@ fn kernel_f32_distances_match_host_f64() -> Result<(), Failure> {
     if worst <= 2.0 * POINT_TOLERANCE_M {
         Ok(())
     } else {
-        Err(Failure { what: "largest f32 distance error (m)", line: line!(), value: Some(worst) })
+        Err(Failure {
+            what: "largest f32 distance error (m)",
+            line: line!(),
+            value: Some(worst),
+        })
     }
 }
 
@@ -79,7 +98,11 @@ fn kernel_cases_are_not_degenerate() -> Result<(), Failure> {
     if hi - lo > 0.1 {
         Ok(())
     } else {
-        Err(Failure { what: "spread of toe_r.x over the cases (m)", line: line!(), value: Some(hi - lo) })
+        Err(Failure {
+            what: "spread of toe_r.x over the cases (m)",
+            line: line!(),
+            value: Some(hi - lo),
+        })
     }
 }
 
@@ -93,19 +116,39 @@ fn sqrt_f32_is_correctly_rounded() -> Result<(), Failure> {
         let x = f32::from_bits(bits & 0x7f7f_ffff); // positive and finite
         let y = sqrt_f32(x);
         let miss = |r: f32| (f64::from(r) * f64::from(r) - f64::from(x)).abs();
-        let (below, above) = (f32::from_bits(y.to_bits().saturating_sub(1)), f32::from_bits(y.to_bits() + 1));
+        let (below, above) = (
+            f32::from_bits(y.to_bits().saturating_sub(1)),
+            f32::from_bits(y.to_bits() + 1),
+        );
         if !(miss(y) <= miss(below) && miss(y) <= miss(above)) {
-            return Err(Failure { what: "sqrt_f32 not the nearest float, at x", line: line!(), value: Some(f64::from(x)) });
+            return Err(Failure {
+                what: "sqrt_f32 not the nearest float, at x",
+                line: line!(),
+                value: Some(f64::from(x)),
+            });
         }
     }
-    let special = [(0.0f32, 0.0f32), (1.0, 1.0), (4.0, 2.0), (f32::INFINITY, f32::INFINITY)];
+    let special = [
+        (0.0f32, 0.0f32),
+        (1.0, 1.0),
+        (4.0, 2.0),
+        (f32::INFINITY, f32::INFINITY),
+    ];
     for (x, want) in special {
         if sqrt_f32(x) != want {
-            return Err(Failure { what: "sqrt_f32 of a special value", line: line!(), value: Some(f64::from(x)) });
+            return Err(Failure {
+                what: "sqrt_f32 of a special value",
+                line: line!(),
+                value: Some(f64::from(x)),
+            });
         }
     }
     if !(sqrt_f32(-1.0).is_nan() && sqrt_f32(f32::NAN).is_nan()) {
-        return Err(Failure { what: "sqrt_f32 of a negative or NaN is not NaN", line: line!(), value: None });
+        return Err(Failure {
+            what: "sqrt_f32 of a negative or NaN is not NaN",
+            line: line!(),
+            value: None,
+        });
     }
     Ok(())
 }
@@ -116,23 +159,57 @@ fn stack_paint_is_measurable() -> Result<(), Failure> {
     if peak > 0 && peak < size {
         Ok(())
     } else {
-        Err(Failure { what: "stack peak (bytes)", line: line!(), value: Some(f64::from(peak)) })
+        Err(Failure {
+            what: "stack peak (bytes)",
+            line: line!(),
+            value: Some(f64::from(peak)),
+        })
     }
 }
 
 #[entry]
 fn main() -> ! {
     let mut h = Harness::new();
-    h.run("kernel_f32_points_match_host_f64", kernel_f32_points_match_host_f64);
-    h.run("kernel_f32_distances_match_host_f64", kernel_f32_distances_match_host_f64);
-    h.run("kernel_cases_are_not_degenerate", kernel_cases_are_not_degenerate);
-    h.run("sqrt_f32_is_correctly_rounded", sqrt_f32_is_correctly_rounded);
-    h.run("gait2392_f32_points_match_host_f64", gait2392::gait2392_f32_points_match_host_f64);
-    h.run("subject_model_on_the_hub_matches_host_f64", gait2392::subject_model_on_the_hub_matches_host_f64);
-    h.run("rx_ring_block_read_wraps_around", rx_ring::rx_ring_block_read_wraps_around);
-    h.run("rx_ring_errors_come_after_the_bytes_before_them", rx_ring::rx_ring_errors_come_after_the_bytes_before_them);
+    h.run(
+        "kernel_f32_points_match_host_f64",
+        kernel_f32_points_match_host_f64,
+    );
+    h.run(
+        "kernel_f32_distances_match_host_f64",
+        kernel_f32_distances_match_host_f64,
+    );
+    h.run(
+        "kernel_cases_are_not_degenerate",
+        kernel_cases_are_not_degenerate,
+    );
+    h.run(
+        "sqrt_f32_is_correctly_rounded",
+        sqrt_f32_is_correctly_rounded,
+    );
+    h.run(
+        "gait2392_f32_points_match_host_f64",
+        gait2392::gait2392_f32_points_match_host_f64,
+    );
+    h.run(
+        "subject_model_on_the_hub_matches_host_f64",
+        gait2392::subject_model_on_the_hub_matches_host_f64,
+    );
+    h.run(
+        "rx_ring_block_read_wraps_around",
+        rx_ring::rx_ring_block_read_wraps_around,
+    );
+    h.run(
+        "rx_ring_errors_come_after_the_bytes_before_them",
+        rx_ring::rx_ring_errors_come_after_the_bytes_before_them,
+    );
     for (name, check) in qgait_hub::checks::ALL {
-        h.run(name, || check().map_err(|f| Failure { what: f.what, line: f.line, value: None }));
+        h.run(name, || {
+            check().map_err(|f| Failure {
+                what: f.what,
+                line: f.line,
+                value: None,
+            })
+        });
     }
     h.run("stack_paint_is_measurable", stack_paint_is_measurable);
     defmt::info!("test stack peak {=u32} bytes", stack::peak());

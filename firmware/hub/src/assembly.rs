@@ -159,7 +159,11 @@ struct Slot {
 impl Slot {
     const FREE: Slot = Slot {
         present: JointSet::EMPTY,
-        sample: Sample { seq: 0, angles: [0.0; JOINTS], out_of_range: JointSet::EMPTY },
+        sample: Sample {
+            seq: 0,
+            angles: [0.0; JOINTS],
+            out_of_range: JointSet::EMPTY,
+        },
     };
 
     /// Whether the slot holds a sample (open or complete).
@@ -209,7 +213,10 @@ impl Assembler {
 
     /// Number of samples currently open (some but not all joints arrived).
     pub fn open_samples(&self) -> usize {
-        self.slots.iter().filter(|s| s.is_used() && !s.present.contains_all(self.required)).count()
+        self.slots
+            .iter()
+            .filter(|s| s.is_used() && !s.present.contains_all(self.required))
+            .count()
     }
 
     /// Takes one packet: the angle of `joint` in sample `seq`, and whether the caller found it
@@ -321,7 +328,15 @@ impl Assembler {
     /// Frees slot `i`: its angles become the last known values, and an open sample is
     /// completed with held values (in the slot) or dropped.
     fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent)) {
-        let Assembler { slots, required, hold_last, last_angle, known, last_out_of_range, .. } = self;
+        let Assembler {
+            slots,
+            required,
+            hold_last,
+            last_angle,
+            known,
+            last_out_of_range,
+            ..
+        } = self;
         let Some(slot) = slots.get_mut(i) else { return };
         // Frees the slot.
         let present = core::mem::take(&mut slot.present);
@@ -337,7 +352,9 @@ impl Assembler {
                 *known = known.with(*j);
             }
             // The present joints' judgements replace the ones of their older values.
-            *last_out_of_range = present.missing_from(*last_out_of_range).union(sample.out_of_range);
+            *last_out_of_range = present
+                .missing_from(*last_out_of_range)
+                .union(sample.out_of_range);
         }
         let missing = present.missing_from(*required);
         // Open, not complete.
@@ -347,10 +364,18 @@ impl Assembler {
                     sample.angles[j.index() as usize] = last_angle[j.index() as usize];
                 }
                 // A held angle is out of range if the packet it came from was.
-                sample.out_of_range = sample.out_of_range.union(last_out_of_range.intersection(missing));
-                on_event(SampleEvent::Held { sample, held: missing });
+                sample.out_of_range = sample
+                    .out_of_range
+                    .union(last_out_of_range.intersection(missing));
+                on_event(SampleEvent::Held {
+                    sample,
+                    held: missing,
+                });
             } else {
-                on_event(SampleEvent::Dropped { seq: sample.seq, missing });
+                on_event(SampleEvent::Dropped {
+                    seq: sample.seq,
+                    missing,
+                });
             }
         }
     }
@@ -380,7 +405,12 @@ mod tests {
         }
     }
 
-    fn push(a: &mut Assembler, seq: u32, joint: JointId, angle: f32) -> (PacketOutcome, Vec<Event>) {
+    fn push(
+        a: &mut Assembler,
+        seq: u32,
+        joint: JointId,
+        angle: f32,
+    ) -> (PacketOutcome, Vec<Event>) {
         push_judged(a, seq, joint, angle, false)
     }
 
@@ -392,14 +422,19 @@ mod tests {
         out_of_range: bool,
     ) -> (PacketOutcome, Vec<Event>) {
         let mut events = Vec::new();
-        let outcome = a.push(seq, joint, angle, out_of_range, &mut |e| events.push(own(e)));
+        let outcome = a.push(seq, joint, angle, out_of_range, &mut |e| {
+            events.push(own(e))
+        });
         (outcome, events)
     }
 
     #[test]
     fn sample_completes_when_every_required_joint_arrived() {
         let mut a = Assembler::new(&TWO, 4, false);
-        assert_eq!(push(&mut a, 7, JointId::KneeAngleR, -0.5), (PacketOutcome::Stored, Vec::new()));
+        assert_eq!(
+            push(&mut a, 7, JointId::KneeAngleR, -0.5),
+            (PacketOutcome::Stored, Vec::new())
+        );
         let (outcome, events) = push(&mut a, 7, JointId::HipFlexionR, 0.25);
         assert_eq!(outcome, PacketOutcome::Stored);
         match events.as_slice() {
@@ -418,9 +453,15 @@ mod tests {
         let mut a = Assembler::new(&TWO, 4, false);
         push(&mut a, 1, JointId::HipFlexionR, 0.0);
         push(&mut a, 1, JointId::KneeAngleR, 0.0);
-        assert_eq!(push(&mut a, 1, JointId::KneeAngleR, 0.0).0, PacketOutcome::Duplicate);
+        assert_eq!(
+            push(&mut a, 1, JointId::KneeAngleR, 0.0).0,
+            PacketOutcome::Duplicate
+        );
         push(&mut a, 2, JointId::KneeAngleR, 0.0);
-        assert_eq!(push(&mut a, 2, JointId::KneeAngleR, 0.0).0, PacketOutcome::Duplicate);
+        assert_eq!(
+            push(&mut a, 2, JointId::KneeAngleR, 0.0).0,
+            PacketOutcome::Duplicate
+        );
     }
 
     #[test]
@@ -434,11 +475,20 @@ mod tests {
         assert_eq!(
             events,
             [
-                Event::Dropped { seq: 10, missing: JointSet::of(&[JointId::KneeAngleR]) },
-                Event::Dropped { seq: 11, missing: JointSet::of(&[JointId::HipFlexionR]) },
+                Event::Dropped {
+                    seq: 10,
+                    missing: JointSet::of(&[JointId::KneeAngleR])
+                },
+                Event::Dropped {
+                    seq: 11,
+                    missing: JointSet::of(&[JointId::HipFlexionR])
+                },
             ]
         );
-        assert_eq!(push(&mut a, 11, JointId::HipFlexionR, 0.0).0, PacketOutcome::Late);
+        assert_eq!(
+            push(&mut a, 11, JointId::HipFlexionR, 0.0).0,
+            PacketOutcome::Late
+        );
         // 12 is still open and completes.
         let (_, events) = push(&mut a, 12, JointId::HipFlexionR, 0.0);
         assert!(matches!(events.as_slice(), [Event::Complete(s)] if s.seq == 12));
@@ -468,7 +518,9 @@ mod tests {
         push_judged(&mut a, 1, JointId::KneeAngleR, 1.5, true);
         let (_, events) = push_judged(&mut a, 1, JointId::HipFlexionR, 0.2, false);
         match events.as_slice() {
-            [Event::Complete(s)] => assert_eq!(s.out_of_range, JointSet::of(&[JointId::KneeAngleR])),
+            [Event::Complete(s)] => {
+                assert_eq!(s.out_of_range, JointSet::of(&[JointId::KneeAngleR]))
+            }
             other => panic!("unexpected events {other:?}"),
         }
         push(&mut a, 2, JointId::KneeAngleR, -0.5);
@@ -520,13 +572,22 @@ mod tests {
         let mut a = Assembler::new(&TWO, 1, true);
         push(&mut a, 1, JointId::HipFlexionR, 0.1);
         let (_, events) = push(&mut a, 2, JointId::HipFlexionR, 0.1);
-        assert_eq!(events, [Event::Dropped { seq: 1, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+        assert_eq!(
+            events,
+            [Event::Dropped {
+                seq: 1,
+                missing: JointSet::of(&[JointId::KneeAngleR])
+            }]
+        );
     }
 
     #[test]
     fn joints_the_model_does_not_use_are_reported() {
         let mut a = Assembler::new(&TWO, 4, false);
-        assert_eq!(push(&mut a, 1, JointId::PelvisTilt, 0.0).0, PacketOutcome::NotRequired);
+        assert_eq!(
+            push(&mut a, 1, JointId::PelvisTilt, 0.0).0,
+            PacketOutcome::NotRequired
+        );
         assert_eq!(a.open_samples(), 0);
     }
 
@@ -540,7 +601,13 @@ mod tests {
         let (_, events) = push(&mut a, 1, JointId::KneeAngleR, 0.0);
         assert_eq!(events, []);
         let (_, events) = push(&mut a, 2, JointId::KneeAngleR, 0.0);
-        assert_eq!(events, [Event::Dropped { seq: 0, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+        assert_eq!(
+            events,
+            [Event::Dropped {
+                seq: 0,
+                missing: JointSet::of(&[JointId::KneeAngleR])
+            }]
+        );
     }
 
     #[test]
@@ -549,7 +616,13 @@ mod tests {
         push(&mut a, 1_000_000, JointId::HipFlexionR, 0.0);
         let (outcome, events) = push(&mut a, 0, JointId::HipFlexionR, 0.0);
         assert_eq!(outcome, PacketOutcome::Resynced);
-        assert_eq!(events, [Event::Dropped { seq: 1_000_000, missing: JointSet::of(&[JointId::KneeAngleR]) }]);
+        assert_eq!(
+            events,
+            [Event::Dropped {
+                seq: 1_000_000,
+                missing: JointSet::of(&[JointId::KneeAngleR])
+            }]
+        );
         let (outcome, events) = push(&mut a, 0, JointId::KneeAngleR, 0.0);
         assert_eq!(outcome, PacketOutcome::Stored);
         assert!(matches!(events.as_slice(), [Event::Complete(s)] if s.seq == 0));
@@ -567,7 +640,9 @@ mod tests {
     /// event.
     #[allow(dead_code)]
     mod reference {
-        use super::super::{JointSet, PacketOutcome, Sample, SampleEvent, MAX_WINDOW, RESYNC_DISTANCE};
+        use super::super::{
+            JointSet, PacketOutcome, Sample, SampleEvent, MAX_WINDOW, RESYNC_DISTANCE,
+        };
         use qgait_proto::JointId;
 
         const JOINTS: usize = JointId::COUNT;
@@ -601,7 +676,10 @@ mod tests {
 
         /// The joints `bad` marks.
         fn bad_set(bad: &[bool; JOINTS]) -> JointSet {
-            JointId::ALL.iter().filter(|j| bad[j.index() as usize]).fold(JointSet::EMPTY, |s, &j| s.with(j))
+            JointId::ALL
+                .iter()
+                .filter(|j| bad[j.index() as usize])
+                .fold(JointSet::EMPTY, |s, &j| s.with(j))
         }
 
         /// The reorder window (see the module docs).
@@ -644,7 +722,10 @@ mod tests {
 
             /// Number of samples currently open (some but not all joints arrived).
             pub fn open_samples(&self) -> usize {
-                self.slots.iter().filter(|s| s.state == SlotState::Open).count()
+                self.slots
+                    .iter()
+                    .filter(|s| s.state == SlotState::Open)
+                    .count()
             }
 
             /// Takes one packet. Samples that complete or leave the window are reported to `on_event`
@@ -681,11 +762,19 @@ mod tests {
                 }
                 // Every used slot holds a distinct sequence number inside the window, so when `seq` has
                 // no slot yet a free one exists.
-                let index = match self.slots.iter().position(|s| s.state != SlotState::Free && s.seq == seq) {
+                let index = match self
+                    .slots
+                    .iter()
+                    .position(|s| s.state != SlotState::Free && s.seq == seq)
+                {
                     Some(i) => i,
                     None => match self.slots.iter().position(|s| s.state == SlotState::Free) {
                         Some(i) => {
-                            self.slots[i] = Slot { state: SlotState::Open, seq, ..Slot::FREE };
+                            self.slots[i] = Slot {
+                                state: SlotState::Open,
+                                seq,
+                                ..Slot::FREE
+                            };
                             i
                         }
                         None => return PacketOutcome::Late,
@@ -700,7 +789,11 @@ mod tests {
                 slot.present = slot.present.with(joint);
                 if slot.present.contains_all(self.required) {
                     slot.state = SlotState::Done;
-                    on_event(SampleEvent::Complete(&Sample { seq, angles: slot.angles, out_of_range: bad_set(&slot.bad) }));
+                    on_event(SampleEvent::Complete(&Sample {
+                        seq,
+                        angles: slot.angles,
+                        out_of_range: bad_set(&slot.bad),
+                    }));
                 }
                 outcome
             }
@@ -748,9 +841,19 @@ mod tests {
                             bad[j.index() as usize] = self.last_bad[j.index() as usize];
                         }
                         let out_of_range = bad_set(&bad);
-                        on_event(SampleEvent::Held { sample: &Sample { seq: slot.seq, angles, out_of_range }, held: missing });
+                        on_event(SampleEvent::Held {
+                            sample: &Sample {
+                                seq: slot.seq,
+                                angles,
+                                out_of_range,
+                            },
+                            held: missing,
+                        });
                     } else {
-                        on_event(SampleEvent::Dropped { seq: slot.seq, missing });
+                        on_event(SampleEvent::Dropped {
+                            seq: slot.seq,
+                            missing,
+                        });
                     }
                 }
                 for j in JointId::ALL.iter().filter(|&&j| slot.present.contains(j)) {
@@ -771,7 +874,12 @@ mod tests {
             x ^= x << 5;
             x % n
         };
-        let joints = [JointId::PelvisList, JointId::HipFlexionR, JointId::KneeAngleR, JointId::AnkleAngleL];
+        let joints = [
+            JointId::PelvisList,
+            JointId::HipFlexionR,
+            JointId::KneeAngleR,
+            JointId::AnkleAngleL,
+        ];
         let required = &joints[..3];
         let mut compared = 0;
         // Held samples flagged by a held angle alone: the case the judgements of the last
@@ -812,6 +920,9 @@ mod tests {
             assert_eq!(ea, er);
         }
         assert!(compared > 10_000, "{compared} events");
-        assert!(flagged_by_held > 100, "{flagged_by_held} held samples flagged by a held angle");
+        assert!(
+            flagged_by_held > 100,
+            "{flagged_by_held} held samples flagged by a held angle"
+        );
     }
 }

@@ -6,16 +6,16 @@
 
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
-    encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags, JointAngle, JointId, Message, MissingPolicy,
-    ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags, JointAngle, JointId, Message,
+    MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
-use crate::assembly::{Sample, JointSet};
-use crate::subject::parts_of;
+use crate::assembly::{JointSet, Sample};
 use crate::clock::ManualClock;
 use crate::hub::{Hub, MAX_BYTES_PER_POLL, READ_CHUNK};
 use crate::kinematics::Kinematics;
 use crate::memory_serial::MemorySerial;
+use crate::subject::parts_of;
 
 /// A failed check: what did not hold, and where.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,7 +33,10 @@ pub type CheckResult = Result<(), CheckFailure>;
 macro_rules! ensure {
     ($cond:expr) => {
         if !$cond {
-            return Err(CheckFailure { what: stringify!($cond), line: line!() });
+            return Err(CheckFailure {
+                what: stringify!($cond),
+                line: line!(),
+            });
         }
     };
 }
@@ -43,28 +46,85 @@ pub type NamedCheck = (&'static str, fn() -> CheckResult);
 
 /// Every check with its name.
 pub const ALL: &[NamedCheck] = &[
-    ("clean_stream_gives_one_pose_per_sample", clean_stream_gives_one_pose_per_sample),
+    (
+        "clean_stream_gives_one_pose_per_sample",
+        clean_stream_gives_one_pose_per_sample,
+    ),
     ("pose_matches_the_kernel", pose_matches_the_kernel),
-    ("packets_reordered_within_the_window_still_complete", packets_reordered_within_the_window_still_complete),
-    ("late_and_duplicate_packets_are_counted_and_dropped", late_and_duplicate_packets_are_counted_and_dropped),
-    ("incomplete_sample_is_dropped_and_counted", incomplete_sample_is_dropped_and_counted),
-    ("hold_last_policy_sends_flagged_frames", hold_last_policy_sends_flagged_frames),
-    ("held_angle_out_of_range_is_flagged", held_angle_out_of_range_is_flagged),
-    ("corrupt_frames_are_counted_and_the_next_packet_is_processed", corrupt_frames_are_counted_and_the_next_packet_is_processed),
-    ("unknown_joint_and_version_are_counted", unknown_joint_and_version_are_counted),
-    ("angles_out_of_range_are_flagged_and_non_finite_ones_dropped", angles_out_of_range_are_flagged_and_non_finite_ones_dropped),
+    (
+        "packets_reordered_within_the_window_still_complete",
+        packets_reordered_within_the_window_still_complete,
+    ),
+    (
+        "late_and_duplicate_packets_are_counted_and_dropped",
+        late_and_duplicate_packets_are_counted_and_dropped,
+    ),
+    (
+        "incomplete_sample_is_dropped_and_counted",
+        incomplete_sample_is_dropped_and_counted,
+    ),
+    (
+        "hold_last_policy_sends_flagged_frames",
+        hold_last_policy_sends_flagged_frames,
+    ),
+    (
+        "held_angle_out_of_range_is_flagged",
+        held_angle_out_of_range_is_flagged,
+    ),
+    (
+        "corrupt_frames_are_counted_and_the_next_packet_is_processed",
+        corrupt_frames_are_counted_and_the_next_packet_is_processed,
+    ),
+    (
+        "unknown_joint_and_version_are_counted",
+        unknown_joint_and_version_are_counted,
+    ),
+    (
+        "angles_out_of_range_are_flagged_and_non_finite_ones_dropped",
+        angles_out_of_range_are_flagged_and_non_finite_ones_dropped,
+    ),
     ("uart_overrun_is_counted", uart_overrun_is_counted),
-    ("config_switches_model_and_answers_status_request", config_switches_model_and_answers_status_request),
-    ("unusable_config_is_refused_and_counted", unusable_config_is_refused_and_counted),
-    ("status_request_keeps_open_samples", status_request_keeps_open_samples),
+    (
+        "config_switches_model_and_answers_status_request",
+        config_switches_model_and_answers_status_request,
+    ),
+    (
+        "unusable_config_is_refused_and_counted",
+        unusable_config_is_refused_and_counted,
+    ),
+    (
+        "status_request_keeps_open_samples",
+        status_request_keeps_open_samples,
+    ),
     ("status_is_sent_periodically", status_is_sent_periodically),
-    ("gait2392_config_gives_frames_of_the_generic_model", gait2392_config_gives_frames_of_the_generic_model),
-    ("subject_model_switches_only_when_complete", subject_model_switches_only_when_complete),
-    ("invalid_subject_model_is_rejected_and_counted", invalid_subject_model_is_rejected_and_counted),
-    ("parts_of_another_upload_discard_the_held_ones", parts_of_another_upload_discard_the_held_ones),
-    ("random_bytes_never_stop_the_pipeline", random_bytes_never_stop_the_pipeline),
-    ("each_poll_reads_at_most_max_bytes_per_poll", each_poll_reads_at_most_max_bytes_per_poll),
-    ("frames_split_across_reads_and_polls_still_decode", frames_split_across_reads_and_polls_still_decode),
+    (
+        "gait2392_config_gives_frames_of_the_generic_model",
+        gait2392_config_gives_frames_of_the_generic_model,
+    ),
+    (
+        "subject_model_switches_only_when_complete",
+        subject_model_switches_only_when_complete,
+    ),
+    (
+        "invalid_subject_model_is_rejected_and_counted",
+        invalid_subject_model_is_rejected_and_counted,
+    ),
+    (
+        "parts_of_another_upload_discard_the_held_ones",
+        parts_of_another_upload_discard_the_held_ones,
+    ),
+    (
+        "random_bytes_never_stop_the_pipeline",
+        random_bytes_never_stop_the_pipeline,
+    ),
+    (
+        "each_poll_reads_at_most_max_bytes_per_poll",
+        each_poll_reads_at_most_max_bytes_per_poll,
+    ),
+    (
+        "frames_split_across_reads_and_polls_still_decode",
+        frames_split_across_reads_and_polls_still_decode,
+    ),
 ];
 
 /// Serial port of the checks: room for a few hundred packets each way.
@@ -80,7 +140,11 @@ pub const STATUS_PERIOD_MS: u32 = 1000;
 pub fn gait_angle(joint: JointId, seq: u32) -> f32 {
     let phase = (seq % 100) as f32 / 100.0;
     // A triangle wave in [-1, 1]: cheap, deterministic, no trigonometry needed.
-    let tri = if phase < 0.5 { 4.0 * phase - 1.0 } else { 3.0 - 4.0 * phase };
+    let tri = if phase < 0.5 {
+        4.0 * phase - 1.0
+    } else {
+        3.0 - 4.0 * phase
+    };
     let (mid, amp) = match joint {
         JointId::PelvisRotation => (0.0, 0.1),
         JointId::PelvisList => (0.0, 0.05),
@@ -119,7 +183,10 @@ pub fn send(serial: &mut CheckSerial, message: &Message) -> bool {
 
 /// Queues every packet of sample `seq` for `model`, in the model's joint order.
 pub fn send_sample(serial: &mut CheckSerial, model: ModelId, seq: u32) -> bool {
-    model.required_joints().iter().all(|&j| send(serial, &Message::JointAngle(packet(seq, j))))
+    model
+        .required_joints()
+        .iter()
+        .all(|&j| send(serial, &Message::JointAngle(packet(seq, j))))
 }
 
 /// Polls until the serial port has nothing left to read.
@@ -169,12 +236,20 @@ fn last_status(hub: &mut CheckHub<'_>) -> Option<Status> {
 }
 
 fn new_hub(clock: &ManualClock) -> Result<CheckHub<'_>, CheckFailure> {
-    Hub::new(CheckSerial::new(), clock, STATUS_PERIOD_MS)
-        .map_err(|_| CheckFailure { what: "Hub::new refused the default model", line: line!() })
+    Hub::new(CheckSerial::new(), clock, STATUS_PERIOD_MS).map_err(|_| CheckFailure {
+        what: "Hub::new refused the default model",
+        line: line!(),
+    })
 }
 
 fn config(model: ModelId, policy: MissingPolicy, window: u8, request_status: bool) -> Message {
-    Message::Config(Config { model, anthropometry: None, missing_policy: policy, reorder_window: window, request_status })
+    Message::Config(Config {
+        model,
+        anthropometry: None,
+        missing_policy: policy,
+        reorder_window: window,
+        request_status,
+    })
 }
 
 /// 20 PHAK samples sent in order give 20 pose frames with the right sequence numbers.
@@ -188,7 +263,10 @@ pub fn clean_stream_gives_one_pose_per_sample() -> CheckResult {
     let mut expected_seq = 0;
     let mut in_order = true;
     let n = poses(&mut hub, |p| {
-        in_order &= p.seq == expected_seq && p.model == ModelId::Phak && p.flags == 0 && p.angles.len() == 8;
+        in_order &= p.seq == expected_seq
+            && p.model == ModelId::Phak
+            && p.flags == 0
+            && p.angles.len() == 8;
         expected_seq += 1;
     })?;
     ensure!(n == 20);
@@ -210,14 +288,26 @@ pub fn pose_matches_the_kernel() -> CheckResult {
     drain(&mut hub);
     let mut frame = None;
     poses(&mut hub, |p| frame = Some(p.clone()))?;
-    let Some(frame) = frame else { return Err(CheckFailure { what: "no pose frame", line: line!() }) };
+    let Some(frame) = frame else {
+        return Err(CheckFailure {
+            what: "no pose frame",
+            line: line!(),
+        });
+    };
     let mut angles = [0.0; JointId::COUNT];
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, 37);
     }
-    let sample = Sample { seq: 37, angles, out_of_range: JointSet::EMPTY };
+    let sample = Sample {
+        seq: 37,
+        angles,
+        out_of_range: JointSet::EMPTY,
+    };
     let Ok(kinematics) = Kinematics::new(ModelId::Phak, None) else {
-        return Err(CheckFailure { what: "Kinematics::new", line: line!() });
+        return Err(CheckFailure {
+            what: "Kinematics::new",
+            line: line!(),
+        });
     };
     let expected = kinematics.pose_frame(&sample, 0);
     ensure!(frame == expected);
@@ -238,7 +328,10 @@ pub fn packets_reordered_within_the_window_still_complete() -> CheckResult {
     // Round-robin over samples, joints in reverse order.
     for j in joints.iter().rev() {
         for seq in [2u32, 0, 3, 1] {
-            ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(seq, *j))));
+            ensure!(send(
+                hub.serial_mut(),
+                &Message::JointAngle(packet(seq, *j))
+            ));
         }
     }
     drain(&mut hub);
@@ -254,15 +347,27 @@ pub fn packets_reordered_within_the_window_still_complete() -> CheckResult {
 pub fn late_and_duplicate_packets_are_counted_and_dropped() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, JointId::HipFlexionR))));
-    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, JointId::HipFlexionR))));
+    ensure!(send(
+        hub.serial_mut(),
+        &Message::JointAngle(packet(0, JointId::HipFlexionR))
+    ));
+    ensure!(send(
+        hub.serial_mut(),
+        &Message::JointAngle(packet(0, JointId::HipFlexionR))
+    ));
     for seq in 1..=5 {
         ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
     }
     // Sample 0 left the window (4) when sample 4 arrived.
-    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, JointId::KneeAngleR))));
+    ensure!(send(
+        hub.serial_mut(),
+        &Message::JointAngle(packet(0, JointId::KneeAngleR))
+    ));
     // Sample 5 is complete: another packet of it is a duplicate.
-    ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(5, JointId::KneeAngleR))));
+    ensure!(send(
+        hub.serial_mut(),
+        &Message::JointAngle(packet(5, JointId::KneeAngleR))
+    ));
     drain(&mut hub);
     let s = hub.status();
     ensure!(s.duplicate_packets == 2);
@@ -297,7 +402,10 @@ pub fn incomplete_sample_is_dropped_and_counted() -> CheckResult {
 pub fn hold_last_policy_sends_flagged_frames() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    ensure!(send(hub.serial_mut(), &config(ModelId::Phak, MissingPolicy::HoldLast, 2, false)));
+    ensure!(send(
+        hub.serial_mut(),
+        &config(ModelId::Phak, MissingPolicy::HoldLast, 2, false)
+    ));
     for seq in 0..10 {
         for &j in ModelId::Phak.required_joints() {
             if !(seq == 3 && j == JointId::AnkleAngleL) {
@@ -316,7 +424,12 @@ pub fn hold_last_policy_sends_flagged_frames() -> CheckResult {
         }
     })?;
     ensure!(n == 10 && others_clean);
-    let Some(held) = held else { return Err(CheckFailure { what: "no frame for sample 3", line: line!() }) };
+    let Some(held) = held else {
+        return Err(CheckFailure {
+            what: "no frame for sample 3",
+            line: line!(),
+        });
+    };
     ensure!(held.flags == FrameFlags::MISSING | FrameFlags::HELD);
     // ankle_angle_l is the last PHAK joint.
     ensure!(held.angles[7] == gait_angle(JointId::AnkleAngleL, 2));
@@ -329,7 +442,10 @@ pub fn hold_last_policy_sends_flagged_frames() -> CheckResult {
 pub fn held_angle_out_of_range_is_flagged() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    ensure!(send(hub.serial_mut(), &config(ModelId::Phak, MissingPolicy::HoldLast, 2, false)));
+    ensure!(send(
+        hub.serial_mut(),
+        &config(ModelId::Phak, MissingPolicy::HoldLast, 2, false)
+    ));
     // Sample 3's right knee hyperextended; samples 4 and 6 lack the right knee (4 holds
     // sample 3's, 6 holds sample 5's, in range).
     for seq in 0..10 {
@@ -362,7 +478,10 @@ pub fn held_angle_out_of_range_is_flagged() -> CheckResult {
     ensure!(flags[4] == FrameFlags::MISSING | FrameFlags::HELD | FrameFlags::OUT_OF_RANGE);
     ensure!(knee_4 == 1.5);
     ensure!(flags[6] == FrameFlags::MISSING | FrameFlags::HELD);
-    ensure!(flags.iter().enumerate().all(|(seq, &f)| matches!(seq, 3 | 4 | 6) || f == 0));
+    ensure!(flags
+        .iter()
+        .enumerate()
+        .all(|(seq, &f)| matches!(seq, 3 | 4 | 6) || f == 0));
     let s = hub.status();
     ensure!(s.out_of_range == 1 && s.samples_incomplete == 0 && s.samples_completed == 10);
     Ok(())
@@ -374,8 +493,14 @@ pub fn corrupt_frames_are_counted_and_the_next_packet_is_processed() -> CheckRes
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
     let mut buf = [0u8; MAX_FRAME_LEN];
-    let Ok(frame) = encode_frame(&Message::JointAngle(packet(0, JointId::HipFlexionR)), &mut buf) else {
-        return Err(CheckFailure { what: "encode", line: line!() });
+    let Ok(frame) = encode_frame(
+        &Message::JointAngle(packet(0, JointId::HipFlexionR)),
+        &mut buf,
+    ) else {
+        return Err(CheckFailure {
+            what: "encode",
+            line: line!(),
+        });
     };
     let len = frame.len();
     // Bad CRC: flip a bit of the body (keeping it non-zero).
@@ -412,7 +537,10 @@ pub fn unknown_joint_and_version_are_counted() -> CheckResult {
     let unknown_version = [0u8, PROTOCOL_VERSION + 7, 1, 3, 5, 0, 0, 0, 0, 0, 0];
     for payload in [&unknown_joint[..], &unknown_version[..]] {
         let Ok(frame) = encode_raw_frame(payload, &mut buf) else {
-            return Err(CheckFailure { what: "encode_raw_frame", line: line!() });
+            return Err(CheckFailure {
+                what: "encode_raw_frame",
+                line: line!(),
+            });
         };
         let n = frame.len();
         ensure!(hub.serial_mut().receive(&buf[..n]) == n);
@@ -482,18 +610,30 @@ pub fn uart_overrun_is_counted() -> CheckResult {
 pub fn config_switches_model_and_answers_status_request() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    ensure!(send(hub.serial_mut(), &config(ModelId::Hak, MissingPolicy::Drop, 3, true)));
+    ensure!(send(
+        hub.serial_mut(),
+        &config(ModelId::Hak, MissingPolicy::Drop, 3, true)
+    ));
     ensure!(send_sample(hub.serial_mut(), ModelId::Hak, 0));
     drain(&mut hub);
     ensure!(hub.config().model == ModelId::Hak && hub.config().reorder_window == 3);
     let mut hak_frames = 0;
-    let n = poses(&mut hub, |p| hak_frames += u32::from(p.model == ModelId::Hak && p.angles.len() == 6))?;
+    let n = poses(&mut hub, |p| {
+        hak_frames += u32::from(p.model == ModelId::Hak && p.angles.len() == 6)
+    })?;
     ensure!(n == 1 && hak_frames == 1);
-    let Some(status) = last_status(&mut hub) else { return Err(CheckFailure { what: "no status", line: line!() }) };
+    let Some(status) = last_status(&mut hub) else {
+        return Err(CheckFailure {
+            what: "no status",
+            line: line!(),
+        });
+    };
     ensure!(status.frames_sent == 1 && status.packets_accepted == 0);
     // HAK legs hang from a level pelvis: the hips are on the z axis.
     let mut hips_on_axis = false;
-    poses(&mut hub, |p| hips_on_axis = p.points[0][0] == 0.0 && p.points[0][1] == 0.0 && p.points[0][2] > 0.0)?;
+    poses(&mut hub, |p| {
+        hips_on_axis = p.points[0][0] == 0.0 && p.points[0][1] == 0.0 && p.points[0][2] > 0.0
+    })?;
     ensure!(hips_on_axis);
     Ok(())
 }
@@ -537,7 +677,10 @@ pub fn status_request_keeps_open_samples() -> CheckResult {
     for &j in &joints[..4] {
         ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, j))));
     }
-    ensure!(send(hub.serial_mut(), &config(ModelId::Phak, MissingPolicy::Drop, 4, true)));
+    ensure!(send(
+        hub.serial_mut(),
+        &config(ModelId::Phak, MissingPolicy::Drop, 4, true)
+    ));
     for &j in &joints[4..] {
         ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(0, j))));
     }
@@ -560,7 +703,9 @@ pub fn status_is_sent_periodically() -> CheckResult {
     clock.advance(STATUS_PERIOD_MS / 2);
     hub.poll();
     let mut count = 0;
-    each_output(&mut hub, |m| count += u32::from(matches!(m, Message::Status(_))));
+    each_output(&mut hub, |m| {
+        count += u32::from(matches!(m, Message::Status(_)))
+    });
     ensure!(count == 1);
     ensure!(last_status(&mut hub).map(|s| s.uptime_ms) == Some(STATUS_PERIOD_MS));
     clock.advance(STATUS_PERIOD_MS / 2);
@@ -590,7 +735,12 @@ pub fn random_bytes_never_stop_the_pipeline() -> CheckResult {
     }
     let s = hub.status();
     ensure!(s.samples_completed == 12);
-    let errors = s.crc_errors + s.framing_errors + s.oversize_frames + s.malformed + s.unknown_version + s.unknown_joint;
+    let errors = s.crc_errors
+        + s.framing_errors
+        + s.oversize_frames
+        + s.malformed
+        + s.unknown_version
+        + s.unknown_joint;
     ensure!(errors > 0);
     ensure!(poses(&mut hub, |_| {})? == 12);
     Ok(())
@@ -638,8 +788,8 @@ pub fn each_poll_reads_at_most_max_bytes_per_poll() -> CheckResult {
 }
 
 /// The hub reads in blocks of READ_CHUNK bytes and a frame may end anywhere in one, or in the
-/// next poll's: samples whose bytes arrive in pieces of every length from 1 to 2 * READ_CHUNK
-/// + 1, a poll after each piece, all give their pose. An overrun queued after a piece that ends
+/// next poll's: samples whose bytes arrive in pieces of every length from 1 to
+/// 2 * READ_CHUNK + 1, a poll after each piece, all give their pose. An overrun queued after a piece that ends
 /// mid-frame is reported after that piece's bytes (the poll reads them all and counts it), and
 /// the frame it falls in still decodes (the port lost no byte).
 pub fn frames_split_across_reads_and_polls_still_decode() -> CheckResult {
@@ -677,10 +827,12 @@ pub fn frames_split_across_reads_and_polls_still_decode() -> CheckResult {
     ensure!(s.crc_errors + s.framing_errors + s.malformed + s.oversize_frames == 0);
     let mut seq = 0;
     let mut in_order = true;
-    ensure!(poses(&mut hub, |p| {
-        in_order &= p.seq == seq;
-        seq += 1;
-    })? == SAMPLES);
+    ensure!(
+        poses(&mut hub, |p| {
+            in_order &= p.seq == seq;
+            seq += 1;
+        })? == SAMPLES
+    );
     ensure!(in_order);
     Ok(())
 }
@@ -709,8 +861,15 @@ pub fn scaled_subject() -> Gait2392Geometry {
 }
 
 /// Queues the 6 parts of `geometry` as upload `upload` (with `skip` parts left out at the end).
-pub fn send_subject(serial: &mut CheckSerial, geometry: &Gait2392Geometry, upload: u8, skip: usize) -> bool {
-    let Ok((legs, knees)) = parts_of(geometry, upload) else { return false };
+pub fn send_subject(
+    serial: &mut CheckSerial,
+    geometry: &Gait2392Geometry,
+    upload: u8,
+    skip: usize,
+) -> bool {
+    let Ok((legs, knees)) = parts_of(geometry, upload) else {
+        return false;
+    };
     let mut messages: heapless::Vec<Message, 6> = heapless::Vec::new();
     for leg in legs {
         let _ = messages.push(Message::SubjectLeg(leg));
@@ -724,7 +883,12 @@ pub fn send_subject(serial: &mut CheckSerial, geometry: &Gait2392Geometry, uploa
 
 /// The message switching to the subject model of `upload`, drop policy, window 4.
 pub fn subject_config(upload: u8, request_status: bool) -> Message {
-    Message::SubjectConfig(SubjectConfig { upload, missing_policy: MissingPolicy::Drop, reorder_window: 4, request_status })
+    Message::SubjectConfig(SubjectConfig {
+        upload,
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 4,
+        request_status,
+    })
 }
 
 /// The frame a hub computing `kinematics` sends for sample `seq` of [`gait_angle`]s.
@@ -733,20 +897,33 @@ fn expected_frame(kinematics: &Kinematics, seq: u32) -> PoseFrame {
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, seq);
     }
-    kinematics.pose_frame(&Sample { seq, angles, out_of_range: JointSet::EMPTY }, 0)
+    kinematics.pose_frame(
+        &Sample {
+            seq,
+            angles,
+            out_of_range: JointSet::EMPTY,
+        },
+        0,
+    )
 }
 
 /// A Config for gait2392 gives frames with all 17 angles, equal to the generic model's.
 pub fn gait2392_config_gives_frames_of_the_generic_model() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    ensure!(send(hub.serial_mut(), &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)));
+    ensure!(send(
+        hub.serial_mut(),
+        &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)
+    ));
     for seq in 0..3 {
         ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, seq));
     }
     drain(&mut hub);
     let Ok(generic) = Kinematics::gait2392(Kinematics::generic_gait2392()) else {
-        return Err(CheckFailure { what: "Kinematics::gait2392(generic)", line: line!() });
+        return Err(CheckFailure {
+            what: "Kinematics::gait2392(generic)",
+            line: line!(),
+        });
     };
     let mut all_equal = true;
     let mut seq = 0;
@@ -782,10 +959,19 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     ensure!(hub.config().model == ModelId::Gait2392 && hub.subject() == Some(9));
     // What the hub holds is the subject rounded to f32 on the wire.
     let Ok(held) = hub.subject_parts().geometry(9) else {
-        return Err(CheckFailure { what: "the hub's parts make no model", line: line!() });
+        return Err(CheckFailure {
+            what: "the hub's parts make no model",
+            line: line!(),
+        });
     };
-    let (Ok(mine), Ok(generic)) = (Kinematics::gait2392(held), Kinematics::gait2392(Kinematics::generic_gait2392())) else {
-        return Err(CheckFailure { what: "Kinematics::gait2392", line: line!() });
+    let (Ok(mine), Ok(generic)) = (
+        Kinematics::gait2392(held),
+        Kinematics::gait2392(Kinematics::generic_gait2392()),
+    ) else {
+        return Err(CheckFailure {
+            what: "Kinematics::gait2392",
+            line: line!(),
+        });
     };
     let (mut subject_frames, mut far_from_generic) = (0, true);
     poses(&mut hub, |p| {
@@ -798,7 +984,10 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     })?;
     ensure!(subject_frames == 3 && far_from_generic);
     // A Config switches back to a built-in model; the subject's SubjectConfig again to it.
-    ensure!(send(hub.serial_mut(), &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)));
+    ensure!(send(
+        hub.serial_mut(),
+        &config(ModelId::Gait2392, MissingPolicy::Drop, 4, false)
+    ));
     drain(&mut hub);
     ensure!(hub.subject().is_none());
     ensure!(send(hub.serial_mut(), &subject_config(9, false)));
@@ -813,10 +1002,16 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, 4));
     drain(&mut hub);
     let Ok(held) = hub.subject_parts().geometry(9) else {
-        return Err(CheckFailure { what: "the hub's parts make no model", line: line!() });
+        return Err(CheckFailure {
+            what: "the hub's parts make no model",
+            line: line!(),
+        });
     };
     let Ok(longer_kinematics) = Kinematics::gait2392(held) else {
-        return Err(CheckFailure { what: "Kinematics::gait2392", line: line!() });
+        return Err(CheckFailure {
+            what: "Kinematics::gait2392",
+            line: line!(),
+        });
     };
     let mut sample_4 = None;
     poses(&mut hub, |p| {
@@ -824,7 +1019,12 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
             sample_4 = Some(p.clone());
         }
     })?;
-    let Some(sample_4) = sample_4 else { return Err(CheckFailure { what: "no frame for sample 4", line: line!() }) };
+    let Some(sample_4) = sample_4 else {
+        return Err(CheckFailure {
+            what: "no frame for sample 4",
+            line: line!(),
+        });
+    };
     ensure!(sample_4 == expected_frame(&longer_kinematics, 4));
     ensure!(sample_4 != expected_frame(&mine, 4));
     Ok(())

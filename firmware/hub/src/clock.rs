@@ -21,7 +21,9 @@ pub struct ManualClock {
 impl ManualClock {
     /// A clock reading `start_ms`.
     pub fn new(start_ms: u32) -> ManualClock {
-        ManualClock { now_ms: core::cell::Cell::new(start_ms) }
+        ManualClock {
+            now_ms: core::cell::Cell::new(start_ms),
+        }
     }
 
     /// Moves the clock forward by `ms` (wrapping).

@@ -8,8 +8,8 @@ use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
-    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig, MAX_FRAME_LEN,
-    MAX_REORDER_WINDOW,
+    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig,
+    MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
@@ -102,14 +102,24 @@ where
     /// Fails only if the kernel refuses the default model, which its tests rule out.
     pub fn new(serial: S, clock: C, status_period_ms: u32) -> Result<Self, ConfigError> {
         let kinematics = Kinematics::new(DEFAULT_CONFIG.model, DEFAULT_CONFIG.anthropometry)?;
-        Ok(Self::with_kinematics(serial, clock, status_period_ms, kinematics))
+        Ok(Self::with_kinematics(
+            serial,
+            clock,
+            status_period_ms,
+            kinematics,
+        ))
     }
 
     /// The same hub as [`new`](Self::new), built in `slot` (e.g. a static): neither the hub (4 KB
     /// on a Cortex-M) nor its model's chain is ever a temporary on the stack on its way there.
     /// Each field is written where it lives, the model as an empty one (a memset), which is
     /// then built in place.
-    pub fn init(slot: &mut MaybeUninit<Self>, serial: S, clock: C, status_period_ms: u32) -> Result<&mut Self, ConfigError> {
+    pub fn init(
+        slot: &mut MaybeUninit<Self>,
+        serial: S,
+        clock: C,
+        status_period_ms: u32,
+    ) -> Result<&mut Self, ConfigError> {
         let anthropometry = Kinematics::anthropometry(DEFAULT_CONFIG.anthropometry)?;
         let now = clock.now_ms();
         let config = DEFAULT_CONFIG;
@@ -220,7 +230,9 @@ where
             }
         }
         let now = self.clock.now_ms();
-        if self.status_period_ms != 0 && now.wrapping_sub(self.last_status_ms) >= self.status_period_ms {
+        if self.status_period_ms != 0
+            && now.wrapping_sub(self.last_status_ms) >= self.status_period_ms
+        {
             self.send_status();
         }
         PollSummary {
@@ -237,7 +249,9 @@ where
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
         while pos < n {
-            let (run, oversize) = self.decoder.push_run(self.rx.get(pos..n).unwrap_or_default());
+            let (run, oversize) = self
+                .decoder
+                .push_run(self.rx.get(pos..n).unwrap_or_default());
             if let Some(error) = oversize {
                 count_decode_error(&mut self.status, &error);
             }
@@ -266,7 +280,10 @@ where
 
     /// The counters, with the current uptime.
     pub fn status(&self) -> Status {
-        Status { uptime_ms: self.clock.now_ms().wrapping_sub(self.started_ms), ..self.status }
+        Status {
+            uptime_ms: self.clock.now_ms().wrapping_sub(self.started_ms),
+            ..self.status
+        }
     }
 
     /// The configuration in force (its `request_status` is always `false`). With a subject
@@ -335,10 +352,27 @@ where
         // The samples the packet completes or pushes out of the window are handled as the
         // assembler reports them (it and the output are disjoint parts of the hub), not
         // collected first: no copies of the events.
-        let Hub { assembler, kinematics, status, serial, tx, .. } = self;
-        let mut output = Output { kinematics, status, serial, tx };
-        let outcome =
-            assembler.push(packet.seq, packet.joint, packet.angle, out_of_range, &mut |e| output.on_sample(e));
+        let Hub {
+            assembler,
+            kinematics,
+            status,
+            serial,
+            tx,
+            ..
+        } = self;
+        let mut output = Output {
+            kinematics,
+            status,
+            serial,
+            tx,
+        };
+        let outcome = assembler.push(
+            packet.seq,
+            packet.joint,
+            packet.angle,
+            out_of_range,
+            &mut |e| output.on_sample(e),
+        );
         match outcome {
             PacketOutcome::Late => bump(&mut self.status.late_packets),
             PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
@@ -358,7 +392,14 @@ where
         } else {
             // Without lengths, the HAK and PHAK lengths in force stay.
             let anthropometry = config.anthropometry.or(self.config.anthropometry);
-            self.apply(Config { anthropometry, request_status: false, ..*config }, None)
+            self.apply(
+                Config {
+                    anthropometry,
+                    request_status: false,
+                    ..*config
+                },
+                None,
+            )
         };
         self.after_config(result, config.request_status);
     }
@@ -444,8 +485,20 @@ where
     #[inline(never)]
     fn close_open_samples(&mut self) {
         // As in `on_packet`: the samples are handled as the assembler reports them.
-        let Hub { assembler, kinematics, status, serial, tx, .. } = self;
-        let mut output = Output { kinematics, status, serial, tx };
+        let Hub {
+            assembler,
+            kinematics,
+            status,
+            serial,
+            tx,
+            ..
+        } = self;
+        let mut output = Output {
+            kinematics,
+            status,
+            serial,
+            tx,
+        };
         assembler.flush(&mut |e| output.on_sample(e));
     }
 
@@ -461,7 +514,6 @@ where
         }
         self.status_frames = self.status_frames.wrapping_add(1);
     }
-
 }
 
 /// The parts of the hub that turn samples into pose frames on the serial port: borrowed apart
@@ -491,7 +543,9 @@ impl<S: Write> Output<'_, S> {
             flags |= FrameFlags::OUT_OF_RANGE;
         }
         // Encoded straight from the sample and the pose: no `PoseFrame` built and copied.
-        let Ok(frame) = self.kinematics.encode_pose_frame(sample, flags, self.tx) else { return };
+        let Ok(frame) = self.kinematics.encode_pose_frame(sample, flags, self.tx) else {
+            return;
+        };
         write_frame(self.serial, self.status, frame);
     }
 }
@@ -511,7 +565,10 @@ fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) 
 
 /// The gait2392 numbers asked for: the generic model's, or by reference the subject's upload
 /// `subject`, where its parts were written.
-fn gait2392_geometry(parts: &SubjectParts, subject: Option<u8>) -> Result<&Gait2392Geometry<f32>, ConfigError> {
+fn gait2392_geometry(
+    parts: &SubjectParts,
+    subject: Option<u8>,
+) -> Result<&Gait2392Geometry<f32>, ConfigError> {
     match subject {
         None => Ok(Kinematics::generic_gait2392()),
         Some(upload) => parts.geometry(upload),

@@ -2,9 +2,12 @@
 //! [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles};
+use qgait_kernel::{
+    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles,
+};
 use qgait_proto::{
-    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, ModelId, PoseFrame, PoseFrameParts,
+    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, ModelId, PoseFrame,
+    PoseFrameParts,
 };
 
 use crate::assembly::Sample;
@@ -82,13 +85,19 @@ impl Kinematics {
     /// slot that [`set_phak`](Self::set_phak) or [`set_gait2392`](Self::set_gait2392) fill in
     /// place. All zero bits (HAK is model 0, the PHAK variant tag 0, the empty chain zeros), so
     /// writing it compiles to a memset: no constant in flash, no copy on the stack.
-    pub(crate) const EMPTY: Kinematics = Kinematics { model: ModelId::Hak, chain: ModelChain::Phak(Phak::EMPTY) };
+    pub(crate) const EMPTY: Kinematics = Kinematics {
+        model: ModelId::Hak,
+        chain: ModelChain::Phak(Phak::EMPTY),
+    };
 
     /// The `model` with the given segment lengths (right, left; [`qgait_proto::segment`]
     /// order), or gait2392's if `None`.
     /// HAK is computed as PHAK with a level, forward-facing pelvis (see [`pose_frame`](Self::pose_frame)).
     /// gait2392 is the generic model (its lengths are its own: `lengths` must be `None`).
-    pub fn new(model: ModelId, lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Kinematics, ConfigError> {
+    pub fn new(
+        model: ModelId,
+        lengths: Option<[[f32; segment::COUNT]; 2]>,
+    ) -> Result<Kinematics, ConfigError> {
         let mut kinematics = Kinematics::EMPTY;
         if model == ModelId::Gait2392 {
             if lengths.is_some() {
@@ -103,10 +112,15 @@ impl Kinematics {
 
     /// The segment lengths of HAK or PHAK, checked (by the hub's limits and by the kernel)
     /// without building anything: gait2392's if `None`.
-    pub(crate) fn anthropometry(lengths: Option<[[f32; segment::COUNT]; 2]>) -> Result<Anthropometry<f32>, ConfigError> {
+    pub(crate) fn anthropometry(
+        lengths: Option<[[f32; segment::COUNT]; 2]>,
+    ) -> Result<Anthropometry<f32>, ConfigError> {
         let anthropometry = match lengths {
             None => Anthropometry::gait2392(),
-            Some(legs) => Anthropometry { right: limb(&legs[0], 0)?, left: limb(&legs[1], 1)? },
+            Some(legs) => Anthropometry {
+                right: limb(&legs[0], 0)?,
+                left: limb(&legs[1], 1)?,
+            },
         };
         Phak::check(&anthropometry).map_err(|_| ConfigError::Kernel)?;
         Ok(anthropometry)
@@ -117,7 +131,11 @@ impl Kinematics {
     /// [`anthropometry`](Self::anthropometry) rules out.
     // Never inlined: the kernel's rebuild is the deepest part of a model switch.
     #[inline(never)]
-    pub(crate) fn set_phak(&mut self, model: ModelId, anthropometry: &Anthropometry<f32>) -> Result<(), ConfigError> {
+    pub(crate) fn set_phak(
+        &mut self,
+        model: ModelId,
+        anthropometry: &Anthropometry<f32>,
+    ) -> Result<(), ConfigError> {
         if !matches!(self.chain, ModelChain::Phak(_)) {
             // The other model is given up only for lengths the kernel takes (a rebuild in the
             // same variant checks them itself, before writing anything).
@@ -125,7 +143,8 @@ impl Kinematics {
             self.chain = ModelChain::Phak(Phak::EMPTY);
         }
         if let ModelChain::Phak(phak) = &mut self.chain {
-            phak.rebuild(anthropometry).map_err(|_| ConfigError::Kernel)?;
+            phak.rebuild(anthropometry)
+                .map_err(|_| ConfigError::Kernel)?;
         }
         self.model = model;
         Ok(())
@@ -154,7 +173,10 @@ impl Kinematics {
     /// stack). Unchanged if the kernel refuses them
     /// ([`check_gait2392`](Self::check_gait2392) tells beforehand).
     #[inline(never)]
-    pub(crate) fn set_gait2392(&mut self, geometry: &Gait2392Geometry<f32>) -> Result<(), ConfigError> {
+    pub(crate) fn set_gait2392(
+        &mut self,
+        geometry: &Gait2392Geometry<f32>,
+    ) -> Result<(), ConfigError> {
         if !matches!(self.chain, ModelChain::Gait2392(_)) {
             // As in `set_phak`: checked before the other model is given up.
             Kinematics::check_gait2392(geometry)?;
@@ -201,7 +223,12 @@ impl Kinematics {
     /// ([`encode_pose_frame_parts`]: the same bytes as `encode_pose_frame` of it) without
     /// building the [`PoseFrame`]: the angles are read from the sample and the points from the
     /// kernel's pose as they are written.
-    pub fn encode_pose_frame<'a>(&self, sample: &Sample, flags: u8, out: &'a mut [u8]) -> Result<&'a [u8], EncodeError> {
+    pub fn encode_pose_frame<'a>(
+        &self,
+        sample: &Sample,
+        flags: u8,
+        out: &'a mut [u8],
+    ) -> Result<&'a [u8], EncodeError> {
         let pose = self.pose(sample);
         let d = distances(&pose);
         let joints = self.model.required_joints();
@@ -225,7 +252,11 @@ impl Kinematics {
                 let q = phak_angles(sample);
                 // HAK is the kernel's `Phak::fk_hak`: PHAK with a level, forward-facing pelvis
                 // (written so, one `fk` call: one copy of the evaluator in flash).
-                phak.fk(&if self.model == ModelId::Hak { q.level_pelvis() } else { q })
+                phak.fk(&if self.model == ModelId::Hak {
+                    q.level_pelvis()
+                } else {
+                    q
+                })
             }
             ModelChain::Gait2392(g) => g.fk(&sample.angles).bilateral(),
         }
@@ -249,7 +280,10 @@ fn phak_angles(sample: &Sample) -> PhakAngles<f32> {
 fn limb(lengths: &[f32; segment::COUNT], leg: u8) -> Result<Limb<f32>, ConfigError> {
     for (i, &l) in lengths.iter().enumerate() {
         if !(l > 0.0 && l <= MAX_SEGMENT_M) {
-            return Err(ConfigError::BadSegment { leg, segment: i as u8 });
+            return Err(ConfigError::BadSegment {
+                leg,
+                segment: i as u8,
+            });
         }
     }
     Ok(Limb {
@@ -276,7 +310,11 @@ mod tests {
         for &(j, a) in angles {
             all[j.index() as usize] = a;
         }
-        Sample { seq: 1, angles: all, out_of_range: JointSet::EMPTY }
+        Sample {
+            seq: 1,
+            angles: all,
+            out_of_range: JointSet::EMPTY,
+        }
     }
 
     #[test]
@@ -298,9 +336,17 @@ mod tests {
             let limb = Limb::from_array(lengths[leg]);
             let q = |j: JointId| s.angle(j);
             let angles = if leg == 0 {
-                HakAngles { hip_flexion: q(JointId::HipFlexionR), knee_angle: q(JointId::KneeAngleR), ankle_angle: q(JointId::AnkleAngleR) }
+                HakAngles {
+                    hip_flexion: q(JointId::HipFlexionR),
+                    knee_angle: q(JointId::KneeAngleR),
+                    ankle_angle: q(JointId::AnkleAngleR),
+                }
             } else {
-                HakAngles { hip_flexion: q(JointId::HipFlexionL), knee_angle: q(JointId::KneeAngleL), ankle_angle: q(JointId::AnkleAngleL) }
+                HakAngles {
+                    hip_flexion: q(JointId::HipFlexionL),
+                    knee_angle: q(JointId::KneeAngleL),
+                    ankle_angle: q(JointId::AnkleAngleL),
+                }
             };
             let hak = Hak::new(&limb).unwrap().fk(&angles);
             let hip = [0.0, 0.0, sign * lengths[leg][0]];
@@ -308,18 +354,27 @@ mod tests {
                 let want = p.to_array();
                 let got = frame.points[offset + i];
                 for k in 0..3 {
-                    assert!((got[k] - hip[k] - want[k]).abs() < 1e-6, "leg {leg} point {i}: {got:?} vs {want:?}");
+                    assert!(
+                        (got[k] - hip[k] - want[k]).abs() < 1e-6,
+                        "leg {leg} point {i}: {got:?} vs {want:?}"
+                    );
                 }
             }
         }
-        assert_eq!(frame.angles.as_slice(), &[0.4, -0.9, 0.1, -0.2, -0.3, -0.15]);
+        assert_eq!(
+            frame.angles.as_slice(),
+            &[0.4, -0.9, 0.1, -0.2, -0.3, -0.15]
+        );
     }
 
     #[test]
     fn lengths_outside_zero_to_two_metres_are_refused() {
         let mut lengths = [[0.08, 0.40, 0.42, 0.20]; 2];
         lengths[1][2] = 0.0;
-        assert_eq!(Kinematics::new(ModelId::Phak, Some(lengths)).unwrap_err(), ConfigError::BadSegment { leg: 1, segment: 2 });
+        assert_eq!(
+            Kinematics::new(ModelId::Phak, Some(lengths)).unwrap_err(),
+            ConfigError::BadSegment { leg: 1, segment: 2 }
+        );
         lengths[1][2] = f32::NAN;
         assert!(Kinematics::new(ModelId::Phak, Some(lengths)).is_err());
         lengths[1][2] = 2.5;
@@ -337,9 +392,15 @@ mod tests {
         for (i, a) in angles.iter_mut().enumerate() {
             *a = 0.05 * (i as f32 - 8.0);
         }
-        let s = Sample { seq: 3, angles, out_of_range: JointSet::EMPTY };
+        let s = Sample {
+            seq: 3,
+            angles,
+            out_of_range: JointSet::EMPTY,
+        };
         let frame = k.pose_frame(&s, 0);
-        let want = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32()).unwrap().fk(&angles);
+        let want = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32())
+            .unwrap()
+            .fk(&angles);
         let b = want.bilateral();
         assert_eq!(frame.points, points(&b));
         assert_eq!(frame.angles.as_slice(), &angles[..]);
@@ -349,8 +410,16 @@ mod tests {
         // The toe tip, not the MTP joint, is the frame's toe.
         assert_eq!(frame.points[point::TOE_R], want.points[5].to_array());
         // Within a micrometre of the model whose splines are built in f64.
-        let rounded = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap().fk(&angles).bilateral();
-        for (a, b) in frame.points.iter().flatten().zip(points(&rounded).iter().flatten()) {
+        let rounded = Gait2392::<f32>::new(&Gait2392Geometry::generic())
+            .unwrap()
+            .fk(&angles)
+            .bilateral();
+        for (a, b) in frame
+            .points
+            .iter()
+            .flatten()
+            .zip(points(&rounded).iter().flatten())
+        {
             assert!((a - b).abs() < 1e-6, "{a} vs {b}");
         }
     }

@@ -42,7 +42,10 @@ mod tests {
     #[test]
     fn joint_ids_are_the_kernels_coordinate_indices() {
         for j in JointId::ALL {
-            assert_eq!(qgait_kernel::models::gait2392::COORDINATES[j.index() as usize], j.name());
+            assert_eq!(
+                qgait_kernel::models::gait2392::COORDINATES[j.index() as usize],
+                j.name()
+            );
         }
     }
 

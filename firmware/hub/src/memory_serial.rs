@@ -39,12 +39,19 @@ enum RxItem {
 impl<const RX: usize, const TX: usize> MemorySerial<RX, TX> {
     /// Empty buffers.
     pub const fn new() -> Self {
-        MemorySerial { rx: Deque::new(), tx: Vec::new(), tx_overflow: false }
+        MemorySerial {
+            rx: Deque::new(),
+            tx: Vec::new(),
+            tx_overflow: false,
+        }
     }
 
     /// Queues `bytes` for reception; returns how many fit.
     pub fn receive(&mut self, bytes: &[u8]) -> usize {
-        bytes.iter().take_while(|&&b| self.rx.push_back(RxItem::Byte(b)).is_ok()).count()
+        bytes
+            .iter()
+            .take_while(|&&b| self.rx.push_back(RxItem::Byte(b)).is_ok())
+            .count()
     }
 
     /// Queues a receive overrun: the read after the bytes queued so far reports it.

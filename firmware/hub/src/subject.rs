@@ -34,8 +34,16 @@ pub struct SubjectParts {
 const NO_LEG: LegGeometry<f32> = LegGeometry {
     hip_in_pelvis: [0.0; 3],
     hip_axes: [[0.0; 3]; 3],
-    knee_tx: Knots { n: 0, x: [0.0; MAX_KNOTS], y: [0.0; MAX_KNOTS] },
-    knee_ty: Knots { n: 0, x: [0.0; MAX_KNOTS], y: [0.0; MAX_KNOTS] },
+    knee_tx: Knots {
+        n: 0,
+        x: [0.0; MAX_KNOTS],
+        y: [0.0; MAX_KNOTS],
+    },
+    knee_ty: Knots {
+        n: 0,
+        x: [0.0; MAX_KNOTS],
+        y: [0.0; MAX_KNOTS],
+    },
     ankle_in_tibia: [0.0; 3],
     ankle_axis: [0.0; 3],
     subtalar_in_talus: [0.0; 3],
@@ -75,7 +83,10 @@ impl SubjectParts {
             generation: 0,
             held: 0,
             out_of_range: 0,
-            geometry: Gait2392Geometry { right: NO_LEG, left: NO_LEG },
+            geometry: Gait2392Geometry {
+                right: NO_LEG,
+                left: NO_LEG,
+            },
         }
     }
 
@@ -93,7 +104,13 @@ impl SubjectParts {
         g.mtp_in_calcn = part.mtp_in_calcn;
         g.mtp_axis = part.mtp_axis;
         g.toetip_in_toes = part.toetip_in_toes;
-        let positions = [part.hip_in_pelvis, part.ankle_in_tibia, part.subtalar_in_talus, part.mtp_in_calcn, part.toetip_in_toes];
+        let positions = [
+            part.hip_in_pelvis,
+            part.ankle_in_tibia,
+            part.subtalar_in_talus,
+            part.mtp_in_calcn,
+            part.toetip_in_toes,
+        ];
         let in_range = positions.iter().flatten().all(|c| c.abs() <= MAX_SEGMENT_M);
         self.took(part_bit(part.leg, None), in_range);
     }
@@ -140,7 +157,10 @@ impl SubjectParts {
         }
         for leg in [Leg::Right, Leg::Left] {
             if self.held & leg_bits(leg) != leg_bits(leg) {
-                return Err(ConfigError::SubjectIncomplete { upload, parts: self.count() as u8 });
+                return Err(ConfigError::SubjectIncomplete {
+                    upload,
+                    parts: self.count() as u8,
+                });
             }
             if self.out_of_range & leg_bits(leg) != 0 {
                 return Err(ConfigError::SubjectOutOfRange { leg: leg as u8 });
@@ -180,7 +200,10 @@ impl SubjectParts {
 /// The parts of `geometry` (the inverse of [`SubjectParts::geometry`], rounding to `f32`): what
 /// a host sends, in the order legs, then knees (right tx, right ty, left tx, left ty). Fails if
 /// a spline has more knots than a part carries.
-pub fn parts_of(geometry: &Gait2392Geometry, upload: u8) -> Result<([SubjectLeg; 2], [SubjectKnee; 4]), ConfigError> {
+pub fn parts_of(
+    geometry: &Gait2392Geometry,
+    upload: u8,
+) -> Result<([SubjectLeg; 2], [SubjectKnee; 4]), ConfigError> {
     let v = |a: [f64; 3]| a.map(|c| c as f32);
     let leg = |side: Leg| {
         let g = match side {
@@ -215,9 +238,16 @@ pub fn parts_of(geometry: &Gait2392Geometry, upload: u8) -> Result<([SubjectLeg;
             let (Some(x), Some(y)) = (k.x.get(i), k.y.get(i)) else {
                 return Err(ConfigError::SubjectKnots { leg: side as u8 });
             };
-            knots.push([*x as f32, *y as f32]).map_err(|_| ConfigError::SubjectKnots { leg: side as u8 })?;
+            knots
+                .push([*x as f32, *y as f32])
+                .map_err(|_| ConfigError::SubjectKnots { leg: side as u8 })?;
         }
-        Ok(SubjectKnee { upload, leg: side, direction, knots })
+        Ok(SubjectKnee {
+            upload,
+            leg: side,
+            direction,
+            knots,
+        })
     };
     Ok((
         [leg(Leg::Right), leg(Leg::Left)],
@@ -253,8 +283,17 @@ mod tests {
         let r = rounded(&g);
         assert_eq!(r.left.knee_tx.n, 12);
         assert_eq!(r.right.knee_ty.n, 7);
-        assert_eq!(r.right.hip_in_pelvis, g.right.hip_in_pelvis.map(|c| c as f32));
-        assert_eq!(r.left.knee_ty.y[..7], g.left.knee_ty.y[..7].iter().map(|&c| c as f32).collect::<std::vec::Vec<_>>()[..]);
+        assert_eq!(
+            r.right.hip_in_pelvis,
+            g.right.hip_in_pelvis.map(|c| c as f32)
+        );
+        assert_eq!(
+            r.left.knee_ty.y[..7],
+            g.left.knee_ty.y[..7]
+                .iter()
+                .map(|&c| c as f32)
+                .collect::<std::vec::Vec<_>>()[..]
+        );
         assert_eq!(r.left.mtp_axis, g.left.mtp_axis.map(|c| c as f32));
         // Everything is the geometry rounded to f32, and rounding twice changes nothing more.
         assert_eq!(r, g.to_f32());
@@ -269,8 +308,20 @@ mod tests {
         for k in &knees {
             parts.add_knee(k);
         }
-        assert_eq!(parts.geometry(4).unwrap_err(), ConfigError::SubjectIncomplete { upload: 4, parts: 5 });
-        assert_eq!(parts.geometry(5).unwrap_err(), ConfigError::SubjectIncomplete { upload: 5, parts: 0 });
+        assert_eq!(
+            parts.geometry(4).unwrap_err(),
+            ConfigError::SubjectIncomplete {
+                upload: 4,
+                parts: 5
+            }
+        );
+        assert_eq!(
+            parts.geometry(5).unwrap_err(),
+            ConfigError::SubjectIncomplete {
+                upload: 5,
+                parts: 0
+            }
+        );
         parts.add_leg(&legs[1]);
         assert!(parts.geometry(4).is_ok());
         // A repeated part replaces the one held.
@@ -278,13 +329,19 @@ mod tests {
         far.toetip_in_toes[0] = f32::NAN;
         parts.add_leg(&far);
         assert_eq!(parts.count(), 6);
-        assert_eq!(parts.geometry(4).unwrap_err(), ConfigError::SubjectOutOfRange { leg: 1 });
+        assert_eq!(
+            parts.geometry(4).unwrap_err(),
+            ConfigError::SubjectOutOfRange { leg: 1 }
+        );
     }
 
     #[test]
     fn too_many_knots_cannot_be_sent() {
         let mut g = Gait2392Geometry::generic();
         g.left.knee_tx.n = 13;
-        assert_eq!(parts_of(&g, 1).unwrap_err(), ConfigError::SubjectKnots { leg: 1 });
+        assert_eq!(
+            parts_of(&g, 1).unwrap_err(),
+            ConfigError::SubjectKnots { leg: 1 }
+        );
     }
 }

@@ -9,8 +9,17 @@ fn every_shared_check_passes_on_the_host() {
     for (name, check) in qgait_hub::checks::ALL {
         match check() {
             Ok(()) => eprintln!("check {name} ... ok"),
-            Err(f) => failures.push(format!("{name}: `{}` failed at checks.rs:{}", f.what, f.line)),
+            Err(f) => failures.push(format!(
+                "{name}: `{}` failed at checks.rs:{}",
+                f.what, f.line
+            )),
         }
     }
-    assert!(failures.is_empty(), "{} of {} checks failed:\n{}", failures.len(), qgait_hub::checks::ALL.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} checks failed:\n{}",
+        failures.len(),
+        qgait_hub::checks::ALL.len(),
+        failures.join("\n")
+    );
 }

@@ -44,14 +44,17 @@ fn run(seed: u32) {
     let mut damaged = 0;
     for seq in 0..samples {
         // The last window's worth of samples is always clean so every damaged one is evicted.
-        let damage = (seq + 4 < samples && rng.next().is_multiple_of(3)).then(|| (rng.next() % 8) as usize);
+        let damage =
+            (seq + 4 < samples && rng.next().is_multiple_of(3)).then(|| (rng.next() % 8) as usize);
         send_sample(hub.serial_mut(), seq, damage);
         match damage {
             Some(_) => damaged += 1,
             None => expected.push(seq),
         }
         if rng.next().is_multiple_of(2) {
-            let noise: Vec<u8> = (0..rng.next() % 300).map(|_| (rng.next() % 255 + 1) as u8).collect();
+            let noise: Vec<u8> = (0..rng.next() % 300)
+                .map(|_| (rng.next() % 255 + 1) as u8)
+                .collect();
             hub.serial_mut().receive(&noise);
             hub.serial_mut().receive(&[0]);
         }
@@ -72,7 +75,11 @@ fn run(seed: u32) {
     assert_eq!(got, expected, "seed {seed}");
     let status = hub.status();
     assert_eq!(status.samples_incomplete, damaged, "seed {seed}");
-    assert_eq!(status.samples_completed as usize, expected.len(), "seed {seed}");
+    assert_eq!(
+        status.samples_completed as usize,
+        expected.len(),
+        "seed {seed}"
+    );
     assert!(!hub.serial_mut().tx_overflowed(), "seed {seed}");
 }
 

@@ -12,8 +12,8 @@ use std::path::PathBuf;
 
 use qgait_hub::{Hub, ManualClock, MemorySerial};
 use qgait_proto::{
-    encode_frame, encode_raw_frame, Config, FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status,
-    MAX_FRAME_LEN, PROTOCOL_VERSION,
+    encode_frame, encode_raw_frame, Config, FrameDecoder, JointAngle, JointId, Message,
+    MissingPolicy, ModelId, PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 type Serial = MemorySerial<4096, 65536>;
@@ -29,10 +29,23 @@ fn example_blocks(doc: &str) -> BTreeMap<String, String> {
     let mut blocks = BTreeMap::new();
     let mut lines = doc.lines();
     while let Some(line) = lines.next() {
-        let Some(info) = line.trim().strip_prefix("```") else { continue };
-        let Some(name) = info.split_whitespace().find_map(|w| w.strip_prefix("example=")) else { continue };
-        let body: Vec<&str> = lines.by_ref().take_while(|l| !l.trim().starts_with("```")).collect();
-        assert!(blocks.insert(name.to_owned(), body.join("\n")).is_none(), "example block {name} twice");
+        let Some(info) = line.trim().strip_prefix("```") else {
+            continue;
+        };
+        let Some(name) = info
+            .split_whitespace()
+            .find_map(|w| w.strip_prefix("example="))
+        else {
+            continue;
+        };
+        let body: Vec<&str> = lines
+            .by_ref()
+            .take_while(|l| !l.trim().starts_with("```"))
+            .collect();
+        assert!(
+            blocks.insert(name.to_owned(), body.join("\n")).is_none(),
+            "example block {name} twice"
+        );
     }
     blocks
 }
@@ -54,7 +67,11 @@ enum Step {
 }
 
 fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02x}")).collect::<Vec<_>>().join(" ")
+    bytes
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn frame_bytes(message: &Message) -> Vec<u8> {
@@ -95,25 +112,41 @@ fn status_fields(s: &Status) -> [(&'static str, u32); 16] {
     ]
 }
 
-const POINT_NAMES: [&str; 8] = ["hip_r", "knee_r", "ankle_r", "toe_r", "hip_l", "knee_l", "ankle_l", "toe_l"];
+const POINT_NAMES: [&str; 8] = [
+    "hip_r", "knee_r", "ankle_r", "toe_r", "hip_l", "knee_l", "ankle_l", "toe_l",
+];
 
 fn describe_output(message: &Message, points: bool, out: &mut String) {
     match message {
         Message::PoseFrame(p) => {
             let angles: Vec<String> = p.angles.iter().map(|a| a.to_string()).collect();
-            writeln!(out, "<- PoseFrame seq {}, {}, flags 0x{:02x}, angles {}", p.seq, p.model, p.flags, angles.join(" "))
-                .unwrap();
+            writeln!(
+                out,
+                "<- PoseFrame seq {}, {}, flags 0x{:02x}, angles {}",
+                p.seq,
+                p.model,
+                p.flags,
+                angles.join(" ")
+            )
+            .unwrap();
             if points {
                 for (name, [x, y, z]) in POINT_NAMES.iter().zip(p.points) {
                     writeln!(out, "     {name:<8} {x:>12} {y:>12} {z:>12}").unwrap();
                 }
                 let [knee, ankle, toe] = p.distances;
-                writeln!(out, "     distances knee-knee {knee}, ankle-ankle {ankle}, toe-toe {toe}").unwrap();
+                writeln!(
+                    out,
+                    "     distances knee-knee {knee}, ankle-ankle {ankle}, toe-toe {toe}"
+                )
+                .unwrap();
             }
         }
         Message::Status(s) => {
-            let nonzero: Vec<String> =
-                status_fields(s).iter().filter(|(_, v)| *v != 0).map(|(n, v)| format!("{n} {v}")).collect();
+            let nonzero: Vec<String> = status_fields(s)
+                .iter()
+                .filter(|(_, v)| *v != 0)
+                .map(|(n, v)| format!("{n} {v}"))
+                .collect();
             writeln!(out, "<- Status {}", nonzero.join(", ")).unwrap();
         }
         other => writeln!(out, "<- {other:?}").unwrap(),
@@ -161,7 +194,10 @@ fn transcript(steps: &[Step], points: bool) -> String {
                 }
                 writeln!(out, "{line}").unwrap();
                 for &(joint, angle) in packets {
-                    push(&mut hub, &frame_bytes(&Message::JointAngle(packet(*seq, joint, angle))));
+                    push(
+                        &mut hub,
+                        &frame_bytes(&Message::JointAngle(packet(*seq, joint, angle))),
+                    );
                 }
             }
             Step::Wait(ms) => {
@@ -194,14 +230,29 @@ fn transcript(steps: &[Step], points: bool) -> String {
 }
 
 fn push(hub: &mut TestHub<'_>, bytes: &[u8]) {
-    assert_eq!(hub.serial_mut().receive(bytes), bytes.len(), "receive queue full");
+    assert_eq!(
+        hub.serial_mut().receive(bytes),
+        bytes.len(),
+        "receive queue full"
+    );
     while hub.serial_mut().pending() > 0 {
         hub.poll();
     }
 }
 
-fn config(model: ModelId, missing_policy: MissingPolicy, reorder_window: u8, request_status: bool) -> Message {
-    Message::Config(Config { model, anthropometry: None, missing_policy, reorder_window, request_status })
+fn config(
+    model: ModelId,
+    missing_policy: MissingPolicy,
+    reorder_window: u8,
+    request_status: bool,
+) -> Message {
+    Message::Config(Config {
+        model,
+        anthropometry: None,
+        missing_policy,
+        reorder_window,
+        request_status,
+    })
 }
 
 /// The example angle of `joint` in sample `seq`: a value per joint plus (seq mod 10) / 100,
@@ -250,7 +301,13 @@ const HAK: [JointId; 6] = [
 
 /// Sample `seq` with every HAK joint but `without`.
 fn hak_sample(seq: u32, without: &[JointId]) -> Step {
-    Step::Sample(seq, HAK.iter().filter(|j| !without.contains(j)).map(|&j| (j, angle(j, seq))).collect())
+    Step::Sample(
+        seq,
+        HAK.iter()
+            .filter(|j| !without.contains(j))
+            .map(|&j| (j, angle(j, seq)))
+            .collect(),
+    )
 }
 
 fn one(seq: u32, joint: JointId, angle: f32) -> Step {
@@ -264,7 +321,10 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
         (
             "assembly",
             vec![
-                Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 2, false), "Config: HAK, drop, window 2"),
+                Step::Frame(
+                    config(ModelId::Hak, MissingPolicy::Drop, 2, false),
+                    "Config: HAK, drop, window 2",
+                ),
                 hak_sample(1, &[KneeAngleL]),
                 hak_sample(2, &[]),
                 one(3, HipFlexionR, angle(HipFlexionR, 3)),
@@ -274,14 +334,23 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                 one(3, PelvisList, 0.05),
                 hak_sample(3, &[HipFlexionR]),
                 one(5, HipFlexionR, angle(HipFlexionR, 5)),
-                Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 2, true), "Config: the same, status requested"),
-                Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 3, true), "Config: window 3, status requested"),
+                Step::Frame(
+                    config(ModelId::Hak, MissingPolicy::Drop, 2, true),
+                    "Config: the same, status requested",
+                ),
+                Step::Frame(
+                    config(ModelId::Hak, MissingPolicy::Drop, 3, true),
+                    "Config: window 3, status requested",
+                ),
             ],
         ),
         (
             "hold-last",
             vec![
-                Step::Frame(config(ModelId::Hak, MissingPolicy::HoldLast, 1, false), "Config: HAK, hold last, window 1"),
+                Step::Frame(
+                    config(ModelId::Hak, MissingPolicy::HoldLast, 1, false),
+                    "Config: HAK, hold last, window 1",
+                ),
                 hak_sample(1, &[AnkleAngleL]),
                 hak_sample(2, &[]),
                 hak_sample(3, &[KneeAngleR]),
@@ -296,7 +365,10 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
         (
             "resync",
             vec![
-                Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 4, false), "Config: HAK, drop, window 4"),
+                Step::Frame(
+                    config(ModelId::Hak, MissingPolicy::Drop, 4, false),
+                    "Config: HAK, drop, window 4",
+                ),
                 hak_sample(100, &[]),
                 one(101, HipFlexionR, angle(HipFlexionR, 101)),
                 one(97, HipFlexionR, angle(HipFlexionR, 97)),
@@ -312,14 +384,26 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
         (
             "config",
             vec![
-                Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 4, false), "Config: HAK, drop, window 4"),
+                Step::Frame(
+                    config(ModelId::Hak, MissingPolicy::Drop, 4, false),
+                    "Config: HAK, drop, window 4",
+                ),
                 hak_sample(1, &[]),
                 hak_sample(2, &[AnkleAngleL]),
-                Step::Frame(config(ModelId::Phak, MissingPolicy::Drop, 4, false), "Config: PHAK, drop, window 4"),
+                Step::Frame(
+                    config(ModelId::Phak, MissingPolicy::Drop, 4, false),
+                    "Config: PHAK, drop, window 4",
+                ),
                 hak_sample(3, &[]),
                 Step::Sample(3, vec![(PelvisRotation, 0.1), (PelvisList, -0.05)]),
-                Step::Frame(config(ModelId::Phak, MissingPolicy::Drop, 0, true), "Config: window 0, status requested"),
-                Step::Frame(config(ModelId::Phak, MissingPolicy::Drop, 9, false), "Config: window 9"),
+                Step::Frame(
+                    config(ModelId::Phak, MissingPolicy::Drop, 0, true),
+                    "Config: window 0, status requested",
+                ),
+                Step::Frame(
+                    config(ModelId::Phak, MissingPolicy::Drop, 9, false),
+                    "Config: window 9",
+                ),
             ],
         ),
         (
@@ -338,10 +422,22 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                         (AnkleAngleL, -0.125),
                     ],
                 ),
-                Step::Frame(config(ModelId::Hak, MissingPolicy::Drop, 1, false), "Config: HAK, drop, window 1"),
+                Step::Frame(
+                    config(ModelId::Hak, MissingPolicy::Drop, 1, false),
+                    "Config: HAK, drop, window 1",
+                ),
                 hak_sample(2, &[]),
-                Step::Frame(config(ModelId::Gait2392, MissingPolicy::Drop, 1, false), "Config: gait2392, drop, window 1"),
-                Step::Sample(3, JointId::ALL.iter().map(|&j| (j, gait2392_angle(j))).collect()),
+                Step::Frame(
+                    config(ModelId::Gait2392, MissingPolicy::Drop, 1, false),
+                    "Config: gait2392, drop, window 1",
+                ),
+                Step::Sample(
+                    3,
+                    JointId::ALL
+                        .iter()
+                        .map(|&j| (j, gait2392_angle(j)))
+                        .collect(),
+                ),
             ],
         ),
         (
@@ -349,25 +445,49 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
             vec![
                 Step::Wait(999),
                 Step::Wait(1),
-                Step::Raw(vec![0x02, 0x00], "a frame whose code byte points past its end"),
+                Step::Raw(
+                    vec![0x02, 0x00],
+                    "a frame whose code byte points past its end",
+                ),
                 Step::Raw(vec![0x02, 0x05, 0x00], "a frame of 1 byte"),
                 Step::Raw(
-                    vec![0x01, 0x09, 0x01, 0x02, 0x06, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01, 0x07, 0xbf, 0x08, 0x61, 0xc1, 0xc4, 0xbd, 0x00],
+                    vec![
+                        0x01, 0x09, 0x01, 0x02, 0x06, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01,
+                        0x07, 0xbf, 0x08, 0x61, 0xc1, 0xc4, 0xbd, 0x00,
+                    ],
                     "the JointAngle of 7.1 with a bad CRC",
                 ),
-                Step::Body(vec![0x03, 0x05, 0x00, 0x09, 0x04, 0x00], "a Config of model 5 (and missing policy 9)"),
-                Step::Body(vec![0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00], "a Status sent to the hub"),
+                Step::Body(
+                    vec![0x03, 0x05, 0x00, 0x09, 0x04, 0x00],
+                    "a Config of model 5 (and missing policy 9)",
+                ),
+                Step::Body(
+                    vec![
+                        0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+                        0x00, 0x00, 0x00, 0x00, 0x00,
+                    ],
+                    "a Status sent to the hub",
+                ),
                 Step::Raw(
-                    vec![0x01, 0x09, 0x02, 0x02, 0x06, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01, 0x07, 0xbf, 0x08, 0xce, 0x89, 0xb2, 0xed, 0x00],
+                    vec![
+                        0x01, 0x09, 0x02, 0x02, 0x06, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01,
+                        0x07, 0xbf, 0x08, 0xce, 0x89, 0xb2, 0xed, 0x00,
+                    ],
                     "the JointAngle of 7.1 with version 2",
                 ),
                 Step::Raw(
-                    vec![0x01, 0x09, 0x01, 0x02, 0x11, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01, 0x07, 0xbf, 0x08, 0x5c, 0x20, 0x35, 0x0b, 0x00],
+                    vec![
+                        0x01, 0x09, 0x01, 0x02, 0x11, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x01, 0x01,
+                        0x07, 0xbf, 0x08, 0x5c, 0x20, 0x35, 0x0b, 0x00,
+                    ],
                     "the JointAngle of 7.1 with joint 17",
                 ),
                 Step::Body(vec![0x07], "a message of tag 7"),
                 Step::Wait(500),
-                Step::Frame(config(ModelId::Phak, MissingPolicy::Drop, 4, true), "Config: the one in force, status requested"),
+                Step::Frame(
+                    config(ModelId::Phak, MissingPolicy::Drop, 4, true),
+                    "Config: the one in force, status requested",
+                ),
                 Step::Wait(999),
                 Step::Wait(1),
             ],
@@ -391,9 +511,17 @@ fn spec_examples_are_the_hubs_transcripts() {
             failures.push(format!("example={name} should read:\n{want}\n"));
         }
     }
-    assert!(failures.is_empty(), "docs/protocol.md disagrees with the hub:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "docs/protocol.md disagrees with the hub:\n{}",
+        failures.join("\n")
+    );
     names.sort();
-    assert_eq!(doc.into_keys().collect::<Vec<_>>(), names, "example blocks of docs/protocol.md");
+    assert_eq!(
+        doc.into_keys().collect::<Vec<_>>(),
+        names,
+        "example blocks of docs/protocol.md"
+    );
 }
 
 fn send(hub: &mut TestHub<'_>, message: &Message) {
@@ -416,7 +544,10 @@ fn poses_since(hub: &mut TestHub<'_>, from: usize) -> Vec<PoseFrame> {
 fn pose_of(hub: &mut TestHub<'_>, model: ModelId, seq: u32) -> PoseFrame {
     let from = hub.serial_mut().transmitted().len();
     for &joint in model.required_joints() {
-        send(hub, &Message::JointAngle(packet(seq, joint, angle(joint, seq))));
+        send(
+            hub,
+            &Message::JointAngle(packet(seq, joint, angle(joint, seq))),
+        );
     }
     let poses = poses_since(hub, from);
     assert_eq!(poses.len(), 1, "sample {seq}: {poses:?}");
@@ -446,23 +577,65 @@ fn a_config_without_lengths_keeps_the_lengths_in_force() {
     send(&mut hub, &Message::Config(lengths));
     let check = |p: &PoseFrame, what: &str| {
         // PHAK's pelvis turns the hips off the z axis: their distance stays the two half-widths.
-        assert!((distance(p.points[0], p.points[4]) - (right[0] + left[0])).abs() < 1e-6, "{what}: {p:?}");
-        assert!((distance(p.points[0], p.points[1]) - right[1]).abs() < 1e-6, "{what}: {p:?}");
-        assert!((distance(p.points[5], p.points[6]) - left[2]).abs() < 1e-6, "{what}: {p:?}");
+        assert!(
+            (distance(p.points[0], p.points[4]) - (right[0] + left[0])).abs() < 1e-6,
+            "{what}: {p:?}"
+        );
+        assert!(
+            (distance(p.points[0], p.points[1]) - right[1]).abs() < 1e-6,
+            "{what}: {p:?}"
+        );
+        assert!(
+            (distance(p.points[5], p.points[6]) - left[2]).abs() < 1e-6,
+            "{what}: {p:?}"
+        );
     };
     check(&pose_of(&mut hub, ModelId::Phak, 1), "with the lengths");
     // Other settings, no lengths: the lengths stay.
-    send(&mut hub, &Message::Config(Config { anthropometry: None, reorder_window: 2, ..lengths }));
-    check(&pose_of(&mut hub, ModelId::Phak, 10), "PHAK without lengths");
-    send(&mut hub, &Message::Config(Config { model: ModelId::Hak, anthropometry: None, ..lengths }));
+    send(
+        &mut hub,
+        &Message::Config(Config {
+            anthropometry: None,
+            reorder_window: 2,
+            ..lengths
+        }),
+    );
+    check(
+        &pose_of(&mut hub, ModelId::Phak, 10),
+        "PHAK without lengths",
+    );
+    send(
+        &mut hub,
+        &Message::Config(Config {
+            model: ModelId::Hak,
+            anthropometry: None,
+            ..lengths
+        }),
+    );
     let hak = pose_of(&mut hub, ModelId::Hak, 20);
     check(&hak, "HAK without lengths");
     // HAK: the hips on the z axis at +/- their half-widths.
-    assert_eq!((hak.points[0], hak.points[4]), ([0.0, 0.0, right[0]], [0.0, 0.0, -left[0]]));
+    assert_eq!(
+        (hak.points[0], hak.points[4]),
+        ([0.0, 0.0, right[0]], [0.0, 0.0, -left[0]])
+    );
     // Through gait2392 (whose lengths are its model's) and back.
-    send(&mut hub, &Message::Config(Config { model: ModelId::Gait2392, anthropometry: None, ..lengths }));
+    send(
+        &mut hub,
+        &Message::Config(Config {
+            model: ModelId::Gait2392,
+            anthropometry: None,
+            ..lengths
+        }),
+    );
     pose_of(&mut hub, ModelId::Gait2392, 30);
-    send(&mut hub, &Message::Config(Config { anthropometry: None, ..lengths }));
+    send(
+        &mut hub,
+        &Message::Config(Config {
+            anthropometry: None,
+            ..lengths
+        }),
+    );
     check(&pose_of(&mut hub, ModelId::Phak, 40), "PHAK after gait2392");
     assert_eq!(hub.status().config_rejected, 0);
     assert_eq!(hub.config().anthropometry, Some([right, left]));
@@ -477,9 +650,15 @@ fn reorder_windows_outside_one_to_eight_are_rejected_and_counted() {
     let mut rejected = 0;
     for window in 0..=255u8 {
         let before = hub.config();
-        send(&mut hub, &config(ModelId::Hak, MissingPolicy::HoldLast, window, false));
+        send(
+            &mut hub,
+            &config(ModelId::Hak, MissingPolicy::HoldLast, window, false),
+        );
         if (1..=qgait_proto::MAX_REORDER_WINDOW).contains(&window) {
-            assert_eq!((hub.config().model, hub.config().reorder_window), (ModelId::Hak, window));
+            assert_eq!(
+                (hub.config().model, hub.config().reorder_window),
+                (ModelId::Hak, window)
+            );
         } else {
             rejected += 1;
             assert_eq!(hub.config(), before, "window {window}");
@@ -487,9 +666,13 @@ fn reorder_windows_outside_one_to_eight_are_rejected_and_counted() {
         assert_eq!(hub.status().config_rejected, rejected, "window {window}");
     }
     // The same for a SubjectConfig of a complete, valid subject model.
-    let (legs, knees) = qgait_hub::parts_of(&qgait_kernel::Gait2392Geometry::generic(), 1).expect("parts");
-    legs.iter().for_each(|l| send(&mut hub, &Message::SubjectLeg(*l)));
-    knees.iter().for_each(|k| send(&mut hub, &Message::SubjectKnee(k.clone())));
+    let (legs, knees) =
+        qgait_hub::parts_of(&qgait_kernel::Gait2392Geometry::generic(), 1).expect("parts");
+    legs.iter()
+        .for_each(|l| send(&mut hub, &Message::SubjectLeg(*l)));
+    knees
+        .iter()
+        .for_each(|k| send(&mut hub, &Message::SubjectKnee(k.clone())));
     let subject = |reorder_window| {
         Message::SubjectConfig(qgait_proto::SubjectConfig {
             upload: 1,
@@ -499,7 +682,13 @@ fn reorder_windows_outside_one_to_eight_are_rejected_and_counted() {
         })
     };
     send(&mut hub, &subject(0));
-    assert_eq!((hub.status().config_rejected, hub.subject()), (rejected + 1, None));
+    assert_eq!(
+        (hub.status().config_rejected, hub.subject()),
+        (rejected + 1, None)
+    );
     send(&mut hub, &subject(8));
-    assert_eq!((hub.status().config_rejected, hub.subject()), (rejected + 1, Some(1)));
+    assert_eq!(
+        (hub.status().config_rejected, hub.subject()),
+        (rejected + 1, Some(1))
+    );
 }

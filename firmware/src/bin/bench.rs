@@ -25,11 +25,13 @@ use qgait_kernel::metrics::distances;
 use qgait_kernel::reference::chain_by_matrices;
 use qgait_kernel::trig::half_angle_sin_cos_f32;
 use qgait_kernel::{
-    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Hak, HakAngles, Limb, Phak, PhakAngles, Real,
+    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Hak, HakAngles, Limb, Phak,
+    PhakAngles, Real,
 };
 use qgait_proto::{
-    crc32c, decode_message, decode_packet, encode_frame, encode_message, encode_pose_frame, Config, FrameDecoder, JointAngle,
-    JointId, Message, MissingPolicy, ModelId, PoseFrame, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    crc32c, decode_message, decode_packet, encode_frame, encode_message, encode_pose_frame, Config,
+    FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, MAX_FRAME_LEN,
+    PROTOCOL_VERSION,
 };
 
 /// Virtual instructions per SysTick tick: 1 GHz instruction clock (`shift=0`) / 25 MHz.
@@ -53,7 +55,9 @@ const PIPELINE_EXIT_CODE: i32 = 4;
 
 #[entry]
 fn main() -> ! {
-    let Some(mut core) = cortex_m::Peripherals::take() else { board::exit(1) };
+    let Some(mut core) = cortex_m::Peripherals::take() else {
+        board::exit(1)
+    };
     core.SYST.set_clock_source(SystClkSource::Core);
     core.SYST.set_reload(RELOAD);
     core.SYST.clear_current();
@@ -62,8 +66,10 @@ fn main() -> ! {
     calibrate();
 
     let mut rng = Lcg(0x2545_F491);
-    let hak_in: [HakAngles<f32>; INPUTS] = core::array::from_fn(|_| HakAngles::from_array(rng.angles()));
-    let phak_in: [PhakAngles<f32>; INPUTS] = core::array::from_fn(|_| PhakAngles::from_array(rng.angles()));
+    let hak_in: [HakAngles<f32>; INPUTS] =
+        core::array::from_fn(|_| HakAngles::from_array(rng.angles()));
+    let phak_in: [PhakAngles<f32>; INPUTS] =
+        core::array::from_fn(|_| PhakAngles::from_array(rng.angles()));
     let g_in: [[f32; 17]; INPUTS] = core::array::from_fn(|_| rng.angles());
     let scalars: [f32; INPUTS] = core::array::from_fn(|_| rng.angles::<1>()[0]);
 
@@ -73,23 +79,78 @@ fn main() -> ! {
 
     report("empty_loop.ticks", bench_empty(&phak_in, CALLS) as f32, 1.0);
     let scalar_base = bench_empty(&scalars, CALLS);
-    net("trig.half_angle_sin_cos", bench_half_angle(&scalars, CALLS), scalar_base, CALLS);
-    net("trig.libm_sincosf", bench_libm_sincos(&scalars, MATRIX_CALLS), bench_empty(&scalars, MATRIX_CALLS), MATRIX_CALLS);
-    net("trig.sqrt_f32", bench_sqrt(&scalars, CALLS), scalar_base, CALLS);
+    net(
+        "trig.half_angle_sin_cos",
+        bench_half_angle(&scalars, CALLS),
+        scalar_base,
+        CALLS,
+    );
+    net(
+        "trig.libm_sincosf",
+        bench_libm_sincos(&scalars, MATRIX_CALLS),
+        bench_empty(&scalars, MATRIX_CALLS),
+        MATRIX_CALLS,
+    );
+    net(
+        "trig.sqrt_f32",
+        bench_sqrt(&scalars, CALLS),
+        scalar_base,
+        CALLS,
+    );
 
     let hak_base = bench_empty(&hak_in, CALLS);
-    net("hak.quat", bench_hak_quat(&hak, &hak_in, CALLS), hak_base, CALLS);
-    net("hak.matrix", bench_hak_matrix(&hak, &hak_in, MATRIX_CALLS), bench_empty(&hak_in, MATRIX_CALLS), MATRIX_CALLS);
+    net(
+        "hak.quat",
+        bench_hak_quat(&hak, &hak_in, CALLS),
+        hak_base,
+        CALLS,
+    );
+    net(
+        "hak.matrix",
+        bench_hak_matrix(&hak, &hak_in, MATRIX_CALLS),
+        bench_empty(&hak_in, MATRIX_CALLS),
+        MATRIX_CALLS,
+    );
 
     let phak_base = bench_empty(&phak_in, CALLS);
-    net("phak.quat", bench_phak_quat(&phak, &phak_in, CALLS), phak_base, CALLS);
-    net("phak.quat_frames", bench_phak_frames(&phak, &phak_in, CALLS), phak_base, CALLS);
-    net("phak.matrix", bench_phak_matrix(&phak, &phak_in, MATRIX_CALLS), bench_empty(&phak_in, MATRIX_CALLS), MATRIX_CALLS);
+    net(
+        "phak.quat",
+        bench_phak_quat(&phak, &phak_in, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.quat_frames",
+        bench_phak_frames(&phak, &phak_in, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.matrix",
+        bench_phak_matrix(&phak, &phak_in, MATRIX_CALLS),
+        bench_empty(&phak_in, MATRIX_CALLS),
+        MATRIX_CALLS,
+    );
 
     let g_base = bench_empty(&g_in, CALLS);
-    net("gait2392.quat", bench_gait2392_quat(&g, &g_in, CALLS), g_base, CALLS);
-    net("gait2392.quat_frames", bench_gait2392_frames(&g, &g_in, CALLS), g_base, CALLS);
-    net("gait2392.matrix", bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS), bench_empty(&g_in, MATRIX_CALLS), MATRIX_CALLS);
+    net(
+        "gait2392.quat",
+        bench_gait2392_quat(&g, &g_in, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.quat_frames",
+        bench_gait2392_frames(&g, &g_in, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.matrix",
+        bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS),
+        bench_empty(&g_in, MATRIX_CALLS),
+        MATRIX_CALLS,
+    );
 
     sample_sections(&phak_in);
     whole_sample(ModelId::Phak, "sample");
@@ -129,9 +190,20 @@ fn report(name: &str, x: f32, divisor: f32) {
 /// Reports `name.instructions_per_call` from the ticks of `n` calls minus the empty loop's.
 fn net(name: &str, ticks: u32, base: u32, n: u32) {
     let instructions = (ticks as i64 - base as i64) * INSTRUCTIONS_PER_TICK as i64;
-    defmt::println!("bench {=str}.ticks {=u32} base {=u32} calls {=u32}", name, ticks, base, n);
+    defmt::println!(
+        "bench {=str}.ticks {=u32} base {=u32} calls {=u32}",
+        name,
+        ticks,
+        base,
+        n
+    );
     let tenths = (instructions * 10 + n as i64 / 2) / n as i64;
-    defmt::println!("bench {=str}.instructions_per_call {=i64}.{=i64}", name, tenths / 10, (tenths % 10).abs());
+    defmt::println!(
+        "bench {=str}.instructions_per_call {=i64}.{=i64}",
+        name,
+        tenths / 10,
+        (tenths % 10).abs()
+    );
 }
 
 /// A loop of `n` `subs`/`bne` pairs (2n instructions) must take 2n / 40 ticks: otherwise QEMU
@@ -145,9 +217,15 @@ fn calibrate() {
     }
     let measured = ticks(start, now()) as u64 * INSTRUCTIONS_PER_TICK;
     let expected = 2 * LOOPS as u64;
-    defmt::println!("bench calibration.instructions {=u64} expected {=u64}", measured, expected);
+    defmt::println!(
+        "bench calibration.instructions {=u64} expected {=u64}",
+        measured,
+        expected
+    );
     if measured.abs_diff(expected) > expected / 1000 {
-        defmt::error!("SysTick does not count instructions: run QEMU with -icount shift=0,align=off");
+        defmt::error!(
+            "SysTick does not count instructions: run QEMU with -icount shift=0,align=off"
+        );
         board::exit(NOT_COUNTING_EXIT_CODE)
     }
 }
@@ -205,7 +283,10 @@ fn bench_hak_quat(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32
 #[inline(never)]
 fn bench_hak_matrix(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
-        black_box(chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
+        black_box(chain_by_matrices(
+            black_box(model).chain(),
+            &black_box(&q[i % INPUTS]).to_array(),
+        ));
     })
 }
 
@@ -219,14 +300,21 @@ fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> 
 #[inline(never)]
 fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
-        black_box(black_box(model).chain().frames(&black_box(&q[i % INPUTS]).to_array()));
+        black_box(
+            black_box(model)
+                .chain()
+                .frames(&black_box(&q[i % INPUTS]).to_array()),
+        );
     })
 }
 
 #[inline(never)]
 fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
-        black_box(chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
+        black_box(chain_by_matrices(
+            black_box(model).chain(),
+            &black_box(&q[i % INPUTS]).to_array(),
+        ));
     })
 }
 
@@ -247,7 +335,10 @@ fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32)
 #[inline(never)]
 fn bench_gait2392_matrix(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
-        black_box(chain_by_matrices(black_box(model).chain(), black_box(&q[i % INPUTS])));
+        black_box(chain_by_matrices(
+            black_box(model).chain(),
+            black_box(&q[i % INPUTS]),
+        ));
     })
 }
 
@@ -269,11 +360,15 @@ fn packet(seq: u32, joint: JointId, rng: &mut Lcg) -> JointAngle {
 fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     let mut rng = Lcg(7);
     // The encoded packets of INPUTS samples, one byte stream per sample.
-    let mut streams: [heapless::Vec<u8, 192>; INPUTS] = core::array::from_fn(|_| heapless::Vec::new());
+    let mut streams: [heapless::Vec<u8, 192>; INPUTS] =
+        core::array::from_fn(|_| heapless::Vec::new());
     let mut buf = [0u8; MAX_FRAME_LEN];
     for (seq, stream) in streams.iter_mut().enumerate() {
         for &joint in ModelId::Phak.required_joints() {
-            let Ok(frame) = encode_frame(&Message::JointAngle(packet(seq as u32, joint, &mut rng)), &mut buf) else {
+            let Ok(frame) = encode_frame(
+                &Message::JointAngle(packet(seq as u32, joint, &mut rng)),
+                &mut buf,
+            ) else {
                 board::exit(PIPELINE_EXIT_CODE)
             };
             if stream.extend_from_slice(frame).is_err() {
@@ -284,53 +379,122 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     defmt::println!("bench sample.rx_bytes {=usize}", streams[0].len());
     let n = CALLS / 4;
     let base = bench_empty(&streams, n);
-    net("sample.decode_8_packets", bench_decode(&streams, n), base, n);
+    net(
+        "sample.decode_8_packets",
+        bench_decode(&streams, n),
+        base,
+        n,
+    );
 
     let payloads: [heapless::Vec<u8, 32>; INPUTS] = core::array::from_fn(|i| {
         let mut out = [0u8; 32];
         let p = packet(i as u32, JointId::KneeAngleR, &mut rng);
-        let len = encode_message(&Message::JointAngle(p), &mut out).map(|m| m.len()).unwrap_or(0);
+        let len = encode_message(&Message::JointAngle(p), &mut out)
+            .map(|m| m.len())
+            .unwrap_or(0);
         heapless::Vec::from_slice(&out[..len]).unwrap_or_default()
     });
-    defmt::println!("bench sample.packet_payload_bytes {=usize}", payloads[0].len());
+    defmt::println!(
+        "bench sample.packet_payload_bytes {=usize}",
+        payloads[0].len()
+    );
     let base = bench_empty(&payloads, CALLS);
-    net("sample.crc32c_packet", bench_crc(&payloads, CALLS), base, CALLS);
-    net("sample.decode_message_packet", bench_decode_message(&payloads, CALLS), base, CALLS);
-    net("sample.decode_packet", bench_decode_packet(&payloads, CALLS), base, CALLS);
+    net(
+        "sample.crc32c_packet",
+        bench_crc(&payloads, CALLS),
+        base,
+        CALLS,
+    );
+    net(
+        "sample.decode_message_packet",
+        bench_decode_message(&payloads, CALLS),
+        base,
+        CALLS,
+    );
+    net(
+        "sample.decode_packet",
+        bench_decode_packet(&payloads, CALLS),
+        base,
+        CALLS,
+    );
     // One packet frame's bytes into the decoder, then its delimiter (the frame checks): the
     // same bytes followed by a reset instead of the delimiter are the base, so the figure is
     // the checks alone; the base against the empty loop is the per-byte cost of 16 bytes.
     let frames: [heapless::Vec<u8, 32>; INPUTS] = core::array::from_fn(|i| {
         let mut out = [0u8; 32];
         let p = packet(i as u32, JointId::KneeAngleR, &mut rng);
-        let len = encode_frame(&Message::JointAngle(p), &mut out).map(|f| f.len()).unwrap_or(1);
+        let len = encode_frame(&Message::JointAngle(p), &mut out)
+            .map(|f| f.len())
+            .unwrap_or(1);
         heapless::Vec::from_slice(&out[..len - 1]).unwrap_or_default()
     });
     let bytes_only = bench_frame_bytes(&frames, CALLS, false);
-    net("sample.packet_frame_bytes", bytes_only, bench_empty(&frames, CALLS), CALLS);
-    net("sample.packet_frame_checks", bench_frame_bytes(&frames, CALLS, true), bytes_only, CALLS);
+    net(
+        "sample.packet_frame_bytes",
+        bytes_only,
+        bench_empty(&frames, CALLS),
+        CALLS,
+    );
+    net(
+        "sample.packet_frame_checks",
+        bench_frame_bytes(&frames, CALLS, true),
+        bytes_only,
+        CALLS,
+    );
 
     let kinematics = Kinematics::new(ModelId::Phak, None).unwrap_or_else(|_| board::exit(1));
     let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
-        let mut s = Sample { seq: i as u32, angles: [0.0; JointId::COUNT], out_of_range: JointSet::EMPTY };
-        for (&j, &a) in ModelId::Phak.required_joints().iter().zip(phak_in[i].to_array().iter()) {
+        let mut s = Sample {
+            seq: i as u32,
+            angles: [0.0; JointId::COUNT],
+            out_of_range: JointSet::EMPTY,
+        };
+        for (&j, &a) in ModelId::Phak
+            .required_joints()
+            .iter()
+            .zip(phak_in[i].to_array().iter())
+        {
             s.angles[j.index() as usize] = a;
         }
         s
     });
     let base = bench_empty(&samples, CALLS);
-    net("sample.pose_frame", bench_pose_frame(&kinematics, &samples, CALLS), base, CALLS);
+    net(
+        "sample.pose_frame",
+        bench_pose_frame(&kinematics, &samples, CALLS),
+        base,
+        CALLS,
+    );
 
     let phak = Phak::<f32>::new(&Anthropometry::gait2392()).unwrap_or_else(|_| board::exit(1));
     let poses: [BilateralPose<f32>; INPUTS] = core::array::from_fn(|i| phak.fk(&phak_in[i]));
-    net("sample.distances", bench_distances(&poses, CALLS), bench_empty(&poses, CALLS), CALLS);
+    net(
+        "sample.distances",
+        bench_distances(&poses, CALLS),
+        bench_empty(&poses, CALLS),
+        CALLS,
+    );
 
-    let pose_frames: [PoseFrame; INPUTS] = core::array::from_fn(|i| kinematics.pose_frame(&samples[i], 0));
-    let frames: [Message; INPUTS] = core::array::from_fn(|i| Message::PoseFrame(pose_frames[i].clone()));
-    let Ok(len) = encode_frame(&frames[0], &mut buf).map(|f| f.len()) else { board::exit(PIPELINE_EXIT_CODE) };
+    let pose_frames: [PoseFrame; INPUTS] =
+        core::array::from_fn(|i| kinematics.pose_frame(&samples[i], 0));
+    let frames: [Message; INPUTS] =
+        core::array::from_fn(|i| Message::PoseFrame(pose_frames[i].clone()));
+    let Ok(len) = encode_frame(&frames[0], &mut buf).map(|f| f.len()) else {
+        board::exit(PIPELINE_EXIT_CODE)
+    };
     defmt::println!("bench sample.tx_bytes {=usize}", len);
-    net("sample.encode_pose_frame", bench_encode(&pose_frames, CALLS), bench_empty(&pose_frames, CALLS), CALLS);
-    net("sample.encode_message_pose_frame", bench_encode_message(&frames, CALLS), bench_empty(&frames, CALLS), CALLS);
+    net(
+        "sample.encode_pose_frame",
+        bench_encode(&pose_frames, CALLS),
+        bench_empty(&pose_frames, CALLS),
+        CALLS,
+    );
+    net(
+        "sample.encode_message_pose_frame",
+        bench_encode_message(&frames, CALLS),
+        bench_empty(&frames, CALLS),
+        CALLS,
+    );
     defmt::println!(
         "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize} phak {=usize} gait2392 {=usize}",
         core::mem::size_of::<Message>(),
@@ -385,7 +549,11 @@ fn bench_frame_bytes(frames: &[heapless::Vec<u8, 32>; INPUTS], n: u32, delimit: 
 fn bench_encode_message(frames: &[Message; INPUTS], n: u32) -> u32 {
     let mut buf = [0u8; MAX_FRAME_LEN];
     timed(n, |i| {
-        black_box(encode_message(black_box(&frames[i % INPUTS]), &mut buf).map(|m| m.len()).ok());
+        black_box(
+            encode_message(black_box(&frames[i % INPUTS]), &mut buf)
+                .map(|m| m.len())
+                .ok(),
+        );
     })
 }
 
@@ -421,7 +589,11 @@ fn bench_encode(frames: &[PoseFrame; INPUTS], n: u32) -> u32 {
     let mut buf = [0u8; MAX_FRAME_LEN];
     // The hub's path: the pose frame encoded in place, without a `Message`.
     timed(n, |i| {
-        black_box(encode_pose_frame(black_box(&frames[i % INPUTS]), &mut buf).map(|f| f.len()).ok());
+        black_box(
+            encode_pose_frame(black_box(&frames[i % INPUTS]), &mut buf)
+                .map(|f| f.len())
+                .ok(),
+        );
     })
 }
 
@@ -443,7 +615,15 @@ struct StreamSerial<'a> {
 
 impl<'a> StreamSerial<'a> {
     fn new(rx: &'a [u8]) -> Self {
-        StreamSerial { rx, pos: 0, tx_bytes: 0, tx_sum: 0, ready_calls: 0, reads: 0, writes: 0 }
+        StreamSerial {
+            rx,
+            pos: 0,
+            tx_bytes: 0,
+            tx_sum: 0,
+            ready_calls: 0,
+            reads: 0,
+            writes: 0,
+        }
     }
 }
 
@@ -498,8 +678,16 @@ fn whole_sample(model: ModelId, name: &str) {
     let mut rng = Lcg(11);
     let mut rx: heapless::Vec<u8, RX_CAPACITY> = heapless::Vec::new();
     let mut buf = [0u8; MAX_FRAME_LEN];
-    let config = Config { model, anthropometry: None, missing_policy: MissingPolicy::Drop, reorder_window: 4, request_status: false };
-    let Ok(config_len) = encode_frame(&Message::Config(config), &mut buf).map(|f| f.len()) else { board::exit(PIPELINE_EXIT_CODE) };
+    let config = Config {
+        model,
+        anthropometry: None,
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 4,
+        request_status: false,
+    };
+    let Ok(config_len) = encode_frame(&Message::Config(config), &mut buf).map(|f| f.len()) else {
+        board::exit(PIPELINE_EXIT_CODE)
+    };
     if rx.extend_from_slice(&buf[..config_len]).is_err() {
         board::exit(PIPELINE_EXIT_CODE)
     }
@@ -517,13 +705,23 @@ fn whole_sample(model: ModelId, name: &str) {
     let Ok(mut hub) = Hub::new(StreamSerial::new(&rx[..config_len]), &clock, 0) else {
         board::exit(1)
     };
-    defmt::println!("bench size.hub_bytes {=usize}", core::mem::size_of_val(&hub));
+    defmt::println!(
+        "bench size.hub_bytes {=usize}",
+        core::mem::size_of_val(&hub)
+    );
     run_hub(&mut hub);
     *hub.serial_mut() = StreamSerial::new(&rx[config_len..]);
     let hub_ticks = run_hub(&mut hub);
     let status = hub.status();
     let io = hub.serial_mut();
-    let (tx_bytes, calls) = (io.tx_bytes, Calls { ready: io.ready_calls, reads: io.reads, writes: io.writes });
+    let (tx_bytes, calls) = (
+        io.tx_bytes,
+        Calls {
+            ready: io.ready_calls,
+            reads: io.reads,
+            writes: io.writes,
+        },
+    );
     defmt::println!(
         "bench {=str}.check model {=str} samples_completed {=u32} frames_sent {=u32} rx_bytes {=usize} tx_bytes {=u32}",
         name,
@@ -540,7 +738,10 @@ fn whole_sample(model: ModelId, name: &str) {
         calls.reads,
         calls.writes
     );
-    if hub.config().model != model || status.samples_completed != SAMPLES || status.frames_sent != SAMPLES {
+    if hub.config().model != model
+        || status.samples_completed != SAMPLES
+        || status.frames_sent != SAMPLES
+    {
         defmt::error!("the hub did not turn every sample into a pose frame");
         board::exit(PIPELINE_EXIT_CODE)
     }
@@ -586,31 +787,50 @@ fn serial_double_share(rx: &[u8], rx_bytes: u32, tx_bytes: u32, calls: Calls) ->
     use embedded_io::{Read as _, ReadReady as _, Write as _};
     let mut io = StreamSerial::new(rx);
     let mut buf = [0u8; READ_CHUNK];
-    let ready = timed_calls(calls.ready, &mut io, |io, _| black_box(io.read_ready()).is_ok());
-    let empty_ready = timed_calls(calls.ready, &mut io, |io, _| black_box(ready_nothing(io)).is_ok());
-    let reads = timed_calls(calls.reads, &mut io, |io, _| black_box(io.read(black_box(&mut buf))).is_ok());
+    let ready = timed_calls(calls.ready, &mut io, |io, _| {
+        black_box(io.read_ready()).is_ok()
+    });
+    let empty_ready = timed_calls(calls.ready, &mut io, |io, _| {
+        black_box(ready_nothing(io)).is_ok()
+    });
+    let reads = timed_calls(calls.reads, &mut io, |io, _| {
+        black_box(io.read(black_box(&mut buf))).is_ok()
+    });
     if io.pos != rx_bytes as usize {
         defmt::error!("the double's reads did not read the stream as the hub did");
         board::exit(PIPELINE_EXIT_CODE)
     }
-    let empty_reads = timed_calls(calls.reads, &mut io, |io, _| black_box(read_nothing(io, black_box(&mut buf))).is_ok());
+    let empty_reads = timed_calls(calls.reads, &mut io, |io, _| {
+        black_box(read_nothing(io, black_box(&mut buf))).is_ok()
+    });
     // The frames written: `tx_bytes` over `calls.writes` writes, the remainder spread one byte
     // a call over the first ones (the pose frames differ by a byte or two).
     let frame = [0x55u8; MAX_FRAME_LEN];
-    let (per_call, longer) = (tx_bytes / calls.writes.max(1), tx_bytes % calls.writes.max(1));
+    let (per_call, longer) = (
+        tx_bytes / calls.writes.max(1),
+        tx_bytes % calls.writes.max(1),
+    );
     let len = |i: u32| ((per_call + (i < longer) as u32) as usize).min(MAX_FRAME_LEN);
-    let writes = timed_calls(calls.writes, &mut io, |io, i| black_box(io.write(black_box(&frame[..len(i)]))).is_ok());
+    let writes = timed_calls(calls.writes, &mut io, |io, i| {
+        black_box(io.write(black_box(&frame[..len(i)]))).is_ok()
+    });
     if io.tx_bytes != tx_bytes {
         defmt::error!("the double's writes did not write what the hub did");
         board::exit(PIPELINE_EXIT_CODE)
     }
-    let empty_writes = timed_calls(calls.writes, &mut io, |io, i| black_box(write_nothing(io, black_box(&frame[..len(i)]))).is_ok());
+    let empty_writes = timed_calls(calls.writes, &mut io, |io, i| {
+        black_box(write_nothing(io, black_box(&frame[..len(i)]))).is_ok()
+    });
     (ready + reads + writes).saturating_sub(empty_ready + empty_reads + empty_writes)
 }
 
 /// `n` calls of `call` on the double (given the call's index), timed.
 #[inline(always)]
-fn timed_calls(n: u32, io: &mut StreamSerial<'_>, mut call: impl FnMut(&mut StreamSerial<'_>, u32) -> bool) -> u32 {
+fn timed_calls(
+    n: u32,
+    io: &mut StreamSerial<'_>,
+    mut call: impl FnMut(&mut StreamSerial<'_>, u32) -> bool,
+) -> u32 {
     let start = now();
     for i in 0..n {
         black_box(call(black_box(&mut *io), i));
@@ -626,12 +846,18 @@ fn ready_nothing(_io: &mut StreamSerial<'_>) -> Result<bool, core::convert::Infa
 
 /// A read that does nothing, shaped as [`StreamSerial`]'s.
 #[inline(never)]
-fn read_nothing(_io: &mut StreamSerial<'_>, _buf: &mut [u8]) -> Result<usize, core::convert::Infallible> {
+fn read_nothing(
+    _io: &mut StreamSerial<'_>,
+    _buf: &mut [u8],
+) -> Result<usize, core::convert::Infallible> {
     Ok(0)
 }
 
 /// A write that does nothing, shaped as [`StreamSerial`]'s.
 #[inline(never)]
-fn write_nothing(_io: &mut StreamSerial<'_>, buf: &[u8]) -> Result<usize, core::convert::Infallible> {
+fn write_nothing(
+    _io: &mut StreamSerial<'_>,
+    buf: &[u8],
+) -> Result<usize, core::convert::Infallible> {
     Ok(buf.len())
 }

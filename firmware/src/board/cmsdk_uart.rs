@@ -40,8 +40,7 @@ static RX_PAUSED: AtomicBool = AtomicBool::new(false);
 
 /// The only error the UART reports: a received byte was lost because the previous one had not
 /// been read yet.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[derive(defmt::Format)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, defmt::Format)]
 pub struct Overrun;
 
 impl embedded_hal_nb::serial::Error for Overrun {

@@ -21,9 +21,9 @@ mod mps2_an386;
 pub use mps2_an386::{exit, take, Serial, NAME};
 
 #[cfg(feature = "nrf52840")]
-pub mod nrf_uart;
-#[cfg(feature = "nrf52840")]
 mod nrf52840;
+#[cfg(feature = "nrf52840")]
+pub mod nrf_uart;
 #[cfg(feature = "nrf52840")]
 pub use nrf52840::{exit, take, Serial, NAME};
 

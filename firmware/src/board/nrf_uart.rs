@@ -86,7 +86,10 @@ impl NrfUart {
     /// `base` must be the address of an nRF52 UART that nothing else uses, `irq` its interrupt,
     /// and no other `NrfUart` may exist.
     pub unsafe fn new(base: usize, tx_pin: u32, rx_pin: u32, baudrate: u32, irq: u16) -> NrfUart {
-        let uart = NrfUart { base, tx_busy: false };
+        let uart = NrfUart {
+            base,
+            tx_busy: false,
+        };
         uart.write_reg(PSEL_TXD, tx_pin & 0x3F);
         uart.write_reg(PSEL_RXD, rx_pin & 0x3F);
         uart.write_reg(PSEL_RTS, PSEL_DISCONNECTED);
@@ -108,7 +111,10 @@ impl NrfUart {
     /// # Safety
     /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
     pub unsafe fn on_interrupt(base: usize) {
-        let uart = NrfUart { base, tx_busy: false };
+        let uart = NrfUart {
+            base,
+            tx_busy: false,
+        };
         if uart.read_reg(EVENTS_ERROR) != 0 {
             uart.write_reg(EVENTS_ERROR, 0);
             let source = uart.read_reg(ERRORSRC);

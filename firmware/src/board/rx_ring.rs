@@ -92,7 +92,8 @@ impl<E: Copy> RxRing<E> {
             // At most two pieces: up to the end of the array, then from its start.
             let head = s.head;
             let first = n.min(RX_RING_LEN - head);
-            if let (Some(dst), Some(src)) = (buf.get_mut(..first), s.bytes.get(head..head + first)) {
+            if let (Some(dst), Some(src)) = (buf.get_mut(..first), s.bytes.get(head..head + first))
+            {
                 dst.copy_from_slice(src);
             }
             if let (Some(dst), Some(src)) = (buf.get_mut(first..n), s.bytes.get(..n - first)) {

@@ -6,7 +6,9 @@ use qgait_hub::checks::{drain, each_output, send, CheckSerial};
 use qgait_hub::{parts_of, Hub, ManualClock};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{Gait2392, Gait2392Geometry, Real};
-use qgait_proto::{JointAngle, JointId, Message, MissingPolicy, ModelId, SubjectConfig, PROTOCOL_VERSION};
+use qgait_proto::{
+    JointAngle, JointId, Message, MissingPolicy, ModelId, SubjectConfig, PROTOCOL_VERSION,
+};
 
 mod expected {
     use qgait_kernel::models::gait2392::{Knots, LegGeometry};
@@ -21,14 +23,24 @@ const POINT_TOLERANCE_M: f64 = 1e-5;
 const FRAME_POINTS: [usize; 8] = [0, 1, 2, 5, 6, 7, 8, 11];
 
 fn fail(what: &'static str, line: u32, value: f64) -> Failure {
-    Failure { what, line, value: Some(value) }
+    Failure {
+        what,
+        line,
+        value: Some(value),
+    }
 }
 
 /// Generic gait2392 in f32 against f64: every one of the 12 points of every case.
 pub fn gait2392_f32_points_match_host_f64() -> Result<(), Failure> {
     // As the hub builds it: from the f32 numbers, knee splines computed in f32.
-    let model = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32())
-        .map_err(|_| Failure { what: "Gait2392::new refused the generic model", line: line!(), value: None })?;
+    let model =
+        Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32()).map_err(|_| {
+            Failure {
+                what: "Gait2392::new refused the generic model",
+                line: line!(),
+                value: None,
+            }
+        })?;
     let mut worst = 0.0f64;
     let mut cases = 0;
     for (_, q, points, want_d) in expected::CASES.iter().filter(|c| c.0 == 0) {
@@ -45,7 +57,11 @@ pub fn gait2392_f32_points_match_host_f64() -> Result<(), Failure> {
         }
         cases += 1;
     }
-    defmt::info!("gait2392 f32 vs f64: largest point error {=f64} m over {=usize} cases", worst, cases);
+    defmt::info!(
+        "gait2392 f32 vs f64: largest point error {=f64} m over {=usize} cases",
+        worst,
+        cases
+    );
     if cases == 0 {
         return Err(fail("no generic cases", line!(), 0.0));
     }
@@ -61,20 +77,43 @@ pub fn gait2392_f32_points_match_host_f64() -> Result<(), Failure> {
 /// differs from the generic model's by centimetres.
 pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
     let clock = ManualClock::new(0);
-    let mut hub = Hub::new(CheckSerial::new(), &clock, 0)
-        .map_err(|_| Failure { what: "Hub::new", line: line!(), value: None })?;
-    let (legs, knees) = parts_of(&expected::subject(), 42)
-        .map_err(|_| Failure { what: "parts_of the subject", line: line!(), value: None })?;
-    let config = SubjectConfig { upload: 42, missing_policy: MissingPolicy::Drop, reorder_window: 2, request_status: false };
-    let sent = legs.iter().all(|l| send(hub.serial_mut(), &Message::SubjectLeg(*l)))
-        && knees.iter().all(|k| send(hub.serial_mut(), &Message::SubjectKnee(k.clone())))
+    let mut hub = Hub::new(CheckSerial::new(), &clock, 0).map_err(|_| Failure {
+        what: "Hub::new",
+        line: line!(),
+        value: None,
+    })?;
+    let (legs, knees) = parts_of(&expected::subject(), 42).map_err(|_| Failure {
+        what: "parts_of the subject",
+        line: line!(),
+        value: None,
+    })?;
+    let config = SubjectConfig {
+        upload: 42,
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 2,
+        request_status: false,
+    };
+    let sent = legs
+        .iter()
+        .all(|l| send(hub.serial_mut(), &Message::SubjectLeg(*l)))
+        && knees
+            .iter()
+            .all(|k| send(hub.serial_mut(), &Message::SubjectKnee(k.clone())))
         && send(hub.serial_mut(), &Message::SubjectConfig(config));
     if !sent {
-        return Err(Failure { what: "the model did not fit the serial buffer", line: line!(), value: None });
+        return Err(Failure {
+            what: "the model did not fit the serial buffer",
+            line: line!(),
+            value: None,
+        });
     }
     drain(&mut hub);
     if hub.subject() != Some(42) {
-        return Err(fail("config_rejected after the subject model", line!(), f64::from(hub.status().config_rejected)));
+        return Err(fail(
+            "config_rejected after the subject model",
+            line!(),
+            f64::from(hub.status().config_rejected),
+        ));
     }
     let subject_cases: heapless::Vec<_, 32> = expected::CASES.iter().filter(|c| c.0 == 1).collect();
     for (seq, (_, q, _, _)) in subject_cases.iter().enumerate() {
@@ -89,7 +128,11 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
                 quality: 0,
             };
             if !send(hub.serial_mut(), &Message::JointAngle(packet)) {
-                return Err(Failure { what: "a packet did not fit the serial buffer", line: line!(), value: None });
+                return Err(Failure {
+                    what: "a packet did not fit the serial buffer",
+                    line: line!(),
+                    value: None,
+                });
             }
         }
         drain(&mut hub);
@@ -97,7 +140,9 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
     let (mut worst, mut frames, mut nearest_generic) = (0.0f64, 0usize, f64::MAX);
     let bad = each_output(&mut hub, |m| {
         let Message::PoseFrame(p) = m else { return };
-        let Some((_, q, want, want_d)) = subject_cases.get(p.seq as usize) else { return };
+        let Some((_, q, want, want_d)) = subject_cases.get(p.seq as usize) else {
+            return;
+        };
         frames += usize::from(p.model == ModelId::Gait2392 && p.angles.as_slice() == &q[..]);
         for (got, &i) in p.points.iter().zip(&FRAME_POINTS) {
             for k in 0..3 {
@@ -109,7 +154,9 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
         }
         // The same angles in the generic model: the right toe tip moves by centimetres.
         if let Some((_, _, generic, _)) = expected::CASES.iter().find(|c| c.0 == 0 && c.1 == *q) {
-            let d = (0..3).map(|k| (want[5][k] - generic[5][k]) * (want[5][k] - generic[5][k])).sum::<f64>();
+            let d = (0..3)
+                .map(|k| (want[5][k] - generic[5][k]) * (want[5][k] - generic[5][k]))
+                .sum::<f64>();
             nearest_generic = nearest_generic.min(Real::sqrt(d));
         }
     });
@@ -123,11 +170,19 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
         return Err(fail("subject pose frames received", line!(), frames as f64));
     }
     if nearest_generic < 0.01 {
-        return Err(fail("subject toe tip vs generic (m)", line!(), nearest_generic));
+        return Err(fail(
+            "subject toe tip vs generic (m)",
+            line!(),
+            nearest_generic,
+        ));
     }
     if worst <= POINT_TOLERANCE_M {
         Ok(())
     } else {
-        Err(fail("largest subject point error on the hub (m)", line!(), worst))
+        Err(fail(
+            "largest subject point error on the hub (m)",
+            line!(),
+            worst,
+        ))
     }
 }

@@ -14,7 +14,11 @@ enum E {
 macro_rules! ensure {
     ($cond:expr) => {
         if !$cond {
-            return Err(Failure { what: stringify!($cond), line: line!(), value: None });
+            return Err(Failure {
+                what: stringify!($cond),
+                line: line!(),
+                value: None,
+            });
         }
     };
 }
@@ -44,7 +48,13 @@ pub fn rx_ring_block_read_wraps_around() -> Result<(), Failure> {
     // Drain: exactly what is left, then nothing.
     let mut left = sent - got;
     while left > 0 {
-        let Ok(n) = ring.read(&mut buf) else { return Err(Failure { what: "an error in a clean ring", line: line!(), value: None }) };
+        let Ok(n) = ring.read(&mut buf) else {
+            return Err(Failure {
+                what: "an error in a clean ring",
+                line: line!(),
+                value: None,
+            });
+        };
         ensure!(n > 0 && n as u32 <= left);
         for &b in &buf[..n] {
             ensure!(b == got as u8);
@@ -95,7 +105,13 @@ pub fn rx_ring_errors_come_after_the_bytes_before_them() -> Result<(), Failure> 
     let mut got = 0;
     loop {
         match ring.read(&mut buf) {
-            Ok(0) => return Err(Failure { what: "the overrun was not reported", line: line!(), value: None }),
+            Ok(0) => {
+                return Err(Failure {
+                    what: "the overrun was not reported",
+                    line: line!(),
+                    value: None,
+                })
+            }
             Ok(n) => {
                 for &b in &buf[..n] {
                     ensure!(b == got as u8);
