@@ -5,7 +5,7 @@ use core::ptr::addr_of_mut;
 
 use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
-use qgait_kernel::Gait2392Geometry;
+use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
     FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig,
@@ -390,8 +390,14 @@ where
             // gait2392's lengths are those of its model.
             Err(ConfigError::AnthropometryWithGait2392)
         } else {
-            // Without lengths, the HAK and PHAK lengths in force stay.
-            let anthropometry = config.anthropometry.or(self.config.anthropometry);
+            // Without lengths, the HAK and PHAK lengths in force stay. gait2392's generic
+            // lengths stated in full are the same configuration as none given (`None`), so
+            // resending what is in force changes nothing.
+            let generic = Limb::<f32>::gait2392().to_array();
+            let anthropometry = config
+                .anthropometry
+                .or(self.config.anthropometry)
+                .filter(|legs| *legs != [generic, generic]);
             self.apply(
                 Config {
                     anthropometry,

@@ -692,3 +692,59 @@ fn reorder_windows_outside_one_to_eight_are_rejected_and_counted() {
         (rejected + 1, Some(1))
     );
 }
+
+/// Section 8.6: lengths are compared by value. A `Config` that states gait2392's generic
+/// lengths, with everything else as in force (which the hub starts with as "no lengths"), is
+/// the configuration in force: the sample open across it stays open and gives its pose.
+#[test]
+fn a_config_stating_the_lengths_in_force_changes_nothing() {
+    let clock = ManualClock::new(0);
+    let mut hub: TestHub<'_> = Hub::new(Serial::new(), &clock, 0).expect("default model");
+    let generic = qgait_kernel::Limb::<f32>::gait2392().to_array();
+    let start = hub.config();
+    let stated = Config {
+        anthropometry: Some([generic, generic]),
+        request_status: false,
+        ..start
+    };
+    let from = hub.serial_mut().transmitted().len();
+    let joints = ModelId::Phak.required_joints();
+    let (last, first) = joints.split_last().expect("joints");
+    for &joint in first {
+        send(
+            &mut hub,
+            &Message::JointAngle(packet(1, joint, angle(joint, 1))),
+        );
+    }
+    send(&mut hub, &Message::Config(stated));
+    send(
+        &mut hub,
+        &Message::JointAngle(packet(1, *last, angle(*last, 1))),
+    );
+    let poses = poses_since(&mut hub, from);
+    assert_eq!(poses.len(), 1, "{poses:?}");
+    assert_eq!(
+        (
+            hub.status().samples_incomplete,
+            hub.status().config_rejected
+        ),
+        (0, 0)
+    );
+    // Stated lengths that differ do take effect (and close the open sample).
+    let mut longer = generic;
+    longer[1] += 0.01;
+    for &joint in first {
+        send(
+            &mut hub,
+            &Message::JointAngle(packet(2, joint, angle(joint, 2))),
+        );
+    }
+    send(
+        &mut hub,
+        &Message::Config(Config {
+            anthropometry: Some([longer, generic]),
+            ..stated
+        }),
+    );
+    assert_eq!(hub.status().samples_incomplete, 1);
+}
