@@ -4,7 +4,7 @@
 //! crouch4 motions, the built-in gait, a 100,000-sample recording) and the same streams with
 //! seeded bit flips, dropped packets, packets reordered inside the reorder window, and bursts
 //! of line noise; the reference damage of a radio link (`FaultPlan::radio_link`) on 2,000 and
-//! 5,000 samples, through the library and through `qgait emulate --stream`.
+//! 5,000 samples, through the library and through `qgait emulate --stream`; a node down.
 //!
 //! Needs `qemu-system-arm` and the release firmware (`QGAIT_FIRMWARE_ELF`, else the default
 //! build location); each test is skipped, with the reason printed, when either is missing.
