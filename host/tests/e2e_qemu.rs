@@ -4,7 +4,7 @@
 //! crouch4 motions, the built-in gait, a 100,000-sample recording) and the same streams with
 //! seeded bit flips, dropped packets, packets reordered inside the reorder window, and bursts
 //! of line noise; the reference damage of a radio link (`FaultPlan::radio_link`) on 2,000 and
-//! 5,000 samples, through the library and through `qgait emulate --stream`.
+//! 5,000 samples, through the library and through `qgait emulate --stream`; a node down.
 //!
 //! Needs `qemu-system-arm` and the release firmware (`QGAIT_FIRMWARE_ELF`, else the default
 //! build location); each test is skipped, with the reason printed, when either is missing.
@@ -25,7 +25,7 @@ use qgait::device::session::{self, closing_frames, InputCounts, Limits};
 use qgait::device::verify::{DeviceModel, Expected, Verification};
 use qgait::mot::MotionTable;
 use qgait::source::load_motion;
-use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, Status};
+use qgait_proto::{Config, JointAngle, JointId, Message, MissingPolicy, ModelId, Status};
 
 /// Largest accepted error of a point or distance (metres).
 const TOLERANCE_M: f64 = 10e-6;
@@ -272,6 +272,7 @@ fn plan(seed: u64) -> FaultPlan {
         window: u32::from(WINDOW),
         garbage: 0.01,
         noise: Noise::Any,
+        silent: None,
     }
 }
 
@@ -365,6 +366,23 @@ fn radio_link_damage_on_2000_and_5000_samples() {
         &recording(5000),
         FaultPlan::radio_link(22, window),
         "5,000-sample recording, radio link (seed 22)",
+    );
+}
+
+/// One node down for 2,000 samples: the hub answers no sample with a frame, yet consumes the
+/// stream at its own pace (a run that paced itself on the frames answered crawled through it
+/// 480 bytes per quarter second and ran out of time) and counts every sample incomplete.
+#[test]
+fn a_node_down_for_2000_samples() {
+    let Some(elf) = firmware_elf() else { return };
+    damaged(
+        &elf,
+        &builtin("builtin:normal,rows=2000"),
+        FaultPlan {
+            silent: Some(JointId::AnkleAngleL),
+            ..FaultPlan::none(u32::from(WINDOW))
+        },
+        "builtin:normal,rows=2000, ankle_angle_l node down",
     );
 }
 

@@ -29,7 +29,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use qgait_proto::{FrameDecoder, JointAngle, Message, ModelId, Status};
+use qgait_proto::{FrameDecoder, JointAngle, JointId, Message, ModelId, Status};
 
 use crate::device::packets::push_frame;
 
@@ -97,6 +97,8 @@ pub struct FaultPlan {
     pub garbage: f64,
     /// The bytes of a burst.
     pub noise: Noise,
+    /// A joint whose node sends nothing (a node down): its packets are all dropped.
+    pub silent: Option<JointId>,
 }
 
 impl FaultPlan {
@@ -111,6 +113,7 @@ impl FaultPlan {
             window,
             garbage: 0.0,
             noise: Noise::Any,
+            silent: None,
         }
     }
 
@@ -127,6 +130,7 @@ impl FaultPlan {
             window,
             garbage: 0.01,
             noise: Noise::NonZero,
+            silent: None,
         }
     }
 }
@@ -276,7 +280,7 @@ pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Damaged {
             }
         }
         for p in packets {
-            if rng.chance(plan.drop) {
+            if rng.chance(plan.drop) || plan.silent == Some(p.joint) {
                 d.packets.push((p, Fate::Dropped));
                 continue;
             }
@@ -398,7 +402,6 @@ impl Arrivals {
 mod tests {
     use super::*;
     use crate::device::packets::{packet, stream};
-    use qgait_proto::JointId;
 
     /// The packets of `d` with fate `fate`, as (sequence number, joint) pairs in order.
     fn keys(d: &Damaged, fate: Fate) -> Vec<(u32, JointId)> {
@@ -507,6 +510,20 @@ mod tests {
     }
 
     #[test]
+    fn a_node_down_leaves_every_sample_incomplete() {
+        let plan = FaultPlan {
+            silent: Some(JointId::KneeAngleR),
+            ..FaultPlan::none(4)
+        };
+        let d = damage(&samples(10), &plan);
+        let acc = ledger_agrees_with_the_decoder(&d);
+        assert_eq!(
+            (acc.delivered, acc.dropped, acc.complete, acc.incomplete),
+            (70, 10, 0, 10)
+        );
+    }
+
+    #[test]
     fn damage_is_seeded_and_reordering_stays_inside_the_window() {
         let plan = FaultPlan {
             seed: 7,
@@ -517,6 +534,7 @@ mod tests {
             window: 4,
             garbage: 0.05,
             noise: Noise::Any,
+            silent: None,
         };
         let s = samples(400);
         let d = damage(&s, &plan);

@@ -29,7 +29,7 @@
 use std::io::{Read, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread;
 use std::time::{Duration, Instant};
@@ -45,14 +45,20 @@ use crate::device::qemu::{escape, Echo, Qemu};
 const CHUNK: usize = 4096;
 
 /// Writes all of `input` (escaped for the multiplexer), blocking while the line is held back
-/// (see the module docs), until done or `stop`.
-fn write_input(mut w: UnixStream, input: &[u8], stop: &AtomicBool) -> Result<(), String> {
+/// (see the module docs), until done or `stop`; `written` counts the bytes the socket took.
+fn write_input(
+    mut w: UnixStream,
+    input: &[u8],
+    written: &AtomicUsize,
+    stop: &AtomicBool,
+) -> Result<(), String> {
     for chunk in input.chunks(CHUNK) {
         if stop.load(Ordering::Relaxed) {
             break;
         }
         w.write_all(&escape(chunk))
             .map_err(|e| format!("writing to the UART socket: {e}"))?;
+        written.fetch_add(chunk.len(), Ordering::Relaxed);
     }
     Ok(())
 }
@@ -62,6 +68,10 @@ fn write_input(mut w: UnixStream, input: &[u8], stop: &AtomicBool) -> Result<(),
 pub struct Limits {
     /// The whole session (QEMU is stopped and the run fails after it).
     pub total: Duration,
+    /// Longest time with no sign that the hub is consuming the input (the line taking more
+    /// bytes, a pose frame, a status with higher counts): a hub that hangs or stops reading
+    /// fails after this, however long the stream.
+    pub stall: Duration,
     /// Longest wait for QEMU to connect to the socket.
     pub connect: Duration,
     /// After the first status that shows every input frame consumed, how long to wait for a
@@ -70,11 +80,13 @@ pub struct Limits {
 }
 
 impl Limits {
-    /// Limits for a stream of `bytes` bytes: 30 s plus 1 ms per 20 bytes (QEMU's UART moves a
-    /// byte in 10-40 µs on a busy 2-core machine).
+    /// Limits for a stream of `bytes` bytes: 30 s plus 1 ms per 10 bytes in all (QEMU's UART
+    /// moves a byte in 10-40 µs on a busy 2-core machine, about 55 µs at a load average of 12),
+    /// 20 s without progress.
     pub fn for_stream(bytes: usize) -> Limits {
         Limits {
-            total: Duration::from_secs(30) + Duration::from_millis(bytes as u64 / 20),
+            total: Duration::from_secs(30) + Duration::from_millis(bytes as u64 / 10),
+            stall: Duration::from_secs(20),
             connect: Duration::from_secs(10),
             grace: Duration::from_millis(500),
         }
@@ -227,9 +239,10 @@ pub fn run(
         }
     };
     let stop = Arc::new(AtomicBool::new(false));
+    let written = Arc::new(AtomicUsize::new(0));
     let sender = {
-        let stop = stop.clone();
-        thread::spawn(move || write_input(writer, &input, &stop))
+        let (stop, written) = (stop.clone(), written.clone());
+        thread::spawn(move || write_input(writer, &input, &written, &stop))
     };
 
     let mut uart = Vec::new();
@@ -238,6 +251,9 @@ pub fn run(
     let mut done_at: Option<Instant> = None;
     let mut problem = None;
     let mut buf = [0u8; 4096];
+    // Progress: input bytes the line took, frames consumed as the hub's status counts them.
+    let (mut last_written, mut last_counted) = (0, 0u64);
+    let mut progressed_at = started;
     loop {
         let now = Instant::now();
         if done_at.is_some_and(|t| now >= t + limits.grace) {
@@ -245,6 +261,17 @@ pub fn run(
         }
         if now >= deadline {
             problem = Some(format!("no closing status within {:.0?}", limits.total));
+            break;
+        }
+        let w = written.load(Ordering::Relaxed);
+        if w != last_written {
+            last_written = w;
+            progressed_at = now;
+        } else if now >= progressed_at + limits.stall {
+            problem = Some(format!(
+                "the hub consumed no input for {:.0?} (after {w} bytes written)",
+                limits.stall
+            ));
             break;
         }
         let n = match stream.read(&mut buf) {
@@ -269,11 +296,23 @@ pub fn run(
         uart.extend_from_slice(&buf[..n]);
         decoder.feed(&buf[..n], |r| match r {
             Record::Message {
+                message: Message::PoseFrame(_),
+                ..
+            } => progressed_at = Instant::now(),
+            Record::Message {
                 message: Message::Status(s),
                 ..
-            } if expected.consumed_by(&s) => {
-                done_at.get_or_insert_with(Instant::now);
-                status = Some(s);
+            } => {
+                let c = InputCounts::counted_by(&s);
+                let counted = u64::from(c.accepted) + u64::from(c.rejected);
+                if counted > last_counted {
+                    last_counted = counted;
+                    progressed_at = Instant::now();
+                }
+                if expected.consumed_by(&s) {
+                    done_at.get_or_insert_with(Instant::now);
+                    status = Some(s);
+                }
             }
             _ => {}
         });
