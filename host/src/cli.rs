@@ -201,22 +201,26 @@ pub(crate) fn refuse_overwrite<'a>(
 /// A file being written: rows go to a temporary file beside it, renamed to `path` by
 /// [`OutputFile::commit`], so that an error half way (a bad row deep in a long motion) leaves no
 /// truncated output behind and an earlier file of that name untouched.
+/// A path that is not a regular file (`/dev/null`, a named pipe) is written directly.
 pub(crate) struct OutputFile {
     path: PathBuf,
-    temp: PathBuf,
+    temp: Option<PathBuf>,
     out: Option<BufWriter<File>>,
 }
 
 impl OutputFile {
     /// Creates the temporary file for `path`.
     pub(crate) fn create(path: &Path) -> anyhow::Result<Self> {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let temp = path.with_file_name(format!(".{name}.qgait-partial"));
-        let file =
-            File::create(&temp).with_context(|| format!("{}: cannot create", path.display()))?;
+        let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
+        let temp = (!special).then(|| {
+            let name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            path.with_file_name(format!(".{name}.qgait-partial"))
+        });
+        let file = File::create(temp.as_deref().unwrap_or(path))
+            .with_context(|| format!("{}: cannot create", path.display()))?;
         Ok(Self {
             path: path.to_path_buf(),
             temp,
@@ -239,17 +243,19 @@ impl OutputFile {
         let out = self.out.take().expect("committed once");
         out.into_inner()
             .map_err(|e| e.into_error())
-            .and_then(|f| f.sync_all())
             .with_context(|| format!("{}: cannot write", self.path.display()))?;
-        std::fs::rename(&self.temp, &self.path)
-            .with_context(|| format!("{}: cannot write", self.path.display()))
+        match &self.temp {
+            Some(temp) => std::fs::rename(temp, &self.path)
+                .with_context(|| format!("{}: cannot write", self.path.display())),
+            None => Ok(()),
+        }
     }
 }
 
 impl Drop for OutputFile {
     fn drop(&mut self) {
-        if self.out.take().is_some() {
-            let _ = std::fs::remove_file(&self.temp);
+        if let (Some(_), Some(temp)) = (self.out.take(), &self.temp) {
+            let _ = std::fs::remove_file(temp);
         }
     }
 }

@@ -87,7 +87,7 @@ pub fn gait2392_coordinates(table: &MotionTable) -> Result<(Vec<[f64; 17]>, Vec<
     kinematics::coordinate_rows(table, &COORDINATES)
 }
 
-/// Names of the points of [`PointTrack`]: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,
+/// Names of the points a [`PointModel`] gives: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,
 /// then with `extra` (gait2392 only) `subtalar_r, mtp_r, subtalar_l, mtp_l`.
 pub fn point_names(extra: bool) -> Vec<String> {
     let mut names = Vec::new();

@@ -319,3 +319,39 @@ fn a_marker_file_given_as_a_motion_is_named_as_such() {
         stderr(&out)
     );
 }
+
+#[test]
+fn an_error_deep_in_a_motion_leaves_no_truncated_output() {
+    let dir = tempfile::tempdir().unwrap();
+    // 20,000 good rows (more than any write buffer), then a bad number.
+    let mut text = String::from("walk\nversion=1\ninDegrees=yes\nendheader\n");
+    text.push_str(LABELS);
+    text.push('\n');
+    for r in 0..20_000 {
+        text.push_str(&format!(
+            "{}\t0\t0\t10\t-20\t5\t-10\t-30\t0\n",
+            r as f64 * 0.01
+        ));
+    }
+    text.push_str("200\t0\t0\t1O\t-20\t5\t-10\t-30\t0\n");
+    let m = write(dir.path(), "bad.mot", text);
+    let csv = dir.path().join("out.csv");
+    std::fs::write(&csv, "earlier\n").unwrap();
+    let out = qgait(&["fk", &m, "-o", csv.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("bad.mot:20006:9: bad number `1O`"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), "earlier\n");
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left.len(), 2, "{left:?}");
+    // A good run replaces the file.
+    let good = write(dir.path(), "good.mot", degrees_mot());
+    run_ok(&["fk", &good, "-o", csv.to_str().unwrap()]);
+    assert!(std::fs::read_to_string(&csv).unwrap().starts_with("time,"));
+}
