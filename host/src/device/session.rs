@@ -110,6 +110,8 @@ impl InputCounts {
         for result in FrameDecoder::new().feed(input) {
             match result {
                 Ok(Message::JointAngle(p)) if p.angle.is_finite() => c.accepted += 1,
+                // A message only a hub sends is `malformed` at a hub, well-formed or not.
+                Ok(Message::PoseFrame(_) | Message::Status(_)) => c.rejected += 1,
                 Ok(_) => {}
                 Err(_) => c.rejected += 1,
             }
@@ -368,5 +370,23 @@ mod tests {
         assert!(c.request_status && c.reorder_window != 4, "{c:?}");
         let counts = InputCounts::of(&input);
         assert_eq!((counts.accepted, counts.rejected), (0, 1));
+    }
+
+    #[test]
+    fn a_message_only_a_hub_sends_counts_as_one_the_hub_rejects() {
+        let status = Message::Status(qgait_proto::Status::default());
+        let mut input = Vec::new();
+        crate::device::packets::push_frame(&mut input, &status);
+        crate::device::packets::push_frame(
+            &mut input,
+            &Message::JointAngle(crate::device::packets::packet(
+                1,
+                0,
+                qgait_proto::JointId::KneeAngleR,
+                0.1,
+            )),
+        );
+        let counts = InputCounts::of(&input);
+        assert_eq!((counts.accepted, counts.rejected), (1, 1));
     }
 }
