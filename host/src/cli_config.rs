@@ -13,9 +13,9 @@ use crate::model_spec::ModelSpec;
 /// `qgait config` arguments.
 #[derive(Debug, Args)]
 pub struct ConfigArgs {
-    /// The model: `hak`, `phak`, `gait2392` (generic), or a SUBJECT.toml from
-    /// `qgait model import`, sent as six parts and a `SubjectConfig`.
-    #[arg(long, value_name = "hak|phak|gait2392|SUBJECT.toml")]
+    /// The model: `hak`, `phak`, `gait2392` (generic), a SUBJECT.toml from `qgait model import`
+    /// or an OpenSim MODEL.osim (imported on the fly), sent as six parts and a `SubjectConfig`.
+    #[arg(long, value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim")]
     pub model: String,
     /// Segment lengths (TOML, as for `qgait fk`); HAK and PHAK only. Default: the hub keeps
     /// its current lengths.
@@ -50,6 +50,13 @@ pub enum Policy {
 
 /// Runs `qgait config`.
 pub fn run_config(args: ConfigArgs, quiet: bool) -> anyhow::Result<()> {
+    let anthropometry = args
+        .anthropometry
+        .as_deref()
+        .map(|p| p.to_string_lossy().into_owned());
+    let mut inputs = vec![args.model.as_str()];
+    inputs.extend(anthropometry.as_deref());
+    crate::cli::refuse_overwrite([args.output.as_path()], &inputs)?;
     let spec = ModelSpec::load(&args.model).map_err(anyhow::Error::msg)?;
     let model = match spec {
         ModelSpec::Stick(m) => {

@@ -30,12 +30,12 @@ use crate::source::load_motion;
 /// The model the hub computes with, as on the command line of `qgait config`.
 #[derive(Debug, Args, Clone)]
 pub struct DeviceModelArgs {
-    /// The hub's model: `hak`, `phak` (the hub's default), `gait2392`, or a SUBJECT.toml from
-    /// `qgait model import`.
+    /// The hub's model: `hak`, `phak` (the hub's default), `gait2392`, a SUBJECT.toml from
+    /// `qgait model import`, or an OpenSim MODEL.osim (imported on the fly).
     #[arg(
         long,
         default_value = "phak",
-        value_name = "hak|phak|gait2392|SUBJECT.toml"
+        value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim"
     )]
     pub model: String,
     /// The hub's segment lengths (TOML, as for `qgait fk`; HAK and PHAK). Default gait2392's,
@@ -592,6 +592,22 @@ fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Resu
 
 /// Runs `qgait emulate`; `Ok(false)` when --verify failed or the session did not end normally.
 pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
+    let paths = |p: &Option<PathBuf>| p.as_deref().map(|p| p.to_string_lossy().into_owned());
+    let named = [
+        paths(&args.stream),
+        paths(&args.elf),
+        paths(&args.model.anthropometry),
+    ];
+    let mut inputs: Vec<&str> = named.iter().flatten().map(String::as_str).collect();
+    inputs.push(args.model.model.as_str());
+    inputs.extend(args.motion.as_deref());
+    crate::cli::refuse_overwrite(
+        args.frames_csv
+            .iter()
+            .chain(&args.log)
+            .map(PathBuf::as_path),
+        &inputs,
+    )?;
     let model = args.model.load(quiet)?;
     let EmulateInput {
         stream,

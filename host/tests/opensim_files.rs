@@ -254,6 +254,9 @@ fn an_output_that_is_also_an_input_is_refused() {
         vec!["export", &m, "--sto", &m],
         vec!["packets", &m, "-o", &m],
         vec!["fidelity", &m, "-o", &m],
+        vec!["emulate", &m, "--frames-csv", &m],
+        vec!["emulate", &m, "--log", &m],
+        vec!["config", "--model", "phak", "--anthropometry", &m, "-o", &m],
     ] {
         let out = qgait(&args);
         assert!(!out.status.success(), "{args:?}");
