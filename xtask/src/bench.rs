@@ -45,26 +45,71 @@ const DEVICE: &[(&str, &str)] = &[
     ("hak.quat", "device.hak.quat.instructions_per_frame"),
     ("hak.matrix", "device.hak.matrix.instructions_per_frame"),
     ("phak.quat", "device.phak.quat.instructions_per_frame"),
-    ("phak.quat_frames", "device.phak.quat.joint_frames_instructions"),
+    (
+        "phak.quat_frames",
+        "device.phak.quat.joint_frames_instructions",
+    ),
     ("phak.matrix", "device.phak.matrix.instructions_per_frame"),
-    ("gait2392.quat", "device.gait2392.quat.instructions_per_frame"),
-    ("gait2392.quat_frames", "device.gait2392.quat.joint_frames_instructions"),
-    ("gait2392.matrix", "device.gait2392.matrix.instructions_per_frame"),
-    ("trig.half_angle_sin_cos", "device.trig.half_angle_sin_cos.instructions_per_call"),
-    ("trig.libm_sincosf", "device.trig.libm_sincosf.instructions_per_call"),
-    ("trig.sqrt_f32", "device.trig.sqrt_f32.instructions_per_call"),
+    (
+        "gait2392.quat",
+        "device.gait2392.quat.instructions_per_frame",
+    ),
+    (
+        "gait2392.quat_frames",
+        "device.gait2392.quat.joint_frames_instructions",
+    ),
+    (
+        "gait2392.matrix",
+        "device.gait2392.matrix.instructions_per_frame",
+    ),
+    (
+        "trig.half_angle_sin_cos",
+        "device.trig.half_angle_sin_cos.instructions_per_call",
+    ),
+    (
+        "trig.libm_sincosf",
+        "device.trig.libm_sincosf.instructions_per_call",
+    ),
+    (
+        "trig.sqrt_f32",
+        "device.trig.sqrt_f32.instructions_per_call",
+    ),
     ("sample.net", "device.sample.instructions"),
-    ("sample.gross", "device.sample.with_serial_double_instructions"),
-    ("sample.serial_double", "device.sample.serial_double_instructions"),
-    ("sample.decode_8_packets", "device.sample.decode_8_packets_instructions"),
+    (
+        "sample.gross",
+        "device.sample.with_serial_double_instructions",
+    ),
+    (
+        "sample.serial_double",
+        "device.sample.serial_double_instructions",
+    ),
+    (
+        "sample.decode_8_packets",
+        "device.sample.decode_8_packets_instructions",
+    ),
     ("sample.pose_frame", "device.sample.pose_frame_instructions"),
     ("sample.distances", "device.sample.distances_instructions"),
-    ("sample.encode_pose_frame", "device.sample.encode_pose_frame_instructions"),
-    ("sample.encode_message_pose_frame", "device.sample.encode_message_pose_frame_instructions"),
-    ("sample.crc32c_packet", "device.sample.crc32c_packet_instructions"),
-    ("sample.decode_message_packet", "device.sample.decode_message_packet_instructions"),
+    (
+        "sample.encode_pose_frame",
+        "device.sample.encode_pose_frame_instructions",
+    ),
+    (
+        "sample.encode_message_pose_frame",
+        "device.sample.encode_message_pose_frame_instructions",
+    ),
+    (
+        "sample.crc32c_packet",
+        "device.sample.crc32c_packet_instructions",
+    ),
+    (
+        "sample.decode_message_packet",
+        "device.sample.decode_message_packet_instructions",
+    ),
     ("sample_gait2392.net", "device.sample_gait2392.instructions"),
-    ("sample_gait2392.serial_double", "device.sample_gait2392.serial_double_instructions"),
+    (
+        "sample_gait2392.serial_double",
+        "device.sample_gait2392.serial_double_instructions",
+    ),
 ];
 
 /// Code size of each model and method in the bench ELF: (figure name, measured loop function,
@@ -72,39 +117,157 @@ const DEVICE: &[(&str, &str)] = &[
 /// call inlined into a counting loop: the empty loop's size is subtracted. libm's `sincosf`,
 /// which every matrix method calls, is its own figure.
 const CODE: &[(&str, &str, &[&str])] = &[
-    ("firmware.kernel.hak.quat.code_bytes", "bench_hak_quat", &["Hak$LT$T$GT$2fk"]),
-    ("firmware.kernel.hak.matrix.code_bytes", "bench_hak_matrix", &[]),
-    ("firmware.kernel.phak.quat.code_bytes", "bench_phak_quat", &["Phak$LT$T$GT$2fk"]),
-    ("firmware.kernel.phak.matrix.code_bytes", "bench_phak_matrix", &[]),
-    ("firmware.kernel.gait2392.quat.code_bytes", "bench_gait2392_quat", &["Gait2392$LT$T$GT$2fk", "Spline$LT$T$GT$4eval"]),
-    ("firmware.kernel.gait2392.matrix.code_bytes", "bench_gait2392_matrix", &["Spline$LT$T$GT$4eval"]),
-    ("firmware.libm_sincosf.code_bytes", "", &["sincosf7sincosf", "k_sinf6k_sinf", "k_cosf6k_cosf", "rem_pio2f", "rem_pio2_large"]),
+    (
+        "firmware.kernel.hak.quat.code_bytes",
+        "bench_hak_quat",
+        &["Hak$LT$T$GT$2fk"],
+    ),
+    (
+        "firmware.kernel.hak.matrix.code_bytes",
+        "bench_hak_matrix",
+        &[],
+    ),
+    (
+        "firmware.kernel.phak.quat.code_bytes",
+        "bench_phak_quat",
+        &["Phak$LT$T$GT$2fk"],
+    ),
+    (
+        "firmware.kernel.phak.matrix.code_bytes",
+        "bench_phak_matrix",
+        &[],
+    ),
+    (
+        "firmware.kernel.gait2392.quat.code_bytes",
+        "bench_gait2392_quat",
+        &["Gait2392$LT$T$GT$2fk", "Spline$LT$T$GT$4eval"],
+    ),
+    (
+        "firmware.kernel.gait2392.matrix.code_bytes",
+        "bench_gait2392_matrix",
+        &["Spline$LT$T$GT$4eval"],
+    ),
+    (
+        "firmware.libm_sincosf.code_bytes",
+        "",
+        &[
+            "sincosf7sincosf",
+            "k_sinf6k_sinf",
+            "k_cosf6k_cosf",
+            "rem_pio2f",
+            "rem_pio2_large",
+        ],
+    ),
 ];
 
 /// Host figures: (criterion directory under target/criterion, figure name, frames per iteration).
 const HOST: &[(&str, &str, f64)] = &[
-    ("single_frame_f64/hak_quat", "host.hak.f64.quat.single_ns_per_frame", 1.0),
-    ("single_frame_f64/hak_matrix", "host.hak.f64.matrix.single_ns_per_frame", 1.0),
-    ("single_frame_f64/phak_quat", "host.phak.f64.quat.single_ns_per_frame", 1.0),
-    ("single_frame_f64/phak_matrix", "host.phak.f64.matrix.single_ns_per_frame", 1.0),
-    ("single_frame_f64/gait2392_quat", "host.gait2392.f64.quat.single_ns_per_frame", 1.0),
-    ("single_frame_f64/gait2392_matrix", "host.gait2392.f64.matrix.single_ns_per_frame", 1.0),
-    ("single_frame_f32/hak_quat", "host.hak.f32.quat.single_ns_per_frame", 1.0),
-    ("single_frame_f32/hak_matrix", "host.hak.f32.matrix.single_ns_per_frame", 1.0),
-    ("single_frame_f32/phak_quat", "host.phak.f32.quat.single_ns_per_frame", 1.0),
-    ("single_frame_f32/phak_matrix", "host.phak.f32.matrix.single_ns_per_frame", 1.0),
-    ("single_frame_f32/gait2392_quat", "host.gait2392.f32.quat.single_ns_per_frame", 1.0),
-    ("single_frame_f32/gait2392_matrix", "host.gait2392.f32.matrix.single_ns_per_frame", 1.0),
-    ("batch_f64/hak/4096", "host.hak.f64.batch_ns_per_frame", KERNEL_BATCH),
-    ("batch_f64/phak/4096", "host.phak.f64.batch_ns_per_frame", KERNEL_BATCH),
-    ("batch_f64/gait2392/4096", "host.gait2392.f64.batch_ns_per_frame", KERNEL_BATCH),
-    ("batch_f64/phak_loop_of_single/4096", "host.phak.f64.loop_of_single_ns_per_frame", KERNEL_BATCH),
-    ("batch_f32/hak/4096", "host.hak.f32.batch_ns_per_frame", KERNEL_BATCH),
-    ("batch_f32/phak/4096", "host.phak.f32.batch_ns_per_frame", KERNEL_BATCH),
-    ("batch_f32/gait2392/4096", "host.gait2392.f32.batch_ns_per_frame", KERNEL_BATCH),
-    ("batch_f32/phak_loop_of_single/4096", "host.phak.f32.loop_of_single_ns_per_frame", KERNEL_BATCH),
+    (
+        "single_frame_f64/hak_quat",
+        "host.hak.f64.quat.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f64/hak_matrix",
+        "host.hak.f64.matrix.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f64/phak_quat",
+        "host.phak.f64.quat.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f64/phak_matrix",
+        "host.phak.f64.matrix.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f64/gait2392_quat",
+        "host.gait2392.f64.quat.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f64/gait2392_matrix",
+        "host.gait2392.f64.matrix.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f32/hak_quat",
+        "host.hak.f32.quat.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f32/hak_matrix",
+        "host.hak.f32.matrix.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f32/phak_quat",
+        "host.phak.f32.quat.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f32/phak_matrix",
+        "host.phak.f32.matrix.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f32/gait2392_quat",
+        "host.gait2392.f32.quat.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "single_frame_f32/gait2392_matrix",
+        "host.gait2392.f32.matrix.single_ns_per_frame",
+        1.0,
+    ),
+    (
+        "batch_f64/hak/4096",
+        "host.hak.f64.batch_ns_per_frame",
+        KERNEL_BATCH,
+    ),
+    (
+        "batch_f64/phak/4096",
+        "host.phak.f64.batch_ns_per_frame",
+        KERNEL_BATCH,
+    ),
+    (
+        "batch_f64/gait2392/4096",
+        "host.gait2392.f64.batch_ns_per_frame",
+        KERNEL_BATCH,
+    ),
+    (
+        "batch_f64/phak_loop_of_single/4096",
+        "host.phak.f64.loop_of_single_ns_per_frame",
+        KERNEL_BATCH,
+    ),
+    (
+        "batch_f32/hak/4096",
+        "host.hak.f32.batch_ns_per_frame",
+        KERNEL_BATCH,
+    ),
+    (
+        "batch_f32/phak/4096",
+        "host.phak.f32.batch_ns_per_frame",
+        KERNEL_BATCH,
+    ),
+    (
+        "batch_f32/gait2392/4096",
+        "host.gait2392.f32.batch_ns_per_frame",
+        KERNEL_BATCH,
+    ),
+    (
+        "batch_f32/phak_loop_of_single/4096",
+        "host.phak.f32.loop_of_single_ns_per_frame",
+        KERNEL_BATCH,
+    ),
     ("log/decode", "host.log.decode_ns_per_frame", LOG_FRAMES),
-    ("log/decode_verify", "host.log.decode_verify_ns_per_frame", LOG_FRAMES),
+    (
+        "log/decode_verify",
+        "host.log.decode_verify_ns_per_frame",
+        LOG_FRAMES,
+    ),
 ];
 
 /// Runs every benchmark and prints the figures.
@@ -112,7 +275,10 @@ pub fn run(args: &[String]) -> Result<ExitCode, String> {
     const FLAGS: [&str; 4] = ["--no-host", "--no-footprint", "--no-large", "--large-only"];
     let has = |f: &str| args.iter().any(|a| a == f);
     if let Some(other) = args.iter().find(|a| !FLAGS.contains(&a.as_str())) {
-        return Err(format!("bench: unknown argument {other} ({})", FLAGS.join(", ")));
+        return Err(format!(
+            "bench: unknown argument {other} ({})",
+            FLAGS.join(", ")
+        ));
     }
     if has("--large-only") {
         large::run()?;
@@ -136,7 +302,9 @@ fn figure(name: &str, value: impl std::fmt::Display) {
 }
 
 fn firmware_target_dir() -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| repo_root().join("firmware/target"))
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo_root().join("firmware/target"))
 }
 
 /// `cargo ARGS` in `dir`, all of its output to stderr.
@@ -158,7 +326,10 @@ fn cargo(dir: &Path, args: &[&str]) -> Result<(), String> {
 
 /// Device instruction counts: two runs of the bench binary, compared, then printed.
 fn device() -> Result<(), String> {
-    cargo(&repo_root().join("firmware"), &["build", "--release", "--bin", "bench"])?;
+    cargo(
+        &repo_root().join("firmware"),
+        &["build", "--release", "--bin", "bench"],
+    )?;
     let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/bench");
     let bytes = std::fs::read(&elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
     let first = run_bench_elf(&elf)?;
@@ -178,10 +349,14 @@ fn device() -> Result<(), String> {
     for (name, function, helpers) in CODE {
         let mut size = 0;
         if !function.is_empty() {
-            size += function_size(&bytes, function).ok_or_else(|| format!("no {function} in the bench ELF"))?;
+            size += function_size(&bytes, function)
+                .ok_or_else(|| format!("no {function} in the bench ELF"))?;
             size = size.saturating_sub(empty);
         }
-        size += helpers.iter().filter_map(|h| function_size(&bytes, h)).sum::<u64>();
+        size += helpers
+            .iter()
+            .filter_map(|h| function_size(&bytes, h))
+            .sum::<u64>();
         figure(name, size);
     }
     Ok(())
@@ -190,13 +365,20 @@ fn device() -> Result<(), String> {
 /// Runs the bench ELF once under QEMU with instruction counting (the shared runner,
 /// `qgait::device::qemu`); returns its `bench NAME VALUE` figures.
 fn run_bench_elf(elf: &Path) -> Result<BTreeMap<String, f64>, String> {
-    eprintln!("==> qemu-system-arm -M mps2-an386 -icount shift=0,align=off -kernel {}", elf.display());
-    let finished = crate::qemu::Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)?.wait(QEMU_TIMEOUT);
+    eprintln!(
+        "==> qemu-system-arm -M mps2-an386 -icount shift=0,align=off -kernel {}",
+        elf.display()
+    );
+    let finished =
+        crate::qemu::Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)?
+            .wait(QEMU_TIMEOUT);
     let mut figures = BTreeMap::new();
     for line in &finished.log {
         eprintln!("  {line}");
         let mut words = line.split_whitespace();
-        if let (Some("bench"), Some(key), Some(value), None) = (words.next(), words.next(), words.next(), words.next()) {
+        if let (Some("bench"), Some(key), Some(value), None) =
+            (words.next(), words.next(), words.next(), words.next())
+        {
             if let Ok(v) = value.parse::<f64>() {
                 figures.insert(key.to_string(), v);
             }
@@ -205,7 +387,9 @@ fn run_bench_elf(elf: &Path) -> Result<BTreeMap<String, f64>, String> {
     match finished.code {
         Some(0) => Ok(figures),
         Some(c) => Err(format!("the bench binary exited with status {c}")),
-        None => Err(format!("the bench binary did not finish within {QEMU_TIMEOUT:?}")),
+        None => Err(format!(
+            "the bench binary did not finish within {QEMU_TIMEOUT:?}"
+        )),
     }
 }
 
@@ -220,7 +404,10 @@ fn function_size(elf: &[u8], name: &str) -> Option<u64> {
 
 /// Flash, static RAM and peak stack of the release application firmware (mps2-an386).
 fn firmware_footprint() -> Result<(), String> {
-    cargo(&repo_root().join("firmware"), &["build", "--release", "--bin", "qgait-firmware"])?;
+    cargo(
+        &repo_root().join("firmware"),
+        &["build", "--release", "--bin", "qgait-firmware"],
+    )?;
     let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/qgait-firmware");
     let bytes = std::fs::read(&elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
     let f = footprint(&bytes)?;
@@ -239,11 +426,20 @@ fn firmware_footprint() -> Result<(), String> {
     if !out.status.success() {
         // The peak the firmware logged is its measurement whatever the session's checks say
         // (they can fail on a loaded machine, when the emulated UART's receive ring overruns).
-        eprintln!("xtask: warning: the UART session's checks failed; its stack peak is reported anyway");
+        eprintln!(
+            "xtask: warning: the UART session's checks failed; its stack peak is reported anyway"
+        );
     }
     let peak = log
         .lines()
-        .filter_map(|l| l.split("stack peak ").nth(1)?.split(' ').next()?.parse::<u64>().ok())
+        .filter_map(|l| {
+            l.split("stack peak ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse::<u64>()
+                .ok()
+        })
         .max()
         .ok_or("the firmware logged no stack peak")?;
     figure("firmware.flash_bytes", f.flash);
@@ -262,8 +458,10 @@ fn host_benches() -> Result<(), String> {
     let root = repo_root();
     cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fk"])?;
     cargo(&root, &["bench", "-p", "qgait", "--bench", "decode_verify"])?;
-    let criterion =
-        std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("target")).join("criterion");
+    let criterion = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"))
+        .join("criterion");
     for (dir, name, frames) in HOST {
         let median = criterion_median_ns(&criterion.join(dir))?;
         figure(name, format!("{:.2}", median / frames));
@@ -274,9 +472,13 @@ fn host_benches() -> Result<(), String> {
 /// Criterion's median estimate (ns per iteration) of one benchmark directory.
 fn criterion_median_ns(dir: &Path) -> Result<f64, String> {
     let path = dir.join("new/estimates.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+    let text =
+        std::fs::read_to_string(&path).map_err(|e| format!("reading {}: {e}", path.display()))?;
     // {"mean":{...},"median":{"confidence_interval":{...},"point_estimate":123.4,...},...}
-    let median = text.split("\"median\"").nth(1).ok_or_else(|| format!("no median in {}", path.display()))?;
+    let median = text
+        .split("\"median\"")
+        .nth(1)
+        .ok_or_else(|| format!("no median in {}", path.display()))?;
     let value = median
         .split("\"point_estimate\":")
         .nth(1)

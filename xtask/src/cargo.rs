@@ -21,7 +21,10 @@ pub struct Step {
 /// firmware's own runner command (which builds xtask for the host first) is not needed.
 pub fn firmware_runner_env() -> Result<(&'static str, String), String> {
     let exe = std::env::current_exe().map_err(|e| format!("locating xtask: {e}"))?;
-    Ok(("CARGO_TARGET_THUMBV7EM_NONE_EABIHF_RUNNER", format!("{} qemu-run", exe.display())))
+    Ok((
+        "CARGO_TARGET_THUMBV7EM_NONE_EABIHF_RUNNER",
+        format!("{} qemu-run", exe.display()),
+    ))
 }
 
 fn is_summary(line: &str) -> bool {
@@ -38,10 +41,17 @@ fn is_summary(line: &str) -> bool {
 
 /// Runs `cargo ARGS` in `dir` with extra environment `env`, streaming its output.
 pub fn step(name: &str, dir: &Path, args: &[&str], env: &[(&str, String)]) -> Step {
-    println!("\n==> {name}: cargo {} (in {})", args.join(" "), display(dir));
+    println!(
+        "\n==> {name}: cargo {} (in {})",
+        args.join(" "),
+        display(dir)
+    );
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
-    cmd.args(args).current_dir(dir).stdout(Stdio::piped()).stderr(Stdio::piped());
+    cmd.args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
     for (k, v) in env {
         cmd.env(k, v);
     }
@@ -49,7 +59,11 @@ pub fn step(name: &str, dir: &Path, args: &[&str], env: &[(&str, String)]) -> St
         Ok(c) => c,
         Err(e) => {
             eprintln!("xtask: cannot start cargo: {e}");
-            return Step { name: name.into(), ok: false, summaries: Vec::new() };
+            return Step {
+                name: name.into(),
+                ok: false,
+                summaries: Vec::new(),
+            };
         }
     };
     let (tx, rx) = mpsc::channel::<String>();
@@ -78,11 +92,18 @@ pub fn step(name: &str, dir: &Path, args: &[&str], env: &[(&str, String)]) -> St
         let _ = r.join();
     }
     let ok = child.wait().is_ok_and(|s| s.success());
-    Step { name: name.into(), ok, summaries }
+    Step {
+        name: name.into(),
+        ok,
+        summaries,
+    }
 }
 
 fn display(dir: &Path) -> String {
-    dir.canonicalize().unwrap_or_else(|_| PathBuf::from(dir)).display().to_string()
+    dir.canonicalize()
+        .unwrap_or_else(|_| PathBuf::from(dir))
+        .display()
+        .to_string()
 }
 
 #[cfg(test)]

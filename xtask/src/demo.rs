@@ -16,7 +16,8 @@ pub const OUT: &str = "out/demo";
 
 fn qgait(args: &[&str]) -> Result<(), String> {
     println!("\n==> qgait {}", args.join(" "));
-    let cli = Cli::try_parse_from(std::iter::once("qgait").chain(args.iter().copied())).map_err(|e| e.to_string())?;
+    let cli = Cli::try_parse_from(std::iter::once("qgait").chain(args.iter().copied()))
+        .map_err(|e| e.to_string())?;
     run(cli).map_err(|e| format!("qgait {}: {e:#}", args[0]))
 }
 
@@ -24,7 +25,14 @@ fn qgait(args: &[&str]) -> Result<(), String> {
 pub fn run_demo() -> Result<ExitCode, String> {
     crate::toolchain::ensure()?;
     let root = repo_root();
-    if !step("firmware build, mps2-an386", &root.join("firmware"), &["build", "--release"], &[]).ok {
+    if !step(
+        "firmware build, mps2-an386",
+        &root.join("firmware"),
+        &["build", "--release"],
+        &[],
+    )
+    .ok
+    {
         return Err("building the firmware failed".into());
     }
     let out = root.join(OUT);
@@ -32,10 +40,35 @@ pub fn run_demo() -> Result<ExitCode, String> {
     let frames = out.join("frames.csv");
     let log = out.join("hub.bin");
     let figures = out.join("figures");
-    let (frames, log, figures) = (frames.to_string_lossy(), log.to_string_lossy(), figures.to_string_lossy());
-    qgait(&["emulate", "builtin:normal", "--verify", "--frames-csv", &frames, "--log", &log])?;
+    let (frames, log, figures) = (
+        frames.to_string_lossy(),
+        log.to_string_lossy(),
+        figures.to_string_lossy(),
+    );
+    qgait(&[
+        "emulate",
+        "builtin:normal",
+        "--verify",
+        "--frames-csv",
+        &frames,
+        "--log",
+        &log,
+    ])?;
     // The device's frames beside the host's f64 computation of the same gait.
-    qgait(&["report", &frames, "builtin:normal", "--label", "device (QEMU, f32)", "--label", "host (f64)", "-o", &figures])?;
-    println!("\ndemo: frames, hub log and figures in {}", out.canonicalize().unwrap_or(out).display());
+    qgait(&[
+        "report",
+        &frames,
+        "builtin:normal",
+        "--label",
+        "device (QEMU, f32)",
+        "--label",
+        "host (f64)",
+        "-o",
+        &figures,
+    ])?;
+    println!(
+        "\ndemo: frames, hub log and figures in {}",
+        out.canonicalize().unwrap_or(out).display()
+    );
     Ok(ExitCode::SUCCESS)
 }

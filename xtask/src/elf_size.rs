@@ -20,12 +20,17 @@ pub fn footprint(elf: &[u8]) -> Result<Footprint, String> {
     let file = object::File::parse(elf).map_err(|e| format!("parsing the ELF: {e}"))?;
     let mut f = Footprint::default();
     for section in file.sections() {
-        let SectionFlags::Elf { sh_flags } = section.flags() else { continue };
+        let SectionFlags::Elf { sh_flags } = section.flags() else {
+            continue;
+        };
         if sh_flags & u64::from(SHF_ALLOC) == 0 {
             continue;
         }
         // NOBITS sections (.bss, .uninit) have no bytes in the image.
-        let stored = !matches!(section.kind(), SectionKind::UninitializedData | SectionKind::UninitializedTls);
+        let stored = !matches!(
+            section.kind(),
+            SectionKind::UninitializedData | SectionKind::UninitializedTls
+        );
         if stored {
             f.flash += section.size();
         }

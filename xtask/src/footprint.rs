@@ -10,29 +10,55 @@ use crate::elf_size::{footprint, Footprint};
 use crate::repo_root;
 
 fn elf_path() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| repo_root().join("firmware/target"));
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo_root().join("firmware/target"));
     target.join("thumbv7em-none-eabihf/release/qgait-firmware")
 }
 
 fn build_and_measure(name: &str, args: &[&str]) -> Result<Footprint, String> {
-    let s = step(&format!("firmware build, {name}"), &repo_root().join("firmware"), args, &[]);
+    let s = step(
+        &format!("firmware build, {name}"),
+        &repo_root().join("firmware"),
+        args,
+        &[],
+    );
     if !s.ok {
         return Err(format!("building for {name} failed"));
     }
-    let bytes = std::fs::read(elf_path()).map_err(|e| format!("reading {}: {e}", elf_path().display()))?;
+    let bytes =
+        std::fs::read(elf_path()).map_err(|e| format!("reading {}: {e}", elf_path().display()))?;
     footprint(&bytes)
 }
 
 /// Builds, measures and prints.
 pub fn run() -> Result<ExitCode, String> {
-    let nrf = build_and_measure("nrf52840", &["build", "--release", "--no-default-features", "--features", "nrf52840"])?;
+    let nrf = build_and_measure(
+        "nrf52840",
+        &[
+            "build",
+            "--release",
+            "--no-default-features",
+            "--features",
+            "nrf52840",
+        ],
+    )?;
     let mps2 = build_and_measure("mps2-an386", &["build", "--release"])?;
     let report = crate::session::run(&elf_path())?;
     let bound = crate::stack_bound::bound(&elf_path())?;
-    println!("\n{:<12} {:>10} {:>16} {:>16}", "board", "flash (B)", "static RAM (B)", "peak stack (B)");
+    println!(
+        "\n{:<12} {:>10} {:>16} {:>16}",
+        "board", "flash (B)", "static RAM (B)", "peak stack (B)"
+    );
     let peak = report.stack_peak.map_or("?".into(), |p| p.to_string());
-    println!("{:<12} {:>10} {:>16} {:>16}", "mps2-an386", mps2.flash, mps2.static_ram, peak);
-    println!("{:<12} {:>10} {:>16} {:>16}", "nrf52840", nrf.flash, nrf.static_ram, "(not run)");
+    println!(
+        "{:<12} {:>10} {:>16} {:>16}",
+        "mps2-an386", mps2.flash, mps2.static_ram, peak
+    );
+    println!(
+        "{:<12} {:>10} {:>16} {:>16}",
+        "nrf52840", nrf.flash, nrf.static_ram, "(not run)"
+    );
     println!(
         "\nmps2-an386 stack bound (disassembly): {} bytes, RAM bound {} bytes; deepest path from Reset:",
         bound.bytes,
@@ -44,5 +70,9 @@ pub fn run() -> Result<ExitCode, String> {
     for (handler, depth) in &bound.handlers {
         println!("  handler {handler}: {depth} bytes + the exception frame");
     }
-    Ok(if report.passed() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+    Ok(if report.passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }

@@ -18,7 +18,13 @@ pub const TIMEOUT_EXIT_CODE: u8 = 124;
 /// to its semihosting exit.
 pub fn run_elf(elf: &Path) -> Result<ExitCode, String> {
     if elf.file_stem().is_some_and(|s| s == "qgait-firmware") {
-        return crate::session::run(elf).map(|report| if report.passed() { ExitCode::SUCCESS } else { ExitCode::FAILURE });
+        return crate::session::run(elf).map(|report| {
+            if report.passed() {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
+            }
+        });
     }
     let finished = Qemu::start(elf, None)?.wait(TIMEOUT);
     Ok(match finished.code {

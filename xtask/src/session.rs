@@ -15,8 +15,8 @@ use qgait::hub_config::{self, HubModel, HubSettings};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{Anthropometry, Gait2392Geometry, Limb, Phak, PhakAngles};
 use qgait_proto::{
-    encode_frame, Config, FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status,
-    MAX_FRAME_LEN, PROTOCOL_VERSION,
+    encode_frame, Config, FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId,
+    PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 use crate::gait;
@@ -117,17 +117,33 @@ fn plan() -> Plan {
     // Every kind of model switch, so that the stack peak the firmware logs covers them: the
     // generic gait2392, HAK with a subject's lengths, a subject gait2392 uploaded in parts,
     // then back to the default PHAK with the status request.
-    let settings = HubSettings { missing_policy: MissingPolicy::Drop, reorder_window: 4, request_status: false };
+    let settings = HubSettings {
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 4,
+        request_status: false,
+    };
     let mut scaled = Gait2392Geometry::generic();
     scaled.right.ankle_in_tibia[1] *= 1.1;
-    let hak = Limb { pelvis_half_width: 0.09, femur: 0.43, tibia: 0.41, foot: 0.17 };
+    let hak = Limb {
+        pelvis_half_width: 0.09,
+        femur: 0.43,
+        tibia: 0.41,
+        foot: 0.17,
+    };
     let switches = [
         HubModel::Gait2392,
-        HubModel::Stick { model: ModelId::Hak, anthropometry: Some(Anthropometry::symmetric(hak)) },
-        HubModel::Subject { geometry: Box::new(scaled), upload: None },
+        HubModel::Stick {
+            model: ModelId::Hak,
+            anthropometry: Some(Anthropometry::symmetric(hak)),
+        },
+        HubModel::Subject {
+            geometry: Box::new(scaled),
+            upload: None,
+        },
     ];
     for model in &switches {
-        let messages = hub_config::messages(model, settings).expect("the session's models are valid");
+        let messages =
+            hub_config::messages(model, settings).expect("the session's models are valid");
         for message in &messages {
             push_frame(&mut bytes, message);
         }
@@ -140,13 +156,21 @@ fn plan() -> Plan {
         request_status: true,
     };
     push_frame(&mut bytes, &Message::Config(request));
-    Plan { bytes, packets_accepted: packets, decode_errors: 2 }
+    Plan {
+        bytes,
+        packets_accepted: packets,
+        decode_errors: 2,
+    }
 }
 
 /// Largest |f32 - f64| over the points and distances of `frame`, and whether its angles are
 /// exactly the ones sent.
 fn compare(phak: &Phak<f64>, frame: &PoseFrame) -> (f64, bool) {
-    let sent: Vec<f32> = ModelId::Phak.required_joints().iter().map(|&j| gait::angle(j, frame.seq)).collect();
+    let sent: Vec<f32> = ModelId::Phak
+        .required_joints()
+        .iter()
+        .map(|&j| gait::angle(j, frame.seq))
+        .collect();
     let angles = PhakAngles {
         pelvis_rotation: f64::from(sent[0]),
         pelvis_list: f64::from(sent[1]),
@@ -190,7 +214,8 @@ fn accept(listener: &UnixListener, deadline: Instant) -> Result<UnixStream, Stri
 fn connect(elf: &Path, deadline: Instant) -> Result<(Qemu, UnixStream), String> {
     let socket = std::env::temp_dir().join(format!("qgait-uart-{}.sock", std::process::id()));
     let _ = std::fs::remove_file(&socket);
-    let listener = UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
+    let listener =
+        UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
     let started = Qemu::start(elf, Some(&socket));
     let accepted = match &started {
         Ok(_) => accept(&listener, deadline),
@@ -228,7 +253,14 @@ fn receive(stream: &mut UnixStream, phak: &Phak<f64>, plan: &Plan, deadline: Ins
         let n = match stream.read(&mut buf) {
             Ok(0) => break,
             Ok(n) => n,
-            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => continue,
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) =>
+            {
+                continue
+            }
             Err(e) => {
                 r.read_error = Some(format!("reading the UART socket: {e}"));
                 break;
@@ -243,7 +275,9 @@ fn receive(stream: &mut UnixStream, phak: &Phak<f64>, plan: &Plan, deadline: Ins
                     r.worst_error_m = r.worst_error_m.max(err);
                     r.wrong_angles += u32::from(!angles_ok);
                 }
-                Some(Ok(Message::Status(s))) if s.packets_accepted >= plan.packets_accepted => r.status = Some(s),
+                Some(Ok(Message::Status(s))) if s.packets_accepted >= plan.packets_accepted => {
+                    r.status = Some(s)
+                }
                 Some(Ok(_)) => {}
                 Some(Err(_)) => r.undecodable += 1,
                 None => {}
@@ -265,18 +299,48 @@ fn evaluate(r: &Received, plan: &Plan) -> Vec<String> {
         check(false, e.clone());
     }
     let expected_poses = SAMPLES - 1;
-    check(r.poses == expected_poses, format!("{} pose frames, expected {expected_poses}", r.poses));
-    check(!r.seen.contains(&INCOMPLETE_SEQ), format!("sample {INCOMPLETE_SEQ} lacked a joint but got a pose"));
-    check(r.worst_error_m <= TOLERANCE_M, format!("largest |f32 - f64| {:.3e} m > {TOLERANCE_M:.0e} m", r.worst_error_m));
-    check(r.wrong_angles == 0, format!("{} frames echo other angles than those sent", r.wrong_angles));
-    check(r.undecodable == 0, format!("{} frames from the firmware did not decode", r.undecodable));
+    check(
+        r.poses == expected_poses,
+        format!("{} pose frames, expected {expected_poses}", r.poses),
+    );
+    check(
+        !r.seen.contains(&INCOMPLETE_SEQ),
+        format!("sample {INCOMPLETE_SEQ} lacked a joint but got a pose"),
+    );
+    check(
+        r.worst_error_m <= TOLERANCE_M,
+        format!(
+            "largest |f32 - f64| {:.3e} m > {TOLERANCE_M:.0e} m",
+            r.worst_error_m
+        ),
+    );
+    check(
+        r.wrong_angles == 0,
+        format!(
+            "{} frames echo other angles than those sent",
+            r.wrong_angles
+        ),
+    );
+    check(
+        r.undecodable == 0,
+        format!("{} frames from the firmware did not decode", r.undecodable),
+    );
     let Some(s) = &r.status else {
         check(false, "no Status frame answered the request".into());
         return failures;
     };
-    let decode_errors = s.crc_errors + s.framing_errors + s.oversize_frames + s.malformed + s.unknown_version + s.unknown_joint;
+    let decode_errors = s.crc_errors
+        + s.framing_errors
+        + s.oversize_frames
+        + s.malformed
+        + s.unknown_version
+        + s.unknown_joint;
     let counters = [
-        ("packets_accepted", s.packets_accepted, plan.packets_accepted),
+        (
+            "packets_accepted",
+            s.packets_accepted,
+            plan.packets_accepted,
+        ),
         ("samples_completed", s.samples_completed, expected_poses),
         ("samples_incomplete", s.samples_incomplete, 1),
         ("duplicate_packets", s.duplicate_packets, 1),
@@ -298,7 +362,10 @@ pub fn run(elf: &Path) -> Result<Report, String> {
     let plan = plan();
     let deadline = Instant::now() + DEADLINE;
     let (qemu, mut stream) = connect(elf, deadline)?;
-    let mut writer = match (stream.try_clone(), stream.set_read_timeout(Some(Duration::from_millis(50)))) {
+    let mut writer = match (
+        stream.try_clone(),
+        stream.set_read_timeout(Some(Duration::from_millis(50))),
+    ) {
         (Ok(w), Ok(())) => w,
         (Err(e), _) | (_, Err(e)) => {
             qemu.stop();
@@ -313,7 +380,18 @@ pub fn run(elf: &Path) -> Result<Report, String> {
     let finished = qemu.stop();
     let _ = sender.join();
 
-    let stack_peak = finished.log.iter().filter_map(|l| l.split("stack peak ").nth(1)?.split(' ').next()?.parse().ok()).max();
+    let stack_peak = finished
+        .log
+        .iter()
+        .filter_map(|l| {
+            l.split("stack peak ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .max();
     let failures = evaluate(&received, &plan);
     println!(
         "uart session: {SAMPLES} samples ({} bytes) in, {} poses out, largest |f32 - f64| {:.2e} m, stack peak {} bytes",
@@ -328,6 +406,16 @@ pub fn run(elf: &Path) -> Result<Report, String> {
     for f in &failures {
         println!("uart session FAILED: {f}");
     }
-    println!("uart session: {}", if failures.is_empty() { "passed" } else { "failed" });
-    Ok(Report { failures, stack_peak })
+    println!(
+        "uart session: {}",
+        if failures.is_empty() {
+            "passed"
+        } else {
+            "failed"
+        }
+    );
+    Ok(Report {
+        failures,
+        stack_peak,
+    })
 }

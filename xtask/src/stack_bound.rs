@@ -48,8 +48,15 @@ pub struct StackBound {
 
 /// The `llvm-objdump` to use: on `PATH` under its plain name or a versioned one.
 pub fn objdump() -> Option<String> {
-    let names = ["llvm-objdump".to_string()].into_iter().chain((14..=21).rev().map(|v| format!("llvm-objdump-{v}")));
-    names.into_iter().find(|n| Command::new(n).arg("--version").output().is_ok_and(|o| o.status.success()))
+    let names = ["llvm-objdump".to_string()]
+        .into_iter()
+        .chain((14..=21).rev().map(|v| format!("llvm-objdump-{v}")));
+    names.into_iter().find(|n| {
+        Command::new(n)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    })
 }
 
 /// The RAM target of issue 8: static RAM plus the stack bound within 8 KiB.
@@ -66,12 +73,22 @@ pub fn ram_step(elf: &Path) -> Step {
     let (ok, line) = match measured {
         Ok((static_ram, b)) => {
             let ram = static_ram + b.bytes;
-            (ram <= RAM_LIMIT, format!("RAM bound {ram} bytes (static {static_ram} + stack bound {}) of {RAM_LIMIT}", b.bytes))
+            (
+                ram <= RAM_LIMIT,
+                format!(
+                    "RAM bound {ram} bytes (static {static_ram} + stack bound {}) of {RAM_LIMIT}",
+                    b.bytes
+                ),
+            )
         }
         Err(e) => (false, e),
     };
     println!("\n==> {name}\n{line}");
-    Step { name, ok, summaries: vec![line] }
+    Step {
+        name,
+        ok,
+        summaries: vec![line],
+    }
 }
 
 /// The bound for the ELF at `elf`.
@@ -83,13 +100,19 @@ pub fn bound(elf: &Path) -> Result<StackBound, String> {
         .output()
         .map_err(|e| format!("running {tool}: {e}"))?;
     if !out.status.success() {
-        return Err(format!("{tool} failed: {}", String::from_utf8_lossy(&out.stderr)));
+        return Err(format!(
+            "{tool} failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
     }
     let (functions, by_address) = parse(&String::from_utf8_lossy(&out.stdout))?;
     let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
     let vectors = vector_table(&bytes)?;
     let name_at = |address: u64| {
-        by_address.get(&(address & !1)).cloned().ok_or(format!("no function at vector address {address:#x}"))
+        by_address
+            .get(&(address & !1))
+            .cloned()
+            .ok_or(format!("no function at vector address {address:#x}"))
     };
     let reset = name_at(*vectors.first().ok_or("empty vector table")?)?;
     let mut memo = BTreeMap::new();
@@ -105,16 +128,25 @@ pub fn bound(elf: &Path) -> Result<StackBound, String> {
         total += d + EXCEPTION_FRAME;
         handler_depths.push((h, d));
     }
-    Ok(StackBound { bytes: total, main_path, handlers: handler_depths })
+    Ok(StackBound {
+        bytes: total,
+        main_path,
+        handlers: handler_depths,
+    })
 }
 
 /// The exception vectors after the initial stack pointer: `Reset` first, then every handler
 /// (addresses with the Thumb bit).
 fn vector_table(elf: &[u8]) -> Result<Vec<u64>, String> {
     let file = object::File::parse(elf).map_err(|e| format!("parsing the ELF: {e}"))?;
-    let section = file.section_by_name(".vector_table").ok_or("no .vector_table section")?;
+    let section = file
+        .section_by_name(".vector_table")
+        .ok_or("no .vector_table section")?;
     let data = section.data().map_err(|e| e.to_string())?;
-    let words: Vec<u64> = data.chunks_exact(4).map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]]))).collect();
+    let words: Vec<u64> = data
+        .chunks_exact(4)
+        .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]])))
+        .collect();
     // Word 0 is the initial stack pointer; unused vectors are 0.
     Ok(words.into_iter().skip(1).filter(|&w| w != 0).collect())
 }
@@ -138,7 +170,9 @@ fn deepest(
         }
         return Err(format!("recursion, no bound: {cycle}"));
     }
-    let function = functions.get(f).ok_or(format!("call to {f}, which the disassembly does not have"))?;
+    let function = functions
+        .get(f)
+        .ok_or(format!("call to {f}, which the disassembly does not have"))?;
     if let Some(why) = &function.unbounded {
         return Err(format!("{f}: {why}"));
     }
@@ -147,14 +181,24 @@ fn deepest(
     for callee in &function.calls {
         let (d, path) = deepest(functions, callee, stack, memo)?;
         if function.frame + d > best.0 {
-            best = (function.frame + d, std::iter::once((f.to_string(), function.frame)).chain(path).collect());
+            best = (
+                function.frame + d,
+                std::iter::once((f.to_string(), function.frame))
+                    .chain(path)
+                    .collect(),
+            );
         }
     }
     // A tail call leaves after the caller's frame is popped.
     for callee in &function.tail_calls {
         let (d, path) = deepest(functions, callee, stack, memo)?;
         if d > best.0 {
-            best = (d, std::iter::once((format!("{f} (tail call)"), 0)).chain(path).collect());
+            best = (
+                d,
+                std::iter::once((format!("{f} (tail call)"), 0))
+                    .chain(path)
+                    .collect(),
+            );
         }
     }
     stack.pop();
@@ -173,7 +217,10 @@ fn parse(listing: &str) -> Result<(BTreeMap<String, Function>, BTreeMap<u64, Str
     for line in listing.lines() {
         // A symbol: `00000476 <name>:`. Mapping symbols (`$t`, `$d`) only mark code and data.
         if let Some((address, rest)) = line.split_once(" <") {
-            if let (Ok(address), Some(name)) = (u64::from_str_radix(address.trim(), 16), rest.strip_suffix(">:")) {
+            if let (Ok(address), Some(name)) = (
+                u64::from_str_radix(address.trim(), 16),
+                rest.strip_suffix(">:"),
+            ) {
                 if !name.starts_with('$') {
                     match by_address.get(&address) {
                         Some(first) => {
@@ -191,14 +238,20 @@ fn parse(listing: &str) -> Result<(BTreeMap<String, Function>, BTreeMap<u64, Str
             }
         }
         // An instruction: `     400:      \tbl\t0x3702 <name> @ imm = #13054`.
-        let (Some(name), Some((_, instruction))) = (&current, line.split_once(':')) else { continue };
+        let (Some(name), Some((_, instruction))) = (&current, line.split_once(':')) else {
+            continue;
+        };
         let instruction = instruction.split(" @ ").next().unwrap_or("").trim();
         let (mnemonic, operands) = instruction.split_once('\t').unwrap_or((instruction, ""));
         let f = functions.entry(name.clone()).or_default();
         read_instruction(f, name, mnemonic, operands.trim());
     }
     // Calls name whichever symbol the disassembler chose: resolve them to the function.
-    let resolve = |set: &BTreeSet<String>| set.iter().map(|n| aliases.get(n).unwrap_or(n).clone()).collect();
+    let resolve = |set: &BTreeSet<String>| {
+        set.iter()
+            .map(|n| aliases.get(n).unwrap_or(n).clone())
+            .collect()
+    };
     for f in functions.values_mut() {
         f.calls = resolve(&f.calls);
         f.tail_calls = resolve(&f.tail_calls);
@@ -209,7 +262,10 @@ fn parse(listing: &str) -> Result<(BTreeMap<String, Function>, BTreeMap<u64, Str
 /// Adds what one instruction does to the stack or the call graph to `f`.
 fn read_instruction(f: &mut Function, name: &str, mnemonic: &str, operands: &str) {
     let registers = |list: &str| -> u64 {
-        let inner = list.split_once('{').and_then(|(_, r)| r.split_once('}')).map_or("", |(r, _)| r);
+        let inner = list
+            .split_once('{')
+            .and_then(|(_, r)| r.split_once('}'))
+            .map_or("", |(r, _)| r);
         inner
             .split(',')
             .map(str::trim)
@@ -237,9 +293,16 @@ fn read_instruction(f: &mut Function, name: &str, mnemonic: &str, operands: &str
         "stmdb" if operands.starts_with("sp!") => f.frame += registers(operands),
         "vstmdb" if operands.starts_with("sp!") => f.frame += registers(operands),
         "sub" | "subw" | "subs" if operands.starts_with("sp,") => {
-            match operands.rsplit_once('#').and_then(|(_, n)| parse_immediate(n)) {
+            match operands
+                .rsplit_once('#')
+                .and_then(|(_, n)| parse_immediate(n))
+            {
                 Some(n) => f.frame += n,
-                None => f.unbounded = Some(format!("stack frame sized at run time ({mnemonic} {operands})")),
+                None => {
+                    f.unbounded = Some(format!(
+                        "stack frame sized at run time ({mnemonic} {operands})"
+                    ))
+                }
             }
         }
         "bl" | "blx" => match target(operands) {
@@ -251,7 +314,10 @@ fn read_instruction(f: &mut Function, name: &str, mnemonic: &str, operands: &str
         },
         _ => {
             // A branch to the start of another function is a tail call.
-            let is_branch = mnemonic.starts_with('b') && !mnemonic.starts_with("bic") && !mnemonic.starts_with("bfi") && !mnemonic.starts_with("bkpt");
+            let is_branch = mnemonic.starts_with('b')
+                && !mnemonic.starts_with("bic")
+                && !mnemonic.starts_with("bfi")
+                && !mnemonic.starts_with("bkpt");
             if is_branch {
                 if let Some(t) = target(operands) {
                     if t != name && !operands.contains('+') && !is_mapping_symbol(&t) {
@@ -329,14 +395,48 @@ mod tests {
     #[test]
     fn the_deepest_path_adds_frames_and_tail_calls_reuse_the_callers_space() {
         let mut functions = BTreeMap::new();
-        functions.insert("a".to_string(), Function { frame: 100, calls: ["b", "c"].map(String::from).into(), ..Function::default() });
-        functions.insert("b".to_string(), Function { frame: 50, ..Function::default() });
-        functions.insert("c".to_string(), Function { frame: 10, tail_calls: ["d".to_string()].into(), ..Function::default() });
-        functions.insert("d".to_string(), Function { frame: 70, ..Function::default() });
-        let (bytes, path) = deepest(&functions, "a", &mut Vec::new(), &mut BTreeMap::new()).unwrap();
+        functions.insert(
+            "a".to_string(),
+            Function {
+                frame: 100,
+                calls: ["b", "c"].map(String::from).into(),
+                ..Function::default()
+            },
+        );
+        functions.insert(
+            "b".to_string(),
+            Function {
+                frame: 50,
+                ..Function::default()
+            },
+        );
+        functions.insert(
+            "c".to_string(),
+            Function {
+                frame: 10,
+                tail_calls: ["d".to_string()].into(),
+                ..Function::default()
+            },
+        );
+        functions.insert(
+            "d".to_string(),
+            Function {
+                frame: 70,
+                ..Function::default()
+            },
+        );
+        let (bytes, path) =
+            deepest(&functions, "a", &mut Vec::new(), &mut BTreeMap::new()).unwrap();
         assert_eq!(bytes, 170);
         assert_eq!(path.last().unwrap().0, "d");
-        functions.insert("d".to_string(), Function { frame: 1, calls: ["a".to_string()].into(), ..Function::default() });
+        functions.insert(
+            "d".to_string(),
+            Function {
+                frame: 1,
+                calls: ["a".to_string()].into(),
+                ..Function::default()
+            },
+        );
         assert!(deepest(&functions, "a", &mut Vec::new(), &mut BTreeMap::new()).is_err());
     }
 }

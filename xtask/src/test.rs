@@ -13,31 +13,95 @@ pub fn run() -> Result<ExitCode, String> {
     let runner = [firmware_runner_env()?];
     // The firmware is built first: the host workspace tests include the end-to-end tests
     // (host/tests/e2e_qemu.rs), which run this ELF under QEMU.
-    let mps2 = step("firmware build, mps2-an386", &firmware, &["build", "--release"], &[]);
-    let elf = [("QGAIT_FIRMWARE_ELF", qgait::device::firmware::default_elf(&root).display().to_string())];
+    let mps2 = step(
+        "firmware build, mps2-an386",
+        &firmware,
+        &["build", "--release"],
+        &[],
+    );
+    let elf = [(
+        "QGAIT_FIRMWARE_ELF",
+        qgait::device::firmware::default_elf(&root)
+            .display()
+            .to_string(),
+    )];
     // Static RAM plus the stack bound of the release build within 8 KiB (issue 8's target).
     let ram = if mps2.ok {
         crate::stack_bound::ram_step(&qgait::device::firmware::default_elf(&root))
     } else {
-        Step { name: "RAM bound (disassembly)".into(), ok: false, summaries: vec!["not run: the firmware did not build".into()] }
+        Step {
+            name: "RAM bound (disassembly)".into(),
+            ok: false,
+            summaries: vec!["not run: the firmware did not build".into()],
+        }
     };
     let steps: Vec<Step> = vec![
         mps2,
         ram,
-        step("host workspace tests", &root, &["test", "--workspace"], &elf),
-        step("hub host tests", &root, &["test", "--manifest-path", "firmware/hub/Cargo.toml", "--features", "checks"], &[]),
-        step("firmware build, nrf52840", &firmware, &["build", "--release", "--no-default-features", "--features", "nrf52840"], &[]),
-        step("on-target tests under QEMU", &firmware, &["test", "--release"], &runner),
-        step("UART session under QEMU", &firmware, &["run", "--release"], &runner),
+        step(
+            "host workspace tests",
+            &root,
+            &["test", "--workspace"],
+            &elf,
+        ),
+        step(
+            "hub host tests",
+            &root,
+            &[
+                "test",
+                "--manifest-path",
+                "firmware/hub/Cargo.toml",
+                "--features",
+                "checks",
+            ],
+            &[],
+        ),
+        step(
+            "firmware build, nrf52840",
+            &firmware,
+            &[
+                "build",
+                "--release",
+                "--no-default-features",
+                "--features",
+                "nrf52840",
+            ],
+            &[],
+        ),
+        step(
+            "on-target tests under QEMU",
+            &firmware,
+            &["test", "--release"],
+            &runner,
+        ),
+        step(
+            "UART session under QEMU",
+            &firmware,
+            &["run", "--release"],
+            &runner,
+        ),
         // #[ignore]d in plain `cargo test` (about 4 minutes under QEMU), run here so CI covers it.
         step(
             "100,000-sample recording",
             &root,
-            &["test", "-p", "qgait", "--test", "e2e_qemu", "recording_of_100000", "--", "--ignored", "--nocapture"],
+            &[
+                "test",
+                "-p",
+                "qgait",
+                "--test",
+                "e2e_qemu",
+                "recording_of_100000",
+                "--",
+                "--ignored",
+                "--nocapture",
+            ],
             &elf,
         ),
     ];
-    let steps: Vec<Step> = steps.into_iter().chain(lint_steps(&root, &firmware)).collect();
+    let steps: Vec<Step> = steps
+        .into_iter()
+        .chain(lint_steps(&root, &firmware))
+        .collect();
     println!("\n==> summary");
     for s in &steps {
         println!("{:<28} {}", s.name, if s.ok { "ok" } else { "FAILED" });
@@ -47,7 +111,11 @@ pub fn run() -> Result<ExitCode, String> {
     }
     let failed = steps.iter().filter(|s| !s.ok).count();
     println!("{} of {} steps passed", steps.len() - failed, steps.len());
-    Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }
 
 /// Formatting and lints, in both workspaces: `cargo fmt --check` and clippy on every target
@@ -62,14 +130,40 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
         args
     };
     vec![
-        step("format, host workspace", root, &["fmt", "--all", "--check"], &[]),
-        step("format, firmware workspace", firmware, &["fmt", "--all", "--check"], &[]),
-        step("clippy, host workspace", root, &clippy(&["--workspace", "--all-targets"]), &[]),
-        step("clippy, firmware", firmware, &clippy(&["--all-targets"]), &[]),
+        step(
+            "format, host workspace",
+            root,
+            &["fmt", "--all", "--check"],
+            &[],
+        ),
+        step(
+            "format, firmware workspace",
+            firmware,
+            &["fmt", "--all", "--check"],
+            &[],
+        ),
+        step(
+            "clippy, host workspace",
+            root,
+            &clippy(&["--workspace", "--all-targets"]),
+            &[],
+        ),
+        step(
+            "clippy, firmware",
+            firmware,
+            &clippy(&["--all-targets"]),
+            &[],
+        ),
         step(
             "clippy, hub on the host",
             root,
-            &clippy(&["--manifest-path", "firmware/hub/Cargo.toml", "--all-targets", "--features", "checks"]),
+            &clippy(&[
+                "--manifest-path",
+                "firmware/hub/Cargo.toml",
+                "--all-targets",
+                "--features",
+                "checks",
+            ]),
             &[],
         ),
     ]

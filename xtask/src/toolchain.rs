@@ -8,7 +8,10 @@ use qgait::device::qemu;
 
 fn run(program: &str, args: &[&str]) -> Result<(), String> {
     println!("==> {program} {}", args.join(" "));
-    let status = Command::new(program).args(args).status().map_err(|e| format!("starting {program}: {e}"))?;
+    let status = Command::new(program)
+        .args(args)
+        .status()
+        .map_err(|e| format!("starting {program}: {e}"))?;
     if status.success() {
         Ok(())
     } else {
@@ -21,18 +24,31 @@ fn target_installed() -> bool {
         .args(["target", "list", "--installed"])
         .stderr(Stdio::null())
         .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).lines().any(|l| l.trim() == TARGET))
+        .is_ok_and(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .any(|l| l.trim() == TARGET)
+        })
 }
 
 fn is_root() -> bool {
-    Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
 }
 
 fn components_installed() -> bool {
-    Command::new("rustup").args(["component", "list", "--installed"]).stderr(Stdio::null()).output().is_ok_and(|o| {
-        let list = String::from_utf8_lossy(&o.stdout);
-        ["clippy", "rustfmt"].iter().all(|c| list.lines().any(|l| l.starts_with(c)))
-    })
+    Command::new("rustup")
+        .args(["component", "list", "--installed"])
+        .stderr(Stdio::null())
+        .output()
+        .is_ok_and(|o| {
+            let list = String::from_utf8_lossy(&o.stdout);
+            ["clippy", "rustfmt"]
+                .iter()
+                .all(|c| list.lines().any(|l| l.starts_with(c)))
+        })
 }
 
 /// Installs the firmware target, the lint tools (clippy, rustfmt) and QEMU if they are missing.
@@ -61,7 +77,10 @@ pub fn ensure() -> Result<(), String> {
         run("apt-get", &["update"])?;
         run("apt-get", &["install", "-y", "qemu-system-arm"])?;
         if !qemu::available() {
-            return Err(format!("{} still does not start after installing it", qemu::QEMU));
+            return Err(format!(
+                "{} still does not start after installing it",
+                qemu::QEMU
+            ));
         }
     }
     Ok(())
