@@ -112,6 +112,8 @@ pub struct Header {
     pub labels: Vec<String>,
     /// 1-based line of the column labels in the file (`None` for generated tables).
     pub labels_line: Option<usize>,
+    /// The header's `DataType=` value (`double`, `Quaternion`, ...), if it has one.
+    pub data_type: Option<String>,
     /// The declared row count and the key that declared it.
     declared_rows: Option<(usize, &'static str)>,
 }
@@ -199,6 +201,7 @@ impl<R: BufRead> MotionReader<R> {
                 in_degrees: true,
                 labels: Vec::new(),
                 labels_line: None,
+                data_type: None,
                 declared_rows: None,
             },
             input,
@@ -302,6 +305,7 @@ impl<R: BufRead> MotionReader<R> {
                         declared_cols = parse_count(value, no, &source, &mut self.warnings, key)
                             .map(|n| (n, "nColumns"))
                     }
+                    "datatype" => self.header.data_type = Some(value.to_string()),
                     "version" => {
                         version = Some((value.parse::<f64>().unwrap_or(0.0), value.to_string()))
                     }
@@ -351,8 +355,15 @@ impl<R: BufRead> MotionReader<R> {
                 "no `endheader` line: not an OpenSim .mot/.sto file".into(),
             ));
         }
+        // Units do not apply to a table of quaternions: no warning about them.
+        let quaternions = self
+            .header
+            .data_type
+            .as_deref()
+            .is_some_and(|t| t.eq_ignore_ascii_case("quaternion"));
         self.header.in_degrees = match (in_degrees, &version) {
             (Some(d), _) => d,
+            (None, _) if quaternions => false,
             (None, Some((v, text))) if *v >= 1.0 => {
                 self.warnings.push(Warning(format!(
                     "{source}: header does not say inDegrees=yes/no; angles read as radians, as OpenSim reads a `version={text}` file"
@@ -418,16 +429,24 @@ impl<R: BufRead> MotionReader<R> {
         Ok(())
     }
 
-    /// Parses the next non-empty line as a row.
-    fn parse_row(&mut self) -> Result<Option<Row>, MotError> {
-        let line = loop {
+    /// The next non-empty line after the column labels, as text, with its 1-based line number
+    /// (for tables whose cells are not single numbers, such as the quaternion cells of an
+    /// orientation `.sto`); `None` at the end of the input. [`tokens`] splits it into cells.
+    pub fn next_text_line(&mut self) -> Result<Option<(usize, String)>, MotError> {
+        loop {
             match self.next_line()? {
                 None => return Ok(None),
                 Some(l) if l.trim().is_empty() => continue,
-                Some(l) => break l,
+                Some(l) => return Ok(Some((self.line_no, l))),
             }
+        }
+    }
+
+    /// Parses the next non-empty line as a row.
+    fn parse_row(&mut self) -> Result<Option<Row>, MotError> {
+        let Some((no, line)) = self.next_text_line()? else {
+            return Ok(None);
         };
-        let no = self.line_no;
         let labels = &self.header.labels;
         let mut values = Vec::with_capacity(labels.len());
         let mut non_finite = Vec::new();
@@ -613,6 +632,7 @@ impl MotionTable {
                 in_degrees,
                 labels,
                 labels_line: None,
+                data_type: None,
                 declared_rows: None,
             },
             columns,
@@ -779,8 +799,8 @@ impl MotionTable {
     }
 }
 
-/// Whitespace-separated tokens with their byte offsets.
-fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
+/// Whitespace-separated tokens (a row's cells) with their byte offsets.
+pub fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
     let mut rest = line.char_indices().peekable();
     std::iter::from_fn(move || {
         while rest.next_if(|(_, c)| c.is_whitespace()).is_some() {}
