@@ -55,7 +55,7 @@ impl OrientationReader {
         let header = reader.header();
         let source = header.source.clone();
         let labels_line = header.labels_line.unwrap_or(1);
-        match header.data_type.as_deref() {
+        match reader.data_type() {
             Some(t) if t.eq_ignore_ascii_case("quaternion") => {}
             other => {
                 return Err(err(

@@ -112,8 +112,6 @@ pub struct Header {
     pub labels: Vec<String>,
     /// 1-based line of the column labels in the file (`None` for generated tables).
     pub labels_line: Option<usize>,
-    /// The header's `DataType=` value (`double`, `Quaternion`, ...), if it has one.
-    pub data_type: Option<String>,
     /// The declared row count and the key that declared it.
     declared_rows: Option<(usize, &'static str)>,
 }
@@ -169,6 +167,8 @@ pub struct MotionReader<R> {
     pending: Option<Row>,
     rows: usize,
     finished: bool,
+    /// The header's `DataType=` value.
+    data_type: Option<String>,
 }
 
 fn fmt_err(source: &str, line: usize, message: String) -> MotError {
@@ -201,7 +201,6 @@ impl<R: BufRead> MotionReader<R> {
                 in_degrees: true,
                 labels: Vec::new(),
                 labels_line: None,
-                data_type: None,
                 declared_rows: None,
             },
             input,
@@ -212,6 +211,7 @@ impl<R: BufRead> MotionReader<R> {
             pending: None,
             rows: 0,
             finished: false,
+            data_type: None,
         };
         reader.read_header()?;
         Ok(reader)
@@ -220,6 +220,11 @@ impl<R: BufRead> MotionReader<R> {
     /// The header (labels, units, name).
     pub fn header(&self) -> &Header {
         &self.header
+    }
+
+    /// The header's `DataType=` value (`double`, `Quaternion`, ...), if it has one.
+    pub fn data_type(&self) -> Option<&str> {
+        self.data_type.as_deref()
     }
 
     /// Warnings so far (taken: each is returned once).
@@ -305,7 +310,7 @@ impl<R: BufRead> MotionReader<R> {
                         declared_cols = parse_count(value, no, &source, &mut self.warnings, key)
                             .map(|n| (n, "nColumns"))
                     }
-                    "datatype" => self.header.data_type = Some(value.to_string()),
+                    "datatype" => self.data_type = Some(value.to_string()),
                     "version" => {
                         version = Some((value.parse::<f64>().unwrap_or(0.0), value.to_string()))
                     }
@@ -357,7 +362,6 @@ impl<R: BufRead> MotionReader<R> {
         }
         // Units do not apply to a table of quaternions: no warning about them.
         let quaternions = self
-            .header
             .data_type
             .as_deref()
             .is_some_and(|t| t.eq_ignore_ascii_case("quaternion"));
@@ -632,7 +636,6 @@ impl MotionTable {
                 in_degrees,
                 labels,
                 labels_line: None,
-                data_type: None,
                 declared_rows: None,
             },
             columns,
