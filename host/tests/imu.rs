@@ -115,6 +115,19 @@ fn tutorial_recording_matches_opensense_and_reads_back_through_fk() {
     assert!(o.status.success(), "fk failed: {}", stderr(&o));
     let text = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(text.lines().count(), 1 + 2432);
+    // ... and `qgait export`: one marker frame per row.
+    let trc = tmp.join("joints.trc");
+    let o = qgait(&[
+        "export",
+        out.to_str().unwrap(),
+        "--model",
+        "gait2392",
+        "--trc",
+        trc.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "export failed: {}", stderr(&o));
+    let text = std::fs::read_to_string(&trc).unwrap();
+    assert!(text.contains("\t2432\t"), "frame count in the .trc header");
     let _ = std::fs::remove_dir_all(&tmp);
 }
 
