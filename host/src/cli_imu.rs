@@ -14,7 +14,7 @@ use qgait_kernel::{Gait2392, Gait2392Geometry};
 
 use crate::cli::{refuse_overwrite, write_output_with};
 use crate::imu_sto::OrientationReader;
-use crate::mot::{MotionTable, Warning};
+use crate::mot::{write_mot_header, write_mot_row, Warning};
 use crate::progress::Progress;
 
 /// Arguments of `qgait imu`.
@@ -181,56 +181,126 @@ pub fn run_imu(a: ImuArgs, quiet: bool) -> anyhow::Result<()> {
         ModeArg::LeastSquares => Mode::LeastSquares,
         ModeArg::ClosedForm => Mode::ClosedForm,
     };
-    let names: Vec<&str> = COORDINATES.iter().copied().chain(LUMBAR).collect();
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len() + 1];
-    let mut solver = Solver::new();
-    let progress = Progress::new(0, "imu", quiet);
-    while let Some(row) = reader.next_row()? {
-        let segments = calibration
-            .segments(&row.readings)
-            .map_err(|e| anyhow::anyhow!("{}:{}: {e}", reader.source(), row.line))?;
-        let out = solver.solve(&model, &segments, mode);
-        columns[0].push(row.time);
-        for (col, v) in columns[1..]
-            .iter_mut()
-            .zip(out.coordinates.iter().chain(&out.lumbar))
-        {
-            col.push(v.to_degrees());
-        }
-        progress.inc(1);
-    }
-    progress.finish();
-    warnings.extend(reader.take_warnings());
-
-    if a.pelvis == PelvisArg::HeadingFree {
-        let progression = centred_mean(&columns[0], &columns[3], PROGRESSION_WINDOW);
-        for (r, heading) in progression.into_iter().enumerate() {
-            let pelvis = [1, 2, 3].map(|c| columns[c][r].to_radians());
-            let p = heading_free_pelvis(&model, pelvis, heading.to_radians());
-            for (k, v) in p.into_iter().enumerate() {
-                columns[k + 1][r] = v.to_degrees();
-            }
-        }
-    }
-
     let name = a
         .orientations
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let labels = std::iter::once("time")
-        .chain(names.iter().copied())
+    let labels: Vec<String> = std::iter::once("time")
+        .chain(COORDINATES)
+        .chain(LUMBAR)
         .map(String::from)
         .collect();
-    let table = MotionTable::new(name, a.output.display().to_string(), true, labels, columns)
-        .map_err(anyhow::Error::msg)?;
-    write_output_with(Some(&a.output), |out| Ok(table.write_mot(out)?))?;
+    let mut solver = Solver::new();
+    let progress = Progress::new(0, "imu", quiet);
+    let heading_free = a.pelvis == PelvisArg::HeadingFree;
+    let mut window = ProgressionWindow::new(PROGRESSION_WINDOW);
+    write_output_with(Some(&a.output), |out| {
+        write_mot_header(&mut *out, &name, &labels, true, None)?;
+        let mut emit = |row: &Row, heading: Option<f64>| -> std::io::Result<()> {
+            let mut row = *row;
+            if let Some(h) = heading {
+                let pelvis = [1, 2, 3].map(|c| row[c].to_radians());
+                let p = heading_free_pelvis(&model, pelvis, h.to_radians());
+                for (k, v) in p.into_iter().enumerate() {
+                    row[k + 1] = v.to_degrees();
+                }
+            }
+            write_mot_row(&mut *out, &row)
+        };
+        while let Some(r) = reader.next_row()? {
+            let segments = calibration
+                .segments(&r.readings)
+                .map_err(|e| anyhow::anyhow!("{}:{}: {e}", reader.source(), r.line))?;
+            let solved = solver.solve(&model, &segments, mode);
+            let mut row: Row = [0.0; COLUMNS];
+            row[0] = r.time;
+            for (v, q) in row[1..]
+                .iter_mut()
+                .zip(solved.coordinates.iter().chain(&solved.lumbar))
+            {
+                *v = q.to_degrees();
+            }
+            if heading_free {
+                window.push(row, false, &mut emit)?;
+            } else {
+                emit(&row, None)?;
+            }
+            progress.inc(1);
+        }
+        if heading_free {
+            window.push([f64::INFINITY; COLUMNS], true, &mut emit)?;
+        }
+        Ok(())
+    })?;
+    progress.finish();
+    warnings.extend(reader.take_warnings());
     if !quiet {
         for w in warnings {
             eprintln!("warning: {w}");
         }
     }
     Ok(())
+}
+
+/// Output columns: time, gait2392's 17 coordinates, the lumbar joint's 3.
+const COLUMNS: usize = 21;
+
+/// One output row (time, then degrees).
+type Row = [f64; COLUMNS];
+
+/// The rows within half a window of the next row to write, for the direction of progression:
+/// the mean `pelvis_rotation` over the rows within `window / 2` seconds of a row's time (a
+/// centred moving average). Memory is bounded by the window, not by the recording.
+struct ProgressionWindow {
+    half: f64,
+    rows: std::collections::VecDeque<Row>,
+    /// Index in `rows` of the next row to write.
+    next: usize,
+}
+
+impl ProgressionWindow {
+    fn new(window: f64) -> Self {
+        Self {
+            half: window / 2.0,
+            rows: std::collections::VecDeque::new(),
+            next: 0,
+        }
+    }
+
+    /// Adds `row` (or, with `last`, ends the recording: `row` is not kept) and hands every row
+    /// whose window is now complete to `emit` with its direction of progression (degrees).
+    fn push(
+        &mut self,
+        row: Row,
+        last: bool,
+        emit: &mut impl FnMut(&Row, Option<f64>) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let t_new = row[0];
+        if !last {
+            self.rows.push_back(row);
+        }
+        while self.next < self.rows.len() {
+            let t = self.rows[self.next][0];
+            if !last && t + self.half >= t_new {
+                break;
+            }
+            let (sum, n) = self
+                .rows
+                .iter()
+                .filter(|r| (r[0] - t).abs() <= self.half)
+                .fold((0.0, 0), |(s, n), r| (s + r[3], n + 1));
+            emit(&self.rows[self.next], Some(sum / n as f64))?;
+            self.next += 1;
+            while self.next < self.rows.len()
+                && self.rows[0][0] < self.rows[self.next][0] - self.half
+            {
+                self.rows.pop_front();
+                self.next -= 1;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The calibration from the first row of `path`, and the sensors it has.
@@ -261,22 +331,47 @@ fn calibrate(
     Ok((calibration, present))
 }
 
-/// The mean of `values` over the rows within `window / 2` seconds of each row's time (a
-/// centred moving average, by a sliding sum).
-fn centred_mean(time: &[f64], values: &[f64], window: f64) -> Vec<f64> {
-    let half = window / 2.0;
-    let (mut lo, mut hi, mut sum) = (0, 0, 0.0);
-    time.iter()
-        .map(|&t| {
-            while hi < time.len() && time[hi] <= t + half {
-                sum += values[hi];
-                hi += 1;
-            }
-            while time[lo] < t - half {
-                sum -= values[lo];
-                lo += 1;
-            }
-            sum / (hi - lo) as f64
-        })
-        .collect()
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The window's means are the centred means over the whole recording, every row is written
+    /// once in order, and it holds no more than a window of rows.
+    #[test]
+    fn progression_window_is_the_centred_mean_in_bounded_memory() {
+        let n = 1000;
+        let time: Vec<f64> = (0..n)
+            .map(|i| i as f64 * 0.01 + (i % 7) as f64 * 1e-4)
+            .collect();
+        let rot: Vec<f64> = time
+            .iter()
+            .map(|t| 90.0 * t + 5.0 * (7.0 * t).sin())
+            .collect();
+        let mut window = ProgressionWindow::new(0.5);
+        let mut got = Vec::new();
+        let mut most = 0;
+        let mut emit = |r: &Row, h: Option<f64>| {
+            got.push((r[0], h.unwrap()));
+            Ok(())
+        };
+        for (t, v) in time.iter().zip(&rot) {
+            let mut row = [0.0; COLUMNS];
+            row[0] = *t;
+            row[3] = *v;
+            window.push(row, false, &mut emit).unwrap();
+            most = most.max(window.rows.len());
+        }
+        window.push([0.0; COLUMNS], true, &mut emit).unwrap();
+        assert_eq!(got.len(), n);
+        for (i, (t, h)) in got.iter().enumerate() {
+            assert_eq!(*t, time[i]);
+            let near: Vec<f64> = (0..n)
+                .filter(|&j| (time[j] - t).abs() <= 0.25)
+                .map(|j| rot[j])
+                .collect();
+            let mean = near.iter().sum::<f64>() / near.len() as f64;
+            assert!((h - mean).abs() < 1e-9, "row {i}: {h} vs {mean}");
+        }
+        assert!(most <= 60, "held {most} rows for a 0.5 s window at 100 Hz");
+    }
 }

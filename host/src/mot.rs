@@ -686,31 +686,19 @@ impl MotionTable {
     /// Writes the table as a `.mot` file (`nRows=` header style, tab separated, values printed
     /// with the shortest representation that reads back to the same `f64`).
     pub fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {
-        let name = if self.header.name.is_empty() {
-            "motion"
-        } else {
-            &self.header.name
-        };
-        writeln!(
-            w,
-            "{name}\nversion=1\nnRows={}\nnColumns={}",
-            self.rows(),
-            self.header.labels.len()
+        write_mot_header(
+            &mut w,
+            &self.header.name,
+            &self.header.labels,
+            self.header.in_degrees,
+            Some(self.rows()),
         )?;
-        writeln!(
-            w,
-            "inDegrees={}\nendheader",
-            if self.header.in_degrees { "yes" } else { "no" }
-        )?;
-        writeln!(w, "{}", self.header.labels.join("\t"))?;
+        let mut row = vec![0.0; self.columns.len()];
         for r in 0..self.rows() {
-            for (c, col) in self.columns.iter().enumerate() {
-                if c > 0 {
-                    w.write_all(b"\t")?;
-                }
-                write!(w, "{}", col[r])?;
+            for (v, col) in row.iter_mut().zip(&self.columns) {
+                *v = col[r];
             }
-            w.write_all(b"\n")?;
+            write_mot_row(&mut w, &row)?;
         }
         w.flush()
     }
@@ -800,6 +788,42 @@ impl MotionTable {
             vec![0.0; t.len()]
         }
     }
+}
+
+/// Writes a `.mot` header (name, `version=1`, `nRows=` when `rows` is known, `nColumns=`,
+/// `inDegrees=`, `endheader`) and the column labels: [`MotionTable::write_mot`], or a writer
+/// that streams its rows with [`write_mot_row`] (no `nRows=`: the reader counts the rows).
+pub fn write_mot_header<W: Write>(
+    mut w: W,
+    name: &str,
+    labels: &[String],
+    in_degrees: bool,
+    rows: Option<usize>,
+) -> io::Result<()> {
+    let name = if name.is_empty() { "motion" } else { name };
+    writeln!(w, "{name}\nversion=1")?;
+    if let Some(n) = rows {
+        writeln!(w, "nRows={n}")?;
+    }
+    writeln!(w, "nColumns={}", labels.len())?;
+    writeln!(
+        w,
+        "inDegrees={}\nendheader",
+        if in_degrees { "yes" } else { "no" }
+    )?;
+    writeln!(w, "{}", labels.join("\t"))
+}
+
+/// Writes one `.mot` row: tab separated, each value with the shortest representation that
+/// reads back to the same `f64`.
+pub fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()> {
+    for (c, v) in values.iter().enumerate() {
+        if c > 0 {
+            w.write_all(b"\t")?;
+        }
+        write!(w, "{v}")?;
+    }
+    w.write_all(b"\n")
 }
 
 /// Whitespace-separated tokens (a row's cells) with their byte offsets.
