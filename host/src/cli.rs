@@ -75,6 +75,9 @@ pub enum Command {
     Verify(crate::cli_device::VerifyArgs),
     /// Runs the hub firmware under QEMU with a motion streamed into its UART.
     Emulate(crate::cli_device::EmulateArgs),
+    /// Joint angles (gait2392, .mot in degrees) from IMU segment orientations (OpenSim
+    /// orientation .sto), calibrated on a static pose as OpenSim's OpenSense does it.
+    Imu(crate::cli_imu::ImuArgs),
 }
 
 /// Runs a parsed command line.
@@ -88,6 +91,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     };
     match cli.command {
         Command::Fk(args) => crate::cli_gait2392::run_fk(args, cli.quiet)?,
+        Command::Imu(args) => crate::cli_imu::run_imu(args, cli.quiet)?,
         Command::Report {
             motions,
             labels,

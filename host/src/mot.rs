@@ -167,6 +167,8 @@ pub struct MotionReader<R> {
     pending: Option<Row>,
     rows: usize,
     finished: bool,
+    /// The header's `DataType=` value.
+    data_type: Option<String>,
 }
 
 fn fmt_err(source: &str, line: usize, message: String) -> MotError {
@@ -209,6 +211,7 @@ impl<R: BufRead> MotionReader<R> {
             pending: None,
             rows: 0,
             finished: false,
+            data_type: None,
         };
         reader.read_header()?;
         Ok(reader)
@@ -217,6 +220,11 @@ impl<R: BufRead> MotionReader<R> {
     /// The header (labels, units, name).
     pub fn header(&self) -> &Header {
         &self.header
+    }
+
+    /// The header's `DataType=` value (`double`, `Quaternion`, ...), if it has one.
+    pub fn data_type(&self) -> Option<&str> {
+        self.data_type.as_deref()
     }
 
     /// Warnings so far (taken: each is returned once).
@@ -302,6 +310,7 @@ impl<R: BufRead> MotionReader<R> {
                         declared_cols = parse_count(value, no, &source, &mut self.warnings, key)
                             .map(|n| (n, "nColumns"))
                     }
+                    "datatype" => self.data_type = Some(value.to_string()),
                     "version" => {
                         version = Some((value.parse::<f64>().unwrap_or(0.0), value.to_string()))
                     }
@@ -351,8 +360,14 @@ impl<R: BufRead> MotionReader<R> {
                 "no `endheader` line: not an OpenSim .mot/.sto file".into(),
             ));
         }
+        // Units do not apply to a table of quaternions: no warning about them.
+        let quaternions = self
+            .data_type
+            .as_deref()
+            .is_some_and(|t| t.eq_ignore_ascii_case("quaternion"));
         self.header.in_degrees = match (in_degrees, &version) {
             (Some(d), _) => d,
+            (None, _) if quaternions => false,
             (None, Some((v, text))) if *v >= 1.0 => {
                 self.warnings.push(Warning(format!(
                     "{source}: header does not say inDegrees=yes/no; angles read as radians, as OpenSim reads a `version={text}` file"
@@ -418,16 +433,24 @@ impl<R: BufRead> MotionReader<R> {
         Ok(())
     }
 
-    /// Parses the next non-empty line as a row.
-    fn parse_row(&mut self) -> Result<Option<Row>, MotError> {
-        let line = loop {
+    /// The next non-empty line after the column labels, as text, with its 1-based line number
+    /// (for tables whose cells are not single numbers, such as the quaternion cells of an
+    /// orientation `.sto`); `None` at the end of the input. [`tokens`] splits it into cells.
+    pub fn next_text_line(&mut self) -> Result<Option<(usize, String)>, MotError> {
+        loop {
             match self.next_line()? {
                 None => return Ok(None),
                 Some(l) if l.trim().is_empty() => continue,
-                Some(l) => break l,
+                Some(l) => return Ok(Some((self.line_no, l))),
             }
+        }
+    }
+
+    /// Parses the next non-empty line as a row.
+    fn parse_row(&mut self) -> Result<Option<Row>, MotError> {
+        let Some((no, line)) = self.next_text_line()? else {
+            return Ok(None);
         };
-        let no = self.line_no;
         let labels = &self.header.labels;
         let mut values = Vec::with_capacity(labels.len());
         let mut non_finite = Vec::new();
@@ -663,31 +686,19 @@ impl MotionTable {
     /// Writes the table as a `.mot` file (`nRows=` header style, tab separated, values printed
     /// with the shortest representation that reads back to the same `f64`).
     pub fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {
-        let name = if self.header.name.is_empty() {
-            "motion"
-        } else {
-            &self.header.name
-        };
-        writeln!(
-            w,
-            "{name}\nversion=1\nnRows={}\nnColumns={}",
-            self.rows(),
-            self.header.labels.len()
+        write_mot_header(
+            &mut w,
+            &self.header.name,
+            &self.header.labels,
+            self.header.in_degrees,
+            Some(self.rows()),
         )?;
-        writeln!(
-            w,
-            "inDegrees={}\nendheader",
-            if self.header.in_degrees { "yes" } else { "no" }
-        )?;
-        writeln!(w, "{}", self.header.labels.join("\t"))?;
+        let mut row = vec![0.0; self.columns.len()];
         for r in 0..self.rows() {
-            for (c, col) in self.columns.iter().enumerate() {
-                if c > 0 {
-                    w.write_all(b"\t")?;
-                }
-                write!(w, "{}", col[r])?;
+            for (v, col) in row.iter_mut().zip(&self.columns) {
+                *v = col[r];
             }
-            w.write_all(b"\n")?;
+            write_mot_row(&mut w, &row)?;
         }
         w.flush()
     }
@@ -779,8 +790,44 @@ impl MotionTable {
     }
 }
 
-/// Whitespace-separated tokens with their byte offsets.
-fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
+/// Writes a `.mot` header (name, `version=1`, `nRows=` when `rows` is known, `nColumns=`,
+/// `inDegrees=`, `endheader`) and the column labels: [`MotionTable::write_mot`], or a writer
+/// that streams its rows with [`write_mot_row`] (no `nRows=`: the reader counts the rows).
+pub fn write_mot_header<W: Write>(
+    mut w: W,
+    name: &str,
+    labels: &[String],
+    in_degrees: bool,
+    rows: Option<usize>,
+) -> io::Result<()> {
+    let name = if name.is_empty() { "motion" } else { name };
+    writeln!(w, "{name}\nversion=1")?;
+    if let Some(n) = rows {
+        writeln!(w, "nRows={n}")?;
+    }
+    writeln!(w, "nColumns={}", labels.len())?;
+    writeln!(
+        w,
+        "inDegrees={}\nendheader",
+        if in_degrees { "yes" } else { "no" }
+    )?;
+    writeln!(w, "{}", labels.join("\t"))
+}
+
+/// Writes one `.mot` row: tab separated, each value with the shortest representation that
+/// reads back to the same `f64`.
+pub fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()> {
+    for (c, v) in values.iter().enumerate() {
+        if c > 0 {
+            w.write_all(b"\t")?;
+        }
+        write!(w, "{v}")?;
+    }
+    w.write_all(b"\n")
+}
+
+/// Whitespace-separated tokens (a row's cells) with their byte offsets.
+pub fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
     let mut rest = line.char_indices().peekable();
     std::iter::from_fn(move || {
         while rest.next_if(|(_, c)| c.is_whitespace()).is_some() {}
