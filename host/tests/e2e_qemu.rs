@@ -12,15 +12,16 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use common::firmware_elf;
+
+use std::path::Path;
 use std::sync::Mutex;
 use std::time::Instant;
 
 use qgait::device::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
-use qgait::device::firmware;
 use qgait::device::log::HubLog;
 use qgait::device::packets::{Samples, Timing};
-use qgait::device::qemu::{self, Echo};
+use qgait::device::qemu::Echo;
 use qgait::device::session::{self, closing_frames, InputCounts, Limits};
 use qgait::device::verify::{DeviceModel, Expected, Verification};
 use qgait::mot::MotionTable;
@@ -34,30 +35,6 @@ static QEMU_TURN: Mutex<()> = Mutex::new(());
 
 /// The reorder window the tests configure.
 const WINDOW: u8 = 4;
-
-fn firmware_elf() -> Option<PathBuf> {
-    let elf = std::env::var_os("QGAIT_FIRMWARE_ELF")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            firmware::default_elf(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(".."))
-        });
-    if !qemu::available() {
-        eprintln!(
-            "skipped: {} is not installed (cargo xtask test installs it)",
-            qemu::QEMU
-        );
-        return None;
-    }
-    if !elf.is_file() {
-        eprintln!(
-            "skipped: no firmware at {} (build it: {}; cargo xtask test does)",
-            elf.display(),
-            firmware::build_command(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(".."))
-        );
-        return None;
-    }
-    Some(elf)
-}
 
 fn config() -> Config {
     Config {
