@@ -74,6 +74,17 @@ const DEVICE: &[(&str, &str)] = &[
         "trig.sqrt_f32",
         "device.trig.sqrt_f32.instructions_per_call",
     ),
+    ("imu.segments", "device.imu.segments_instructions"),
+    ("imu.closed_form", "device.imu.closed_form_instructions"),
+    ("imu.least_squares", "device.imu.least_squares_instructions"),
+    (
+        "imu.whole_cf",
+        "device.imu.closed_form_and_gait2392_fk_instructions",
+    ),
+    (
+        "imu.whole_ls",
+        "device.imu.least_squares_and_gait2392_fk_instructions",
+    ),
     ("sample.net", "device.sample.instructions"),
     (
         "sample.gross",

@@ -152,6 +152,8 @@ fn main() -> ! {
         MATRIX_CALLS,
     );
 
+    imu_benches(&g, &mut rng);
+
     sample_sections(&phak_in);
     whole_sample(ModelId::Phak, "sample");
     whole_sample(ModelId::Gait2392, "sample_gait2392");
@@ -860,4 +862,94 @@ fn write_nothing(
     buf: &[u8],
 ) -> Result<usize, core::convert::Infallible> {
     Ok(buf.len())
+}
+
+/// The IMU path of `qgait_kernel::imu` per sample, in `f32`: readings to calibrated segment
+/// orientations, each solve mode, and the whole path with gait2392 FK, on random poses of the
+/// model (identity calibration pose, no heading). The solver warm-starts from the previous
+/// input, an unrelated pose, so the least-squares figures are a worst case for a recording.
+fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
+    use qgait_kernel::imu::{Calibration, Mode, Orientations, Segment, Settings, Solver};
+    let joints = [0usize, 1, 2, 4, 6, 7, 9, 0];
+    let readings: [Orientations<f32>; INPUTS] = core::array::from_fn(|_| {
+        let q: [f32; 17] = rng.angles::<17>().map(|a| a * 0.3);
+        let f = g.chain().frames(&q);
+        let mut o = Orientations::EMPTY;
+        for s in Segment::ALL {
+            o.set(s, Some(f[joints[s as usize]].rotation));
+        }
+        o
+    });
+    let mut pose = Orientations::EMPTY;
+    for s in Segment::ALL {
+        pose.set(s, Some(qgait_kernel::Quat::identity()));
+    }
+    let settings = Settings {
+        sensor_to_opensim: [0.0; 3],
+        heading: None,
+    };
+    let cal = Calibration::new(g, &pose, &settings).unwrap_or_else(|_| board::exit(1));
+    let segs: [Orientations<f32>; INPUTS] = core::array::from_fn(|i| {
+        cal.segments(&readings[i])
+            .unwrap_or_else(|_| board::exit(1))
+    });
+    let base = bench_empty(&readings, 256);
+    net(
+        "imu.segments",
+        timed(256, |i| {
+            black_box(
+                black_box(&cal)
+                    .segments(black_box(&readings[i % INPUTS]))
+                    .ok(),
+            );
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.closed_form",
+        timed(256, |i| {
+            black_box(solver.solve(black_box(g), black_box(&segs[i % INPUTS]), Mode::ClosedForm));
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.least_squares",
+        timed(256, |i| {
+            black_box(solver.solve(
+                black_box(g),
+                black_box(&segs[i % INPUTS]),
+                Mode::LeastSquares,
+            ));
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.whole_ls",
+        timed(256, |i| {
+            if let Ok(s) = black_box(&cal).segments(black_box(&readings[i % INPUTS])) {
+                let a = solver.solve(black_box(g), &s, Mode::LeastSquares);
+                black_box(g.fk(&a.coordinates));
+            }
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.whole_cf",
+        timed(256, |i| {
+            if let Ok(s) = black_box(&cal).segments(black_box(&readings[i % INPUTS])) {
+                let a = solver.solve(black_box(g), &s, Mode::ClosedForm);
+                black_box(g.fk(&a.coordinates));
+            }
+        }),
+        base,
+        256,
+    );
 }
