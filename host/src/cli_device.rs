@@ -358,30 +358,9 @@ fn json_pose(p: &PoseFrame) -> String {
     )
 }
 
-/// The counters of a status, `name=value` each.
-pub fn status_fields(s: &Status) -> Vec<(&'static str, u32)> {
-    vec![
-        ("packets_accepted", s.packets_accepted),
-        ("crc_errors", s.crc_errors),
-        ("framing_errors", s.framing_errors),
-        ("oversize_frames", s.oversize_frames),
-        ("unknown_version", s.unknown_version),
-        ("unknown_joint", s.unknown_joint),
-        ("out_of_range", s.out_of_range),
-        ("samples_completed", s.samples_completed),
-        ("samples_incomplete", s.samples_incomplete),
-        ("frames_sent", s.frames_sent),
-        ("uart_overruns", s.uart_overruns),
-        ("uptime_ms", s.uptime_ms),
-        ("late_packets", s.late_packets),
-        ("duplicate_packets", s.duplicate_packets),
-        ("malformed", s.malformed),
-        ("config_rejected", s.config_rejected),
-    ]
-}
-
 fn json_status(s: &Status) -> String {
-    let f: Vec<String> = status_fields(s)
+    let f: Vec<String> = s
+        .named_counters()
         .iter()
         .map(|(k, v)| format!(r#""{k}":{v}"#))
         .collect();
@@ -662,7 +641,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     match &out.status {
         Some(s) => {
             println!("device status:");
-            for (k, v) in status_fields(s) {
+            for (k, v) in s.named_counters() {
                 println!("  {k:<20} {v}");
             }
             // The hub decodes as the host does: its counters must account for every frame

@@ -196,6 +196,30 @@ pub enum Message {
     SubjectConfig(SubjectConfig),
 }
 
+impl Status {
+    /// Every counter with its field name, in wire order.
+    pub fn named_counters(&self) -> [(&'static str, u32); crate::sizes::STATUS_COUNTERS] {
+        [
+            ("packets_accepted", self.packets_accepted),
+            ("crc_errors", self.crc_errors),
+            ("framing_errors", self.framing_errors),
+            ("oversize_frames", self.oversize_frames),
+            ("unknown_version", self.unknown_version),
+            ("unknown_joint", self.unknown_joint),
+            ("out_of_range", self.out_of_range),
+            ("samples_completed", self.samples_completed),
+            ("samples_incomplete", self.samples_incomplete),
+            ("frames_sent", self.frames_sent),
+            ("uart_overruns", self.uart_overruns),
+            ("uptime_ms", self.uptime_ms),
+            ("late_packets", self.late_packets),
+            ("duplicate_packets", self.duplicate_packets),
+            ("malformed", self.malformed),
+            ("config_rejected", self.config_rejected),
+        ]
+    }
+}
+
 impl Message {
     /// The wire tag of this message (its variant index).
     pub const fn tag(&self) -> u32 {

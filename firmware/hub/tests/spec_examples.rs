@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use qgait_hub::{Hub, ManualClock, MemorySerial};
 use qgait_proto::{
     encode_frame, encode_raw_frame, Config, FrameDecoder, JointAngle, JointId, Message,
-    MissingPolicy, ModelId, PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    MissingPolicy, ModelId, PoseFrame, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 type Serial = MemorySerial<4096, 65536>;
@@ -91,27 +91,6 @@ fn packet(seq: u32, joint: JointId, angle: f32) -> JointAngle {
     }
 }
 
-fn status_fields(s: &Status) -> [(&'static str, u32); 16] {
-    [
-        ("packets_accepted", s.packets_accepted),
-        ("crc_errors", s.crc_errors),
-        ("framing_errors", s.framing_errors),
-        ("oversize_frames", s.oversize_frames),
-        ("unknown_version", s.unknown_version),
-        ("unknown_joint", s.unknown_joint),
-        ("out_of_range", s.out_of_range),
-        ("samples_completed", s.samples_completed),
-        ("samples_incomplete", s.samples_incomplete),
-        ("frames_sent", s.frames_sent),
-        ("uart_overruns", s.uart_overruns),
-        ("uptime_ms", s.uptime_ms),
-        ("late_packets", s.late_packets),
-        ("duplicate_packets", s.duplicate_packets),
-        ("malformed", s.malformed),
-        ("config_rejected", s.config_rejected),
-    ]
-}
-
 const POINT_NAMES: [&str; 8] = [
     "hip_r", "knee_r", "ankle_r", "toe_r", "hip_l", "knee_l", "ankle_l", "toe_l",
 ];
@@ -142,7 +121,8 @@ fn describe_output(message: &Message, points: bool, out: &mut String) {
             }
         }
         Message::Status(s) => {
-            let nonzero: Vec<String> = status_fields(s)
+            let nonzero: Vec<String> = s
+                .named_counters()
                 .iter()
                 .filter(|(_, v)| *v != 0)
                 .map(|(n, v)| format!("{n} {v}"))
@@ -216,9 +196,10 @@ fn transcript(steps: &[Step], points: bool) -> String {
         }
         sent = transmitted.len();
         let after = hub.status();
-        let changed: Vec<String> = status_fields(&before)
+        let changed: Vec<String> = before
+            .named_counters()
             .iter()
-            .zip(status_fields(&after))
+            .zip(after.named_counters())
             .filter(|((n, a), (_, b))| a != b && *n != "uptime_ms" && *n != "frames_sent")
             .map(|((n, a), (_, b))| format!("+{n} {}", b.wrapping_sub(*a)))
             .collect();

@@ -12,7 +12,6 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use qgait_proto::{Message, Status};
 
-use crate::cli_device::status_fields;
 use crate::device::log::Record;
 
 /// Shortest time between two redraws.
@@ -168,7 +167,7 @@ impl LiveView {
                     (now - *at).as_secs_f64()
                 ));
                 let mut line = String::new();
-                for (k, v) in status_fields(s) {
+                for (k, v) in s.named_counters() {
                     let field = format!("{k}={v}");
                     if !line.is_empty() && line.len() + 2 + field.len() > WIDTH {
                         text.push('\n');
@@ -188,7 +187,8 @@ impl LiveView {
 
 /// `status: name=value ...`, the status counters on one line.
 pub fn status_line(s: &Status) -> String {
-    let f: Vec<String> = status_fields(s)
+    let f: Vec<String> = s
+        .named_counters()
         .iter()
         .map(|(k, v)| format!("{k}={v}"))
         .collect();
@@ -250,7 +250,8 @@ mod tests {
             .flat_map(|l| l.split_whitespace())
             .map(String::from)
             .collect();
-        let want: Vec<String> = status_fields(&status)
+        let want: Vec<String> = status
+            .named_counters()
             .iter()
             .map(|(k, v)| format!("{k}={v}"))
             .collect();
