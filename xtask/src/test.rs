@@ -49,8 +49,8 @@ pub fn run() -> Result<ExitCode, String> {
             &root,
             &[
                 "test",
-                "--manifest-path",
-                "firmware/hub/Cargo.toml",
+                "-p",
+                "qgait-hub",
                 "--features",
                 "checks",
             ],
@@ -158,8 +158,8 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             "clippy, hub on the host",
             root,
             &clippy(&[
-                "--manifest-path",
-                "firmware/hub/Cargo.toml",
+                "-p",
+                "qgait-hub",
                 "--all-targets",
                 "--features",
                 "checks",

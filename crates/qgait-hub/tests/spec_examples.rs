@@ -4,7 +4,7 @@
 //! rules of the spec (section 4.4, section 8) are checked one by one.
 //!
 //! To print every transcript as it must read:
-//! `QGAIT_PRINT_EXAMPLES=1 cargo test --manifest-path firmware/hub/Cargo.toml --test spec_examples -- --nocapture`.
+//! `QGAIT_PRINT_EXAMPLES=1 cargo test --manifest-path crates/qgait-hub/Cargo.toml --test spec_examples -- --nocapture`.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
