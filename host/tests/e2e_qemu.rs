@@ -24,8 +24,8 @@ use qgait::device::packets::{Samples, Timing};
 use qgait::device::qemu::Echo;
 use qgait::device::session::{self, closing_frames, InputCounts, Limits};
 use qgait::device::verify::{DeviceModel, Expected, Verification};
-use qgait::mot::MotionTable;
-use qgait::source::load_motion;
+use qgait::motion::source::load_motion;
+use qgait::opensim::mot::MotionTable;
 use qgait_proto::{Config, JointAngle, JointId, Message, MissingPolicy, ModelId, Status};
 
 /// Largest accepted error of a point or distance (metres).

@@ -8,7 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::{qgait, stderr};
-use qgait::mot::MotionTable;
+use qgait::opensim::mot::MotionTable;
 
 /// A fresh scratch directory for one test.
 fn scratch(name: &str) -> PathBuf {

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::thread;
 use std::time::{Duration, Instant};
 
-use qgait::hub_config::{self, HubModel, HubSettings};
+use qgait::device::config::{self, HubModel, HubSettings};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{Anthropometry, Gait2392Geometry, Limb, Phak, PhakAngles};
 use qgait_proto::{
@@ -143,7 +143,7 @@ fn plan() -> Plan {
     ];
     for model in &switches {
         let messages =
-            hub_config::messages(model, settings).expect("the session's models are valid");
+            config::messages(model, settings).expect("the session's models are valid");
         for message in &messages {
             push_frame(&mut bytes, message);
         }

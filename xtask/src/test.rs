@@ -47,13 +47,7 @@ pub fn run() -> Result<ExitCode, String> {
         step(
             "hub host tests",
             &root,
-            &[
-                "test",
-                "-p",
-                "qgait-hub",
-                "--features",
-                "checks",
-            ],
+            &["test", "-p", "qgait-hub", "--features", "checks"],
             &[],
         ),
         step(
@@ -157,13 +151,7 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
         step(
             "clippy, hub on the host",
             root,
-            &clippy(&[
-                "-p",
-                "qgait-hub",
-                "--all-targets",
-                "--features",
-                "checks",
-            ]),
+            &clippy(&["-p", "qgait-hub", "--all-targets", "--features", "checks"]),
             &[],
         ),
     ]

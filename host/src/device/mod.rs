@@ -4,6 +4,7 @@
 //! [`session`], [`firmware`]); [`faults`] damages streams the ways a radio link does. A real
 //! hub is read from its serial port as frames arrive ([`port`], [`live`]).
 
+pub mod config;
 pub mod defmt_log;
 pub mod faults;
 pub mod firmware;

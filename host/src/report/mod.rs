@@ -28,8 +28,8 @@ use qgait_kernel::{BilateralPose, LegPose, Vec3};
 
 use crate::device::frames_csv::FramesTable;
 
-use crate::kinematics::{self, Evaluator, Model};
-use crate::mot::{MotionTable, Warning};
+use crate::model::kinematics::{self, Evaluator, Model};
+use crate::opensim::mot::{MotionTable, Warning};
 use crate::progress::Progress;
 
 /// Percentages of the cycle shown in the stick figures.

@@ -45,7 +45,7 @@
 //! The pelvis curves are left as in normal gait (the large constant pelvis rotation and list of
 //! `crouch4.mot` come from that subject's heading and posture, not from crouch itself).
 
-use crate::mot::MotionTable;
+use crate::opensim::mot::MotionTable;
 
 /// Number of Fourier harmonics kept per coordinate.
 pub const HARMONICS: usize = 6;

@@ -14,7 +14,7 @@ use std::path::Path;
 use qgait_kernel::imu::{unit, Orientations, Segment};
 use qgait_kernel::Quat;
 
-use crate::mot::{tokens, MotError, MotionReader, Warning};
+use crate::opensim::mot::{tokens, MotError, MotionReader, Warning};
 
 /// One row: its 1-based line, its time and each sensor's reading (raw, in the sensors' world
 /// frame, normalised).

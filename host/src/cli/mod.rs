@@ -1,5 +1,10 @@
 //! The `qgait` command line: argument definitions and the commands.
 
+pub mod config;
+pub mod device;
+pub mod fk;
+pub mod imu;
+
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -8,11 +13,11 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 use qgait_kernel::anthropometry::Anthropometry;
 
-use crate::anthropometry;
-use crate::mot::Warning;
+use crate::model::anthropometry;
+use crate::motion::source::{default_label, load_motion};
+use crate::opensim::mot::Warning;
 use crate::progress::Progress;
 use crate::report::{self, Analysis};
-use crate::source::{default_label, load_motion};
 
 /// Forward kinematics of the human lower limbs with quaternions (HAK, PHAK and gait2392 models).
 ///
@@ -33,7 +38,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Joint positions (metres) for every row of a motion, as CSV.
-    Fk(crate::cli_gait2392::FkArgs),
+    Fk(crate::cli::fk::FkArgs),
     /// Figures and metrics of one or more gaits overlaid (the paper's Figs 5-10).
     Report {
         /// Motion files (.mot/.sto), `builtin:...`, or frames CSVs of a device (`qgait emulate
@@ -60,24 +65,24 @@ pub enum Command {
     },
     /// OpenSim models: `model import MODEL.osim -o SUBJECT.toml`.
     #[command(subcommand)]
-    Model(crate::cli_gait2392::ModelCommand),
+    Model(crate::cli::fk::ModelCommand),
     /// Computed joint centres as an OpenSim marker file (.trc) and table (.sto).
-    Export(crate::cli_gait2392::ExportArgs),
+    Export(crate::cli::fk::ExportArgs),
     /// How far PHAK (8 DoF) is from gait2392, per point, and what each feature costs (Markdown).
-    Fidelity(crate::cli_gait2392::FidelityArgs),
+    Fidelity(crate::cli::fk::FidelityArgs),
     /// The frames that configure a hub (model, lengths, policy, window), to send to its UART.
-    Config(crate::cli_config::ConfigArgs),
+    Config(crate::cli::config::ConfigArgs),
     /// The byte stream the IMU nodes send for a motion (one JointAngle packet per joint per row).
-    Packets(crate::cli_device::PacketsArgs),
+    Packets(crate::cli::device::PacketsArgs),
     /// Decodes a hub log (pose frames, status; damaged frames reported and skipped).
-    Decode(crate::cli_device::DecodeArgs),
+    Decode(crate::cli::device::DecodeArgs),
     /// Recomputes every pose frame of a hub log with the f64 kernel; fails on errors or gaps.
-    Verify(crate::cli_device::VerifyArgs),
+    Verify(crate::cli::device::VerifyArgs),
     /// Runs the hub firmware under QEMU with a motion streamed into its UART.
-    Emulate(crate::cli_device::EmulateArgs),
+    Emulate(crate::cli::device::EmulateArgs),
     /// Joint angles (gait2392, .mot in degrees) from IMU segment orientations (OpenSim
     /// orientation .sto), calibrated on a static pose as OpenSim's OpenSense does it.
-    Imu(crate::cli_imu::ImuArgs),
+    Imu(crate::cli::imu::ImuArgs),
 }
 
 /// Runs a parsed command line.
@@ -90,8 +95,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
     };
     match cli.command {
-        Command::Fk(args) => crate::cli_gait2392::run_fk(args, cli.quiet)?,
-        Command::Imu(args) => crate::cli_imu::run_imu(args, cli.quiet)?,
+        Command::Fk(args) => crate::cli::fk::run_fk(args, cli.quiet)?,
+        Command::Imu(args) => crate::cli::imu::run_imu(args, cli.quiet)?,
         Command::Report {
             motions,
             labels,
@@ -145,19 +150,19 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             warn(w);
             write_output(output.as_deref(), |out| table.write_mot(out))?;
         }
-        Command::Model(c) => crate::cli_gait2392::run_model(c, cli.quiet)?,
-        Command::Export(args) => crate::cli_gait2392::run_export(args, cli.quiet)?,
-        Command::Fidelity(args) => crate::cli_gait2392::run_fidelity(args, cli.quiet)?,
-        Command::Config(args) => crate::cli_config::run_config(args, cli.quiet)?,
-        Command::Packets(args) => crate::cli_device::run_packets(args, cli.quiet)?,
-        Command::Decode(args) => crate::cli_device::run_decode(args, cli.quiet)?,
+        Command::Model(c) => crate::cli::fk::run_model(c, cli.quiet)?,
+        Command::Export(args) => crate::cli::fk::run_export(args, cli.quiet)?,
+        Command::Fidelity(args) => crate::cli::fk::run_fidelity(args, cli.quiet)?,
+        Command::Config(args) => crate::cli::config::run_config(args, cli.quiet)?,
+        Command::Packets(args) => crate::cli::device::run_packets(args, cli.quiet)?,
+        Command::Decode(args) => crate::cli::device::run_decode(args, cli.quiet)?,
         Command::Verify(args) => {
-            if !crate::cli_device::run_verify(args, cli.quiet)? {
+            if !crate::cli::device::run_verify(args, cli.quiet)? {
                 anyhow::bail!("verification failed");
             }
         }
         Command::Emulate(args) => {
-            if !crate::cli_device::run_emulate(args, cli.quiet)? {
+            if !crate::cli::device::run_emulate(args, cli.quiet)? {
                 anyhow::bail!("emulation failed");
             }
         }

@@ -8,11 +8,11 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::{Gait2392, Gait2392Geometry, Joint, PhakAngles, Side, Vec3};
 
-use crate::coords::CoordRows;
-use crate::kinematics::{self, Evaluator, Model};
-use crate::mot::{MotionTable, Warning};
-use crate::source::MotionRows;
-use crate::subject;
+use crate::model::coords::CoordRows;
+use crate::model::kinematics::{self, Evaluator, Model};
+use crate::model::subject;
+use crate::motion::source::MotionRows;
+use crate::opensim::mot::{MotionTable, Warning};
 
 /// A model chosen on the command line.
 #[derive(Debug, Clone, PartialEq)]
@@ -54,7 +54,7 @@ impl ModelSpec {
             _ if is_osim => {
                 let text =
                     std::fs::read_to_string(path).map_err(|e| format!("{arg}: cannot read: {e}"))?;
-                let imported = crate::osim_import::import(&text, arg, None)?;
+                let imported = crate::opensim::osim::import(&text, arg, None)?;
                 // The first note says where it was imported from; the others are worth showing.
                 let notes = imported.notes.into_iter().skip(1).collect();
                 (
@@ -203,7 +203,7 @@ pub fn drive<const N: usize>(
 }
 
 /// The header of the `qgait fk` CSV for these points: `time`, then `<name>_x,<name>_y,<name>_z`
-/// per point. For the standard 8 points this is exactly [`crate::fk_csv::header`].
+/// per point. For the standard 8 points this is exactly [`crate::model::points_csv::header`].
 pub fn csv_header(names: &[String]) -> String {
     let mut header = vec!["time".to_string()];
     for n in names {
@@ -233,7 +233,10 @@ mod tests {
 
     #[test]
     fn standard_names_give_the_fk_header() {
-        assert_eq!(csv_header(&point_names(false)), crate::fk_csv::header());
+        assert_eq!(
+            csv_header(&point_names(false)),
+            crate::model::points_csv::header()
+        );
         assert_eq!(
             point_names(true)[8..],
             ["subtalar_r", "mtp_r", "subtalar_l", "mtp_l"]

@@ -12,9 +12,9 @@
 
 use qgait_kernel::models::ranges;
 
-use crate::kinematics::LEG_COLUMNS;
-use crate::mot::{Header, NonFinite, Warning};
-use crate::source::MotionRows;
+use crate::model::kinematics::LEG_COLUMNS;
+use crate::motion::source::MotionRows;
+use crate::opensim::mot::{Header, NonFinite, Warning};
 
 /// Per picked column: how its values compare with the range.
 #[derive(Debug, Clone, Default)]
@@ -257,7 +257,7 @@ fn show_degrees(d: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mot::MotionTable;
+    use crate::opensim::mot::MotionTable;
 
     const NAMES: [&str; 8] = qgait_kernel::PhakAngles::<f64>::NAMES;
 

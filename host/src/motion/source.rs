@@ -1,11 +1,11 @@
-//! Where a motion comes from: a `.mot`/`.sto` path, or a `builtin:` spec (see [`crate::builtin`]).
+//! Where a motion comes from: a `.mot`/`.sto` path, or a `builtin:` spec (see [`crate::motion::builtin`]).
 
 use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
-use crate::builtin::{self, BuiltinSpec};
-use crate::mot::{Header, MotError, MotionReader, MotionTable, Row, Warning};
+use crate::motion::builtin::{self, BuiltinSpec};
+use crate::opensim::mot::{Header, MotError, MotionReader, MotionTable, Row, Warning};
 
 /// Prefix that selects the built-in gait generator instead of a file.
 pub const BUILTIN_PREFIX: &str = "builtin:";

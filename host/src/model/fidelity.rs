@@ -21,9 +21,9 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::gait2392::{Knots, COORDINATES};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Phak, PhakAngles, Quat, Spline, Vec3};
 
-use crate::kinematics;
-use crate::model_spec::{gait2392_coordinates, point_names};
-use crate::mot::{MotionTable, Warning};
+use crate::model::kinematics;
+use crate::model::spec::{gait2392_coordinates, point_names};
+use crate::opensim::mot::{MotionTable, Warning};
 
 /// One gait2392 feature that PHAK lacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -12,6 +12,7 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
 
+use crate::device::config::{frames, messages, HubModel, HubSettings};
 use crate::device::faults::Arrivals;
 use crate::device::firmware;
 use crate::device::frames_csv;
@@ -22,10 +23,9 @@ use crate::device::port::{self, Input, Until};
 use crate::device::qemu::Echo;
 use crate::device::session::{self, closing_frames, InputCounts, Limits};
 use crate::device::verify::{DeviceModel, Expected, Verification, Verifier, MISSING_LISTED};
-use crate::hub_config::{frames, messages, HubModel, HubSettings};
-use crate::kinematics::Model;
-use crate::model_spec::ModelSpec;
-use crate::source::load_motion;
+use crate::model::kinematics::Model;
+use crate::model::spec::ModelSpec;
+use crate::motion::source::load_motion;
 
 /// The model the hub computes with, as on the command line of `qgait config`.
 #[derive(Debug, Args, Clone)]
@@ -57,7 +57,7 @@ impl DeviceModelArgs {
         let anthropometry = match &self.anthropometry {
             None => None,
             Some(p) => {
-                let (a, w) = crate::anthropometry::read(p).map_err(anyhow::Error::msg)?;
+                let (a, w) = crate::model::anthropometry::read(p).map_err(anyhow::Error::msg)?;
                 if !quiet {
                     w.iter().for_each(|w| eprintln!("warning: {w}"));
                 }
@@ -304,12 +304,12 @@ pub struct EmulateArgs {
 /// Runs `qgait packets`: each row's packets are written before the next row is read.
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     crate::cli::refuse_overwrite([args.output.as_path()], &[&args.motion])?;
-    let warn = |w: Vec<crate::mot::Warning>| {
+    let warn = |w: Vec<crate::opensim::mot::Warning>| {
         if !quiet {
             w.iter().for_each(|w| eprintln!("warning: {w}"));
         }
     };
-    let (rows, w) = crate::source::MotionRows::open(&args.motion)?;
+    let (rows, w) = crate::motion::source::MotionRows::open(&args.motion)?;
     warn(w);
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
     let mut file = crate::cli::OutputFile::create(&args.output)?;

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use qgait_proto::{MissingPolicy, ModelId};
 
-use crate::hub_config::{frames, messages, HubModel, HubSettings};
-use crate::kinematics::Model;
-use crate::model_spec::ModelSpec;
+use crate::device::config::{frames, messages, HubModel, HubSettings};
+use crate::model::kinematics::Model;
+use crate::model::spec::ModelSpec;
 
 /// `qgait config` arguments.
 #[derive(Debug, Args)]
@@ -64,7 +64,7 @@ pub fn run_config(args: ConfigArgs, quiet: bool) -> anyhow::Result<()> {
                 None => None,
                 Some(p) => {
                     let (a, warnings) =
-                        crate::anthropometry::read(p).map_err(anyhow::Error::msg)?;
+                        crate::model::anthropometry::read(p).map_err(anyhow::Error::msg)?;
                     if !quiet {
                         for w in warnings {
                             eprintln!("warning: {w}");

@@ -5,8 +5,8 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::BilateralPose;
 
-use crate::coords::Picker;
-use crate::mot::{MotionTable, Warning};
+use crate::model::coords::Picker;
+use crate::opensim::mot::{MotionTable, Warning};
 
 /// Which kernel model computes the joint positions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -27,7 +27,7 @@
 //! - **Repeated time.** A row with the same time as the one before replaces it (as OpenSim does;
 //!   tools often write the last time twice), with a warning; a time that goes back is an error.
 //! - **Columns.** A label that appears twice gives a warning; it is an error only for a model that
-//!   needs that column (see [`crate::coords`]). `nan` and `inf` values are kept: they are an error
+//!   needs that column (see [`crate::model::coords`]). `nan` and `inf` values are kept: they are an error
 //!   (with file, line and column) only in a column a model needs, or in `time`.
 //! - **Text.** Lines that are not UTF-8 (a Latin-1 `é` in a header comment) are read as Latin-1,
 //!   with one warning. Header lines not understood (free text such as `Units are S.I. units`)

@@ -11,14 +11,14 @@ use clap::{Args, Subcommand};
 use crate::cli::{
     load_anthropometry, refuse_overwrite, with_path, write_output, write_output_with, OutputFile,
 };
-use crate::export;
-use crate::fidelity;
-use crate::model_spec::{self, ModelSpec, PointModel};
-use crate::mot::Warning;
-use crate::osim_import;
+use crate::model::fidelity;
+use crate::model::spec::{self, ModelSpec, PointModel};
+use crate::model::subject;
+use crate::motion::source::{default_label, load_motion, MotionRows};
+use crate::opensim::export;
+use crate::opensim::mot::Warning;
+use crate::opensim::osim;
 use crate::progress::Progress;
-use crate::source::{default_label, load_motion, MotionRows};
-use crate::subject;
 
 /// `qgait fk` arguments.
 #[derive(Debug, Args)]
@@ -178,10 +178,10 @@ pub fn run_fk(a: FkArgs, quiet: bool) -> anyhow::Result<()> {
     );
     let mut warnings = Vec::new();
     write_output_with(a.output.as_deref(), |out| {
-        writeln!(out, "{}", model_spec::csv_header(&model.names()))?;
+        writeln!(out, "{}", spec::csv_header(&model.names()))?;
         warnings = model.run(rows, &warn, |t, points| {
             progress.inc(1);
-            Ok(model_spec::write_csv_row(out, t, points)?)
+            Ok(spec::write_csv_row(out, t, points)?)
         })?;
         Ok(())
     })?;
@@ -213,7 +213,7 @@ pub fn run_model(c: ModelCommand, quiet: bool) -> anyhow::Result<()> {
                 )),
                 None => None,
             };
-            let imported = osim_import::import(
+            let imported = osim::import(
                 &text,
                 &shown,
                 marker_text.as_ref().map(|(t, s)| (t.as_str(), s.as_str())),

@@ -13,8 +13,8 @@ use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::{Gait2392, Gait2392Geometry};
 
 use crate::cli::{refuse_overwrite, write_output_with};
-use crate::imu_sto::OrientationReader;
-use crate::mot::{write_mot_header, write_mot_row, Warning};
+use crate::opensim::imu_sto::OrientationReader;
+use crate::opensim::mot::{write_mot_header, write_mot_row, Warning};
 use crate::progress::Progress;
 
 /// Arguments of `qgait imu`.
