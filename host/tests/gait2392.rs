@@ -143,7 +143,10 @@ fn fk_gait2392_without_points_has_the_standard_columns_and_warns_for_absent_coor
     let (csv, err) = run_ok(&["fk", "builtin:normal,rows=3", "--model", "gait2392"]);
     let (_, std_rows) = parse_fk_csv(&run_ok(&["fk", "builtin:normal,rows=3"]).0);
     let (header, rows) = parse_fk_csv(&csv);
-    assert_eq!(header, qgait::model::points_csv::header());
+    assert_eq!(
+        header,
+        qgait::model::points::csv_header(&qgait::model::points::point_names(false))
+    );
     assert_eq!(rows.len(), 3);
     assert_eq!(rows[0].len(), std_rows[0].len());
     // The built-in gait has pelvis list and rotation only.
@@ -173,7 +176,10 @@ fn fk_gait2392_without_points_has_the_standard_columns_and_warns_for_absent_coor
         "--anthropometry",
         "a.toml",
     ]);
-    assert!(e.contains("--anthropometry sets HAK/PHAK lengths"), "{e}");
+    assert!(
+        e.contains("--anthropometry applies to hak and phak only: gait2392 has its own"),
+        "{e}"
+    );
     let e = run_err(&["fk", "builtin:normal", "--model", "gait9999"]);
     assert!(e.contains("unknown model `gait9999`"), "{e}");
 }
@@ -564,7 +570,7 @@ fn export_writes_a_trc_and_an_sto_that_read_back_as_the_fk_csv() {
     assert_eq!(values, ["10", "10", "11", "12", "m", "10", "1", "11"]);
     let markers: Vec<&str> = lines[3].split('\t').filter(|m| !m.is_empty()).collect();
     assert_eq!(markers[..2], ["Frame#", "Time"]);
-    assert_eq!(markers[2..], qgait::model::spec::point_names(true));
+    assert_eq!(markers[2..], qgait::model::points::point_names(true));
     let xyz: Vec<&str> = lines[4].split('\t').collect();
     assert_eq!(xyz.len(), 2 + 3 * 12);
     assert_eq!(xyz[2..5], ["X1", "Y1", "Z1"]);

@@ -142,8 +142,7 @@ fn plan() -> Plan {
         },
     ];
     for model in &switches {
-        let messages =
-            config::messages(model, settings).expect("the session's models are valid");
+        let messages = config::messages(model, settings).expect("the session's models are valid");
         for message in &messages {
             push_frame(&mut bytes, message);
         }

@@ -6,21 +6,18 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use qgait_proto::{MissingPolicy, ModelId};
 
+use crate::cli::diagnostics::Diagnostics;
+use crate::cli::model_args::ModelArgs;
 use crate::device::config::{frames, messages, HubModel, HubSettings};
-use crate::model::kinematics::Model;
-use crate::model::spec::ModelSpec;
+use crate::model::choice::Model;
 
 /// `qgait config` arguments.
 #[derive(Debug, Args)]
 pub struct ConfigArgs {
-    /// The model: `hak`, `phak`, `gait2392` (generic), a SUBJECT.toml from `qgait model import`
-    /// or an OpenSim MODEL.osim (imported on the fly), sent as six parts and a `SubjectConfig`.
-    #[arg(long, value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim")]
-    pub model: String,
-    /// Segment lengths (TOML, as for `qgait fk`); HAK and PHAK only. Default: the hub keeps
-    /// its current lengths.
-    #[arg(long, value_name = "FILE.toml")]
-    pub anthropometry: Option<PathBuf>,
+    /// The model (a SUBJECT.toml or MODEL.osim is sent as six parts and a `SubjectConfig`)
+    /// and, for HAK and PHAK, the lengths (without `--anthropometry` the hub keeps its own).
+    #[command(flatten)]
+    pub model: ModelArgs,
     /// What the hub does with a sample missing a joint.
     #[arg(long, value_enum, default_value = "drop")]
     pub policy: Policy,
@@ -48,57 +45,30 @@ pub enum Policy {
     Hold,
 }
 
-/// Runs `qgait config`.
-pub fn run_config(args: ConfigArgs, quiet: bool) -> anyhow::Result<()> {
-    let anthropometry = args
-        .anthropometry
-        .as_deref()
-        .map(|p| p.to_string_lossy().into_owned());
-    let mut inputs = vec![args.model.as_str()];
-    inputs.extend(anthropometry.as_deref());
-    crate::cli::refuse_overwrite([args.output.as_path()], &inputs)?;
-    let spec = ModelSpec::load(&args.model).map_err(anyhow::Error::msg)?;
-    let model = match spec {
-        ModelSpec::Stick(m) => {
-            let anthropometry = match &args.anthropometry {
-                None => None,
-                Some(p) => {
-                    let (a, warnings) =
-                        crate::model::anthropometry::read(p).map_err(anyhow::Error::msg)?;
-                    if !quiet {
-                        for w in warnings {
-                            eprintln!("warning: {w}");
-                        }
-                    }
-                    Some(a)
-                }
-            };
-            let model = match m {
-                Model::Hak => ModelId::Hak,
-                Model::Phak => ModelId::Phak,
-            };
-            HubModel::Stick {
-                model,
-                anthropometry,
-            }
-        }
-        ModelSpec::Gait2392 { geometry, name } => {
-            if args.anthropometry.is_some() {
-                anyhow::bail!("--anthropometry applies to hak and phak only: {name} has its own segment lengths");
-            }
-            if name == "gait2392" {
-                HubModel::Gait2392
-            } else {
-                HubModel::Subject {
-                    geometry,
-                    upload: args.upload,
-                }
-            }
-        }
+/// The configuration a hub gets for `model`; `upload` is a subject model's upload id.
+pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubModel> {
+    let hub = match model {
+        Model::Hak { stated } => HubModel::Stick {
+            model: ModelId::Hak,
+            anthropometry: stated,
+        },
+        Model::Phak { stated } => HubModel::Stick {
+            model: ModelId::Phak,
+            anthropometry: stated,
+        },
+        Model::Gait2392 { name, .. } if name == "gait2392" => HubModel::Gait2392,
+        Model::Gait2392 { geometry, .. } => HubModel::Subject { geometry, upload },
     };
-    if args.upload.is_some() && !matches!(model, HubModel::Subject { .. }) {
+    if upload.is_some() && !matches!(hub, HubModel::Subject { .. }) {
         anyhow::bail!("--upload applies to a SUBJECT.toml model only");
     }
+    Ok(hub)
+}
+
+/// Runs `qgait config`.
+pub fn run_config(args: ConfigArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
+    crate::cli::refuse_overwrite([args.output.as_path()], &args.model.inputs())?;
+    let model = hub_model(args.model.load(diagnostics)?, args.upload)?;
     let settings = HubSettings {
         missing_policy: match args.policy {
             Policy::Drop => MissingPolicy::Drop,
@@ -111,13 +81,11 @@ pub fn run_config(args: ConfigArgs, quiet: bool) -> anyhow::Result<()> {
     let bytes = frames(&sent).map_err(anyhow::Error::msg)?;
     std::fs::write(&args.output, &bytes)
         .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", args.output.display()))?;
-    if !quiet {
-        eprintln!(
-            "wrote {} frame(s), {} bytes, to {}",
-            sent.len(),
-            bytes.len(),
-            args.output.display()
-        );
-    }
+    diagnostics.done(format!(
+        "wrote {} frame(s), {} bytes, to {}",
+        sent.len(),
+        bytes.len(),
+        args.output.display()
+    ));
     Ok(())
 }

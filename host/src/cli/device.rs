@@ -12,6 +12,9 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
 
+use crate::cli::config::hub_model;
+use crate::cli::diagnostics::Diagnostics;
+use crate::cli::model_args::ModelArgs;
 use crate::device::config::{frames, messages, HubModel, HubSettings};
 use crate::device::faults::Arrivals;
 use crate::device::firmware;
@@ -23,26 +26,8 @@ use crate::device::port::{self, Input, Until};
 use crate::device::qemu::Echo;
 use crate::device::session::{self, closing_frames, InputCounts, Limits};
 use crate::device::verify::{DeviceModel, Expected, Verification, Verifier, MISSING_LISTED};
-use crate::model::kinematics::Model;
-use crate::model::spec::ModelSpec;
+use crate::model::choice::Model;
 use crate::motion::source::load_motion;
-
-/// The model the hub computes with, as on the command line of `qgait config`.
-#[derive(Debug, Args, Clone)]
-pub struct DeviceModelArgs {
-    /// The hub's model: `hak`, `phak` (the hub's default), `gait2392`, a SUBJECT.toml from
-    /// `qgait model import`, or an OpenSim MODEL.osim (imported on the fly).
-    #[arg(
-        long,
-        default_value = "phak",
-        value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim"
-    )]
-    pub model: String,
-    /// The hub's segment lengths (TOML, as for `qgait fk`; HAK and PHAK). Default gait2392's,
-    /// the hub's own default.
-    #[arg(long, value_name = "FILE.toml")]
-    pub anthropometry: Option<PathBuf>,
-}
 
 /// The model, loaded: what to send the hub, what to send it for, and how to recompute.
 struct LoadedModel {
@@ -51,56 +36,22 @@ struct LoadedModel {
     device: DeviceModel,
 }
 
-impl DeviceModelArgs {
-    fn load(&self, quiet: bool) -> anyhow::Result<LoadedModel> {
-        let spec = ModelSpec::load(&self.model).map_err(anyhow::Error::msg)?;
-        let anthropometry = match &self.anthropometry {
-            None => None,
-            Some(p) => {
-                let (a, w) = crate::model::anthropometry::read(p).map_err(anyhow::Error::msg)?;
-                if !quiet {
-                    w.iter().for_each(|w| eprintln!("warning: {w}"));
-                }
-                Some(a)
-            }
+impl LoadedModel {
+    fn load(args: &ModelArgs, quiet: bool) -> anyhow::Result<LoadedModel> {
+        let model = args.load(&Diagnostics::new(quiet))?;
+        let lengths = model.lengths().unwrap_or_else(Anthropometry::gait2392);
+        let generic = Gait2392Geometry::generic();
+        let device = DeviceModel::new(&lengths, model.geometry().unwrap_or(&generic))
+            .map_err(anyhow::Error::msg)?;
+        let wire = match model {
+            Model::Hak { .. } => ModelId::Hak,
+            Model::Phak { .. } => ModelId::Phak,
+            Model::Gait2392 { .. } => ModelId::Gait2392,
         };
-        let lengths = anthropometry.unwrap_or_else(Anthropometry::gait2392);
-        Ok(match spec {
-            ModelSpec::Stick(m) => {
-                let wire = if m == Model::Hak {
-                    ModelId::Hak
-                } else {
-                    ModelId::Phak
-                };
-                LoadedModel {
-                    hub: HubModel::Stick {
-                        model: wire,
-                        anthropometry,
-                    },
-                    wire,
-                    device: DeviceModel::new(&lengths, &Gait2392Geometry::generic())
-                        .map_err(anyhow::Error::msg)?,
-                }
-            }
-            ModelSpec::Gait2392 { geometry, name } => {
-                if self.anthropometry.is_some() {
-                    bail!("--anthropometry applies to hak and phak only: {name} has its own segment lengths");
-                }
-                let device = DeviceModel::new(&lengths, &geometry).map_err(anyhow::Error::msg)?;
-                let hub = if name == "gait2392" {
-                    HubModel::Gait2392
-                } else {
-                    HubModel::Subject {
-                        geometry,
-                        upload: None,
-                    }
-                };
-                LoadedModel {
-                    hub,
-                    wire: ModelId::Gait2392,
-                    device,
-                }
-            }
+        Ok(LoadedModel {
+            hub: hub_model(model, None)?,
+            wire,
+            device,
         })
     }
 }
@@ -258,7 +209,7 @@ pub struct VerifyArgs {
     pub tol_um: f64,
     /// The model and lengths the hub was configured with.
     #[command(flatten)]
-    pub model: DeviceModelArgs,
+    pub model: ModelArgs,
     /// Reading a live hub: baud rate, when to stop, live view.
     #[command(flatten)]
     pub port: PortArgs,
@@ -282,7 +233,7 @@ pub struct EmulateArgs {
     pub rate: Option<f64>,
     /// The hub's configuration, sent before the stream.
     #[command(flatten)]
-    pub model: DeviceModelArgs,
+    pub model: ModelArgs,
     /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
     #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
     pub window: u8,
@@ -304,7 +255,7 @@ pub struct EmulateArgs {
 /// Runs `qgait packets`: each row's packets are written before the next row is read.
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     crate::cli::refuse_overwrite([args.output.as_path()], &[&args.motion])?;
-    let warn = |w: Vec<crate::opensim::mot::Warning>| {
+    let warn = |w: Vec<crate::diagnostics::Warning>| {
         if !quiet {
             w.iter().for_each(|w| eprintln!("warning: {w}"));
         }
@@ -486,7 +437,7 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
 /// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
 /// ([`Verifier`]): memory is independent of the log's length.
 pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
-    let model = args.model.load(quiet)?;
+    let model = LoadedModel::load(&args.model, quiet)?;
     let (mut input, mut view) = args.port.open(&args.log, false, false, quiet)?;
     let mut decoder = LogDecoder::new();
     let mut verifier = Verifier::new(&model.device, Expected::FirstToLast);
@@ -572,14 +523,11 @@ fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Resu
 /// Runs `qgait emulate`; `Ok(false)` when --verify failed or the session did not end normally.
 pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let paths = |p: &Option<PathBuf>| p.as_deref().map(|p| p.to_string_lossy().into_owned());
-    let named = [
-        paths(&args.stream),
-        paths(&args.elf),
-        paths(&args.model.anthropometry),
-    ];
-    let mut inputs: Vec<&str> = named.iter().flatten().map(String::as_str).collect();
-    inputs.push(args.model.model.as_str());
-    inputs.extend(args.motion.as_deref());
+    let mut inputs: Vec<String> = [paths(&args.stream), paths(&args.elf), args.motion.clone()]
+        .into_iter()
+        .flatten()
+        .collect();
+    inputs.extend(args.model.inputs());
     crate::cli::refuse_overwrite(
         args.frames_csv
             .iter()
@@ -587,7 +535,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             .map(PathBuf::as_path),
         &inputs,
     )?;
-    let model = args.model.load(quiet)?;
+    let model = LoadedModel::load(&args.model, quiet)?;
     let EmulateInput {
         stream,
         times,

@@ -10,11 +10,15 @@ use qgait_kernel::imu::{
     heading_free_pelvis, Calibration, Heading, HeadingAxis, Mode, Segment, Settings, Solver, LUMBAR,
 };
 use qgait_kernel::models::gait2392::COORDINATES;
-use qgait_kernel::{Gait2392, Gait2392Geometry};
+use qgait_kernel::Gait2392;
 
+use crate::cli::diagnostics::Diagnostics;
+use crate::cli::model_args::ModelArgs;
 use crate::cli::{refuse_overwrite, write_output_with};
+use crate::diagnostics::Warning;
+use crate::model::error::ModelError;
 use crate::opensim::imu_sto::OrientationReader;
-use crate::opensim::mot::{write_mot_header, write_mot_row, Warning};
+use crate::opensim::mot::{write_mot_header, write_mot_row};
 use crate::progress::Progress;
 
 /// Arguments of `qgait imu`.
@@ -27,10 +31,10 @@ pub struct ImuArgs {
     /// in the model's default pose (OpenSense's `orientation_file_for_calibration`).
     #[arg(long, value_name = "STATIC.sto")]
     pub calibration: PathBuf,
-    /// Kinematic model (gait2392's coordinates are written; the calibration and the solution
-    /// depend only on its joint axes, which scaling does not change).
-    #[arg(long, default_value = "gait2392", value_name = "gait2392")]
-    pub model: String,
+    /// The model: gait2392 (the default), a SUBJECT.toml or an OpenSim MODEL.osim of the
+    /// gait2392 family (its joint axes are used; gait2392's coordinates are written).
+    #[command(flatten)]
+    pub model: ModelArgs,
     /// The IMU whose heading axis points forward in the calibration pose (OpenSense's
     /// `base_imu_label`, e.g. `torso_imu` or `pelvis_imu`); default none: no heading
     /// correction, as OpenSense (the subject then faces the sensors' world x at calibration).
@@ -138,22 +142,26 @@ fn settings(a: &ImuArgs) -> anyhow::Result<Settings<f64>> {
 }
 
 /// Runs `qgait imu`.
-pub fn run_imu(a: ImuArgs, quiet: bool) -> anyhow::Result<()> {
-    if !a.model.eq_ignore_ascii_case("gait2392") {
-        bail!(
-            "--model `{}`: `qgait imu` writes gait2392's coordinates only (--model gait2392)",
-            a.model
-        );
-    }
-    let inputs: Vec<&str> = [&a.orientations, &a.calibration]
+pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
+    let mut inputs: Vec<String> = [&a.orientations, &a.calibration]
         .iter()
-        .filter_map(|p| p.to_str())
+        .map(|p| p.to_string_lossy().into_owned())
         .collect();
+    inputs.extend(a.model.inputs());
     refuse_overwrite([a.output.as_path()], &inputs)?;
+    let chosen = a.model.load_or("gait2392", diagnostics)?;
+    let Some(geometry) = chosen.geometry() else {
+        bail!(
+            "--model {}: `qgait imu` solves a gait2392-family model (gait2392, a SUBJECT.toml or an .osim)",
+            chosen.name()
+        );
+    };
     let settings = settings(&a)?;
     let mut warnings: Vec<Warning> = Vec::new();
-    let model = Gait2392::<f64>::new(&Gait2392Geometry::generic())
-        .map_err(|e| anyhow::anyhow!("gait2392: {e:?}"))?;
+    let model = Gait2392::<f64>::new(geometry).map_err(|error| ModelError::Rejected {
+        name: chosen.name().to_string(),
+        error,
+    })?;
 
     let calibration = calibrate(&a.calibration, &model, &settings, &mut warnings)?;
     let mut reader = OrientationReader::open(&a.orientations)?;
@@ -192,7 +200,7 @@ pub fn run_imu(a: ImuArgs, quiet: bool) -> anyhow::Result<()> {
         .map(String::from)
         .collect();
     let mut solver = Solver::new();
-    let progress = Progress::new(0, "imu", quiet);
+    let progress = Progress::new(0, "imu", diagnostics.quiet());
     let heading_free = a.pelvis == PelvisArg::HeadingFree;
     let mut window = ProgressionWindow::new(PROGRESSION_WINDOW);
     write_output_with(Some(&a.output), |out| {
@@ -235,11 +243,7 @@ pub fn run_imu(a: ImuArgs, quiet: bool) -> anyhow::Result<()> {
     })?;
     progress.finish();
     warnings.extend(reader.take_warnings());
-    if !quiet {
-        for w in warnings {
-            eprintln!("warning: {w}");
-        }
-    }
+    diagnostics.warn(warnings);
     Ok(())
 }
 

@@ -2,8 +2,13 @@
 
 pub mod config;
 pub mod device;
+pub mod diagnostics;
+pub mod export;
+pub mod fidelity;
 pub mod fk;
 pub mod imu;
+pub mod model;
+pub mod model_args;
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -11,11 +16,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use qgait_kernel::anthropometry::Anthropometry;
 
-use crate::model::anthropometry;
+use crate::cli::diagnostics::Diagnostics;
+use crate::diagnostics::Warning;
 use crate::motion::source::{default_label, load_motion};
-use crate::opensim::mot::Warning;
 use crate::progress::Progress;
 use crate::report::{self, Analysis};
 
@@ -48,9 +52,9 @@ pub enum Command {
         /// Label of each motion in legends and tables, in order (default: the file stem).
         #[arg(long = "label", value_name = "NAME")]
         labels: Vec<String>,
-        /// Segment lengths (TOML), default gait2392.
-        #[arg(long, value_name = "FILE.toml")]
-        anthropometry: Option<PathBuf>,
+        /// The model: hak or phak (default), with its segment lengths.
+        #[command(flatten)]
+        model: crate::cli::model_args::ModelArgs,
         /// Output directory (created if needed).
         #[arg(short, long, value_name = "DIR")]
         output: PathBuf,
@@ -65,11 +69,11 @@ pub enum Command {
     },
     /// OpenSim models: `model import MODEL.osim -o SUBJECT.toml`.
     #[command(subcommand)]
-    Model(crate::cli::fk::ModelCommand),
+    Model(crate::cli::model::ModelCommand),
     /// Computed joint centres as an OpenSim marker file (.trc) and table (.sto).
-    Export(crate::cli::fk::ExportArgs),
+    Export(crate::cli::export::ExportArgs),
     /// How far PHAK (8 DoF) is from gait2392, per point, and what each feature costs (Markdown).
-    Fidelity(crate::cli::fk::FidelityArgs),
+    Fidelity(crate::cli::fidelity::FidelityArgs),
     /// The frames that configure a hub (model, lengths, policy, window), to send to its UART.
     Config(crate::cli::config::ConfigArgs),
     /// The byte stream the IMU nodes send for a motion (one JointAngle packet per joint per row).
@@ -87,20 +91,15 @@ pub enum Command {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
-    let warn = |warnings: Vec<Warning>| {
-        if !cli.quiet {
-            for w in warnings {
-                eprintln!("warning: {w}");
-            }
-        }
-    };
+    let diagnostics = Diagnostics::new(cli.quiet);
+    let warn = |warnings: Vec<Warning>| diagnostics.warn(warnings);
     match cli.command {
-        Command::Fk(args) => crate::cli::fk::run_fk(args, cli.quiet)?,
-        Command::Imu(args) => crate::cli::imu::run_imu(args, cli.quiet)?,
+        Command::Fk(args) => crate::cli::fk::run_fk(args, &diagnostics)?,
+        Command::Imu(args) => crate::cli::imu::run_imu(args, &diagnostics)?,
         Command::Report {
             motions,
             labels,
-            anthropometry,
+            model,
             output,
         } => {
             if labels.len() > motions.len() {
@@ -110,7 +109,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     motions.len()
                 );
             }
-            let anthro = load_anthropometry(anthropometry.as_deref(), &warn)?;
+            let model = model.load(&diagnostics)?;
             let mut tables = Vec::new();
             // Frames CSVs (a device's poses, `qgait emulate --frames-csv`) by position.
             let mut frames = Vec::new();
@@ -133,16 +132,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let rows: usize = tables.iter().map(|(_, t)| t.rows()).sum();
             let progress = Progress::new(rows as u64 + report::FIGURE_COUNT, "report", cli.quiet);
-            let (mut analysis, w) = Analysis::new(&tables, &anthro, &progress)?;
+            let (mut analysis, w) = Analysis::new(&tables, &model, &progress)?;
             warn(w);
             for (i, label, spec, table) in &frames {
                 analysis.insert_frames(*i, label, spec, table)?;
             }
             let files = report::write_report(&analysis, &output, &progress)?;
             progress.finish();
-            if !cli.quiet {
-                eprintln!("wrote {} files to {}", files.len(), output.display());
-            }
+            diagnostics.done(format!(
+                "wrote {} files to {}",
+                files.len(),
+                output.display()
+            ));
         }
         Command::Motion { motion, output } => {
             refuse_overwrite(output.as_deref(), &[&motion])?;
@@ -150,10 +151,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             warn(w);
             write_output(output.as_deref(), |out| table.write_mot(out))?;
         }
-        Command::Model(c) => crate::cli::fk::run_model(c, cli.quiet)?,
-        Command::Export(args) => crate::cli::fk::run_export(args, cli.quiet)?,
-        Command::Fidelity(args) => crate::cli::fk::run_fidelity(args, cli.quiet)?,
-        Command::Config(args) => crate::cli::config::run_config(args, cli.quiet)?,
+        Command::Model(c) => crate::cli::model::run_model(c, &diagnostics)?,
+        Command::Export(args) => crate::cli::export::run_export(args, &diagnostics)?,
+        Command::Fidelity(args) => crate::cli::fidelity::run_fidelity(args, &diagnostics)?,
+        Command::Config(args) => crate::cli::config::run_config(args, &diagnostics)?,
         Command::Packets(args) => crate::cli::device::run_packets(args, cli.quiet)?,
         Command::Decode(args) => crate::cli::device::run_decode(args, cli.quiet)?,
         Command::Verify(args) => {
@@ -170,32 +171,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     Ok(())
 }
 
-pub(crate) fn load_anthropometry(
-    path: Option<&Path>,
-    warn: &impl Fn(Vec<Warning>),
-) -> anyhow::Result<Anthropometry<f64>> {
-    match path {
-        None => Ok(Anthropometry::gait2392()),
-        Some(p) => {
-            let (a, w) = anthropometry::read(p).map_err(anyhow::Error::msg)?;
-            warn(w);
-            Ok(a)
-        }
-    }
-}
-
 /// Refuses to write any of `outputs` over one of `inputs` (motion specs, model or other files
 /// given on the same command line): `qgait fk x.mot -o x.mot` would destroy its own input.
 /// Paths that do not exist yet (and `builtin:` specs) cannot be the same file.
 pub(crate) fn refuse_overwrite<'a>(
     outputs: impl IntoIterator<Item = &'a Path>,
-    inputs: &[&str],
+    inputs: &[impl AsRef<str>],
 ) -> anyhow::Result<()> {
     for out in outputs {
         let Ok(out_real) = out.canonicalize() else {
             continue;
         };
-        for input in inputs {
+        for input in inputs.iter().map(AsRef::as_ref) {
             if Path::new(input).canonicalize().is_ok_and(|i| i == out_real) {
                 anyhow::bail!(
                     "{}: this output is also an input ({input}); refusing to overwrite it",

@@ -10,7 +10,10 @@ use qgait_proto::PoseFrame;
 
 /// The header line (without the newline).
 pub fn header() -> String {
-    format!("seq,{}", crate::model::points_csv::header())
+    format!(
+        "seq,{}",
+        crate::model::points::csv_header(&crate::model::points::point_names(false))
+    )
 }
 
 /// Writes the header and one row per frame; `time_s` gives the time of a sequence number.
@@ -56,7 +59,7 @@ pub struct FramesTable {
     pub seq: Vec<u32>,
     /// Times (s), `None` where the column is empty.
     pub time: Vec<Option<f64>>,
-    /// The 8 points of each row, [`crate::model::spec::point_names`] order.
+    /// The 8 points of each row, [`crate::model::points::point_names`] order.
     pub points: Vec<[[f64; 3]; 8]>,
 }
 

@@ -12,10 +12,11 @@ use std::cell::RefCell;
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::PhakAngles;
 
+use crate::diagnostics::Warning;
 use crate::model::kinematics::HAK_NAMES;
-use crate::model::spec::drive;
+use crate::model::points::drive;
 use crate::motion::source::MotionRows;
-use crate::opensim::mot::{MotionTable, Warning};
+use crate::opensim::mot::MotionTable;
 
 /// The samples of a motion as a node network would measure them: per row, the angle of every
 /// joint the model needs, in [`ModelId::required_joints`] order (radians), and a timestamp.

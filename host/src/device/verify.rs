@@ -10,7 +10,7 @@ use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::{BilateralPose, Gait2392, Gait2392Geometry};
 use qgait_proto::{ModelId, PoseFrame};
 
-use crate::model::spec::point_names;
+use crate::model::points::point_names;
 
 /// What the hub computes each model with (its configuration).
 pub struct DeviceModel {

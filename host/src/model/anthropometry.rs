@@ -17,7 +17,7 @@ use std::path::Path;
 
 use qgait_kernel::anthropometry::{Anthropometry, Limb};
 
-use crate::opensim::mot::Warning;
+use crate::diagnostics::Warning;
 
 const KEYS: [&str; 4] = ["pelvis_half_width", "femur", "tibia", "foot"];
 

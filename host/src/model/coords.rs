@@ -12,9 +12,11 @@
 
 use qgait_kernel::models::ranges;
 
+use crate::diagnostics::Warning;
+use crate::model::error::ModelError;
 use crate::model::kinematics::LEG_COLUMNS;
 use crate::motion::source::MotionRows;
-use crate::opensim::mot::{Header, NonFinite, Warning};
+use crate::opensim::mot::{Header, NonFinite};
 
 /// Per picked column: how its values compare with the range.
 #[derive(Debug, Clone, Default)]
@@ -47,26 +49,28 @@ impl<const N: usize> Picker<N> {
     /// Maps `names` to the columns of `header`. The PHAK leg columns ([`LEG_COLUMNS`]) are
     /// required (an error naming the file and the columns); any other missing name counts as 0
     /// with one warning; a needed label that names two columns is an error.
-    pub fn new(header: &Header, names: &[&'static str; N]) -> Result<(Self, Vec<Warning>), String> {
-        let missing: Vec<&str> = LEG_COLUMNS
+    pub fn new(
+        header: &Header,
+        names: &[&'static str; N],
+    ) -> Result<(Self, Vec<Warning>), ModelError> {
+        let missing: Vec<&'static str> = LEG_COLUMNS
             .iter()
             .copied()
             .filter(|c| header.index_of(c).is_none())
             .collect();
         if !missing.is_empty() {
-            return Err(format!(
-                "{}: missing required column(s) {}",
-                header.labels_location(),
-                missing.join(", ")
-            ));
+            return Err(ModelError::MissingColumns {
+                at: header.labels_location(),
+                columns: missing,
+            });
         }
         let mut warnings = Vec::new();
         for name in names {
             if header.is_duplicated(name) {
-                return Err(format!(
-                    "{}: column `{name}` appears more than once and the model needs it: which one to use is ambiguous",
-                    header.labels_location()
-                ));
+                return Err(ModelError::AmbiguousColumn {
+                    at: header.labels_location(),
+                    name,
+                });
             }
         }
         let columns = names.map(|name| {
@@ -106,23 +110,24 @@ impl<const N: usize> Picker<N> {
         value: impl Fn(usize) -> f64,
         at: impl Fn() -> String,
         non_finite: impl Fn(usize) -> Option<&'a NonFinite>,
-    ) -> Result<[f64; N], String> {
+    ) -> Result<[f64; N], ModelError> {
         let mut out = [0.0; N];
         for (k, slot) in out.iter_mut().enumerate() {
             let Some(c) = self.columns[k] else { continue };
             let raw = value(c);
             if !raw.is_finite() {
+                let name = self.names[k];
                 return Err(match non_finite(c) {
-                    Some(nf) => format!(
-                        "{}:{}:{}: value `{}` in column `{}` is not a finite number, and the model needs this column",
-                        self.source, nf.line, nf.column, nf.text, self.names[k]
-                    ),
-                    None => format!(
-                        "{}: {}: value {raw} in column `{}` is not a finite number, and the model needs this column",
-                        self.source,
-                        at(),
-                        self.names[k]
-                    ),
+                    Some(nf) => ModelError::NotFinite {
+                        at: format!("{}:{}:{}", self.source, nf.line, nf.column),
+                        text: nf.text.clone(),
+                        name,
+                    },
+                    None => ModelError::NotFinite {
+                        at: format!("{}: {}", self.source, at()),
+                        text: raw.to_string(),
+                        name,
+                    },
                 });
             }
             let v = raw * self.scale;
@@ -191,7 +196,7 @@ impl<const N: usize> CoordRows<N> {
     pub fn new(
         rows: MotionRows,
         names: &[&'static str; N],
-    ) -> Result<(Self, Vec<Warning>), String> {
+    ) -> Result<(Self, Vec<Warning>), ModelError> {
         let (picker, warnings) = Picker::new(rows.header(), names)?;
         Ok((
             Self {
@@ -214,25 +219,22 @@ impl<const N: usize> CoordRows<N> {
     }
 
     /// The time and the coordinates of the next row; `None` after the last.
-    pub fn next_row(&mut self) -> anyhow::Result<Option<(f64, [f64; N])>> {
+    pub fn next_row(&mut self) -> Result<Option<(f64, [f64; N])>, ModelError> {
         let next = self.rows.next_row();
         self.warnings.extend(self.rows.take_warnings());
         let Some((row, at)) = next? else {
             return Ok(None);
         };
-        let q = self
-            .picker
-            .pick(
-                |c| row.values[c],
-                || at.to_string(),
-                |c| {
-                    row.non_finite
-                        .iter()
-                        .find(|(k, _)| *k == c)
-                        .map(|(_, nf)| nf)
-                },
-            )
-            .map_err(anyhow::Error::msg)?;
+        let q = self.picker.pick(
+            |c| row.values[c],
+            || at.to_string(),
+            |c| {
+                row.non_finite
+                    .iter()
+                    .find(|(k, _)| *k == c)
+                    .map(|(_, nf)| nf)
+            },
+        )?;
         Ok(Some((row.values[0], q)))
     }
 
@@ -265,7 +267,7 @@ mod tests {
         MotionTable::parse(text, "m.mot").unwrap().0
     }
 
-    fn pick_all(t: &MotionTable) -> Result<(Vec<[f64; 8]>, Vec<Warning>), String> {
+    fn pick_all(t: &MotionTable) -> Result<(Vec<[f64; 8]>, Vec<Warning>), ModelError> {
         let (mut p, mut w) = Picker::new(t.header(), &NAMES)?;
         let mut rows = Vec::new();
         for r in 0..t.rows() {
@@ -334,15 +336,19 @@ mod tests {
         assert_eq!(rows.len(), 2);
         let bad = text.replacen("\t-20\t0\t10", "\tNaN\t0\t10", 1);
         let e = pick_all(&table(&bad)).unwrap_err();
+        assert!(
+            matches!(&e, ModelError::NotFinite { at, text, name: "knee_angle_r" } if at == "m.mot:6:6" && text == "NaN"),
+            "{e:?}"
+        );
         assert_eq!(
-            e,
+            e.to_string(),
             "m.mot:6:6: value `NaN` in column `knee_angle_r` is not a finite number, and the model needs this column"
         );
         let dup = text.replace("\tforce\tforce", "\tforce\tknee_angle_l");
         let e = pick_all(&table(&dup)).unwrap_err();
         assert!(
-            e.starts_with("m.mot:5: column `knee_angle_l` appears more than once"),
-            "{e}"
+            matches!(&e, ModelError::AmbiguousColumn { at, name: "knee_angle_l" } if at == "m.mot:5"),
+            "{e:?}"
         );
     }
 }

@@ -21,9 +21,11 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::gait2392::{Knots, COORDINATES};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Phak, PhakAngles, Quat, Spline, Vec3};
 
+use crate::diagnostics::Warning;
+use crate::model::error::ModelError;
 use crate::model::kinematics;
-use crate::model::spec::{gait2392_coordinates, point_names};
-use crate::opensim::mot::{MotionTable, Warning};
+use crate::model::points::{gait2392_coordinates, point_names};
+use crate::opensim::mot::MotionTable;
 
 /// One gait2392 feature that PHAK lacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -250,7 +252,7 @@ pub struct Fidelity {
 }
 
 /// Compares PHAK with gait2392 on one motion.
-pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warning>), String> {
+pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warning>), ModelError> {
     let (q, mut warnings) = gait2392_coordinates(table)?;
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
@@ -259,14 +261,18 @@ pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warnin
         }
     }
     let anthro = Anthropometry::<f64>::gait2392();
-    let phak = Phak::<f64>::new(&anthro).map_err(|e| e.to_string())?;
+    let rejected = |name: &str| {
+        let name = name.to_string();
+        move |error| ModelError::Rejected { name, error }
+    };
+    let phak = Phak::<f64>::new(&anthro).map_err(rejected("phak"))?;
     let phak_points: Points = angles
         .iter()
         .map(|a: &PhakAngles<f64>| phak.fk(a).points())
         .collect();
-    let gait2392 = |off: &[Feature]| -> Result<Points, String> {
+    let gait2392 = |off: &[Feature]| -> Result<Points, ModelError> {
         let (g, q) = ablate(off, &q, &anthro);
-        let model = Gait2392::<f64>::new(&g).map_err(|e| e.to_string())?;
+        let model = Gait2392::<f64>::new(&g).map_err(rejected("gait2392"))?;
         Ok(q.iter().map(|q| model.fk(q).bilateral().points()).collect())
     };
     let full = gait2392(&[])?;

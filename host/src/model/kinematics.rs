@@ -1,23 +1,14 @@
 //! Motion table → kernel input → joint positions. All forward kinematics is done by
 //! `qgait_kernel::models`; this module only picks the columns and converts degrees to radians.
 
-use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::BilateralPose;
 
+use crate::diagnostics::Warning;
+use crate::model::choice::Model;
 use crate::model::coords::Picker;
-use crate::opensim::mot::{MotionTable, Warning};
-
-/// Which kernel model computes the joint positions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Model {
-    /// Each leg a sagittal hip-knee-ankle chain hung at its hip from a level, forward-facing
-    /// pelvis (pelvis angles ignored): the hips at ±pelvis half-width on the z axis, as the hub
-    /// computes HAK ([`Phak::fk_hak`]), so HAK and PHAK poses are in the same frame.
-    Hak,
-    /// Both legs with the shared pelvis rotation and list; origin at the pelvis origin.
-    Phak,
-}
+use crate::model::error::ModelError;
+use crate::opensim::mot::MotionTable;
 
 /// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`] (after the pelvis).
 pub const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
@@ -28,7 +19,9 @@ pub const OPTIONAL_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).0;
 
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
-pub fn phak_angles(table: &MotionTable) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), String> {
+pub fn phak_angles(
+    table: &MotionTable,
+) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
     let (rows, warnings) = coordinate_rows(table, &PhakAngles::<f64>::NAMES)?;
     Ok((
         rows.into_iter().map(PhakAngles::from_array).collect(),
@@ -46,18 +39,18 @@ pub const HAK_NAMES: [&str; 6] = [
     PhakAngles::<f64>::NAMES[7],
 ];
 
-/// The angles `model` uses (radians) of every row, as [`PhakAngles`]: for HAK the pelvis
-/// columns are not read (0, no warning about them).
+/// The angles `model` (HAK or PHAK) uses (radians) of every row, as [`PhakAngles`]: for HAK
+/// the pelvis columns are not read (0, no warning about them).
 pub fn stick_angles(
     table: &MotionTable,
-    model: Model,
-) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), String> {
+    model: &Model,
+) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
     match model {
-        Model::Phak => phak_angles(table),
-        Model::Hak => {
+        Model::Hak { .. } => {
             let (rows, warnings) = coordinate_rows(table, &HAK_NAMES)?;
             Ok((rows.into_iter().map(hak_as_phak).collect(), warnings))
         }
+        _ => phak_angles(table),
     }
 }
 
@@ -74,7 +67,7 @@ pub fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
 pub fn coordinate_rows<const N: usize>(
     table: &MotionTable,
     names: &[&'static str; N],
-) -> Result<(Vec<[f64; N]>, Vec<Warning>), String> {
+) -> Result<(Vec<[f64; N]>, Vec<Warning>), ModelError> {
     let (mut picker, mut warnings) = Picker::new(table.header(), names)?;
     let rows = (0..table.rows())
         .map(|r| {
@@ -92,28 +85,37 @@ pub fn coordinate_rows<const N: usize>(
     Ok((rows, warnings))
 }
 
-/// Evaluates one row with the chosen model.
+/// Evaluates HAK or PHAK one set of angles at a time.
 pub struct Evaluator {
-    model: Model,
+    hak: bool,
     phak: Phak<f64>,
 }
 
 impl Evaluator {
-    /// Builds the kernel models for these segment lengths (an error if the kernel rejects them).
-    pub fn new(model: Model, anthropometry: &Anthropometry<f64>) -> Result<Self, String> {
-        let bad =
-            |e: qgait_kernel::ModelError| format!("segment lengths rejected by the kernel: {e}");
+    /// The kernel model of `model` (HAK or PHAK; `what` names the use in the error for a
+    /// gait2392 model); an error if the kernel rejects its lengths.
+    pub fn new(model: &Model, what: &'static str) -> Result<Self, ModelError> {
+        let Some(lengths) = model.lengths() else {
+            return Err(ModelError::StickOnly {
+                what,
+                name: model.name().to_string(),
+            });
+        };
         Ok(Self {
-            model,
-            phak: Phak::new(anthropometry).map_err(bad)?,
+            hak: matches!(model, Model::Hak { .. }),
+            phak: Phak::new(&lengths).map_err(|error| ModelError::Rejected {
+                name: model.name().to_string(),
+                error,
+            })?,
         })
     }
 
     /// Joint positions (metres) for one set of angles (radians).
     pub fn pose(&self, a: &PhakAngles<f64>) -> BilateralPose<f64> {
-        match self.model {
-            Model::Phak => self.phak.fk(a),
-            Model::Hak => self.phak.fk_hak(a),
+        if self.hak {
+            self.phak.fk_hak(a)
+        } else {
+            self.phak.fk(a)
         }
     }
 }

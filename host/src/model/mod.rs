@@ -4,9 +4,10 @@
 //! the paper's model is from gait2392 ([`fidelity`]).
 
 pub mod anthropometry;
+pub mod choice;
 pub mod coords;
+pub mod error;
 pub mod fidelity;
 pub mod kinematics;
-pub mod points_csv;
-pub mod spec;
+pub mod points;
 pub mod subject;

@@ -35,6 +35,9 @@ use qgait_kernel::models::gait2392::{Knots, LegGeometry};
 use qgait_kernel::{Gait2392, Gait2392Geometry};
 use serde::{Deserialize, Serialize};
 
+use crate::diagnostics::Location;
+use crate::model::error::ModelError;
+
 /// The file: one table per leg.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -179,29 +182,32 @@ pub fn to_toml(g: &Gait2392Geometry, comment: &[String]) -> String {
 }
 
 /// Parses a subject file and checks it with the kernel; `source` names it in messages.
-pub fn parse(text: &str, source: &str) -> Result<Gait2392Geometry, String> {
-    let file: SubjectFile = toml::from_str(text).map_err(|e| {
-        let msg = e.message().split_whitespace().collect::<Vec<_>>().join(" ");
-        match e.span() {
-            Some(span) => {
-                let before = &text[..span.start.min(text.len())];
-                let line = before.matches('\n').count() + 1;
-                let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
-                format!("{source}:{line}:{column}: {msg}")
-            }
-            None => format!("{source}: {msg}"),
-        }
+pub fn parse(text: &str, source: &str) -> Result<Gait2392Geometry, ModelError> {
+    let file: SubjectFile = toml::from_str(text).map_err(|e| ModelError::File {
+        at: match e.span() {
+            Some(span) => Location::in_text(source, text, span.start),
+            None => Location::file(source),
+        },
+        message: e.message().split_whitespace().collect::<Vec<_>>().join(" "),
     })?;
-    let g = file.to_geometry().map_err(|e| format!("{source}: {e}"))?;
-    Gait2392::<f64>::new(&g)
-        .map_err(|e| format!("{source}: subject model rejected by the kernel: {e}"))?;
+    let g = file.to_geometry().map_err(|message| ModelError::File {
+        at: Location::file(source),
+        message,
+    })?;
+    Gait2392::<f64>::new(&g).map_err(|error| ModelError::Rejected {
+        name: source.to_string(),
+        error,
+    })?;
     Ok(g)
 }
 
 /// Reads a subject file.
-pub fn read(path: &Path) -> Result<Gait2392Geometry, String> {
+pub fn read(path: &Path) -> Result<Gait2392Geometry, ModelError> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
+        path: shown.clone(),
+        error,
+    })?;
     parse(&text, &shown)
 }
 
@@ -231,7 +237,7 @@ mod tests {
                     "ankle_axis = [0.0, 0.0, 0.0]",
                     1,
                 ),
-                "rejected by the kernel: joint 3 has a zero",
+                "s.toml: model rejected by the kernel: joint 3 has a zero",
             ),
             (
                 good.replacen("x = [-2.0944, ", "x = [", 1),
@@ -243,7 +249,7 @@ mod tests {
             ),
             (good.replacen("mtp_axis = [", "mtp_axis = \"", 1), "s.toml:"),
         ] {
-            let err = parse(&text, "s.toml").unwrap_err();
+            let err = parse(&text, "s.toml").unwrap_err().to_string();
             assert!(err.contains(needle), "{needle}: {err}");
             assert!(!err.contains('\n'), "{err}");
         }

@@ -4,8 +4,9 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
+use crate::diagnostics::Warning;
 use crate::motion::builtin::{self, BuiltinSpec};
-use crate::opensim::mot::{Header, MotError, MotionReader, MotionTable, Row, Warning};
+use crate::opensim::mot::{Header, MotError, MotionReader, MotionTable, Row};
 
 /// Prefix that selects the built-in gait generator instead of a file.
 pub const BUILTIN_PREFIX: &str = "builtin:";

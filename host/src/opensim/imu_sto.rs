@@ -14,7 +14,8 @@ use std::path::Path;
 use qgait_kernel::imu::{unit, Orientations, Segment};
 use qgait_kernel::Quat;
 
-use crate::opensim::mot::{tokens, MotError, MotionReader, Warning};
+use crate::diagnostics::Warning;
+use crate::opensim::mot::{tokens, MotError, MotionReader};
 
 /// One row: its 1-based line, its time and each sensor's reading (raw, in the sensors' world
 /// frame, normalised).

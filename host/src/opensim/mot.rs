@@ -36,9 +36,10 @@
 //! [`MotionReader`] reads the header, then hands out one row at a time (constant memory, for
 //! files of any length); [`MotionTable::read`] is the same reader collecting every row.
 
-use std::fmt;
 use std::io::{self, BufRead, Write};
 use std::path::Path;
+
+use crate::diagnostics::Warning;
 
 /// A problem found while reading a motion file. Every variant names the file; the format
 /// variants also name the 1-based line (and, for numbers, the 1-based character column).
@@ -76,16 +77,6 @@ pub enum MotError {
         /// The text that is not a number.
         text: String,
     },
-}
-
-/// A warning about input that was accepted anyway (printed by the CLI as `warning: ...`).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Warning(pub String);
-
-impl fmt::Display for Warning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
 }
 
 /// A value that is not a finite number (`nan`, `inf`), where it was read.

@@ -37,6 +37,47 @@ use qgait_kernel::models::gait2392::{Knots, LegGeometry, COORDINATES};
 use qgait_kernel::Gait2392Geometry;
 use roxmltree::{Document, Node};
 
+use crate::diagnostics::Location;
+
+/// Why an OpenSim model's leg chain cannot be imported.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ImportError {
+    /// The file (the model or the marker file) is not XML.
+    #[error("{at}: not XML: {message}")]
+    Xml {
+        /// Where the XML parser stopped.
+        at: Location,
+        /// The parser's reason.
+        message: String,
+    },
+    /// The XML is not an OpenSim model (no `<OpenSimDocument Version=...>`).
+    #[error("{0}: no <OpenSimDocument Version=...>: not an OpenSim model")]
+    NotOpenSim(String),
+    /// The model's leg chain is not one qgait evaluates: the joint (or constraint) and why.
+    #[error("{path}: {message}")]
+    Chain {
+        /// The model file.
+        path: String,
+        /// Which joint and why.
+        message: String,
+    },
+}
+
+fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
+    Document::parse(text).map_err(|e| {
+        let pos = e.pos();
+        ImportError::Xml {
+            at: Location {
+                path: source.to_string(),
+                line: Some(pos.row as usize),
+                column: Some(pos.col as usize),
+            },
+            message: e.to_string(),
+        }
+    })
+}
+
 /// An imported model: the geometry and one line per choice made (for the file's comment).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Imported {
@@ -51,15 +92,22 @@ pub const GENERIC_TOETIP_RIGHT: [f64; 3] = [0.0812, 0.007, -0.00108];
 
 /// Imports `text` (an `.osim` file named `source` in messages); `markers` is an optional
 /// marker file (text and name) holding `R.Toe.Tip`/`L.Toe.Tip`.
-pub fn import(text: &str, source: &str, markers: Option<(&str, &str)>) -> Result<Imported, String> {
-    let doc = Document::parse(text).map_err(|e| format!("{source}: not XML: {e}"))?;
-    let err = |m: String| format!("{source}: {m}");
+pub fn import(
+    text: &str,
+    source: &str,
+    markers: Option<(&str, &str)>,
+) -> Result<Imported, ImportError> {
+    let doc = parse_xml(text, source)?;
+    let err = |message: String| ImportError::Chain {
+        path: source.to_string(),
+        message,
+    };
     let version: u32 = doc
         .descendants()
         .find(|n| n.has_tag_name("OpenSimDocument"))
         .and_then(|n| n.attribute("Version"))
         .and_then(|v| v.trim().parse().ok())
-        .ok_or_else(|| err("no <OpenSimDocument Version=...>: not an OpenSim model".into()))?;
+        .ok_or_else(|| ImportError::NotOpenSim(source.to_string()))?;
     let joints = read_joints(&doc).map_err(err)?;
     check_constraints(&doc).map_err(err)?;
     let mut notes = vec![format!(
@@ -70,10 +118,7 @@ pub fn import(text: &str, source: &str, markers: Option<(&str, &str)>) -> Result
     let pelvis = chain_joint(&joints, "ground", "pelvis").map_err(err)?;
     check_pelvis(pelvis).map_err(err)?;
     let marker_doc = match markers {
-        Some((t, s)) => Some((
-            Document::parse(t).map_err(|e| format!("{s}: not XML: {e}"))?,
-            s,
-        )),
+        Some((t, s)) => Some((parse_xml(t, s)?, s)),
         None => None,
     };
     let mut legs = Vec::new();

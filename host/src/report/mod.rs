@@ -8,7 +8,7 @@
 //! - `distances`: knee-knee, ankle-ankle and toe-toe distance over the cycle (Fig 10);
 //! - `metrics.csv`, `hip_shift.csv`, `distance_stats.csv` and `metrics.md` (see [`metrics`]).
 //!
-//! The model is PHAK (origin at the pelvis origin, ground axes); percent of cycle is the time
+//! The model is PHAK, or HAK with `--model hak` (origin at the pelvis origin, ground axes); percent of cycle is the time
 //! normalised from the first to the last row of each motion.
 
 mod distances;
@@ -21,15 +21,16 @@ mod stick;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::metrics::{self as kmetrics, Distances};
 use qgait_kernel::models::PhakAngles;
 use qgait_kernel::{BilateralPose, LegPose, Vec3};
 
 use crate::device::frames_csv::FramesTable;
 
-use crate::model::kinematics::{self, Evaluator, Model};
-use crate::opensim::mot::{MotionTable, Warning};
+use crate::diagnostics::Warning;
+use crate::model::choice::Model;
+use crate::model::kinematics::{self, Evaluator};
+use crate::opensim::mot::MotionTable;
 use crate::progress::Progress;
 
 /// Percentages of the cycle shown in the stick figures.
@@ -53,24 +54,24 @@ pub struct Gait {
 
 /// All gaits of a report and the model that computed them.
 pub struct Analysis {
-    /// The kernel model (PHAK).
+    /// The kernel model (HAK or PHAK).
     pub evaluator: Evaluator,
     /// The gaits, in the order given (the first is the reference for the hip shift).
     pub gaits: Vec<Gait>,
 }
 
 impl Analysis {
-    /// Runs PHAK on every row of every motion.
+    /// Runs the model on every row of every motion.
     pub fn new(
         motions: &[(String, MotionTable)],
-        anthropometry: &Anthropometry<f64>,
+        model: &Model,
         progress: &Progress,
     ) -> anyhow::Result<(Self, Vec<Warning>)> {
-        let evaluator = Evaluator::new(Model::Phak, anthropometry).map_err(anyhow::Error::msg)?;
+        let evaluator = Evaluator::new(model, "report")?;
         let mut warnings = Vec::new();
         let mut gaits = Vec::new();
         for (label, table) in motions {
-            let (angles, w) = kinematics::phak_angles(table).map_err(anyhow::Error::msg)?;
+            let (angles, w) = kinematics::stick_angles(table, model)?;
             warnings.extend(w);
             let poses: Vec<_> = angles
                 .iter()

@@ -1,0 +1,171 @@
+//! The named points a [`Model`] gives for every row of a motion ([`PointModel`]) and their CSV
+//! (`qgait fk`): one row per motion row, `time,hip_r_x,hip_r_y,hip_r_z,knee_r_x,...,toe_l_z`
+//! (then `subtalar_r_x..z, mtp_r_x..z, ...` with `--points`), metres in ground axes, numbers
+//! printed with Rust's `{}` for `f64` (the shortest text that reads back to the same value).
+//! All forward kinematics is done by `qgait_kernel::models`; this module picks columns and
+//! names the results.
+
+use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::{Gait2392, Joint, PhakAngles, Side, Vec3};
+
+use crate::diagnostics::Warning;
+use crate::model::choice::Model;
+use crate::model::coords::CoordRows;
+use crate::model::error::ModelError;
+use crate::model::kinematics::{self, Evaluator};
+use crate::motion::source::MotionRows;
+use crate::opensim::mot::MotionTable;
+
+/// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row. The leg columns
+/// of PHAK are required; the other 11 count as 0 with one warning each when absent.
+pub fn gait2392_coordinates(
+    table: &MotionTable,
+) -> Result<(Vec<[f64; 17]>, Vec<Warning>), ModelError> {
+    kinematics::coordinate_rows(table, &COORDINATES)
+}
+
+/// Names of the points a [`PointModel`] gives: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,
+/// then with `extra` (gait2392 only) `subtalar_r, mtp_r, subtalar_l, mtp_l`.
+pub fn point_names(extra: bool) -> Vec<String> {
+    let mut names = Vec::new();
+    for side in Side::ALL {
+        for joint in Joint::ALL {
+            names.push(format!("{}_{}", joint.name(), side.suffix()));
+        }
+    }
+    if extra {
+        for side in Side::ALL {
+            for point in ["subtalar", "mtp"] {
+                names.push(format!("{point}_{}", side.suffix()));
+            }
+        }
+    }
+    names
+}
+
+/// A model ready to evaluate rows: the kernel model of a [`Model`] and the points it gives
+/// ([`point_names`]; metres, origin and axes as the model's CSV).
+pub struct PointModel {
+    kind: Kind,
+    extra: bool,
+}
+
+enum Kind {
+    Hak(Box<Evaluator>),
+    Phak(Box<Evaluator>),
+    Gait2392(Box<Gait2392<f64>>),
+}
+
+impl PointModel {
+    /// The kernel model of `model`. `extra` adds subtalar and MTP (gait2392 models only; an
+    /// error otherwise).
+    pub fn new(model: &Model, extra: bool) -> Result<Self, ModelError> {
+        let kind = match model {
+            Model::Gait2392 { geometry, name } => Kind::Gait2392(Box::new(
+                Gait2392::<f64>::new(geometry).map_err(|error| ModelError::Rejected {
+                    name: name.clone(),
+                    error,
+                })?,
+            )),
+            _ if extra => return Err(ModelError::PointsNeedGait2392),
+            Model::Hak { .. } => Kind::Hak(Box::new(Evaluator::new(model, "fk")?)),
+            Model::Phak { .. } => Kind::Phak(Box::new(Evaluator::new(model, "fk")?)),
+        };
+        Ok(Self { kind, extra })
+    }
+
+    /// The names of the points of each row.
+    pub fn names(&self) -> Vec<String> {
+        point_names(self.extra)
+    }
+
+    /// Evaluates every row of `rows` in turn, handing `each` the row's time and points; memory
+    /// does not grow with the number of rows. `warn` gets the warnings about the columns before
+    /// the first row; the warnings found while reading (ranges, row count) are returned.
+    pub fn run(
+        &self,
+        rows: MotionRows,
+        warn: &dyn Fn(Vec<Warning>),
+        mut each: impl FnMut(f64, &[Vec3<f64>]) -> anyhow::Result<()>,
+    ) -> anyhow::Result<Vec<Warning>> {
+        let mut points = Vec::with_capacity(12);
+        match &self.kind {
+            Kind::Hak(evaluator) => drive(rows, &kinematics::HAK_NAMES, warn, |t, legs| {
+                let pose = evaluator.pose(&kinematics::hak_as_phak(legs));
+                each(t, &pose.points())
+            }),
+            Kind::Phak(evaluator) => drive(rows, &PhakAngles::<f64>::NAMES, warn, |t, a| {
+                each(t, &evaluator.pose(&PhakAngles::from_array(a)).points())
+            }),
+            Kind::Gait2392(chain) => drive(rows, &COORDINATES, warn, |t, q| {
+                let pose = chain.fk(&q);
+                points.clear();
+                points.extend_from_slice(&pose.bilateral().points());
+                if self.extra {
+                    for side in Side::ALL {
+                        points.push(pose.subtalar(side));
+                        points.push(pose.mtp(side));
+                    }
+                }
+                each(t, &points)
+            }),
+        }
+    }
+}
+
+/// Reads every row of `rows` as the coordinates `names` and hands them to `each`.
+pub fn drive<const N: usize>(
+    rows: MotionRows,
+    names: &[&'static str; N],
+    warn: &dyn Fn(Vec<Warning>),
+    mut each: impl FnMut(f64, [f64; N]) -> anyhow::Result<()>,
+) -> anyhow::Result<Vec<Warning>> {
+    let (mut coords, w) = CoordRows::new(rows, names)?;
+    warn(w);
+    while let Some((t, q)) = coords.next_row()? {
+        each(t, q)?;
+    }
+    Ok(coords.finish())
+}
+
+/// The header of the `qgait fk` CSV for these points: `time`, then `<name>_x,<name>_y,<name>_z`
+/// per point.
+pub fn csv_header(names: &[String]) -> String {
+    let mut header = vec!["time".to_string()];
+    for n in names {
+        for axis in ["x", "y", "z"] {
+            header.push(format!("{n}_{axis}"));
+        }
+    }
+    header.join(",")
+}
+
+/// Writes one row of the `qgait fk` CSV.
+pub fn write_csv_row<W: std::io::Write + ?Sized>(
+    w: &mut W,
+    time: f64,
+    points: &[Vec3<f64>],
+) -> std::io::Result<()> {
+    write!(w, "{time}")?;
+    for p in points {
+        write!(w, ",{},{},{}", p.x, p.y, p.z)?;
+    }
+    w.write_all(b"\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_standard_header_and_the_extra_points() {
+        assert!(
+            csv_header(&point_names(false)).starts_with("time,hip_r_x,hip_r_y,hip_r_z,knee_r_x,")
+        );
+        assert!(csv_header(&point_names(false)).ends_with(",toe_l_x,toe_l_y,toe_l_z"));
+        assert_eq!(
+            point_names(true)[8..],
+            ["subtalar_r", "mtp_r", "subtalar_l", "mtp_l"]
+        );
+    }
+}
