@@ -10,10 +10,11 @@ use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::Gait2392Geometry;
-use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
+use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId};
 
 use crate::cli::config::hub_model;
 use crate::cli::diagnostics::Diagnostics;
+use crate::cli::jsonl;
 use crate::cli::model_args::ModelArgs;
 use crate::device::config::{frames, messages, HubModel, HubSettings};
 use crate::device::faults::Arrivals;
@@ -282,42 +283,6 @@ pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn json_f32(x: f32) -> String {
-    if x.is_finite() {
-        format!("{}", f64::from(x))
-    } else {
-        "null".into()
-    }
-}
-
-fn json_pose(p: &PoseFrame) -> String {
-    let angles: Vec<String> = p.angles.iter().map(|&a| json_f32(a)).collect();
-    let points: Vec<String> = p
-        .points
-        .iter()
-        .map(|q| format!("[{},{},{}]", json_f32(q[0]), json_f32(q[1]), json_f32(q[2])))
-        .collect();
-    let d: Vec<String> = p.distances.iter().map(|&x| json_f32(x)).collect();
-    format!(
-        r#"{{"type":"pose","seq":{},"model":"{}","flags":{},"angles":[{}],"points":[{}],"distances":[{}]}}"#,
-        p.seq,
-        p.model,
-        p.flags,
-        angles.join(","),
-        points.join(","),
-        d.join(",")
-    )
-}
-
-fn json_status(s: &Status) -> String {
-    let f: Vec<String> = s
-        .named_counters()
-        .iter()
-        .map(|(k, v)| format!(r#""{k}":{v}"#))
-        .collect();
-    format!(r#"{{"type":"status",{}}}"#, f.join(","))
-}
-
 /// Runs `qgait decode`, the output on standard output.
 pub fn run_decode(args: DecodeArgs, quiet: bool) -> anyhow::Result<()> {
     let stdout = io::stdout();
@@ -346,22 +311,17 @@ fn decode_line(record: &Record, format: Format) -> Option<String> {
                 ..
             },
             Format::Jsonl,
-        ) => Some(json_pose(p)),
+        ) => Some(jsonl::pose(p)),
         (
             Record::Message {
                 message: Message::Status(s),
                 ..
             },
             Format::Jsonl,
-        ) => Some(json_status(s)),
-        (Record::Message { message, .. }, Format::Jsonl) => {
-            Some(format!(r#"{{"type":"other","tag":{}}}"#, message.tag()))
-        }
+        ) => Some(jsonl::status(s)),
+        (Record::Message { message, .. }, Format::Jsonl) => Some(jsonl::other(message.tag())),
         (Record::Message { .. }, Format::Csv) => None,
-        (Record::Damaged { offset, error }, Format::Jsonl) => Some(format!(
-            r#"{{"type":"damaged","offset":{offset},"error":"{:?}"}}"#,
-            error.kind()
-        )),
+        (Record::Damaged { offset, error }, Format::Jsonl) => Some(jsonl::damaged(*offset, error)),
         (Record::Damaged { .. }, Format::Csv) => None,
     }
 }

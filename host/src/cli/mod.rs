@@ -7,6 +7,7 @@ pub mod export;
 pub mod fidelity;
 pub mod fk;
 pub mod imu;
+pub mod jsonl;
 pub mod model;
 pub mod model_args;
 
