@@ -9,7 +9,7 @@ use clap::Args;
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::cli::{refuse_overwrite, write_output_with};
-use crate::model::points::{self, PointModel};
+use crate::model::points::{PointModel, PointsCsv};
 use crate::motion::source::MotionRows;
 use crate::progress::Progress;
 
@@ -56,6 +56,14 @@ pub(crate) fn prepare(
     Ok(Prepared { model, rows })
 }
 
+/// A CSV writer's error as the I/O error it is (so a closed pipe stays a closed pipe).
+fn csv_error(e: csv::Error) -> anyhow::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(e) => e.into(),
+        other => anyhow::anyhow!("{other:?}"),
+    }
+}
+
 /// Runs `qgait fk`: each row is computed and written before the next is read.
 pub fn run_fk(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     // No bar while CSV goes to the same terminal.
@@ -69,12 +77,13 @@ pub fn run_fk(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     );
     let mut warnings = Vec::new();
     write_output_with(a.output.as_deref(), |out| {
-        writeln!(out, "{}", points::csv_header(&model.names()))?;
+        let mut csv = PointsCsv::new(out, &model.names(), false).map_err(csv_error)?;
         warnings = model.run(rows, &|w| diagnostics.warn(w), |t, p| {
             progress.inc(1);
-            Ok(points::write_csv_row(out, t, p)?)
+            csv.row(0, Some(t), p.iter().map(|p| [p.x, p.y, p.z]))
+                .map_err(csv_error)
         })?;
-        Ok(())
+        Ok(csv.flush()?)
     })?;
     progress.finish();
     diagnostics.warn(warnings);

@@ -140,22 +140,99 @@ pub fn csv_header(names: &[String]) -> String {
     header.join(",")
 }
 
-/// Writes one row of the `qgait fk` CSV.
-pub fn write_csv_row<W: std::io::Write + ?Sized>(
-    w: &mut W,
-    time: f64,
-    points: &[Vec3<f64>],
-) -> std::io::Result<()> {
-    write!(w, "{time}")?;
-    for p in points {
-        write!(w, ",{},{},{}", p.x, p.y, p.z)?;
+/// A points CSV being written with the `csv` crate: the header ([`csv_header`], with `seq` in
+/// front for a device's frames), then one row per call. Numbers are written with Rust's `{}`
+/// for `f64`; an unknown time is an empty field.
+pub struct PointsCsv<W: std::io::Write> {
+    csv: csv::Writer<PassOn<W>>,
+    field: String,
+    seq: bool,
+}
+
+impl<W: std::io::Write> PointsCsv<W> {
+    /// Writes the header for the points `names` (and a first `seq` column if `seq`).
+    pub fn new(w: W, names: &[String], seq: bool) -> csv::Result<Self> {
+        let mut csv = csv::WriterBuilder::new()
+            .buffer_capacity(1 << 16)
+            .from_writer(PassOn(w));
+        let header = csv_header(names);
+        let seq_column = seq.then_some("seq");
+        csv.write_record(seq_column.into_iter().chain(header.split(',')))?;
+        Ok(Self {
+            csv,
+            field: String::with_capacity(32),
+            seq,
+        })
     }
-    w.write_all(b"\n")
+
+    fn number(&mut self, x: impl std::fmt::Display) -> csv::Result<()> {
+        use std::fmt::Write as _;
+        self.field.clear();
+        let _ = write!(self.field, "{x}");
+        self.csv.write_field(&self.field)
+    }
+
+    /// Writes one row: the sequence number (when the file has that column), the time, the points.
+    pub fn row(
+        &mut self,
+        seq: u32,
+        time: Option<f64>,
+        points: impl IntoIterator<Item = [f64; 3]>,
+    ) -> csv::Result<()> {
+        if self.seq {
+            self.number(seq)?;
+        }
+        match time {
+            Some(t) => self.number(t)?,
+            None => self.csv.write_field("")?,
+        }
+        for p in points {
+            for x in p {
+                self.number(x)?;
+            }
+        }
+        self.csv.write_record(None::<&[u8]>)
+    }
+
+    /// Passes what is buffered on to the writer (which the caller flushes).
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.csv.flush()
+    }
+}
+
+/// The writer under a [`PointsCsv`]: bytes are passed on, flushing is left to the owner of the
+/// writer (the `csv` writer flushes its writer when dropped, which would push an unfinished
+/// output through when a row fails).
+struct PassOn<W>(W);
+
+impl<W: std::io::Write> std::io::Write for PassOn<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_are_numbers_as_rust_prints_them_and_an_unknown_time_is_empty() {
+        let names = vec!["hip_r".to_string()];
+        let mut out = Vec::new();
+        let mut w = PointsCsv::new(&mut out, &names, true).unwrap();
+        w.row(7, Some(0.1), [[1e-7, -0.5, 3.0]]).unwrap();
+        w.row(8, None, [[0.0, 1.0, f64::NAN]]).unwrap();
+        w.flush().unwrap();
+        drop(w);
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "seq,time,hip_r_x,hip_r_y,hip_r_z\n7,0.1,0.0000001,-0.5,3\n8,,0,1,NaN\n"
+        );
+    }
 
     #[test]
     fn the_standard_header_and_the_extra_points() {

@@ -118,12 +118,17 @@ fn side_name(side: Side) -> &'static str {
     }
 }
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
+/// A CSV table in memory: the header, then rows of fields (quoted where a field needs it).
+fn csv_table<const N: usize>(
+    header: &str,
+    rows: impl IntoIterator<Item = [String; N]>,
+) -> anyhow::Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(header.split(','))?;
+    for row in rows {
+        w.write_record(&row)?;
     }
+    Ok(String::from_utf8(w.into_inner()?)?)
 }
 
 /// Writes the CSV files and `metrics.md`; returns their paths.
@@ -137,57 +142,60 @@ pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>
         .map(|g| g.label.as_str())
         .unwrap_or("");
 
-    let mut csv = String::from(METRICS_HEADER);
-    csv.push('\n');
-    for r in &paths {
-        let (a, b) = r.plane.axes();
-        let s = &r.stats;
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{a},{b},{},{},{},{},{},{},{},{},{},{},{},{}",
-            csv_field(&r.gait.label),
-            side_name(r.side),
-            r.joint.name(),
-            r.plane.name().to_lowercase(),
-            s.n,
-            s.min[0],
-            s.min[1],
-            s.max[0],
-            s.max[1],
-            s.mean[0],
-            s.mean[1],
-            s.range[0],
-            s.range[1],
-            s.centroid[0],
-            s.centroid[1],
-            s.area
-        );
-    }
-    let mut shift_csv = String::from(HIP_SHIFT_HEADER);
-    shift_csv.push('\n');
-    for (g, side, d, len) in &shifts {
-        let _ = writeln!(
-            shift_csv,
-            "{},{},{},{},{},{},{}",
-            csv_field(&g.label),
-            csv_field(reference),
-            side_name(*side),
-            d[0],
-            d[1],
-            d[2],
-            len
-        );
-    }
-    let mut dist_csv = String::from(DISTANCE_HEADER);
-    dist_csv.push('\n');
-    for (g, name, min, max, mean) in &dists {
-        let _ = writeln!(
-            dist_csv,
-            "{},{name},{min},{max},{mean},{}",
-            csv_field(&g.label),
-            max - min
-        );
-    }
+    let csv = csv_table(
+        METRICS_HEADER,
+        paths.iter().map(|r| {
+            let (a, b) = r.plane.axes();
+            let s = &r.stats;
+            [
+                r.gait.label.clone(),
+                side_name(r.side).to_string(),
+                r.joint.name().to_string(),
+                r.plane.name().to_lowercase(),
+                a.to_string(),
+                b.to_string(),
+                s.n.to_string(),
+                s.min[0].to_string(),
+                s.min[1].to_string(),
+                s.max[0].to_string(),
+                s.max[1].to_string(),
+                s.mean[0].to_string(),
+                s.mean[1].to_string(),
+                s.range[0].to_string(),
+                s.range[1].to_string(),
+                s.centroid[0].to_string(),
+                s.centroid[1].to_string(),
+                s.area.to_string(),
+            ]
+        }),
+    )?;
+    let shift_csv = csv_table(
+        HIP_SHIFT_HEADER,
+        shifts.iter().map(|(g, side, d, len)| {
+            [
+                g.label.clone(),
+                reference.to_string(),
+                side_name(*side).to_string(),
+                d[0].to_string(),
+                d[1].to_string(),
+                d[2].to_string(),
+                len.to_string(),
+            ]
+        }),
+    )?;
+    let dist_csv = csv_table(
+        DISTANCE_HEADER,
+        dists.iter().map(|(g, name, min, max, mean)| {
+            [
+                g.label.clone(),
+                name.to_string(),
+                min.to_string(),
+                max.to_string(),
+                mean.to_string(),
+                (max - min).to_string(),
+            ]
+        }),
+    )?;
 
     let md = markdown(analysis, &paths, &shifts, &dists, reference);
     let mut written = Vec::new();
@@ -292,4 +300,26 @@ fn markdown(
         );
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_label_with_a_comma_or_a_quote_is_one_quoted_field() {
+        let text = csv_table(
+            "gait,n",
+            [
+                ["normal, slow".to_string(), "1".to_string()],
+                ["say \"hi\"".to_string(), "2".to_string()],
+                ["plain".to_string(), "0.25".to_string()],
+            ],
+        )
+        .unwrap();
+        assert_eq!(
+            text,
+            "gait,n\n\"normal, slow\",1\n\"say \"\"hi\"\"\",2\nplain,0.25\n"
+        );
+    }
 }
