@@ -139,38 +139,74 @@ pub struct BuiltinSpec {
     pub rows: usize,
 }
 
+/// A `builtin:` spec that names no built-in gait: the spec and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{spec}: {problem}")]
+pub struct BuiltinError {
+    /// The spec as given.
+    pub spec: String,
+    /// What is wrong.
+    pub problem: Problem,
+}
+
+const USAGE: &str = "expected `builtin:normal` or `builtin:crouch=S` (0 <= S <= 1), optionally followed by `,rows=N`";
+
+/// What is wrong with a `builtin:` spec.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Problem {
+    /// Not `normal` or `crouch=S`.
+    #[error("unknown built-in gait `{0}`; {USAGE}")]
+    Unknown(String),
+    /// `crouch=S` with S not a number.
+    #[error("crouch severity `{0}` is not a number; {USAGE}")]
+    Severity(String),
+    /// `crouch=S` with S outside 0..1.
+    #[error("crouch severity {0} is outside 0..1")]
+    SeverityOutside(f64),
+    /// `rows=N` with N not a whole number of at least 2.
+    #[error("rows must be a whole number >= 2, found `{0}`")]
+    Rows(String),
+    /// An option other than `rows=N`.
+    #[error("unknown option `{0}`; {USAGE}")]
+    Option(String),
+}
+
 impl BuiltinSpec {
     /// Parses the text after `builtin:`: `normal` or `crouch=S`, then optionally `,rows=N`.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let usage = "expected `builtin:normal` or `builtin:crouch=S` (0 <= S <= 1), optionally followed by `,rows=N`";
+    pub fn parse(text: &str) -> Result<Self, BuiltinError> {
+        let bad = |problem| BuiltinError {
+            spec: format!("builtin:{text}"),
+            problem,
+        };
         let mut parts = text.split(',');
         let kind = parts.next().unwrap_or("").trim();
         let crouch = if kind == "normal" {
             0.0
         } else if let Some(s) = kind.strip_prefix("crouch=") {
-            let s: f64 = s.trim().parse().map_err(|_| {
-                format!("builtin:{text}: crouch severity `{s}` is not a number; {usage}")
-            })?;
+            let s: f64 = s
+                .trim()
+                .parse()
+                .map_err(|_| bad(Problem::Severity(s.to_string())))?;
             if !(0.0..=1.0).contains(&s) {
-                return Err(format!(
-                    "builtin:{text}: crouch severity {s} is outside 0..1"
-                ));
+                return Err(bad(Problem::SeverityOutside(s)));
             }
             s
         } else {
-            return Err(format!(
-                "builtin:{text}: unknown built-in gait `{kind}`; {usage}"
-            ));
+            return Err(bad(Problem::Unknown(kind.to_string())));
         };
         let mut rows = DEFAULT_ROWS;
         for part in parts {
             match part.trim().strip_prefix("rows=") {
                 Some(n) => {
-                    rows = n.trim().parse().ok().filter(|&n| n >= 2).ok_or_else(|| {
-                        format!("builtin:{text}: rows must be a whole number >= 2, found `{n}`")
-                    })?
+                    rows = n
+                        .trim()
+                        .parse()
+                        .ok()
+                        .filter(|&n| n >= 2)
+                        .ok_or_else(|| bad(Problem::Rows(n.to_string())))?
                 }
-                None => return Err(format!("builtin:{text}: unknown option `{part}`; {usage}")),
+                None => return Err(bad(Problem::Option(part.to_string()))),
             }
         }
         Ok(Self { crouch, rows })
@@ -302,6 +338,25 @@ pub fn generate(spec: &BuiltinSpec) -> MotionTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bad_specs_say_what_is_wrong() {
+        let problem = |t: &str| BuiltinSpec::parse(t).unwrap_err().problem;
+        assert_eq!(problem("crouch=2"), Problem::SeverityOutside(2.0));
+        assert_eq!(problem("crouch=x"), Problem::Severity("x".into()));
+        assert_eq!(problem("run"), Problem::Unknown("run".into()));
+        assert_eq!(problem("normal,rows=1"), Problem::Rows("1".into()));
+        assert_eq!(problem("normal,fast"), Problem::Option("fast".into()));
+        let e = BuiltinSpec::parse("crouch=2").unwrap_err().to_string();
+        assert_eq!(e, "builtin:crouch=2: crouch severity 2 is outside 0..1");
+        assert_eq!(
+            BuiltinSpec::parse("crouch=0.5,rows=11").unwrap(),
+            BuiltinSpec {
+                crouch: 0.5,
+                rows: 11
+            }
+        );
+    }
 
     #[test]
     fn harmonics_follow_the_key_events() {

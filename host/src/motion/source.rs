@@ -14,7 +14,7 @@ pub const BUILTIN_PREFIX: &str = "builtin:";
 /// Loads a motion from a path or a `builtin:` spec.
 pub fn load_motion(spec: &str) -> anyhow::Result<(MotionTable, Vec<Warning>)> {
     if let Some(rest) = spec.strip_prefix(BUILTIN_PREFIX) {
-        let spec = BuiltinSpec::parse(rest).map_err(anyhow::Error::msg)?;
+        let spec = BuiltinSpec::parse(rest)?;
         Ok((builtin::generate(&spec), Vec::new()))
     } else {
         Ok(MotionTable::read(Path::new(spec))?)

@@ -79,6 +79,66 @@ pub enum MotError {
     },
 }
 
+/// Why labelled columns do not make a motion table ([`MotionTable::new`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TableError {
+    /// Labels and columns are not as many.
+    #[error("{origin}: {labels} labels for {columns} columns")]
+    LabelCount {
+        /// Where the data came from.
+        origin: String,
+        /// Number of labels.
+        labels: usize,
+        /// Number of columns.
+        columns: usize,
+    },
+    /// The first column is not `time`.
+    #[error("{0}: the first column must be `time`")]
+    FirstNotTime(String),
+    /// There are no rows.
+    #[error("{0}: no data rows")]
+    NoRows(String),
+    /// A column is longer or shorter than `time`.
+    #[error("{origin}: column `{label}` has {rows} rows, `time` has {time_rows}")]
+    Length {
+        /// Where the data came from.
+        origin: String,
+        /// The column.
+        label: String,
+        /// Its rows.
+        rows: usize,
+        /// Rows of `time`.
+        time_rows: usize,
+    },
+    /// A value is `nan` or infinite.
+    #[error("{origin}: column `{label}` row {row}: value is not finite")]
+    NotFinite {
+        /// Where the data came from.
+        origin: String,
+        /// The column.
+        label: String,
+        /// 1-based row.
+        row: usize,
+    },
+    /// Time does not increase.
+    #[error("{origin}: time is not increasing at row {row}")]
+    TimeNotIncreasing {
+        /// Where the data came from.
+        origin: String,
+        /// 1-based row.
+        row: usize,
+    },
+    /// A label appears twice.
+    #[error("{origin}: column `{label}` appears twice")]
+    Duplicate {
+        /// Where the data came from.
+        origin: String,
+        /// The label.
+        label: String,
+    },
+}
+
 /// A value that is not a finite number (`nan`, `inf`), where it was read.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct NonFinite {
@@ -577,46 +637,55 @@ impl MotionTable {
         in_degrees: bool,
         labels: Vec<String>,
         columns: Vec<Vec<f64>>,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, TableError> {
         let source = source.into();
         if labels.len() != columns.len() {
-            return Err(format!(
-                "{source}: {} labels for {} columns",
-                labels.len(),
-                columns.len()
-            ));
+            return Err(TableError::LabelCount {
+                origin: source,
+                labels: labels.len(),
+                columns: columns.len(),
+            });
         }
         if labels
             .first()
             .map(|l| !l.eq_ignore_ascii_case("time"))
             .unwrap_or(true)
         {
-            return Err(format!("{source}: the first column must be `time`"));
+            return Err(TableError::FirstNotTime(source));
         }
         let rows = columns[0].len();
         if rows == 0 {
-            return Err(format!("{source}: no data rows"));
+            return Err(TableError::NoRows(source));
         }
         for (label, col) in labels.iter().zip(&columns) {
             if col.len() != rows {
-                return Err(format!(
-                    "{source}: column `{label}` has {} rows, `time` has {rows}",
-                    col.len()
-                ));
+                return Err(TableError::Length {
+                    origin: source,
+                    label: label.clone(),
+                    rows: col.len(),
+                    time_rows: rows,
+                });
             }
             if let Some(i) = col.iter().position(|v| !v.is_finite()) {
-                return Err(format!(
-                    "{source}: column `{label}` row {}: value is not finite",
-                    i + 1
-                ));
+                return Err(TableError::NotFinite {
+                    origin: source,
+                    label: label.clone(),
+                    row: i + 1,
+                });
             }
         }
         if let Some(i) = columns[0].windows(2).position(|w| w[1] <= w[0]) {
-            return Err(format!("{source}: time is not increasing at row {}", i + 2));
+            return Err(TableError::TimeNotIncreasing {
+                origin: source,
+                row: i + 2,
+            });
         }
         for (i, l) in labels.iter().enumerate() {
             if labels[..i].contains(l) {
-                return Err(format!("{source}: column `{l}` appears twice"));
+                return Err(TableError::Duplicate {
+                    origin: source,
+                    label: l.clone(),
+                });
             }
         }
         let n = labels.len();
