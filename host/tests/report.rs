@@ -229,3 +229,25 @@ fn the_figures_of_a_long_recording_stay_the_size_of_the_picture() {
         assert!(size < 3_000_000, "{svg}: {size} bytes");
     }
 }
+
+#[test]
+fn the_report_takes_the_stick_models_and_refuses_gait2392() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("hak");
+    run_report(&["builtin:normal,rows=21", "--model", "hak"], &out);
+    assert!(out.join("metrics.csv").is_file());
+    let refused = dir.path().join("g");
+    let run = qgait(&[
+        "report",
+        "builtin:normal,rows=21",
+        "--model",
+        "gait2392",
+        "-o",
+        refused.to_str().unwrap(),
+    ]);
+    assert!(!run.status.success());
+    assert_eq!(
+        stderr(&run),
+        "error: report takes hak or phak, not gait2392\n"
+    );
+}

@@ -8,6 +8,7 @@ pub mod fidelity;
 pub mod fk;
 pub mod imu;
 pub mod jsonl;
+pub mod live;
 pub mod model;
 pub mod model_args;
 

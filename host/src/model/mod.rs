@@ -1,7 +1,9 @@
-//! The models qgait evaluates and their inputs: which model (`--model`, [`spec`]), a motion's
-//! columns picked for it ([`coords`]), the kernel evaluation ([`kinematics`]), subject models
-//! ([`subject`], [`anthropometry`]), the named points and their CSV ([`points_csv`]), and how far
-//! the paper's model is from gait2392 ([`fidelity`]).
+//! The models qgait evaluates and their inputs: the one model choice ([`choice::Model`], what
+//! `--model` and `--anthropometry` load) and its errors ([`error::ModelError`]), a motion's
+//! columns picked for it ([`coords`]), the kernel evaluation of HAK and PHAK ([`kinematics`]),
+//! subject models and lengths ([`subject`], [`anthropometry`]), the named points every model
+//! gives and their CSV ([`points`]), and how far the paper's model is from gait2392
+//! ([`fidelity`]).
 
 pub mod anthropometry;
 pub mod choice;
