@@ -45,6 +45,8 @@
 //! The pelvis curves are left as in normal gait (the large constant pelvis rotation and list of
 //! `crouch4.mot` come from that subject's heading and posture, not from crouch itself).
 
+use qgait_kernel::PhakAngles;
+
 use crate::opensim::mot::MotionTable;
 
 /// Number of Fourier harmonics kept per coordinate.
@@ -279,17 +281,12 @@ fn crouched(h: &Harmonics, crouch: &Crouch, severity: f64, percent: f64) -> f64 
     h.a0 + scale * (h.eval(percent) - h.a0) + severity * crouch.offset_deg
 }
 
-/// The OpenSim column names of a built-in motion, after `time`.
-pub const COLUMNS: [&str; 8] = [
-    "pelvis_list",
-    "pelvis_rotation",
-    "hip_flexion_r",
-    "knee_angle_r",
-    "ankle_angle_r",
-    "hip_flexion_l",
-    "knee_angle_l",
-    "ankle_angle_l",
-];
+/// The OpenSim column names of a built-in motion, after `time`: PHAK's coordinates
+/// ([`PhakAngles::NAMES`]) with `pelvis_list` first.
+pub const COLUMNS: [&str; 8] = {
+    let n = PhakAngles::<f64>::NAMES;
+    [n[1], n[0], n[2], n[3], n[4], n[5], n[6], n[7]]
+};
 
 /// Generates the motion (degrees, one cycle over 1 s).
 pub fn generate(spec: &BuiltinSpec) -> MotionTable {
