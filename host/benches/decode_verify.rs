@@ -11,9 +11,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use qgait::device::log::HubLog;
-use qgait::device::verify::{DeviceModel, Expected, Verification};
+use qgait::device::verify::{Expected, Verification};
 use qgait_kernel::{Anthropometry, Phak, PhakAngles};
-use qgait_proto::{encode_frame, Message, ModelId, PoseFrame, Status, MAX_FRAME_LEN};
+use qgait_proto::{PoseModels, encode_frame, Message, ModelId, PoseFrame, Status, MAX_FRAME_LEN};
 use std::hint::black_box;
 
 /// Samples in the log (100 s at 100 Hz).
@@ -60,7 +60,7 @@ fn decode(log: &[u8]) -> usize {
 
 /// `qgait verify`: decoded, then every pose recomputed by the f64 kernel and compared (points
 /// and distances), every sequence number accounted for; returns whether it passed.
-fn decode_and_verify(log: &[u8], model: &DeviceModel) -> bool {
+fn decode_and_verify(log: &[u8], model: &PoseModels<f64>) -> bool {
     let log = HubLog::decode(log);
     Verification::run(
         model,
@@ -75,7 +75,7 @@ fn decode_and_verify(log: &[u8], model: &DeviceModel) -> bool {
 
 fn benches(c: &mut Criterion) {
     let log = log();
-    let model = DeviceModel::defaults();
+    let model = PoseModels::defaults();
     assert_eq!(decode(&log), SAMPLES as usize);
     assert!(decode_and_verify(&log, &model), "the log verifies");
     let mut group = c.benchmark_group("log");
