@@ -8,9 +8,7 @@ use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
-use qgait_kernel::anthropometry::Anthropometry;
-use qgait_kernel::Gait2392Geometry;
-use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
+use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, PoseModels, Status};
 
 use crate::device::config::{frames, messages, HubModel, HubSettings};
 use crate::device::faults::Arrivals;
@@ -22,7 +20,7 @@ use crate::device::packets::{Samples, Timing};
 use crate::device::port::{self, Input, Until};
 use crate::device::qemu::Echo;
 use crate::device::session::{self, closing_frames, InputCounts, Limits};
-use crate::device::verify::{DeviceModel, Expected, Verification, Verifier, MISSING_LISTED};
+use crate::device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
 use crate::model::kinematics::Model;
 use crate::model::spec::ModelSpec;
 use crate::motion::source::load_motion;
@@ -44,11 +42,10 @@ pub struct DeviceModelArgs {
     pub anthropometry: Option<PathBuf>,
 }
 
-/// The model, loaded: what to send the hub, what to send it for, and how to recompute.
+/// The model, loaded: what to send the hub ([`HubModel`]), and how to recompute its frames.
 struct LoadedModel {
     hub: HubModel,
-    wire: ModelId,
-    device: DeviceModel,
+    device: PoseModels<f64>,
 }
 
 impl DeviceModelArgs {
@@ -64,44 +61,33 @@ impl DeviceModelArgs {
                 Some(a)
             }
         };
-        let lengths = anthropometry.unwrap_or_else(Anthropometry::gait2392);
-        Ok(match spec {
-            ModelSpec::Stick(m) => {
-                let wire = if m == Model::Hak {
+        let hub = match spec {
+            ModelSpec::Stick(m) => HubModel::Stick {
+                model: if m == Model::Hak {
                     ModelId::Hak
                 } else {
                     ModelId::Phak
-                };
-                LoadedModel {
-                    hub: HubModel::Stick {
-                        model: wire,
-                        anthropometry,
-                    },
-                    wire,
-                    device: DeviceModel::new(&lengths, &Gait2392Geometry::generic())
-                        .map_err(anyhow::Error::msg)?,
-                }
-            }
+                },
+                anthropometry,
+            },
             ModelSpec::Gait2392 { geometry, name } => {
                 if self.anthropometry.is_some() {
                     bail!("--anthropometry applies to hak and phak only: {name} has its own segment lengths");
                 }
-                let device = DeviceModel::new(&lengths, &geometry).map_err(anyhow::Error::msg)?;
-                let hub = if name == "gait2392" {
+                if name == "gait2392" {
                     HubModel::Gait2392
                 } else {
                     HubModel::Subject {
                         geometry,
                         upload: None,
                     }
-                };
-                LoadedModel {
-                    hub,
-                    wire: ModelId::Gait2392,
-                    device,
                 }
             }
-        })
+        };
+        let device = hub
+            .pose_models()
+            .map_err(|e| anyhow::anyhow!("{}: model rejected by the kernel: {e}", self.model))?;
+        Ok(LoadedModel { hub, device })
     }
 }
 
@@ -592,7 +578,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         stream,
         times,
         count,
-    } = emulate_input(&args, model.wire, quiet)?;
+    } = emulate_input(&args, model.hub.id(), quiet)?;
     let elf = firmware::locate(args.elf.as_deref()).map_err(anyhow::Error::msg)?;
     let settings = HubSettings {
         missing_policy: MissingPolicy::Drop,
@@ -680,7 +666,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 // exactly the samples whose packets all arrived intact.
                 let mut v = Verification::run(&model.device, &log.poses, Expected::FirstToLast);
                 let arrivals = Arrivals::of(&stream);
-                let intact = arrivals.intact_samples(model.wire);
+                let intact = arrivals.intact_samples(model.hub.id());
                 let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
                 let missing: Vec<u32> = intact.difference(&seen).copied().collect();
                 v.missing = missing.len() as u64;
@@ -689,7 +675,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 println!(
                     "stream: {} samples with every packet intact, {} with packets lost or damaged",
                     intact.len(),
-                    arrivals.partial(model.wire).len()
+                    arrivals.partial(model.hub.id()).len()
                 );
                 if unexpected > 0 {
                     ok = false;
