@@ -160,7 +160,7 @@ pub fn pose_points<T: Real>(pose: &BilateralPose<T>) -> [[f32; 3]; point::COUNT]
 /// The pose's inter-limb distances as a [`PoseFrame`] has them: knee, ankle, toe.
 pub fn pose_distances<T: Real>(pose: &BilateralPose<T>) -> [f32; 3] {
     let d = distances(pose);
-    [d.knee, d.ankle, d.toe].map(to_f32)
+    [to_f32(d.knee), to_f32(d.ankle), to_f32(d.toe)]
 }
 
 /// `x` in `f32` (the identity for an `f32`).

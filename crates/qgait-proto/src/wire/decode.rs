@@ -126,7 +126,7 @@ pub(super) fn status(body: &[u8]) -> Result<Status, DecodeError> {
 
 /// A [`Config`]'s body. The fields' values are checked in wire order (section 5 of the spec),
 /// after the layout: an unknown model before a bad missing policy.
-fn config(body: &[u8]) -> Result<Config, DecodeError> {
+pub(super) fn config(body: &[u8]) -> Result<Config, DecodeError> {
     let (model, rest) = take::<u8>(body)?;
     let (anthropometry, rest) = take::<Option<[[f32; segment::COUNT]; 2]>>(rest)?;
     let (policy, rest) = take::<u8>(rest)?;
@@ -143,7 +143,7 @@ fn config(body: &[u8]) -> Result<Config, DecodeError> {
 }
 
 /// A [`SubjectLeg`]'s body: the 11 vectors in one loop.
-fn subject_leg(body: &[u8]) -> Result<SubjectLeg, DecodeError> {
+pub(super) fn subject_leg(body: &[u8]) -> Result<SubjectLeg, DecodeError> {
     let (upload, rest) = take(body)?;
     let (side, mut rest) = take::<u8>(rest)?;
     let mut v = [[0.0f32; 3]; 11];
@@ -169,7 +169,7 @@ fn subject_leg(body: &[u8]) -> Result<SubjectLeg, DecodeError> {
 }
 
 /// A [`SubjectKnee`]'s body.
-fn subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
+pub(super) fn subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
     let (upload, rest) = take(body)?;
     let (side, rest) = take::<u8>(rest)?;
     let (direction, rest) = take::<u8>(rest)?;
@@ -185,7 +185,7 @@ fn subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
 }
 
 /// A [`SubjectConfig`]'s body.
-fn subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
+pub(super) fn subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
     let (upload, rest) = take(body)?;
     let (policy, rest) = take::<u8>(rest)?;
     let (reorder_window, rest) = take(rest)?;

@@ -45,21 +45,17 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
     if let Some(packet) = decode_packet(bytes) {
         return packet.map(Message::JointAngle);
     }
-    Ok(match decode_hub_message(bytes)? {
-        HubMessage::JointAngle(m) => Message::JointAngle(m),
-        HubMessage::Config(m) => Message::Config(m),
-        HubMessage::SubjectLeg(m) => Message::SubjectLeg(m),
-        HubMessage::SubjectKnee(m) => Message::SubjectKnee(m),
-        HubMessage::SubjectConfig(m) => Message::SubjectConfig(m),
-        HubMessage::FromHub(tag) => {
-            let (_, body) = varint::take::<u32>(bytes)?;
-            if tag == 1 {
-                Message::PoseFrame(decode::pose_frame(body)?)
-            } else {
-                Message::Status(decode::status(body)?)
-            }
-        }
-    })
+    let (tag, body) = varint::take::<u32>(bytes)?;
+    match tag {
+        0 => decode::joint_angle(body).map(Message::JointAngle),
+        1 => decode::pose_frame(body).map(Message::PoseFrame),
+        2 => decode::status(body).map(Message::Status),
+        3 => decode::config(body).map(Message::Config),
+        4 => decode::subject_leg(body).map(Message::SubjectLeg),
+        5 => decode::subject_knee(body).map(Message::SubjectKnee),
+        6 => decode::subject_config(body).map(Message::SubjectConfig),
+        unknown => Err(DecodeError::UnknownMessage(unknown)),
+    }
 }
 
 /// Returns `Err((expected, got))` unless `count` is the number of joints `model` takes.
