@@ -12,6 +12,7 @@ use clap::Parser;
 use qgait::cli::{Cli, Command};
 use qgait::device::packets::push_frame;
 use qgait_kernel::metrics::distances;
+use qgait_proto::device_model::{pose_distances, pose_points};
 use qgait_proto::{PoseModels, Message, ModelId, PoseFrame, Status};
 
 /// Counts the bytes allocated on the heap, now and at the peak since the last reset.
@@ -65,7 +66,7 @@ const BOUND: usize = 1 << 20;
 /// Writes a clean PHAK hub log of `FRAMES` pose frames (a status every 100) to `path`,
 /// without holding it; returns its size.
 fn write_log(path: &Path) -> u64 {
-    let model = PoseModels::defaults();
+    let model = PoseModels::<f64>::defaults();
     let mut frame = PoseFrame {
         seq: 0,
         model: ModelId::Phak,
@@ -76,8 +77,8 @@ fn write_log(path: &Path) -> u64 {
         flags: 0,
     };
     let pose = model.frame_pose(&frame);
-    frame.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
-    frame.distances = distances(&pose).to_array().map(|x| x as f32);
+    frame.points = pose_points(&pose);
+    frame.distances = pose_distances(&pose);
     let mut w = BufWriter::new(std::fs::File::create(path).unwrap());
     let mut bytes = vec![0u8];
     for seq in 0..FRAMES {

@@ -169,15 +169,24 @@ fn to_f32<T: Real>(x: T) -> f32 {
     x.to_f64() as f32
 }
 
+/// A sample's angles (indexed by [`JointId::index`]) from the angles of `model`'s joints (in
+/// [`ModelId::required_joints`] order, as a [`PoseFrame`] and a node network have them), the
+/// joints `model` does not take at 0.
+pub fn sample_angles<T: Real, A: Copy + Into<f64>>(
+    model: ModelId,
+    angles: &[A],
+) -> [T; JointId::COUNT] {
+    let mut all = [T::ZERO; JointId::COUNT];
+    for (&joint, &angle) in model.required_joints().iter().zip(angles) {
+        all[joint.index() as usize] = T::from_f64(angle.into());
+    }
+    all
+}
+
 impl PoseFrame {
-    /// The frame's angles as a sample's (indexed by [`JointId::index`]), the joints its model
-    /// does not take at 0.
+    /// The frame's angles as a sample's ([`sample_angles`]).
     pub fn joint_angles<T: Real>(&self) -> [T; JointId::COUNT] {
-        let mut all = [T::ZERO; JointId::COUNT];
-        for (&joint, &angle) in self.model.required_joints().iter().zip(&self.angles) {
-            all[joint.index() as usize] = T::from_f64(f64::from(angle));
-        }
-        all
+        sample_angles(self.model, &self.angles)
     }
 }
 

@@ -28,7 +28,7 @@ mod model;
 mod subject;
 
 pub use kinematics::{
-    gait2392_pose, phak_angles, pose_distances, pose_points, stick_pose, ConfigError, Kinematics,
+    gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose, ConfigError, Kinematics,
     PoseModels, MAX_SEGMENT_M,
 };
 #[cfg(feature = "std")]
