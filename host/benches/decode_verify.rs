@@ -13,9 +13,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use qgait::device::log::HubLog;
 use qgait::device::verify::{Expected, Verification};
 use qgait_proto::device_model::sample_angles;
-use qgait_proto::{
-    encode_frame, Kinematics, Message, ModelId, PoseModels, Status, MAX_FRAME_LEN,
-};
+use qgait_proto::{encode_frame, Kinematics, Message, ModelId, PoseModels, Status, MAX_FRAME_LEN};
 use std::hint::black_box;
 
 /// Samples in the log (100 s at 100 Hz).

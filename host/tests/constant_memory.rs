@@ -13,7 +13,7 @@ use qgait::cli::{Cli, Command};
 use qgait::device::packets::push_frame;
 use qgait_kernel::metrics::distances;
 use qgait_proto::device_model::{pose_distances, pose_points};
-use qgait_proto::{PoseModels, Message, ModelId, PoseFrame, Status};
+use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 
 /// Counts the bytes allocated on the heap, now and at the peak since the last reset.
 struct Counting;

@@ -7,7 +7,7 @@ use common::{qgait, stderr, stdout};
 use qgait::device::packets::push_frame;
 use qgait_kernel::metrics::distances;
 use qgait_proto::device_model::{pose_distances, pose_points};
-use qgait_proto::{PoseModels, Message, ModelId, PoseFrame, Status};
+use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 
 fn hub_log(seqs: impl IntoIterator<Item = u32>) -> Vec<u8> {
     let model = PoseModels::<f64>::defaults();

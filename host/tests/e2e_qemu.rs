@@ -26,7 +26,9 @@ use qgait::device::session::{self, closing_frames, InputCounts, Limits};
 use qgait::device::verify::{Expected, Verification};
 use qgait::motion::source::load_motion;
 use qgait::opensim::mot::MotionTable;
-use qgait_proto::{PoseModels, Config, JointAngle, JointId, Message, MissingPolicy, ModelId, Status};
+use qgait_proto::{
+    Config, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseModels, Status,
+};
 
 /// Largest accepted error of a point or distance (metres).
 const TOLERANCE_M: f64 = 10e-6;
@@ -183,11 +185,7 @@ fn damaged(elf: &Path, samples: &Samples, plan: FaultPlan, what: &str) {
         got, intact,
         "{what}: one frame for each intact sample, none for the others"
     );
-    let v = Verification::run(
-        &PoseModels::defaults(),
-        &r.log.poses,
-        Expected::FirstToLast,
-    );
+    let v = Verification::run(&PoseModels::defaults(), &r.log.poses, Expected::FirstToLast);
     assert!(
         v.max_error() <= TOLERANCE_M,
         "{what}:\n{}",

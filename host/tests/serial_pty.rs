@@ -24,7 +24,7 @@ use qgait::device::frames_csv;
 use qgait::device::packets::{push_frame, stream, Samples, Timing};
 use qgait::device::qemu::{Echo, Qemu};
 use qgait::motion::source::load_motion;
-use qgait_proto::{PoseModels, Config, JointAngle, Message, MissingPolicy, ModelId, PoseFrame};
+use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, PoseFrame, PoseModels};
 
 /// Samples per run.
 const N: usize = 150;

@@ -12,9 +12,9 @@ use qgait_proto::{
 
 use crate::clock::ManualClock;
 use crate::hub::{Hub, MAX_BYTES_PER_POLL, READ_CHUNK};
-use crate::Kinematics;
 use crate::memory_serial::MemorySerial;
 use crate::parts_of;
+use crate::Kinematics;
 
 /// A failed check: what did not hold, and where.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

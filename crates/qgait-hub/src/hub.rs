@@ -15,9 +15,9 @@ use qgait_proto::{
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::bump;
-use crate::{ConfigError, Kinematics};
 use crate::limits::in_range;
 use crate::SubjectParts;
+use crate::{ConfigError, Kinematics};
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
@@ -549,8 +549,10 @@ impl<S: Write> Output<'_, S> {
             flags |= FrameFlags::OUT_OF_RANGE;
         }
         // Encoded straight from the sample and the pose: no `PoseFrame` built and copied.
-        let Ok(frame) = self.kinematics
-            .encode_pose_frame(sample.seq, &sample.angles, flags, self.tx) else {
+        let Ok(frame) =
+            self.kinematics
+                .encode_pose_frame(sample.seq, &sample.angles, flags, self.tx)
+        else {
             return;
         };
         write_frame(self.serial, self.status, frame);

@@ -155,7 +155,10 @@ fn run(seed: u64, streams: u64) -> Tally {
         let want: Vec<_> = reference(&stream).iter().map(key).collect();
         assert_eq!(got, want, "seed {seed}: stream {stream:02x?}");
         let by_bytes: Vec<_> = decode_by_bytes(&stream).iter().map(key).collect();
-        assert_eq!(by_bytes, want, "seed {seed}: by bytes: stream {stream:02x?}");
+        assert_eq!(
+            by_bytes, want,
+            "seed {seed}: by bytes: stream {stream:02x?}"
+        );
         let by_slices: Vec<_> = decode_by_slices(&mut runs, &stream)
             .iter()
             .map(key)

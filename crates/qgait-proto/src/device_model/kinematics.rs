@@ -9,8 +9,8 @@ use qgait_kernel::{
 };
 
 use crate::{
-    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection, ModelId,
-    PoseFrame, PoseFrameParts,
+    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection,
+    ModelId, PoseFrame, PoseFrameParts,
 };
 
 /// Why a configuration cannot be used.
@@ -557,8 +557,9 @@ mod tests {
     /// ignored).
     #[test]
     fn pose_models_give_the_hubs_frames() {
-        let models = PoseModels::<f32>::new(&Anthropometry::gait2392(), &Gait2392Geometry::generic())
-            .unwrap();
+        let models =
+            PoseModels::<f32>::new(&Anthropometry::gait2392(), &Gait2392Geometry::generic())
+                .unwrap();
         let mut angles = [0.0f32; JointId::COUNT];
         for (i, a) in angles.iter_mut().enumerate() {
             *a = 0.07 * (i as f32 - 6.0);
@@ -569,7 +570,11 @@ mod tests {
             let pose = models.frame_pose(&frame);
             let hub_points = frame.points;
             let host_points = pose_points(&pose);
-            for (a, b) in hub_points.iter().flatten().zip(host_points.iter().flatten()) {
+            for (a, b) in hub_points
+                .iter()
+                .flatten()
+                .zip(host_points.iter().flatten())
+            {
                 assert!((a - b).abs() < 1e-6, "{model}: {a} vs {b}");
             }
             for (a, b) in frame.distances.iter().zip(pose_distances(&pose)) {

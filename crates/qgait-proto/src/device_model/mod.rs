@@ -28,8 +28,8 @@ mod model;
 mod subject;
 
 pub use kinematics::{
-    gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose, ConfigError, Kinematics,
-    PoseModels, MAX_SEGMENT_M,
+    gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose,
+    ConfigError, Kinematics, PoseModels, MAX_SEGMENT_M,
 };
 #[cfg(feature = "std")]
 pub use model::HubModel;

@@ -16,10 +16,10 @@ mod encode;
 mod varint;
 
 pub use decode::{decode_hub_message, decode_packet, HubMessage};
+pub use encode::PoseFrameParts;
 pub(crate) use encode::{
     encode_pose_frame_message, encode_pose_frame_parts_message, encode_status_message,
 };
-pub use encode::PoseFrameParts;
 
 use crate::{DecodeError, EncodeError, Message, ModelId, MAX_MESSAGE_LEN};
 
