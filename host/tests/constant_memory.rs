@@ -11,7 +11,6 @@ use std::sync::Mutex;
 use clap::Parser;
 use qgait::cli::{Cli, Command};
 use qgait::device::packets::push_frame;
-use qgait_kernel::metrics::distances;
 use qgait_proto::device_model::{pose_distances, pose_points};
 use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 
