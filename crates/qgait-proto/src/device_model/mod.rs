@@ -14,13 +14,13 @@
 //!   and back.
 //! - [`Status::count_decode_error`](crate::Status::count_decode_error): which counter a
 //!   decode error goes to.
-//! - [`HubModel`] (with the `std` feature): the one model choice of a host configuring a hub
+//! - `HubModel` (with the `std` feature): the one model choice of a host configuring a hub
 //!   (what to send, and what to recompute its frames with).
 //!
 //! It lives in the protocol crate because the protocol crate already depends on the kernel and
 //! every caller (the hub crate, the firmware, the host, xtask) already depends on the protocol
 //! crate: a crate of its own would have had the same dependencies and the same callers, and
-//! one more manifest. It is `no_std` and allocates nothing (but [`HubModel`], host-only).
+//! one more manifest. It is `no_std` and allocates nothing (but `HubModel`, host-only).
 
 mod kinematics;
 #[cfg(feature = "std")]
