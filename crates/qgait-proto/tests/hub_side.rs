@@ -29,6 +29,18 @@ fn postcard_bytes(msg: &Message) -> Vec<u8> {
     postcard::to_slice(msg, &mut buf).expect("fits").to_vec()
 }
 
+/// Round `round` of a mutation test: random bytes every fourth round, else the mutated
+/// encoding of a random message.
+fn mutated_or_random(rng: &mut Rng, round: u32) -> Vec<u8> {
+    let mut bytes = if round % 4 == 0 {
+        (0..rng.below(40)).map(|_| rng.byte()).collect()
+    } else {
+        encoded(&random::message(rng))
+    };
+    random::mutate(rng, &mut bytes);
+    bytes
+}
+
 /// Checks [`decode_hub_message`] of `bytes` against [`decode_message`] of the same bytes.
 fn check_hub_decoding(bytes: &[u8]) -> Result<(), String> {
     let general = decode_message(bytes);
@@ -100,12 +112,7 @@ fn hub_decoding_of_mutated_and_random_bytes_is_decode_message() {
     let mut rng = Rng::new(0x4855_4221);
     let mut from_hub_errors = 0;
     for round in 0..200_000 {
-        let mut bytes = if round % 4 == 0 {
-            (0..rng.below(40)).map(|_| rng.byte()).collect()
-        } else {
-            encoded(&random::message(&mut rng))
-        };
-        random::mutate(&mut rng, &mut bytes);
+        let bytes = mutated_or_random(&mut rng, round);
         check_hub_decoding(&bytes).unwrap();
         if decode_message(&bytes).is_err()
             && matches!(decode_hub_message(&bytes), Ok(HubMessage::FromHub(_)))
@@ -153,12 +160,7 @@ fn field_by_field_decoding_is_postcards() {
     let mut rng = Rng::new(0x5053_4344);
     let mut decoded = 0;
     for round in 0..200_000 {
-        let mut bytes = if round % 4 == 0 {
-            (0..rng.below(40)).map(|_| rng.byte()).collect()
-        } else {
-            encoded(&random::message(&mut rng))
-        };
-        random::mutate(&mut rng, &mut bytes);
+        let bytes = mutated_or_random(&mut rng, round);
         let ours = decode_message(&bytes);
         // Every byte used, as the protocol requires.
         let reference = match postcard::take_from_bytes::<Message>(&bytes) {
