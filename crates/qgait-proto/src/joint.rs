@@ -7,8 +7,9 @@ use strum::EnumCount;
 ///
 /// On the wire it is one raw byte holding the discriminant below; a byte with no
 /// matching joint is reported as [`DecodeError::UnknownJoint`](crate::DecodeError::UnknownJoint).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[derive(EnumCount)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, EnumCount,
+)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
 pub enum JointId {

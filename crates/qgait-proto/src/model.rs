@@ -10,8 +10,23 @@ use crate::JointId;
 ///
 /// On the wire it is one raw byte holding the discriminant below; a byte with no
 /// matching model is reported as [`DecodeError::UnknownModel`](crate::DecodeError::UnknownModel).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[derive(EnumCount, FromRepr, IntoStaticStr, EnumString, Display)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    Deserialize,
+    EnumCount,
+    FromRepr,
+    IntoStaticStr,
+    EnumString,
+    Display,
+)]
 #[strum(serialize_all = "lowercase")]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
