@@ -32,7 +32,7 @@ fn postcard_bytes(msg: &Message) -> Vec<u8> {
 /// Round `round` of a mutation test: random bytes every fourth round, else the mutated
 /// encoding of a random message.
 fn mutated_or_random(rng: &mut Rng, round: u32) -> Vec<u8> {
-    let mut bytes = if round % 4 == 0 {
+    let mut bytes = if round.is_multiple_of(4) {
         (0..rng.below(40)).map(|_| rng.byte()).collect()
     } else {
         encoded(&random::message(rng))
