@@ -2,8 +2,8 @@
 //! of every pose against the kernel recomputed in `f64`.
 //!
 //! `cargo bench -p qgait --bench decode_verify` (criterion; medians in target/criterion).
-//! The log is what the hub sends for a PHAK session: one `PoseFrame` per sample (points from
-//! the kernel in `f32`, as the firmware computes them) and a `Status` every 100 samples.
+//! The log is what the hub sends for a PHAK session: one `PoseFrame` per sample (the hub's
+//! own `Kinematics`, in `f32`) and a `Status` every 100 samples.
 //! Element throughput = frames: criterion prints frames per second per core.
 //!
 //! It benches the library functions behind `qgait decode` and `qgait verify`
@@ -11,9 +11,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use qgait::device::log::HubLog;
-use qgait::device::verify::{DeviceModel, Expected, Verification};
-use qgait_kernel::{Anthropometry, Phak, PhakAngles};
-use qgait_proto::{encode_frame, Message, ModelId, PoseFrame, Status, MAX_FRAME_LEN};
+use qgait::device::verify::{Expected, Verification};
+use qgait_proto::device_model::sample_angles;
+use qgait_proto::{encode_frame, Kinematics, Message, ModelId, PoseModels, Status, MAX_FRAME_LEN};
 use std::hint::black_box;
 
 /// Samples in the log (100 s at 100 Hz).
@@ -23,22 +23,13 @@ const TOLERANCE_M: f64 = 5e-6;
 
 /// A PHAK session log: pose frames computed in f32, a status frame every 100 samples.
 fn log() -> Vec<u8> {
-    let phak = Phak::<f32>::new(&Anthropometry::gait2392()).expect("gait2392 anthropometry");
+    let hub = Kinematics::new(ModelId::Phak, None).expect("the hub's default model");
     let mut bytes = Vec::new();
     let mut buf = [0u8; MAX_FRAME_LEN];
     for seq in 0..SAMPLES {
         let angles: [f32; 8] =
             core::array::from_fn(|c| 0.6 * ((seq as f32 * 0.05) + c as f32).sin());
-        let pose = phak.fk(&PhakAngles::from_array(angles));
-        let d = qgait_kernel::metrics::distances(&pose);
-        let frame = PoseFrame {
-            seq,
-            model: ModelId::Phak,
-            angles: heapless::Vec::from_slice(&angles).expect("8 angles fit"),
-            points: pose.points().map(|p| p.to_array()),
-            distances: [d.knee, d.ankle, d.toe],
-            flags: 0,
-        };
+        let frame = hub.pose_frame(seq, &sample_angles(ModelId::Phak, &angles), 0);
         bytes.extend_from_slice(encode_frame(&Message::PoseFrame(frame), &mut buf).expect("fits"));
         if seq % 100 == 99 {
             let status = Status {
@@ -60,7 +51,7 @@ fn decode(log: &[u8]) -> usize {
 
 /// `qgait verify`: decoded, then every pose recomputed by the f64 kernel and compared (points
 /// and distances), every sequence number accounted for; returns whether it passed.
-fn decode_and_verify(log: &[u8], model: &DeviceModel) -> bool {
+fn decode_and_verify(log: &[u8], model: &PoseModels<f64>) -> bool {
     let log = HubLog::decode(log);
     Verification::run(
         model,
@@ -75,7 +66,7 @@ fn decode_and_verify(log: &[u8], model: &DeviceModel) -> bool {
 
 fn benches(c: &mut Criterion) {
     let log = log();
-    let model = DeviceModel::defaults();
+    let model = PoseModels::defaults();
     assert_eq!(decode(&log), SAMPLES as usize);
     assert!(decode_and_verify(&log, &model), "the log verifies");
     let mut group = c.benchmark_group("log");

@@ -11,9 +11,8 @@ use std::sync::Mutex;
 use clap::Parser;
 use qgait::cli::{Cli, Command};
 use qgait::device::packets::push_frame;
-use qgait::device::verify::DeviceModel;
-use qgait_kernel::metrics::distances;
-use qgait_proto::{Message, ModelId, PoseFrame, Status};
+use qgait_proto::device_model::{pose_distances, pose_points};
+use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 
 /// Counts the bytes allocated on the heap, now and at the peak since the last reset.
 struct Counting;
@@ -66,7 +65,7 @@ const BOUND: usize = 1 << 20;
 /// Writes a clean PHAK hub log of `FRAMES` pose frames (a status every 100) to `path`,
 /// without holding it; returns its size.
 fn write_log(path: &Path) -> u64 {
-    let model = DeviceModel::defaults();
+    let model = PoseModels::<f64>::defaults();
     let mut frame = PoseFrame {
         seq: 0,
         model: ModelId::Phak,
@@ -76,9 +75,9 @@ fn write_log(path: &Path) -> u64 {
         distances: [0.0; 3],
         flags: 0,
     };
-    let pose = model.pose(&frame);
-    frame.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
-    frame.distances = distances(&pose).to_array().map(|x| x as f32);
+    let pose = model.frame_pose(&frame);
+    frame.points = pose_points(&pose);
+    frame.distances = pose_distances(&pose);
     let mut w = BufWriter::new(std::fs::File::create(path).unwrap());
     let mut bytes = vec![0u8];
     for seq in 0..FRAMES {

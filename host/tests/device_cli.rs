@@ -5,12 +5,11 @@ mod common;
 
 use common::{qgait, stderr, stdout};
 use qgait::device::packets::push_frame;
-use qgait::device::verify::DeviceModel;
-use qgait_kernel::metrics::distances;
-use qgait_proto::{Message, ModelId, PoseFrame, Status};
+use qgait_proto::device_model::{pose_distances, pose_points};
+use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 
 fn hub_log(seqs: impl IntoIterator<Item = u32>) -> Vec<u8> {
-    let model = DeviceModel::defaults();
+    let model = PoseModels::<f64>::defaults();
     let mut out = vec![0u8];
     for seq in seqs {
         let angles =
@@ -23,9 +22,9 @@ fn hub_log(seqs: impl IntoIterator<Item = u32>) -> Vec<u8> {
             distances: [0.0; 3],
             flags: 0,
         };
-        let pose = model.pose(&f);
-        f.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
-        f.distances = distances(&pose).to_array().map(|x| x as f32);
+        let pose = model.frame_pose(&f);
+        f.points = pose_points(&pose);
+        f.distances = pose_distances(&pose);
         push_frame(&mut out, &Message::PoseFrame(f));
     }
     push_frame(

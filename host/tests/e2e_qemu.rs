@@ -23,10 +23,12 @@ use qgait::device::log::HubLog;
 use qgait::device::packets::{Samples, Timing};
 use qgait::device::qemu::Echo;
 use qgait::device::session::{self, closing_frames, InputCounts, Limits};
-use qgait::device::verify::{DeviceModel, Expected, Verification};
+use qgait::device::verify::{Expected, Verification};
 use qgait::motion::source::load_motion;
 use qgait::opensim::mot::MotionTable;
-use qgait_proto::{Config, JointAngle, JointId, Message, MissingPolicy, ModelId, Status};
+use qgait_proto::{
+    Config, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseModels, Status,
+};
 
 /// Largest accepted error of a point or distance (metres).
 const TOLERANCE_M: f64 = 10e-6;
@@ -118,7 +120,7 @@ fn clean(elf: &Path, samples: &Samples, what: &str) -> f64 {
     .stream;
     let r = run(elf, &stream, what);
     let v = Verification::run(
-        &DeviceModel::defaults(),
+        &PoseModels::defaults(),
         &r.log.poses,
         Expected::Range {
             first: 0,
@@ -183,11 +185,7 @@ fn damaged(elf: &Path, samples: &Samples, plan: FaultPlan, what: &str) {
         got, intact,
         "{what}: one frame for each intact sample, none for the others"
     );
-    let v = Verification::run(
-        &DeviceModel::defaults(),
-        &r.log.poses,
-        Expected::FirstToLast,
-    );
+    let v = Verification::run(&PoseModels::defaults(), &r.log.poses, Expected::FirstToLast);
     assert!(
         v.max_error() <= TOLERANCE_M,
         "{what}:\n{}",

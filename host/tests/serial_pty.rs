@@ -23,9 +23,8 @@ use std::time::{Duration, Instant};
 use qgait::device::frames_csv;
 use qgait::device::packets::{push_frame, stream, Samples, Timing};
 use qgait::device::qemu::{Echo, Qemu};
-use qgait::device::verify::DeviceModel;
 use qgait::motion::source::load_motion;
-use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, PoseFrame};
+use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, PoseFrame, PoseModels};
 
 /// Samples per run.
 const N: usize = 150;
@@ -136,7 +135,7 @@ fn packets(samples: &Samples, rows: std::ops::Range<usize>) -> Vec<u8> {
 }
 
 /// The points the hub must send for sample `row`, from the f64 kernel.
-fn expected_points(model: &DeviceModel, samples: &Samples, row: usize) -> [[f64; 3]; 8] {
+fn expected_points(model: &PoseModels<f64>, samples: &Samples, row: usize) -> [[f64; 3]; 8] {
     let angles: Vec<f32> = samples.packets(row).map(|p| p.angle).collect();
     let frame = PoseFrame {
         seq: row as u32,
@@ -146,7 +145,7 @@ fn expected_points(model: &DeviceModel, samples: &Samples, row: usize) -> [[f64;
         distances: [0.0; 3],
         flags: 0,
     };
-    model.pose(&frame).points().map(|p| p.to_array())
+    model.frame_pose(&frame).points().map(|p| p.to_array())
 }
 
 #[test]
@@ -229,7 +228,7 @@ fn decode_and_verify_read_the_hub_on_a_pseudo_terminal() {
     );
     let table = frames_csv::parse(&text, "decode output").unwrap();
     assert_eq!(table.seq, (0..N as u32).collect::<Vec<_>>());
-    let model = DeviceModel::defaults();
+    let model = PoseModels::defaults();
     for (row, points) in table.points.iter().enumerate() {
         let want = expected_points(&model, &samples, row);
         for (p, q) in points.iter().zip(want) {

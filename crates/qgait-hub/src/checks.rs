@@ -10,12 +10,11 @@ use qgait_proto::{
     MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
-use crate::assembly::{JointSet, Sample};
 use crate::clock::ManualClock;
 use crate::hub::{Hub, MAX_BYTES_PER_POLL, READ_CHUNK};
-use crate::kinematics::Kinematics;
 use crate::memory_serial::MemorySerial;
-use crate::subject::parts_of;
+use crate::parts_of;
+use crate::Kinematics;
 
 /// A failed check: what did not hold, and where.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -298,18 +297,13 @@ pub fn pose_matches_the_kernel() -> CheckResult {
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, 37);
     }
-    let sample = Sample {
-        seq: 37,
-        angles,
-        out_of_range: JointSet::EMPTY,
-    };
     let Ok(kinematics) = Kinematics::new(ModelId::Phak, None) else {
         return Err(CheckFailure {
             what: "Kinematics::new",
             line: line!(),
         });
     };
-    let expected = kinematics.pose_frame(&sample, 0);
+    let expected = kinematics.pose_frame(37, &angles, 0);
     ensure!(frame == expected);
     for (a, j) in frame.angles.iter().zip(ModelId::Phak.required_joints()) {
         ensure!(*a == gait_angle(*j, 37));
@@ -897,14 +891,7 @@ fn expected_frame(kinematics: &Kinematics, seq: u32) -> PoseFrame {
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, seq);
     }
-    kinematics.pose_frame(
-        &Sample {
-            seq,
-            angles,
-            out_of_range: JointSet::EMPTY,
-        },
-        0,
-    )
+    kinematics.pose_frame(seq, &angles, 0)
 }
 
 /// A Config for gait2392 gives frames with all 17 angles, equal to the generic model's.

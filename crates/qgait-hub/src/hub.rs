@@ -14,10 +14,10 @@ use qgait_proto::{
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
 use crate::clock::Clock;
-use crate::counters::{bump, count_decode_error};
-use crate::kinematics::{ConfigError, Kinematics};
+use crate::counters::bump;
 use crate::limits::in_range;
-use crate::subject::SubjectParts;
+use crate::SubjectParts;
+use crate::{ConfigError, Kinematics};
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
@@ -253,7 +253,7 @@ where
                 .decoder
                 .push_run(self.rx.get(pos..n).unwrap_or_default());
             if let Some(error) = oversize {
-                count_decode_error(&mut self.status, &error);
+                self.status.count_decode_error(&error);
             }
             pos += run;
             if pos >= n {
@@ -267,13 +267,13 @@ where
                 None => {}
                 Some(Ok(message)) => match decode_packet(message) {
                     Some(Ok(packet)) => self.on_packet(&packet),
-                    Some(Err(error)) => count_decode_error(&mut self.status, &error),
+                    Some(Err(error)) => self.status.count_decode_error(&error),
                     None => {
                         let message = decode_hub_message(message);
                         self.on_message(message)
                     }
                 },
-                Some(Err(error)) => count_decode_error(&mut self.status, &error),
+                Some(Err(error)) => self.status.count_decode_error(&error),
             }
         }
     }
@@ -319,7 +319,7 @@ where
     fn on_message(&mut self, message: Result<HubMessage, DecodeError>) {
         match message {
             Ok(message) => self.handle(message),
-            Err(error) => count_decode_error(&mut self.status, &error),
+            Err(error) => self.status.count_decode_error(&error),
         }
     }
 
@@ -549,7 +549,10 @@ impl<S: Write> Output<'_, S> {
             flags |= FrameFlags::OUT_OF_RANGE;
         }
         // Encoded straight from the sample and the pose: no `PoseFrame` built and copied.
-        let Ok(frame) = self.kinematics.encode_pose_frame(sample, flags, self.tx) else {
+        let Ok(frame) =
+            self.kinematics
+                .encode_pose_frame(sample.seq, &sample.angles, flags, self.tx)
+        else {
             return;
         };
         write_frame(self.serial, self.status, frame);

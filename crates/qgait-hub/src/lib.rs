@@ -11,16 +11,13 @@ pub mod checks;
 pub mod clock;
 pub mod counters;
 pub mod hub;
-pub mod kinematics;
 pub mod limits;
 pub mod memory_serial;
-pub mod subject;
 
 pub use crate::assembly::{Assembler, JointSet, PacketOutcome, Sample, SampleEvent, MAX_WINDOW};
 pub use crate::clock::{Clock, ManualClock};
 pub use crate::hub::{
     Hub, PollSummary, DEFAULT_CONFIG, DEFAULT_STATUS_PERIOD_MS, MAX_BYTES_PER_POLL, READ_CHUNK,
 };
-pub use crate::kinematics::{ConfigError, Kinematics};
 pub use crate::memory_serial::MemorySerial;
-pub use crate::subject::{parts_of, SubjectParts};
+pub use qgait_proto::device_model::{parts_of, ConfigError, Kinematics, SubjectParts};

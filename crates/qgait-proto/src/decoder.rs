@@ -1,7 +1,5 @@
 //! [`FrameDecoder`]: the streaming, resynchronising frame decoder.
 
-use core::num::NonZeroU8;
-
 use crate::frame::check_frame;
 use crate::{decode_message, DecodeError, Message, MAX_FRAME_LEN};
 
@@ -67,16 +65,10 @@ impl FrameDecoder {
         self.push_data(byte).map(Err)
     }
 
-    /// [`push_frame`](Self::push_frame) of a byte the caller knows is not the 0x00 delimiter
-    /// (give that to [`end_frame`](Self::end_frame)): `Some(`[`DecodeError::Oversize`]`)`
-    /// once when the frame outgrows the buffer, otherwise `None`. A caller that tests for the
-    /// delimiter itself keeps the per-byte path free of the frame result (about one
-    /// instruction a byte); [`push_data_while`](Self::push_data_while) (bytes from a
-    /// function) and [`push_run`](Self::push_run) (bytes from a slice) save more on runs of
-    /// bytes. A 0x00 given here is kept as data, so the frame then fails its COBS
-    /// check: an error, never a panic.
+    /// A byte that is not the 0x00 delimiter: `Some(`[`DecodeError::Oversize`]`)` once when
+    /// the frame outgrows the buffer, otherwise `None`.
     #[inline(always)]
-    pub fn push_data(&mut self, byte: u8) -> Option<DecodeError> {
+    fn push_data(&mut self, byte: u8) -> Option<DecodeError> {
         match self.buf.get_mut(self.len) {
             Some(slot) => {
                 *slot = byte;
@@ -87,50 +79,8 @@ impl FrameDecoder {
         }
     }
 
-    /// Takes data bytes from `next` into the frame while it gives them: what
-    /// [`push_data`](Self::push_data) does byte by byte, for a run of bytes, with the frame
-    /// length kept in a register instead of loaded and stored per byte (on a receive loop that
-    /// reads byte by byte, five instructions a data byte instead of ten). A caller that reads
-    /// in blocks has [`push_run`](Self::push_run).
-    ///
-    /// Returns how many bytes it took, and why it stopped:
-    ///
-    /// - `Some(r)`: `next` returned `Err(r)` (the caller's `next` maps the 0x00 delimiter, a
-    ///   would-block or a line error to it); nothing taken for that call.
-    /// - `None`: it took `max` bytes, or the buffer had no room for another (none at all while
-    ///   an oversize frame is discarded); `next` was not called again. The buffer never
-    ///   overflows here: give the next byte to `push_data` (or [`end_frame`](Self::end_frame)
-    ///   if it is the 0x00), which reports [`DecodeError::Oversize`] or discards it.
-    #[inline(always)]
-    pub fn push_data_while<R>(
-        &mut self,
-        max: usize,
-        mut next: impl FnMut() -> Result<NonZeroU8, R>,
-    ) -> (usize, Option<R>) {
-        let start = self.len;
-        let end = start.saturating_add(max).min(BUFFER_LEN);
-        // Empty while discarding (`start` past the buffer) or when `max` is 0.
-        let room = self.buf.get_mut(start..end).unwrap_or_default();
-        let mut taken = 0;
-        let mut stop = None;
-        for slot in room {
-            match next() {
-                Ok(byte) => {
-                    *slot = byte.get();
-                    taken += 1;
-                }
-                Err(s) => {
-                    stop = Some(s);
-                    break;
-                }
-            }
-        }
-        self.len = start + taken;
-        (taken, stop)
-    }
-
     /// Takes the run of data bytes at the start of `chunk`, up to its first 0x00 (not taken):
-    /// what [`push_data`](Self::push_data) does byte by byte, for a slice (the hub reads
+    /// what [`push_frame`](Self::push_frame) does with data bytes, for a slice (the hub reads
     /// its serial port in blocks). The caller gives the 0x00, if the run stopped at one, to
     /// [`end_frame`](Self::end_frame) and goes on after it.
     ///

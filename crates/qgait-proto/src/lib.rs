@@ -2,10 +2,14 @@
 #![no_std]
 #![warn(missing_docs)]
 
+#[cfg(feature = "std")]
+extern crate std;
+
 mod cobs;
 mod counting;
 mod crc;
 mod decoder;
+pub mod device_model;
 mod error;
 mod flags;
 mod frame;
@@ -18,6 +22,9 @@ mod wire;
 
 pub use crate::crc::{crc32c, FRAME_CRC, FRAME_CRC_CHECK};
 pub use crate::decoder::{Feed, FrameDecoder};
+#[cfg(feature = "std")]
+pub use crate::device_model::HubModel;
+pub use crate::device_model::{ConfigError, Kinematics, PoseModels, SubjectParts};
 pub use crate::error::{DecodeError, EncodeError, ErrorKind};
 pub use crate::flags::{FrameFlags, QualityFlags};
 pub use crate::frame::{

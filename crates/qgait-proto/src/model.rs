@@ -1,6 +1,8 @@
 //! [`ModelId`]: which kinematic model a pose frame was computed with, and the joints it needs.
+//! Its count, wire byte and name conversions are `strum`'s derives.
 
 use serde::{Deserialize, Serialize};
+use strum::{Display, EnumCount, EnumString, FromRepr, IntoStaticStr};
 
 use crate::JointId;
 
@@ -8,7 +10,24 @@ use crate::JointId;
 ///
 /// On the wire it is one raw byte holding the discriminant below; a byte with no
 /// matching model is reported as [`DecodeError::UnknownModel`](crate::DecodeError::UnknownModel).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    Deserialize,
+    EnumCount,
+    FromRepr,
+    IntoStaticStr,
+    EnumString,
+    Display,
+)]
+#[strum(serialize_all = "lowercase")]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
 pub enum ModelId {
@@ -42,7 +61,7 @@ const PHAK_JOINTS: [JointId; 8] = [
 
 impl ModelId {
     /// Number of models.
-    pub const COUNT: usize = 3;
+    pub const COUNT: usize = <Self as EnumCount>::COUNT;
 
     /// Every model, in discriminant order.
     pub const ALL: [ModelId; Self::COUNT] = [ModelId::Hak, ModelId::Phak, ModelId::Gait2392];
@@ -54,25 +73,17 @@ impl ModelId {
 
     /// The model whose wire byte is `index`, or `None` if there is none.
     pub const fn from_index(index: u8) -> Option<ModelId> {
-        if (index as usize) < Self::COUNT {
-            Some(Self::ALL[index as usize])
-        } else {
-            None
-        }
+        Self::from_repr(index)
     }
 
-    /// A short lowercase name: `"hak"`, `"phak"` or `"gait2392"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            ModelId::Hak => "hak",
-            ModelId::Phak => "phak",
-            ModelId::Gait2392 => "gait2392",
-        }
+    /// A short lowercase name: `"hak"`, `"phak"` or `"gait2392"` (also its `Display`).
+    pub fn name(self) -> &'static str {
+        self.into()
     }
 
     /// The model named `name` (as returned by [`ModelId::name`]), or `None`.
     pub fn from_name(name: &str) -> Option<ModelId> {
-        Self::ALL.iter().copied().find(|m| m.name() == name)
+        name.parse().ok()
     }
 
     /// The joints this model takes as input, in the order used by
@@ -83,11 +94,5 @@ impl ModelId {
             ModelId::Phak => &PHAK_JOINTS,
             ModelId::Gait2392 => &JointId::ALL,
         }
-    }
-}
-
-impl core::fmt::Display for ModelId {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.name())
     }
 }

@@ -10,6 +10,7 @@
 //! hub computes in.
 
 use serde::{Deserialize, Serialize};
+use strum::FromRepr;
 
 use crate::MissingPolicy;
 
@@ -20,7 +21,7 @@ pub const MAX_KNEE_KNOTS: usize = 12;
 pub const SUBJECT_PARTS: usize = 6;
 
 /// A leg of the model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, FromRepr)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
 pub enum Leg {
@@ -41,16 +42,12 @@ impl Leg {
 
     /// The leg of wire byte `index`, or `None`.
     pub const fn from_index(index: u8) -> Option<Leg> {
-        match index {
-            0 => Some(Leg::Right),
-            1 => Some(Leg::Left),
-            _ => None,
-        }
+        Self::from_repr(index)
     }
 }
 
 /// Which knee translation a [`SubjectKnee`] spline gives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, FromRepr)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
 pub enum KneeDirection {
@@ -71,11 +68,7 @@ impl KneeDirection {
 
     /// The direction of wire byte `index`, or `None`.
     pub const fn from_index(index: u8) -> Option<KneeDirection> {
-        match index {
-            0 => Some(KneeDirection::Tx),
-            1 => Some(KneeDirection::Ty),
-            _ => None,
-        }
+        Self::from_repr(index)
     }
 }
 

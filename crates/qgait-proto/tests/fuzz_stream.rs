@@ -6,8 +6,7 @@
 //!   frames, a frame over MAX_FRAME_LEN - 1 bytes is one Oversize, every other frame goes to
 //!   `decode_frame`), whatever the chunking, fed as the hub feeds it (blocks of random
 //!   lengths, as a serial read gives them, each through `push_run` and `end_frame`), and fed
-//!   byte-wise runs (through `push_data_while` of random lengths, the rest through
-//!   `push_data`/`end_frame`),
+//!   byte by byte through `push_frame` and `decode_message`,
 //! - decodes every good frame sent after a resynchronising 0x00, in order.
 //!
 //! `cargo test` runs 20 000 streams. More: `QGAIT_FUZZ_STREAMS=1000000 cargo test --release
@@ -16,7 +15,6 @@
 mod common;
 
 use std::collections::BTreeMap;
-use std::num::NonZeroU8;
 
 use common::{random, Rng};
 use qgait_proto::{
@@ -55,71 +53,14 @@ fn reference(stream: &[u8]) -> Vec<Result<Message, DecodeError>> {
     out
 }
 
-/// `stream` decoded as a byte-wise receive loop feeds the decoder (the hub's before it read in
-/// blocks): runs of data bytes through `push_data_while`, at most `max` (random) bytes a run, stopped by the delimiter (given to
-/// `end_frame`) or the end of the stream; after a run that stops short (full buffer, or
-/// discarding an oversize frame) the next byte goes through `push_data` or `end_frame`. Checks
-/// what each run reports on the way.
-fn decode_by_runs(rng: &mut Rng, stream: &[u8]) -> Vec<Result<Message, DecodeError>> {
+/// `stream` decoded byte by byte through `push_frame` (the frame checks), each frame's message
+/// bytes through `decode_message`.
+fn decode_by_bytes(stream: &[u8]) -> Vec<Result<Message, DecodeError>> {
     let mut decoder = FrameDecoder::new();
-    let mut out = Vec::new();
-    let end_frame = |decoder: &mut FrameDecoder, out: &mut Vec<_>| {
-        if let Some(frame) = decoder.end_frame() {
-            out.push(frame.and_then(decode_message));
-        }
-    };
-    let mut at = 0;
-    loop {
-        let max = match rng.below(4) {
-            0 => rng.below(3),
-            1 => rng.below(16),
-            2 => rng.below(2 * MAX_FRAME_LEN),
-            _ => usize::MAX,
-        };
-        let pending = decoder.pending_len();
-        let discarding = decoder.is_discarding();
-        let (mut pos, mut calls) = (at, 0);
-        let (taken, stop) = decoder.push_data_while(max, || {
-            calls += 1;
-            // Like a serial read: the byte is consumed whatever it is; the end of the
-            // stream is a would-block (`None`).
-            let byte = *stream.get(pos).ok_or(None)?;
-            pos += 1;
-            NonZeroU8::new(byte).ok_or(Some(()))
-        });
-        assert!(taken <= max);
-        assert_eq!(
-            calls,
-            taken + stop.is_some() as usize,
-            "no read past the run"
-        );
-        assert_eq!(pos - at, taken + matches!(stop, Some(Some(()))) as usize);
-        assert!(stream[at..at + taken].iter().all(|&b| b != 0));
-        if !discarding {
-            assert_eq!(decoder.pending_len(), pending + taken);
-        }
-        at = pos;
-        match stop {
-            Some(Some(())) => end_frame(&mut decoder, &mut out),
-            Some(None) => break,
-            None => {
-                // Stopped short only at `max` or when there was no room for the next byte.
-                let room = if discarding {
-                    0
-                } else {
-                    MAX_FRAME_LEN - 1 - pending
-                };
-                assert_eq!(taken, max.min(room));
-                match stream.get(at) {
-                    None => break,
-                    Some(0) => end_frame(&mut decoder, &mut out),
-                    Some(&byte) => out.extend(decoder.push_data(byte).map(Err)),
-                }
-                at += 1;
-            }
-        }
-    }
-    out
+    stream
+        .iter()
+        .filter_map(|&b| decoder.push_frame(b).map(|f| f.and_then(decode_message)))
+        .collect()
 }
 
 /// `stream` decoded as the hub's poll loop feeds the decoder: read in blocks of random lengths
@@ -213,8 +154,11 @@ fn run(seed: u64, streams: u64) -> Tally {
         let got: Vec<_> = results.iter().map(key).collect();
         let want: Vec<_> = reference(&stream).iter().map(key).collect();
         assert_eq!(got, want, "seed {seed}: stream {stream:02x?}");
-        let by_runs: Vec<_> = decode_by_runs(&mut runs, &stream).iter().map(key).collect();
-        assert_eq!(by_runs, want, "seed {seed}: by runs: stream {stream:02x?}");
+        let by_bytes: Vec<_> = decode_by_bytes(&stream).iter().map(key).collect();
+        assert_eq!(
+            by_bytes, want,
+            "seed {seed}: by bytes: stream {stream:02x?}"
+        );
         let by_slices: Vec<_> = decode_by_slices(&mut runs, &stream)
             .iter()
             .map(key)
@@ -318,8 +262,8 @@ fn random_bytes_never_panic_and_match_the_reference() {
             .collect();
         let want: Vec<_> = reference(&stream).iter().map(key).collect();
         assert_eq!(got, want);
-        let by_runs: Vec<_> = decode_by_runs(&mut runs, &stream).iter().map(key).collect();
-        assert_eq!(by_runs, want);
+        let by_bytes: Vec<_> = decode_by_bytes(&stream).iter().map(key).collect();
+        assert_eq!(by_bytes, want);
         let by_slices: Vec<_> = decode_by_slices(&mut runs, &stream)
             .iter()
             .map(key)

@@ -478,7 +478,7 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     );
 
     let pose_frames: [PoseFrame; INPUTS] =
-        core::array::from_fn(|i| kinematics.pose_frame(&samples[i], 0));
+        core::array::from_fn(|i| kinematics.pose_frame(samples[i].seq, &samples[i].angles, 0));
     let frames: [Message; INPUTS] =
         core::array::from_fn(|i| Message::PoseFrame(pose_frames[i].clone()));
     let Ok(len) = encode_frame(&frames[0], &mut buf).map(|f| f.len()) else {
@@ -575,7 +575,8 @@ fn bench_decode(streams: &[heapless::Vec<u8, 192>; INPUTS], n: u32) -> u32 {
 #[inline(never)]
 fn bench_pose_frame(k: &Kinematics, samples: &[Sample; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
-        black_box(black_box(k).pose_frame(black_box(&samples[i % INPUTS]), 0));
+        let s = black_box(&samples[i % INPUTS]);
+        black_box(black_box(k).pose_frame(s.seq, &s.angles, 0));
     })
 }
 

@@ -8,9 +8,7 @@ use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
-use qgait_kernel::anthropometry::Anthropometry;
-use qgait_kernel::Gait2392Geometry;
-use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId};
+use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseModels};
 
 use crate::cli::config::hub_model;
 use crate::cli::diagnostics::Diagnostics;
@@ -26,34 +24,24 @@ use crate::device::packets::{Samples, Timing};
 use crate::device::port::{self, Input, Until};
 use crate::device::qemu::Echo;
 use crate::device::session::{self, closing_frames, InputCounts, Limits};
-use crate::device::verify::{DeviceModel, Expected, Verification, Verifier, MISSING_LISTED};
-use crate::model::choice::Model;
+use crate::device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
 use crate::motion::source::load_motion;
 
-/// The model, loaded: what to send the hub, what to send it for, and how to recompute.
+/// The model, loaded: what to send the hub ([`HubModel`]), and how to recompute its frames.
 struct LoadedModel {
     hub: HubModel,
-    wire: ModelId,
-    device: DeviceModel,
+    device: PoseModels<f64>,
 }
 
 impl LoadedModel {
     fn load(args: &ModelArgs, quiet: bool) -> anyhow::Result<LoadedModel> {
         let model = args.load(&Diagnostics::new(quiet))?;
-        let lengths = model.lengths().unwrap_or_else(Anthropometry::gait2392);
-        let generic = Gait2392Geometry::generic();
-        let device = DeviceModel::new(&lengths, model.geometry().unwrap_or(&generic))
-            .map_err(anyhow::Error::msg)?;
-        let wire = match model {
-            Model::Hak { .. } => ModelId::Hak,
-            Model::Phak { .. } => ModelId::Phak,
-            Model::Gait2392 { .. } => ModelId::Gait2392,
-        };
-        Ok(LoadedModel {
-            hub: hub_model(model, None)?,
-            wire,
-            device,
-        })
+        let name = model.name().to_string();
+        let hub = hub_model(model, None)?;
+        let device = hub
+            .pose_models()
+            .map_err(|e| anyhow::anyhow!("{name}: model rejected by the kernel: {e}"))?;
+        Ok(LoadedModel { hub, device })
     }
 }
 
@@ -500,7 +488,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         stream,
         times,
         count,
-    } = emulate_input(&args, model.wire, quiet)?;
+    } = emulate_input(&args, model.hub.id(), quiet)?;
     let elf = firmware::locate(args.elf.as_deref()).map_err(anyhow::Error::msg)?;
     let settings = HubSettings {
         missing_policy: MissingPolicy::Drop,
@@ -588,7 +576,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 // exactly the samples whose packets all arrived intact.
                 let mut v = Verification::run(&model.device, &log.poses, Expected::FirstToLast);
                 let arrivals = Arrivals::of(&stream);
-                let intact = arrivals.intact_samples(model.wire);
+                let intact = arrivals.intact_samples(model.hub.id());
                 let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
                 let missing: Vec<u32> = intact.difference(&seen).copied().collect();
                 v.missing = missing.len() as u64;
@@ -597,7 +585,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 println!(
                     "stream: {} samples with every packet intact, {} with packets lost or damaged",
                     intact.len(),
-                    arrivals.partial(model.wire).len()
+                    arrivals.partial(model.hub.id()).len()
                 );
                 if unexpected > 0 {
                     ok = false;

@@ -3,36 +3,13 @@
 //! `SubjectKnee`) followed by the `SubjectConfig` that switches to it. Layouts:
 //! `docs/protocol.md`, sections 4.4 to 4.6.
 
-use qgait_kernel::anthropometry::Anthropometry;
-use qgait_kernel::models::gait2392::{Knots, LegGeometry};
 use qgait_kernel::Gait2392Geometry;
+use qgait_proto::device_model::{parts_of, SubjectParts};
+pub use qgait_proto::HubModel;
 use qgait_proto::{
-    crc32c, encode_frame, encode_message, Config, KneeDirection, Leg, Message, MissingPolicy,
-    ModelId, SubjectConfig, SubjectKnee, SubjectLeg, MAX_FRAME_LEN, MAX_KNEE_KNOTS,
-    MAX_MESSAGE_LEN,
+    crc32c, encode_frame, encode_message, Config, Message, MissingPolicy, SubjectConfig,
+    MAX_FRAME_LEN, MAX_MESSAGE_LEN,
 };
-
-/// The model a hub is configured with.
-#[derive(Debug, Clone, PartialEq)]
-pub enum HubModel {
-    /// HAK or PHAK, with segment lengths or the hub's current ones (`None`).
-    Stick {
-        /// `ModelId::Hak` or `ModelId::Phak`.
-        model: ModelId,
-        /// Segment lengths.
-        anthropometry: Option<Anthropometry<f64>>,
-    },
-    /// The generic gait2392.
-    Gait2392,
-    /// A subject gait2392 model, sent in parts under `upload` (`None`: derived from the
-    /// model's numbers, see [`messages`]).
-    Subject {
-        /// The model.
-        geometry: Box<Gait2392Geometry>,
-        /// The upload id.
-        upload: Option<u8>,
-    },
-}
 
 /// The settings every configuration carries.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,25 +27,14 @@ pub struct HubSettings {
 /// the parts a hub holds (except by a 1-in-256 chance), so a lost part can never leave a hub
 /// mixing two models.
 pub fn messages(model: &HubModel, settings: HubSettings) -> Result<Vec<Message>, String> {
-    let config = |model: ModelId, anthropometry: Option<[[f32; 4]; 2]>| {
-        Message::Config(Config {
-            model,
-            anthropometry,
+    match model {
+        HubModel::Stick { .. } | HubModel::Gait2392 => Ok(vec![Message::Config(Config {
+            model: model.id(),
+            anthropometry: model.lengths(),
             missing_policy: settings.missing_policy,
             reorder_window: settings.reorder_window,
             request_status: settings.request_status,
-        })
-    };
-    match model {
-        HubModel::Stick {
-            model,
-            anthropometry,
-        } => {
-            let lengths = anthropometry
-                .map(|a| [a.right, a.left].map(|limb| limb.to_array().map(|l| l as f32)));
-            Ok(vec![config(*model, lengths)])
-        }
-        HubModel::Gait2392 => Ok(vec![config(ModelId::Gait2392, None)]),
+        })]),
         HubModel::Subject { geometry, upload } => {
             let id = match upload {
                 Some(id) => *id,
@@ -111,60 +77,12 @@ pub fn frames(messages: &[Message]) -> Result<Vec<u8>, String> {
 /// The six parts of a subject model, numbers rounded to `f32`: the legs (right, left), then
 /// the knee splines (right tx, right ty, left tx, left ty).
 pub fn subject_parts(g: &Gait2392Geometry, upload: u8) -> Result<Vec<Message>, String> {
-    let v = |a: [f64; 3]| a.map(|c| c as f32);
-    let mut out = Vec::new();
-    for (leg, l) in [(Leg::Right, &g.right), (Leg::Left, &g.left)] {
-        out.push(Message::SubjectLeg(SubjectLeg {
-            upload,
-            leg,
-            hip_in_pelvis: v(l.hip_in_pelvis),
-            hip_axes: l.hip_axes.map(v),
-            ankle_in_tibia: v(l.ankle_in_tibia),
-            ankle_axis: v(l.ankle_axis),
-            subtalar_in_talus: v(l.subtalar_in_talus),
-            subtalar_axis: v(l.subtalar_axis),
-            mtp_in_calcn: v(l.mtp_in_calcn),
-            mtp_axis: v(l.mtp_axis),
-            toetip_in_toes: v(l.toetip_in_toes),
-        }));
-    }
-    for (leg, l) in [(Leg::Right, &g.right), (Leg::Left, &g.left)] {
-        for (direction, k) in [
-            (KneeDirection::Tx, &l.knee_tx),
-            (KneeDirection::Ty, &l.knee_ty),
-        ] {
-            out.push(Message::SubjectKnee(knee_part(upload, leg, direction, k)?));
-        }
-    }
-    Ok(out)
-}
-
-fn knee_part(
-    upload: u8,
-    leg: Leg,
-    direction: KneeDirection,
-    k: &Knots,
-) -> Result<SubjectKnee, String> {
-    let name = || {
-        format!(
-            "{} knee_{}",
-            ["right", "left"][leg as usize],
-            ["tx", "ty"][direction as usize]
-        )
-    };
-    if k.n > MAX_KNEE_KNOTS {
-        return Err(format!(
-            "{}: more than {MAX_KNEE_KNOTS} knots cannot be sent to the hub",
-            name()
-        ));
-    }
-    let knots: Vec<[f32; 2]> = (0..k.n).map(|i| [k.x[i] as f32, k.y[i] as f32]).collect();
-    Ok(SubjectKnee {
-        upload,
-        leg,
-        direction,
-        knots: heapless::Vec::from_slice(&knots).map_err(|_| name())?,
-    })
+    let (legs, knees) = parts_of(g, upload).map_err(|e| e.to_string())?;
+    Ok(legs
+        .into_iter()
+        .map(Message::SubjectLeg)
+        .chain(knees.into_iter().map(Message::SubjectKnee))
+        .collect())
 }
 
 /// The model a hub computes with after receiving `g` in parts: `g` with every number rounded
@@ -175,43 +93,19 @@ pub fn as_the_hub_receives(g: &Gait2392Geometry) -> Result<Gait2392Geometry, Str
     geometry_of_parts(&parts).ok_or_else(|| "a subject model part is missing".to_string())
 }
 
-/// The model a hub assembles from `parts` (the inverse of [`subject_parts`]), or `None` if a
-/// part is missing: what the host predicts the hub computes with.
+/// The model a hub assembles from `parts` (the inverse of [`subject_parts`]; the hub's own
+/// [`SubjectParts`]), or `None` if a part is missing or a number out of the hub's range: what
+/// the host predicts the hub computes with.
 pub fn geometry_of_parts(parts: &[Message]) -> Option<Gait2392Geometry> {
-    let leg = |side: Leg| -> Option<LegGeometry> {
-        let l = parts.iter().find_map(|m| match m {
-            Message::SubjectLeg(l) if l.leg == side => Some(l),
-            _ => None,
-        })?;
-        let knots = |direction: KneeDirection| {
-            parts.iter().find_map(|m| match m {
-                Message::SubjectKnee(k) if k.leg == side && k.direction == direction => {
-                    let x: Vec<f64> = k.knots.iter().map(|p| f64::from(p[0])).collect();
-                    let y: Vec<f64> = k.knots.iter().map(|p| f64::from(p[1])).collect();
-                    Some(Knots::new(&x, &y))
-                }
-                _ => None,
-            })
-        };
-        let v = |a: [f32; 3]| a.map(f64::from);
-        Some(LegGeometry {
-            hip_in_pelvis: v(l.hip_in_pelvis),
-            hip_axes: l.hip_axes.map(v),
-            knee_tx: knots(KneeDirection::Tx)?,
-            knee_ty: knots(KneeDirection::Ty)?,
-            ankle_in_tibia: v(l.ankle_in_tibia),
-            ankle_axis: v(l.ankle_axis),
-            subtalar_in_talus: v(l.subtalar_in_talus),
-            subtalar_axis: v(l.subtalar_axis),
-            mtp_in_calcn: v(l.mtp_in_calcn),
-            mtp_axis: v(l.mtp_axis),
-            toetip_in_toes: v(l.toetip_in_toes),
-        })
-    };
-    Some(Gait2392Geometry {
-        right: leg(Leg::Right)?,
-        left: leg(Leg::Left)?,
-    })
+    let mut held = SubjectParts::new();
+    for m in parts {
+        match m {
+            Message::SubjectLeg(l) => held.add_leg(l),
+            Message::SubjectKnee(k) => held.add_knee(k),
+            _ => {}
+        }
+    }
+    Some(held.geometry(held.upload()?).ok()?.cast())
 }
 
 #[cfg(test)]
@@ -270,6 +164,8 @@ mod tests {
 
     #[test]
     fn built_in_models_are_one_config() {
+        use qgait_kernel::Anthropometry;
+        use qgait_proto::ModelId;
         let a = Anthropometry::<f64>::gait2392();
         let stick = HubModel::Stick {
             model: ModelId::Phak,

@@ -9,11 +9,7 @@ use qgait_proto::{
 
 use std::cell::RefCell;
 
-use qgait_kernel::models::gait2392::COORDINATES;
-use qgait_kernel::PhakAngles;
-
 use crate::diagnostics::Warning;
-use crate::model::kinematics::HAK_NAMES;
 use crate::model::points::drive;
 use crate::motion::source::MotionRows;
 use crate::opensim::mot::MotionTable;
@@ -133,13 +129,19 @@ pub fn for_each_sample(
         row += 1;
         each(seq, wire_us(seconds), angles)
     };
-    // The coordinates are read in each model's joint order (PHAK's is PhakAngles', HAK's its
-    // last six, gait2392's the kernel's COORDINATES).
+    // The coordinates are read in the model's joint order (its `required_joints`, the order of
+    // its packets and of a pose frame's angles).
     match model {
-        ModelId::Hak => drive(rows, &HAK_NAMES, warn, |t, q| sample(t, &q)),
-        ModelId::Phak => drive(rows, &PhakAngles::<f64>::NAMES, warn, |t, q| sample(t, &q)),
-        ModelId::Gait2392 => drive(rows, &COORDINATES, warn, |t, q| sample(t, &q)),
+        ModelId::Hak => drive(rows, &joint_names::<6>(model), warn, |t, q| sample(t, &q)),
+        ModelId::Phak => drive(rows, &joint_names::<8>(model), warn, |t, q| sample(t, &q)),
+        ModelId::Gait2392 => drive(rows, &joint_names::<17>(model), warn, |t, q| sample(t, &q)),
     }
+}
+
+/// The OpenSim names of `model`'s joints, in [`ModelId::required_joints`] order (`N` of them).
+fn joint_names<const N: usize>(model: ModelId) -> [&'static str; N] {
+    let joints = model.required_joints();
+    core::array::from_fn(|i| joints.get(i).map_or("", |j| j.name()))
 }
 
 /// What [`write_stream`] wrote.
@@ -284,6 +286,18 @@ mod tests {
             unreachable!()
         };
         assert_eq!(p.angle, 31f64.to_radians() as f32);
+    }
+
+    #[test]
+    fn the_columns_read_are_the_kernels_inputs_in_wire_order() {
+        use qgait_kernel::models::gait2392::COORDINATES;
+        use qgait_kernel::PhakAngles;
+        assert_eq!(joint_names::<8>(ModelId::Phak), PhakAngles::<f64>::NAMES);
+        assert_eq!(
+            joint_names::<6>(ModelId::Hak),
+            crate::model::kinematics::HAK_NAMES
+        );
+        assert_eq!(joint_names::<17>(ModelId::Gait2392), COORDINATES);
     }
 
     #[test]

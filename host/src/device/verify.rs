@@ -4,67 +4,10 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::metrics::distances;
-use qgait_kernel::models::{Phak, PhakAngles};
-use qgait_kernel::{BilateralPose, Gait2392, Gait2392Geometry};
-use qgait_proto::{ModelId, PoseFrame};
+use qgait_proto::{ModelId, PoseFrame, PoseModels};
 
 use crate::model::points::point_names;
-
-/// What the hub computes each model with (its configuration).
-pub struct DeviceModel {
-    phak: Phak<f64>,
-    gait2392: Gait2392<f64>,
-}
-
-impl DeviceModel {
-    /// HAK and PHAK with `anthropometry`, gait2392 with `geometry` (the hub's defaults are
-    /// gait2392's lengths and the generic model).
-    pub fn new(
-        anthropometry: &Anthropometry<f64>,
-        geometry: &Gait2392Geometry,
-    ) -> Result<Self, String> {
-        Ok(DeviceModel {
-            phak: Phak::new(anthropometry)
-                .map_err(|e| format!("segment lengths rejected by the kernel: {e}"))?,
-            gait2392: Gait2392::new(geometry)
-                .map_err(|e| format!("gait2392 model rejected by the kernel: {e}"))?,
-        })
-    }
-
-    /// The hub's defaults: gait2392 lengths for HAK/PHAK, the generic gait2392.
-    pub fn defaults() -> Self {
-        Self::new(&Anthropometry::gait2392(), &Gait2392Geometry::generic())
-            .expect("the kernel accepts its own defaults")
-    }
-
-    /// The pose the hub should have sent for `frame`'s angles, in `f64`. HAK is the kernel's
-    /// [`Phak::fk_hak`], as on the hub and in `qgait fk --model hak`: the legs hung at the hips
-    /// of a level, forward-facing pelvis.
-    pub fn pose(&self, frame: &PoseFrame) -> BilateralPose<f64> {
-        let a: Vec<f64> = frame.angles.iter().map(|&x| f64::from(x)).collect();
-        match frame.model {
-            ModelId::Phak => self
-                .phak
-                .fk(&PhakAngles::from_array(core::array::from_fn(|i| a[i]))),
-            // HAK's six angles are PHAK's after the two pelvis ones.
-            ModelId::Hak => self
-                .phak
-                .fk_hak(&PhakAngles::from_array(core::array::from_fn(|i| {
-                    if i < 2 {
-                        0.0
-                    } else {
-                        a[i - 2]
-                    }
-                }))),
-            ModelId::Gait2392 => self
-                .gait2392
-                .fk(&core::array::from_fn(|i| a[i]))
-                .bilateral(),
-        }
-    }
-}
 
 /// Max and mean of an error (metres).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -151,7 +94,7 @@ pub enum Expected {
 /// gaps: then the lowest gaps are counted as missing for good, and a frame arriving later in
 /// one of them counts as a repeat instead of filling it.
 pub struct Verifier<'m> {
-    model: &'m DeviceModel,
+    model: &'m PoseModels<f64>,
     expected: Expected,
     v: Verification,
     base: Option<u32>,
@@ -165,7 +108,7 @@ pub struct Verifier<'m> {
 
 impl<'m> Verifier<'m> {
     /// A verifier of frames computed with `model`.
-    pub fn new(model: &'m DeviceModel, expected: Expected) -> Self {
+    pub fn new(model: &'m PoseModels<f64>, expected: Expected) -> Self {
         Verifier {
             model,
             expected,
@@ -201,7 +144,7 @@ impl<'m> Verifier<'m> {
             Some((_, n)) => *n += 1,
             None => v.models.push((frame.model, 1)),
         }
-        let pose = self.model.pose(frame);
+        let pose = self.model.frame_pose(frame);
         let mut worst = 0.0f64;
         for (i, (got, want)) in frame.points.iter().zip(pose.points()).enumerate() {
             let d = (0..3)
@@ -338,7 +281,7 @@ impl<'m> Verifier<'m> {
 impl Verification {
     /// Checks `frames` against `model` (a [`Verifier`] fed every frame).
     pub fn run<'a>(
-        model: &DeviceModel,
+        model: &PoseModels<f64>,
         frames: impl IntoIterator<Item = &'a PoseFrame>,
         expected: Expected,
     ) -> Verification {
@@ -429,7 +372,7 @@ fn preview(first: &[u32], total: u64) -> String {
 mod tests {
     use super::*;
 
-    fn frame(model: &DeviceModel, m: ModelId, seq: u32) -> PoseFrame {
+    fn frame(model: &PoseModels<f64>, m: ModelId, seq: u32) -> PoseFrame {
         let mut angles = heapless::Vec::new();
         for (i, _) in m.required_joints().iter().enumerate() {
             angles
@@ -444,7 +387,7 @@ mod tests {
             distances: [0.0; 3],
             flags: 0,
         };
-        let pose = model.pose(&f);
+        let pose = model.frame_pose(&f);
         f.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
         f.distances = distances(&pose).to_array().map(|x| x as f32);
         f
@@ -452,7 +395,7 @@ mod tests {
 
     #[test]
     fn exact_frames_pass_and_a_moved_point_or_a_gap_fails() {
-        let model = DeviceModel::defaults();
+        let model = PoseModels::defaults();
         let mut frames: Vec<PoseFrame> = (0..5).map(|s| frame(&model, ModelId::Phak, s)).collect();
         frames.push(frame(&model, ModelId::Gait2392, 5));
         frames.push(frame(&model, ModelId::Hak, 6));
@@ -481,7 +424,7 @@ mod tests {
 
     #[test]
     fn hak_hangs_the_legs_at_the_hips_and_nan_fails() {
-        let model = DeviceModel::defaults();
+        let model = PoseModels::defaults();
         let mut f = frame(&model, ModelId::Hak, 1);
         assert!((f.points[0][2] - 0.0835).abs() < 1e-7, "{:?}", f.points[0]);
         f.points[7][0] = f32::NAN;
@@ -520,7 +463,7 @@ mod tests {
     }
 
     fn seq_check(seqs: &[u32], expected: Expected) -> Verification {
-        let model = DeviceModel::defaults();
+        let model = PoseModels::defaults();
         let mut v = Verifier::new(&model, expected);
         seqs.iter().for_each(|&s| v.see_seq(s));
         v.finish()
@@ -575,7 +518,7 @@ mod tests {
 
     #[test]
     fn memory_holds_a_run_per_gap_up_to_a_bound_and_counts_stay_exact_in_order() {
-        let model = DeviceModel::defaults();
+        let model = PoseModels::defaults();
         let mut v = Verifier::new(&model, Expected::FirstToLast);
         for s in 0..1_000_000u32 {
             v.see_seq(s);

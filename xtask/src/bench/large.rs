@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use qgait_kernel::{Anthropometry, Phak, PhakAngles};
-use qgait_proto::{encode_frame, Message, ModelId, PoseFrame, Status, MAX_FRAME_LEN};
+use qgait_proto::device_model::sample_angles;
+use qgait_proto::{encode_frame, Kinematics, Message, ModelId, Status, MAX_FRAME_LEN};
 
 use super::{cargo, figure};
 use crate::repo_root;
@@ -25,7 +25,7 @@ pub const ROWS: usize = 1_000_000;
 
 const LABELS: &str = "time\tpelvis_list\tpelvis_rotation\tpelvis_tilt\thip_flexion_r\thip_adduction_r\thip_rotation_r\tknee_angle_r\tankle_angle_r\thip_flexion_l\thip_adduction_l\thip_rotation_l\tknee_angle_l\tankle_angle_l\tpelvis_ty\tlumbar_bending\tlumbar_rotation\tlumbar_extension";
 
-/// The PHAK angles (degrees, [`PhakAngles::NAMES`] order) of row `r`: a gait-like cycle of
+/// The PHAK angles (degrees, [`qgait_kernel::PhakAngles::NAMES`] order) of row `r`: a gait-like cycle of
 /// 100 rows that drifts slowly, so that no two cycles are the same.
 fn angles_deg(r: usize) -> [f64; 8] {
     let phase = (r % 100) as f64 * std::f64::consts::TAU / 100.0 + r as f64 * 1e-6;
@@ -78,25 +78,16 @@ fn write_motion(path: &Path) -> Result<u64, String> {
     Ok(std::fs::metadata(path).map_err(err)?.len())
 }
 
-/// The hub's log for the motion's samples: one PHAK `PoseFrame` per row (points from the
-/// kernel in `f32`, as the firmware computes them), a `Status` every 100 samples.
+/// The hub's log for the motion's samples: one PHAK `PoseFrame` per row (the hub's own
+/// [`Kinematics`], in `f32`), a `Status` every 100 samples.
 fn write_log(path: &Path) -> Result<u64, String> {
     let err = |e: std::io::Error| format!("{}: {e}", path.display());
-    let phak = Phak::<f32>::new(&Anthropometry::gait2392()).map_err(|e| format!("{e}"))?;
+    let hub = Kinematics::new(ModelId::Phak, None).map_err(|e| e.to_string())?;
     let mut f = BufWriter::new(File::create(path).map_err(err)?);
     let mut buf = [0u8; MAX_FRAME_LEN];
     for r in 0..ROWS {
         let angles: [f32; 8] = angles_deg(r).map(|d| d.to_radians() as f32);
-        let pose = phak.fk(&PhakAngles::from_array(angles));
-        let d = qgait_kernel::metrics::distances(&pose);
-        let frame = PoseFrame {
-            seq: r as u32,
-            model: ModelId::Phak,
-            angles: heapless::Vec::from_slice(&angles).map_err(|_| "8 angles".to_string())?,
-            points: pose.points().map(|p| p.to_array()),
-            distances: [d.knee, d.ankle, d.toe],
-            flags: 0,
-        };
+        let frame = hub.pose_frame(r as u32, &sample_angles(ModelId::Phak, &angles), 0);
         let bytes =
             encode_frame(&Message::PoseFrame(frame), &mut buf).map_err(|e| format!("{e:?}"))?;
         f.write_all(bytes).map_err(err)?;

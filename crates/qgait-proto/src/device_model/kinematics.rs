@@ -1,16 +1,17 @@
-//! Poses from assembled samples: the kernel's forward kinematics in `f32`, packed into a
-//! [`PoseFrame`].
+//! Poses from a sample's angles: a wire model as a kernel chain ([`Kinematics`] in `f32` for
+//! the hub, [`PoseModels`] in any precision), the kernel's forward kinematics, and the pose as
+//! a [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{
-    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, Phak, PhakAngles,
-};
-use qgait_proto::{
-    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, ModelId, PoseFrame,
-    PoseFrameParts,
+    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, ModelError, Phak, PhakAngles,
+    Real,
 };
 
-use crate::assembly::Sample;
+use crate::{
+    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection,
+    ModelId, PoseFrame, PoseFrameParts,
+};
 
 /// Why a configuration cannot be used.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,7 +24,7 @@ pub enum ConfigError {
     BadSegment {
         /// 0 = right leg, 1 = left leg.
         leg: u8,
-        /// Index into the leg's lengths ([`qgait_proto::segment`]).
+        /// Index into the leg's lengths ([`segment`](crate::segment)).
         segment: u8,
     },
     /// The kernel refused the model: for HAK and PHAK this cannot happen with lengths that
@@ -33,7 +34,7 @@ pub enum ConfigError {
     SubjectIncomplete {
         /// The upload asked for.
         upload: u8,
-        /// Parts of it held (of [`qgait_proto::SUBJECT_PARTS`]).
+        /// Parts of it held (of [`SUBJECT_PARTS`](crate::SUBJECT_PARTS)).
         parts: u8,
     },
     /// A position or knee spline value of a subject model is not a finite number within
@@ -43,14 +44,58 @@ pub enum ConfigError {
         leg: u8,
     },
     /// The reorder window asked for is not in `1..=MAX_REORDER_WINDOW`
-    /// ([`qgait_proto::MAX_REORDER_WINDOW`]).
+    /// ([`MAX_REORDER_WINDOW`](crate::MAX_REORDER_WINDOW)).
     ReorderWindow(u8),
     /// A knee spline has more knots than a `SubjectKnee` carries.
     SubjectKnots {
         /// 0 = right leg, 1 = left leg.
         leg: u8,
+        /// The spline.
+        direction: KneeDirection,
     },
 }
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        const LEGS: [&str; 2] = ["right", "left"];
+        let leg = |l: &u8| LEGS.get(usize::from(*l)).copied().unwrap_or("?");
+        match self {
+            ConfigError::AnthropometryWithGait2392 => {
+                f.write_str("segment lengths given with gait2392, which has its own")
+            }
+            ConfigError::BadSegment { leg: l, segment } => write!(
+                f,
+                "{} leg: segment length {segment} is not in (0, {MAX_SEGMENT_M}] m",
+                leg(l)
+            ),
+            ConfigError::Kernel => f.write_str("the kernel refused the model"),
+            ConfigError::SubjectIncomplete { upload, parts } => write!(
+                f,
+                "subject model {upload}: {parts} of {} parts arrived",
+                crate::SUBJECT_PARTS
+            ),
+            ConfigError::SubjectOutOfRange { leg: l } => write!(
+                f,
+                "subject model, {} leg: a position or knee value is not within {MAX_SEGMENT_M} m",
+                leg(l)
+            ),
+            ConfigError::ReorderWindow(w) => write!(
+                f,
+                "reorder window {w} is not in 1..={}",
+                crate::MAX_REORDER_WINDOW
+            ),
+            ConfigError::SubjectKnots { leg: l, direction } => write!(
+                f,
+                "{} knee_{}: more than {} knots cannot be sent to the hub",
+                leg(l),
+                ["tx", "ty"][*direction as usize],
+                crate::MAX_KNEE_KNOTS
+            ),
+        }
+    }
+}
+
+impl core::error::Error for ConfigError {}
 
 /// The generic gait2392 in `f32`, rounded from the kernel's `f64` numbers at compile time.
 static GENERIC_GAIT2392: Gait2392Geometry<f32> = Gait2392Geometry::generic().to_f32();
@@ -59,7 +104,137 @@ static GENERIC_GAIT2392: Gait2392Geometry<f32> = Gait2392Geometry::generic().to_
 /// positions and knee translations (metres).
 pub const MAX_SEGMENT_M: f32 = 2.0;
 
-/// A configured model, ready to compute poses.
+/// The PHAK angles among a sample's angles (indexed by [`JointId::index`]); HAK takes the same
+/// ones and ignores the pelvis ones.
+#[inline(always)]
+pub fn phak_angles<T: Copy>(angles: &[T; JointId::COUNT]) -> PhakAngles<T> {
+    let a = |joint: JointId| angles[joint.index() as usize];
+    PhakAngles {
+        pelvis_rotation: a(JointId::PelvisRotation),
+        pelvis_list: a(JointId::PelvisList),
+        hip_flexion_r: a(JointId::HipFlexionR),
+        knee_angle_r: a(JointId::KneeAngleR),
+        ankle_angle_r: a(JointId::AnkleAngleR),
+        hip_flexion_l: a(JointId::HipFlexionL),
+        knee_angle_l: a(JointId::KneeAngleL),
+        ankle_angle_l: a(JointId::AnkleAngleL),
+    }
+}
+
+/// The pose of HAK or PHAK (`model`) on the PHAK chain `phak`, from a sample's angles (indexed
+/// by [`JointId::index`]).
+///
+/// HAK has no pelvis joints: its legs hang from a level, forward-facing pelvis, i.e. PHAK with
+/// zero pelvis rotation and list (the kernel's [`Phak::fk_hak`]), so both models give points in
+/// the same frame.
+#[inline(always)]
+pub fn stick_pose<T: Real>(
+    phak: &Phak<T>,
+    model: ModelId,
+    angles: &[T; JointId::COUNT],
+) -> BilateralPose<T> {
+    let q = phak_angles(angles);
+    // Written as one `fk` call (not `fk_hak` in a branch): one copy of the evaluator in flash.
+    phak.fk(&if model == ModelId::Hak {
+        q.level_pelvis()
+    } else {
+        q
+    })
+}
+
+/// The pose of gait2392 from a sample's angles: all 17 (its coordinates are in [`JointId`]
+/// order), the hip, knee, ankle and toe tip of each leg.
+#[inline(always)]
+pub fn gait2392_pose<T: Real>(
+    gait2392: &Gait2392<T>,
+    angles: &[T; JointId::COUNT],
+) -> BilateralPose<T> {
+    gait2392.fk(angles).bilateral()
+}
+
+/// The pose's joint centres in [`point`] order (which is the kernel's), in `f32`.
+pub fn pose_points<T: Real>(pose: &BilateralPose<T>) -> [[f32; 3]; point::COUNT] {
+    pose.points().map(|p| p.to_array().map(to_f32))
+}
+
+/// The pose's inter-limb distances as a [`PoseFrame`] has them: knee, ankle, toe.
+pub fn pose_distances<T: Real>(pose: &BilateralPose<T>) -> [f32; 3] {
+    let d = distances(pose);
+    [to_f32(d.knee), to_f32(d.ankle), to_f32(d.toe)]
+}
+
+/// `x` in `f32` (the identity for an `f32`).
+#[inline(always)]
+fn to_f32<T: Real>(x: T) -> f32 {
+    x.to_f64() as f32
+}
+
+/// A sample's angles (indexed by [`JointId::index`]) from the angles of `model`'s joints (in
+/// [`ModelId::required_joints`] order, as a [`PoseFrame`] and a node network have them), the
+/// joints `model` does not take at 0.
+pub fn sample_angles<T: Real, A: Copy + Into<f64>>(
+    model: ModelId,
+    angles: &[A],
+) -> [T; JointId::COUNT] {
+    let mut all = [T::ZERO; JointId::COUNT];
+    for (&joint, &angle) in model.required_joints().iter().zip(angles) {
+        all[joint.index() as usize] = T::from_f64(angle.into());
+    }
+    all
+}
+
+impl PoseFrame {
+    /// The frame's angles as a sample's ([`sample_angles`]).
+    pub fn joint_angles<T: Real>(&self) -> [T; JointId::COUNT] {
+        sample_angles(self.model, &self.angles)
+    }
+}
+
+/// Every model a hub computes with, at once: HAK and PHAK on one set of segment lengths,
+/// gait2392 on one geometry (a hub keeps its lengths while it computes gait2392). The host
+/// recomputes a hub's frames with it, in `f64`.
+#[derive(Debug, Clone)]
+pub struct PoseModels<T> {
+    phak: Phak<T>,
+    gait2392: Gait2392<T>,
+}
+
+impl<T: Real> PoseModels<T> {
+    /// HAK and PHAK with `anthropometry`, gait2392 with `geometry`.
+    pub fn new(
+        anthropometry: &Anthropometry<T>,
+        geometry: &Gait2392Geometry,
+    ) -> Result<Self, ModelError> {
+        Ok(PoseModels {
+            phak: Phak::new(anthropometry)?,
+            gait2392: Gait2392::new(geometry)?,
+        })
+    }
+
+    /// A hub's defaults: gait2392's segment lengths for HAK and PHAK, the generic gait2392.
+    pub fn defaults() -> Self {
+        match Self::new(&Anthropometry::gait2392(), &Gait2392Geometry::generic()) {
+            Ok(models) => models,
+            // The kernel's own defaults: never refused (its tests build them).
+            Err(_) => unreachable!("the kernel refused its own defaults"),
+        }
+    }
+
+    /// The pose of `model` from a sample's angles (indexed by [`JointId::index`]).
+    pub fn pose(&self, model: ModelId, angles: &[T; JointId::COUNT]) -> BilateralPose<T> {
+        match model {
+            ModelId::Hak | ModelId::Phak => stick_pose(&self.phak, model, angles),
+            ModelId::Gait2392 => gait2392_pose(&self.gait2392, angles),
+        }
+    }
+
+    /// The pose a hub should have sent for `frame`, from the angles it echoes.
+    pub fn frame_pose(&self, frame: &PoseFrame) -> BilateralPose<T> {
+        self.pose(frame.model, &frame.joint_angles())
+    }
+}
+
+/// A configured model, ready to compute poses: the hub's, in `f32`, one chain at a time.
 #[derive(Debug, Clone)]
 pub struct Kinematics {
     model: ModelId,
@@ -85,15 +260,15 @@ impl Kinematics {
     /// slot that [`set_phak`](Self::set_phak) or [`set_gait2392`](Self::set_gait2392) fill in
     /// place. All zero bits (HAK is model 0, the PHAK variant tag 0, the empty chain zeros), so
     /// writing it compiles to a memset: no constant in flash, no copy on the stack.
-    pub(crate) const EMPTY: Kinematics = Kinematics {
+    pub const EMPTY: Kinematics = Kinematics {
         model: ModelId::Hak,
         chain: ModelChain::Phak(Phak::EMPTY),
     };
 
-    /// The `model` with the given segment lengths (right, left; [`qgait_proto::segment`]
-    /// order), or gait2392's if `None`.
-    /// HAK is computed as PHAK with a level, forward-facing pelvis (see [`pose_frame`](Self::pose_frame)).
-    /// gait2392 is the generic model (its lengths are its own: `lengths` must be `None`).
+    /// The `model` with the given segment lengths (right, left; [`segment`] order), or
+    /// gait2392's if `None`. HAK is computed as PHAK with a level, forward-facing pelvis
+    /// ([`stick_pose`]). gait2392 is the generic model (its lengths are its own: `lengths` must
+    /// be `None`).
     pub fn new(
         model: ModelId,
         lengths: Option<[[f32; segment::COUNT]; 2]>,
@@ -110,9 +285,9 @@ impl Kinematics {
         Ok(kinematics)
     }
 
-    /// The segment lengths of HAK or PHAK, checked (by the hub's limits and by the kernel)
-    /// without building anything: gait2392's if `None`.
-    pub(crate) fn anthropometry(
+    /// The segment lengths of HAK or PHAK, checked (each within [`MAX_SEGMENT_M`], and by the
+    /// kernel) without building anything: gait2392's if `None`.
+    pub fn anthropometry(
         lengths: Option<[[f32; segment::COUNT]; 2]>,
     ) -> Result<Anthropometry<f32>, ConfigError> {
         let anthropometry = match lengths {
@@ -131,7 +306,7 @@ impl Kinematics {
     /// [`anthropometry`](Self::anthropometry) rules out.
     // Never inlined: the kernel's rebuild is the deepest part of a model switch.
     #[inline(never)]
-    pub(crate) fn set_phak(
+    pub fn set_phak(
         &mut self,
         model: ModelId,
         anthropometry: &Anthropometry<f32>,
@@ -165,7 +340,7 @@ impl Kinematics {
     }
 
     /// Whether the kernel accepts gait2392 with these numbers, without building anything.
-    pub(crate) fn check_gait2392(geometry: &Gait2392Geometry<f32>) -> Result<(), ConfigError> {
+    pub fn check_gait2392(geometry: &Gait2392Geometry<f32>) -> Result<(), ConfigError> {
         Gait2392::check(geometry).map_err(|_| ConfigError::Kernel)
     }
 
@@ -173,10 +348,7 @@ impl Kinematics {
     /// stack). Unchanged if the kernel refuses them
     /// ([`check_gait2392`](Self::check_gait2392) tells beforehand).
     #[inline(never)]
-    pub(crate) fn set_gait2392(
-        &mut self,
-        geometry: &Gait2392Geometry<f32>,
-    ) -> Result<(), ConfigError> {
+    pub fn set_gait2392(&mut self, geometry: &Gait2392Geometry<f32>) -> Result<(), ConfigError> {
         if !matches!(self.chain, ModelChain::Gait2392(_)) {
             // As in `set_phak`: checked before the other model is given up.
             Kinematics::check_gait2392(geometry)?;
@@ -194,86 +366,62 @@ impl Kinematics {
         self.model
     }
 
-    /// The pose of `sample`, with `flags` ([`FrameFlags`] bits) set by the caller.
-    ///
-    /// HAK has no pelvis joints: its legs hang from a level, forward-facing pelvis, i.e. PHAK
-    /// with zero pelvis rotation and list, so both models give points in the same frame.
-    ///
-    /// gait2392 takes all 17 angles (its coordinates are in [`JointId`] order) and reports the
-    /// hip, knee, ankle and toe tip of each leg.
-    pub fn pose_frame(&self, sample: &Sample, flags: u8) -> PoseFrame {
-        let pose = self.pose(sample);
-        let d = distances(&pose);
+    /// The pose frame of the sample `seq` with these angles (indexed by [`JointId::index`]),
+    /// with `flags` ([`FrameFlags`] bits) set by the caller: the angles the model takes, the
+    /// points and distances of its pose ([`stick_pose`], [`gait2392_pose`]).
+    pub fn pose_frame(&self, seq: u32, angles: &[f32; JointId::COUNT], flags: u8) -> PoseFrame {
+        let pose = self.pose(angles);
         let mut used = heapless::Vec::new();
         for &joint in self.model.required_joints() {
             // Capacity is JointId::COUNT, the most any model requires.
-            let _ = used.push(sample.angle(joint));
+            let _ = used.push(angles[joint.index() as usize]);
         }
         PoseFrame {
-            seq: sample.seq,
+            seq,
             model: self.model,
             angles: used,
-            points: points(&pose),
-            distances: [d.knee, d.ankle, d.toe],
+            points: pose_points(&pose),
+            distances: pose_distances(&pose),
             flags: flags & FrameFlags::ALL,
         }
     }
 
-    /// The frame of [`pose_frame`](Self::pose_frame)`(sample, flags)`, encoded into `out`
+    /// The frame of [`pose_frame`](Self::pose_frame)`(seq, angles, flags)`, encoded into `out`
     /// ([`encode_pose_frame_parts`]: the same bytes as `encode_pose_frame` of it) without
-    /// building the [`PoseFrame`]: the angles are read from the sample and the points from the
+    /// building the [`PoseFrame`]: the angles are read from `angles` and the points from the
     /// kernel's pose as they are written.
     pub fn encode_pose_frame<'a>(
         &self,
-        sample: &Sample,
+        seq: u32,
+        angles: &[f32; JointId::COUNT],
         flags: u8,
         out: &'a mut [u8],
     ) -> Result<&'a [u8], EncodeError> {
-        let pose = self.pose(sample);
-        let d = distances(&pose);
+        let pose = self.pose(angles);
         let joints = self.model.required_joints();
         let points = pose.points();
         let parts = PoseFrameParts {
-            seq: sample.seq,
+            seq,
             model: self.model,
-            angle: |i: usize| joints.get(i).map_or(0.0, |&joint| sample.angle(joint)),
+            angle: |i: usize| {
+                joints
+                    .get(i)
+                    .map_or(0.0, |&joint| angles[joint.index() as usize])
+            },
             point: |i: usize| points.get(i).map_or([0.0; 3], |p| p.to_array()),
-            distances: [d.knee, d.ankle, d.toe],
+            distances: pose_distances(&pose),
             flags: flags & FrameFlags::ALL,
         };
         encode_pose_frame_parts(&parts, out)
     }
 
-    /// The kernel's pose of `sample` (see [`pose_frame`](Self::pose_frame)).
+    /// The kernel's pose of these angles with the model in force.
     #[inline(always)]
-    fn pose(&self, sample: &Sample) -> BilateralPose<f32> {
+    fn pose(&self, angles: &[f32; JointId::COUNT]) -> BilateralPose<f32> {
         match &self.chain {
-            ModelChain::Phak(phak) => {
-                let q = phak_angles(sample);
-                // HAK is the kernel's `Phak::fk_hak`: PHAK with a level, forward-facing pelvis
-                // (written so, one `fk` call: one copy of the evaluator in flash).
-                phak.fk(&if self.model == ModelId::Hak {
-                    q.level_pelvis()
-                } else {
-                    q
-                })
-            }
-            ModelChain::Gait2392(g) => g.fk(&sample.angles).bilateral(),
+            ModelChain::Phak(phak) => stick_pose(phak, self.model, angles),
+            ModelChain::Gait2392(g) => gait2392_pose(g, angles),
         }
-    }
-}
-
-/// The PHAK angles of `sample` (HAK ignores the pelvis ones).
-fn phak_angles(sample: &Sample) -> PhakAngles<f32> {
-    PhakAngles {
-        pelvis_rotation: sample.angle(JointId::PelvisRotation),
-        pelvis_list: sample.angle(JointId::PelvisList),
-        hip_flexion_r: sample.angle(JointId::HipFlexionR),
-        knee_angle_r: sample.angle(JointId::KneeAngleR),
-        ankle_angle_r: sample.angle(JointId::AnkleAngleR),
-        hip_flexion_l: sample.angle(JointId::HipFlexionL),
-        knee_angle_l: sample.angle(JointId::KneeAngleL),
-        ankle_angle_l: sample.angle(JointId::AnkleAngleL),
     }
 }
 
@@ -286,35 +434,20 @@ fn limb(lengths: &[f32; segment::COUNT], leg: u8) -> Result<Limb<f32>, ConfigErr
             });
         }
     }
-    Ok(Limb {
-        pelvis_half_width: lengths[segment::PELVIS_HALF_WIDTH],
-        femur: lengths[segment::FEMUR],
-        tibia: lengths[segment::TIBIA],
-        foot: lengths[segment::FOOT],
-    })
-}
-
-/// The pose's joint centres in [`qgait_proto::point`] order (which is the kernel's order).
-pub fn points(pose: &BilateralPose<f32>) -> [[f32; 3]; point::COUNT] {
-    pose.points().map(|p| p.to_array())
+    Ok(Limb::from_array(*lengths))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::assembly::JointSet;
     use qgait_kernel::{Hak, HakAngles};
 
-    fn sample(angles: &[(JointId, f32)]) -> Sample {
+    fn sample(angles: &[(JointId, f32)]) -> [f32; JointId::COUNT] {
         let mut all = [0.0; JointId::COUNT];
         for &(j, a) in angles {
             all[j.index() as usize] = a;
         }
-        Sample {
-            seq: 1,
-            angles: all,
-            out_of_range: JointSet::EMPTY,
-        }
+        all
     }
 
     #[test]
@@ -331,10 +464,10 @@ mod tests {
             // Ignored by HAK.
             (JointId::PelvisList, 0.3),
         ]);
-        let frame = k.pose_frame(&s, 0);
+        let frame = k.pose_frame(1, &s, 0);
         for (leg, (offset, sign)) in [(0usize, 1.0f32), (4, -1.0)].into_iter().enumerate() {
             let limb = Limb::from_array(lengths[leg]);
-            let q = |j: JointId| s.angle(j);
+            let q = |j: JointId| s[j.index() as usize];
             let angles = if leg == 0 {
                 HakAngles {
                     hip_flexion: q(JointId::HipFlexionR),
@@ -392,17 +525,12 @@ mod tests {
         for (i, a) in angles.iter_mut().enumerate() {
             *a = 0.05 * (i as f32 - 8.0);
         }
-        let s = Sample {
-            seq: 3,
-            angles,
-            out_of_range: JointSet::EMPTY,
-        };
-        let frame = k.pose_frame(&s, 0);
+        let frame = k.pose_frame(3, &angles, 0);
         let want = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32())
             .unwrap()
             .fk(&angles);
         let b = want.bilateral();
-        assert_eq!(frame.points, points(&b));
+        assert_eq!(frame.points, pose_points(&b));
         assert_eq!(frame.angles.as_slice(), &angles[..]);
         assert_eq!(frame.model, ModelId::Gait2392);
         let d = distances(&b);
@@ -418,9 +546,51 @@ mod tests {
             .points
             .iter()
             .flatten()
-            .zip(points(&rounded).iter().flatten())
+            .zip(pose_points(&rounded).iter().flatten())
         {
             assert!((a - b).abs() < 1e-6, "{a} vs {b}");
         }
+    }
+
+    /// The host's recomputation and the hub's computation are one mapping: in the same
+    /// precision they give the same frames, for every model (HAK with its pelvis angles
+    /// ignored).
+    #[test]
+    fn pose_models_give_the_hubs_frames() {
+        let models =
+            PoseModels::<f32>::new(&Anthropometry::gait2392(), &Gait2392Geometry::generic())
+                .unwrap();
+        let mut angles = [0.0f32; JointId::COUNT];
+        for (i, a) in angles.iter_mut().enumerate() {
+            *a = 0.07 * (i as f32 - 6.0);
+        }
+        for model in ModelId::ALL {
+            let k = Kinematics::new(model, None).unwrap();
+            let frame = k.pose_frame(9, &angles, 0);
+            let pose = models.frame_pose(&frame);
+            let hub_points = frame.points;
+            let host_points = pose_points(&pose);
+            for (a, b) in hub_points
+                .iter()
+                .flatten()
+                .zip(host_points.iter().flatten())
+            {
+                assert!((a - b).abs() < 1e-6, "{model}: {a} vs {b}");
+            }
+            for (a, b) in frame.distances.iter().zip(pose_distances(&pose)) {
+                assert!((a - b).abs() < 1e-6, "{model}: {a} vs {b}");
+            }
+        }
+        // HAK is PHAK with a level pelvis: the pelvis angles change PHAK's pose, not HAK's.
+        let phak = models.pose(ModelId::Phak, &angles);
+        let hak = models.pose(ModelId::Hak, &angles);
+        let level = models.pose(ModelId::Phak, &{
+            let mut a = angles;
+            a[JointId::PelvisList.index() as usize] = 0.0;
+            a[JointId::PelvisRotation.index() as usize] = 0.0;
+            a
+        });
+        assert_eq!(pose_points(&hak), pose_points(&level));
+        assert_ne!(pose_points(&hak), pose_points(&phak));
     }
 }

@@ -1,17 +1,141 @@
-//! Subject-specific gait2392 models arriving in parts: [`SubjectParts`] keeps the
-//! [`SubjectLeg`] and [`SubjectKnee`] messages of one upload and assembles them into the
-//! kernel's [`Gait2392Geometry`] once all six are there, in `f32` as they travel (the hub
-//! builds the model in `f32`, with no double-precision arithmetic on the device).
+//! Subject-specific gait2392 models as they travel: [`parts_of`] cuts a geometry into the six
+//! [`SubjectLeg`] and [`SubjectKnee`] parts (numbers rounded to `f32`), [`SubjectParts`]
+//! gathers the parts of one upload back into the kernel's [`Gait2392Geometry`] (in `f32`, as
+//! the hub builds its model, with no double-precision arithmetic on the device). The leg's
+//! fields are copied between a part and the kernel's [`LegGeometry`] here and nowhere else.
 
 use qgait_kernel::models::gait2392::{Knots, LegGeometry};
 use qgait_kernel::spline::MAX_KNOTS;
 use qgait_kernel::Gait2392Geometry;
-use qgait_proto::{KneeDirection, Leg, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS};
 
-use crate::kinematics::{ConfigError, MAX_SEGMENT_M};
+use crate::device_model::{ConfigError, MAX_SEGMENT_M};
+use crate::{KneeDirection, Leg, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS};
 
 // A knee part the protocol can carry always fits the kernel's spline.
 const _: () = assert!(MAX_KNEE_KNOTS <= MAX_KNOTS);
+
+impl SubjectLeg {
+    /// The part of `leg` of a geometry, numbers rounded to `f32`.
+    pub fn of_geometry(upload: u8, leg: Leg, g: &LegGeometry) -> SubjectLeg {
+        let v = |a: [f64; 3]| a.map(|c| c as f32);
+        SubjectLeg {
+            upload,
+            leg,
+            hip_in_pelvis: v(g.hip_in_pelvis),
+            hip_axes: g.hip_axes.map(v),
+            ankle_in_tibia: v(g.ankle_in_tibia),
+            ankle_axis: v(g.ankle_axis),
+            subtalar_in_talus: v(g.subtalar_in_talus),
+            subtalar_axis: v(g.subtalar_axis),
+            mtp_in_calcn: v(g.mtp_in_calcn),
+            mtp_axis: v(g.mtp_axis),
+            toetip_in_toes: v(g.toetip_in_toes),
+        }
+    }
+
+    /// Writes this part's numbers into `g` (everything but the knee splines).
+    pub fn write_into(&self, g: &mut LegGeometry<f32>) {
+        g.hip_in_pelvis = self.hip_in_pelvis;
+        g.hip_axes = self.hip_axes;
+        g.ankle_in_tibia = self.ankle_in_tibia;
+        g.ankle_axis = self.ankle_axis;
+        g.subtalar_in_talus = self.subtalar_in_talus;
+        g.subtalar_axis = self.subtalar_axis;
+        g.mtp_in_calcn = self.mtp_in_calcn;
+        g.mtp_axis = self.mtp_axis;
+        g.toetip_in_toes = self.toetip_in_toes;
+    }
+
+    /// The positions (not the axes): what must be within [`MAX_SEGMENT_M`].
+    fn positions(&self) -> [[f32; 3]; 5] {
+        [
+            self.hip_in_pelvis,
+            self.ankle_in_tibia,
+            self.subtalar_in_talus,
+            self.mtp_in_calcn,
+            self.toetip_in_toes,
+        ]
+    }
+}
+
+impl SubjectKnee {
+    /// The `direction` spline of `leg` of a geometry, numbers rounded to `f32`; fails if it has
+    /// more knots than a part carries.
+    pub fn of_geometry(
+        upload: u8,
+        leg: Leg,
+        direction: KneeDirection,
+        g: &LegGeometry,
+    ) -> Result<SubjectKnee, ConfigError> {
+        let k = knots(g, direction);
+        let too_many = ConfigError::SubjectKnots {
+            leg: leg.index(),
+            direction,
+        };
+        let mut knots = heapless::Vec::new();
+        for i in 0..k.n {
+            let (Some(x), Some(y)) = (k.x.get(i), k.y.get(i)) else {
+                return Err(too_many);
+            };
+            knots.push([*x as f32, *y as f32]).map_err(|_| too_many)?;
+        }
+        Ok(SubjectKnee {
+            upload,
+            leg,
+            direction,
+            knots,
+        })
+    }
+
+    /// Writes this part's spline into `g`.
+    pub fn write_into(&self, g: &mut LegGeometry<f32>) {
+        let k = match self.direction {
+            KneeDirection::Tx => &mut g.knee_tx,
+            KneeDirection::Ty => &mut g.knee_ty,
+        };
+        // MAX_KNEE_KNOTS <= MAX_KNOTS (asserted above): every knot of the part has a slot.
+        k.n = self.knots.len();
+        for ((x, y), [kx, ky]) in k.x.iter_mut().zip(k.y.iter_mut()).zip(&self.knots) {
+            (*x, *y) = (*kx, *ky);
+        }
+    }
+}
+
+fn knots(g: &LegGeometry, direction: KneeDirection) -> &Knots {
+    match direction {
+        KneeDirection::Tx => &g.knee_tx,
+        KneeDirection::Ty => &g.knee_ty,
+    }
+}
+
+/// The parts of `geometry` (the inverse of [`SubjectParts::geometry`], rounding to `f32`): what
+/// a host sends, in the order legs, then knees (right tx, right ty, left tx, left ty). Fails if
+/// a spline has more knots than a part carries.
+pub fn parts_of(
+    geometry: &Gait2392Geometry,
+    upload: u8,
+) -> Result<([SubjectLeg; 2], [SubjectKnee; 4]), ConfigError> {
+    let leg = |leg: Leg| SubjectLeg::of_geometry(upload, leg, leg_of(geometry, leg));
+    let knee = |leg: Leg, direction| {
+        SubjectKnee::of_geometry(upload, leg, direction, leg_of(geometry, leg))
+    };
+    Ok((
+        [leg(Leg::Right), leg(Leg::Left)],
+        [
+            knee(Leg::Right, KneeDirection::Tx)?,
+            knee(Leg::Right, KneeDirection::Ty)?,
+            knee(Leg::Left, KneeDirection::Tx)?,
+            knee(Leg::Left, KneeDirection::Ty)?,
+        ],
+    ))
+}
+
+fn leg_of<T>(g: &Gait2392Geometry<T>, leg: Leg) -> &LegGeometry<T> {
+    match leg {
+        Leg::Right => &g.right,
+        Leg::Left => &g.left,
+    }
+}
 
 /// The parts of one upload received so far, kept as the geometry they make: each part is
 /// written into it as it arrives, so the model is built straight from here (no copy of the
@@ -30,20 +154,19 @@ pub struct SubjectParts {
     geometry: Gait2392Geometry<f32>,
 }
 
+/// A spline without knots.
+const NO_KNOTS: Knots<f32> = Knots {
+    n: 0,
+    x: [0.0; MAX_KNOTS],
+    y: [0.0; MAX_KNOTS],
+};
+
 /// A leg without numbers (zeros, no knots).
 const NO_LEG: LegGeometry<f32> = LegGeometry {
     hip_in_pelvis: [0.0; 3],
     hip_axes: [[0.0; 3]; 3],
-    knee_tx: Knots {
-        n: 0,
-        x: [0.0; MAX_KNOTS],
-        y: [0.0; MAX_KNOTS],
-    },
-    knee_ty: Knots {
-        n: 0,
-        x: [0.0; MAX_KNOTS],
-        y: [0.0; MAX_KNOTS],
-    },
+    knee_tx: NO_KNOTS,
+    knee_ty: NO_KNOTS,
     ankle_in_tibia: [0.0; 3],
     ankle_axis: [0.0; 3],
     subtalar_in_talus: [0.0; 3],
@@ -94,40 +217,19 @@ impl SubjectParts {
     /// part for a leg already held replaces it.
     pub fn add_leg(&mut self, part: &SubjectLeg) {
         self.start(part.upload);
-        let g = self.leg_mut(part.leg);
-        g.hip_in_pelvis = part.hip_in_pelvis;
-        g.hip_axes = part.hip_axes;
-        g.ankle_in_tibia = part.ankle_in_tibia;
-        g.ankle_axis = part.ankle_axis;
-        g.subtalar_in_talus = part.subtalar_in_talus;
-        g.subtalar_axis = part.subtalar_axis;
-        g.mtp_in_calcn = part.mtp_in_calcn;
-        g.mtp_axis = part.mtp_axis;
-        g.toetip_in_toes = part.toetip_in_toes;
-        let positions = [
-            part.hip_in_pelvis,
-            part.ankle_in_tibia,
-            part.subtalar_in_talus,
-            part.mtp_in_calcn,
-            part.toetip_in_toes,
-        ];
-        let in_range = positions.iter().flatten().all(|c| c.abs() <= MAX_SEGMENT_M);
+        part.write_into(self.leg_mut(part.leg));
+        let in_range = part
+            .positions()
+            .iter()
+            .flatten()
+            .all(|c| c.abs() <= MAX_SEGMENT_M);
         self.took(part_bit(part.leg, None), in_range);
     }
 
     /// Keeps a knee part (same rules as [`add_leg`](Self::add_leg)).
     pub fn add_knee(&mut self, part: &SubjectKnee) {
         self.start(part.upload);
-        let g = self.leg_mut(part.leg);
-        let k = match part.direction {
-            KneeDirection::Tx => &mut g.knee_tx,
-            KneeDirection::Ty => &mut g.knee_ty,
-        };
-        // MAX_KNEE_KNOTS <= MAX_KNOTS (asserted above): every knot of the part has a slot.
-        k.n = part.knots.len();
-        for ((x, y), [kx, ky]) in k.x.iter_mut().zip(k.y.iter_mut()).zip(&part.knots) {
-            (*x, *y) = (*kx, *ky);
-        }
+        part.write_into(self.leg_mut(part.leg));
         // (A NaN knot passes here; the kernel refuses it when the model is built.)
         let in_range = !part.knots.iter().any(|[_, y]| y.abs() > MAX_SEGMENT_M);
         self.took(part_bit(part.leg, Some(part.direction)), in_range);
@@ -155,7 +257,7 @@ impl SubjectParts {
         if self.upload != Some(upload) {
             return Err(ConfigError::SubjectIncomplete { upload, parts: 0 });
         }
-        for leg in [Leg::Right, Leg::Left] {
+        for leg in Leg::ALL {
             if self.held & leg_bits(leg) != leg_bits(leg) {
                 return Err(ConfigError::SubjectIncomplete {
                     upload,
@@ -195,69 +297,6 @@ impl SubjectParts {
             self.out_of_range = 0;
         }
     }
-}
-
-/// The parts of `geometry` (the inverse of [`SubjectParts::geometry`], rounding to `f32`): what
-/// a host sends, in the order legs, then knees (right tx, right ty, left tx, left ty). Fails if
-/// a spline has more knots than a part carries.
-pub fn parts_of(
-    geometry: &Gait2392Geometry,
-    upload: u8,
-) -> Result<([SubjectLeg; 2], [SubjectKnee; 4]), ConfigError> {
-    let v = |a: [f64; 3]| a.map(|c| c as f32);
-    let leg = |side: Leg| {
-        let g = match side {
-            Leg::Right => &geometry.right,
-            Leg::Left => &geometry.left,
-        };
-        SubjectLeg {
-            upload,
-            leg: side,
-            hip_in_pelvis: v(g.hip_in_pelvis),
-            hip_axes: g.hip_axes.map(v),
-            ankle_in_tibia: v(g.ankle_in_tibia),
-            ankle_axis: v(g.ankle_axis),
-            subtalar_in_talus: v(g.subtalar_in_talus),
-            subtalar_axis: v(g.subtalar_axis),
-            mtp_in_calcn: v(g.mtp_in_calcn),
-            mtp_axis: v(g.mtp_axis),
-            toetip_in_toes: v(g.toetip_in_toes),
-        }
-    };
-    let knee = |side: Leg, direction: KneeDirection| {
-        let g = match side {
-            Leg::Right => &geometry.right,
-            Leg::Left => &geometry.left,
-        };
-        let k = match direction {
-            KneeDirection::Tx => &g.knee_tx,
-            KneeDirection::Ty => &g.knee_ty,
-        };
-        let mut knots = heapless::Vec::new();
-        for i in 0..k.n {
-            let (Some(x), Some(y)) = (k.x.get(i), k.y.get(i)) else {
-                return Err(ConfigError::SubjectKnots { leg: side as u8 });
-            };
-            knots
-                .push([*x as f32, *y as f32])
-                .map_err(|_| ConfigError::SubjectKnots { leg: side as u8 })?;
-        }
-        Ok(SubjectKnee {
-            upload,
-            leg: side,
-            direction,
-            knots,
-        })
-    };
-    Ok((
-        [leg(Leg::Right), leg(Leg::Left)],
-        [
-            knee(Leg::Right, KneeDirection::Tx)?,
-            knee(Leg::Right, KneeDirection::Ty)?,
-            knee(Leg::Left, KneeDirection::Tx)?,
-            knee(Leg::Left, KneeDirection::Ty)?,
-        ],
-    ))
 }
 
 #[cfg(test)]
@@ -338,10 +377,13 @@ mod tests {
     #[test]
     fn too_many_knots_cannot_be_sent() {
         let mut g = Gait2392Geometry::generic();
-        g.left.knee_tx.n = 13;
+        g.left.knee_ty.n = 13;
         assert_eq!(
             parts_of(&g, 1).unwrap_err(),
-            ConfigError::SubjectKnots { leg: 1 }
+            ConfigError::SubjectKnots {
+                leg: 1,
+                direction: KneeDirection::Ty
+            }
         );
     }
 }

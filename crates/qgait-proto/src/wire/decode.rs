@@ -1,0 +1,346 @@
+//! The decoders: one per message body, each reading the fields one at a time (the joint-angle
+//! packet by hand, the others through postcard's deserialiser per field), raw bytes for the
+//! joint and model fields so that an unknown joint or model is reported as its own
+//! [`DecodeError`]. [`decode_packet`] is the hub's per-packet fast path; [`decode_hub_message`]
+//! decodes the messages sent to a hub and only the tag of the others, so that a hub links no
+//! decoder of a message it does not take.
+
+use super::check_angle_count;
+use super::varint::{end, take, take_varint_u32};
+use crate::{
+    point, segment, Config, DecodeError, JointAngle, JointId, KneeDirection, Leg, MissingPolicy,
+    ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS,
+    MAX_POSE_ANGLES, PROTOCOL_VERSION,
+};
+
+/// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
+/// and the ones only a hub sends, not decoded.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum HubMessage {
+    /// Tag 0.
+    JointAngle(JointAngle),
+    /// Tag 3.
+    Config(Config),
+    /// Tag 4.
+    SubjectLeg(SubjectLeg),
+    /// Tag 5.
+    SubjectKnee(SubjectKnee),
+    /// Tag 6.
+    SubjectConfig(SubjectConfig),
+    /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
+    /// Its body is not decoded: it may or may not be well-formed.
+    FromHub(u32),
+}
+
+/// The hub's fast path: if `bytes` (one message, as [`decode_message`](crate::decode_message)
+/// takes it) is a [`JointAngle`] whose tag is the canonical single byte 0x00, its
+/// `decode_message` result without building a [`Message`](crate::Message); `None` for any other
+/// message (decode those with `decode_message` or [`decode_hub_message`]).
+#[inline(always)]
+pub fn decode_packet(bytes: &[u8]) -> Option<Result<JointAngle, DecodeError>> {
+    match bytes.split_first() {
+        Some((0, body)) => Some(joint_angle(body)),
+        _ => None,
+    }
+}
+
+/// [`decode_message`](crate::decode_message) for a hub: the messages sent to a hub are decoded
+/// exactly as `decode_message` decodes them (the same values, the same errors); a
+/// [`PoseFrame`] or a [`Status`] is reported as [`HubMessage::FromHub`] without decoding its
+/// body, so their decoders are not linked into a hub that does not call `decode_message`.
+pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
+    if let Some(packet) = decode_packet(bytes) {
+        return packet.map(HubMessage::JointAngle);
+    }
+    let (tag, body) = take::<u32>(bytes)?;
+    match tag {
+        0 => joint_angle(body).map(HubMessage::JointAngle),
+        1 | 2 => Ok(HubMessage::FromHub(tag)),
+        3 => config(body).map(HubMessage::Config),
+        4 => subject_leg(body).map(HubMessage::SubjectLeg),
+        5 => subject_knee(body).map(HubMessage::SubjectKnee),
+        6 => subject_config(body).map(HubMessage::SubjectConfig),
+        unknown => Err(DecodeError::UnknownMessage(unknown)),
+    }
+}
+
+/// A [`JointAngle`]'s body (after the tag), by hand: version, node, joint, seq (varint),
+/// timestamp (varint), angle (`f32` LE), quality, and nothing after. The errors are postcard's
+/// for the layout: the version first, then the layout (`Malformed`), then the joint.
+#[inline(always)]
+pub(super) fn joint_angle(body: &[u8]) -> Result<JointAngle, DecodeError> {
+    // The version is the first byte of the body: check it before anything else, so a packet of
+    // another version (whose layout may differ) is reported as such.
+    let (&version, rest) = body.split_first().ok_or(DecodeError::Malformed)?;
+    if version != PROTOCOL_VERSION {
+        return Err(DecodeError::UnknownVersion(version));
+    }
+    let [node, joint, rest @ ..] = rest else {
+        return Err(DecodeError::Malformed);
+    };
+    let (seq, rest) = take_varint_u32(rest)?;
+    let (timestamp_us, rest) = take_varint_u32(rest)?;
+    let &[a0, a1, a2, a3, quality] = rest else {
+        return Err(DecodeError::Malformed);
+    };
+    Ok(JointAngle {
+        version,
+        node: *node,
+        joint: JointId::from_index(*joint).ok_or(DecodeError::UnknownJoint(*joint))?,
+        seq,
+        timestamp_us,
+        angle: f32::from_le_bytes([a0, a1, a2, a3]),
+        quality,
+    })
+}
+
+/// A [`PoseFrame`]'s body: the layout first (`Malformed`), then the model, then the angle count.
+pub(super) fn pose_frame(body: &[u8]) -> Result<PoseFrame, DecodeError> {
+    let (seq, rest) = take(body)?;
+    let (model, rest) = take::<u8>(rest)?;
+    let (angles, rest) = take::<heapless::Vec<f32, MAX_POSE_ANGLES>>(rest)?;
+    let (points, rest) = take::<[[f32; 3]; point::COUNT]>(rest)?;
+    let (distances, rest) = take(rest)?;
+    let (flags, rest) = take(rest)?;
+    end(rest)?;
+    let model = ModelId::from_index(model).ok_or(DecodeError::UnknownModel(model))?;
+    check_angle_count(model, angles.len())
+        .map_err(|(expected, got)| DecodeError::AngleCount { expected, got })?;
+    Ok(PoseFrame {
+        seq,
+        model,
+        angles,
+        points,
+        distances,
+        flags,
+    })
+}
+
+/// A [`Status`]'s body: its 16 varints.
+pub(super) fn status(body: &[u8]) -> Result<Status, DecodeError> {
+    let (status, rest) = take(body)?;
+    end(rest)?;
+    Ok(status)
+}
+
+/// A [`Config`]'s body. The fields' values are checked in wire order (section 5 of the spec),
+/// after the layout: an unknown model before a bad missing policy.
+pub(super) fn config(body: &[u8]) -> Result<Config, DecodeError> {
+    let (model, rest) = take::<u8>(body)?;
+    let (anthropometry, rest) = take::<Option<[[f32; segment::COUNT]; 2]>>(rest)?;
+    let (policy, rest) = take::<u8>(rest)?;
+    let (reorder_window, rest) = take(rest)?;
+    let (request_status, rest) = take(rest)?;
+    end(rest)?;
+    Ok(Config {
+        model: ModelId::from_index(model).ok_or(DecodeError::UnknownModel(model))?,
+        anthropometry,
+        missing_policy: missing_policy(policy)?,
+        reorder_window,
+        request_status,
+    })
+}
+
+/// A [`SubjectLeg`]'s body: the 11 vectors in one loop.
+pub(super) fn subject_leg(body: &[u8]) -> Result<SubjectLeg, DecodeError> {
+    let (upload, rest) = take(body)?;
+    let (side, mut rest) = take::<u8>(rest)?;
+    let mut v = [[0.0f32; 3]; 11];
+    for slot in &mut v {
+        (*slot, rest) = take(rest)?;
+    }
+    end(rest)?;
+    let [hip_in_pelvis, h0, h1, h2, ankle_in_tibia, ankle_axis, subtalar_in_talus, subtalar_axis, mtp_in_calcn, mtp_axis, toetip_in_toes] =
+        v;
+    Ok(SubjectLeg {
+        upload,
+        leg: leg(side)?,
+        hip_in_pelvis,
+        hip_axes: [h0, h1, h2],
+        ankle_in_tibia,
+        ankle_axis,
+        subtalar_in_talus,
+        subtalar_axis,
+        mtp_in_calcn,
+        mtp_axis,
+        toetip_in_toes,
+    })
+}
+
+/// A [`SubjectKnee`]'s body.
+pub(super) fn subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
+    let (upload, rest) = take(body)?;
+    let (side, rest) = take::<u8>(rest)?;
+    let (direction, rest) = take::<u8>(rest)?;
+    // More than MAX_KNEE_KNOTS fails to deserialise: Malformed.
+    let (knots, rest) = take::<heapless::Vec<[f32; 2], MAX_KNEE_KNOTS>>(rest)?;
+    end(rest)?;
+    Ok(SubjectKnee {
+        upload,
+        leg: leg(side)?,
+        direction: KneeDirection::from_index(direction).ok_or(DecodeError::Malformed)?,
+        knots,
+    })
+}
+
+/// A [`SubjectConfig`]'s body.
+pub(super) fn subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
+    let (upload, rest) = take(body)?;
+    let (policy, rest) = take::<u8>(rest)?;
+    let (reorder_window, rest) = take(rest)?;
+    let (request_status, rest) = take(rest)?;
+    end(rest)?;
+    Ok(SubjectConfig {
+        upload,
+        missing_policy: missing_policy(policy)?,
+        reorder_window,
+        request_status,
+    })
+}
+
+fn missing_policy(byte: u8) -> Result<MissingPolicy, DecodeError> {
+    match byte {
+        0 => Ok(MissingPolicy::Drop),
+        1 => Ok(MissingPolicy::HoldLast),
+        _ => Err(DecodeError::Malformed),
+    }
+}
+
+fn leg(byte: u8) -> Result<Leg, DecodeError> {
+    Leg::from_index(byte).ok_or(DecodeError::Malformed)
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+
+    use super::*;
+    use crate::wire::varint::{varint_u32, VARINT_U32_MAX};
+    use crate::{decode_message, Message, MAX_MESSAGE_LEN};
+    use proptest::prelude::*;
+    use serde::Deserialize;
+    use std::vec;
+    use std::vec::Vec;
+
+    /// The postcard decoding of a [`JointAngle`] body that [`joint_angle`] replaces,
+    /// kept as the reference it is tested against.
+    fn decode_joint_angle_postcard(body: &[u8]) -> Result<JointAngle, DecodeError> {
+        #[derive(Deserialize)]
+        struct JointAngleWire {
+            version: u8,
+            node: u8,
+            joint: u8,
+            seq: u32,
+            timestamp_us: u32,
+            angle: f32,
+            quality: u8,
+        }
+        let version = *body.first().ok_or(DecodeError::Malformed)?;
+        if version != PROTOCOL_VERSION {
+            return Err(DecodeError::UnknownVersion(version));
+        }
+        let w: JointAngleWire = match postcard::take_from_bytes(body) {
+            Ok((w, [])) => w,
+            _ => return Err(DecodeError::Malformed),
+        };
+        Ok(JointAngle {
+            version: w.version,
+            node: w.node,
+            joint: JointId::from_index(w.joint).ok_or(DecodeError::UnknownJoint(w.joint))?,
+            seq: w.seq,
+            timestamp_us: w.timestamp_us,
+            angle: w.angle,
+            quality: w.quality,
+        })
+    }
+
+    /// The whole-message postcard decoding with the reference for tag 0.
+    fn decode_message_postcard(bytes: &[u8]) -> Result<Message, DecodeError> {
+        let (tag, body) =
+            postcard::take_from_bytes::<u32>(bytes).map_err(|_| DecodeError::Malformed)?;
+        if tag == 0 {
+            decode_joint_angle_postcard(body).map(Message::JointAngle)
+        } else {
+            decode_message(bytes)
+        }
+    }
+
+    /// Results compared with floats as bits (NaN payloads included).
+    fn same(a: &Result<Message, DecodeError>, b: &Result<Message, DecodeError>) -> bool {
+        match (a, b) {
+            (Ok(Message::JointAngle(x)), Ok(Message::JointAngle(y))) => {
+                x.angle.to_bits() == y.angle.to_bits()
+                    && JointAngle { angle: 0.0, ..*x } == JointAngle { angle: 0.0, ..*y }
+            }
+            (Ok(_), Ok(_)) => {
+                let mut x = [0u8; MAX_MESSAGE_LEN];
+                let mut y = [0u8; MAX_MESSAGE_LEN];
+                let (Ok(x), Ok(y)) = (
+                    postcard::to_slice(a.as_ref().unwrap(), &mut x),
+                    postcard::to_slice(b.as_ref().unwrap(), &mut y),
+                ) else {
+                    return false;
+                };
+                x == y
+            }
+            (Err(x), Err(y)) => x == y,
+            _ => false,
+        }
+    }
+
+    /// Bytes that look like a joint-angle packet, then mutated: every length around the real
+    /// ones, every varint length (canonical or not, over-long, unterminated), every version
+    /// and joint byte.
+    fn packet_like() -> impl Strategy<Value = Vec<u8>> {
+        let varint = prop_oneof![
+            any::<u32>().prop_map(|v| {
+                let mut b = [0u8; VARINT_U32_MAX];
+                varint_u32(v, &mut b).to_vec()
+            }),
+            proptest::collection::vec(any::<u8>(), 0..7),
+            proptest::collection::vec(
+                prop_oneof![Just(0x80u8), Just(0xFF), Just(0x0F), Just(0x10), Just(0)],
+                1..7
+            ),
+        ];
+        (
+            prop_oneof![
+                Just(vec![0u8]),
+                Just(vec![0x80, 0x00]),
+                proptest::collection::vec(any::<u8>(), 0..3)
+            ],
+            prop_oneof![4 => Just(PROTOCOL_VERSION), 1 => any::<u8>()],
+            any::<u8>(),
+            prop_oneof![0u8..20, any::<u8>()],
+            varint.clone(),
+            varint,
+            proptest::collection::vec(any::<u8>(), 0..8),
+        )
+            .prop_map(|(tag, version, node, joint, seq, ts, tail)| {
+                let mut v = tag;
+                v.extend([version, node, joint]);
+                v.extend(seq);
+                v.extend(ts);
+                v.extend(tail);
+                v
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 20_000, ..ProptestConfig::default() })]
+
+        /// The fast joint-angle decoding accepts exactly the bytes postcard accepts, with the
+        /// same values, and rejects the rest with the same errors.
+        #[test]
+        fn joint_angle_fast_path_is_postcard(bytes in packet_like()) {
+            let fast = decode_message(&bytes);
+            let reference = decode_message_postcard(&bytes);
+            prop_assert!(same(&fast, &reference), "{bytes:02x?}: {fast:?} vs {reference:?}");
+            match decode_packet(&bytes) {
+                Some(packet) => prop_assert!(same(&packet.map(Message::JointAngle), &reference)),
+                None => prop_assert_ne!(bytes.first(), Some(&0)),
+            }
+        }
+    }
+}
