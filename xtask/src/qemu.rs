@@ -113,9 +113,8 @@ fn defmt_test_summary(log: &[String], code: Option<i32>) -> Option<DefmtTestRun>
     let (last_k, total, last_running, last_name) = started.last()?.clone();
     let ran = started.iter().filter(|s| s.2).count() as u32;
     let ignored = started.len() as u32 - ran;
-    let passed_all = code == Some(0)
-        && last_k == total
-        && log.iter().any(|l| l == "all tests passed!");
+    let passed_all =
+        code == Some(0) && last_k == total && log.iter().any(|l| l == "all tests passed!");
     Some(if passed_all {
         DefmtTestRun {
             passed: ran,
@@ -156,7 +155,10 @@ mod tests {
         ]);
         let run = defmt_test_summary(&l, Some(0)).unwrap();
         assert!(run.passed_all);
-        assert_eq!((run.passed, run.failed.as_deref(), run.ignored), (2, None, 1));
+        assert_eq!(
+            (run.passed, run.failed.as_deref(), run.ignored),
+            (2, None, 1)
+        );
         assert_eq!(run.lines().last().unwrap(), "2 passed, 0 failed");
     }
 
@@ -181,7 +183,10 @@ mod tests {
             }
         );
         let lines = run.lines();
-        assert_eq!(lines[0], "xtask: on-target test `b` failed, exit status 101");
+        assert_eq!(
+            lines[0],
+            "xtask: on-target test `b` failed, exit status 101"
+        );
         assert_eq!(lines.last().unwrap(), "1 passed, 1 failed");
     }
 
@@ -200,7 +205,10 @@ mod tests {
 
     #[test]
     fn other_elfs_have_no_summary() {
-        let l = log(&["INFO  bench: fk.phak 1234 instructions", "5 passed, 0 failed"]);
+        let l = log(&[
+            "INFO  bench: fk.phak 1234 instructions",
+            "5 passed, 0 failed",
+        ]);
         assert_eq!(defmt_test_summary(&l, Some(0)), None);
     }
 }
