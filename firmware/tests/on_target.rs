@@ -5,7 +5,7 @@
 //! every scenario check of `qgait-hub-checks` (sample assembly, error counting,
 //! configuration), each its own test.
 //!
-//! defmt-test prints `(k/N) running `name`...` before each test and exits with status 0 after
+//! defmt-test prints ``(k/N) running `name`...`` before each test and exits with status 0 after
 //! the last; a failed test panics, and the firmware's panic handler exits with 101. The runner
 //! (`cargo xtask qemu-run`) counts those lines into the summary `N passed, M failed`.
 

@@ -43,7 +43,7 @@ pub fn run_elf(elf: &Path) -> Result<ExitCode, String> {
     })
 }
 
-/// What the log of a `defmt-test` run says. defmt-test prints `(k/N) running `name`...` (or
+/// What the log of a `defmt-test` run says. defmt-test prints ``(k/N) running `name`...`` (or
 /// `ignoring`) before each test and `all tests passed!` after the last, then exits with
 /// status 0, but prints no count; a failing test panics (the firmware's panic handler exits
 /// with 101) or hangs (QEMU is killed after [`TIMEOUT`]), and the tests after it do not run.
@@ -96,7 +96,7 @@ impl DefmtTestRun {
 /// Counts a `defmt-test` run from its decoded `log` and exit `code`; `None` if the log has no
 /// defmt-test progress line (not a defmt-test ELF).
 fn defmt_test_summary(log: &[String], code: Option<i32>) -> Option<DefmtTestRun> {
-    // `(k/N) running `name`...`: number, total, whether it runs, name.
+    // ``(k/N) running `name`...``: number, total, whether it runs, name.
     let progress = |line: &str| -> Option<(u32, u32, bool, String)> {
         let (k, rest) = line.strip_prefix('(')?.split_once('/')?;
         let (n, rest) = rest.split_once(") ")?;
