@@ -4,5 +4,4 @@
 
 pub mod board;
 pub mod fault;
-pub mod selftest;
 pub mod stack;

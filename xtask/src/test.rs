@@ -38,17 +38,12 @@ pub fn run() -> Result<ExitCode, String> {
     let steps: Vec<Step> = vec![
         mps2,
         ram,
+        // Every crate of the root workspace, the hub's host tests and scenario checks included.
         step(
             "host workspace tests",
             &root,
             &["test", "--workspace"],
             &elf,
-        ),
-        step(
-            "hub host tests",
-            &root,
-            &["test", "-p", "qgait-hub", "--features", "checks"],
-            &[],
         ),
         step(
             "firmware build, nrf52840",
@@ -113,8 +108,8 @@ pub fn run() -> Result<ExitCode, String> {
 }
 
 /// Formatting and lints, in both workspaces: `cargo fmt --check` and clippy on every target
-/// with warnings denied (the firmware for its own target, the hub also on the host with its
-/// `checks` feature, as its host tests build it).
+/// with warnings denied (the root workspace on the host, the hub and its checks included; the
+/// firmware for its own target, its on-target tests included).
 fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
     const DENY: [&str; 2] = ["--", "-Dwarnings"];
     let clippy = |extra: &[&'static str]| -> Vec<&'static str> {
@@ -146,12 +141,6 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             "clippy, firmware",
             firmware,
             &clippy(&["--all-targets"]),
-            &[],
-        ),
-        step(
-            "clippy, hub on the host",
-            root,
-            &clippy(&["-p", "qgait-hub", "--all-targets", "--features", "checks"]),
             &[],
         ),
     ]

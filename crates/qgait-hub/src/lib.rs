@@ -6,8 +6,6 @@
 #![deny(unsafe_code)]
 
 pub mod assembly;
-#[cfg(feature = "checks")]
-pub mod checks;
 pub mod clock;
 pub mod counters;
 pub mod hub;

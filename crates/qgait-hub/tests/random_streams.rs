@@ -2,10 +2,8 @@
 //! packet, and line noise. Whatever the mix, every good sample gives exactly one pose, every
 //! damaged one is counted as incomplete, and the hub never panics.
 
-#![cfg(feature = "checks")]
-
-use qgait_hub::checks::{packet, send, CheckSerial};
 use qgait_hub::{Hub, ManualClock};
+use qgait_hub_checks::{packet, send, CheckSerial};
 use qgait_proto::{encode_frame, FrameDecoder, Message, ModelId, MAX_FRAME_LEN};
 
 struct XorShift(u32);

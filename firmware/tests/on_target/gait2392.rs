@@ -1,9 +1,8 @@
 //! On-target gait2392 tests: the f32 kernel on the Cortex-M4F against f64 values computed on
 //! the host at build time, directly and through the hub with a subject model sent in parts.
 
-use qgait_firmware::selftest::Failure;
-use qgait_hub::checks::{drain, each_output, send, CheckSerial};
 use qgait_hub::{parts_of, Hub, ManualClock};
+use qgait_hub_checks::{drain, each_output, send, CheckSerial};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::{Gait2392, Gait2392Geometry, Real};
 use qgait_proto::{
@@ -22,25 +21,12 @@ const POINT_TOLERANCE_M: f64 = 1e-5;
 /// The kernel points reported in a `PoseFrame`: hip, knee, ankle, toe tip of each leg.
 const FRAME_POINTS: [usize; 8] = [0, 1, 2, 5, 6, 7, 8, 11];
 
-fn fail(what: &'static str, line: u32, value: f64) -> Failure {
-    Failure {
-        what,
-        line,
-        value: Some(value),
-    }
-}
-
 /// Generic gait2392 in f32 against f64: every one of the 12 points of every case.
-pub fn gait2392_f32_points_match_host_f64() -> Result<(), Failure> {
+pub fn gait2392_f32_points_match_host_f64() {
     // As the hub builds it: from the f32 numbers, knee splines computed in f32.
-    let model =
-        Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32()).map_err(|_| {
-            Failure {
-                what: "Gait2392::new refused the generic model",
-                line: line!(),
-                value: None,
-            }
-        })?;
+    let Ok(model) = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32()) else {
+        defmt::panic!("Gait2392::from_geometry refused the generic model");
+    };
     let mut worst = 0.0f64;
     let mut cases = 0;
     for (_, q, points, want_d) in expected::CASES.iter().filter(|c| c.0 == 0) {
@@ -62,31 +48,25 @@ pub fn gait2392_f32_points_match_host_f64() -> Result<(), Failure> {
         worst,
         cases
     );
-    if cases == 0 {
-        return Err(fail("no generic cases", line!(), 0.0));
-    }
-    if worst <= POINT_TOLERANCE_M {
-        Ok(())
-    } else {
-        Err(fail("largest f32 gait2392 point error (m)", line!(), worst))
-    }
+    defmt::assert!(cases > 0, "no generic cases");
+    defmt::assert!(
+        worst <= POINT_TOLERANCE_M,
+        "largest f32 gait2392 point error {=f64} m",
+        worst
+    );
 }
 
 /// A subject model sent to the hub in its 6 parts and switched to by a `SubjectConfig`: every
 /// pose frame the hub sends for the cases equals the host's f64 prediction within 10 µm, and
 /// differs from the generic model's by centimetres.
-pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
+pub fn subject_model_on_the_hub_matches_host_f64() {
     let clock = ManualClock::new(0);
-    let mut hub = Hub::new(CheckSerial::new(), &clock, 0).map_err(|_| Failure {
-        what: "Hub::new",
-        line: line!(),
-        value: None,
-    })?;
-    let (legs, knees) = parts_of(&expected::subject(), 42).map_err(|_| Failure {
-        what: "parts_of the subject",
-        line: line!(),
-        value: None,
-    })?;
+    let Ok(mut hub) = Hub::new(CheckSerial::new(), &clock, 0) else {
+        defmt::panic!("Hub::new refused the default model");
+    };
+    let Ok((legs, knees)) = parts_of(&expected::subject(), 42) else {
+        defmt::panic!("parts_of refused the subject");
+    };
     let config = SubjectConfig {
         upload: 42,
         missing_policy: MissingPolicy::Drop,
@@ -100,21 +80,13 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
             .iter()
             .all(|k| send(hub.serial_mut(), &Message::SubjectKnee(k.clone())))
         && send(hub.serial_mut(), &Message::SubjectConfig(config));
-    if !sent {
-        return Err(Failure {
-            what: "the model did not fit the serial buffer",
-            line: line!(),
-            value: None,
-        });
-    }
+    defmt::assert!(sent, "the model did not fit the serial buffer");
     drain(&mut hub);
-    if hub.subject() != Some(42) {
-        return Err(fail(
-            "config_rejected after the subject model",
-            line!(),
-            f64::from(hub.status().config_rejected),
-        ));
-    }
+    defmt::assert!(
+        hub.subject() == Some(42),
+        "subject model not in force, config_rejected {=u32}",
+        hub.status().config_rejected
+    );
     let subject_cases: heapless::Vec<_, 32> = expected::CASES.iter().filter(|c| c.0 == 1).collect();
     for (seq, (_, q, _, _)) in subject_cases.iter().enumerate() {
         for joint in JointId::ALL {
@@ -127,13 +99,10 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
                 angle: q[joint.index() as usize],
                 quality: 0,
             };
-            if !send(hub.serial_mut(), &Message::JointAngle(packet)) {
-                return Err(Failure {
-                    what: "a packet did not fit the serial buffer",
-                    line: line!(),
-                    value: None,
-                });
-            }
+            defmt::assert!(
+                send(hub.serial_mut(), &Message::JointAngle(packet)),
+                "a packet did not fit the serial buffer"
+            );
         }
         drain(&mut hub);
     }
@@ -166,23 +135,21 @@ pub fn subject_model_on_the_hub_matches_host_f64() -> Result<(), Failure> {
         frames,
         nearest_generic
     );
-    if bad != 0 || frames != subject_cases.len() || subject_cases.is_empty() {
-        return Err(fail("subject pose frames received", line!(), frames as f64));
-    }
-    if nearest_generic < 0.01 {
-        return Err(fail(
-            "subject toe tip vs generic (m)",
-            line!(),
-            nearest_generic,
-        ));
-    }
-    if worst <= POINT_TOLERANCE_M {
-        Ok(())
-    } else {
-        Err(fail(
-            "largest subject point error on the hub (m)",
-            line!(),
-            worst,
-        ))
-    }
+    defmt::assert!(
+        bad == 0 && frames == subject_cases.len() && !subject_cases.is_empty(),
+        "{=usize} subject pose frames of {=usize} cases, {=u32} undecodable",
+        frames,
+        subject_cases.len(),
+        bad
+    );
+    defmt::assert!(
+        nearest_generic >= 0.01,
+        "subject toe tip only {=f64} m from the generic model's",
+        nearest_generic
+    );
+    defmt::assert!(
+        worst <= POINT_TOLERANCE_M,
+        "largest subject point error on the hub {=f64} m",
+        worst
+    );
 }

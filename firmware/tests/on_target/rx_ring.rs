@@ -3,7 +3,6 @@
 //! buffer's length, and each error reported once, after the bytes received before it.
 
 use qgait_firmware::board::rx_ring::{RxRing, RX_RING_LEN};
-use qgait_firmware::selftest::Failure;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum E {
@@ -11,24 +10,12 @@ enum E {
     Line,
 }
 
-macro_rules! ensure {
-    ($cond:expr) => {
-        if !$cond {
-            return Err(Failure {
-                what: stringify!($cond),
-                line: line!(),
-                value: None,
-            });
-        }
-    };
-}
-
 /// Bytes in order through many wrap-arounds of the array, in reads of every length from 1 to
 /// 70 (several copies straddle the end of the array), none lost, none repeated.
-pub fn rx_ring_block_read_wraps_around() -> Result<(), Failure> {
+pub fn rx_ring_block_read_wraps_around() {
     let ring: RxRing<E> = RxRing::new();
     let mut buf = [0u8; 70];
-    ensure!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
+    defmt::assert!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
     let (mut sent, mut got, mut len) = (0u32, 0u32, 1);
     while got < 5 * RX_RING_LEN as u32 {
         // Keep the ring between half and nearly full, so reads wrap at every offset.
@@ -36,11 +23,11 @@ pub fn rx_ring_block_read_wraps_around() -> Result<(), Failure> {
             ring.push(sent as u8, E::Overrun);
             sent += 1;
         }
-        ensure!(ring.is_ready());
+        defmt::assert!(ring.is_ready());
         let n = ring.read(&mut buf[..len]);
-        ensure!(n == Ok(len));
+        defmt::assert!(n == Ok(len));
         for &b in &buf[..len] {
-            ensure!(b == got as u8);
+            defmt::assert!(b == got as u8);
             got += 1;
         }
         len = len % buf.len() + 1;
@@ -49,27 +36,22 @@ pub fn rx_ring_block_read_wraps_around() -> Result<(), Failure> {
     let mut left = sent - got;
     while left > 0 {
         let Ok(n) = ring.read(&mut buf) else {
-            return Err(Failure {
-                what: "an error in a clean ring",
-                line: line!(),
-                value: None,
-            });
+            defmt::panic!("an error in a clean ring");
         };
-        ensure!(n > 0 && n as u32 <= left);
+        defmt::assert!(n > 0 && n as u32 <= left);
         for &b in &buf[..n] {
-            ensure!(b == got as u8);
+            defmt::assert!(b == got as u8);
             got += 1;
         }
         left -= n as u32;
     }
-    ensure!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
-    ensure!(ring.read(&mut []) == Ok(0));
-    Ok(())
+    defmt::assert!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
+    defmt::assert!(ring.read(&mut []) == Ok(0));
 }
 
 /// An error comes after the bytes received before it and before those received after it, once;
 /// a read stops short at it. A full ring's lost byte is an overrun after every byte it holds.
-pub fn rx_ring_errors_come_after_the_bytes_before_them() -> Result<(), Failure> {
+pub fn rx_ring_errors_come_after_the_bytes_before_them() {
     let ring: RxRing<E> = RxRing::new();
     let mut buf = [0u8; 16];
     for b in 1..=5 {
@@ -81,49 +63,42 @@ pub fn rx_ring_errors_come_after_the_bytes_before_them() -> Result<(), Failure> 
     }
     ring.push_error(E::Overrun);
     // A read asks for more than the bytes before the error: it stops there.
-    ensure!(ring.read(&mut buf[..3]) == Ok(3) && buf[..3] == [1, 2, 3]);
-    ensure!(ring.read(&mut buf) == Ok(2) && buf[..2] == [4, 5]);
-    ensure!(ring.read(&mut buf) == Err(E::Line));
-    ensure!(ring.read(&mut buf) == Ok(3) && buf[..3] == [6, 7, 8]);
-    ensure!(ring.is_ready());
-    ensure!(ring.read(&mut buf) == Err(E::Overrun));
-    ensure!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
+    defmt::assert!(ring.read(&mut buf[..3]) == Ok(3) && buf[..3] == [1, 2, 3]);
+    defmt::assert!(ring.read(&mut buf) == Ok(2) && buf[..2] == [4, 5]);
+    defmt::assert!(ring.read(&mut buf) == Err(E::Line));
+    defmt::assert!(ring.read(&mut buf) == Ok(3) && buf[..3] == [6, 7, 8]);
+    defmt::assert!(ring.is_ready());
+    defmt::assert!(ring.read(&mut buf) == Err(E::Overrun));
+    defmt::assert!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
     // An error with no byte before it (twice in a row, too).
     ring.push_error(E::Line);
     ring.push_error(E::Overrun);
     ring.push(9, E::Overrun);
-    ensure!(ring.read(&mut buf) == Err(E::Line));
-    ensure!(ring.read(&mut buf) == Err(E::Overrun));
-    ensure!(ring.read(&mut buf) == Ok(1) && buf[0] == 9);
+    defmt::assert!(ring.read(&mut buf) == Err(E::Line));
+    defmt::assert!(ring.read(&mut buf) == Err(E::Overrun));
+    defmt::assert!(ring.read(&mut buf) == Ok(1) && buf[0] == 9);
     // Full, then one more byte: lost, and reported after the RX_RING_LEN bytes held, which
     // straddle the end of the array (the reads above moved its start).
     for i in 0..RX_RING_LEN {
         ring.push(i as u8, E::Overrun);
     }
-    ensure!(ring.is_full());
+    defmt::assert!(ring.is_full());
     ring.push(0xEE, E::Overrun);
     let mut got = 0;
     loop {
         match ring.read(&mut buf) {
-            Ok(0) => {
-                return Err(Failure {
-                    what: "the overrun was not reported",
-                    line: line!(),
-                    value: None,
-                })
-            }
+            Ok(0) => defmt::panic!("the overrun was not reported"),
             Ok(n) => {
                 for &b in &buf[..n] {
-                    ensure!(b == got as u8);
+                    defmt::assert!(b == got as u8);
                     got += 1;
                 }
             }
             Err(e) => {
-                ensure!(e == E::Overrun && got == RX_RING_LEN);
+                defmt::assert!(e == E::Overrun && got == RX_RING_LEN);
                 break;
             }
         }
     }
-    ensure!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
-    Ok(())
+    defmt::assert!(ring.read(&mut buf) == Ok(0) && !ring.is_ready());
 }

@@ -1,8 +1,7 @@
-//! Scenario checks of the whole pipeline, shared by the host tests (`tests/checks.rs`) and the
-//! firmware's on-target tests under QEMU, so the same assertions run on both.
-//!
-//! Each check drives a [`Hub`] over a [`MemorySerial`] with a scripted byte stream and checks
-//! the frames it writes back and its [`Status`] counters. A failure names the check's line.
+#![doc = include_str!("../README.md")]
+#![no_std]
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{
@@ -10,11 +9,10 @@ use qgait_proto::{
     MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
-use crate::clock::ManualClock;
-use crate::hub::{Hub, MAX_BYTES_PER_POLL, READ_CHUNK};
-use crate::memory_serial::MemorySerial;
-use crate::parts_of;
-use crate::Kinematics;
+use qgait_hub::{
+    parts_of, Hub, JointSet, Kinematics, ManualClock, MemorySerial, Sample, MAX_BYTES_PER_POLL,
+    READ_CHUNK,
+};
 
 /// A failed check: what did not hold, and where.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,7 +20,7 @@ use crate::Kinematics;
 pub struct CheckFailure {
     /// The condition that did not hold, as written in the source.
     pub what: &'static str,
-    /// Line in `checks.rs`.
+    /// Line in this crate's `src/lib.rs`.
     pub line: u32,
 }
 
