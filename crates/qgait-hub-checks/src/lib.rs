@@ -10,8 +10,7 @@ use qgait_proto::{
 };
 
 use qgait_hub::{
-    parts_of, Hub, JointSet, Kinematics, ManualClock, MemorySerial, Sample, MAX_BYTES_PER_POLL,
-    READ_CHUNK,
+    parts_of, Hub, Kinematics, ManualClock, MemorySerial, MAX_BYTES_PER_POLL, READ_CHUNK,
 };
 
 /// A failed check: what did not hold, and where.
