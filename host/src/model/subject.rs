@@ -180,18 +180,8 @@ pub fn to_toml(g: &Gait2392Geometry, comment: &[String]) -> String {
 
 /// Parses a subject file and checks it with the kernel; `source` names it in messages.
 pub fn parse(text: &str, source: &str) -> Result<Gait2392Geometry, String> {
-    let file: SubjectFile = toml::from_str(text).map_err(|e| {
-        let msg = e.message().split_whitespace().collect::<Vec<_>>().join(" ");
-        match e.span() {
-            Some(span) => {
-                let before = &text[..span.start.min(text.len())];
-                let line = before.matches('\n').count() + 1;
-                let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
-                format!("{source}:{line}:{column}: {msg}")
-            }
-            None => format!("{source}: {msg}"),
-        }
-    })?;
+    let file: SubjectFile = toml::from_str(text)
+        .map_err(|e| super::toml_message(text, source, e.span(), e.message()))?;
     let g = file.to_geometry().map_err(|e| format!("{source}: {e}"))?;
     Gait2392::<f64>::new(&g)
         .map_err(|e| format!("{source}: subject model rejected by the kernel: {e}"))?;
