@@ -988,8 +988,8 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
             board::exit(PIPELINE_EXIT_CODE)
         }
         let base = bench_empty(messages, CALLS);
-        let ours = bench_crc_ours(messages, CALLS);
-        let theirs = bench_crc_crate(messages, CALLS);
+        let ours = bench_crc_of(messages, CALLS, crc32c);
+        let theirs = bench_crc_of(messages, CALLS, |m| qgait_proto::FRAME_CRC.checksum(m));
         net_named("crc.ours", what, ours, base, CALLS);
         net_named("crc.crc_crate", what, theirs, base, CALLS);
 
@@ -1074,17 +1074,15 @@ fn net_named(name: &str, what: &str, ticks: u32, base: u32, n: u32) {
     net(&full, ticks, base, n)
 }
 
+/// `crc` of each message in turn.
 #[inline(never)]
-fn bench_crc_ours<const M: usize>(messages: &[heapless::Vec<u8, M>; INPUTS], n: u32) -> u32 {
+fn bench_crc_of<const M: usize>(
+    messages: &[heapless::Vec<u8, M>; INPUTS],
+    n: u32,
+    crc: impl Fn(&[u8]) -> u32,
+) -> u32 {
     timed(n, |i| {
-        black_box(crc32c(black_box(&messages[i % INPUTS])));
-    })
-}
-
-#[inline(never)]
-fn bench_crc_crate<const M: usize>(messages: &[heapless::Vec<u8, M>; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(qgait_proto::FRAME_CRC.checksum(black_box(&messages[i % INPUTS])));
+        black_box(crc(black_box(&messages[i % INPUTS])));
     })
 }
 

@@ -12,11 +12,11 @@
 //! accepts a host byte when its buffer is empty, the host sender is simply held back, so a test
 //! loses nothing however slowly the emulated CPU runs on a loaded machine.
 
-use core::ptr::{read_volatile, write_volatile};
 use core::sync::atomic::{AtomicBool, Ordering};
 
 use cortex_m::peripheral::NVIC;
 
+use super::mmio::Registers;
 use super::rx_ring::{HandlerSlot, Irq, RxConsumer, RxProducer, RxRing};
 
 const DATA: usize = 0x00;
@@ -58,6 +58,7 @@ impl embedded_io::Error for Overrun {
 }
 
 /// One CMSDK UART, transmitter and receiver enabled.
+#[derive(Debug)]
 pub struct CmsdkUart {
     regs: Registers,
     irq: u16,
@@ -79,7 +80,8 @@ impl CmsdkUart {
         // this call get here.
         unsafe { RX_PRODUCER.put(producer) };
         let uart = CmsdkUart {
-            regs: Registers(base),
+            // SAFETY: `new`'s contract: `base` is this driver's UART.
+            regs: unsafe { Registers::at(base) },
             irq,
             rx,
         };
@@ -99,7 +101,8 @@ impl CmsdkUart {
     /// # Safety
     /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
     pub unsafe fn on_interrupt(base: usize) {
-        let uart = Registers(base);
+        // SAFETY: the contract above: `base` is this driver's UART.
+        let uart = unsafe { Registers::at(base) };
         // Clear first: a byte arriving after the drain below raises the interrupt again.
         uart.write_reg(INTCLEAR, INT_RX);
         // SAFETY: called from the UART's interrupt only (the contract above), the slot's owner.
@@ -147,30 +150,6 @@ impl CmsdkUart {
                 .write_reg(CTRL, self.regs.read_reg(CTRL) | CTRL_RXIE);
             NVIC::pend(Irq(self.irq));
         }
-    }
-}
-
-/// The UART's registers at a base address.
-struct Registers(usize);
-
-impl Registers {
-    fn read_reg(&self, offset: usize) -> u32 {
-        // SAFETY: `new`'s contract: `base` is a CMSDK UART owned by this driver.
-        unsafe { read_volatile((self.0 + offset) as *const u32) }
-    }
-
-    fn write_reg(&self, offset: usize, value: u32) {
-        // SAFETY: as in `read_reg`.
-        unsafe { write_volatile((self.0 + offset) as *mut u32, value) }
-    }
-}
-
-impl core::fmt::Debug for CmsdkUart {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("CmsdkUart")
-            .field("base", &self.regs.0)
-            .field("irq", &self.irq)
-            .finish_non_exhaustive()
     }
 }
 

@@ -5,10 +5,9 @@
 //! interrupt-driven into an [`RxRing`]; transmission is polled. One instance per program (the
 //! ring is a static).
 
-use core::ptr::{read_volatile, write_volatile};
-
 use cortex_m::peripheral::NVIC;
 
+use super::mmio::Registers;
 use super::rx_ring::{HandlerSlot, Irq, RxConsumer, RxProducer, RxRing};
 
 const TASKS_STARTRX: usize = 0x000;
@@ -74,6 +73,7 @@ impl embedded_io::Error for UartError {
 }
 
 /// UART0 with its receiver and transmitter started.
+#[derive(Debug)]
 pub struct NrfUart {
     regs: Registers,
     tx_busy: bool,
@@ -100,7 +100,8 @@ impl NrfUart {
         // SAFETY: the interrupt is still masked (unmasked below, once), and `split` let only
         // this call get here.
         unsafe { RX_PRODUCER.put(producer) };
-        let uart = Registers(base);
+        // SAFETY: the contract above: `base` is this driver's UART.
+        let uart = unsafe { Registers::at(base) };
         uart.write_reg(PSEL_TXD, tx_pin & 0x3F);
         uart.write_reg(PSEL_RXD, rx_pin & 0x3F);
         uart.write_reg(PSEL_RTS, PSEL_DISCONNECTED);
@@ -126,7 +127,8 @@ impl NrfUart {
     /// # Safety
     /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
     pub unsafe fn on_interrupt(base: usize) {
-        let uart = Registers(base);
+        // SAFETY: the contract above: `base` is this driver's UART.
+        let uart = unsafe { Registers::at(base) };
         // SAFETY: called from the UART's interrupt only (the contract above), the slot's owner.
         let Some(rx) = (unsafe { RX_PRODUCER.get() }) else {
             // No ring end (the interrupt was enabled by something other than `new`): stop
@@ -174,30 +176,6 @@ impl NrfUart {
     /// Nothing to do after a read: the handler never pauses reception (a full ring counts the
     /// lost bytes as overruns).
     fn after_read(&mut self) {}
-}
-
-/// The UART's registers at a base address.
-struct Registers(usize);
-
-impl Registers {
-    fn read_reg(&self, offset: usize) -> u32 {
-        // SAFETY: `new`'s contract: `base` is an nRF52 UART owned by this driver.
-        unsafe { read_volatile((self.0 + offset) as *const u32) }
-    }
-
-    fn write_reg(&self, offset: usize, value: u32) {
-        // SAFETY: as in `read_reg`.
-        unsafe { write_volatile((self.0 + offset) as *mut u32, value) }
-    }
-}
-
-impl core::fmt::Debug for NrfUart {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("NrfUart")
-            .field("base", &self.regs.0)
-            .field("tx_busy", &self.tx_busy)
-            .finish_non_exhaustive()
-    }
 }
 
 super::embedded_io_impl::impl_embedded_io!(NrfUart, UartError);

@@ -147,6 +147,14 @@ impl<E: Copy> RxConsumer<E> {
     }
 }
 
+impl<E> core::fmt::Debug for RxConsumer<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("RxConsumer")
+            .field("taken", &self.taken)
+            .finish_non_exhaustive()
+    }
+}
+
 /// Where an interrupt handler keeps what it alone uses (its [`RxProducer`]): put there before
 /// the interrupt is enabled, then used only by the handler.
 pub struct HandlerSlot<T>(UnsafeCell<Option<T>>);
