@@ -277,7 +277,7 @@ fn anthropometry_file_changes_the_lengths() {
     let out = qgait(&["fk", "builtin:normal", "--anthropometry", &bad]);
     assert!(!out.status.success());
     assert!(
-        stderr(&out).starts_with(&format!("error: {bad}: both `femur` and `femur_l`")),
+        stderr(&out).starts_with(&format!("error: {bad}:2:11: both `femur` and `femur_l`")),
         "{}",
         stderr(&out)
     );

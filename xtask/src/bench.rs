@@ -121,6 +121,57 @@ const DEVICE: &[(&str, &str)] = &[
         "sample_gait2392.serial_double",
         "device.sample_gait2392.serial_double_instructions",
     ),
+    // The protocol crate's CRC-32C and COBS beside the crates (see BENCHMARKS.md).
+    ("crc.ours_packet", "device.crc.ours_packet_instructions"),
+    (
+        "crc.crc_crate_packet",
+        "device.crc.crc_crate_packet_instructions",
+    ),
+    (
+        "cobs.encode_ours_packet",
+        "device.cobs.encode_ours_packet_instructions",
+    ),
+    (
+        "cobs.encode_cobs_crate_packet",
+        "device.cobs.encode_cobs_crate_packet_instructions",
+    ),
+    (
+        "cobs.encode_postcard_flavour_packet",
+        "device.cobs.encode_postcard_flavour_packet_instructions",
+    ),
+    (
+        "cobs.decode_ours_packet",
+        "device.cobs.decode_ours_packet_instructions",
+    ),
+    (
+        "cobs.decode_cobs_crate_packet",
+        "device.cobs.decode_cobs_crate_packet_instructions",
+    ),
+    ("crc.ours_pose", "device.crc.ours_pose_instructions"),
+    (
+        "crc.crc_crate_pose",
+        "device.crc.crc_crate_pose_instructions",
+    ),
+    (
+        "cobs.encode_ours_pose",
+        "device.cobs.encode_ours_pose_instructions",
+    ),
+    (
+        "cobs.encode_cobs_crate_pose",
+        "device.cobs.encode_cobs_crate_pose_instructions",
+    ),
+    (
+        "cobs.encode_postcard_flavour_pose",
+        "device.cobs.encode_postcard_flavour_pose_instructions",
+    ),
+    (
+        "cobs.decode_ours_pose",
+        "device.cobs.decode_ours_pose_instructions",
+    ),
+    (
+        "cobs.decode_cobs_crate_pose",
+        "device.cobs.decode_cobs_crate_pose_instructions",
+    ),
 ];
 
 /// Code size of each model and method in the bench ELF: (figure name, measured loop function,

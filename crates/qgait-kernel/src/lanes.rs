@@ -202,7 +202,10 @@ fn batch<
     }
 }
 
-/// The x86-64 levels: the only unsafe code in the kernel.
+/// The x86-64 levels, one of the kernel's two unsafe modules. Written out rather than generated
+/// with the `multiversion` crate: its dispatcher only ever runs the best target (the tests and
+/// benches run each level by name), compiles one body for every target (the levels differ in
+/// lane count and fusing), and picks AVX-512 only on CPUs with Ice Lake's extensions.
 #[cfg(all(feature = "simd", target_arch = "x86_64"))]
 #[allow(unsafe_code)]
 mod x86 {

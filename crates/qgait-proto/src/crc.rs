@@ -3,6 +3,11 @@
 //! [`FRAME_CRC`] is the catalogue definition; the frames themselves are checked with
 //! [`crc32c`], a table-driven implementation (one 1 KiB table, four bytes per step) that the
 //! tests hold equal to [`FRAME_CRC`] on every length and alignment.
+//!
+//! Hand-written because it costs half the `crc` crate's instructions on the hub's Cortex-M4F
+//! (605 against 1,168 for a PHAK pose frame's 146 bytes, 77 against 112 for a packet's 11;
+//! `cargo xtask bench`, figures `device.crc.*`): a word a step against the crate's byte a step,
+//! with the same 1 KiB table.
 
 /// The CRC algorithm of every frame: CRC-32C (Castagnoli), also known as CRC-32/ISCSI.
 ///

@@ -497,6 +497,7 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         bench_empty(&frames, CALLS),
         CALLS,
     );
+    crc_cobs_beside_crates(&payloads, &frames);
     defmt::println!(
         "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize} phak {=usize} gait2392 {=usize}",
         core::mem::size_of::<Message>(),
@@ -953,4 +954,170 @@ fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
         base,
         256,
     );
+}
+
+// ---- The protocol crate's CRC-32C and COBS beside the crates ----------------------------------
+//
+// qgait-proto computes CRC-32C and COBS with its own code (src/crc.rs, src/cobs.rs) where a
+// crate exists: these figures are why. Each pair runs on the same bytes: the 11-byte message of
+// a joint-angle packet (the receive side) and the 146-byte message of a PHAK pose frame (the
+// transmit side), each followed by its CRC for COBS. The crates: `crc` (`FRAME_CRC`, its default
+// 1 KiB table; postcard's CRC flavour is this crate), `cobs` (postcard decodes with
+// `cobs::decode_in_place`) and postcard's own `Cobs` serialiser flavour.
+
+/// The protocol crate's COBS functions, the very source it builds (they are not public API).
+#[allow(dead_code)]
+#[path = "../../../crates/qgait-proto/src/cobs.rs"]
+mod proto_cobs;
+
+/// Bytes of the largest input here (a pose frame's message and CRC, then COBS-encoded).
+const CODEC_MAX: usize = 160;
+
+/// Runs the comparison on the packet messages `packets` and the pose frame messages `poses`.
+fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Message; INPUTS]) {
+    let pose_messages: [heapless::Vec<u8, CODEC_MAX>; INPUTS] = core::array::from_fn(|i| {
+        let mut out = [0u8; CODEC_MAX];
+        let len = encode_message(&poses[i], &mut out)
+            .map(|m| m.len())
+            .unwrap_or(0);
+        heapless::Vec::from_slice(&out[..len]).unwrap_or_default()
+    });
+    let packets: [heapless::Vec<u8, CODEC_MAX>; INPUTS] =
+        core::array::from_fn(|i| heapless::Vec::from_slice(&packets[i]).unwrap_or_default());
+    for (what, messages) in [("packet", &packets), ("pose", &pose_messages)] {
+        if messages.iter().any(|m| m.is_empty()) {
+            board::exit(PIPELINE_EXIT_CODE)
+        }
+        let base = bench_empty(messages, CALLS);
+        let ours = bench_crc_of(messages, CALLS, crc32c);
+        let theirs = bench_crc_of(messages, CALLS, |m| qgait_proto::FRAME_CRC.checksum(m));
+        net_named("crc.ours", what, ours, base, CALLS);
+        net_named("crc.crc_crate", what, theirs, base, CALLS);
+
+        // COBS input: the message and its CRC, as in a frame.
+        let data: [heapless::Vec<u8, CODEC_MAX>; INPUTS] = core::array::from_fn(|i| {
+            let mut d = messages[i].clone();
+            let _ = d.extend_from_slice(&crc32c(&messages[i]).to_le_bytes());
+            d
+        });
+        // Every encoder starts from a copy of the data in a scratch buffer (ours encodes in
+        // place, at `buf[1..]`), so the copy alone is the base.
+        let copy = bench_cobs_encode(&data, CALLS, |_, _| 0);
+        net_named(
+            "cobs.encode_ours",
+            what,
+            bench_cobs_encode(&data, CALLS, |buf, len| {
+                proto_cobs::encode_in_place(buf, len).unwrap_or(0)
+            }),
+            copy,
+            CALLS,
+        );
+        net_named(
+            "cobs.encode_cobs_crate",
+            what,
+            bench_cobs_encode(&data, CALLS, |buf, len| {
+                let (src, dst) = buf.split_at_mut(CODEC_MAX);
+                cobs::try_encode(&src[1..=len], dst).unwrap_or(0)
+            }),
+            copy,
+            CALLS,
+        );
+        net_named(
+            "cobs.encode_postcard_flavour",
+            what,
+            bench_cobs_encode(&data, CALLS, |buf, len| {
+                use postcard::ser_flavors::{Cobs, Flavor, Slice};
+                let (src, dst) = buf.split_at_mut(CODEC_MAX);
+                Cobs::try_new(Slice::new(dst))
+                    .and_then(|mut f| f.try_extend(&src[1..=len]).and_then(|()| f.finalize()))
+                    .map(|out| out.len())
+                    .unwrap_or(0)
+            }),
+            copy,
+            CALLS,
+        );
+
+        // Decoders: the COBS bytes of each frame (no delimiter), copied into a scratch buffer
+        // before each call (both decode in place); the copy alone is the base.
+        let encoded: [heapless::Vec<u8, CODEC_MAX>; INPUTS] = core::array::from_fn(|i| {
+            let mut out = [0u8; CODEC_MAX];
+            let n = proto_cobs::encode(data[i].iter().copied(), &mut out).unwrap_or(0);
+            heapless::Vec::from_slice(&out[..n]).unwrap_or_default()
+        });
+        let copy = bench_cobs_decode(&encoded, CALLS, |_| 0);
+        net_named(
+            "cobs.decode_ours",
+            what,
+            bench_cobs_decode(&encoded, CALLS, |buf| {
+                proto_cobs::decode_in_place_unshifted(buf).map_or(0, |r| r.len())
+            }),
+            copy,
+            CALLS,
+        );
+        net_named(
+            "cobs.decode_cobs_crate",
+            what,
+            bench_cobs_decode(&encoded, CALLS, |buf| {
+                cobs::decode_in_place(buf).unwrap_or(0)
+            }),
+            copy,
+            CALLS,
+        );
+    }
+}
+
+/// [`net`] as `{name}_{what}`.
+fn net_named(name: &str, what: &str, ticks: u32, base: u32, n: u32) {
+    let mut full: heapless::String<48> = heapless::String::new();
+    if full.push_str(name).is_err() || full.push('_').is_err() || full.push_str(what).is_err() {
+        board::exit(1)
+    }
+    net(&full, ticks, base, n)
+}
+
+/// `crc` of each message in turn.
+#[inline(never)]
+fn bench_crc_of<const M: usize>(
+    messages: &[heapless::Vec<u8, M>; INPUTS],
+    n: u32,
+    crc: impl Fn(&[u8]) -> u32,
+) -> u32 {
+    timed(n, |i| {
+        black_box(crc(black_box(&messages[i % INPUTS])));
+    })
+}
+
+/// Copies each input to `buf[1..]` and calls `encode(buf, len)`, which may use `buf[1..=len]`
+/// as its input and write from `buf[0]` on, or read `buf[1..=len]` and write `buf[CODEC_MAX..]`.
+#[inline(never)]
+fn bench_cobs_encode(
+    data: &[heapless::Vec<u8, CODEC_MAX>; INPUTS],
+    n: u32,
+    encode: impl Fn(&mut [u8], usize) -> usize,
+) -> u32 {
+    let mut buf = [0u8; 2 * CODEC_MAX + 2];
+    timed(n, |i| {
+        let d = black_box(&data[i % INPUTS]);
+        if let Some(dst) = buf.get_mut(1..=d.len()) {
+            dst.copy_from_slice(d);
+        }
+        black_box(encode(black_box(&mut buf), d.len()));
+    })
+}
+
+/// Copies each encoded frame to a scratch buffer and calls `decode` on it.
+#[inline(never)]
+fn bench_cobs_decode(
+    encoded: &[heapless::Vec<u8, CODEC_MAX>; INPUTS],
+    n: u32,
+    decode: impl Fn(&mut [u8]) -> usize,
+) -> u32 {
+    let mut buf = [0u8; CODEC_MAX];
+    timed(n, |i| {
+        let e = black_box(&encoded[i % INPUTS]);
+        if let Some(dst) = buf.get_mut(..e.len()) {
+            dst.copy_from_slice(e);
+            black_box(decode(black_box(dst)));
+        }
+    })
 }

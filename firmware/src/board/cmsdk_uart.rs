@@ -1,8 +1,8 @@
 //! Driver of the ARM CMSDK APB UART (the UARTs of the MPS2 boards and QEMU's `mps2-an386`),
 //! implementing the `embedded-io` serial traits (`Read` and `ReadReady`, `Write` and
-//! `WriteReady`): a read copies what the ring holds in one critical section, a write sends a
-//! buffer byte by byte. Reception is interrupt-driven into an [`RxRing`]; transmission is
-//! polled. One instance per program (the ring is a static). Its error also implements
+//! `WriteReady`): a read copies what the ring holds, a write sends a buffer byte by byte.
+//! Reception is interrupt-driven into an [`RxRing`]; transmission is polled. One instance per
+//! program (the ring is a static). Its error also implements
 //! `embedded-hal-nb`'s serial `Error`, whose kind (overrun) the hub counts by.
 //!
 //! Back-pressure: when the ring is full the interrupt handler leaves the next byte in the UART
@@ -12,12 +12,12 @@
 //! accepts a host byte when its buffer is empty, the host sender is simply held back, so a test
 //! loses nothing however slowly the emulated CPU runs on a loaded machine.
 
-use core::ptr::{read_volatile, write_volatile};
 use core::sync::atomic::{AtomicBool, Ordering};
 
 use cortex_m::peripheral::NVIC;
 
-use super::rx_ring::{Irq, RxRing};
+use super::mmio::Registers;
+use super::rx_ring::{HandlerSlot, Irq, RxConsumer, RxProducer, RxRing};
 
 const DATA: usize = 0x00;
 const STATE: usize = 0x04;
@@ -35,6 +35,8 @@ const CTRL_RXIE: u32 = 1 << 3;
 const INT_RX: u32 = 1 << 1;
 
 static RX: RxRing<Overrun> = RxRing::new();
+/// The ring's producer end, used by the interrupt handler alone.
+static RX_PRODUCER: HandlerSlot<RxProducer<Overrun>> = HandlerSlot::new();
 /// Set by the interrupt handler when it stopped receiving because the ring was full.
 static RX_PAUSED: AtomicBool = AtomicBool::new(false);
 
@@ -58,28 +60,39 @@ impl embedded_io::Error for Overrun {
 /// One CMSDK UART, transmitter and receiver enabled.
 #[derive(Debug)]
 pub struct CmsdkUart {
-    base: usize,
+    regs: Registers,
     irq: u16,
+    rx: RxConsumer<Overrun>,
 }
 
 impl CmsdkUart {
     /// Enables the UART at `base` with baud divider `bauddiv` (>= 16; the baud rate is the APB
     /// clock divided by it) and its receive interrupt `irq`, whose handler must call
-    /// [`on_interrupt`](Self::on_interrupt).
+    /// [`on_interrupt`](Self::on_interrupt). `None` if a `CmsdkUart` was made before (the
+    /// receive ring is a static, split once).
     ///
     /// # Safety
-    /// `base` must be the address of a CMSDK UART that nothing else uses, `irq` its receive
-    /// interrupt, and no other `CmsdkUart` may exist.
-    pub unsafe fn new(base: usize, bauddiv: u32, irq: u16) -> CmsdkUart {
-        let uart = CmsdkUart { base, irq };
-        uart.write_reg(BAUDDIV, bauddiv.max(16));
-        uart.write_reg(CTRL, CTRL_TXEN | CTRL_RXEN | CTRL_RXIE);
+    /// `base` must be the address of a CMSDK UART that nothing else uses and `irq` its receive
+    /// interrupt.
+    pub unsafe fn new(base: usize, bauddiv: u32, irq: u16) -> Option<CmsdkUart> {
+        let (producer, rx) = RX.split()?;
+        // SAFETY: the interrupt is still masked (unmasked below, once), and `split` let only
+        // this call get here.
+        unsafe { RX_PRODUCER.put(producer) };
+        let uart = CmsdkUart {
+            // SAFETY: `new`'s contract: `base` is this driver's UART.
+            regs: unsafe { Registers::at(base) },
+            irq,
+            rx,
+        };
+        uart.regs.write_reg(BAUDDIV, bauddiv.max(16));
+        uart.regs.write_reg(CTRL, CTRL_TXEN | CTRL_RXEN | CTRL_RXIE);
         // QEMU 7.2 may not deliver host bytes that arrived before RX was enabled until DATA is
         // read once (see qemu-notes.md); harmless on hardware (the byte would be stale anyway).
-        let _ = uart.read_reg(DATA);
-        // SAFETY: the handler only touches the ring, which is interrupt-safe.
+        let _ = uart.regs.read_reg(DATA);
+        // SAFETY: the handler only touches the ring's producer end, which is its own.
         unsafe { NVIC::unmask(Irq(irq)) };
-        uart
+        Some(uart)
     }
 
     /// The receive interrupt handler's work: moves every received byte into the ring and
@@ -88,45 +101,43 @@ impl CmsdkUart {
     /// # Safety
     /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
     pub unsafe fn on_interrupt(base: usize) {
-        let uart = CmsdkUart { base, irq: 0 };
+        // SAFETY: the contract above: `base` is this driver's UART.
+        let uart = unsafe { Registers::at(base) };
         // Clear first: a byte arriving after the drain below raises the interrupt again.
         uart.write_reg(INTCLEAR, INT_RX);
+        // SAFETY: called from the UART's interrupt only (the contract above), the slot's owner.
+        let Some(rx) = (unsafe { RX_PRODUCER.get() }) else {
+            // No ring end (the interrupt was unmasked by something other than `new`): stop
+            // receiving rather than interrupt forever.
+            uart.write_reg(CTRL, uart.read_reg(CTRL) & !CTRL_RXIE);
+            return;
+        };
         loop {
             let state = uart.read_reg(STATE);
             if state & STATE_RXOVR != 0 {
                 uart.write_reg(STATE, STATE_RXOVR); // write 1 to clear
-                RX.push_error(Overrun);
+                rx.push_error(Overrun);
             }
             if state & STATE_RXFULL == 0 {
                 break;
             }
-            if RX.is_full() {
+            if rx.is_full() {
                 // Leave the byte in the UART and stop until the application makes room.
                 RX_PAUSED.store(true, Ordering::Release);
                 uart.write_reg(CTRL, uart.read_reg(CTRL) & !CTRL_RXIE);
                 break;
             }
-            RX.push(uart.read_reg(DATA) as u8, Overrun);
+            rx.push(uart.read_reg(DATA) as u8, Overrun);
         }
     }
 
-    fn read_reg(&self, offset: usize) -> u32 {
-        // SAFETY: `new`'s contract: `base` is a CMSDK UART owned by this driver.
-        unsafe { read_volatile((self.base + offset) as *const u32) }
-    }
-
-    fn write_reg(&self, offset: usize, value: u32) {
-        // SAFETY: as in `read_reg`.
-        unsafe { write_volatile((self.base + offset) as *mut u32, value) }
-    }
-
     fn tx_ready(&mut self) -> bool {
-        self.read_reg(STATE) & STATE_TXFULL == 0
+        self.regs.read_reg(STATE) & STATE_TXFULL == 0
     }
 
     /// Writes `byte` to the transmit register (which has room: [`tx_ready`](Self::tx_ready)).
     fn put(&mut self, byte: u8) {
-        self.write_reg(DATA, byte as u32);
+        self.regs.write_reg(DATA, byte as u32);
     }
 
     /// After a read took bytes or an error from the ring: if the interrupt handler paused
@@ -135,10 +146,11 @@ impl CmsdkUart {
     /// not raise the interrupt for it).
     fn after_read(&mut self) {
         if RX_PAUSED.swap(false, Ordering::AcqRel) {
-            self.write_reg(CTRL, self.read_reg(CTRL) | CTRL_RXIE);
+            self.regs
+                .write_reg(CTRL, self.regs.read_reg(CTRL) | CTRL_RXIE);
             NVIC::pend(Irq(self.irq));
         }
     }
 }
 
-super::embedded_io_impl::impl_embedded_io!(CmsdkUart, Overrun, RX);
+super::embedded_io_impl::impl_embedded_io!(CmsdkUart, Overrun);

@@ -3,12 +3,12 @@
 //! FIFO to fill at once).
 
 /// Implements `embedded_io::{ErrorType, ReadReady, Read, WriteReady, Write}` for a UART type
-/// `$uart` with error `$error` whose receive ring is the static `$rx` (an `RxRing<$error>`),
-/// given its methods `tx_ready(&mut self) -> bool` (the transmit register takes a byte),
+/// `$uart` with error `$error` whose receive ring's consumer end is its field `rx` (an
+/// `RxConsumer<$error>`), given its methods `tx_ready(&mut self) -> bool` (the transmit register takes a byte),
 /// `put(&mut self, byte: u8)` (writes it there) and `after_read(&mut self)` (called after each
 /// read that took something from the ring).
 macro_rules! impl_embedded_io {
-    ($uart:ty, $error:ty, $rx:path) => {
+    ($uart:ty, $error:ty) => {
         impl embedded_io::ErrorType for $uart {
             type Error = $error;
         }
@@ -16,13 +16,13 @@ macro_rules! impl_embedded_io {
         impl embedded_io::ReadReady for $uart {
             /// Whether a byte or a receive error is waiting: a `read` then does not block.
             fn read_ready(&mut self) -> Result<bool, $error> {
-                Ok($rx.is_ready())
+                Ok(self.rx.is_ready())
             }
         }
 
         impl embedded_io::Read for $uart {
             /// Blocks until at least one byte arrived, then returns what is there, at most
-            /// `buf.len()`, copied out of the ring in one critical section. A receive error
+            /// `buf.len()`, taken out of the ring. A receive error
             /// (hardware, or ring full) is reported once, in order with the bytes: a read
             /// stops short at it and the next read returns it.
             fn read(&mut self, buf: &mut [u8]) -> Result<usize, $error> {
@@ -30,7 +30,7 @@ macro_rules! impl_embedded_io {
                     return Ok(0);
                 }
                 loop {
-                    let result = $rx.read(buf);
+                    let result = self.rx.read(buf);
                     if !matches!(result, Ok(0)) {
                         self.after_read();
                         return result;

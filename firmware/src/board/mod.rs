@@ -10,6 +10,7 @@ compile_error!("enable exactly one board feature: `mps2-an386` or `nrf52840`");
 compile_error!("enable one board feature: `mps2-an386` (default) or `nrf52840`");
 
 mod embedded_io_impl;
+mod mmio;
 pub mod rx_ring;
 pub mod systick_clock;
 

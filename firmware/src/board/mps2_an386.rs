@@ -32,7 +32,7 @@ pub fn take() -> Option<Board> {
     }
     let core = cortex_m::Peripherals::take()?;
     // SAFETY: UART0 is used only through this driver, created once (guarded by TAKEN).
-    let serial = unsafe { CmsdkUart::new(UART0_BASE, BAUDDIV_115200, UART0_RX_IRQ as u16) };
+    let serial = unsafe { CmsdkUart::new(UART0_BASE, BAUDDIV_115200, UART0_RX_IRQ as u16) }?;
     Some(Board {
         serial,
         clock: SysTickClock::start(core.SYST, CORE_HZ),

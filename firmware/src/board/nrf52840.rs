@@ -33,7 +33,8 @@ pub fn take() -> Option<Board> {
     }
     let core = cortex_m::Peripherals::take()?;
     // SAFETY: UART0 is used only through this driver, created once (guarded by TAKEN).
-    let serial = unsafe { NrfUart::new(UART0_BASE, TX_PIN, RX_PIN, BAUD_115200, UART0_IRQ as u16) };
+    let serial =
+        unsafe { NrfUart::new(UART0_BASE, TX_PIN, RX_PIN, BAUD_115200, UART0_IRQ as u16) }?;
     Some(Board {
         serial,
         clock: SysTickClock::start(core.SYST, CORE_HZ),

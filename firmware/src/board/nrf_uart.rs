@@ -1,15 +1,14 @@
 //! Driver of the nRF52840's UART0 (the legacy, non-DMA UART), implementing the `embedded-io`
-//! serial traits (`Read` and `ReadReady`: what the ring holds, copied in one critical section;
+//! serial traits (`Read` and `ReadReady`: what the ring holds;
 //! `Write` and `WriteReady`: byte by byte). Its error also implements `embedded-hal-nb`'s
 //! serial `Error`, whose kinds the hub counts by. 8N1, no flow control. Reception is
 //! interrupt-driven into an [`RxRing`]; transmission is polled. One instance per program (the
 //! ring is a static).
 
-use core::ptr::{read_volatile, write_volatile};
-
 use cortex_m::peripheral::NVIC;
 
-use super::rx_ring::{Irq, RxRing};
+use super::mmio::Registers;
+use super::rx_ring::{HandlerSlot, Irq, RxConsumer, RxProducer, RxRing};
 
 const TASKS_STARTRX: usize = 0x000;
 const TASKS_STARTTX: usize = 0x008;
@@ -17,6 +16,7 @@ const EVENTS_RXDRDY: usize = 0x108;
 const EVENTS_TXDRDY: usize = 0x11C;
 const EVENTS_ERROR: usize = 0x124;
 const INTENSET: usize = 0x304;
+const INTENCLR: usize = 0x308;
 const ERRORSRC: usize = 0x480;
 const ENABLE: usize = 0x500;
 const PSEL_RTS: usize = 0x508;
@@ -36,6 +36,8 @@ const INT_RXDRDY: u32 = 1 << 2;
 const INT_ERROR: u32 = 1 << 9;
 
 static RX: RxRing<UartError> = RxRing::new();
+/// The ring's producer end, used by the interrupt handler alone.
+static RX_PRODUCER: HandlerSlot<RxProducer<UartError>> = HandlerSlot::new();
 
 /// BAUDRATE register value for 115200 baud.
 pub const BAUD_115200: u32 = 0x01D7_E000;
@@ -73,23 +75,33 @@ impl embedded_io::Error for UartError {
 /// UART0 with its receiver and transmitter started.
 #[derive(Debug)]
 pub struct NrfUart {
-    base: usize,
+    regs: Registers,
     tx_busy: bool,
+    rx: RxConsumer<UartError>,
 }
 
 impl NrfUart {
     /// Enables the UART at `base` on GPIO `tx_pin` / `rx_pin` (port 0 pin numbers) at
     /// `baudrate` (a BAUDRATE register value such as [`BAUD_115200`]), with its interrupt
-    /// `irq`, whose handler must call [`on_interrupt`](Self::on_interrupt).
+    /// `irq`, whose handler must call [`on_interrupt`](Self::on_interrupt). `None` if an
+    /// `NrfUart` was made before (the receive ring is a static, split once).
     ///
     /// # Safety
-    /// `base` must be the address of an nRF52 UART that nothing else uses, `irq` its interrupt,
-    /// and no other `NrfUart` may exist.
-    pub unsafe fn new(base: usize, tx_pin: u32, rx_pin: u32, baudrate: u32, irq: u16) -> NrfUart {
-        let uart = NrfUart {
-            base,
-            tx_busy: false,
-        };
+    /// `base` must be the address of an nRF52 UART that nothing else uses and `irq` its
+    /// interrupt.
+    pub unsafe fn new(
+        base: usize,
+        tx_pin: u32,
+        rx_pin: u32,
+        baudrate: u32,
+        irq: u16,
+    ) -> Option<NrfUart> {
+        let (producer, rx) = RX.split()?;
+        // SAFETY: the interrupt is still masked (unmasked below, once), and `split` let only
+        // this call get here.
+        unsafe { RX_PRODUCER.put(producer) };
+        // SAFETY: the contract above: `base` is this driver's UART.
+        let uart = unsafe { Registers::at(base) };
         uart.write_reg(PSEL_TXD, tx_pin & 0x3F);
         uart.write_reg(PSEL_RXD, rx_pin & 0x3F);
         uart.write_reg(PSEL_RTS, PSEL_DISCONNECTED);
@@ -100,9 +112,13 @@ impl NrfUart {
         uart.write_reg(INTENSET, INT_RXDRDY | INT_ERROR);
         uart.write_reg(TASKS_STARTRX, 1);
         uart.write_reg(TASKS_STARTTX, 1);
-        // SAFETY: the handler only touches the ring, which is interrupt-safe.
+        // SAFETY: the handler only touches the ring's producer end, which is its own.
         unsafe { NVIC::unmask(Irq(irq)) };
-        uart
+        Some(NrfUart {
+            regs: uart,
+            tx_busy: false,
+            rx,
+        })
     }
 
     /// The interrupt handler's work: records receive errors and moves every received byte
@@ -111,15 +127,20 @@ impl NrfUart {
     /// # Safety
     /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
     pub unsafe fn on_interrupt(base: usize) {
-        let uart = NrfUart {
-            base,
-            tx_busy: false,
+        // SAFETY: the contract above: `base` is this driver's UART.
+        let uart = unsafe { Registers::at(base) };
+        // SAFETY: called from the UART's interrupt only (the contract above), the slot's owner.
+        let Some(rx) = (unsafe { RX_PRODUCER.get() }) else {
+            // No ring end (the interrupt was enabled by something other than `new`): stop
+            // receiving rather than interrupt forever.
+            uart.write_reg(INTENCLR, INT_RXDRDY | INT_ERROR);
+            return;
         };
         if uart.read_reg(EVENTS_ERROR) != 0 {
             uart.write_reg(EVENTS_ERROR, 0);
             let source = uart.read_reg(ERRORSRC);
             uart.write_reg(ERRORSRC, source); // write 1 to clear
-            RX.push_error(if source & ERRORSRC_OVERRUN != 0 {
+            rx.push_error(if source & ERRORSRC_OVERRUN != 0 {
                 UartError::Overrun
             } else if source & ERRORSRC_PARITY != 0 {
                 UartError::Parity
@@ -131,25 +152,15 @@ impl NrfUart {
             // Clear the event before reading RXD, as the reference manual requires; it is set
             // again while the FIFO holds more.
             uart.write_reg(EVENTS_RXDRDY, 0);
-            RX.push(uart.read_reg(RXD) as u8, UartError::Overrun);
+            rx.push(uart.read_reg(RXD) as u8, UartError::Overrun);
         }
         // Read back so the cleared events reach the peripheral before the handler returns
         // (otherwise the interrupt fires again at once).
         let _ = uart.read_reg(EVENTS_ERROR);
     }
 
-    fn read_reg(&self, offset: usize) -> u32 {
-        // SAFETY: `new`'s contract: `base` is an nRF52 UART owned by this driver.
-        unsafe { read_volatile((self.base + offset) as *const u32) }
-    }
-
-    fn write_reg(&self, offset: usize, value: u32) {
-        // SAFETY: as in `read_reg`.
-        unsafe { write_volatile((self.base + offset) as *mut u32, value) }
-    }
-
     fn tx_ready(&mut self) -> bool {
-        if self.tx_busy && self.read_reg(EVENTS_TXDRDY) != 0 {
+        if self.tx_busy && self.regs.read_reg(EVENTS_TXDRDY) != 0 {
             self.tx_busy = false;
         }
         !self.tx_busy
@@ -157,8 +168,8 @@ impl NrfUart {
 
     /// Writes `byte` to TXD (which has room: [`tx_ready`](Self::tx_ready)).
     fn put(&mut self, byte: u8) {
-        self.write_reg(EVENTS_TXDRDY, 0);
-        self.write_reg(TXD, byte as u32);
+        self.regs.write_reg(EVENTS_TXDRDY, 0);
+        self.regs.write_reg(TXD, byte as u32);
         self.tx_busy = true;
     }
 
@@ -167,4 +178,4 @@ impl NrfUart {
     fn after_read(&mut self) {}
 }
 
-super::embedded_io_impl::impl_embedded_io!(NrfUart, UartError, RX);
+super::embedded_io_impl::impl_embedded_io!(NrfUart, UartError);

@@ -55,7 +55,7 @@ impl ModelArgs {
             let (Model::Hak { stated } | Model::Phak { stated }) = &mut model else {
                 return Err(ModelError::LengthsNotApplicable(model.name().to_string()).into());
             };
-            let (lengths, warnings) = anthropometry::read(path).map_err(anyhow::Error::msg)?;
+            let (lengths, warnings) = anthropometry::read(path)?;
             diagnostics.warn(warnings);
             *stated = Some(lengths);
         }

@@ -3,7 +3,8 @@
 //! Keys (metres): `pelvis_half_width`, `femur`, `tibia`, `foot`. Each may instead be given per
 //! side as `<key>_r` and `<key>_l`. A length not given keeps the gait2392 value (with a
 //! warning); unknown keys, giving both `<key>` and `<key>_r`/`_l`, non-numbers, and lengths that
-//! are not positive are errors. Example:
+//! are not positive (a pelvis half-width may be zero) or above 3 m are errors, each naming the
+//! file, line and column. Read with serde, as `SUBJECT.toml` is ([`super::subject`]). Example:
 //!
 //! ```toml
 //! pelvis_half_width = 0.0835
@@ -16,66 +17,95 @@
 use std::path::Path;
 
 use qgait_kernel::anthropometry::{Anthropometry, Limb};
+use serde::de::{self, Deserializer, Visitor};
+use serde::Deserialize;
+use toml::Spanned;
 
+use super::toml_error;
 use crate::diagnostics::Warning;
+use crate::model::error::ModelError;
 
-const KEYS: [&str; 4] = ["pelvis_half_width", "femur", "tibia", "foot"];
+/// The file: each length for both sides, or per side (`_r`, `_l`); every key optional.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AnthropometryFile {
+    pelvis_half_width: Option<Spanned<Metres>>,
+    pelvis_half_width_r: Option<Spanned<Metres>>,
+    pelvis_half_width_l: Option<Spanned<Metres>>,
+    femur: Option<Spanned<Metres>>,
+    femur_r: Option<Spanned<Metres>>,
+    femur_l: Option<Spanned<Metres>>,
+    tibia: Option<Spanned<Metres>>,
+    tibia_r: Option<Spanned<Metres>>,
+    tibia_l: Option<Spanned<Metres>>,
+    foot: Option<Spanned<Metres>>,
+    foot_r: Option<Spanned<Metres>>,
+    foot_l: Option<Spanned<Metres>>,
+}
+
+/// A length in metres: a TOML float or integer (anything else is an error that says so).
+#[derive(Debug, Clone, Copy)]
+struct Metres(f64);
+
+impl<'de> Deserialize<'de> for Metres {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Number;
+        impl Visitor<'_> for Number {
+            type Value = Metres;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number (a length in metres)")
+            }
+            fn visit_f64<E: de::Error>(self, x: f64) -> Result<Metres, E> {
+                Ok(Metres(x))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Metres, E> {
+                Ok(Metres(x as f64))
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Metres, E> {
+                Ok(Metres(x as f64))
+            }
+        }
+        d.deserialize_any(Number)
+    }
+}
+
+/// One length as the file gives it: for both sides, right, left.
+type Given<'a> = [&'a Option<Spanned<Metres>>; 3];
+
+impl AnthropometryFile {
+    /// Each length's keys, in [`Limb`] order: the name and its three ways of being given.
+    fn lengths(&self) -> [(&'static str, Given<'_>); 4] {
+        [
+            (
+                "pelvis_half_width",
+                [
+                    &self.pelvis_half_width,
+                    &self.pelvis_half_width_r,
+                    &self.pelvis_half_width_l,
+                ],
+            ),
+            ("femur", [&self.femur, &self.femur_r, &self.femur_l]),
+            ("tibia", [&self.tibia, &self.tibia_r, &self.tibia_l]),
+            ("foot", [&self.foot, &self.foot_r, &self.foot_l]),
+        ]
+    }
+}
 
 /// Reads an anthropometry file.
-pub fn read(path: &Path) -> Result<(Anthropometry<f64>, Vec<Warning>), String> {
+pub fn read(path: &Path) -> Result<(Anthropometry<f64>, Vec<Warning>), ModelError> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
+        path: shown.clone(),
+        error,
+    })?;
     parse(&text, &shown)
 }
 
-/// Parses the text of an anthropometry file; `source` names it in messages.
-pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warning>), String> {
-    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| match e.span() {
-        Some(span) => {
-            let before = &text[..span.start.min(text.len())];
-            let line = before.matches('\n').count() + 1;
-            let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
-            format!("{source}:{line}:{column}: {}", one_line(e.message()))
-        }
-        None => format!("{source}: {}", one_line(e.message())),
-    })?;
-    for key in table.keys() {
-        let known = KEYS
-            .iter()
-            .any(|k| key == k || key == &format!("{k}_r") || key == &format!("{k}_l"));
-        if !known {
-            return Err(format!(
-                "{source}: unknown key `{key}` (expected pelvis_half_width, femur, tibia, foot, each optionally with _r/_l)"
-            ));
-        }
-    }
-    let number = |key: &str| -> Result<Option<f64>, String> {
-        let Some(v) = table.get(key) else {
-            return Ok(None);
-        };
-        let x = match v {
-            toml::Value::Float(f) => *f,
-            toml::Value::Integer(i) => *i as f64,
-            other => {
-                return Err(format!(
-                    "{source}: `{key}` must be a number in metres, found {}",
-                    other.type_str()
-                ))
-            }
-        };
-        let min_ok = if key.starts_with("pelvis") {
-            x >= 0.0
-        } else {
-            x > 0.0
-        };
-        if !x.is_finite() || !min_ok || x > 3.0 {
-            return Err(format!(
-                "{source}: `{key}` = {x} is not a plausible length in metres"
-            ));
-        }
-        Ok(Some(x))
-    };
-    let mut warnings = Vec::new();
+/// Parses the text of an anthropometry file; `source` names it in messages, with the line and
+/// column of the offending key or value.
+pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warning>), ModelError> {
+    let file: AnthropometryFile =
+        toml::from_str(text).map_err(|e| toml_error(text, source, e.span(), e.message()))?;
     let default = Limb::<f64>::gait2392();
     let defaults = [
         default.pelvis_half_width,
@@ -85,24 +115,40 @@ pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warnin
     ];
     let mut sides = [[0.0; 4]; 2];
     let mut missing: [Vec<&str>; 2] = [Vec::new(), Vec::new()];
-    for (i, key) in KEYS.iter().enumerate() {
-        let both = number(key)?;
-        for (s, suffix) in ["r", "l"].iter().enumerate() {
-            let split_key = format!("{key}_{suffix}");
-            sides[s][i] = match (both, number(&split_key)?) {
-                (Some(_), Some(_)) => {
-                    return Err(format!(
-                        "{source}: both `{key}` and `{split_key}` are given; use one"
+    for (i, (key, [both, right, left])) in file.lengths().into_iter().enumerate() {
+        for (s, (split, suffix)) in [(right, "r"), (left, "l")].into_iter().enumerate() {
+            sides[s][i] = match (both, split) {
+                (Some(_), Some(v)) => {
+                    return Err(toml_error(
+                        text,
+                        source,
+                        Some(v.span()),
+                        &format!("both `{key}` and `{key}_{suffix}` are given; use one"),
                     ))
                 }
-                (Some(v), None) | (None, Some(v)) => v,
+                (Some(v), None) | (None, Some(v)) => {
+                    let x = v.get_ref().0;
+                    // A zero pelvis half-width puts both hips at the pelvis origin; a zero
+                    // segment length is no segment.
+                    let lowest_ok = if i == 0 { x >= 0.0 } else { x > 0.0 };
+                    if !x.is_finite() || !lowest_ok || x > 3.0 {
+                        return Err(toml_error(
+                            text,
+                            source,
+                            Some(v.span()),
+                            &format!("{x} is not a plausible length in metres"),
+                        ));
+                    }
+                    x
+                }
                 (None, None) => {
-                    missing[s].push(*key);
+                    missing[s].push(key);
                     defaults[i]
                 }
             };
         }
     }
+    let mut warnings = Vec::new();
     for (s, side) in ["right", "left"].iter().enumerate() {
         if !missing[s].is_empty() {
             warnings.push(Warning(format!(
@@ -124,10 +170,6 @@ pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warnin
         },
         warnings,
     ))
-}
-
-fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 #[cfg(test)]
@@ -156,16 +198,47 @@ mod tests {
     }
 
     #[test]
+    fn integers_are_metres_and_a_zero_pelvis_half_width_is_allowed() {
+        let (a, w) = parse(
+            "pelvis_half_width = 0\nfemur = 1\ntibia = 1\nfoot = 1\n",
+            "a.toml",
+        )
+        .unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert_eq!(a.left.pelvis_half_width, 0.0);
+        assert_eq!(a.right.tibia, 1.0);
+    }
+
+    #[test]
     fn bad_files_are_errors() {
         for (text, needle) in [
-            ("femur = 0.4\nfemur_r = 0.4\n", "both `femur` and `femur_r`"),
-            ("femr = 0.4\n", "unknown key `femr`"),
-            ("femur = \"long\"\n", "must be a number"),
-            ("femur = -0.4\n", "not a plausible length"),
+            (
+                "femur = 0.4\nfemur_r = 0.4\n",
+                "a.toml:2:11: both `femur` and `femur_r` are given",
+            ),
+            (
+                "tibia = 0.4\nfemr = 0.4\n",
+                "a.toml:2:1: unknown field `femr`",
+            ),
+            (
+                "foot = 0.2\nfemur = \"long\"\n",
+                "a.toml:2:9: invalid type: string \"long\", expected a number (a length in metres)",
+            ),
+            (
+                "femur = 0.4\ntibia_l = -0.4\n",
+                "a.toml:2:11: -0.4 is not a plausible length in metres",
+            ),
+            ("foot = 0\n", "a.toml:1:8: 0 is not a plausible"),
+            ("femur = nan\n", "a.toml:1:9: NaN is not a plausible"),
+            (
+                "pelvis_half_width = 3.5\n",
+                "a.toml:1:21: 3.5 is not a plausible",
+            ),
+            ("[femur]\nr = 0.4\n", "a.toml:1:1: invalid type: map"),
             ("tibia = 0.4\nfemur = \n", "a.toml:2:9: "),
         ] {
-            let err = parse(text, "a.toml").unwrap_err();
-            assert!(err.contains(needle), "{text:?}: {err}");
+            let err = parse(text, "a.toml").unwrap_err().to_string();
+            assert!(err.starts_with(needle), "{text:?}: {err}");
             assert!(!err.contains('\n'), "{err}");
         }
     }

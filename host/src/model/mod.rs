@@ -13,3 +13,20 @@ pub mod fidelity;
 pub mod kinematics;
 pub mod points;
 pub mod subject;
+
+/// A TOML file's error at byte range `span` of `text` (line and column of its start, counted
+/// from 1, columns in characters; the whole file without a span), the message on one line.
+pub(crate) fn toml_error(
+    text: &str,
+    source: &str,
+    span: Option<std::ops::Range<usize>>,
+    message: &str,
+) -> error::ModelError {
+    error::ModelError::File {
+        at: match span {
+            Some(span) => crate::diagnostics::Location::in_text(source, text, span.start),
+            None => crate::diagnostics::Location::file(source),
+        },
+        message: message.split_whitespace().collect::<Vec<_>>().join(" "),
+    }
+}

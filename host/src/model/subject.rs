@@ -183,13 +183,8 @@ pub fn to_toml(g: &Gait2392Geometry, comment: &[String]) -> String {
 
 /// Parses a subject file and checks it with the kernel; `source` names it in messages.
 pub fn parse(text: &str, source: &str) -> Result<Gait2392Geometry, ModelError> {
-    let file: SubjectFile = toml::from_str(text).map_err(|e| ModelError::File {
-        at: match e.span() {
-            Some(span) => Location::in_text(source, text, span.start),
-            None => Location::file(source),
-        },
-        message: e.message().split_whitespace().collect::<Vec<_>>().join(" "),
-    })?;
+    let file: SubjectFile =
+        toml::from_str(text).map_err(|e| super::toml_error(text, source, e.span(), e.message()))?;
     let g = file.to_geometry().map_err(|message| ModelError::File {
         at: Location::file(source),
         message,
