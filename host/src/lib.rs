@@ -3,6 +3,7 @@
 
 pub mod cli;
 pub mod device;
+pub mod gait;
 pub mod model;
 pub mod motion;
 pub mod opensim;

@@ -13,6 +13,7 @@ pub mod imu;
 pub mod lanes;
 pub mod metrics;
 pub mod models;
+pub mod progression;
 mod pose;
 mod quat;
 #[cfg(feature = "reference")]

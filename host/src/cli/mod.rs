@@ -3,6 +3,7 @@
 pub mod config;
 pub mod device;
 pub mod fk;
+pub mod gait;
 pub mod imu;
 
 use std::fs::File;
@@ -83,6 +84,9 @@ pub enum Command {
     /// Joint angles (gait2392, .mot in degrees) from IMU segment orientations (OpenSim
     /// orientation .sto), calibrated on a static pose as OpenSim's OpenSense does it.
     Imu(crate::cli::imu::ImuArgs),
+    /// Clinical gait analysis: events, cycles, spatiotemporal parameters, normative bands and
+    /// the Gait Profile Score, as one HTML report and CSVs.
+    Gait(crate::cli::gait::GaitArgs),
 }
 
 /// Runs a parsed command line.
@@ -97,6 +101,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Fk(args) => crate::cli::fk::run_fk(args, cli.quiet)?,
         Command::Imu(args) => crate::cli::imu::run_imu(args, cli.quiet)?,
+        Command::Gait(args) => crate::cli::gait::run_gait(args, cli.quiet)?,
         Command::Report {
             motions,
             labels,
