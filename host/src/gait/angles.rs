@@ -9,8 +9,9 @@
 //! - Hip flexion, adduction (the GPS's "hip abduction" variable, adduction positive as the
 //!   CGM) and internal rotation: gait2392's `hip_*` as they are.
 //! - Knee flexion: `-knee_angle`. Ankle dorsiflexion: `ankle_angle`.
-//! - Foot progression: from the FK, the ankle-to-MTP line in the horizontal plane against the
-//!   direction of progression ([`foot_progression`]), internal positive.
+//! - Foot progression: from the FK, the foot's long axis (heel to MTP joint: gait2392's
+//!   calcaneus origin to its MTP centre, nearly horizontal standing) in the horizontal plane
+//!   against the direction of progression ([`foot_progression`]), internal positive.
 
 use qgait_kernel::imu::heading_free_pelvis;
 use qgait_kernel::progression::{foot_progression, heading};
@@ -149,7 +150,7 @@ pub fn angles(trial: &Trial, forward: &[Vec3<f64>]) -> Option<[[Vec<f64>; 9]; 2]
                     Variable::AnkleDorsiflexion => q[f][ankle].to_degrees(),
                     Variable::FootProgression => {
                         let limb = trial.frames[f][s];
-                        foot_progression(side, limb.ankle, limb.forefoot, forward[f]).to_degrees()
+                        foot_progression(side, limb.heel, limb.forefoot, forward[f]).to_degrees()
                     }
                 })
                 .collect();

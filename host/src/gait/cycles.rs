@@ -11,12 +11,14 @@ use crate::gait::events::Events;
 pub const POINTS: usize = 101;
 
 /// A stride whose direction of progression turns by more than this (degrees) from its first
-/// heel strike to its last is a turning stride and left out.
-pub const MAX_TURN_DEG: f64 = 20.0;
+/// heel strike to its last is a turning stride and left out. Gentler curves are kept: events,
+/// pelvis angles and foot progression are all relative to the direction of progression, which
+/// follows the walker; a sharper turn changes the gait itself.
+pub const MAX_TURN_DEG: f64 = 30.0;
 
 /// A stride that lasts less than this fraction of the side's median stride, or more than its
-/// inverse, is left out (a missed or a spurious event).
-pub const DURATION_TOLERANCE: f64 = 0.6;
+/// inverse, is left out (a missed or a spurious event, or the first steps from standing).
+pub const DURATION_TOLERANCE: f64 = 0.75;
 
 /// One cycle of one side.
 #[derive(Clone, Debug, PartialEq)]

@@ -22,8 +22,8 @@ pub struct Limb {
     pub heel: Vec3<f64>,
     /// Ankle centre.
     pub ankle: Vec3<f64>,
-    /// The forefoot end of the foot's long axis: gait2392's MTP joint centre; the toe tip for
-    /// models without a foot.
+    /// The forefoot end of the foot's long axis (from the heel): gait2392's MTP joint centre;
+    /// the toe tip for models without a foot.
     pub forefoot: Vec3<f64>,
     /// Toe tip.
     pub toe: Vec3<f64>,
@@ -45,7 +45,8 @@ pub struct Trial {
     /// gait2392's 17 coordinates of each frame (radians, [`COORDINATES`] order; absent ones 0);
     /// `None` for a source with points only (a device's frames CSV).
     pub coordinates: Option<Vec<[f64; 17]>>,
-    /// `pelvis_tx` and `pelvis_tz` of each frame (metres), when the motion has both.
+    /// `pelvis_tx` and `pelvis_tz` of each frame (metres), when the motion has both and they
+    /// change.
     pub translation: Option<Vec<[f64; 2]>>,
 }
 
@@ -136,8 +137,12 @@ pub fn load(
             warnings.push(w);
         }
     }
+    // A translation that never changes (an IMU solution writes zeros) says nothing.
+    let moves = |c: &[f64]| c.iter().any(|v| (v - c[0]).abs() > 1e-6);
     let translation = match (table.column("pelvis_tx"), table.column("pelvis_tz")) {
-        (Some(x), Some(z)) => Some(x.iter().zip(z).map(|(&x, &z)| [x, z]).collect()),
+        (Some(x), Some(z)) if moves(x) || moves(z) => {
+            Some(x.iter().zip(z).map(|(&x, &z)| [x, z]).collect())
+        }
         _ => None,
     };
     Ok((
