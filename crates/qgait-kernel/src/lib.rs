@@ -13,8 +13,8 @@ pub mod imu;
 pub mod lanes;
 pub mod metrics;
 pub mod models;
-pub mod progression;
 mod pose;
+pub mod progression;
 mod quat;
 #[cfg(feature = "reference")]
 pub mod reference;

@@ -20,7 +20,7 @@ pub fn pelvis_forward<T: Real>(hip_right: Vec3<T>, hip_left: Vec3<T>) -> Option<
 pub fn horizontal_unit<T: Real>(v: Vec3<T>) -> Option<Vec3<T>> {
     let h = Vec3::new(v.x, T::ZERO, v.z);
     let n = h.norm();
-    if !(n > T::from_f64(1e-9)) {
+    if !n.is_finite() || n <= T::from_f64(1e-9) {
         return None;
     }
     Some(Vec3::new(h.x / n, T::ZERO, h.z / n))

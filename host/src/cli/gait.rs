@@ -32,7 +32,11 @@ pub struct GaitArgs {
     /// `normative` (Schwartz et al. 2008 at the speed group of the measured non-dimensional
     /// speed), `normative:SPEED` (very-slow, slow, free, fast, very-fast), or another
     /// recording (e.g. the same patient's earlier visit).
-    #[arg(long, default_value = "normative", value_name = "normative[:SPEED]|MOTION")]
+    #[arg(
+        long,
+        default_value = "normative",
+        value_name = "normative[:SPEED]|MOTION"
+    )]
     pub reference: String,
     /// The subject's age in years, for the normal ranges of the spatiotemporal parameters.
     #[arg(long, value_name = "YEARS")]
@@ -115,10 +119,19 @@ pub fn run_gait(args: GaitArgs, quiet: bool) -> anyhow::Result<()> {
         }
     }
     let reference_walks = match &reference {
-        ReferenceArg::Motion(m) => Some(analyse_all(std::slice::from_ref(m), &model, &args, mode, &warn)?),
+        ReferenceArg::Motion(m) => Some(analyse_all(
+            std::slice::from_ref(m),
+            &model,
+            &args,
+            mode,
+            &warn,
+        )?),
         ReferenceArg::Normative(_) => None,
     };
-    let normative_dir = args.normative.clone().unwrap_or_else(gait::normative::default_dir);
+    let normative_dir = args
+        .normative
+        .clone()
+        .unwrap_or_else(gait::normative::default_dir);
     let subject = Subject {
         age: args.age,
         male: args.sex.map(|s| s == SexArg::Male),
@@ -134,7 +147,11 @@ pub fn run_gait(args: GaitArgs, quiet: bool) -> anyhow::Result<()> {
     )?;
     let files = output::write(&report, &args.output)?;
     if !quiet {
-        let strides: usize = report.walks.iter().map(|w| w.cycles[0].len() + w.cycles[1].len()).sum();
+        let strides: usize = report
+            .walks
+            .iter()
+            .map(|w| w.cycles[0].len() + w.cycles[1].len())
+            .sum();
         let gps = report
             .scores
             .as_ref()

@@ -156,7 +156,11 @@ pub fn whole(time: &[f64], heel_forward: [&[f64]; 2], events: &Events) -> [Cycle
     let n = time.len();
     let (t0, t_end) = (time[0], time[n - 1]);
     let period = t_end - t0;
-    let first = if heel_forward[0][0] >= heel_forward[1][0] { 0 } else { 1 };
+    let first = if heel_forward[0][0] >= heel_forward[1][0] {
+        0
+    } else {
+        1
+    };
     let start_of = |s: usize| -> f64 {
         if s == first {
             t0

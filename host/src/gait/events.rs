@@ -3,24 +3,25 @@
 //! front of the pelvis along the direction of progression, toe off when the toe tip is
 //! furthest behind it. The positions are the kernel's FK, whose origin is the pelvis origin,
 //! so they are already relative to the pelvis (Zeni's sacrum); the direction of progression
-//! is the direction the pelvis faces, averaged over about a stride
-//! ([`PROGRESSION_WINDOW`]), so that it follows the walker through turns.
+//! is the heading the pelvis faces, smoothed over about a stride ([`PROGRESSION_WINDOW`],
+//! [`progression`]), so that it follows the walker through turns.
 //!
 //! An extremum counts only if it stands out: its prominence (how far the signal falls on both
 //! sides before rising above it again, within [`SEARCH_SPAN`] seconds) must be at least
 //! [`PROMINENCE_FRACTION`] of the signal's spread (5th to 95th percentile) and at least
 //! [`MIN_PROMINENCE`]. A maximum at the first or last frame is not an event (the recording may
-//! have cut a rise short), nor one next to an end before the signal has fallen enough on that
-//! side; standing and turning on the spot move the feet too little to make events.
+//! have cut a rise short); one close to an end is, if the signal falls all the way from it to
+//! that end and stands out on its other side. Standing and turning on the spot move the feet
+//! too little to make events.
 
-use qgait_kernel::progression::{horizontal_unit, pelvis_forward};
+use qgait_kernel::progression::{heading, horizontal_unit, pelvis_forward};
 use qgait_kernel::Vec3;
 
 use crate::gait::trial::Frame;
 
-/// Width (s, centred) of the moving average of the pelvis's forward direction that is the
-/// direction of progression: about one stride, so the pelvis's rotation within a stride
-/// averages out while turns are followed.
+/// Width (s, centred) of the local fit of the pelvis's heading that is the direction of
+/// progression ([`progression`]): about one stride. Wider windows lag in sharp turns (a
+/// synthetic walk turning at up to 70°/s puts events more than a frame off with 2 s).
 pub const PROGRESSION_WINDOW: f64 = 1.2;
 
 /// How far (s) on each side of an extremum its prominence is measured.
@@ -70,8 +71,11 @@ pub struct Events {
     pub toe_off: [Vec<Event>; 2],
 }
 
-/// The direction of progression of every frame: the horizontal unit vector the pelvis faces
-/// ([`pelvis_forward`]) averaged over `window` seconds centred on the frame.
+/// The direction of progression of every frame: the heading of the direction the pelvis
+/// faces ([`pelvis_forward`]), smoothed by a local quadratic fit over `window` seconds centred
+/// on the frame (the fit's value at the frame). A quadratic follows a turn's acceleration
+/// where a moving average lags behind it; over about a stride, the pelvis's rotation within
+/// the stride mostly averages out. An infinite `window` gives the recording's mean direction.
 pub fn progression(time: &[f64], frames: &[Frame], window: f64) -> Vec<Vec3<f64>> {
     let raw: Vec<Vec3<f64>> = frames
         .iter()
@@ -82,27 +86,86 @@ pub fn progression(time: &[f64], frames: &[Frame], window: f64) -> Vec<Vec3<f64>
             Some(*last)
         })
         .collect();
+    if !window.is_finite() {
+        let sum = raw.iter().fold(Vec3::zero(), |s, v| s + *v);
+        let mean = horizontal_unit(sum).unwrap_or_else(Vec3::unit_x);
+        return vec![mean; raw.len()];
+    }
+    // Unwrapped headings.
+    let mut h: Vec<f64> = Vec::with_capacity(raw.len());
+    for v in &raw {
+        let a = heading(*v);
+        h.push(match h.last() {
+            Some(&p) => {
+                p + (a - p + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI
+            }
+            None => a,
+        });
+    }
     let half = window / 2.0;
     let (mut lo, mut hi) = (0, 0);
-    let mut sum = Vec3::<f64>::zero();
     (0..raw.len())
         .map(|i| {
             while hi < raw.len() && time[hi] <= time[i] + half {
-                sum = sum + raw[hi];
                 hi += 1;
             }
             while time[lo] < time[i] - half {
-                sum = sum - raw[lo];
                 lo += 1;
             }
-            horizontal_unit(sum).unwrap_or(raw[i])
+            // Least squares h = a + b u + c u^2, u = t - t_i: the normal equations.
+            let (mut s, mut y) = ([0.0; 5], [0.0; 3]);
+            for k in lo..hi {
+                let u = time[k] - time[i];
+                let mut p = 1.0;
+                for m in 0..5 {
+                    s[m] += p;
+                    if m < 3 {
+                        y[m] += p * h[k];
+                    }
+                    p *= u;
+                }
+            }
+            let a = solve3(
+                [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]],
+                y,
+            )
+            .map_or(h[i], |x| x[0]);
+            Vec3::new(a.cos(), 0.0, -a.sin())
         })
         .collect()
 }
 
+/// Solves a 3x3 linear system by Cramer's rule; `None` if it is (nearly) singular.
+fn solve3(m: [[f64; 3]; 3], y: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(m);
+    let scale = m[0][0] * m[1][1] * m[2][2];
+    if d.is_nan() || d.abs() <= 1e-12 * scale.abs() {
+        return None;
+    }
+    let mut out = [0.0; 3];
+    for (c, o) in out.iter_mut().enumerate() {
+        let mut mc = m;
+        for r in 0..3 {
+            mc[r][c] = y[r];
+        }
+        *o = det(mc) / d;
+    }
+    Some(out)
+}
+
 /// The forward position of `point` relative to the pelvis along the direction of progression,
 /// every frame.
-pub fn along(frames: &[Frame], forward: &[Vec3<f64>], point: impl Fn(&Frame) -> Vec3<f64>) -> Vec<f64> {
+pub fn along(
+    frames: &[Frame],
+    forward: &[Vec3<f64>],
+    point: impl Fn(&Frame) -> Vec3<f64>,
+) -> Vec<f64> {
     frames
         .iter()
         .zip(forward)
@@ -159,7 +222,12 @@ fn detect_in(time: &[f64], frames: &[Frame], forward: &[Vec3<f64>], periodic: bo
     };
     for s in 0..2 {
         let heel = extend(along(frames, forward, |f| f[s].heel));
-        let toe = extend(along(frames, forward, |f| f[s].toe).into_iter().map(|v| -v).collect());
+        let toe = extend(
+            along(frames, forward, |f| f[s].toe)
+                .into_iter()
+                .map(|v| -v)
+                .collect(),
+        );
         events.heel_strike[s] = found(&heel);
         events.toe_off[s] = found(&toe);
     }
@@ -194,14 +262,15 @@ fn threshold(signal: &[f64]) -> f64 {
 
 /// The local maxima of `signal` whose prominence within `span` frames on each side is at
 /// least `min_prominence`. A plateau counts once, at its first frame. A maximum at either end
-/// (or a plateau that reaches one) is not a peak.
+/// (or a plateau that reaches one) is not a peak. Near an end, the side towards it counts
+/// only if the signal falls all the way to the end (then the other side alone must stand out).
 pub fn peaks(signal: &[f64], min_prominence: f64, span: usize) -> Vec<usize> {
     let n = signal.len();
     let mut out = Vec::new();
     let mut i = 1;
     while i + 1 < n {
         let v = signal[i];
-        if !(v > signal[i - 1]) {
+        if v.partial_cmp(&signal[i - 1]) != Some(std::cmp::Ordering::Greater) {
             i += 1;
             continue;
         }
@@ -214,22 +283,33 @@ pub fn peaks(signal: &[f64], min_prominence: f64, span: usize) -> Vec<usize> {
             i = j;
             continue;
         }
-        // Lowest point on each side before the signal rises above the peak, within the span
-        // (or up to the end of the recording): a peak near an end counts only if the signal
-        // has already fallen enough on that side.
-        let side_min = |range: &mut dyn Iterator<Item = usize>| -> f64 {
-            let mut low = v;
+        // Lowest point on each side before the signal rises above the peak, within the span,
+        // and whether that side runs into an end of the recording first, falling all the way.
+        let side = |range: &mut dyn Iterator<Item = usize>, end: usize| -> (f64, bool) {
+            let (mut low, mut last, mut falling) = (v, v, true);
             for k in range {
                 if signal[k] > v {
-                    break;
+                    return (low, false);
                 }
+                falling &= signal[k] <= last;
+                last = signal[k];
                 low = low.min(signal[k]);
+                if k == end {
+                    return (low, falling);
+                }
             }
-            low
+            (low, false)
         };
-        let left = side_min(&mut (i.saturating_sub(span)..i).rev());
-        let right = side_min(&mut (j..(j + span).min(n)));
-        if v - left.max(right) >= min_prominence {
+        let (left, left_cut) = side(&mut (i.saturating_sub(span)..i).rev(), 0);
+        let (right, right_cut) = side(&mut (j..(j + span).min(n)), n - 1);
+        // A side cut by an end of the recording is waived if it falls all the way to that end
+        // and the other side stands out: a maximum close to an end is still a maximum.
+        let prominence = match (left_cut, right_cut) {
+            (true, false) => v - right,
+            (false, true) => v - left,
+            _ => v - left.max(right),
+        };
+        if prominence >= min_prominence {
             out.push(i);
         }
         i = j;
@@ -281,7 +361,11 @@ mod tests {
     #[test]
     fn the_refined_time_is_the_parabola_vertex() {
         let time = [0.0, 0.01, 0.02];
-        let s = [-(0.004f64).powi(2), -(0.006f64).powi(2), -(0.016f64).powi(2)];
+        let s = [
+            -(0.004f64).powi(2),
+            -(0.006f64).powi(2),
+            -(0.016f64).powi(2),
+        ];
         let e = refine(&time, &s, 1);
         assert!((e.time - 0.004).abs() < 1e-12, "{}", e.time);
     }

@@ -90,7 +90,11 @@ impl Figure for Kinematics<'_> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
         header
-            .draw_text("Joint angles over the gait cycle", &figure::bold(24), (16, 10))
+            .draw_text(
+                "Joint angles over the gait cycle",
+                &figure::bold(24),
+                (16, 10),
+            )
             .map_err(draw_err)?;
         header
             .draw_text(
@@ -122,7 +126,10 @@ impl Kinematics<'_> {
         let r = self.report;
         let panel = PANELS[row][col];
         let (title, v) = match panel {
-            Panel::Variable(v) => (v.title(), Some(Variable::ALL.iter().position(|x| *x == v).unwrap_or(0))),
+            Panel::Variable(v) => (
+                v.title(),
+                Some(Variable::ALL.iter().position(|x| *x == v).unwrap_or(0)),
+            ),
             Panel::Absent(t) => (t, None),
         };
         let band: Vec<(&[f64], &[f64])> = match v {
@@ -145,17 +152,24 @@ impl Kinematics<'_> {
             None => Vec::new(),
         };
         if band.is_empty() && curves.is_empty() {
-            area.draw_text(title, &figure::bold(15), (40, 12)).map_err(draw_err)?;
-            area.draw_text("not in the model or the normative data", &figure::text(13), (40, 40))
+            area.draw_text(title, &figure::bold(15), (40, 12))
                 .map_err(draw_err)?;
+            area.draw_text(
+                "not in the model or the normative data",
+                &figure::text(13),
+                (40, 40),
+            )
+            .map_err(draw_err)?;
             return Ok(());
         }
         let values = band
             .iter()
             .flat_map(|(m, s)| m.iter().zip(*s).flat_map(|(m, s)| [m - s, m + s]))
-            .chain(curves.iter().flat_map(|(_, c)| {
-                c.mean.iter().zip(&c.sd).flat_map(|(m, s)| [m - s, m + s])
-            }));
+            .chain(
+                curves
+                    .iter()
+                    .flat_map(|(_, c)| c.mean.iter().zip(&c.sd).flat_map(|(m, s)| [m - s, m + s])),
+            );
         let (y0, y1) = figure::padded_range(values, 0.05, 10.0);
         let mut chart = ChartBuilder::on(area)
             .caption(title, figure::bold(15))
@@ -178,8 +192,12 @@ impl Kinematics<'_> {
         let step = |n: usize| 100.0 / (n - 1) as f64;
         for (mean, sd) in &band {
             let dx = step(mean.len());
-            let mut poly: Vec<(f64, f64)> =
-                mean.iter().zip(*sd).enumerate().map(|(i, (m, s))| (i as f64 * dx, m + s)).collect();
+            let mut poly: Vec<(f64, f64)> = mean
+                .iter()
+                .zip(*sd)
+                .enumerate()
+                .map(|(i, (m, s))| (i as f64 * dx, m + s))
+                .collect();
             poly.extend(
                 mean.iter()
                     .zip(*sd)
@@ -188,12 +206,18 @@ impl Kinematics<'_> {
                     .map(|(i, (m, s))| (i as f64 * dx, m - s)),
             );
             chart
-                .draw_series(std::iter::once(Polygon::new(poly, BLACK.mix(0.12).filled())))
+                .draw_series(std::iter::once(Polygon::new(
+                    poly,
+                    BLACK.mix(0.12).filled(),
+                )))
                 .map_err(draw_err)?;
         }
         if let Some(zero) = (y0 < 0.0 && y1 > 0.0).then_some(0.0) {
             chart
-                .draw_series(LineSeries::new([(0.0, zero), (100.0, zero)], BLACK.mix(0.3)))
+                .draw_series(LineSeries::new(
+                    [(0.0, zero), (100.0, zero)],
+                    BLACK.mix(0.3),
+                ))
                 .map_err(draw_err)?;
         }
         for (s, c) in &curves {
@@ -207,12 +231,27 @@ impl Kinematics<'_> {
                     .enumerate()
                     .map(|(i, (m, sd))| (i as f64 * dx, m + sd))
                     .collect();
-                poly.extend(c.mean.iter().zip(&c.sd).enumerate().rev().map(|(i, (m, sd))| (i as f64 * dx, m - sd)));
+                poly.extend(
+                    c.mean
+                        .iter()
+                        .zip(&c.sd)
+                        .enumerate()
+                        .rev()
+                        .map(|(i, (m, sd))| (i as f64 * dx, m - sd)),
+                );
                 chart
-                    .draw_series(std::iter::once(Polygon::new(poly, color.mix(0.15).filled())))
+                    .draw_series(std::iter::once(Polygon::new(
+                        poly,
+                        color.mix(0.15).filled(),
+                    )))
                     .map_err(draw_err)?;
             }
-            let pts: Vec<(f64, f64)> = c.mean.iter().enumerate().map(|(i, m)| (i as f64 * dx, *m)).collect();
+            let pts: Vec<(f64, f64)> = c
+                .mean
+                .iter()
+                .enumerate()
+                .map(|(i, m)| (i as f64 * dx, *m))
+                .collect();
             figure::draw_polyline(chart.plotting_area(), &pts, color.stroke_width(2))?;
         }
         for (s, to) in r.toe_off.iter().enumerate() {
@@ -232,7 +271,11 @@ impl Kinematics<'_> {
 }
 
 /// "right" and "left" in their colours, from (x, y).
-fn side_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, x: i32, y: i32) -> anyhow::Result<()> {
+fn side_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    y: i32,
+) -> anyhow::Result<()> {
     for (s, name) in ["right", "left"].iter().enumerate() {
         let x = x + 140 * s as i32;
         area.draw(&PathElement::new(
@@ -272,7 +315,10 @@ impl Figure for Map<'_> {
             .map_err(draw_err)?;
         header
             .draw_text(
-                &format!("Gait Variable Scores and Gait Profile Score (degrees) against {}", self.report.reference.label),
+                &format!(
+                    "Gait Variable Scores and Gait Profile Score (degrees) against {}",
+                    self.report.reference.label
+                ),
                 &figure::text(15),
                 (16, 42),
             )
@@ -286,15 +332,15 @@ impl Figure for Map<'_> {
             .collect();
         let mut bars: Vec<(usize, usize, f64, RGBColor)> = Vec::new();
         for (v, _) in Variable::ALL.iter().enumerate() {
-            for side in 0..2 {
+            for (side, color) in SIDE_COLORS.iter().enumerate() {
                 if let Some(g) = s.gvs[side][v] {
-                    bars.push((v, side, g, SIDE_COLORS[side]));
+                    bars.push((v, side, g, *color));
                 }
             }
         }
-        for side in 0..2 {
+        for (side, color) in SIDE_COLORS.iter().enumerate() {
             if let Some(g) = s.gps[side] {
-                bars.push((9, side, g, SIDE_COLORS[side]));
+                bars.push((9, side, g, *color));
             }
         }
         if let Some(g) = s.overall {
@@ -372,7 +418,11 @@ impl Figure for EventsFigure<'_> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, area) = root.split_vertically(110);
         header
-            .draw_text("Gait events (Zeni et al. 2008)", &figure::bold(24), (16, 10))
+            .draw_text(
+                "Gait events (Zeni et al. 2008)",
+                &figure::bold(24),
+                (16, 10),
+            )
             .map_err(draw_err)?;
         header
             .draw_text(
@@ -387,7 +437,8 @@ impl Figure for EventsFigure<'_> {
             let t = &w.trial.time;
             let heel = [0, 1].map(|s| along(&w.trial.frames, &w.forward, |f| f[s].heel));
             let toe = [0, 1].map(|s| along(&w.trial.frames, &w.forward, |f| f[s].toe));
-            let (y0, y1) = figure::padded_range(heel.iter().chain(&toe).flatten().copied(), 0.05, 0.2);
+            let (y0, y1) =
+                figure::padded_range(heel.iter().chain(&toe).flatten().copied(), 0.05, 0.2);
             let (t0, t1) = (t[0], *t.last().unwrap_or(&t[0]));
             let mut chart = ChartBuilder::on(row)
                 .caption(&w.trial.label, figure::bold(15))

@@ -98,7 +98,8 @@ mod tests {
         let reference = curves(shape);
         // Knee flexion of the right side 5 degrees more at every point.
         let knee = 6;
-        let subject = curves(|s, v, p| shape(s, v, p) + if s == 0 && v == knee { 5.0 } else { 0.0 });
+        let subject =
+            curves(|s, v, p| shape(s, v, p) + if s == 0 && v == knee { 5.0 } else { 0.0 });
         let sc = scores(&subject, &reference);
         assert_eq!(sc.gvs[0][knee], Some(5.0));
         assert_eq!(sc.gvs[1][knee], Some(0.0));
@@ -134,6 +135,9 @@ mod tests {
         let b = vec![0.0; POINTS];
         let want = (50.0 * 101.0 / 6.0f64).sqrt();
         assert!((gvs(&a, &b) - want).abs() < 1e-12);
-        assert_eq!(every_2_percent(&(0..101).map(f64::from).collect::<Vec<_>>()).len(), 51);
+        assert_eq!(
+            every_2_percent(&(0..101).map(f64::from).collect::<Vec<_>>()).len(),
+            51
+        );
     }
 }

@@ -53,13 +53,19 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
     }
     h.push_str("</table>\n<table>");
     let mut setting = |k: &str, v: String| {
-        let _ = writeln!(h, "<tr><th class=\"l\">{k}</th><td class=\"l\">{}</td></tr>", escape(&v));
+        let _ = writeln!(
+            h,
+            "<tr><th class=\"l\">{k}</th><td class=\"l\">{}</td></tr>",
+            escape(&v)
+        );
     };
     setting("model", r.model.clone());
     setting(
         "cycles",
         match r.mode {
-            crate::gait::CycleMode::Auto => "auto: heel strike to heel strike of each side (Zeni et al. 2008)".into(),
+            crate::gait::CycleMode::Auto => {
+                "auto: heel strike to heel strike of each side (Zeni et al. 2008)".into()
+            }
             crate::gait::CycleMode::Whole => "whole: each recording is one cycle".into(),
         },
     );
@@ -67,7 +73,11 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
     if let Some((v, l)) = r.dimensionless_speed {
         setting(
             "non-dimensional speed",
-            format!("{} (leg length {} m, hip to ankle)", round(v, 3), round(l, 3)),
+            format!(
+                "{} (leg length {} m, hip to ankle)",
+                round(v, 3),
+                round(l, 3)
+            ),
         );
     }
     setting(
@@ -95,7 +105,11 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
     for name in names {
         let ps: Vec<_> = r.parameters.iter().filter(|p| p.name == name).collect();
         let first = ps[0];
-        let _ = write!(h, "<tr><td class=\"l\">{name}</td><td class=\"l\">{}</td>", first.unit);
+        let _ = write!(
+            h,
+            "<tr><td class=\"l\">{name}</td><td class=\"l\">{}</td>",
+            first.unit
+        );
         for s in sides {
             match ps.iter().find(|p| p.side == s) {
                 Some(p) => {
@@ -109,11 +123,14 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
                 None => h.push_str("<td></td>"),
             }
         }
-        let range = ps
-            .iter()
-            .find_map(|p| p.range)
-            .map_or(String::new(), |rg| format!("{} – {}", round(rg.min, 3), round(rg.max, 3)));
-        let _ = writeln!(h, "<td>{range}</td><td class=\"l\">{}</td></tr>", escape(first.note));
+        let range = ps.iter().find_map(|p| p.range).map_or(String::new(), |rg| {
+            format!("{} – {}", round(rg.min, 3), round(rg.max, 3))
+        });
+        let _ = writeln!(
+            h,
+            "<td>{range}</td><td class=\"l\">{}</td></tr>",
+            escape(first.note)
+        );
     }
     h.push_str("</table>\n<p class=\"note\">Green: inside the normal range, red: outside.</p>\n");
 
@@ -124,7 +141,9 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
             "<h2>Gait Profile Score</h2>\n<p>Against {} (Baker et al. 2009: RMS difference over 51 points of the cycle; overall GPS over 15 variables, the pelvis once).</p>",
             escape(&r.reference.label)
         );
-        h.push_str("<table><tr><th class=\"l\">variable</th><th>right (°)</th><th>left (°)</th></tr>\n");
+        h.push_str(
+            "<table><tr><th class=\"l\">variable</th><th>right (°)</th><th>left (°)</th></tr>\n",
+        );
         let cell = |v: Option<f64>| v.map_or(String::new(), |v| round(v, 2));
         for (v, var) in Variable::ALL.iter().enumerate() {
             let _ = writeln!(

@@ -101,8 +101,16 @@ impl Walk {
         match mode {
             CycleMode::Auto => {
                 for s in 0..2 {
-                    out.extend(self.events.heel_strike[s].iter().map(|e| (s, Kind::HeelStrike, e.time)));
-                    out.extend(self.events.toe_off[s].iter().map(|e| (s, Kind::ToeOff, e.time)));
+                    out.extend(
+                        self.events.heel_strike[s]
+                            .iter()
+                            .map(|e| (s, Kind::HeelStrike, e.time)),
+                    );
+                    out.extend(
+                        self.events.toe_off[s]
+                            .iter()
+                            .map(|e| (s, Kind::ToeOff, e.time)),
+                    );
                 }
             }
             CycleMode::Whole => {
@@ -113,7 +121,11 @@ impl Walk {
                         if c.start == self.trial.time[0] {
                             out.push((s, Kind::HeelStrike, end));
                         }
-                        out.extend(self.events.toe_off[s].iter().map(|e| (s, Kind::ToeOff, e.time)));
+                        out.extend(
+                            self.events.toe_off[s]
+                                .iter()
+                                .map(|e| (s, Kind::ToeOff, e.time)),
+                        );
                     }
                 }
             }

@@ -94,19 +94,15 @@ pub struct Kinematics {
 impl Kinematics {
     /// Reads `Schwartz2008.json`.
     pub fn read(path: &Path, speed: Speed) -> anyhow::Result<Self> {
-        let text =
-            std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("{}: cannot read", path.display()))?;
         Self::parse(&text, &path.display().to_string(), speed)
     }
 
     /// Parses the text of `Schwartz2008.json`.
     pub fn parse(text: &str, source: &str, speed: Speed) -> anyhow::Result<Self> {
         let json: serde_json::Value = serde_json::from_str(text).map_err(|e| {
-            anyhow::anyhow!(
-                "{source}:{}:{}: not valid JSON: {e}",
-                e.line(),
-                e.column()
-            )
+            anyhow::anyhow!("{source}:{}:{}: not valid JSON: {e}", e.line(), e.column())
         })?;
         let k = Self {
             json,
@@ -133,9 +129,9 @@ impl Kinematics {
         else {
             return Ok(None);
         };
-        let rows = rows.as_array().with_context(|| {
-            format!("{}: {variable}.{axis} is not an array", self.source)
-        })?;
+        let rows = rows
+            .as_array()
+            .with_context(|| format!("{}: {variable}.{axis} is not an array", self.source))?;
         if rows.len() != POINTS {
             bail!(
                 "{}: {variable}.{axis} has {} points, expected {POINTS}",
@@ -149,8 +145,7 @@ impl Kinematics {
             let v: Option<Vec<f64>> = r
                 .as_array()
                 .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect());
-            let Some([_, lo, hi]) = v.as_deref().and_then(|v| <[f64; 3]>::try_from(v).ok())
-            else {
+            let Some([_, lo, hi]) = v.as_deref().and_then(|v| <[f64; 3]>::try_from(v).ok()) else {
                 bail!(
                     "{}: {variable}.{axis}[{i}] is not [percent, mean - SD, mean + SD]",
                     self.source
@@ -228,8 +223,8 @@ pub struct StpNormals {
 impl StpNormals {
     /// Reads `stp_normals.txt`.
     pub fn read(path: &Path) -> anyhow::Result<Self> {
-        let text =
-            std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("{}: cannot read", path.display()))?;
         Self::parse(&text, &path.display().to_string())
     }
 
@@ -258,10 +253,11 @@ impl StpNormals {
         lines.next();
         let mut rows = Vec::new();
         for (i, line) in lines {
-            if line.trim().is_empty() {
-                continue;
-            }
             let f: Vec<&str> = line.split(';').collect();
+            // A line without a gender ends the table (notes follow it).
+            if f[0].trim().is_empty() {
+                break;
+            }
             let num = |k: usize| -> anyhow::Result<Option<f64>> {
                 let s = f.get(k).map_or("", |s| s.trim());
                 if s.is_empty() {
@@ -275,7 +271,10 @@ impl StpNormals {
             let male = match f[0].trim() {
                 "Male" => true,
                 "Female" => false,
-                other => bail!("{source}:{}:1: gender `{other}`, expected Male or Female", i + 1),
+                other => bail!(
+                    "{source}:{}:1: gender `{other}`, expected Male or Female",
+                    i + 1
+                ),
             };
             let (Some(a0), Some(a1)) = (num(1)?, num(2)?) else {
                 bail!("{source}:{}: no age range", i + 1);
@@ -349,8 +348,10 @@ impl StpNormals {
             .zip(&self.columns)
             .map(|((_, _, factor), c)| {
                 let c = (*c)?;
-                let found: Vec<(f64, f64)> =
-                    chosen.iter().filter_map(|r| r.ranges.get(c).copied().flatten()).collect();
+                let found: Vec<(f64, f64)> = chosen
+                    .iter()
+                    .filter_map(|r| r.ranges.get(c).copied().flatten())
+                    .collect();
                 if found.is_empty() {
                     return None;
                 }
@@ -407,17 +408,31 @@ mod tests {
 Male;18;29;Slow;85;119.999;86;100;5;14\n\
 Male;18;29;Normal;120;164.999;99;113;8;13\n\
 Female;18;29;Normal;110;150;100;120;;\n\
-Male;30;39;Normal;1;2;3;4;5;6\n";
+Male;30;39;Normal;1;2;3;4;5;6\n\
+;;;;\n\
+Normal data are indicated for +/- 1 SD;;\n";
         let n = StpNormals::parse(text, "s.txt").unwrap();
         let (pace, r) = n.ranges(25.0, Some(true), Some(1.3)).unwrap();
         assert_eq!(pace, "Normal");
-        assert_eq!(r[1], Some(Range { min: 99.0, max: 113.0 }));
+        assert_eq!(
+            r[1],
+            Some(Range {
+                min: 99.0,
+                max: 113.0
+            })
+        );
         assert!((r[6].unwrap().min - 0.08).abs() < 1e-12);
         let (pace, _) = n.ranges(29.5, Some(true), Some(0.5)).unwrap();
         assert_eq!(pace, "Slow");
         // Both sexes: the widest range.
         let (_, r) = n.ranges(20.0, None, Some(1.3)).unwrap();
-        assert_eq!(r[1], Some(Range { min: 99.0, max: 120.0 }));
+        assert_eq!(
+            r[1],
+            Some(Range {
+                min: 99.0,
+                max: 120.0
+            })
+        );
         assert!(n.ranges(70.0, None, None).is_none());
         let bad = text.replace("86;100", "86;x");
         let e = StpNormals::parse(&bad, "s.txt").err().unwrap();

@@ -122,7 +122,10 @@ pub fn build(
                 Some(false) => "female",
                 None => "male or female",
             };
-            ranges_for = Some(format!("{sex}, {age} years, pace `{pace}` ({})", path.display()));
+            ranges_for = Some(format!(
+                "{sex}, {age} years, pace `{pace}` ({})",
+                path.display()
+            ));
         }
     }
     let reference = match (reference, reference_walks) {
@@ -214,13 +217,21 @@ pub fn write(report: &Report, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         Ok(())
     };
     put(&mut files, "events.csv", events_csv(report))?;
-    put(&mut files, "spatiotemporal.csv", spatiotemporal_csv(&report.parameters))?;
+    put(
+        &mut files,
+        "spatiotemporal.csv",
+        spatiotemporal_csv(&report.parameters),
+    )?;
     if let Some(s) = &report.scores {
         put(&mut files, "gps.csv", gps_csv(s))?;
     }
     for (s, side) in SIDES.iter().enumerate() {
         if report.curves[s].iter().any(Option::is_some) {
-            put(&mut files, &format!("cycles/{side}.csv"), cycles_csv(&report.curves[s]))?;
+            put(
+                &mut files,
+                &format!("cycles/{side}.csv"),
+                cycles_csv(&report.curves[s]),
+            )?;
         }
     }
     let mut svgs = Vec::new();
@@ -228,18 +239,32 @@ pub fn write(report: &Report, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         if written.extension().is_some_and(|e| e == "svg") {
             let text = std::fs::read_to_string(&written)
                 .with_context(|| format!("{}: cannot read", written.display()))?;
-            svgs.push((written.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(), text));
+            svgs.push((
+                written
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                text,
+            ));
         }
         files.push(written);
     }
-    put(&mut files, "report.html", crate::gait::html::page(report, &svgs))?;
+    put(
+        &mut files,
+        "report.html",
+        crate::gait::html::page(report, &svgs),
+    )?;
     Ok(files)
 }
 
 /// `events.csv`: `side,event,time` (and `motion` with several recordings), in time order.
 pub fn events_csv(report: &Report) -> String {
     let several = report.walks.len() > 1;
-    let mut out = String::from(if several { "side,event,time,motion\n" } else { "side,event,time\n" });
+    let mut out = String::from(if several {
+        "side,event,time,motion\n"
+    } else {
+        "side,event,time\n"
+    });
     for w in &report.walks {
         for (s, kind, t) in w.event_list(report.mode) {
             let _ = write!(out, "{},{},{}", SIDES[s], kind.name(), round(t, 6));
@@ -256,9 +281,9 @@ pub fn events_csv(report: &Report) -> String {
 pub fn spatiotemporal_csv(params: &[Parameter]) -> String {
     let mut out = String::from("parameter,side,value,unit,normal_min,normal_max,note\n");
     for p in params {
-        let (lo, hi) = p
-            .range
-            .map_or((String::new(), String::new()), |r| (round(r.min, 4), round(r.max, 4)));
+        let (lo, hi) = p.range.map_or((String::new(), String::new()), |r| {
+            (round(r.min, 4), round(r.max, 4))
+        });
         let _ = writeln!(
             out,
             "{},{},{},{},{lo},{hi},{}",

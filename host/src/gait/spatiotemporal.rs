@@ -41,6 +41,9 @@ fn mean(v: &[f64]) -> Option<f64> {
     (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
+/// A value of one cycle of a recording (with its direction of progression), if it has one.
+type PerCycle<'a> = dyn Fn(&Trial, &[Vec3<f64>], &Cycle) -> Option<f64> + 'a;
+
 /// One analysed recording: the trial, its direction of progression and its cycles.
 pub type Walk<'a> = (&'a Trial, &'a [Vec3<f64>], &'a [Vec<Cycle>; 2]);
 
@@ -70,7 +73,7 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             .iter()
             .flat_map(|(t, f, c)| c[s].iter().map(move |c| (*t, *f, c)))
             .collect();
-        let collect = |f: &dyn Fn(&Trial, &[Vec3<f64>], &Cycle) -> Option<f64>| -> Vec<f64> {
+        let collect = |f: &PerCycle| -> Vec<f64> {
             cycles.iter().filter_map(|(t, d, c)| f(t, d, c)).collect()
         };
         let at_strike = |trial: &Trial, forward: &[Vec3<f64>], c: &Cycle| {
@@ -95,12 +98,20 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             displacement[s] = mean(&moved);
         }
         let side = SIDES[s];
-        push("cadence", side, stride_time[s].map(|t| 120.0 / t), "steps/min", "");
+        push(
+            "cadence",
+            side,
+            stride_time[s].map(|t| 120.0 / t),
+            "steps/min",
+            "",
+        );
         push("stride_time", side, stride_time[s], "s", "");
         push(
             "step_time",
             side,
-            mean(&collect(&|_, _, c| c.opposite_strike.map(|o| c.duration - o))),
+            mean(&collect(&|_, _, c| {
+                c.opposite_strike.map(|o| c.duration - o)
+            })),
             "s",
             "",
         );
@@ -110,18 +121,24 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
         push(
             "double_support",
             side,
-            mean(&collect(&|_, _, c| {
-                match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+            mean(&collect(
+                &|_, _, c| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
                     (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
                         Some(c.percent(oto) + c.percent(to - ohs))
                     }
                     _ => None,
-                }
-            })),
+                },
+            )),
             "%",
             "",
         );
-        push("step_length", side, step_length[s], "m", "heels at heel strike");
+        push(
+            "step_length",
+            side,
+            step_length[s],
+            "m",
+            "heels at heel strike",
+        );
         push(
             "step_width",
             side,
