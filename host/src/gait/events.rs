@@ -361,12 +361,9 @@ mod tests {
     #[test]
     fn the_refined_time_is_the_parabola_vertex() {
         let time = [0.0, 0.01, 0.02];
-        let s = [
-            -(0.004f64).powi(2),
-            -(0.006f64).powi(2),
-            -(0.016f64).powi(2),
-        ];
+        let s = time.map(|t: f64| -(t - 0.012).powi(2));
         let e = refine(&time, &s, 1);
-        assert!((e.time - 0.004).abs() < 1e-12, "{}", e.time);
+        assert!((e.time - 0.012).abs() < 1e-12, "{}", e.time);
+        assert_eq!(e.frame, 1);
     }
 }
