@@ -54,7 +54,9 @@ fn bench(c: &mut Criterion) {
     };
     let mut g = c.benchmark_group("gait");
     g.sample_size(10);
-    g.bench_function("imu_walk_24s_analysis", |b| b.iter(|| black_box(analysis())));
+    g.bench_function("imu_walk_24s_analysis", |b| {
+        b.iter(|| black_box(analysis()))
+    });
     let out = dir.path().join("out");
     g.bench_function("imu_walk_24s_report", |b| {
         b.iter(|| black_box(output::write(&analysis(), &out).expect("writes")))

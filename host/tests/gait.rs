@@ -573,3 +573,68 @@ fn a_single_cycle_without_whole_and_a_bad_reference_are_clear_errors() {
         stderr(&o)
     );
 }
+
+/// A device's frames (points only, as `qgait emulate --frames-csv` writes them): events and
+/// spatiotemporal parameters from the points, no angles and so no GPS; the events agree with
+/// those of the same motion through PHAK.
+#[test]
+fn device_frames_give_events_and_spatiotemporal_parameters() {
+    let Some(shared) = shared_dir() else { return };
+    let normal = shared.join("data/opensim/normal.mot");
+    let dir = tempfile::tempdir().unwrap();
+    let fk = dir.path().join("fk.csv");
+    let o = qgait(&[
+        "-q",
+        "fk",
+        normal.to_str().unwrap(),
+        "--model",
+        "phak",
+        "-o",
+        fk.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&fk).unwrap();
+    let mut frames = String::new();
+    for (i, line) in text.lines().enumerate() {
+        if i == 0 {
+            let _ = writeln!(frames, "seq,{line}");
+        } else {
+            let _ = writeln!(frames, "{},{line}", i - 1);
+        }
+    }
+    let csv = dir.path().join("frames.csv");
+    std::fs::write(&csv, frames).unwrap();
+    let out = dir.path().join("frames");
+    run_gait(&[
+        csv.to_str().unwrap(),
+        "-q",
+        "--cycle",
+        "whole",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let from_points = events(&out);
+    let out_mot = dir.path().join("mot");
+    run_gait(&[
+        normal.to_str().unwrap(),
+        "-q",
+        "--model",
+        "phak",
+        "--cycle",
+        "whole",
+        "-o",
+        out_mot.to_str().unwrap(),
+    ]);
+    assert_eq!(from_points.len(), events(&out_mot).len());
+    for ((s, e, t), (s2, e2, t2)) in from_points.iter().zip(&events(&out_mot)) {
+        assert!(
+            s == s2 && e == e2 && (t - t2).abs() < 1e-4,
+            "{s} {e} {t} vs {s2} {e2} {t2}"
+        );
+    }
+    assert!(param(&out, "cadence", "both") > 100.0);
+    assert!(!out.join("gps.csv").exists());
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("no joint angles"));
+    assert_eq!(html.matches("<svg").count(), 1);
+}
