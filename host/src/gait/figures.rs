@@ -324,6 +324,15 @@ impl Figure for Map<'_> {
             )
             .map_err(draw_err)?;
         side_legend(&header, 16, 64)?;
+        header
+            .draw(&PathElement::new(
+                vec![(296, 73), (332, 73)],
+                RGBColor(60, 60, 60).stroke_width(4),
+            ))
+            .map_err(draw_err)?;
+        header
+            .draw(&Text::new("overall GPS", (340, 64), figure::text(16)))
+            .map_err(draw_err)?;
         // Groups: the nine variables, then GPS (right, left, overall).
         let labels: Vec<String> = Variable::ALL
             .iter()
@@ -383,16 +392,16 @@ impl Figure for Map<'_> {
                 )))
                 .map_err(draw_err)?;
         }
+        // Group labels under the axis, a word per line (on the whole figure: the chart clips).
         for (g, label) in labels.iter().enumerate() {
-            let words: Vec<&str> = label.split(' ').collect();
-            for (k, w) in words.iter().enumerate() {
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        w.to_string(),
-                        (g as f64 + 0.1, -top * (0.06 + 0.06 * k as f64)),
-                        figure::text(12),
-                    )))
-                    .map_err(draw_err)?;
+            let (px, py) = chart.plotting_area().map_coordinate(&(g as f64 + 0.1, 0.0));
+            for (k, w) in label.split(' ').enumerate() {
+                root.draw(&Text::new(
+                    w.to_string(),
+                    (px, py + 8 + 16 * k as i32),
+                    figure::text(13),
+                ))
+                .map_err(draw_err)?;
             }
         }
         Ok(())
