@@ -99,7 +99,7 @@ impl Figure for Kinematics<'_> {
         header
             .draw_text(
                 &format!(
-                    "grey: {} mean ± 1 SD; lines: mean ± SD of each side; vertical lines: toe off",
+                    "grey: {} mean (line) ± 1 SD (band); colours: mean ± SD of each side; dashed: toe off",
                     r.reference.label
                 ),
                 &figure::text(15),
@@ -211,6 +211,22 @@ impl Kinematics<'_> {
                     BLACK.mix(0.12).filled(),
                 )))
                 .map_err(draw_err)?;
+        }
+        // The reference's mean (a recording's may have no spread to show): grey when one for
+        // both sides (the normative data), else each side's in its colour.
+        let same = band.windows(2).all(|w| w[0].0 == w[1].0);
+        for (s, (mean, _)) in band.iter().enumerate() {
+            let style = match (same, v) {
+                (false, Some(_)) => SIDE_COLORS[s].mix(0.6).stroke_width(1),
+                _ => BLACK.mix(0.45).stroke_width(1),
+            };
+            let dx = step(mean.len());
+            let pts: Vec<(f64, f64)> = mean
+                .iter()
+                .enumerate()
+                .map(|(i, m)| (i as f64 * dx, *m))
+                .collect();
+            figure::draw_polyline(chart.plotting_area(), &pts, style)?;
         }
         if let Some(zero) = (y0 < 0.0 && y1 > 0.0).then_some(0.0) {
             chart
