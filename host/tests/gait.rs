@@ -517,6 +517,12 @@ fn the_report_has_every_file_and_a_self_contained_page() {
     ] {
         assert!(st.iter().any(|r| r["parameter"] == p), "no {p}");
     }
+    // A single cycle has both toe offs, the left one close to the start (an extremum near an
+    // end counts when the signal falls all the way to it), so both sides' stance.
+    for side in ["right", "left"] {
+        let stance = param(&out, "stance", side);
+        assert!((55.0..70.0).contains(&stance), "{side} stance {stance}");
+    }
     // Normal ranges for a 25-year-old man: cadence's.
     let cad = st
         .iter()

@@ -175,61 +175,22 @@ pub fn along(
 
 /// Detects heel strikes and toe offs of both sides.
 pub fn detect(time: &[f64], frames: &[Frame], forward: &[Vec3<f64>]) -> Events {
-    detect_in(time, frames, forward, false)
-}
-
-/// [`detect`] on a recording of one whole cycle taken as periodic (its last frame is the first
-/// of the next cycle): the signals are repeated before and after it, so that an event near
-/// either end is found like any other.
-pub fn detect_periodic(time: &[f64], frames: &[Frame], forward: &[Vec3<f64>]) -> Events {
-    detect_in(time, frames, forward, true)
-}
-
-fn detect_in(time: &[f64], frames: &[Frame], forward: &[Vec3<f64>], periodic: bool) -> Events {
-    let n = time.len();
     let span = frames_in(time, SEARCH_SPAN);
     let mut events = Events::default();
-    // One period without its repeated last frame, three times over.
-    let period = n.saturating_sub(1).max(1);
-    let duration = time[n - 1] - time[0];
-    let (ext_time, lo, hi): (Vec<f64>, usize, usize) = if periodic && n > 2 {
-        let t = (0..3 * period)
-            .map(|k| time[k % period] + (k / period) as f64 * duration - duration)
-            .collect();
-        (t, period, 2 * period)
-    } else {
-        (time.to_vec(), 0, n)
-    };
-    let extend = |v: Vec<f64>| -> Vec<f64> {
-        if lo == 0 {
-            v
-        } else {
-            (0..3 * period).map(|k| v[k % period]).collect()
-        }
-    };
-    let found = |signal: &[f64]| -> Vec<Event> {
-        peaks(signal, threshold(&signal[lo..hi]), span)
-            .into_iter()
-            .filter(|&i| i >= lo && i < hi)
-            .map(|i| {
-                let e = refine(&ext_time, signal, i);
-                Event {
-                    frame: i - lo,
-                    time: e.time,
-                }
-            })
-            .collect()
-    };
     for s in 0..2 {
-        let heel = extend(along(frames, forward, |f| f[s].heel));
-        let toe = extend(
-            along(frames, forward, |f| f[s].toe)
-                .into_iter()
-                .map(|v| -v)
-                .collect(),
-        );
-        events.heel_strike[s] = found(&heel);
-        events.toe_off[s] = found(&toe);
+        let heel = along(frames, forward, |f| f[s].heel);
+        let toe: Vec<f64> = along(frames, forward, |f| f[s].toe)
+            .into_iter()
+            .map(|v| -v)
+            .collect();
+        events.heel_strike[s] = peaks(&heel, threshold(&heel), span)
+            .into_iter()
+            .map(|i| refine(time, &heel, i))
+            .collect();
+        events.toe_off[s] = peaks(&toe, threshold(&toe), span)
+            .into_iter()
+            .map(|i| refine(time, &toe, i))
+            .collect();
     }
     events
 }

@@ -70,10 +70,7 @@ pub fn analyse(trial: Trial, mode: CycleMode) -> anyhow::Result<Walk> {
         CycleMode::Whole => f64::INFINITY,
     };
     let forward = events::progression(&trial.time, &trial.frames, window);
-    let events = match mode {
-        CycleMode::Auto => events::detect(&trial.time, &trial.frames, &forward),
-        CycleMode::Whole => events::detect_periodic(&trial.time, &trial.frames, &forward),
-    };
+    let events = events::detect(&trial.time, &trial.frames, &forward);
     let (cycles, dropped) = match mode {
         CycleMode::Auto => cycles::strides(&trial.time, &events, &forward),
         CycleMode::Whole => {
