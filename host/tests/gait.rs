@@ -626,6 +626,24 @@ fn a_single_cycle_without_whole_and_a_bad_reference_are_clear_errors() {
         "{}",
         stderr(&o)
     );
+    // A reference motion without strides is refused like the subject's.
+    let o = qgait(&[
+        "gait",
+        shared
+            .join("data/imu/walking_gait2392_opensense_0-12s.sto")
+            .to_str()
+            .unwrap(),
+        "--reference",
+        shared.join("data/opensim/normal.mot").to_str().unwrap(),
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("normal.mot: no complete stride"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 /// A device's frames (points only, as `qgait emulate --frames-csv` writes them): events and

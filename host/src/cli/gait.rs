@@ -108,16 +108,6 @@ pub fn run_gait(args: GaitArgs, quiet: bool) -> anyhow::Result<()> {
     let (model, notes) = ModelSpec::load_with_notes(&args.model).map_err(anyhow::Error::msg)?;
     warn(notes.into_iter().map(Warning).collect());
     let walks = analyse_all(&args.motions, &model, &args, mode, &warn)?;
-    for w in &walks {
-        if w.cycles.iter().all(Vec::is_empty) {
-            anyhow::bail!(
-                "{}: no complete stride found ({} heel strikes right, {} left); for a file that holds one gait cycle, use --cycle whole",
-                w.trial.source,
-                w.events.heel_strike[0].len(),
-                w.events.heel_strike[1].len()
-            );
-        }
-    }
     let reference_walks = match &reference {
         ReferenceArg::Motion(m) => Some(analyse_all(
             std::slice::from_ref(m),
@@ -128,6 +118,16 @@ pub fn run_gait(args: GaitArgs, quiet: bool) -> anyhow::Result<()> {
         )?),
         ReferenceArg::Normative(_) => None,
     };
+    for w in walks.iter().chain(reference_walks.iter().flatten()) {
+        if w.cycles.iter().all(Vec::is_empty) {
+            anyhow::bail!(
+                "{}: no complete stride found ({} heel strikes right, {} left); for a file that holds one gait cycle, use --cycle whole",
+                w.trial.source,
+                w.events.heel_strike[0].len(),
+                w.events.heel_strike[1].len()
+            );
+        }
+    }
     let normative_dir = args
         .normative
         .clone()
