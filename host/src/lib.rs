@@ -4,6 +4,7 @@
 pub mod cli;
 pub mod device;
 pub mod diagnostics;
+pub mod gait;
 pub mod model;
 pub mod motion;
 pub mod opensim;

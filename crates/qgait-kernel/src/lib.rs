@@ -14,6 +14,7 @@ pub mod lanes;
 pub mod metrics;
 pub mod models;
 mod pose;
+pub mod progression;
 mod quat;
 #[cfg(feature = "reference")]
 pub mod reference;

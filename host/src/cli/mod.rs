@@ -6,6 +6,7 @@ pub mod diagnostics;
 pub mod export;
 pub mod fidelity;
 pub mod fk;
+pub mod gait;
 pub mod imu;
 pub mod jsonl;
 pub mod live;
@@ -89,6 +90,9 @@ pub enum Command {
     /// Joint angles (gait2392, .mot in degrees) from IMU segment orientations (OpenSim
     /// orientation .sto), calibrated on a static pose as OpenSim's OpenSense does it.
     Imu(crate::cli::imu::ImuArgs),
+    /// Clinical gait analysis: events, cycles, spatiotemporal parameters, normative bands and
+    /// the Gait Profile Score, as one HTML report and CSVs.
+    Gait(crate::cli::gait::GaitArgs),
 }
 
 /// Runs a parsed command line.
@@ -98,6 +102,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Fk(args) => crate::cli::fk::run_fk(args, &diagnostics)?,
         Command::Imu(args) => crate::cli::imu::run_imu(args, &diagnostics)?,
+        Command::Gait(args) => crate::cli::gait::run_gait(args, &diagnostics)?,
         Command::Report {
             motions,
             labels,

@@ -15,7 +15,7 @@ use crate::model::error::ModelError;
 pub struct ModelArgs {
     /// Kinematic model: `hak`, `phak`, `gait2392` (OpenSim's chain, generic), a SUBJECT.toml
     /// written by `qgait model import`, or an OpenSim model .osim (its leg chain imported on the
-    /// fly). Default: phak (for `imu`: gait2392).
+    /// fly). Default: phak (for `imu` and `gait`: gait2392).
     #[arg(long, value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim")]
     pub model: Option<String>,
     /// Segment lengths of HAK and PHAK (TOML: pelvis_half_width, femur, tibia, foot, each

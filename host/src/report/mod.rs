@@ -12,7 +12,7 @@
 //! normalised from the first to the last row of each motion.
 
 mod distances;
-mod figure;
+pub(crate) mod figure;
 mod font;
 pub mod metrics;
 mod paths;

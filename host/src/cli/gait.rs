@@ -1,0 +1,150 @@
+//! `qgait gait`: clinical gait analysis of one or more recordings ([`crate::gait`]).
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use crate::cli::diagnostics::Diagnostics;
+use crate::cli::model_args::ModelArgs;
+use crate::diagnostics::Warning;
+use crate::gait::output::{self, ReferenceArg, Subject};
+use crate::gait::{self, trial, CycleMode};
+use crate::model::choice::Model;
+
+/// Arguments of `qgait gait`.
+#[derive(Debug, Args)]
+pub struct GaitArgs {
+    /// Recordings of one subject: OpenSim motions (.mot/.sto, e.g. `qgait imu` output),
+    /// `builtin:...`, or a device's frames CSVs (`qgait emulate --frames-csv`: events and
+    /// spatiotemporal parameters only). Their strides are pooled.
+    #[arg(required = true)]
+    pub motions: Vec<String>,
+    /// The model whose FK gives the heel, toe and foot positions: gait2392 (the default here;
+    /// heel at the calcaneus, foot axis ankle to MTP), SUBJECT.toml, MODEL.osim, phak or hak
+    /// (heel at the ankle; hak has a level, forward-facing pelvis and cannot follow turns).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// `auto`: every complete, straight stride from the detected events; `whole`: each
+    /// recording is one gait cycle (single-cycle files). Applies to a reference motion too.
+    #[arg(long, value_enum, default_value_t = CycleArg::Auto)]
+    pub cycle: CycleArg,
+    /// `normative` (Schwartz et al. 2008 at the speed group of the measured non-dimensional
+    /// speed), `normative:SPEED` (very-slow, slow, free, fast, very-fast), or another
+    /// recording (e.g. the same patient's earlier visit).
+    #[arg(
+        long,
+        default_value = "normative",
+        value_name = "normative[:SPEED]|MOTION"
+    )]
+    pub reference: String,
+    /// The subject's age in years, for the normal ranges of the spatiotemporal parameters.
+    #[arg(long, value_name = "YEARS")]
+    pub age: Option<f64>,
+    /// The subject's sex, for the normal ranges (default: the range of either).
+    #[arg(long, value_enum)]
+    pub sex: Option<SexArg>,
+    /// The directory with `Schwartz2008.json` and `stp_normals.txt` (default:
+    /// `$QGAIT_NORMATIVE`, or `../shared/data/normative`).
+    #[arg(long, value_name = "DIR")]
+    pub normative: Option<PathBuf>,
+    /// Output directory (created if needed).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+}
+
+/// `--cycle`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CycleArg {
+    /// From the events.
+    Auto,
+    /// One cycle per recording.
+    Whole,
+}
+
+/// `--sex`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SexArg {
+    /// Male.
+    Male,
+    /// Female.
+    Female,
+}
+
+/// Analyses `motions` with the model of `args`.
+fn analyse_all(
+    motions: &[String],
+    model: &Model,
+    mode: CycleMode,
+    warn: &dyn Fn(Vec<Warning>),
+) -> anyhow::Result<Vec<gait::Walk>> {
+    motions
+        .iter()
+        .map(|m| {
+            let (t, w) = trial::load(m, model)?;
+            warn(w);
+            gait::analyse(t, mode)
+        })
+        .collect()
+}
+
+/// Runs `qgait gait`.
+pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
+    let warn = |w: Vec<Warning>| diagnostics.warn(w);
+    let mode = match args.cycle {
+        CycleArg::Auto => CycleMode::Auto,
+        CycleArg::Whole => CycleMode::Whole,
+    };
+    let reference = ReferenceArg::parse(&args.reference).map_err(anyhow::Error::msg)?;
+    let model = args.model.load_or("gait2392", diagnostics)?;
+    let walks = analyse_all(&args.motions, &model, mode, &warn)?;
+    let reference_walks = match &reference {
+        ReferenceArg::Motion(m) => Some(analyse_all(std::slice::from_ref(m), &model, mode, &warn)?),
+        ReferenceArg::Normative(_) => None,
+    };
+    for w in walks.iter().chain(reference_walks.iter().flatten()) {
+        if w.cycles.iter().all(Vec::is_empty) {
+            anyhow::bail!(
+                "{}: no complete stride found ({} heel strikes right, {} left); for a file that holds one gait cycle, use --cycle whole",
+                w.trial.source,
+                w.events.heel_strike[0].len(),
+                w.events.heel_strike[1].len()
+            );
+        }
+    }
+    let normative_dir = args
+        .normative
+        .clone()
+        .unwrap_or_else(gait::normative::default_dir);
+    let subject = Subject {
+        age: args.age,
+        male: args.sex.map(|s| s == SexArg::Male),
+    };
+    let report = output::build(
+        walks,
+        model.name().to_string(),
+        mode,
+        &reference,
+        reference_walks,
+        &normative_dir,
+        subject,
+    )?;
+    let files = output::write(&report, &args.output)?;
+    if !diagnostics.quiet() {
+        let strides: usize = report
+            .walks
+            .iter()
+            .map(|w| w.cycles[0].len() + w.cycles[1].len())
+            .sum();
+        let gps = report
+            .scores
+            .as_ref()
+            .and_then(|s| s.overall)
+            .map_or(String::new(), |g| format!(", GPS {}°", output::round(g, 2)));
+        eprintln!(
+            "{strides} strides{gps}; wrote {} files to {}",
+            files.len(),
+            args.output.display()
+        );
+    }
+    Ok(())
+}

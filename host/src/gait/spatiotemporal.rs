@@ -1,0 +1,184 @@
+//! Spatiotemporal parameters from the cycles and the feet's FK positions at heel strike.
+//!
+//! Per stride of a side (heel strike to heel strike): stride time; step time (the other side's
+//! heel strike to the side's next); stance (to the side's toe off) and swing as % of the
+//! stride; double support (both feet down: heel strike to the other side's toe off, and the
+//! other side's heel strike to the side's toe off) as % of the stride. At the side's heel
+//! strike: step length, the heels' distance along the direction of progression, and step
+//! width, their distance across it (horizontal). Stride length: the pelvis's horizontal
+//! displacement over the stride where the motion has `pelvis_tx`/`pelvis_tz`, else the sum of
+//! the two sides' mean step lengths (the FK positions are relative to the pelvis, and at heel
+//! strike both feet are down). Speed: stride length over stride time. Each is the mean over
+//! the side's strides; `both` is over all strides.
+
+use qgait_kernel::Vec3;
+
+use crate::gait::cycles::Cycle;
+use crate::gait::normative::Range;
+use crate::gait::trial::Trial;
+
+/// One parameter of one side.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    /// Name (`cadence`, `stride_time`, ...).
+    pub name: &'static str,
+    /// `right`, `left` or `both`.
+    pub side: &'static str,
+    /// Value.
+    pub value: f64,
+    /// Unit.
+    pub unit: &'static str,
+    /// Normal range, where known.
+    pub range: Option<Range>,
+    /// How it was obtained, where that needs saying.
+    pub note: &'static str,
+}
+
+/// Side names, [`qgait_kernel::Side::ALL`] order.
+pub const SIDES: [&str; 2] = ["right", "left"];
+
+fn mean(v: &[f64]) -> Option<f64> {
+    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+}
+
+/// A value of one cycle of a recording (with its direction of progression), if it has one.
+type PerCycle<'a> = dyn Fn(&Trial, &[Vec3<f64>], &Cycle) -> Option<f64> + 'a;
+
+/// One analysed recording: the trial, its direction of progression and its cycles.
+pub type Walk<'a> = (&'a Trial, &'a [Vec3<f64>], &'a [Vec<Cycle>; 2]);
+
+/// The parameters of the cycles of both sides, over every stride of every recording.
+pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
+    let mut out = Vec::new();
+    let mut push = |name, side, value: Option<f64>, unit, note| {
+        if let Some(value) = value.filter(|v: &f64| v.is_finite()) {
+            out.push(Parameter {
+                name,
+                side,
+                value,
+                unit,
+                range: None,
+                note,
+            });
+        }
+    };
+    let mut step_length = [None; 2];
+    let mut stride_time = [None; 2];
+    let mut displacement = [None; 2];
+    let mut all_durations = Vec::new();
+    for s in 0..2 {
+        let o = 1 - s;
+        // Every cycle of the side with its recording.
+        let cycles: Vec<(&Trial, &[Vec3<f64>], &Cycle)> = walks
+            .iter()
+            .flat_map(|(t, f, c)| c[s].iter().map(move |c| (*t, *f, c)))
+            .collect();
+        let collect = |f: &PerCycle| -> Vec<f64> {
+            cycles.iter().filter_map(|(t, d, c)| f(t, d, c)).collect()
+        };
+        let at_strike = |trial: &Trial, forward: &[Vec3<f64>], c: &Cycle| {
+            let f = &trial.frames[c.strike_frame];
+            let d = forward[c.strike_frame];
+            let between = f[s].heel - f[o].heel;
+            let across = Vec3::new(-d.z, 0.0, d.x);
+            (between.dot(d), between.dot(across).abs())
+        };
+        let durations = collect(&|_, _, c| Some(c.duration));
+        all_durations.extend(&durations);
+        stride_time[s] = mean(&durations);
+        step_length[s] = mean(&collect(&|t, d, c| Some(at_strike(t, d, c).0)));
+        let moved = collect(&|trial, _, c| {
+            let tr = trial.translation.as_ref()?;
+            let (a, b) = (tr[c.span.0], tr[c.span.1]);
+            let t = trial.time[c.span.1] - trial.time[c.span.0];
+            // Per second of the frames spanned, times the stride's duration.
+            (t > 0.0).then(|| (b[0] - a[0]).hypot(b[1] - a[1]) / t * c.duration)
+        });
+        if moved.len() == cycles.len() {
+            displacement[s] = mean(&moved);
+        }
+        let side = SIDES[s];
+        push(
+            "cadence",
+            side,
+            stride_time[s].map(|t| 120.0 / t),
+            "steps/min",
+            "",
+        );
+        push("stride_time", side, stride_time[s], "s", "");
+        push(
+            "step_time",
+            side,
+            mean(&collect(&|_, _, c| {
+                c.opposite_strike.map(|o| c.duration - o)
+            })),
+            "s",
+            "",
+        );
+        let stance = mean(&collect(&|_, _, c| c.toe_off.map(|t| c.percent(t))));
+        push("stance", side, stance, "%", "");
+        push("swing", side, stance.map(|s| 100.0 - s), "%", "");
+        push(
+            "double_support",
+            side,
+            mean(&collect(
+                &|_, _, c| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+                    (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
+                        Some(c.percent(oto) + c.percent(to - ohs))
+                    }
+                    _ => None,
+                },
+            )),
+            "%",
+            "",
+        );
+        push(
+            "step_length",
+            side,
+            step_length[s],
+            "m",
+            "heels at heel strike",
+        );
+        push(
+            "step_width",
+            side,
+            mean(&collect(&|t, d, c| Some(at_strike(t, d, c).1))),
+            "m",
+            "heels at heel strike",
+        );
+    }
+    // Stride length and speed per side, then both.
+    let estimated = "estimated: the two mean step lengths (no pelvis translation)";
+    let measured = "pelvis_tx/pelvis_tz";
+    let stride_length = |s: usize| -> Option<(f64, &'static str)> {
+        match displacement[s] {
+            Some(d) => Some((d, measured)),
+            None => Some((step_length[0]? + step_length[1]?, estimated)),
+        }
+    };
+    let mut lengths = Vec::new();
+    for s in 0..2 {
+        if let (Some((l, note)), Some(t)) = (stride_length(s), stride_time[s]) {
+            push("stride_length", SIDES[s], Some(l), "m", note);
+            push("speed", SIDES[s], Some(l / t), "m/s", note);
+            lengths.push((l, note));
+        }
+    }
+    let t = mean(&all_durations);
+    push("cadence", "both", t.map(|t| 120.0 / t), "steps/min", "");
+    push("stride_time", "both", t, "s", "");
+    if let (Some(t), Some(&(_, note))) = (t, lengths.first()) {
+        let l = lengths.iter().map(|x| x.0).sum::<f64>() / lengths.len() as f64;
+        push("stride_length", "both", Some(l), "m", note);
+        push("speed", "both", Some(l / t), "m/s", note);
+    }
+    out
+}
+
+/// The value of a parameter of `side`.
+pub fn value(params: &[Parameter], name: &str, side: &str) -> Option<f64> {
+    params
+        .iter()
+        .find(|p| p.name == name && p.side == side)
+        .map(|p| p.value)
+}

@@ -1,0 +1,161 @@
+//! A recording ready for gait analysis: per frame the time, the points the analysis needs
+//! (hips, heels, ankles, forefeet, toe tips, from the kernel's FK) and, where the source has
+//! them, gait2392's coordinates and the pelvis translation. This is the one place of the gait
+//! room that evaluates a model.
+
+use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::Vec3;
+
+use crate::diagnostics::Warning;
+use crate::model::choice::Model;
+use crate::model::points::{self, PointModel};
+use crate::motion::source::{default_label, load_motion, MotionRows};
+
+/// The points of one foot and its hip in one frame (metres; origin at the pelvis origin,
+/// ground axes: x forward, y up, z right).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Limb {
+    /// Hip centre.
+    pub hip: Vec3<f64>,
+    /// The heel: gait2392's subtalar joint centre (its calcaneus origin, at the back of the
+    /// heel); the ankle centre for models without a foot (HAK, PHAK, a device's frames).
+    pub heel: Vec3<f64>,
+    /// Ankle centre.
+    pub ankle: Vec3<f64>,
+    /// The forefoot end of the foot's long axis (from the heel): gait2392's MTP joint centre;
+    /// the toe tip for models without a foot.
+    pub forefoot: Vec3<f64>,
+    /// Toe tip.
+    pub toe: Vec3<f64>,
+}
+
+/// One frame: right limb, then left ([`qgait_kernel::Side::ALL`] order).
+pub type Frame = [Limb; 2];
+
+/// One recording.
+pub struct Trial {
+    /// Label (the file stem).
+    pub label: String,
+    /// Where it came from (the path or `builtin:` spec).
+    pub source: String,
+    /// Time of each frame (s).
+    pub time: Vec<f64>,
+    /// Points of each frame.
+    pub frames: Vec<Frame>,
+    /// gait2392's 17 coordinates of each frame (radians, [`COORDINATES`] order; absent ones 0);
+    /// `None` for a source with points only (a device's frames CSV).
+    pub coordinates: Option<Vec<[f64; 17]>>,
+    /// `pelvis_tx` and `pelvis_tz` of each frame (metres), when the motion has both and they
+    /// change.
+    pub translation: Option<Vec<[f64; 2]>>,
+}
+
+/// Loads `source` (a `.mot`/`.sto` motion, `builtin:...`, or a device's frames CSV) and
+/// evaluates `model` on every row.
+pub fn load(source: &str, model: &Model) -> anyhow::Result<(Trial, Vec<Warning>)> {
+    let label = default_label(source);
+    if source.ends_with(".csv") {
+        let text = std::fs::read_to_string(source)
+            .map_err(|e| anyhow::anyhow!("{source}: cannot read: {e}"))?;
+        let table = crate::device::frames_csv::parse(&text, source).map_err(anyhow::Error::msg)?;
+        let time = match table.time.iter().copied().collect::<Option<Vec<f64>>>() {
+            Some(t) => t,
+            None => anyhow::bail!(
+                "{source}: the frames have no times (a `time` column is needed for events and cadence)"
+            ),
+        };
+        let frames = table
+            .points
+            .iter()
+            .map(|p| {
+                let v = |i: usize| Vec3::new(p[i][0], p[i][1], p[i][2]);
+                [0, 4].map(|b| Limb {
+                    hip: v(b),
+                    heel: v(b + 2),
+                    ankle: v(b + 2),
+                    forefoot: v(b + 3),
+                    toe: v(b + 3),
+                })
+            })
+            .collect();
+        return Ok((
+            Trial {
+                label,
+                source: source.to_string(),
+                time,
+                frames,
+                coordinates: None,
+                translation: None,
+            },
+            Vec::new(),
+        ));
+    }
+    let (table, mut warnings) = load_motion(source)?;
+    let foot = matches!(model, Model::Gait2392 { .. });
+    let points = PointModel::new(model, foot)?;
+    let mut time = Vec::with_capacity(table.rows());
+    let mut frames = Vec::with_capacity(table.rows());
+    let column_warnings = std::cell::RefCell::new(Vec::new());
+    let w = points.run(
+        MotionRows::from_table(table.clone()),
+        &|w| column_warnings.borrow_mut().extend(w),
+        |t, p| {
+            time.push(t);
+            // hip, knee, ankle, toe per side, then (gait2392) subtalar and MTP per side.
+            frames.push([0, 1].map(|s| {
+                let b = 4 * s;
+                let (heel, forefoot) = if foot {
+                    (p[8 + 2 * s], p[9 + 2 * s])
+                } else {
+                    (p[b + 2], p[b + 3])
+                };
+                Limb {
+                    hip: p[b],
+                    heel,
+                    ankle: p[b + 2],
+                    forefoot,
+                    toe: p[b + 3],
+                }
+            }));
+            Ok(())
+        },
+    );
+    let w = w?;
+    warnings.extend(column_warnings.into_inner());
+    warnings.extend(w);
+    // The joint angles of the recording (the model's FK gives the points only); their missing
+    // columns were reported above or are not needed by the points.
+    let (coordinates, coordinate_warnings) = points::gait2392_coordinates(&table)?;
+    for w in coordinate_warnings {
+        if !warnings.contains(&w) {
+            warnings.push(w);
+        }
+    }
+    // A translation that never changes (an IMU solution writes zeros) says nothing.
+    let moves = |c: &[f64]| c.iter().any(|v| (v - c[0]).abs() > 1e-6);
+    let translation = match (table.column("pelvis_tx"), table.column("pelvis_tz")) {
+        (Some(x), Some(z)) if moves(x) || moves(z) => {
+            Some(x.iter().zip(z).map(|(&x, &z)| [x, z]).collect())
+        }
+        _ => None,
+    };
+    Ok((
+        Trial {
+            label,
+            source: source.to_string(),
+            time,
+            frames,
+            coordinates: Some(coordinates),
+            translation,
+        },
+        warnings,
+    ))
+}
+
+/// The index of a coordinate in [`COORDINATES`].
+pub fn coordinate(name: &str) -> usize {
+    COORDINATES
+        .iter()
+        .position(|c| *c == name)
+        .unwrap_or_else(|| panic!("`{name}` is not a gait2392 coordinate"))
+}

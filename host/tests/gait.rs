@@ -1,0 +1,712 @@
+//! `qgait gait`: events on a synthetic turning walk against the truth, the IMU recording's
+//! strides and cadence against an independent estimate and against OpenSense's solution, the
+//! GPS against an independent RMS computation, and the files of the report.
+
+mod common;
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use common::{qgait, shared_dir, stderr};
+use qgait_kernel::imu::heading_free_pelvis;
+use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::{Gait2392, Gait2392Geometry, Joint, Side};
+
+/// A motion table: column names and rows (degrees for angles).
+struct Mot {
+    labels: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+fn read_mot(path: &Path) -> Mot {
+    let text = std::fs::read_to_string(path).unwrap();
+    let body = text.split("endheader").nth(1).unwrap();
+    let mut lines = body.lines().filter(|l| !l.trim().is_empty());
+    let labels = lines
+        .next()
+        .unwrap()
+        .split('\t')
+        .map(|s| s.trim().to_string())
+        .collect();
+    let rows = lines
+        .map(|l| l.split('\t').map(|v| v.trim().parse().unwrap()).collect())
+        .collect();
+    Mot { labels, rows }
+}
+
+impl Mot {
+    fn col(&self, name: &str) -> Vec<f64> {
+        let i = self.labels.iter().position(|l| l == name).unwrap();
+        self.rows.iter().map(|r| r[i]).collect()
+    }
+
+    fn write(&self, path: &Path) {
+        let mut s = format!(
+            "synthetic\nversion=1\nnRows={}\nnColumns={}\ninDegrees=yes\nendheader\n{}\n",
+            self.rows.len(),
+            self.labels.len(),
+            self.labels.join("\t")
+        );
+        for r in &self.rows {
+            let cells: Vec<String> = r.iter().map(|v| format!("{v}")).collect();
+            let _ = writeln!(s, "{}", cells.join("\t"));
+        }
+        std::fs::write(path, s).unwrap();
+    }
+}
+
+/// A CSV with a header: rows as maps.
+fn read_csv(path: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            head.iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+/// `(side, event, time)` of `events.csv`.
+fn events(dir: &Path) -> Vec<(String, String, f64)> {
+    read_csv(&dir.join("events.csv"))
+        .into_iter()
+        .map(|r| {
+            (
+                r["side"].clone(),
+                r["event"].clone(),
+                r["time"].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+fn gvs(dir: &Path, variable: &str, side: &str) -> f64 {
+    read_csv(&dir.join("gps.csv"))
+        .into_iter()
+        .find(|r| r["variable"] == variable && r["side"] == side)
+        .unwrap_or_else(|| panic!("no {variable},{side} in gps.csv"))["gvs_deg"]
+        .parse()
+        .unwrap()
+}
+
+fn param(dir: &Path, name: &str, side: &str) -> f64 {
+    read_csv(&dir.join("spatiotemporal.csv"))
+        .into_iter()
+        .find(|r| r["parameter"] == name && r["side"] == side)
+        .unwrap_or_else(|| panic!("no {name},{side} in spatiotemporal.csv"))["value"]
+        .parse()
+        .unwrap()
+}
+
+fn run_gait(args: &[&str]) {
+    let o = qgait(&[&["gait"], args].concat());
+    assert!(o.status.success(), "qgait gait {args:?}: {}", stderr(&o));
+}
+
+/// `value` of a single-cycle motion at `phase` (0..1) of its duration, linear between rows, the
+/// last row being the next cycle's first.
+fn periodic(time: &[f64], value: &[f64], phase: f64) -> f64 {
+    let t = time[0] + phase.rem_euclid(1.0) * (time[time.len() - 1] - time[0]);
+    let i = time.partition_point(|&x| x <= t).clamp(1, time.len() - 1);
+    let w = (t - time[i - 1]) / (time[i] - time[i - 1]);
+    value[i - 1] + w * (value[i] - value[i - 1])
+}
+
+/// Heading (degrees) of the synthetic walk at `t`: straight, a smooth 90 degree turn between
+/// 2 and 4 s, straight, a 60 degree turn back between 5.5 and 7 s.
+fn heading(t: f64) -> f64 {
+    let ramp = |t: f64, a: f64, b: f64| {
+        let x = ((t - a) / (b - a)).clamp(0.0, 1.0);
+        0.5 * (1.0 - (std::f64::consts::PI * x).cos())
+    };
+    90.0 * ramp(t, 2.0, 4.0) - 60.0 * ramp(t, 5.5, 7.0)
+}
+
+/// Events on a synthetic walk (the tutorial's normal cycle repeated, starting and ending in
+/// mid-stride, with two turns): every event within one frame of the truth, none extra. The
+/// truth is Zeni's definition on the same walk without the turns, computed here with the
+/// kernel's FK directly: in each cycle, the frame where the heel (toe tip) is furthest forward
+/// (back) of the pelvis along x.
+#[test]
+fn events_of_a_turning_synthetic_walk_are_within_one_frame_of_the_truth() {
+    let Some(shared) = shared_dir() else { return };
+    let normal = read_mot(&shared.join("data/opensim/normal.mot"));
+    let t_src = normal.col("time");
+    let (rate, cycles, start_phase) = (100.0, 8.0, 0.37);
+    let period = t_src[t_src.len() - 1] - t_src[0];
+    let n = (cycles * period * rate) as usize;
+    let time: Vec<f64> = (0..n).map(|i| i as f64 / rate).collect();
+    let phase = |t: f64| start_phase + t / period;
+    let columns: Vec<&str> = COORDINATES
+        .iter()
+        .copied()
+        .filter(|c| normal.labels.iter().any(|l| l == c))
+        .collect();
+    let values: Vec<Vec<f64>> = columns.iter().map(|c| normal.col(c)).collect();
+    // The turns rotate the whole body about the vertical through the pelvis origin: the
+    // pelvis's orientation turned by the heading in the ground frame, decomposed again into
+    // gait2392's tilt, list and rotation.
+    let model = Gait2392::<f64>::new(&Gait2392Geometry::generic()).unwrap();
+    let pelvis = ["pelvis_tilt", "pelvis_list", "pelvis_rotation"]
+        .map(|p| columns.iter().position(|c| *c == p).unwrap());
+    let row = |t: f64, turn: bool| -> Vec<f64> {
+        let mut r: Vec<f64> = values
+            .iter()
+            .map(|v| periodic(&t_src, v, phase(t)))
+            .collect();
+        if turn {
+            let p = pelvis.map(|i| r[i].to_radians());
+            let turned = heading_free_pelvis(&model, p, -heading(t).to_radians());
+            for (i, v) in pelvis.iter().zip(turned) {
+                r[*i] = v.to_degrees();
+            }
+        }
+        r
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mot = dir.path().join("walk.mot");
+    let mut labels = vec!["time".to_string()];
+    labels.extend(columns.iter().map(|c| c.to_string()));
+    Mot {
+        labels,
+        rows: time
+            .iter()
+            .map(|&t| [vec![t], row(t, true)].concat())
+            .collect(),
+    }
+    .write(&mot);
+
+    // The truth, on the straight walk.
+    let fk = |t: f64| {
+        let mut q = [0.0; 17];
+        for (c, v) in columns.iter().zip(row(t, false)) {
+            q[COORDINATES.iter().position(|x| x == c).unwrap()] = v.to_radians();
+        }
+        model.fk(&q)
+    };
+    let poses: Vec<_> = time.iter().map(|&t| fk(t)).collect();
+    let mut truth: Vec<(String, String, usize)> = Vec::new();
+    for side in Side::ALL {
+        let name = if side == Side::Right { "right" } else { "left" };
+        let heel: Vec<f64> = poses.iter().map(|p| p.subtalar(side).x).collect();
+        let toe: Vec<f64> = poses
+            .iter()
+            .map(|p| -p.bilateral().point(side, Joint::Toe).x)
+            .collect();
+        for (event, signal) in [("heel_strike", heel), ("toe_off", toe)] {
+            // Cycle windows bounded where the signal is lowest, so each holds one maximum.
+            let per = (period * rate) as usize;
+            let low = (0..per)
+                .min_by(|&a, &b| signal[a].total_cmp(&signal[b]))
+                .unwrap();
+            let mut a = 0;
+            let mut b = low;
+            while a < n {
+                let (lo, hi) = (a, b.min(n));
+                let i = (lo..hi)
+                    .max_by(|&x, &y| signal[x].total_cmp(&signal[y]))
+                    .unwrap();
+                // A maximum on a window's cut edge (the recording's ends) is no event.
+                if i > lo && i + 1 < hi && i > 2 && i + 3 < n {
+                    truth.push((name.to_string(), event.to_string(), i));
+                }
+                a = b;
+                b += per;
+            }
+        }
+    }
+    let out = dir.path().join("out");
+    run_gait(&[mot.to_str().unwrap(), "-q", "-o", out.to_str().unwrap()]);
+    let found = events(&out);
+    let frame = 1.0 / rate;
+    for (side, event, i) in &truth {
+        let t = time[*i];
+        assert!(
+            found
+                .iter()
+                .any(|(s, e, ft)| s == side && e == event && (ft - t).abs() <= frame + 1e-9),
+            "{side} {event} at {t} s not found within a frame: {found:?}"
+        );
+    }
+    for (side, event, ft) in &found {
+        assert!(
+            truth
+                .iter()
+                .any(|(s, e, i)| s == side && e == event && (time[*i] - ft).abs() <= frame + 1e-9),
+            "{side} {event} at {ft} s is not a true event"
+        );
+    }
+    assert!(truth.len() >= 28, "{} true events", truth.len());
+    // The straight strides are all kept: 7 cycles fit, the turning ones are left out.
+    let strides = param(&out, "stride_time", "both");
+    assert!(
+        (strides - period).abs() < 0.011,
+        "stride time {strides} vs {period}"
+    );
+}
+
+/// The 24 s IMU recording through `qgait imu`: its events agree with those of OpenSense's own
+/// solution of the first 12 s, and the stride time agrees with an independent estimate, the
+/// period of the knee angle (its autocorrelation's peak) over the walking part.
+#[test]
+fn imu_recording_strides_and_cadence() {
+    let Some(shared) = shared_dir() else { return };
+    let imu = shared.join("data/imu");
+    let dir = tempfile::tempdir().unwrap();
+    let mot = dir.path().join("walk.mot");
+    let o = qgait(&[
+        "-q",
+        "imu",
+        imu.join("walking_orientations.sto").to_str().unwrap(),
+        "--calibration",
+        imu.join("placement_orientations.sto").to_str().unwrap(),
+        "--base-imu",
+        "torso_imu",
+        "-o",
+        mot.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = dir.path().join("out");
+    run_gait(&[mot.to_str().unwrap(), "-q", "-o", out.to_str().unwrap()]);
+    let ours = events(&out);
+
+    // OpenSense's solution of the first 12 s gives the same events (same recording, same
+    // model): within 2 frames.
+    let os_out = dir.path().join("os");
+    let o = qgait(&[
+        "-q",
+        "gait",
+        imu.join("walking_gait2392_opensense_0-12s.sto")
+            .to_str()
+            .unwrap(),
+        "-o",
+        os_out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let theirs = events(&os_out);
+    assert!(theirs.len() >= 10, "{theirs:?}");
+    for (s, e, t) in &theirs {
+        assert!(
+            ours.iter()
+                .any(|(s2, e2, t2)| s == s2 && e == e2 && (t - t2).abs() <= 0.02),
+            "OpenSense's {s} {e} at {t} s has no match in {ours:?}"
+        );
+    }
+
+    // Every heel strike of a side is followed by its toe off before the next heel strike.
+    for side in ["right", "left"] {
+        let seq: Vec<&str> = ours
+            .iter()
+            .filter(|(s, _, _)| s == side)
+            .map(|(_, e, _)| e.as_str())
+            .collect();
+        assert!(
+            seq.windows(2).all(|w| w[0] != w[1]),
+            "{side}: events do not alternate: {seq:?}"
+        );
+        let strikes = seq.iter().filter(|e| **e == "heel_strike").count();
+        assert!(strikes >= 11, "{side}: {strikes} heel strikes");
+    }
+
+    // Independent estimate: the knee angle's period over 10-22 s (walking) from its
+    // autocorrelation, in 0.9-2.0 s.
+    let m = read_mot(&mot);
+    let time = m.col("time");
+    let knee = m.col("knee_angle_r");
+    let part: Vec<f64> = time
+        .iter()
+        .zip(&knee)
+        .filter(|(t, _)| **t >= 10.0 && **t <= 22.0)
+        .map(|(_, k)| *k)
+        .collect();
+    let mean = part.iter().sum::<f64>() / part.len() as f64;
+    let x: Vec<f64> = part.iter().map(|k| k - mean).collect();
+    let dt = time[1] - time[0];
+    let ac = |lag: usize| -> f64 {
+        (0..x.len() - lag).map(|i| x[i] * x[i + lag]).sum::<f64>() / (x.len() - lag) as f64
+    };
+    let (lo, hi) = ((0.9 / dt) as usize, (2.0 / dt) as usize);
+    let best = (lo..hi).max_by(|&a, &b| ac(a).total_cmp(&ac(b))).unwrap();
+    let knee_period = best as f64 * dt;
+    let stride = param(&out, "stride_time", "both");
+    let cadence = param(&out, "cadence", "both");
+    assert!(
+        (stride - knee_period).abs() / knee_period < 0.05,
+        "stride time {stride} s vs the knee's period {knee_period} s"
+    );
+    assert!((cadence - 120.0 / stride).abs() < 0.01);
+    println!("IMU walk: stride time {stride} s, cadence {cadence} steps/min, knee period {knee_period} s");
+}
+
+/// Resamples a single-cycle column at 0, 2, ..., 100 % of its duration (linear).
+fn at_51(time: &[f64], v: &[f64]) -> Vec<f64> {
+    (0..51)
+        .map(|k| {
+            let t = time[0] + (time[time.len() - 1] - time[0]) * k as f64 / 50.0;
+            let i = time.partition_point(|&x| x <= t).clamp(1, time.len() - 1);
+            let w = ((t - time[i - 1]) / (time[i] - time[i - 1])).clamp(0.0, 1.0);
+            v[i - 1] + w * (v[i] - v[i - 1])
+        })
+        .collect()
+}
+
+/// crouch1 and crouch4 against normal.mot, each one whole cycle: the right side's GVS of the
+/// joint angles match an RMS computed here from the files' columns.
+#[test]
+fn gps_of_crouch_against_normal_matches_an_independent_rms() {
+    let Some(shared) = shared_dir() else { return };
+    let data = shared.join("data/opensim");
+    let normal = read_mot(&data.join("normal.mot"));
+    let dir = tempfile::tempdir().unwrap();
+    for crouch in ["crouch1", "crouch4"] {
+        let path = data.join(format!("{crouch}.mot"));
+        let out: PathBuf = dir.path().join(crouch);
+        run_gait(&[
+            path.to_str().unwrap(),
+            "-q",
+            "--cycle",
+            "whole",
+            "--reference",
+            data.join("normal.mot").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        // Both files start at the right heel strike.
+        assert!(
+            events(&out)
+                .iter()
+                .any(|(s, e, t)| s == "right" && e == "heel_strike" && *t == 0.0),
+            "{crouch}: the right heel does not strike at 0"
+        );
+        let m = read_mot(&path);
+        for (variable, column, sign) in [
+            ("hip_flexion", "hip_flexion_r", 1.0),
+            ("hip_abduction", "hip_adduction_r", 1.0),
+            ("hip_rotation", "hip_rotation_r", 1.0),
+            ("knee_flexion", "knee_angle_r", -1.0),
+            ("ankle_dorsiflexion", "ankle_angle_r", 1.0),
+        ] {
+            let a = at_51(&m.col("time"), &m.col(column));
+            let b = at_51(&normal.col("time"), &normal.col(column));
+            let rms = (a
+                .iter()
+                .zip(&b)
+                .map(|(x, y)| (sign * x - sign * y).powi(2))
+                .sum::<f64>()
+                / 51.0)
+                .sqrt();
+            let got = gvs(&out, variable, "right");
+            assert!(
+                (got - rms).abs() < 0.02,
+                "{crouch} {variable}: {got} vs {rms}"
+            );
+        }
+        // The left side on its own cycle: from its heel strike inside the file, around the
+        // end (the file taken as periodic), in both the crouch and the reference.
+        let left_start = |dir: &Path| -> f64 {
+            events(dir)
+                .iter()
+                .find(|(s, e, _)| s == "left" && e == "heel_strike")
+                .expect("a left heel strike")
+                .2
+        };
+        let reference_dir = dir.path().join("normal-alone");
+        if !reference_dir.exists() {
+            run_gait(&[
+                data.join("normal.mot").to_str().unwrap(),
+                "-q",
+                "--cycle",
+                "whole",
+                "-o",
+                reference_dir.to_str().unwrap(),
+            ]);
+        }
+        let shifted = |m: &Mot, column: &str, start: f64| -> Vec<f64> {
+            let time = m.col("time");
+            let (t0, period) = (time[0], time[time.len() - 1] - time[0]);
+            let v = m.col(column);
+            (0..51)
+                .map(|k| periodic(&time, &v, (start - t0) / period + k as f64 / 50.0))
+                .collect()
+        };
+        for (variable, column, sign) in [
+            ("hip_flexion", "hip_flexion_l", 1.0),
+            ("knee_flexion", "knee_angle_l", -1.0),
+            ("ankle_dorsiflexion", "ankle_angle_l", 1.0),
+        ] {
+            let a = shifted(&m, column, left_start(&out));
+            let b = shifted(&normal, column, left_start(&reference_dir));
+            let rms = (a
+                .iter()
+                .zip(&b)
+                .map(|(x, y)| (sign * x - sign * y).powi(2))
+                .sum::<f64>()
+                / 51.0)
+                .sqrt();
+            let got = gvs(&out, variable, "left");
+            assert!(
+                (got - rms).abs() < 0.05,
+                "{crouch} left {variable}: {got} vs {rms}"
+            );
+        }
+        assert!(gvs(&out, "GPS", "both") > 5.0);
+    }
+    // A recording against itself scores 0.
+    let out = dir.path().join("self");
+    run_gait(&[
+        data.join("normal.mot").to_str().unwrap(),
+        "-q",
+        "--cycle",
+        "whole",
+        "--reference",
+        data.join("normal.mot").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(gvs(&out, "GPS", "both"), 0.0);
+}
+
+/// The report's files: the CSVs with their columns, 101-point cycles, the figures, and a
+/// self-contained HTML page with every figure inline.
+#[test]
+fn the_report_has_every_file_and_a_self_contained_page() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    run_gait(&[
+        shared.join("data/opensim/normal.mot").to_str().unwrap(),
+        "-q",
+        "--cycle",
+        "whole",
+        "--age",
+        "25",
+        "--sex",
+        "male",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let head = |f: &str| {
+        std::fs::read_to_string(out.join(f))
+            .unwrap()
+            .lines()
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(head("events.csv"), "side,event,time");
+    assert_eq!(head("gps.csv"), "variable,side,gvs_deg");
+    assert!(
+        head("spatiotemporal.csv").starts_with("parameter,side,value,unit,normal_min,normal_max")
+    );
+    let st = read_csv(&out.join("spatiotemporal.csv"));
+    for p in [
+        "cadence",
+        "stride_time",
+        "step_time",
+        "stance",
+        "swing",
+        "double_support",
+        "step_length",
+        "step_width",
+        "speed",
+    ] {
+        assert!(st.iter().any(|r| r["parameter"] == p), "no {p}");
+    }
+    // A single cycle has both toe offs, the left one close to the start (an extremum near an
+    // end counts when the signal falls all the way to it), so both sides' stance.
+    for side in ["right", "left"] {
+        let stance = param(&out, "stance", side);
+        assert!((55.0..70.0).contains(&stance), "{side} stance {stance}");
+    }
+    // Normal ranges for a 25-year-old man: cadence's.
+    let cad = st
+        .iter()
+        .find(|r| r["parameter"] == "cadence" && r["side"] == "both")
+        .unwrap();
+    assert!(!cad["normal_min"].is_empty(), "{cad:?}");
+    let gps = read_csv(&out.join("gps.csv"));
+    assert_eq!(gps.len(), 9 * 2 + 3);
+    let cycles = read_csv(&out.join("cycles/right.csv"));
+    assert_eq!(cycles.len(), 101);
+    assert!(
+        cycles[0].contains_key("knee_flexion_mean")
+            && cycles[0].contains_key("foot_progression_sd")
+    );
+    for f in ["kinematics", "map", "events"] {
+        assert!(out.join(format!("{f}.png")).is_file() && out.join(format!("{f}.svg")).is_file());
+    }
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert_eq!(html.matches("<svg").count(), 3);
+    assert!(!html.contains("<?xml"));
+    for external in ["src=\"http", "href=\"http", "<script src", "<link"] {
+        assert!(!html.contains(external), "external resource: {external}");
+    }
+    assert!(
+        html.contains("normal.mot")
+            && html.contains("gait2392")
+            && html.contains(env!("CARGO_PKG_VERSION"))
+    );
+    browser_check(&out.join("report.html"));
+}
+
+/// Renders the page in headless Chromium (when installed: `$QGAIT_CHROMIUM`, `chromium`,
+/// `chromium-browser` or `google-chrome`) and checks that the DOM it built holds every figure
+/// and that the browser logged no error.
+fn browser_check(page: &Path) {
+    let candidates: Vec<String> = std::env::var("QGAIT_CHROMIUM")
+        .into_iter()
+        .chain(["chromium", "chromium-browser", "google-chrome"].map(String::from))
+        .collect();
+    let Some(browser) = candidates.into_iter().find(|b| {
+        std::process::Command::new(b)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    }) else {
+        eprintln!("skipped the browser check: no headless Chromium found (set QGAIT_CHROMIUM)");
+        return;
+    };
+    let o = std::process::Command::new(&browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--enable-logging=stderr",
+            "--v=0",
+            "--dump-dom",
+        ])
+        .arg(format!("file://{}", page.canonicalize().unwrap().display()))
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{browser}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let dom = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        dom.matches("<svg").count(),
+        3,
+        "figures in the rendered page"
+    );
+    let log = String::from_utf8_lossy(&o.stderr);
+    for bad in ["Uncaught", "CONSOLE(", "Failed to load"] {
+        assert!(!log.contains(bad), "{browser} logged `{bad}`: {log}");
+    }
+}
+
+/// Errors name what is wrong.
+#[test]
+fn a_single_cycle_without_whole_and_a_bad_reference_are_clear_errors() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let o = qgait(&[
+        "gait",
+        shared.join("data/opensim/normal.mot").to_str().unwrap(),
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--cycle whole"), "{}", stderr(&o));
+    let o = qgait(&[
+        "gait",
+        shared.join("data/opensim/normal.mot").to_str().unwrap(),
+        "--reference",
+        "normative:medium",
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(
+        stderr(&o).contains("unknown speed `medium`"),
+        "{}",
+        stderr(&o)
+    );
+    // A reference motion without strides is refused like the subject's.
+    let o = qgait(&[
+        "gait",
+        shared
+            .join("data/imu/walking_gait2392_opensense_0-12s.sto")
+            .to_str()
+            .unwrap(),
+        "--reference",
+        shared.join("data/opensim/normal.mot").to_str().unwrap(),
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("normal.mot: no complete stride"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// A device's frames (points only, as `qgait emulate --frames-csv` writes them): events and
+/// spatiotemporal parameters from the points, no angles and so no GPS; the events agree with
+/// those of the same motion through PHAK.
+#[test]
+fn device_frames_give_events_and_spatiotemporal_parameters() {
+    let Some(shared) = shared_dir() else { return };
+    let normal = shared.join("data/opensim/normal.mot");
+    let dir = tempfile::tempdir().unwrap();
+    let fk = dir.path().join("fk.csv");
+    let o = qgait(&[
+        "-q",
+        "fk",
+        normal.to_str().unwrap(),
+        "--model",
+        "phak",
+        "-o",
+        fk.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&fk).unwrap();
+    let mut frames = String::new();
+    for (i, line) in text.lines().enumerate() {
+        if i == 0 {
+            let _ = writeln!(frames, "seq,{line}");
+        } else {
+            let _ = writeln!(frames, "{},{line}", i - 1);
+        }
+    }
+    let csv = dir.path().join("frames.csv");
+    std::fs::write(&csv, frames).unwrap();
+    let out = dir.path().join("frames");
+    run_gait(&[
+        csv.to_str().unwrap(),
+        "-q",
+        "--cycle",
+        "whole",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let from_points = events(&out);
+    let out_mot = dir.path().join("mot");
+    run_gait(&[
+        normal.to_str().unwrap(),
+        "-q",
+        "--model",
+        "phak",
+        "--cycle",
+        "whole",
+        "-o",
+        out_mot.to_str().unwrap(),
+    ]);
+    assert_eq!(from_points.len(), events(&out_mot).len());
+    for ((s, e, t), (s2, e2, t2)) in from_points.iter().zip(&events(&out_mot)) {
+        assert!(
+            s == s2 && e == e2 && (t - t2).abs() < 1e-4,
+            "{s} {e} {t} vs {s2} {e2} {t2}"
+        );
+    }
+    assert!(param(&out, "cadence", "both") > 100.0);
+    assert!(!out.join("gps.csv").exists());
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("no joint angles"));
+    assert_eq!(html.matches("<svg").count(), 1);
+}
