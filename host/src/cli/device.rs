@@ -8,20 +8,20 @@ use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
+use qgait_emulate::faults::Arrivals;
+use qgait_emulate::firmware;
+use qgait_emulate::qemu::Echo;
+use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseFrame, Status};
 
 use crate::device::config::{frames, messages, HubModel, HubSettings};
-use crate::device::faults::Arrivals;
-use crate::device::firmware;
 use crate::device::frames_csv;
 use crate::device::live::LiveView;
 use crate::device::log::{HubLog, LogDecoder, Record};
 use crate::device::packets::{Samples, Timing};
 use crate::device::port::{self, Input, Until};
-use crate::device::qemu::Echo;
-use crate::device::session::{self, closing_frames, InputCounts, Limits};
 use crate::device::verify::{DeviceModel, Expected, Verification, Verifier, MISSING_LISTED};
 use crate::model::kinematics::Model;
 use crate::model::spec::ModelSpec;
