@@ -348,23 +348,17 @@ pub fn run(elf: &Path) -> Result<Report, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use qgait_proto::{PoseFrame, PROTOCOL_VERSION};
+    use qgait_emulate::packet;
+    use qgait_proto::PoseFrame;
 
     fn samples() -> Vec<Vec<JointAngle>> {
         (0..SAMPLES)
             .map(|seq| {
+                let angle = |j: JointId| 0.01 * seq as f32 + 0.001 * f32::from(j.index());
                 ModelId::Phak
                     .required_joints()
                     .iter()
-                    .map(|&joint| JointAngle {
-                        version: PROTOCOL_VERSION,
-                        node: joint.index(),
-                        joint,
-                        seq,
-                        timestamp_us: seq * 5000,
-                        angle: 0.01 * seq as f32 + 0.001 * joint.index() as f32,
-                        quality: 0,
-                    })
+                    .map(|&j| packet(seq, seq * 5000, j, angle(j)))
                     .collect()
             })
             .collect()

@@ -401,19 +401,7 @@ impl Arrivals {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use qgait_proto::PROTOCOL_VERSION;
-
-    fn packet(seq: u32, timestamp_us: u32, joint: JointId, angle: f32) -> JointAngle {
-        JointAngle {
-            version: PROTOCOL_VERSION,
-            node: joint.index(),
-            joint,
-            seq,
-            timestamp_us,
-            angle,
-            quality: 0,
-        }
-    }
+    use crate::packet;
 
     /// The clean stream of `samples`: a 0x00, then each packet's frame.
     fn stream(samples: &[Vec<JointAngle>]) -> Vec<u8> {

@@ -7,7 +7,20 @@ pub mod firmware;
 pub mod qemu;
 pub mod session;
 
-use qgait_proto::{encode_frame, Message, MAX_FRAME_LEN};
+use qgait_proto::{encode_frame, JointAngle, JointId, Message, MAX_FRAME_LEN, PROTOCOL_VERSION};
+
+/// One packet as a node sends it: node id = joint id (one node per joint), quality 0 (good).
+pub fn packet(seq: u32, timestamp_us: u32, joint: JointId, angle: f32) -> JointAngle {
+    JointAngle {
+        version: PROTOCOL_VERSION,
+        node: joint.index(),
+        joint,
+        seq,
+        timestamp_us,
+        angle,
+        quality: 0,
+    }
+}
 
 /// Appends one framed message (its trailing 0x00 included).
 pub fn push_frame(out: &mut Vec<u8>, message: &Message) {

@@ -372,16 +372,8 @@ mod tests {
         let status = Message::Status(qgait_proto::Status::default());
         let mut input = Vec::new();
         push_frame(&mut input, &status);
-        let packet = qgait_proto::JointAngle {
-            version: qgait_proto::PROTOCOL_VERSION,
-            node: qgait_proto::JointId::KneeAngleR.index(),
-            joint: qgait_proto::JointId::KneeAngleR,
-            seq: 1,
-            timestamp_us: 0,
-            angle: 0.1,
-            quality: 0,
-        };
-        push_frame(&mut input, &Message::JointAngle(packet));
+        let p = crate::packet(1, 0, qgait_proto::JointId::KneeAngleR, 0.1);
+        push_frame(&mut input, &Message::JointAngle(p));
         let counts = InputCounts::of(&input);
         assert_eq!((counts.accepted, counts.rejected), (1, 1));
     }

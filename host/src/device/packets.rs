@@ -3,7 +3,7 @@
 //! by row as the motion is read (any length in constant memory); [`Samples`] holds a motion's
 //! samples for the emulator.
 
-use qgait_proto::{JointAngle, JointId, Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION};
+use qgait_proto::{JointAngle, Message, ModelId, MAX_FRAME_LEN};
 
 use std::cell::RefCell;
 
@@ -183,20 +183,7 @@ pub fn write_stream(
     Ok((counts, warnings))
 }
 
-/// One packet as a node sends it: node id = joint id (one node per joint), quality 0 (good).
-pub fn packet(seq: u32, timestamp_us: u32, joint: JointId, angle: f32) -> JointAngle {
-    JointAngle {
-        version: PROTOCOL_VERSION,
-        node: joint.index(),
-        joint,
-        seq,
-        timestamp_us,
-        angle,
-        quality: 0,
-    }
-}
-
-pub use qgait_emulate::push_frame;
+pub use qgait_emulate::{packet, push_frame};
 
 /// The stream of `packets`: a 0x00 first (so the first frame survives any earlier line noise),
 /// then each packet's frame.
