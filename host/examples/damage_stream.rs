@@ -9,7 +9,7 @@
 
 use std::process::ExitCode;
 
-use qgait::device::faults::{damage, samples_of_stream, Fate, FaultPlan};
+use qgait_emulate::faults::{damage, samples_of_stream, Fate, FaultPlan};
 
 fn run(args: &[String]) -> Result<(), String> {
     let (input, output, seed) = match args {

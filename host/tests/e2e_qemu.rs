@@ -18,14 +18,14 @@ use std::path::Path;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use qgait::device::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
 use qgait::device::log::HubLog;
 use qgait::device::packets::{Samples, Timing};
-use qgait::device::qemu::Echo;
-use qgait::device::session::{self, closing_frames, InputCounts, Limits};
 use qgait::device::verify::{Expected, Verification};
 use qgait::motion::source::load_motion;
 use qgait::opensim::mot::MotionTable;
+use qgait_emulate::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
+use qgait_emulate::qemu::Echo;
+use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
 use qgait_proto::{
     Config, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseModels, Status,
 };
@@ -60,7 +60,7 @@ struct Run {
 fn run(elf: &Path, stream: &[u8], what: &str) -> Run {
     let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
     let mut input = vec![0u8];
-    qgait::device::packets::push_frame(&mut input, &Message::Config(config()));
+    qgait_emulate::push_frame(&mut input, &Message::Config(config()));
     input.extend_from_slice(stream);
     input.extend(closing_frames(&Message::Config(config())).unwrap());
     let expected = InputCounts::of(&input);
@@ -161,7 +161,7 @@ fn clean(elf: &Path, samples: &Samples, what: &str) -> f64 {
 
 /// A damaged stream: every sample whose packets all arrived intact has a correct frame, no
 /// other sample has one, and the status accounts for every packet the link dropped or
-/// damaged ([`device::faults`](qgait::device::faults) says what that means): its decode
+/// damaged ([`faults`](qgait_emulate::faults) says what that means): its decode
 /// counters equal the protocol decoder's on the damaged stream, and its accepted packets,
 /// decode errors and complete and incomplete samples equal what the link's ledger predicts.
 fn damaged(elf: &Path, samples: &Samples, plan: FaultPlan, what: &str) {

@@ -22,8 +22,8 @@ use std::time::{Duration, Instant};
 
 use qgait::device::frames_csv;
 use qgait::device::packets::{push_frame, stream, Samples, Timing};
-use qgait::device::qemu::{Echo, Qemu};
 use qgait::motion::source::load_motion;
+use qgait_emulate::qemu::{Echo, Qemu};
 use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, PoseFrame, PoseModels};
 
 /// Samples per run.

@@ -22,9 +22,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 use std::time::Duration;
 
+use clap::Args;
 use object::{Object, ObjectSymbol};
-use qgait::device::qemu::Echo;
+use qgait_emulate::qemu::{Echo, Qemu};
 
+use crate::cargo::cargo;
 use crate::elf_size::footprint;
 
 mod large;
@@ -332,28 +334,37 @@ const HOST: &[(&str, &str, f64)] = &[
     ),
 ];
 
+/// `cargo xtask bench` flags.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Skip the criterion benches of the host (they take minutes and want a quiet machine).
+    #[arg(long)]
+    pub no_host: bool,
+    /// Skip the firmware's flash, RAM and stack figures.
+    #[arg(long)]
+    pub no_footprint: bool,
+    /// Skip the large-file figures.
+    #[arg(long)]
+    pub no_large: bool,
+    /// Only the large-file figures.
+    #[arg(long)]
+    pub large_only: bool,
+}
+
 /// Runs every benchmark and prints the figures.
-pub fn run(args: &[String]) -> Result<ExitCode, String> {
-    const FLAGS: [&str; 4] = ["--no-host", "--no-footprint", "--no-large", "--large-only"];
-    let has = |f: &str| args.iter().any(|a| a == f);
-    if let Some(other) = args.iter().find(|a| !FLAGS.contains(&a.as_str())) {
-        return Err(format!(
-            "bench: unknown argument {other} ({})",
-            FLAGS.join(", ")
-        ));
-    }
-    if has("--large-only") {
+pub fn run(args: &BenchArgs) -> Result<ExitCode, String> {
+    if args.large_only {
         large::run()?;
         return Ok(ExitCode::SUCCESS);
     }
     device()?;
-    if !has("--no-footprint") {
+    if !args.no_footprint {
         firmware_footprint()?;
     }
-    if !has("--no-host") {
+    if !args.no_host {
         host_benches()?;
     }
-    if !has("--no-large") {
+    if !args.no_large {
         large::run()?;
     }
     Ok(ExitCode::SUCCESS)
@@ -367,23 +378,6 @@ fn firmware_target_dir() -> PathBuf {
     std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| repo_root().join("firmware/target"))
-}
-
-/// `cargo ARGS` in `dir`, all of its output to stderr.
-fn cargo(dir: &Path, args: &[&str]) -> Result<(), String> {
-    eprintln!("==> cargo {} (in {})", args.join(" "), dir.display());
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::from(std::io::stderr()))
-        .status()
-        .map_err(|e| format!("starting cargo: {e}"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("cargo {} failed", args.join(" ")))
-    }
 }
 
 /// Device instruction counts: two runs of the bench binary, compared, then printed.
@@ -425,15 +419,14 @@ fn device() -> Result<(), String> {
 }
 
 /// Runs the bench ELF once under QEMU with instruction counting (the shared runner,
-/// `qgait::device::qemu`); returns its `bench NAME VALUE` figures.
+/// `qgait_emulate::qemu`); returns its `bench NAME VALUE` figures.
 fn run_bench_elf(elf: &Path) -> Result<BTreeMap<String, f64>, String> {
     eprintln!(
         "==> qemu-system-arm -M mps2-an386 -icount shift=0,align=off -kernel {}",
         elf.display()
     );
-    let finished =
-        crate::qemu::Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)?
-            .wait(QEMU_TIMEOUT);
+    let finished = Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)?
+        .wait(QEMU_TIMEOUT);
     let mut figures = BTreeMap::new();
     for line in &finished.log {
         eprintln!("  {line}");

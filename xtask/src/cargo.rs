@@ -39,6 +39,38 @@ fn is_summary(line: &str) -> bool {
     on_target || line.starts_with("test result:") || line.starts_with("uart session: ")
 }
 
+/// `cargo ARGS` in `dir`, all of its output to stderr.
+pub fn cargo(dir: &Path, args: &[&str]) -> Result<(), String> {
+    eprintln!("==> cargo {} (in {})", args.join(" "), dir.display());
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::from(std::io::stderr()))
+        .status()
+        .map_err(|e| format!("starting cargo: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("cargo {} failed", args.join(" ")))
+    }
+}
+
+/// Builds the release `qgait` binary (cargo's output on stderr) and returns its path: the
+/// tasks that need the CLI's work (packets of the built-in gait, hub configurations,
+/// `emulate`, `verify`, figures) run it rather than link the `qgait` library.
+pub fn qgait_binary() -> Result<PathBuf, String> {
+    let root = crate::repo_root();
+    cargo(
+        &root,
+        &["build", "--release", "-p", "qgait", "--bin", "qgait"],
+    )?;
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
+    Ok(target.join("release/qgait"))
+}
+
 /// Runs `cargo ARGS` in `dir` with extra environment `env`, streaming its output.
 pub fn step(name: &str, dir: &Path, args: &[&str], env: &[(&str, String)]) -> Step {
     println!(

@@ -1,24 +1,29 @@
 //! `cargo xtask demo`: the main job in one command. Installs what is missing (rustup target,
 //! QEMU), builds the release firmware, runs it under QEMU on the built-in normal gait (its
 //! packets streamed into UART0), decodes and verifies every frame against the f64 kernel, and
-//! draws the device's frames into `out/demo/`.
+//! draws the device's frames into `out/demo/`, all with the release `qgait` binary.
 
-use std::process::ExitCode;
+use std::path::Path;
+use std::process::{Command, ExitCode};
 
-use clap::Parser;
-use qgait::cli::{run, Cli};
-
-use crate::cargo::step;
+use crate::cargo::{qgait_binary, step};
 use crate::repo_root;
 
 /// The folder the demo writes to, relative to the repository root.
 pub const OUT: &str = "out/demo";
 
-fn qgait(args: &[&str]) -> Result<(), String> {
+/// Runs `qgait ARGS`, its output through.
+fn qgait(exe: &Path, args: &[&str]) -> Result<(), String> {
     println!("\n==> qgait {}", args.join(" "));
-    let cli = Cli::try_parse_from(std::iter::once("qgait").chain(args.iter().copied()))
-        .map_err(|e| e.to_string())?;
-    run(cli).map_err(|e| format!("qgait {}: {e:#}", args[0]))
+    let status = Command::new(exe)
+        .args(args)
+        .status()
+        .map_err(|e| format!("starting {}: {e}", exe.display()))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("qgait {} failed ({status})", args[0]))
+    }
 }
 
 /// Runs the demo.
@@ -35,6 +40,7 @@ pub fn run_demo() -> Result<ExitCode, String> {
     {
         return Err("building the firmware failed".into());
     }
+    let exe = qgait_binary()?;
     let out = root.join(OUT);
     std::fs::create_dir_all(&out).map_err(|e| format!("creating {}: {e}", out.display()))?;
     let frames = out.join("frames.csv");
@@ -45,27 +51,33 @@ pub fn run_demo() -> Result<ExitCode, String> {
         log.to_string_lossy(),
         figures.to_string_lossy(),
     );
-    qgait(&[
-        "emulate",
-        "builtin:normal",
-        "--verify",
-        "--frames-csv",
-        &frames,
-        "--log",
-        &log,
-    ])?;
+    qgait(
+        &exe,
+        &[
+            "emulate",
+            "builtin:normal",
+            "--verify",
+            "--frames-csv",
+            &frames,
+            "--log",
+            &log,
+        ],
+    )?;
     // The device's frames beside the host's f64 computation of the same gait.
-    qgait(&[
-        "report",
-        &frames,
-        "builtin:normal",
-        "--label",
-        "device (QEMU, f32)",
-        "--label",
-        "host (f64)",
-        "-o",
-        &figures,
-    ])?;
+    qgait(
+        &exe,
+        &[
+            "report",
+            &frames,
+            "builtin:normal",
+            "--label",
+            "device (QEMU, f32)",
+            "--label",
+            "host (f64)",
+            "-o",
+            &figures,
+        ],
+    )?;
     println!(
         "\ndemo: frames, hub log and figures in {}",
         out.canonicalize().unwrap_or(out).display()

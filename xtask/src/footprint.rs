@@ -5,15 +5,14 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use qgait_emulate::firmware::default_elf;
+
 use crate::cargo::step;
 use crate::elf_size::{footprint, Footprint};
 use crate::repo_root;
 
 fn elf_path() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| repo_root().join("firmware/target"));
-    target.join("thumbv7em-none-eabihf/release/qgait-firmware")
+    default_elf(&repo_root())
 }
 
 fn build_and_measure(name: &str, args: &[&str]) -> Result<Footprint, String> {

@@ -13,13 +13,15 @@
 //! - `footprint`: flash and static RAM of the release builds of both boards, the peak stack
 //!   measured under QEMU, and an upper bound of the stack from the disassembly
 //!   ([`stack_bound`]).
+//!
+//! xtask links the emulation harness (`qgait-emulate`), not the `qgait` library: what needs the
+//! CLI's work runs the release `qgait` binary ([`cargo::qgait_binary`]).
 
 mod bench;
 mod cargo;
 mod demo;
 mod elf_size;
 mod footprint;
-mod gait;
 mod qemu;
 mod session;
 mod stack_bound;
@@ -29,26 +31,44 @@ mod toolchain;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: cargo xtask <command>
-  demo                 the firmware under QEMU on the built-in gait: frames decoded, verified, drawn into out/demo
-  test                 run every test suite (host, firmware builds, QEMU, end-to-end) and summarise
-  qemu-run ELF [ARGS]  run a firmware ELF under QEMU mps2-an386 with decoded defmt logs
-  footprint            flash, static RAM, peak stack and stack bound of the release firmware
-  bench [--no-host] [--no-footprint] [--no-large] [--large-only]
-                       every benchmark figure (device, footprint, host), one `NAME VALUE` line each";
+use clap::{Parser, Subcommand};
+
+/// Developer tasks of qgait.
+#[derive(Debug, Parser)]
+#[command(name = "cargo xtask")]
+struct Xtask {
+    #[command(subcommand)]
+    command: Task,
+}
+
+#[derive(Debug, Subcommand)]
+enum Task {
+    /// The firmware under QEMU on the built-in gait: frames decoded, verified, drawn into out/demo.
+    Demo,
+    /// Run every test suite (host, firmware builds, QEMU, end-to-end) and summarise.
+    Test,
+    /// Run a firmware ELF under QEMU mps2-an386 with decoded defmt logs (the firmware's cargo
+    /// runner).
+    QemuRun {
+        /// The firmware ELF.
+        elf: PathBuf,
+        /// Arguments cargo passes after the ELF (not used).
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
+    /// Flash, static RAM, peak stack and stack bound of the release firmware.
+    Footprint,
+    /// Every benchmark figure (device, footprint, host), one `NAME VALUE` line each.
+    Bench(bench::BenchArgs),
+}
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let result = match args.first().map(String::as_str) {
-        Some("test") => test::run(),
-        Some("demo") => demo::run_demo(),
-        Some("footprint") => footprint::run(),
-        Some("bench") => bench::run(&args[1..]),
-        Some("qemu-run") => match args.get(1) {
-            Some(elf) => qemu::run_elf(&PathBuf::from(elf)),
-            None => Err(format!("qemu-run needs the ELF path\n{USAGE}")),
-        },
-        _ => Err(USAGE.to_string()),
+    let result = match Xtask::parse().command {
+        Task::Test => test::run(),
+        Task::Demo => demo::run_demo(),
+        Task::Footprint => footprint::run(),
+        Task::Bench(args) => bench::run(&args),
+        Task::QemuRun { elf, .. } => qemu::run_elf(&elf),
     };
     match result {
         Ok(code) => code,
@@ -59,7 +79,57 @@ fn main() -> ExitCode {
     }
 }
 
+/// A temporary directory, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    /// Creates `NAME-PID` in the system's temporary directory.
+    fn new(name: &str) -> Result<TempDir, String> {
+        let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        Ok(TempDir(dir))
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
 /// The repository root (xtask's parent directory).
 fn repo_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Result<Task, clap::Error> {
+        Xtask::try_parse_from(std::iter::once("xtask").chain(args.iter().copied()))
+            .map(|x| x.command)
+    }
+
+    #[test]
+    fn the_runner_takes_the_elf_and_ignores_what_follows() {
+        let Ok(Task::QemuRun { elf, args }) = parse(&["qemu-run", "fw.elf", "--flag", "x"]) else {
+            panic!("qemu-run with an ELF parses")
+        };
+        assert_eq!(
+            (elf, args),
+            (PathBuf::from("fw.elf"), vec!["--flag".into(), "x".into()])
+        );
+        assert!(parse(&["qemu-run"]).is_err(), "the ELF is required");
+    }
+
+    #[test]
+    fn bench_flags_parse_and_unknown_ones_are_refused() {
+        let Ok(Task::Bench(b)) = parse(&["bench", "--no-host", "--no-large"]) else {
+            panic!("bench flags parse")
+        };
+        assert!(b.no_host && b.no_large && !b.no_footprint && !b.large_only);
+        assert!(parse(&["bench", "--fast"]).is_err());
+        assert!(parse(&["frobnicate"]).is_err());
+    }
 }

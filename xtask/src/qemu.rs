@@ -1,12 +1,12 @@
 //! The firmware's cargo runner. Running QEMU (mps2-an386, semihosting, defmt decoded
-//! in-process, always under a timeout) lives in the host library (`qgait::device::qemu`),
+//! in-process, always under a timeout) lives in the emulation harness (`qgait_emulate::qemu`),
 //! shared with `qgait emulate` and the end-to-end tests.
 
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Duration;
 
-pub use qgait::device::qemu::Qemu;
+use qgait_emulate::qemu::Qemu;
 
 /// Longest a firmware run may take before it is killed and counted as failed.
 pub const TIMEOUT: Duration = Duration::from_secs(60);

@@ -1,26 +1,26 @@
-//! The end-to-end UART session with the application firmware under QEMU: a stream of PHAK
-//! joint-angle packets (interleaved across samples, with injected faults) goes in through
-//! UART0, the pose frames that come back are checked against the kernel in f64 on the host,
-//! and a requested `Status` must count every injected fault exactly. The session ends with
-//! model switches (gait2392, HAK, a subject's gait2392 uploaded in parts, back to PHAK), so
-//! that the stack peak the firmware logs covers them.
+//! The end-to-end UART session with the application firmware under QEMU. The built-in normal
+//! gait (200 PHAK samples, from `qgait packets`) goes in through UART0 with the packets of
+//! consecutive samples interleaved and faults injected (a sample missing a joint, line noise, a
+//! corrupted frame, a duplicate and a late packet), then every kind of model switch (`qgait
+//! config`: the generic gait2392, HAK with a subject's lengths, a subject's gait2392 uploaded
+//! in parts), so that the stack peak the firmware logs covers them.
+//!
+//! `qgait emulate --stream ... --verify` runs it (the flow-controlled session of
+//! `qgait-emulate`, which ends with a status request): it checks every pose frame against the
+//! `f64` kernel and that the hub's counters account for every frame of the input. This module
+//! checks, from the hub's UART output and status, that each injected fault was counted exactly
+//! once and that every frame echoes the angles sent, and reads the stack peak from the
+//! firmware's log.
 
-use std::io::{Read, Write};
-use std::os::unix::net::{UnixListener, UnixStream};
-use std::path::Path;
-use std::thread;
-use std::time::{Duration, Instant};
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
-use qgait::device::config::{self, HubModel, HubSettings};
-use qgait_kernel::metrics::distances;
-use qgait_kernel::{Anthropometry, Gait2392Geometry, Limb, Phak, PhakAngles};
-use qgait_proto::{
-    encode_frame, Config, FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId,
-    PoseFrame, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
-};
+use qgait_emulate::faults::samples_of_stream;
+use qgait_emulate::push_frame;
+use qgait_proto::{FrameDecoder, JointAngle, JointId, Message, ModelId};
 
-use crate::gait;
-use crate::qemu::Qemu;
+use crate::cargo::qgait_binary;
+use crate::{repo_root, TempDir};
 
 /// Samples sent.
 const SAMPLES: u32 = 200;
@@ -30,10 +30,14 @@ const INCOMPLETE_SEQ: u32 = 50;
 const DUPLICATE_SEQ: u32 = 120;
 /// Sample whose knee_angle_r packet is sent again long after its window closed.
 const LATE_SEQ: u32 = 10;
-/// Largest accepted distance between a firmware point (f32) and the host's f64 value (m).
-const TOLERANCE_M: f64 = 5e-6;
-/// Longest the whole session may take.
-const DEADLINE: Duration = Duration::from_secs(60);
+/// Largest accepted distance between a firmware point (f32) and the host's f64 value (µm).
+const TOLERANCE_UM: &str = "5";
+/// The model switches, as `qgait config --model` arguments (relative to the repository root).
+const SWITCHES: [&[&str]; 3] = [
+    &["gait2392"],
+    &["hak", "--anthropometry", "xtask/data/hak.toml"],
+    &["xtask/data/subject.toml"],
+];
 
 /// The outcome of a session.
 pub struct Report {
@@ -50,41 +54,30 @@ impl Report {
     }
 }
 
-/// The bytes to send and the counters they must produce.
+/// The bytes to send and what the hub must count for them.
 struct Plan {
     bytes: Vec<u8>,
     packets_accepted: u32,
     decode_errors: u32,
 }
 
-fn push_frame(bytes: &mut Vec<u8>, message: &Message) {
-    let mut buf = [0u8; MAX_FRAME_LEN];
-    let frame = encode_frame(message, &mut buf).expect("every message fits MAX_FRAME_LEN");
-    bytes.extend_from_slice(frame);
+/// The packet of `joint` in `sample`.
+fn packet(sample: &[JointAngle], joint: JointId) -> Message {
+    let p = sample.iter().find(|p| p.joint == joint);
+    Message::JointAngle(*p.expect("every PHAK sample has every PHAK joint"))
 }
 
-fn packet(seq: u32, joint: JointId) -> Message {
-    Message::JointAngle(JointAngle {
-        version: PROTOCOL_VERSION,
-        node: joint.index(),
-        joint,
-        seq,
-        timestamp_us: seq * 10_000,
-        angle: gait::angle(joint, seq),
-        quality: 0,
-    })
-}
-
-fn plan() -> Plan {
-    let joints = ModelId::Phak.required_joints();
-    let mut bytes = Vec::new();
+/// The session's input: `samples` (PHAK, one `Vec` per sample) with the faults, then
+/// `switches` (configuration frames).
+fn plan(samples: &[Vec<JointAngle>], switches: &[u8]) -> Plan {
+    let mut bytes = vec![0u8];
     let mut packets = 0;
     // Samples go in pairs, their packets interleaved, so every sample is reordered.
     for pair in (0..SAMPLES).step_by(2) {
-        for &joint in joints {
+        for &joint in ModelId::Phak.required_joints() {
             for seq in [pair + 1, pair] {
                 if !(seq == INCOMPLETE_SEQ && joint == JointId::AnkleAngleL) {
-                    push_frame(&mut bytes, &packet(seq, joint));
+                    push_frame(&mut bytes, &packet(&samples[seq as usize], joint));
                     packets += 1;
                 }
             }
@@ -98,63 +91,28 @@ fn plan() -> Plan {
             100 => {
                 // A frame with one corrupted byte (kept non-zero): one CRC or framing error.
                 let mut frame = Vec::new();
-                push_frame(&mut frame, &packet(pair, JointId::HipFlexionR));
+                push_frame(
+                    &mut frame,
+                    &packet(&samples[pair as usize], JointId::HipFlexionR),
+                );
                 let i = frame.len() / 2;
                 frame[i] ^= if frame[i] == 0x01 { 0x02 } else { 0x01 };
                 bytes.extend_from_slice(&frame);
             }
             p if p == DUPLICATE_SEQ => {
-                push_frame(&mut bytes, &packet(DUPLICATE_SEQ, JointId::HipFlexionR));
+                let sample = &samples[DUPLICATE_SEQ as usize];
+                push_frame(&mut bytes, &packet(sample, JointId::HipFlexionR));
                 packets += 1;
             }
             150 => {
-                push_frame(&mut bytes, &packet(LATE_SEQ, JointId::KneeAngleR));
+                let sample = &samples[LATE_SEQ as usize];
+                push_frame(&mut bytes, &packet(sample, JointId::KneeAngleR));
                 packets += 1;
             }
             _ => {}
         }
     }
-    // Every kind of model switch, so that the stack peak the firmware logs covers them: the
-    // generic gait2392, HAK with a subject's lengths, a subject gait2392 uploaded in parts,
-    // then back to the default PHAK with the status request.
-    let settings = HubSettings {
-        missing_policy: MissingPolicy::Drop,
-        reorder_window: 4,
-        request_status: false,
-    };
-    let mut scaled = Gait2392Geometry::generic();
-    scaled.right.ankle_in_tibia[1] *= 1.1;
-    let hak = Limb {
-        pelvis_half_width: 0.09,
-        femur: 0.43,
-        tibia: 0.41,
-        foot: 0.17,
-    };
-    let switches = [
-        HubModel::Gait2392,
-        HubModel::Stick {
-            model: ModelId::Hak,
-            anthropometry: Some(Anthropometry::symmetric(hak)),
-        },
-        HubModel::Subject {
-            geometry: Box::new(scaled),
-            upload: None,
-        },
-    ];
-    for model in &switches {
-        let messages = config::messages(model, settings).expect("the session's models are valid");
-        for message in &messages {
-            push_frame(&mut bytes, message);
-        }
-    }
-    let request = Config {
-        model: ModelId::Phak,
-        anthropometry: None,
-        missing_policy: MissingPolicy::Drop,
-        reorder_window: 4,
-        request_status: true,
-    };
-    push_frame(&mut bytes, &Message::Config(request));
+    bytes.extend_from_slice(switches);
     Plan {
         bytes,
         packets_accepted: packets,
@@ -162,141 +120,70 @@ fn plan() -> Plan {
     }
 }
 
-/// Largest |f32 - f64| over the points and distances of `frame`, and whether its angles are
-/// exactly the ones sent.
-fn compare(phak: &Phak<f64>, frame: &PoseFrame) -> (f64, bool) {
-    let sent: Vec<f32> = ModelId::Phak
-        .required_joints()
-        .iter()
-        .map(|&j| gait::angle(j, frame.seq))
-        .collect();
-    let angles = PhakAngles {
-        pelvis_rotation: f64::from(sent[0]),
-        pelvis_list: f64::from(sent[1]),
-        hip_flexion_r: f64::from(sent[2]),
-        knee_angle_r: f64::from(sent[3]),
-        ankle_angle_r: f64::from(sent[4]),
-        hip_flexion_l: f64::from(sent[5]),
-        knee_angle_l: f64::from(sent[6]),
-        ankle_angle_l: f64::from(sent[7]),
-    };
-    let pose = phak.fk(&angles);
-    let mut worst = 0.0f64;
-    for (got, want) in frame.points.iter().zip(pose.points()) {
-        for (g, w) in got.iter().zip(want.to_array()) {
-            worst = worst.max((f64::from(*g) - w).abs());
-        }
+/// Runs `qgait ARGS` in the repository root; its stdout and stderr.
+fn qgait(exe: &Path, args: &[&str]) -> Result<(String, String), String> {
+    let out = Command::new(exe)
+        .args(args)
+        .current_dir(repo_root())
+        .output()
+        .map_err(|e| format!("starting {}: {e}", exe.display()))?;
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    // `emulate` fails when a check fails: that is reported with the session's own checks.
+    if !out.status.success() && args[0] != "emulate" {
+        return Err(format!("qgait {} failed: {stderr}", args.join(" ")));
     }
-    for (g, w) in frame.distances.iter().zip(distances(&pose).to_array()) {
-        worst = worst.max((f64::from(*g) - w).abs());
-    }
-    (worst, frame.angles.as_slice() == sent.as_slice())
+    Ok((stdout, stderr))
 }
 
-fn accept(listener: &UnixListener, deadline: Instant) -> Result<UnixStream, String> {
-    listener.set_nonblocking(true).map_err(|e| e.to_string())?;
-    loop {
-        match listener.accept() {
-            Ok((stream, _)) => {
-                stream.set_nonblocking(false).map_err(|e| e.to_string())?;
-                return Ok(stream);
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock && Instant::now() < deadline => {
-                thread::sleep(Duration::from_millis(5))
-            }
-            Err(e) => return Err(format!("QEMU did not connect to the UART socket: {e}")),
-        }
-    }
+/// The value of counter `name` in the `device status:` lines of `qgait emulate`.
+fn counter(out: &str, name: &str) -> Option<u32> {
+    out.lines()
+        .find_map(|l| l.trim().strip_prefix(name)?.trim().parse().ok())
 }
 
-/// Binds the UART socket, starts QEMU on it and accepts its connection.
-fn connect(elf: &Path, deadline: Instant) -> Result<(Qemu, UnixStream), String> {
-    let socket = std::env::temp_dir().join(format!("qgait-uart-{}.sock", std::process::id()));
-    let _ = std::fs::remove_file(&socket);
-    let listener =
-        UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
-    let started = Qemu::start(elf, Some(&socket));
-    let accepted = match &started {
-        Ok(_) => accept(&listener, deadline),
-        Err(_) => Err(String::new()),
-    };
-    let _ = std::fs::remove_file(&socket);
-    match (started, accepted) {
-        (Ok(qemu), Ok(stream)) => Ok((qemu, stream)),
-        (Ok(qemu), Err(e)) => {
-            qemu.stop();
-            Err(e)
-        }
-        (Err(e), _) => Err(e),
-    }
-}
-
-/// What came back from the firmware.
+/// What came back from the firmware, decoded from its UART output.
 #[derive(Default)]
 struct Received {
     poses: u32,
-    worst_error_m: f64,
     wrong_angles: u32,
     undecodable: u32,
     seen: Vec<u32>,
-    status: Option<Status>,
-    read_error: Option<String>,
 }
 
-/// Reads frames until the `Status` answering the request arrives (or the deadline).
-fn receive(stream: &mut UnixStream, phak: &Phak<f64>, plan: &Plan, deadline: Instant) -> Received {
+/// Decodes `uart`; each frame's angles are compared with those of `samples`.
+fn receive(uart: &[u8], samples: &[Vec<JointAngle>]) -> Received {
     let mut r = Received::default();
-    let mut decoder = FrameDecoder::new();
-    let mut buf = [0u8; 1024];
-    while r.status.is_none() && Instant::now() < deadline {
-        let n = match stream.read(&mut buf) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                ) =>
-            {
-                continue
+    for result in FrameDecoder::new().feed(uart) {
+        match result {
+            Ok(Message::PoseFrame(frame)) => {
+                r.poses += 1;
+                r.seen.push(frame.seq);
+                let sent: Option<Vec<f32>> = samples.get(frame.seq as usize).map(|s| {
+                    ModelId::Phak
+                        .required_joints()
+                        .iter()
+                        .filter_map(|&j| s.iter().find(|p| p.joint == j))
+                        .map(|p| p.angle)
+                        .collect()
+                });
+                r.wrong_angles += u32::from(sent.as_deref() != Some(frame.angles.as_slice()));
             }
-            Err(e) => {
-                r.read_error = Some(format!("reading the UART socket: {e}"));
-                break;
-            }
-        };
-        for &byte in &buf[..n] {
-            match decoder.push(byte) {
-                Some(Ok(Message::PoseFrame(frame))) => {
-                    r.poses += 1;
-                    r.seen.push(frame.seq);
-                    let (err, angles_ok) = compare(phak, &frame);
-                    r.worst_error_m = r.worst_error_m.max(err);
-                    r.wrong_angles += u32::from(!angles_ok);
-                }
-                Some(Ok(Message::Status(s))) if s.packets_accepted >= plan.packets_accepted => {
-                    r.status = Some(s)
-                }
-                Some(Ok(_)) => {}
-                Some(Err(_)) => r.undecodable += 1,
-                None => {}
-            }
+            Ok(_) => {}
+            Err(_) => r.undecodable += 1,
         }
     }
     r
 }
 
-/// Everything in `r` that does not match the plan.
-fn evaluate(r: &Received, plan: &Plan) -> Vec<String> {
+/// Everything in the run that does not match the plan: `stdout` is `qgait emulate`'s.
+fn evaluate(r: &Received, stdout: &str, plan: &Plan) -> Vec<String> {
     let mut failures = Vec::new();
     let mut check = |ok: bool, what: String| {
         if !ok {
             failures.push(what);
         }
     };
-    if let Some(e) = &r.read_error {
-        check(false, e.clone());
-    }
     let expected_poses = SAMPLES - 1;
     check(
         r.poses == expected_poses,
@@ -307,11 +194,8 @@ fn evaluate(r: &Received, plan: &Plan) -> Vec<String> {
         format!("sample {INCOMPLETE_SEQ} lacked a joint but got a pose"),
     );
     check(
-        r.worst_error_m <= TOLERANCE_M,
-        format!(
-            "largest |f32 - f64| {:.3e} m > {TOLERANCE_M:.0e} m",
-            r.worst_error_m
-        ),
+        stdout.contains("verify: ok"),
+        format!("the frames do not verify against the f64 kernel within {TOLERANCE_UM} µm"),
     );
     check(
         r.wrong_angles == 0,
@@ -324,64 +208,102 @@ fn evaluate(r: &Received, plan: &Plan) -> Vec<String> {
         r.undecodable == 0,
         format!("{} frames from the firmware did not decode", r.undecodable),
     );
-    let Some(s) = &r.status else {
+    if counter(stdout, "packets_accepted").is_none() {
         check(false, "no Status frame answered the request".into());
         return failures;
-    };
-    let decode_errors = s.crc_errors
-        + s.framing_errors
-        + s.oversize_frames
-        + s.malformed
-        + s.unknown_version
-        + s.unknown_joint;
-    let counters = [
-        (
-            "packets_accepted",
-            s.packets_accepted,
-            plan.packets_accepted,
-        ),
-        ("samples_completed", s.samples_completed, expected_poses),
-        ("samples_incomplete", s.samples_incomplete, 1),
-        ("duplicate_packets", s.duplicate_packets, 1),
-        ("late_packets", s.late_packets, 1),
-        ("decode errors", decode_errors, plan.decode_errors),
-        ("uart_overruns", s.uart_overruns, 0),
-        // All the model switches were accepted.
-        ("config_rejected", s.config_rejected, 0),
-    ];
-    for (name, got, want) in counters {
-        check(got == want, format!("{name} {got} != {want}"));
     }
+    let decode_errors = [
+        "crc_errors",
+        "framing_errors",
+        "oversize_frames",
+        "malformed",
+        "unknown_version",
+        "unknown_joint",
+    ]
+    .iter()
+    .filter_map(|n| counter(stdout, n))
+    .sum::<u32>();
+    let counters = [
+        ("packets_accepted", plan.packets_accepted),
+        ("samples_completed", expected_poses),
+        ("samples_incomplete", 1),
+        ("duplicate_packets", 1),
+        ("late_packets", 1),
+        ("uart_overruns", 0),
+        // All the model switches were accepted.
+        ("config_rejected", 0),
+    ];
+    for (name, want) in counters {
+        match counter(stdout, name) {
+            Some(got) => check(got == want, format!("{name} {got} != {want}")),
+            None => check(false, format!("no {name} in the status")),
+        }
+    }
+    check(
+        decode_errors == plan.decode_errors,
+        format!("decode errors {decode_errors} != {}", plan.decode_errors),
+    );
     failures
+}
+
+/// The packets of `qgait packets builtin:normal,rows=200` and the frames of the model
+/// switches, written in `dir`.
+fn inputs(exe: &Path, dir: &Path) -> Result<(Vec<Vec<JointAngle>>, Vec<u8>), String> {
+    let path = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let clean = path("packets.bin");
+    let motion = format!("builtin:normal,rows={SAMPLES}");
+    qgait(exe, &["-q", "packets", &motion, "-o", &clean])?;
+    let bytes = std::fs::read(&clean).map_err(|e| format!("{clean}: {e}"))?;
+    let samples = samples_of_stream(&bytes).map_err(|e| format!("{clean}: {e}"))?;
+    let mut switches = Vec::new();
+    for (i, model) in SWITCHES.iter().enumerate() {
+        let out = path(&format!("switch{i}.bin"));
+        let mut args = vec!["-q", "config", "--model"];
+        args.extend_from_slice(model);
+        args.extend(["--window", "4", "--policy", "drop", "--no-status-request"]);
+        args.extend(["-o", &out]);
+        qgait(exe, &args)?;
+        switches.extend(std::fs::read(&out).map_err(|e| format!("{out}: {e}"))?);
+    }
+    Ok((samples, switches))
 }
 
 /// Runs the session against `elf` and prints its report.
 pub fn run(elf: &Path) -> Result<Report, String> {
-    let phak = Phak::new(&Anthropometry::<f64>::gait2392()).map_err(|e| format!("kernel: {e}"))?;
-    let plan = plan();
-    let deadline = Instant::now() + DEADLINE;
-    let (qemu, mut stream) = connect(elf, deadline)?;
-    let mut writer = match (
-        stream.try_clone(),
-        stream.set_read_timeout(Some(Duration::from_millis(50))),
-    ) {
-        (Ok(w), Ok(())) => w,
-        (Err(e), _) | (_, Err(e)) => {
-            qemu.stop();
-            return Err(format!("setting up the UART socket: {e}"));
-        }
+    let exe = qgait_binary()?;
+    let dir = TempDir::new("qgait-uart-session")?;
+    let (samples, switches) = inputs(&exe, &dir.0)?;
+    let plan = plan(&samples, &switches);
+    let at = |name: &str| -> PathBuf { dir.0.join(name) };
+    let (input, uart) = (at("session.bin"), at("uart.bin"));
+    std::fs::write(&input, &plan.bytes).map_err(|e| format!("{}: {e}", input.display()))?;
+    let elf = elf
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", elf.display()))?;
+    let s = |p: &Path| p.to_string_lossy().into_owned();
+    let (stdout, stderr) = qgait(
+        &exe,
+        &[
+            "emulate",
+            "--stream",
+            &s(&input),
+            "--elf",
+            &s(&elf),
+            "--verify",
+            "--tol-um",
+            TOLERANCE_UM,
+            "--log",
+            &s(&uart),
+        ],
+    )?;
+    eprint!("{stderr}");
+    print!("{stdout}");
+    let received = match std::fs::read(&uart) {
+        Ok(bytes) => receive(&bytes, &samples),
+        Err(e) => return Err(format!("qgait emulate wrote no UART log ({e}): {stderr}")),
     };
-    let bytes = plan.bytes.clone();
-    let sender = thread::spawn(move || writer.write_all(&bytes));
-    let received = receive(&mut stream, &phak, &plan, deadline);
-    // The firmware logs its stack peak right after sending the status: let that line through.
-    thread::sleep(Duration::from_millis(200));
-    let finished = qemu.stop();
-    let _ = sender.join();
-
-    let stack_peak = finished
-        .log
-        .iter()
+    let stack_peak = stderr
+        .lines()
         .filter_map(|l| {
             l.split("stack peak ")
                 .nth(1)?
@@ -391,17 +313,21 @@ pub fn run(elf: &Path) -> Result<Report, String> {
                 .ok()
         })
         .max();
-    let failures = evaluate(&received, &plan);
+    let largest_um = stdout.lines().find_map(|l| {
+        l.strip_prefix("largest error ")?
+            .split(' ')
+            .next()?
+            .parse::<f64>()
+            .ok()
+    });
+    let failures = evaluate(&received, &stdout, &plan);
     println!(
-        "uart session: {SAMPLES} samples ({} bytes) in, {} poses out, largest |f32 - f64| {:.2e} m, stack peak {} bytes",
+        "uart session: {SAMPLES} samples ({} bytes) in, {} poses out, largest |f32 - f64| {} m, stack peak {} bytes",
         plan.bytes.len(),
         received.poses,
-        received.worst_error_m,
+        largest_um.map_or("?".to_string(), |e| format!("{:.2e}", e * 1e-6)),
         stack_peak.map_or("?".to_string(), |p: u32| p.to_string())
     );
-    if let Some(s) = &received.status {
-        println!("uart session: status {s:?}");
-    }
     for f in &failures {
         println!("uart session FAILED: {f}");
     }
@@ -417,4 +343,87 @@ pub fn run(elf: &Path) -> Result<Report, String> {
         failures,
         stack_peak,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qgait_emulate::packet;
+    use qgait_proto::PoseFrame;
+
+    fn samples() -> Vec<Vec<JointAngle>> {
+        (0..SAMPLES)
+            .map(|seq| {
+                let angle = |j: JointId| 0.01 * seq as f32 + 0.001 * f32::from(j.index());
+                ModelId::Phak
+                    .required_joints()
+                    .iter()
+                    .map(|&j| packet(seq, seq * 5000, j, angle(j)))
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_plan_holds_each_fault_once_and_counts_what_the_hub_must() {
+        let s = samples();
+        let plan = plan(&s, &[]);
+        let mut accepted = 0;
+        let mut errors = 0;
+        let mut per_sample = vec![0u32; SAMPLES as usize];
+        for r in FrameDecoder::new().feed(&plan.bytes) {
+            match r {
+                Ok(Message::JointAngle(p)) => {
+                    accepted += 1;
+                    per_sample[p.seq as usize] += 1;
+                }
+                Ok(m) => panic!("{m:?}"),
+                Err(_) => errors += 1,
+            }
+        }
+        assert_eq!(
+            (accepted, errors),
+            (plan.packets_accepted, plan.decode_errors)
+        );
+        // 8 packets a sample, one fewer for the incomplete one, one more for the duplicate
+        // and the late one.
+        for (seq, n) in per_sample.iter().enumerate() {
+            let want = match seq as u32 {
+                INCOMPLETE_SEQ => 7,
+                DUPLICATE_SEQ | LATE_SEQ => 9,
+                _ => 8,
+            };
+            assert_eq!(*n, want, "seq {seq}");
+        }
+    }
+
+    #[test]
+    fn echoed_angles_are_compared_with_those_sent() {
+        let s = samples();
+        let frame = |seq: u32, angles: Vec<f32>| PoseFrame {
+            seq,
+            model: ModelId::Phak,
+            angles: heapless::Vec::from_slice(&angles).unwrap(),
+            points: [[0.0; 3]; qgait_proto::point::COUNT],
+            distances: [0.0; 3],
+            flags: 0,
+        };
+        let sent: Vec<f32> = s[3].iter().map(|p| p.angle).collect();
+        let mut wrong = sent.clone();
+        wrong[7] += 1e-3;
+        let mut uart = Vec::new();
+        push_frame(&mut uart, &Message::PoseFrame(frame(3, sent)));
+        push_frame(&mut uart, &Message::PoseFrame(frame(3, wrong)));
+        uart.extend([7, 7, 0]);
+        let r = receive(&uart, &s);
+        assert_eq!((r.poses, r.wrong_angles, r.undecodable), (2, 1, 1));
+    }
+
+    #[test]
+    fn counters_are_read_from_the_status_lines() {
+        let out = "device status:\n  packets_accepted     1601\n  late_packets         1\n";
+        assert_eq!(counter(out, "packets_accepted"), Some(1601));
+        assert_eq!(counter(out, "late_packets"), Some(1));
+        assert_eq!(counter(out, "crc_errors"), None);
+    }
 }

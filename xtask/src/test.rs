@@ -2,6 +2,8 @@
 
 use std::process::ExitCode;
 
+use qgait_emulate::firmware::default_elf;
+
 use crate::cargo::{firmware_runner_env, step, Step};
 use crate::repo_root;
 
@@ -19,15 +21,11 @@ pub fn run() -> Result<ExitCode, String> {
         &["build", "--release"],
         &[],
     );
-    let elf = [(
-        "QGAIT_FIRMWARE_ELF",
-        qgait::device::firmware::default_elf(&root)
-            .display()
-            .to_string(),
-    )];
+    let elf_path = default_elf(&root);
+    let elf = [("QGAIT_FIRMWARE_ELF", elf_path.display().to_string())];
     // Static RAM plus the stack bound of the release build within 8 KiB (issue 8's target).
     let ram = if mps2.ok {
-        crate::stack_bound::ram_step(&qgait::device::firmware::default_elf(&root))
+        crate::stack_bound::ram_step(&elf_path)
     } else {
         Step {
             name: "RAM bound (disassembly)".into(),

@@ -3,8 +3,8 @@
 
 use std::process::{Command, Stdio};
 
-use qgait::device::firmware::TARGET;
-use qgait::device::qemu;
+use qgait_emulate::firmware::TARGET;
+use qgait_emulate::qemu;
 
 fn run(program: &str, args: &[&str]) -> Result<(), String> {
     println!("==> {program} {}", args.join(" "));

@@ -8,6 +8,10 @@ use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
+use qgait_emulate::faults::Arrivals;
+use qgait_emulate::firmware;
+use qgait_emulate::qemu::Echo;
+use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId, PoseModels};
 
 use crate::cli::config::hub_model;
@@ -16,14 +20,10 @@ use crate::cli::jsonl;
 use crate::cli::live::LiveView;
 use crate::cli::model_args::ModelArgs;
 use crate::device::config::{frames, messages, HubModel, HubSettings};
-use crate::device::faults::Arrivals;
-use crate::device::firmware;
 use crate::device::frames_csv;
 use crate::device::log::{HubLog, LogDecoder, Record};
 use crate::device::packets::{Samples, Timing};
 use crate::device::port::{self, Input, Until};
-use crate::device::qemu::Echo;
-use crate::device::session::{self, closing_frames, InputCounts, Limits};
 use crate::device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
 use crate::motion::source::load_motion;
 

@@ -3,9 +3,7 @@
 //! by row as the motion is read (any length in constant memory); [`Samples`] holds a motion's
 //! samples for the emulator.
 
-use qgait_proto::{
-    encode_frame, JointAngle, JointId, Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION,
-};
+use qgait_proto::{JointAngle, Message, ModelId, MAX_FRAME_LEN};
 
 use std::cell::RefCell;
 
@@ -188,26 +186,7 @@ pub fn write_stream(
     Ok((counts, warnings))
 }
 
-/// One packet as a node sends it: node id = joint id (one node per joint), quality 0 (good).
-pub fn packet(seq: u32, timestamp_us: u32, joint: JointId, angle: f32) -> JointAngle {
-    JointAngle {
-        version: PROTOCOL_VERSION,
-        node: joint.index(),
-        joint,
-        seq,
-        timestamp_us,
-        angle,
-        quality: 0,
-    }
-}
-
-/// Appends one framed message (its trailing 0x00 included).
-pub fn push_frame(out: &mut Vec<u8>, message: &Message) {
-    let mut buf = [0u8; MAX_FRAME_LEN];
-    // Every message of the protocol fits MAX_FRAME_LEN, and these have the right angle counts.
-    let frame = encode_frame(message, &mut buf).expect("a protocol message fits MAX_FRAME_LEN");
-    out.extend_from_slice(frame);
-}
+pub use qgait_emulate::{packet, push_frame};
 
 /// The stream of `packets`: a 0x00 first (so the first frame survives any earlier line noise),
 /// then each packet's frame.

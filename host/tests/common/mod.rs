@@ -51,7 +51,7 @@ pub fn parse_fk_csv(text: &str) -> (String, Vec<Vec<f64>>) {
 /// The release firmware ELF (`QGAIT_FIRMWARE_ELF`, else the default build location), when it
 /// and `qemu-system-arm` are there; `None` (with the reason printed) when either is missing.
 pub fn firmware_elf() -> Option<PathBuf> {
-    use qgait::device::{firmware, qemu};
+    use qgait_emulate::{firmware, qemu};
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let elf = std::env::var_os("QGAIT_FIRMWARE_ELF")
         .map(PathBuf::from)

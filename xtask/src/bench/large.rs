@@ -17,8 +17,8 @@ use std::time::Instant;
 use qgait_proto::device_model::sample_angles;
 use qgait_proto::{encode_frame, Kinematics, Message, ModelId, Status, MAX_FRAME_LEN};
 
-use super::{cargo, figure};
-use crate::repo_root;
+use super::figure;
+use crate::TempDir;
 
 /// Rows of the generated motion (and samples of the log).
 pub const ROWS: usize = 1_000_000;
@@ -166,29 +166,10 @@ fn report(name: &str, cost: &Cost, rows: usize, input_bytes: u64) {
     );
 }
 
-/// A temporary directory, removed when dropped.
-struct TempDir(PathBuf);
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// Generates the files, runs every command on them and prints the figures.
 pub fn run() -> Result<(), String> {
-    let root = repo_root();
-    cargo(
-        &root,
-        &["build", "--release", "-p", "qgait", "--bin", "qgait"],
-    )?;
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("target"));
-    let exe = target.join("release/qgait");
-    let dir =
-        TempDir(std::env::temp_dir().join(format!("qgait-bench-large-{}", std::process::id())));
-    std::fs::create_dir_all(&dir.0).map_err(|e| format!("{}: {e}", dir.0.display()))?;
+    let exe = crate::cargo::qgait_binary()?;
+    let dir = TempDir::new("qgait-bench-large")?;
     let at = |name: &str| dir.0.join(name);
     let s = |p: PathBuf| p.to_string_lossy().into_owned();
     eprintln!(

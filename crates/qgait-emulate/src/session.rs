@@ -36,10 +36,9 @@ use std::time::{Duration, Instant};
 
 use qgait_proto::{FrameDecoder, Message, Status};
 
-use crate::device::faults::Accounting;
-use crate::device::log::{LogDecoder, Record};
-use crate::device::packets::push_frame;
-use crate::device::qemu::{escape, Echo, Qemu};
+use crate::faults::Accounting;
+use crate::push_frame;
+use crate::qemu::{escape, Echo, Qemu};
 
 /// Bytes written to the socket at a time (between checks of the stop flag).
 const CHUNK: usize = 4096;
@@ -248,7 +247,7 @@ pub fn run(
     };
 
     let mut uart = Vec::new();
-    let mut decoder = LogDecoder::new();
+    let mut decoder = FrameDecoder::new();
     let mut status = None;
     let mut done_at: Option<Instant> = None;
     let mut problem = None;
@@ -296,28 +295,24 @@ pub fn run(
             }
         };
         uart.extend_from_slice(&buf[..n]);
-        decoder.feed(&buf[..n], |r| match r {
-            Record::Message {
-                message: Message::PoseFrame(_),
-                ..
-            } => progressed_at = Instant::now(),
-            Record::Message {
-                message: Message::Status(s),
-                ..
-            } => {
-                let c = InputCounts::counted_by(&s);
-                let counted = u64::from(c.accepted) + u64::from(c.rejected);
-                if counted > last_counted {
-                    last_counted = counted;
-                    progressed_at = Instant::now();
+        for message in decoder.feed(&buf[..n]).flatten() {
+            match message {
+                Message::PoseFrame(_) => progressed_at = Instant::now(),
+                Message::Status(s) => {
+                    let c = InputCounts::counted_by(&s);
+                    let counted = u64::from(c.accepted) + u64::from(c.rejected);
+                    if counted > last_counted {
+                        last_counted = counted;
+                        progressed_at = Instant::now();
+                    }
+                    if expected.consumed_by(&s) {
+                        done_at.get_or_insert_with(Instant::now);
+                        status = Some(s);
+                    }
                 }
-                if expected.consumed_by(&s) {
-                    done_at.get_or_insert_with(Instant::now);
-                    status = Some(s);
-                }
+                _ => {}
             }
-            _ => {}
-        });
+        }
     }
     let elapsed = started.elapsed();
     // The firmware logs after sending a status: let that line through, then stop QEMU before
@@ -376,16 +371,9 @@ mod tests {
     fn a_message_only_a_hub_sends_counts_as_one_the_hub_rejects() {
         let status = Message::Status(qgait_proto::Status::default());
         let mut input = Vec::new();
-        crate::device::packets::push_frame(&mut input, &status);
-        crate::device::packets::push_frame(
-            &mut input,
-            &Message::JointAngle(crate::device::packets::packet(
-                1,
-                0,
-                qgait_proto::JointId::KneeAngleR,
-                0.1,
-            )),
-        );
+        push_frame(&mut input, &status);
+        let p = crate::packet(1, 0, qgait_proto::JointId::KneeAngleR, 0.1);
+        push_frame(&mut input, &Message::JointAngle(p));
         let counts = InputCounts::of(&input);
         assert_eq!((counts.accepted, counts.rejected), (1, 1));
     }

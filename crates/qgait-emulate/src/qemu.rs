@@ -9,7 +9,7 @@ use std::sync::mpsc;
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
-use crate::device::defmt_log;
+use crate::defmt_log;
 
 /// The QEMU executable.
 pub const QEMU: &str = "qemu-system-arm";
@@ -107,7 +107,7 @@ impl Qemu {
     /// firmware reads one, instead of waiting for QEMU's I/O thread each time (several times
     /// faster). The multiplexer reads [`ESCAPE`] as a command key: send every input byte
     /// through [`escape`]. It reads the socket only as far as its buffer has room, so the line
-    /// stays flow-controlled (see [`session`](crate::device::session)).
+    /// stays flow-controlled (see [`session`](crate::session)).
     pub fn start_buffered(elf: &Path, uart_socket: &Path, echo: Echo) -> Result<Qemu, String> {
         Self::launch(elf, Uart::Socket(uart_socket, true), &[], echo)
     }

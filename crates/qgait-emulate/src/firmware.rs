@@ -7,7 +7,7 @@ use std::process::Command;
 pub const TARGET: &str = "thumbv7em-none-eabihf";
 
 /// The repository root: the first directory from the current one upwards that has
-/// `firmware/Cargo.toml`, else the one this program was built from.
+/// `firmware/Cargo.toml`, else the one this crate was built from.
 pub fn repo_root() -> PathBuf {
     if let Ok(cwd) = std::env::current_dir() {
         for dir in cwd.ancestors() {
@@ -16,7 +16,7 @@ pub fn repo_root() -> PathBuf {
             }
         }
     }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
 /// Where `cargo build --release` in `firmware/` puts the hub's ELF: under `$CARGO_TARGET_DIR`

@@ -31,7 +31,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use qgait_proto::{FrameDecoder, JointAngle, JointId, Message, ModelId, Status};
 
-use crate::device::packets::push_frame;
+use crate::push_frame;
 
 /// A small seeded generator (SplitMix64): the same seed gives the same damage everywhere.
 #[derive(Debug, Clone)]
@@ -401,7 +401,16 @@ impl Arrivals {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::device::packets::{packet, stream};
+    use crate::packet;
+
+    /// The clean stream of `samples`: a 0x00, then each packet's frame.
+    fn stream(samples: &[Vec<JointAngle>]) -> Vec<u8> {
+        let mut out = vec![0u8];
+        for p in samples.iter().flatten() {
+            push_frame(&mut out, &Message::JointAngle(*p));
+        }
+        out
+    }
 
     /// The packets of `d` with fate `fate`, as (sequence number, joint) pairs in order.
     fn keys(d: &Damaged, fate: Fate) -> Vec<(u32, JointId)> {
@@ -465,7 +474,7 @@ mod tests {
         assert!(a.partial(ModelId::Phak).is_empty());
         let acc = ledger_agrees_with_the_decoder(&d);
         assert_eq!((acc.delivered, acc.bad_runs, acc.complete), (160, 0, 20));
-        assert_eq!(d.stream, stream(samples(20).iter().flatten()));
+        assert_eq!(d.stream, stream(&samples(20)));
     }
 
     #[test]
@@ -573,7 +582,7 @@ mod tests {
     #[test]
     fn samples_are_read_back_from_a_clean_stream_and_damage_is_refused() {
         let s = samples(30);
-        let clean = stream(s.iter().flatten());
+        let clean = stream(&s);
         assert_eq!(samples_of_stream(&clean).unwrap(), s);
         let d = damage(&s, &FaultPlan::radio_link(3, 4));
         let e = samples_of_stream(&d.stream).unwrap_err();
