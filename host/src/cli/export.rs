@@ -74,7 +74,7 @@ pub fn run_export(a: ExportArgs, diagnostics: &Diagnostics) -> anyhow::Result<()
         None => None,
     };
     let mut frame = 0;
-    let warnings = model.run(rows, &|w| diagnostics.warn(w), |t, points| {
+    let warnings = model.run::<anyhow::Error>(rows, &|w| diagnostics.warn(w), |t, points| {
         progress.inc(1);
         frame += 1;
         if let Some(f) = &mut trc {

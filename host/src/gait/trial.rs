@@ -96,7 +96,7 @@ pub fn load(source: &str, model: &Model) -> anyhow::Result<(Trial, Vec<Warning>)
     let mut time = Vec::with_capacity(table.rows());
     let mut frames = Vec::with_capacity(table.rows());
     let column_warnings = std::cell::RefCell::new(Vec::new());
-    let w = points.run(
+    let w = points.run::<anyhow::Error>(
         MotionRows::from_table(table.clone()),
         &|w| column_warnings.borrow_mut().extend(w),
         |t, p| {

@@ -81,13 +81,14 @@ impl PointModel {
 
     /// Evaluates every row of `rows` in turn, handing `each` the row's time and points; memory
     /// does not grow with the number of rows. `warn` gets the warnings about the columns before
-    /// the first row; the warnings found while reading (ranges, row count) are returned.
-    pub fn run(
+    /// the first row; the warnings found while reading (ranges, row count) are returned. An
+    /// error of `each` ends the run and is returned; so is the motion's or the model's, as `E`.
+    pub fn run<E: From<ModelError>>(
         &self,
         rows: MotionRows,
         warn: &dyn Fn(Vec<Warning>),
-        mut each: impl FnMut(f64, &[Vec3<f64>]) -> anyhow::Result<()>,
-    ) -> anyhow::Result<Vec<Warning>> {
+        mut each: impl FnMut(f64, &[Vec3<f64>]) -> Result<(), E>,
+    ) -> Result<Vec<Warning>, E> {
         let mut points = Vec::with_capacity(12);
         match &self.kind {
             Kind::Hak(evaluator) => drive(rows, &kinematics::HAK_NAMES, warn, |t, legs| {
@@ -114,12 +115,12 @@ impl PointModel {
 }
 
 /// Reads every row of `rows` as the coordinates `names` and hands them to `each`.
-pub fn drive<const N: usize>(
+pub fn drive<const N: usize, E: From<ModelError>>(
     rows: MotionRows,
     names: &[&'static str; N],
     warn: &dyn Fn(Vec<Warning>),
-    mut each: impl FnMut(f64, [f64; N]) -> anyhow::Result<()>,
-) -> anyhow::Result<Vec<Warning>> {
+    mut each: impl FnMut(f64, [f64; N]) -> Result<(), E>,
+) -> Result<Vec<Warning>, E> {
     let (mut coords, w) = CoordRows::new(rows, names)?;
     warn(w);
     while let Some((t, q)) = coords.next_row()? {

@@ -8,11 +8,23 @@ use crate::diagnostics::Warning;
 use crate::motion::builtin::{self, BuiltinSpec};
 use crate::opensim::mot::{Header, MotError, MotionReader, MotionTable, Row};
 
+/// Why a motion cannot be loaded: its file, or its `builtin:` spec.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SourceError {
+    /// The file cannot be read or is not a motion.
+    #[error(transparent)]
+    File(#[from] MotError),
+    /// The `builtin:` spec names no built-in gait.
+    #[error(transparent)]
+    Builtin(#[from] builtin::BuiltinError),
+}
+
 /// Prefix that selects the built-in gait generator instead of a file.
 pub const BUILTIN_PREFIX: &str = "builtin:";
 
 /// Loads a motion from a path or a `builtin:` spec.
-pub fn load_motion(spec: &str) -> anyhow::Result<(MotionTable, Vec<Warning>)> {
+pub fn load_motion(spec: &str) -> Result<(MotionTable, Vec<Warning>), SourceError> {
     if let Some(rest) = spec.strip_prefix(BUILTIN_PREFIX) {
         let spec = BuiltinSpec::parse(rest)?;
         Ok((builtin::generate(&spec), Vec::new()))
@@ -47,7 +59,7 @@ enum Inner {
 impl MotionRows {
     /// Opens a path or a `builtin:` spec and reads its header; the header's warnings are
     /// returned, the rest come from [`MotionRows::take_warnings`] as rows are read.
-    pub fn open(spec: &str) -> anyhow::Result<(Self, Vec<Warning>)> {
+    pub fn open(spec: &str) -> Result<(Self, Vec<Warning>), SourceError> {
         if spec.starts_with(BUILTIN_PREFIX) {
             let (table, w) = load_motion(spec)?;
             return Ok((Self::from_table(table), w));
