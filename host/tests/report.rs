@@ -231,23 +231,37 @@ fn the_figures_of_a_long_recording_stay_the_size_of_the_picture() {
 }
 
 #[test]
-fn the_report_takes_the_stick_models_and_refuses_gait2392() {
+fn the_report_takes_every_model_fk_takes() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("hak");
-    run_report(&["builtin:normal,rows=21", "--model", "hak"], &out);
-    assert!(out.join("metrics.csv").is_file());
-    let refused = dir.path().join("g");
-    let run = qgait(&[
-        "report",
-        "builtin:normal,rows=21",
-        "--model",
-        "gait2392",
-        "-o",
-        refused.to_str().unwrap(),
-    ]);
-    assert!(!run.status.success());
-    assert_eq!(
-        stderr(&run),
-        "error: report takes hak or phak, not gait2392\n"
+    // The right hip's mean position in the sagittal plane: PHAK and HAK hang the legs at the
+    // pelvis origin's level, gait2392 has its hip 7 cm behind and 6.6 cm below it.
+    let hip_x = |model: &str| {
+        let out = dir.path().join(model);
+        run_report(
+            &["builtin:normal,rows=21", "--label", "n", "--model", model],
+            &out,
+        );
+        check_figures(&out, &["n"]);
+        let rows = csv(&out.join("metrics.csv"));
+        let hip = rows
+            .iter()
+            .find(|r| r["side"] == "right" && r["joint"] == "hip" && r["plane"] == "sagittal")
+            .expect("a right hip row");
+        (num(hip, "mean_a"), num(hip, "mean_b"))
+    };
+    let (phak_x, phak_y) = hip_x("phak");
+    let (hak_x, hak_y) = hip_x("hak");
+    let (g_x, g_y) = hip_x("gait2392");
+    assert!(
+        phak_x.abs() < 0.01 && phak_y.abs() < 0.01,
+        "{phak_x} {phak_y}"
+    );
+    assert!(
+        hak_x.abs() < 1e-12 && hak_y.abs() < 1e-12,
+        "{hak_x} {hak_y}"
+    );
+    assert!(
+        (g_x + 0.0707).abs() < 0.01 && (g_y + 0.0661).abs() < 0.01,
+        "{g_x} {g_y}"
     );
 }

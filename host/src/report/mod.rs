@@ -8,8 +8,8 @@
 //! - `distances`: knee-knee, ankle-ankle and toe-toe distance over the cycle (Fig 10);
 //! - `metrics.csv`, `hip_shift.csv`, `distance_stats.csv` and `metrics.md` (see [`metrics`]).
 //!
-//! The model is PHAK, or HAK with `--model hak` (origin at the pelvis origin, ground axes); percent of cycle is the time
-//! normalised from the first to the last row of each motion.
+//! The model is any the CLI takes (`--model`, default PHAK; origin at the pelvis origin, ground
+//! axes); percent of cycle is the time normalised from the first to the last row of each motion.
 
 mod distances;
 pub(crate) mod figure;
@@ -29,7 +29,10 @@ use crate::device::frames_csv::FramesTable;
 
 use crate::diagnostics::Warning;
 use crate::model::choice::Model;
+use crate::model::error::ModelError;
 use crate::model::kinematics::{self, Evaluator};
+use crate::model::points::PointModel;
+use crate::motion::source::MotionRows;
 use crate::opensim::mot::MotionTable;
 use crate::progress::Progress;
 
@@ -54,8 +57,9 @@ pub struct Gait {
 
 /// All gaits of a report and the model that computed them.
 pub struct Analysis {
-    /// The kernel model (HAK or PHAK).
-    pub evaluator: Evaluator,
+    /// The kernel model when it is HAK or PHAK (poses between rows come from interpolated
+    /// angles); `None` for a gait2392 model (poses between rows interpolate its points).
+    pub evaluator: Option<Evaluator>,
     /// The gaits, in the order given (the first is the reference for the hip shift).
     pub gaits: Vec<Gait>,
 }
@@ -67,9 +71,43 @@ impl Analysis {
         model: &Model,
         progress: &Progress,
     ) -> anyhow::Result<(Self, Vec<Warning>)> {
-        let evaluator = Evaluator::new(model, "report")?;
         let mut warnings = Vec::new();
         let mut gaits = Vec::new();
+        let warnings_before = std::cell::RefCell::new(Vec::new());
+        if matches!(model, Model::Gait2392 { .. }) {
+            let points = PointModel::new(model, false)?;
+            for (label, table) in motions {
+                let mut poses = Vec::with_capacity(table.rows());
+                let w = points.run::<ModelError>(
+                    MotionRows::from_table(table.clone()),
+                    &|w| warnings_before.borrow_mut().extend(w),
+                    |_, p| {
+                        progress.inc(1);
+                        poses.push(pose_from_points(&core::array::from_fn(|i| p[i].to_array())));
+                        Ok(())
+                    },
+                )?;
+                warnings.extend(warnings_before.borrow_mut().drain(..));
+                warnings.extend(w);
+                let distances = poses.iter().map(kmetrics::distances).collect();
+                gaits.push(Gait {
+                    label: label.clone(),
+                    source: table.source().to_string(),
+                    percent: table.percent_of_cycle(),
+                    angles: Vec::new(),
+                    poses,
+                    distances,
+                });
+            }
+            return Ok((
+                Self {
+                    evaluator: None,
+                    gaits,
+                },
+                warnings,
+            ));
+        }
+        let evaluator = Evaluator::new(model, "report")?;
         for (label, table) in motions {
             let (angles, w) = kinematics::stick_angles(table, model)?;
             warnings.extend(w);
@@ -90,17 +128,24 @@ impl Analysis {
                 distances,
             });
         }
-        Ok((Self { evaluator, gaits }, warnings))
+        Ok((
+            Self {
+                evaluator: Some(evaluator),
+                gaits,
+            },
+            warnings,
+        ))
     }
 
     /// The pose of a gait at a percent of its cycle (angles interpolated between rows, then FK;
     /// for a gait given as points, the points interpolated).
     pub fn pose_at(&self, gait: &Gait, percent: f64) -> BilateralPose<f64> {
-        if gait.angles.is_empty() {
-            return points_at(gait, percent);
+        match &self.evaluator {
+            Some(evaluator) if !gait.angles.is_empty() => {
+                evaluator.pose(&kinematics::angles_at(&gait.percent, &gait.angles, percent))
+            }
+            _ => points_at(gait, percent),
         }
-        self.evaluator
-            .pose(&kinematics::angles_at(&gait.percent, &gait.angles, percent))
     }
 
     /// Adds a gait given as the points of a frames CSV (`qgait emulate --frames-csv`), at
