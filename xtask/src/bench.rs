@@ -425,7 +425,8 @@ fn run_bench_elf(elf: &Path) -> Result<BTreeMap<String, f64>, String> {
         "==> qemu-system-arm -M mps2-an386 -icount shift=0,align=off -kernel {}",
         elf.display()
     );
-    let finished = Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)?
+    let finished = Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)
+        .map_err(|e| e.to_string())?
         .wait(QEMU_TIMEOUT);
     let mut figures = BTreeMap::new();
     for line in &finished.log {

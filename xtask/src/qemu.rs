@@ -27,7 +27,9 @@ pub fn run_elf(elf: &Path) -> Result<ExitCode, String> {
             }
         });
     }
-    let finished = Qemu::start(elf, None)?.wait(TIMEOUT);
+    let finished = Qemu::start(elf, None)
+        .map_err(|e| e.to_string())?
+        .wait(TIMEOUT);
     let summary = defmt_test_summary(&finished.log, finished.code);
     if let Some(run) = &summary {
         for line in run.lines() {

@@ -6,13 +6,19 @@ use std::io::Read;
 
 use defmt_decoder::{DecodeError, Table};
 
-/// The defmt table of an ELF.
-pub fn table(elf: &[u8]) -> Result<Table, String> {
-    match Table::parse(elf) {
-        Ok(Some(table)) => Ok(table),
-        Ok(None) => Err("the ELF has no defmt table (.defmt section)".into()),
-        Err(e) => Err(format!("reading the defmt table: {e}")),
-    }
+use crate::EmulateError;
+
+/// The defmt table of an ELF (`name` names it in errors).
+pub fn table(name: &str, elf: &[u8]) -> Result<Table, EmulateError> {
+    let problem = match Table::parse(elf) {
+        Ok(Some(table)) => return Ok(table),
+        Ok(None) => "the ELF has no defmt table (.defmt section)".to_string(),
+        Err(e) => format!("reading the defmt table: {e}"),
+    };
+    Err(EmulateError::DefmtTable {
+        elf: name.to_string(),
+        problem,
+    })
 }
 
 /// Reads `input` to its end, decoding log frames; each decoded line goes to `on_line`:

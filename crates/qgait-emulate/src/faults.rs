@@ -27,6 +27,7 @@
 //!   reached the hub, [`Accounting::vanished`]); nothing is late or duplicated when packets
 //!   only move inside the reorder window.
 
+use crate::EmulateError;
 use std::collections::{BTreeMap, BTreeSet};
 
 use qgait_proto::{FrameDecoder, JointAngle, JointId, Message, ModelId, Status};
@@ -315,7 +316,7 @@ pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Damaged {
 /// The samples of a clean stream of joint-angle packets (e.g. from `qgait packets`): each run
 /// of consecutive packets with the same sequence number is a sample. Anything else in the
 /// stream (a damaged frame, another message) is an error naming its byte offset.
-pub fn samples_of_stream(stream: &[u8]) -> Result<Vec<Vec<JointAngle>>, String> {
+pub fn samples_of_stream(stream: &[u8]) -> Result<Vec<Vec<JointAngle>>, EmulateError> {
     let mut samples: Vec<Vec<JointAngle>> = Vec::new();
     let mut decoder = FrameDecoder::new();
     for (i, &b) in stream.iter().enumerate() {
@@ -326,12 +327,17 @@ pub fn samples_of_stream(stream: &[u8]) -> Result<Vec<Vec<JointAngle>>, String> 
                 _ => samples.push(vec![p]),
             },
             Some(Ok(m)) => {
-                return Err(format!(
-                    "byte {i}: a {} message, not a joint-angle packet",
-                    m.tag()
-                ))
+                return Err(EmulateError::Stream {
+                    offset: i,
+                    problem: format!("a {} message, not a joint-angle packet", m.tag()),
+                })
             }
-            Some(Err(e)) => return Err(format!("byte {i}: a damaged frame ({e})")),
+            Some(Err(e)) => {
+                return Err(EmulateError::Stream {
+                    offset: i,
+                    problem: format!("a damaged frame ({e})"),
+                })
+            }
         }
     }
     Ok(samples)
@@ -586,6 +592,9 @@ mod tests {
         assert_eq!(samples_of_stream(&clean).unwrap(), s);
         let d = damage(&s, &FaultPlan::radio_link(3, 4));
         let e = samples_of_stream(&d.stream).unwrap_err();
-        assert!(e.contains("damaged frame"), "{e}");
+        assert!(
+            matches!(&e, EmulateError::Stream { problem, .. } if problem.contains("damaged frame")),
+            "{e:?}"
+        );
     }
 }

@@ -1,5 +1,6 @@
 //! Finding the hub firmware's ELF, and building it when it is missing.
 
+use crate::EmulateError;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -37,31 +38,31 @@ pub fn build_command(root: &Path) -> String {
 }
 
 /// Builds the release firmware with cargo (output on stderr).
-pub fn build(root: &Path) -> Result<(), String> {
+pub fn build(root: &Path) -> Result<(), EmulateError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
         .args(["build", "--release"])
         .current_dir(root.join("firmware"))
         .status()
-        .map_err(|e| format!("starting cargo: {e}"))?;
+        .map_err(EmulateError::io("starting cargo"))?;
     if status.success() {
         Ok(())
     } else {
-        Err(format!(
-            "building the firmware failed ({status}); build it by hand: {}",
-            build_command(root)
-        ))
+        Err(EmulateError::BuildFailed {
+            status,
+            command: build_command(root),
+        })
     }
 }
 
 /// The ELF to run: `elf` if given (it must exist), else the default release build, built
 /// first if it is missing and `firmware/` is there.
-pub fn locate(elf: Option<&Path>) -> Result<PathBuf, String> {
+pub fn locate(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
     if let Some(p) = elf {
         return if p.is_file() {
             Ok(p.to_path_buf())
         } else {
-            Err(format!("{}: no such firmware ELF", p.display()))
+            Err(EmulateError::NoElf(p.to_path_buf()))
         };
     }
     let root = repo_root();
@@ -70,19 +71,13 @@ pub fn locate(elf: Option<&Path>) -> Result<PathBuf, String> {
         return Ok(path);
     }
     if !root.join("firmware/Cargo.toml").is_file() {
-        return Err(format!(
-            "no firmware ELF at {} and no firmware/ to build it from: give --elf PATH",
-            path.display()
-        ));
+        return Err(EmulateError::NothingToBuild(path));
     }
     eprintln!("{} is missing: building the firmware", path.display());
     build(&root)?;
     if path.is_file() {
         Ok(path)
     } else {
-        Err(format!(
-            "the firmware build did not produce {}: give --elf PATH",
-            path.display()
-        ))
+        Err(EmulateError::BuildProducedNothing(path))
     }
 }

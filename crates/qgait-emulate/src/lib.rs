@@ -2,10 +2,13 @@
 #![warn(missing_docs)]
 
 pub mod defmt_log;
+mod error;
 pub mod faults;
 pub mod firmware;
 pub mod qemu;
 pub mod session;
+
+pub use error::EmulateError;
 
 use qgait_proto::{encode_frame, JointAngle, JointId, Message, MAX_FRAME_LEN, PROTOCOL_VERSION};
 

@@ -2,6 +2,7 @@
 //! decoded from QEMU's stdout, always under a timeout. The one QEMU runner of the project:
 //! `qgait emulate`, the end-to-end tests and the xtask runner all use it.
 
+use crate::EmulateError;
 use std::io::{self, BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -86,19 +87,23 @@ pub fn available() -> bool {
 impl Qemu {
     /// Starts `elf` with its log printed on stdout; UART0 is connected to the Unix socket
     /// `uart_socket` (QEMU connects to it as a client, so bind it first) or to nothing.
-    pub fn start(elf: &Path, uart_socket: Option<&Path>) -> Result<Qemu, String> {
+    pub fn start(elf: &Path, uart_socket: Option<&Path>) -> Result<Qemu, EmulateError> {
         Self::start_with(elf, uart_socket, Echo::Stdout)
     }
 
     /// [`start`](Self::start) with the log going to `echo`.
-    pub fn start_with(elf: &Path, uart_socket: Option<&Path>, echo: Echo) -> Result<Qemu, String> {
+    pub fn start_with(
+        elf: &Path,
+        uart_socket: Option<&Path>,
+        echo: Echo,
+    ) -> Result<Qemu, EmulateError> {
         let uart = uart_socket.map_or(Uart::None, |s| Uart::Socket(s, false));
         Self::launch(elf, uart, &[], echo)
     }
 
     /// Starts `elf` with no UART and extra QEMU arguments (e.g. `-icount shift=0,align=off` to
     /// count instructions).
-    pub fn start_with_args(elf: &Path, args: &[&str], echo: Echo) -> Result<Qemu, String> {
+    pub fn start_with_args(elf: &Path, args: &[&str], echo: Echo) -> Result<Qemu, EmulateError> {
         Self::launch(elf, Uart::None, args, echo)
     }
 
@@ -108,7 +113,11 @@ impl Qemu {
     /// faster). The multiplexer reads [`ESCAPE`] as a command key: send every input byte
     /// through [`escape`]. It reads the socket only as far as its buffer has room, so the line
     /// stays flow-controlled (see [`session`](crate::session)).
-    pub fn start_buffered(elf: &Path, uart_socket: &Path, echo: Echo) -> Result<Qemu, String> {
+    pub fn start_buffered(
+        elf: &Path,
+        uart_socket: &Path,
+        echo: Echo,
+    ) -> Result<Qemu, EmulateError> {
         Self::launch(elf, Uart::Socket(uart_socket, true), &[], echo)
     }
 
@@ -117,20 +126,21 @@ impl Qemu {
     /// it there, through a real tty. QEMU has the master side and reads it only while the
     /// firmware's UART can take a byte (so a writer is held back, nothing is lost); what the
     /// hub sends while no one has the terminal open is dropped.
-    pub fn start_pty(elf: &Path, echo: Echo) -> Result<(Qemu, PathBuf), String> {
+    pub fn start_pty(elf: &Path, echo: Echo) -> Result<(Qemu, PathBuf), EmulateError> {
         let qemu = Self::launch(elf, Uart::Pty, &[], echo)?;
         match qemu.redirected.recv_timeout(Duration::from_secs(10)) {
             Ok(path) => Ok((qemu, PathBuf::from(path))),
             Err(_) => {
                 qemu.stop();
-                Err("QEMU did not say which pseudo-terminal it made for UART0".into())
+                Err(EmulateError::NoPseudoTerminal)
             }
         }
     }
 
-    fn launch(elf: &Path, uart: Uart, extra: &[&str], echo: Echo) -> Result<Qemu, String> {
-        let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
-        let table = defmt_log::table(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
+    fn launch(elf: &Path, uart: Uart, extra: &[&str], echo: Echo) -> Result<Qemu, EmulateError> {
+        let bytes =
+            std::fs::read(elf).map_err(EmulateError::io(format!("reading {}", elf.display())))?;
+        let table = defmt_log::table(&elf.display().to_string(), &bytes)?;
         let mut cmd = Command::new(QEMU);
         cmd.args([
             "-M",
@@ -162,11 +172,12 @@ impl Qemu {
         cmd.stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
-        let mut child = cmd.spawn().map_err(|e| {
-            format!("starting {QEMU}: {e} (install it: `apt-get install qemu-system-arm`, or `cargo xtask demo` does it)")
+        let mut child = cmd.spawn().map_err(|error| EmulateError::QemuNotStarted {
+            program: QEMU,
+            error,
         })?;
-        let stdout = child.stdout.take().ok_or("no QEMU stdout")?;
-        let stderr = child.stderr.take().ok_or("no QEMU stderr")?;
+        let stdout = child.stdout.take().expect("stdout is piped");
+        let stderr = child.stderr.take().expect("stderr is piped");
         thread::spawn(move || {
             for line in BufReader::new(stderr).lines().map_while(Result::ok) {
                 // Harmless: the board's Ethernet controller has no network.

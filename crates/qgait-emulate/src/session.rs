@@ -26,6 +26,7 @@
 //! of its own and cannot swallow the closing request. The socket is kept open until QEMU has
 //! been stopped, or the tail of the output would be lost.
 
+use crate::EmulateError;
 use std::io::{Read, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::{Path, PathBuf};
@@ -50,13 +51,13 @@ fn write_input(
     input: &[u8],
     written: &AtomicUsize,
     stop: &AtomicBool,
-) -> Result<(), String> {
+) -> Result<(), EmulateError> {
     for chunk in input.chunks(CHUNK) {
         if stop.load(Ordering::Relaxed) {
             break;
         }
         w.write_all(&escape(chunk))
-            .map_err(|e| format!("writing to the UART socket: {e}"))?;
+            .map_err(EmulateError::io("writing to the UART socket"))?;
         written.fetch_add(chunk.len(), Ordering::Relaxed);
     }
     Ok(())
@@ -137,7 +138,7 @@ impl InputCounts {
 /// then `configuration` (the last `Config` or `SubjectConfig` sent) with its reorder window
 /// changed, which makes the hub close (and count) the samples still open in its window, and
 /// a status request.
-pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, String> {
+pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, EmulateError> {
     let toggle = |w: u8| if w == 1 { 2 } else { 1 };
     let closing = match configuration {
         Message::Config(c) => Message::Config(qgait_proto::Config {
@@ -150,7 +151,7 @@ pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, String> {
             request_status: true,
             ..*c
         }),
-        other => return Err(format!("not a configuration message: {other:?}")),
+        other => return Err(EmulateError::NotAConfiguration(other.tag())),
     };
     let mut out = vec![0u8];
     push_frame(&mut out, &closing);
@@ -178,42 +179,42 @@ fn socket_path() -> PathBuf {
     std::env::temp_dir().join(format!("qgait-uart-{}-{n}.sock", std::process::id()))
 }
 
-fn accept(listener: &UnixListener, deadline: Instant) -> Result<UnixStream, String> {
-    listener.set_nonblocking(true).map_err(|e| e.to_string())?;
+fn accept(listener: &UnixListener, deadline: Instant) -> Result<UnixStream, EmulateError> {
+    let setting = || EmulateError::io("setting up the UART socket");
+    listener.set_nonblocking(true).map_err(setting())?;
     loop {
         match listener.accept() {
             Ok((stream, _)) => {
-                stream.set_nonblocking(false).map_err(|e| e.to_string())?;
+                stream.set_nonblocking(false).map_err(setting())?;
                 return Ok(stream);
             }
             Err(e) if e.kind() == std::io::ErrorKind::WouldBlock && Instant::now() < deadline => {
                 thread::sleep(Duration::from_millis(2))
             }
-            Err(e) => return Err(format!("QEMU did not connect to the UART socket: {e}")),
+            Err(e) => return Err(EmulateError::NotConnected(e)),
         }
     }
 }
 
 /// Binds the UART socket, starts QEMU on it and accepts its connection.
-fn connect(elf: &Path, echo: Echo, limits: &Limits) -> Result<(Qemu, UnixStream), String> {
+fn connect(elf: &Path, echo: Echo, limits: &Limits) -> Result<(Qemu, UnixStream), EmulateError> {
     let socket = socket_path();
     let _ = std::fs::remove_file(&socket);
-    let listener =
-        UnixListener::bind(&socket).map_err(|e| format!("binding {}: {e}", socket.display()))?;
+    let listener = UnixListener::bind(&socket)
+        .map_err(EmulateError::io(format!("binding {}", socket.display())))?;
     let started = Qemu::start_buffered(elf, &socket, echo);
-    let accepted = match &started {
-        Ok(_) => accept(&listener, Instant::now() + limits.connect),
-        Err(_) => Err(String::new()),
+    let result = match started {
+        Ok(qemu) => match accept(&listener, Instant::now() + limits.connect) {
+            Ok(stream) => Ok((qemu, stream)),
+            Err(e) => {
+                qemu.stop();
+                Err(e)
+            }
+        },
+        Err(e) => Err(e),
     };
     let _ = std::fs::remove_file(&socket);
-    match (started, accepted) {
-        (Ok(qemu), Ok(stream)) => Ok((qemu, stream)),
-        (Ok(qemu), Err(e)) => {
-            qemu.stop();
-            Err(e)
-        }
-        (Err(e), _) => Err(e),
-    }
+    result
 }
 
 /// Runs `elf`, writes `input` (which must end with [`closing_frames`]) into its UART and
@@ -225,7 +226,7 @@ pub fn run(
     expected: InputCounts,
     echo: Echo,
     limits: Limits,
-) -> Result<SessionOutput, String> {
+) -> Result<SessionOutput, EmulateError> {
     let started = Instant::now();
     let deadline = started + limits.total;
     let (qemu, mut stream) = connect(elf, echo, &limits)?;
@@ -236,7 +237,10 @@ pub fn run(
         (Ok(w), Ok(())) => w,
         (Err(e), _) | (_, Err(e)) => {
             qemu.stop();
-            return Err(format!("setting up the UART socket: {e}"));
+            return Err(EmulateError::Io {
+                what: "setting up the UART socket".into(),
+                error: e,
+            });
         }
     };
     let stop = Arc::new(AtomicBool::new(false));
@@ -323,7 +327,7 @@ pub fn run(
     drop(stream);
     if let Ok(Err(e)) = sender.join() {
         if problem.is_none() && status.is_none() {
-            problem = Some(e);
+            problem = Some(e.to_string());
         }
     }
     Ok(SessionOutput {

@@ -77,8 +77,8 @@ pub fn run_config(args: ConfigArgs, diagnostics: &Diagnostics) -> anyhow::Result
         reorder_window: args.window,
         request_status: !args.no_status_request,
     };
-    let sent = messages(&model, settings).map_err(anyhow::Error::msg)?;
-    let bytes = frames(&sent).map_err(anyhow::Error::msg)?;
+    let sent = messages(&model, settings)?;
+    let bytes = frames(&sent)?;
     std::fs::write(&args.output, &bytes)
         .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", args.output.display()))?;
     diagnostics.done(format!(

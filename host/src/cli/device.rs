@@ -489,17 +489,17 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         times,
         count,
     } = emulate_input(&args, model.hub.id(), quiet)?;
-    let elf = firmware::locate(args.elf.as_deref()).map_err(anyhow::Error::msg)?;
+    let elf = firmware::locate(args.elf.as_deref())?;
     let settings = HubSettings {
         missing_policy: MissingPolicy::Drop,
         reorder_window: args.window,
         request_status: false,
     };
-    let config = messages(&model.hub, settings).map_err(anyhow::Error::msg)?;
-    let mut input = frames(&config).map_err(anyhow::Error::msg)?;
+    let config = messages(&model.hub, settings)?;
+    let mut input = frames(&config)?;
     input.extend_from_slice(&stream);
     let last = config.last().context("no configuration message")?;
-    input.extend(closing_frames(last).map_err(anyhow::Error::msg)?);
+    input.extend(closing_frames(last)?);
     let expected = InputCounts::of(&input);
     if !quiet {
         eprintln!(
@@ -515,8 +515,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         expected,
         echo,
         Limits::for_stream(stream.len()),
-    )
-    .map_err(anyhow::Error::msg)?;
+    )?;
     if let Some(path) = &args.log {
         std::fs::write(path, &out.uart)
             .with_context(|| format!("{}: cannot write", path.display()))?;

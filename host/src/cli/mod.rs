@@ -128,8 +128,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 if spec.ends_with(".csv") {
                     let text = std::fs::read_to_string(spec)
                         .with_context(|| format!("{spec}: cannot read"))?;
-                    let table = crate::device::frames_csv::parse(&text, spec)
-                        .map_err(anyhow::Error::msg)?;
+                    let table = crate::device::frames_csv::parse(&text, spec)?;
                     frames.push((i, label, spec.clone(), table));
                     continue;
                 }

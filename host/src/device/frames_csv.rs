@@ -8,6 +8,8 @@ use std::io::{self, Write};
 
 use qgait_proto::PoseFrame;
 
+use crate::diagnostics::Location;
+
 /// The header line (without the newline).
 pub fn header() -> String {
     format!(
@@ -70,16 +72,53 @@ pub fn is_frames_csv(text: &str) -> bool {
         .is_some_and(|l| l.trim_end() == header())
 }
 
+/// Why a file is not a frames CSV: where and what.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FramesCsvError {
+    /// The first line is not the header.
+    #[error("{at}: not a frames CSV (expected the header `{expected}`)")]
+    Header {
+        /// The file's first line.
+        at: Location,
+        /// The header a frames CSV starts with.
+        expected: String,
+    },
+    /// A row has another number of values.
+    #[error("{at}: {found} values, expected 26")]
+    Width {
+        /// The row's line.
+        at: Location,
+        /// How many it has.
+        found: usize,
+    },
+    /// A value is not a number (or not finite).
+    #[error("{at}: bad {what} `{text}`")]
+    Value {
+        /// The row's line.
+        at: Location,
+        /// `seq`, `time` or `number`.
+        what: &'static str,
+        /// The value as written.
+        text: String,
+    },
+}
+
 /// Parses a frames CSV; errors name the line.
-pub fn parse(text: &str, source: &str) -> Result<FramesTable, String> {
+pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
+    let line_at = |line: usize| Location {
+        path: source.to_string(),
+        line: Some(line),
+        column: None,
+    };
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, h)) if h.trim_end() == header() => {}
         _ => {
-            return Err(format!(
-                "{source}:1: not a frames CSV (expected the header `{}`)",
-                header()
-            ))
+            return Err(FramesCsvError::Header {
+                at: line_at(1),
+                expected: header(),
+            })
         }
     }
     let mut t = FramesTable {
@@ -94,13 +133,16 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, String> {
         }
         let cells: Vec<&str> = line.split(',').collect();
         if cells.len() != 26 {
-            return Err(format!(
-                "{source}:{}: {} values, expected 26",
-                i + 1,
-                cells.len()
-            ));
+            return Err(FramesCsvError::Width {
+                at: line_at(i + 1),
+                found: cells.len(),
+            });
         }
-        let bad = |what: &str, v: &str| format!("{source}:{}: bad {what} `{v}`", i + 1);
+        let bad = |what: &'static str, v: &str| FramesCsvError::Value {
+            at: line_at(i + 1),
+            what,
+            text: v.to_string(),
+        };
         t.seq
             .push(cells[0].parse().map_err(|_| bad("seq", cells[0]))?);
         t.time.push(if cells[1].is_empty() {
@@ -151,9 +193,14 @@ mod tests {
         assert_eq!(t.seq, [3, 4]);
         assert_eq!(t.time, [Some(0.03), None]);
         assert_eq!(t.points[1][7], [1.75, -0.5, 4.0]);
-        let e = parse("seq,time\n", "x.csv").unwrap_err();
+        let e = parse("seq,time\n", "x.csv").unwrap_err().to_string();
         assert!(e.starts_with("x.csv:1: not a frames CSV"), "{e}");
         let e = parse(&text.replace("0.03", "abc"), "f.csv").unwrap_err();
+        assert!(
+            matches!(&e, FramesCsvError::Value { what: "time", text, .. } if text == "abc"),
+            "{e:?}"
+        );
+        let e = e.to_string();
         assert!(e.contains("f.csv:2: bad time `abc`"), "{e}");
     }
 }

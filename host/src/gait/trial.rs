@@ -57,7 +57,7 @@ pub fn load(source: &str, model: &Model) -> anyhow::Result<(Trial, Vec<Warning>)
     if source.ends_with(".csv") {
         let text = std::fs::read_to_string(source)
             .map_err(|e| anyhow::anyhow!("{source}: cannot read: {e}"))?;
-        let table = crate::device::frames_csv::parse(&text, source).map_err(anyhow::Error::msg)?;
+        let table = crate::device::frames_csv::parse(&text, source)?;
         let time = match table.time.iter().copied().collect::<Option<Vec<f64>>>() {
             Some(t) => t,
             None => anyhow::bail!(
