@@ -22,7 +22,7 @@ use crate::cli::model_args::ModelArgs;
 use crate::device::config::{frames, messages, HubModel, HubSettings};
 use crate::device::frames_csv;
 use crate::device::log::{HubLog, LogDecoder, Record};
-use crate::device::packets::{Samples, Timing};
+use crate::device::packets::{PacketsError, Samples, Timing};
 use crate::device::port::{self, Input, Until};
 use crate::device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
 use crate::motion::source::load_motion;
@@ -255,7 +255,10 @@ pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     let mut file = crate::cli::OutputFile::create(&args.output)?;
     let (counts, w) =
         crate::device::packets::write_stream(rows, args.model.into(), timing, &warn, file.writer())
-            .map_err(|e| crate::cli::with_path(e, &args.output))?;
+            .map_err(|e| match e {
+                PacketsError::Write(io) => crate::cli::with_path(io.into(), &args.output),
+                other => other.into(),
+            })?;
     file.commit()?;
     warn(w);
     if !quiet {

@@ -8,6 +8,7 @@ use qgait_proto::{JointAngle, Message, ModelId, MAX_FRAME_LEN};
 use std::cell::RefCell;
 
 use crate::diagnostics::Warning;
+use crate::model::error::ModelError;
 use crate::model::points::drive;
 use crate::motion::source::MotionRows;
 use crate::opensim::mot::MotionTable;
@@ -45,7 +46,7 @@ impl Samples {
         table: &MotionTable,
         model: ModelId,
         timing: Timing,
-    ) -> Result<(Samples, Vec<Warning>), String> {
+    ) -> Result<(Samples, Vec<Warning>), PacketsError> {
         let warnings = RefCell::new(Vec::new());
         let mut timestamps_us = Vec::with_capacity(table.rows());
         let mut angles = Vec::with_capacity(table.rows());
@@ -57,10 +58,9 @@ impl Samples {
             |_, ts, a| {
                 timestamps_us.push(ts);
                 angles.push(a.to_vec());
-                Ok(())
+                Ok::<_, PacketsError>(())
             },
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         let mut warnings = warnings.into_inner();
         warnings.extend(end);
         Ok((
@@ -100,20 +100,36 @@ impl Samples {
     }
 }
 
+/// Why a motion's packets cannot be made.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PacketsError {
+    /// `--rate` is not a positive number of samples per second.
+    #[error("--rate {0}: expected a positive number of samples per second")]
+    Rate(f64),
+    /// The motion does not fit the model (a missing column, a `nan`, an unreadable row).
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The stream could not be written.
+    #[error(transparent)]
+    Write(#[from] std::io::Error),
+}
+
 /// Reads every row of `rows` as a sample of `model` and hands `each` its sequence number (the
 /// row index, wrapping), timestamp and angles (radians, [`ModelId::required_joints`] order);
 /// memory does not grow with the number of rows. `warn` gets the warnings about the columns
-/// before the first row; the warnings found while reading are returned.
-pub fn for_each_sample(
+/// before the first row; the warnings found while reading are returned. An error of `each`
+/// ends the reading and is returned.
+pub fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
     rows: MotionRows,
     model: ModelId,
     timing: Timing,
     warn: &dyn Fn(Vec<Warning>),
-    mut each: impl FnMut(u32, u32, &[f64]) -> anyhow::Result<()>,
-) -> anyhow::Result<Vec<Warning>> {
+    mut each: impl FnMut(u32, u32, &[f64]) -> Result<(), E>,
+) -> Result<Vec<Warning>, E> {
     if let Timing::Rate(hz) = timing {
         if !(hz.is_finite() && hz > 0.0) {
-            anyhow::bail!("--rate {hz}: expected a positive number of samples per second");
+            return Err(PacketsError::Rate(hz).into());
         }
     }
     let mut row = 0usize;
@@ -161,7 +177,7 @@ pub fn write_stream(
     timing: Timing,
     warn: &dyn Fn(Vec<Warning>),
     out: &mut dyn std::io::Write,
-) -> anyhow::Result<(StreamCounts, Vec<Warning>)> {
+) -> Result<(StreamCounts, Vec<Warning>), PacketsError> {
     let joints = model.required_joints();
     let mut counts = StreamCounts {
         bytes: 1,
@@ -181,7 +197,7 @@ pub fn write_stream(
         counts.samples += 1;
         counts.packets += joints.len() as u64;
         counts.bytes += buf.len() as u64;
-        Ok(())
+        Ok::<_, PacketsError>(())
     })?;
     Ok((counts, warnings))
 }
