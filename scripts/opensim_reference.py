@@ -13,7 +13,8 @@ For every model and motion, one CSV row per motion row:
   `hip`, `knee`, `ankle`, `subtalar`, `mtp`: the origin of the child frame of the joint that
   moves `femur`, `tibia`, `talus`, `calcn`, `toes` (the joint centre, whatever the joint is
   called; for a weld, the weld's frame); `toetip`: marker `R.Toe.Tip`/`L.Toe.Tip` if the model
-  has one, else (0.0812, 0.007, -/+0.00108) in `toes_<s>` (gait2392's toe tip).
+  has one, else (0.0812, 0.007, -/+0.00108) in `toes_<s>` (gait2392's toe tip) multiplied axis by
+  axis by the toes' first attached geometry's scale factors (a scaled model's body scale).
 Every coordinate the motion lacks is at the model's default (translations too: they cancel).
 Values are set with `Coordinate.setValue(state, v, False)` (no clamping to the range, no
 constraint projection: the coupler-driven patella is not part of the output) and realized to
@@ -101,7 +102,14 @@ def toe_tip(model, s):
         m = markers.get(name)
         return m.getParentFrame(), m.get_location()
     z = -0.00108 if s == "r" else 0.00108
-    return model.getBodySet().get(f"toes_{s}"), osim.Vec3(0.0812, 0.007, z)
+    toes = model.getBodySet().get(f"toes_{s}")
+    # A scaled model: its scale tool multiplied the toes' geometry scale factors by the
+    # body's scale factors; the generic toe tip is scaled the same way (1 when absent).
+    k = [1.0, 1.0, 1.0]
+    if toes.getPropertyByName("attached_geometry").size() > 0:
+        f = toes.get_attached_geometry(0).get_scale_factors()
+        k = [f.get(i) for i in range(3)]
+    return toes, osim.Vec3(0.0812 * k[0], 0.007 * k[1], z * k[2])
 
 
 def run(name, path, motions, out_dir):

@@ -48,6 +48,9 @@ impl LoadedModel {
             Model::Hak { .. } => ModelId::Hak,
             Model::Phak { .. } => ModelId::Phak,
             Model::Gait2392 { .. } => ModelId::Gait2392,
+            Model::Chain { name, .. } => anyhow::bail!(
+                "--model {name}: the hub runs hak, phak and gait2392-family models; this chain is evaluated on the host only"
+            ),
         };
         Ok(LoadedModel {
             hub: hub_model(model, None)?,

@@ -6,6 +6,7 @@
 //! names the results.
 
 use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Gait2392, Joint, PhakAngles, Side, Vec3};
 
 use crate::diagnostics::Warning;
@@ -25,7 +26,7 @@ pub fn gait2392_coordinates(
 }
 
 /// Names of the points a [`PointModel`] gives: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,
-/// then with `extra` (gait2392 only) `subtalar_r, mtp_r, subtalar_l, mtp_l`.
+/// then with `extra` (gait2392 and chain models only) `subtalar_r, mtp_r, subtalar_l, mtp_l`.
 pub fn point_names(extra: bool) -> Vec<String> {
     let mut names = Vec::new();
     for side in Side::ALL {
@@ -54,7 +55,13 @@ enum Kind {
     Hak(Box<Evaluator>),
     Phak(Box<Evaluator>),
     Gait2392(Box<Gait2392<f64>>),
+    Chain(Box<LowerLimb<f64>>),
 }
+
+/// Where [`point_names`]' points are in a [`LowerLimb`]'s output
+/// ([`POINTS`](qgait_kernel::models::gait2392::POINTS) order): hip, knee, ankle, toe tip per side,
+/// then subtalar and MTP per side.
+const CHAIN_ORDER: [usize; 12] = [0, 1, 2, 5, 6, 7, 8, 11, 3, 4, 9, 10];
 
 impl PointModel {
     /// The kernel model of `model`. `extra` adds subtalar and MTP (gait2392 models only; an
@@ -67,6 +74,18 @@ impl PointModel {
                     error,
                 })?,
             )),
+            Model::Chain { chain, name } => {
+                Kind::Chain(Box::new(chain.chain().map_err(|message| {
+                    ModelError::File {
+                        at: crate::diagnostics::Location {
+                            path: name.clone(),
+                            line: None,
+                            column: None,
+                        },
+                        message,
+                    }
+                })?))
+            }
             _ if extra => return Err(ModelError::PointsNeedGait2392),
             Model::Hak { .. } => Kind::Hak(Box::new(Evaluator::new(model, "fk")?)),
             Model::Phak { .. } => Kind::Phak(Box::new(Evaluator::new(model, "fk")?)),
@@ -107,6 +126,13 @@ impl PointModel {
                         points.push(pose.mtp(side));
                     }
                 }
+                each(t, &points)
+            }),
+            Kind::Chain(chain) => drive(rows, &COORDINATES, warn, |t, q| {
+                let all = chain.forward(&q);
+                let n = if self.extra { 12 } else { 8 };
+                points.clear();
+                points.extend(CHAIN_ORDER[..n].iter().map(|&i| all[i]));
                 each(t, &points)
             }),
         }

@@ -64,7 +64,7 @@ pub enum ImportError {
     },
 }
 
-fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
+pub(super) fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
     Document::parse(text).map_err(|e| {
         let pos = e.pos();
         ImportError::Xml {
@@ -140,46 +140,50 @@ pub fn import(
 
 /// A transform function, with any `MultiplierFunction` scale applied.
 #[derive(Debug, Clone, PartialEq)]
-enum Function {
+pub(super) enum Function {
     Constant(f64),
     /// `slope * q + intercept`.
     Linear(f64, f64),
     SimmSpline(Vec<f64>, Vec<f64>),
+    /// `PiecewiseLinearFunction` knots.
+    PiecewiseLinear(Vec<f64>, Vec<f64>),
     /// A type qgait does not evaluate (its XML tag).
     Other(String),
 }
 
 #[derive(Debug, Clone)]
-struct TransformAxis {
-    name: String,
-    coordinates: Vec<String>,
-    axis: [f64; 3],
-    function: Function,
+pub(super) struct TransformAxis {
+    pub(super) name: String,
+    pub(super) coordinates: Vec<String>,
+    pub(super) axis: [f64; 3],
+    pub(super) function: Function,
 }
 
 #[derive(Debug, Clone)]
-struct Joint {
-    name: String,
-    kind: String,
-    parent: String,
-    child: String,
-    location_in_parent: [f64; 3],
-    orientation_in_parent: [f64; 3],
-    location_in_child: [f64; 3],
-    orientation_in_child: [f64; 3],
-    reverse: bool,
-    axes: Vec<TransformAxis>,
+pub(super) struct Joint {
+    pub(super) name: String,
+    pub(super) kind: String,
+    pub(super) parent: String,
+    pub(super) child: String,
+    pub(super) location_in_parent: [f64; 3],
+    pub(super) orientation_in_parent: [f64; 3],
+    pub(super) location_in_child: [f64; 3],
+    pub(super) orientation_in_child: [f64; 3],
+    pub(super) reverse: bool,
+    pub(super) axes: Vec<TransformAxis>,
+    /// The joint's own coordinates, in order (what a `PinJoint` or `UniversalJoint` turns by).
+    pub(super) coordinates: Vec<String>,
 }
 
-fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
+pub(super) fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
     n.children().find(|c| c.is_element() && c.has_tag_name(tag))
 }
 
-fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
+pub(super) fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
     child(n, tag).map(|c| c.text().unwrap_or("").trim())
 }
 
-fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
+pub(super) fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
     s.split_whitespace()
         .map(|v| {
             v.parse::<f64>()
@@ -190,7 +194,7 @@ fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
         .collect()
 }
 
-fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
+pub(super) fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
     match text_of(n, tag) {
         None => Ok([0.0; 3]),
         Some(t) => {
@@ -201,12 +205,12 @@ fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
     }
 }
 
-fn name_of(n: Node) -> String {
+pub(super) fn name_of(n: Node) -> String {
     n.attribute("name").unwrap_or("").to_string()
 }
 
 /// Parses a function element (`<Constant>`, `<LinearFunction>`, ...).
-fn function(n: Node, what: &str) -> Result<Function, String> {
+pub(super) fn function(n: Node, what: &str) -> Result<Function, String> {
     let tag = n.tag_name().name();
     Ok(match tag {
         "Constant" => Function::Constant(
@@ -226,6 +230,10 @@ fn function(n: Node, what: &str) -> Result<Function, String> {
             numbers(text_of(n, "x").unwrap_or(""), what)?,
             numbers(text_of(n, "y").unwrap_or(""), what)?,
         ),
+        "PiecewiseLinearFunction" => Function::PiecewiseLinear(
+            numbers(text_of(n, "x").unwrap_or(""), what)?,
+            numbers(text_of(n, "y").unwrap_or(""), what)?,
+        ),
         "MultiplierFunction" => {
             let inner = child(n, "function")
                 .and_then(|f| f.children().find(|c| c.is_element()))
@@ -239,6 +247,9 @@ fn function(n: Node, what: &str) -> Result<Function, String> {
                 Function::Linear(a, b) => Function::Linear(a * scale, b * scale),
                 Function::SimmSpline(x, y) => {
                     Function::SimmSpline(x, y.into_iter().map(|v| v * scale).collect())
+                }
+                Function::PiecewiseLinear(x, y) => {
+                    Function::PiecewiseLinear(x, y.into_iter().map(|v| v * scale).collect())
                 }
                 Function::Other(t) => Function::Other(format!("MultiplierFunction({t})")),
             }
@@ -285,7 +296,7 @@ fn transform_axes(joint: Node, joint_name: &str) -> Result<Vec<TransformAxis>, S
     Ok(axes)
 }
 
-fn last_path_part(p: &str) -> &str {
+pub(super) fn last_path_part(p: &str) -> &str {
     p.trim()
         .trim_end_matches('/')
         .rsplit('/')
@@ -331,7 +342,7 @@ fn resolve_frame(
     }
 }
 
-fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
+pub(super) fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
     let mut joints = Vec::new();
     // 4.x: <JointSet><objects>...
     for set in doc.descendants().filter(|n| n.has_tag_name("JointSet")) {
@@ -352,6 +363,7 @@ fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
                 orientation_in_child: oc,
                 reverse: text_of(j, "reverse") == Some("true"),
                 axes: transform_axes(j, &name)?,
+                coordinates: joint_coordinates(j),
                 name,
             });
         }
@@ -374,10 +386,20 @@ fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
             orientation_in_child: vec3(j, "orientation", &what)?,
             reverse: text_of(j, "reverse") == Some("true"),
             axes: transform_axes(j, &name)?,
+            coordinates: joint_coordinates(j),
             name,
         });
     }
     Ok(joints)
+}
+
+/// The names of a joint's own coordinates (4.x `<coordinates>`, 3.x `<CoordinateSet>`).
+fn joint_coordinates(j: Node) -> Vec<String> {
+    j.children()
+        .filter(|c| c.has_tag_name("coordinates") || c.has_tag_name("CoordinateSet"))
+        .flat_map(|c| c.descendants().filter(|d| d.has_tag_name("Coordinate")))
+        .map(name_of)
+        .collect()
 }
 
 /// The joint moving `child`, checked to hang on `parent` and to be a plain `CustomJoint`.
@@ -455,8 +477,8 @@ fn rotations(j: &Joint, expected: &[String]) -> Result<Vec<[f64; 3]>, String> {
                     ax.coordinates
                 ))
             }
-            Function::SimmSpline(..) => {
-                return Err(format!("{what}: a SimmSpline rotation is not supported"))
+            Function::SimmSpline(..) | Function::PiecewiseLinear(..) => {
+                return Err(format!("{what}: a spline rotation is not supported"))
             }
             Function::Other(t) => {
                 return Err(format!("{what}: function type {t} is not supported"))
@@ -538,6 +560,11 @@ fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
             // A line is the 2-knot spline through two of its points (linear extrapolation).
             Function::Linear(a, b) => (vec![-1.0, 1.0], vec![b - a, b + a]),
             Function::Constant(c) => (vec![-1.0, 1.0], vec![*c, *c]),
+            Function::PiecewiseLinear(..) => {
+                return Err(format!(
+                    "{what}: PiecewiseLinearFunction is not supported on gait2392's knee"
+                ))
+            }
             Function::Other(t) => {
                 return Err(format!(
                     "{what}: function type {t} is not supported (the knee needs SimmSpline, LinearFunction or Constant)"
@@ -676,7 +703,7 @@ fn non_zero_defaults(doc: &Document) -> Vec<String> {
 }
 
 /// A marker `name` in a document: (body, location).
-fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
+pub(super) fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
     let Some(m) = doc
         .descendants()
         .find(|n| n.has_tag_name("Marker") && n.attribute("name") == Some(name))
@@ -695,7 +722,7 @@ fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, Stri
 }
 
 /// The toes body's geometry scale factors (1 when absent).
-fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
+pub(super) fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
     let Some(body) = doc
         .descendants()
         .find(|n| n.has_tag_name("Body") && n.attribute("name") == Some(&format!("toes_{s}")))
