@@ -173,3 +173,49 @@ fn a_ball_joint_in_the_chain_is_refused_naming_it() {
         .to_string();
     assert!(err.contains("joint `ankle_r` is a BallJoint"), "{err}");
 }
+
+#[test]
+fn fidelity_compares_phak_with_imported_models_and_agrees_with_its_gait2392_summary() {
+    let Some(shared) = shared_dir() else { return };
+    let raj = shared.join("data/opensim/Rajagopal2016.osim");
+    let out = qgait(&[
+        "-q",
+        "fidelity",
+        "builtin:normal",
+        "--model",
+        "gait2392",
+        "--model",
+        raj.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let md = String::from_utf8(out.stdout).unwrap();
+    // The summary's gait2392 row (raw max .. hip-relative mean) is the `--model gait2392` row's.
+    let summary = md
+        .lines()
+        .find(|l| l.starts_with("| builtin:normal |"))
+        .expect("summary row");
+    let numbers = |l: &str| -> Vec<String> {
+        l.split('|')
+            .map(|c| c.trim().to_string())
+            .filter(|c| !c.is_empty())
+            .collect()
+    };
+    let s = numbers(summary);
+    let g = numbers(
+        md.lines()
+            .find(|l| l.starts_with("| gait2392 | builtin:normal |"))
+            .expect("gait2392 comparison row"),
+    );
+    assert_eq!(
+        s[1..6],
+        g[2..3].iter().chain(&g[4..8]).cloned().collect::<Vec<_>>()[..]
+    );
+    let r = numbers(
+        md.lines()
+            .find(|l| l.contains("Rajagopal2016.osim | builtin:normal |"))
+            .expect("Rajagopal row"),
+    );
+    assert_eq!(r[3], "yes", "Rajagopal's knee flexes with positive angles");
+    let hip_relative_max: f64 = r[6].parse().unwrap();
+    assert!(hip_relative_max > 1.0 && hip_relative_max < 200.0, "{r:?}");
+}
