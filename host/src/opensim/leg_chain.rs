@@ -109,8 +109,19 @@ pub fn import(
             _ => BODIES[b - 1],
         };
         let j = chain_joint(&joints, parent, body).map_err(err)?;
+        let before = state.notes.len();
         let mut data = state.joint(j).map_err(err)?;
         if b == 0 {
+            // (What the dropped translations would have held is not worth a note.)
+            let prefix = format!("joint `{}` translation", j.name);
+            let mut k = before;
+            while k < state.notes.len() {
+                if state.notes[k].starts_with(&prefix) {
+                    state.notes.remove(k);
+                } else {
+                    k += 1;
+                }
+            }
             // Points are relative to the pelvis origin: the pelvis does not translate.
             data.parent_translation = [0.0; 3];
             data.child_translation = [0.0; 3];
