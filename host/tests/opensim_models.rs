@@ -9,7 +9,7 @@ use std::path::Path;
 use common::{parse_fk_csv, qgait, shared_dir, stderr};
 use qgait::model::choice::Model;
 use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
-use qgait_kernel::{Gait2392, Vec3};
+use qgait_kernel::Vec3;
 
 const MODELS: [(&str, &str); 5] = [
     ("gait2392", "gait2392_simbody.osim"),
@@ -42,18 +42,10 @@ fn reference(name: &str, motion: &str) -> Vec<([f64; 17], [Vec3<f64>; 12])> {
 }
 
 /// The 12 points of a loaded model for coordinates `q`.
-fn points(model: &Model) -> Box<dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]> {
-    match model {
-        Model::Gait2392 { geometry, .. } => {
-            let g = Gait2392::<f64>::new(geometry).unwrap();
-            Box::new(move |q| g.chain().forward(q))
-        }
-        Model::Chain { chain, .. } => {
-            let c = chain.chain().unwrap();
-            Box::new(move |q| c.forward(q))
-        }
-        _ => panic!("not an imported model"),
-    }
+fn points(model: &Model) -> qgait::model::points::ImportedFk {
+    qgait::model::points::imported_fk(model)
+        .unwrap()
+        .expect("an imported model")
 }
 
 #[test]
@@ -218,4 +210,15 @@ fn fidelity_compares_phak_with_imported_models_and_agrees_with_its_gait2392_summ
     assert_eq!(r[3], "yes", "Rajagopal's knee flexes with positive angles");
     let hip_relative_max: f64 = r[6].parse().unwrap();
     assert!(hip_relative_max > 1.0 && hip_relative_max < 200.0, "{r:?}");
+}
+
+#[test]
+fn fidelity_model_refuses_a_stick_model() {
+    let out = qgait(&["-q", "fidelity", "builtin:normal,rows=5", "--model", "phak"]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("fidelity --model takes an OpenSim leg chain"),
+        "{}",
+        stderr(&out)
+    );
 }

@@ -52,6 +52,14 @@ pub enum ModelError {
         /// The model given.
         name: String,
     },
+    /// This use takes an imported OpenSim model (gait2392's family or a chain), not HAK or PHAK.
+    #[error("{what} takes an OpenSim leg chain (gait2392, a SUBJECT.toml or CHAIN.toml, an .osim), not {name}")]
+    NeedsChain {
+        /// What needs an imported model.
+        what: &'static str,
+        /// The model given.
+        name: String,
+    },
     /// A motion lacks columns every model needs (the PHAK leg coordinates).
     #[error("{at}: missing required column(s) {}", columns.join(", "))]
     MissingColumns {

@@ -352,7 +352,6 @@ pub fn compare(
     label: &str,
     table: &MotionTable,
 ) -> Result<(Comparison, Vec<Warning>), ModelError> {
-    use crate::model::choice::Model;
     let (mut q, mut warnings) = gait2392_coordinates(table)?;
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
@@ -369,27 +368,11 @@ pub fn compare(
     let eight = |p: [Vec3<f64>; 12]| -> [Vec3<f64>; 8] {
         [p[0], p[1], p[2], p[5], p[6], p[7], p[8], p[11]]
     };
-    let fk: Box<dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]> = match model {
-        Model::Gait2392 { geometry, name } => {
-            let g = Gait2392::<f64>::new(geometry).map_err(rejected(name))?;
-            Box::new(move |q| g.chain().forward(q))
-        }
-        Model::Chain { chain, name } => {
-            let c = chain.chain().map_err(|message| ModelError::File {
-                at: crate::diagnostics::Location {
-                    path: name.clone(),
-                    line: None,
-                    column: None,
-                },
-                message,
-            })?;
-            Box::new(move |q| c.forward(q))
-        }
-        _ => return Err(ModelError::StickOnly {
-            what:
-                "fidelity --model (an imported model: gait2392, SUBJECT.toml, CHAIN.toml or .osim)",
+    let Some(fk) = crate::model::points::imported_fk(model)? else {
+        return Err(ModelError::NeedsChain {
+            what: "fidelity --model",
             name: model.name().to_string(),
-        }),
+        });
     };
     // Flexion moves the ankle backwards (-x): which sign of knee_angle does that?
     let knee = index("knee_angle_r");

@@ -25,6 +25,43 @@ pub fn gait2392_coordinates(
     kinematics::coordinate_rows(table, &COORDINATES)
 }
 
+/// Forward kinematics of an imported model: the 12 points of
+/// [`POINTS`](qgait_kernel::models::gait2392::POINTS) for the 17 coordinates of [`COORDINATES`].
+pub type ImportedFk = Box<dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]>;
+
+/// The kernel's evaluation of a gait2392-family or chain model (`None` for HAK and PHAK).
+pub fn imported_fk(model: &Model) -> Result<Option<ImportedFk>, ModelError> {
+    Ok(Some(match model {
+        Model::Gait2392 { geometry, name } => {
+            let g = Gait2392::<f64>::new(geometry).map_err(|error| ModelError::Rejected {
+                name: name.clone(),
+                error,
+            })?;
+            Box::new(move |q| g.chain().forward(q))
+        }
+        Model::Chain { chain, name } => {
+            let c = chain_of(chain, name)?;
+            Box::new(move |q| c.forward(q))
+        }
+        Model::Hak { .. } | Model::Phak { .. } => return Ok(None),
+    }))
+}
+
+/// The kernel table of a chain model `name`.
+fn chain_of(
+    chain: &crate::model::chain::ChainModel,
+    name: &str,
+) -> Result<LowerLimb<f64>, ModelError> {
+    chain.chain().map_err(|message| ModelError::File {
+        at: crate::diagnostics::Location {
+            path: name.to_string(),
+            line: None,
+            column: None,
+        },
+        message,
+    })
+}
+
 /// Names of the points a [`PointModel`] gives: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,
 /// then with `extra` (gait2392 and chain models only) `subtalar_r, mtp_r, subtalar_l, mtp_l`.
 pub fn point_names(extra: bool) -> Vec<String> {
@@ -74,18 +111,7 @@ impl PointModel {
                     error,
                 })?,
             )),
-            Model::Chain { chain, name } => {
-                Kind::Chain(Box::new(chain.chain().map_err(|message| {
-                    ModelError::File {
-                        at: crate::diagnostics::Location {
-                            path: name.clone(),
-                            line: None,
-                            column: None,
-                        },
-                        message,
-                    }
-                })?))
-            }
+            Model::Chain { chain, name } => Kind::Chain(Box::new(chain_of(chain, name)?)),
             _ if extra => return Err(ModelError::PointsNeedGait2392),
             Model::Hak { .. } => Kind::Hak(Box::new(Evaluator::new(model, "fk")?)),
             Model::Phak { .. } => Kind::Phak(Box::new(Evaluator::new(model, "fk")?)),
