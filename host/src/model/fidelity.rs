@@ -278,17 +278,7 @@ pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warnin
     let full = gait2392(&[])?;
     let raw = distances(&full, &phak_points, false);
     let rel = distances(&full, &phak_points, true);
-    let per_point = point_names(false)
-        .into_iter()
-        .enumerate()
-        .map(|(k, name)| {
-            (
-                name,
-                stat(raw[k].iter().copied()),
-                stat(rel[k].iter().copied()),
-            )
-        })
-        .collect();
+    let per_point = per_point(&raw, &rel);
     let mut sets: Vec<Vec<Feature>> = vec![Vec::new()];
     sets.extend(Feature::ALL.iter().map(|f| vec![*f]));
     sets.push(Feature::ALL.to_vec());
@@ -392,17 +382,7 @@ pub fn compare(
     let points: Points = q.iter().map(|q| eight(fk(q))).collect();
     let raw = distances(&points, &phak_points, false);
     let rel = distances(&points, &phak_points, true);
-    let per_point = point_names(false)
-        .into_iter()
-        .enumerate()
-        .map(|(k, name)| {
-            (
-                name,
-                stat(raw[k].iter().copied()),
-                stat(rel[k].iter().copied()),
-            )
-        })
-        .collect();
+    let per_point = per_point(&raw, &rel);
     Ok((
         Comparison {
             model: model.name().to_string(),
@@ -450,6 +430,21 @@ pub fn comparisons_markdown(results: &[Comparison]) -> String {
         ));
     }
     s
+}
+
+/// Per point (`hip_r` ... `toe_l`): (name, raw, hip-relative) of the distances.
+fn per_point(raw: &[Vec<f64>; 8], rel: &[Vec<f64>; 8]) -> Vec<(String, Stat, Stat)> {
+    point_names(false)
+        .into_iter()
+        .enumerate()
+        .map(|(k, name)| {
+            (
+                name,
+                stat(raw[k].iter().copied()),
+                stat(rel[k].iter().copied()),
+            )
+        })
+        .collect()
 }
 
 fn off_name(off: &[Feature]) -> String {

@@ -34,8 +34,8 @@ use crate::model::chain::{
     AxisData, ChainModel, CouplerData, FunctionData, JointData, PointData, BODIES,
 };
 use crate::opensim::osim::{
-    self, child, function, marker, name_of, read_joints, text_of, toes_scale, Function,
-    ImportError, Joint, GENERIC_TOETIP_RIGHT,
+    self, child, function, generic_toe_tip, name_of, read_joints, text_of, toe_marker, Function,
+    ImportError, Joint,
 };
 
 /// An imported chain and one line per choice made.
@@ -68,17 +68,11 @@ pub fn import(
     source: &str,
     markers: Option<(&str, &str)>,
 ) -> Result<ImportedChain, ImportError> {
-    let doc = osim::parse_xml(text, source)?;
+    let (doc, version) = osim::document(text, source)?;
     let err = |message: String| ImportError::Chain {
         path: source.to_string(),
         message,
     };
-    let version: u32 = doc
-        .descendants()
-        .find(|n| n.has_tag_name("OpenSimDocument"))
-        .and_then(|n| n.attribute("Version"))
-        .and_then(|v| v.trim().parse().ok())
-        .ok_or_else(|| ImportError::NotOpenSim(source.to_string()))?;
     let mut notes = vec![format!(
         "imported from {source} (OpenSim Version={version}) by qgait model import as a general lower-limb chain"
     )];
@@ -497,15 +491,7 @@ fn toe_tip(
     markers: Option<&(Document, &str)>,
     s: &str,
 ) -> Result<(PointData, String), String> {
-    let name = if s == "r" { "R.Toe.Tip" } else { "L.Toe.Tip" };
-    let found = match markers {
-        Some((doc, file)) => marker(doc, name)?.map(|m| (m, *file)),
-        None => None,
-    };
-    let found = match found {
-        Some(f) => Some(f),
-        None => marker(model, name)?.map(|m| (m, source)),
-    };
+    let (name, found) = toe_marker(model, source, markers, s)?;
     if let Some(((body, location), file)) = found {
         if !BODIES[1..].contains(&body.as_str()) {
             return Err(format!(
@@ -515,18 +501,12 @@ fn toe_tip(
         let note = format!("toe tip {s}: marker {name} from {file} on {body} at {location:?}");
         return Ok((PointData { body, location }, note));
     }
-    let k = toes_scale(model, s);
-    let g = GENERIC_TOETIP_RIGHT;
-    let z = if s == "r" { g[2] } else { -g[2] };
-    let location = [g[0] * k[0], g[1] * k[1], z * k[2]];
+    let (location, note) = generic_toe_tip(model, s, name);
     Ok((
         PointData {
             body: format!("toes_{s}"),
             location,
         },
-        format!(
-            "toe tip {s}: no {name} marker; gait2392's ({}, {}, {z}) in toes_{s} times the toes' geometry scale factors {k:?}",
-            g[0], g[1]
-        ),
+        note,
     ))
 }

@@ -97,17 +97,11 @@ pub fn import(
     source: &str,
     markers: Option<(&str, &str)>,
 ) -> Result<Imported, ImportError> {
-    let doc = parse_xml(text, source)?;
+    let (doc, version) = document(text, source)?;
     let err = |message: String| ImportError::Chain {
         path: source.to_string(),
         message,
     };
-    let version: u32 = doc
-        .descendants()
-        .find(|n| n.has_tag_name("OpenSimDocument"))
-        .and_then(|n| n.attribute("Version"))
-        .and_then(|v| v.trim().parse().ok())
-        .ok_or_else(|| ImportError::NotOpenSim(source.to_string()))?;
     let joints = read_joints(&doc).map_err(err)?;
     check_constraints(&doc).map_err(err)?;
     let mut notes = vec![format!(
@@ -136,6 +130,22 @@ pub fn import(
         },
         notes,
     })
+}
+
+/// Parses an OpenSim model `text` (named `source` in messages): the document and its
+/// `<OpenSimDocument Version=...>`.
+pub(super) fn document<'a>(
+    text: &'a str,
+    source: &str,
+) -> Result<(Document<'a>, u32), ImportError> {
+    let doc = parse_xml(text, source)?;
+    let version: u32 = doc
+        .descendants()
+        .find(|n| n.has_tag_name("OpenSimDocument"))
+        .and_then(|n| n.attribute("Version"))
+        .and_then(|v| v.trim().parse().ok())
+        .ok_or_else(|| ImportError::NotOpenSim(source.to_string()))?;
+    Ok((doc, version))
 }
 
 /// A transform function, with any `MultiplierFunction` scale applied.
@@ -722,7 +732,7 @@ pub(super) fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64;
 }
 
 /// The toes body's geometry scale factors (1 when absent).
-pub(super) fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
+fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
     let Some(body) = doc
         .descendants()
         .find(|n| n.has_tag_name("Body") && n.attribute("name") == Some(&format!("toes_{s}")))
@@ -742,13 +752,17 @@ pub(super) fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
     scale.unwrap_or([1.0; 3])
 }
 
-fn toe_tip(
+/// A marker found: `(body, location)` and the file it came from.
+pub(super) type FoundMarker<'f> = Option<((String, [f64; 3]), &'f str)>;
+
+/// Marker `R.Toe.Tip`/`L.Toe.Tip` of side `s`: from the marker file if given, else from the
+/// model (`source`): its name, `(body, location)` and the file it came from.
+pub(super) fn toe_marker<'f>(
     model: &Document,
-    source: &str,
-    markers: Option<&(Document, &str)>,
+    source: &'f str,
+    markers: Option<&(Document, &'f str)>,
     s: &str,
-    leg: &LegGeometry,
-) -> Result<([f64; 3], String), String> {
+) -> Result<(&'static str, FoundMarker<'f>), String> {
     let name = if s == "r" { "R.Toe.Tip" } else { "L.Toe.Tip" };
     let found = match markers {
         Some((doc, file)) => marker(doc, name)?.map(|m| (m, *file)),
@@ -758,6 +772,31 @@ fn toe_tip(
         Some(f) => Some(f),
         None => marker(model, name)?.map(|m| (m, source)),
     };
+    Ok((name, found))
+}
+
+/// gait2392's toe tip in `toes_<s>` times the toes' geometry scale factors, and the note saying so.
+pub(super) fn generic_toe_tip(model: &Document, s: &str, name: &str) -> ([f64; 3], String) {
+    let k = toes_scale(model, s);
+    let g = GENERIC_TOETIP_RIGHT;
+    let z = if s == "r" { g[2] } else { -g[2] };
+    (
+        [g[0] * k[0], g[1] * k[1], z * k[2]],
+        format!(
+            "toe tip {s}: no {name} marker; generic ({}, {}, {z}) in toes_{s} times the toes' geometry scale factors {k:?}",
+            g[0], g[1]
+        ),
+    )
+}
+
+fn toe_tip(
+    model: &Document,
+    source: &str,
+    markers: Option<&(Document, &str)>,
+    s: &str,
+    leg: &LegGeometry,
+) -> Result<([f64; 3], String), String> {
+    let (name, found) = toe_marker(model, source, markers, s)?;
     if let Some(((body, loc), file)) = found {
         let tip = if body == format!("toes_{s}") {
             loc
@@ -774,17 +813,7 @@ fn toe_tip(
             format!("toe tip {s}: marker {name} from {file} on {body} at {loc:?}"),
         ));
     }
-    let k = toes_scale(model, s);
-    let g = GENERIC_TOETIP_RIGHT;
-    let z = if s == "r" { g[2] } else { -g[2] };
-    let tip = [g[0] * k[0], g[1] * k[1], z * k[2]];
-    Ok((
-        tip,
-        format!(
-            "toe tip {s}: no {name} marker; generic ({}, {}, {z}) in toes_{s} times the toes' geometry scale factors {k:?}",
-            g[0], g[1]
-        ),
-    ))
+    Ok(generic_toe_tip(model, s, name))
 }
 
 #[cfg(test)]
