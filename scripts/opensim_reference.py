@@ -23,6 +23,10 @@ Position.
 Motions:
 - `normal`: ../opensim/normal.mot (gait2392 coordinates, degrees). For Rajagopal models, whose
   knee flexion is positive, knee_angle is negated.
+- `opensense` (Rajagopal2015_opensense only): OpenSense's own Rajagopal solution of the IMU
+  walking recording (../imu/: IMUPlacer on placement_orientations.sto, then
+  IMUInverseKinematicsTool on walking_orientations.sto from 1 s to 12 s, the setup files'
+  settings), every 10th row: a long realistic motion in the model's own coordinates.
 - `sweep`: 61 rows, knee flexion from 0.3 rad beyond one end of the model's knee range to 0.3
   rad beyond the other, every other coordinate a different slow sine within +-0.6 rad.
 """
@@ -65,6 +69,39 @@ def read_mot(path):
                 values[n] = math.radians(v) if degrees else v
         out.append((r[0], values))
     return out
+
+
+def opensense_rajagopal(model_path, imu_dir):
+    """OpenSense's IK of the IMU walking recording with the model at model_path."""
+    import shutil
+    import tempfile
+    cwd = os.getcwd()
+    with tempfile.TemporaryDirectory() as tmp:
+        for f in ["placement_orientations.sto", "walking_orientations.sto"]:
+            shutil.copy(os.path.join(imu_dir, f), tmp)
+        os.chdir(tmp)
+        try:
+            rotation = osim.Vec3(-math.pi / 2, 0, 0)
+            placer = osim.IMUPlacer()
+            placer.set_model_file(os.path.abspath(os.path.join(cwd, model_path)))
+            placer.set_orientation_file_for_calibration("placement_orientations.sto")
+            placer.set_sensor_to_opensim_rotations(rotation)
+            placer.set_base_imu_label("torso_imu")
+            placer.set_base_heading_axis("z")
+            placer.run(False)
+            placer.getCalibratedModel().printToXML("calibrated.osim")
+            ik = osim.IMUInverseKinematicsTool()
+            ik.set_model_file("calibrated.osim")
+            ik.set_orientations_file("walking_orientations.sto")
+            ik.set_sensor_to_opensim_rotations(rotation)
+            ik.set_time_range(0, 1)
+            ik.set_time_range(1, 12)
+            ik.set_results_directory(".")
+            ik.run(False)
+            rows = read_mot("ik_walking_orientations.mot")
+        finally:
+            os.chdir(cwd)
+    return rows[::10]
 
 
 def knee_positive(model):
@@ -169,7 +206,11 @@ def main():
         if knee_positive(model):
             rows = [(t, {c: (-v if c.startswith("knee_angle") else v) for c, v in r.items()})
                     for t, r in normal]
-        return [("normal", rows), ("sweep", sweep(model))]
+        out = [("normal", rows), ("sweep", sweep(model))]
+        if model.getName() == "OpenSense_Subject":
+            path = os.path.join(shared, "Rajagopal2015_opensense.osim")
+            out.append(("opensense", opensense_rajagopal(path, os.path.join(shared, "../imu"))))
+        return out
 
     for name, file in MODELS:
         run(name, os.path.join(shared, file), motions, out_dir)
