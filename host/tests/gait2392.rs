@@ -165,7 +165,7 @@ fn fk_gait2392_without_points_has_the_standard_columns_and_warns_for_absent_coor
     assert!(!err.contains("no `pelvis_list`"), "{err}");
     let e = run_err(&["fk", "builtin:normal", "--points"]);
     assert!(
-        e.contains("--points (subtalar and MTP) needs a gait2392 model"),
+        e.contains("--points (subtalar and MTP) needs an OpenSim leg chain"),
         "{e}"
     );
     let e = run_err(&[
