@@ -25,7 +25,7 @@ Motions:
   knee flexion is positive, knee_angle is negated.
 - `opensense` (Rajagopal2015_opensense only): OpenSense's own Rajagopal solution of the IMU
   walking recording (../imu/: IMUPlacer on placement_orientations.sto, then
-  IMUInverseKinematicsTool on walking_orientations.sto from 1 s to 12 s, the setup files'
+  IMUInverseKinematicsTool on walking_orientations.sto from 0 s to 12 s, the setup files'
   settings), every 10th row: a long realistic motion in the model's own coordinates.
 - `sweep`: 61 rows, knee flexion from 0.3 rad beyond one end of the model's knee range to 0.3
   rad beyond the other, every other coordinate a different slow sine within +-0.6 rad.
@@ -94,7 +94,9 @@ def opensense_rajagopal(model_path, imu_dir):
             ik.set_model_file("calibrated.osim")
             ik.set_orientations_file("walking_orientations.sto")
             ik.set_sensor_to_opensim_rotations(rotation)
-            ik.set_time_range(0, 1)
+            # From the start (the calibration pose's neighbourhood): IK started later assembles
+            # from the default pose into a wrong branch (pelvis angles of thousands of radians).
+            ik.set_time_range(0, 0)
             ik.set_time_range(1, 12)
             ik.set_results_directory(".")
             ik.run(False)

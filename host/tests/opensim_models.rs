@@ -227,3 +227,28 @@ fn fidelity_model_refuses_a_stick_model() {
         stderr(&out)
     );
 }
+
+#[test]
+fn rajagopal_in_f32_stays_within_ten_micrometres_of_f64() {
+    let Some(shared) = shared_dir() else { return };
+    let path = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    let (model, _) = Model::load(path.to_str().unwrap(), None).unwrap();
+    let Model::Chain { chain, .. } = model else {
+        panic!("Rajagopal is a chain model")
+    };
+    let c64 = chain.chain().unwrap();
+    let c32 = c64.cast::<f32>();
+    let mut worst = 0.0f64;
+    // (Not `opensense`: OpenSense's pelvis angles there wander to hundreds of radians, equivalent
+    // rotations whose f32 inputs alone are 3e-5 rad apart.)
+    for motion in ["normal", "sweep"] {
+        for (q, _) in reference("rajagopal2015_opensense", motion) {
+            let p32 = c32.forward(&q.map(|v| v as f32));
+            for (a, b) in p32.iter().zip(c64.forward(&q)) {
+                worst = worst.max(a.cast::<f64>().max_abs_diff(b));
+            }
+        }
+    }
+    println!("Rajagopal f32 against f64: largest difference {worst:.3e} m");
+    assert!(worst < 1e-5, "{worst}");
+}
