@@ -102,7 +102,7 @@ pub fn import(
             1 | 6 => "pelvis",
             _ => BODIES[b - 1],
         };
-        let j = chain_joint(&joints, parent, body).map_err(err)?;
+        let j = osim::joint_moving(&joints, parent, body).map_err(err)?;
         let before = state.notes.len();
         let mut data = state.joint(j).map_err(err)?;
         if b == 0 {
@@ -402,27 +402,6 @@ fn function_data(f: &Function, what: &str) -> Result<FunctionData, String> {
             ))
         }
     })
-}
-
-/// The one joint moving `body`, checked to hang on `parent`.
-fn chain_joint<'a>(joints: &'a [Joint], parent: &str, body: &str) -> Result<&'a Joint, String> {
-    let found: Vec<&Joint> = joints.iter().filter(|j| j.child == body).collect();
-    let j = match found.as_slice() {
-        [j] => *j,
-        [] => {
-            return Err(format!(
-                "no joint moves body `{body}` (a leg chain is ground-pelvis-femur-tibia-talus-calcn-toes)"
-            ))
-        }
-        _ => return Err(format!("several joints move body `{body}`")),
-    };
-    if j.parent != parent {
-        return Err(format!(
-            "joint `{}` connects `{}` to `{body}`; the leg chain needs `{parent}`",
-            j.name, j.parent
-        ));
-    }
-    Ok(j)
 }
 
 fn enforced(c: roxmltree::Node) -> bool {

@@ -412,25 +412,35 @@ fn joint_coordinates(j: Node) -> Vec<String> {
         .collect()
 }
 
-/// The joint moving `child`, checked to hang on `parent` and to be a plain `CustomJoint`.
-fn chain_joint<'a>(joints: &'a [Joint], parent: &str, child: &str) -> Result<&'a Joint, String> {
-    let found: Vec<&Joint> = joints.iter().filter(|j| j.child == child).collect();
+/// The one joint moving `body`, checked to hang on `parent` (the chain's next link).
+pub(super) fn joint_moving<'a>(
+    joints: &'a [Joint],
+    parent: &str,
+    body: &str,
+) -> Result<&'a Joint, String> {
+    let found: Vec<&Joint> = joints.iter().filter(|j| j.child == body).collect();
     let j = match found.as_slice() {
         [j] => *j,
         [] => {
             return Err(format!(
-                "no joint moves body `{child}` (expected gait2392's chain ground-pelvis-femur-tibia-talus-calcn-toes)"
+                "no joint moves body `{body}` (a leg chain is ground-pelvis-femur-tibia-talus-calcn-toes)"
             ))
         }
-        _ => return Err(format!("several joints move body `{child}`")),
+        _ => return Err(format!("several joints move body `{body}`")),
     };
-    let name = &j.name;
     if j.parent != parent {
         return Err(format!(
-            "joint `{name}` connects `{}` to `{child}`; gait2392's chain needs `{parent}`",
-            j.parent
+            "joint `{}` connects `{}` to `{body}`; the leg chain needs `{parent}`",
+            j.name, j.parent
         ));
     }
+    Ok(j)
+}
+
+/// The joint moving `child`, checked to hang on `parent` and to be a plain `CustomJoint`.
+fn chain_joint<'a>(joints: &'a [Joint], parent: &str, child: &str) -> Result<&'a Joint, String> {
+    let j = joint_moving(joints, parent, child)?;
+    let name = &j.name;
     if j.kind != "CustomJoint" {
         return Err(format!(
             "joint `{name}` is a {} (only CustomJoint is supported)",
