@@ -252,3 +252,26 @@ fn rajagopal_in_f32_stays_within_ten_micrometres_of_f64() {
     println!("Rajagopal f32 against f64: largest difference {worst:.3e} m");
     assert!(worst < 1e-5, "{worst}");
 }
+
+#[test]
+fn a_weld_constraint_on_a_leg_body_is_refused_and_one_on_the_arm_accepted() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();
+    let at = text.find("<ConstraintSet").unwrap();
+    let objects = at + text[at..].find("<objects>").unwrap() + "<objects>".len();
+    let with = |body: &str| {
+        format!(
+            "{}<WeldConstraint name=\"weld\"><socket_frame1>/bodyset/{body}</socket_frame1><socket_frame2>/ground</socket_frame2></WeldConstraint>{}",
+            &text[..objects],
+            &text[objects..]
+        )
+    };
+    let err = Model::import(&with("calcn_r"), "weld.osim", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("WeldConstraint `weld` constrains body `calcn_r` of the leg chain"),
+        "{err}"
+    );
+    assert!(Model::import(&with("hand_r"), "weld.osim", None).is_ok());
+}

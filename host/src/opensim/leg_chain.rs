@@ -404,15 +404,11 @@ fn function_data(f: &Function, what: &str) -> Result<FunctionData, String> {
     })
 }
 
-fn enforced(c: roxmltree::Node) -> bool {
-    !(text_of(c, "isDisabled") == Some("true") || text_of(c, "isEnforced") == Some("false"))
-}
-
 fn read_couplings(doc: &Document) -> Result<Vec<Coupling>, String> {
     let mut out = Vec::new();
     for c in doc
         .descendants()
-        .filter(|n| n.has_tag_name("CoordinateCouplerConstraint") && enforced(*n))
+        .filter(|n| n.has_tag_name("CoordinateCouplerConstraint") && osim::enforced(*n))
     {
         let name = name_of(c);
         let what = format!("CoordinateCouplerConstraint `{name}`");
@@ -438,30 +434,15 @@ fn read_couplings(doc: &Document) -> Result<Vec<Coupling>, String> {
 
 /// Constraints other than couplers that name a chain body are refused.
 fn check_other_constraints(doc: &Document) -> Result<(), String> {
-    for set in doc
-        .descendants()
-        .filter(|n| n.has_tag_name("ConstraintSet"))
-    {
-        for c in child(set, "objects")
-            .into_iter()
-            .flat_map(|o| o.children().filter(|c| c.is_element()))
-            .filter(|c| !c.has_tag_name("CoordinateCouplerConstraint") && enforced(*c))
-        {
-            let words: Vec<&str> = c
-                .descendants()
-                .filter_map(|d| d.text())
-                .flat_map(|t| t.split(|ch: char| ch.is_whitespace() || ch == '/'))
-                .collect();
-            if let Some(hit) = BODIES.iter().find(|b| words.contains(b)) {
-                return Err(format!(
-                    "{} `{}` constrains body `{hit}` of the leg chain; only CoordinateCouplerConstraint is supported",
-                    c.tag_name().name(),
-                    name_of(c)
-                ));
-            }
-        }
+    let bodies: Vec<String> = BODIES.iter().map(|b| b.to_string()).collect();
+    match osim::constraint_naming(doc, &bodies, Some("CoordinateCouplerConstraint")) {
+        Some((c, hit)) => Err(format!(
+            "{} `{}` constrains body `{hit}` of the leg chain; only CoordinateCouplerConstraint is supported",
+            c.tag_name().name(),
+            name_of(c)
+        )),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 fn toe_tip(

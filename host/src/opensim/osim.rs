@@ -675,6 +675,28 @@ fn check_constraints(doc: &Document) -> Result<(), String> {
         }
     }
     chain.push("pelvis".into());
+    match constraint_naming(doc, &chain, None) {
+        Some((c, hit)) => Err(format!(
+            "{} `{}` constrains `{hit}` of the leg chain; constraints are not supported",
+            c.tag_name().name(),
+            name_of(c)
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Whether a constraint is on (not `isDisabled`, not `isEnforced` false).
+pub(super) fn enforced(c: Node) -> bool {
+    !(text_of(c, "isDisabled") == Some("true") || text_of(c, "isEnforced") == Some("false"))
+}
+
+/// The first enforced constraint (other than those tagged `skip`) whose text names one of
+/// `names` (a coordinate or body), and that name.
+pub(super) fn constraint_naming<'a, 'i>(
+    doc: &'a Document<'i>,
+    names: &[String],
+    skip: Option<&str>,
+) -> Option<(Node<'a, 'i>, String)> {
     for set in doc
         .descendants()
         .filter(|n| n.has_tag_name("ConstraintSet"))
@@ -682,27 +704,19 @@ fn check_constraints(doc: &Document) -> Result<(), String> {
         for c in child(set, "objects")
             .into_iter()
             .flat_map(|o| o.children().filter(|c| c.is_element()))
+            .filter(|c| enforced(*c) && skip.is_none_or(|t| !c.has_tag_name(t)))
         {
-            let off = text_of(c, "isDisabled") == Some("true")
-                || text_of(c, "isEnforced") == Some("false");
-            if off {
-                continue;
-            }
             let words: Vec<&str> = c
                 .descendants()
                 .filter_map(|d| d.text())
                 .flat_map(|t| t.split(|ch: char| ch.is_whitespace() || ch == '/'))
                 .collect();
-            if let Some(hit) = chain.iter().find(|n| words.contains(&n.as_str())) {
-                return Err(format!(
-                    "{} `{}` constrains `{hit}` of the leg chain; constraints are not supported",
-                    c.tag_name().name(),
-                    name_of(c)
-                ));
+            if let Some(hit) = names.iter().find(|n| words.contains(&n.as_str())) {
+                return Some((c, hit.clone()));
             }
         }
     }
-    Ok(())
+    None
 }
 
 /// Notes for chain coordinates whose `default_value` is not 0: OpenSim uses the default for a
