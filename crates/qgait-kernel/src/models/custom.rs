@@ -174,6 +174,9 @@ pub struct BodyPoint<T> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CustomChain<T, const N: usize, const B: usize, const P: usize> {
     joints: [CustomJoint<T>; B],
+    /// Per joint, how many rotations and translations move (the others, zero constants, are
+    /// dropped by [`new`](Self::new): no work for a locked coordinate or an unused axis).
+    moving: [(u8, u8); B],
     /// `in_child` inverted, once.
     child_inverse: [Offset<T>; B],
     points: [BodyPoint<T>; P],
@@ -202,7 +205,8 @@ impl<T: Real> BodyFrame<T> {
 impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, B, P> {
     /// Validates and builds a chain: parents come first (body 0 hangs on ground, every other
     /// body on an earlier one), axes are non-zero and finite (normalised here), arguments and
-    /// splines exist, offsets are finite, couplers depend on inputs and are not chained.
+    /// splines exist, offsets are finite, couplers depend on inputs and are not chained. Axes
+    /// whose function is the constant 0 are dropped (the others keep their order).
     pub fn new(
         joints: [CustomJoint<T>; B],
         points: [BodyPoint<T>; P],
@@ -266,8 +270,24 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
                 return Err(ModelError::BodyOutOfRange { index: p.body });
             }
         }
+        let still = |d: &Driven<T>| d.function == Function::Constant(T::ZERO);
+        let mut moving = [(0u8, 0u8); B];
+        for (joint, m) in joints.iter_mut().zip(&mut moving) {
+            for (axes, n) in [
+                (&mut joint.rotations, &mut m.0),
+                (&mut joint.translations, &mut m.1),
+            ] {
+                let mut kept = [Driven::NONE; 3];
+                for d in axes.iter().filter(|d| !still(d)) {
+                    kept[*n as usize] = *d;
+                    *n += 1;
+                }
+                *axes = kept;
+            }
+        }
         let mut chain = Self {
             joints,
+            moving,
             child_inverse: joints.map(|j| j.in_child.inverse()),
             points,
             splines: [Spline::EMPTY; MAX_SPLINES],
@@ -281,7 +301,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
         Ok(chain)
     }
 
-    /// The joints, by body.
+    /// The joints, by body (zero-constant axes dropped, the moving ones first).
     pub fn joints(&self) -> &[CustomJoint<T>; B] {
         &self.joints
     }
@@ -325,12 +345,13 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
             let joint = &self.joints[b];
             let parent = joint.parent.map_or(ground, |p| frames[p]);
             let f = parent.then(&joint.in_parent);
+            let (n_rotations, n_translations) = self.moving[b];
             let mut translation = Vec3::zero();
-            for d in &joint.translations {
+            for d in &joint.translations[..n_translations as usize] {
                 translation += d.axis * self.driven(d, q, &coupled);
             }
             let mut rotation = f.rotation;
-            for d in &joint.rotations {
+            for d in &joint.rotations[..n_rotations as usize] {
                 let (s, c) = self.driven(d, q, &coupled).half_angle_sin_cos();
                 rotation = rotation * Quat::from_axis_half_sin_cos(d.axis, s, c);
             }
@@ -382,6 +403,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
                 rotations: j.rotations.map(d),
                 translations: j.translations.map(d),
             }),
+            moving: self.moving,
             child_inverse: self.child_inverse.map(o),
             points: self.points.map(|p| BodyPoint {
                 body: p.body,
@@ -536,6 +558,24 @@ mod tests {
         // 90° (coupled): M's x is ground -x; the body origin is 0.1 back along M's x.
         let p = chain.forward(&[half_pi / 2.0])[0];
         assert!(p.max_abs_diff(Vec3::new(1.1, 0.5, 0.0)) < 1e-15, "{p:?}");
+        // A zero constant between two rotations is dropped and changes nothing.
+        let mut padded = joints;
+        padded[1].rotations[2] = padded[1].rotations[0];
+        padded[1].rotations[0].axis = Vec3::unit_x();
+        padded[1].rotations[1] = Driven {
+            axis: Vec3::unit_y(),
+            function: Function::Constant(0.0),
+            argument: Argument::Coordinate(0),
+        };
+        let mut turned = joints;
+        turned[1].rotations[1] = turned[1].rotations[0];
+        turned[1].rotations[0].axis = Vec3::unit_x();
+        let a = CustomChain::<f64, 1, 2, 1>::new(padded, points, &[], &couplers).unwrap();
+        let b = CustomChain::<f64, 1, 2, 1>::new(turned, points, &[], &couplers).unwrap();
+        assert_eq!(a.joints()[1].rotations[1], b.joints()[1].rotations[1]);
+        for t in [-0.7, 0.2, 1.3] {
+            assert_eq!(a.forward(&[t]), b.forward(&[t]));
+        }
         let bad = [Coupler {
             independent: 1,
             function: Function::Constant(0.0),
