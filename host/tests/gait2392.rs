@@ -165,7 +165,7 @@ fn fk_gait2392_without_points_has_the_standard_columns_and_warns_for_absent_coor
     assert!(!err.contains("no `pelvis_list`"), "{err}");
     let e = run_err(&["fk", "builtin:normal", "--points"]);
     assert!(
-        e.contains("--points (subtalar and MTP) needs a gait2392 model"),
+        e.contains("--points (subtalar and MTP) needs an OpenSim leg chain"),
         "{e}"
     );
     let e = run_err(&[
@@ -428,7 +428,8 @@ fn unsupported_joints_functions_and_couplers_are_refused_by_name() {
     let knee3 = v3.find("<CustomJoint name=\"knee_r\">").unwrap();
     let mtp4 = v4.find("<CustomJoint name=\"mtp_l\">").unwrap();
     let mtp4_end = mtp4 + v4[mtp4..].find("</CustomJoint>").unwrap();
-    let cases: Vec<(String, String, &str)> = vec![
+    // Not gait2392's shape but a leg chain: imported as a general chain (CHAIN.toml).
+    let chains = [
         (
             // A rotated knee frame (3.x).
             format!(
@@ -440,9 +441,31 @@ fn unsupported_joints_functions_and_couplers_are_refused_by_name() {
                     1
                 )
             ),
-            "joint `knee_r`: non-zero orientation_in_parent".into(),
             "v3",
         ),
+        (
+            // A weld instead of the left MTP joint (4.x).
+            format!(
+                "{}<WeldJoint name=\"mtp_l\">{}</WeldJoint>{}",
+                &v4[..mtp4],
+                &v4[mtp4 + "<CustomJoint name=\"mtp_l\">".len()..mtp4_end],
+                &v4[mtp4_end + "</CustomJoint>".len()..]
+            ),
+            "v4",
+        ),
+    ];
+    for (i, (xml, what)) in chains.into_iter().enumerate() {
+        let source = if what == "v3" { &v3 } else { &v4 };
+        assert!(xml != *source, "chain case {i} did not change the model");
+        let path = dir.path().join(format!("chain{i}.osim"));
+        std::fs::write(&path, xml).unwrap();
+        let out = dir.path().join(format!("chain{i}.toml"));
+        run_ok(&["model", "import", s(&path), "-o", s(&out)]);
+        assert!(std::fs::read_to_string(&out)
+            .unwrap()
+            .contains("[[joints]]"));
+    }
+    let cases: Vec<(String, String, &str)> = vec![
         (
             // A knee translation as a NaturalCubicSpline (3.x).
             format!(
@@ -456,17 +479,6 @@ fn unsupported_joints_functions_and_couplers_are_refused_by_name() {
             "v3",
         ),
         (
-            // A weld instead of the left MTP joint (4.x).
-            format!(
-                "{}<WeldJoint name=\"mtp_l\">{}</WeldJoint>{}",
-                &v4[..mtp4],
-                &v4[mtp4 + "<CustomJoint name=\"mtp_l\">".len()..mtp4_end],
-                &v4[mtp4_end + "</CustomJoint>".len()..]
-            ),
-            "joint `mtp_l` is a WeldJoint (only CustomJoint is supported)".into(),
-            "v4",
-        ),
-        (
             // A coupler driving the ankle from the knee (4.x).
             {
                 let set = v4.find("<ConstraintSet").unwrap();
@@ -477,7 +489,8 @@ fn unsupported_joints_functions_and_couplers_are_refused_by_name() {
                     &v4[objects + "<objects />".len()..]
                 )
             },
-            "CoordinateCouplerConstraint `ankle_coupler` constrains".into(),
+            // (A coupler with a function would make the ankle follow the knee.)
+            "CoordinateCouplerConstraint `ankle_coupler`: no coupled_coordinates_function".into(),
             "v4",
         ),
     ];

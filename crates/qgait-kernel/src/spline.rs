@@ -5,7 +5,7 @@ use crate::{ModelError, Real};
 /// Most knots a [`Spline`] holds (gait2392's knee uses 12 and 7).
 pub const MAX_KNOTS: usize = 12;
 
-/// A cubic spline through up to [`MAX_KNOTS`] knots, exactly as OpenSim's `SimmSpline`: the
+/// A cubic spline through up to `K` knots ([`MAX_KNOTS`] unless said: gait2392's size), exactly as OpenSim's `SimmSpline`: the
 /// Forsythe-Malcolm-Moler construction, not a natural spline (tridiagonal system; at each end
 /// the third derivative equals that of the cubic through the four end knots; two knots give a
 /// line, three a zero third derivative at the ends) and linear extrapolation with the end slope
@@ -14,34 +14,34 @@ pub const MAX_KNOTS: usize = 12;
 /// Coefficients are computed once (in `f64` by [`Spline::new`], in `T` by
 /// [`Spline::from_knots`]) and stored in `T`; evaluation is allocation-free and branch-free.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Spline<T> {
+pub struct Spline<T, const K: usize = MAX_KNOTS> {
     /// Index of the last knot (the knot count less one; 0 for [`EMPTY`](Self::EMPTY), which has
     /// none): what evaluation reads, with no arithmetic on it.
     last: usize,
-    x: [T; MAX_KNOTS],
-    y: [T; MAX_KNOTS],
-    b: [T; MAX_KNOTS],
-    c: [T; MAX_KNOTS],
-    d: [T; MAX_KNOTS],
+    x: [T; K],
+    y: [T; K],
+    b: [T; K],
+    c: [T; K],
+    d: [T; K],
 }
 
-impl<T: Real> Spline<T> {
+impl<T: Real, const K: usize> Spline<T, K> {
     /// The spline without knots (all zero bits): zero everywhere. What an unset chain
     /// ([`Chain::EMPTY`](crate::Chain::EMPTY)) holds; the constructors never return it.
     pub const EMPTY: Self = Self {
         last: 0,
-        x: [T::ZERO; MAX_KNOTS],
-        y: [T::ZERO; MAX_KNOTS],
-        b: [T::ZERO; MAX_KNOTS],
-        c: [T::ZERO; MAX_KNOTS],
-        d: [T::ZERO; MAX_KNOTS],
+        x: [T::ZERO; K],
+        y: [T::ZERO; K],
+        b: [T::ZERO; K],
+        c: [T::ZERO; K],
+        d: [T::ZERO; K],
     };
 
     /// Builds the spline through knots `(x[i], y[i])`; `x` strictly increasing, 2 to
     /// [`MAX_KNOTS`] knots, all finite. The coefficients are computed in `f64`, then rounded to
     /// `T` (see [`from_knots`](Self::from_knots) for the same in `T`).
     pub fn new(x: &[f64], y: &[f64]) -> Result<Self, ModelError> {
-        Spline::<f64>::from_knots(x, y).map(|s| s.cast())
+        Spline::<f64, K>::from_knots(x, y).map(|s| s.cast())
     }
 
     /// The same spline as [`new`](Self::new), with its coefficients computed in `T` itself:
@@ -50,7 +50,7 @@ impl<T: Real> Spline<T> {
     /// differs from `new`'s rounded coefficients by a few `f32` ulps.
     pub fn from_knots(x: &[T], y: &[T]) -> Result<Self, ModelError> {
         let n = x.len();
-        if n != y.len() || !(2..=MAX_KNOTS).contains(&n) {
+        if n != y.len() || !(2..=K).contains(&n) {
             return Err(ModelError::SplineKnots);
         }
         if x.iter().chain(y).any(|v| !v.is_finite()) || x.windows(2).any(|w| w[1] <= w[0]) {
@@ -58,15 +58,31 @@ impl<T: Real> Spline<T> {
         }
         let mut s = Self {
             last: n - 1,
-            x: [T::ZERO; MAX_KNOTS],
-            y: [T::ZERO; MAX_KNOTS],
-            b: [T::ZERO; MAX_KNOTS],
-            c: [T::ZERO; MAX_KNOTS],
-            d: [T::ZERO; MAX_KNOTS],
+            x: [T::ZERO; K],
+            y: [T::ZERO; K],
+            b: [T::ZERO; K],
+            c: [T::ZERO; K],
+            d: [T::ZERO; K],
         };
         s.x[..n].copy_from_slice(x);
         s.y[..n].copy_from_slice(y);
         fmm_coefficients(&mut s);
+        Ok(s)
+    }
+
+    /// OpenSim's `PiecewiseLinearFunction` through knots `(x[i], y[i])` (same conditions as
+    /// [`from_knots`](Self::from_knots)): straight lines between the knots, continued outside
+    /// them with the first and last segments' slopes. Stored as a spline whose quadratic and
+    /// cubic coefficients are zero, so it evaluates as [`eval`](Self::eval) does.
+    pub fn piecewise_linear(x: &[T], y: &[T]) -> Result<Self, ModelError> {
+        let mut s = Self::from_knots(x, y)?;
+        let last = s.last;
+        for i in 0..last {
+            s.b[i] = (s.y[i + 1] - s.y[i]) / (s.x[i + 1] - s.x[i]);
+        }
+        s.b[last] = s.b[last - 1];
+        s.c = [T::ZERO; K];
+        s.d = [T::ZERO; K];
         Ok(s)
     }
 
@@ -114,8 +130,8 @@ impl<T: Real> Spline<T> {
     }
 
     /// Converts to another precision.
-    pub fn cast<U: Real>(&self) -> Spline<U> {
-        let conv = |a: &[T; MAX_KNOTS]| a.map(|v| U::from_f64(v.to_f64()));
+    pub fn cast<U: Real>(&self) -> Spline<U, K> {
+        let conv = |a: &[T; K]| a.map(|v| U::from_f64(v.to_f64()));
         Spline {
             last: self.last,
             x: conv(&self.x),
@@ -131,8 +147,8 @@ impl<T: Real> Spline<T> {
 /// subroutine SPLINE, as used by OpenSim's SimmSpline: `y ≈ y[i] + b dx + c dx² + d dx³`.
 /// Fills `s.b`, `s.c`, `s.d` from the `s.last + 1` knots in `s.x`, `s.y` (`2 <= n <= MAX_KNOTS`,
 /// checked by the caller), in `T`.
-fn fmm_coefficients<T: Real>(s: &mut Spline<T>) {
-    let n = (s.last + 1).clamp(2, MAX_KNOTS);
+fn fmm_coefficients<T: Real, const K: usize>(s: &mut Spline<T, K>) {
+    let n = (s.last + 1).clamp(2, K);
     let (x, y) = (&s.x, &s.y);
     let (b, c, d) = (&mut s.b, &mut s.c, &mut s.d);
     if n < 3 {
@@ -217,6 +233,25 @@ mod tests {
         let right_slope = (s.eval(4.0) - s.eval(4.0 - h)) / h;
         assert!((s.eval(5.0) - (2.0 + right_slope)).abs() < 1e-5);
         assert!(s.eval(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn piecewise_linear_joins_its_knots_with_lines_and_continues_the_end_ones() {
+        let xs = [0.0, 1.0, 3.0];
+        let ys = [1.0, 3.0, 2.0];
+        let s = Spline::<f64, 4>::piecewise_linear(&xs, &ys).unwrap();
+        for (t, v) in [
+            (-1.0, -1.0),
+            (0.0, 1.0),
+            (0.5, 2.0),
+            (1.0, 3.0),
+            (2.0, 2.5),
+            (3.0, 2.0),
+            (5.0, 1.0),
+        ] {
+            assert!((s.eval(t) - v).abs() < 1e-15, "{t}: {}", s.eval(t));
+        }
+        assert!(Spline::<f64, 2>::piecewise_linear(&xs, &ys).is_err());
     }
 
     #[test]

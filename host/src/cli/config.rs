@@ -58,6 +58,9 @@ pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubM
         },
         Model::Gait2392 { name, .. } if name == "gait2392" => HubModel::Gait2392,
         Model::Gait2392 { geometry, .. } => HubModel::Subject { geometry, upload },
+        Model::Chain { name, .. } => anyhow::bail!(
+            "--model {name}: the hub runs hak, phak and gait2392-family models; this chain is evaluated on the host only"
+        ),
     };
     if upload.is_some() && !matches!(hub, HubModel::Subject { .. }) {
         anyhow::bail!("--upload applies to a SUBJECT.toml model only");

@@ -21,7 +21,7 @@ pub struct ExportArgs {
     /// The model.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Also subtalar and MTP (gait2392 models).
+    /// Also subtalar and MTP (gait2392-family and chain models).
     #[arg(long)]
     pub points: bool,
     /// OpenSim marker file to write.

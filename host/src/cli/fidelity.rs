@@ -7,6 +7,7 @@ use clap::Args;
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::{refuse_overwrite, write_output};
+use crate::model::choice::Model;
 use crate::model::fidelity;
 use crate::motion::source::{default_label, load_motion};
 
@@ -19,6 +20,10 @@ pub struct FidelityArgs {
     /// Label of each motion, in order (default: the file stem).
     #[arg(long = "label", value_name = "NAME")]
     pub labels: Vec<String>,
+    /// Also compare PHAK with these imported models (an .osim, a SUBJECT.toml or CHAIN.toml from
+    /// `qgait model import`), on every motion; repeatable.
+    #[arg(long = "model", value_name = "MODEL.osim|CHAIN.toml")]
+    pub models: Vec<String>,
     /// Output Markdown file (default: standard output).
     #[arg(short, long, value_name = "OUT.md")]
     pub output: Option<PathBuf>,
@@ -33,9 +38,20 @@ pub fn run_fidelity(a: FidelityArgs, diagnostics: &Diagnostics) -> anyhow::Resul
             a.motions.len()
         );
     }
-    let specs: Vec<&str> = a.motions.iter().map(String::as_str).collect();
+    let specs: Vec<&str> = a
+        .motions
+        .iter()
+        .chain(&a.models)
+        .map(String::as_str)
+        .collect();
     refuse_overwrite(a.output.as_deref(), &specs)?;
+    let mut models = Vec::new();
+    for m in &a.models {
+        let (model, _notes) = Model::load(m, None)?;
+        models.push(model);
+    }
     let mut results = Vec::new();
+    let mut comparisons = Vec::new();
     for (i, spec) in a.motions.iter().enumerate() {
         let (table, w) = load_motion(spec)?;
         diagnostics.warn(w);
@@ -47,7 +63,14 @@ pub fn run_fidelity(a: FidelityArgs, diagnostics: &Diagnostics) -> anyhow::Resul
         let (r, w) = fidelity::analyse(&label, &table)?;
         diagnostics.warn(w);
         results.push(r);
+        for model in &models {
+            let (c, _) = fidelity::compare(model, &label, &table)?;
+            comparisons.push(c);
+        }
     }
-    let md = fidelity::markdown(&results);
+    let mut md = fidelity::markdown(&results);
+    if !comparisons.is_empty() {
+        md.push_str(&fidelity::comparisons_markdown(&comparisons));
+    }
     write_output(a.output.as_deref(), |out| out.write_all(md.as_bytes()))
 }

@@ -1,4 +1,5 @@
-//! `qgait model import`: an OpenSim model's leg chain as a SUBJECT.toml for `--model`.
+//! `qgait model import`: an OpenSim model's leg chain as a SUBJECT.toml (gait2392's family) or a
+//! chain file (any other lower-limb model) for `--model`.
 
 use std::path::PathBuf;
 
@@ -9,13 +10,13 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::refuse_overwrite;
 use crate::model::choice::Model;
 use crate::model::subject;
-use crate::opensim::osim;
 
 /// `qgait model` subcommands.
 #[derive(Debug, Subcommand)]
 pub enum ModelCommand {
-    /// Reads the leg chain of a gait2392-family OpenSim model (.osim, 3.x or 4.x) into a
-    /// SUBJECT.toml for `--model`.
+    /// Reads the leg chain of an OpenSim model (.osim, 3.x or 4.x) for `--model`: a
+    /// SUBJECT.toml for gait2392's family, a chain file for other lower-limb models
+    /// (Rajagopal, gait10dof18musc, ...).
     Import {
         /// The OpenSim model (generic or scaled).
         model: PathBuf,
@@ -53,21 +54,21 @@ pub fn run_model(c: ModelCommand, diagnostics: &Diagnostics) -> anyhow::Result<(
                 )),
                 None => None,
             };
-            let imported = osim::import(
+            let (model, notes) = Model::import(
                 &text,
                 &shown,
                 marker_text.as_ref().map(|(t, s)| (t.as_str(), s.as_str())),
             )?;
             // The kernel must accept what was read (knot counts, axes).
-            Model::Gait2392 {
-                geometry: Box::new(imported.geometry),
-                name: shown.clone(),
-            }
-            .check()?;
-            let text = subject::to_toml(&imported.geometry, &imported.notes);
+            model.check()?;
+            let text = match &model {
+                Model::Gait2392 { geometry, .. } => subject::to_toml(geometry, &notes),
+                Model::Chain { chain, .. } => chain.to_toml(&notes),
+                _ => unreachable!("an import is a gait2392 or a chain model"),
+            };
             std::fs::write(&output, text)
                 .with_context(|| format!("{}: cannot write", output.display()))?;
-            diagnostics.notes(imported.notes.iter().skip(1));
+            diagnostics.notes(notes.iter().skip(1));
             diagnostics.done(format!("wrote {}", output.display()));
             Ok(())
         }

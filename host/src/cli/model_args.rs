@@ -13,10 +13,14 @@ use crate::model::error::ModelError;
 /// The model a command computes with.
 #[derive(Debug, Args, Clone, Default)]
 pub struct ModelArgs {
-    /// Kinematic model: `hak`, `phak`, `gait2392` (OpenSim's chain, generic), a SUBJECT.toml
-    /// written by `qgait model import`, or an OpenSim model .osim (its leg chain imported on the
-    /// fly). Default: phak (for `imu` and `gait`: gait2392).
-    #[arg(long, value_name = "hak|phak|gait2392|SUBJECT.toml|MODEL.osim")]
+    /// Kinematic model: `hak`, `phak`, `gait2392` (OpenSim's chain, generic), a SUBJECT.toml or
+    /// CHAIN.toml written by `qgait model import`, or an OpenSim lower-limb model .osim
+    /// (gait2392's family, Rajagopal, gait10dof18musc, ...: its leg chain imported on the fly).
+    /// Default: phak (for `imu` and `gait`: gait2392).
+    #[arg(
+        long,
+        value_name = "hak|phak|gait2392|SUBJECT.toml|CHAIN.toml|MODEL.osim"
+    )]
     pub model: Option<String>,
     /// Segment lengths of HAK and PHAK (TOML: pelvis_half_width, femur, tibia, foot, each
     /// optionally per side with _r/_l). Default: gait2392's (for `config`: the hub keeps the

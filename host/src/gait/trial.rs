@@ -91,7 +91,7 @@ pub fn load(source: &str, model: &Model) -> anyhow::Result<(Trial, Vec<Warning>)
         ));
     }
     let (table, mut warnings) = load_motion(source)?;
-    let foot = matches!(model, Model::Gait2392 { .. });
+    let foot = model.lengths().is_none();
     let points = PointModel::new(model, foot)?;
     let mut time = Vec::with_capacity(table.rows());
     let mut frames = Vec::with_capacity(table.rows());

@@ -1,4 +1,4 @@
-//! The one model choice: `--model hak|phak|gait2392|SUBJECT.toml|MODEL.osim` with
+//! The one model choice: `--model hak|phak|gait2392|SUBJECT.toml|CHAIN.toml|MODEL.osim` with
 //! `--anthropometry FILE.toml`, loaded and checked, as every command that takes a model uses it
 //! (the CLI's `ModelArgs` builds it; the hub's configuration is derived from it).
 
@@ -7,8 +7,10 @@ use std::path::Path;
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::{Gait2392, Gait2392Geometry};
 
+use crate::model::chain::ChainModel;
 use crate::model::error::ModelError;
 use crate::model::subject;
+use crate::opensim::osim::ImportError;
 
 /// A kinematic model with its numbers.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,6 +34,14 @@ pub enum Model {
         /// The numbers.
         geometry: Box<Gait2392Geometry>,
         /// `gait2392`, or the file as given.
+        name: String,
+    },
+    /// Any other OpenSim lower-limb chain (Rajagopal 2015/2016, gait10dof18musc, ...): an
+    /// imported `.osim` or a chain file from `qgait model import`.
+    Chain {
+        /// The joints as OpenSim states them.
+        chain: Box<ChainModel>,
+        /// The file as given.
         name: String,
     },
 }
@@ -64,32 +74,67 @@ impl Model {
                     path: arg.to_string(),
                     error,
                 })?;
-                let imported = crate::opensim::osim::import(&text, arg, None)?;
                 // The first note says where it was imported from; the others are worth showing.
-                let notes = imported.notes.into_iter().skip(1).collect();
-                (
-                    Self::Gait2392 {
-                        geometry: Box::new(imported.geometry),
-                        name: arg.to_string(),
-                    },
-                    notes,
-                )
+                let (model, notes) = Self::import(&text, arg, None)?;
+                (model, notes.into_iter().skip(1).collect())
             }
-            _ if arg.ends_with(".toml") || path.is_file() => (
-                Self::Gait2392 {
-                    geometry: Box::new(subject::read(path)?),
-                    name: arg.to_string(),
-                },
-                Vec::new(),
-            ),
+            _ if arg.ends_with(".toml") || path.is_file() => {
+                let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
+                    path: arg.to_string(),
+                    error,
+                })?;
+                let model = if ChainModel::is_chain_file(&text) {
+                    Self::Chain {
+                        chain: Box::new(ChainModel::parse(&text, arg)?),
+                        name: arg.to_string(),
+                    }
+                } else {
+                    Self::Gait2392 {
+                        geometry: Box::new(subject::parse(&text, arg)?),
+                        name: arg.to_string(),
+                    }
+                };
+                (model, Vec::new())
+            }
             _ => return Err(ModelError::Unknown(arg.to_string())),
         };
-        if let Self::Gait2392 { name, .. } = &model {
+        if let Self::Gait2392 { name, .. } | Self::Chain { name, .. } = &model {
             if stated.is_some() {
                 return Err(ModelError::LengthsNotApplicable(name.clone()));
             }
         }
         Ok((model, notes))
+    }
+
+    /// The leg chain of an OpenSim model `text` (named `source`; `markers` as for
+    /// [`crate::opensim::osim::import`]): gait2392's table when the chain has gait2392's shape
+    /// (its family: the faster evaluation, the hub's subject upload), else a general chain.
+    /// Returns the import's notes.
+    pub fn import(
+        text: &str,
+        source: &str,
+        markers: Option<(&str, &str)>,
+    ) -> Result<(Self, Vec<String>), ModelError> {
+        match crate::opensim::osim::import(text, source, markers) {
+            Ok(imported) => Ok((
+                Self::Gait2392 {
+                    geometry: Box::new(imported.geometry),
+                    name: source.to_string(),
+                },
+                imported.notes,
+            )),
+            Err(ImportError::Chain { .. }) => {
+                let imported = crate::opensim::leg_chain::import(text, source, markers)?;
+                Ok((
+                    Self::Chain {
+                        chain: Box::new(imported.model),
+                        name: source.to_string(),
+                    },
+                    imported.notes,
+                ))
+            }
+            Err(e) => Err(e.into()),
+        }
     }
 
     /// The segment lengths of HAK and PHAK: as stated, or gait2392's; `None` for gait2392
@@ -99,7 +144,7 @@ impl Model {
             Self::Hak { stated } | Self::Phak { stated } => {
                 Some(stated.unwrap_or_else(Anthropometry::gait2392))
             }
-            Self::Gait2392 { .. } => None,
+            Self::Gait2392 { .. } | Self::Chain { .. } => None,
         }
     }
 
@@ -116,7 +161,7 @@ impl Model {
         match self {
             Self::Hak { .. } => "hak",
             Self::Phak { .. } => "phak",
-            Self::Gait2392 { name, .. } => name,
+            Self::Gait2392 { name, .. } | Self::Chain { name, .. } => name,
         }
     }
 
@@ -129,6 +174,16 @@ impl Model {
         match self {
             Self::Gait2392 { geometry, .. } => {
                 Gait2392::<f64>::new(geometry).map(drop).map_err(rejected)
+            }
+            Self::Chain { chain, name } => {
+                chain.chain().map(drop).map_err(|message| ModelError::File {
+                    at: crate::diagnostics::Location {
+                        path: name.clone(),
+                        line: None,
+                        column: None,
+                    },
+                    message,
+                })
             }
             _ => qgait_kernel::models::Phak::<f64>::new(&self.lengths().expect("a stick model"))
                 .map(drop)

@@ -42,12 +42,20 @@ pub enum ModelError {
     #[error("--anthropometry applies to hak and phak only: {0} has its own segment lengths (a subject's gait2392 model comes from `qgait model import`)")]
     LengthsNotApplicable(String),
     /// The subtalar and MTP points were asked of a model without them.
-    #[error("--points (subtalar and MTP) needs a gait2392 model (--model gait2392, SUBJECT.toml or MODEL.osim)")]
+    #[error("--points (subtalar and MTP) needs an OpenSim leg chain (--model gait2392, SUBJECT.toml, CHAIN.toml or MODEL.osim)")]
     PointsNeedGait2392,
     /// This use takes HAK or PHAK only.
     #[error("{what} takes hak or phak, not {name}")]
     StickOnly {
         /// What needs a stick model (e.g. `report`).
+        what: &'static str,
+        /// The model given.
+        name: String,
+    },
+    /// This use takes an imported OpenSim model (gait2392's family or a chain), not HAK or PHAK.
+    #[error("{what} takes an OpenSim leg chain (gait2392, a SUBJECT.toml or CHAIN.toml, an .osim), not {name}")]
+    NeedsChain {
+        /// What needs an imported model.
         what: &'static str,
         /// The model given.
         name: String,

@@ -278,17 +278,7 @@ pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warnin
     let full = gait2392(&[])?;
     let raw = distances(&full, &phak_points, false);
     let rel = distances(&full, &phak_points, true);
-    let per_point = point_names(false)
-        .into_iter()
-        .enumerate()
-        .map(|(k, name)| {
-            (
-                name,
-                stat(raw[k].iter().copied()),
-                stat(rel[k].iter().copied()),
-            )
-        })
-        .collect();
+    let per_point = per_point(&raw, &rel);
     let mut sets: Vec<Vec<Feature>> = vec![Vec::new()];
     sets.extend(Feature::ALL.iter().map(|f| vec![*f]));
     sets.push(Feature::ALL.to_vec());
@@ -321,6 +311,140 @@ pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warnin
         },
         warnings,
     ))
+}
+
+/// PHAK against another imported model on one motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Comparison {
+    /// The model's name.
+    pub model: String,
+    /// The motion's label.
+    pub label: String,
+    /// Number of rows.
+    pub rows: usize,
+    /// Whether the model's knee flexes with positive angles (the motion's knee angles, in
+    /// gait2392's sign, were negated for it).
+    pub knee_negated: bool,
+    /// Per point (`hip_r` ... `toe_l`): (name, raw, hip-relative).
+    pub per_point: Vec<(String, Stat, Stat)>,
+    /// All points, raw.
+    pub raw: Stat,
+    /// Knee, ankle and toe, hip-relative.
+    pub relative: Stat,
+}
+
+/// Compares PHAK (gait2392's lengths) with `model` (a gait2392-family or chain model) on one
+/// motion given in gait2392's coordinates (PHAK's convention). A model whose knee flexes with
+/// positive angles (Rajagopal's) gets the knee angles negated: the same walking in its
+/// coordinates. Points: hip, knee, ankle and the toe tip of each leg, as for gait2392.
+pub fn compare(
+    model: &crate::model::choice::Model,
+    label: &str,
+    table: &MotionTable,
+) -> Result<(Comparison, Vec<Warning>), ModelError> {
+    let (mut q, mut warnings) = gait2392_coordinates(table)?;
+    let (angles, w) = kinematics::phak_angles(table)?;
+    for x in w {
+        if !warnings.contains(&x) {
+            warnings.push(x);
+        }
+    }
+    let rejected = |name: &str| {
+        let name = name.to_string();
+        move |error| ModelError::Rejected { name, error }
+    };
+    let phak = Phak::<f64>::new(&Anthropometry::gait2392()).map_err(rejected("phak"))?;
+    let phak_points: Points = angles.iter().map(|a| phak.fk(a).points()).collect();
+    let eight = |p: [Vec3<f64>; 12]| -> [Vec3<f64>; 8] {
+        [p[0], p[1], p[2], p[5], p[6], p[7], p[8], p[11]]
+    };
+    let Some(fk) = crate::model::points::imported_fk(model)? else {
+        return Err(ModelError::NeedsChain {
+            what: "fidelity --model",
+            name: model.name().to_string(),
+        });
+    };
+    // Flexion moves the ankle backwards (-x): which sign of knee_angle does that?
+    let knee = index("knee_angle_r");
+    let ankle_x = |v: f64| {
+        let mut q0 = [0.0; 17];
+        q0[knee] = v;
+        fk(&q0)[2].x
+    };
+    let knee_negated = ankle_x(0.5) < ankle_x(-0.5);
+    if knee_negated {
+        for row in &mut q {
+            for k in [knee, index("knee_angle_l")] {
+                row[k] = -row[k];
+            }
+        }
+    }
+    let points: Points = q.iter().map(|q| eight(fk(q))).collect();
+    let raw = distances(&points, &phak_points, false);
+    let rel = distances(&points, &phak_points, true);
+    let per_point = per_point(&raw, &rel);
+    Ok((
+        Comparison {
+            model: model.name().to_string(),
+            label: label.to_string(),
+            rows: table.rows(),
+            knee_negated,
+            per_point,
+            raw: stat(raw.into_iter().flatten()),
+            relative: stat(
+                rel.into_iter()
+                    .enumerate()
+                    .filter(|(k, _)| k % 4 != 0)
+                    .flat_map(|(_, v)| v),
+            ),
+        },
+        warnings,
+    ))
+}
+
+/// The comparisons with other models as Markdown (millimetres, 2 decimals).
+pub fn comparisons_markdown(results: &[Comparison]) -> String {
+    let mm = |v: f64| format!("{v:.2}");
+    let mut s = String::from("\n## PHAK (gait2392 lengths) against other models (mm)\n\n");
+    s.push_str("The motion in gait2392's coordinates; a model whose knee flexes with positive angles gets them negated. Raw: all 8 points; hip-relative: knee, ankle and toe tip relative to the hip.\n\n");
+    s.push_str("| model | motion | rows | knee negated | raw max | raw mean | hip-relative max | hip-relative mean | worst point (hip-relative max) |\n");
+    s.push_str("|---|---|---:|---|---:|---:|---:|---:|---|\n");
+    for c in results {
+        let worst = c
+            .per_point
+            .iter()
+            .max_by(|a, b| a.2.max.total_cmp(&b.2.max))
+            .map(|(n, _, r)| format!("{n} {}", mm(r.max)))
+            .unwrap_or_default();
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            c.model,
+            c.label,
+            c.rows,
+            if c.knee_negated { "yes" } else { "no" },
+            mm(c.raw.max),
+            mm(c.raw.mean),
+            mm(c.relative.max),
+            mm(c.relative.mean),
+            worst
+        ));
+    }
+    s
+}
+
+/// Per point (`hip_r` ... `toe_l`): (name, raw, hip-relative) of the distances.
+fn per_point(raw: &[Vec<f64>; 8], rel: &[Vec<f64>; 8]) -> Vec<(String, Stat, Stat)> {
+    point_names(false)
+        .into_iter()
+        .enumerate()
+        .map(|(k, name)| {
+            (
+                name,
+                stat(raw[k].iter().copied()),
+                stat(rel[k].iter().copied()),
+            )
+        })
+        .collect()
 }
 
 fn off_name(off: &[Feature]) -> String {

@@ -6,6 +6,7 @@
 //! names the results.
 
 use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Gait2392, Joint, PhakAngles, Side, Vec3};
 
 use crate::diagnostics::Warning;
@@ -24,8 +25,45 @@ pub fn gait2392_coordinates(
     kinematics::coordinate_rows(table, &COORDINATES)
 }
 
+/// Forward kinematics of an imported model: the 12 points of
+/// [`POINTS`](qgait_kernel::models::gait2392::POINTS) for the 17 coordinates of [`COORDINATES`].
+pub type ImportedFk = Box<dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]>;
+
+/// The kernel's evaluation of a gait2392-family or chain model (`None` for HAK and PHAK).
+pub fn imported_fk(model: &Model) -> Result<Option<ImportedFk>, ModelError> {
+    Ok(Some(match model {
+        Model::Gait2392 { geometry, name } => {
+            let g = Gait2392::<f64>::new(geometry).map_err(|error| ModelError::Rejected {
+                name: name.clone(),
+                error,
+            })?;
+            Box::new(move |q| g.chain().forward(q))
+        }
+        Model::Chain { chain, name } => {
+            let c = chain_of(chain, name)?;
+            Box::new(move |q| c.forward(q))
+        }
+        Model::Hak { .. } | Model::Phak { .. } => return Ok(None),
+    }))
+}
+
+/// The kernel table of a chain model `name`.
+fn chain_of(
+    chain: &crate::model::chain::ChainModel,
+    name: &str,
+) -> Result<LowerLimb<f64>, ModelError> {
+    chain.chain().map_err(|message| ModelError::File {
+        at: crate::diagnostics::Location {
+            path: name.to_string(),
+            line: None,
+            column: None,
+        },
+        message,
+    })
+}
+
 /// Names of the points a [`PointModel`] gives: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,
-/// then with `extra` (gait2392 only) `subtalar_r, mtp_r, subtalar_l, mtp_l`.
+/// then with `extra` (gait2392 and chain models only) `subtalar_r, mtp_r, subtalar_l, mtp_l`.
 pub fn point_names(extra: bool) -> Vec<String> {
     let mut names = Vec::new();
     for side in Side::ALL {
@@ -54,7 +92,13 @@ enum Kind {
     Hak(Box<Evaluator>),
     Phak(Box<Evaluator>),
     Gait2392(Box<Gait2392<f64>>),
+    Chain(Box<LowerLimb<f64>>),
 }
+
+/// Where [`point_names`]' points are in a [`LowerLimb`]'s output
+/// ([`POINTS`](qgait_kernel::models::gait2392::POINTS) order): hip, knee, ankle, toe tip per side,
+/// then subtalar and MTP per side.
+const CHAIN_ORDER: [usize; 12] = [0, 1, 2, 5, 6, 7, 8, 11, 3, 4, 9, 10];
 
 impl PointModel {
     /// The kernel model of `model`. `extra` adds subtalar and MTP (gait2392 models only; an
@@ -67,6 +111,7 @@ impl PointModel {
                     error,
                 })?,
             )),
+            Model::Chain { chain, name } => Kind::Chain(Box::new(chain_of(chain, name)?)),
             _ if extra => return Err(ModelError::PointsNeedGait2392),
             Model::Hak { .. } => Kind::Hak(Box::new(Evaluator::new(model, "fk")?)),
             Model::Phak { .. } => Kind::Phak(Box::new(Evaluator::new(model, "fk")?)),
@@ -108,6 +153,13 @@ impl PointModel {
                         points.push(pose.mtp(side));
                     }
                 }
+                each(t, &points)
+            }),
+            Kind::Chain(chain) => drive(rows, &COORDINATES, warn, |t, q| {
+                let all = chain.forward(&q);
+                let n = if self.extra { 12 } else { 8 };
+                points.clear();
+                points.extend(CHAIN_ORDER[..n].iter().map(|&i| all[i]));
                 each(t, &points)
             }),
         }

@@ -64,7 +64,7 @@ pub enum ImportError {
     },
 }
 
-fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
+pub(super) fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
     Document::parse(text).map_err(|e| {
         let pos = e.pos();
         ImportError::Xml {
@@ -97,17 +97,11 @@ pub fn import(
     source: &str,
     markers: Option<(&str, &str)>,
 ) -> Result<Imported, ImportError> {
-    let doc = parse_xml(text, source)?;
+    let (doc, version) = document(text, source)?;
     let err = |message: String| ImportError::Chain {
         path: source.to_string(),
         message,
     };
-    let version: u32 = doc
-        .descendants()
-        .find(|n| n.has_tag_name("OpenSimDocument"))
-        .and_then(|n| n.attribute("Version"))
-        .and_then(|v| v.trim().parse().ok())
-        .ok_or_else(|| ImportError::NotOpenSim(source.to_string()))?;
     let joints = read_joints(&doc).map_err(err)?;
     check_constraints(&doc).map_err(err)?;
     let mut notes = vec![format!(
@@ -138,48 +132,68 @@ pub fn import(
     })
 }
 
+/// Parses an OpenSim model `text` (named `source` in messages): the document and its
+/// `<OpenSimDocument Version=...>`.
+pub(super) fn document<'a>(
+    text: &'a str,
+    source: &str,
+) -> Result<(Document<'a>, u32), ImportError> {
+    let doc = parse_xml(text, source)?;
+    let version: u32 = doc
+        .descendants()
+        .find(|n| n.has_tag_name("OpenSimDocument"))
+        .and_then(|n| n.attribute("Version"))
+        .and_then(|v| v.trim().parse().ok())
+        .ok_or_else(|| ImportError::NotOpenSim(source.to_string()))?;
+    Ok((doc, version))
+}
+
 /// A transform function, with any `MultiplierFunction` scale applied.
 #[derive(Debug, Clone, PartialEq)]
-enum Function {
+pub(super) enum Function {
     Constant(f64),
     /// `slope * q + intercept`.
     Linear(f64, f64),
     SimmSpline(Vec<f64>, Vec<f64>),
+    /// `PiecewiseLinearFunction` knots.
+    PiecewiseLinear(Vec<f64>, Vec<f64>),
     /// A type qgait does not evaluate (its XML tag).
     Other(String),
 }
 
 #[derive(Debug, Clone)]
-struct TransformAxis {
-    name: String,
-    coordinates: Vec<String>,
-    axis: [f64; 3],
-    function: Function,
+pub(super) struct TransformAxis {
+    pub(super) name: String,
+    pub(super) coordinates: Vec<String>,
+    pub(super) axis: [f64; 3],
+    pub(super) function: Function,
 }
 
 #[derive(Debug, Clone)]
-struct Joint {
-    name: String,
-    kind: String,
-    parent: String,
-    child: String,
-    location_in_parent: [f64; 3],
-    orientation_in_parent: [f64; 3],
-    location_in_child: [f64; 3],
-    orientation_in_child: [f64; 3],
-    reverse: bool,
-    axes: Vec<TransformAxis>,
+pub(super) struct Joint {
+    pub(super) name: String,
+    pub(super) kind: String,
+    pub(super) parent: String,
+    pub(super) child: String,
+    pub(super) location_in_parent: [f64; 3],
+    pub(super) orientation_in_parent: [f64; 3],
+    pub(super) location_in_child: [f64; 3],
+    pub(super) orientation_in_child: [f64; 3],
+    pub(super) reverse: bool,
+    pub(super) axes: Vec<TransformAxis>,
+    /// The joint's own coordinates, in order (what a `PinJoint` or `UniversalJoint` turns by).
+    pub(super) coordinates: Vec<String>,
 }
 
-fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
+pub(super) fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
     n.children().find(|c| c.is_element() && c.has_tag_name(tag))
 }
 
-fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
+pub(super) fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
     child(n, tag).map(|c| c.text().unwrap_or("").trim())
 }
 
-fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
+pub(super) fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
     s.split_whitespace()
         .map(|v| {
             v.parse::<f64>()
@@ -190,7 +204,7 @@ fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
         .collect()
 }
 
-fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
+pub(super) fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
     match text_of(n, tag) {
         None => Ok([0.0; 3]),
         Some(t) => {
@@ -201,12 +215,12 @@ fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
     }
 }
 
-fn name_of(n: Node) -> String {
+pub(super) fn name_of(n: Node) -> String {
     n.attribute("name").unwrap_or("").to_string()
 }
 
 /// Parses a function element (`<Constant>`, `<LinearFunction>`, ...).
-fn function(n: Node, what: &str) -> Result<Function, String> {
+pub(super) fn function(n: Node, what: &str) -> Result<Function, String> {
     let tag = n.tag_name().name();
     Ok(match tag {
         "Constant" => Function::Constant(
@@ -226,6 +240,10 @@ fn function(n: Node, what: &str) -> Result<Function, String> {
             numbers(text_of(n, "x").unwrap_or(""), what)?,
             numbers(text_of(n, "y").unwrap_or(""), what)?,
         ),
+        "PiecewiseLinearFunction" => Function::PiecewiseLinear(
+            numbers(text_of(n, "x").unwrap_or(""), what)?,
+            numbers(text_of(n, "y").unwrap_or(""), what)?,
+        ),
         "MultiplierFunction" => {
             let inner = child(n, "function")
                 .and_then(|f| f.children().find(|c| c.is_element()))
@@ -239,6 +257,9 @@ fn function(n: Node, what: &str) -> Result<Function, String> {
                 Function::Linear(a, b) => Function::Linear(a * scale, b * scale),
                 Function::SimmSpline(x, y) => {
                     Function::SimmSpline(x, y.into_iter().map(|v| v * scale).collect())
+                }
+                Function::PiecewiseLinear(x, y) => {
+                    Function::PiecewiseLinear(x, y.into_iter().map(|v| v * scale).collect())
                 }
                 Function::Other(t) => Function::Other(format!("MultiplierFunction({t})")),
             }
@@ -285,7 +306,7 @@ fn transform_axes(joint: Node, joint_name: &str) -> Result<Vec<TransformAxis>, S
     Ok(axes)
 }
 
-fn last_path_part(p: &str) -> &str {
+pub(super) fn last_path_part(p: &str) -> &str {
     p.trim()
         .trim_end_matches('/')
         .rsplit('/')
@@ -331,7 +352,7 @@ fn resolve_frame(
     }
 }
 
-fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
+pub(super) fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
     let mut joints = Vec::new();
     // 4.x: <JointSet><objects>...
     for set in doc.descendants().filter(|n| n.has_tag_name("JointSet")) {
@@ -352,6 +373,7 @@ fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
                 orientation_in_child: oc,
                 reverse: text_of(j, "reverse") == Some("true"),
                 axes: transform_axes(j, &name)?,
+                coordinates: joint_coordinates(j),
                 name,
             });
         }
@@ -374,31 +396,51 @@ fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
             orientation_in_child: vec3(j, "orientation", &what)?,
             reverse: text_of(j, "reverse") == Some("true"),
             axes: transform_axes(j, &name)?,
+            coordinates: joint_coordinates(j),
             name,
         });
     }
     Ok(joints)
 }
 
-/// The joint moving `child`, checked to hang on `parent` and to be a plain `CustomJoint`.
-fn chain_joint<'a>(joints: &'a [Joint], parent: &str, child: &str) -> Result<&'a Joint, String> {
-    let found: Vec<&Joint> = joints.iter().filter(|j| j.child == child).collect();
+/// The names of a joint's own coordinates (4.x `<coordinates>`, 3.x `<CoordinateSet>`).
+fn joint_coordinates(j: Node) -> Vec<String> {
+    j.children()
+        .filter(|c| c.has_tag_name("coordinates") || c.has_tag_name("CoordinateSet"))
+        .flat_map(|c| c.descendants().filter(|d| d.has_tag_name("Coordinate")))
+        .map(name_of)
+        .collect()
+}
+
+/// The one joint moving `body`, checked to hang on `parent` (the chain's next link).
+pub(super) fn joint_moving<'a>(
+    joints: &'a [Joint],
+    parent: &str,
+    body: &str,
+) -> Result<&'a Joint, String> {
+    let found: Vec<&Joint> = joints.iter().filter(|j| j.child == body).collect();
     let j = match found.as_slice() {
         [j] => *j,
         [] => {
             return Err(format!(
-                "no joint moves body `{child}` (expected gait2392's chain ground-pelvis-femur-tibia-talus-calcn-toes)"
+                "no joint moves body `{body}` (a leg chain is ground-pelvis-femur-tibia-talus-calcn-toes)"
             ))
         }
-        _ => return Err(format!("several joints move body `{child}`")),
+        _ => return Err(format!("several joints move body `{body}`")),
     };
-    let name = &j.name;
     if j.parent != parent {
         return Err(format!(
-            "joint `{name}` connects `{}` to `{child}`; gait2392's chain needs `{parent}`",
-            j.parent
+            "joint `{}` connects `{}` to `{body}`; the leg chain needs `{parent}`",
+            j.name, j.parent
         ));
     }
+    Ok(j)
+}
+
+/// The joint moving `child`, checked to hang on `parent` and to be a plain `CustomJoint`.
+fn chain_joint<'a>(joints: &'a [Joint], parent: &str, child: &str) -> Result<&'a Joint, String> {
+    let j = joint_moving(joints, parent, child)?;
+    let name = &j.name;
     if j.kind != "CustomJoint" {
         return Err(format!(
             "joint `{name}` is a {} (only CustomJoint is supported)",
@@ -455,8 +497,8 @@ fn rotations(j: &Joint, expected: &[String]) -> Result<Vec<[f64; 3]>, String> {
                     ax.coordinates
                 ))
             }
-            Function::SimmSpline(..) => {
-                return Err(format!("{what}: a SimmSpline rotation is not supported"))
+            Function::SimmSpline(..) | Function::PiecewiseLinear(..) => {
+                return Err(format!("{what}: a spline rotation is not supported"))
             }
             Function::Other(t) => {
                 return Err(format!("{what}: function type {t} is not supported"))
@@ -538,6 +580,11 @@ fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
             // A line is the 2-knot spline through two of its points (linear extrapolation).
             Function::Linear(a, b) => (vec![-1.0, 1.0], vec![b - a, b + a]),
             Function::Constant(c) => (vec![-1.0, 1.0], vec![*c, *c]),
+            Function::PiecewiseLinear(..) => {
+                return Err(format!(
+                    "{what}: PiecewiseLinearFunction is not supported on gait2392's knee"
+                ))
+            }
             Function::Other(t) => {
                 return Err(format!(
                     "{what}: function type {t} is not supported (the knee needs SimmSpline, LinearFunction or Constant)"
@@ -628,6 +675,28 @@ fn check_constraints(doc: &Document) -> Result<(), String> {
         }
     }
     chain.push("pelvis".into());
+    match constraint_naming(doc, &chain, None) {
+        Some((c, hit)) => Err(format!(
+            "{} `{}` constrains `{hit}` of the leg chain; constraints are not supported",
+            c.tag_name().name(),
+            name_of(c)
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Whether a constraint is on (not `isDisabled`, not `isEnforced` false).
+pub(super) fn enforced(c: Node) -> bool {
+    !(text_of(c, "isDisabled") == Some("true") || text_of(c, "isEnforced") == Some("false"))
+}
+
+/// The first enforced constraint (other than those tagged `skip`) whose text names one of
+/// `names` (a coordinate or body), and that name.
+pub(super) fn constraint_naming<'a, 'i>(
+    doc: &'a Document<'i>,
+    names: &[String],
+    skip: Option<&str>,
+) -> Option<(Node<'a, 'i>, String)> {
     for set in doc
         .descendants()
         .filter(|n| n.has_tag_name("ConstraintSet"))
@@ -635,27 +704,19 @@ fn check_constraints(doc: &Document) -> Result<(), String> {
         for c in child(set, "objects")
             .into_iter()
             .flat_map(|o| o.children().filter(|c| c.is_element()))
+            .filter(|c| enforced(*c) && skip.is_none_or(|t| !c.has_tag_name(t)))
         {
-            let off = text_of(c, "isDisabled") == Some("true")
-                || text_of(c, "isEnforced") == Some("false");
-            if off {
-                continue;
-            }
             let words: Vec<&str> = c
                 .descendants()
                 .filter_map(|d| d.text())
                 .flat_map(|t| t.split(|ch: char| ch.is_whitespace() || ch == '/'))
                 .collect();
-            if let Some(hit) = chain.iter().find(|n| words.contains(&n.as_str())) {
-                return Err(format!(
-                    "{} `{}` constrains `{hit}` of the leg chain; constraints are not supported",
-                    c.tag_name().name(),
-                    name_of(c)
-                ));
+            if let Some(hit) = names.iter().find(|n| words.contains(&n.as_str())) {
+                return Some((c, hit.clone()));
             }
         }
     }
-    Ok(())
+    None
 }
 
 /// Notes for chain coordinates whose `default_value` is not 0: OpenSim uses the default for a
@@ -676,7 +737,7 @@ fn non_zero_defaults(doc: &Document) -> Vec<String> {
 }
 
 /// A marker `name` in a document: (body, location).
-fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
+pub(super) fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
     let Some(m) = doc
         .descendants()
         .find(|n| n.has_tag_name("Marker") && n.attribute("name") == Some(name))
@@ -715,13 +776,17 @@ fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
     scale.unwrap_or([1.0; 3])
 }
 
-fn toe_tip(
+/// A marker found: `(body, location)` and the file it came from.
+pub(super) type FoundMarker<'f> = Option<((String, [f64; 3]), &'f str)>;
+
+/// Marker `R.Toe.Tip`/`L.Toe.Tip` of side `s`: from the marker file if given, else from the
+/// model (`source`): its name, `(body, location)` and the file it came from.
+pub(super) fn toe_marker<'f>(
     model: &Document,
-    source: &str,
-    markers: Option<&(Document, &str)>,
+    source: &'f str,
+    markers: Option<&(Document, &'f str)>,
     s: &str,
-    leg: &LegGeometry,
-) -> Result<([f64; 3], String), String> {
+) -> Result<(&'static str, FoundMarker<'f>), String> {
     let name = if s == "r" { "R.Toe.Tip" } else { "L.Toe.Tip" };
     let found = match markers {
         Some((doc, file)) => marker(doc, name)?.map(|m| (m, *file)),
@@ -731,6 +796,31 @@ fn toe_tip(
         Some(f) => Some(f),
         None => marker(model, name)?.map(|m| (m, source)),
     };
+    Ok((name, found))
+}
+
+/// gait2392's toe tip in `toes_<s>` times the toes' geometry scale factors, and the note saying so.
+pub(super) fn generic_toe_tip(model: &Document, s: &str, name: &str) -> ([f64; 3], String) {
+    let k = toes_scale(model, s);
+    let g = GENERIC_TOETIP_RIGHT;
+    let z = if s == "r" { g[2] } else { -g[2] };
+    (
+        [g[0] * k[0], g[1] * k[1], z * k[2]],
+        format!(
+            "toe tip {s}: no {name} marker; generic ({}, {}, {z}) in toes_{s} times the toes' geometry scale factors {k:?}",
+            g[0], g[1]
+        ),
+    )
+}
+
+fn toe_tip(
+    model: &Document,
+    source: &str,
+    markers: Option<&(Document, &str)>,
+    s: &str,
+    leg: &LegGeometry,
+) -> Result<([f64; 3], String), String> {
+    let (name, found) = toe_marker(model, source, markers, s)?;
     if let Some(((body, loc), file)) = found {
         let tip = if body == format!("toes_{s}") {
             loc
@@ -747,17 +837,7 @@ fn toe_tip(
             format!("toe tip {s}: marker {name} from {file} on {body} at {loc:?}"),
         ));
     }
-    let k = toes_scale(model, s);
-    let g = GENERIC_TOETIP_RIGHT;
-    let z = if s == "r" { g[2] } else { -g[2] };
-    let tip = [g[0] * k[0], g[1] * k[1], z * k[2]];
-    Ok((
-        tip,
-        format!(
-            "toe tip {s}: no {name} marker; generic ({}, {}, {z}) in toes_{s} times the toes' geometry scale factors {k:?}",
-            g[0], g[1]
-        ),
-    ))
+    Ok(generic_toe_tip(model, s, name))
 }
 
 #[cfg(test)]

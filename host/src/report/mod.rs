@@ -74,7 +74,7 @@ impl Analysis {
         let mut warnings = Vec::new();
         let mut gaits = Vec::new();
         let warnings_before = std::cell::RefCell::new(Vec::new());
-        if matches!(model, Model::Gait2392 { .. }) {
+        if model.lengths().is_none() {
             let points = PointModel::new(model, false)?;
             for (label, table) in motions {
                 let mut poses = Vec::with_capacity(table.rows());

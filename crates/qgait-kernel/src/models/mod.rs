@@ -4,13 +4,16 @@
 //! |---|---|---|
 //! | [`Hak`] | `hip_flexion`, `knee_angle`, `ankle_angle` of one leg | hip (origin), knee, ankle, toe |
 //! | [`Gait2392`] | the 17 gait2392 coordinates ([`gait2392::COORDINATES`]) | hip, knee, ankle, subtalar, MTP, toe tip of both legs, as OpenSim computes them |
+//! | [`LowerLimb`] ([`CustomChain`]) | the 17 gait2392 coordinates | the same 12 points, for any OpenSim lower-limb chain (oriented frames, spline rotations, couplers) |
 //! | [`Phak`] | `pelvis_rotation`, `pelvis_list`, then `hip_flexion`, `knee_angle`, `ankle_angle` right and left | hip, knee, ankle, toe of both legs, origin at the pelvis origin, ground axes |
 
+pub mod custom;
 pub mod gait2392;
 mod hak;
 mod phak;
 pub mod ranges;
 
+pub use custom::{CustomChain, LowerLimb};
 pub use gait2392::{Gait2392, Gait2392Geometry, Gait2392Pose};
 pub use hak::{Hak, HakAngles, HakChain};
 pub use phak::{Phak, PhakAngles, PhakChain};

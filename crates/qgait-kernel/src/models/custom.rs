@@ -1,0 +1,588 @@
+//! Any OpenSim lower-limb chain as data: bodies joined by `CustomJoint`s (and the `PinJoint`,
+//! `UniversalJoint` and `WeldJoint` special cases), each joint with oriented parent and child
+//! offset frames and up to three rotations and three translations, each a function of one
+//! coordinate (constant, linear, `SimmSpline`, piecewise linear), coordinates coupled to an
+//! independent one by a `CoordinateCouplerConstraint`. What Rajagopal 2015/2016 and
+//! gait10dof18musc need, beside gait2392's family (which keeps its own faster
+//! [`Gait2392`](super::Gait2392) table).
+//!
+//! A joint places its child body `B` on its parent body `P` as OpenSim does:
+//! `X_PB = X_PF · X_FM(q) · X_BM⁻¹`, where `F` and `M` are the parent and child offset frames
+//! (translation, then orientation as body-fixed x-y-z angles) and `X_FM` is the joint's
+//! transform: the rotations body-fixed in order (each about its axis in the frame left by the
+//! earlier ones), then the translations along their axes in `F`.
+//!
+//! Sizes are fixed: `N` input coordinates, `B` bodies (joint `b` moves body `b`), `P` output
+//! points, up to [`MAX_SPLINES`] splines of up to [`MAX_SPLINE_KNOTS`] knots and
+//! [`MAX_COUPLERS`] coupled coordinates. [`LowerLimb`] is the size the host uses: the 17
+//! gait2392 coordinates, pelvis and two legs of five bodies, the 12 gait2392 points.
+
+use crate::{ModelError, Quat, Real, Spline, Vec3};
+
+/// Most knots of one spline (Rajagopal's knee: 13).
+pub const MAX_SPLINE_KNOTS: usize = 16;
+/// Most splines one chain holds (Rajagopal: four per knee).
+pub const MAX_SPLINES: usize = 12;
+/// Most coupled coordinates one chain holds.
+pub const MAX_COUPLERS: usize = 4;
+
+/// The chain of the host's lower-limb models: the 17 gait2392 coordinates in
+/// [`COORDINATES`](super::gait2392::COORDINATES) order, 11 bodies (pelvis, then femur, tibia,
+/// talus, calcaneus, toes right and left), the 12 points of
+/// [`POINTS`](super::gait2392::POINTS).
+pub type LowerLimb<T> = CustomChain<T, 17, 11, 12>;
+
+/// What a transform axis's value (radians or metres) is a function of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Argument {
+    /// Nothing: the function is evaluated at 0 (a constant, or a coordinate absent from the
+    /// inputs held at its default, baked in by whoever builds the table).
+    None,
+    /// Input coordinate `i`.
+    Coordinate(usize),
+    /// Coupled coordinate `k` (see [`Coupler`]).
+    Coupled(usize),
+}
+
+/// A function of one argument.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Function<T> {
+    /// OpenSim `Constant`.
+    Constant(T),
+    /// OpenSim `LinearFunction`: `slope · x + intercept`.
+    Linear {
+        /// Slope.
+        slope: T,
+        /// Value at 0.
+        intercept: T,
+    },
+    /// Spline `k` of the chain's spline table (a `SimmSpline` or a `PiecewiseLinearFunction`).
+    Spline(usize),
+}
+
+/// One transform axis: a direction and how far along or about it, as a function of an argument.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Driven<T> {
+    /// Direction (normalised by the chain); rotation axes in the frame left by the joint's
+    /// earlier rotations, translation axes in the parent offset frame.
+    pub axis: Vec3<T>,
+    /// The value as a function of `argument`.
+    pub function: Function<T>,
+    /// What the function is evaluated at.
+    pub argument: Argument,
+}
+
+impl<T: Real> Driven<T> {
+    /// Nothing (a zero constant about x).
+    pub const NONE: Self = Self {
+        axis: Vec3::new(T::ONE, T::ZERO, T::ZERO),
+        function: Function::Constant(T::ZERO),
+        argument: Argument::None,
+    };
+}
+
+/// A fixed transform: a translation and an orientation (unit quaternion).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Offset<T> {
+    /// Origin of the frame in its body (metres).
+    pub translation: Vec3<T>,
+    /// Orientation of the frame in its body.
+    pub rotation: Quat<T>,
+}
+
+impl<T: Real> Offset<T> {
+    /// No offset.
+    pub const IDENTITY: Self = Self {
+        translation: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+        rotation: Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO),
+    };
+
+    /// An OpenSim `PhysicalOffsetFrame`: `translation`, and `orientation` as body-fixed x-y-z
+    /// angles (radians).
+    pub fn from_xyz(translation: Vec3<T>, orientation: [T; 3]) -> Self {
+        let mut rotation = Quat::identity();
+        for (k, a) in orientation.iter().enumerate() {
+            let (s, c) = a.half_angle_sin_cos();
+            rotation = match k {
+                0 => rotation.then_about_x(s, c),
+                1 => rotation.then_about_y(s, c),
+                _ => rotation.then_about_z(s, c),
+            };
+        }
+        Self {
+            translation,
+            rotation,
+        }
+    }
+
+    /// The inverse transform.
+    fn inverse(&self) -> Self {
+        let rotation = self.rotation.conj();
+        Self {
+            translation: -rotation.rotate(self.translation),
+            rotation,
+        }
+    }
+}
+
+/// The joint that moves one body.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CustomJoint<T> {
+    /// The parent body (an earlier one), or `None` for ground (body 0 only).
+    pub parent: Option<usize>,
+    /// The parent offset frame `F` in the parent body.
+    pub in_parent: Offset<T>,
+    /// The child offset frame `M` in the moved body.
+    pub in_child: Offset<T>,
+    /// Rotations, body-fixed, in order (unused ones [`Driven::NONE`]).
+    pub rotations: [Driven<T>; 3],
+    /// Translations along axes of `F`, after the rotations.
+    pub translations: [Driven<T>; 3],
+}
+
+impl<T: Real> CustomJoint<T> {
+    /// A weld at the origins (what an unset table holds).
+    pub const WELD: Self = Self {
+        parent: None,
+        in_parent: Offset::IDENTITY,
+        in_child: Offset::IDENTITY,
+        rotations: [Driven::NONE; 3],
+        translations: [Driven::NONE; 3],
+    };
+}
+
+/// A coupled coordinate: a function of an input coordinate (OpenSim's
+/// `CoordinateCouplerConstraint`, dependent = f(independent)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coupler<T> {
+    /// The independent input coordinate.
+    pub independent: usize,
+    /// The coupling function (a spline refers to the chain's spline table).
+    pub function: Function<T>,
+}
+
+/// An output point fixed in a body.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyPoint<T> {
+    /// The body.
+    pub body: usize,
+    /// Position in the body's frame (metres).
+    pub offset: Vec3<T>,
+}
+
+/// A validated chain. Joint `b` moves body `b`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CustomChain<T, const N: usize, const B: usize, const P: usize> {
+    joints: [CustomJoint<T>; B],
+    /// Per joint, how many rotations and translations move (the others, zero constants, are
+    /// dropped by [`new`](Self::new): no work for a locked coordinate or an unused axis).
+    moving: [(u8, u8); B],
+    /// `in_child` inverted, once.
+    child_inverse: [Offset<T>; B],
+    points: [BodyPoint<T>; P],
+    splines: [Spline<T, MAX_SPLINE_KNOTS>; MAX_SPLINES],
+    couplers: [Coupler<T>; MAX_COUPLERS],
+}
+
+/// A body's frame in ground.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyFrame<T> {
+    /// Orientation (body to ground).
+    pub rotation: Quat<T>,
+    /// Origin in ground.
+    pub origin: Vec3<T>,
+}
+
+impl<T: Real> BodyFrame<T> {
+    fn then(&self, o: &Offset<T>) -> Self {
+        Self {
+            origin: self.origin + self.rotation.rotate(o.translation),
+            rotation: self.rotation * o.rotation,
+        }
+    }
+}
+
+impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, B, P> {
+    /// Validates and builds a chain: parents come first (body 0 hangs on ground, every other
+    /// body on an earlier one), axes are non-zero and finite (normalised here), arguments and
+    /// splines exist, offsets are finite, couplers depend on inputs and are not chained. Axes
+    /// whose function is the constant 0 are dropped (the others keep their order).
+    pub fn new(
+        joints: [CustomJoint<T>; B],
+        points: [BodyPoint<T>; P],
+        splines: &[Spline<T, MAX_SPLINE_KNOTS>],
+        couplers: &[Coupler<T>],
+    ) -> Result<Self, ModelError> {
+        if splines.len() > MAX_SPLINES
+            || couplers.len() > MAX_COUPLERS
+            || splines.iter().any(|s| s.is_empty())
+        {
+            return Err(ModelError::SplineKnots);
+        }
+        let finite = |v: Vec3<T>| v.x.is_finite() && v.y.is_finite() && v.z.is_finite();
+        let function_ok = |f: &Function<T>| match f {
+            Function::Constant(c) => c.is_finite(),
+            Function::Linear { slope, intercept } => slope.is_finite() && intercept.is_finite(),
+            Function::Spline(k) => *k < splines.len(),
+        };
+        for c in couplers {
+            if c.independent >= N || !function_ok(&c.function) {
+                return Err(ModelError::CoordinateOutOfRange { joint: 0 });
+            }
+        }
+        let mut joints = joints;
+        for (b, joint) in joints.iter_mut().enumerate() {
+            if joint.parent.map_or(b > 0, |p| p >= b) {
+                return Err(ModelError::ParentOrder { joint: b });
+            }
+            for o in [&joint.in_parent, &joint.in_child] {
+                let q = o.rotation;
+                let n = q.norm();
+                if !(finite(o.translation)
+                    && n.is_finite()
+                    && (n - T::ONE).abs() < T::from_f64(1e-6))
+                {
+                    return Err(ModelError::BadLength);
+                }
+            }
+            for d in joint
+                .rotations
+                .iter_mut()
+                .chain(joint.translations.iter_mut())
+            {
+                let length = d.axis.norm();
+                if !(finite(d.axis) && length > T::ZERO && function_ok(&d.function)) {
+                    return Err(ModelError::BadAxis { joint: b });
+                }
+                let argument_ok = match d.argument {
+                    Argument::None => true,
+                    Argument::Coordinate(i) => i < N,
+                    Argument::Coupled(k) => k < couplers.len(),
+                };
+                if !argument_ok {
+                    return Err(ModelError::CoordinateOutOfRange { joint: b });
+                }
+                d.axis = d.axis * (T::ONE / length);
+            }
+        }
+        for p in &points {
+            if p.body >= B || !finite(p.offset) {
+                return Err(ModelError::BodyOutOfRange { index: p.body });
+            }
+        }
+        let still = |d: &Driven<T>| d.function == Function::Constant(T::ZERO);
+        let mut moving = [(0u8, 0u8); B];
+        for (joint, m) in joints.iter_mut().zip(&mut moving) {
+            for (axes, n) in [
+                (&mut joint.rotations, &mut m.0),
+                (&mut joint.translations, &mut m.1),
+            ] {
+                let mut kept = [Driven::NONE; 3];
+                for d in axes.iter().filter(|d| !still(d)) {
+                    kept[*n as usize] = *d;
+                    *n += 1;
+                }
+                *axes = kept;
+            }
+        }
+        let mut chain = Self {
+            joints,
+            moving,
+            child_inverse: joints.map(|j| j.in_child.inverse()),
+            points,
+            splines: [Spline::EMPTY; MAX_SPLINES],
+            couplers: [Coupler {
+                independent: 0,
+                function: Function::Constant(T::ZERO),
+            }; MAX_COUPLERS],
+        };
+        chain.splines[..splines.len()].copy_from_slice(splines);
+        chain.couplers[..couplers.len()].copy_from_slice(couplers);
+        Ok(chain)
+    }
+
+    /// The joints, by body (zero-constant axes dropped, the moving ones first).
+    pub fn joints(&self) -> &[CustomJoint<T>; B] {
+        &self.joints
+    }
+
+    /// The output points.
+    pub fn points(&self) -> &[BodyPoint<T>; P] {
+        &self.points
+    }
+
+    #[inline]
+    fn value(&self, f: &Function<T>, x: T) -> T {
+        match *f {
+            Function::Constant(c) => c,
+            Function::Linear { slope, intercept } => slope * x + intercept,
+            Function::Spline(k) => self.splines[k].eval(x),
+        }
+    }
+
+    #[inline]
+    fn driven(&self, d: &Driven<T>, q: &[T; N], coupled: &[T; MAX_COUPLERS]) -> T {
+        let x = match d.argument {
+            Argument::None => T::ZERO,
+            Argument::Coordinate(i) => q[i],
+            Argument::Coupled(k) => coupled[k],
+        };
+        self.value(&d.function, x)
+    }
+
+    /// Every body's frame in ground for input coordinates `q`.
+    pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
+        let mut coupled = [T::ZERO; MAX_COUPLERS];
+        for (v, c) in coupled.iter_mut().zip(&self.couplers) {
+            *v = self.value(&c.function, q[c.independent]);
+        }
+        let ground = BodyFrame {
+            rotation: Quat::identity(),
+            origin: Vec3::zero(),
+        };
+        let mut frames = [ground; B];
+        for b in 0..B {
+            let joint = &self.joints[b];
+            let parent = joint.parent.map_or(ground, |p| frames[p]);
+            let f = parent.then(&joint.in_parent);
+            let (n_rotations, n_translations) = self.moving[b];
+            let mut translation = Vec3::zero();
+            for d in &joint.translations[..n_translations as usize] {
+                translation += d.axis * self.driven(d, q, &coupled);
+            }
+            let mut rotation = f.rotation;
+            for d in &joint.rotations[..n_rotations as usize] {
+                let (s, c) = self.driven(d, q, &coupled).half_angle_sin_cos();
+                rotation = rotation * Quat::from_axis_half_sin_cos(d.axis, s, c);
+            }
+            let m = BodyFrame {
+                origin: f.origin + f.rotation.rotate(translation),
+                rotation,
+            };
+            frames[b] = m.then(&self.child_inverse[b]);
+        }
+        frames
+    }
+
+    /// The output points in ground for input coordinates `q`: forward kinematics.
+    pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
+        let frames = self.frames(q);
+        self.points.map(|p| {
+            let f = &frames[p.body];
+            f.origin + f.rotation.rotate(p.offset)
+        })
+    }
+
+    /// The whole table in another precision (e.g. an `f64` model for an `f32` device).
+    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P> {
+        let v = |v: Vec3<T>| v.cast::<U>();
+        let s = |x: T| U::from_f64(x.to_f64());
+        let f = |f: Function<T>| match f {
+            Function::Constant(c) => Function::Constant(s(c)),
+            Function::Linear { slope, intercept } => Function::Linear {
+                slope: s(slope),
+                intercept: s(intercept),
+            },
+            Function::Spline(k) => Function::Spline(k),
+        };
+        let d = |d: Driven<T>| Driven {
+            axis: v(d.axis),
+            function: f(d.function),
+            argument: d.argument,
+        };
+        let q = |q: Quat<T>| Quat::new(s(q.w), s(q.x), s(q.y), s(q.z));
+        let o = |o: Offset<T>| Offset {
+            translation: v(o.translation),
+            rotation: q(o.rotation),
+        };
+        CustomChain {
+            joints: self.joints.map(|j| CustomJoint {
+                parent: j.parent,
+                in_parent: o(j.in_parent),
+                in_child: o(j.in_child),
+                rotations: j.rotations.map(d),
+                translations: j.translations.map(d),
+            }),
+            moving: self.moving,
+            child_inverse: self.child_inverse.map(o),
+            points: self.points.map(|p| BodyPoint {
+                body: p.body,
+                offset: v(p.offset),
+            }),
+            splines: self.splines.map(|sp| sp.cast()),
+            couplers: self.couplers.map(|c| Coupler {
+                independent: c.independent,
+                function: f(c.function),
+            }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::models::gait2392::{Gait2392, Gait2392Geometry, COORDINATES};
+
+    /// gait2392's generic chain said in this table's terms: the same points as the
+    /// [`Gait2392`] table on any pose (the offsets and axes as data, the knee as splines).
+    fn gait2392_as_custom() -> LowerLimb<f64> {
+        let g = Gait2392Geometry::generic();
+        let v = |a: [f64; 3]| Vec3::from_f64(a);
+        let rot = |axis: [f64; 3], i: usize| Driven {
+            axis: v(axis),
+            function: Function::Linear {
+                slope: 1.0,
+                intercept: 0.0,
+            },
+            argument: Argument::Coordinate(i),
+        };
+        let at = |t: [f64; 3]| Offset {
+            translation: v(t),
+            rotation: Quat::identity(),
+        };
+        let mut joints = [CustomJoint::WELD; 11];
+        joints[0].rotations = [
+            rot([0., 0., 1.], 0),
+            rot([1., 0., 0.], 1),
+            rot([0., 1., 0.], 2),
+        ];
+        let mut splines = [Spline::EMPTY; 4];
+        let mut points = [BodyPoint {
+            body: 0,
+            offset: Vec3::zero(),
+        }; 12];
+        for (side, leg) in [g.right, g.left].iter().enumerate() {
+            let (b, c) = (1 + 5 * side, 3 + 7 * side);
+            joints[b].parent = Some(0);
+            joints[b].in_parent = at(leg.hip_in_pelvis);
+            joints[b].rotations = [
+                rot(leg.hip_axes[0], c),
+                rot(leg.hip_axes[1], c + 1),
+                rot(leg.hip_axes[2], c + 2),
+            ];
+            joints[b + 1].parent = Some(b);
+            joints[b + 1].rotations[0] = rot([0., 0., 1.], c + 3);
+            for (k, (knots, axis)) in [(leg.knee_tx, [1., 0., 0.]), (leg.knee_ty, [0., 1., 0.])]
+                .iter()
+                .enumerate()
+            {
+                splines[2 * side + k] =
+                    Spline::new(&knots.x[..knots.n], &knots.y[..knots.n]).unwrap();
+                joints[b + 1].translations[k] = Driven {
+                    axis: v(*axis),
+                    function: Function::Spline(2 * side + k),
+                    argument: Argument::Coordinate(c + 3),
+                };
+            }
+            for (k, (loc, axis)) in [
+                (leg.ankle_in_tibia, leg.ankle_axis),
+                (leg.subtalar_in_talus, leg.subtalar_axis),
+                (leg.mtp_in_calcn, leg.mtp_axis),
+            ]
+            .iter()
+            .enumerate()
+            {
+                joints[b + 2 + k].parent = Some(b + 1 + k);
+                joints[b + 2 + k].in_parent = at(*loc);
+                joints[b + 2 + k].rotations[0] = rot(*axis, c + 4 + k);
+            }
+            for k in 0..5 {
+                points[6 * side + k].body = b + k;
+            }
+            points[6 * side + 5] = BodyPoint {
+                body: b + 4,
+                offset: v(leg.toetip_in_toes),
+            };
+        }
+        LowerLimb::new(joints, points, &splines, &[]).unwrap()
+    }
+
+    #[test]
+    fn gait2392_in_this_table_is_the_gait2392_table() {
+        assert_eq!(COORDINATES.len(), 17);
+        let custom = gait2392_as_custom();
+        let fast = Gait2392::<f64>::new(&Gait2392Geometry::generic()).unwrap();
+        for k in 0..50 {
+            let q: [f64; 17] = core::array::from_fn(|i| {
+                0.9 * libm_sin(0.37 * (k * 17 + i) as f64 + 0.1 * k as f64)
+            });
+            let a = custom.forward(&q);
+            let b = fast.chain().forward(&q);
+            for (p, r) in a.iter().zip(&b) {
+                assert!(p.max_abs_diff(*r) < 1e-14, "{k}: {p:?} {r:?}");
+            }
+        }
+    }
+
+    /// A sine for test poses (no std in the kernel).
+    fn libm_sin(x: f64) -> f64 {
+        Real::sin_cos(x).0
+    }
+
+    #[test]
+    fn oriented_frames_pins_and_couplers() {
+        // Body 0 at the origin; body 1 on a parent frame turned 90° about z, its child frame
+        // 0.1 along its own x, rotating about the frames' z by a coupler of coordinate 0
+        // (twice it), and translating 0.5 along F's x.
+        let half_pi = core::f64::consts::FRAC_PI_2;
+        let mut joints = [CustomJoint::WELD; 2];
+        joints[1].parent = Some(0);
+        joints[1].in_parent = Offset::from_xyz(Vec3::new(1.0, 0.0, 0.0), [0.0, 0.0, half_pi]);
+        joints[1].in_child = Offset::from_xyz(Vec3::new(0.1, 0.0, 0.0), [0.0; 3]);
+        joints[1].rotations[0] = Driven {
+            axis: Vec3::unit_z(),
+            function: Function::Linear {
+                slope: 1.0,
+                intercept: 0.0,
+            },
+            argument: Argument::Coupled(0),
+        };
+        joints[1].translations[0] = Driven {
+            axis: Vec3::unit_x(),
+            function: Function::Constant(0.5),
+            argument: Argument::None,
+        };
+        let points = [BodyPoint {
+            body: 1,
+            offset: Vec3::zero(),
+        }];
+        let couplers = [Coupler {
+            independent: 0,
+            function: Function::Linear {
+                slope: 2.0,
+                intercept: 0.0,
+            },
+        }];
+        let chain = CustomChain::<f64, 1, 2, 1>::new(joints, points, &[], &couplers).unwrap();
+        // q = π/4: F at (1, 0, 0) facing +y; M 0.5 along F's x: (1, 0.5, 0), turned a further
+        // 90° (coupled): M's x is ground -x; the body origin is 0.1 back along M's x.
+        let p = chain.forward(&[half_pi / 2.0])[0];
+        assert!(p.max_abs_diff(Vec3::new(1.1, 0.5, 0.0)) < 1e-15, "{p:?}");
+        // A zero constant between two rotations is dropped and changes nothing.
+        let mut padded = joints;
+        padded[1].rotations[2] = padded[1].rotations[0];
+        padded[1].rotations[0].axis = Vec3::unit_x();
+        padded[1].rotations[1] = Driven {
+            axis: Vec3::unit_y(),
+            function: Function::Constant(0.0),
+            argument: Argument::Coordinate(0),
+        };
+        let mut turned = joints;
+        turned[1].rotations[1] = turned[1].rotations[0];
+        turned[1].rotations[0].axis = Vec3::unit_x();
+        let a = CustomChain::<f64, 1, 2, 1>::new(padded, points, &[], &couplers).unwrap();
+        let b = CustomChain::<f64, 1, 2, 1>::new(turned, points, &[], &couplers).unwrap();
+        assert_eq!(a.joints()[1].rotations[1], b.joints()[1].rotations[1]);
+        for t in [-0.7, 0.2, 1.3] {
+            assert_eq!(a.forward(&[t]), b.forward(&[t]));
+        }
+        let bad = [Coupler {
+            independent: 1,
+            function: Function::Constant(0.0),
+        }];
+        assert!(CustomChain::<f64, 1, 2, 1>::new(joints, points, &[], &bad).is_err());
+        let mut cyclic = joints;
+        cyclic[1].parent = Some(1);
+        assert!(CustomChain::<f64, 1, 2, 1>::new(cyclic, points, &[], &couplers).is_err());
+    }
+}

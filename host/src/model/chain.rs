@@ -1,0 +1,369 @@
+//! An imported OpenSim lower-limb chain that is not gait2392's shape (Rajagopal 2015/2016,
+//! gait10dof18musc, ...): [`ChainModel`], the numbers of its 11 joints as OpenSim states them,
+//! evaluated by the kernel's [`LowerLimb`] table, and its file (`CHAIN.toml`, written by
+//! `qgait model import`, read by `--model`).
+//!
+//! The file is TOML: comment lines (what the import left out and why), then one `[[joints]]`
+//! table per body in [`BODIES`] order, each with the OpenSim joint's `name` and `type`, the
+//! parent and child offset frames (`parent_translation`, `parent_orientation`,
+//! `child_translation`, `child_orientation`: metres, and radians as body-fixed x-y-z angles),
+//! and its `[[joints.rotations]]` (body-fixed, in order) and `[[joints.translations]]` (along
+//! axes of the parent offset frame), each an `axis`, an optional `coordinate` (one of the 17
+//! gait2392 coordinate names, or a coupler's `dependent`) and a `function` (`type` `Constant`
+//! with `value`, `Linear` with `slope` and `intercept`, `SimmSpline` or `PiecewiseLinear` with
+//! knots `x` and `y`); then `[[couplers]]` (`dependent`, `independent`, `function`) and one
+//! `[[toe_tips]]` per side (right first: `body`, `location` in it).
+
+use qgait_kernel::models::custom::{
+    Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Offset, MAX_SPLINES,
+    MAX_SPLINE_KNOTS,
+};
+use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::models::LowerLimb;
+use qgait_kernel::{Spline, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::diagnostics::Location;
+use crate::model::error::ModelError;
+
+/// The bodies of the chain, in table order: joint `i` moves body `i`.
+pub const BODIES: [&str; 11] = [
+    "pelvis", "femur_r", "tibia_r", "talus_r", "calcn_r", "toes_r", "femur_l", "tibia_l",
+    "talus_l", "calcn_l", "toes_l",
+];
+
+/// A transform function of one argument.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type")]
+pub enum FunctionData {
+    /// OpenSim `Constant`.
+    Constant {
+        /// The value.
+        value: f64,
+    },
+    /// OpenSim `LinearFunction`.
+    Linear {
+        /// Slope.
+        slope: f64,
+        /// Value at 0.
+        intercept: f64,
+    },
+    /// OpenSim `SimmSpline` (any `MultiplierFunction` scale applied to `y`).
+    SimmSpline {
+        /// Abscissae.
+        x: Vec<f64>,
+        /// Values.
+        y: Vec<f64>,
+    },
+    /// OpenSim `PiecewiseLinearFunction`.
+    PiecewiseLinear {
+        /// Abscissae.
+        x: Vec<f64>,
+        /// Values.
+        y: Vec<f64>,
+    },
+}
+
+impl FunctionData {
+    /// The kernel's spline of a spline function.
+    fn spline(&self) -> Option<Result<Spline<f64, MAX_SPLINE_KNOTS>, qgait_kernel::ModelError>> {
+        match self {
+            Self::SimmSpline { x, y } => Some(Spline::from_knots(x, y)),
+            Self::PiecewiseLinear { x, y } => Some(Spline::piecewise_linear(x, y)),
+            _ => None,
+        }
+    }
+
+    /// The value at `v` (what a coordinate held at `v` contributes), evaluated by the kernel.
+    pub fn at(&self, v: f64) -> Result<f64, qgait_kernel::ModelError> {
+        Ok(match self {
+            Self::Constant { value } => *value,
+            Self::Linear { slope, intercept } => {
+                let chain = Function::Linear {
+                    slope: *slope,
+                    intercept: *intercept,
+                };
+                return Ok(eval_one(chain, None, v));
+            }
+            _ => {
+                let s = self.spline().expect("a spline")?;
+                return Ok(eval_one(Function::Spline(0), Some(s), v));
+            }
+        })
+    }
+}
+
+/// `f(v)` by the kernel: a one-body chain translating by `f` of its one coordinate.
+fn eval_one(f: Function<f64>, spline: Option<Spline<f64, MAX_SPLINE_KNOTS>>, v: f64) -> f64 {
+    let mut joint = CustomJoint::WELD;
+    joint.translations[0] = Driven {
+        axis: Vec3::unit_x(),
+        function: f,
+        argument: Argument::Coordinate(0),
+    };
+    let splines: Vec<_> = spline.into_iter().collect();
+    let point = BodyPoint {
+        body: 0,
+        offset: Vec3::zero(),
+    };
+    qgait_kernel::models::CustomChain::<f64, 1, 1, 1>::new([joint], [point], &splines, &[])
+        .map(|c| c.forward(&[v])[0].x)
+        .unwrap_or(f64::NAN)
+}
+
+/// One transform axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisData {
+    /// Direction.
+    pub axis: [f64; 3],
+    /// The coordinate the function takes (none: evaluated at 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coordinate: Option<String>,
+    /// The function.
+    pub function: FunctionData,
+}
+
+/// The joint that moves one body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JointData {
+    /// The OpenSim joint's name.
+    pub name: String,
+    /// Its OpenSim type (`CustomJoint`, `PinJoint`, ...).
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// The body it moves.
+    pub body: String,
+    /// Parent offset frame origin in the parent body.
+    pub parent_translation: [f64; 3],
+    /// Parent offset frame orientation (body-fixed x-y-z, radians).
+    pub parent_orientation: [f64; 3],
+    /// Child offset frame origin in the moved body: the joint centre.
+    pub child_translation: [f64; 3],
+    /// Child offset frame orientation.
+    pub child_orientation: [f64; 3],
+    /// Rotations, body-fixed, in order.
+    #[serde(default)]
+    pub rotations: Vec<AxisData>,
+    /// Translations along axes of the parent offset frame.
+    #[serde(default)]
+    pub translations: Vec<AxisData>,
+}
+
+/// A coupled coordinate: `dependent = function(independent)`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CouplerData {
+    /// The coupled coordinate's name.
+    pub dependent: String,
+    /// The input coordinate it follows.
+    pub independent: String,
+    /// The coupling function.
+    pub function: FunctionData,
+}
+
+/// A point fixed in a body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointData {
+    /// One of [`BODIES`].
+    pub body: String,
+    /// Position in the body (metres).
+    pub location: [f64; 3],
+}
+
+/// An imported lower-limb chain.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ChainModel {
+    /// One joint per body of [`BODIES`], in that order.
+    pub joints: Vec<JointData>,
+    /// Coupled coordinates the joints use.
+    #[serde(default)]
+    pub couplers: Vec<CouplerData>,
+    /// The toe tips, right then left.
+    pub toe_tips: Vec<PointData>,
+}
+
+impl ChainModel {
+    /// The kernel's table: points `hip, knee, ankle, subtalar, mtp` (the child frame origins of
+    /// the joints moving femur, tibia, talus, calcn, toes) and `toetip` per side, right first
+    /// ([`POINTS`](qgait_kernel::models::gait2392::POINTS) order).
+    pub fn chain(&self) -> Result<LowerLimb<f64>, String> {
+        if self.joints.len() != BODIES.len() || self.toe_tips.len() != 2 {
+            return Err(format!(
+                "{} joints and {} toe tips; a lower-limb chain has {} joints ({}) and 2 toe tips",
+                self.joints.len(),
+                self.toe_tips.len(),
+                BODIES.len(),
+                BODIES.join(", ")
+            ));
+        }
+        let mut splines = Vec::new();
+        let mut function = |f: &FunctionData, what: &str| -> Result<Function<f64>, String> {
+            Ok(match f {
+                FunctionData::Constant { value } => Function::Constant(*value),
+                FunctionData::Linear { slope, intercept } => Function::Linear {
+                    slope: *slope,
+                    intercept: *intercept,
+                },
+                _ => {
+                    let s = f.spline().expect("a spline").map_err(|e| {
+                        format!("{what}: {e} (2 to {MAX_SPLINE_KNOTS} increasing knots)")
+                    })?;
+                    if splines.len() == MAX_SPLINES {
+                        return Err(format!(
+                            "{what}: more than {MAX_SPLINES} splines in one chain"
+                        ));
+                    }
+                    splines.push(s);
+                    Function::Spline(splines.len() - 1)
+                }
+            })
+        };
+        let input = |name: &str| COORDINATES.iter().position(|c| *c == name);
+        let mut couplers = Vec::new();
+        for c in &self.couplers {
+            let what = format!("coupler of `{}`", c.dependent);
+            let independent = input(&c.independent).ok_or_else(|| {
+                format!(
+                    "{what}: independent coordinate `{}` is not one of {}",
+                    c.independent,
+                    COORDINATES.join(", ")
+                )
+            })?;
+            couplers.push(Coupler {
+                independent,
+                function: function(&c.function, &what)?,
+            });
+        }
+        let mut joints = [CustomJoint::WELD; 11];
+        for (b, (j, body)) in self.joints.iter().zip(BODIES).enumerate() {
+            if j.body != body {
+                return Err(format!(
+                    "joint `{}` moves `{}`; joint {b} must move `{body}`",
+                    j.name, j.body
+                ));
+            }
+            let mut driven = |axes: &[AxisData], kind: &str| -> Result<[Driven<f64>; 3], String> {
+                if axes.len() > 3 {
+                    return Err(format!("joint `{}`: more than 3 {kind}", j.name));
+                }
+                let mut out = [Driven::NONE; 3];
+                for (k, (slot, a)) in out.iter_mut().zip(axes).enumerate() {
+                    let what = format!("joint `{}` {kind} {}", j.name, k + 1);
+                    let argument = match &a.coordinate {
+                        None => Argument::None,
+                        Some(n) => {
+                            if let Some(k) = self.couplers.iter().position(|c| &c.dependent == n) {
+                                Argument::Coupled(k)
+                            } else if let Some(i) = input(n) {
+                                Argument::Coordinate(i)
+                            } else {
+                                return Err(format!(
+                                    "{what}: coordinate `{n}` is neither an input ({}) nor coupled",
+                                    COORDINATES.join(", ")
+                                ));
+                            }
+                        }
+                    };
+                    *slot = Driven {
+                        axis: Vec3::from_f64(a.axis),
+                        function: function(&a.function, &what)?,
+                        argument,
+                    };
+                }
+                Ok(out)
+            };
+            let rotations = driven(&j.rotations, "rotation")?;
+            let translations = driven(&j.translations, "translation")?;
+            joints[b] = CustomJoint {
+                parent: match b {
+                    0 => None,
+                    1 | 6 => Some(0),
+                    _ => Some(b - 1),
+                },
+                in_parent: Offset::from_xyz(
+                    Vec3::from_f64(j.parent_translation),
+                    j.parent_orientation,
+                ),
+                in_child: Offset::from_xyz(
+                    Vec3::from_f64(j.child_translation),
+                    j.child_orientation,
+                ),
+                rotations,
+                translations,
+            };
+        }
+        let body_index = |name: &str| {
+            BODIES
+                .iter()
+                .position(|b| *b == name)
+                .ok_or_else(|| format!("toe tip on `{name}`, which is not a body of the chain"))
+        };
+        let mut points = [BodyPoint {
+            body: 0,
+            offset: Vec3::zero(),
+        }; 12];
+        for side in 0..2 {
+            for k in 0..5 {
+                let b = 1 + 5 * side + k;
+                points[6 * side + k] = BodyPoint {
+                    body: b,
+                    offset: Vec3::from_f64(self.joints[b].child_translation),
+                };
+            }
+            let tip = &self.toe_tips[side];
+            points[6 * side + 5] = BodyPoint {
+                body: body_index(&tip.body)?,
+                offset: Vec3::from_f64(tip.location),
+            };
+        }
+        LowerLimb::new(joints, points, &splines, &couplers).map_err(|e| e.to_string())
+    }
+
+    /// The file text: `comment` lines, then the tables.
+    pub fn to_toml(&self, comment: &[String]) -> String {
+        let mut text = String::new();
+        for line in comment {
+            text.push_str("# ");
+            text.push_str(line);
+            text.push('\n');
+        }
+        text.push_str(&toml::to_string(self).expect("plain data serialises"));
+        text
+    }
+
+    /// Whether `text` is a chain file (it has `[[joints]]` tables) rather than a SUBJECT.toml.
+    pub fn is_chain_file(text: &str) -> bool {
+        text.lines().any(|l| l.trim() == "[[joints]]")
+    }
+
+    /// Reads a chain file `source` and checks it with the kernel.
+    pub fn parse(text: &str, source: &str) -> Result<Self, ModelError> {
+        let model: Self = toml::from_str(text).map_err(|e| {
+            let (line, column) = e
+                .span()
+                .map(|s| {
+                    let before = &text[..s.start.min(text.len())];
+                    let line = before.matches('\n').count() + 1;
+                    let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+                    (Some(line), Some(column))
+                })
+                .unwrap_or((None, None));
+            ModelError::File {
+                at: Location {
+                    path: source.to_string(),
+                    line,
+                    column,
+                },
+                message: e.message().to_string(),
+            }
+        })?;
+        model.chain().map_err(|message| ModelError::File {
+            at: Location {
+                path: source.to_string(),
+                line: None,
+                column: None,
+            },
+            message,
+        })?;
+        Ok(model)
+    }
+}

@@ -1,0 +1,277 @@
+//! Every OpenSim lower-limb model qgait imports, against OpenSim 4.6 itself: the joint centres
+//! and toe tips of `scripts/opensim_reference.py` (tests/data/opensim_reference/, the models from
+//! ../shared/data/opensim/) on every row, within 1 µm; and `qgait model import` of them.
+
+mod common;
+
+use std::path::Path;
+
+use common::{parse_fk_csv, qgait, shared_dir, stderr};
+use qgait::model::choice::Model;
+use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
+use qgait_kernel::Vec3;
+
+const MODELS: [(&str, &str); 5] = [
+    ("gait2392", "gait2392_simbody.osim"),
+    ("gait2354", "gait2354_simbody.osim"),
+    ("gait10dof18musc", "gait10dof18musc.osim"),
+    ("rajagopal2016", "Rajagopal2016.osim"),
+    ("rajagopal2015_opensense", "Rajagopal2015_opensense.osim"),
+];
+
+/// The reference rows: coordinates (COORDINATES order) and the 12 points (POINTS order).
+fn reference(name: &str, motion: &str) -> Vec<([f64; 17], [Vec3<f64>; 12])> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("tests/data/opensim_reference/{name}_{motion}.csv"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (header, rows) = parse_fk_csv(&text);
+    let header: Vec<&str> = header.split(',').collect();
+    for (i, c) in COORDINATES.iter().enumerate() {
+        assert_eq!(header[1 + i], *c);
+    }
+    for (i, p) in POINTS.iter().enumerate() {
+        assert_eq!(header[18 + 3 * i], format!("{p}_x"));
+    }
+    rows.iter()
+        .map(|r| {
+            let q = std::array::from_fn(|i| r[1 + i]);
+            let p = std::array::from_fn(|i| Vec3::new(r[18 + 3 * i], r[19 + 3 * i], r[20 + 3 * i]));
+            (q, p)
+        })
+        .collect()
+}
+
+/// The 12 points of a loaded model for coordinates `q`.
+fn points(model: &Model) -> qgait::model::points::ImportedFk {
+    qgait::model::points::imported_fk(model)
+        .unwrap()
+        .expect("an imported model")
+}
+
+#[test]
+fn every_point_of_every_model_is_within_a_micrometre_of_opensim() {
+    let Some(shared) = shared_dir() else { return };
+    for (name, file) in MODELS {
+        let path = shared.join("data/opensim").join(file);
+        let (model, _) = Model::load(path.to_str().unwrap(), None).unwrap();
+        let general = matches!(model, Model::Chain { .. });
+        let fk = points(&model);
+        let mut motions = vec!["normal", "sweep"];
+        if name == "rajagopal2015_opensense" {
+            // OpenSense's own Rajagopal solution of the IMU walking recording.
+            motions.push("opensense");
+        }
+        for motion in motions {
+            let mut worst = (0.0f64, 0, "");
+            for (row, (q, expected)) in reference(name, motion).iter().enumerate() {
+                for ((p, e), n) in fk(q).iter().zip(expected).zip(POINTS) {
+                    let d = p.max_abs_diff(*e);
+                    if d > worst.0 {
+                        worst = (d, row, n);
+                    }
+                }
+            }
+            println!(
+                "{name} ({}) {motion}: largest difference {:.3e} m (row {}, {})",
+                if general { "chain" } else { "gait2392 table" },
+                worst.0,
+                worst.1,
+                worst.2
+            );
+            assert!(worst.0 < 1e-6, "{name} {motion}: {worst:?}");
+        }
+    }
+}
+
+#[test]
+fn rajagopal_and_gait10dof_are_chains_and_gait2354_stays_gait2392s_table() {
+    let Some(shared) = shared_dir() else { return };
+    let load = |f: &str| {
+        let p = shared.join("data/opensim").join(f);
+        Model::load(p.to_str().unwrap(), None).unwrap()
+    };
+    assert!(matches!(
+        load("gait2354_simbody.osim").0,
+        Model::Gait2392 { .. }
+    ));
+    let (raj, notes) = load("Rajagopal2016.osim");
+    assert!(matches!(raj, Model::Chain { .. }));
+    let all = notes.join("\n");
+    assert!(all.contains("patella_r"), "{all}");
+    assert!(all.contains("subtalar_angle_r is locked"), "{all}");
+    let (planar, notes) = load("gait10dof18musc.osim");
+    assert!(matches!(planar, Model::Chain { .. }));
+    assert!(notes
+        .iter()
+        .any(|n| n.contains("pelvis translations left out")));
+}
+
+#[test]
+fn model_import_writes_a_chain_file_that_fk_reads_back_exactly() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = std::env::temp_dir().join(format!("qgait-chain-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let osim = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    let toml = dir.join("rajagopal.toml");
+    let out = qgait(&[
+        "model",
+        "import",
+        osim.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&toml).unwrap();
+    assert!(
+        text.contains("[[joints]]") && text.contains("walker_knee_r"),
+        "{text}"
+    );
+    let (from_file, _) = Model::load(toml.to_str().unwrap(), None).unwrap();
+    let (from_osim, _) = Model::load(osim.to_str().unwrap(), None).unwrap();
+    let (a, b) = (points(&from_file), points(&from_osim));
+    for (q, _) in reference("rajagopal2015_opensense", "sweep") {
+        assert_eq!(a(&q), b(&q));
+    }
+    let motion = shared.join("data/opensim/normal.mot");
+    for model in [toml.to_str().unwrap(), osim.to_str().unwrap()] {
+        let csv = dir.join("fk.csv");
+        let _ = std::fs::remove_file(&csv);
+        let out = qgait(&[
+            "fk",
+            motion.to_str().unwrap(),
+            "--model",
+            model,
+            "--points",
+            "-o",
+            csv.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let (header, rows) = parse_fk_csv(&std::fs::read_to_string(&csv).unwrap());
+        assert!(header.ends_with(",mtp_l_x,mtp_l_y,mtp_l_z"), "{header}");
+        assert_eq!(rows.len(), 51);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_ball_joint_in_the_chain_is_refused_naming_it() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();
+    let start = text
+        .find("<PinJoint name=\"ankle_r\"")
+        .expect("Rajagopal's ankle_r");
+    let end = start + text[start..].find("</PinJoint>").unwrap() + "</PinJoint>".len();
+    let ball = text[start..end]
+        .replace("<PinJoint", "<BallJoint")
+        .replace("</PinJoint>", "</BallJoint>");
+    let edited = format!("{}{}{}", &text[..start], ball, &text[end..]);
+    let err = Model::import(&edited, "edited.osim", None)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("joint `ankle_r` is a BallJoint"), "{err}");
+}
+
+#[test]
+fn fidelity_compares_phak_with_imported_models_and_agrees_with_its_gait2392_summary() {
+    let Some(shared) = shared_dir() else { return };
+    let raj = shared.join("data/opensim/Rajagopal2016.osim");
+    let out = qgait(&[
+        "-q",
+        "fidelity",
+        "builtin:normal",
+        "--model",
+        "gait2392",
+        "--model",
+        raj.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let md = String::from_utf8(out.stdout).unwrap();
+    // The summary's gait2392 row (raw max .. hip-relative mean) is the `--model gait2392` row's.
+    let summary = md
+        .lines()
+        .find(|l| l.starts_with("| builtin:normal |"))
+        .expect("summary row");
+    let numbers = |l: &str| -> Vec<String> {
+        l.split('|')
+            .map(|c| c.trim().to_string())
+            .filter(|c| !c.is_empty())
+            .collect()
+    };
+    let s = numbers(summary);
+    let g = numbers(
+        md.lines()
+            .find(|l| l.starts_with("| gait2392 | builtin:normal |"))
+            .expect("gait2392 comparison row"),
+    );
+    assert_eq!(
+        s[1..6],
+        g[2..3].iter().chain(&g[4..8]).cloned().collect::<Vec<_>>()[..]
+    );
+    let r = numbers(
+        md.lines()
+            .find(|l| l.contains("Rajagopal2016.osim | builtin:normal |"))
+            .expect("Rajagopal row"),
+    );
+    assert_eq!(r[3], "yes", "Rajagopal's knee flexes with positive angles");
+    let hip_relative_max: f64 = r[6].parse().unwrap();
+    assert!(hip_relative_max > 1.0 && hip_relative_max < 200.0, "{r:?}");
+}
+
+#[test]
+fn fidelity_model_refuses_a_stick_model() {
+    let out = qgait(&["-q", "fidelity", "builtin:normal,rows=5", "--model", "phak"]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("fidelity --model takes an OpenSim leg chain"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn rajagopal_in_f32_stays_within_ten_micrometres_of_f64() {
+    let Some(shared) = shared_dir() else { return };
+    let path = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    let (model, _) = Model::load(path.to_str().unwrap(), None).unwrap();
+    let Model::Chain { chain, .. } = model else {
+        panic!("Rajagopal is a chain model")
+    };
+    let c64 = chain.chain().unwrap();
+    let c32 = c64.cast::<f32>();
+    let mut worst = 0.0f64;
+    // (Not `opensense`: OpenSense's pelvis angles there wander to hundreds of radians, equivalent
+    // rotations whose f32 inputs alone are 3e-5 rad apart.)
+    for motion in ["normal", "sweep"] {
+        for (q, _) in reference("rajagopal2015_opensense", motion) {
+            let p32 = c32.forward(&q.map(|v| v as f32));
+            for (a, b) in p32.iter().zip(c64.forward(&q)) {
+                worst = worst.max(a.cast::<f64>().max_abs_diff(b));
+            }
+        }
+    }
+    println!("Rajagopal f32 against f64: largest difference {worst:.3e} m");
+    assert!(worst < 1e-5, "{worst}");
+}
+
+#[test]
+fn a_weld_constraint_on_a_leg_body_is_refused_and_one_on_the_arm_accepted() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();
+    let at = text.find("<ConstraintSet").unwrap();
+    let objects = at + text[at..].find("<objects>").unwrap() + "<objects>".len();
+    let with = |body: &str| {
+        format!(
+            "{}<WeldConstraint name=\"weld\"><socket_frame1>/bodyset/{body}</socket_frame1><socket_frame2>/ground</socket_frame2></WeldConstraint>{}",
+            &text[..objects],
+            &text[objects..]
+        )
+    };
+    let err = Model::import(&with("calcn_r"), "weld.osim", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("WeldConstraint `weld` constrains body `calcn_r` of the leg chain"),
+        "{err}"
+    );
+    assert!(Model::import(&with("hand_r"), "weld.osim", None).is_ok());
+}
