@@ -71,53 +71,47 @@ impl Analysis {
         model: &Model,
         progress: &Progress,
     ) -> anyhow::Result<(Self, Vec<Warning>)> {
+        // HAK and PHAK keep their angles (poses between rows from interpolated angles); other
+        // models give their points only.
+        let evaluator = match model.lengths() {
+            Some(_) => Some(Evaluator::new(model, "report")?),
+            None => None,
+        };
         let mut warnings = Vec::new();
         let mut gaits = Vec::new();
-        let warnings_before = std::cell::RefCell::new(Vec::new());
-        if model.lengths().is_none() {
-            let points = PointModel::new(model, false)?;
-            for (label, table) in motions {
-                let mut poses = Vec::with_capacity(table.rows());
-                let w = points.run::<ModelError>(
-                    MotionRows::from_table(table.clone()),
-                    &|w| warnings_before.borrow_mut().extend(w),
-                    |_, p| {
-                        progress.inc(1);
-                        poses.push(pose_from_points(&core::array::from_fn(|i| p[i].to_array())));
-                        Ok(())
-                    },
-                )?;
-                warnings.extend(warnings_before.borrow_mut().drain(..));
-                warnings.extend(w);
-                let distances = poses.iter().map(kmetrics::distances).collect();
-                gaits.push(Gait {
-                    label: label.clone(),
-                    source: table.source().to_string(),
-                    percent: table.percent_of_cycle(),
-                    angles: Vec::new(),
-                    poses,
-                    distances,
-                });
-            }
-            return Ok((
-                Self {
-                    evaluator: None,
-                    gaits,
-                },
-                warnings,
-            ));
-        }
-        let evaluator = Evaluator::new(model, "report")?;
         for (label, table) in motions {
-            let (angles, w) = kinematics::stick_angles(table, model)?;
-            warnings.extend(w);
-            let poses: Vec<_> = angles
-                .iter()
-                .map(|a| {
-                    progress.inc(1);
-                    evaluator.pose(a)
-                })
-                .collect();
+            let (angles, poses) = match &evaluator {
+                Some(evaluator) => {
+                    let (angles, w) = kinematics::stick_angles(table, model)?;
+                    warnings.extend(w);
+                    let poses = angles
+                        .iter()
+                        .map(|a| {
+                            progress.inc(1);
+                            evaluator.pose(a)
+                        })
+                        .collect();
+                    (angles, poses)
+                }
+                None => {
+                    let points = PointModel::new(model, false)?;
+                    let column_warnings = std::cell::RefCell::new(Vec::new());
+                    let mut poses = Vec::with_capacity(table.rows());
+                    let w = points.run::<ModelError>(
+                        MotionRows::from_table(table.clone()),
+                        &|w| column_warnings.borrow_mut().extend(w),
+                        |_, p| {
+                            progress.inc(1);
+                            poses
+                                .push(pose_from_points(&core::array::from_fn(|i| p[i].to_array())));
+                            Ok(())
+                        },
+                    )?;
+                    warnings.extend(column_warnings.into_inner());
+                    warnings.extend(w);
+                    (Vec::new(), poses)
+                }
+            };
             let distances = poses.iter().map(kmetrics::distances).collect();
             gaits.push(Gait {
                 label: label.clone(),
@@ -128,13 +122,7 @@ impl Analysis {
                 distances,
             });
         }
-        Ok((
-            Self {
-                evaluator: Some(evaluator),
-                gaits,
-            },
-            warnings,
-        ))
+        Ok((Self { evaluator, gaits }, warnings))
     }
 
     /// The pose of a gait at a percent of its cycle (angles interpolated between rows, then FK;
