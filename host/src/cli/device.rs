@@ -380,7 +380,7 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
     }
     eprintln!("decoded {}", decoder.counts());
     match end {
-        port::End::Failed(e) => Err(e),
+        port::End::Failed(e) => Err(e.into()),
         _ => Ok(()),
     }
 }
@@ -414,7 +414,7 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     }
     eprintln!("decoded {}", decoder.counts());
     if let port::End::Failed(e) = end {
-        return Err(e);
+        return Err(e.into());
     }
     if verifier.frames() == 0 {
         bail!("{}: no pose frames", args.log);

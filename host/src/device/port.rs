@@ -20,7 +20,6 @@ use std::io::{self, IsTerminal, Read};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use anyhow::Context;
 use qgait_proto::Message;
 
 use crate::device::log::{LogDecoder, Record};
@@ -33,6 +32,62 @@ pub const POLL: Duration = Duration::from_millis(100);
 
 /// Bytes asked for per read.
 const CHUNK: usize = 65_536;
+
+/// Why a hub log cannot be opened or read; each names the input.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PortError {
+    /// A file (or pipe) cannot be opened.
+    #[error("{path}: cannot open")]
+    Open {
+        /// The path given.
+        path: String,
+        /// Why.
+        #[source]
+        error: io::Error,
+    },
+    /// `--baud 0`.
+    #[error("{path}: a baud rate of 0 is not a rate")]
+    ZeroBaud {
+        /// The serial port.
+        path: String,
+    },
+    /// A serial port cannot be opened at the rate asked for.
+    #[error(
+        "{path}: cannot open as a serial port at {rate} baud: {error}{}",
+        if error.kind() == io::ErrorKind::PermissionDenied {
+            " (on Linux, join the group that owns the port, usually `dialout`)"
+        } else {
+            ""
+        }
+    )]
+    Serial {
+        /// The serial port.
+        path: String,
+        /// The baud rate.
+        rate: u32,
+        /// Why.
+        error: io::Error,
+    },
+    /// A serial port refuses a read timeout.
+    #[error("{path}: cannot set a read timeout")]
+    Timeout {
+        /// The serial port.
+        path: String,
+        /// Why.
+        #[source]
+        error: io::Error,
+    },
+    /// A read failed (a hub unplugged, an I/O error).
+    #[error("{path}: cannot read")]
+    Read {
+        /// The input.
+        path: String,
+        /// Why.
+        #[source]
+        error: io::Error,
+    },
+}
 
 /// An opened hub log.
 pub struct Input {
@@ -72,7 +127,7 @@ fn is_terminal_device(path: &Path) -> bool {
 impl Input {
     /// Opens `path`: `-` is standard input, a terminal device a serial port at `baud` (default
     /// [`DEFAULT_BAUD`]), anything else a file. The warning says when `baud` does not apply.
-    pub fn open(path: &str, baud: Option<u32>) -> anyhow::Result<(Input, Option<String>)> {
+    pub fn open(path: &str, baud: Option<u32>) -> Result<(Input, Option<String>), PortError> {
         let ignored =
             |what: &str| baud.map(|b| format!("--baud {b} ignored: {what} is not a serial port"));
         if path == "-" {
@@ -83,7 +138,10 @@ impl Input {
             return Ok((input, ignored("standard input")));
         }
         if !is_terminal_device(Path::new(path)) {
-            let file = File::open(path).with_context(|| format!("{path}: cannot open"))?;
+            let file = File::open(path).map_err(|error| PortError::Open {
+                path: path.into(),
+                error,
+            })?;
             let input = Input {
                 name: path.into(),
                 source: Source::File(file),
@@ -92,18 +150,19 @@ impl Input {
         }
         let rate = baud.unwrap_or(DEFAULT_BAUD);
         if rate == 0 {
-            anyhow::bail!("{path}: a baud rate of 0 is not a rate");
+            return Err(PortError::ZeroBaud { path: path.into() });
         }
-        let mut port = serial2::SerialPort::open(path, rate).map_err(|e| {
-            let hint = if e.kind() == io::ErrorKind::PermissionDenied {
-                " (on Linux, join the group that owns the port, usually `dialout`)"
-            } else {
-                ""
-            };
-            anyhow::anyhow!("{path}: cannot open as a serial port at {rate} baud: {e}{hint}")
-        })?;
+        let mut port =
+            serial2::SerialPort::open(path, rate).map_err(|error| PortError::Serial {
+                path: path.into(),
+                rate,
+                error,
+            })?;
         port.set_read_timeout(POLL)
-            .with_context(|| format!("{path}: cannot set a read timeout"))?;
+            .map_err(|error| PortError::Timeout {
+                path: path.into(),
+                error,
+            })?;
         Ok((
             Input {
                 name: path.into(),
@@ -211,7 +270,7 @@ pub enum End {
     /// The caller asked to stop (e.g. its output was closed).
     Stopped,
     /// A read failed (the error names the input).
-    Failed(anyhow::Error),
+    Failed(PortError),
 }
 
 impl End {
@@ -278,10 +337,11 @@ pub fn read_log(
                 continue;
             }
             Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => {
-                return End::Failed(
-                    anyhow::Error::new(e).context(format!("{}: cannot read", input.name())),
-                )
+            Err(error) => {
+                return End::Failed(PortError::Read {
+                    path: input.name().into(),
+                    error,
+                })
             }
         };
         let mut limit_reached = false;
@@ -423,8 +483,30 @@ mod tests {
         assert!(matches!(end, End::EndOfInput), "{end:?}");
         let e = Input::open(&format!("{name}.missing"), None).err().unwrap();
         assert!(
+            matches!(&e, PortError::Open { path, error }
+                if path.ends_with("log.bin.missing") && error.kind() == io::ErrorKind::NotFound),
+            "{e:?}"
+        );
+        assert!(
             e.to_string().ends_with("log.bin.missing: cannot open"),
             "{e}"
         );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_baud_rate_of_0_is_refused_for_a_serial_port() {
+        // The pseudo-terminal multiplexer is a terminal device on every Unix.
+        let ptmx = "/dev/ptmx";
+        if !Path::new(ptmx).exists() {
+            eprintln!("skipped: no {ptmx}");
+            return;
+        }
+        let e = Input::open(ptmx, Some(0)).err().unwrap();
+        assert!(
+            matches!(&e, PortError::ZeroBaud { path } if path == ptmx),
+            "{e:?}"
+        );
+        assert_eq!(e.to_string(), "/dev/ptmx: a baud rate of 0 is not a rate");
     }
 }

@@ -4,7 +4,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use qgait_kernel::metrics::Distances;
 
-use super::figure::{self, draw_err, gait_color, Figure};
+use super::figure::{self, draw_err, gait_color, Figure, PlotError};
 use super::Analysis;
 
 const PANEL_W: u32 = 1000;
@@ -39,7 +39,7 @@ impl Figure for DistanceFigure<'_> {
         (PANEL_W, HEADER + MEASURES.len() as u32 * PANEL_H)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
         header

@@ -3,11 +3,36 @@
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-use anyhow::Context;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::font::{self, FAMILY};
+
+/// What plotters said when drawing failed (its error types are generic over the backend, so
+/// their description is kept).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("plotting failed: {0}")]
+pub struct PlotError(pub String);
+
+/// Why a figure could not be saved.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FigureError {
+    /// The font shipped inside the binary could not be registered with plotters.
+    #[error("the embedded DejaVu Sans font could not be loaded")]
+    Font,
+    /// Drawing a figure, or writing its file, failed.
+    #[error("{stage} {}", path.display())]
+    File {
+        /// `drawing` or `writing`.
+        stage: &'static str,
+        /// The file.
+        path: PathBuf,
+        /// What plotters said.
+        #[source]
+        error: PlotError,
+    },
+}
 
 /// A figure that can be drawn on any plotters backend.
 pub trait Figure {
@@ -16,39 +41,39 @@ pub trait Figure {
     /// Size in pixels.
     fn size(&self) -> (u32, u32);
     /// Draws the whole figure.
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>;
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
 }
 
 /// Writes `<dir>/<stem>.png` and `<dir>/<stem>.svg`.
-pub fn save<F: Figure>(figure: &F, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn save<F: Figure>(figure: &F, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     font::ensure_registered()?;
     let stem = figure.stem();
     let png = dir.join(format!("{stem}.png"));
     let svg = dir.join(format!("{stem}.svg"));
+    let failed = |stage, path: &Path| {
+        let path = path.to_path_buf();
+        move |error| FigureError::File { stage, path, error }
+    };
     {
         let root = BitMapBackend::new(&png, figure.size()).into_drawing_area();
-        figure
-            .draw(&root)
-            .with_context(|| format!("drawing {}", png.display()))?;
+        figure.draw(&root).map_err(failed("drawing", &png))?;
         root.present()
             .map_err(draw_err)
-            .with_context(|| format!("writing {}", png.display()))?;
+            .map_err(failed("writing", &png))?;
     }
     {
         let root = SVGBackend::new(&svg, figure.size()).into_drawing_area();
-        figure
-            .draw(&root)
-            .with_context(|| format!("drawing {}", svg.display()))?;
+        figure.draw(&root).map_err(failed("drawing", &svg))?;
         root.present()
             .map_err(draw_err)
-            .with_context(|| format!("writing {}", svg.display()))?;
+            .map_err(failed("writing", &svg))?;
     }
     Ok(vec![png, svg])
 }
 
-/// Converts a plotters error into an `anyhow` error.
-pub fn draw_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow::anyhow!("plotting failed: {e:?}")
+/// Keeps a plotters error's description.
+pub fn draw_err<E: std::fmt::Debug>(e: E) -> PlotError {
+    PlotError(format!("{e:?}"))
 }
 
 /// Text style of a given size.
@@ -123,7 +148,7 @@ pub fn draw_polyline<DB: DrawingBackend, CT: plotters::coord::CoordTranslate<Fro
     area: &DrawingArea<DB, CT>,
     points: &[(f64, f64)],
     style: ShapeStyle,
-) -> anyhow::Result<()> {
+) -> Result<(), PlotError> {
     // Consecutive points on distinct pixels, each with the first point that landed there, and
     // the pixels of the inner points (where the round joins go).
     let mut path: Vec<((i32, i32), (f64, f64))> = Vec::new();
@@ -210,7 +235,7 @@ pub fn draw_gait_legend<DB: DrawingBackend>(
     analysis: &super::Analysis,
     x: i32,
     y: i32,
-) -> anyhow::Result<()> {
+) -> Result<(), PlotError> {
     let mut x = x;
     for (g, gait) in analysis.gaits.iter().enumerate() {
         let color = gait_color(g);
@@ -280,6 +305,52 @@ mod tests {
             pairs().filter(|(p, q)| white(p) != white(q)).count(),
             pairs().filter(|(p, q)| p != q).count(),
         )
+    }
+
+    /// A figure whose drawing fails, or draws nothing.
+    struct Blank(bool);
+
+    impl Figure for Blank {
+        fn stem(&self) -> String {
+            "blank".into()
+        }
+
+        fn size(&self) -> (u32, u32) {
+            (20, 10)
+        }
+
+        fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+            if self.0 {
+                return Err(PlotError("no ink".into()));
+            }
+            root.fill(&WHITE).map_err(draw_err)
+        }
+    }
+
+    #[test]
+    fn a_figure_that_fails_names_its_file_and_the_stage() {
+        let dir = tempfile::tempdir().unwrap();
+        let e = save(&Blank(true), dir.path()).unwrap_err();
+        assert!(
+            matches!(&e, FigureError::File { stage: "drawing", path, error }
+                if path.ends_with("blank.png") && error.0 == "no ink"),
+            "{e:?}"
+        );
+        assert_eq!(
+            format!("{:#}", anyhow::Error::from(e)),
+            format!(
+                "drawing {}: plotting failed: no ink",
+                dir.path().join("blank.png").display()
+            )
+        );
+        let missing = dir.path().join("missing");
+        let e = save(&Blank(false), &missing).unwrap_err();
+        assert!(
+            matches!(&e, FigureError::File { stage: "writing", path, .. }
+                if path.ends_with("blank.png")),
+            "{e:?}"
+        );
+        assert_eq!(save(&Blank(false), dir.path()).unwrap().len(), 2);
     }
 
     #[test]

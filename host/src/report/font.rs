@@ -5,11 +5,13 @@ use std::sync::OnceLock;
 
 use plotters::style::{register_font, FontStyle};
 
+use super::figure::FigureError;
+
 /// The font family name the figures use.
 pub const FAMILY: &str = "sans-serif";
 
 /// Registers the font once per process.
-pub fn ensure_registered() -> anyhow::Result<()> {
+pub fn ensure_registered() -> Result<(), FigureError> {
     static DONE: OnceLock<bool> = OnceLock::new();
     let ok = *DONE.get_or_init(|| {
         register_font(FAMILY, FontStyle::Normal, dejavu::sans::regular()).is_ok()
@@ -17,6 +19,9 @@ pub fn ensure_registered() -> anyhow::Result<()> {
             && register_font(FAMILY, FontStyle::Oblique, dejavu::sans::oblique()).is_ok()
             && register_font(FAMILY, FontStyle::Italic, dejavu::sans::oblique()).is_ok()
     });
-    anyhow::ensure!(ok, "the embedded DejaVu Sans font could not be loaded");
-    Ok(())
+    if ok {
+        Ok(())
+    } else {
+        Err(FigureError::Font)
+    }
 }

@@ -16,12 +16,11 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::Context;
 use qgait_kernel::metrics::{path_stats, PathStats, Plane};
 use qgait_kernel::{Joint, Side};
 
 use super::distances::MEASURES;
-use super::{Analysis, Gait};
+use super::{Analysis, Gait, ReportError};
 
 /// Header of `metrics.csv`.
 pub const METRICS_HEADER: &str = "gait,side,joint,plane,axis_a,axis_b,n,min_a,min_b,max_a,max_b,mean_a,mean_b,range_a,range_b,centroid_a,centroid_b,area_m2";
@@ -118,21 +117,29 @@ fn side_name(side: Side) -> &'static str {
     }
 }
 
-/// A CSV table in memory: the header, then rows of fields (quoted where a field needs it).
-fn csv_table<const N: usize>(
+/// Writes a CSV file: the header, then rows of fields (quoted where a field needs it).
+fn write_csv<const N: usize>(
+    path: &Path,
     header: &str,
     rows: impl IntoIterator<Item = [String; N]>,
-) -> anyhow::Result<String> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(header.split(','))?;
-    for row in rows {
-        w.write_record(&row)?;
-    }
-    Ok(String::from_utf8(w.into_inner()?)?)
+) -> Result<(), ReportError> {
+    let write = || -> csv::Result<()> {
+        let mut w = csv::Writer::from_path(path)?;
+        w.write_record(header.split(','))?;
+        for row in rows {
+            w.write_record(&row)?;
+        }
+        w.flush()?;
+        Ok(())
+    };
+    write().map_err(|e| ReportError::Write {
+        path: path.to_path_buf(),
+        error: e.into(),
+    })
 }
 
 /// Writes the CSV files and `metrics.md`; returns their paths.
-pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn write_all(analysis: &Analysis, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
     let paths = path_rows(analysis);
     let shifts = hip_shifts(analysis);
     let dists = distance_stats(analysis);
@@ -142,7 +149,15 @@ pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>
         .map(|g| g.label.as_str())
         .unwrap_or("");
 
-    let csv = csv_table(
+    let file = |name: &str| dir.join(name);
+    let written = vec![
+        file("metrics.csv"),
+        file("hip_shift.csv"),
+        file("distance_stats.csv"),
+        file("metrics.md"),
+    ];
+    write_csv(
+        &written[0],
         METRICS_HEADER,
         paths.iter().map(|r| {
             let (a, b) = r.plane.axes();
@@ -169,7 +184,8 @@ pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>
             ]
         }),
     )?;
-    let shift_csv = csv_table(
+    write_csv(
+        &written[1],
         HIP_SHIFT_HEADER,
         shifts.iter().map(|(g, side, d, len)| {
             [
@@ -183,7 +199,8 @@ pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>
             ]
         }),
     )?;
-    let dist_csv = csv_table(
+    write_csv(
+        &written[2],
         DISTANCE_HEADER,
         dists.iter().map(|(g, name, min, max, mean)| {
             [
@@ -198,17 +215,10 @@ pub fn write_all(analysis: &Analysis, dir: &Path) -> anyhow::Result<Vec<PathBuf>
     )?;
 
     let md = markdown(analysis, &paths, &shifts, &dists, reference);
-    let mut written = Vec::new();
-    for (name, text) in [
-        ("metrics.csv", csv),
-        ("hip_shift.csv", shift_csv),
-        ("distance_stats.csv", dist_csv),
-        ("metrics.md", md),
-    ] {
-        let path = dir.join(name);
-        std::fs::write(&path, text).with_context(|| format!("{}: cannot write", path.display()))?;
-        written.push(path);
-    }
+    std::fs::write(&written[3], md).map_err(|error| ReportError::Write {
+        path: written[3].clone(),
+        error,
+    })?;
     Ok(written)
 }
 
@@ -308,7 +318,10 @@ mod tests {
 
     #[test]
     fn a_label_with_a_comma_or_a_quote_is_one_quoted_field() {
-        let text = csv_table(
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        write_csv(
+            &path,
             "gait,n",
             [
                 ["normal, slow".to_string(), "1".to_string()],
@@ -317,9 +330,22 @@ mod tests {
             ],
         )
         .unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(
             text,
             "gait,n\n\"normal, slow\",1\n\"say \"\"hi\"\"\",2\nplain,0.25\n"
         );
+    }
+
+    #[test]
+    fn a_table_that_cannot_be_written_names_its_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("missing").join("t.csv");
+        let e = write_csv(&path, "gait", [["x".to_string()]]).unwrap_err();
+        assert!(
+            matches!(&e, ReportError::Write { path: p, .. } if *p == path),
+            "{e:?}"
+        );
+        assert!(e.to_string().ends_with("t.csv: cannot write"), "{e}");
     }
 }

@@ -20,7 +20,6 @@ mod stick;
 
 use std::path::{Path, PathBuf};
 
-use anyhow::Context;
 use qgait_kernel::metrics::{self as kmetrics, Distances};
 use qgait_kernel::models::PhakAngles;
 use qgait_kernel::{BilateralPose, LegPose, Vec3};
@@ -35,6 +34,48 @@ use crate::model::points::PointModel;
 use crate::motion::source::MotionRows;
 use crate::opensim::mot::MotionTable;
 use crate::progress::Progress;
+
+/// Why a report cannot be made or written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReportError {
+    /// The model cannot run the motions.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// A frames CSV has fewer than two rows (no cycle to normalise).
+    #[error("{file}: a frames CSV needs at least 2 rows")]
+    TooFewFrames {
+        /// The frames CSV.
+        file: String,
+    },
+    /// A frames CSV's times (or sequence numbers) go back or never advance.
+    #[error("{file}: rows must be in increasing time (or seq) order")]
+    FramesOutOfOrder {
+        /// The frames CSV.
+        file: String,
+    },
+    /// The output directory cannot be created.
+    #[error("{}: cannot create directory", path.display())]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        error: std::io::Error,
+    },
+    /// A figure cannot be drawn or written.
+    #[error(transparent)]
+    Figure(#[from] figure::FigureError),
+    /// A table cannot be written.
+    #[error("{}: cannot write", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        error: std::io::Error,
+    },
+}
 
 /// Percentages of the cycle shown in the stick figures.
 pub const STICK_PERCENTS: [f64; 6] = [0.0, 20.0, 40.0, 60.0, 80.0, 100.0];
@@ -70,7 +111,7 @@ impl Analysis {
         motions: &[(String, MotionTable)],
         model: &Model,
         progress: &Progress,
-    ) -> anyhow::Result<(Self, Vec<Warning>)> {
+    ) -> Result<(Self, Vec<Warning>), ModelError> {
         // HAK and PHAK keep their angles (poses between rows from interpolated angles); other
         // models give their points only.
         let evaluator = match model.lengths() {
@@ -144,9 +185,11 @@ impl Analysis {
         label: &str,
         source: &str,
         table: &FramesTable,
-    ) -> anyhow::Result<()> {
+    ) -> Result<(), ReportError> {
         if table.points.len() < 2 {
-            anyhow::bail!("{source}: a frames CSV needs at least 2 rows");
+            return Err(ReportError::TooFewFrames {
+                file: source.to_string(),
+            });
         }
         let x: Vec<f64> = match table.time.iter().copied().collect::<Option<Vec<f64>>>() {
             Some(t) => t,
@@ -154,7 +197,9 @@ impl Analysis {
         };
         let (first, last) = (x[0], x[x.len() - 1]);
         if last <= first || x.windows(2).any(|w| w[1] < w[0]) {
-            anyhow::bail!("{source}: rows must be in increasing time (or seq) order");
+            return Err(ReportError::FramesOutOfOrder {
+                file: source.to_string(),
+            });
         }
         let percent = x
             .iter()
@@ -219,9 +264,11 @@ pub fn write_report(
     analysis: &Analysis,
     dir: &Path,
     progress: &Progress,
-) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+) -> Result<Vec<PathBuf>, ReportError> {
+    std::fs::create_dir_all(dir).map_err(|error| ReportError::CreateDir {
+        path: dir.to_path_buf(),
+        error,
+    })?;
     let mut files = Vec::new();
     for plane in kmetrics::Plane::ALL {
         files.extend(figure::save(

@@ -6,7 +6,7 @@ use plotters::prelude::*;
 use qgait_kernel::metrics::Plane;
 use qgait_kernel::{Joint, Side};
 
-use super::figure::{self, draw_err, gait_color, Figure};
+use super::figure::{self, draw_err, gait_color, Figure, PlotError};
 use super::Analysis;
 
 const PANEL_W: u32 = 560;
@@ -28,7 +28,7 @@ impl Figure for SagittalPaths<'_> {
         (2 * PANEL_W, HEADER + Joint::ALL.len() as u32 * PANEL_H)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
         header

@@ -6,7 +6,7 @@ use plotters::prelude::*;
 use qgait_kernel::metrics::Plane;
 use qgait_kernel::{BilateralPose, Joint, Side, Vec3};
 
-use super::figure::{self, draw_err, Figure, LEFT_LEG, PELVIS, RIGHT_LEG};
+use super::figure::{self, draw_err, Figure, PlotError, LEFT_LEG, PELVIS, RIGHT_LEG};
 use super::{Analysis, STICK_PERCENTS};
 
 const PANEL: u32 = 300;
@@ -88,7 +88,7 @@ impl Figure for StickFigure<'_> {
         )
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
         let (title, x_desc, y_desc) = plane_text(self.plane);
@@ -186,7 +186,7 @@ fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     x: i32,
     y: i32,
-) -> anyhow::Result<()> {
+) -> Result<(), PlotError> {
     let mut x = x;
     for (color, text) in [
         (RIGHT_LEG, "right leg"),
