@@ -85,7 +85,10 @@ impl Figure for Kinematics<'_> {
         (3 * PANEL_W, HEADER + 5 * PANEL_H)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), figure::PlotError> {
         let r = self.report;
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
@@ -122,7 +125,7 @@ impl Kinematics<'_> {
         area: &DrawingArea<DB, Shift>,
         row: usize,
         col: usize,
-    ) -> anyhow::Result<()> {
+    ) -> Result<(), figure::PlotError> {
         let r = self.report;
         let panel = PANELS[row][col];
         let (title, v) = match panel {
@@ -291,7 +294,7 @@ fn side_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     x: i32,
     y: i32,
-) -> anyhow::Result<()> {
+) -> Result<(), figure::PlotError> {
     for (s, name) in ["right", "left"].iter().enumerate() {
         let x = x + 140 * s as i32;
         area.draw(&PathElement::new(
@@ -320,7 +323,10 @@ impl Figure for Map<'_> {
         (1100, 520)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), figure::PlotError> {
         let Some(s) = &self.report.scores else {
             return Ok(());
         };
@@ -439,7 +445,10 @@ impl Figure for EventsFigure<'_> {
         (1200, 110 + 300 * self.report.walks.len() as u32)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), figure::PlotError> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, area) = root.split_vertically(110);
         header
