@@ -281,39 +281,57 @@ pub fn run_decode(args: DecodeArgs, quiet: bool) -> anyhow::Result<()> {
     decode_to(&args, &mut out, quiet)
 }
 
-/// One output line of `qgait decode` for `record`, if it has one.
-fn decode_line(record: &Record, format: Format) -> Option<String> {
-    match (record, format) {
-        (
-            Record::Message {
-                message: Message::PoseFrame(p),
-                ..
+/// Where `qgait decode` writes: frame rows of a frames CSV, or JSON lines.
+enum DecodeOut<'a> {
+    Csv(Box<frames_csv::FramesCsv<&'a mut dyn Write>>),
+    Jsonl(&'a mut dyn Write),
+}
+
+impl<'a> DecodeOut<'a> {
+    /// Starts the output (the CSV's header).
+    fn new(format: Format, out: &'a mut dyn Write) -> io::Result<Self> {
+        Ok(match format {
+            Format::Csv => DecodeOut::Csv(Box::new(frames_csv::FramesCsv::new(out)?)),
+            Format::Jsonl => DecodeOut::Jsonl(out),
+        })
+    }
+
+    /// Writes what `record` gives in this format; whether it gave anything.
+    fn record(&mut self, record: &Record) -> io::Result<bool> {
+        match self {
+            DecodeOut::Csv(csv) => match record {
+                Record::Message {
+                    message: Message::PoseFrame(p),
+                    ..
+                } => csv.row(p, None).map(|()| true),
+                _ => Ok(false),
             },
-            Format::Csv,
-        ) => {
-            let mut row = Vec::new();
-            let _ = frames_csv::write_row(&mut row, p, None);
-            row.pop();
-            Some(String::from_utf8_lossy(&row).into_owned())
+            DecodeOut::Jsonl(out) => writeln!(out, "{}", jsonl_line(record)).map(|()| true),
         }
-        (
-            Record::Message {
-                message: Message::PoseFrame(p),
-                ..
-            },
-            Format::Jsonl,
-        ) => Some(jsonl::pose(p)),
-        (
-            Record::Message {
-                message: Message::Status(s),
-                ..
-            },
-            Format::Jsonl,
-        ) => Some(jsonl::status(s)),
-        (Record::Message { message, .. }, Format::Jsonl) => Some(jsonl::other(message.tag())),
-        (Record::Message { .. }, Format::Csv) => None,
-        (Record::Damaged { offset, error }, Format::Jsonl) => Some(jsonl::damaged(*offset, error)),
-        (Record::Damaged { .. }, Format::Csv) => None,
+    }
+
+    /// Passes everything written on and flushes the writer.
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            DecodeOut::Csv(csv) => csv.flush(),
+            DecodeOut::Jsonl(out) => out.flush(),
+        }
+    }
+}
+
+/// The JSON line of `qgait decode` for `record`.
+fn jsonl_line(record: &Record) -> String {
+    match record {
+        Record::Message {
+            message: Message::PoseFrame(p),
+            ..
+        } => jsonl::pose(p),
+        Record::Message {
+            message: Message::Status(s),
+            ..
+        } => jsonl::status(s),
+        Record::Message { message, .. } => jsonl::other(message.tag()),
+        Record::Damaged { offset, error } => jsonl::damaged(*offset, error),
     }
 }
 
@@ -324,9 +342,7 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
     let (mut input, mut view) =
         args.port
             .open(&args.log, args.format == Format::Csv && !quiet, true, quiet)?;
-    if args.format == Format::Csv {
-        writeln!(out, "{}", frames_csv::header())?;
-    }
+    let mut out = DecodeOut::new(args.format, out)?;
     let live = input.is_serial();
     let mut decoder = LogDecoder::new();
     let mut reported = 0u32;
@@ -355,9 +371,9 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
             }
             reported += 1;
         }
-        if let Some(l) = decode_line(&record, args.format) {
-            pending = true;
-            if let Err(e) = writeln!(out, "{l}") {
+        match out.record(&record) {
+            Ok(wrote) => pending |= wrote,
+            Err(e) => {
                 write_error.get_or_insert(e);
             }
         }

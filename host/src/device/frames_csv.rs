@@ -9,13 +9,33 @@ use std::io::{self, Write};
 use qgait_proto::PoseFrame;
 
 use crate::diagnostics::Location;
+use crate::model::points::{csv_header, point_names, PointsCsv};
 
 /// The header line (without the newline).
 pub fn header() -> String {
-    format!(
-        "seq,{}",
-        crate::model::points::csv_header(&crate::model::points::point_names(false))
-    )
+    format!("seq,{}", csv_header(&point_names(false)))
+}
+
+/// A frames CSV being written (with the `csv` crate, through [`PointsCsv`]): the [`header`],
+/// then one row per frame.
+pub struct FramesCsv<W: Write>(PointsCsv<W>);
+
+impl<W: Write> FramesCsv<W> {
+    /// Writes the header.
+    pub fn new(w: W) -> io::Result<Self> {
+        Ok(Self(PointsCsv::new(w, &point_names(false), true)?))
+    }
+
+    /// Writes the row of one frame, with its time (s) if known.
+    pub fn row(&mut self, f: &PoseFrame, time_s: Option<f64>) -> io::Result<()> {
+        let points = f.points.iter().map(|p| p.map(f64::from));
+        Ok(self.0.row(f.seq, time_s, points)?)
+    }
+
+    /// Passes every row written on to the writer and flushes it.
+    pub fn flush(&mut self) -> io::Result<()> {
+        self.0.flush_through()
+    }
 }
 
 /// Writes the header and one row per frame; `time_s` gives the time of a sequence number.
@@ -24,33 +44,11 @@ pub fn write<W: Write + ?Sized>(
     frames: &[PoseFrame],
     time_s: &HashMap<u32, f64>,
 ) -> io::Result<()> {
-    writeln!(w, "{}", header())?;
+    let mut csv = FramesCsv::new(w)?;
     for f in frames {
-        write_row(w, f, time_s.get(&f.seq).copied())?;
+        csv.row(f, time_s.get(&f.seq).copied())?;
     }
-    Ok(())
-}
-
-/// Writes the row of one frame (after the [`header`]), with its time (s) if known.
-pub fn write_row<W: Write + ?Sized>(
-    w: &mut W,
-    f: &PoseFrame,
-    time_s: Option<f64>,
-) -> io::Result<()> {
-    write!(w, "{},", f.seq)?;
-    if let Some(t) = time_s {
-        write!(w, "{t}")?;
-    }
-    for p in &f.points {
-        write!(
-            w,
-            ",{},{},{}",
-            f64::from(p[0]),
-            f64::from(p[1]),
-            f64::from(p[2])
-        )?;
-    }
-    w.write_all(b"\n")
+    csv.flush()
 }
 
 /// A frames CSV read back: per row the sequence number, the time (s) if present, and the 8
@@ -188,6 +186,15 @@ mod tests {
         write(&mut out, &[frame(3), frame(4)], &HashMap::from([(3, 0.03)])).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.starts_with("seq,time,hip_r_x,"));
+        // Numbers as Rust's `{}` prints the f32 widened to f64; an unknown time is empty.
+        let rows: Vec<&str> = text.lines().collect();
+        assert_eq!(rows.len(), 3);
+        assert_eq!(rows[0], header());
+        assert_eq!(
+            rows[1],
+            "3,0.03,0,-0.5,3,0.25,-0.5,3,0.5,-0.5,3,0.75,-0.5,3,1,-0.5,3,1.25,-0.5,3,1.5,-0.5,3,1.75,-0.5,3"
+        );
+        assert!(rows[2].starts_with("4,,0,-0.5,4,0.25,"), "{}", rows[2]);
         assert!(is_frames_csv(&text));
         let t = parse(&text, "f.csv").unwrap();
         assert_eq!(t.seq, [3, 4]);
@@ -202,5 +209,23 @@ mod tests {
         );
         let e = e.to_string();
         assert!(e.contains("f.csv:2: bad time `abc`"), "{e}");
+        let mut odd = frame(5);
+        odd.points[0] = [0.1, f32::NAN, f32::INFINITY];
+        let mut out = Vec::new();
+        let mut csv = FramesCsv::new(&mut out).unwrap();
+        csv.row(&odd, Some(1e-7)).unwrap();
+        csv.flush().unwrap();
+        drop(csv);
+        let odd_text = String::from_utf8(out).unwrap();
+        assert_eq!(
+            odd_text
+                .lines()
+                .nth(1)
+                .unwrap()
+                .split(',')
+                .take(5)
+                .collect::<Vec<_>>(),
+            ["5", "0.0000001", "0.10000000149011612", "NaN", "inf"]
+        );
     }
 }

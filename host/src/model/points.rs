@@ -207,7 +207,10 @@ impl<W: std::io::Write> PointsCsv<W> {
     pub fn new(w: W, names: &[String], seq: bool) -> csv::Result<Self> {
         let mut csv = csv::WriterBuilder::new()
             .buffer_capacity(1 << 16)
-            .from_writer(PassOn(w));
+            .from_writer(PassOn {
+                w,
+                flush: std::cell::Cell::new(false),
+            });
         let header = csv_header(names);
         let seq_column = seq.then_some("seq");
         csv.write_record(seq_column.into_iter().chain(header.split(',')))?;
@@ -251,20 +254,35 @@ impl<W: std::io::Write> PointsCsv<W> {
     pub fn flush(&mut self) -> std::io::Result<()> {
         self.csv.flush()
     }
+
+    /// Passes what is buffered on to the writer and flushes the writer.
+    pub fn flush_through(&mut self) -> std::io::Result<()> {
+        self.csv.get_ref().flush.set(true);
+        let flushed = self.csv.flush();
+        self.csv.get_ref().flush.set(false);
+        flushed
+    }
 }
 
 /// The writer under a [`PointsCsv`]: bytes are passed on, flushing is left to the owner of the
 /// writer (the `csv` writer flushes its writer when dropped, which would push an unfinished
-/// output through when a row fails).
-struct PassOn<W>(W);
+/// output through when a row fails), except in [`PointsCsv::flush_through`].
+struct PassOn<W> {
+    w: W,
+    flush: std::cell::Cell<bool>,
+}
 
 impl<W: std::io::Write> std::io::Write for PassOn<W> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0.write(buf)
+        self.w.write(buf)
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
+        if self.flush.get() {
+            self.w.flush()
+        } else {
+            Ok(())
+        }
     }
 }
 
@@ -296,6 +314,38 @@ mod tests {
         assert_eq!(
             point_names(true)[8..],
             ["subtalar_r", "mtp_r", "subtalar_l", "mtp_l"]
+        );
+    }
+
+    /// Counts its flushes and keeps what it was given.
+    #[derive(Default)]
+    struct Flushes(Vec<u8>, usize);
+
+    impl std::io::Write for Flushes {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.extend_from_slice(buf);
+            Ok(buf.len())
+        }
+
+        fn flush(&mut self) -> std::io::Result<()> {
+            self.1 += 1;
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn only_flush_through_flushes_the_writer() {
+        let mut out = Flushes::default();
+        let mut w = PointsCsv::new(&mut out, &["toe_l".to_string()], false).unwrap();
+        w.row(0, Some(1.0), [[0.0; 3]]).unwrap();
+        w.flush().unwrap();
+        w.row(0, Some(2.0), [[0.0; 3]]).unwrap();
+        w.flush_through().unwrap();
+        drop(w);
+        assert_eq!(out.1, 1);
+        assert_eq!(
+            String::from_utf8(out.0).unwrap(),
+            "time,toe_l_x,toe_l_y,toe_l_z\n1,0,0,0\n2,0,0,0\n"
         );
     }
 }
