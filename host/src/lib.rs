@@ -8,5 +8,5 @@ pub mod gait;
 pub mod model;
 pub mod motion;
 pub mod opensim;
-pub mod progress;
-pub mod report;
+pub(crate) mod progress;
+pub(crate) mod report;

@@ -22,11 +22,6 @@ impl Progress {
         Self(Some(bar))
     }
 
-    /// A bar that never shows.
-    pub fn hidden() -> Self {
-        Self(None)
-    }
-
     /// Advances by `n` steps.
     pub fn inc(&self, n: u64) {
         if let Some(bar) = &self.0 {

@@ -47,7 +47,6 @@ pub enum Echo {
 pub struct Qemu {
     child: Child,
     log: Option<JoinHandle<Vec<String>>>,
-    lines: mpsc::Receiver<String>,
     /// The devices QEMU redirected character devices to (`-serial pty`), as it announces them.
     redirected: mpsc::Receiver<String>,
 }
@@ -92,7 +91,7 @@ impl Qemu {
     }
 
     /// [`start`](Self::start) with the log going to `echo`.
-    pub fn start_with(
+    fn start_with(
         elf: &Path,
         uart_socket: Option<&Path>,
         echo: Echo,
@@ -107,7 +106,7 @@ impl Qemu {
         Self::launch(elf, Uart::None, args, echo)
     }
 
-    /// [`start_with`](Self::start_with), with QEMU's multiplexer between the socket and UART0: it
+    /// [`start`](Self::start) with the log going to `echo`, and QEMU's multiplexer between the socket and UART0: it
     /// keeps up to 32 bytes ready for the UART, which then takes its next byte the moment the
     /// firmware reads one, instead of waiting for QEMU's I/O thread each time (several times
     /// faster). The multiplexer reads [`ESCAPE`] as a command key: send every input byte
@@ -188,7 +187,6 @@ impl Qemu {
         });
         let (redirect_tx, redirected) = mpsc::channel();
         let pty = matches!(uart, Uart::Pty);
-        let (tx, lines) = mpsc::channel();
         let log = thread::spawn(move || {
             let mut kept = Vec::new();
             let mut stdout = BufReader::new(stdout);
@@ -215,7 +213,6 @@ impl Qemu {
                     Echo::Stderr => eprintln!("device: {l}"),
                     Echo::Quiet => {}
                 }
-                let _ = tx.send(l.to_string());
                 kept.push(l.to_string());
             });
             kept
@@ -223,14 +220,8 @@ impl Qemu {
         Ok(Qemu {
             child,
             log: Some(log),
-            lines,
             redirected,
         })
-    }
-
-    /// Log lines decoded since the last call (without waiting).
-    pub fn new_lines(&self) -> Vec<String> {
-        self.lines.try_iter().collect()
     }
 
     /// Waits for QEMU to exit, killing it after `timeout`.

@@ -212,7 +212,8 @@ impl Assembler {
     }
 
     /// Number of samples currently open (some but not all joints arrived).
-    pub fn open_samples(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn open_samples(&self) -> usize {
         self.slots
             .iter()
             .filter(|s| s.is_used() && !s.present.contains_all(self.required))
@@ -721,7 +722,8 @@ mod tests {
             }
 
             /// Number of samples currently open (some but not all joints arrived).
-            pub fn open_samples(&self) -> usize {
+            #[cfg(test)]
+            pub(crate) fn open_samples(&self) -> usize {
                 self.slots
                     .iter()
                     .filter(|s| s.state == SlotState::Open)

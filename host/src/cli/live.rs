@@ -72,17 +72,6 @@ impl LiveView {
         Self::with(Display::Lines)
     }
 
-    /// Whether the view is redrawn in place (then it shows the status counters, and other
-    /// messages go through [`message`](Self::message)).
-    pub fn is_redrawn(&self) -> bool {
-        matches!(self.display, Display::Redrawn(_))
-    }
-
-    /// Whether status frames are shown, in place or as lines.
-    pub fn shows_status(&self) -> bool {
-        !matches!(self.display, Display::Hidden)
-    }
-
     /// Takes note of a record.
     pub fn record(&mut self, record: &Record) {
         match record {

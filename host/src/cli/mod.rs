@@ -1,17 +1,17 @@
 //! The `qgait` command line: argument definitions and the commands.
 
-pub mod config;
+pub(crate) mod config;
 pub mod device;
-pub mod diagnostics;
-pub mod export;
-pub mod fidelity;
-pub mod fk;
-pub mod gait;
-pub mod imu;
-pub mod jsonl;
-pub mod live;
-pub mod model;
-pub mod model_args;
+pub(crate) mod diagnostics;
+pub(crate) mod export;
+pub(crate) mod fidelity;
+pub(crate) mod fk;
+pub(crate) mod gait;
+pub(crate) mod imu;
+pub(crate) mod jsonl;
+pub(crate) mod live;
+pub(crate) mod model;
+pub(crate) mod model_args;
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};

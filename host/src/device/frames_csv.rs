@@ -63,13 +63,6 @@ pub struct FramesTable {
     pub points: Vec<[[f64; 3]; 8]>,
 }
 
-/// Whether `text` starts with the frames CSV header.
-pub fn is_frames_csv(text: &str) -> bool {
-    text.lines()
-        .next()
-        .is_some_and(|l| l.trim_end() == header())
-}
-
 /// Why a file is not a frames CSV: where and what.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -195,7 +188,6 @@ mod tests {
             "3,0.03,0,-0.5,3,0.25,-0.5,3,0.5,-0.5,3,0.75,-0.5,3,1,-0.5,3,1.25,-0.5,3,1.5,-0.5,3,1.75,-0.5,3"
         );
         assert!(rows[2].starts_with("4,,0,-0.5,4,0.25,"), "{}", rows[2]);
-        assert!(is_frames_csv(&text));
         let t = parse(&text, "f.csv").unwrap();
         assert_eq!(t.seq, [3, 4]);
         assert_eq!(t.time, [Some(0.03), None]);

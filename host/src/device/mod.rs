@@ -8,5 +8,5 @@ pub mod config;
 pub mod frames_csv;
 pub mod log;
 pub mod packets;
-pub mod port;
+pub(crate) mod port;
 pub mod verify;

@@ -258,7 +258,7 @@ pub struct Until {
 #[derive(Debug)]
 pub enum End {
     /// The end of the file or of standard input.
-    EndOfInput,
+    InputEnded,
     /// [`Until::frames`] pose frames came.
     Frames(u64),
     /// [`Until::time`] passed.
@@ -277,7 +277,7 @@ impl End {
     /// What to tell the user, except at the end of the input (the usual end of a log file).
     pub fn describe(&self) -> Option<String> {
         match self {
-            End::EndOfInput | End::Stopped | End::Failed(_) => None,
+            End::InputEnded | End::Stopped | End::Failed(_) => None,
             End::Frames(n) => Some(format!("stopped after {n} pose frames")),
             End::Time(t) => Some(format!("stopped after {:.1} s", t.as_secs_f64())),
             End::Idle(t) => Some(format!(
@@ -328,7 +328,7 @@ pub fn read_log(
             return End::Idle(t);
         }
         let n = match input.read(&mut buf) {
-            Ok(Some(0)) => return End::EndOfInput,
+            Ok(Some(0)) => return End::InputEnded,
             Ok(Some(n)) => n,
             Ok(None) => {
                 if !on_event(Event::Chunk) {
@@ -480,7 +480,7 @@ mod tests {
         let end = read_log(&mut input, &mut LogDecoder::new(), Until::default(), |_| {
             true
         });
-        assert!(matches!(end, End::EndOfInput), "{end:?}");
+        assert!(matches!(end, End::InputEnded), "{end:?}");
         let e = Input::open(&format!("{name}.missing"), None).err().unwrap();
         assert!(
             matches!(&e, PortError::Open { path, error }

@@ -132,7 +132,8 @@ impl<'m> Verifier<'m> {
     }
 
     /// Runs of consecutive sequence numbers held (1 for a log without gaps).
-    pub fn runs(&self) -> usize {
+    #[cfg(test)]
+    fn runs(&self) -> usize {
         self.runs.len()
     }
 

@@ -208,16 +208,6 @@ impl<const N: usize> CoordRows<N> {
         ))
     }
 
-    /// The header of the motion.
-    pub fn header(&self) -> &Header {
-        self.rows.header()
-    }
-
-    /// The number of rows if known in advance.
-    pub fn size_hint(&self) -> Option<usize> {
-        self.rows.size_hint()
-    }
-
     /// The time and the coordinates of the next row; `None` after the last.
     pub fn next_row(&mut self) -> Result<Option<(f64, [f64; N])>, ModelError> {
         let next = self.rows.next_row();

@@ -13,10 +13,6 @@ use crate::opensim::mot::MotionTable;
 /// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`] (after the pelvis).
 pub const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
 
-/// Coordinates that count as 0 (with a warning) when a motion does not have them: the pelvis
-/// ones of [`PhakAngles::NAMES`].
-pub const OPTIONAL_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).0;
-
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
 pub fn phak_angles(

@@ -10,7 +10,7 @@ pub mod chain;
 pub mod choice;
 pub mod coords;
 pub mod error;
-pub mod fidelity;
+pub(crate) mod fidelity;
 pub mod kinematics;
 pub mod points;
 pub mod subject;

@@ -16,14 +16,6 @@ use std::io::{self, Write};
 
 use qgait_kernel::Vec3;
 
-/// Frames per second from the time column.
-pub fn data_rate(time: &[f64]) -> f64 {
-    match (time.first(), time.last()) {
-        (Some(&a), Some(&b)) => rate(time.len(), a, b),
-        _ => 1.0,
-    }
-}
-
 /// Frames per second of `rows` rows from `first` to `last` (s): `(rows - 1) / (last - first)`,
 /// 1 for a single row.
 pub fn rate(rows: usize, first: f64, last: f64) -> f64 {
@@ -112,8 +104,9 @@ mod tests {
 
     #[test]
     fn rate_from_time() {
-        assert_eq!(data_rate(&[0.0, 0.5, 1.0]), 2.0);
-        assert_eq!(data_rate(&[3.0]), 1.0);
-        assert_eq!(data_rate(&[]), 1.0);
+        assert_eq!(rate(3, 0.0, 1.0), 2.0);
+        assert_eq!(rate(1, 3.0, 3.0), 1.0);
+        assert_eq!(rate(0, 0.0, 0.0), 1.0);
+        assert_eq!(rate(2, 1.0, 1.0), 1.0);
     }
 }

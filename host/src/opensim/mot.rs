@@ -615,7 +615,7 @@ impl<R: BufRead> MotionReader<R> {
 /// A table of motion data: a `time` column and any number of named columns, all kept.
 ///
 /// Values are stored as read; [`MotionTable::in_degrees`] tells whether angle columns are in
-/// degrees. Use [`MotionTable::angle_radians`] to read an angle column in radians.
+/// degrees (`model::coords` converts a model's coordinates to radians as it reads them).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MotionTable {
     header: Header,
@@ -710,7 +710,8 @@ impl MotionTable {
     }
 
     /// Parses the text of a `.mot`/`.sto` file; `source` names it in errors and warnings.
-    pub fn parse(text: &str, source: &str) -> Result<(Self, Vec<Warning>), MotError> {
+    #[cfg(test)]
+    pub(crate) fn parse(text: &str, source: &str) -> Result<(Self, Vec<Warning>), MotError> {
         Self::collect(MotionReader::new(text.as_bytes(), source)?)
     }
 
@@ -768,20 +769,9 @@ impl MotionTable {
         &self.header
     }
 
-    /// The name on the header's first line (may be empty).
-    pub fn name(&self) -> &str {
-        &self.header.name
-    }
-
     /// Where the data came from (a path or a `builtin:` spec).
     pub fn source(&self) -> &str {
         &self.header.source
-    }
-
-    /// Where the column labels are, for messages: `file:line`, or just the source for a
-    /// generated table.
-    pub fn labels_location(&self) -> String {
-        self.header.labels_location()
     }
 
     /// Whether angle columns are in degrees (`inDegrees=yes`).
@@ -824,17 +814,6 @@ impl MotionTable {
     /// The first value of column `c` that is not a finite number, if any.
     pub fn non_finite(&self, c: usize) -> Option<&NonFinite> {
         self.non_finite[c].as_ref()
-    }
-
-    /// An angle column by label, converted to radians if the table is in degrees.
-    pub fn angle_radians(&self, label: &str) -> Option<Vec<f64>> {
-        let scale = if self.header.in_degrees {
-            std::f64::consts::PI / 180.0
-        } else {
-            1.0
-        };
-        self.column(label)
-            .map(|c| c.iter().map(|v| v * scale).collect())
     }
 
     /// Percent of the cycle of every row: time normalised from the first row (0 %) to the last
@@ -934,14 +913,13 @@ mod tests {
         // The datarows style has no inDegrees: degrees assumed, with a warning.
         assert_eq!(wb.len(), 1, "{wb:?}");
         assert!(wb[0].0.contains("inDegrees"));
-        assert_eq!(a.name(), "walk");
+        assert_eq!(a.header().name, "walk");
+        assert!(a.in_degrees() && b.in_degrees());
         assert_eq!(a.labels(), b.labels());
         assert_eq!(a.rows(), 2);
         assert_eq!(a.column("knee_angle_r"), b.column("knee_angle_r"));
         assert_eq!(a.column("pelvis_ty").unwrap(), &[0.9, 0.95]);
         assert_eq!(a.percent_of_cycle(), vec![0.0, 100.0]);
-        let rad = a.angle_radians("knee_angle_r").unwrap();
-        assert!((rad[1] - (-20.5f64).to_radians()).abs() < 1e-15);
     }
 
     #[test]
@@ -950,7 +928,7 @@ mod tests {
         let (t, w) = MotionTable::parse(text, "x.sto").unwrap();
         assert!(w.is_empty());
         assert!(!t.in_degrees());
-        assert_eq!(t.angle_radians("q").unwrap(), vec![0.25, 0.5]);
+        assert_eq!(t.column("q").unwrap(), &[0.25, 0.5]);
     }
 
     #[test]
@@ -1038,13 +1016,13 @@ mod tests {
         let (back, w) = MotionTable::parse(std::str::from_utf8(&out).unwrap(), "b.mot").unwrap();
         assert!(w.is_empty(), "{w:?}");
         assert_eq!(
-            (back.name(), back.in_degrees(), back.labels()),
-            (t.name(), t.in_degrees(), t.labels())
+            (&back.header().name, back.in_degrees(), back.labels()),
+            (&t.header().name, t.in_degrees(), t.labels())
         );
         for label in t.labels() {
             assert_eq!(back.column(label), t.column(label));
         }
-        assert_eq!(back.labels_location(), "b.mot:7");
+        assert_eq!(back.header().labels_location(), "b.mot:7");
     }
 
     /// What OpenSim 4.6's `Storage` makes of each header without `inDegrees` (checked with its
