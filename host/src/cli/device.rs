@@ -158,9 +158,7 @@ impl PortArgs {
         quiet: bool,
     ) -> anyhow::Result<(Input, LiveView)> {
         let (input, warning) = Input::open(log, self.baud)?;
-        if let Some(w) = warning.filter(|_| !quiet) {
-            eprintln!("warning: {w}");
-        }
+        Diagnostics::new(quiet).warn(warning);
         port::interrupt::install();
         let terminal = io::stderr().is_terminal() && !(rows && io::stdout().is_terminal());
         let live = match self.live {
@@ -244,11 +242,8 @@ pub struct EmulateArgs {
 /// Runs `qgait packets`: each row's packets are written before the next row is read.
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     crate::cli::refuse_overwrite([args.output.as_path()], &[&args.motion])?;
-    let warn = |w: Vec<crate::diagnostics::Warning>| {
-        if !quiet {
-            w.iter().for_each(|w| eprintln!("warning: {w}"));
-        }
-    };
+    let diagnostics = Diagnostics::new(quiet);
+    let warn = |w| diagnostics.warn(w);
     let (rows, w) = crate::motion::source::MotionRows::open(&args.motion)?;
     warn(w);
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
@@ -455,11 +450,8 @@ fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Resu
         (Some(motion), None) => {
             let (table, w) = load_motion(motion)?;
             let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
-            let (samples, w2) =
-                Samples::from_motion(&table, wire, timing).map_err(anyhow::Error::msg)?;
-            if !quiet {
-                w.iter().chain(&w2).for_each(|w| eprintln!("warning: {w}"));
-            }
+            let (samples, w2) = Samples::from_motion(&table, wire, timing)?;
+            Diagnostics::new(quiet).warn(w.into_iter().chain(w2));
             let packets: Vec<_> = samples.all_packets().collect();
             (
                 crate::device::packets::stream(&packets),

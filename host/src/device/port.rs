@@ -23,6 +23,7 @@ use std::time::{Duration, Instant};
 use qgait_proto::Message;
 
 use crate::device::log::{LogDecoder, Record};
+use crate::diagnostics::Warning;
 
 /// The hub's baud rate (both boards' UARTs run at 115200 8N1).
 pub const DEFAULT_BAUD: u32 = 115_200;
@@ -127,9 +128,10 @@ fn is_terminal_device(path: &Path) -> bool {
 impl Input {
     /// Opens `path`: `-` is standard input, a terminal device a serial port at `baud` (default
     /// [`DEFAULT_BAUD`]), anything else a file. The warning says when `baud` does not apply.
-    pub fn open(path: &str, baud: Option<u32>) -> Result<(Input, Option<String>), PortError> {
-        let ignored =
-            |what: &str| baud.map(|b| format!("--baud {b} ignored: {what} is not a serial port"));
+    pub fn open(path: &str, baud: Option<u32>) -> Result<(Input, Option<Warning>), PortError> {
+        let ignored = |what: &str| {
+            baud.map(|b| Warning(format!("--baud {b} ignored: {what} is not a serial port")))
+        };
         if path == "-" {
             let input = Input {
                 name: path.into(),
@@ -449,8 +451,10 @@ mod tests {
         let (mut input, warning) = Input::open(name, Some(9600)).unwrap();
         assert!(!input.is_serial());
         assert_eq!(
-            warning.as_deref(),
-            Some(format!("--baud 9600 ignored: {name} is not a serial port").as_str())
+            warning,
+            Some(Warning(format!(
+                "--baud 9600 ignored: {name} is not a serial port"
+            )))
         );
         let mut decoder = LogDecoder::new();
         let mut seqs = Vec::new();
