@@ -8,7 +8,7 @@ use qgait_proto::{DecodeError, FrameDecoder, Message, PoseFrame, Status};
 
 /// One item of a decoded log, in arrival order.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Record {
+pub(crate) enum Record {
     /// A good frame and the offset of the byte that ended it (its 0x00 delimiter).
     Message {
         /// Byte offset of the frame's delimiter in the input.
@@ -82,7 +82,7 @@ impl fmt::Display for Counts {
 
 /// A streaming log decoder: feed chunks as they come, get records.
 #[derive(Debug, Default)]
-pub struct LogDecoder {
+pub(crate) struct LogDecoder {
     decoder: FrameDecoder,
     counts: Counts,
 }
@@ -94,7 +94,7 @@ impl LogDecoder {
     }
 
     /// Decodes `chunk`, handing each record to `on_record`.
-    pub fn feed(&mut self, chunk: &[u8], mut on_record: impl FnMut(Record)) {
+    pub(crate) fn feed(&mut self, chunk: &[u8], mut on_record: impl FnMut(Record)) {
         for &byte in chunk {
             let offset = self.counts.bytes;
             self.counts.bytes += 1;

@@ -95,7 +95,7 @@ impl Samples {
     }
 
     /// Every packet, row after row.
-    pub fn all_packets(&self) -> impl Iterator<Item = JointAngle> + '_ {
+    pub(crate) fn all_packets(&self) -> impl Iterator<Item = JointAngle> + '_ {
         (0..self.len()).flat_map(move |row| self.packets(row))
     }
 }
@@ -120,7 +120,7 @@ pub enum PacketsError {
 /// memory does not grow with the number of rows. `warn` gets the warnings about the columns
 /// before the first row; the warnings found while reading are returned. An error of `each`
 /// ends the reading and is returned.
-pub fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
+pub(crate) fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
     rows: MotionRows,
     model: ModelId,
     timing: Timing,
@@ -160,7 +160,7 @@ fn joint_names<const N: usize>(model: ModelId) -> [&'static str; N] {
 
 /// What [`write_stream`] wrote.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct StreamCounts {
+pub(crate) struct StreamCounts {
     /// Rows (samples).
     pub samples: u64,
     /// Packets.
@@ -171,7 +171,7 @@ pub struct StreamCounts {
 
 /// Writes the stream of [`stream`] for every row of `rows` as it is read: a 0x00, then each
 /// sample's packets (as [`Samples::packets`] makes them).
-pub fn write_stream(
+pub(crate) fn write_stream(
     rows: MotionRows,
     model: ModelId,
     timing: Timing,

@@ -37,7 +37,7 @@ impl ErrorStat {
 }
 
 /// Names of the error rows: the 8 points, then the 3 distances.
-pub fn error_names() -> Vec<String> {
+pub(crate) fn error_names() -> Vec<String> {
     let mut names = point_names(false);
     names.extend(["knee-knee", "ankle-ankle", "toe-toe"].map(String::from));
     names
@@ -64,12 +64,12 @@ pub struct Verification {
 }
 
 /// How many missing sequence numbers a [`Verification`] lists.
-pub const MISSING_LISTED: usize = 10;
+pub(crate) const MISSING_LISTED: usize = 10;
 
 /// Most runs of consecutive sequence numbers a [`Verifier`] keeps apart (each run costs a few
 /// tens of bytes): beyond it, the two lowest runs are joined and the gap between them is
 /// counted as missing for good.
-pub const MAX_RUNS: usize = 65_536;
+pub(crate) const MAX_RUNS: usize = 65_536;
 
 /// Which sequence numbers must be there.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -27,7 +27,7 @@ use crate::diagnostics::Location;
 use crate::model::error::ModelError;
 
 /// The bodies of the chain, in table order: joint `i` moves body `i`.
-pub const BODIES: [&str; 11] = [
+pub(crate) const BODIES: [&str; 11] = [
     "pelvis", "femur_r", "tibia_r", "talus_r", "calcn_r", "toes_r", "femur_l", "tibia_l",
     "talus_l", "calcn_l", "toes_l",
 ];
@@ -331,7 +331,7 @@ impl ChainModel {
     }
 
     /// Whether `text` is a chain file (it has `[[joints]]` tables) rather than a SUBJECT.toml.
-    pub fn is_chain_file(text: &str) -> bool {
+    pub(crate) fn is_chain_file(text: &str) -> bool {
         text.lines().any(|l| l.trim() == "[[joints]]")
     }
 

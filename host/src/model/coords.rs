@@ -33,7 +33,7 @@ struct RangeCheck {
 
 /// Picks `N` named coordinates (radians) from each row of a motion.
 #[derive(Debug, Clone)]
-pub struct Picker<const N: usize> {
+pub(crate) struct Picker<const N: usize> {
     source: String,
     scale: f64,
     in_degrees: bool,
@@ -105,7 +105,7 @@ impl<const N: usize> Picker<N> {
     /// The coordinates of one row: `value(c)` is the value of column `c` as stored; `at` says
     /// where the row is (`line N` or `row N`); `non_finite(c)` where a non-finite value of
     /// column `c` was read. A non-finite needed value is an error naming file, line and column.
-    pub fn pick<'a>(
+    pub(crate) fn pick<'a>(
         &mut self,
         value: impl Fn(usize) -> f64,
         at: impl Fn() -> String,
@@ -185,7 +185,7 @@ impl<const N: usize> Picker<N> {
 
 /// The coordinates `N` names (radians) of each row of a motion read as it goes: a
 /// [`MotionRows`] through a [`Picker`], in memory independent of the number of rows.
-pub struct CoordRows<const N: usize> {
+pub(crate) struct CoordRows<const N: usize> {
     rows: MotionRows,
     picker: Picker<N>,
     warnings: Vec<Warning>,

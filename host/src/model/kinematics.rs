@@ -11,11 +11,11 @@ use crate::model::error::ModelError;
 use crate::opensim::mot::MotionTable;
 
 /// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`] (after the pelvis).
-pub const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
+pub(crate) const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
 
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
-pub fn phak_angles(
+pub(crate) fn phak_angles(
     table: &MotionTable,
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
     let (rows, warnings) = coordinate_rows(table, &PhakAngles::<f64>::NAMES)?;
@@ -26,7 +26,7 @@ pub fn phak_angles(
 }
 
 /// The coordinates HAK uses: the leg ones of [`PhakAngles::NAMES`].
-pub const HAK_NAMES: [&str; 6] = [
+pub(crate) const HAK_NAMES: [&str; 6] = [
     PhakAngles::<f64>::NAMES[2],
     PhakAngles::<f64>::NAMES[3],
     PhakAngles::<f64>::NAMES[4],
@@ -37,7 +37,7 @@ pub const HAK_NAMES: [&str; 6] = [
 
 /// The angles `model` (HAK or PHAK) uses (radians) of every row, as [`PhakAngles`]: for HAK
 /// the pelvis columns are not read (0, no warning about them).
-pub fn stick_angles(
+pub(crate) fn stick_angles(
     table: &MotionTable,
     model: &Model,
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
@@ -51,7 +51,7 @@ pub fn stick_angles(
 }
 
 /// HAK's six leg angles as [`PhakAngles`] with a level pelvis.
-pub fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
+pub(crate) fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
     let mut all = [0.0; 8];
     all[2..].copy_from_slice(&legs);
     PhakAngles::from_array(all)
@@ -60,7 +60,7 @@ pub fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
 /// The coordinates `names` (radians, in that order) of every row of a motion, through
 /// [`Picker`]: the PHAK leg columns ([`LEG_COLUMNS`]) are required, any other missing
 /// coordinate counts as 0 with one warning, and angles outside their range are reported.
-pub fn coordinate_rows<const N: usize>(
+pub(crate) fn coordinate_rows<const N: usize>(
     table: &MotionTable,
     names: &[&'static str; N],
 ) -> Result<(Vec<[f64; N]>, Vec<Warning>), ModelError> {
@@ -82,7 +82,7 @@ pub fn coordinate_rows<const N: usize>(
 }
 
 /// Evaluates HAK or PHAK one set of angles at a time.
-pub struct Evaluator {
+pub(crate) struct Evaluator {
     hak: bool,
     phak: Phak<f64>,
 }
@@ -118,7 +118,7 @@ impl Evaluator {
 
 /// Angles at `percent` of the cycle, linearly interpolated between the rows around it
 /// (`percent_of_rows` increasing, as from [`MotionTable::percent_of_cycle`]).
-pub fn angles_at(
+pub(crate) fn angles_at(
     percent_of_rows: &[f64],
     angles: &[PhakAngles<f64>],
     percent: f64,

@@ -19,7 +19,7 @@ use crate::opensim::mot::MotionTable;
 
 /// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row. The leg columns
 /// of PHAK are required; the other 11 count as 0 with one warning each when absent.
-pub fn gait2392_coordinates(
+pub(crate) fn gait2392_coordinates(
     table: &MotionTable,
 ) -> Result<(Vec<[f64; 17]>, Vec<Warning>), ModelError> {
     kinematics::coordinate_rows(table, &COORDINATES)
@@ -83,7 +83,7 @@ pub fn point_names(extra: bool) -> Vec<String> {
 
 /// A model ready to evaluate rows: the kernel model of a [`Model`] and the points it gives
 /// ([`point_names`]; metres, origin and axes as the model's CSV).
-pub struct PointModel {
+pub(crate) struct PointModel {
     kind: Kind,
     extra: bool,
 }
@@ -167,7 +167,7 @@ impl PointModel {
 }
 
 /// Reads every row of `rows` as the coordinates `names` and hands them to `each`.
-pub fn drive<const N: usize, E: From<ModelError>>(
+pub(crate) fn drive<const N: usize, E: From<ModelError>>(
     rows: MotionRows,
     names: &[&'static str; N],
     warn: &dyn Fn(Vec<Warning>),
@@ -196,7 +196,7 @@ pub fn csv_header(names: &[String]) -> String {
 /// A points CSV being written with the `csv` crate: the header ([`csv_header`], with `seq` in
 /// front for a device's frames), then one row per call. Numbers are written with Rust's `{}`
 /// for `f64`; an unknown time is an empty field.
-pub struct PointsCsv<W: std::io::Write> {
+pub(crate) struct PointsCsv<W: std::io::Write> {
     csv: csv::Writer<PassOn<W>>,
     field: String,
     seq: bool,
@@ -256,7 +256,7 @@ impl<W: std::io::Write> PointsCsv<W> {
     }
 
     /// Passes what is buffered on to the writer and flushes the writer.
-    pub fn flush_through(&mut self) -> std::io::Result<()> {
+    pub(crate) fn flush_through(&mut self) -> std::io::Result<()> {
         self.csv.get_ref().flush.set(true);
         let flushed = self.csv.flush();
         self.csv.get_ref().flush.set(false);

@@ -41,7 +41,7 @@ use crate::model::error::ModelError;
 /// The file: one table per leg.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SubjectFile {
+pub(crate) struct SubjectFile {
     /// Right leg.
     pub right: LegFile,
     /// Left leg.
@@ -52,7 +52,7 @@ pub struct SubjectFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
-pub struct LegFile {
+pub(crate) struct LegFile {
     pub hip_in_pelvis: Vec<f64>,
     pub hip_axes: Vec<Vec<f64>>,
     pub ankle_in_tibia: Vec<f64>,
@@ -69,7 +69,7 @@ pub struct LegFile {
 /// Spline knots: `x` (radians of `knee_angle`), `y` (metres).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct KnotsFile {
+pub(crate) struct KnotsFile {
     /// Abscissae, strictly increasing.
     pub x: Vec<f64>,
     /// Values, as many as `x`.
@@ -147,7 +147,7 @@ impl LegFile {
 
 impl SubjectFile {
     /// The file for a geometry.
-    pub fn from_geometry(g: &Gait2392Geometry) -> Self {
+    pub(crate) fn from_geometry(g: &Gait2392Geometry) -> Self {
         Self {
             right: LegFile::from_leg(&g.right),
             left: LegFile::from_leg(&g.left),
@@ -155,7 +155,7 @@ impl SubjectFile {
     }
 
     /// The geometry (not yet checked by the kernel; see [`parse`]).
-    pub fn to_geometry(&self) -> Result<Gait2392Geometry, String> {
+    pub(crate) fn to_geometry(&self) -> Result<Gait2392Geometry, String> {
         Ok(Gait2392Geometry {
             right: self.right.to_leg("right")?,
             left: self.left.to_leg("left")?,

@@ -50,10 +50,10 @@ use qgait_kernel::PhakAngles;
 use crate::opensim::mot::MotionTable;
 
 /// Number of Fourier harmonics kept per coordinate.
-pub const HARMONICS: usize = 6;
+pub(crate) const HARMONICS: usize = 6;
 
 /// Default number of rows of a built-in motion (0 %, 1 %, ..., 100 %).
-pub const DEFAULT_ROWS: usize = 101;
+pub(crate) const DEFAULT_ROWS: usize = 101;
 
 /// Samples used to compute the Fourier coefficients of the key-event polyline.
 const FIT_SAMPLES: usize = 400;
@@ -62,7 +62,7 @@ const FIT_SAMPLES: usize = 400;
 type KeyEvents = &'static [(f64, f64)];
 
 /// Hip flexion, degrees.
-pub const HIP_FLEXION: KeyEvents = &[
+pub(crate) const HIP_FLEXION: KeyEvents = &[
     (0.0, 30.0),
     (10.0, 29.0),
     (30.0, 10.0),
@@ -73,7 +73,7 @@ pub const HIP_FLEXION: KeyEvents = &[
     (100.0, 30.0),
 ];
 /// Knee flexion (clinical sign: flexion > 0), degrees.
-pub const KNEE_FLEXION: KeyEvents = &[
+pub(crate) const KNEE_FLEXION: KeyEvents = &[
     (0.0, 5.0),
     (13.0, 18.0),
     (38.0, 5.0),
@@ -85,7 +85,7 @@ pub const KNEE_FLEXION: KeyEvents = &[
     (100.0, 5.0),
 ];
 /// Ankle dorsiflexion, degrees.
-pub const ANKLE_DORSIFLEXION: KeyEvents = &[
+pub(crate) const ANKLE_DORSIFLEXION: KeyEvents = &[
     (0.0, 0.0),
     (10.0, -5.0),
     (30.0, 5.0),
@@ -96,7 +96,7 @@ pub const ANKLE_DORSIFLEXION: KeyEvents = &[
     (100.0, 0.0),
 ];
 /// Pelvis rotation (right side forward > 0), degrees.
-pub const PELVIS_ROTATION: KeyEvents = &[
+pub(crate) const PELVIS_ROTATION: KeyEvents = &[
     (0.0, 5.0),
     (25.0, 0.0),
     (50.0, -5.0),
@@ -104,7 +104,7 @@ pub const PELVIS_ROTATION: KeyEvents = &[
     (100.0, 5.0),
 ];
 /// Pelvic obliquity as OpenSim `pelvis_list` (right side down > 0), degrees.
-pub const PELVIS_LIST: KeyEvents = &[
+pub(crate) const PELVIS_LIST: KeyEvents = &[
     (0.0, 0.0),
     (15.0, -4.0),
     (35.0, -2.0),
@@ -226,7 +226,7 @@ impl BuiltinSpec {
 
 /// A truncated Fourier series `a0 + Σ (a_k cos kθ + b_k sin kθ)`, θ = 2π · percent / 100.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Harmonics {
+pub(crate) struct Harmonics {
     /// Mean value.
     pub a0: f64,
     /// Cosine coefficients for k = 1..=HARMONICS.

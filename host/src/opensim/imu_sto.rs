@@ -127,12 +127,12 @@ impl OrientationReader {
     }
 
     /// Where the column labels are (`file:line`), for messages.
-    pub fn labels_location(&self) -> String {
+    pub(crate) fn labels_location(&self) -> String {
         self.reader.header().labels_location()
     }
 
     /// Warnings so far (each returned once).
-    pub fn take_warnings(&mut self) -> Vec<Warning> {
+    pub(crate) fn take_warnings(&mut self) -> Vec<Warning> {
         let mut w = std::mem::take(&mut self.warnings);
         w.extend(self.reader.take_warnings());
         w

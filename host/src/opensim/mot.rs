@@ -170,7 +170,7 @@ pub struct Header {
 impl Header {
     /// Where the column labels are, for messages: `file:line`, or just the source for a
     /// generated table.
-    pub fn labels_location(&self) -> String {
+    pub(crate) fn labels_location(&self) -> String {
         match self.labels_line {
             Some(line) => format!("{}:{line}", self.source),
             None => self.source.clone(),
@@ -178,17 +178,17 @@ impl Header {
     }
 
     /// The index of the first column labelled `label`.
-    pub fn index_of(&self, label: &str) -> Option<usize> {
+    pub(crate) fn index_of(&self, label: &str) -> Option<usize> {
         self.labels.iter().position(|l| l == label)
     }
 
     /// Whether `label` names more than one column.
-    pub fn is_duplicated(&self, label: &str) -> bool {
+    pub(crate) fn is_duplicated(&self, label: &str) -> bool {
         self.labels.iter().filter(|l| *l == label).count() > 1
     }
 
     /// The number of rows the header declares (`nRows`, `datarows`), if it does.
-    pub fn declared_rows(&self) -> Option<usize> {
+    pub(crate) fn declared_rows(&self) -> Option<usize> {
         self.declared_rows.map(|(n, _)| n)
     }
 }
@@ -274,12 +274,12 @@ impl<R: BufRead> MotionReader<R> {
     }
 
     /// The header's `DataType=` value (`double`, `Quaternion`, ...), if it has one.
-    pub fn data_type(&self) -> Option<&str> {
+    pub(crate) fn data_type(&self) -> Option<&str> {
         self.data_type.as_deref()
     }
 
     /// Warnings so far (taken: each is returned once).
-    pub fn take_warnings(&mut self) -> Vec<Warning> {
+    pub(crate) fn take_warnings(&mut self) -> Vec<Warning> {
         std::mem::take(&mut self.warnings)
     }
 
@@ -487,7 +487,7 @@ impl<R: BufRead> MotionReader<R> {
     /// The next non-empty line after the column labels, as text, with its 1-based line number
     /// (for tables whose cells are not single numbers, such as the quaternion cells of an
     /// orientation `.sto`); `None` at the end of the input. [`tokens`] splits it into cells.
-    pub fn next_text_line(&mut self) -> Result<Option<(usize, String)>, MotError> {
+    pub(crate) fn next_text_line(&mut self) -> Result<Option<(usize, String)>, MotError> {
         loop {
             match self.next_line()? {
                 None => return Ok(None),
@@ -746,7 +746,7 @@ impl MotionTable {
 
     /// Writes the table as a `.mot` file (`nRows=` header style, tab separated, values printed
     /// with the shortest representation that reads back to the same `f64`).
-    pub fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {
+    pub(crate) fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {
         write_mot_header(
             &mut w,
             &self.header.name,
@@ -812,13 +812,13 @@ impl MotionTable {
     }
 
     /// The first value of column `c` that is not a finite number, if any.
-    pub fn non_finite(&self, c: usize) -> Option<&NonFinite> {
+    pub(crate) fn non_finite(&self, c: usize) -> Option<&NonFinite> {
         self.non_finite[c].as_ref()
     }
 
     /// Percent of the cycle of every row: time normalised from the first row (0 %) to the last
     /// (100 %). Each motion is taken to be one gait cycle.
-    pub fn percent_of_cycle(&self) -> Vec<f64> {
+    pub(crate) fn percent_of_cycle(&self) -> Vec<f64> {
         let t = self.time();
         let (t0, t1) = (t[0], t[t.len() - 1]);
         if t1 > t0 {
@@ -832,7 +832,7 @@ impl MotionTable {
 /// Writes a `.mot` header (name, `version=1`, `nRows=` when `rows` is known, `nColumns=`,
 /// `inDegrees=`, `endheader`) and the column labels: [`MotionTable::write_mot`], or a writer
 /// that streams its rows with [`write_mot_row`] (no `nRows=`: the reader counts the rows).
-pub fn write_mot_header<W: Write>(
+pub(crate) fn write_mot_header<W: Write>(
     mut w: W,
     name: &str,
     labels: &[String],
@@ -855,7 +855,7 @@ pub fn write_mot_header<W: Write>(
 
 /// Writes one `.mot` row: tab separated, each value with the shortest representation that
 /// reads back to the same `f64`.
-pub fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()> {
+pub(crate) fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()> {
     for (c, v) in values.iter().enumerate() {
         if c > 0 {
             w.write_all(b"\t")?;
@@ -866,7 +866,7 @@ pub fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()> {
 }
 
 /// Whitespace-separated tokens (a row's cells) with their byte offsets.
-pub fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
+pub(crate) fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
     let mut rest = line.char_indices().peekable();
     std::iter::from_fn(move || {
         while rest.next_if(|(_, c)| c.is_whitespace()).is_some() {}

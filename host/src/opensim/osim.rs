@@ -88,7 +88,7 @@ pub struct Imported {
 }
 
 /// The generic toe tip in `toes_r` (left: z negated).
-pub const GENERIC_TOETIP_RIGHT: [f64; 3] = [0.0812, 0.007, -0.00108];
+pub(crate) const GENERIC_TOETIP_RIGHT: [f64; 3] = [0.0812, 0.007, -0.00108];
 
 /// Imports `text` (an `.osim` file named `source` in messages); `markers` is an optional
 /// marker file (text and name) holding `R.Toe.Tip`/`L.Toe.Tip`.
