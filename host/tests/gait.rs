@@ -710,3 +710,70 @@ fn device_frames_give_events_and_spatiotemporal_parameters() {
     assert!(html.contains("no joint angles"));
     assert_eq!(html.matches("<svg").count(), 1);
 }
+
+/// The marker positions in `Rajagopal2016.osim` (`name` -> location in its body) of the
+/// pelvis markers.
+fn pelvis_markers(osim: &str) -> HashMap<String, [f64; 3]> {
+    let mut out = HashMap::new();
+    for part in osim.split("<Marker name=\"").skip(1) {
+        let name = part.split('"').next().unwrap().to_string();
+        let body = part.split("</Marker>").next().unwrap();
+        if !body.contains("/bodyset/pelvis<") {
+            continue;
+        }
+        let loc = body
+            .split("<location>")
+            .nth(1)
+            .unwrap()
+            .split("</location>")
+            .next()
+            .unwrap();
+        let v: Vec<f64> = loc
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        out.insert(name, [v[0], v[1], v[2]]);
+    }
+    out
+}
+
+/// The CGM's pelvic tilt is gait2392's anterior tilt plus the angle of the PSIS-ASIS line in
+/// gait2392's pelvis frame: the constants are the model's markers, and the tilt curve of the
+/// tutorial's normal walk is `-pelvis_tilt` + 5.87° (its list and rotation are small, so the
+/// offset adds nearly exactly).
+#[test]
+fn pelvic_tilt_is_measured_along_the_asis_psis_line() {
+    let Some(shared) = shared_dir() else { return };
+    let data = shared.join("data/opensim");
+    let osim = std::fs::read_to_string(data.join("Rajagopal2016.osim")).unwrap();
+    let m = pelvis_markers(&osim);
+    let mid = |a: &str, b: &str| [0, 1].map(|k| (m[a][k] + m[b][k]) / 2.0);
+    assert_eq!(mid("RASI", "LASI"), qgait::gait::angles::MID_ASIS);
+    assert_eq!(mid("RPSI", "LPSI"), qgait::gait::angles::MID_PSIS);
+    let (asis, psis) = (mid("RASI", "LASI"), mid("RPSI", "LPSI"));
+    let offset = (psis[1] - asis[1]).atan2(asis[0] - psis[0]).to_degrees();
+    assert!((offset - 5.87).abs() < 0.01, "{offset}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("normal");
+    run_gait(&[
+        data.join("normal.mot").to_str().unwrap(),
+        "-q",
+        "--cycle",
+        "whole",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let normal = read_mot(&data.join("normal.mot"));
+    let tilt = at_51(&normal.col("time"), &normal.col("pelvis_tilt"));
+    let cycles = read_csv(&out.join("cycles/right.csv"));
+    for (k, want) in tilt.iter().enumerate() {
+        let got: f64 = cycles[2 * k]["pelvic_tilt_mean"].parse().unwrap();
+        assert!(
+            (got - (-want + offset)).abs() < 0.3,
+            "at {} %: pelvic tilt {got}°, expected {}°",
+            2 * k,
+            -want + offset
+        );
+    }
+}
