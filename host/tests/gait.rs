@@ -740,7 +740,8 @@ fn pelvis_markers(osim: &str) -> HashMap<String, [f64; 3]> {
 /// The CGM's pelvic tilt is gait2392's anterior tilt plus the angle of the PSIS-ASIS line in
 /// gait2392's pelvis frame: the constants are the model's markers, and the tilt curve of the
 /// tutorial's normal walk is `-pelvis_tilt` + 5.87° (its list and rotation are small, so the
-/// offset adds nearly exactly).
+/// offset adds nearly exactly). Hip flexion, relative to that pelvis, gains the same angle
+/// exactly.
 #[test]
 fn pelvic_tilt_is_measured_along_the_asis_psis_line() {
     let Some(shared) = shared_dir() else { return };
@@ -766,7 +767,17 @@ fn pelvic_tilt_is_measured_along_the_asis_psis_line() {
     ]);
     let normal = read_mot(&data.join("normal.mot"));
     let tilt = at_51(&normal.col("time"), &normal.col("pelvis_tilt"));
+    let hip = at_51(&normal.col("time"), &normal.col("hip_flexion_r"));
     let cycles = read_csv(&out.join("cycles/right.csv"));
+    for (k, want) in hip.iter().enumerate() {
+        let got: f64 = cycles[2 * k]["hip_flexion_mean"].parse().unwrap();
+        assert!(
+            (got - (want + offset)).abs() < 1e-3,
+            "at {} %: hip flexion {got}°, expected {}°",
+            2 * k,
+            want + offset
+        );
+    }
     for (k, want) in tilt.iter().enumerate() {
         let got: f64 = cycles[2 * k]["pelvic_tilt_mean"].parse().unwrap();
         assert!(

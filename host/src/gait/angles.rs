@@ -9,7 +9,9 @@
 //!   obliquity positive with the side up (`-list` right, `+list` left), rotation positive with
 //!   the side forward (`+rotation` right, `-rotation` left).
 //! - Hip flexion, adduction (the GPS's "hip abduction" variable, adduction positive as the
-//!   CGM) and internal rotation: gait2392's `hip_*` as they are.
+//!   CGM) and internal rotation: gait2392's `hip_*`, relative to the CGM's pelvis frame: the
+//!   flexion (the first rotation, about the same lateral axis) plus [`pelvis_tilt_offset`],
+//!   exactly; adduction and rotation as they are.
 //! - Knee flexion: `-knee_angle`. Ankle dorsiflexion: `ankle_angle`.
 //! - Foot progression: from the FK, the foot's long axis (heel to MTP joint: gait2392's
 //!   calcaneus origin to its MTP centre, nearly horizontal standing) in the horizontal plane
@@ -161,6 +163,7 @@ pub fn angles(trial: &Trial, forward: &[Vec3<f64>]) -> Option<[[Vec<f64>; 9]; 2]
             .map(f64::to_degrees)
         })
         .collect();
+    let offset = pelvis_tilt_offset().to_degrees();
     let mut out: [[Vec<f64>; 9]; 2] = Default::default();
     for (s, side) in Side::ALL.into_iter().enumerate() {
         let sign = if s == 0 { 1.0 } else { -1.0 };
@@ -179,7 +182,7 @@ pub fn angles(trial: &Trial, forward: &[Vec3<f64>]) -> Option<[[Vec<f64>; 9]; 2]
                     Variable::PelvicTilt => -pelvis[f][0],
                     Variable::PelvicObliquity => -sign * pelvis[f][1],
                     Variable::PelvicRotation => sign * pelvis[f][2],
-                    Variable::HipFlexion => q[f][hf].to_degrees(),
+                    Variable::HipFlexion => q[f][hf].to_degrees() + offset,
                     Variable::HipAbduction => q[f][ha].to_degrees(),
                     Variable::HipRotation => q[f][hr].to_degrees(),
                     Variable::KneeFlexion => -q[f][knee].to_degrees(),
