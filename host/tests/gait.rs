@@ -788,3 +788,59 @@ fn pelvic_tilt_is_measured_along_the_asis_psis_line() {
         );
     }
 }
+
+/// The normative speed group follows the cadence: the tutorial's normal cycle slowed down or
+/// sped up lands in the group whose cadence range (adults' slow, normal and fast paces in
+/// `stp_normals.txt`: very slow below 84.2 steps/min, slow to 103.3, free to 122.5, fast to
+/// 144.4) holds it, whatever its (estimated) speed; `normative:SPEED` overrides it.
+#[test]
+fn the_normative_speed_group_follows_the_cadence() {
+    let Some(shared) = shared_dir() else { return };
+    let normal = read_mot(&shared.join("data/opensim/normal.mot"));
+    let dir = tempfile::tempdir().unwrap();
+    let t = normal.labels.iter().position(|l| l == "time").unwrap();
+    for (cadence, group, forced) in [
+        (70.0, "VerySlow", None),
+        (95.0, "Slow", None),
+        (112.0, "Free", None),
+        (136.0, "Fast", None),
+        (170.0, "VeryFast", None),
+        (136.0, "Slow", Some("normative:slow")),
+    ] {
+        // One stride (two steps) lasts 120 / cadence s.
+        let scale = 120.0 / cadence;
+        let mut m = Mot {
+            labels: normal.labels.clone(),
+            rows: normal.rows.clone(),
+        };
+        for r in &mut m.rows {
+            r[t] *= scale;
+        }
+        let path = dir.path().join(format!("walk-{cadence}.mot"));
+        m.write(&path);
+        let out = dir.path().join(format!("out-{cadence}-{}", forced.is_some()));
+        let mut args = vec![
+            path.to_str().unwrap(),
+            "-q",
+            "--cycle",
+            "whole",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if let Some(f) = forced {
+            args.extend(["--reference", f]);
+        }
+        run_gait(&args);
+        assert!((param(&out, "cadence", "both") - cadence).abs() < 1e-6);
+        let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+        assert!(
+            html.contains(&format!("Schwartz et al. 2008, {group} speed")),
+            "cadence {cadence}: not {group}"
+        );
+        assert_eq!(
+            html.contains("normative speed group"),
+            forced.is_none(),
+            "cadence {cadence}"
+        );
+    }
+}

@@ -28,8 +28,9 @@ pub struct GaitArgs {
     /// recording is one gait cycle (single-cycle files). Applies to a reference motion too.
     #[arg(long, value_enum, default_value_t = CycleArg::Auto)]
     pub cycle: CycleArg,
-    /// `normative` (Schwartz et al. 2008 at the speed group of the measured non-dimensional
-    /// speed), `normative:SPEED` (very-slow, slow, free, fast, very-fast), or another
+    /// `normative` (Schwartz et al. 2008 at the speed group of the measured cadence, against
+    /// the slow, normal and fast cadence of `stp_normals.txt` for --age and --sex, adults'
+    /// without), `normative:SPEED` (very-slow, slow, free, fast, very-fast), or another
     /// recording (e.g. the same patient's earlier visit).
     #[arg(
         long,

@@ -58,18 +58,58 @@ impl Speed {
             .find(|v| v.key().to_ascii_lowercase() == k)
     }
 
-    /// The speed group of a non-dimensional walking speed `v / sqrt(g L)` (L the leg length).
-    /// Schwartz et al. grouped their strides by non-dimensional speed around the free speed's
-    /// mean (0.43) ± 1 and 3 SD (0.068): below 0.227 very slow, then slow up to 0.363, free up
-    /// to 0.500, fast up to 0.636, very fast above.
-    pub fn of_dimensionless(v: f64) -> Speed {
-        match v {
-            v if v < 0.227 => Speed::VerySlow,
-            v if v < 0.363 => Speed::Slow,
-            v if v < 0.500 => Speed::Free,
-            v if v < 0.636 => Speed::Fast,
-            _ => Speed::VeryFast,
+    /// The name in reports (`very slow`, ..., `very fast`).
+    pub fn words(self) -> &'static str {
+        match self {
+            Speed::VerySlow => "very slow",
+            Speed::Slow => "slow",
+            Speed::Free => "free",
+            Speed::Fast => "fast",
+            Speed::VeryFast => "very fast",
         }
+    }
+}
+
+/// The cadence edges (steps/min) between Schwartz et al.'s five speed groups for one subject,
+/// derived from the normal cadence ranges (mean ± 1 SD) of `stp_normals.txt`'s slow, normal and
+/// fast paces: very slow below the slow range, slow up to halfway between the slow and normal
+/// means, free up to halfway between the normal and fast means, fast up to the top of the fast
+/// range, very fast above.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CadenceGroups {
+    /// The four edges, slowest first.
+    pub edges: [f64; 4],
+    /// Whose ranges they come from (e.g. `adults 18-69, male or female`).
+    pub from: String,
+}
+
+impl CadenceGroups {
+    /// The edges from the mean and SD of the slow, normal and fast paces' cadence.
+    pub fn from_paces(slow: (f64, f64), normal: (f64, f64), fast: (f64, f64), from: String) -> Self {
+        Self {
+            edges: [
+                slow.0 - slow.1,
+                (slow.0 + normal.0) / 2.0,
+                (normal.0 + fast.0) / 2.0,
+                fast.0 + fast.1,
+            ],
+            from,
+        }
+    }
+
+    /// The speed group of a cadence (steps/min).
+    pub fn group(&self, cadence: f64) -> Speed {
+        let k = self.edges.iter().filter(|e| cadence >= **e).count();
+        Speed::ALL[k]
+    }
+
+    /// The cadence range of a group (`None` for an open end).
+    pub fn range(&self, speed: Speed) -> (Option<f64>, Option<f64>) {
+        let k = Speed::ALL.iter().position(|s| *s == speed).unwrap_or(0);
+        (
+            k.checked_sub(1).map(|i| self.edges[i]),
+            self.edges.get(k).copied(),
+        )
     }
 }
 
@@ -365,6 +405,57 @@ impl StpNormals {
             .collect();
         Some((pace, ranges))
     }
+
+    /// The cadence edges of Schwartz et al.'s speed groups ([`CadenceGroups`]) for a subject of
+    /// `age` years (`None`: an adult) and `male` (`None`: either): the mean over the rows of that
+    /// age and sex of each pace's range centre and half-width. Ages whose rows lack the slow or
+    /// fast pace (under 5, 14 to 17, 70 and over), and a missing age, use the adults' rows (18
+    /// to 69). `None` when the file has no cadence column or no such rows.
+    pub fn cadence_groups(&self, age: Option<f64>, male: Option<bool>) -> Option<CadenceGroups> {
+        let cadence = self.columns[1]?;
+        let paces = |lo: f64, hi: f64| -> Option<[(f64, f64); 3]> {
+            let mut out = [(0.0, 0.0); 3];
+            for (k, pace) in ["Slow", "Normal", "Fast"].iter().enumerate() {
+                let found: Vec<(f64, f64)> = self
+                    .rows
+                    .iter()
+                    .filter(|r| male.is_none_or(|m| r.male == m))
+                    .filter(|r| r.pace == *pace && r.age.0 >= lo && r.age.1 < hi + 1.0)
+                    .filter_map(|r| r.ranges.get(cadence).copied().flatten())
+                    .collect();
+                if found.is_empty() {
+                    return None;
+                }
+                let n = found.len() as f64;
+                out[k] = (
+                    found.iter().map(|(a, b)| (a + b) / 2.0).sum::<f64>() / n,
+                    found.iter().map(|(a, b)| (b - a) / 2.0).sum::<f64>() / n,
+                );
+            }
+            Some(out)
+        };
+        let sex = match male {
+            Some(true) => "male",
+            Some(false) => "female",
+            None => "male or female",
+        };
+        let own = age.and_then(|a| {
+            // The rows holding this age: from the first row's start to the last row's end.
+            let holding = |r: &&StpRow| a >= r.age.0 && a < r.age.1 + 1.0;
+            let r = self.rows.iter().find(holding)?;
+            let ages = if r.age.0 == r.age.1 {
+                format!("{}", r.age.0)
+            } else {
+                format!("{}-{}", r.age.0, r.age.1)
+            };
+            paces(r.age.0, r.age.1).map(|p| (p, format!("{sex}, {ages} years")))
+        });
+        let ([slow, normal, fast], from) = match own {
+            Some(o) => o,
+            None => (paces(18.0, 69.0)?, format!("adults 18-69 years, {sex}")),
+        };
+        Some(CadenceGroups::from_paces(slow, normal, fast, from))
+    }
 }
 
 #[cfg(test)]
@@ -376,9 +467,16 @@ mod tests {
         assert_eq!(Speed::parse("very-slow"), Some(Speed::VerySlow));
         assert_eq!(Speed::parse("Free"), Some(Speed::Free));
         assert_eq!(Speed::parse("medium"), None);
-        assert_eq!(Speed::of_dimensionless(0.43), Speed::Free);
-        assert_eq!(Speed::of_dimensionless(0.2), Speed::VerySlow);
-        assert_eq!(Speed::of_dimensionless(0.7), Speed::VeryFast);
+        let g = CadenceGroups::from_paces((90.0, 5.0), (110.0, 6.0), (130.0, 8.0), "x".into());
+        assert_eq!(g.edges, [85.0, 100.0, 120.0, 138.0]);
+        assert_eq!(g.group(84.9), Speed::VerySlow);
+        assert_eq!(g.group(85.0), Speed::Slow);
+        assert_eq!(g.group(110.0), Speed::Free);
+        assert_eq!(g.group(125.0), Speed::Fast);
+        assert_eq!(g.group(150.0), Speed::VeryFast);
+        assert_eq!(g.range(Speed::VerySlow), (None, Some(85.0)));
+        assert_eq!(g.range(Speed::Free), (Some(100.0), Some(120.0)));
+        assert_eq!(g.range(Speed::VeryFast), (Some(138.0), None));
     }
 
     #[test]
@@ -399,6 +497,35 @@ mod tests {
         assert!(k.band("HipAngles", "X").unwrap().is_none());
         let e = Kinematics::parse("{", "n.json", Speed::Free).err().unwrap();
         assert!(e.to_string().starts_with("n.json:1:"), "{e}");
+    }
+
+    #[test]
+    fn cadence_groups_come_from_the_paces_of_the_age() {
+        let text = "Gender;Age (min);Age (max);Pace;Velocity (cm./sec.);;Cadence (steps/min.);;\n\
+;;;;min;max;min;max\n\
+Male;8;8;Slow;85;119.999;110;124;\n\
+Male;8;8;Normal;120;149.999;119;143;\n\
+Male;8;8;Fast;150;195;136;170;\n\
+Male;14;17;Normal;113;133;107;121;\n\
+Male;18;29;Slow;85;119.999;86;100;\n\
+Male;18;29;Normal;120;164.999;99;113;\n\
+Male;18;29;Fast;165;220;118;142;\n\
+Female;18;29;Slow;85;119.999;88;110;\n\
+Female;18;29;Normal;120;164.999;107;125;\n\
+Female;18;29;Fast;165;225;129;157;\n";
+        let n = StpNormals::parse(text, "s.txt").unwrap();
+        // An 8-year-old: slow 117 ± 7, normal 131 ± 12, fast 153 ± 17.
+        let g = n.cadence_groups(Some(8.0), None).unwrap();
+        assert_eq!(g.edges, [110.0, 124.0, 142.0, 170.0]);
+        assert_eq!(g.from, "male or female, 8 years");
+        // 16 has no slow or fast pace: the adults'; men alone, then both sexes averaged.
+        let g = n.cadence_groups(Some(16.0), Some(true)).unwrap();
+        assert_eq!(g.edges, [86.0, 99.5, 118.0, 142.0]);
+        assert!(g.from.starts_with("adults"), "{}", g.from);
+        let g = n.cadence_groups(None, None).unwrap();
+        assert_eq!(g.edges, [87.0, 103.5, 123.75, 149.5]);
+        assert_eq!(g.group(87.7), Speed::Slow);
+        assert_eq!(g.group(120.0), Speed::Free);
     }
 
     #[test]

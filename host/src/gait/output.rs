@@ -70,6 +70,8 @@ pub struct Report {
     pub scores: Option<Scores>,
     /// Non-dimensional walking speed and leg length (m), when known.
     pub dimensionless_speed: Option<(f64, f64)>,
+    /// How the normative speed group was chosen from the cadence, when it was.
+    pub speed_choice: Option<String>,
 }
 
 /// Subject details for the normal ranges.
@@ -108,9 +110,14 @@ pub fn build(
     };
     // Normal ranges.
     let mut ranges_for = None;
-    if let Some(age) = subject.age {
-        let path = normative_dir.join("stp_normals.txt");
-        let normals = StpNormals::read(&path)?;
+    let stp_path = normative_dir.join("stp_normals.txt");
+    let needs_groups = matches!(reference, ReferenceArg::Normative(None));
+    let normals = if subject.age.is_some() || needs_groups {
+        Some(StpNormals::read(&stp_path)?)
+    } else {
+        None
+    };
+    if let (Some(age), Some(normals)) = (subject.age, &normals) {
         if let Some((pace, ranges)) = normals.ranges(age, subject.male, speed) {
             for p in parameters.iter_mut() {
                 if let Some(k) = STP_COLUMNS.iter().position(|c| c.0 == p.name) {
@@ -124,15 +131,36 @@ pub fn build(
             };
             ranges_for = Some(format!(
                 "{sex}, {age} years, pace `{pace}` ({})",
-                path.display()
+                stp_path.display()
             ));
         }
     }
+    // The normative speed group from the cadence.
+    let cadence = spatiotemporal::value(&parameters, "cadence", "both");
+    let mut speed_choice = None;
+    let chosen = match (needs_groups, cadence, &normals) {
+        (true, Some(c), Some(n)) => n.cadence_groups(subject.age, subject.male).map(|g| {
+            let speed = g.group(c);
+            let range = match g.range(speed) {
+                (None, Some(hi)) => format!("below {}", round(hi, 1)),
+                (Some(lo), None) => format!("from {}", round(lo, 1)),
+                (Some(lo), Some(hi)) => format!("{} to {}", round(lo, 1), round(hi, 1)),
+                (None, None) => String::new(),
+            };
+            speed_choice = Some(format!(
+                "{}: cadence {} steps/min, in its range {range} steps/min (from the slow, normal and fast cadence of {}, {})",
+                speed.words(),
+                round(c, 1),
+                g.from,
+                stp_path.display()
+            ));
+            speed
+        }),
+        _ => None,
+    };
     let reference = match (reference, reference_walks) {
         (ReferenceArg::Normative(speed), _) => {
-            let speed = speed.unwrap_or_else(|| {
-                dimensionless_speed.map_or(Speed::Free, |(v, _)| Speed::of_dimensionless(v))
-            });
+            let speed = speed.or(chosen).unwrap_or(Speed::Free);
             normative_reference(&normative_dir.join("Schwartz2008.json"), speed)?
         }
         (ReferenceArg::Motion(m), Some(rw)) => {
@@ -175,6 +203,7 @@ pub fn build(
         reference,
         scores,
         dimensionless_speed,
+        speed_choice,
     })
 }
 
