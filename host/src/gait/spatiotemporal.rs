@@ -9,7 +9,9 @@
 //! displacement over the stride where the motion has `pelvis_tx`/`pelvis_tz`, else the sum of
 //! the two sides' mean step lengths (the FK positions are relative to the pelvis, and at heel
 //! strike both feet are down). Speed: stride length over stride time. Each is the mean over
-//! the side's strides; `both` is over all strides.
+//! the side's strides; `both` is over all strides, except the step width's, the mean of the
+//! two sides' (a direction of progression a few degrees off the feet's path widens one side's
+//! steps and narrows the other's by the same amount, to first order).
 
 use qgait_kernel::Vec3;
 
@@ -63,6 +65,7 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
         }
     };
     let mut step_length = [None; 2];
+    let mut step_width = [None; 2];
     let mut stride_time = [None; 2];
     let mut displacement = [None; 2];
     let mut all_durations = Vec::new();
@@ -139,12 +142,13 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             "m",
             "heels at heel strike",
         );
+        step_width[s] = mean(&collect(&|t, d, c| Some(at_strike(t, d, c).1)));
         push(
             "step_width",
             side,
-            mean(&collect(&|t, d, c| Some(at_strike(t, d, c).1))),
+            step_width[s],
             "m",
-            "heels at heel strike",
+            "heels at heel strike, across the direction the pelvis faces",
         );
     }
     // Stride length and speed per side, then both.
@@ -164,6 +168,15 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             lengths.push((l, note));
         }
     }
+    if let [Some(r), Some(l)] = step_width {
+        push(
+            "step_width",
+            "both",
+            Some((r + l) / 2.0),
+            "m",
+            "the mean of the two sides",
+        );
+    }
     let t = mean(&all_durations);
     push("cadence", "both", t.map(|t| 120.0 / t), "steps/min", "");
     push("stride_time", "both", t, "s", "");
@@ -181,4 +194,56 @@ pub fn value(params: &[Parameter], name: &str, side: &str) -> Option<f64> {
         .iter()
         .find(|p| p.name == name && p.side == side)
         .map(|p| p.value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gait::trial::Limb;
+
+    /// Feet 0.6 m apart along the walk and 0.15 m across it at each heel strike, seen along a
+    /// direction of progression turned 8° off the walk: each side's width moves by the step
+    /// length times sin 8°, one up, one down; their mean is the width times cos 8°.
+    #[test]
+    fn a_heading_offset_cancels_in_the_mean_step_width() {
+        let (len, width, off) = (0.6, 0.15, 8f64.to_radians());
+        let heel = |x: f64, z: f64| Limb {
+            heel: Vec3::new(x, 0.0, z),
+            ..Limb::default()
+        };
+        // Frame 0: right heel strike (right ahead); frame 1: left heel strike (left ahead).
+        let frames = vec![
+            [heel(len / 2.0, width / 2.0), heel(-len / 2.0, -width / 2.0)],
+            [heel(-len / 2.0, width / 2.0), heel(len / 2.0, -width / 2.0)],
+        ];
+        let trial = Trial {
+            label: "t".into(),
+            source: "t".into(),
+            time: vec![0.0, 0.5],
+            frames,
+            coordinates: None,
+            translation: None,
+        };
+        let forward = vec![Vec3::new(off.cos(), 0.0, off.sin()); 2];
+        let cycle = |side: usize, frame: usize| Cycle {
+            side,
+            start: 0.0,
+            duration: 1.0,
+            strike_frame: frame,
+            samples: Vec::new(),
+            toe_off: None,
+            opposite_strike: None,
+            opposite_toe_off: None,
+            span: (frame, frame),
+        };
+        let cycles = [vec![cycle(0, 0)], vec![cycle(1, 1)]];
+        let p = parameters(&[(&trial, &forward, &cycles)]);
+        let r = value(&p, "step_width", "right").unwrap();
+        let l = value(&p, "step_width", "left").unwrap();
+        let shift = len * off.sin();
+        assert!((r - (width * off.cos() - shift).abs()).abs() < 1e-12, "{r}");
+        assert!((l - (width * off.cos() + shift)).abs() < 1e-12, "{l}");
+        let both = value(&p, "step_width", "both").unwrap();
+        assert!((both - width * off.cos()).abs() < 1e-12, "{both}");
+    }
 }
