@@ -108,6 +108,12 @@ fn run_gait(args: &[&str]) {
     assert!(o.status.success(), "qgait gait {args:?}: {}", stderr(&o));
 }
 
+/// `qgait gait MOTION -q --cycle whole -o OUT` with `extra` arguments.
+fn gait_whole(motion: &Path, out: &Path, extra: &[&str]) {
+    let (m, o) = (motion.to_str().unwrap(), out.to_str().unwrap());
+    run_gait(&[&[m, "-q", "--cycle", "whole", "-o", o], extra].concat());
+}
+
 /// `value` of a single-cycle motion at `phase` (0..1) of its duration, linear between rows, the
 /// last row being the next cycle's first.
 fn periodic(time: &[f64], value: &[f64], phase: f64) -> f64 {
@@ -754,14 +760,7 @@ fn pelvic_tilt_is_measured_along_the_asis_psis_line() {
 
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("normal");
-    run_gait(&[
-        data.join("normal.mot").to_str().unwrap(),
-        "-q",
-        "--cycle",
-        "whole",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    gait_whole(&data.join("normal.mot"), &out, &[]);
     let normal = read_mot(&data.join("normal.mot"));
     let tilt = at_51(&normal.col("time"), &normal.col("pelvis_tilt"));
     let hip = at_51(&normal.col("time"), &normal.col("hip_flexion_r"));
@@ -818,18 +817,8 @@ fn the_normative_speed_group_follows_the_cadence() {
         let out = dir
             .path()
             .join(format!("out-{cadence}-{}", forced.is_some()));
-        let mut args = vec![
-            path.to_str().unwrap(),
-            "-q",
-            "--cycle",
-            "whole",
-            "-o",
-            out.to_str().unwrap(),
-        ];
-        if let Some(f) = forced {
-            args.extend(["--reference", f]);
-        }
-        run_gait(&args);
+        let extra: Vec<&str> = forced.iter().flat_map(|f| ["--reference", f]).collect();
+        gait_whole(&path, &out, &extra);
         assert!((param(&out, "cadence", "both") - cadence).abs() < 1e-6);
         let html = std::fs::read_to_string(out.join("report.html")).unwrap();
         assert!(
