@@ -346,6 +346,19 @@ fn imu_recording_strides_and_cadence() {
         "stride time {stride} s vs the knee's period {knee_period} s"
     );
     assert!((cadence - 120.0 / stride).abs() < 0.01);
+    // Both steps are measured between the same two feet, along the path the feet take (not
+    // the direction the pelvis faces, which the IMU solution has about 9° off it): the two
+    // sides' widths and lengths agree.
+    let [wr, wl] = ["right", "left"].map(|s| param(&out, "step_width", s));
+    let [lr, ll] = ["right", "left"].map(|s| param(&out, "step_length", s));
+    assert!(
+        (wr - wl).abs() < 0.02,
+        "step widths {wr} m right, {wl} m left"
+    );
+    assert!(
+        (lr - ll).abs() < 0.04,
+        "step lengths {lr} m right, {ll} m left"
+    );
     println!("IMU walk: stride time {stride} s, cadence {cadence} steps/min, knee period {knee_period} s");
 }
 
