@@ -108,6 +108,12 @@ fn run_gait(args: &[&str]) {
     assert!(o.status.success(), "qgait gait {args:?}: {}", stderr(&o));
 }
 
+/// `qgait gait MOTION -q --cycle whole -o OUT` with `extra` arguments.
+fn gait_whole(motion: &Path, out: &Path, extra: &[&str]) {
+    let (m, o) = (motion.to_str().unwrap(), out.to_str().unwrap());
+    run_gait(&[&[m, "-q", "--cycle", "whole", "-o", o], extra].concat());
+}
+
 /// `value` of a single-cycle motion at `phase` (0..1) of its duration, linear between rows, the
 /// last row being the next cycle's first.
 fn periodic(time: &[f64], value: &[f64], phase: f64) -> f64 {
@@ -340,6 +346,19 @@ fn imu_recording_strides_and_cadence() {
         "stride time {stride} s vs the knee's period {knee_period} s"
     );
     assert!((cadence - 120.0 / stride).abs() < 0.01);
+    // Both steps are measured between the same two feet, along the path the feet take (not
+    // the direction the pelvis faces, which the IMU solution has about 9° off it): the two
+    // sides' widths and lengths agree.
+    let [wr, wl] = ["right", "left"].map(|s| param(&out, "step_width", s));
+    let [lr, ll] = ["right", "left"].map(|s| param(&out, "step_length", s));
+    assert!(
+        (wr - wl).abs() < 0.02,
+        "step widths {wr} m right, {wl} m left"
+    );
+    assert!(
+        (lr - ll).abs() < 0.04,
+        "step lengths {lr} m right, {ll} m left"
+    );
     println!("IMU walk: stride time {stride} s, cadence {cadence} steps/min, knee period {knee_period} s");
 }
 
@@ -709,4 +728,120 @@ fn device_frames_give_events_and_spatiotemporal_parameters() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("no joint angles"));
     assert_eq!(html.matches("<svg").count(), 1);
+}
+
+/// The marker positions in `Rajagopal2016.osim` (`name` -> location in its body) of the
+/// pelvis markers.
+fn pelvis_markers(osim: &str) -> HashMap<String, [f64; 3]> {
+    let mut out = HashMap::new();
+    for part in osim.split("<Marker name=\"").skip(1) {
+        let name = part.split('"').next().unwrap().to_string();
+        let body = part.split("</Marker>").next().unwrap();
+        if !body.contains("/bodyset/pelvis<") {
+            continue;
+        }
+        let loc = body
+            .split("<location>")
+            .nth(1)
+            .unwrap()
+            .split("</location>")
+            .next()
+            .unwrap();
+        let v: Vec<f64> = loc.split_whitespace().map(|x| x.parse().unwrap()).collect();
+        out.insert(name, [v[0], v[1], v[2]]);
+    }
+    out
+}
+
+/// The CGM's pelvic tilt is gait2392's anterior tilt plus the angle of the PSIS-ASIS line in
+/// gait2392's pelvis frame: the constants are the model's markers, and the tilt curve of the
+/// tutorial's normal walk is `-pelvis_tilt` + 5.87° (its list and rotation are small, so the
+/// offset adds nearly exactly). Hip flexion, relative to that pelvis, gains the same angle
+/// exactly.
+#[test]
+fn pelvic_tilt_is_measured_along_the_asis_psis_line() {
+    let Some(shared) = shared_dir() else { return };
+    let data = shared.join("data/opensim");
+    let osim = std::fs::read_to_string(data.join("Rajagopal2016.osim")).unwrap();
+    let m = pelvis_markers(&osim);
+    let mid = |a: &str, b: &str| [0, 1].map(|k| (m[a][k] + m[b][k]) / 2.0);
+    assert_eq!(mid("RASI", "LASI"), qgait::gait::angles::MID_ASIS);
+    assert_eq!(mid("RPSI", "LPSI"), qgait::gait::angles::MID_PSIS);
+    let (asis, psis) = (mid("RASI", "LASI"), mid("RPSI", "LPSI"));
+    let offset = (psis[1] - asis[1]).atan2(asis[0] - psis[0]).to_degrees();
+    assert!((offset - 5.87).abs() < 0.01, "{offset}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("normal");
+    gait_whole(&data.join("normal.mot"), &out, &[]);
+    let normal = read_mot(&data.join("normal.mot"));
+    let tilt = at_51(&normal.col("time"), &normal.col("pelvis_tilt"));
+    let hip = at_51(&normal.col("time"), &normal.col("hip_flexion_r"));
+    let cycles = read_csv(&out.join("cycles/right.csv"));
+    for (k, want) in hip.iter().enumerate() {
+        let got: f64 = cycles[2 * k]["hip_flexion_mean"].parse().unwrap();
+        assert!(
+            (got - (want + offset)).abs() < 1e-3,
+            "at {} %: hip flexion {got}°, expected {}°",
+            2 * k,
+            want + offset
+        );
+    }
+    for (k, want) in tilt.iter().enumerate() {
+        let got: f64 = cycles[2 * k]["pelvic_tilt_mean"].parse().unwrap();
+        assert!(
+            (got - (-want + offset)).abs() < 0.3,
+            "at {} %: pelvic tilt {got}°, expected {}°",
+            2 * k,
+            -want + offset
+        );
+    }
+}
+
+/// The normative speed group follows the cadence: the tutorial's normal cycle slowed down or
+/// sped up lands in the group whose cadence range (adults' slow, normal and fast paces in
+/// `stp_normals.txt`: very slow below 84.2 steps/min, slow to 103.3, free to 122.5, fast to
+/// 144.4) holds it, whatever its (estimated) speed; `normative:SPEED` overrides it.
+#[test]
+fn the_normative_speed_group_follows_the_cadence() {
+    let Some(shared) = shared_dir() else { return };
+    let normal = read_mot(&shared.join("data/opensim/normal.mot"));
+    let dir = tempfile::tempdir().unwrap();
+    let t = normal.labels.iter().position(|l| l == "time").unwrap();
+    for (cadence, group, forced) in [
+        (70.0, "VerySlow", None),
+        (95.0, "Slow", None),
+        (112.0, "Free", None),
+        (136.0, "Fast", None),
+        (170.0, "VeryFast", None),
+        (136.0, "Slow", Some("normative:slow")),
+    ] {
+        // One stride (two steps) lasts 120 / cadence s.
+        let scale = 120.0 / cadence;
+        let mut m = Mot {
+            labels: normal.labels.clone(),
+            rows: normal.rows.clone(),
+        };
+        for r in &mut m.rows {
+            r[t] *= scale;
+        }
+        let path = dir.path().join(format!("walk-{cadence}.mot"));
+        m.write(&path);
+        let out = dir
+            .path()
+            .join(format!("out-{cadence}-{}", forced.is_some()));
+        let extra: Vec<&str> = forced.iter().flat_map(|f| ["--reference", f]).collect();
+        gait_whole(&path, &out, &extra);
+        assert!((param(&out, "cadence", "both") - cadence).abs() < 1e-6);
+        let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+        assert!(
+            html.contains(&format!("Schwartz et al. 2008, {group} speed")),
+            "cadence {cadence}: not {group}"
+        );
+        assert_eq!(
+            html.contains("normative speed group"),
+            forced.is_none(),
+            "cadence {cadence}"
+        );
+    }
 }

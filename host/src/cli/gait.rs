@@ -28,8 +28,9 @@ pub struct GaitArgs {
     /// recording is one gait cycle (single-cycle files). Applies to a reference motion too.
     #[arg(long, value_enum, default_value_t = CycleArg::Auto)]
     pub cycle: CycleArg,
-    /// `normative` (Schwartz et al. 2008 at the speed group of the measured non-dimensional
-    /// speed), `normative:SPEED` (very-slow, slow, free, fast, very-fast), or another
+    /// `normative` (Schwartz et al. 2008 at the speed group of the measured cadence, against
+    /// the slow, normal and fast cadence of `stp_normals.txt` for --age and --sex, adults'
+    /// without), `normative:SPEED` (very-slow, slow, free, fast, very-fast), or another
     /// recording (e.g. the same patient's earlier visit).
     #[arg(
         long,
@@ -82,7 +83,7 @@ fn analyse_all(
         .map(|m| {
             let (t, w) = trial::load(m, model)?;
             warn(w);
-            gait::analyse(t, mode)
+            Ok(gait::analyse(t, mode)?)
         })
         .collect()
 }
@@ -94,7 +95,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         CycleArg::Auto => CycleMode::Auto,
         CycleArg::Whole => CycleMode::Whole,
     };
-    let reference = ReferenceArg::parse(&args.reference).map_err(anyhow::Error::msg)?;
+    let reference = ReferenceArg::parse(&args.reference)?;
     let model = args.model.load_or("gait2392", diagnostics)?;
     let walks = analyse_all(&args.motions, &model, mode, &warn)?;
     let reference_walks = match &reference {
@@ -102,14 +103,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         ReferenceArg::Normative(_) => None,
     };
     for w in walks.iter().chain(reference_walks.iter().flatten()) {
-        if w.cycles.iter().all(Vec::is_empty) {
-            anyhow::bail!(
-                "{}: no complete stride found ({} heel strikes right, {} left); for a file that holds one gait cycle, use --cycle whole",
-                w.trial.source,
-                w.events.heel_strike[0].len(),
-                w.events.heel_strike[1].len()
-            );
-        }
+        w.require_strides()?;
     }
     let normative_dir = args
         .normative

@@ -53,16 +53,39 @@ pub const PANELS: [[Panel; 3]; 5] = {
     ]
 };
 
+/// Why a figure of the report cannot be drawn or written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FigureError {
+    /// Drawing or writing one figure failed (the report room's drawing error, which names the
+    /// file).
+    #[error("{stem}: {error}")]
+    Save {
+        /// The figure (`kinematics`, `map`, `events`).
+        stem: String,
+        /// Why.
+        error: Box<dyn std::error::Error + Send + Sync>,
+    },
+}
+
+/// Draws one figure to PNG and SVG in `dir`.
+fn save<F: Figure>(f: &F, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    figure::save(f, dir).map_err(|error| FigureError::Save {
+        stem: f.stem(),
+        error: error.into(),
+    })
+}
+
 /// Writes every figure; returns the files.
-pub fn save_all(report: &Report, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn save_all(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let mut files = Vec::new();
     if report.curves.iter().flatten().any(Option::is_some) {
-        files.extend(figure::save(&Kinematics { report }, dir)?);
+        files.extend(save(&Kinematics { report }, dir)?);
     }
     if report.scores.is_some() {
-        files.extend(figure::save(&Map { report }, dir)?);
+        files.extend(save(&Map { report }, dir)?);
     }
-    files.extend(figure::save(&EventsFigure { report }, dir)?);
+    files.extend(save(&EventsFigure { report }, dir)?);
     Ok(files)
 }
 

@@ -70,6 +70,9 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
         },
     );
     setting("reference", r.reference.label.clone());
+    if let Some(c) = &r.speed_choice {
+        setting("normative speed group", c.clone());
+    }
     if let Some((v, l)) = r.dimensionless_speed {
         setting(
             "non-dimensional speed",

