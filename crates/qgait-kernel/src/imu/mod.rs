@@ -68,12 +68,14 @@
 //! device runs it in `f32`, the host in `f64`.
 
 mod calibration;
+pub mod fit;
 pub mod math;
 mod solve;
 
 pub use calibration::{Calibration, Heading, HeadingAxis, Settings};
+pub use fit::{FitAngles, FitModel, FitSolver};
 pub use solve::{
-    closed_form, heading_free_pelvis, ImuAngles, Mode, Ranges, Solver, ITERATIONS, LUMBAR,
+    closed_form, heading_free_pelvis, lumbar, ImuAngles, Mode, Ranges, Solver, ITERATIONS, LUMBAR,
 };
 
 use core::fmt;
