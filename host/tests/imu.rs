@@ -359,24 +359,3 @@ fn a_sensor_without_a_reading_is_held_and_the_rest_solved() {
     }
     let _ = std::fs::remove_dir_all(&tmp);
 }
-
-#[test]
-fn imu_refuses_a_stick_model_before_reading_anything() {
-    let dir = scratch("imu_model");
-    let run = qgait(&[
-        "imu",
-        dir.join("walk.sto").to_str().unwrap(),
-        "--calibration",
-        dir.join("static.sto").to_str().unwrap(),
-        "--model",
-        "phak",
-        "-o",
-        dir.join("out.mot").to_str().unwrap(),
-    ]);
-    assert!(!run.status.success());
-    assert!(
-        stderr(&run).contains("--model phak: `qgait imu` solves a gait2392-family model"),
-        "{}",
-        stderr(&run)
-    );
-}
