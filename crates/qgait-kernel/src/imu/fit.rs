@@ -381,4 +381,46 @@ mod tests {
             );
         }
     }
+
+    /// A coordinate held on its bound: the others settle at the bounded minimiser (the cost's
+    /// gradient along them zero, the bounded one's pointing out of the box), not where the
+    /// bounded one's unconstrained steps would pull them.
+    #[test]
+    fn a_coordinate_on_its_bound_leaves_the_others_at_the_bounded_minimiser() {
+        let phak = Phak::<f64>::new(&Anthropometry::gait2392()).unwrap();
+        // Truth: the right knee hyperextended by 0.3 rad and the tibia twisted off the
+        // model's plane, so nothing fits exactly; the knee is bounded above by 0.
+        let q = [0.2, 0.05, 0.3, 0.3, -0.2, 0.1, -0.4, 0.1];
+        let mut o = Orientations::EMPTY;
+        for (s, r) in Segment::ALL.into_iter().zip(phak.orientations(&q)) {
+            o.set(s, r);
+        }
+        let twist = Quat::from_axis_angle(Vec3::unit_y(), 0.2);
+        o.set(Segment::TibiaR, o.get(Segment::TibiaR).map(|t| t * twist));
+        let mut solver = FitSolver::<f64, 8>::new();
+        solver.max[3] = 0.0;
+        let got = solver.solve(&phak, &o).coordinates;
+        assert_eq!(got[3], 0.0);
+        let cost = |q: &[f64; 8]| {
+            let p = phak.orientations(q);
+            [Segment::FemurR, Segment::TibiaR, Segment::CalcnR]
+                .iter()
+                .map(|s| {
+                    let r = rotation_vector(p[*s as usize].unwrap() * o.get(*s).unwrap().conj());
+                    r.dot(r)
+                })
+                .sum::<f64>()
+        };
+        let gradient = |i: usize| {
+            let (mut a, mut b) = (got, got);
+            a[i] += 1e-6;
+            b[i] -= 1e-6;
+            (cost(&a) - cost(&b)) / 2e-6
+        };
+        for i in [2, 4] {
+            assert!(gradient(i).abs() < 1e-7, "{i}: {}", gradient(i));
+        }
+        // The knee would lower the cost by going beyond its bound.
+        assert!(gradient(3) < -1e-3, "{}", gradient(3));
+    }
 }
