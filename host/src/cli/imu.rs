@@ -20,7 +20,7 @@ use crate::cli::{refuse_overwrite, write_output_with};
 use crate::diagnostics::Warning;
 use crate::model::choice::Model;
 use crate::model::error::ModelError;
-use crate::opensim::imu_sto::OrientationReader;
+use crate::opensim::imu_vendor::{self, Mapping};
 use crate::opensim::mot::{write_mot_header, write_mot_row};
 use crate::progress::Progress;
 
@@ -28,12 +28,25 @@ use crate::progress::Progress;
 #[derive(Debug, Args)]
 pub struct ImuArgs {
     /// The recording: OpenSim orientation .sto (DataType=Quaternion, `<body>_imu` columns,
-    /// cells `w,x,y,z`).
+    /// cells `w,x,y,z`), an APDM .csv, or an Xsens MT Manager trial (its folder, or
+    /// FOLDER/PREFIX for the files FOLDER/PREFIX<sensor>.txt; with --imu-mapping).
     pub orientations: PathBuf,
-    /// The static calibration pose (same format; its first row is used), the subject standing
-    /// in the model's default pose (OpenSense's `orientation_file_for_calibration`).
-    #[arg(long, value_name = "STATIC.sto")]
+    /// The static calibration pose (any of the same formats; its first row is used), the
+    /// subject standing in the model's default pose (OpenSense's
+    /// `orientation_file_for_calibration`).
+    #[arg(long, value_name = "STATIC")]
     pub calibration: PathBuf,
+    /// OpenSense's IMU reader settings (XsensDataReaderSettings or APDMDataReaderSettings XML,
+    /// `myIMUMappings.xml`): which Xsens file or APDM sensor is which model IMU
+    /// (`<ExperimentalSensor name="..."><name_in_model>pelvis_imu</name_in_model>`), the
+    /// trial prefix and sampling rate. Needed for Xsens; for APDM unless its sensor labels are
+    /// the model's IMU names.
+    #[arg(long, value_name = "SETTINGS.xml")]
+    pub imu_mapping: Option<PathBuf>,
+    /// The sampling rate (Hz) of an Xsens trial whose files and settings give none, or of an
+    /// APDM `Format=7` file (OpenSim assumes 128 Hz there).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
     /// The model: gait2392 (the default), a SUBJECT.toml or an OpenSim MODEL.osim of the
     /// gait2392 family (gait2392's 17 coordinates and the lumbar joint are written); `phak`
     /// (the paper's 8 coordinates, solved on PHAK's own axes; `--anthropometry` applies); an
@@ -255,10 +268,15 @@ impl Solving {
 
 /// Runs `qgait imu`.
 pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
-    let mut inputs: Vec<String> = [&a.orientations, &a.calibration]
-        .iter()
-        .map(|p| p.to_string_lossy().into_owned())
-        .collect();
+    let mut inputs: Vec<String> = [
+        Some(&a.orientations),
+        Some(&a.calibration),
+        a.imu_mapping.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    .map(|p| p.to_string_lossy().into_owned())
+    .collect();
     inputs.extend(a.model.inputs());
     refuse_overwrite([a.output.as_path()], &inputs)?;
     let chosen = a.model.load_or("gait2392", diagnostics)?;
@@ -331,11 +349,24 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
             "--model hak: HAK has no pelvis for the pelvis sensor; `qgait imu` solves phak, a gait2392-family model or an imported chain (CHAIN.toml, MODEL.osim)"
         ),
     };
+    if let Some(r) = a.rate {
+        if !(r > 0.0 && r.is_finite()) {
+            bail!("--rate {r}: expected a sampling rate in Hz");
+        }
+    }
+    let mapping = a.imu_mapping.as_deref().map(Mapping::read).transpose()?;
     let mut warnings: Vec<Warning> = Vec::new();
-    let calibration = calibrate(&a.calibration, &solving, &settings, &mut warnings)?;
-    let mut reader = OrientationReader::open(&a.orientations)?;
+    let calibration = calibrate(
+        &a.calibration,
+        mapping.as_ref(),
+        a.rate,
+        &solving,
+        &settings,
+        &mut warnings,
+    )?;
+    let mut reader = imu_vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
     for s in calibration.1.iter().copied() {
-        if !reader.sensors().any(|r| r == s) {
+        if !reader.sensors().contains(&s) {
             bail!(
                 "{}: no column `{s}`, but the calibration pose ({}) has it",
                 reader.labels_location(),
@@ -343,7 +374,7 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
             );
         }
     }
-    for s in reader.sensors().collect::<Vec<_>>() {
+    for s in reader.sensors() {
         if !calibration.1.contains(&s) {
             warnings.push(Warning(format!(
                 "{}: `{s}` has no reading in the calibration pose ({}); its column is ignored",
@@ -462,11 +493,13 @@ impl ProgressionWindow {
 /// The calibration from the first row of `path`, and the sensors it has.
 fn calibrate(
     path: &Path,
+    mapping: Option<&Mapping>,
+    rate: Option<f64>,
     solving: &Solving,
     settings: &Settings<f64>,
     warnings: &mut Vec<Warning>,
 ) -> anyhow::Result<(Calibration<f64>, Vec<Segment>)> {
-    let mut reader = OrientationReader::open(path)?;
+    let mut reader = imu_vendor::open(path, mapping, rate)?;
     let row = reader
         .next_row()?
         .expect("the reader refuses a file without rows");
