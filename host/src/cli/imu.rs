@@ -21,8 +21,9 @@ use crate::diagnostics::Warning;
 use crate::model::choice::Model;
 use crate::model::error::ModelError;
 use crate::opensim::imu_vendor::{self, Mapping};
-use crate::opensim::mot::{write_mot_header, write_mot_row};
+use crate::opensim::mot::{write_mot_header, write_mot_row, MotionTable};
 use crate::progress::Progress;
+use crate::report::imu_angles;
 
 /// Arguments of `qgait imu`.
 #[derive(Debug, Args)]
@@ -91,6 +92,14 @@ pub struct ImuArgs {
     /// does with Rajagopal2015_opensense, whose lumbar coordinates are locked). Default free.
     #[arg(long, value_enum, value_name = "free|locked")]
     pub lumbar: Option<LumbarArg>,
+    /// A reference solution of the same recording (OpenSense's IK `.mot`/`.sto`, its model's
+    /// coordinate names): prints every common coordinate's RMSE and largest difference
+    /// against it (a Markdown table on stdout).
+    #[arg(long, value_name = "REFERENCE.mot")]
+    pub compare: Option<PathBuf>,
+    /// With --compare: also draw both over time into DIR (`imu_angles.png` and `.svg`).
+    #[arg(long, value_name = "DIR", requires = "compare")]
+    pub figures: Option<PathBuf>,
     /// Output .mot (joint angles in degrees).
     #[arg(short, long, value_name = "ANGLES.mot")]
     pub output: PathBuf,
@@ -428,6 +437,30 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     progress.finish();
     warnings.extend(reader.take_warnings());
     diagnostics.warn(warnings);
+    if let Some(reference) = &a.compare {
+        let (ours, _) = MotionTable::read(&a.output)?;
+        let (theirs, w) = MotionTable::read(reference)?;
+        diagnostics.warn(w);
+        let comparison = imu_angles::compare(&ours, &theirs)?;
+        println!(
+            "qgait imu against {} ({} rows, {:.2} s to {:.2} s):\n",
+            reference.display(),
+            comparison.time.len(),
+            comparison.time.first().copied().unwrap_or(0.0),
+            comparison.time.last().copied().unwrap_or(0.0)
+        );
+        print!("{}", comparison.markdown("°"));
+        if let Some(dir) = &a.figures {
+            let label = format!("qgait imu --model {}", chosen.name());
+            let theirs_label = reference
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            for f in imu_angles::draw(&comparison, [&label, &theirs_label], "degrees", dir)? {
+                diagnostics.notes([format!("wrote {}", f.display())]);
+            }
+        }
+    }
     Ok(())
 }
 
