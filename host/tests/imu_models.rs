@@ -168,20 +168,59 @@ fn phak_on_the_tutorial_recording_reads_back_through_fk() {
         eprintln!("{name}: PHAK against gait2392, rms {rms:.2} degrees");
         assert!(rms < 5.0, "{name}: {rms}");
     }
-    let csv = tmp.join("fk.csv");
-    let o = qgait(&[
-        "fk",
-        phak.to_str().unwrap(),
-        "--model",
-        "phak",
-        "-o",
-        csv.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "fk failed: {}", stderr(&o));
-    assert_eq!(
-        std::fs::read_to_string(&csv).unwrap().lines().count(),
-        1 + 2432
+    // Read back by `fk --model phak`; and PHAK's own-axes solve against gait2392's
+    // coordinates taken by name: the legs (knee, ankle, toe relative to the hip) nearer
+    // gait2392's FK of its own solve.
+    let fk = |motion: &Path, model: &str, name: &str| -> (String, Vec<Vec<f64>>) {
+        let csv = tmp.join(name);
+        let o = qgait(&[
+            "-q",
+            "fk",
+            motion.to_str().unwrap(),
+            "--model",
+            model,
+            "-o",
+            csv.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "fk failed: {}", stderr(&o));
+        common::parse_fk_csv(&std::fs::read_to_string(&csv).unwrap())
+    };
+    let (header, own) = fk(&phak, "phak", "own.csv");
+    assert_eq!(own.len(), 2432);
+    let (_, by_name) = fk(&g2392, "phak", "by_name.csv");
+    let (g_header, truth) = fk(&g2392, "gait2392", "gait2392.csv");
+    let labels: Vec<&str> = header.split(',').collect();
+    let g_labels: Vec<&str> = g_header.split(',').collect();
+    let mean_mm = |rows: &[Vec<f64>]| {
+        let (mut sum, mut n) = (0.0, 0);
+        for point in ["knee", "ankle", "toe"] {
+            for side in ["r", "l"] {
+                let at = |l: &[&str], axis: &str, p: &str| {
+                    l.iter()
+                        .position(|x| *x == format!("{p}_{side}_{axis}"))
+                        .unwrap()
+                };
+                for (r, g) in rows.iter().zip(&truth) {
+                    let d: f64 = ["x", "y", "z"]
+                        .iter()
+                        .map(|a| {
+                            let ours = r[at(&labels, a, point)] - r[at(&labels, a, "hip")];
+                            let theirs = g[at(&g_labels, a, point)] - g[at(&g_labels, a, "hip")];
+                            (ours - theirs).powi(2)
+                        })
+                        .sum();
+                    sum += d.sqrt() * 1000.0;
+                    n += 1;
+                }
+            }
+        }
+        sum / n as f64
+    };
+    let (own_mm, by_name_mm) = (mean_mm(&own), mean_mm(&by_name));
+    eprintln!(
+        "PHAK legs against gait2392's FK (hip-relative knee, ankle, toe, mean): own axes {own_mm:.1} mm, gait2392's angles by name {by_name_mm:.1} mm"
     );
+    assert!(own_mm < by_name_mm, "{own_mm} {by_name_mm}");
     let _ = std::fs::remove_dir_all(&tmp);
 }
 
