@@ -357,7 +357,7 @@ fn rotation_matrix_round_trips_to_its_quaternion() {
             _ => axis * (1.0 / axis.norm()),
         };
         let angle = match i % 3 {
-            0 => rng.random_range(-3.14159..3.14159),
+            0 => rng.random_range(-std::f64::consts::PI..std::f64::consts::PI),
             1 => std::f64::consts::PI - rng.random_range(0.0..1e-3),
             _ => rng.random_range(-1e-3..1e-3),
         };

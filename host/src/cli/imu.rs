@@ -374,8 +374,8 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
         &mut warnings,
     )?;
     let mut reader = imu_vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
-    for s in calibration.1.iter().copied() {
-        if !reader.sensors().contains(&s) {
+    for s in &calibration.1 {
+        if !reader.sensors().contains(s) {
             bail!(
                 "{}: no column `{s}`, but the calibration pose ({}) has it",
                 reader.labels_location(),

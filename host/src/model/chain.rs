@@ -351,7 +351,7 @@ impl ChainModel {
                         COORDINATES.join(", ")
                     )
                 })?;
-            if !(r.min <= r.max) {
+            if r.min.is_nan() || r.max.is_nan() || r.min > r.max {
                 return Err(format!(
                     "range of `{}`: min {} above max {}",
                     r.coordinate, r.min, r.max

@@ -373,12 +373,8 @@ mod tests {
             o.set(s, r);
         }
         let got = solver.solve(&phak32, &o);
-        for i in 0..8 {
-            assert!(
-                (got.coordinates[i] - q[i]).abs() < 1e-4,
-                "{i}: {:?}",
-                got.coordinates
-            );
+        for (i, (a, b)) in got.coordinates.iter().zip(&q).enumerate() {
+            assert!((a - b).abs() < 1e-4, "{i}: {:?}", got.coordinates);
         }
     }
 
