@@ -446,3 +446,34 @@ fn rajagopal_chain_solve_in_f32_follows_f64() {
     eprintln!("Rajagopal chain solve, f32 against f64: largest difference {worst:.2e} degrees");
     assert!(worst < 0.01, "{worst}");
 }
+
+/// `--pelvis heading-free` with PHAK: the heading is only in `pelvis_rotation` (PHAK turns about
+/// the vertical first), so the list and the legs are unchanged and the rotation loses the
+/// walking direction (a turning walk's span of more than a turn shrinks to a stride's swing).
+#[test]
+fn phak_heading_free_pelvis_changes_the_rotation_only() {
+    let Some(dir) = imu_dir() else { return };
+    let tmp = scratch("phak-heading-free");
+    let (world, free) = (tmp.join("world.mot"), tmp.join("free.mot"));
+    run_tutorial(&dir, &world, &["--model", "phak"]);
+    run_tutorial(
+        &dir,
+        &free,
+        &["--model", "phak", "--pelvis", "heading-free"],
+    );
+    let (w, _) = MotionTable::read(&world).unwrap();
+    let (f, _) = MotionTable::read(&free).unwrap();
+    for name in &PhakAngles::<f64>::NAMES[1..] {
+        assert_eq!(w.column(name), f.column(name), "{name}");
+    }
+    let span = |c: &[f64]| {
+        c.iter().copied().fold(f64::MIN, f64::max) - c.iter().copied().fold(f64::MAX, f64::min)
+    };
+    let (ws, fs) = (
+        span(w.column("pelvis_rotation").unwrap()),
+        span(f.column("pelvis_rotation").unwrap()),
+    );
+    eprintln!("PHAK pelvis_rotation span: world {ws:.1}°, heading-free {fs:.1}°");
+    assert!(ws > 360.0 && fs < 120.0, "{ws} {fs}");
+    let _ = std::fs::remove_dir_all(&tmp);
+}
