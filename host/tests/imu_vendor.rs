@@ -289,3 +289,66 @@ fn bad_vendor_files_name_file_line_and_column() {
     );
     let _ = std::fs::remove_dir_all(&tmp);
 }
+
+/// APDM's `Format=7` layout (sensor names on the first line, 14 columns a sensor: acceleration,
+/// angular velocity, magnetic field, pressure, orientation S, X, Y, Z), written here from
+/// OpenSim's reading of the older layout: the same angles with `--rate 100`.
+#[test]
+fn apdm_format_7() {
+    let v = vendor();
+    let tmp = scratch("apdm7");
+    let sensors = [
+        ("Lumbar", "pelvis_imu"),
+        ("Right Thigh", "femur_r_imu"),
+        ("Right Shank", "tibia_r_imu"),
+        ("Right Foot", "calcn_r_imu"),
+        ("Left Thigh", "femur_l_imu"),
+        ("Left Shank", "tibia_l_imu"),
+        ("Left Foot", "calcn_l_imu"),
+        ("Sternum", "torso_imu"),
+    ];
+    for trial in ["walk", "static"] {
+        let sto = std::fs::read_to_string(v.join(format!("apdm_{trial}_opensim.sto"))).unwrap();
+        let mut lines = sto.lines().skip_while(|l| *l != "endheader").skip(1);
+        let labels: Vec<&str> = lines.next().unwrap().split('\t').collect();
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split('\t').collect()).collect();
+        let mut first = String::from("Format=7");
+        let mut second = String::from("Time");
+        let mut third = String::new();
+        for (k, (apdm, _)) in sensors.iter().enumerate() {
+            write!(first, ",I{},,,{apdm},,,,,,,,,,", k + 1).unwrap();
+            second.push_str(",Accelerometer,,,Gyroscope,,,Magnetometer,,,Barometer,Orientation,,,");
+            third.push_str(",X,Y,Z,X,Y,Z,X,Y,Z,,S,X,Y,Z");
+        }
+        let mut f = format!("{first}\n{second}\n{third}\n");
+        for (r, row) in rows.iter().enumerate() {
+            write!(f, "{}", r as f64 / 100.0).unwrap();
+            for (_, name) in &sensors {
+                let c = labels.iter().position(|l| l == name).unwrap();
+                write!(f, ",0.1,0.2,9.8,0,0,0,20,5,-40,1013,{}", row[c]).unwrap();
+            }
+            f.push('\n');
+        }
+        std::fs::write(tmp.join(format!("{trial}.csv")), f).unwrap();
+    }
+    let reference = solve(
+        &v.join("apdm_walk_opensim.sto"),
+        &v.join("apdm_static_opensim.sto"),
+        &tmp.join("opensim.mot"),
+        &[],
+    );
+    let ours = solve(
+        &tmp.join("walk.csv"),
+        &tmp.join("static.csv"),
+        &tmp.join("ours.mot"),
+        &[
+            "--imu-mapping",
+            v.join("apdm/mappings.xml").to_str().unwrap(),
+            "--rate",
+            "100",
+        ],
+    );
+    let d = largest_difference(&ours, &reference);
+    assert!(d < 1e-9, "{d}");
+    let _ = std::fs::remove_dir_all(&tmp);
+}

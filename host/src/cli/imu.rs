@@ -227,6 +227,7 @@ impl Solving {
 
     /// One frame: the coordinates in degrees, in [`labels`](Self::labels) order.
     fn solve(&mut self, segments: &Orientations<f64>, row: &mut Vec<f64>) {
+        let start = row.len();
         match self {
             Self::Gait2392 {
                 model,
@@ -251,8 +252,7 @@ impl Solving {
                 }
             }
         }
-        let n = row.len();
-        for v in &mut row[n - self.labels().len()..] {
+        for v in &mut row[start..] {
             *v = v.to_degrees();
         }
     }

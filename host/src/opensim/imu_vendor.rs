@@ -396,14 +396,14 @@ impl XsensTrial {
         let source = folder.join(format!("{prefix}*.txt")).display().to_string();
         let mut files = Vec::new();
         let mut file_rate: Option<(f64, String)> = None;
-        for (name, segment, _) in &mapping.sensors {
+        for (name, segment, at) in &mapping.sensors {
             let Some(segment) = *segment else { continue };
             let file_path = folder.join(format!("{prefix}{name}.txt"));
             let p = file_path.display().to_string();
             if !file_path.is_file() {
                 return Err(format_err(
                     &mapping.source,
-                    1,
+                    *at,
                     format!("sensor `{name}` ({segment}): no file {p}"),
                 ));
             }
