@@ -201,6 +201,9 @@ enum Solving {
     Chain {
         model: Box<LowerLimb<f64>>,
         solver: Box<FitSolver<f64, 17>>,
+        /// The lumbar joint's last value (held while the pelvis or torso sensor is missing,
+        /// as gait2392's solver holds it).
+        lumbar: [f64; 3],
     },
 }
 
@@ -240,15 +243,19 @@ impl Solving {
             Self::Phak { model, solver } => {
                 row.extend(solver.solve(&**model, segments).coordinates);
             }
-            Self::Chain { model, solver } => {
+            Self::Chain {
+                model,
+                solver,
+                lumbar: held,
+            } => {
                 row.extend(solver.solve(&**model, segments).coordinates);
                 if !solver.torso_on_pelvis {
-                    let lumbar = match (segments.get(Segment::Pelvis), segments.get(Segment::Torso))
+                    if let (Some(p), Some(t)) =
+                        (segments.get(Segment::Pelvis), segments.get(Segment::Torso))
                     {
-                        (Some(p), Some(t)) => lumbar(p, t),
-                        _ => [f64::NAN; 3],
-                    };
-                    row.extend(lumbar);
+                        *held = lumbar(p, t);
+                    }
+                    row.extend(*held);
                 }
             }
         }
@@ -352,6 +359,7 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
             Solving::Chain {
                 model: Box::new(model),
                 solver: Box::new(solver),
+                lumbar: [0.0; 3],
             }
         }
         Model::Hak { .. } => bail!(
