@@ -1,5 +1,7 @@
 //! Host cost of the IMU path per frame, in `f64`: eight calibrated segment orientations to
 //! gait2392's coordinates (the per-leg least squares, or the closed form) and gait2392's FK,
+//! PHAK's (its own axes) and PHAK's FK, and OpenSense's Rajagopal model's (an imported chain)
+//! and its FK,
 //! on the real recording of `../shared/data/imu/` (OpenSense tutorial, first 12 s) with
 //! OpenSense's settings (base IMU `torso_imu`, heading axis `z`, sensor-to-OpenSim (-pi/2, 0,
 //! 0)). Each iteration solves the next frame of the recording, warm-started from the previous
@@ -14,7 +16,11 @@ use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use qgait::opensim::imu_sto::OrientationReader;
-use qgait_kernel::imu::{Calibration, Heading, HeadingAxis, Mode, Segment, Settings, Solver};
+use qgait_kernel::anthropometry::Anthropometry;
+use qgait_kernel::imu::{
+    Calibration, FitSolver, Heading, HeadingAxis, Mode, Orientations, Segment, Settings, Solver,
+};
+use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::{Gait2392, Gait2392Geometry};
 
 /// The recording's frames used (the 12 s OpenSense's reference solution covers).
@@ -71,7 +77,62 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    // The generic least squares: PHAK on its own axes, and OpenSense's own Rajagopal model
+    // (an imported chain: numeric Jacobian through the chain's frames, lumbar locked as in
+    // that model), each with its FK.
+    let phak = Phak::<f64>::new(&Anthropometry::gait2392()).expect("PHAK");
+    let phak_calibration =
+        Calibration::for_model(&phak, &pose.readings, &settings).expect("calibrates");
+    let phak_frames = segments(&phak_calibration, &dir);
+    let mut solver = FitSolver::<f64, 8>::new();
+    let mut next = 0;
+    group.bench_function("phak_least_squares_and_fk", |b| {
+        b.iter(|| {
+            let solved = solver.solve(&phak, &phak_frames[next]);
+            next = (next + 1) % phak_frames.len();
+            black_box(phak.fk(&PhakAngles::from_array(solved.coordinates)))
+        })
+    });
+    let osim = dir.join("../opensim/Rajagopal2015_opensense.osim");
+    if let Ok(text) = std::fs::read_to_string(&osim) {
+        let imported = qgait::opensim::leg_chain::import(&text, "Rajagopal2015_opensense", None)
+            .expect("imports");
+        let chain = imported.model.chain().expect("a chain");
+        let (min, max) = imported.model.bounds().expect("ranges");
+        let chain_calibration =
+            Calibration::for_model(&chain, &pose.readings, &settings).expect("calibrates");
+        let chain_frames = segments(&chain_calibration, &dir);
+        let mut solver = FitSolver::<f64, 17>::new();
+        (solver.min, solver.max) = (min, max);
+        solver.torso_on_pelvis = true;
+        let mut next = 0;
+        group.bench_function("rajagopal_chain_least_squares_and_fk", |b| {
+            b.iter(|| {
+                let solved = solver.solve(&chain, &chain_frames[next]);
+                next = (next + 1) % chain_frames.len();
+                black_box(chain.forward(&solved.coordinates))
+            })
+        });
+    }
     group.finish();
+}
+
+/// The recording's first [`FRAMES`] frames as segment orientations for `calibration`.
+fn segments(calibration: &Calibration<f64>, dir: &Path) -> Vec<Orientations<f64>> {
+    let mut reader =
+        OrientationReader::open(&dir.join("walking_orientations.sto")).expect("the recording");
+    let mut frames = Vec::new();
+    while let Some(row) = reader.next_row().expect("readable") {
+        if frames.len() == FRAMES {
+            break;
+        }
+        frames.push(
+            calibration
+                .segments(&row.readings)
+                .expect("unit quaternions"),
+        );
+    }
+    frames
 }
 
 criterion_group!(benches, bench);

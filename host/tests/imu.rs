@@ -360,23 +360,60 @@ fn a_sensor_without_a_reading_is_held_and_the_rest_solved() {
     let _ = std::fs::remove_dir_all(&tmp);
 }
 
+/// `--compare` prints every determined coordinate's RMSE and max against OpenSense's solution
+/// (the same numbers as this file's own comparison) and `--figures` draws both.
 #[test]
-fn imu_refuses_a_stick_model_before_reading_anything() {
-    let dir = scratch("imu_model");
-    let run = qgait(&[
+fn compare_prints_the_accuracy_table_and_draws_the_figure() {
+    let Some(dir) = imu_dir() else { return };
+    let tmp = scratch("compare");
+    let out = tmp.join("angles.mot");
+    let reference = dir.join("walking_gait2392_opensense_0-12s.sto");
+    let figures = tmp.join("figures");
+    let walk = dir.join("walking_orientations.sto");
+    let pose = dir.join("placement_orientations.sto");
+    let o = qgait(&[
         "imu",
-        dir.join("walk.sto").to_str().unwrap(),
+        walk.to_str().unwrap(),
         "--calibration",
-        dir.join("static.sto").to_str().unwrap(),
-        "--model",
-        "phak",
+        pose.to_str().unwrap(),
+        "--base-imu",
+        "torso_imu",
         "-o",
-        dir.join("out.mot").to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--compare",
+        reference.to_str().unwrap(),
+        "--figures",
+        figures.to_str().unwrap(),
     ]);
-    assert!(!run.status.success());
-    assert!(
-        stderr(&run).contains("--model phak: `qgait imu` solves a gait2392-family model"),
-        "{}",
-        stderr(&run)
-    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = common::stdout(&o);
+    let (ours, _) = MotionTable::read(&out).unwrap();
+    let (theirs, _) = MotionTable::read(&reference).unwrap();
+    assert!(table.contains("(1201 rows"), "{table}");
+    // Every determined coordinate, none of the undetermined (MTP, translations: zero there).
+    let rows: Vec<&str> = table.lines().filter(|l| l.starts_with("| `")).collect();
+    assert_eq!(rows.len(), DETERMINED.len(), "{table}");
+    for name in DETERMINED {
+        let line = rows
+            .iter()
+            .find(|l| l.starts_with(&format!("| `{name}` |")))
+            .unwrap_or_else(|| panic!("{name} not in {table}"));
+        let numbers: Vec<f64> = line
+            .split('|')
+            .filter_map(|c| c.trim().parse().ok())
+            .collect();
+        let (a, b) = (ours.column(name).unwrap(), theirs.column(name).unwrap());
+        let n = theirs.rows();
+        let rmse = ((0..n).map(|r| (a[r] - b[r]).powi(2)).sum::<f64>() / n as f64).sqrt();
+        let max = (0..n).map(|r| (a[r] - b[r]).abs()).fold(0.0, f64::max);
+        assert!(
+            (numbers[0] - rmse).abs() < 0.006,
+            "{name}: {line} vs {rmse}"
+        );
+        assert!((numbers[1] - max).abs() < 0.006, "{name}: {line} vs {max}");
+    }
+    let png = std::fs::metadata(figures.join("imu_angles.png")).unwrap();
+    assert!(png.len() > 10_000);
+    assert!(figures.join("imu_angles.svg").is_file());
+    let _ = std::fs::remove_dir_all(&tmp);
 }

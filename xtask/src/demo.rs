@@ -1,7 +1,9 @@
 //! `cargo xtask demo`: the main job in one command. Installs what is missing (rustup target,
 //! QEMU), builds the release firmware, runs it under QEMU on the built-in normal gait (its
 //! packets streamed into UART0), decodes and verifies every frame against the f64 kernel, and
-//! draws the device's frames into `out/demo/`, all with the release `qgait` binary.
+//! draws the device's frames into `out/demo/`; then the IMU path on OpenSense's tutorial recording
+//! against OpenSense (the accuracy table and `figures/imu_angles.png`), all with the release
+//! `qgait` binary.
 
 use std::path::Path;
 use std::process::{Command, ExitCode};
@@ -24,6 +26,42 @@ fn qgait(exe: &Path, args: &[&str]) -> Result<(), String> {
     } else {
         Err(format!("qgait {} failed ({status})", args[0]))
     }
+}
+
+/// The IMU path on OpenSense's tutorial recording (`../shared/data/imu`, or `$QGAIT_SHARED`;
+/// skipped with the reason when absent): `qgait imu` with the tutorial's settings, compared
+/// with OpenSense's own gait2392 solution (the accuracy table on stdout, the joint-angle figure
+/// `figures/imu_angles.png`, the README's).
+fn imu_step(exe: &Path, root: &Path, out: &Path) -> Result<(), String> {
+    let shared = std::env::var_os("QGAIT_SHARED")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| root.join("../shared"));
+    let imu = shared.join("data/imu");
+    let reference = imu.join("walking_gait2392_opensense_0-12s.sto");
+    if !reference.is_file() {
+        println!("\n==> IMU step skipped: {} not found", reference.display());
+        return Ok(());
+    }
+    let s = |p: std::path::PathBuf| p.to_string_lossy().into_owned();
+    qgait(
+        exe,
+        &[
+            "imu",
+            &s(imu.join("walking_orientations.sto")),
+            "--calibration",
+            &s(imu.join("placement_orientations.sto")),
+            "--base-imu",
+            "torso_imu",
+            "--base-heading-axis",
+            "z",
+            "-o",
+            &s(out.join("walking_angles.mot")),
+            "--compare",
+            &s(reference),
+            "--figures",
+            &s(out.join("figures")),
+        ],
+    )
 }
 
 /// Runs the demo.
@@ -78,6 +116,7 @@ pub fn run_demo() -> Result<ExitCode, String> {
             &figures,
         ],
     )?;
+    imu_step(&exe, &root, &out)?;
     println!(
         "\ndemo: frames, hub log and figures in {}",
         out.canonicalize().unwrap_or(out).display()

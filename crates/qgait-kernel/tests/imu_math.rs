@@ -337,3 +337,43 @@ fn a_leg_back_from_a_sensor_gap_is_exact_at_once() {
         }
     }
 }
+
+/// A rotation matrix back to its quaternion (up to sign), for every branch of Shepperd's
+/// method (rotations near 0 and near half a turn about each axis included).
+#[test]
+fn rotation_matrix_round_trips_to_its_quaternion() {
+    let mut rng = SmallRng::seed_from_u64(7);
+    let mut worst = 0.0f64;
+    for i in 0..20_000 {
+        let axis = Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        let axis = match i % 4 {
+            1 => Vec3::unit_x(),
+            2 => Vec3::unit_y(),
+            3 => Vec3::unit_z(),
+            _ => axis * (1.0 / axis.norm()),
+        };
+        let angle = match i % 3 {
+            0 => rng.random_range(-std::f64::consts::PI..std::f64::consts::PI),
+            1 => std::f64::consts::PI - rng.random_range(0.0..1e-3),
+            _ => rng.random_range(-1e-3..1e-3),
+        };
+        let q = math::positive(Quat::from_axis_angle(axis, angle));
+        let back = math::from_rotation_matrix(q.to_rotation_matrix());
+        let same = (back.w - q.w)
+            .abs()
+            .max((back.x - q.x).abs())
+            .max((back.y - q.y).abs())
+            .max((back.z - q.z).abs());
+        let opposite = (back.w + q.w)
+            .abs()
+            .max((back.x + q.x).abs())
+            .max((back.y + q.y).abs())
+            .max((back.z + q.z).abs());
+        worst = worst.max(same.min(opposite));
+    }
+    assert!(worst < 1e-14, "{worst}");
+}

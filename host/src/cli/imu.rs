@@ -7,32 +7,52 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
 use qgait_kernel::imu::{
-    heading_free_pelvis, Calibration, Heading, HeadingAxis, Mode, Segment, Settings, Solver, LUMBAR,
+    heading_free_pelvis, lumbar, Calibration, FitSolver, Heading, HeadingAxis, Mode, Orientations,
+    Segment, Settings, Solver, LUMBAR,
 };
 use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::models::{LowerLimb, Phak, PhakAngles};
 use qgait_kernel::Gait2392;
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::cli::{refuse_overwrite, write_output_with};
 use crate::diagnostics::Warning;
+use crate::model::choice::Model;
 use crate::model::error::ModelError;
-use crate::opensim::imu_sto::OrientationReader;
-use crate::opensim::mot::{write_mot_header, write_mot_row};
+use crate::opensim::imu_vendor::{self, Mapping};
+use crate::opensim::mot::{write_mot_header, write_mot_row, MotionTable};
 use crate::progress::Progress;
+use crate::report::imu_angles;
 
 /// Arguments of `qgait imu`.
 #[derive(Debug, Args)]
 pub struct ImuArgs {
     /// The recording: OpenSim orientation .sto (DataType=Quaternion, `<body>_imu` columns,
-    /// cells `w,x,y,z`).
+    /// cells `w,x,y,z`), an APDM .csv, or an Xsens MT Manager trial (its folder, or
+    /// FOLDER/PREFIX for the files FOLDER/PREFIX<sensor>.txt; with --imu-mapping).
     pub orientations: PathBuf,
-    /// The static calibration pose (same format; its first row is used), the subject standing
-    /// in the model's default pose (OpenSense's `orientation_file_for_calibration`).
-    #[arg(long, value_name = "STATIC.sto")]
+    /// The static calibration pose (any of the same formats; its first row is used), the
+    /// subject standing in the model's default pose (OpenSense's
+    /// `orientation_file_for_calibration`).
+    #[arg(long, value_name = "STATIC")]
     pub calibration: PathBuf,
+    /// OpenSense's IMU reader settings (XsensDataReaderSettings or APDMDataReaderSettings XML,
+    /// `myIMUMappings.xml`): which Xsens file or APDM sensor is which model IMU
+    /// (`<ExperimentalSensor name="..."><name_in_model>pelvis_imu</name_in_model>`), the
+    /// trial prefix and sampling rate. Needed for Xsens; for APDM unless its sensor labels are
+    /// the model's IMU names.
+    #[arg(long, value_name = "SETTINGS.xml")]
+    pub imu_mapping: Option<PathBuf>,
+    /// The sampling rate (Hz) of an Xsens trial whose files and settings give none, or of an
+    /// APDM `Format=7` file (OpenSim assumes 128 Hz there).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
     /// The model: gait2392 (the default), a SUBJECT.toml or an OpenSim MODEL.osim of the
-    /// gait2392 family (its joint axes are used; gait2392's coordinates are written).
+    /// gait2392 family (gait2392's 17 coordinates and the lumbar joint are written); `phak`
+    /// (the paper's 8 coordinates, solved on PHAK's own axes; `--anthropometry` applies); an
+    /// imported chain, CHAIN.toml or any other lower-limb MODEL.osim (Rajagopal, ...: its 17
+    /// coordinates, solved on its own joints).
     #[command(flatten)]
     pub model: ModelArgs,
     /// The IMU whose heading axis points forward in the calibration pose (OpenSense's
@@ -67,6 +87,19 @@ pub struct ImuArgs {
     /// of turning walks).
     #[arg(long, value_enum, default_value_t = PelvisArg::Opensense)]
     pub pelvis: PelvisArg,
+    /// The lumbar joint of an imported chain: `free` (the torso sensor gives it; written) or
+    /// `locked` (the torso moves with the pelvis, which then fits both sensors: what OpenSense
+    /// does with Rajagopal2015_opensense, whose lumbar coordinates are locked). Default free.
+    #[arg(long, value_enum, value_name = "free|locked")]
+    pub lumbar: Option<LumbarArg>,
+    /// A reference solution of the same recording (OpenSense's IK `.mot`/`.sto`, its model's
+    /// coordinate names): prints every common coordinate's RMSE and largest difference
+    /// against it (a Markdown table on stdout).
+    #[arg(long, value_name = "REFERENCE.mot")]
+    pub compare: Option<PathBuf>,
+    /// With --compare: also draw both over time into DIR (`imu_angles.png` and `.svg`).
+    #[arg(long, value_name = "DIR", requires = "compare")]
+    pub figures: Option<PathBuf>,
     /// Output .mot (joint angles in degrees).
     #[arg(short, long, value_name = "ANGLES.mot")]
     pub output: PathBuf,
@@ -141,32 +174,216 @@ fn settings(a: &ImuArgs) -> anyhow::Result<Settings<f64>> {
     })
 }
 
+/// `--lumbar`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LumbarArg {
+    /// The lumbar joint follows the torso sensor (gait2392's, and written out).
+    Free,
+    /// The lumbar joint is locked (Rajagopal2015_opensense): the torso moves with the pelvis,
+    /// whose coordinates then fit the pelvis and torso sensors together, as OpenSense does.
+    Locked,
+}
+
+/// The model `qgait imu` solves, with what it writes.
+enum Solving {
+    /// gait2392's family: the analytic solver, 17 coordinates and the lumbar joint.
+    Gait2392 {
+        model: Box<Gait2392<f64>>,
+        solver: Box<Solver<f64>>,
+        mode: Mode,
+    },
+    /// PHAK on its own axes: 8 coordinates.
+    Phak {
+        model: Box<Phak<f64>>,
+        solver: Box<FitSolver<f64, 8>>,
+    },
+    /// An imported chain: 17 coordinates, and the lumbar joint when it is free.
+    Chain {
+        model: Box<LowerLimb<f64>>,
+        solver: Box<FitSolver<f64, 17>>,
+        /// The lumbar joint's last value (held while the pelvis or torso sensor is missing,
+        /// as gait2392's solver holds it).
+        lumbar: [f64; 3],
+    },
+}
+
+impl Solving {
+    /// The output's columns after `time`.
+    fn labels(&self) -> Vec<&'static str> {
+        match self {
+            Self::Gait2392 { .. } => COORDINATES.iter().chain(&LUMBAR).copied().collect(),
+            Self::Phak { .. } => PhakAngles::<f64>::NAMES.to_vec(),
+            Self::Chain { solver, .. } => {
+                let lumbar: &[&str] = if solver.torso_on_pelvis { &[] } else { &LUMBAR };
+                COORDINATES.iter().chain(lumbar).copied().collect()
+            }
+        }
+    }
+
+    /// Index in a row (after `time`) of the heading coordinate.
+    fn heading_column(&self) -> usize {
+        match self {
+            Self::Phak { .. } => 0,
+            _ => 2,
+        }
+    }
+
+    /// One frame: the coordinates in degrees, in [`labels`](Self::labels) order.
+    fn solve(&mut self, segments: &Orientations<f64>, row: &mut Vec<f64>) {
+        let start = row.len();
+        match self {
+            Self::Gait2392 {
+                model,
+                solver,
+                mode,
+            } => {
+                let solved = solver.solve(model, segments, *mode);
+                row.extend(solved.coordinates.iter().chain(&solved.lumbar));
+            }
+            Self::Phak { model, solver } => {
+                row.extend(solver.solve(&**model, segments).coordinates);
+            }
+            Self::Chain {
+                model,
+                solver,
+                lumbar: held,
+            } => {
+                row.extend(solver.solve(&**model, segments).coordinates);
+                if !solver.torso_on_pelvis {
+                    if let (Some(p), Some(t)) =
+                        (segments.get(Segment::Pelvis), segments.get(Segment::Torso))
+                    {
+                        *held = lumbar(p, t);
+                    }
+                    row.extend(*held);
+                }
+            }
+        }
+        for v in &mut row[start..] {
+            *v = v.to_degrees();
+        }
+    }
+
+    /// The pelvis of `row` (degrees, after `time`) made relative to the direction of
+    /// progression `heading` (degrees).
+    fn heading_free(&self, row: &mut [f64], heading: f64) {
+        match self {
+            Self::Gait2392 { model, .. } => {
+                let pelvis = [0, 1, 2].map(|c| row[c].to_radians());
+                let p = heading_free_pelvis(model, pelvis, heading.to_radians());
+                for (k, v) in p.into_iter().enumerate() {
+                    row[k] = v.to_degrees();
+                }
+            }
+            // PHAK turns about the vertical first: the heading is only in the rotation.
+            Self::Phak { .. } => row[0] -= heading,
+            Self::Chain { .. } => unreachable!("refused before solving"),
+        }
+    }
+}
+
 /// Runs `qgait imu`.
 pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
-    let mut inputs: Vec<String> = [&a.orientations, &a.calibration]
-        .iter()
-        .map(|p| p.to_string_lossy().into_owned())
-        .collect();
+    let mut inputs: Vec<String> = [
+        Some(&a.orientations),
+        Some(&a.calibration),
+        a.imu_mapping.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    .map(|p| p.to_string_lossy().into_owned())
+    .collect();
     inputs.extend(a.model.inputs());
     refuse_overwrite([a.output.as_path()], &inputs)?;
     let chosen = a.model.load_or("gait2392", diagnostics)?;
-    let Some(geometry) = chosen.geometry() else {
-        bail!(
-            "--model {}: `qgait imu` solves a gait2392-family model (gait2392, a SUBJECT.toml or an .osim)",
-            chosen.name()
-        );
-    };
     let settings = settings(&a)?;
-    let mut warnings: Vec<Warning> = Vec::new();
-    let model = Gait2392::<f64>::new(geometry).map_err(|error| ModelError::Rejected {
+    let rejected = |error| ModelError::Rejected {
         name: chosen.name().to_string(),
         error,
-    })?;
-
-    let calibration = calibrate(&a.calibration, &model, &settings, &mut warnings)?;
-    let mut reader = OrientationReader::open(&a.orientations)?;
-    for s in calibration.1.iter().copied() {
-        if !reader.sensors().any(|r| r == s) {
+    };
+    let mode = match a.mode {
+        ModeArg::LeastSquares => Mode::LeastSquares,
+        ModeArg::ClosedForm => Mode::ClosedForm,
+    };
+    let heading_free = a.pelvis == PelvisArg::HeadingFree;
+    let gait2392 = matches!(chosen, Model::Gait2392 { .. });
+    if !gait2392 && mode == Mode::ClosedForm {
+        bail!(
+            "--mode closed-form: the closed form decomposes gait2392's joints; --model {} is solved by least squares only",
+            chosen.name()
+        );
+    }
+    if a.lumbar.is_some() && !matches!(chosen, Model::Chain { .. }) {
+        bail!(
+            "--lumbar: for an imported chain (CHAIN.toml, MODEL.osim); --model {} has its own lumbar joint (gait2392: free) or none (PHAK)",
+            chosen.name()
+        );
+    }
+    let mut solving = match &chosen {
+        Model::Gait2392 { geometry, .. } => Solving::Gait2392 {
+            model: Box::new(Gait2392::<f64>::new(geometry).map_err(rejected)?),
+            solver: Box::default(),
+            mode,
+        },
+        Model::Phak { .. } => Solving::Phak {
+            model: Box::new(
+                Phak::<f64>::new(&chosen.lengths().expect("PHAK has lengths")).map_err(rejected)?,
+            ),
+            solver: Box::default(),
+        },
+        Model::Chain { chain, name } => {
+            if heading_free {
+                bail!(
+                    "--pelvis heading-free: for gait2392 and PHAK; --model {name} writes the pelvis as OpenSense does"
+                );
+            }
+            let model = chain.chain().map_err(|message| ModelError::File {
+                at: crate::diagnostics::Location {
+                    path: name.clone(),
+                    line: None,
+                    column: None,
+                },
+                message,
+            })?;
+            let (min, max) = chain.bounds().map_err(|message| ModelError::File {
+                at: crate::diagnostics::Location {
+                    path: name.clone(),
+                    line: None,
+                    column: None,
+                },
+                message,
+            })?;
+            let mut solver = FitSolver::new();
+            (solver.min, solver.max) = (min, max);
+            solver.torso_on_pelvis = a.lumbar == Some(LumbarArg::Locked);
+            Solving::Chain {
+                model: Box::new(model),
+                solver: Box::new(solver),
+                lumbar: [0.0; 3],
+            }
+        }
+        Model::Hak { .. } => bail!(
+            "--model hak: HAK has no pelvis for the pelvis sensor; `qgait imu` solves phak, a gait2392-family model or an imported chain (CHAIN.toml, MODEL.osim)"
+        ),
+    };
+    if let Some(r) = a.rate {
+        if !(r > 0.0 && r.is_finite()) {
+            bail!("--rate {r}: expected a sampling rate in Hz");
+        }
+    }
+    let mapping = a.imu_mapping.as_deref().map(Mapping::read).transpose()?;
+    let mut warnings: Vec<Warning> = Vec::new();
+    let calibration = calibrate(
+        &a.calibration,
+        mapping.as_ref(),
+        a.rate,
+        &solving,
+        &settings,
+        &mut warnings,
+    )?;
+    let mut reader = imu_vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
+    for s in &calibration.1 {
+        if !reader.sensors().contains(s) {
             bail!(
                 "{}: no column `{s}`, but the calibration pose ({}) has it",
                 reader.labels_location(),
@@ -174,7 +391,7 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
             );
         }
     }
-    for s in reader.sensors().collect::<Vec<_>>() {
+    for s in reader.sensors() {
         if !calibration.1.contains(&s) {
             warnings.push(Warning(format!(
                 "{}: `{s}` has no reading in the calibration pose ({}); its column is ignored",
@@ -185,103 +402,110 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     }
     let calibration = calibration.0;
 
-    let mode = match a.mode {
-        ModeArg::LeastSquares => Mode::LeastSquares,
-        ModeArg::ClosedForm => Mode::ClosedForm,
-    };
     let name = a
         .orientations
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let labels: Vec<String> = std::iter::once("time")
-        .chain(COORDINATES)
-        .chain(LUMBAR)
+        .chain(solving.labels())
         .map(String::from)
         .collect();
-    let mut solver = Solver::new();
     let progress = Progress::new(0, "imu", diagnostics.quiet());
-    let heading_free = a.pelvis == PelvisArg::HeadingFree;
-    let mut window = ProgressionWindow::new(PROGRESSION_WINDOW);
+    let mut window = ProgressionWindow::new(PROGRESSION_WINDOW, 1 + solving.heading_column());
     write_output_with(Some(&a.output), |out| {
         write_mot_header(&mut *out, &name, &labels, true, None)?;
-        let mut emit = |row: &Row, heading: Option<f64>| -> std::io::Result<()> {
-            let mut row = *row;
-            if let Some(h) = heading {
-                let pelvis = [1, 2, 3].map(|c| row[c].to_radians());
-                let p = heading_free_pelvis(&model, pelvis, h.to_radians());
-                for (k, v) in p.into_iter().enumerate() {
-                    row[k + 1] = v.to_degrees();
+        let mut emit =
+            |row: &Row, heading: Option<f64>, solving: &Solving| -> std::io::Result<()> {
+                let mut row = row.clone();
+                if let Some(h) = heading {
+                    solving.heading_free(&mut row[1..], h);
                 }
-            }
-            write_mot_row(&mut *out, &row)
-        };
+                write_mot_row(&mut *out, &row)
+            };
         while let Some(r) = reader.next_row()? {
             let segments = calibration
                 .segments(&r.readings)
                 .map_err(|e| anyhow::anyhow!("{}:{}: {e}", reader.source(), r.line))?;
-            let solved = solver.solve(&model, &segments, mode);
-            let mut row: Row = [0.0; COLUMNS];
-            row[0] = r.time;
-            for (v, q) in row[1..]
-                .iter_mut()
-                .zip(solved.coordinates.iter().chain(&solved.lumbar))
-            {
-                *v = q.to_degrees();
-            }
+            let mut row: Row = Vec::with_capacity(labels.len());
+            row.push(r.time);
+            solving.solve(&segments, &mut row);
             if heading_free {
-                window.push(row, false, &mut emit)?;
+                window.push(Some(row), &mut |r, h| emit(r, h, &solving))?;
             } else {
-                emit(&row, None)?;
+                emit(&row, None, &solving)?;
             }
             progress.inc(1);
         }
         if heading_free {
-            window.push([f64::INFINITY; COLUMNS], true, &mut emit)?;
+            window.push(None, &mut |r, h| emit(r, h, &solving))?;
         }
         Ok(())
     })?;
     progress.finish();
     warnings.extend(reader.take_warnings());
     diagnostics.warn(warnings);
+    if let Some(reference) = &a.compare {
+        let (ours, _) = MotionTable::read(&a.output)?;
+        let (theirs, w) = MotionTable::read(reference)?;
+        diagnostics.warn(w);
+        let comparison = imu_angles::compare(&ours, &theirs)?;
+        println!(
+            "qgait imu against {} ({} rows, {:.2} s to {:.2} s):\n",
+            reference.display(),
+            comparison.time.len(),
+            comparison.time.first().copied().unwrap_or(0.0),
+            comparison.time.last().copied().unwrap_or(0.0)
+        );
+        print!("{}", comparison.markdown("°"));
+        if let Some(dir) = &a.figures {
+            let label = format!("qgait imu --model {}", chosen.name());
+            let theirs_label = reference
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            for f in imu_angles::draw(&comparison, [&label, &theirs_label], "degrees", dir)? {
+                diagnostics.notes([format!("wrote {}", f.display())]);
+            }
+        }
+    }
     Ok(())
 }
 
-/// Output columns: time, gait2392's 17 coordinates, the lumbar joint's 3.
-const COLUMNS: usize = 21;
-
 /// One output row (time, then degrees).
-type Row = [f64; COLUMNS];
+type Row = Vec<f64>;
 
 /// The rows within half a window of the next row to write, for the direction of progression:
-/// the mean `pelvis_rotation` over the rows within `window / 2` seconds of a row's time (a
-/// centred moving average). Memory is bounded by the window, not by the recording.
+/// the mean heading (column `column`) over the rows within `window / 2` seconds of a row's time
+/// (a centred moving average). Memory is bounded by the window, not by the recording.
 struct ProgressionWindow {
     half: f64,
+    column: usize,
     rows: std::collections::VecDeque<Row>,
     /// Index in `rows` of the next row to write.
     next: usize,
 }
 
 impl ProgressionWindow {
-    fn new(window: f64) -> Self {
+    fn new(window: f64, column: usize) -> Self {
         Self {
             half: window / 2.0,
+            column,
             rows: std::collections::VecDeque::new(),
             next: 0,
         }
     }
 
-    /// Adds `row` (or, with `last`, ends the recording: `row` is not kept) and hands every row
-    /// whose window is now complete to `emit` with its direction of progression (degrees).
+    /// Adds `row` (or, with `None`, ends the recording) and hands every row whose window is
+    /// now complete to `emit` with its direction of progression (degrees).
     fn push(
         &mut self,
-        row: Row,
-        last: bool,
+        row: Option<Row>,
         emit: &mut impl FnMut(&Row, Option<f64>) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
-        let t_new = row[0];
-        if !last {
+        let last = row.is_none();
+        let t_new = row.as_ref().map_or(f64::INFINITY, |r| r[0]);
+        if let Some(row) = row {
             self.rows.push_back(row);
         }
         while self.next < self.rows.len() {
@@ -293,7 +517,7 @@ impl ProgressionWindow {
                 .rows
                 .iter()
                 .filter(|r| (r[0] - t).abs() <= self.half)
-                .fold((0.0, 0), |(s, n), r| (s + r[3], n + 1));
+                .fold((0.0, 0), |(s, n), r| (s + r[self.column], n + 1));
             emit(&self.rows[self.next], Some(sum / n as f64))?;
             self.next += 1;
             while self.next < self.rows.len()
@@ -310,11 +534,13 @@ impl ProgressionWindow {
 /// The calibration from the first row of `path`, and the sensors it has.
 fn calibrate(
     path: &Path,
-    model: &Gait2392<f64>,
+    mapping: Option<&Mapping>,
+    rate: Option<f64>,
+    solving: &Solving,
     settings: &Settings<f64>,
     warnings: &mut Vec<Warning>,
 ) -> anyhow::Result<(Calibration<f64>, Vec<Segment>)> {
-    let mut reader = OrientationReader::open(path)?;
+    let mut reader = imu_vendor::open(path, mapping, rate)?;
     let row = reader
         .next_row()?
         .expect("the reader refuses a file without rows");
@@ -330,8 +556,12 @@ fn calibrate(
         .into_iter()
         .filter(|&s| row.readings.get(s).is_some())
         .collect();
-    let calibration = Calibration::new(model, &row.readings, settings)
-        .map_err(|e| anyhow::anyhow!("{}:{}: {e}", reader.source(), row.line))?;
+    let calibration = match solving {
+        Solving::Gait2392 { model, .. } => Calibration::new(model, &row.readings, settings),
+        Solving::Phak { model, .. } => Calibration::for_model(&**model, &row.readings, settings),
+        Solving::Chain { model, .. } => Calibration::for_model(&**model, &row.readings, settings),
+    }
+    .map_err(|e| anyhow::anyhow!("{}:{}: {e}", reader.source(), row.line))?;
     Ok((calibration, present))
 }
 
@@ -351,7 +581,7 @@ mod tests {
             .iter()
             .map(|t| 90.0 * t + 5.0 * (7.0 * t).sin())
             .collect();
-        let mut window = ProgressionWindow::new(0.5);
+        let mut window = ProgressionWindow::new(0.5, 3);
         let mut got = Vec::new();
         let mut most = 0;
         let mut emit = |r: &Row, h: Option<f64>| {
@@ -359,13 +589,13 @@ mod tests {
             Ok(())
         };
         for (t, v) in time.iter().zip(&rot) {
-            let mut row = [0.0; COLUMNS];
+            let mut row = vec![0.0; 21];
             row[0] = *t;
             row[3] = *v;
-            window.push(row, false, &mut emit).unwrap();
+            window.push(Some(row), &mut emit).unwrap();
             most = most.max(window.rows.len());
         }
-        window.push([0.0; COLUMNS], true, &mut emit).unwrap();
+        window.push(None, &mut emit).unwrap();
         assert_eq!(got.len(), n);
         for (i, (t, h)) in got.iter().enumerate() {
             assert_eq!(*t, time[i]);

@@ -11,8 +11,9 @@
 //! axes of the parent offset frame), each an `axis`, an optional `coordinate` (one of the 17
 //! gait2392 coordinate names, or a coupler's `dependent`) and a `function` (`type` `Constant`
 //! with `value`, `Linear` with `slope` and `intercept`, `SimmSpline` or `PiecewiseLinear` with
-//! knots `x` and `y`); then `[[couplers]]` (`dependent`, `independent`, `function`) and one
-//! `[[toe_tips]]` per side (right first: `body`, `location` in it).
+//! knots `x` and `y`); then `[[couplers]]` (`dependent`, `independent`, `function`), one
+//! `[[toe_tips]]` per side (right first: `body`, `location` in it) and the `[[ranges]]` the
+//! model clamps its input coordinates to (`coordinate`, `min`, `max`; used by `qgait imu`).
 
 use qgait_kernel::models::custom::{
     Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Offset, MAX_SPLINES,
@@ -169,6 +170,19 @@ pub struct PointData {
     pub location: [f64; 3],
 }
 
+/// The range an input coordinate is clamped to in the model (OpenSim's `range` with
+/// `clamped` true): what an inverse kinematics solve (`qgait imu`) keeps it within, as
+/// OpenSim's does. FK does not clamp.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RangeData {
+    /// One of the 17 gait2392 coordinate names.
+    pub coordinate: String,
+    /// Lower bound (radians, or metres for a translation).
+    pub min: f64,
+    /// Upper bound.
+    pub max: f64,
+}
+
 /// An imported lower-limb chain.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ChainModel {
@@ -179,6 +193,9 @@ pub struct ChainModel {
     pub couplers: Vec<CouplerData>,
     /// The toe tips, right then left.
     pub toe_tips: Vec<PointData>,
+    /// The clamped ranges of the input coordinates (none: unbounded).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ranges: Vec<RangeData>,
 }
 
 impl ChainModel {
@@ -318,6 +335,33 @@ impl ChainModel {
         LowerLimb::new(joints, points, &splines, &couplers).map_err(|e| e.to_string())
     }
 
+    /// The clamped ranges by input coordinate ([`COORDINATES`] order; unbounded where none is
+    /// given), or the first range naming a coordinate that is not an input.
+    pub fn bounds(&self) -> Result<([f64; 17], [f64; 17]), String> {
+        let mut min = [f64::NEG_INFINITY; 17];
+        let mut max = [f64::INFINITY; 17];
+        for r in &self.ranges {
+            let i = COORDINATES
+                .iter()
+                .position(|c| *c == r.coordinate)
+                .ok_or_else(|| {
+                    format!(
+                        "range of `{}`: not one of {}",
+                        r.coordinate,
+                        COORDINATES.join(", ")
+                    )
+                })?;
+            if r.min.is_nan() || r.max.is_nan() || r.min > r.max {
+                return Err(format!(
+                    "range of `{}`: min {} above max {}",
+                    r.coordinate, r.min, r.max
+                ));
+            }
+            (min[i], max[i]) = (r.min, r.max);
+        }
+        Ok((min, max))
+    }
+
     /// The file text: `comment` lines, then the tables.
     pub fn to_toml(&self, comment: &[String]) -> String {
         let mut text = String::new();
@@ -356,14 +400,17 @@ impl ChainModel {
                 message: e.message().to_string(),
             }
         })?;
-        model.chain().map_err(|message| ModelError::File {
-            at: Location {
-                path: source.to_string(),
-                line: None,
-                column: None,
-            },
-            message,
-        })?;
+        model
+            .chain()
+            .and_then(|_| model.bounds())
+            .map_err(|message| ModelError::File {
+                at: Location {
+                    path: source.to_string(),
+                    line: None,
+                    column: None,
+                },
+                message,
+            })?;
         Ok(model)
     }
 }

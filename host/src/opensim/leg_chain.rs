@@ -31,7 +31,7 @@ use qgait_kernel::models::gait2392::COORDINATES;
 use roxmltree::Document;
 
 use crate::model::chain::{
-    AxisData, ChainModel, CouplerData, FunctionData, JointData, PointData, BODIES,
+    AxisData, ChainModel, CouplerData, FunctionData, JointData, PointData, RangeData, BODIES,
 };
 use crate::opensim::osim::{
     self, child, function, generic_toe_tip, name_of, read_joints, text_of, toe_marker, Function,
@@ -52,6 +52,8 @@ struct Coordinate {
     name: String,
     default: f64,
     locked: bool,
+    /// `range`, if `clamped` is true.
+    clamped: Option<(f64, f64)>,
 }
 
 struct Coupling {
@@ -86,6 +88,15 @@ pub fn import(
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(0.0),
             locked: text_of(c, "locked") == Some("true"),
+            clamped: (text_of(c, "clamped") == Some("true"))
+                .then(|| {
+                    let r: Vec<f64> = text_of(c, "range")?
+                        .split_whitespace()
+                        .filter_map(|v| v.parse().ok())
+                        .collect();
+                    (r.len() == 2 && r[0] <= r[1]).then(|| (r[0], r[1]))
+                })
+                .flatten(),
         })
         .collect();
     let couplings = read_couplings(&doc).map_err(err)?;
@@ -194,10 +205,32 @@ pub fn import(
         toe_tips.push(tip);
         notes.push(note);
     }
+    // The clamped ranges of the inputs the chain moves (what `qgait imu` keeps them within).
+    let ranges = COORDINATES
+        .iter()
+        .filter(|c| {
+            out.iter().any(|j| {
+                j.rotations
+                    .iter()
+                    .chain(&j.translations)
+                    .any(|a| a.coordinate.as_deref() == Some(**c))
+            })
+        })
+        .filter_map(|c| {
+            let m = coordinates.iter().find(|m| m.name == *c)?;
+            let (min, max) = m.clamped?;
+            Some(RangeData {
+                coordinate: c.to_string(),
+                min,
+                max,
+            })
+        })
+        .collect();
     let model = ChainModel {
         joints: out,
         couplers,
         toe_tips,
+        ranges,
     };
     model.chain().map_err(err)?;
     Ok(ImportedChain { model, notes })

@@ -14,6 +14,7 @@
 mod distances;
 pub(crate) mod figure;
 mod font;
+pub mod imu_angles;
 pub mod metrics;
 mod paths;
 mod stick;

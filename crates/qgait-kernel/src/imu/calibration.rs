@@ -2,6 +2,7 @@
 
 use core::str::FromStr;
 
+use super::fit::FitModel;
 use super::math::{acos, space_fixed_xyz};
 use super::{unit, ImuError, Orientations, Segment, SENSORS};
 use crate::{Gait2392, Quat, Real, Vec3};
@@ -118,6 +119,33 @@ impl<T: Real> Calibration<T> {
         pose: &Orientations<T>,
         settings: &Settings<T>,
     ) -> Result<Self, ImuError> {
+        let default = model.chain().frames(&[T::ZERO; 17]);
+        // The torso hangs from the pelvis without an orientation offset (gait2392's back
+        // joint): in the default pose it is parallel to the pelvis.
+        let orientations = Segment::ALL.map(|s| default[s.chain_joint().unwrap_or(0)].rotation);
+        Self::with_default_pose(orientations, pose, settings)
+    }
+
+    /// The calibration for a [`FitModel`] (PHAK, an imported chain): its bodies' orientations
+    /// at all coordinates zero; a segment the model lacks (the torso) is taken parallel to the
+    /// pelvis, as in gait2392's and Rajagopal's default pose.
+    pub fn for_model<M: FitModel<T, N>, const N: usize>(
+        model: &M,
+        pose: &Orientations<T>,
+        settings: &Settings<T>,
+    ) -> Result<Self, ImuError> {
+        let default = model.orientations(&[T::ZERO; N]);
+        let pelvis = default[Segment::Pelvis as usize].unwrap_or(Quat::identity());
+        Self::with_default_pose(default.map(|o| o.unwrap_or(pelvis)), pose, settings)
+    }
+
+    /// The calibration for the static `pose` given each segment's orientation in the model's
+    /// default pose (by [`Segment`] index; the pelvis's x is the model's forward direction).
+    pub fn with_default_pose(
+        default: [Quat<T>; SENSORS],
+        pose: &Orientations<T>,
+        settings: &Settings<T>,
+    ) -> Result<Self, ImuError> {
         let s = space_fixed_xyz(settings.sensor_to_opensim);
         let mut rotated = [None; SENSORS];
         for (segment, slot) in Segment::ALL.into_iter().zip(&mut rotated) {
@@ -125,12 +153,7 @@ impl<T: Real> Calibration<T> {
                 *slot = Some(s * unit(q, segment)?);
             }
         }
-        let default = model.chain().frames(&[T::ZERO; 17]);
-        let default_of = |segment: Segment| {
-            // The torso hangs from the pelvis without an orientation offset (gait2392's back
-            // joint): in the default pose it is parallel to the pelvis.
-            default[segment.chain_joint().unwrap_or(0)].rotation
-        };
+        let default_of = |segment: Segment| default[segment as usize];
         let heading = match settings.heading {
             None => T::ZERO,
             Some(h) => {
@@ -142,7 +165,7 @@ impl<T: Real> Calibration<T> {
                 }
                 // computeHeadingCorrection: the angle between the axis and the base body's
                 // (the chain root's) x in ground, negative when x cross axis points up.
-                let forward = default[0].rotation.rotate(Vec3::unit_x());
+                let forward = default_of(Segment::Pelvis).rotate(Vec3::unit_x());
                 let angle = acos(axis.dot(forward));
                 if forward.cross(axis).y > T::ZERO {
                     -angle

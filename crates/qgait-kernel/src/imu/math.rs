@@ -145,3 +145,48 @@ pub fn space_fixed_xyz<T: Real>(r: [T; 3]) -> Quat<T> {
         * Quat::from_axis_angle(Vec3::unit_y(), r[1])
         * Quat::from_axis_angle(Vec3::unit_x(), r[0])
 }
+
+/// The unit quaternion (`w >= 0`) of the rotation matrix `m` (row-major, `m[row][column]`), by
+/// Shepperd's method (from the largest of `w`, `x`, `y`, `z`, so that no division is by a small
+/// number); a matrix a little off orthonormal (printed digits) gives the nearest such rotation's
+/// quaternion to first order, normalised. Vendors that export orientation matrices (Xsens
+/// `Mat[r][c]`) are read through it.
+pub fn from_rotation_matrix<T: Real>(m: [[T; 3]; 3]) -> Quat<T> {
+    let (one, quarter) = (T::ONE, T::from_f64(0.25));
+    let trace = m[0][0] + m[1][1] + m[2][2];
+    let q = if trace >= m[0][0] && trace >= m[1][1] && trace >= m[2][2] {
+        let s = (one + trace).sqrt() * T::TWO; // 4w
+        Quat::new(
+            quarter * s,
+            (m[2][1] - m[1][2]) / s,
+            (m[0][2] - m[2][0]) / s,
+            (m[1][0] - m[0][1]) / s,
+        )
+    } else if m[0][0] >= m[1][1] && m[0][0] >= m[2][2] {
+        let s = (one + m[0][0] - m[1][1] - m[2][2]).sqrt() * T::TWO; // 4x
+        Quat::new(
+            (m[2][1] - m[1][2]) / s,
+            quarter * s,
+            (m[0][1] + m[1][0]) / s,
+            (m[0][2] + m[2][0]) / s,
+        )
+    } else if m[1][1] >= m[2][2] {
+        let s = (one + m[1][1] - m[0][0] - m[2][2]).sqrt() * T::TWO; // 4y
+        Quat::new(
+            (m[0][2] - m[2][0]) / s,
+            (m[0][1] + m[1][0]) / s,
+            quarter * s,
+            (m[1][2] + m[2][1]) / s,
+        )
+    } else {
+        let s = (one + m[2][2] - m[0][0] - m[1][1]).sqrt() * T::TWO; // 4z
+        Quat::new(
+            (m[1][0] - m[0][1]) / s,
+            (m[0][2] + m[2][0]) / s,
+            (m[1][2] + m[2][1]) / s,
+            quarter * s,
+        )
+    };
+    let n = q.norm();
+    positive(Quat::new(q.w / n, q.x / n, q.y / n, q.z / n))
+}

@@ -1,4 +1,5 @@
-//! IMU orientations in, gait2392 coordinates out, as OpenSim's OpenSense does it.
+//! IMU orientations in, gait2392 coordinates out (or PHAK's, or an imported chain's: [`fit`]), as
+//! OpenSim's OpenSense does it.
 //!
 //! An IMU node reports its own orientation as a unit quaternion in its world frame (the sensor
 //! fusion's). Three steps turn the eight orientations of OpenSense's lower-body set (torso,
@@ -64,16 +65,23 @@
 //! re-expresses the pelvis relative to a direction of progression, for analyses of turning
 //! walks (in the world frame, gait2392's tilt and list change with the walking direction).
 //!
+//! **Other models.** [`fit`] solves the same problem for PHAK on its own axes and for any
+//! imported OpenSim chain ([`FitSolver`], [`FitModel`]; numeric Jacobian from the model's own
+//! body orientations, bounded coordinates by an active set), calibrated from the model's
+//! default pose ([`Calibration::for_model`]).
+//!
 //! Everything is fixed size, allocation-free and generic over [`Real`]: the
 //! device runs it in `f32`, the host in `f64`.
 
 mod calibration;
+pub mod fit;
 pub mod math;
 mod solve;
 
 pub use calibration::{Calibration, Heading, HeadingAxis, Settings};
+pub use fit::{FitAngles, FitModel, FitSolver};
 pub use solve::{
-    closed_form, heading_free_pelvis, ImuAngles, Mode, Ranges, Solver, ITERATIONS, LUMBAR,
+    closed_form, heading_free_pelvis, lumbar, ImuAngles, Mode, Ranges, Solver, ITERATIONS, LUMBAR,
 };
 
 use core::fmt;

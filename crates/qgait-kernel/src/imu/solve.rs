@@ -1,5 +1,6 @@
 //! Segment orientations to gait2392 coordinates: the closed form and the per-leg least squares.
 
+use super::fit::unwrap_turns;
 use super::math::{rotation_vector, three_axes, twist, two_axes};
 use super::{Orientations, Segment};
 use crate::chain::Frame;
@@ -123,18 +124,6 @@ fn axes<T: Real, const N: usize>(model: &Gait2392<T>, j: usize) -> [Vec3<T>; N] 
     core::array::from_fn(|k| joint.axes[k].direction)
 }
 
-/// `value` moved by whole turns to within half a turn of `previous` (unchanged if either is
-/// not finite). The rounding runs (in `f64`) only when the two are more than half a turn
-/// apart.
-fn unwrap<T: Real>(value: T, previous: T) -> T {
-    let d = previous - value;
-    if !d.is_finite() || d.abs() <= T::from_f64(core::f64::consts::PI) {
-        return value;
-    }
-    let turn = core::f64::consts::TAU;
-    value + T::from_f64(libm::round(d.to_f64() / turn) * turn)
-}
-
 /// The closed form (see the [module](super) docs): each joint's relative rotation decomposed
 /// into its axes, for the segment orientations `segments` ([`Calibration::segments`](super::Calibration::segments)).
 /// Coordinates whose segments are missing keep their value in `previous`; `pelvis_rotation`
@@ -165,15 +154,12 @@ fn decompose<T: Real>(
             let [tilt, list, rotation] = three_axes(p, axes(model, 0));
             out.coordinates[0] = tilt;
             out.coordinates[1] = list;
-            out.coordinates[2] = unwrap(rotation, previous.coordinates[2]);
+            out.coordinates[2] = unwrap_turns(rotation, previous.coordinates[2]);
         }
         None => out.held |= 0b111,
     }
     match (pelvis, segments.get(Segment::Torso)) {
-        (Some(p), Some(t)) => {
-            let (x, y, z) = (Vec3::unit_x(), Vec3::unit_y(), Vec3::unit_z());
-            out.lumbar = three_axes(p.conj() * t, [z, x, y]);
-        }
+        (Some(p), Some(t)) => out.lumbar = lumbar(p, t),
         _ => out.held |= 0b111 << 17,
     }
     for leg in LEGS.iter().filter(|_| legs) {
@@ -210,6 +196,14 @@ fn decompose<T: Real>(
     out
 }
 
+/// The lumbar joint's coordinates ([`LUMBAR`] order: extension, bending, rotation about z, x,
+/// y, body-fixed) of the torso orientation `torso` relative to the pelvis orientation `pelvis`
+/// (gait2392's and Rajagopal's back joint).
+pub fn lumbar<T: Real>(pelvis: Quat<T>, torso: Quat<T>) -> [T; 3] {
+    let (x, y, z) = (Vec3::unit_x(), Vec3::unit_y(), Vec3::unit_z());
+    three_axes(pelvis.conj() * torso, [z, x, y])
+}
+
 /// The pelvis coordinates `[tilt, list, rotation]` re-expressed relative to a direction of
 /// progression `heading` (radians about the vertical y, e.g. a smoothed `pelvis_rotation`):
 /// the pelvis turned by `-heading` about the vertical and decomposed again. The solver reports
@@ -225,13 +219,16 @@ pub fn heading_free_pelvis<T: Real>(model: &Gait2392<T>, pelvis: [T; 3], heading
     three_axes(p, axes)
 }
 
-/// Solves `(H + damping I) x = b` for a symmetric positive semi-definite 6x6 `H` by Cholesky;
-/// `None` if it is not positive definite or the result is not finite.
+/// Solves `(H + damping I) x = b` for the leading `n x n` block (`n <= 6`) of a symmetric
+/// positive semi-definite `H` by Cholesky; `None` if it is not positive definite or the result
+/// is not finite. The damping (1e-6) leaves a coordinate that no sensor depends on (a zero
+/// row and column, e.g. a locked joint) where it is.
 #[allow(clippy::needless_range_loop)] // (index arithmetic is the algorithm)
-fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
+pub(crate) fn solve_normal<T: Real>(h: &[[T; 6]; 6], b: &[T; 6], n: usize) -> Option<[T; 6]> {
+    let n = n.min(6);
     let damping = T::from_f64(1e-6);
     let mut l = [[T::ZERO; 6]; 6];
-    for i in 0..6 {
+    for i in 0..n {
         for j in 0..=i {
             let mut s = h[i][j];
             if i == j {
@@ -251,7 +248,7 @@ fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
         }
     }
     let mut y = [T::ZERO; 6];
-    for i in 0..6 {
+    for i in 0..n {
         let mut s = b[i];
         for k in 0..i {
             s -= l[i][k] * y[k];
@@ -259,9 +256,9 @@ fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
         y[i] = s / l[i][i];
     }
     let mut x = [T::ZERO; 6];
-    for i in (0..6).rev() {
+    for i in (0..n).rev() {
         let mut s = y[i];
-        for k in i + 1..6 {
+        for k in i + 1..n {
             s -= l[k][i] * x[k];
         }
         x[i] = s / l[i][i];
@@ -269,9 +266,93 @@ fn solve6<T: Real>(h: &[[T; 6]; 6], b: &[T; 6]) -> Option<[T; 6]> {
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
+/// The normal equations of one Gauss-Newton step, accumulated sensor by sensor: for a sensor
+/// whose error rotation (model times measured inverse, in ground) has the rotation vector `r`
+/// and whose predicted orientation turns by `w[a] dq[a]` (in ground) for small changes of the
+/// step's coordinates, `H += W^T W` and `g -= W^T r`. Because the rotation vector's log Jacobian
+/// leaves the residual unchanged (`J(r) r = r`), `W^T r = 0` is the exact stationary point of
+/// the summed squared angles, so the fixed point is the exact minimiser.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NormalEquations<T> {
+    h: [[T; 6]; 6],
+    g: [T; 6],
+    /// Whether any sensor was added.
+    pub any: bool,
+}
+
+impl<T: Real> NormalEquations<T> {
+    pub const fn new() -> Self {
+        Self {
+            h: [[T::ZERO; 6]; 6],
+            g: [T::ZERO; 6],
+            any: false,
+        }
+    }
+
+    /// Adds one sensor: its residual `r` and its first `n` columns `w`.
+    pub fn add(&mut self, r: Vec3<T>, w: &[Vec3<T>; 6], n: usize) {
+        self.any = true;
+        for a in 0..n {
+            self.g[a] -= w[a].dot(r);
+            for b in 0..=a {
+                self.h[a][b] += w[a].dot(w[b]);
+            }
+        }
+    }
+
+    /// The step for the first `n` coordinates (`None` if singular or not finite).
+    pub fn step(mut self, n: usize) -> Option<[T; 6]> {
+        for a in 0..6 {
+            for b in a + 1..6 {
+                self.h[a][b] = self.h[b][a];
+            }
+        }
+        solve_normal(&self.h, &self.g, n)
+    }
+
+    /// The step for the first `n` coordinates `q` within the bounds `min`, `max` (an active
+    /// set): a coordinate at a bound that the step would push beyond it is held there (its
+    /// row and column removed) and the others solved again without it, until no step leaves
+    /// the box; the result is then clamped. Without this, a coordinate resting on its bound
+    /// (a straight knee at 0) would pull the others towards its unconstrained step every
+    /// iteration and the solve would settle away from the bounded minimiser.
+    pub fn bounded_step(self, n: usize, q: &[T; 6], min: &[T; 6], max: &[T; 6]) -> Option<[T; 6]> {
+        let mut system = self;
+        let mut held = [false; 6];
+        for a in 0..6 {
+            for b in a + 1..6 {
+                system.h[a][b] = system.h[b][a];
+            }
+        }
+        loop {
+            let step = solve_normal(&system.h, &system.g, n)?;
+            let mut changed = false;
+            for k in 0..n {
+                let beyond =
+                    (q[k] <= min[k] && step[k] < T::ZERO) || (q[k] >= max[k] && step[k] > T::ZERO);
+                if beyond && !held[k] {
+                    held[k] = true;
+                    changed = true;
+                    for j in 0..6 {
+                        system.h[k][j] = T::ZERO;
+                        system.h[j][k] = T::ZERO;
+                    }
+                    system.g[k] = T::ZERO;
+                }
+            }
+            if !changed {
+                let mut out = [T::ZERO; 6];
+                for k in 0..n {
+                    out[k] = (q[k] + step[k]).max(min[k]).min(max[k]) - q[k];
+                }
+                return Some(out);
+            }
+        }
+    }
+}
+
 /// One Gauss-Newton step of one leg at the chain frames `frames` of coordinates `q`: updates
 /// the leg's six coordinates in `q` (clamped), unless no sensor of the leg is present.
-#[allow(clippy::needless_range_loop)] // (a symmetric matrix filled by index)
 fn gauss_newton_step<T: Real>(
     model: &Gait2392<T>,
     leg: &Leg,
@@ -301,33 +382,20 @@ fn gauss_newton_step<T: Real>(
     ];
     // Femur: hip only; tibia: hip and knee; calcaneus: all six.
     let bodies = [(leg.hip, 3), (leg.hip + 1, 4), (leg.hip + 3, 6)];
-    let mut h = [[T::ZERO; 6]; 6];
-    let mut g = [T::ZERO; 6];
-    let mut any = false;
+    let mut normal = NormalEquations::new();
     for (segment, (body, n)) in leg.segments.into_iter().zip(bodies) {
         let Some(measured) = segments.get(segment) else {
             continue;
         };
-        any = true;
         // The error rotation in ground, model times measured inverse: the model's prediction
         // turned by w_i dq_i moves it by w_i dq_i to first order.
         let r = rotation_vector(frames[body].rotation * measured.conj());
-        for a in 0..n {
-            g[a] -= w[a].dot(r);
-            for b in 0..=a {
-                h[a][b] += w[a].dot(w[b]);
-            }
-        }
+        normal.add(r, &w, n);
     }
-    if !any {
+    if !normal.any {
         return;
     }
-    for a in 0..6 {
-        for b in a + 1..6 {
-            h[a][b] = h[b][a];
-        }
-    }
-    if let Some(step) = solve6(&h, &g) {
+    if let Some(step) = normal.step(6) {
         for (k, d) in step.into_iter().enumerate() {
             q[c + k] = ranges.clamp(c + k, q[c + k] + d);
         }
