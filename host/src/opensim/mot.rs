@@ -774,6 +774,11 @@ impl MotionTable {
         &self.header.source
     }
 
+    /// Where the column labels are (`file:line`), for errors about columns.
+    pub fn labels_location(&self) -> String {
+        self.header.labels_location()
+    }
+
     /// Whether angle columns are in degrees (`inDegrees=yes`).
     pub fn in_degrees(&self) -> bool {
         self.header.in_degrees

@@ -13,7 +13,6 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use qgait_kernel::imu::math::three_axes;
@@ -21,6 +20,56 @@ use qgait_kernel::{Quat, Vec3};
 
 use super::figure::{self, draw_err, gait_color, Figure};
 use crate::opensim::mot::MotionTable;
+
+/// Why two solutions cannot be compared, or the figure not written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CompareError {
+    /// One file is in degrees and the other in radians.
+    #[error("{location}: in {theirs}, but the output is in {ours}")]
+    Units {
+        /// The reference's labels line.
+        location: String,
+        /// The reference's unit.
+        theirs: &'static str,
+        /// Ours.
+        ours: &'static str,
+    },
+    /// A reference time has no row of ours within 1 µs.
+    #[error("{location}: time {time} has no row in the output (the reference must be a solution of the same recording)")]
+    NoRow {
+        /// The reference's labels line.
+        location: String,
+        /// The reference's time.
+        time: f64,
+    },
+    /// No coordinate is in both files (with a reference not zero throughout).
+    #[error("{location}: no coordinate in common with the output")]
+    NothingInCommon {
+        /// The reference's labels line.
+        location: String,
+    },
+    /// The output directory cannot be created.
+    #[error("{}: cannot create directory", path.display())]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        error: std::io::Error,
+    },
+    /// The figure cannot be drawn or written.
+    #[error(transparent)]
+    Figure(#[from] figure::FigureError),
+}
+
+fn unit(in_degrees: bool) -> &'static str {
+    if in_degrees {
+        "degrees"
+    } else {
+        "radians"
+    }
+}
 
 /// One compared coordinate.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,22 +110,13 @@ fn principal_pelvis(angles: [f64; 3], near: f64) -> [f64; 3] {
 }
 
 /// Compares `ours` with `theirs` (see the [module](self) docs).
-pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> anyhow::Result<Comparison> {
+pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> Result<Comparison, CompareError> {
     if ours.in_degrees() != theirs.in_degrees() {
-        bail!(
-            "{}: in {}, but the output is in {}",
-            theirs.labels_location(),
-            if theirs.in_degrees() {
-                "degrees"
-            } else {
-                "radians"
-            },
-            if ours.in_degrees() {
-                "degrees"
-            } else {
-                "radians"
-            }
-        );
+        return Err(CompareError::Units {
+            location: theirs.labels_location(),
+            theirs: unit(theirs.in_degrees()),
+            ours: unit(ours.in_degrees()),
+        });
     }
     // Our row for each reference row.
     let mut index = Vec::with_capacity(theirs.rows());
@@ -86,10 +126,10 @@ pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> anyhow::Result<Compa
             j += 1;
         }
         if j == ours.rows() || (ours.time()[j] - t).abs() > 1e-6 {
-            bail!(
-                "{}: time {t} has no row in the output (the reference must be a solution of the same recording)",
-                theirs.labels_location()
-            );
+            return Err(CompareError::NoRow {
+                location: theirs.labels_location(),
+                time: t,
+            });
         }
         index.push(j);
     }
@@ -159,10 +199,9 @@ pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> anyhow::Result<Compa
         });
     }
     if coordinates.is_empty() {
-        bail!(
-            "{}: no coordinate in common with the output",
-            theirs.labels_location()
-        );
+        return Err(CompareError::NothingInCommon {
+            location: theirs.labels_location(),
+        });
     }
     Ok(Comparison {
         time: theirs.time().to_vec(),
@@ -206,7 +245,10 @@ impl Figure for AnglesFigure<'_> {
         (COLUMNS as u32 * PANEL_W, HEADER + rows * PANEL_H)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), figure::PlotError> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, grid) = root.split_vertically(HEADER);
         header
@@ -291,16 +333,19 @@ pub fn draw(
     labels: [&str; 2],
     unit: &str,
     dir: &Path,
-) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    figure::save(
+) -> Result<Vec<PathBuf>, CompareError> {
+    std::fs::create_dir_all(dir).map_err(|error| CompareError::CreateDir {
+        path: dir.to_path_buf(),
+        error,
+    })?;
+    Ok(figure::save(
         &AnglesFigure {
             comparison,
             labels,
             unit,
         },
         dir,
-    )
+    )?)
 }
 
 #[cfg(test)]
