@@ -14,14 +14,14 @@ use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Vec3};
 use qgait_proto::device_model::{kernel_settings, q14_quat};
 use qgait_proto::{
     Config, FrameFlags, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointId, Message,
-    MissingPolicy, ModelId, PoseFrame, SegmentId, SegmentOrientation, PROTOCOL_VERSION,
+    MissingPolicy, ModelId, SegmentId, SegmentOrientation, PROTOCOL_VERSION,
 };
 
 use qgait_hub::{Kinematics, ManualClock};
 
 use crate::{
-    drain, each_output, new_hub, send, send_sample, send_subject, subject_config, CheckFailure,
-    CheckHub, CheckResult, CheckSerial,
+    drain, new_hub, poses, send, send_sample, send_subject, subject_config, CheckFailure,
+    CheckResult, CheckSerial,
 };
 
 /// The names of the checks of this module in [`ALL`](crate::ALL) (their failures' lines are
@@ -157,19 +157,6 @@ fn gait2392_config(policy: MissingPolicy) -> Message {
 
 fn fail(what: &'static str, line: u32) -> CheckFailure {
     CheckFailure { what, line }
-}
-
-/// The pose frames the hub wrote, each given to `on`.
-fn poses(hub: &mut CheckHub<'_>, mut on: impl FnMut(&PoseFrame)) -> Result<u32, CheckFailure> {
-    let mut n = 0;
-    let bad = each_output(hub, |m| {
-        if let Message::PoseFrame(p) = m {
-            n += 1;
-            on(p);
-        }
-    });
-    ensure!(bad == 0);
-    Ok(n)
 }
 
 /// The kernel's own `f32` path on the same Q14 readings: calibration, solver, then the pose

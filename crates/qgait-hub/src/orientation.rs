@@ -1,7 +1,7 @@
 //! The IMU orientation input (cargo feature `imu`): segment orientations in, calibrated joint
 //! angles and their pose out, by the kernel's `imu` path in `f32`.
 //!
-//! In the orientation modes of [`ImuConfig`](qgait_proto::ImuConfig) the hub's reorder window
+//! In the orientation modes of [`ImuConfig`] the hub's reorder window
 //! assembles [`SegmentOrientation`](qgait_proto::SegmentOrientation) packets instead of joint
 //! angles ([`SegmentAssembler`](crate::assembly::SegmentAssembler), the same window, late,
 //! duplicate and missing policies, in the same memory: the input is one or the other). A sample
