@@ -228,6 +228,11 @@ mod tests {
         c.run("incomplete_orientation_samples_follow_the_missing_policy")
     }
 
+    #[test]
+    fn random_orientation_messages_never_stop_the_pipeline(c: &mut SharedChecks) -> CheckResult {
+        c.run("random_orientation_messages_never_stop_the_pipeline")
+    }
+
     /// Every check of `qgait_hub_checks::ALL` ran above, once.
     #[test]
     fn every_shared_check_ran_once(c: &mut SharedChecks) {

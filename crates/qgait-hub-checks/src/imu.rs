@@ -26,7 +26,8 @@ use crate::{
 
 /// The names of the checks of this module in [`ALL`](crate::ALL) (their failures' lines are
 /// in this file).
-pub const CHECKS: [&str; 4] = [
+pub const CHECKS: [&str; 5] = [
+    "random_orientation_messages_never_stop_the_pipeline",
     "orientation_input_calibrates_then_sends_kernel_poses",
     "orientation_failures_are_counted",
     "calibration_is_kept_across_model_and_input_switches",
@@ -428,6 +429,90 @@ pub fn calibration_is_kept_across_model_and_input_switches() -> CheckResult {
         i += 1;
     })?;
     ensure!(n == 4 && seqs == [2, 3, 4, 5] && subject_frames);
+    Ok(())
+}
+
+/// Random orientation packets (any quaternion, segment and nearby sequence number) and random
+/// IMU configurations (non-finite settings, any mode, segments and heading) between clean
+/// samples never stop the hub: afterwards a calibration and samples still give their frames.
+pub fn random_orientation_messages_never_stop_the_pipeline() -> CheckResult {
+    let Some(truth_model) = model_f64() else {
+        return Err(fail("the generic gait2392 in f64", line!()));
+    };
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    ensure!(send(
+        hub.serial_mut(),
+        &gait2392_config(MissingPolicy::HoldLast)
+    ));
+    let mut state = 0x9E37_79B9_u32;
+    let mut next = || {
+        // xorshift32
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state
+    };
+    let mut rejected_nan = false;
+    for round in 0..40u32 {
+        for _ in 0..12 {
+            let r = next();
+            let segment = SegmentId::ALL[(r % 8) as usize];
+            let q14 = [next() as i16, next() as i16, next() as i16, next() as i16];
+            let seq = round * 3 + (r >> 8) % 5;
+            let p = orientation(seq, segment, q14);
+            ensure!(send(hub.serial_mut(), &Message::SegmentOrientation(p)));
+        }
+        let r = next();
+        let nan = r % 4 == 0;
+        let config = ImuConfig {
+            mode: [
+                InputMode::JointAngles,
+                InputMode::OrientationsClosedForm,
+                InputMode::OrientationsLeastSquares,
+            ][(r % 3) as usize],
+            segments: (next() as u8) | 1,
+            calibrate: r & 16 != 0,
+            sensor_to_opensim: if nan {
+                [f32::NAN, f32::INFINITY, 0.0]
+            } else {
+                [f32::from_bits(next() & 0x407f_ffff), 0.0, 1.0]
+            },
+            heading: (r & 32 != 0).then(|| ImuHeading {
+                base: SegmentId::ALL[((r >> 6) % 8) as usize],
+                axis: HeadingAxisId::from_repr(((r >> 9) % 6) as u8).unwrap_or(HeadingAxisId::Z),
+            }),
+            request_status: false,
+        };
+        let before = hub.status().config_rejected;
+        ensure!(send(hub.serial_mut(), &Message::ImuConfig(config)));
+        drain(&mut hub);
+        rejected_nan |= nan && hub.status().config_rejected == before + 1;
+    }
+    ensure!(rejected_nan);
+    let ls = InputMode::OrientationsLeastSquares;
+    let all = ImuConfig::ALL_SEGMENTS;
+    let serial = hub.serial_mut();
+    ensure!(send(serial, &Message::ImuConfig(imu_config(ls, true, 0))));
+    let pose = calibration_readings(&truth_model);
+    ensure!(send_orientations(serial, 5000, &pose, all));
+    for k in 5001..5004 {
+        ensure!(send_orientations(
+            serial,
+            k,
+            &readings(&truth_model, &truth(k)),
+            all
+        ));
+    }
+    drain(&mut hub);
+    let mut last = [0u32; 3];
+    let mut i = 0;
+    poses(&mut hub, |p| {
+        last.rotate_left(1);
+        last[2] = p.seq;
+        i += 1;
+    })?;
+    ensure!(last == [5001, 5002, 5003]);
     Ok(())
 }
 

@@ -139,6 +139,10 @@ pub const ALL: &[NamedCheck] = &[
         "incomplete_orientation_samples_follow_the_missing_policy",
         imu::incomplete_orientation_samples_follow_the_missing_policy,
     ),
+    (
+        "random_orientation_messages_never_stop_the_pipeline",
+        imu::random_orientation_messages_never_stop_the_pipeline,
+    ),
 ];
 
 /// Serial port of the checks: room for a few hundred packets each way.

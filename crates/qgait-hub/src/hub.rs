@@ -494,6 +494,9 @@ where
     #[cfg(feature = "imu")]
     fn apply_imu(&mut self, config: &ImuConfig) -> Result<(), ConfigError> {
         let orientations = config.mode.orientations();
+        if !config.sensor_to_opensim.iter().all(|r| r.is_finite()) {
+            return Err(ConfigError::ImuSettings);
+        }
         if orientations {
             if config.segments & qgait_proto::SegmentId::Pelvis.bit() == 0 {
                 return Err(ConfigError::ImuWithoutPelvis);

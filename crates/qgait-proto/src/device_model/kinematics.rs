@@ -60,6 +60,8 @@ pub enum ConfigError {
     /// An [`ImuConfig`](crate::ImuConfig) for the orientation input whose segments leave out
     /// the pelvis (every coordinate is relative to it).
     ImuWithoutPelvis,
+    /// An [`ImuConfig`](crate::ImuConfig) whose sensor-to-OpenSim rotation is not finite.
+    ImuSettings,
     /// An [`ImuConfig`](crate::ImuConfig) for the orientation input to a hub built without it
     /// (the firmware's `imu` feature).
     ImuNotBuiltIn,
@@ -106,6 +108,9 @@ impl core::fmt::Display for ConfigError {
             }
             ConfigError::ImuWithoutPelvis => {
                 f.write_str("the orientation input needs the pelvis segment")
+            }
+            ConfigError::ImuSettings => {
+                f.write_str("a sensor-to-OpenSim angle of the IMU settings is not finite")
             }
             ConfigError::ImuNotBuiltIn => {
                 f.write_str("this hub was built without the orientation input")
