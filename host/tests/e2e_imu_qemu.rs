@@ -13,7 +13,7 @@
 //! - the real recording (`../shared/data/imu/`, OpenSense's tutorial, its first 5 s), clean.
 //!
 //! Needs `qemu-system-arm`; the IMU firmware (`QGAIT_IMU_FIRMWARE_ELF`, else
-//! `firmware::imu_elf`) is built when missing. Each test is skipped, with the reason printed,
+//! `firmware::imu_elf`, built or brought up to date first). Each test is skipped, with the reason printed,
 //! when QEMU or the build is missing.
 
 mod common;
@@ -58,12 +58,10 @@ fn find_or_build_imu_elf() -> Option<PathBuf> {
     if let Some(p) = std::env::var_os("QGAIT_IMU_FIRMWARE_ELF") {
         return Some(PathBuf::from(p));
     }
+    // Built (or brought up to date: cargo does nothing when it is) every run, so that a
+    // change of the hub is never tested on an old build.
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let elf = firmware::imu_elf(&root);
-    if elf.is_file() {
-        return Some(elf);
-    }
-    eprintln!("{} is missing: building it", elf.display());
+    eprintln!("building {}", firmware::imu_elf(&root).display());
     match firmware::build_imu(&root) {
         Ok(elf) => Some(elf),
         Err(e) => {
