@@ -190,7 +190,7 @@ where
             kinematics: _,
             input: _,
             #[cfg(feature = "imu")]
-            imu: _,
+                imu: _,
             status: _,
             started_ms: _,
             last_status_ms: _,
