@@ -206,6 +206,33 @@ mod tests {
         c.run("frames_split_across_reads_and_polls_still_decode")
     }
 
+    #[test]
+    fn orientation_input_calibrates_then_sends_kernel_poses(c: &mut SharedChecks) -> CheckResult {
+        c.run("orientation_input_calibrates_then_sends_kernel_poses")
+    }
+
+    #[test]
+    fn orientation_failures_are_counted(c: &mut SharedChecks) -> CheckResult {
+        c.run("orientation_failures_are_counted")
+    }
+
+    #[test]
+    fn calibration_is_kept_across_model_and_input_switches(c: &mut SharedChecks) -> CheckResult {
+        c.run("calibration_is_kept_across_model_and_input_switches")
+    }
+
+    #[test]
+    fn incomplete_orientation_samples_follow_the_missing_policy(
+        c: &mut SharedChecks,
+    ) -> CheckResult {
+        c.run("incomplete_orientation_samples_follow_the_missing_policy")
+    }
+
+    #[test]
+    fn random_orientation_messages_never_stop_the_pipeline(c: &mut SharedChecks) -> CheckResult {
+        c.run("random_orientation_messages_never_stop_the_pipeline")
+    }
+
     /// Every check of `qgait_hub_checks::ALL` ran above, once.
     #[test]
     fn every_shared_check_ran_once(c: &mut SharedChecks) {

@@ -30,7 +30,9 @@
 use crate::EmulateError;
 use std::collections::{BTreeMap, BTreeSet};
 
-use qgait_proto::{FrameDecoder, JointAngle, JointId, Message, ModelId, Status};
+use qgait_proto::{
+    FrameDecoder, JointAngle, JointId, Message, ModelId, SegmentOrientation, Status,
+};
 
 use crate::push_frame;
 
@@ -148,14 +150,49 @@ pub enum Fate {
     Damaged,
 }
 
+/// A packet a node sends, as the link carries it: a [`JointAngle`] or, from an IMU node of the
+/// orientation input, a [`SegmentOrientation`].
+pub trait NodePacket: Copy {
+    /// The sample it belongs to.
+    fn seq(&self) -> u32;
+    /// The joint it carries, if it is a joint angle ([`FaultPlan::silent`] names a joint).
+    fn joint(&self) -> Option<JointId>;
+    /// The message it travels as.
+    fn message(&self) -> Message;
+}
+
+impl NodePacket for JointAngle {
+    fn seq(&self) -> u32 {
+        self.seq
+    }
+    fn joint(&self) -> Option<JointId> {
+        Some(self.joint)
+    }
+    fn message(&self) -> Message {
+        Message::JointAngle(*self)
+    }
+}
+
+impl NodePacket for SegmentOrientation {
+    fn seq(&self) -> u32 {
+        self.seq
+    }
+    fn joint(&self) -> Option<JointId> {
+        None
+    }
+    fn message(&self) -> Message {
+        Message::SegmentOrientation(*self)
+    }
+}
+
 /// A damaged stream and the ledger of what happened to each packet.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Damaged {
+pub struct Damaged<P = JointAngle> {
     /// The bytes: a 0x00 first, then the frames with the damage.
     pub stream: Vec<u8>,
     /// Every packet, in the order the link sent them (after swaps and reordering), with its
     /// fate.
-    pub packets: Vec<(JointAngle, Fate)>,
+    pub packets: Vec<(P, Fate)>,
     /// Samples with two packets swapped.
     pub swapped: u32,
     /// Bursts of noise.
@@ -215,7 +252,7 @@ impl Accounting {
     }
 }
 
-impl Damaged {
+impl<P: NodePacket> Damaged<P> {
     /// Packets with fate `fate`.
     pub fn count(&self, fate: Fate) -> u32 {
         self.packets.iter().filter(|(_, f)| *f == fate).count() as u32
@@ -228,7 +265,7 @@ impl Damaged {
         // Per sample: packets sent, packets delivered.
         let mut samples: BTreeMap<u32, (u32, u32)> = BTreeMap::new();
         for (p, fate) in &self.packets {
-            let e = samples.entry(p.seq).or_default();
+            let e = samples.entry(p.seq()).or_default();
             e.0 += 1;
             e.1 += u32::from(*fate == Fate::Delivered);
         }
@@ -251,7 +288,7 @@ impl Damaged {
 }
 
 /// Damages `samples` (each the packets of one sample, in sending order) as `plan` says.
-pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Damaged {
+pub fn damage<P: NodePacket>(samples: &[Vec<P>], plan: &FaultPlan) -> Damaged<P> {
     let mut rng = Rng::new(plan.seed);
     let window = plan.window.max(1) as usize;
     let mut d = Damaged {
@@ -262,7 +299,7 @@ pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Damaged {
     };
     let out = &mut d.stream;
     for block in samples.chunks(window) {
-        let mut packets: Vec<JointAngle> = Vec::new();
+        let mut packets: Vec<P> = Vec::new();
         for sample in block {
             let start = packets.len();
             packets.extend_from_slice(sample);
@@ -281,14 +318,14 @@ pub fn damage(samples: &[Vec<JointAngle>], plan: &FaultPlan) -> Damaged {
             }
         }
         for p in packets {
-            if rng.chance(plan.drop) || plan.silent == Some(p.joint) {
+            if rng.chance(plan.drop) || (plan.silent.is_some() && plan.silent == p.joint()) {
                 d.packets.push((p, Fate::Dropped));
                 continue;
             }
             // Bytes not ended by a 0x00 before the frame make one run with it.
             let runs_in = out.last() != Some(&0);
             let start = out.len();
-            push_frame(out, &Message::JointAngle(p));
+            push_frame(out, &p.message());
             let flipped = rng.chance(plan.flip);
             if flipped {
                 let i = start + rng.below(out.len() - start);

@@ -29,6 +29,54 @@ pub fn default_elf(root: &Path) -> PathBuf {
     target.join(TARGET).join("release/qgait-firmware")
 }
 
+/// Where the firmware with the IMU orientation input (its cargo feature `imu`) is built: its
+/// own target directory (`firmware/target/imu`, or `imu` under `$CARGO_TARGET_DIR`), so that
+/// it never replaces the default build.
+pub fn imu_elf(root: &Path) -> PathBuf {
+    imu_target_dir(root)
+        .join(TARGET)
+        .join("release/qgait-firmware")
+}
+
+fn imu_target_dir(root: &Path) -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("firmware/target"))
+        .join("imu")
+}
+
+/// The command that builds the firmware with the IMU orientation input, for messages.
+pub fn imu_build_command(root: &Path) -> String {
+    format!(
+        "cd {} && cargo build --release --features imu --target-dir {}",
+        root.join("firmware").display(),
+        imu_target_dir(root).display()
+    )
+}
+
+/// Builds the release firmware with the IMU orientation input ([`imu_elf`]).
+pub fn build_imu(root: &Path) -> Result<PathBuf, EmulateError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .args(["build", "--release", "--features", "imu", "--target-dir"])
+        .arg(imu_target_dir(root))
+        .current_dir(root.join("firmware"))
+        .status()
+        .map_err(EmulateError::io("starting cargo"))?;
+    let elf = imu_elf(root);
+    if !status.success() {
+        return Err(EmulateError::BuildFailed {
+            status,
+            command: imu_build_command(root),
+        });
+    }
+    if elf.is_file() {
+        Ok(elf)
+    } else {
+        Err(EmulateError::BuildProducedNothing(elf))
+    }
+}
+
 /// The command that builds the firmware, for messages.
 pub fn build_command(root: &Path) -> String {
     format!(

@@ -97,7 +97,8 @@ impl Limits {
 /// decoder as the host, so these are exact).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct InputCounts {
-    /// Joint-angle packets with a finite angle (`packets_accepted`).
+    /// Joint-angle packets with a finite angle and orientation packets with a unit-length
+    /// quaternion (`packets_accepted`).
     pub accepted: u32,
     /// Frames the decoder rejects (the sum of the hub's decode-error counters).
     pub rejected: u32,
@@ -110,6 +111,12 @@ impl InputCounts {
         for result in FrameDecoder::new().feed(input) {
             match result {
                 Ok(Message::JointAngle(p)) if p.angle.is_finite() => c.accepted += 1,
+                // A hub with the orientation input accepts a unit-length quaternion.
+                Ok(Message::SegmentOrientation(p))
+                    if qgait_proto::device_model::packet_quat::<f32>(&p).is_ok() =>
+                {
+                    c.accepted += 1
+                }
                 // A message only a hub sends is `malformed` at a hub, well-formed or not.
                 Ok(Message::PoseFrame(_) | Message::Status(_)) => c.rejected += 1,
                 Ok(_) => {}

@@ -37,6 +37,8 @@ macro_rules! ensure {
     };
 }
 
+pub mod imu;
+
 /// A check: its name and the function that runs it.
 pub type NamedCheck = (&'static str, fn() -> CheckResult);
 
@@ -120,6 +122,26 @@ pub const ALL: &[NamedCheck] = &[
     (
         "frames_split_across_reads_and_polls_still_decode",
         frames_split_across_reads_and_polls_still_decode,
+    ),
+    (
+        "orientation_input_calibrates_then_sends_kernel_poses",
+        imu::orientation_input_calibrates_then_sends_kernel_poses,
+    ),
+    (
+        "orientation_failures_are_counted",
+        imu::orientation_failures_are_counted,
+    ),
+    (
+        "calibration_is_kept_across_model_and_input_switches",
+        imu::calibration_is_kept_across_model_and_input_switches,
+    ),
+    (
+        "incomplete_orientation_samples_follow_the_missing_policy",
+        imu::incomplete_orientation_samples_follow_the_missing_policy,
+    ),
+    (
+        "random_orientation_messages_never_stop_the_pipeline",
+        imu::random_orientation_messages_never_stop_the_pipeline,
     ),
 ];
 

@@ -13,6 +13,11 @@
 //! at the new number, so a restarted sender is never taken for an endless stream of late
 //! packets.
 //!
+//! The same window assembles the samples of the IMU orientation input ([`SegmentSample`]):
+//! the assembler is generic over the value a packet carries and the number of keys (17 joint
+//! angles, or 8 segments' Q14 quaternions), with the same window, late, duplicate, resync and
+//! missing policies.
+//!
 //! The caller judges each packet's angle in or out of range as it arrives
 //! ([`Assembler::push`]); a sample carries the joints whose angle was out of range
 //! ([`Sample::out_of_range`]), a held angle with the judgement of the packet it came from, so
@@ -29,6 +34,13 @@ pub const RESYNC_DISTANCE: u32 = 1024;
 
 const JOINTS: usize = JointId::COUNT;
 
+/// A sample of the orientation input: each segment's Q14 quaternion (`w, x, y, z`), indexed
+/// by [`SegmentId::index`](qgait_proto::SegmentId::index).
+pub type SegmentSample = Sample<[i16; 4], { qgait_proto::SegmentId::COUNT }>;
+
+/// The orientation input's assembler: one Q14 quaternion per segment.
+pub type SegmentAssembler = Assembler<[i16; 4], { qgait_proto::SegmentId::COUNT }>;
+
 /// A set of joints, one bit per [`JointId::index`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -37,6 +49,17 @@ pub struct JointSet(u32);
 impl JointSet {
     /// The empty set.
     pub const EMPTY: JointSet = JointSet(0);
+
+    /// The set of the keys whose bits are set in `bits` (bit `i` for key `i`: a joint's or a
+    /// segment's index).
+    pub const fn from_bits(bits: u32) -> JointSet {
+        JointSet(bits)
+    }
+
+    /// Whether key `index` is in the set.
+    pub fn contains_index(self, index: u8) -> bool {
+        self.0 & (1 << index) != 0
+    }
 
     /// The set of `joints`.
     pub fn of(joints: &[JointId]) -> JointSet {
@@ -84,20 +107,22 @@ impl JointSet {
     }
 }
 
-/// One assembled sample: an angle for every joint the model needs.
+/// One assembled sample: an angle for every joint the model needs (or, for the orientation
+/// input, a quaternion for every segment the nodes send: [`SegmentSample`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Sample {
+pub struct Sample<V = f32, const N: usize = JOINTS> {
     /// Sequence number shared by the sample's packets.
     pub seq: u32,
-    /// Angles in radians indexed by [`JointId::index`]; only the model's joints are meaningful.
-    pub angles: [f32; JOINTS],
+    /// Angles in radians indexed by [`JointId::index`]; only the model's joints are meaningful
+    /// (the orientation input: quaternions by segment index).
+    pub angles: [V; N],
     /// Joints whose angle is out of range, as judged when its packet arrived (see
     /// [`Assembler::push`]); a held angle is out of range if the packet it came from was.
     pub out_of_range: JointSet,
 }
 
-impl Sample {
+impl Sample<f32, JOINTS> {
     /// The angle of `joint` (radians).
     pub fn angle(&self, joint: JointId) -> f32 {
         self.angles[joint.index() as usize]
@@ -125,14 +150,14 @@ pub enum PacketOutcome {
 /// sample is lent from the assembler's window for the call, not copied out of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum SampleEvent<'a> {
+pub enum SampleEvent<'a, V = f32, const N: usize = JOINTS> {
     /// Every required joint arrived.
-    Complete(&'a Sample),
+    Complete(&'a Sample<V, N>),
     /// The sample left the window incomplete and its missing joints were filled with the last
     /// known values (policy `HoldLast`).
     Held {
         /// The sample, missing joints filled.
-        sample: &'a Sample,
+        sample: &'a Sample<V, N>,
         /// The joints whose angle was held from an earlier sample.
         held: JointSet,
     },
@@ -149,22 +174,24 @@ pub enum SampleEvent<'a> {
 /// One sample of the window. Its state is in `present`: free if empty (a slot is opened by a
 /// packet it then stores), complete if it holds every required joint, open otherwise.
 #[derive(Debug, Clone, Copy)]
-struct Slot {
+struct Slot<V, const N: usize> {
     present: JointSet,
     /// The sample as it is assembled: its sequence number, the angles of the `present` joints,
     /// those of them whose packet was out of range; the events lend it.
-    sample: Sample,
+    sample: Sample<V, N>,
 }
 
-impl Slot {
-    const FREE: Slot = Slot {
-        present: JointSet::EMPTY,
-        sample: Sample {
-            seq: 0,
-            angles: [0.0; JOINTS],
-            out_of_range: JointSet::EMPTY,
-        },
-    };
+impl<V: Copy + Default, const N: usize> Slot<V, N> {
+    fn free() -> Self {
+        Slot {
+            present: JointSet::EMPTY,
+            sample: Sample {
+                seq: 0,
+                angles: [V::default(); N],
+                out_of_range: JointSet::EMPTY,
+            },
+        }
+    }
 
     /// Whether the slot holds a sample (open or complete).
     fn is_used(&self) -> bool {
@@ -174,8 +201,8 @@ impl Slot {
 
 /// The reorder window (see the module docs).
 #[derive(Debug, Clone)]
-pub struct Assembler {
-    slots: [Slot; MAX_WINDOW],
+pub struct Assembler<V = f32, const N: usize = JOINTS> {
+    slots: [Slot<V, N>; MAX_WINDOW],
     /// `1..=MAX_WINDOW`.
     window: u8,
     required: JointSet,
@@ -183,7 +210,7 @@ pub struct Assembler {
     newest: Option<u32>,
     /// Newest angle of each joint among the samples that already left the window (the values
     /// hold-last uses: always older than the sample being completed).
-    last_angle: [f32; JOINTS],
+    last_angle: [V; N],
     /// Joints with a value in `last_angle`.
     known: JointSet,
     /// The joints of `known` whose value in `last_angle` came from an out-of-range packet.
@@ -194,16 +221,47 @@ impl Assembler {
     /// An empty assembler needing `required` joints, with a window of `window` samples
     /// (clamped to `1..=MAX_WINDOW`), holding last values for incomplete samples if `hold_last`.
     pub fn new(required: &[JointId], window: u8, hold_last: bool) -> Assembler {
+        Assembler::with_keys(JointSet::of(required), window, hold_last)
+    }
+
+    /// Takes one packet: the angle of `joint` in sample `seq`, and whether the caller found it
+    /// out of range (carried to the sample's [`Sample::out_of_range`], and to later samples
+    /// that hold this angle). Samples that complete or leave the window are reported to
+    /// `on_event` in sequence order (evictions first, then the packet's own sample if it
+    /// completed).
+    #[inline(always)]
+    pub fn push(
+        &mut self,
+        seq: u32,
+        joint: JointId,
+        angle: f32,
+        out_of_range: bool,
+        on_event: &mut impl FnMut(SampleEvent),
+    ) -> PacketOutcome {
+        self.push_key(seq, joint.index(), angle, out_of_range, on_event)
+    }
+}
+
+impl<V: Copy + Default, const N: usize> Assembler<V, N> {
+    /// An empty assembler needing the keys of `required` (each below `N`), with a window of
+    /// `window` samples (clamped to `1..=MAX_WINDOW`), holding last values for incomplete
+    /// samples if `hold_last`.
+    pub fn with_keys(required: JointSet, window: u8, hold_last: bool) -> Self {
         Assembler {
-            slots: [Slot::FREE; MAX_WINDOW],
+            slots: core::array::from_fn(|_| Slot::free()),
             window: window.clamp(1, MAX_WINDOW as u8),
-            required: JointSet::of(required),
+            required,
             hold_last,
             newest: None,
-            last_angle: [0.0; JOINTS],
+            last_angle: [V::default(); N],
             known: JointSet::EMPTY,
             last_out_of_range: JointSet::EMPTY,
         }
+    }
+
+    /// The keys a sample needs.
+    pub fn required(&self) -> JointSet {
+        self.required
     }
 
     /// The window depth in samples.
@@ -220,20 +278,17 @@ impl Assembler {
             .count()
     }
 
-    /// Takes one packet: the angle of `joint` in sample `seq`, and whether the caller found it
-    /// out of range (carried to the sample's [`Sample::out_of_range`], and to later samples
-    /// that hold this angle). Samples that complete or leave the window are reported to
-    /// `on_event` in sequence order (evictions first, then the packet's own sample if it
-    /// completed).
-    pub fn push(
+    /// [`Assembler::push`] for any key: the value of key `key` (a joint's or a segment's
+    /// index) in sample `seq`.
+    pub fn push_key(
         &mut self,
         seq: u32,
-        joint: JointId,
-        angle: f32,
+        key: u8,
+        angle: V,
         out_of_range: bool,
-        on_event: &mut impl FnMut(SampleEvent),
+        on_event: &mut impl FnMut(SampleEvent<V, N>),
     ) -> PacketOutcome {
-        if !self.required.contains(joint) {
+        if !self.required.contains_index(key) || usize::from(key) >= N {
             return PacketOutcome::NotRequired;
         }
         let mut outcome = PacketOutcome::Stored;
@@ -271,13 +326,17 @@ impl Assembler {
             return PacketOutcome::Late;
         }
         // `joint` is required: present already in a complete sample too.
-        if slot.present.contains(joint) {
+        if slot.present.contains_index(key) {
             return PacketOutcome::Duplicate;
         }
-        slot.sample.angles[joint.index() as usize] = angle;
-        slot.present = slot.present.with(joint);
+        let Some(value) = slot.sample.angles.get_mut(usize::from(key)) else {
+            return PacketOutcome::NotRequired;
+        };
+        *value = angle;
+        let bit = JointSet(1 << key);
+        slot.present = slot.present.union(bit);
         if out_of_range {
-            slot.sample.out_of_range = slot.sample.out_of_range.with(joint);
+            slot.sample.out_of_range = slot.sample.out_of_range.union(bit);
         }
         if slot.present.contains_all(self.required) {
             on_event(SampleEvent::Complete(&slot.sample));
@@ -286,14 +345,14 @@ impl Assembler {
     }
 
     /// Closes every open sample (as if the window had moved past them), reporting each one.
-    pub fn flush(&mut self, on_event: &mut impl FnMut(SampleEvent)) {
+    pub fn flush(&mut self, on_event: &mut impl FnMut(SampleEvent<V, N>)) {
         while let Some(i) = self.oldest_slot(|_| true) {
             self.retire(i, on_event);
         }
     }
 
     /// Moves the newest sequence number to `seq`, retiring the samples that leave the window.
-    fn advance_to(&mut self, seq: u32, on_event: &mut impl FnMut(SampleEvent)) {
+    fn advance_to(&mut self, seq: u32, on_event: &mut impl FnMut(SampleEvent<V, N>)) {
         let window = self.window as u32;
         if let Some(newest) = self.newest {
             // Used slots hold samples `newest - window < s <= newest`, sample `s` in slot
@@ -328,7 +387,7 @@ impl Assembler {
 
     /// Frees slot `i`: its angles become the last known values, and an open sample is
     /// completed with held values (in the slot) or dropped.
-    fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent)) {
+    fn retire(&mut self, i: usize, on_event: &mut impl FnMut(SampleEvent<V, N>)) {
         let Assembler {
             slots,
             required,
@@ -348,10 +407,12 @@ impl Assembler {
         // The last known values first: they are only ever read for the joints a sample lacks,
         // never for this one's present joints, so the sample held below gets older ones.
         if *hold_last {
-            for j in JointId::ALL.iter().filter(|&&j| present.contains(j)) {
-                last_angle[j.index() as usize] = sample.angles[j.index() as usize];
-                *known = known.with(*j);
+            for (k, (last, value)) in last_angle.iter_mut().zip(&sample.angles).enumerate() {
+                if present.contains_index(k as u8) {
+                    *last = *value;
+                }
             }
+            *known = known.union(present);
             // The present joints' judgements replace the ones of their older values.
             *last_out_of_range = present
                 .missing_from(*last_out_of_range)
@@ -361,8 +422,10 @@ impl Assembler {
         // Open, not complete.
         if !missing.is_empty() {
             if *hold_last && known.contains_all(missing) {
-                for j in JointId::ALL.iter().filter(|&&j| missing.contains(j)) {
-                    sample.angles[j.index() as usize] = last_angle[j.index() as usize];
+                for (k, (value, last)) in sample.angles.iter_mut().zip(&*last_angle).enumerate() {
+                    if missing.contains_index(k as u8) {
+                        *value = *last;
+                    }
                 }
                 // A held angle is out of range if the packet it came from was.
                 sample.out_of_range = sample

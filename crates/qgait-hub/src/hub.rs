@@ -8,14 +8,18 @@ use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
-    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig,
-    MAX_FRAME_LEN, MAX_REORDER_WINDOW,
+    FrameFlags, HubMessage, ImuConfig, JointAngle, MissingPolicy, ModelId, SegmentOrientation,
+    Status, SubjectConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
+#[cfg(feature = "imu")]
+use crate::assembly::SegmentAssembler;
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::bump;
 use crate::limits::in_range;
+#[cfg(feature = "imu")]
+use crate::orientation::{ImuInput, SegmentOutput};
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
 
@@ -43,6 +47,19 @@ pub const DEFAULT_CONFIG: Config = Config {
 
 // `Hub::init` builds the default model as a PHAK chain.
 const _: () = assert!(matches!(DEFAULT_CONFIG.model, ModelId::Phak));
+
+/// The sample assembly of the input in force: joint angles, or segment orientations (one or
+/// the other, in the same memory).
+#[derive(Debug, Clone)]
+// One lives in the hub for its whole life; the variants are about the same size.
+#[allow(clippy::large_enum_variant)]
+enum Input {
+    /// [`JointAngle`] packets.
+    Joints(Assembler),
+    /// [`SegmentOrientation`] packets (the orientation modes of [`ImuConfig`]).
+    #[cfg(feature = "imu")]
+    Segments(SegmentAssembler),
+}
 
 /// What one [`Hub::poll`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -79,7 +96,10 @@ pub struct Hub<S, C> {
     subject_generation: u32,
     subject_parts: SubjectParts,
     kinematics: Kinematics,
-    assembler: Assembler,
+    input: Input,
+    /// The IMU settings, calibration and solver (kept whatever the input in force).
+    #[cfg(feature = "imu")]
+    imu: ImuInput,
     status: Status,
     started_ms: u32,
     last_status_ms: u32,
@@ -139,7 +159,9 @@ where
             addr_of_mut!((*hub).subject_generation).write(0);
             addr_of_mut!((*hub).subject_parts).write(SubjectParts::new());
             addr_of_mut!((*hub).kinematics).write(Kinematics::EMPTY);
-            addr_of_mut!((*hub).assembler).write(assembler_for(&config));
+            addr_of_mut!((*hub).input).write(Input::Joints(assembler_for(&config)));
+            #[cfg(feature = "imu")]
+            addr_of_mut!((*hub).imu).write(ImuInput::new());
             addr_of_mut!((*hub).status).write(Status::default());
             addr_of_mut!((*hub).started_ms).write(now);
             addr_of_mut!((*hub).last_status_ms).write(now);
@@ -166,7 +188,9 @@ where
             subject_generation: _,
             subject_parts: _,
             kinematics: _,
-            assembler: _,
+            input: _,
+            #[cfg(feature = "imu")]
+                imu: _,
             status: _,
             started_ms: _,
             last_status_ms: _,
@@ -186,7 +210,9 @@ where
             clock,
             decoder: FrameDecoder::new(),
             kinematics,
-            assembler: assembler_for(&config),
+            input: Input::Joints(assembler_for(&config)),
+            #[cfg(feature = "imu")]
+            imu: ImuInput::new(),
             config,
             subject: None,
             subject_generation: 0,
@@ -304,6 +330,21 @@ where
         &self.subject_parts
     }
 
+    /// The IMU input's configuration in force (its `calibrate` and `request_status` always
+    /// `false`): the joint-angle input's ([`ImuConfig`] mode 0) in a hub built without it.
+    pub fn imu_config(&self) -> ImuConfig {
+        #[cfg(feature = "imu")]
+        return self.imu.config();
+        #[cfg(not(feature = "imu"))]
+        return crate::orientation::DEFAULT_IMU_CONFIG;
+    }
+
+    /// The IMU input's state: its calibration and whether a calibration pose is awaited.
+    #[cfg(feature = "imu")]
+    pub fn imu(&self) -> &ImuInput {
+        &self.imu
+    }
+
     /// The serial port, e.g. to inspect a test double.
     pub fn serial_mut(&mut self) -> &mut S {
         &mut self.serial
@@ -330,6 +371,8 @@ where
             HubMessage::SubjectLeg(part) => self.subject_parts.add_leg(&part),
             HubMessage::SubjectKnee(part) => self.subject_parts.add_knee(&part),
             HubMessage::SubjectConfig(config) => self.on_subject_config(&config),
+            HubMessage::SegmentOrientation(packet) => self.on_orientation(&packet),
+            HubMessage::ImuConfig(config) => self.on_imu_config(&config),
             // A pose frame or a status (well-formed or not: its body is not decoded): only a
             // hub sends these, nothing to do with them here.
             HubMessage::FromHub(_) => bump(&mut self.status.malformed),
@@ -353,13 +396,20 @@ where
         // assembler reports them (it and the output are disjoint parts of the hub), not
         // collected first: no copies of the events.
         let Hub {
-            assembler,
+            input,
             kinematics,
             status,
             serial,
             tx,
             ..
         } = self;
+        // The orientation input in force: a joint angle is not used, as a joint the model does
+        // not use is not.
+        #[allow(irrefutable_let_patterns)]
+        let Input::Joints(assembler) = input
+        else {
+            return;
+        };
         let mut output = Output {
             kinematics,
             status,
@@ -377,6 +427,105 @@ where
             PacketOutcome::Late => bump(&mut self.status.late_packets),
             PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
             PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
+        }
+    }
+
+    /// A segment orientation: unit-length checked, then placed in its sample, as a joint
+    /// angle is (see [`orientation`](crate::orientation)).
+    #[cfg(feature = "imu")]
+    #[inline(never)]
+    fn on_orientation(&mut self, packet: &SegmentOrientation) {
+        if qgait_proto::device_model::packet_quat::<f32>(packet).is_err() {
+            bump(&mut self.status.orientation_not_unit);
+            return;
+        }
+        bump(&mut self.status.packets_accepted);
+        let Hub {
+            input,
+            kinematics,
+            status,
+            serial,
+            tx,
+            imu,
+            ..
+        } = self;
+        // The joint-angle input in force: not used, as a joint the model does not use is not.
+        let Input::Segments(assembler) = input else {
+            return;
+        };
+        let mut output = SegmentOutput {
+            kinematics,
+            status,
+            serial,
+            tx,
+            imu,
+        };
+        let outcome = assembler.push_key(
+            packet.seq,
+            packet.segment.index(),
+            packet.q14,
+            false,
+            &mut |e| output.on_sample(e),
+        );
+        match outcome {
+            PacketOutcome::Late => bump(&mut self.status.late_packets),
+            PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
+            PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
+        }
+    }
+
+    /// A segment orientation to a hub built without the orientation input: a message it does
+    /// not take.
+    #[cfg(not(feature = "imu"))]
+    fn on_orientation(&mut self, _packet: &SegmentOrientation) {
+        bump(&mut self.status.malformed);
+    }
+
+    /// The input mode and IMU settings.
+    #[inline(never)]
+    fn on_imu_config(&mut self, config: &ImuConfig) {
+        let result = self.apply_imu(config);
+        self.after_config(result, config.request_status);
+    }
+
+    /// Makes `config` the IMU configuration in force: the orientation input needs the pelvis
+    /// and gait2392; a change of input (or of the segments it waits for) closes the samples
+    /// open under the old one and starts an empty window.
+    #[cfg(feature = "imu")]
+    fn apply_imu(&mut self, config: &ImuConfig) -> Result<(), ConfigError> {
+        let orientations = config.mode.orientations();
+        if !config.sensor_to_opensim.iter().all(|r| r.is_finite()) {
+            return Err(ConfigError::ImuSettings);
+        }
+        if orientations {
+            if config.segments & qgait_proto::SegmentId::Pelvis.bit() == 0 {
+                return Err(ConfigError::ImuWithoutPelvis);
+            }
+            if self.kinematics.gait2392_model().is_none() {
+                return Err(ConfigError::ImuNeedsGait2392);
+            }
+        }
+        let old = self.imu.config();
+        let new_input = orientations != old.mode.orientations()
+            || (orientations && config.segments != old.segments);
+        if new_input {
+            self.close_open_samples();
+        }
+        self.imu.set(config);
+        if new_input {
+            set_input(&mut self.input, &self.config, &self.imu);
+        }
+        Ok(())
+    }
+
+    /// A hub without the orientation input takes only the joint-angle mode (which changes
+    /// nothing).
+    #[cfg(not(feature = "imu"))]
+    fn apply_imu(&mut self, config: &ImuConfig) -> Result<(), ConfigError> {
+        if config.mode.orientations() {
+            Err(ConfigError::ImuNotBuiltIn)
+        } else {
+            Ok(())
         }
     }
 
@@ -463,6 +612,10 @@ where
         if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
             return Err(ConfigError::ReorderWindow(new.reorder_window));
         }
+        #[cfg(feature = "imu")]
+        if self.imu.config().mode.orientations() && new.model != ModelId::Gait2392 {
+            return Err(ConfigError::ImuNeedsGait2392);
+        }
         if subject.is_none() && new.model != ModelId::Gait2392 {
             let anthropometry = Kinematics::anthropometry(new.anthropometry)?;
             self.close_open_samples();
@@ -470,8 +623,11 @@ where
         } else {
             self.switch_gait2392(subject)?;
         }
-        set_assembler(&mut self.assembler, &new);
         self.config = new;
+        #[cfg(feature = "imu")]
+        set_input(&mut self.input, &self.config, &self.imu);
+        #[cfg(not(feature = "imu"))]
+        set_input(&mut self.input, &self.config);
         self.subject = subject;
         self.subject_generation = self.subject_parts.generation();
         Ok(())
@@ -492,20 +648,37 @@ where
     fn close_open_samples(&mut self) {
         // As in `on_packet`: the samples are handled as the assembler reports them.
         let Hub {
-            assembler,
+            input,
             kinematics,
             status,
             serial,
             tx,
+            #[cfg(feature = "imu")]
+            imu,
             ..
         } = self;
-        let mut output = Output {
-            kinematics,
-            status,
-            serial,
-            tx,
-        };
-        assembler.flush(&mut |e| output.on_sample(e));
+        match input {
+            Input::Joints(assembler) => {
+                let mut output = Output {
+                    kinematics,
+                    status,
+                    serial,
+                    tx,
+                };
+                assembler.flush(&mut |e| output.on_sample(e));
+            }
+            #[cfg(feature = "imu")]
+            Input::Segments(assembler) => {
+                let mut output = SegmentOutput {
+                    kinematics,
+                    status,
+                    serial,
+                    tx,
+                    imu,
+                };
+                assembler.flush(&mut |e| output.on_sample(e));
+            }
+        }
     }
 
     fn send_status(&mut self) {
@@ -562,7 +735,7 @@ impl<S: Write> Output<'_, S> {
 /// Writes `frame`, in one `write` call if the port takes it all (a UART driver does); counts
 /// it in `status` if the whole frame went out. A write that fails, or takes nothing, ends the
 /// frame there (uncounted): the receiver's decoder drops the partial frame at the next 0x00.
-fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
+pub(crate) fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
     while !frame.is_empty() {
         match serial.write(frame) {
             Ok(n) if n > 0 => frame = frame.get(n..).unwrap_or_default(),
@@ -584,10 +757,26 @@ fn gait2392_geometry(
     }
 }
 
-/// `*assembler = assembler_for(config)`, in a frame of its own (not the model switch's).
+/// The empty window of the input in force, in a frame of its own (not the model switch's).
+#[cfg(feature = "imu")]
 #[inline(never)]
-fn set_assembler(assembler: &mut Assembler, config: &Config) {
-    *assembler = assembler_for(config);
+fn set_input(input: &mut Input, config: &Config, imu: &ImuInput) {
+    *input = if imu.config().mode.orientations() {
+        Input::Segments(SegmentAssembler::with_keys(
+            imu.required(),
+            config.reorder_window,
+            config.missing_policy == MissingPolicy::HoldLast,
+        ))
+    } else {
+        Input::Joints(assembler_for(config))
+    };
+}
+
+/// The empty window of the joint-angle input, in a frame of its own (not the model switch's).
+#[cfg(not(feature = "imu"))]
+#[inline(never)]
+fn set_input(input: &mut Input, config: &Config) {
+    *input = Input::Joints(assembler_for(config));
 }
 
 fn assembler_for(config: &Config) -> Assembler {

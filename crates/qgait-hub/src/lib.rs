@@ -11,8 +11,12 @@ pub mod counters;
 pub mod hub;
 pub mod limits;
 pub mod memory_serial;
+pub mod orientation;
 
-pub use crate::assembly::{Assembler, JointSet, PacketOutcome, Sample, SampleEvent, MAX_WINDOW};
+pub use crate::assembly::{
+    Assembler, JointSet, PacketOutcome, Sample, SampleEvent, SegmentAssembler, SegmentSample,
+    MAX_WINDOW,
+};
 pub use crate::clock::{Clock, ManualClock};
 pub use crate::hub::{
     Hub, PollSummary, DEFAULT_CONFIG, DEFAULT_STATUS_PERIOD_MS, MAX_BYTES_PER_POLL, READ_CHUNK,

@@ -8,8 +8,14 @@ fn every_shared_check_passes_on_the_host() {
         match check() {
             Ok(()) => eprintln!("check {name} ... ok"),
             Err(f) => failures.push(format!(
-                "{name}: `{}` failed at qgait-hub-checks/src/lib.rs:{}",
-                f.what, f.line
+                "{name}: `{}` failed at qgait-hub-checks/src/{}:{}",
+                f.what,
+                if qgait_hub_checks::imu::CHECKS.contains(name) {
+                    "imu.rs"
+                } else {
+                    "lib.rs"
+                },
+                f.line
             )),
         }
     }

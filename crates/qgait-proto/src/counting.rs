@@ -11,7 +11,7 @@ impl Status {
     /// | `Cobs`, `TooShort` | `framing_errors` |
     /// | `Oversize` | `oversize_frames` |
     /// | `UnknownVersion`, `UnknownMessage` | `unknown_version` |
-    /// | `UnknownJoint` | `unknown_joint` |
+    /// | `UnknownJoint`, `UnknownSegment` | `unknown_joint` |
     /// | `UnknownModel`, `AngleCount`, `Malformed` | `malformed` |
     pub fn count_decode_error(&mut self, error: &DecodeError) {
         let counter = match error {
@@ -21,7 +21,9 @@ impl Status {
             DecodeError::UnknownVersion(_) | DecodeError::UnknownMessage(_) => {
                 &mut self.unknown_version
             }
-            DecodeError::UnknownJoint(_) => &mut self.unknown_joint,
+            DecodeError::UnknownJoint(_) | DecodeError::UnknownSegment(_) => {
+                &mut self.unknown_joint
+            }
             DecodeError::UnknownModel(_)
             | DecodeError::AngleCount { .. }
             | DecodeError::Malformed => &mut self.malformed,

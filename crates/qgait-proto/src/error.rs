@@ -26,6 +26,10 @@ pub enum DecodeError {
     /// A [`JointAngle`](crate::JointAngle) names this joint byte, which is no
     /// [`JointId`](crate::JointId).
     UnknownJoint(u8),
+    /// A [`SegmentOrientation`](crate::SegmentOrientation) or an
+    /// [`ImuConfig`](crate::ImuConfig) names this segment byte, which is no
+    /// [`SegmentId`](crate::SegmentId).
+    UnknownSegment(u8),
     /// A message names this model byte, which is no [`ModelId`](crate::ModelId).
     UnknownModel(u8),
     /// A [`PoseFrame`](crate::PoseFrame) has `got` angles where its model takes `expected`.
@@ -59,6 +63,8 @@ pub enum ErrorKind {
     UnknownVersion,
     /// [`DecodeError::UnknownJoint`].
     UnknownJoint,
+    /// [`DecodeError::UnknownSegment`].
+    UnknownSegment,
     /// [`DecodeError::UnknownModel`].
     UnknownModel,
     /// [`DecodeError::AngleCount`].
@@ -78,6 +84,7 @@ impl DecodeError {
             DecodeError::UnknownMessage(_) => ErrorKind::UnknownMessage,
             DecodeError::UnknownVersion(_) => ErrorKind::UnknownVersion,
             DecodeError::UnknownJoint(_) => ErrorKind::UnknownJoint,
+            DecodeError::UnknownSegment(_) => ErrorKind::UnknownSegment,
             DecodeError::UnknownModel(_) => ErrorKind::UnknownModel,
             DecodeError::AngleCount { .. } => ErrorKind::AngleCount,
             DecodeError::Malformed => ErrorKind::Malformed,
@@ -103,6 +110,7 @@ impl fmt::Display for DecodeError {
                 crate::PROTOCOL_VERSION
             ),
             DecodeError::UnknownJoint(j) => write!(f, "unknown joint id {j}"),
+            DecodeError::UnknownSegment(s) => write!(f, "unknown segment id {s}"),
             DecodeError::UnknownModel(m) => write!(f, "unknown model id {m}"),
             DecodeError::AngleCount { expected, got } => {
                 write!(f, "pose frame has {got} angles, its model takes {expected}")

@@ -16,6 +16,7 @@ mod frame;
 mod joint;
 mod messages;
 mod model;
+mod orientation;
 mod sizes;
 mod subject;
 mod wire;
@@ -37,10 +38,15 @@ pub use crate::messages::{
     MAX_REORDER_WINDOW, PROTOCOL_VERSION,
 };
 pub use crate::model::ModelId;
+pub use crate::orientation::{
+    HeadingAxisId, ImuConfig, ImuHeading, InputMode, SegmentId, SegmentOrientation,
+    Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
+};
 pub use crate::sizes::{
-    CONFIG_MAX_LEN, CRC_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN,
-    MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
-    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN,
+    MAX_FRAME_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN,
+    SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN,
+    SUBJECT_LEG_MAX_LEN,
 };
 pub use crate::subject::{
     KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,

@@ -8,7 +8,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{JointId, ModelId, SubjectConfig, SubjectKnee, SubjectLeg};
+use crate::{
+    ImuConfig, JointId, ModelId, SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg,
+};
 
 /// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for
 /// `1..=MAX_REORDER_WINDOW`.
@@ -16,7 +18,7 @@ pub const MAX_REORDER_WINDOW: u8 = 8;
 
 /// The protocol version written in every [`JointAngle`]. See `docs/protocol.md` for the
 /// versioning rules.
-pub const PROTOCOL_VERSION: u8 = 1;
+pub const PROTOCOL_VERSION: u8 = 2;
 
 /// One joint angle of one sample, sent by an IMU node to the hub.
 ///
@@ -103,7 +105,7 @@ pub struct Status {
     pub oversize_frames: u32,
     /// Packets of an unknown protocol version or unknown message tag.
     pub unknown_version: u32,
-    /// Packets naming an unknown joint.
+    /// Packets naming an unknown joint or segment.
     pub unknown_joint: u32,
     /// Angles outside their physiological range.
     pub out_of_range: u32,
@@ -129,6 +131,17 @@ pub struct Status {
     /// (or lengths with gait2392), a [`SubjectConfig`](crate::SubjectConfig) whose model is
     /// incomplete or refused by the kernel.
     pub config_rejected: u32,
+    /// [`SegmentOrientation`] packets whose quaternion is not finite or whose norm is farther
+    /// than the kernel's `imu::UNIT_TOLERANCE` (0.1) from 1: dropped (nearer, it is normalised).
+    pub orientation_not_unit: u32,
+    /// Orientation samples completed before the first calibration (or with an orientation
+    /// model the kernel cannot solve): dropped, no pose frame.
+    pub uncalibrated_samples: u32,
+    /// Calibration poses taken ([`ImuConfig::calibrate`]).
+    pub calibrations: u32,
+    /// Calibration poses refused (the heading's base IMU missing, its heading axis vertical):
+    /// the calibration in force stays, and the next complete sample is tried.
+    pub calibration_rejected: u32,
 }
 
 /// What the hub does when a sample is incomplete when its reorder window closes.
@@ -175,7 +188,7 @@ pub struct Config {
     pub request_status: bool,
 }
 
-/// Every message of the protocol. The variant order is the wire tag (0 to 6): new variants
+/// Every message of the protocol. The variant order is the wire tag (0 to 8): new variants
 /// are only ever appended, existing ones never change.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -194,6 +207,10 @@ pub enum Message {
     SubjectKnee(SubjectKnee),
     /// Tag 6: host to hub, switch to a subject model.
     SubjectConfig(SubjectConfig),
+    /// Tag 7: node to hub, a segment's orientation.
+    SegmentOrientation(SegmentOrientation),
+    /// Tag 8: host to hub, the input mode and IMU settings.
+    ImuConfig(ImuConfig),
 }
 
 impl Status {
@@ -216,6 +233,10 @@ impl Status {
             ("duplicate_packets", self.duplicate_packets),
             ("malformed", self.malformed),
             ("config_rejected", self.config_rejected),
+            ("orientation_not_unit", self.orientation_not_unit),
+            ("uncalibrated_samples", self.uncalibrated_samples),
+            ("calibrations", self.calibrations),
+            ("calibration_rejected", self.calibration_rejected),
         ]
     }
 }
@@ -231,6 +252,8 @@ impl Message {
             Message::SubjectLeg(_) => 4,
             Message::SubjectKnee(_) => 5,
             Message::SubjectConfig(_) => 6,
+            Message::SegmentOrientation(_) => 7,
+            Message::ImuConfig(_) => 8,
         }
     }
 }
@@ -274,5 +297,17 @@ impl From<SubjectKnee> for Message {
 impl From<SubjectConfig> for Message {
     fn from(m: SubjectConfig) -> Self {
         Message::SubjectConfig(m)
+    }
+}
+
+impl From<SegmentOrientation> for Message {
+    fn from(m: SegmentOrientation) -> Self {
+        Message::SegmentOrientation(m)
+    }
+}
+
+impl From<ImuConfig> for Message {
+    fn from(m: ImuConfig) -> Self {
+        Message::ImuConfig(m)
     }
 }

@@ -23,7 +23,7 @@ pub const POSE_FRAME_MAX_LEN: usize =
     TAG + VARINT_U32 + 1 + 1 + JointId::COUNT * F32 + point::COUNT * 3 * F32 + 3 * F32 + 1;
 
 /// Number of `u32` counters in a [`Status`](crate::Status).
-pub const STATUS_COUNTERS: usize = 16;
+pub const STATUS_COUNTERS: usize = 20;
 
 /// Largest postcard encoding of a [`Status`](crate::Status) message, tag included.
 pub const STATUS_MAX_LEN: usize = TAG + STATUS_COUNTERS * VARINT_U32;
@@ -45,6 +45,18 @@ pub const SUBJECT_KNEE_MAX_LEN: usize = TAG + 1 + 1 + 1 + 1 + MAX_KNEE_KNOTS * 2
 /// included: tag, upload, missing policy, reorder window, request_status.
 pub const SUBJECT_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 1 + 1;
 
+/// Worst-case bytes of a postcard `i16` (zigzag varint).
+const VARINT_I16: usize = 3;
+
+/// Largest postcard encoding of a [`SegmentOrientation`](crate::SegmentOrientation) message,
+/// tag included: tag, version, node, segment, seq, timestamp_us, 4 Q14 components, quality.
+pub const SEGMENT_ORIENTATION_MAX_LEN: usize =
+    TAG + 1 + 1 + 1 + VARINT_U32 + VARINT_U32 + 4 * VARINT_I16 + 1;
+
+/// Largest postcard encoding of an [`ImuConfig`](crate::ImuConfig) message, tag included:
+/// tag, mode, segments, calibrate, 3 `f32`, option tag, base, axis, request_status.
+pub const IMU_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 1 + 3 * F32 + 1 + 1 + 1 + 1;
+
 const fn max(a: usize, b: usize) -> usize {
     if a > b {
         a
@@ -61,7 +73,10 @@ pub const MAX_MESSAGE_LEN: usize = max(
     ),
     max(
         max(SUBJECT_LEG_MAX_LEN, SUBJECT_KNEE_MAX_LEN),
-        SUBJECT_CONFIG_MAX_LEN,
+        max(
+            SUBJECT_CONFIG_MAX_LEN,
+            max(SEGMENT_ORIENTATION_MAX_LEN, IMU_CONFIG_MAX_LEN),
+        ),
     ),
 );
 

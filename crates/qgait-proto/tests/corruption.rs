@@ -5,7 +5,7 @@ mod common;
 use common::{code_positions, decode_all, frame, Rng};
 use qgait_proto::{
     encode_frame, encode_raw_frame, DecodeError, ErrorKind, FrameDecoder, JointAngle, JointId,
-    Message, ModelId, MAX_FRAME_LEN,
+    Message, ModelId, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 fn good_a() -> Message {
@@ -210,7 +210,14 @@ fn oversize_is_reported_once_then_resynchronises() {
 
 #[test]
 fn wrong_version_is_unknown_version() {
-    for version in [0u8, 2, 0x7F, 0x80, 0xFF] {
+    for version in [
+        0u8,
+        PROTOCOL_VERSION - 1,
+        PROTOCOL_VERSION + 1,
+        0x7F,
+        0x80,
+        0xFF,
+    ] {
         let msg = Message::JointAngle(JointAngle {
             version,
             ..common::joint_angle(9, JointId::KneeAngleL, -1.0)
@@ -223,20 +230,33 @@ fn wrong_version_is_unknown_version() {
 
 #[test]
 fn unknown_version_is_reported_even_if_the_rest_differs() {
-    // A version-2 packet may have another layout: only its first body byte is looked at.
+    // A packet of the next version may have another layout: only its first body byte is
+    // looked at.
+    let next = PROTOCOL_VERSION + 1;
     let errors = errors_then_next(
-        &raw_frame(&[0x00, 0x02, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
+        &raw_frame(&[0x00, next, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
         &good_a(),
     );
-    assert_eq!(errors, vec![DecodeError::UnknownVersion(2)]);
+    assert_eq!(errors, vec![DecodeError::UnknownVersion(next)]);
 }
 
 #[test]
 fn unknown_joint_is_unknown_joint() {
     for joint in [17u8, 18, 0x7F, 0x80, 0xFF] {
-        // tag 0, version 1, node 3, joint, seq 5, timestamp 300 (0xAC 0x02), angle 1.0, quality 0
+        // tag 0, version, node 3, joint, seq 5, timestamp 300 (0xAC 0x02), angle 1.0, quality 0
         let payload = [
-            0x00, 0x01, 0x03, joint, 0x05, 0xAC, 0x02, 0x00, 0x00, 0x80, 0x3F, 0x00,
+            0x00,
+            PROTOCOL_VERSION,
+            0x03,
+            joint,
+            0x05,
+            0xAC,
+            0x02,
+            0x00,
+            0x00,
+            0x80,
+            0x3F,
+            0x00,
         ];
         let errors = errors_then_next(&raw_frame(&payload), &good_c());
         assert_eq!(errors, vec![DecodeError::UnknownJoint(joint)]);
@@ -317,7 +337,8 @@ fn garbage_between_frames_is_reported_and_costs_at_most_the_frame_it_runs_into()
 fn bad_contents_with_a_good_crc_are_reported_by_kind() {
     use DecodeError::*;
     let cases: Vec<(&str, Vec<u8>, DecodeError)> = vec![
-        ("unknown tag 7", vec![0x07], UnknownMessage(7)),
+        ("unknown tag 13", vec![0x0D], UnknownMessage(13)),
+        ("empty segment orientation body", vec![0x07], Malformed),
         (
             "unknown tag 200 (two-byte varint)",
             vec![0xC8, 0x01, 0x00],
@@ -330,12 +351,25 @@ fn bad_contents_with_a_good_crc_are_reported_by_kind() {
         ),
         (
             "joint angle body cut short",
-            vec![0x00, 0x01, 0x03, 0x06],
+            vec![0x00, PROTOCOL_VERSION, 0x03, 0x06],
             Malformed,
         ),
         (
             "joint angle with a trailing byte",
-            vec![0x00, 0x01, 0x03, 0x06, 0x05, 0x05, 0, 0, 0, 0, 0, 0xEE],
+            vec![
+                0x00,
+                PROTOCOL_VERSION,
+                0x03,
+                0x06,
+                0x05,
+                0x05,
+                0,
+                0,
+                0,
+                0,
+                0,
+                0xEE,
+            ],
             Malformed,
         ),
         ("empty status body", vec![0x02], Malformed),

@@ -11,7 +11,8 @@ use std::path::PathBuf;
 
 use qgait_proto::{
     crc32c, encode_message, encode_raw_frame, Config, DecodeError, FrameDecoder, FrameFlags,
-    JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, QualityFlags, Status, CRC_LEN,
+    HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId, Message, MissingPolicy,
+    ModelId, PoseFrame, QualityFlags, SegmentId, SegmentOrientation, Status, CRC_LEN,
     FRAME_CRC_CHECK, MAX_FRAME_LEN, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
 };
 
@@ -124,6 +125,10 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
                 duplicate_packets: 0,
                 malformed: 0,
                 config_rejected: 1,
+                orientation_not_unit: 0,
+                uncalibrated_samples: 12,
+                calibrations: 1,
+                calibration_rejected: 0,
             }
             .into(),
         ),
@@ -152,7 +157,37 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
         ("subject-leg", common::subject_leg().into()),
         ("subject-knee", common::subject_knee().into()),
         ("subject-config", common::subject_config().into()),
+        ("segment-orientation", segment_orientation().into()),
+        (
+            "imu-config",
+            ImuConfig {
+                mode: InputMode::OrientationsLeastSquares,
+                segments: ImuConfig::ALL_SEGMENTS,
+                calibrate: true,
+                sensor_to_opensim: [-core::f32::consts::FRAC_PI_2, 0.0, 0.0],
+                heading: Some(ImuHeading {
+                    base: SegmentId::Torso,
+                    axis: HeadingAxisId::Z,
+                }),
+                request_status: false,
+            }
+            .into(),
+        ),
     ]
+}
+
+/// The tibia node's orientation of sample 300: a rotation of 60 degrees about z, in Q14
+/// (cos 30 = 0.8660 -> 14189, sin 30 = 0.5 -> 8192).
+fn segment_orientation() -> SegmentOrientation {
+    SegmentOrientation {
+        version: PROTOCOL_VERSION,
+        node: 3,
+        segment: SegmentId::TibiaR,
+        seq: 300,
+        timestamp_us: 1_234_567,
+        q14: SegmentOrientation::q14_of([0.75f64.sqrt(), 0.0, 0.0, 0.5]),
+        quality: 0,
+    }
 }
 
 /// Golden frames that must fail, by name: their message bytes and the expected error.
@@ -162,12 +197,16 @@ fn golden_errors() -> Vec<(&'static str, Vec<u8>, DecodeError)> {
         .expect("encodes")
         .to_vec();
     let mut wrong_version = ja.clone();
-    wrong_version[1] = 2;
+    wrong_version[1] = 1;
     let mut unknown_joint = ja.clone();
     unknown_joint[3] = 17;
     // Section 5: the fields' values are checked in wire order, so a `Config` with an unknown
     // model and a bad missing policy is an unknown model.
     let unknown_model = vec![0x03, 0x05, 0x00, 0x09, 0x04, 0x00];
+    let mut unknown_segment = encode_message(&segment_orientation().into(), &mut good)
+        .expect("encodes")
+        .to_vec();
+    unknown_segment[3] = 8;
     vec![
         (
             "error-unknown-model",
@@ -177,12 +216,17 @@ fn golden_errors() -> Vec<(&'static str, Vec<u8>, DecodeError)> {
         (
             "error-unknown-version",
             wrong_version,
-            DecodeError::UnknownVersion(2),
+            DecodeError::UnknownVersion(1),
         ),
         (
             "error-unknown-joint",
             unknown_joint,
             DecodeError::UnknownJoint(17),
+        ),
+        (
+            "error-unknown-segment",
+            unknown_segment,
+            DecodeError::UnknownSegment(8),
         ),
     ]
 }
@@ -237,6 +281,11 @@ fn constants() -> Vec<String> {
             "SUBJECT_CONFIG_MAX_LEN = {}",
             qgait_proto::SUBJECT_CONFIG_MAX_LEN
         ),
+        format!(
+            "SEGMENT_ORIENTATION_MAX_LEN = {}",
+            qgait_proto::SEGMENT_ORIENTATION_MAX_LEN
+        ),
+        format!("IMU_CONFIG_MAX_LEN = {}", qgait_proto::IMU_CONFIG_MAX_LEN),
         format!("MAX_KNEE_KNOTS = {}", qgait_proto::MAX_KNEE_KNOTS),
         format!("MAX_REORDER_WINDOW = {}", qgait_proto::MAX_REORDER_WINDOW),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),

@@ -59,6 +59,10 @@ fn check_hub_decoding(bytes: &[u8]) -> Result<(), String> {
             encoded(&Message::SubjectKnee(a.clone())) == encoded(&Message::SubjectKnee(b.clone()))
         }
         (Ok(Message::SubjectConfig(a)), Ok(HubMessage::SubjectConfig(b))) => a == b,
+        (Ok(Message::SegmentOrientation(a)), Ok(HubMessage::SegmentOrientation(b))) => a == b,
+        (Ok(Message::ImuConfig(a)), Ok(HubMessage::ImuConfig(b))) => {
+            encoded(&Message::ImuConfig(*a)) == encoded(&Message::ImuConfig(*b))
+        }
         // A pose frame or a status, well-formed or not, is reported by its tag.
         (Ok(Message::PoseFrame(_)), Ok(HubMessage::FromHub(1)))
         | (Ok(Message::Status(_)), Ok(HubMessage::FromHub(2))) => true,
@@ -128,8 +132,8 @@ fn hub_decoding_of_mutated_and_random_bytes_is_decode_message() {
 fn hub_decoding_errors_are_decode_messages() {
     for (bytes, error) in [
         (&[][..], DecodeError::Malformed),
-        (&[0x07][..], DecodeError::UnknownMessage(7)),
-        (&[0x80, 0x00, 0x02][..], DecodeError::UnknownVersion(2)),
+        (&[0x0D][..], DecodeError::UnknownMessage(13)),
+        (&[0x80, 0x00, 0x03][..], DecodeError::UnknownVersion(3)),
         (&[0x03, 0x09][..], DecodeError::Malformed),
     ] {
         assert_eq!(decode_hub_message(bytes), Err(error), "{bytes:02x?}");
@@ -154,7 +158,8 @@ fn hub_decoding_errors_are_decode_messages() {
 /// types (their serde derives, whole) is the reference: on mutated encodings of every message
 /// and random bytes, a message one decodes the other decodes to the same bytes, and what
 /// postcard refuses is refused. The only messages postcard takes and the protocol refuses
-/// are a joint-angle packet of another version and a pose frame with another angle count.
+/// are a joint-angle or segment-orientation packet of another version and a pose frame
+/// with another angle count.
 #[test]
 fn field_by_field_decoding_is_postcards() {
     let mut rng = Rng::new(0x5053_4344);
@@ -180,6 +185,10 @@ fn field_by_field_decoding_is_postcards() {
                 matches!(
                     (e, b),
                     (DecodeError::UnknownVersion(_), Message::JointAngle(_))
+                        | (
+                            DecodeError::UnknownVersion(_),
+                            Message::SegmentOrientation(_)
+                        )
                         | (DecodeError::AngleCount { .. }, Message::PoseFrame(_))
                 ),
                 "{bytes:02x?}: {e:?} vs {b:?}"

@@ -4,10 +4,12 @@ mod common;
 
 use qgait_proto::{
     cobs_max_encoded_len, encode_frame, encode_message, Config, DecodeError, FrameDecoder,
-    JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, Status,
-    SubjectConfig, SubjectKnee, SubjectLeg, CONFIG_MAX_LEN, CRC_LEN, JOINT_ANGLE_MAX_FRAME_LEN,
-    JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
-    STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId, KneeDirection, Leg,
+    Message, MissingPolicy, ModelId, PoseFrame, SegmentId, SegmentOrientation, Status,
+    SubjectConfig, SubjectKnee, SubjectLeg, CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN,
+    JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN,
+    POSE_FRAME_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
+    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 
 /// Any float: an f32 is always 4 bytes.
@@ -60,6 +62,10 @@ fn per_message_maxima_are_reached_exactly() {
         duplicate_packets: u32::MAX,
         malformed: u32::MAX,
         config_rejected: u32::MAX,
+        orientation_not_unit: u32::MAX,
+        uncalibrated_samples: u32::MAX,
+        calibrations: u32::MAX,
+        calibration_rejected: u32::MAX,
     };
     let leg = SubjectLeg {
         upload: 0xFF,
@@ -106,6 +112,32 @@ fn per_message_maxima_are_reached_exactly() {
     assert_eq!(message_len(&leg.into()), SUBJECT_LEG_MAX_LEN);
     assert_eq!(message_len(&knee.into()), SUBJECT_KNEE_MAX_LEN);
     assert_eq!(message_len(&subject_config.into()), SUBJECT_CONFIG_MAX_LEN);
+    let orientation = SegmentOrientation {
+        version: 0xFF,
+        node: 0xFF,
+        segment: SegmentId::Torso,
+        seq: u32::MAX,
+        timestamp_us: u32::MAX,
+        // Zigzag: -16384 and 16383 take 3 bytes as much as i16::MIN does.
+        q14: [i16::MIN, -16384, 16383, i16::MAX],
+        quality: 0xFF,
+    };
+    assert_eq!(
+        message_len(&orientation.into()),
+        SEGMENT_ORIENTATION_MAX_LEN
+    );
+    let imu_config = ImuConfig {
+        mode: InputMode::OrientationsLeastSquares,
+        segments: 0xFF,
+        calibrate: true,
+        sensor_to_opensim: [ANGLE; 3],
+        heading: Some(ImuHeading {
+            base: SegmentId::Torso,
+            axis: HeadingAxisId::NegZ,
+        }),
+        request_status: true,
+    };
+    assert_eq!(message_len(&imu_config.into()), IMU_CONFIG_MAX_LEN);
     assert_eq!(
         MAX_MESSAGE_LEN,
         [
@@ -116,6 +148,8 @@ fn per_message_maxima_are_reached_exactly() {
             SUBJECT_LEG_MAX_LEN,
             SUBJECT_KNEE_MAX_LEN,
             SUBJECT_CONFIG_MAX_LEN,
+            SEGMENT_ORIENTATION_MAX_LEN,
+            IMU_CONFIG_MAX_LEN,
         ]
         .into_iter()
         .max()

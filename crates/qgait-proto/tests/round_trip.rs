@@ -39,6 +39,8 @@ fn kind_max_len(msg: &Message) -> usize {
         Message::SubjectLeg(_) => SUBJECT_LEG_MAX_LEN,
         Message::SubjectKnee(_) => SUBJECT_KNEE_MAX_LEN,
         Message::SubjectConfig(_) => SUBJECT_CONFIG_MAX_LEN,
+        Message::SegmentOrientation(_) => qgait_proto::SEGMENT_ORIENTATION_MAX_LEN,
+        Message::ImuConfig(_) => qgait_proto::IMU_CONFIG_MAX_LEN,
     }
 }
 

@@ -22,6 +22,7 @@ use crate::cli::model_args::ModelArgs;
 use crate::device::config::{frames, messages, HubModel, HubSettings};
 use crate::device::frames_csv;
 use crate::device::log::{HubLog, LogDecoder, Record};
+use crate::device::orientations::{OrientationCheck, OrientationStream};
 use crate::device::packets::{PacketsError, Samples, Timing};
 use crate::device::port::{self, Input, Until};
 use crate::device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
@@ -45,11 +46,86 @@ impl LoadedModel {
     }
 }
 
+/// The IMU orientation input's options of `qgait packets` and `verify` (`qgait imu`'s, with
+/// its defaults: OpenSense's).
+#[derive(Debug, Args, Clone)]
+pub struct OrientationArgs {
+    /// An IMU recording (OpenSim orientation .sto) instead of a motion: the segment nodes'
+    /// stream (gait2392 and the IMU configuration, the calibration pose as sample 0, the rows
+    /// as samples 1, 2, ...), for a hub built with the orientation input.
+    #[arg(long, value_name = "ORIENTATIONS.sto", requires = "calibration")]
+    pub orientations: Option<PathBuf>,
+    /// The static calibration pose of --orientations (its first row).
+    #[arg(long, value_name = "STATIC.sto", requires = "orientations")]
+    pub calibration: Option<PathBuf>,
+    /// As `qgait imu --base-imu`.
+    #[arg(long, value_name = "NAME")]
+    pub base_imu: Option<String>,
+    /// As `qgait imu --base-heading-axis`.
+    #[arg(
+        long,
+        default_value = "z",
+        value_name = "x|-x|y|-y|z|-z",
+        allow_hyphen_values = true
+    )]
+    pub base_heading_axis: String,
+    /// As `qgait imu --sensor-to-opensim` (radians, space-fixed X, Y, Z).
+    #[arg(
+        long,
+        default_value = "-1.5707963267948966,0,0",
+        value_name = "RX,RY,RZ",
+        allow_hyphen_values = true
+    )]
+    pub sensor_to_opensim: String,
+    /// The hub's solver: per-leg least squares or the per-joint closed form.
+    #[arg(long, value_enum, default_value_t = crate::cli::imu::ModeArg::LeastSquares)]
+    pub mode: crate::cli::imu::ModeArg,
+    /// Only the first N rows of --orientations.
+    #[arg(long, value_name = "N")]
+    pub rows: Option<usize>,
+}
+
+impl OrientationArgs {
+    /// The stream of --orientations and --calibration, if given.
+    fn stream(&self, quiet: bool) -> anyhow::Result<Option<OrientationStream>> {
+        let (Some(orientations), Some(calibration)) = (&self.orientations, &self.calibration)
+        else {
+            return Ok(None);
+        };
+        // `qgait imu`'s reading of the options.
+        let settings = crate::cli::imu::settings(&crate::cli::imu::ImuArgs {
+            orientations: orientations.clone(),
+            calibration: calibration.clone(),
+            model: ModelArgs::default(),
+            base_imu: self.base_imu.clone(),
+            base_heading_axis: self.base_heading_axis.clone(),
+            sensor_to_opensim: self.sensor_to_opensim.clone(),
+            mode: self.mode,
+            pelvis: crate::cli::imu::PelvisArg::Opensense,
+            output: PathBuf::new(),
+        })?;
+        let mode = match self.mode {
+            crate::cli::imu::ModeArg::LeastSquares => qgait_kernel::imu::Mode::LeastSquares,
+            crate::cli::imu::ModeArg::ClosedForm => qgait_kernel::imu::Mode::ClosedForm,
+        };
+        let (stream, warnings) =
+            OrientationStream::read(orientations, calibration, &settings, mode, self.rows)?;
+        if !quiet {
+            warnings.iter().for_each(|w| eprintln!("warning: {w}"));
+        }
+        Ok(Some(stream))
+    }
+}
+
 /// `qgait packets` arguments.
 #[derive(Debug, Args)]
 pub struct PacketsArgs {
     /// Motion file (.mot/.sto) or `builtin:...`.
-    pub motion: String,
+    #[arg(
+        required_unless_present = "orientations",
+        conflicts_with = "orientations"
+    )]
+    pub motion: Option<String>,
     /// Samples per second (default: the motion's time column).
     #[arg(long, value_name = "HZ")]
     pub rate: Option<f64>,
@@ -59,6 +135,9 @@ pub struct PacketsArgs {
     /// Output file (the byte stream, as the nodes send it).
     #[arg(short, long, value_name = "STREAM.bin")]
     pub output: PathBuf,
+    /// The IMU orientation input instead of a motion.
+    #[command(flatten)]
+    pub imu: OrientationArgs,
 }
 
 /// A model id on the command line.
@@ -200,6 +279,10 @@ pub struct VerifyArgs {
     /// Reading a live hub: baud rate, when to stop, live view.
     #[command(flatten)]
     pub port: PortArgs,
+    /// The IMU recording the hub was sent (as `qgait packets --orientations`): its frames are
+    /// also checked against the host's f64 IMU path on the same stream.
+    #[command(flatten)]
+    pub imu: OrientationArgs,
 }
 
 /// `qgait emulate` arguments.
@@ -241,10 +324,16 @@ pub struct EmulateArgs {
 
 /// Runs `qgait packets`: each row's packets are written before the next row is read.
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
-    crate::cli::refuse_overwrite([args.output.as_path()], &[&args.motion])?;
+    if let Some(stream) = args.imu.stream(quiet)? {
+        return write_orientation_stream(&args, &stream, quiet);
+    }
+    let Some(motion) = &args.motion else {
+        bail!("give either MOTION or --orientations ORIENTATIONS.sto --calibration STATIC.sto");
+    };
+    crate::cli::refuse_overwrite([args.output.as_path()], &[motion])?;
     let diagnostics = Diagnostics::new(quiet);
     let warn = |w| diagnostics.warn(w);
-    let (rows, w) = crate::motion::source::MotionRows::open(&args.motion)?;
+    let (rows, w) = crate::motion::source::MotionRows::open(motion)?;
     warn(w);
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
     let mut file = crate::cli::OutputFile::create(&args.output)?;
@@ -263,6 +352,37 @@ pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
             counts.samples,
             ModelId::from(args.model).required_joints().len(),
             counts.bytes,
+            args.output.display()
+        );
+    }
+    Ok(())
+}
+
+/// `qgait packets --orientations`: the nodes' stream of an IMU recording.
+fn write_orientation_stream(
+    args: &PacketsArgs,
+    stream: &OrientationStream,
+    quiet: bool,
+) -> anyhow::Result<()> {
+    let inputs: Vec<String> = [&args.imu.orientations, &args.imu.calibration]
+        .into_iter()
+        .flatten()
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    crate::cli::refuse_overwrite([args.output.as_path()], &inputs)?;
+    let bytes = stream.bytes(4);
+    let mut file = crate::cli::OutputFile::create(&args.output)?;
+    file.writer()
+        .write_all(&bytes)
+        .map_err(|e| crate::cli::with_path(e.into(), &args.output))?;
+    file.commit()?;
+    if !quiet {
+        eprintln!(
+            "wrote the configuration (gait2392, {:?}), the calibration pose and {} samples of {} segments, {} bytes, to {}",
+            stream.imu.mode,
+            stream.rows.len(),
+            stream.imu.segments.count_ones(),
+            bytes.len(),
             args.output.display()
         );
     }
@@ -403,6 +523,9 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     let (mut input, mut view) = args.port.open(&args.log, false, false, quiet)?;
     let mut decoder = LogDecoder::new();
     let mut verifier = Verifier::new(&model.device, Expected::FirstToLast);
+    let imu = args.imu.stream(quiet)?;
+    let host = imu.as_ref().map(|s| s.host_angles()).transpose()?;
+    let mut poses = Vec::new();
     let end = port::read_log(&mut input, &mut decoder, args.port.until(), |event| {
         match event {
             port::Event::Record(record) => {
@@ -413,6 +536,9 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
                 } = &record
                 {
                     verifier.add(p);
+                    if host.is_some() {
+                        poses.push(p.clone());
+                    }
                 }
             }
             port::Event::Chunk => view.refresh(),
@@ -433,7 +559,13 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     let v = verifier.finish();
     let tol = args.tol_um * 1e-6;
     println!("{}", v.report(tol));
-    Ok(v.passed(tol))
+    let mut passed = v.passed(tol);
+    if let Some(host) = &host {
+        let c = OrientationCheck::run(&poses, host);
+        println!("{}", c.report(tol));
+        passed &= c.passed(tol);
+    }
+    Ok(passed)
 }
 
 /// What `qgait emulate` sends: the stream, the time (s) of each sample, and the number of

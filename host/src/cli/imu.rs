@@ -127,8 +127,9 @@ pub enum PelvisArg {
 /// about two strides, so that the pelvis's rotation within a stride averages out.
 pub const PROGRESSION_WINDOW: f64 = 2.0;
 
-/// The settings from the command line.
-fn settings(a: &ImuArgs) -> anyhow::Result<Settings<f64>> {
+/// The settings from the command line (also `qgait packets --orientations` and `verify
+/// --orientations`, which take the same options).
+pub(crate) fn settings(a: &ImuArgs) -> anyhow::Result<Settings<f64>> {
     let parts: Vec<&str> = a.sensor_to_opensim.split(',').collect();
     let mut r = [0.0; 3];
     if parts.len() != 3 {

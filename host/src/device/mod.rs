@@ -7,6 +7,7 @@
 pub mod config;
 pub mod frames_csv;
 pub mod log;
+pub mod orientations;
 pub mod packets;
 pub(crate) mod port;
 pub mod verify;

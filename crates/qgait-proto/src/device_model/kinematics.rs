@@ -53,6 +53,18 @@ pub enum ConfigError {
         /// The spline.
         direction: KneeDirection,
     },
+    /// The orientation input takes a gait2392 model (generic or a subject's): an
+    /// [`ImuConfig`](crate::ImuConfig) for it with HAK or PHAK in force, or a
+    /// [`Config`](crate::Config) for HAK or PHAK while it is in force.
+    ImuNeedsGait2392,
+    /// An [`ImuConfig`](crate::ImuConfig) for the orientation input whose segments leave out
+    /// the pelvis (every coordinate is relative to it).
+    ImuWithoutPelvis,
+    /// An [`ImuConfig`](crate::ImuConfig) whose sensor-to-OpenSim rotation is not finite.
+    ImuSettings,
+    /// An [`ImuConfig`](crate::ImuConfig) for the orientation input to a hub built without it
+    /// (the firmware's `imu` feature).
+    ImuNotBuiltIn,
 }
 
 impl core::fmt::Display for ConfigError {
@@ -91,6 +103,18 @@ impl core::fmt::Display for ConfigError {
                 ["tx", "ty"][*direction as usize],
                 crate::MAX_KNEE_KNOTS
             ),
+            ConfigError::ImuNeedsGait2392 => {
+                f.write_str("the orientation input takes a gait2392 model")
+            }
+            ConfigError::ImuWithoutPelvis => {
+                f.write_str("the orientation input needs the pelvis segment")
+            }
+            ConfigError::ImuSettings => {
+                f.write_str("a sensor-to-OpenSim angle of the IMU settings is not finite")
+            }
+            ConfigError::ImuNotBuiltIn => {
+                f.write_str("this hub was built without the orientation input")
+            }
         }
     }
 }
@@ -359,6 +383,15 @@ impl Kinematics {
         }
         self.model = ModelId::Gait2392;
         Ok(())
+    }
+
+    /// The gait2392 model in force (generic or a subject's), `None` with HAK or PHAK: the
+    /// model the IMU calibration and solver take.
+    pub fn gait2392_model(&self) -> Option<&Gait2392<f32>> {
+        match &self.chain {
+            ModelChain::Gait2392(g) => Some(g),
+            ModelChain::Phak(_) => None,
+        }
     }
 
     /// The model poses are computed with.

@@ -12,6 +12,9 @@
 //! - [`SubjectParts`] and [`parts_of`]: a subject gait2392 geometry as the six
 //!   [`SubjectLeg`](crate::SubjectLeg)/[`SubjectKnee`](crate::SubjectKnee) parts it travels in,
 //!   and back.
+//! - the IMU input ([`kernel_segment`], [`kernel_settings`], [`kernel_mode`],
+//!   [`packet_quat`] and their inverses): the wire's segments, heading settings, modes and Q14
+//!   quaternions as the kernel's `imu` types, for the hub and the host alike.
 //! - [`Status::count_decode_error`](crate::Status::count_decode_error): which counter a
 //!   decode error goes to.
 //! - `HubModel` (with the `std` feature): the one model choice of a host configuring a hub
@@ -22,11 +25,16 @@
 //! crate: a crate of its own would have had the same dependencies and the same callers, and
 //! one more manifest. It is `no_std` and allocates nothing (but `HubModel`, host-only).
 
+mod imu;
 mod kinematics;
 #[cfg(feature = "std")]
 mod model;
 mod subject;
 
+pub use imu::{
+    input_mode, kernel_heading_axis, kernel_mode, kernel_segment, kernel_settings, packet_quat,
+    q14_quat, wire_heading_axis, wire_segment, wire_settings,
+};
 pub use kinematics::{
     gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose,
     ConfigError, Kinematics, PoseModels, MAX_SEGMENT_M,

@@ -8,8 +8,9 @@
 use super::check_angle_count;
 use super::varint::{end, take, take_varint_u32};
 use crate::{
-    point, segment, Config, DecodeError, JointAngle, JointId, KneeDirection, Leg, MissingPolicy,
-    ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS,
+    point, segment, Config, DecodeError, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
+    JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, SegmentId,
+    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS,
     MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 
@@ -28,6 +29,10 @@ pub enum HubMessage {
     SubjectKnee(SubjectKnee),
     /// Tag 6.
     SubjectConfig(SubjectConfig),
+    /// Tag 7.
+    SegmentOrientation(SegmentOrientation),
+    /// Tag 8.
+    ImuConfig(ImuConfig),
     /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
     /// Its body is not decoded: it may or may not be well-formed.
     FromHub(u32),
@@ -61,6 +66,8 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         4 => subject_leg(body).map(HubMessage::SubjectLeg),
         5 => subject_knee(body).map(HubMessage::SubjectKnee),
         6 => subject_config(body).map(HubMessage::SubjectConfig),
+        7 => segment_orientation(body).map(HubMessage::SegmentOrientation),
+        8 => imu_config(body).map(HubMessage::ImuConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -195,6 +202,58 @@ pub(super) fn subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> 
         upload,
         missing_policy: missing_policy(policy)?,
         reorder_window,
+        request_status,
+    })
+}
+
+/// A [`SegmentOrientation`]'s body: the version first (as a [`JointAngle`]'s), then the
+/// layout (`Malformed`), then the segment.
+pub(super) fn segment_orientation(body: &[u8]) -> Result<SegmentOrientation, DecodeError> {
+    let (&version, _) = body.split_first().ok_or(DecodeError::Malformed)?;
+    if version != PROTOCOL_VERSION {
+        return Err(DecodeError::UnknownVersion(version));
+    }
+    let (_, rest) = take::<u8>(body)?;
+    let (node, rest) = take(rest)?;
+    let (segment, rest) = take::<u8>(rest)?;
+    let (seq, rest) = take_varint_u32(rest)?;
+    let (timestamp_us, rest) = take_varint_u32(rest)?;
+    let (q14, rest) = take(rest)?;
+    let (quality, rest) = take(rest)?;
+    end(rest)?;
+    Ok(SegmentOrientation {
+        version,
+        node,
+        segment: SegmentId::from_index(segment).ok_or(DecodeError::UnknownSegment(segment))?,
+        seq,
+        timestamp_us,
+        q14,
+        quality,
+    })
+}
+
+/// An [`ImuConfig`]'s body.
+pub(super) fn imu_config(body: &[u8]) -> Result<ImuConfig, DecodeError> {
+    let (mode, rest) = take::<u8>(body)?;
+    let (segments, rest) = take(rest)?;
+    let (calibrate, rest) = take(rest)?;
+    let (sensor_to_opensim, rest) = take(rest)?;
+    let (heading, rest) = take::<Option<(u8, u8)>>(rest)?;
+    let (request_status, rest) = take(rest)?;
+    end(rest)?;
+    let heading = match heading {
+        None => None,
+        Some((base, axis)) => Some(ImuHeading {
+            base: SegmentId::from_index(base).ok_or(DecodeError::UnknownSegment(base))?,
+            axis: HeadingAxisId::from_repr(axis).ok_or(DecodeError::Malformed)?,
+        }),
+    };
+    Ok(ImuConfig {
+        mode: InputMode::from_repr(mode).ok_or(DecodeError::Malformed)?,
+        segments,
+        calibrate,
+        sensor_to_opensim,
+        heading,
         request_status,
     })
 }

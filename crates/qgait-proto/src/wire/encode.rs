@@ -108,7 +108,7 @@ where
 }
 
 /// [`encode_message`] of `Message::Status(status)`, without building the [`Message`]: the same
-/// bytes as postcard's (the tag, then the 16 counters as varints in declaration order), written
+/// bytes as postcard's (the tag, then the 20 counters as varints in declaration order), written
 /// by hand so that a hub, which encodes no other message with [`encode_message`], links no
 /// other message's serialiser.
 pub(crate) fn encode_status_message<'a>(
@@ -133,6 +133,10 @@ pub(crate) fn encode_status_message<'a>(
         duplicate_packets,
         malformed,
         config_rejected,
+        orientation_not_unit,
+        uncalibrated_samples,
+        calibrations,
+        calibration_rejected,
     } = *status;
     let counters: [u32; STATUS_COUNTERS] = [
         packets_accepted,
@@ -151,6 +155,10 @@ pub(crate) fn encode_status_message<'a>(
         duplicate_packets,
         malformed,
         config_rejected,
+        orientation_not_unit,
+        uncalibrated_samples,
+        calibrations,
+        calibration_rejected,
     ];
     let too_small = EncodeError::BufferTooSmall {
         needed: MAX_MESSAGE_LEN,
@@ -278,6 +286,10 @@ mod tests {
                 duplicate_packets: c(13),
                 malformed: c(14),
                 config_rejected: c(15),
+                orientation_not_unit: c(16),
+                uncalibrated_samples: c(17),
+                calibrations: c(18),
+                calibration_rejected: c(19),
             };
             let msg = Message::Status(status);
             let mut a = [0u8; MAX_MESSAGE_LEN + 4];

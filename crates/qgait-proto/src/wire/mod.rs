@@ -54,6 +54,8 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         4 => decode::subject_leg(body).map(Message::SubjectLeg),
         5 => decode::subject_knee(body).map(Message::SubjectKnee),
         6 => decode::subject_config(body).map(Message::SubjectConfig),
+        7 => decode::segment_orientation(body).map(Message::SegmentOrientation),
+        8 => decode::imu_config(body).map(Message::ImuConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }

@@ -65,6 +65,10 @@ pub fn status() -> Status {
         duplicate_packets: 11,
         malformed: 12,
         config_rejected: 13,
+        orientation_not_unit: 14,
+        uncalibrated_samples: 15,
+        calibrations: 16,
+        calibration_rejected: 17,
     }
 }
 
@@ -89,6 +93,25 @@ pub fn every_message() -> Vec<Message> {
         subject_leg().into(),
         subject_knee().into(),
         subject_config().into(),
+        qgait_proto::SegmentOrientation {
+            version: qgait_proto::PROTOCOL_VERSION,
+            node: 4,
+            segment: qgait_proto::SegmentId::CalcnR,
+            seq: 7,
+            timestamp_us: 70_000,
+            q14: [16384, 0, -8, 3],
+            quality: 0,
+        }
+        .into(),
+        qgait_proto::ImuConfig {
+            mode: qgait_proto::InputMode::OrientationsClosedForm,
+            segments: qgait_proto::ImuConfig::ALL_SEGMENTS,
+            calibrate: true,
+            sensor_to_opensim: [-1.5707964, 0.0, 0.0],
+            heading: None,
+            request_status: false,
+        }
+        .into(),
     ]
 }
 

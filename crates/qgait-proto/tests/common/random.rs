@@ -2,9 +2,10 @@
 
 use super::Rng;
 use qgait_proto::{
-    encode_frame, encode_message, encode_raw_frame, Config, JointAngle, JointId, KneeDirection,
-    Leg, Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee,
-    SubjectLeg, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
+    encode_frame, encode_message, encode_raw_frame, Config, HeadingAxisId, ImuConfig, ImuHeading,
+    InputMode, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
+    SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_FRAME_LEN,
+    MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
 };
 
 /// A float that is usually ordinary and sometimes any bit pattern (NaN, inf, subnormal).
@@ -24,7 +25,7 @@ fn varint_u32(rng: &mut Rng) -> u32 {
 
 /// Any valid message.
 pub fn message(rng: &mut Rng) -> Message {
-    match rng.below(7) {
+    match rng.below(9) {
         0 => Message::JointAngle(JointAngle {
             version: PROTOCOL_VERSION,
             node: rng.byte(),
@@ -70,6 +71,30 @@ pub fn message(rng: &mut Rng) -> Message {
             duplicate_packets: varint_u32(rng),
             malformed: varint_u32(rng),
             config_rejected: varint_u32(rng),
+            orientation_not_unit: varint_u32(rng),
+            uncalibrated_samples: varint_u32(rng),
+            calibrations: varint_u32(rng),
+            calibration_rejected: varint_u32(rng),
+        }),
+        7 => Message::SegmentOrientation(SegmentOrientation {
+            version: PROTOCOL_VERSION,
+            node: rng.byte(),
+            segment: SegmentId::ALL[rng.below(SegmentId::COUNT)],
+            seq: varint_u32(rng),
+            timestamp_us: varint_u32(rng),
+            q14: [0; 4].map(|_: i16| rng.next_u32() as i16),
+            quality: rng.byte(),
+        }),
+        8 => Message::ImuConfig(ImuConfig {
+            mode: InputMode::from_repr(rng.below(3) as u8).expect("in range"),
+            segments: rng.byte(),
+            calibrate: rng.chance(50),
+            sensor_to_opensim: [float(rng), float(rng), float(rng)],
+            heading: rng.chance(50).then(|| ImuHeading {
+                base: SegmentId::ALL[rng.below(SegmentId::COUNT)],
+                axis: HeadingAxisId::from_repr(rng.below(6) as u8).expect("in range"),
+            }),
+            request_status: rng.chance(50),
         }),
         4 => Message::SubjectLeg(SubjectLeg {
             upload: rng.byte(),

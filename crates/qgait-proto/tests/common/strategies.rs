@@ -3,8 +3,9 @@
 
 use proptest::prelude::*;
 use qgait_proto::{
-    Config, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
-    Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
+    Config, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId, KneeDirection,
+    Leg, Message, MissingPolicy, ModelId, PoseFrame, SegmentId, SegmentOrientation, Status,
+    SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
 };
 
 /// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
@@ -80,7 +81,7 @@ pub fn pose_frame() -> impl Strategy<Value = PoseFrame> {
 }
 
 pub fn status() -> impl Strategy<Value = Status> {
-    proptest::collection::vec(any_varint_u32(), 16).prop_map(|c| Status {
+    proptest::collection::vec(any_varint_u32(), 20).prop_map(|c| Status {
         packets_accepted: c[0],
         crc_errors: c[1],
         framing_errors: c[2],
@@ -97,6 +98,10 @@ pub fn status() -> impl Strategy<Value = Status> {
         duplicate_packets: c[13],
         malformed: c[14],
         config_rejected: c[15],
+        orientation_not_unit: c[16],
+        uncalibrated_samples: c[17],
+        calibrations: c[18],
+        calibration_rejected: c[19],
     })
 }
 
@@ -133,7 +138,59 @@ pub fn message() -> impl Strategy<Value = Message> {
         subject_leg().prop_map(Message::SubjectLeg),
         subject_knee().prop_map(Message::SubjectKnee),
         subject_config().prop_map(Message::SubjectConfig),
+        segment_orientation().prop_map(Message::SegmentOrientation),
+        imu_config().prop_map(Message::ImuConfig),
     ]
+}
+
+pub fn segment_id() -> impl Strategy<Value = SegmentId> {
+    (0..SegmentId::COUNT as u8).prop_map(|i| SegmentId::from_index(i).expect("in range"))
+}
+
+pub fn segment_orientation() -> impl Strategy<Value = SegmentOrientation> {
+    (
+        any::<u8>(),
+        segment_id(),
+        any_varint_u32(),
+        any_varint_u32(),
+        any::<[i16; 4]>(),
+        any::<u8>(),
+    )
+        .prop_map(
+            |(node, segment, seq, timestamp_us, q14, quality)| SegmentOrientation {
+                version: qgait_proto::PROTOCOL_VERSION,
+                node,
+                segment,
+                seq,
+                timestamp_us,
+                q14,
+                quality,
+            },
+        )
+}
+
+pub fn imu_config() -> impl Strategy<Value = ImuConfig> {
+    (
+        0u8..3,
+        any::<u8>(),
+        any::<bool>(),
+        [any_f32_bits(), any_f32_bits(), any_f32_bits()],
+        proptest::option::of((segment_id(), 0u8..6)),
+        any::<bool>(),
+    )
+        .prop_map(
+            |(mode, segments, calibrate, sensor_to_opensim, heading, request_status)| ImuConfig {
+                mode: InputMode::from_repr(mode).expect("in range"),
+                segments,
+                calibrate,
+                sensor_to_opensim,
+                heading: heading.map(|(base, axis)| ImuHeading {
+                    base,
+                    axis: HeadingAxisId::from_repr(axis).expect("in range"),
+                }),
+                request_status,
+            },
+        )
 }
 
 fn missing_policy(hold: bool) -> MissingPolicy {
