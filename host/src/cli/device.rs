@@ -102,6 +102,11 @@ impl OrientationArgs {
             sensor_to_opensim: self.sensor_to_opensim.clone(),
             mode: self.mode,
             pelvis: crate::cli::imu::PelvisArg::Opensense,
+            lumbar: None,
+            imu_mapping: None,
+            rate: None,
+            compare: None,
+            figures: None,
             output: PathBuf::new(),
         })?;
         let mode = match self.mode {
@@ -110,9 +115,7 @@ impl OrientationArgs {
         };
         let (stream, warnings) =
             OrientationStream::read(orientations, calibration, &settings, mode, self.rows)?;
-        if !quiet {
-            warnings.iter().for_each(|w| eprintln!("warning: {w}"));
-        }
+        Diagnostics::new(quiet).warn(warnings);
         Ok(Some(stream))
     }
 }
