@@ -95,6 +95,19 @@ impl<T: Real, const K: usize> Spline<T, K> {
         }
     }
 
+    /// The knots' abscissae and values (empty for [`EMPTY`](Self::EMPTY)).
+    pub fn knots(&self) -> (&[T], &[T]) {
+        let n = self.len().min(K);
+        (&self.x[..n], &self.y[..n])
+    }
+
+    /// Whether it is straight between its knots (no quadratic or cubic terms): what
+    /// [`piecewise_linear`](Self::piecewise_linear) builds, and what `SimmSpline` is through
+    /// knots on one line.
+    pub fn is_piecewise_linear(&self) -> bool {
+        self.c.iter().chain(&self.d).all(|v| *v == T::ZERO)
+    }
+
     /// Whether this is [`EMPTY`](Self::EMPTY): a built spline has at least two knots.
     pub fn is_empty(&self) -> bool {
         self.last == 0

@@ -170,9 +170,18 @@ pub struct BodyPoint<T> {
     pub offset: Vec3<T>,
 }
 
-/// A validated chain. Joint `b` moves body `b`.
+/// A validated chain. Joint `b` moves body `b`. `S` spline slots of `K` knots each
+/// ([`MAX_SPLINES`] and [`MAX_SPLINE_KNOTS`] unless said: a device sizes them to the models it
+/// takes).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CustomChain<T, const N: usize, const B: usize, const P: usize> {
+pub struct CustomChain<
+    T,
+    const N: usize,
+    const B: usize,
+    const P: usize,
+    const S: usize = MAX_SPLINES,
+    const K: usize = MAX_SPLINE_KNOTS,
+> {
     joints: [CustomJoint<T>; B],
     /// Per joint, how many rotations and translations move (the others, zero constants, are
     /// dropped by [`new`](Self::new): no work for a locked coordinate or an unused axis).
@@ -180,8 +189,10 @@ pub struct CustomChain<T, const N: usize, const B: usize, const P: usize> {
     /// `in_child` inverted, once.
     child_inverse: [Offset<T>; B],
     points: [BodyPoint<T>; P],
-    splines: [Spline<T, MAX_SPLINE_KNOTS>; MAX_SPLINES],
+    splines: [Spline<T, K>; S],
     couplers: [Coupler<T>; MAX_COUPLERS],
+    /// How many of `splines` and `couplers` are in use.
+    used: (u8, u8),
 }
 
 /// A body's frame in ground.
@@ -202,7 +213,9 @@ impl<T: Real> BodyFrame<T> {
     }
 }
 
-impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, B, P> {
+impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, const K: usize>
+    CustomChain<T, N, B, P, S, K>
+{
     /// Validates and builds a chain: parents come first (body 0 hangs on ground, every other
     /// body on an earlier one), axes are non-zero and finite (normalised here), arguments and
     /// splines exist, offsets are finite, couplers depend on inputs and are not chained. Axes
@@ -210,10 +223,10 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
     pub fn new(
         joints: [CustomJoint<T>; B],
         points: [BodyPoint<T>; P],
-        splines: &[Spline<T, MAX_SPLINE_KNOTS>],
+        splines: &[Spline<T, K>],
         couplers: &[Coupler<T>],
     ) -> Result<Self, ModelError> {
-        if splines.len() > MAX_SPLINES
+        if splines.len() > S
             || couplers.len() > MAX_COUPLERS
             || splines.iter().any(|s| s.is_empty())
         {
@@ -290,11 +303,12 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
             moving,
             child_inverse: joints.map(|j| j.in_child.inverse()),
             points,
-            splines: [Spline::EMPTY; MAX_SPLINES],
+            splines: [Spline::EMPTY; S],
             couplers: [Coupler {
                 independent: 0,
                 function: Function::Constant(T::ZERO),
             }; MAX_COUPLERS],
+            used: (splines.len() as u8, couplers.len() as u8),
         };
         chain.splines[..splines.len()].copy_from_slice(splines);
         chain.couplers[..couplers.len()].copy_from_slice(couplers);
@@ -309,6 +323,16 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
     /// The output points.
     pub fn points(&self) -> &[BodyPoint<T>; P] {
         &self.points
+    }
+
+    /// The splines the table's functions refer to ([`Function::Spline`] indices).
+    pub fn splines(&self) -> &[Spline<T, K>] {
+        &self.splines[..usize::from(self.used.0).min(S)]
+    }
+
+    /// The coupled coordinates ([`Argument::Coupled`] indices).
+    pub fn couplers(&self) -> &[Coupler<T>] {
+        &self.couplers[..usize::from(self.used.1).min(MAX_COUPLERS)]
     }
 
     #[inline]
@@ -374,7 +398,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
     }
 
     /// The whole table in another precision (e.g. an `f64` model for an `f32` device).
-    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P> {
+    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P, S, K> {
         let v = |v: Vec3<T>| v.cast::<U>();
         let s = |x: T| U::from_f64(x.to_f64());
         let f = |f: Function<T>| match f {
@@ -414,6 +438,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
                 independent: c.independent,
                 function: f(c.function),
             }),
+            used: self.used,
         }
     }
 }
@@ -501,6 +526,19 @@ mod tests {
     fn gait2392_in_this_table_is_the_gait2392_table() {
         assert_eq!(COORDINATES.len(), 17);
         let custom = gait2392_as_custom();
+        // The table gives back its splines' knots, as built (cubic, not straight).
+        let g = Gait2392Geometry::generic();
+        assert_eq!(custom.splines().len(), 4);
+        assert_eq!(
+            custom.splines()[3].knots().1,
+            &g.left.knee_ty.y[..g.left.knee_ty.n]
+        );
+        assert!(!custom.splines()[0].is_piecewise_linear());
+        assert!(
+            Spline::<f64, 4>::piecewise_linear(&[0.0, 1.0, 3.0], &[0.0, 2.0, 1.0])
+                .unwrap()
+                .is_piecewise_linear()
+        );
         let fast = Gait2392::<f64>::new(&Gait2392Geometry::generic()).unwrap();
         for k in 0..50 {
             let q: [f64; 17] = core::array::from_fn(|i| {
@@ -554,6 +592,8 @@ mod tests {
             },
         }];
         let chain = CustomChain::<f64, 1, 2, 1>::new(joints, points, &[], &couplers).unwrap();
+        assert_eq!(chain.couplers(), &couplers);
+        assert!(chain.splines().is_empty());
         // q = π/4: F at (1, 0, 0) facing +y; M 0.5 along F's x: (1, 0.5, 0), turned a further
         // 90° (coupled): M's x is ground -x; the body origin is 0.1 back along M's x.
         let p = chain.forward(&[half_pi / 2.0])[0];
