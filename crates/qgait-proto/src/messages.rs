@@ -8,7 +8,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{JointId, ModelId, SubjectConfig, SubjectKnee, SubjectLeg};
+use crate::{
+    ChainAxes, ChainConfig, ChainJoint, ChainSpline, JointId, ModelId, SubjectConfig, SubjectKnee,
+    SubjectLeg,
+};
 
 /// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for
 /// `1..=MAX_REORDER_WINDOW`.
@@ -175,7 +178,7 @@ pub struct Config {
     pub request_status: bool,
 }
 
-/// Every message of the protocol. The variant order is the wire tag (0 to 6): new variants
+/// Every message of the protocol. The variant order is the wire tag (0 to 12): new variants
 /// are only ever appended, existing ones never change.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -194,7 +197,24 @@ pub enum Message {
     SubjectKnee(SubjectKnee),
     /// Tag 6: host to hub, switch to a subject model.
     SubjectConfig(SubjectConfig),
+    /// Tag 7: reserved (never sent; decoding it is [`UnknownMessage`](crate::DecodeError)).
+    Reserved7(Reserved),
+    /// Tag 8: reserved, as tag 7.
+    Reserved8(Reserved),
+    /// Tag 9 ([`CHAIN_JOINT_TAG`](crate::CHAIN_JOINT_TAG)): host to hub, a part of a chain.
+    ChainJoint(ChainJoint),
+    /// Tag 10 ([`CHAIN_AXES_TAG`](crate::CHAIN_AXES_TAG)): host to hub, a part of a chain.
+    ChainAxes(ChainAxes),
+    /// Tag 11 ([`CHAIN_SPLINE_TAG`](crate::CHAIN_SPLINE_TAG)): host to hub, a part of a chain.
+    ChainSpline(ChainSpline),
+    /// Tag 12 ([`CHAIN_CONFIG_TAG`](crate::CHAIN_CONFIG_TAG)): host to hub, switch to a chain.
+    ChainConfig(ChainConfig),
 }
+
+/// The body of a reserved tag: nothing (such a message is never sent).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Reserved;
 
 impl Status {
     /// Every counter with its field name, in wire order.
@@ -231,6 +251,12 @@ impl Message {
             Message::SubjectLeg(_) => 4,
             Message::SubjectKnee(_) => 5,
             Message::SubjectConfig(_) => 6,
+            Message::Reserved7(_) => 7,
+            Message::Reserved8(_) => 8,
+            Message::ChainJoint(_) => crate::CHAIN_JOINT_TAG,
+            Message::ChainAxes(_) => crate::CHAIN_AXES_TAG,
+            Message::ChainSpline(_) => crate::CHAIN_SPLINE_TAG,
+            Message::ChainConfig(_) => crate::CHAIN_CONFIG_TAG,
         }
     }
 }
@@ -268,6 +294,30 @@ impl From<SubjectLeg> for Message {
 impl From<SubjectKnee> for Message {
     fn from(m: SubjectKnee) -> Self {
         Message::SubjectKnee(m)
+    }
+}
+
+impl From<ChainJoint> for Message {
+    fn from(m: ChainJoint) -> Self {
+        Message::ChainJoint(m)
+    }
+}
+
+impl From<ChainAxes> for Message {
+    fn from(m: ChainAxes) -> Self {
+        Message::ChainAxes(m)
+    }
+}
+
+impl From<ChainSpline> for Message {
+    fn from(m: ChainSpline) -> Self {
+        Message::ChainSpline(m)
+    }
+}
+
+impl From<ChainConfig> for Message {
+    fn from(m: ChainConfig) -> Self {
+        Message::ChainConfig(m)
     }
 }
 

@@ -12,6 +12,9 @@
 //! - [`SubjectParts`] and [`parts_of`]: a subject gait2392 geometry as the six
 //!   [`SubjectLeg`](crate::SubjectLeg)/[`SubjectKnee`](crate::SubjectKnee) parts it travels in,
 //!   and back.
+//! - [`ChainUpload`], [`ChainParts`] and [`chain_pose`]: an imported lower-limb chain (the
+//!   kernel's `CustomChain`) as the `ChainJoint`/`ChainAxes`/`ChainSpline` parts it travels
+//!   in, back to the kernel's chain in `f32` on the hub ([`DeviceChain`]), and its pose.
 //! - [`Status::count_decode_error`](crate::Status::count_decode_error): which counter a
 //!   decode error goes to.
 //! - `HubModel` (with the `std` feature): the one model choice of a host configuring a hub
@@ -22,6 +25,7 @@
 //! crate: a crate of its own would have had the same dependencies and the same callers, and
 //! one more manifest. It is `no_std` and allocates nothing (but `HubModel`, host-only).
 
+mod chain;
 mod kinematics;
 #[cfg(feature = "std")]
 mod model;
@@ -33,4 +37,7 @@ pub use kinematics::{
 };
 #[cfg(feature = "std")]
 pub use model::HubModel;
+pub use chain::{
+    chain_pose, ChainParts, ChainUpload, DeviceChain, LowerLimbChain, CHAIN_POINTS,
+};
 pub use subject::{parts_of, SubjectParts};

@@ -8,6 +8,8 @@
 use super::check_angle_count;
 use super::varint::{end, take, take_varint_u32};
 use crate::{
+    ChainAxes, ChainConfig, ChainJoint, ChainSpline, CHAIN_AXES_TAG, CHAIN_CONFIG_TAG,
+    CHAIN_JOINT_TAG, CHAIN_SPLINE_TAG,
     point, segment, Config, DecodeError, JointAngle, JointId, KneeDirection, Leg, MissingPolicy,
     ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS,
     MAX_POSE_ANGLES, PROTOCOL_VERSION,
@@ -28,6 +30,14 @@ pub enum HubMessage {
     SubjectKnee(SubjectKnee),
     /// Tag 6.
     SubjectConfig(SubjectConfig),
+    /// Tag 9.
+    ChainJoint(ChainJoint),
+    /// Tag 10.
+    ChainAxes(ChainAxes),
+    /// Tag 11.
+    ChainSpline(ChainSpline),
+    /// Tag 12.
+    ChainConfig(ChainConfig),
     /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
     /// Its body is not decoded: it may or may not be well-formed.
     FromHub(u32),
@@ -61,6 +71,10 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         4 => subject_leg(body).map(HubMessage::SubjectLeg),
         5 => subject_knee(body).map(HubMessage::SubjectKnee),
         6 => subject_config(body).map(HubMessage::SubjectConfig),
+        CHAIN_JOINT_TAG => whole(body).map(HubMessage::ChainJoint),
+        CHAIN_AXES_TAG => whole(body).map(HubMessage::ChainAxes),
+        CHAIN_SPLINE_TAG => whole(body).map(HubMessage::ChainSpline),
+        CHAIN_CONFIG_TAG => whole(body).map(HubMessage::ChainConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -197,6 +211,14 @@ pub(super) fn subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> 
         reorder_window,
         request_status,
     })
+}
+
+/// A body decoded as one postcard value (the chain messages: each field is a value postcard
+/// checks, none a raw byte with an error of its own), every byte used.
+pub(super) fn whole<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, DecodeError> {
+    let (value, rest) = take(body)?;
+    end(rest)?;
+    Ok(value)
 }
 
 fn missing_policy(byte: u8) -> Result<MissingPolicy, DecodeError> {

@@ -54,6 +54,10 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         4 => decode::subject_leg(body).map(Message::SubjectLeg),
         5 => decode::subject_knee(body).map(Message::SubjectKnee),
         6 => decode::subject_config(body).map(Message::SubjectConfig),
+        crate::CHAIN_JOINT_TAG => decode::whole(body).map(Message::ChainJoint),
+        crate::CHAIN_AXES_TAG => decode::whole(body).map(Message::ChainAxes),
+        crate::CHAIN_SPLINE_TAG => decode::whole(body).map(Message::ChainSpline),
+        crate::CHAIN_CONFIG_TAG => decode::whole(body).map(Message::ChainConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
