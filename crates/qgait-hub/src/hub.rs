@@ -7,15 +7,17 @@ use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
-    decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
-    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig,
-    MAX_FRAME_LEN, MAX_REORDER_WINDOW,
+    decode_hub_message, decode_packet, encode_status_frame, ChainConfig, Config, DecodeError,
+    FrameDecoder, FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status,
+    SubjectConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::bump;
 use crate::limits::in_range;
+#[cfg(feature = "chain")]
+use crate::ChainParts;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
 
@@ -78,6 +80,9 @@ pub struct Hub<S, C> {
     /// The [`SubjectParts::generation`] the subject model in force was built from.
     subject_generation: u32,
     subject_parts: SubjectParts,
+    /// The parts of an imported chain received so far.
+    #[cfg(feature = "chain")]
+    chain_parts: ChainParts,
     kinematics: Kinematics,
     assembler: Assembler,
     status: Status,
@@ -138,6 +143,8 @@ where
             addr_of_mut!((*hub).subject).write(None);
             addr_of_mut!((*hub).subject_generation).write(0);
             addr_of_mut!((*hub).subject_parts).write(SubjectParts::new());
+            #[cfg(feature = "chain")]
+            addr_of_mut!((*hub).chain_parts).write(ChainParts::new());
             addr_of_mut!((*hub).kinematics).write(Kinematics::EMPTY);
             addr_of_mut!((*hub).assembler).write(assembler_for(&config));
             addr_of_mut!((*hub).status).write(Status::default());
@@ -165,6 +172,8 @@ where
             subject: _,
             subject_generation: _,
             subject_parts: _,
+            #[cfg(feature = "chain")]
+                chain_parts: _,
             kinematics: _,
             assembler: _,
             status: _,
@@ -191,6 +200,8 @@ where
             subject: None,
             subject_generation: 0,
             subject_parts: SubjectParts::new(),
+            #[cfg(feature = "chain")]
+            chain_parts: ChainParts::new(),
             status: Status::default(),
             started_ms: now,
             last_status_ms: now,
@@ -330,6 +341,27 @@ where
             HubMessage::SubjectLeg(part) => self.subject_parts.add_leg(&part),
             HubMessage::SubjectKnee(part) => self.subject_parts.add_knee(&part),
             HubMessage::SubjectConfig(config) => self.on_subject_config(&config),
+            HubMessage::ChainConfig(config) => self.on_chain_config(&config),
+            #[cfg(feature = "chain")]
+            HubMessage::ChainJoint(part) => {
+                let taken = self.chain_parts.add_joint(&part);
+                self.took_part(taken);
+            }
+            #[cfg(feature = "chain")]
+            HubMessage::ChainAxes(part) => {
+                let taken = self.chain_parts.add_axes(&part);
+                self.took_part(taken);
+            }
+            #[cfg(feature = "chain")]
+            HubMessage::ChainSpline(part) => {
+                let taken = self.chain_parts.add_spline(&part);
+                self.took_part(taken);
+            }
+            // Without chain support the parts are messages this hub does not take.
+            #[cfg(not(feature = "chain"))]
+            HubMessage::ChainJoint(_) | HubMessage::ChainAxes(_) | HubMessage::ChainSpline(_) => {
+                bump(&mut self.status.malformed)
+            }
             // A pose frame or a status (well-formed or not: its body is not decoded): only a
             // hub sends these, nothing to do with them here.
             HubMessage::FromHub(_) => bump(&mut self.status.malformed),
@@ -389,6 +421,9 @@ where
         let result = if config.model == ModelId::Gait2392 && config.anthropometry.is_some() {
             // gait2392's lengths are those of its model.
             Err(ConfigError::AnthropometryWithGait2392)
+        } else if config.model == ModelId::Chain {
+            // A chain comes with its `ChainConfig`.
+            Err(ConfigError::ChainIncomplete { upload: 0 })
         } else {
             // Without lengths, the HAK and PHAK lengths in force stay. gait2392's generic
             // lengths stated in full are the same configuration as none given (`None`), so
@@ -408,6 +443,55 @@ where
             )
         };
         self.after_config(result, config.request_status);
+    }
+
+    /// Counts a chain part that named a body or spline out of range.
+    #[cfg(feature = "chain")]
+    fn took_part(&mut self, taken: bool) {
+        if !taken {
+            bump(&mut self.status.malformed);
+        }
+    }
+
+    /// A `ChainConfig`: the chain of its upload, always rebuilt from the parts held (a part
+    /// resent since takes effect).
+    #[inline(never)]
+    fn on_chain_config(&mut self, config: &ChainConfig) {
+        let new = Config {
+            model: ModelId::Chain,
+            // Kept for a later HAK or PHAK.
+            anthropometry: self.config.anthropometry,
+            missing_policy: config.missing_policy,
+            reorder_window: config.reorder_window,
+            request_status: false,
+        };
+        let result = self.switch_chain(new, config);
+        self.after_config(result, config.request_status);
+    }
+
+    /// Switches to the chain `config` names, with the settings of `new`: checked and built
+    /// from the parts first (the model in force stays if it is refused), then the open samples
+    /// are closed under the old model.
+    #[cfg(feature = "chain")]
+    #[inline(never)]
+    fn switch_chain(&mut self, new: Config, config: &ChainConfig) -> Result<(), ConfigError> {
+        if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
+            return Err(ConfigError::ReorderWindow(new.reorder_window));
+        }
+        // Checked (built and thrown away) before anything changes.
+        self.chain_parts.chain(config)?;
+        self.close_open_samples();
+        self.kinematics.set_chain(&self.chain_parts, config)?;
+        set_assembler(&mut self.assembler, &new);
+        self.config = new;
+        self.subject = None;
+        Ok(())
+    }
+
+    /// Without chain support, a `ChainConfig` is refused.
+    #[cfg(not(feature = "chain"))]
+    fn switch_chain(&mut self, _new: Config, _config: &ChainConfig) -> Result<(), ConfigError> {
+        Err(ConfigError::ChainUnsupported)
     }
 
     #[inline(never)]
@@ -462,6 +546,10 @@ where
     fn switch(&mut self, new: Config, subject: Option<u8>) -> Result<(), ConfigError> {
         if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
             return Err(ConfigError::ReorderWindow(new.reorder_window));
+        }
+        if new.model == ModelId::Chain {
+            // A chain comes with its `ChainConfig`, never by a `Config`.
+            return Err(ConfigError::ChainIncomplete { upload: 0 });
         }
         if subject.is_none() && new.model != ModelId::Gait2392 {
             let anthropometry = Kinematics::anthropometry(new.anthropometry)?;

@@ -40,8 +40,8 @@ pub use crate::frame::{
 };
 pub use crate::joint::JointId;
 pub use crate::messages::{
-    point, segment, Config, JointAngle, Message, Reserved, MissingPolicy, PoseFrame, Status, MAX_POSE_ANGLES,
-    MAX_REORDER_WINDOW, PROTOCOL_VERSION,
+    point, segment, Config, JointAngle, Message, MissingPolicy, PoseFrame, Reserved, Status,
+    MAX_POSE_ANGLES, MAX_REORDER_WINDOW, PROTOCOL_VERSION,
 };
 pub use crate::model::ModelId;
 pub use crate::sizes::{

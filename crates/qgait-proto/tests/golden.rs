@@ -243,8 +243,14 @@ fn constants() -> Vec<String> {
         ),
         format!("CHAIN_JOINT_MAX_LEN = {}", qgait_proto::CHAIN_JOINT_MAX_LEN),
         format!("CHAIN_AXES_MAX_LEN = {}", qgait_proto::CHAIN_AXES_MAX_LEN),
-        format!("CHAIN_SPLINE_MAX_LEN = {}", qgait_proto::CHAIN_SPLINE_MAX_LEN),
-        format!("CHAIN_CONFIG_MAX_LEN = {}", qgait_proto::CHAIN_CONFIG_MAX_LEN),
+        format!(
+            "CHAIN_SPLINE_MAX_LEN = {}",
+            qgait_proto::CHAIN_SPLINE_MAX_LEN
+        ),
+        format!(
+            "CHAIN_CONFIG_MAX_LEN = {}",
+            qgait_proto::CHAIN_CONFIG_MAX_LEN
+        ),
         format!("MAX_KNEE_KNOTS = {}", qgait_proto::MAX_KNEE_KNOTS),
         format!("MAX_CHAIN_SPLINES = {}", qgait_proto::MAX_CHAIN_SPLINES),
         format!("MAX_CHAIN_KNOTS = {}", qgait_proto::MAX_CHAIN_KNOTS),

@@ -6,8 +6,7 @@
 //! and the kernel here and nowhere else.
 
 use qgait_kernel::models::custom::{
-    Argument, BodyPoint, Coupler, CustomChain, CustomJoint, Driven, Function, Offset,
-    MAX_COUPLERS,
+    Argument, BodyPoint, Coupler, CustomChain, CustomJoint, Driven, Function, Offset, MAX_COUPLERS,
 };
 use qgait_kernel::{BilateralPose, Gait2392Pose, Quat, Real, Spline, Vec3};
 
@@ -28,8 +27,14 @@ pub const CHAIN_POINTS: usize = 12;
 /// The chain a hub computes with: the 17 coordinates in [`JointId`] order, [`CHAIN_BODIES`]
 /// bodies, [`CHAIN_POINTS`] points, up to [`MAX_CHAIN_SPLINES`] splines of up to
 /// [`MAX_CHAIN_KNOTS`] knots, in `f32`.
-pub type DeviceChain =
-    CustomChain<f32, { JointId::COUNT }, CHAIN_BODIES, CHAIN_POINTS, MAX_CHAIN_SPLINES, MAX_CHAIN_KNOTS>;
+pub type DeviceChain = CustomChain<
+    f32,
+    { JointId::COUNT },
+    CHAIN_BODIES,
+    CHAIN_POINTS,
+    MAX_CHAIN_SPLINES,
+    MAX_CHAIN_KNOTS,
+>;
 
 /// A lower-limb chain of any size (the host's `LowerLimb` is `S = 12`, `K = 16`).
 pub type LowerLimbChain<T, const S: usize, const K: usize> =
@@ -117,7 +122,9 @@ fn axis_part<T: Real>(d: &Driven<T>) -> Result<ChainAxis, ConfigError> {
 
 /// The axes that move (the kernel's table has dropped zero constants and put the moving ones
 /// first; what is left is [`Driven::NONE`]).
-fn moving_parts<T: Real>(axes: &[Driven<T>; 3]) -> Result<heapless::Vec<ChainAxis, 3>, ConfigError> {
+fn moving_parts<T: Real>(
+    axes: &[Driven<T>; 3],
+) -> Result<heapless::Vec<ChainAxis, 3>, ConfigError> {
     let mut out = heapless::Vec::new();
     for d in axes
         .iter()
@@ -530,14 +537,20 @@ mod tests {
             let knee = Offset::from_xyz(Vec3::new(-0.008, -0.405, -0.0027), [-1.64, 1.45, 1.57]);
             joints[b + 1].parent = Some(b);
             joints[b + 1].in_parent = knee;
-            joints[b + 1].in_child = Offset::from_xyz(Vec3::new(-0.008, -0.004, -0.0015), [-1.64, 1.45, 1.57]);
+            joints[b + 1].in_child =
+                Offset::from_xyz(Vec3::new(-0.008, -0.004, -0.0015), [-1.64, 1.45, 1.57]);
             joints[b + 1].rotations = [
                 axis([1., 0., 0.], linear(c + 3)),
-                axis([0., 0., 1.], (Function::Spline(0), Argument::Coordinate(c + 3))),
+                axis(
+                    [0., 0., 1.],
+                    (Function::Spline(0), Argument::Coordinate(c + 3)),
+                ),
                 Driven::NONE,
             ];
-            joints[b + 1].translations[0] =
-                axis([0., 1., 0.], (Function::Spline(1), Argument::Coordinate(c + 3)));
+            joints[b + 1].translations[0] = axis(
+                [0., 1., 0.],
+                (Function::Spline(1), Argument::Coordinate(c + 3)),
+            );
             for (k, (t, o, arg)) in [
                 ([-0.01, -0.43, 0.0], [0.17, -0.1, 0.02], linear(c + 4)),
                 ([-0.044, -0.042, 0.008], [-1.77, 0.9, 1.8], linear(c + 5)),
@@ -580,17 +593,24 @@ mod tests {
     pub(crate) fn received(upload: &ChainUpload) -> ChainParts {
         let mut parts = ChainParts::new();
         let mut buf = [0u8; MAX_MESSAGE_LEN];
-        let mut through = |m: Message| decode_message(encode_message(&m, &mut buf).unwrap()).unwrap();
+        let mut through =
+            |m: Message| decode_message(encode_message(&m, &mut buf).unwrap()).unwrap();
         for j in &upload.joints {
-            let Message::ChainJoint(j) = through((*j).into()) else { panic!() };
+            let Message::ChainJoint(j) = through((*j).into()) else {
+                panic!()
+            };
             assert!(parts.add_joint(&j));
         }
         for a in &upload.axes {
-            let Message::ChainAxes(a) = through(a.clone().into()) else { panic!() };
+            let Message::ChainAxes(a) = through(a.clone().into()) else {
+                panic!()
+            };
             assert!(parts.add_axes(&a));
         }
         for s in &upload.splines {
-            let Message::ChainSpline(s) = through(s.clone().into()) else { panic!() };
+            let Message::ChainSpline(s) = through(s.clone().into()) else {
+                panic!()
+            };
             assert!(parts.add_spline(&s));
         }
         parts
@@ -631,8 +651,11 @@ mod tests {
         let host = walker_chain();
         let upload = ChainUpload::of_chain(&host, 3).unwrap();
         let mut k = Kinematics::new(crate::ModelId::Phak, None).unwrap();
-        k.set_chain(&received(&upload), &upload.config(MissingPolicy::Drop, 4, false))
-            .unwrap();
+        k.set_chain(
+            &received(&upload),
+            &upload.config(MissingPolicy::Drop, 4, false),
+        )
+        .unwrap();
         assert_eq!(k.model(), crate::ModelId::Chain);
         let models = PoseModels::<f64>::defaults().with_chain(host);
         let angles: [f32; 17] = core::array::from_fn(|i| 0.05 * (i as f32 - 6.0));
@@ -644,13 +667,17 @@ mod tests {
         }
     }
 
-
     #[test]
     fn incomplete_or_refused_chains_make_no_model() {
         let upload = ChainUpload::of_chain(&walker_chain(), 3).unwrap();
         let config = upload.config(MissingPolicy::Drop, 4, false);
         let mut parts = received(&upload);
-        assert!(parts.chain(&ChainConfig { upload: 4, ..config.clone() }).is_err());
+        assert!(parts
+            .chain(&ChainConfig {
+                upload: 4,
+                ..config.clone()
+            })
+            .is_err());
         assert!(parts
             .chain(&ChainConfig {
                 splines: 3,

@@ -112,9 +112,7 @@ impl core::fmt::Display for ConfigError {
                 crate::MAX_CHAIN_KNOTS,
                 crate::MAX_CHAIN_COUPLERS
             ),
-            ConfigError::ChainUnsupported => {
-                f.write_str("this hub was built without chain models")
-            }
+            ConfigError::ChainUnsupported => f.write_str("this hub was built without chain models"),
             ConfigError::SubjectKnots { leg: l, direction } => write!(
                 f,
                 "{} knee_{}: more than {} knots cannot be sent to the hub",
@@ -416,7 +414,11 @@ impl Kinematics {
     /// Unchanged if the parts are incomplete or the kernel refuses the chain.
     #[cfg(feature = "chain")]
     #[inline(never)]
-    pub fn set_chain(&mut self, parts: &ChainParts, config: &ChainConfig) -> Result<(), ConfigError> {
+    pub fn set_chain(
+        &mut self,
+        parts: &ChainParts,
+        config: &ChainConfig,
+    ) -> Result<(), ConfigError> {
         self.chain = ModelChain::Chain(parts.chain(config)?);
         self.model = ModelId::Chain;
         Ok(())
@@ -650,13 +652,14 @@ mod tests {
         // HAK is PHAK with a level pelvis: the pelvis angles change PHAK's pose, not HAK's.
         let phak = models.pose(ModelId::Phak, &angles).unwrap();
         let hak = models.pose(ModelId::Hak, &angles).unwrap();
-        let level = models.pose(ModelId::Phak, &{
-            let mut a = angles;
-            a[JointId::PelvisList.index() as usize] = 0.0;
-            a[JointId::PelvisRotation.index() as usize] = 0.0;
-            a
-        })
-        .unwrap();
+        let level = models
+            .pose(ModelId::Phak, &{
+                let mut a = angles;
+                a[JointId::PelvisList.index() as usize] = 0.0;
+                a[JointId::PelvisRotation.index() as usize] = 0.0;
+                a
+            })
+            .unwrap();
         assert_eq!(pose_points(&hak), pose_points(&level));
         assert_ne!(pose_points(&hak), pose_points(&phak));
     }

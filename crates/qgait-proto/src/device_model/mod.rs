@@ -31,13 +31,11 @@ mod kinematics;
 mod model;
 mod subject;
 
+pub use chain::{chain_pose, ChainParts, ChainUpload, DeviceChain, LowerLimbChain, CHAIN_POINTS};
 pub use kinematics::{
     gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose,
     ConfigError, Kinematics, PoseModels, MAX_SEGMENT_M,
 };
 #[cfg(feature = "std")]
 pub use model::HubModel;
-pub use chain::{
-    chain_pose, ChainParts, ChainUpload, DeviceChain, LowerLimbChain, CHAIN_POINTS,
-};
 pub use subject::{parts_of, SubjectParts};

@@ -8,11 +8,10 @@
 use super::check_angle_count;
 use super::varint::{end, take, take_varint_u32};
 use crate::{
-    ChainAxes, ChainConfig, ChainJoint, ChainSpline, CHAIN_AXES_TAG, CHAIN_CONFIG_TAG,
-    CHAIN_JOINT_TAG, CHAIN_SPLINE_TAG,
-    point, segment, Config, DecodeError, JointAngle, JointId, KneeDirection, Leg, MissingPolicy,
-    ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS,
-    MAX_POSE_ANGLES, PROTOCOL_VERSION,
+    point, segment, ChainAxes, ChainConfig, ChainJoint, ChainSpline, Config, DecodeError,
+    JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, Status,
+    SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_AXES_TAG, CHAIN_CONFIG_TAG, CHAIN_JOINT_TAG,
+    CHAIN_SPLINE_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,

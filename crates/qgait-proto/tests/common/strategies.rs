@@ -4,9 +4,9 @@
 use proptest::prelude::*;
 use qgait_proto::{
     ChainArgument, ChainAxes, ChainAxis, ChainConfig, ChainCoupler, ChainFunction, ChainJoint,
-    ChainOffset, ChainPoint, ChainSpline, MAX_CHAIN_COUPLERS, MAX_CHAIN_KNOTS,
-    Config, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
-    Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
+    ChainOffset, ChainPoint, ChainSpline, Config, JointAngle, JointId, KneeDirection, Leg, Message,
+    MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg,
+    MAX_CHAIN_COUPLERS, MAX_CHAIN_KNOTS, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
 };
 
 /// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
@@ -221,11 +221,23 @@ pub fn chain_spline() -> impl Strategy<Value = ChainSpline> {
 
 pub fn chain_config() -> impl Strategy<Value = ChainConfig> {
     (
-        (any::<u8>(), any::<u8>(), any::<bool>(), any::<u8>(), any::<bool>()),
+        (
+            any::<u8>(),
+            any::<u8>(),
+            any::<bool>(),
+            any::<u8>(),
+            any::<bool>(),
+        ),
         proptest::collection::vec((any::<u8>(), chain_function()), 0..=MAX_CHAIN_COUPLERS),
         [
-            (any::<u8>(), [any_f32_bits(), any_f32_bits(), any_f32_bits()]),
-            (any::<u8>(), [any_f32_bits(), any_f32_bits(), any_f32_bits()]),
+            (
+                any::<u8>(),
+                [any_f32_bits(), any_f32_bits(), any_f32_bits()],
+            ),
+            (
+                any::<u8>(),
+                [any_f32_bits(), any_f32_bits(), any_f32_bits()],
+            ),
         ],
     )
         .prop_map(
