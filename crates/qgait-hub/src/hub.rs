@@ -7,7 +7,7 @@ use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
-    decode_hub_message, decode_packet, encode_status_frame, ChainConfig, Config, DecodeError,
+    decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError,
     FrameDecoder, FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status,
     SubjectConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
@@ -18,6 +18,8 @@ use crate::counters::bump;
 use crate::limits::in_range;
 #[cfg(feature = "chain")]
 use crate::ChainParts;
+#[cfg(feature = "chain")]
+use qgait_proto::ChainConfig;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
 
@@ -341,6 +343,7 @@ where
             HubMessage::SubjectLeg(part) => self.subject_parts.add_leg(&part),
             HubMessage::SubjectKnee(part) => self.subject_parts.add_knee(&part),
             HubMessage::SubjectConfig(config) => self.on_subject_config(&config),
+            #[cfg(feature = "chain")]
             HubMessage::ChainConfig(config) => self.on_chain_config(&config),
             #[cfg(feature = "chain")]
             HubMessage::ChainJoint(part) => {
@@ -357,11 +360,8 @@ where
                 let taken = self.chain_parts.add_spline(&part);
                 self.took_part(taken);
             }
-            // Without chain support the parts are messages this hub does not take.
-            #[cfg(not(feature = "chain"))]
-            HubMessage::ChainJoint(_) | HubMessage::ChainAxes(_) | HubMessage::ChainSpline(_) => {
-                bump(&mut self.status.malformed)
-            }
+            // Without chain support the chain messages are messages this hub does not take.
+            HubMessage::NotTaken(_) => bump(&mut self.status.malformed),
             // A pose frame or a status (well-formed or not: its body is not decoded): only a
             // hub sends these, nothing to do with them here.
             HubMessage::FromHub(_) => bump(&mut self.status.malformed),
@@ -455,6 +455,7 @@ where
 
     /// A `ChainConfig`: the chain of its upload, always rebuilt from the parts held (a part
     /// resent since takes effect).
+    #[cfg(feature = "chain")]
     #[inline(never)]
     fn on_chain_config(&mut self, config: &ChainConfig) {
         let new = Config {
@@ -486,12 +487,6 @@ where
         self.config = new;
         self.subject = None;
         Ok(())
-    }
-
-    /// Without chain support, a `ChainConfig` is refused.
-    #[cfg(not(feature = "chain"))]
-    fn switch_chain(&mut self, _new: Config, _config: &ChainConfig) -> Result<(), ConfigError> {
-        Err(ConfigError::ChainUnsupported)
     }
 
     #[inline(never)]

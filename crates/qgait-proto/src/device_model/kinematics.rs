@@ -61,8 +61,6 @@ pub enum ConfigError {
     /// A chain cannot be sent to a hub: more splines, knots or couplers than a hub holds, or
     /// points other than the leg bodies' joint centres and a toe tip per side.
     ChainTooLarge,
-    /// This hub was built without chain models (the `chain` feature).
-    ChainUnsupported,
     /// A knee spline has more knots than a `SubjectKnee` carries.
     SubjectKnots {
         /// 0 = right leg, 1 = left leg.
@@ -112,7 +110,6 @@ impl core::fmt::Display for ConfigError {
                 crate::MAX_CHAIN_KNOTS,
                 crate::MAX_CHAIN_COUPLERS
             ),
-            ConfigError::ChainUnsupported => f.write_str("this hub was built without chain models"),
             ConfigError::SubjectKnots { leg: l, direction } => write!(
                 f,
                 "{} knee_{}: more than {} knots cannot be sent to the hub",

@@ -7,11 +7,12 @@
 
 use super::check_angle_count;
 use super::varint::{end, take, take_varint_u32};
+#[cfg(feature = "chain")]
+use crate::{ChainAxes, ChainConfig, ChainJoint, ChainSpline, CHAIN_AXES_TAG, CHAIN_SPLINE_TAG};
 use crate::{
-    point, segment, ChainAxes, ChainConfig, ChainJoint, ChainSpline, Config, DecodeError,
-    JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, Status,
-    SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_AXES_TAG, CHAIN_CONFIG_TAG, CHAIN_JOINT_TAG,
-    CHAIN_SPLINE_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
+    point, segment, Config, DecodeError, JointAngle, JointId, KneeDirection, Leg, MissingPolicy,
+    ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_CONFIG_TAG,
+    CHAIN_JOINT_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
@@ -29,14 +30,21 @@ pub enum HubMessage {
     SubjectKnee(SubjectKnee),
     /// Tag 6.
     SubjectConfig(SubjectConfig),
-    /// Tag 9.
+    /// Tag 9 (with the `chain` feature).
+    #[cfg(feature = "chain")]
     ChainJoint(ChainJoint),
-    /// Tag 10.
+    /// Tag 10 (with the `chain` feature).
+    #[cfg(feature = "chain")]
     ChainAxes(ChainAxes),
-    /// Tag 11.
+    /// Tag 11 (with the `chain` feature).
+    #[cfg(feature = "chain")]
     ChainSpline(ChainSpline),
-    /// Tag 12.
+    /// Tag 12 (with the `chain` feature).
+    #[cfg(feature = "chain")]
     ChainConfig(ChainConfig),
+    /// A chain message (tags 9 to 12) to a hub built without the `chain` feature, with this
+    /// tag. Its body is not decoded (so such a hub links none of their decoders).
+    NotTaken(u32),
     /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
     /// Its body is not decoded: it may or may not be well-formed.
     FromHub(u32),
@@ -70,10 +78,16 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         4 => subject_leg(body).map(HubMessage::SubjectLeg),
         5 => subject_knee(body).map(HubMessage::SubjectKnee),
         6 => subject_config(body).map(HubMessage::SubjectConfig),
+        #[cfg(feature = "chain")]
         CHAIN_JOINT_TAG => whole(body).map(HubMessage::ChainJoint),
+        #[cfg(feature = "chain")]
         CHAIN_AXES_TAG => whole(body).map(HubMessage::ChainAxes),
+        #[cfg(feature = "chain")]
         CHAIN_SPLINE_TAG => whole(body).map(HubMessage::ChainSpline),
+        #[cfg(feature = "chain")]
         CHAIN_CONFIG_TAG => whole(body).map(HubMessage::ChainConfig),
+        #[cfg(not(feature = "chain"))]
+        CHAIN_JOINT_TAG..=CHAIN_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
