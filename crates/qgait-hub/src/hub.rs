@@ -7,9 +7,9 @@ use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
-    decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError,
-    FrameDecoder, FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status,
-    SubjectConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
+    decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
+    FrameFlags, HubMessage, JointAngle, MissingPolicy, ModelId, Status, SubjectConfig,
+    MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
 use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
@@ -18,10 +18,10 @@ use crate::counters::bump;
 use crate::limits::in_range;
 #[cfg(feature = "chain")]
 use crate::ChainParts;
-#[cfg(feature = "chain")]
-use qgait_proto::ChainConfig;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
+#[cfg(feature = "chain")]
+use qgait_proto::ChainConfig;
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
@@ -479,8 +479,8 @@ where
         if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
             return Err(ConfigError::ReorderWindow(new.reorder_window));
         }
-        // Checked (built and thrown away) before anything changes.
-        self.chain_parts.chain(config)?;
+        // Checked before anything changes.
+        self.chain_parts.check(config)?;
         self.close_open_samples();
         self.kinematics.set_chain(&self.chain_parts, config)?;
         set_assembler(&mut self.assembler, &new);

@@ -216,6 +216,42 @@ impl<T: Real> BodyFrame<T> {
 impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, const K: usize>
     CustomChain<T, N, B, P, S, K>
 {
+    /// A table of zeros (every point at the origin): a slot that
+    /// [`rebuild`](Self::rebuild) fills in place. All zero bits, so writing it is a memset.
+    pub const EMPTY: Self = {
+        let zero = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        let offset = Offset {
+            translation: zero,
+            rotation: Quat::new(T::ZERO, T::ZERO, T::ZERO, T::ZERO),
+        };
+        let still = Driven {
+            axis: zero,
+            function: Function::Constant(T::ZERO),
+            argument: Argument::None,
+        };
+        Self {
+            joints: [CustomJoint {
+                parent: None,
+                in_parent: offset,
+                in_child: offset,
+                rotations: [still; 3],
+                translations: [still; 3],
+            }; B],
+            moving: [(0, 0); B],
+            child_inverse: [offset; B],
+            points: [BodyPoint {
+                body: 0,
+                offset: zero,
+            }; P],
+            splines: [Spline::EMPTY; S],
+            couplers: [Coupler {
+                independent: 0,
+                function: Function::Constant(T::ZERO),
+            }; MAX_COUPLERS],
+            used: (0, 0),
+        }
+    };
+
     /// Validates and builds a chain: parents come first (body 0 hangs on ground, every other
     /// body on an earlier one), axes are non-zero and finite (normalised here), arguments and
     /// splines exist, offsets are finite, couplers depend on inputs and are not chained. Axes
@@ -226,6 +262,18 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         splines: &[Spline<T, K>],
         couplers: &[Coupler<T>],
     ) -> Result<Self, ModelError> {
+        let mut chain = Self::EMPTY;
+        chain.rebuild(&joints, &points, splines, couplers)?;
+        Ok(chain)
+    }
+
+    /// Whether [`new`](Self::new) accepts this table, without building anything.
+    pub fn check(
+        joints: &[CustomJoint<T>; B],
+        points: &[BodyPoint<T>; P],
+        splines: &[Spline<T, K>],
+        couplers: &[Coupler<T>],
+    ) -> Result<(), ModelError> {
         if splines.len() > S
             || couplers.len() > MAX_COUPLERS
             || splines.iter().any(|s| s.is_empty())
@@ -243,8 +291,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 return Err(ModelError::CoordinateOutOfRange { joint: 0 });
             }
         }
-        let mut joints = joints;
-        for (b, joint) in joints.iter_mut().enumerate() {
+        for (b, joint) in joints.iter().enumerate() {
             if joint.parent.map_or(b > 0, |p| p >= b) {
                 return Err(ModelError::ParentOrder { joint: b });
             }
@@ -258,11 +305,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                     return Err(ModelError::BadLength);
                 }
             }
-            for d in joint
-                .rotations
-                .iter_mut()
-                .chain(joint.translations.iter_mut())
-            {
+            for d in joint.rotations.iter().chain(&joint.translations) {
                 let length = d.axis.norm();
                 if !(finite(d.axis) && length > T::ZERO && function_ok(&d.function)) {
                     return Err(ModelError::BadAxis { joint: b });
@@ -275,44 +318,60 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 if !argument_ok {
                     return Err(ModelError::CoordinateOutOfRange { joint: b });
                 }
-                d.axis = d.axis * (T::ONE / length);
             }
         }
-        for p in &points {
+        for p in points {
             if p.body >= B || !finite(p.offset) {
                 return Err(ModelError::BodyOutOfRange { index: p.body });
             }
         }
+        Ok(())
+    }
+
+    /// Makes this chain the table [`new`](Self::new) builds, written in place (no chain on the
+    /// stack). Unchanged if [`check`](Self::check) refuses the table.
+    pub fn rebuild(
+        &mut self,
+        joints: &[CustomJoint<T>; B],
+        points: &[BodyPoint<T>; P],
+        splines: &[Spline<T, K>],
+        couplers: &[Coupler<T>],
+    ) -> Result<(), ModelError> {
+        Self::check(joints, points, splines, couplers)?;
         let still = |d: &Driven<T>| d.function == Function::Constant(T::ZERO);
-        let mut moving = [(0u8, 0u8); B];
-        for (joint, m) in joints.iter_mut().zip(&mut moving) {
+        for (b, joint) in joints.iter().enumerate() {
+            let mut joint = *joint;
+            let mut m = (0u8, 0u8);
             for (axes, n) in [
                 (&mut joint.rotations, &mut m.0),
                 (&mut joint.translations, &mut m.1),
             ] {
                 let mut kept = [Driven::NONE; 3];
                 for d in axes.iter().filter(|d| !still(d)) {
-                    kept[*n as usize] = *d;
+                    kept[*n as usize] = Driven {
+                        axis: d.axis * (T::ONE / d.axis.norm()),
+                        ..*d
+                    };
                     *n += 1;
                 }
                 *axes = kept;
             }
+            self.joints[b] = joint;
+            self.moving[b] = m;
+            self.child_inverse[b] = joint.in_child.inverse();
         }
-        let mut chain = Self {
-            joints,
-            moving,
-            child_inverse: joints.map(|j| j.in_child.inverse()),
-            points,
-            splines: [Spline::EMPTY; S],
-            couplers: [Coupler {
+        self.points = *points;
+        for (slot, k) in self.splines.iter_mut().zip(0..) {
+            *slot = splines.get(k).copied().unwrap_or(Spline::EMPTY);
+        }
+        for (slot, k) in self.couplers.iter_mut().zip(0..) {
+            *slot = couplers.get(k).copied().unwrap_or(Coupler {
                 independent: 0,
                 function: Function::Constant(T::ZERO),
-            }; MAX_COUPLERS],
-            used: (splines.len() as u8, couplers.len() as u8),
-        };
-        chain.splines[..splines.len()].copy_from_slice(splines);
-        chain.couplers[..couplers.len()].copy_from_slice(couplers);
-        Ok(chain)
+            });
+        }
+        self.used = (splines.len() as u8, couplers.len() as u8);
+        Ok(())
     }
 
     /// The joints, by body (zero-constant axes dropped, the moving ones first).
@@ -624,5 +683,11 @@ mod tests {
         let mut cyclic = joints;
         cyclic[1].parent = Some(1);
         assert!(CustomChain::<f64, 1, 2, 1>::new(cyclic, points, &[], &couplers).is_err());
+        // Rebuilt in place it is the chain `new` builds; a refused table changes nothing.
+        let mut slot = CustomChain::<f64, 1, 2, 1>::EMPTY;
+        slot.rebuild(&joints, &points, &[], &couplers).unwrap();
+        assert_eq!(slot, chain);
+        assert!(slot.rebuild(&cyclic, &points, &[], &couplers).is_err());
+        assert_eq!(slot, chain);
     }
 }

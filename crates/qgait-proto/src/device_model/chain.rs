@@ -367,6 +367,38 @@ impl ChainParts {
     /// the chain (finite numbers, unit quaternions, non-zero axes, parents before children,
     /// indices in range, 2 to [`MAX_CHAIN_KNOTS`] increasing knots per spline).
     pub fn chain(&self, config: &ChainConfig) -> Result<DeviceChain, ConfigError> {
+        let mut chain = DeviceChain::EMPTY;
+        self.build_into(config, &mut chain)?;
+        Ok(chain)
+    }
+
+    /// Whether [`chain`](Self::chain) would succeed, without building the chain.
+    pub fn check(&self, config: &ChainConfig) -> Result<(), ConfigError> {
+        self.with_table(config, |j, p, s, c| DeviceChain::check(j, p, s, c))
+    }
+
+    /// Makes `chain` the chain of [`chain`](Self::chain), rebuilt in place (no chain on the
+    /// stack); unchanged if it is refused.
+    pub fn build_into(
+        &self,
+        config: &ChainConfig,
+        chain: &mut DeviceChain,
+    ) -> Result<(), ConfigError> {
+        self.with_table(config, |j, p, s, c| chain.rebuild(j, p, s, c))
+    }
+
+    /// The kernel's table of the parts and `config` (its splines built in `f32`), given to `f`.
+    #[inline(never)]
+    fn with_table(
+        &self,
+        config: &ChainConfig,
+        f: impl FnOnce(
+            &[CustomJoint<f32>; CHAIN_BODIES],
+            &[BodyPoint<f32>; CHAIN_POINTS],
+            &[Spline<f32, MAX_CHAIN_KNOTS>],
+            &[Coupler<f32>],
+        ) -> Result<(), qgait_kernel::ModelError>,
+    ) -> Result<(), ConfigError> {
         let n = usize::from(config.splines);
         let want = (1u16 << n.min(MAX_CHAIN_SPLINES)) - 1;
         if self.upload != Some(config.upload)
@@ -431,9 +463,9 @@ impl ChainParts {
                 function: function(&c.function),
             };
         }
-        DeviceChain::new(
-            joints,
-            points,
+        f(
+            &joints,
+            &points,
             &splines[..n],
             &couplers[..config.couplers.len()],
         )

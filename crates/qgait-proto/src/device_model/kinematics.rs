@@ -407,8 +407,8 @@ impl Kinematics {
         Ok(())
     }
 
-    /// Makes this the chain `config` names, built from `parts` ([`ChainParts::chain`]).
-    /// Unchanged if the parts are incomplete or the kernel refuses the chain.
+    /// Makes this the chain `config` names, built from `parts` ([`ChainParts::chain`]) in
+    /// place. Unchanged if the parts are incomplete or the kernel refuses the chain.
     #[cfg(feature = "chain")]
     #[inline(never)]
     pub fn set_chain(
@@ -416,7 +416,14 @@ impl Kinematics {
         parts: &ChainParts,
         config: &ChainConfig,
     ) -> Result<(), ConfigError> {
-        self.chain = ModelChain::Chain(parts.chain(config)?);
+        if !matches!(self.chain, ModelChain::Chain(_)) {
+            // As in `set_phak`: checked before the other model is given up.
+            parts.check(config)?;
+            self.chain = ModelChain::Chain(DeviceChain::EMPTY);
+        }
+        if let ModelChain::Chain(c) = &mut self.chain {
+            parts.build_into(config, c)?;
+        }
         self.model = ModelId::Chain;
         Ok(())
     }

@@ -7,13 +7,13 @@
 
 use super::check_angle_count;
 use super::varint::{end, take, take_varint_u32};
-#[cfg(feature = "chain")]
-use crate::{ChainAxes, ChainConfig, ChainJoint, ChainSpline, CHAIN_AXES_TAG, CHAIN_SPLINE_TAG};
 use crate::{
     point, segment, Config, DecodeError, JointAngle, JointId, KneeDirection, Leg, MissingPolicy,
     ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_CONFIG_TAG,
     CHAIN_JOINT_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
+#[cfg(feature = "chain")]
+use crate::{ChainAxes, ChainConfig, ChainJoint, ChainSpline, CHAIN_AXES_TAG, CHAIN_SPLINE_TAG};
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
 /// and the ones only a hub sends, not decoded.
