@@ -115,6 +115,14 @@ impl<T: Real> Offset<T> {
         }
     }
 
+    /// This offset followed by `o` (`o` given in this frame).
+    fn then(&self, o: &Self) -> Self {
+        Self {
+            translation: self.translation + self.rotation.rotate(o.translation),
+            rotation: self.rotation * o.rotation,
+        }
+    }
+
     /// The inverse transform.
     fn inverse(&self) -> Self {
         let rotation = self.rotation.conj();
@@ -186,7 +194,7 @@ pub struct CustomChain<
     /// Per joint, how many rotations and translations move (the others, zero constants, are
     /// dropped by [`new`](Self::new): no work for a locked coordinate or an unused axis).
     moving: [(u8, u8); B],
-    /// `in_child` inverted, once.
+    /// `in_child` inverted, once; for a joint that does not move, `in_parent` followed by it.
     child_inverse: [Offset<T>; B],
     points: [BodyPoint<T>; P],
     splines: [Spline<T, K>; S],
@@ -358,7 +366,14 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
             }
             self.joints[b] = joint;
             self.moving[b] = m;
-            self.child_inverse[b] = joint.in_child.inverse();
+            // A joint that does not move (a weld, a locked pin) is one fixed offset: `F · M⁻¹`
+            // folded here, so `frames` applies one offset instead of two.
+            let inverse = joint.in_child.inverse();
+            self.child_inverse[b] = if m == (0, 0) {
+                joint.in_parent.then(&inverse)
+            } else {
+                inverse
+            };
         }
         self.points = *points;
         for (slot, k) in self.splines.iter_mut().zip(0..) {
@@ -399,7 +414,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         match *f {
             Function::Constant(c) => c,
             Function::Linear { slope, intercept } => slope * x + intercept,
-            Function::Spline(k) => self.splines[k].eval(x),
+            Function::Spline(k) => self.splines[k].eval_scalar(x),
         }
     }
 
@@ -427,8 +442,13 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         for b in 0..B {
             let joint = &self.joints[b];
             let parent = joint.parent.map_or(ground, |p| frames[p]);
-            let f = parent.then(&joint.in_parent);
             let (n_rotations, n_translations) = self.moving[b];
+            if n_rotations == 0 && n_translations == 0 {
+                // Folded by `rebuild`: `F · M⁻¹` in one offset.
+                frames[b] = parent.then(&self.child_inverse[b]);
+                continue;
+            }
+            let f = parent.then(&joint.in_parent);
             let mut translation = Vec3::zero();
             for d in &joint.translations[..n_translations as usize] {
                 translation += d.axis * self.driven(d, q, &coupled);
