@@ -150,7 +150,9 @@ impl<T: Real, const K: usize> Spline<T, K> {
         let last = self.last.min(K - 1);
         let mut k = 0;
         for j in 1..last {
-            // As `eval`: the last knot at or below t (a NaN t takes the last cubic).
+            // As `eval`: the last knot at or below t (a NaN t takes the last cubic, hence the
+            // negated comparison).
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
             if !(t < self.x[j]) {
                 k = j;
             }

@@ -196,11 +196,27 @@ pub struct CustomChain<
     moving: [(u8, u8); B],
     /// `in_child` inverted, once; for a joint that does not move, `in_parent` followed by it.
     child_inverse: [Offset<T>; B],
+    /// Per joint, whether each moving rotation is about a coordinate axis.
+    kinds: [[AxisKind; 3]; B],
     points: [BodyPoint<T>; P],
     splines: [Spline<T, K>; S],
     couplers: [Coupler<T>; MAX_COUPLERS],
     /// How many of `splines` and `couplers` are in use.
     used: (u8, u8),
+}
+
+/// How a rotation axis is turned about: a coordinate axis (the cheaper product) or any.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+enum AxisKind {
+    /// Any axis (all zero bits: what an empty table holds).
+    General = 0,
+    /// +x.
+    X,
+    /// +y.
+    Y,
+    /// +z.
+    Z,
 }
 
 /// A body's frame in ground.
@@ -247,6 +263,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
             }; B],
             moving: [(0, 0); B],
             child_inverse: [offset; B],
+            kinds: [[AxisKind::General; 3]; B],
             points: [BodyPoint {
                 body: 0,
                 offset: zero,
@@ -364,6 +381,19 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 }
                 *axes = kept;
             }
+            for (kind, d) in self.kinds[b].iter_mut().zip(&joint.rotations) {
+                let a = d.axis;
+                let (one, zero) = (T::ONE, T::ZERO);
+                *kind = if a.x == one && a.y == zero && a.z == zero {
+                    AxisKind::X
+                } else if a.x == zero && a.y == one && a.z == zero {
+                    AxisKind::Y
+                } else if a.x == zero && a.y == zero && a.z == one {
+                    AxisKind::Z
+                } else {
+                    AxisKind::General
+                };
+            }
             self.joints[b] = joint;
             self.moving[b] = m;
             // A joint that does not move (a weld, a locked pin) is one fixed offset: `F · M⁻¹`
@@ -430,15 +460,36 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
 
     /// Every body's frame in ground for input coordinates `q`.
     pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
+        let mut frames = [BodyFrame {
+            rotation: Quat::identity(),
+            origin: Vec3::zero(),
+        }; B];
+        self.frames_into(q, &mut frames);
+        frames
+    }
+
+    /// [`frames`](Self::frames), written into `frames`. Every axis's value first (the spline
+    /// calls out of the geometry loop), then the frames; a rotation about a coordinate axis is
+    /// the cheaper product ([`Quat::then_about_x`] and the like).
+    fn frames_into(&self, q: &[T; N], frames: &mut [BodyFrame<T>; B]) {
         let mut coupled = [T::ZERO; MAX_COUPLERS];
         for (v, c) in coupled.iter_mut().zip(&self.couplers) {
             *v = self.value(&c.function, q[c.independent]);
+        }
+        let mut values = [[T::ZERO; 6]; B];
+        for ((joint, &(nr, nt)), v) in self.joints.iter().zip(&self.moving).zip(&mut values) {
+            let (rot, trans) = v.split_at_mut(3);
+            for (slot, d) in rot.iter_mut().zip(&joint.rotations[..usize::from(nr).min(3)]) {
+                *slot = self.driven(d, q, &coupled);
+            }
+            for (slot, d) in trans.iter_mut().zip(&joint.translations[..usize::from(nt).min(3)]) {
+                *slot = self.driven(d, q, &coupled);
+            }
         }
         let ground = BodyFrame {
             rotation: Quat::identity(),
             origin: Vec3::zero(),
         };
-        let mut frames = [ground; B];
         for b in 0..B {
             let joint = &self.joints[b];
             let parent = joint.parent.map_or(ground, |p| frames[p]);
@@ -449,14 +500,27 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 continue;
             }
             let f = parent.then(&joint.in_parent);
+            let v = &values[b];
             let mut translation = Vec3::zero();
-            for d in &joint.translations[..n_translations as usize] {
-                translation += d.axis * self.driven(d, q, &coupled);
+            for (d, &x) in joint.translations[..n_translations as usize]
+                .iter()
+                .zip(&v[3..])
+            {
+                translation += d.axis * x;
             }
             let mut rotation = f.rotation;
-            for d in &joint.rotations[..n_rotations as usize] {
-                let (s, c) = self.driven(d, q, &coupled).half_angle_sin_cos();
-                rotation = rotation * Quat::from_axis_half_sin_cos(d.axis, s, c);
+            for ((d, &x), kind) in joint.rotations[..n_rotations as usize]
+                .iter()
+                .zip(v)
+                .zip(&self.kinds[b])
+            {
+                let (s, c) = x.half_angle_sin_cos();
+                rotation = match kind {
+                    AxisKind::X => rotation.then_about_x(s, c),
+                    AxisKind::Y => rotation.then_about_y(s, c),
+                    AxisKind::Z => rotation.then_about_z(s, c),
+                    AxisKind::General => rotation * Quat::from_axis_half_sin_cos(d.axis, s, c),
+                };
             }
             let m = BodyFrame {
                 origin: f.origin + f.rotation.rotate(translation),
@@ -464,16 +528,21 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
             };
             frames[b] = m.then(&self.child_inverse[b]);
         }
-        frames
     }
 
     /// The output points in ground for input coordinates `q`: forward kinematics.
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
-        let frames = self.frames(q);
-        self.points.map(|p| {
+        let mut frames = [BodyFrame {
+            rotation: Quat::identity(),
+            origin: Vec3::zero(),
+        }; B];
+        self.frames_into(q, &mut frames);
+        let mut out = [Vec3::zero(); P];
+        for (o, p) in out.iter_mut().zip(&self.points) {
             let f = &frames[p.body];
-            f.origin + f.rotation.rotate(p.offset)
-        })
+            *o = f.origin + f.rotation.rotate(p.offset);
+        }
+        out
     }
 
     /// The whole table in another precision (e.g. an `f64` model for an `f32` device).
@@ -508,6 +577,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
             }),
             moving: self.moving,
             child_inverse: self.child_inverse.map(o),
+            kinds: self.kinds,
             points: self.points.map(|p| BodyPoint {
                 body: p.body,
                 offset: v(p.offset),
