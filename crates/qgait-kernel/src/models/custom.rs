@@ -479,10 +479,16 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         let mut values = [[T::ZERO; 6]; B];
         for ((joint, &(nr, nt)), v) in self.joints.iter().zip(&self.moving).zip(&mut values) {
             let (rot, trans) = v.split_at_mut(3);
-            for (slot, d) in rot.iter_mut().zip(&joint.rotations[..usize::from(nr).min(3)]) {
+            for (slot, d) in rot
+                .iter_mut()
+                .zip(&joint.rotations[..usize::from(nr).min(3)])
+            {
                 *slot = self.driven(d, q, &coupled);
             }
-            for (slot, d) in trans.iter_mut().zip(&joint.translations[..usize::from(nt).min(3)]) {
+            for (slot, d) in trans
+                .iter_mut()
+                .zip(&joint.translations[..usize::from(nt).min(3)])
+            {
                 *slot = self.driven(d, q, &coupled);
             }
         }
