@@ -374,7 +374,7 @@ impl ChainParts {
 
     /// Whether [`chain`](Self::chain) would succeed, without building the chain.
     pub fn check(&self, config: &ChainConfig) -> Result<(), ConfigError> {
-        self.with_table(config, |j, p, s, c| DeviceChain::check(j, p, s, c))
+        self.with_table(config, DeviceChain::check)
     }
 
     /// Makes `chain` the chain of [`chain`](Self::chain), rebuilt in place (no chain on the
@@ -588,7 +588,7 @@ mod tests {
                 ([-0.044, -0.042, 0.008], [-1.77, 0.9, 1.8], linear(c + 5)),
                 (
                     [0.16, -0.002, 0.001],
-                    [-3.14, 0.62, 0.0],
+                    [-3.1, 0.62, 0.0],
                     (
                         Function::Linear {
                             slope: 1.0,
