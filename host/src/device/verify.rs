@@ -397,7 +397,7 @@ mod tests {
             distances: [0.0; 3],
             flags: 0,
         };
-        let pose = model.frame_pose(&f);
+        let pose = model.frame_pose(&f).expect("a hub's own model");
         f.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
         f.distances = distances(&pose).to_array().map(|x| x as f32);
         f
