@@ -192,6 +192,11 @@ mod tests {
     }
 
     #[test]
+    fn chain_model_switches_only_when_complete(c: &mut SharedChecks) -> CheckResult {
+        c.run("chain_model_switches_only_when_complete")
+    }
+
+    #[test]
     fn random_bytes_never_stop_the_pipeline(c: &mut SharedChecks) -> CheckResult {
         c.run("random_bytes_never_stop_the_pipeline")
     }

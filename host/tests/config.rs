@@ -149,3 +149,48 @@ fn a_window_outside_one_to_eight_is_refused() {
         1
     );
 }
+
+/// An imported Rajagopal model is its 30 parts and a `ChainConfig`; the hub's parts build a
+/// chain in `f32` whose joint centres are the imported model's to 2 µm.
+#[test]
+fn imported_chain_is_its_parts_and_a_chain_config() {
+    let Some(shared) = common::shared_dir() else {
+        return;
+    };
+    let osim = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("raj.toml");
+    let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let messages = config(dir.path(), &["--model", s(&toml), "--upload", "3"]);
+    assert_eq!(messages.len(), 31);
+    let mut parts = qgait_proto::device_model::ChainParts::new();
+    for m in &messages[..30] {
+        assert!(match m {
+            Message::ChainJoint(p) => parts.add_joint(p),
+            Message::ChainAxes(p) => parts.add_axes(p),
+            Message::ChainSpline(p) => parts.add_spline(p),
+            other => panic!("{other:?}"),
+        });
+    }
+    let Message::ChainConfig(c) = &messages[30] else {
+        panic!("{:?}", messages[30])
+    };
+    assert_eq!((c.upload, c.splines, c.reorder_window), (3, 8, 4));
+    assert!(c.request_status && c.couplers.is_empty());
+    let hub = parts.chain(c).expect("the hub's parts make the chain");
+    let text = std::fs::read_to_string(&toml).unwrap();
+    let host = qgait::model::chain::ChainModel::parse(&text, "raj.toml")
+        .unwrap()
+        .chain()
+        .unwrap();
+    for k in 0..20 {
+        let q: [f64; 17] = std::array::from_fn(|i| 0.6 * ((k * 17 + i) as f64 * 0.7).sin());
+        let q = q.map(|a| a.abs().min(2.0) * if a < 0.0 { -0.3 } else { 1.0 });
+        let a = host.forward(&q);
+        let b = hub.forward(&q.map(|x| x as f32));
+        for (a, b) in a.iter().zip(&b) {
+            assert!(a.max_abs_diff(b.cast()) < 2e-6, "{a:?} {b:?}");
+        }
+    }
+}

@@ -75,7 +75,7 @@ fn write_log(path: &Path) -> u64 {
         distances: [0.0; 3],
         flags: 0,
     };
-    let pose = model.frame_pose(&frame);
+    let pose = model.frame_pose(&frame).expect("a hub's own model");
     frame.points = pose_points(&pose);
     frame.distances = pose_distances(&pose);
     let mut w = BufWriter::new(std::fs::File::create(path).unwrap());

@@ -22,7 +22,7 @@ fn hub_log(seqs: impl IntoIterator<Item = u32>) -> Vec<u8> {
             distances: [0.0; 3],
             flags: 0,
         };
-        let pose = model.frame_pose(&f);
+        let pose = model.frame_pose(&f).expect("a hub's own model");
         f.points = pose_points(&pose);
         f.distances = pose_distances(&pose);
         push_frame(&mut out, &Message::PoseFrame(f));

@@ -145,7 +145,11 @@ fn expected_points(model: &PoseModels<f64>, samples: &Samples, row: usize) -> [[
         distances: [0.0; 3],
         flags: 0,
     };
-    model.frame_pose(&frame).points().map(|p| p.to_array())
+    model
+        .frame_pose(&frame)
+        .expect("a hub's own model")
+        .points()
+        .map(|p| p.to_array())
 }
 
 #[test]

@@ -30,8 +30,8 @@ fn build_and_measure(name: &str, args: &[&str]) -> Result<Footprint, String> {
     footprint(&bytes)
 }
 
-/// Builds, measures and prints.
-pub fn run() -> Result<ExitCode, String> {
+/// Builds, measures and prints; `chain`: the mps2-an386 firmware with its `chain` feature.
+pub fn run(chain: bool) -> Result<ExitCode, String> {
     let nrf = build_and_measure(
         "nrf52840",
         &[
@@ -42,7 +42,14 @@ pub fn run() -> Result<ExitCode, String> {
             "nrf52840",
         ],
     )?;
-    let mps2 = build_and_measure("mps2-an386", &["build", "--release"])?;
+    let mps2 = if chain {
+        build_and_measure(
+            "mps2-an386 with chain models",
+            &["build", "--release", "--features", "chain"],
+        )?
+    } else {
+        build_and_measure("mps2-an386", &["build", "--release"])?
+    };
     let report = crate::session::run(&elf_path())?;
     let bound = crate::stack_bound::bound(&elf_path())?;
     println!(

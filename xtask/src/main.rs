@@ -57,7 +57,11 @@ enum Task {
         args: Vec<String>,
     },
     /// Flash, static RAM, peak stack and stack bound of the release firmware.
-    Footprint,
+    Footprint {
+        /// The firmware with its `chain` feature (imported chains on the hub) instead.
+        #[arg(long)]
+        chain: bool,
+    },
     /// Every benchmark figure (device, footprint, host), one `NAME VALUE` line each.
     Bench(bench::BenchArgs),
 }
@@ -66,7 +70,7 @@ fn main() -> ExitCode {
     let result = match Xtask::parse().command {
         Task::Test => test::run(),
         Task::Demo => demo::run_demo(),
-        Task::Footprint => footprint::run(),
+        Task::Footprint { chain } => footprint::run(chain),
         Task::Bench(args) => bench::run(&args),
         Task::QemuRun { elf, .. } => qemu::run_elf(&elf),
     };

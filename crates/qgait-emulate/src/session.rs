@@ -142,7 +142,8 @@ impl InputCounts {
 }
 
 /// The frames that end a session: a 0x00 (so that line noise just before cannot swallow them),
-/// then `configuration` (the last `Config` or `SubjectConfig` sent) with its reorder window
+/// then `configuration` (the last `Config`, `SubjectConfig` or `ChainConfig` sent) with its
+/// reorder window
 /// changed, which makes the hub close (and count) the samples still open in its window, and
 /// a status request.
 pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, EmulateError> {
@@ -157,6 +158,11 @@ pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, EmulateError> 
             reorder_window: toggle(c.reorder_window),
             request_status: true,
             ..*c
+        }),
+        Message::ChainConfig(c) => Message::ChainConfig(qgait_proto::ChainConfig {
+            reorder_window: toggle(c.reorder_window),
+            request_status: true,
+            ..c.clone()
         }),
         other => return Err(EmulateError::NotAConfiguration(other.tag())),
     };

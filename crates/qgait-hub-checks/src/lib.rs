@@ -3,14 +3,21 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
-use qgait_kernel::Gait2392Geometry;
+use qgait_kernel::models::custom::{
+    Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Offset,
+};
+use qgait_kernel::models::LowerLimb;
+use qgait_kernel::{Gait2392Geometry, Spline, Vec3};
+use qgait_proto::device_model::pose_points;
+use qgait_proto::PoseModels;
 use qgait_proto::{
     encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags, JointAngle, JointId, Message,
     MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 use qgait_hub::{
-    parts_of, Hub, Kinematics, ManualClock, MemorySerial, MAX_BYTES_PER_POLL, READ_CHUNK,
+    parts_of, ChainParts, ChainUpload, Hub, Kinematics, ManualClock, MemorySerial,
+    MAX_BYTES_PER_POLL, READ_CHUNK,
 };
 
 /// A failed check: what did not hold, and where.
@@ -110,6 +117,10 @@ pub const ALL: &[NamedCheck] = &[
     (
         "parts_of_another_upload_discard_the_held_ones",
         parts_of_another_upload_discard_the_held_ones,
+    ),
+    (
+        "chain_model_switches_only_when_complete",
+        chain_model_switches_only_when_complete,
     ),
     (
         "random_bytes_never_stop_the_pipeline",
@@ -1073,5 +1084,201 @@ pub fn parts_of_another_upload_discard_the_held_ones() -> CheckResult {
     drain(&mut hub);
     ensure!(hub.subject_parts().upload() == Some(2) && hub.subject_parts().count() == 1);
     ensure!(hub.status().config_rejected == 1 && hub.subject().is_none());
+    Ok(())
+}
+
+/// A Rajagopal-shaped lower-limb chain: oriented offset frames, a walker knee whose second
+/// rotation is a `SimmSpline` and whose translation a piecewise linear function of its angle,
+/// the MTP coupled to the ankle (a `CoordinateCouplerConstraint`).
+pub fn walker_chain() -> LowerLimb<f64> {
+    let linear = |i: usize| {
+        (
+            Function::Linear {
+                slope: 1.0,
+                intercept: 0.0,
+            },
+            Argument::Coordinate(i),
+        )
+    };
+    let axis = |v: [f64; 3], (function, argument): (Function<f64>, Argument)| Driven {
+        axis: Vec3::from_f64(v),
+        function,
+        argument,
+    };
+    let x = [0.0, 0.3, 0.7, 1.1, 1.6, 2.1];
+    let (Ok(s0), Ok(s1)) = (
+        Spline::from_knots(&x, &[0.0, 0.02, 0.03, 0.033, 0.02, 0.0]),
+        Spline::piecewise_linear(&x, &[0.0, 0.001, 0.0013, 0.0014, 0.0015, 0.0016]),
+    ) else {
+        unreachable!("increasing knots")
+    };
+    let couplers = [Coupler {
+        independent: JointId::AnkleAngleR.index() as usize,
+        function: Function::Linear {
+            slope: 0.5,
+            intercept: 0.01,
+        },
+    }];
+    let mut joints = [CustomJoint::WELD; 11];
+    joints[0].rotations = [
+        axis([0., 0., 1.], linear(0)),
+        axis([1., 0., 0.], linear(1)),
+        axis([0., 1., 0.], linear(2)),
+    ];
+    let mut points = [BodyPoint {
+        body: 0,
+        offset: Vec3::zero(),
+    }; 12];
+    for side in 0..2 {
+        let (b, c) = (1 + 5 * side, 3 + 7 * side);
+        let z = if side == 0 { 1.0 } else { -1.0 };
+        joints[b].parent = Some(0);
+        joints[b].in_parent = Offset::from_xyz(Vec3::new(-0.06, -0.08, 0.08 * z), [0.0; 3]);
+        joints[b].rotations = [
+            axis([0., 0., 1.], linear(c)),
+            axis([1., 0., 0.], linear(c + 1)),
+            axis([0., 1., 0.], linear(c + 2)),
+        ];
+        let knee = [-1.64, 1.45, 1.57];
+        joints[b + 1].parent = Some(b);
+        joints[b + 1].in_parent = Offset::from_xyz(Vec3::new(-0.008, -0.405, -0.0027), knee);
+        joints[b + 1].in_child = Offset::from_xyz(Vec3::new(-0.008, -0.004, -0.0015), knee);
+        joints[b + 1].rotations[0] = axis([1., 0., 0.], linear(c + 3));
+        joints[b + 1].rotations[1] = axis(
+            [0., 0., 1.],
+            (Function::Spline(0), Argument::Coordinate(c + 3)),
+        );
+        joints[b + 1].translations[0] = axis(
+            [0., 1., 0.],
+            (Function::Spline(1), Argument::Coordinate(c + 3)),
+        );
+        let mtp = (
+            Function::Linear {
+                slope: 1.0,
+                intercept: 0.0,
+            },
+            Argument::Coupled(0),
+        );
+        for (k, (t, o, arg)) in [
+            ([-0.01, -0.43, 0.0], [0.17, -0.1, 0.02], linear(c + 4)),
+            ([-0.044, -0.042, 0.008], [-1.77, 0.9, 1.8], linear(c + 5)),
+            ([0.16, -0.002, 0.001], [-3.1, 0.62, 0.0], mtp),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let j = &mut joints[b + 2 + k];
+            j.parent = Some(b + 1 + k);
+            j.in_parent = Offset::from_xyz(Vec3::from_f64(t), o);
+            j.in_child = Offset::from_xyz(Vec3::zero(), o);
+            j.rotations[0] = axis([0., 0., 1.], arg);
+        }
+        for k in 0..5 {
+            points[6 * side + k] = BodyPoint {
+                body: b + k,
+                offset: joints[b + k].in_child.translation,
+            };
+        }
+        points[6 * side + 5] = BodyPoint {
+            body: b + 4,
+            offset: Vec3::new(0.058, 0.007, 0.001 * z),
+        };
+    }
+    match LowerLimb::new(joints, points, &[s0, s1], &couplers) {
+        Ok(chain) => chain,
+        Err(_) => unreachable!("a valid table"),
+    }
+}
+
+/// Queues the parts of `upload` (joints, axes, splines), the last `skip` left out.
+pub fn send_chain(serial: &mut CheckSerial, upload: &ChainUpload, skip: usize) -> bool {
+    let mut messages: heapless::Vec<Message, 30> = heapless::Vec::new();
+    for j in &upload.joints {
+        let _ = messages.push(Message::ChainJoint(*j));
+    }
+    for a in &upload.axes {
+        let _ = messages.push(Message::ChainAxes(a.clone()));
+    }
+    for s in &upload.splines {
+        let _ = messages.push(Message::ChainSpline(s.clone()));
+    }
+    let n = messages.len().saturating_sub(skip);
+    messages[..n].iter().all(|m| send(serial, m))
+}
+
+/// A chain without its last spline and its `ChainConfig`: refused, PHAK stays. The spline and
+/// the `ChainConfig` again: frames of model `chain` with all 17 angles, each the frame of the
+/// kernel's chain built from the same parts, within 10 µm of the chain in `f64`. A `Config`
+/// naming the chain model is refused, a part naming body 11 counted as malformed.
+pub fn chain_model_switches_only_when_complete() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let chain = walker_chain();
+    let Ok(upload) = ChainUpload::of_chain(&chain, 5) else {
+        return Err(CheckFailure {
+            what: "ChainUpload::of_chain",
+            line: line!(),
+        });
+    };
+    let config = upload.config(MissingPolicy::Drop, 4, true);
+    ensure!(send_chain(hub.serial_mut(), &upload, 1));
+    ensure!(send(
+        hub.serial_mut(),
+        &Message::ChainConfig(config.clone())
+    ));
+    ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 0));
+    drain(&mut hub);
+    ensure!(hub.status().config_rejected == 1 && hub.config().model == ModelId::Phak);
+    ensure!(send_chain(hub.serial_mut(), &upload, 0));
+    ensure!(send(
+        hub.serial_mut(),
+        &Message::ChainConfig(config.clone())
+    ));
+    for seq in 1..4 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Chain, seq));
+    }
+    drain(&mut hub);
+    ensure!(hub.status().config_rejected == 1 && hub.config().model == ModelId::Chain);
+    let mut parts = ChainParts::new();
+    for j in &upload.joints {
+        ensure!(parts.add_joint(j));
+    }
+    for a in &upload.axes {
+        ensure!(parts.add_axes(a));
+    }
+    for s in &upload.splines {
+        ensure!(parts.add_spline(s));
+    }
+    let mut mine = Kinematics::EMPTY;
+    ensure!(mine.set_chain(&parts, &config).is_ok());
+    let host = PoseModels::<f64>::defaults().with_chain(chain);
+    let (mut frames, mut worst) = (0, 0.0f32);
+    poses(&mut hub, |p| {
+        if p.model == ModelId::Chain && *p == expected_frame(&mine, p.seq) {
+            frames += 1;
+            if let Some(pose) = host.frame_pose(p) {
+                for (a, b) in p
+                    .points
+                    .iter()
+                    .flatten()
+                    .zip(pose_points(&pose).iter().flatten())
+                {
+                    worst = worst.max((a - b).abs());
+                }
+            }
+        }
+    })?;
+    ensure!(frames == 3 && worst < 1e-5);
+    // A Config cannot name the chain model; a part out of range is malformed.
+    ensure!(send(
+        hub.serial_mut(),
+        &self::config(ModelId::Chain, MissingPolicy::Drop, 4, false)
+    ));
+    let mut far = upload.joints[0];
+    far.body = 11;
+    ensure!(send(hub.serial_mut(), &Message::ChainJoint(far)));
+    drain(&mut hub);
+    ensure!(hub.status().config_rejected == 2 && hub.status().malformed == 1);
+    ensure!(hub.config().model == ModelId::Chain);
     Ok(())
 }

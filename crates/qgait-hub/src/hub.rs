@@ -20,8 +20,12 @@ use crate::counters::bump;
 use crate::limits::in_range;
 #[cfg(feature = "imu")]
 use crate::orientation::{ImuInput, SegmentOutput};
+#[cfg(feature = "chain")]
+use crate::ChainParts;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
+#[cfg(feature = "chain")]
+use qgait_proto::ChainConfig;
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
@@ -95,6 +99,9 @@ pub struct Hub<S, C> {
     /// The [`SubjectParts::generation`] the subject model in force was built from.
     subject_generation: u32,
     subject_parts: SubjectParts,
+    /// The parts of an imported chain received so far.
+    #[cfg(feature = "chain")]
+    chain_parts: ChainParts,
     kinematics: Kinematics,
     input: Input,
     /// The IMU settings, calibration and solver (kept whatever the input in force).
@@ -158,6 +165,8 @@ where
             addr_of_mut!((*hub).subject).write(None);
             addr_of_mut!((*hub).subject_generation).write(0);
             addr_of_mut!((*hub).subject_parts).write(SubjectParts::new());
+            #[cfg(feature = "chain")]
+            addr_of_mut!((*hub).chain_parts).write(ChainParts::new());
             addr_of_mut!((*hub).kinematics).write(Kinematics::EMPTY);
             addr_of_mut!((*hub).input).write(Input::Joints(assembler_for(&config)));
             #[cfg(feature = "imu")]
@@ -187,6 +196,8 @@ where
             subject: _,
             subject_generation: _,
             subject_parts: _,
+            #[cfg(feature = "chain")]
+                chain_parts: _,
             kinematics: _,
             input: _,
             #[cfg(feature = "imu")]
@@ -217,6 +228,8 @@ where
             subject: None,
             subject_generation: 0,
             subject_parts: SubjectParts::new(),
+            #[cfg(feature = "chain")]
+            chain_parts: ChainParts::new(),
             status: Status::default(),
             started_ms: now,
             last_status_ms: now,
@@ -373,6 +386,25 @@ where
             HubMessage::SubjectConfig(config) => self.on_subject_config(&config),
             HubMessage::SegmentOrientation(packet) => self.on_orientation(&packet),
             HubMessage::ImuConfig(config) => self.on_imu_config(&config),
+            #[cfg(feature = "chain")]
+            HubMessage::ChainConfig(config) => self.on_chain_config(&config),
+            #[cfg(feature = "chain")]
+            HubMessage::ChainJoint(part) => {
+                let taken = self.chain_parts.add_joint(&part);
+                self.took_part(taken);
+            }
+            #[cfg(feature = "chain")]
+            HubMessage::ChainAxes(part) => {
+                let taken = self.chain_parts.add_axes(&part);
+                self.took_part(taken);
+            }
+            #[cfg(feature = "chain")]
+            HubMessage::ChainSpline(part) => {
+                let taken = self.chain_parts.add_spline(&part);
+                self.took_part(taken);
+            }
+            // Without chain support the chain messages are messages this hub does not take.
+            HubMessage::NotTaken(_) => bump(&mut self.status.malformed),
             // A pose frame or a status (well-formed or not: its body is not decoded): only a
             // hub sends these, nothing to do with them here.
             HubMessage::FromHub(_) => bump(&mut self.status.malformed),
@@ -538,6 +570,9 @@ where
         let result = if config.model == ModelId::Gait2392 && config.anthropometry.is_some() {
             // gait2392's lengths are those of its model.
             Err(ConfigError::AnthropometryWithGait2392)
+        } else if config.model == ModelId::Chain {
+            // A chain comes with its `ChainConfig`.
+            Err(ConfigError::ChainIncomplete { upload: 0 })
         } else {
             // Without lengths, the HAK and PHAK lengths in force stay. gait2392's generic
             // lengths stated in full are the same configuration as none given (`None`), so
@@ -557,6 +592,58 @@ where
             )
         };
         self.after_config(result, config.request_status);
+    }
+
+    /// Counts a chain part that named a body or spline out of range.
+    #[cfg(feature = "chain")]
+    fn took_part(&mut self, taken: bool) {
+        if !taken {
+            bump(&mut self.status.malformed);
+        }
+    }
+
+    /// A `ChainConfig`: the chain of its upload, always rebuilt from the parts held (a part
+    /// resent since takes effect).
+    #[cfg(feature = "chain")]
+    #[inline(never)]
+    fn on_chain_config(&mut self, config: &ChainConfig) {
+        let new = Config {
+            model: ModelId::Chain,
+            // Kept for a later HAK or PHAK.
+            anthropometry: self.config.anthropometry,
+            missing_policy: config.missing_policy,
+            reorder_window: config.reorder_window,
+            request_status: false,
+        };
+        let result = self.switch_chain(new, config);
+        self.after_config(result, config.request_status);
+    }
+
+    /// Switches to the chain `config` names, with the settings of `new`: checked and built
+    /// from the parts first (the model in force stays if it is refused), then the open samples
+    /// are closed under the old model.
+    #[cfg(feature = "chain")]
+    #[inline(never)]
+    fn switch_chain(&mut self, new: Config, config: &ChainConfig) -> Result<(), ConfigError> {
+        if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
+            return Err(ConfigError::ReorderWindow(new.reorder_window));
+        }
+        // The orientation input solves gait2392's coordinates only.
+        #[cfg(feature = "imu")]
+        if self.imu.config().mode.orientations() {
+            return Err(ConfigError::ImuNeedsGait2392);
+        }
+        // Checked before anything changes.
+        self.chain_parts.check(config)?;
+        self.close_open_samples();
+        self.kinematics.set_chain(&self.chain_parts, config)?;
+        self.config = new;
+        #[cfg(feature = "imu")]
+        set_input(&mut self.input, &self.config, &self.imu);
+        #[cfg(not(feature = "imu"))]
+        set_input(&mut self.input, &self.config);
+        self.subject = None;
+        Ok(())
     }
 
     #[inline(never)]
@@ -615,6 +702,10 @@ where
         #[cfg(feature = "imu")]
         if self.imu.config().mode.orientations() && new.model != ModelId::Gait2392 {
             return Err(ConfigError::ImuNeedsGait2392);
+        }
+        if new.model == ModelId::Chain {
+            // A chain comes with its `ChainConfig`, never by a `Config`.
+            return Err(ConfigError::ChainIncomplete { upload: 0 });
         }
         if subject.is_none() && new.model != ModelId::Gait2392 {
             let anthropometry = Kinematics::anthropometry(new.anthropometry)?;

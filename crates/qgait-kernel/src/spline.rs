@@ -95,6 +95,19 @@ impl<T: Real, const K: usize> Spline<T, K> {
         }
     }
 
+    /// The knots' abscissae and values (empty for [`EMPTY`](Self::EMPTY)).
+    pub fn knots(&self) -> (&[T], &[T]) {
+        let n = self.len().min(K);
+        (&self.x[..n], &self.y[..n])
+    }
+
+    /// Whether it is straight between its knots (no quadratic or cubic terms): what
+    /// [`piecewise_linear`](Self::piecewise_linear) builds, and what `SimmSpline` is through
+    /// knots on one line.
+    pub fn is_piecewise_linear(&self) -> bool {
+        self.c.iter().chain(&self.d).all(|v| *v == T::ZERO)
+    }
+
     /// Whether this is [`EMPTY`](Self::EMPTY): a built spline has at least two knots.
     pub fn is_empty(&self) -> bool {
         self.last == 0
@@ -121,6 +134,30 @@ impl<T: Real, const K: usize> Spline<T, K> {
             c = t.lt_select(xk, c, self.c[k]);
             d = t.lt_select(xk, d, self.d[k]);
         }
+        let dx = t - x;
+        let inside = y + dx * (b + dx * (c + dx * d));
+        let below = self.y[0] + (t - self.x[0]) * self.b[0];
+        let above = self.y[last] + (t - self.x[last]) * self.b[last];
+        let v = t.lt_select(self.x[0], below, inside);
+        self.x[last].lt_select(t, above, v)
+    }
+
+    /// The value of [`eval`](Self::eval), the cubic found by counting the knots at or below
+    /// `t` and read by index (one compare a knot, five loads) instead of selected lane-wise
+    /// (five selects a knot): for scalar code such as a device's, not for lanes.
+    #[inline]
+    pub fn eval_scalar(&self, t: T) -> T {
+        let last = self.last.min(K - 1);
+        let mut k = 0;
+        for j in 1..last {
+            // As `eval`: the last knot at or below t (a NaN t takes the last cubic, hence the
+            // negated comparison).
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(t < self.x[j]) {
+                k = j;
+            }
+        }
+        let (x, y, b, c, d) = (self.x[k], self.y[k], self.b[k], self.c[k], self.d[k]);
         let dx = t - x;
         let inside = y + dx * (b + dx * (c + dx * d));
         let below = self.y[0] + (t - self.x[0]) * self.b[0];
@@ -252,6 +289,30 @@ mod tests {
             assert!((s.eval(t) - v).abs() < 1e-15, "{t}: {}", s.eval(t));
         }
         assert!(Spline::<f64, 2>::piecewise_linear(&xs, &ys).is_err());
+    }
+
+    /// The scalar evaluation is the lane-wise one, bit for bit, inside, outside, on the knots
+    /// and for NaN, at every knot count.
+    #[test]
+    fn eval_scalar_is_eval() {
+        let xs = [-2.0, -1.2, -0.3, 0.4, 1.0, 2.5, 3.0, 3.5];
+        let ys = [0.1, -0.4, 0.3, 0.35, -0.2, 0.0, 0.6, 0.2];
+        for n in 2..=8 {
+            let s = Spline::<f64, 8>::from_knots(&xs[..n], &ys[..n]).unwrap();
+            let (x32, y32) = (xs.map(|v| v as f32), ys.map(|v| v as f32));
+            let l = Spline::<f32, 8>::piecewise_linear(&x32[..n], &y32[..n]).unwrap();
+            for i in 0..=300 {
+                let t = -3.0 + 7.5 * f64::from(i) / 300.0;
+                assert_eq!(s.eval_scalar(t).to_bits(), s.eval(t).to_bits(), "{n} {t}");
+                let t = t as f32;
+                assert_eq!(l.eval_scalar(t).to_bits(), l.eval(t).to_bits(), "{n} {t}");
+            }
+            for x in &xs[..n] {
+                assert_eq!(s.eval_scalar(*x).to_bits(), s.eval(*x).to_bits());
+            }
+            assert!(s.eval_scalar(f64::NAN).is_nan());
+        }
+        assert_eq!(Spline::<f32, 4>::EMPTY.eval_scalar(1.5), 0.0);
     }
 
     #[test]

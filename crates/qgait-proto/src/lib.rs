@@ -5,6 +5,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+mod chain;
 mod cobs;
 mod counting;
 mod crc;
@@ -21,6 +22,12 @@ mod sizes;
 mod subject;
 mod wire;
 
+pub use crate::chain::{
+    ChainArgument, ChainAxes, ChainAxis, ChainConfig, ChainCoupler, ChainFunction, ChainJoint,
+    ChainOffset, ChainPoint, ChainSpline, CHAIN_AXES_TAG, CHAIN_BODIES, CHAIN_CONFIG_TAG,
+    CHAIN_GROUND, CHAIN_JOINT_TAG, CHAIN_SPLINE_TAG, MAX_CHAIN_COUPLERS, MAX_CHAIN_KNOTS,
+    MAX_CHAIN_SPLINES,
+};
 pub use crate::crc::{crc32c, FRAME_CRC, FRAME_CRC_CHECK};
 pub use crate::decoder::{Feed, FrameDecoder};
 #[cfg(feature = "std")]
@@ -43,6 +50,7 @@ pub use crate::orientation::{
     Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
 };
 pub use crate::sizes::{
+    CHAIN_AXES_MAX_LEN, CHAIN_CONFIG_MAX_LEN, CHAIN_JOINT_MAX_LEN, CHAIN_SPLINE_MAX_LEN,
     CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN,
     MAX_FRAME_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN,
     SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN,

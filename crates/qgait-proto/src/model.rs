@@ -37,6 +37,10 @@ pub enum ModelId {
     Phak = 1,
     /// OpenSim gait2392: every [`JointId`].
     Gait2392 = 2,
+    /// An imported lower-limb chain (Rajagopal, gait10dof18musc, ...) uploaded in parts
+    /// (`ChainJoint`, `ChainAxes`, `ChainSpline`, switched to by a `ChainConfig`): every
+    /// [`JointId`], as gait2392.
+    Chain = 3,
 }
 
 const HAK_JOINTS: [JointId; 6] = [
@@ -64,7 +68,12 @@ impl ModelId {
     pub const COUNT: usize = <Self as EnumCount>::COUNT;
 
     /// Every model, in discriminant order.
-    pub const ALL: [ModelId; Self::COUNT] = [ModelId::Hak, ModelId::Phak, ModelId::Gait2392];
+    pub const ALL: [ModelId; Self::COUNT] = [
+        ModelId::Hak,
+        ModelId::Phak,
+        ModelId::Gait2392,
+        ModelId::Chain,
+    ];
 
     /// The wire byte of this model (its discriminant).
     pub const fn index(self) -> u8 {
@@ -76,7 +85,8 @@ impl ModelId {
         Self::from_repr(index)
     }
 
-    /// A short lowercase name: `"hak"`, `"phak"` or `"gait2392"` (also its `Display`).
+    /// A short lowercase name: `"hak"`, `"phak"`, `"gait2392"` or `"chain"` (also its
+    /// `Display`).
     pub fn name(self) -> &'static str {
         self.into()
     }
@@ -92,7 +102,7 @@ impl ModelId {
         match self {
             ModelId::Hak => &HAK_JOINTS,
             ModelId::Phak => &PHAK_JOINTS,
-            ModelId::Gait2392 => &JointId::ALL,
+            ModelId::Gait2392 | ModelId::Chain => &JointId::ALL,
         }
     }
 }

@@ -4,7 +4,7 @@
 //! `u32` and lengths as LEB128 varints of at most 5 bytes (7 bits per byte). A message tag and
 //! every enum value of this protocol fit one byte.
 
-use crate::{cobs, point, segment, JointId, MAX_KNEE_KNOTS};
+use crate::{cobs, point, segment, JointId, MAX_CHAIN_COUPLERS, MAX_CHAIN_KNOTS, MAX_KNEE_KNOTS};
 
 /// Worst-case bytes of a postcard `u32` varint.
 const VARINT_U32: usize = 5;
@@ -57,6 +57,38 @@ pub const SEGMENT_ORIENTATION_MAX_LEN: usize =
 /// tag, mode, segments, calibrate, 3 `f32`, option tag, base, axis, request_status.
 pub const IMU_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 1 + 3 * F32 + 1 + 1 + 1 + 1;
 
+/// Largest postcard encoding of a [`ChainJoint`](crate::ChainJoint) message, tag included:
+/// tag, upload, body, parent, two offsets of 3 + 4 `f32`, the point's 3 `f32`.
+pub const CHAIN_JOINT_MAX_LEN: usize = TAG + 1 + 1 + 1 + 2 * 7 * F32 + 3 * F32;
+
+/// Largest postcard encoding of a [`ChainFunction`](crate::ChainFunction): variant, 2 `f32`.
+const CHAIN_FUNCTION_MAX_LEN: usize = 1 + 2 * F32;
+
+/// Largest postcard encoding of a [`ChainAxis`](crate::ChainAxis): 3 `f32`, a function, an
+/// argument (variant and index).
+const CHAIN_AXIS_MAX_LEN: usize = 3 * F32 + CHAIN_FUNCTION_MAX_LEN + 2;
+
+/// Largest postcard encoding of a [`ChainAxes`](crate::ChainAxes) message, tag included:
+/// tag, upload, body, two counts of up to 3 axes.
+pub const CHAIN_AXES_MAX_LEN: usize = TAG + 1 + 1 + 2 * (1 + 3 * CHAIN_AXIS_MAX_LEN);
+
+/// Largest postcard encoding of a [`ChainSpline`](crate::ChainSpline) message, tag included:
+/// tag, upload, index, linear, knot count, 13 knots of 2 `f32`.
+pub const CHAIN_SPLINE_MAX_LEN: usize = TAG + 1 + 1 + 1 + 1 + MAX_CHAIN_KNOTS * 2 * F32;
+
+/// Largest postcard encoding of a [`ChainConfig`](crate::ChainConfig) message, tag included:
+/// tag, upload, spline count, coupler count and 4 couplers (index and function), 2 toe tips
+/// (body and 3 `f32`), missing policy, reorder window, request_status.
+pub const CHAIN_CONFIG_MAX_LEN: usize = TAG
+    + 1
+    + 1
+    + 1
+    + MAX_CHAIN_COUPLERS * (1 + CHAIN_FUNCTION_MAX_LEN)
+    + 2 * (1 + 3 * F32)
+    + 1
+    + 1
+    + 1;
+
 const fn max(a: usize, b: usize) -> usize {
     if a > b {
         a
@@ -72,10 +104,16 @@ pub const MAX_MESSAGE_LEN: usize = max(
         max(STATUS_MAX_LEN, CONFIG_MAX_LEN),
     ),
     max(
-        max(SUBJECT_LEG_MAX_LEN, SUBJECT_KNEE_MAX_LEN),
         max(
-            SUBJECT_CONFIG_MAX_LEN,
-            max(SEGMENT_ORIENTATION_MAX_LEN, IMU_CONFIG_MAX_LEN),
+            max(SUBJECT_LEG_MAX_LEN, SUBJECT_KNEE_MAX_LEN),
+            max(SUBJECT_CONFIG_MAX_LEN, CHAIN_JOINT_MAX_LEN),
+        ),
+        max(
+            max(CHAIN_AXES_MAX_LEN, CHAIN_SPLINE_MAX_LEN),
+            max(
+                CHAIN_CONFIG_MAX_LEN,
+                max(SEGMENT_ORIENTATION_MAX_LEN, IMU_CONFIG_MAX_LEN),
+            ),
         ),
     ),
 );

@@ -374,9 +374,9 @@ fn bad_contents_with_a_good_crc_are_reported_by_kind() {
         ),
         ("empty status body", vec![0x02], Malformed),
         (
-            "pose frame of unknown model 3",
-            pose_payload(3, 6),
-            UnknownModel(3),
+            "pose frame of unknown model 4",
+            pose_payload(4, 6),
+            UnknownModel(4),
         ),
         (
             "HAK pose frame with 5 angles",

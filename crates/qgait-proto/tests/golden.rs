@@ -173,6 +173,10 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
             }
             .into(),
         ),
+        ("chain-joint", common::chain_joint().into()),
+        ("chain-axes", common::chain_axes().into()),
+        ("chain-spline", common::chain_spline().into()),
+        ("chain-config", common::chain_config().into()),
     ]
 }
 
@@ -286,7 +290,24 @@ fn constants() -> Vec<String> {
             qgait_proto::SEGMENT_ORIENTATION_MAX_LEN
         ),
         format!("IMU_CONFIG_MAX_LEN = {}", qgait_proto::IMU_CONFIG_MAX_LEN),
+        format!("CHAIN_JOINT_MAX_LEN = {}", qgait_proto::CHAIN_JOINT_MAX_LEN),
+        format!("CHAIN_AXES_MAX_LEN = {}", qgait_proto::CHAIN_AXES_MAX_LEN),
+        format!(
+            "CHAIN_SPLINE_MAX_LEN = {}",
+            qgait_proto::CHAIN_SPLINE_MAX_LEN
+        ),
+        format!(
+            "CHAIN_CONFIG_MAX_LEN = {}",
+            qgait_proto::CHAIN_CONFIG_MAX_LEN
+        ),
         format!("MAX_KNEE_KNOTS = {}", qgait_proto::MAX_KNEE_KNOTS),
+        format!("MAX_CHAIN_SPLINES = {}", qgait_proto::MAX_CHAIN_SPLINES),
+        format!("MAX_CHAIN_KNOTS = {}", qgait_proto::MAX_CHAIN_KNOTS),
+        format!("MAX_CHAIN_COUPLERS = {}", qgait_proto::MAX_CHAIN_COUPLERS),
+        format!("CHAIN_JOINT_TAG = {}", qgait_proto::CHAIN_JOINT_TAG),
+        format!("CHAIN_AXES_TAG = {}", qgait_proto::CHAIN_AXES_TAG),
+        format!("CHAIN_SPLINE_TAG = {}", qgait_proto::CHAIN_SPLINE_TAG),
+        format!("CHAIN_CONFIG_TAG = {}", qgait_proto::CHAIN_CONFIG_TAG),
         format!("MAX_REORDER_WINDOW = {}", qgait_proto::MAX_REORDER_WINDOW),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
     ]

@@ -41,6 +41,10 @@ fn kind_max_len(msg: &Message) -> usize {
         Message::SubjectConfig(_) => SUBJECT_CONFIG_MAX_LEN,
         Message::SegmentOrientation(_) => qgait_proto::SEGMENT_ORIENTATION_MAX_LEN,
         Message::ImuConfig(_) => qgait_proto::IMU_CONFIG_MAX_LEN,
+        Message::ChainJoint(_) => qgait_proto::CHAIN_JOINT_MAX_LEN,
+        Message::ChainAxes(_) => qgait_proto::CHAIN_AXES_MAX_LEN,
+        Message::ChainSpline(_) => qgait_proto::CHAIN_SPLINE_MAX_LEN,
+        Message::ChainConfig(_) => qgait_proto::CHAIN_CONFIG_MAX_LEN,
     }
 }
 
@@ -195,7 +199,8 @@ fn models_round_trip_and_list_their_joints() {
         assert_eq!(ModelId::from_index(model.index()), Some(*model));
         assert_eq!(ModelId::from_name(model.name()), Some(*model));
     }
-    assert_eq!(ModelId::from_index(3), None);
+    assert_eq!(ModelId::from_index(4), None);
+    assert_eq!(ModelId::Chain.required_joints(), &JointId::ALL);
     use JointId::*;
     assert_eq!(
         ModelId::Phak.required_joints(),

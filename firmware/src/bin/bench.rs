@@ -20,7 +20,7 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use qgait_firmware::board;
-use qgait_hub::{Hub, JointSet, Kinematics, ManualClock, Sample, READ_CHUNK};
+use qgait_hub::{ChainParts, Hub, JointSet, Kinematics, ManualClock, Sample, READ_CHUNK};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::reference::chain_by_matrices;
 use qgait_kernel::trig::half_angle_sin_cos_f32;
@@ -28,6 +28,7 @@ use qgait_kernel::{
     Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Hak, HakAngles, Limb, Phak,
     PhakAngles, Real,
 };
+use qgait_proto::device_model::DeviceChain;
 use qgait_proto::{
     crc32c, decode_message, decode_packet, encode_frame, encode_message, encode_pose_frame, Config,
     FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, MAX_FRAME_LEN,
@@ -150,6 +151,14 @@ fn main() -> ! {
         bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS),
         bench_empty(&g_in, MATRIX_CALLS),
         MATRIX_CALLS,
+    );
+
+    let raj = rajagopal();
+    net(
+        "rajagopal.quat",
+        bench_rajagopal_quat(&raj, &g_in, CALLS),
+        g_base,
+        CALLS,
     );
 
     imu_benches(&g, &mut rng);
@@ -331,6 +340,42 @@ fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -
 fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
         black_box(black_box(model).chain().frames(black_box(&q[i % INPUTS])));
+    })
+}
+
+/// The imported Rajagopal 2015 (OpenSense) chain, as `qgait config --model` sends it: its
+/// frames decoded and its parts built into the hub's chain in `f32`.
+/// `rajagopal2015_opensense.chain.bin` is made by `qgait model import
+/// ../shared/data/opensim/Rajagopal2015_opensense.osim -o raj.toml` then
+/// `qgait config --model raj.toml --upload 1 -o firmware/src/bin/rajagopal2015_opensense.chain.bin`.
+fn rajagopal() -> DeviceChain {
+    static FRAMES: &[u8] = include_bytes!("rajagopal2015_opensense.chain.bin");
+    let mut decoder = FrameDecoder::new();
+    let mut parts = ChainParts::new();
+    let mut config = None;
+    for message in decoder.feed(FRAMES) {
+        match message {
+            Ok(Message::ChainJoint(p)) => {
+                parts.add_joint(&p);
+            }
+            Ok(Message::ChainAxes(p)) => {
+                parts.add_axes(&p);
+            }
+            Ok(Message::ChainSpline(p)) => {
+                parts.add_spline(&p);
+            }
+            Ok(Message::ChainConfig(c)) => config = Some(c),
+            _ => board::exit(5),
+        }
+    }
+    let Some(config) = config else { board::exit(5) };
+    parts.chain(&config).unwrap_or_else(|_| board::exit(5))
+}
+
+#[inline(never)]
+fn bench_rajagopal_quat(model: &DeviceChain, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).forward(black_box(&q[i % INPUTS])));
     })
 }
 

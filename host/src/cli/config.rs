@@ -24,7 +24,8 @@ pub struct ConfigArgs {
     /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
     #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
     pub window: u8,
-    /// Upload id of a subject model's parts (default: derived from the model's numbers).
+    /// Upload id of a subject model's or a chain's parts (default: derived from the model's
+    /// numbers).
     #[arg(long, value_name = "ID")]
     pub upload: Option<u8>,
     /// Do not ask the hub for a `Status` in answer (by default it is asked, so that a refused
@@ -45,7 +46,8 @@ pub enum Policy {
     Hold,
 }
 
-/// The configuration a hub gets for `model`; `upload` is a subject model's upload id.
+/// The configuration a hub gets for `model`; `upload` is a subject model's or a chain's upload
+/// id.
 pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubModel> {
     let hub = match model {
         Model::Hak { stated } => HubModel::Stick {
@@ -58,12 +60,17 @@ pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubM
         },
         Model::Gait2392 { name, .. } if name == "gait2392" => HubModel::Gait2392,
         Model::Gait2392 { geometry, .. } => HubModel::Subject { geometry, upload },
-        Model::Chain { name, .. } => anyhow::bail!(
-            "--model {name}: the hub runs hak, phak and gait2392-family models; this chain is evaluated on the host only"
-        ),
+        Model::Chain { name, chain } => HubModel::Chain {
+            chain: Box::new(
+                chain
+                    .chain()
+                    .map_err(|e| anyhow::anyhow!("--model {name}: {e}"))?,
+            ),
+            upload,
+        },
     };
-    if upload.is_some() && !matches!(hub, HubModel::Subject { .. }) {
-        anyhow::bail!("--upload applies to a SUBJECT.toml model only");
+    if upload.is_some() && !matches!(hub, HubModel::Subject { .. } | HubModel::Chain { .. }) {
+        anyhow::bail!("--upload applies to a SUBJECT.toml or chain model only");
     }
     Ok(hub)
 }

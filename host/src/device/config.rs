@@ -1,10 +1,12 @@
 //! The messages that configure a qgait hub (`qgait config`): a `Config` for HAK, PHAK and the
-//! generic gait2392, or a subject gait2392 model as its six parts (`SubjectLeg`,
-//! `SubjectKnee`) followed by the `SubjectConfig` that switches to it. Layouts:
-//! `docs/protocol.md`, sections 4.4 to 4.6.
+//! generic gait2392, a subject gait2392 model as its six parts (`SubjectLeg`, `SubjectKnee`)
+//! followed by the `SubjectConfig` that switches to it, or an imported chain as its parts
+//! (`ChainJoint`, `ChainAxes`, `ChainSpline`) followed by its `ChainConfig`. Layouts:
+//! `docs/protocol.md`, sections 4.4 to 4.7.
 
+use qgait_kernel::models::LowerLimb;
 use qgait_kernel::Gait2392Geometry;
-use qgait_proto::device_model::{parts_of, ConfigError, SubjectParts};
+use qgait_proto::device_model::{parts_of, ChainUpload, ConfigError, SubjectParts};
 pub use qgait_proto::HubModel;
 use qgait_proto::{
     crc32c, encode_frame, encode_message, Config, EncodeError, Message, MissingPolicy,
@@ -26,8 +28,9 @@ pub struct HubSettings {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum HubConfigError {
-    /// A subject model does not fit the parts a hub takes (e.g. a spline with too many knots).
-    #[error("a subject model cannot be sent in parts: {0}")]
+    /// A subject model or a chain does not fit the parts a hub takes (e.g. a spline with too
+    /// many knots).
+    #[error("the model cannot be sent in parts: {0}")]
     Parts(#[from] ConfigError),
     /// A message does not encode (a number or a length outside what the wire carries).
     #[error("a configuration message does not encode: {0}")]
@@ -50,16 +53,7 @@ pub fn messages(model: &HubModel, settings: HubSettings) -> Result<Vec<Message>,
         HubModel::Subject { geometry, upload } => {
             let id = match upload {
                 Some(id) => *id,
-                None => {
-                    let probe = subject_parts(geometry, 0)?;
-                    let mut bytes = Vec::new();
-                    for m in &probe {
-                        let mut buf = [0u8; MAX_MESSAGE_LEN];
-                        let encoded = encode_message(m, &mut buf)?;
-                        bytes.extend_from_slice(encoded);
-                    }
-                    crc32c(&bytes) as u8
-                }
+                None => upload_id(&subject_parts(geometry, 0)?)?,
             };
             let mut out = subject_parts(geometry, id)?;
             out.push(Message::SubjectConfig(SubjectConfig {
@@ -70,7 +64,44 @@ pub fn messages(model: &HubModel, settings: HubSettings) -> Result<Vec<Message>,
             }));
             Ok(out)
         }
+        HubModel::Chain { chain, upload } => {
+            let id = match upload {
+                Some(id) => *id,
+                None => upload_id(&chain_parts(chain, 0)?)?,
+            };
+            let upload = ChainUpload::of_chain(&**chain, id)?;
+            let mut out = chain_parts(chain, id)?;
+            out.push(Message::ChainConfig(upload.config(
+                settings.missing_policy,
+                settings.reorder_window,
+                settings.request_status,
+            )));
+            Ok(out)
+        }
     }
+}
+
+/// The low byte of the CRC-32C of the parts' message bytes (under upload 0).
+fn upload_id(probe: &[Message]) -> Result<u8, HubConfigError> {
+    let mut bytes = Vec::new();
+    for m in probe {
+        let mut buf = [0u8; MAX_MESSAGE_LEN];
+        let encoded = encode_message(m, &mut buf)?;
+        bytes.extend_from_slice(encoded);
+    }
+    Ok(crc32c(&bytes) as u8)
+}
+
+/// The parts of an imported chain, numbers rounded to `f32`: the 11 joints, the 11 axes
+/// parts, then the splines (`docs/protocol.md` 4.7); its `ChainConfig` follows them.
+pub fn chain_parts(chain: &LowerLimb<f64>, upload: u8) -> Result<Vec<Message>, HubConfigError> {
+    let u = ChainUpload::of_chain(chain, upload)?;
+    Ok(u.joints
+        .into_iter()
+        .map(Message::ChainJoint)
+        .chain(u.axes.into_iter().map(Message::ChainAxes))
+        .chain(u.splines.into_iter().map(Message::ChainSpline))
+        .collect())
 }
 
 /// The frames of `messages`, each preceded by a 0x00 (which a receiver skips, and which ends

@@ -264,7 +264,11 @@ impl OrientationCheck {
                     c.max_angle_rad
                         .max(if e.is_finite() { e } else { f64::INFINITY });
             }
-            let pose = models.pose(ModelId::Gait2392, want);
+            // gait2392 is always one of the models (only a chain can be missing).
+            let Some(pose) = models.pose(ModelId::Gait2392, want) else {
+                c.unknown += 1;
+                continue;
+            };
             for (got, want) in f.points.iter().zip(pose.points()) {
                 let d = ((f64::from(got[0]) - want.x).powi(2)
                     + (f64::from(got[1]) - want.y).powi(2)

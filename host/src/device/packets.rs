@@ -148,7 +148,9 @@ pub(crate) fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
     match model {
         ModelId::Hak => drive(rows, &joint_names::<6>(model), warn, |t, q| sample(t, &q)),
         ModelId::Phak => drive(rows, &joint_names::<8>(model), warn, |t, q| sample(t, &q)),
-        ModelId::Gait2392 => drive(rows, &joint_names::<17>(model), warn, |t, q| sample(t, &q)),
+        ModelId::Gait2392 | ModelId::Chain => {
+            drive(rows, &joint_names::<17>(model), warn, |t, q| sample(t, &q))
+        }
     }
 }
 

@@ -145,7 +145,17 @@ impl<'m> Verifier<'m> {
             Some((_, n)) => *n += 1,
             None => v.models.push((frame.model, 1)),
         }
-        let pose = self.model.frame_pose(frame);
+        // A chain's frame with no chain to recompute it with: every point unverified.
+        let Some(pose) = self.model.frame_pose(frame) else {
+            for e in &mut v.errors {
+                e.add(f64::INFINITY);
+            }
+            if v.worst.is_none_or(|(_, w)| w < f64::INFINITY) {
+                v.worst = Some((frame.seq, f64::INFINITY));
+            }
+            self.see_seq(frame.seq);
+            return;
+        };
         let mut worst = 0.0f64;
         for (i, (got, want)) in frame.points.iter().zip(pose.points()).enumerate() {
             let d = (0..3)
@@ -388,7 +398,7 @@ mod tests {
             distances: [0.0; 3],
             flags: 0,
         };
-        let pose = model.frame_pose(&f);
+        let pose = model.frame_pose(&f).expect("a hub's own model");
         f.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
         f.distances = distances(&pose).to_array().map(|x| x as f32);
         f

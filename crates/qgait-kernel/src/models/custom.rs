@@ -115,6 +115,14 @@ impl<T: Real> Offset<T> {
         }
     }
 
+    /// This offset followed by `o` (`o` given in this frame).
+    fn then(&self, o: &Self) -> Self {
+        Self {
+            translation: self.translation + self.rotation.rotate(o.translation),
+            rotation: self.rotation * o.rotation,
+        }
+    }
+
     /// The inverse transform.
     fn inverse(&self) -> Self {
         let rotation = self.rotation.conj();
@@ -170,18 +178,45 @@ pub struct BodyPoint<T> {
     pub offset: Vec3<T>,
 }
 
-/// A validated chain. Joint `b` moves body `b`.
+/// A validated chain. Joint `b` moves body `b`. `S` spline slots of `K` knots each
+/// ([`MAX_SPLINES`] and [`MAX_SPLINE_KNOTS`] unless said: a device sizes them to the models it
+/// takes).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CustomChain<T, const N: usize, const B: usize, const P: usize> {
+pub struct CustomChain<
+    T,
+    const N: usize,
+    const B: usize,
+    const P: usize,
+    const S: usize = MAX_SPLINES,
+    const K: usize = MAX_SPLINE_KNOTS,
+> {
     joints: [CustomJoint<T>; B],
     /// Per joint, how many rotations and translations move (the others, zero constants, are
     /// dropped by [`new`](Self::new): no work for a locked coordinate or an unused axis).
     moving: [(u8, u8); B],
-    /// `in_child` inverted, once.
+    /// `in_child` inverted, once; for a joint that does not move, `in_parent` followed by it.
     child_inverse: [Offset<T>; B],
+    /// Per joint, whether each moving rotation is about a coordinate axis.
+    kinds: [[AxisKind; 3]; B],
     points: [BodyPoint<T>; P],
-    splines: [Spline<T, MAX_SPLINE_KNOTS>; MAX_SPLINES],
+    splines: [Spline<T, K>; S],
     couplers: [Coupler<T>; MAX_COUPLERS],
+    /// How many of `splines` and `couplers` are in use.
+    used: (u8, u8),
+}
+
+/// How a rotation axis is turned about: a coordinate axis (the cheaper product) or any.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+enum AxisKind {
+    /// Any axis (all zero bits: what an empty table holds).
+    General = 0,
+    /// +x.
+    X,
+    /// +y.
+    Y,
+    /// +z.
+    Z,
 }
 
 /// A body's frame in ground.
@@ -202,7 +237,46 @@ impl<T: Real> BodyFrame<T> {
     }
 }
 
-impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, B, P> {
+impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, const K: usize>
+    CustomChain<T, N, B, P, S, K>
+{
+    /// A table of zeros (every point at the origin): a slot that
+    /// [`rebuild`](Self::rebuild) fills in place. All zero bits, so writing it is a memset.
+    pub const EMPTY: Self = {
+        let zero = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        let offset = Offset {
+            translation: zero,
+            rotation: Quat::new(T::ZERO, T::ZERO, T::ZERO, T::ZERO),
+        };
+        let still = Driven {
+            axis: zero,
+            function: Function::Constant(T::ZERO),
+            argument: Argument::None,
+        };
+        Self {
+            joints: [CustomJoint {
+                parent: None,
+                in_parent: offset,
+                in_child: offset,
+                rotations: [still; 3],
+                translations: [still; 3],
+            }; B],
+            moving: [(0, 0); B],
+            child_inverse: [offset; B],
+            kinds: [[AxisKind::General; 3]; B],
+            points: [BodyPoint {
+                body: 0,
+                offset: zero,
+            }; P],
+            splines: [Spline::EMPTY; S],
+            couplers: [Coupler {
+                independent: 0,
+                function: Function::Constant(T::ZERO),
+            }; MAX_COUPLERS],
+            used: (0, 0),
+        }
+    };
+
     /// Validates and builds a chain: parents come first (body 0 hangs on ground, every other
     /// body on an earlier one), axes are non-zero and finite (normalised here), arguments and
     /// splines exist, offsets are finite, couplers depend on inputs and are not chained. Axes
@@ -210,10 +284,22 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
     pub fn new(
         joints: [CustomJoint<T>; B],
         points: [BodyPoint<T>; P],
-        splines: &[Spline<T, MAX_SPLINE_KNOTS>],
+        splines: &[Spline<T, K>],
         couplers: &[Coupler<T>],
     ) -> Result<Self, ModelError> {
-        if splines.len() > MAX_SPLINES
+        let mut chain = Self::EMPTY;
+        chain.rebuild(&joints, &points, splines, couplers)?;
+        Ok(chain)
+    }
+
+    /// Whether [`new`](Self::new) accepts this table, without building anything.
+    pub fn check(
+        joints: &[CustomJoint<T>; B],
+        points: &[BodyPoint<T>; P],
+        splines: &[Spline<T, K>],
+        couplers: &[Coupler<T>],
+    ) -> Result<(), ModelError> {
+        if splines.len() > S
             || couplers.len() > MAX_COUPLERS
             || splines.iter().any(|s| s.is_empty())
         {
@@ -230,8 +316,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
                 return Err(ModelError::CoordinateOutOfRange { joint: 0 });
             }
         }
-        let mut joints = joints;
-        for (b, joint) in joints.iter_mut().enumerate() {
+        for (b, joint) in joints.iter().enumerate() {
             if joint.parent.map_or(b > 0, |p| p >= b) {
                 return Err(ModelError::ParentOrder { joint: b });
             }
@@ -245,11 +330,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
                     return Err(ModelError::BadLength);
                 }
             }
-            for d in joint
-                .rotations
-                .iter_mut()
-                .chain(joint.translations.iter_mut())
-            {
+            for d in joint.rotations.iter().chain(&joint.translations) {
                 let length = d.axis.norm();
                 if !(finite(d.axis) && length > T::ZERO && function_ok(&d.function)) {
                     return Err(ModelError::BadAxis { joint: b });
@@ -262,43 +343,80 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
                 if !argument_ok {
                     return Err(ModelError::CoordinateOutOfRange { joint: b });
                 }
-                d.axis = d.axis * (T::ONE / length);
             }
         }
-        for p in &points {
+        for p in points {
             if p.body >= B || !finite(p.offset) {
                 return Err(ModelError::BodyOutOfRange { index: p.body });
             }
         }
+        Ok(())
+    }
+
+    /// Makes this chain the table [`new`](Self::new) builds, written in place (no chain on the
+    /// stack). Unchanged if [`check`](Self::check) refuses the table.
+    pub fn rebuild(
+        &mut self,
+        joints: &[CustomJoint<T>; B],
+        points: &[BodyPoint<T>; P],
+        splines: &[Spline<T, K>],
+        couplers: &[Coupler<T>],
+    ) -> Result<(), ModelError> {
+        Self::check(joints, points, splines, couplers)?;
         let still = |d: &Driven<T>| d.function == Function::Constant(T::ZERO);
-        let mut moving = [(0u8, 0u8); B];
-        for (joint, m) in joints.iter_mut().zip(&mut moving) {
+        for (b, joint) in joints.iter().enumerate() {
+            let mut joint = *joint;
+            let mut m = (0u8, 0u8);
             for (axes, n) in [
                 (&mut joint.rotations, &mut m.0),
                 (&mut joint.translations, &mut m.1),
             ] {
                 let mut kept = [Driven::NONE; 3];
                 for d in axes.iter().filter(|d| !still(d)) {
-                    kept[*n as usize] = *d;
+                    kept[*n as usize] = Driven {
+                        axis: d.axis * (T::ONE / d.axis.norm()),
+                        ..*d
+                    };
                     *n += 1;
                 }
                 *axes = kept;
             }
+            for (kind, d) in self.kinds[b].iter_mut().zip(&joint.rotations) {
+                let a = d.axis;
+                let (one, zero) = (T::ONE, T::ZERO);
+                *kind = if a.x == one && a.y == zero && a.z == zero {
+                    AxisKind::X
+                } else if a.x == zero && a.y == one && a.z == zero {
+                    AxisKind::Y
+                } else if a.x == zero && a.y == zero && a.z == one {
+                    AxisKind::Z
+                } else {
+                    AxisKind::General
+                };
+            }
+            self.joints[b] = joint;
+            self.moving[b] = m;
+            // A joint that does not move (a weld, a locked pin) is one fixed offset: `F · M⁻¹`
+            // folded here, so `frames` applies one offset instead of two.
+            let inverse = joint.in_child.inverse();
+            self.child_inverse[b] = if m == (0, 0) {
+                joint.in_parent.then(&inverse)
+            } else {
+                inverse
+            };
         }
-        let mut chain = Self {
-            joints,
-            moving,
-            child_inverse: joints.map(|j| j.in_child.inverse()),
-            points,
-            splines: [Spline::EMPTY; MAX_SPLINES],
-            couplers: [Coupler {
+        self.points = *points;
+        for (slot, k) in self.splines.iter_mut().zip(0..) {
+            *slot = splines.get(k).copied().unwrap_or(Spline::EMPTY);
+        }
+        for (slot, k) in self.couplers.iter_mut().zip(0..) {
+            *slot = couplers.get(k).copied().unwrap_or(Coupler {
                 independent: 0,
                 function: Function::Constant(T::ZERO),
-            }; MAX_COUPLERS],
-        };
-        chain.splines[..splines.len()].copy_from_slice(splines);
-        chain.couplers[..couplers.len()].copy_from_slice(couplers);
-        Ok(chain)
+            });
+        }
+        self.used = (splines.len() as u8, couplers.len() as u8);
+        Ok(())
     }
 
     /// The joints, by body (zero-constant axes dropped, the moving ones first).
@@ -311,12 +429,22 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
         &self.points
     }
 
+    /// The splines the table's functions refer to ([`Function::Spline`] indices).
+    pub fn splines(&self) -> &[Spline<T, K>] {
+        &self.splines[..usize::from(self.used.0).min(S)]
+    }
+
+    /// The coupled coordinates ([`Argument::Coupled`] indices).
+    pub fn couplers(&self) -> &[Coupler<T>] {
+        &self.couplers[..usize::from(self.used.1).min(MAX_COUPLERS)]
+    }
+
     #[inline]
     fn value(&self, f: &Function<T>, x: T) -> T {
         match *f {
             Function::Constant(c) => c,
             Function::Linear { slope, intercept } => slope * x + intercept,
-            Function::Spline(k) => self.splines[k].eval(x),
+            Function::Spline(k) => self.splines[k].eval_scalar(x),
         }
     }
 
@@ -332,28 +460,73 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
 
     /// Every body's frame in ground for input coordinates `q`.
     pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
+        let mut frames = [BodyFrame {
+            rotation: Quat::identity(),
+            origin: Vec3::zero(),
+        }; B];
+        self.frames_into(q, &mut frames);
+        frames
+    }
+
+    /// [`frames`](Self::frames), written into `frames`. Every axis's value first (the spline
+    /// calls out of the geometry loop), then the frames; a rotation about a coordinate axis is
+    /// the cheaper product ([`Quat::then_about_x`] and the like).
+    fn frames_into(&self, q: &[T; N], frames: &mut [BodyFrame<T>; B]) {
         let mut coupled = [T::ZERO; MAX_COUPLERS];
         for (v, c) in coupled.iter_mut().zip(&self.couplers) {
             *v = self.value(&c.function, q[c.independent]);
+        }
+        let mut values = [[T::ZERO; 6]; B];
+        for ((joint, &(nr, nt)), v) in self.joints.iter().zip(&self.moving).zip(&mut values) {
+            let (rot, trans) = v.split_at_mut(3);
+            for (slot, d) in rot
+                .iter_mut()
+                .zip(&joint.rotations[..usize::from(nr).min(3)])
+            {
+                *slot = self.driven(d, q, &coupled);
+            }
+            for (slot, d) in trans
+                .iter_mut()
+                .zip(&joint.translations[..usize::from(nt).min(3)])
+            {
+                *slot = self.driven(d, q, &coupled);
+            }
         }
         let ground = BodyFrame {
             rotation: Quat::identity(),
             origin: Vec3::zero(),
         };
-        let mut frames = [ground; B];
         for b in 0..B {
             let joint = &self.joints[b];
             let parent = joint.parent.map_or(ground, |p| frames[p]);
-            let f = parent.then(&joint.in_parent);
             let (n_rotations, n_translations) = self.moving[b];
+            if n_rotations == 0 && n_translations == 0 {
+                // Folded by `rebuild`: `F · M⁻¹` in one offset.
+                frames[b] = parent.then(&self.child_inverse[b]);
+                continue;
+            }
+            let f = parent.then(&joint.in_parent);
+            let v = &values[b];
             let mut translation = Vec3::zero();
-            for d in &joint.translations[..n_translations as usize] {
-                translation += d.axis * self.driven(d, q, &coupled);
+            for (d, &x) in joint.translations[..n_translations as usize]
+                .iter()
+                .zip(&v[3..])
+            {
+                translation += d.axis * x;
             }
             let mut rotation = f.rotation;
-            for d in &joint.rotations[..n_rotations as usize] {
-                let (s, c) = self.driven(d, q, &coupled).half_angle_sin_cos();
-                rotation = rotation * Quat::from_axis_half_sin_cos(d.axis, s, c);
+            for ((d, &x), kind) in joint.rotations[..n_rotations as usize]
+                .iter()
+                .zip(v)
+                .zip(&self.kinds[b])
+            {
+                let (s, c) = x.half_angle_sin_cos();
+                rotation = match kind {
+                    AxisKind::X => rotation.then_about_x(s, c),
+                    AxisKind::Y => rotation.then_about_y(s, c),
+                    AxisKind::Z => rotation.then_about_z(s, c),
+                    AxisKind::General => rotation * Quat::from_axis_half_sin_cos(d.axis, s, c),
+                };
             }
             let m = BodyFrame {
                 origin: f.origin + f.rotation.rotate(translation),
@@ -361,20 +534,25 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
             };
             frames[b] = m.then(&self.child_inverse[b]);
         }
-        frames
     }
 
     /// The output points in ground for input coordinates `q`: forward kinematics.
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
-        let frames = self.frames(q);
-        self.points.map(|p| {
+        let mut frames = [BodyFrame {
+            rotation: Quat::identity(),
+            origin: Vec3::zero(),
+        }; B];
+        self.frames_into(q, &mut frames);
+        let mut out = [Vec3::zero(); P];
+        for (o, p) in out.iter_mut().zip(&self.points) {
             let f = &frames[p.body];
-            f.origin + f.rotation.rotate(p.offset)
-        })
+            *o = f.origin + f.rotation.rotate(p.offset);
+        }
+        out
     }
 
     /// The whole table in another precision (e.g. an `f64` model for an `f32` device).
-    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P> {
+    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P, S, K> {
         let v = |v: Vec3<T>| v.cast::<U>();
         let s = |x: T| U::from_f64(x.to_f64());
         let f = |f: Function<T>| match f {
@@ -405,6 +583,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
             }),
             moving: self.moving,
             child_inverse: self.child_inverse.map(o),
+            kinds: self.kinds,
             points: self.points.map(|p| BodyPoint {
                 body: p.body,
                 offset: v(p.offset),
@@ -414,6 +593,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize> CustomChain<T, N, 
                 independent: c.independent,
                 function: f(c.function),
             }),
+            used: self.used,
         }
     }
 }
@@ -501,6 +681,19 @@ mod tests {
     fn gait2392_in_this_table_is_the_gait2392_table() {
         assert_eq!(COORDINATES.len(), 17);
         let custom = gait2392_as_custom();
+        // The table gives back its splines' knots, as built (cubic, not straight).
+        let g = Gait2392Geometry::generic();
+        assert_eq!(custom.splines().len(), 4);
+        assert_eq!(
+            custom.splines()[3].knots().1,
+            &g.left.knee_ty.y[..g.left.knee_ty.n]
+        );
+        assert!(!custom.splines()[0].is_piecewise_linear());
+        assert!(
+            Spline::<f64, 4>::piecewise_linear(&[0.0, 1.0, 3.0], &[0.0, 2.0, 1.0])
+                .unwrap()
+                .is_piecewise_linear()
+        );
         let fast = Gait2392::<f64>::new(&Gait2392Geometry::generic()).unwrap();
         for k in 0..50 {
             let q: [f64; 17] = core::array::from_fn(|i| {
@@ -554,6 +747,8 @@ mod tests {
             },
         }];
         let chain = CustomChain::<f64, 1, 2, 1>::new(joints, points, &[], &couplers).unwrap();
+        assert_eq!(chain.couplers(), &couplers);
+        assert!(chain.splines().is_empty());
         // q = π/4: F at (1, 0, 0) facing +y; M 0.5 along F's x: (1, 0.5, 0), turned a further
         // 90° (coupled): M's x is ground -x; the body origin is 0.1 back along M's x.
         let p = chain.forward(&[half_pi / 2.0])[0];
@@ -584,5 +779,11 @@ mod tests {
         let mut cyclic = joints;
         cyclic[1].parent = Some(1);
         assert!(CustomChain::<f64, 1, 2, 1>::new(cyclic, points, &[], &couplers).is_err());
+        // Rebuilt in place it is the chain `new` builds; a refused table changes nothing.
+        let mut slot = CustomChain::<f64, 1, 2, 1>::EMPTY;
+        slot.rebuild(&joints, &points, &[], &couplers).unwrap();
+        assert_eq!(slot, chain);
+        assert!(slot.rebuild(&cyclic, &points, &[], &couplers).is_err());
+        assert_eq!(slot, chain);
     }
 }

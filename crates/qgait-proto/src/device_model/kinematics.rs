@@ -3,11 +3,17 @@
 //! a [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
+use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{
     Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, ModelError, Phak, PhakAngles,
     Real,
 };
 
+use crate::device_model::chain::chain_pose;
+#[cfg(feature = "chain")]
+use crate::device_model::chain::{ChainParts, DeviceChain};
+#[cfg(feature = "chain")]
+use crate::ChainConfig;
 use crate::{
     encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection,
     ModelId, PoseFrame, PoseFrameParts,
@@ -46,6 +52,15 @@ pub enum ConfigError {
     /// The reorder window asked for is not in `1..=MAX_REORDER_WINDOW`
     /// ([`MAX_REORDER_WINDOW`](crate::MAX_REORDER_WINDOW)).
     ReorderWindow(u8),
+    /// A chain was asked for before all its parts arrived (or by a `Config`, which cannot
+    /// name one).
+    ChainIncomplete {
+        /// The upload asked for.
+        upload: u8,
+    },
+    /// A chain cannot be sent to a hub: more splines, knots or couplers than a hub holds, or
+    /// points other than the leg bodies' joint centres and a toe tip per side.
+    ChainTooLarge,
     /// A knee spline has more knots than a `SubjectKnee` carries.
     SubjectKnots {
         /// 0 = right leg, 1 = left leg.
@@ -95,6 +110,17 @@ impl core::fmt::Display for ConfigError {
                 f,
                 "reorder window {w} is not in 1..={}",
                 crate::MAX_REORDER_WINDOW
+            ),
+            ConfigError::ChainIncomplete { upload } => {
+                write!(f, "chain {upload}: not every part arrived")
+            }
+            ConfigError::ChainTooLarge => write!(
+                f,
+                "the chain does not fit a hub: at most {} splines of {} knots and {} couplers, \
+                 points the leg joint centres and a toe tip per side",
+                crate::MAX_CHAIN_SPLINES,
+                crate::MAX_CHAIN_KNOTS,
+                crate::MAX_CHAIN_COUPLERS
             ),
             ConfigError::SubjectKnots { leg: l, direction } => write!(
                 f,
@@ -221,6 +247,7 @@ impl PoseFrame {
 pub struct PoseModels<T> {
     phak: Phak<T>,
     gait2392: Gait2392<T>,
+    chain: Option<LowerLimb<T>>,
 }
 
 impl<T: Real> PoseModels<T> {
@@ -232,7 +259,16 @@ impl<T: Real> PoseModels<T> {
         Ok(PoseModels {
             phak: Phak::new(anthropometry)?,
             gait2392: Gait2392::new(geometry)?,
+            chain: None,
         })
+    }
+
+    /// These models with `chain` as [`ModelId::Chain`].
+    pub fn with_chain(self, chain: LowerLimb<T>) -> Self {
+        PoseModels {
+            chain: Some(chain),
+            ..self
+        }
     }
 
     /// A hub's defaults: gait2392's segment lengths for HAK and PHAK, the generic gait2392.
@@ -244,16 +280,19 @@ impl<T: Real> PoseModels<T> {
         }
     }
 
-    /// The pose of `model` from a sample's angles (indexed by [`JointId::index`]).
-    pub fn pose(&self, model: ModelId, angles: &[T; JointId::COUNT]) -> BilateralPose<T> {
-        match model {
+    /// The pose of `model` from a sample's angles (indexed by [`JointId::index`]); `None` for
+    /// a chain without one ([`with_chain`](Self::with_chain)).
+    pub fn pose(&self, model: ModelId, angles: &[T; JointId::COUNT]) -> Option<BilateralPose<T>> {
+        Some(match model {
             ModelId::Hak | ModelId::Phak => stick_pose(&self.phak, model, angles),
             ModelId::Gait2392 => gait2392_pose(&self.gait2392, angles),
-        }
+            ModelId::Chain => chain_pose(self.chain.as_ref()?, angles),
+        })
     }
 
-    /// The pose a hub should have sent for `frame`, from the angles it echoes.
-    pub fn frame_pose(&self, frame: &PoseFrame) -> BilateralPose<T> {
+    /// The pose a hub should have sent for `frame`, from the angles it echoes (`None`: a
+    /// chain's frame, and no chain).
+    pub fn frame_pose(&self, frame: &PoseFrame) -> Option<BilateralPose<T>> {
         self.pose(frame.model, &frame.joint_angles())
     }
 }
@@ -277,6 +316,9 @@ enum ModelChain {
     Phak(Phak<f32>),
     /// gait2392, generic or subject-specific.
     Gait2392(Gait2392<f32>),
+    /// An uploaded chain.
+    #[cfg(feature = "chain")]
+    Chain(DeviceChain),
 }
 
 impl Kinematics {
@@ -298,6 +340,10 @@ impl Kinematics {
         lengths: Option<[[f32; segment::COUNT]; 2]>,
     ) -> Result<Kinematics, ConfigError> {
         let mut kinematics = Kinematics::EMPTY;
+        if model == ModelId::Chain {
+            // A chain comes in parts, with a `ChainConfig`.
+            return Err(ConfigError::ChainIncomplete { upload: 0 });
+        }
         if model == ModelId::Gait2392 {
             if lengths.is_some() {
                 return Err(ConfigError::AnthropometryWithGait2392);
@@ -391,7 +437,30 @@ impl Kinematics {
         match &self.chain {
             ModelChain::Gait2392(g) => Some(g),
             ModelChain::Phak(_) => None,
+            #[cfg(feature = "chain")]
+            ModelChain::Chain(_) => None,
         }
+    }
+
+    /// Makes this the chain `config` names, built from `parts` ([`ChainParts::chain`]) in
+    /// place. Unchanged if the parts are incomplete or the kernel refuses the chain.
+    #[cfg(feature = "chain")]
+    #[inline(never)]
+    pub fn set_chain(
+        &mut self,
+        parts: &ChainParts,
+        config: &ChainConfig,
+    ) -> Result<(), ConfigError> {
+        if !matches!(self.chain, ModelChain::Chain(_)) {
+            // As in `set_phak`: checked before the other model is given up.
+            parts.check(config)?;
+            self.chain = ModelChain::Chain(DeviceChain::EMPTY);
+        }
+        if let ModelChain::Chain(c) = &mut self.chain {
+            parts.build_into(config, c)?;
+        }
+        self.model = ModelId::Chain;
+        Ok(())
     }
 
     /// The model poses are computed with.
@@ -454,6 +523,8 @@ impl Kinematics {
         match &self.chain {
             ModelChain::Phak(phak) => stick_pose(phak, self.model, angles),
             ModelChain::Gait2392(g) => gait2392_pose(g, angles),
+            #[cfg(feature = "chain")]
+            ModelChain::Chain(c) => chain_pose(c, angles),
         }
     }
 }
@@ -597,10 +668,13 @@ mod tests {
         for (i, a) in angles.iter_mut().enumerate() {
             *a = 0.07 * (i as f32 - 6.0);
         }
-        for model in ModelId::ALL {
+        // (A chain is not one of a hub's own models: `chain::tests` checks it.)
+        assert!(Kinematics::new(ModelId::Chain, None).is_err());
+        assert!(models.pose(ModelId::Chain, &angles).is_none());
+        for model in [ModelId::Hak, ModelId::Phak, ModelId::Gait2392] {
             let k = Kinematics::new(model, None).unwrap();
             let frame = k.pose_frame(9, &angles, 0);
-            let pose = models.frame_pose(&frame);
+            let pose = models.frame_pose(&frame).unwrap();
             let hub_points = frame.points;
             let host_points = pose_points(&pose);
             for (a, b) in hub_points
@@ -615,14 +689,16 @@ mod tests {
             }
         }
         // HAK is PHAK with a level pelvis: the pelvis angles change PHAK's pose, not HAK's.
-        let phak = models.pose(ModelId::Phak, &angles);
-        let hak = models.pose(ModelId::Hak, &angles);
-        let level = models.pose(ModelId::Phak, &{
-            let mut a = angles;
-            a[JointId::PelvisList.index() as usize] = 0.0;
-            a[JointId::PelvisRotation.index() as usize] = 0.0;
-            a
-        });
+        let phak = models.pose(ModelId::Phak, &angles).unwrap();
+        let hak = models.pose(ModelId::Hak, &angles).unwrap();
+        let level = models
+            .pose(ModelId::Phak, &{
+                let mut a = angles;
+                a[JointId::PelvisList.index() as usize] = 0.0;
+                a[JointId::PelvisRotation.index() as usize] = 0.0;
+                a
+            })
+            .unwrap();
         assert_eq!(pose_points(&hak), pose_points(&level));
         assert_ne!(pose_points(&hak), pose_points(&phak));
     }

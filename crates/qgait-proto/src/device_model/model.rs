@@ -2,6 +2,7 @@
 
 use std::boxed::Box;
 
+use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Anthropometry, Gait2392Geometry, ModelError};
 
 use crate::device_model::PoseModels;
@@ -28,6 +29,14 @@ pub enum HubModel {
         /// The upload id.
         upload: Option<u8>,
     },
+    /// An imported lower-limb chain (`ModelId::Chain`), sent in parts under `upload` (`None`:
+    /// the sender picks one).
+    Chain {
+        /// The chain, as the host computes it.
+        chain: Box<LowerLimb<f64>>,
+        /// The upload id.
+        upload: Option<u8>,
+    },
 }
 
 impl HubModel {
@@ -36,6 +45,7 @@ impl HubModel {
         match self {
             HubModel::Stick { model, .. } => *model,
             HubModel::Gait2392 | HubModel::Subject { .. } => ModelId::Gait2392,
+            HubModel::Chain { .. } => ModelId::Chain,
         }
     }
 
@@ -53,7 +63,7 @@ impl HubModel {
 
     /// What the hub computes with after this configuration, in `f64`: HAK and PHAK with these
     /// segment lengths (else gait2392's, the hub's default), gait2392 with this geometry (else
-    /// the generic one).
+    /// the generic one), the chain if it is one.
     pub fn pose_models(&self) -> Result<PoseModels<f64>, ModelError> {
         let generic = Gait2392Geometry::generic();
         let gait2392 = Anthropometry::gait2392();
@@ -63,6 +73,9 @@ impl HubModel {
             }
             HubModel::Gait2392 => PoseModels::new(&gait2392, &generic),
             HubModel::Subject { geometry, .. } => PoseModels::new(&gait2392, geometry),
+            HubModel::Chain { chain, .. } => {
+                Ok(PoseModels::new(&gait2392, &generic)?.with_chain(**chain))
+            }
         }
     }
 }
