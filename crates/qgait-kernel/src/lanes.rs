@@ -361,6 +361,14 @@ impl<T: LaneScalar, const L: usize, const F: bool> Real for Lanes<T, L, F> {
     fn from_f64(x: f64) -> Self {
         Lanes([T::from_f64(x); L])
     }
+    /// Broadcast to every lane.
+    #[inline(always)]
+    fn from_f32(x: f32) -> Self {
+        Lanes([T::from_f32(x); L])
+    }
+    fn round(self) -> Self {
+        self.map(T::round)
+    }
     /// Lane 0 (lane arrays built by [`from_f64`](Real::from_f64) hold one value).
     fn to_f64(self) -> f64 {
         self.0[0].to_f64()

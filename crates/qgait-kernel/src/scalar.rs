@@ -37,8 +37,13 @@ pub trait Real:
     const HALF: Self;
     /// Converts from `f64` (rounding to nearest for `f32`).
     fn from_f64(x: f64) -> Self;
+    /// Converts from `f32` (exact for both implementations): for values that are exact in
+    /// `f32` (small integers, Q14 fractions), so that the device's path has no `f64` arithmetic.
+    fn from_f32(x: f32) -> Self;
     /// Converts to `f64` (exact for both implementations).
     fn to_f64(self) -> f64;
+    /// The nearest integer, halfway cases away from zero (libm's `round`/`roundf`).
+    fn round(self) -> Self;
     /// Square root (NaN for negative input).
     fn sqrt(self) -> Self;
     /// Absolute value.
@@ -62,7 +67,7 @@ pub trait Real:
 
 /// `Real` for a primitive float: everything but the functions that differ by precision.
 macro_rules! impl_real {
-    ($t:ident, sqrt: $sqrt:path, sin_cos: $sin_cos:path, half_angle_sin_cos: $half:expr) => {
+    ($t:ident, round: $round:path, sqrt: $sqrt:path, sin_cos: $sin_cos:path, half_angle_sin_cos: $half:expr) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -73,8 +78,16 @@ macro_rules! impl_real {
                 x as $t
             }
             #[inline(always)]
+            fn from_f32(x: f32) -> Self {
+                x as $t
+            }
+            #[inline(always)]
             fn to_f64(self) -> f64 {
                 self as f64
+            }
+            #[inline(always)]
+            fn round(self) -> Self {
+                $round(self)
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
@@ -118,6 +131,6 @@ macro_rules! impl_real {
 }
 
 // f64 (the host): libm throughout.
-impl_real!(f64, sqrt: libm::sqrt, sin_cos: libm::sincos, half_angle_sin_cos: |x| libm::sincos(0.5 * x));
+impl_real!(f64, round: libm::round, sqrt: libm::sqrt, sin_cos: libm::sincos, half_angle_sin_cos: |x| libm::sincos(0.5 * x));
 // f32 (the device): the FPU's square root and the kernel's half-angle polynomial (see `trig`).
-impl_real!(f32, sqrt: trig::sqrt_f32, sin_cos: libm::sincosf, half_angle_sin_cos: trig::half_angle_sin_cos_f32);
+impl_real!(f32, round: libm::roundf, sqrt: trig::sqrt_f32, sin_cos: libm::sincosf, half_angle_sin_cos: trig::half_angle_sin_cos_f32);

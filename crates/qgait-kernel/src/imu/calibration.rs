@@ -119,7 +119,7 @@ impl<T: Real> Calibration<T> {
         pose: &Orientations<T>,
         settings: &Settings<T>,
     ) -> Result<Self, ImuError> {
-        let default = model.chain().frames(&[T::ZERO; 17]);
+        let default = super::solve::frames(model, &[T::ZERO; 17]);
         // The torso hangs from the pelvis without an orientation offset (gait2392's back
         // joint): in the default pose it is parallel to the pelvis.
         let orientations = Segment::ALL.map(|s| default[s.chain_joint().unwrap_or(0)].rotation);
@@ -141,6 +141,8 @@ impl<T: Real> Calibration<T> {
 
     /// The calibration for the static `pose` given each segment's orientation in the model's
     /// default pose (by [`Segment`] index; the pelvis's x is the model's forward direction).
+    // Not inlined: one copy on the device whichever caller (flash; BENCHMARKS.md).
+    #[inline(never)]
     pub fn with_default_pose(
         default: [Quat<T>; SENSORS],
         pose: &Orientations<T>,
@@ -217,6 +219,8 @@ impl<T: Real> Calibration<T> {
 
     /// Every segment's orientation for one frame of raw readings ([`segment`](Self::segment)
     /// of each; the first bad reading is the error).
+    // Not inlined: one copy on the device whichever caller (flash; BENCHMARKS.md).
+    #[inline(never)]
     pub fn segments(&self, readings: &Orientations<T>) -> Result<Orientations<T>, ImuError> {
         let mut out = Orientations::EMPTY;
         for segment in Segment::ALL {

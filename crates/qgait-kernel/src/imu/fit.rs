@@ -337,8 +337,9 @@ pub(crate) fn unwrap_turns<T: Real>(value: T, previous: T) -> T {
     if !d.is_finite() || d.abs() <= T::from_f64(core::f64::consts::PI) {
         return value;
     }
-    let turn = core::f64::consts::TAU;
-    value + T::from_f64(libm::round(d.to_f64() / turn) * turn)
+    // In `T` (no `f64` arithmetic on the device).
+    let turn = T::from_f64(core::f64::consts::TAU);
+    value + (d / turn).round() * turn
 }
 
 #[cfg(test)]

@@ -52,32 +52,25 @@ impl<T: Real> Ranges<T> {
     /// pelvis, which is unbounded (turning: its +-90 degree range is not applied).
     // The model file's numbers (radians rounded to 8 digits), not approximations of pi.
     #[allow(clippy::approx_constant)]
+    #[rustfmt::skip]
     pub fn gait2392() -> Self {
         let inf = f64::INFINITY;
         let (hip, knee) = (2.094_395_1, (-2.094_395_1, 0.174_532_93));
         let (r90, r60) = (1.570_796_33, 1.047_197_55);
-        let range: [(f64, f64); 17] = [
-            (-inf, inf),
-            (-inf, inf),
-            (-inf, inf),
-            (-hip, hip),
-            (-hip, hip),
-            (-hip, hip),
-            knee,
-            (-r90, r90),
-            (-r90, r90),
-            (-r90, r90),
-            (-hip, hip),
-            (-hip, hip),
-            (-hip, hip),
-            knee,
-            (-r60, r60),
-            (-r90, r90),
-            (-r60, r60),
-        ];
+        // Written out, not mapped: each conversion folds to a constant (no `f64` code on the
+        // device).
+        let t = T::from_f64;
         Self {
-            min: range.map(|r| T::from_f64(r.0)),
-            max: range.map(|r| T::from_f64(r.1)),
+            min: [
+                t(-inf), t(-inf), t(-inf),
+                t(-hip), t(-hip), t(-hip), t(knee.0), t(-r90), t(-r90), t(-r90),
+                t(-hip), t(-hip), t(-hip), t(knee.0), t(-r60), t(-r90), t(-r60),
+            ],
+            max: [
+                t(inf), t(inf), t(inf),
+                t(hip), t(hip), t(hip), t(knee.1), t(r90), t(r90), t(r90),
+                t(hip), t(hip), t(hip), t(knee.1), t(r60), t(r90), t(r60),
+            ],
         }
     }
 
@@ -139,6 +132,8 @@ pub fn closed_form<T: Real>(
 
 /// [`closed_form`], the legs only if `legs` (otherwise they keep `previous`'s values: the
 /// least squares' warm start).
+// Not inlined: one copy on the device whichever caller (flash; BENCHMARKS.md).
+#[inline(never)]
 fn decompose<T: Real>(
     model: &Gait2392<T>,
     segments: &Orientations<T>,
@@ -351,8 +346,17 @@ impl<T: Real> NormalEquations<T> {
     }
 }
 
+/// The chain's joint frames at `q`: one copy of [`Chain::frames`](crate::Chain::frames) for the
+/// solver and the calibration on the device (not inlined into each: flash).
+#[inline(never)]
+pub(crate) fn frames<T: Real>(model: &Gait2392<T>, q: &[T; 17]) -> [Frame<T>; 11] {
+    model.chain().frames(q)
+}
+
 /// One Gauss-Newton step of one leg at the chain frames `frames` of coordinates `q`: updates
 /// the leg's six coordinates in `q` (clamped), unless no sensor of the leg is present.
+// Not inlined: one copy on the device whichever caller (flash; BENCHMARKS.md).
+#[inline(never)]
 fn gauss_newton_step<T: Real>(
     model: &Gait2392<T>,
     leg: &Leg,
@@ -461,7 +465,7 @@ impl<T: Real> Solver<T> {
         if mode == Mode::LeastSquares {
             let mut q = out.coordinates;
             for _ in 0..self.iterations {
-                let frames = model.chain().frames(&q);
+                let frames = frames(model, &q);
                 for leg in &LEGS {
                     gauss_newton_step(model, leg, &frames, segments, &mut q, &self.ranges);
                 }

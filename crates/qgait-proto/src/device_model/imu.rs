@@ -86,7 +86,7 @@ pub fn wire_settings<T: Real>(settings: &Settings<T>) -> ([f32; 3], Option<ImuHe
 
 /// The quaternion of Q14 components `w, x, y, z`, as decoded (not normalised).
 pub fn q14_quat<T: Real>(q14: [i16; 4]) -> Quat<T> {
-    let [w, x, y, z] = q14.map(|c| T::from_f64(f64::from(c) / f64::from(Q14_ONE)));
+    let [w, x, y, z] = q14.map(|c| T::from_f32(f32::from(c) / Q14_ONE));
     Quat::new(w, x, y, z)
 }
 
