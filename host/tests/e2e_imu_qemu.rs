@@ -10,7 +10,8 @@
 //!   forward kinematics, sensors mounted at random up to 30 degrees, the subject facing -115
 //!   degrees at calibration), clean in both solver modes and with the radio link's damage
 //!   (`FaultPlan::radio_link`);
-//! - the real recording (`../shared/data/imu/`, OpenSense's tutorial, its first 5 s), clean.
+//! - the real recording (`../shared/data/imu/`, OpenSense's tutorial, its first 5 s), clean in
+//!   both solver modes and with the radio link's damage.
 //!
 //! Needs `qemu-system-arm`; the IMU firmware (`QGAIT_IMU_FIRMWARE_ELF`, else
 //! `firmware::imu_elf`, built or brought up to date first). Each test is skipped, with the reason printed,
@@ -157,15 +158,14 @@ fn synthetic_recording_clean_in_both_modes() {
     }
 }
 
-#[test]
-fn synthetic_recording_through_a_radio_link() {
-    let Some(elf) = imu_elf() else { return };
-    let stream = synthetic(4.0, Mode::LeastSquares);
-    let what = "synthetic 400 samples, radio link";
-    let host = stream.host_angles().expect("the host computes the stream");
+/// `stream` through the radio link's damage (`FaultPlan::radio_link`, the fault tests' model)
+/// after a clean calibration pose (a damaged one would only move the calibration to the next
+/// complete sample): exactly the samples whose packets were all delivered have a frame, the
+/// counters account for every packet, and each frame is within [`TOLERANCE_M`] of the host's
+/// `f64` computation of the same rows (the host skipping the lost ones as the hub does, so the
+/// least squares' warm start is the same).
+fn through_a_radio_link(elf: &Path, stream: &OrientationStream, what: &str) {
     let samples = stream.samples();
-    // The calibration pose goes clean (a damaged one would only move the calibration to the
-    // next complete sample); the recording through the link.
     let (calibration, rows) = samples.split_first().expect("a calibration pose");
     let d = damage(rows, &FaultPlan::radio_link(11, u32::from(WINDOW)));
     let mut input = vec![0u8];
@@ -176,7 +176,7 @@ fn synthetic_recording_through_a_radio_link() {
         push_frame(&mut input, &Message::SegmentOrientation(*p));
     }
     input.extend_from_slice(&d.stream);
-    let (frames, status) = run(&elf, &stream, input, what);
+    let (frames, status) = run(elf, stream, input, what);
     // The samples whose packets were all delivered: exactly those have a frame.
     let mut delivered: std::collections::BTreeMap<u32, (usize, usize)> = Default::default();
     for (p, fate) in &d.packets {
@@ -217,8 +217,9 @@ fn synthetic_recording_through_a_radio_link() {
         a.bad_runs,
         "{what}: {status:?}"
     );
-    // The hub's least squares starts each sample from the last one it solved, the host's from
-    // the previous row: on data the model fits exactly both converge to the same angles.
+    let host = stream
+        .host_angles_of(|seq| intact.binary_search(&seq).is_ok())
+        .expect("the host computes the stream");
     let c = OrientationCheck::run(&frames, &host);
     eprintln!(
         "{what}: {} of {} samples intact; {}",
@@ -226,29 +227,61 @@ fn synthetic_recording_through_a_radio_link() {
         rows.len(),
         c.report(TOLERANCE_M)
     );
+    assert_eq!(
+        c.frames as usize,
+        intact.len(),
+        "{what}: {}",
+        c.report(TOLERANCE_M)
+    );
     assert!(c.passed(TOLERANCE_M), "{what}: {}", c.report(TOLERANCE_M));
 }
 
 #[test]
-fn real_recording_clean() {
-    let Some(shared) = common::shared_dir() else {
-        return;
-    };
+fn synthetic_recording_through_a_radio_link() {
+    let Some(elf) = imu_elf() else { return };
+    let stream = synthetic(4.0, Mode::LeastSquares);
+    through_a_radio_link(&elf, &stream, "synthetic 400 samples, radio link");
+}
+
+/// The real recording (`../shared/data/imu/`), its first `rows` rows, solved in `mode`; `None`
+/// (the reason printed) without the data or the firmware.
+fn real(rows: usize, mode: Mode) -> Option<(PathBuf, OrientationStream)> {
+    let shared = common::shared_dir()?;
     let dir = shared.join("data/imu");
     if !dir.join("walking_orientations.sto").is_file() {
         eprintln!("skipped: {} has no walking_orientations.sto", dir.display());
-        return;
+        return None;
     }
-    let Some(elf) = imu_elf() else { return };
+    let elf = imu_elf()?;
+    let (stream, _) = OrientationStream::read(
+        &dir.join("walking_orientations.sto"),
+        &dir.join("placement_orientations.sto"),
+        &Settings::opensense_tutorial(),
+        mode,
+        Some(rows),
+    )
+    .expect("the recording reads");
+    Some((elf, stream))
+}
+
+#[test]
+fn real_recording_through_a_radio_link() {
+    let Some((elf, stream)) = real(500, Mode::LeastSquares) else {
+        return;
+    };
+    through_a_radio_link(
+        &elf,
+        &stream,
+        "OpenSense tutorial recording, first 500 rows, radio link",
+    );
+}
+
+#[test]
+fn real_recording_clean() {
     for mode in [Mode::LeastSquares, Mode::ClosedForm] {
-        let (stream, _) = OrientationStream::read(
-            &dir.join("walking_orientations.sto"),
-            &dir.join("placement_orientations.sto"),
-            &Settings::opensense_tutorial(),
-            mode,
-            Some(500),
-        )
-        .expect("the recording reads");
+        let Some((elf, stream)) = real(500, mode) else {
+            return;
+        };
         let what = format!("OpenSense tutorial recording, first 500 rows, {mode:?}");
         let c = clean(&elf, &stream, &what);
         assert_eq!(c.unknown, 0);

@@ -283,7 +283,9 @@ pub struct VerifyArgs {
     #[command(flatten)]
     pub port: PortArgs,
     /// The IMU recording the hub was sent (as `qgait packets --orientations`): its frames are
-    /// also checked against the host's f64 IMU path on the same stream.
+    /// also checked against the host's f64 IMU path on the same stream (the rows the hub sent
+    /// frames for, so a damaged link's lost samples are skipped on both sides; held frames are
+    /// not compared).
     #[command(flatten)]
     pub imu: OrientationArgs,
 }
@@ -527,7 +529,6 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     let mut decoder = LogDecoder::new();
     let mut verifier = Verifier::new(&model.device, Expected::FirstToLast);
     let imu = args.imu.stream(quiet)?;
-    let host = imu.as_ref().map(|s| s.host_angles()).transpose()?;
     let mut poses = Vec::new();
     let end = port::read_log(&mut input, &mut decoder, args.port.until(), |event| {
         match event {
@@ -539,7 +540,7 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
                 } = &record
                 {
                     verifier.add(p);
-                    if host.is_some() {
+                    if imu.is_some() {
                         poses.push(p.clone());
                     }
                 }
@@ -563,8 +564,11 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     let tol = args.tol_um * 1e-6;
     println!("{}", v.report(tol));
     let mut passed = v.passed(tol);
-    if let Some(host) = &host {
-        let c = OrientationCheck::run(&poses, host);
+    if let Some(imu) = &imu {
+        // The rows the hub solved, as it solved them (a lost sample skipped on both sides).
+        let solved: std::collections::HashSet<u32> = poses.iter().map(|p| p.seq).collect();
+        let host = imu.host_angles_of(|seq| solved.contains(&seq))?;
+        let c = OrientationCheck::run(&poses, &host);
         println!("{}", c.report(tol));
         passed &= c.passed(tol);
     }

@@ -19,8 +19,8 @@ use qgait_proto::device_model::{
     input_mode, kernel_mode, kernel_settings, q14_quat, wire_segment, wire_settings,
 };
 use qgait_proto::{
-    Config, ImuConfig, Message, MissingPolicy, ModelId, PoseFrame, PoseModels, SegmentId,
-    SegmentOrientation, PROTOCOL_VERSION,
+    Config, FrameFlags, ImuConfig, Message, MissingPolicy, ModelId, PoseFrame, PoseModels,
+    SegmentId, SegmentOrientation, PROTOCOL_VERSION,
 };
 
 use crate::diagnostics::Warning;
@@ -206,7 +206,18 @@ impl OrientationStream {
     /// The host's `f64` computation of every row (index `k` is sample `k + 1`): the Q14
     /// readings decoded, the kernel's calibration on the calibration pose with the settings as
     /// sent, its solver on each row in order.
-    pub fn host_angles(&self) -> Result<Vec<[f64; 17]>, OrientationStreamError> {
+    pub fn host_angles(&self) -> Result<Vec<Option<[f64; 17]>>, OrientationStreamError> {
+        self.host_angles_of(|_| true)
+    }
+
+    /// [`host_angles`](Self::host_angles) of the rows whose sequence number `solved` holds,
+    /// the others skipped (`None`): the rows a hub solved (the ones it sent a frame for), so
+    /// that the least squares' warm start, the previous solved row, is the same on both sides
+    /// when the link lost samples (the hub drops an incomplete sample without solving it).
+    pub fn host_angles_of(
+        &self,
+        solved: impl Fn(u32) -> bool,
+    ) -> Result<Vec<Option<[f64; 17]>>, OrientationStreamError> {
         let model = Gait2392::<f64>::new(&Gait2392Geometry::generic())?;
         let decode = |s: &Q14Sample| Orientations {
             q: core::array::from_fn(|i| {
@@ -221,11 +232,14 @@ impl OrientationStream {
         )?;
         let mode = kernel_mode(self.imu.mode).unwrap_or(Mode::LeastSquares);
         let mut solver = Solver::<f64>::new();
-        self.rows
-            .iter()
-            .map(|(_, s)| {
+        (1u32..)
+            .zip(&self.rows)
+            .map(|(seq, (_, s))| {
+                if !solved(seq) {
+                    return Ok(None);
+                }
                 let segments = calibration.segments(&decode(s))?;
-                Ok(solver.solve(&model, &segments, mode).coordinates)
+                Ok(Some(solver.solve(&model, &segments, mode).coordinates))
             })
             .collect()
     }
@@ -236,8 +250,12 @@ impl OrientationStream {
 pub struct OrientationCheck {
     /// Frames compared.
     pub frames: u64,
-    /// Frames whose sequence number is no row of the stream.
+    /// Frames whose sequence number is no row of the stream (or a row the host did not solve).
     pub unknown: u64,
+    /// Frames the hub computed from a held sample ([`FrameFlags::HELD`](qgait_proto::FrameFlags::HELD):
+    /// some sensors missing, their coordinates kept): not compared, the host solves every row
+    /// from all its readings.
+    pub held: u64,
     /// Largest distance of a hub point from the host's (metres).
     pub max_point_m: f64,
     /// Largest difference of a hub angle from the host's (radians; MTP joints included).
@@ -249,11 +267,16 @@ pub struct OrientationCheck {
 impl OrientationCheck {
     /// Compares `frames` with `host` ([`OrientationStream::host_angles`]): each frame's angles
     /// and points with the host's angles and their `f64` gait2392 pose.
-    pub fn run(frames: &[PoseFrame], host: &[[f64; 17]]) -> OrientationCheck {
+    pub fn run(frames: &[PoseFrame], host: &[Option<[f64; 17]>]) -> OrientationCheck {
         let models = PoseModels::<f64>::defaults();
         let mut c = OrientationCheck::default();
         for f in frames {
-            let Some(want) = (f.seq as usize).checked_sub(1).and_then(|k| host.get(k)) else {
+            if f.flags & FrameFlags::HELD != 0 {
+                c.held += 1;
+                continue;
+            }
+            let want = (f.seq as usize).checked_sub(1).and_then(|k| host.get(k));
+            let Some(Some(want)) = want else {
                 c.unknown += 1;
                 continue;
             };
@@ -305,6 +328,10 @@ impl OrientationCheck {
             } else {
                 String::new()
             }
-        )
+        ) + &if self.held > 0 {
+            format!(", {} held frames not compared", self.held)
+        } else {
+            String::new()
+        }
     }
 }
