@@ -30,8 +30,8 @@ fn build_and_measure(name: &str, args: &[&str]) -> Result<Footprint, String> {
     footprint(&bytes)
 }
 
-/// Builds, measures and prints; `chain`: the mps2-an386 firmware with its `chain` feature.
-pub fn run(chain: bool) -> Result<ExitCode, String> {
+/// Builds, measures and prints; `chain`, `imu`: the mps2-an386 firmware with those features.
+pub fn run(chain: bool, imu: bool) -> Result<ExitCode, String> {
     let nrf = build_and_measure(
         "nrf52840",
         &[
@@ -42,13 +42,18 @@ pub fn run(chain: bool) -> Result<ExitCode, String> {
             "nrf52840",
         ],
     )?;
-    let mps2 = if chain {
-        build_and_measure(
-            "mps2-an386 with chain models",
-            &["build", "--release", "--features", "chain"],
-        )?
-    } else {
+    let features: Vec<&str> = [("chain", chain), ("imu", imu)]
+        .into_iter()
+        .filter_map(|(f, on)| on.then_some(f))
+        .collect();
+    let mps2 = if features.is_empty() {
         build_and_measure("mps2-an386", &["build", "--release"])?
+    } else {
+        let list = features.join(",");
+        build_and_measure(
+            &format!("mps2-an386 with {}", features.join(" and ")),
+            &["build", "--release", "--features", &list],
+        )?
     };
     let report = crate::session::run(&elf_path())?;
     let bound = crate::stack_bound::bound(&elf_path())?;

@@ -61,6 +61,10 @@ enum Task {
         /// The firmware with its `chain` feature (imported chains on the hub) instead.
         #[arg(long)]
         chain: bool,
+        /// The firmware with its `imu` feature (the IMU orientation input) instead (with
+        /// `--chain`: both).
+        #[arg(long)]
+        imu: bool,
     },
     /// Every benchmark figure (device, footprint, host), one `NAME VALUE` line each.
     Bench(bench::BenchArgs),
@@ -70,7 +74,7 @@ fn main() -> ExitCode {
     let result = match Xtask::parse().command {
         Task::Test => test::run(),
         Task::Demo => demo::run_demo(),
-        Task::Footprint { chain } => footprint::run(chain),
+        Task::Footprint { chain, imu } => footprint::run(chain, imu),
         Task::Bench(args) => bench::run(&args),
         Task::QemuRun { elf, .. } => qemu::run_elf(&elf),
     };

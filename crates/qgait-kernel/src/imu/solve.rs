@@ -36,54 +36,36 @@ pub enum Mode {
     LeastSquares,
 }
 
-/// Coordinate ranges (radians): the least squares and the closed form clamp the leg
-/// coordinates to them.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ranges<T> {
-    /// Lower bounds, in chain coordinate order.
-    pub min: [T; 17],
-    /// Upper bounds.
-    pub max: [T; 17],
+/// The range of chain coordinate `i` (radians) that the least squares and the closed form clamp
+/// it to: the ranges written in `gait2392_simbody.osim` (hips +-120 degrees, knees -120 to
+/// +10, right ankle, subtalars and right MTP +-90, left ankle and left MTP +-60), except the
+/// pelvis, which is unbounded (turning: its +-90 degree range is not applied). Computed, not
+/// stored: each bound folds to a constant (no table in the device's RAM).
+// The model file's numbers (radians rounded to 8 digits), not approximations of pi.
+#[allow(clippy::approx_constant)]
+pub fn range<T: Real>(i: usize) -> (T, T) {
+    let (hip, r90, r60) = (2.094_395_1, 1.570_796_33, 1.047_197_55);
+    let (min, max) = match i {
+        0..=2 => (f64::NEG_INFINITY, f64::INFINITY),
+        6 | 13 => (-2.094_395_1, 0.174_532_93),
+        3..=5 | 10..=12 => (-hip, hip),
+        14 | 16 => (-r60, r60),
+        _ => (-r90, r90),
+    };
+    (T::from_f64(min), T::from_f64(max))
 }
 
-impl<T: Real> Ranges<T> {
-    /// The ranges written in `gait2392_simbody.osim` (hips +-120 degrees, knees -120 to +10,
-    /// right ankle, subtalars and right MTP +-90, left ankle and left MTP +-60), except the
-    /// pelvis, which is unbounded (turning: its +-90 degree range is not applied).
-    // The model file's numbers (radians rounded to 8 digits), not approximations of pi.
-    #[allow(clippy::approx_constant)]
-    #[rustfmt::skip]
-    pub fn gait2392() -> Self {
-        let inf = f64::INFINITY;
-        let (hip, knee) = (2.094_395_1, (-2.094_395_1, 0.174_532_93));
-        let (r90, r60) = (1.570_796_33, 1.047_197_55);
-        // Written out, not mapped: each conversion folds to a constant (no `f64` code on the
-        // device).
-        let t = T::from_f64;
-        Self {
-            min: [
-                t(-inf), t(-inf), t(-inf),
-                t(-hip), t(-hip), t(-hip), t(knee.0), t(-r90), t(-r90), t(-r90),
-                t(-hip), t(-hip), t(-hip), t(knee.0), t(-r60), t(-r90), t(-r60),
-            ],
-            max: [
-                t(inf), t(inf), t(inf),
-                t(hip), t(hip), t(hip), t(knee.1), t(r90), t(r90), t(r90),
-                t(hip), t(hip), t(hip), t(knee.1), t(r60), t(r90), t(r60),
-            ],
-        }
-    }
-
-    /// `q` clamped to the range of coordinate `i` (NaN stays NaN).
-    #[inline]
-    fn clamp(&self, i: usize, q: T) -> T {
-        if q < self.min[i] {
-            self.min[i]
-        } else if q > self.max[i] {
-            self.max[i]
-        } else {
-            q
-        }
+/// `q` clamped to the [`range`] of coordinate `i` (NaN stays NaN). Not inlined: one copy of
+/// the bounds on the device (flash).
+#[inline(never)]
+fn clamp<T: Real>(i: usize, q: T) -> T {
+    let (min, max) = range::<T>(i);
+    if q < min {
+        min
+    } else if q > max {
+        max
+    } else {
+        q
     }
 }
 
@@ -120,14 +102,13 @@ fn axes<T: Real, const N: usize>(model: &Gait2392<T>, j: usize) -> [Vec3<T>; N] 
 /// The closed form (see the [module](super) docs): each joint's relative rotation decomposed
 /// into its axes, for the segment orientations `segments` ([`Calibration::segments`](super::Calibration::segments)).
 /// Coordinates whose segments are missing keep their value in `previous`; `pelvis_rotation`
-/// is unwrapped relative to it. Leg coordinates are clamped to `ranges`.
+/// is unwrapped relative to it. Leg coordinates are clamped to their [`range`].
 pub fn closed_form<T: Real>(
     model: &Gait2392<T>,
     segments: &Orientations<T>,
     previous: &ImuAngles<T>,
-    ranges: &Ranges<T>,
 ) -> ImuAngles<T> {
-    decompose(model, segments, previous, ranges, true)
+    decompose(model, segments, previous, true)
 }
 
 /// [`closed_form`], the legs only if `legs` (otherwise they keep `previous`'s values: the
@@ -138,7 +119,6 @@ fn decompose<T: Real>(
     model: &Gait2392<T>,
     segments: &Orientations<T>,
     previous: &ImuAngles<T>,
-    ranges: &Ranges<T>,
     legs: bool,
 ) -> ImuAngles<T> {
     let mut out = *previous;
@@ -165,7 +145,7 @@ fn decompose<T: Real>(
             (Some(p), Some(f)) => {
                 let hip = three_axes(p.conj() * f, axes(model, leg.hip));
                 for (k, angle) in hip.into_iter().enumerate() {
-                    q[c + k] = ranges.clamp(c + k, angle);
+                    q[c + k] = clamp(c + k, angle);
                 }
             }
             _ => out.held |= 0b111 << c,
@@ -173,7 +153,7 @@ fn decompose<T: Real>(
         match (femur, tibia) {
             (Some(f), Some(t)) => {
                 let [knee] = axes(model, leg.hip + 1);
-                q[c + 3] = ranges.clamp(c + 3, twist(f.conj() * t, knee));
+                q[c + 3] = clamp(c + 3, twist(f.conj() * t, knee));
             }
             _ => out.held |= 1 << (c + 3),
         }
@@ -182,8 +162,8 @@ fn decompose<T: Real>(
                 let [ankle] = axes(model, leg.hip + 2);
                 let [subtalar] = axes(model, leg.hip + 3);
                 let [a, s] = two_axes(t.conj() * f, ankle, subtalar);
-                q[c + 4] = ranges.clamp(c + 4, a);
-                q[c + 5] = ranges.clamp(c + 5, s);
+                q[c + 4] = clamp(c + 4, a);
+                q[c + 5] = clamp(c + 5, s);
             }
             _ => out.held |= 0b11 << (c + 4),
         }
@@ -215,17 +195,19 @@ pub fn heading_free_pelvis<T: Real>(model: &Gait2392<T>, pelvis: [T; 3], heading
 }
 
 /// Solves `(H + damping I) x = b` for the leading `n x n` block (`n <= 6`) of a symmetric
-/// positive semi-definite `H` by Cholesky; `None` if it is not positive definite or the result
+/// positive semi-definite `H` by Cholesky, in place (`h`'s lower triangle becomes the factor:
+/// no second matrix on the device's stack); `None` if it is not positive definite or the result
 /// is not finite. The damping (1e-6) leaves a coordinate that no sensor depends on (a zero
 /// row and column, e.g. a locked joint) where it is.
 #[allow(clippy::needless_range_loop)] // (index arithmetic is the algorithm)
-pub(crate) fn solve_normal<T: Real>(h: &[[T; 6]; 6], b: &[T; 6], n: usize) -> Option<[T; 6]> {
+pub(crate) fn solve_normal<T: Real>(h: &mut [[T; 6]; 6], b: &[T; 6], n: usize) -> Option<[T; 6]> {
     let n = n.min(6);
     let damping = T::from_f64(1e-6);
-    let mut l = [[T::ZERO; 6]; 6];
+    // Row by row: l[i][j] (j <= i) replaces h[i][j], which is read only before.
+    let l = h;
     for i in 0..n {
         for j in 0..=i {
-            let mut s = h[i][j];
+            let mut s = l[i][j];
             if i == j {
                 s += damping;
             }
@@ -242,21 +224,24 @@ pub(crate) fn solve_normal<T: Real>(h: &[[T; 6]; 6], b: &[T; 6], n: usize) -> Op
             }
         }
     }
-    let mut y = [T::ZERO; 6];
+    // Forward then back substitution, in one vector.
+    let mut x = *b;
     for i in 0..n {
-        let mut s = b[i];
+        let mut s = x[i];
         for k in 0..i {
-            s -= l[i][k] * y[k];
+            s -= l[i][k] * x[k];
         }
-        y[i] = s / l[i][i];
+        x[i] = s / l[i][i];
     }
-    let mut x = [T::ZERO; 6];
     for i in (0..n).rev() {
-        let mut s = y[i];
+        let mut s = x[i];
         for k in i + 1..n {
             s -= l[k][i] * x[k];
         }
         x[i] = s / l[i][i];
+    }
+    for v in &mut x[n..] {
+        *v = T::ZERO;
     }
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
@@ -297,12 +282,8 @@ impl<T: Real> NormalEquations<T> {
 
     /// The step for the first `n` coordinates (`None` if singular or not finite).
     pub fn step(mut self, n: usize) -> Option<[T; 6]> {
-        for a in 0..6 {
-            for b in a + 1..6 {
-                self.h[a][b] = self.h[b][a];
-            }
-        }
-        solve_normal(&self.h, &self.g, n)
+        // The factorisation reads the lower triangle only.
+        solve_normal(&mut self.h, &self.g, n)
     }
 
     /// The step for the first `n` coordinates `q` within the bounds `min`, `max` (an active
@@ -320,7 +301,8 @@ impl<T: Real> NormalEquations<T> {
             }
         }
         loop {
-            let step = solve_normal(&system.h, &system.g, n)?;
+            let mut factor = system.h;
+            let step = solve_normal(&mut factor, &system.g, n)?;
             let mut changed = false;
             for k in 0..n {
                 let beyond =
@@ -363,7 +345,6 @@ fn gauss_newton_step<T: Real>(
     frames: &[Frame<T>; 11],
     segments: &Orientations<T>,
     q: &mut [T; 17],
-    ranges: &Ranges<T>,
 ) {
     let c = leg.first;
     // The six coordinates' axes in ground: the hip's three (body-fixed: the first in the
@@ -401,20 +382,18 @@ fn gauss_newton_step<T: Real>(
     }
     if let Some(step) = normal.step(6) {
         for (k, d) in step.into_iter().enumerate() {
-            q[c + k] = ranges.clamp(c + k, q[c + k] + d);
+            q[c + k] = clamp(c + k, q[c + k] + d);
         }
     }
 }
 
 /// The state kept from frame to frame: the previous solution (warm start, held coordinates,
-/// unwrapping), the clamping ranges and the iteration count.
+/// unwrapping) and the iteration count.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Solver<T> {
     previous: ImuAngles<T>,
     /// Whether `previous` holds a solution (false before the first frame and after a reset).
     started: bool,
-    /// Clamping ranges.
-    pub ranges: Ranges<T>,
     /// Gauss-Newton iterations per frame in [`Mode::LeastSquares`].
     pub iterations: usize,
 }
@@ -426,13 +405,12 @@ impl<T: Real> Default for Solver<T> {
 }
 
 impl<T: Real> Solver<T> {
-    /// A solver with gait2392's ranges and [`ITERATIONS`] iterations, before its first frame
+    /// A solver with [`ITERATIONS`] iterations, before its first frame
     /// (every coordinate zero).
     pub fn new() -> Self {
         Self {
             previous: ImuAngles::default(),
             started: false,
-            ranges: Ranges::gait2392(),
             iterations: ITERATIONS,
         }
     }
@@ -461,13 +439,13 @@ impl<T: Real> Solver<T> {
         // The least squares starts from the previous frame's legs once it has one (the
         // closed form only for the pelvis and lumbar joint), from the closed form before.
         let legs = mode == Mode::ClosedForm || !self.started;
-        let mut out = decompose(model, segments, &self.previous, &self.ranges, legs);
+        let mut out = decompose(model, segments, &self.previous, legs);
         if mode == Mode::LeastSquares {
             let mut q = out.coordinates;
             for _ in 0..self.iterations {
                 let frames = frames(model, &q);
                 for leg in &LEGS {
-                    gauss_newton_step(model, leg, &frames, segments, &mut q, &self.ranges);
+                    gauss_newton_step(model, leg, &frames, segments, &mut q);
                 }
             }
             out.coordinates = q;
