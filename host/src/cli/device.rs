@@ -58,28 +58,9 @@ pub struct OrientationArgs {
     /// The static calibration pose of --orientations (its first row).
     #[arg(long, value_name = "STATIC.sto", requires = "orientations")]
     pub calibration: Option<PathBuf>,
-    /// As `qgait imu --base-imu`.
-    #[arg(long, value_name = "NAME")]
-    pub base_imu: Option<String>,
-    /// As `qgait imu --base-heading-axis`.
-    #[arg(
-        long,
-        default_value = "z",
-        value_name = "x|-x|y|-y|z|-z",
-        allow_hyphen_values = true
-    )]
-    pub base_heading_axis: String,
-    /// As `qgait imu --sensor-to-opensim` (radians, space-fixed X, Y, Z).
-    #[arg(
-        long,
-        default_value = "-1.5707963267948966,0,0",
-        value_name = "RX,RY,RZ",
-        allow_hyphen_values = true
-    )]
-    pub sensor_to_opensim: String,
-    /// The hub's solver: per-leg least squares or the per-joint closed form.
-    #[arg(long, value_enum, default_value_t = crate::cli::imu::ModeArg::LeastSquares)]
-    pub mode: crate::cli::imu::ModeArg,
+    /// Calibration, heading and the hub's solver, as `qgait imu`'s.
+    #[command(flatten)]
+    pub settings: crate::cli::imu::ImuSettingsArgs,
     /// Only the first N rows of --orientations.
     #[arg(long, value_name = "N")]
     pub rows: Option<usize>,
@@ -92,27 +73,8 @@ impl OrientationArgs {
         else {
             return Ok(None);
         };
-        // `qgait imu`'s reading of the options.
-        let settings = crate::cli::imu::settings(&crate::cli::imu::ImuArgs {
-            orientations: orientations.clone(),
-            calibration: calibration.clone(),
-            model: ModelArgs::default(),
-            base_imu: self.base_imu.clone(),
-            base_heading_axis: self.base_heading_axis.clone(),
-            sensor_to_opensim: self.sensor_to_opensim.clone(),
-            mode: self.mode,
-            pelvis: crate::cli::imu::PelvisArg::Opensense,
-            lumbar: None,
-            imu_mapping: None,
-            rate: None,
-            compare: None,
-            figures: None,
-            output: PathBuf::new(),
-        })?;
-        let mode = match self.mode {
-            crate::cli::imu::ModeArg::LeastSquares => qgait_kernel::imu::Mode::LeastSquares,
-            crate::cli::imu::ModeArg::ClosedForm => qgait_kernel::imu::Mode::ClosedForm,
-        };
+        let settings = self.settings.settings()?;
+        let mode = self.settings.mode();
         let (stream, warnings) =
             OrientationStream::read(orientations, calibration, &settings, mode, self.rows)?;
         Diagnostics::new(quiet).warn(warnings);

@@ -55,32 +55,9 @@ pub struct ImuArgs {
     /// coordinates, solved on its own joints).
     #[command(flatten)]
     pub model: ModelArgs,
-    /// The IMU whose heading axis points forward in the calibration pose (OpenSense's
-    /// `base_imu_label`, e.g. `torso_imu` or `pelvis_imu`); default none: no heading
-    /// correction, as OpenSense (the subject then faces the sensors' world x at calibration).
-    #[arg(long, value_name = "NAME")]
-    pub base_imu: Option<String>,
-    /// The base IMU's axis that points forward (OpenSense's `base_heading_axis`).
-    #[arg(
-        long,
-        default_value = "z",
-        value_name = "x|-x|y|-y|z|-z",
-        allow_hyphen_values = true
-    )]
-    pub base_heading_axis: String,
-    /// Rotation from the sensors' world frame to OpenSim's (y up): space-fixed X, Y, Z Euler
-    /// angles in radians, as OpenSense's `sensor_to_opensim_rotations` (the default turns a
-    /// z-up world, Xsens or APDM, to OpenSim's y up).
-    #[arg(
-        long,
-        default_value = "-1.5707963267948966,0,0",
-        value_name = "RX,RY,RZ",
-        allow_hyphen_values = true
-    )]
-    pub sensor_to_opensim: String,
-    /// The solver: per-leg least squares (OpenSense's problem) or the per-joint closed form.
-    #[arg(long, value_enum, default_value_t = ModeArg::LeastSquares)]
-    pub mode: ModeArg,
+    /// Calibration, heading and solver.
+    #[command(flatten)]
+    pub settings: ImuSettingsArgs,
     /// The pelvis's convention: `opensense` (in the sensors' world frame, heading in
     /// `pelvis_rotation`, as OpenSense writes it) or `heading-free` (tilt and list relative to
     /// the direction of progression: the centred 2 s mean of `pelvis_rotation`; for analyses
@@ -127,52 +104,93 @@ pub enum PelvisArg {
 /// about two strides, so that the pelvis's rotation within a stride averages out.
 pub const PROGRESSION_WINDOW: f64 = 2.0;
 
-/// The settings from the command line (also `qgait packets --orientations` and `verify
-/// --orientations`, which take the same options).
-pub(crate) fn settings(a: &ImuArgs) -> anyhow::Result<Settings<f64>> {
-    let parts: Vec<&str> = a.sensor_to_opensim.split(',').collect();
-    let mut r = [0.0; 3];
-    if parts.len() != 3 {
-        bail!(
-            "--sensor-to-opensim `{}`: expected three angles in radians, RX,RY,RZ",
-            a.sensor_to_opensim
-        );
+/// The calibration, heading and solver options of `qgait imu`, also taken by `qgait packets
+/// --orientations` and `verify --orientations` (the defaults: OpenSense's).
+#[derive(Debug, Args, Clone)]
+pub struct ImuSettingsArgs {
+    /// The IMU whose heading axis points forward in the calibration pose (OpenSense's
+    /// `base_imu_label`, e.g. `torso_imu` or `pelvis_imu`); default none: no heading
+    /// correction, as OpenSense (the subject then faces the sensors' world x at calibration).
+    #[arg(long, value_name = "NAME")]
+    pub base_imu: Option<String>,
+    /// The base IMU's axis that points forward (OpenSense's `base_heading_axis`).
+    #[arg(
+        long,
+        default_value = "z",
+        value_name = "x|-x|y|-y|z|-z",
+        allow_hyphen_values = true
+    )]
+    pub base_heading_axis: String,
+    /// Rotation from the sensors' world frame to OpenSim's (y up): space-fixed X, Y, Z Euler
+    /// angles in radians, as OpenSense's `sensor_to_opensim_rotations` (the default turns a
+    /// z-up world, Xsens or APDM, to OpenSim's y up).
+    #[arg(
+        long,
+        default_value = "-1.5707963267948966,0,0",
+        value_name = "RX,RY,RZ",
+        allow_hyphen_values = true
+    )]
+    pub sensor_to_opensim: String,
+    /// The solver: per-leg least squares (OpenSense's problem) or the per-joint closed form.
+    #[arg(long, value_enum, default_value_t = ModeArg::LeastSquares)]
+    pub mode: ModeArg,
+}
+
+impl ImuSettingsArgs {
+    /// The kernel's calibration settings.
+    pub(crate) fn settings(&self) -> anyhow::Result<Settings<f64>> {
+        let parts: Vec<&str> = self.sensor_to_opensim.split(',').collect();
+        let mut r = [0.0; 3];
+        if parts.len() != 3 {
+            bail!(
+                "--sensor-to-opensim `{}`: expected three angles in radians, RX,RY,RZ",
+                self.sensor_to_opensim
+            );
+        }
+        for (p, slot) in parts.iter().zip(&mut r) {
+            *slot = p
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| {
+                    format!(
+                        "--sensor-to-opensim `{}`: `{p}` is not a number (radians)",
+                        self.sensor_to_opensim
+                    )
+                })?;
+        }
+        let axis: HeadingAxis = self.base_heading_axis.parse().map_err(|()| {
+            anyhow::anyhow!(
+                "--base-heading-axis `{}`: expected x, -x, y, -y, z or -z",
+                self.base_heading_axis
+            )
+        })?;
+        let heading = match &self.base_imu {
+            None => None,
+            Some(name) => Some(Heading {
+                base: Segment::from_name(name).with_context(|| {
+                    format!(
+                        "--base-imu `{name}`: not an IMU of the set ({})",
+                        Segment::ALL.map(Segment::imu_label).join(", ")
+                    )
+                })?,
+                axis,
+            }),
+        };
+        Ok(Settings {
+            sensor_to_opensim: r,
+            heading,
+        })
     }
-    for (p, slot) in parts.iter().zip(&mut r) {
-        *slot = p
-            .trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .with_context(|| {
-                format!(
-                    "--sensor-to-opensim `{}`: `{p}` is not a number (radians)",
-                    a.sensor_to_opensim
-                )
-            })?;
+
+    /// The solver's mode.
+    pub(crate) fn mode(&self) -> Mode {
+        match self.mode {
+            ModeArg::LeastSquares => Mode::LeastSquares,
+            ModeArg::ClosedForm => Mode::ClosedForm,
+        }
     }
-    let axis: HeadingAxis = a.base_heading_axis.parse().map_err(|()| {
-        anyhow::anyhow!(
-            "--base-heading-axis `{}`: expected x, -x, y, -y, z or -z",
-            a.base_heading_axis
-        )
-    })?;
-    let heading = match &a.base_imu {
-        None => None,
-        Some(name) => Some(Heading {
-            base: Segment::from_name(name).with_context(|| {
-                format!(
-                    "--base-imu `{name}`: not an IMU of the set ({})",
-                    Segment::ALL.map(Segment::imu_label).join(", ")
-                )
-            })?,
-            axis,
-        }),
-    };
-    Ok(Settings {
-        sensor_to_opensim: r,
-        heading,
-    })
 }
 
 /// `--lumbar`.
@@ -297,15 +315,12 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     inputs.extend(a.model.inputs());
     refuse_overwrite([a.output.as_path()], &inputs)?;
     let chosen = a.model.load_or("gait2392", diagnostics)?;
-    let settings = settings(&a)?;
+    let settings = a.settings.settings()?;
     let rejected = |error| ModelError::Rejected {
         name: chosen.name().to_string(),
         error,
     };
-    let mode = match a.mode {
-        ModeArg::LeastSquares => Mode::LeastSquares,
-        ModeArg::ClosedForm => Mode::ClosedForm,
-    };
+    let mode = a.settings.mode();
     let heading_free = a.pelvis == PelvisArg::HeadingFree;
     let gait2392 = matches!(chosen, Model::Gait2392 { .. });
     if !gait2392 && mode == Mode::ClosedForm {
