@@ -14,9 +14,9 @@ use qgait_proto::{
 
 #[cfg(feature = "imu")]
 use crate::assembly::SegmentAssembler;
-use crate::assembly::{Assembler, PacketOutcome, SampleEvent};
+use crate::assembly::{Assembler, SampleEvent};
 use crate::clock::Clock;
-use crate::counters::bump;
+use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
 #[cfg(feature = "imu")]
 use crate::orientation::{ImuInput, SegmentOutput};
@@ -455,11 +455,7 @@ where
             out_of_range,
             &mut |e| output.on_sample(e),
         );
-        match outcome {
-            PacketOutcome::Late => bump(&mut self.status.late_packets),
-            PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
-            PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
-        }
+        count_outcome(&mut self.status, outcome);
     }
 
     /// A segment orientation: unit-length checked, then placed in its sample, as a joint
@@ -499,11 +495,7 @@ where
             false,
             &mut |e| output.on_sample(e),
         );
-        match outcome {
-            PacketOutcome::Late => bump(&mut self.status.late_packets),
-            PacketOutcome::Duplicate => bump(&mut self.status.duplicate_packets),
-            PacketOutcome::Stored | PacketOutcome::Resynced | PacketOutcome::NotRequired => {}
-        }
+        count_outcome(&mut self.status, outcome);
     }
 
     /// A segment orientation to a hub built without the orientation input: a message it does
