@@ -3,11 +3,8 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
-use qgait_kernel::models::custom::{
-    Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Offset,
-};
-use qgait_kernel::models::LowerLimb;
-use qgait_kernel::{Gait2392Geometry, Spline, Vec3};
+use qgait_kernel::models::fixtures::walker_chain;
+use qgait_kernel::Gait2392Geometry;
 use qgait_proto::device_model::pose_points;
 use qgait_proto::PoseModels;
 use qgait_proto::{
@@ -1085,109 +1082,6 @@ pub fn parts_of_another_upload_discard_the_held_ones() -> CheckResult {
     ensure!(hub.subject_parts().upload() == Some(2) && hub.subject_parts().count() == 1);
     ensure!(hub.status().config_rejected == 1 && hub.subject().is_none());
     Ok(())
-}
-
-/// A Rajagopal-shaped lower-limb chain: oriented offset frames, a walker knee whose second
-/// rotation is a `SimmSpline` and whose translation a piecewise linear function of its angle,
-/// the MTP coupled to the ankle (a `CoordinateCouplerConstraint`).
-pub fn walker_chain() -> LowerLimb<f64> {
-    let linear = |i: usize| {
-        (
-            Function::Linear {
-                slope: 1.0,
-                intercept: 0.0,
-            },
-            Argument::Coordinate(i),
-        )
-    };
-    let axis = |v: [f64; 3], (function, argument): (Function<f64>, Argument)| Driven {
-        axis: Vec3::from_f64(v),
-        function,
-        argument,
-    };
-    let x = [0.0, 0.3, 0.7, 1.1, 1.6, 2.1];
-    let (Ok(s0), Ok(s1)) = (
-        Spline::from_knots(&x, &[0.0, 0.02, 0.03, 0.033, 0.02, 0.0]),
-        Spline::piecewise_linear(&x, &[0.0, 0.001, 0.0013, 0.0014, 0.0015, 0.0016]),
-    ) else {
-        unreachable!("increasing knots")
-    };
-    let couplers = [Coupler {
-        independent: JointId::AnkleAngleR.index() as usize,
-        function: Function::Linear {
-            slope: 0.5,
-            intercept: 0.01,
-        },
-    }];
-    let mut joints = [CustomJoint::WELD; 11];
-    joints[0].rotations = [
-        axis([0., 0., 1.], linear(0)),
-        axis([1., 0., 0.], linear(1)),
-        axis([0., 1., 0.], linear(2)),
-    ];
-    let mut points = [BodyPoint {
-        body: 0,
-        offset: Vec3::zero(),
-    }; 12];
-    for side in 0..2 {
-        let (b, c) = (1 + 5 * side, 3 + 7 * side);
-        let z = if side == 0 { 1.0 } else { -1.0 };
-        joints[b].parent = Some(0);
-        joints[b].in_parent = Offset::from_xyz(Vec3::new(-0.06, -0.08, 0.08 * z), [0.0; 3]);
-        joints[b].rotations = [
-            axis([0., 0., 1.], linear(c)),
-            axis([1., 0., 0.], linear(c + 1)),
-            axis([0., 1., 0.], linear(c + 2)),
-        ];
-        let knee = [-1.64, 1.45, 1.57];
-        joints[b + 1].parent = Some(b);
-        joints[b + 1].in_parent = Offset::from_xyz(Vec3::new(-0.008, -0.405, -0.0027), knee);
-        joints[b + 1].in_child = Offset::from_xyz(Vec3::new(-0.008, -0.004, -0.0015), knee);
-        joints[b + 1].rotations[0] = axis([1., 0., 0.], linear(c + 3));
-        joints[b + 1].rotations[1] = axis(
-            [0., 0., 1.],
-            (Function::Spline(0), Argument::Coordinate(c + 3)),
-        );
-        joints[b + 1].translations[0] = axis(
-            [0., 1., 0.],
-            (Function::Spline(1), Argument::Coordinate(c + 3)),
-        );
-        let mtp = (
-            Function::Linear {
-                slope: 1.0,
-                intercept: 0.0,
-            },
-            Argument::Coupled(0),
-        );
-        for (k, (t, o, arg)) in [
-            ([-0.01, -0.43, 0.0], [0.17, -0.1, 0.02], linear(c + 4)),
-            ([-0.044, -0.042, 0.008], [-1.77, 0.9, 1.8], linear(c + 5)),
-            ([0.16, -0.002, 0.001], [-3.1, 0.62, 0.0], mtp),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            let j = &mut joints[b + 2 + k];
-            j.parent = Some(b + 1 + k);
-            j.in_parent = Offset::from_xyz(Vec3::from_f64(t), o);
-            j.in_child = Offset::from_xyz(Vec3::zero(), o);
-            j.rotations[0] = axis([0., 0., 1.], arg);
-        }
-        for k in 0..5 {
-            points[6 * side + k] = BodyPoint {
-                body: b + k,
-                offset: joints[b + k].in_child.translation,
-            };
-        }
-        points[6 * side + 5] = BodyPoint {
-            body: b + 4,
-            offset: Vec3::new(0.058, 0.007, 0.001 * z),
-        };
-    }
-    match LowerLimb::new(joints, points, &[s0, s1], &couplers) {
-        Ok(chain) => chain,
-        Err(_) => unreachable!("a valid table"),
-    }
 }
 
 /// Queues the parts of `upload` (joints, axes, splines), the last `skip` left out.

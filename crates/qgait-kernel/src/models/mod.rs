@@ -8,6 +8,8 @@
 //! | [`Phak`] | `pelvis_rotation`, `pelvis_list`, then `hip_flexion`, `knee_angle`, `ankle_angle` right and left | hip, knee, ankle, toe of both legs, origin at the pelvis origin, ground axes |
 
 pub mod custom;
+#[cfg(feature = "fixtures")]
+pub mod fixtures;
 pub mod gait2392;
 mod hak;
 mod phak;
