@@ -209,8 +209,8 @@ pub struct CustomChain<
 /// `R = R_P · (R_F Q₁ R_F⁻¹)(R_F Q₂ R_F⁻¹)(R_F Q₃ R_F⁻¹) · R_F R_M⁻¹` and
 /// `o = o_P + R_P (t_F + R_F Σ xᵢ dᵢ) − R t_M`: the rotation axes turned into the parent
 /// body's frame once, so an oriented pin whose frames share their orientation (Rajagopal's
-/// ankles, subtalars and toes) is one product about its axis, and the identity rotations and
-/// zero translations left out.
+/// ankles) is one product about its axis, and the identity rotations and zero translations
+/// left out.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Step<T> {
     /// The moving rotation axes in the parent body's frame (`R_F aᵢ`).
