@@ -65,6 +65,10 @@ const DEVICE: &[(&str, &str)] = &[
         "device.gait2392.matrix.instructions_per_frame",
     ),
     (
+        "rajagopal.quat",
+        "device.rajagopal.quat.instructions_per_frame",
+    ),
+    (
         "trig.half_angle_sin_cos",
         "device.trig.half_angle_sin_cos.instructions_per_call",
     ),

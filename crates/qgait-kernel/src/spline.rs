@@ -147,6 +147,14 @@ impl<T: Real, const K: usize> Spline<T, K> {
     /// (five selects a knot): for scalar code such as a device's, not for lanes.
     #[inline]
     pub fn eval_scalar(&self, t: T) -> T {
+        self.eval_in(self.interval(t), t)
+    }
+
+    /// The cubic [`eval_scalar`](Self::eval_scalar) evaluates at `t`: the last knot at or below
+    /// `t` (0 below the second knot; the last cubic for NaN). It depends on the knots'
+    /// abscissae only, so splines through the same abscissae share it (a knee's four).
+    #[inline]
+    pub fn interval(&self, t: T) -> usize {
         let last = self.last.min(K - 1);
         let mut k = 0;
         for j in 1..last {
@@ -157,6 +165,15 @@ impl<T: Real, const K: usize> Spline<T, K> {
                 k = j;
             }
         }
+        k
+    }
+
+    /// [`eval_scalar`](Self::eval_scalar) at `t` with its cubic `k` found already
+    /// ([`interval`](Self::interval) of `t`, of this spline or of one through the same
+    /// abscissae): bit for bit `eval_scalar(t)`.
+    #[inline]
+    pub fn eval_in(&self, k: usize, t: T) -> T {
+        let last = self.last.min(K - 1);
         let (x, y, b, c, d) = (self.x[k], self.y[k], self.b[k], self.c[k], self.d[k]);
         let dx = t - x;
         let inside = y + dx * (b + dx * (c + dx * d));
@@ -164,6 +181,11 @@ impl<T: Real, const K: usize> Spline<T, K> {
         let above = self.y[last] + (t - self.x[last]) * self.b[last];
         let v = t.lt_select(self.x[0], below, inside);
         self.x[last].lt_select(t, above, v)
+    }
+
+    /// Whether `interval` is the same function for both: the same knot count and abscissae.
+    pub fn same_abscissae(&self, other: &Self) -> bool {
+        self.last == other.last && self.knots().0 == other.knots().0
     }
 
     /// Converts to another precision.

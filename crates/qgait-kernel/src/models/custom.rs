@@ -191,18 +191,57 @@ pub struct CustomChain<
     const K: usize = MAX_SPLINE_KNOTS,
 > {
     joints: [CustomJoint<T>; B],
-    /// Per joint, how many rotations and translations move (the others, zero constants, are
-    /// dropped by [`new`](Self::new): no work for a locked coordinate or an unused axis).
-    moving: [(u8, u8); B],
-    /// `in_child` inverted, once; for a joint that does not move, `in_parent` followed by it.
-    child_inverse: [Offset<T>; B],
-    /// Per joint, whether each moving rotation is about a coordinate axis.
-    kinds: [[AxisKind; 3]; B],
+    /// Per joint, what [`frames`](Self::frames) computes with (built by
+    /// [`rebuild`](Self::rebuild) from the joint).
+    steps: [Step<T>; B],
     points: [BodyPoint<T>; P],
+    /// Per point, whether it is its body's origin (nothing to rotate).
+    at_origin: [bool; P],
     splines: [Spline<T, K>; S],
     couplers: [Coupler<T>; MAX_COUPLERS],
     /// How many of `splines` and `couplers` are in use.
     used: (u8, u8),
+}
+
+/// A joint as [`CustomChain::frames`] evaluates it, precomputed from the [`CustomJoint`] by
+/// [`CustomChain::rebuild`]. With `R_F`, `t_F` and `R_M`, `t_M` the parent and child offset
+/// frames, the body's frame on its parent's is
+/// `R = R_P · (R_F Q₁ R_F⁻¹)(R_F Q₂ R_F⁻¹)(R_F Q₃ R_F⁻¹) · R_F R_M⁻¹` and
+/// `o = o_P + R_P (t_F + R_F Σ xᵢ dᵢ) − R t_M`: the rotation axes turned into the parent
+/// body's frame once, so an oriented pin whose frames share their orientation (Rajagopal's
+/// ankles) is one product about its axis, and the identity rotations and zero translations
+/// left out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Step<T> {
+    /// The moving rotation axes in the parent body's frame (`R_F aᵢ`).
+    axes: [Vec3<T>; 3],
+    /// After the rotations: `R_F R_M⁻¹` and `−t_M`. For a joint that does not move, the whole
+    /// joint, `F · M⁻¹`, applied to the parent's frame.
+    end: Offset<T>,
+    /// Whether each of `axes` is a coordinate axis.
+    kinds: [AxisKind; 3],
+    /// How many rotations and translations move (the others, zero constants, are dropped by
+    /// [`CustomChain::new`]: no work for a locked coordinate or an unused axis).
+    moving: (u8, u8),
+    /// [`Shape`] bits: which parts of the joint are not the identity.
+    shape: u8,
+    /// Bit `i` (rotations 0 to 2, translations 3 to 5): the axis's spline takes the cubic the
+    /// previous spline-driven axis found (same argument, same abscissae: a knee's four).
+    shared: u8,
+}
+
+/// Bits of [`Step::shape`].
+struct Shape;
+
+impl Shape {
+    /// `t_F` is not zero or translations move: `R_P (t_F + …)` is computed.
+    const START: u8 = 1;
+    /// `R_F` is not the identity: translations are turned by it.
+    const ORIENTED: u8 = 2;
+    /// `R_F R_M⁻¹` is not the identity.
+    const TURNS: u8 = 4;
+    /// `t_M` is not zero.
+    const ENDS_AWAY: u8 = 8;
 }
 
 /// How a rotation axis is turned about: a coordinate axis (the cheaper product) or any.
@@ -228,7 +267,83 @@ pub struct BodyFrame<T> {
     pub origin: Vec3<T>,
 }
 
+impl<T: Real> Step<T> {
+    /// The step of `joint` (its zero constants dropped, `moving` the counts left).
+    fn of(joint: &CustomJoint<T>, moving: (u8, u8)) -> Self {
+        let (f, m) = (&joint.in_parent, &joint.in_child);
+        let identity = Quat::identity();
+        let mut step = Step {
+            axes: [Vec3::zero(); 3],
+            end: Offset::IDENTITY,
+            kinds: [AxisKind::General; 3],
+            moving,
+            shape: 0,
+            shared: 0,
+        };
+        if moving == (0, 0) {
+            // A joint that does not move (a weld, a locked pin) is one fixed offset: `F · M⁻¹`
+            // folded here, so `frames` applies one offset instead of two.
+            step.end = f.then(&m.inverse());
+            return step;
+        }
+        let oriented = f.rotation != identity;
+        for ((axis, kind), d) in step
+            .axes
+            .iter_mut()
+            .zip(&mut step.kinds)
+            .zip(&joint.rotations)
+        {
+            // (Exactly the axis when `F` is not turned: coordinate axes stay coordinate axes.)
+            *axis = if oriented {
+                let a = f.rotation.rotate(d.axis);
+                a * (T::ONE / a.norm())
+            } else {
+                d.axis
+            };
+            let (one, zero) = (T::ONE, T::ZERO);
+            *kind = if *axis == Vec3::new(one, zero, zero) {
+                AxisKind::X
+            } else if *axis == Vec3::new(zero, one, zero) {
+                AxisKind::Y
+            } else if *axis == Vec3::new(zero, zero, one) {
+                AxisKind::Z
+            } else {
+                AxisKind::General
+            };
+        }
+        // The same orientation on both sides (a pin's frames, a walker knee's) leaves no
+        // rotation after the joint's own.
+        let turn = if f.rotation == m.rotation {
+            identity
+        } else {
+            f.rotation * m.rotation.conj()
+        };
+        step.end = Offset {
+            translation: -m.translation,
+            rotation: turn,
+        };
+        let zero = Vec3::zero();
+        for (flag, on) in [
+            (Shape::START, f.translation != zero || moving.1 > 0),
+            (Shape::ORIENTED, oriented),
+            (Shape::TURNS, turn != identity),
+            (Shape::ENDS_AWAY, m.translation != zero),
+        ] {
+            if on {
+                step.shape |= flag;
+            }
+        }
+        step
+    }
+}
+
 impl<T: Real> BodyFrame<T> {
+    /// The ground frame.
+    const GROUND: Self = Self {
+        rotation: Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO),
+        origin: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+    };
+
     fn then(&self, o: &Offset<T>) -> Self {
         Self {
             origin: self.origin + self.rotation.rotate(o.translation),
@@ -261,13 +376,19 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 rotations: [still; 3],
                 translations: [still; 3],
             }; B],
-            moving: [(0, 0); B],
-            child_inverse: [offset; B],
-            kinds: [[AxisKind::General; 3]; B],
+            steps: [Step {
+                axes: [zero; 3],
+                end: offset,
+                kinds: [AxisKind::General; 3],
+                moving: (0, 0),
+                shape: 0,
+                shared: 0,
+            }; B],
             points: [BodyPoint {
                 body: 0,
                 offset: zero,
             }; P],
+            at_origin: [false; P],
             splines: [Spline::EMPTY; S],
             couplers: [Coupler {
                 independent: 0,
@@ -381,33 +502,36 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 }
                 *axes = kept;
             }
-            for (kind, d) in self.kinds[b].iter_mut().zip(&joint.rotations) {
-                let a = d.axis;
-                let (one, zero) = (T::ONE, T::ZERO);
-                *kind = if a.x == one && a.y == zero && a.z == zero {
-                    AxisKind::X
-                } else if a.x == zero && a.y == one && a.z == zero {
-                    AxisKind::Y
-                } else if a.x == zero && a.y == zero && a.z == one {
-                    AxisKind::Z
-                } else {
-                    AxisKind::General
-                };
-            }
             self.joints[b] = joint;
-            self.moving[b] = m;
-            // A joint that does not move (a weld, a locked pin) is one fixed offset: `F · M⁻¹`
-            // folded here, so `frames` applies one offset instead of two.
-            let inverse = joint.in_child.inverse();
-            self.child_inverse[b] = if m == (0, 0) {
-                joint.in_parent.then(&inverse)
-            } else {
-                inverse
-            };
+            self.steps[b] = Step::of(&joint, m);
         }
         self.points = *points;
+        self.at_origin = points.map(|p| p.offset == Vec3::zero());
         for (slot, k) in self.splines.iter_mut().zip(0..) {
             *slot = splines.get(k).copied().unwrap_or(Spline::EMPTY);
+        }
+        // Which spline-driven axes can take the cubic of the one before them (in the order
+        // `frames` evaluates them: by joint, rotations then translations).
+        let mut previous: Option<(usize, Argument)> = None;
+        for (joint, step) in self.joints.iter().zip(&mut self.steps) {
+            step.shared = 0;
+            let (nr, nt) = (usize::from(step.moving.0), usize::from(step.moving.1));
+            let moving = joint.rotations[..nr.min(3)]
+                .iter()
+                .zip(0..)
+                .chain(joint.translations[..nt.min(3)].iter().zip(3..));
+            for (d, i) in moving {
+                if let Function::Spline(k) = d.function {
+                    if let Some((j, argument)) = previous {
+                        if argument == d.argument
+                            && self.splines[k].same_abscissae(&self.splines[j])
+                        {
+                            step.shared |= 1 << i;
+                        }
+                    }
+                    previous = Some((k, d.argument));
+                }
+            }
         }
         for (slot, k) in self.couplers.iter_mut().zip(0..) {
             *slot = couplers.get(k).copied().unwrap_or(Coupler {
@@ -448,105 +572,141 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         }
     }
 
-    #[inline]
-    fn driven(&self, d: &Driven<T>, q: &[T; N], coupled: &[T; MAX_COUPLERS]) -> T {
+    /// Every body's frame in ground for input coordinates `q`.
+    pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
+        self.frames_of(q)
+    }
+
+    /// Every moving axis's value (radians or metres) for `q` into `values`, by joint:
+    /// rotations at 0 to 2, translations at 3 to 5. Splines through the same abscissae
+    /// evaluated at the same argument one after the other (a knee's four) share one knot
+    /// search.
+    #[inline(always)]
+    fn values(&self, q: &[T; N], values: &mut [[T; 6]; B]) {
+        let mut coupled = [T::ZERO; MAX_COUPLERS];
+        let used = usize::from(self.used.1).min(MAX_COUPLERS);
+        for (v, c) in coupled[..used].iter_mut().zip(&self.couplers) {
+            *v = self.value(&c.function, q[c.independent]);
+        }
+        // The cubic the last spline-driven axis took.
+        let mut cubic = 0;
+        for ((joint, step), v) in self.joints.iter().zip(&self.steps).zip(values) {
+            let (nr, nt) = (usize::from(step.moving.0), usize::from(step.moving.1));
+            for (i, d) in joint.rotations[..nr.min(3)].iter().enumerate() {
+                v[i] = self.axis_value(d, q, &coupled, &mut cubic, step.shared & (1 << i) != 0);
+            }
+            for (i, d) in joint.translations[..nt.min(3)].iter().enumerate() {
+                v[3 + i] = self.axis_value(d, q, &coupled, &mut cubic, step.shared & (8 << i) != 0);
+            }
+        }
+    }
+
+    /// The value of axis `d`; a spline's cubic found (into `cubic`) unless `shared`, then
+    /// `cubic` taken.
+    #[inline(always)]
+    fn axis_value(
+        &self,
+        d: &Driven<T>,
+        q: &[T; N],
+        coupled: &[T; MAX_COUPLERS],
+        cubic: &mut usize,
+        shared: bool,
+    ) -> T {
         let x = match d.argument {
             Argument::None => T::ZERO,
             Argument::Coordinate(i) => q[i],
             Argument::Coupled(k) => coupled[k],
         };
-        self.value(&d.function, x)
+        match d.function {
+            Function::Constant(c) => c,
+            Function::Linear { slope, intercept } => slope * x + intercept,
+            Function::Spline(k) => {
+                let s = &self.splines[k];
+                if !shared {
+                    *cubic = s.interval(x);
+                }
+                s.eval_in(*cubic, x)
+            }
+        }
     }
 
-    /// Every body's frame in ground for input coordinates `q`.
-    pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
-        let mut frames = [BodyFrame {
-            rotation: Quat::identity(),
-            origin: Vec3::zero(),
-        }; B];
-        self.frames_into(q, &mut frames);
+    /// [`frames`](Self::frames): every axis's value first (the spline calls out of the
+    /// geometry loop), then the frames as each joint's [`Step`] says. Joint 0, the one root,
+    /// fills the array the others then overwrite in order.
+    #[inline(always)]
+    fn frames_of(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
+        if B == 0 {
+            return [BodyFrame::GROUND; B];
+        }
+        let mut values = [[T::ZERO; 6]; B];
+        self.values(q, &mut values);
+        let mut frames = [self.frame(0, &BodyFrame::GROUND, &values[0]); B];
+        for b in 1..B {
+            // (`check`: every body after the first hangs on an earlier one.)
+            let parent = frames[self.joints[b].parent.unwrap_or(0)];
+            frames[b] = self.frame(b, &parent, &values[b]);
+        }
         frames
     }
 
-    /// [`frames`](Self::frames), written into `frames`. Every axis's value first (the spline
-    /// calls out of the geometry loop), then the frames; a rotation about a coordinate axis is
-    /// the cheaper product ([`Quat::then_about_x`] and the like).
-    fn frames_into(&self, q: &[T; N], frames: &mut [BodyFrame<T>; B]) {
-        let mut coupled = [T::ZERO; MAX_COUPLERS];
-        for (v, c) in coupled.iter_mut().zip(&self.couplers) {
-            *v = self.value(&c.function, q[c.independent]);
+    /// The frame of body `b` on its parent's frame, its axes' values `v`: a rotation about a
+    /// coordinate axis is the cheaper product ([`Quat::then_about_x`] and the like).
+    #[inline(always)]
+    fn frame(&self, b: usize, parent: &BodyFrame<T>, v: &[T; 6]) -> BodyFrame<T> {
+        let joint = &self.joints[b];
+        let step = &self.steps[b];
+        let (n_rotations, n_translations) = step.moving;
+        if n_rotations == 0 && n_translations == 0 {
+            return parent.then(&step.end);
         }
-        let mut values = [[T::ZERO; 6]; B];
-        for ((joint, &(nr, nt)), v) in self.joints.iter().zip(&self.moving).zip(&mut values) {
-            let (rot, trans) = v.split_at_mut(3);
-            for (slot, d) in rot
-                .iter_mut()
-                .zip(&joint.rotations[..usize::from(nr).min(3)])
-            {
-                *slot = self.driven(d, q, &coupled);
-            }
-            for (slot, d) in trans
-                .iter_mut()
-                .zip(&joint.translations[..usize::from(nt).min(3)])
-            {
-                *slot = self.driven(d, q, &coupled);
-            }
-        }
-        let ground = BodyFrame {
-            rotation: Quat::identity(),
-            origin: Vec3::zero(),
-        };
-        for b in 0..B {
-            let joint = &self.joints[b];
-            let parent = joint.parent.map_or(ground, |p| frames[p]);
-            let (n_rotations, n_translations) = self.moving[b];
-            if n_rotations == 0 && n_translations == 0 {
-                // Folded by `rebuild`: `F · M⁻¹` in one offset.
-                frames[b] = parent.then(&self.child_inverse[b]);
-                continue;
-            }
-            let f = parent.then(&joint.in_parent);
-            let v = &values[b];
-            let mut translation = Vec3::zero();
-            for (d, &x) in joint.translations[..n_translations as usize]
+        let mut origin = parent.origin;
+        if step.shape & Shape::START != 0 {
+            let mut slide = Vec3::zero();
+            for (d, &x) in joint.translations[..usize::from(n_translations).min(3)]
                 .iter()
                 .zip(&v[3..])
             {
-                translation += d.axis * x;
+                slide += d.axis * x;
             }
-            let mut rotation = f.rotation;
-            for ((d, &x), kind) in joint.rotations[..n_rotations as usize]
-                .iter()
-                .zip(v)
-                .zip(&self.kinds[b])
-            {
-                let (s, c) = x.half_angle_sin_cos();
-                rotation = match kind {
-                    AxisKind::X => rotation.then_about_x(s, c),
-                    AxisKind::Y => rotation.then_about_y(s, c),
-                    AxisKind::Z => rotation.then_about_z(s, c),
-                    AxisKind::General => rotation * Quat::from_axis_half_sin_cos(d.axis, s, c),
-                };
+            if step.shape & Shape::ORIENTED != 0 {
+                slide = joint.in_parent.rotation.rotate(slide);
             }
-            let m = BodyFrame {
-                origin: f.origin + f.rotation.rotate(translation),
-                rotation,
-            };
-            frames[b] = m.then(&self.child_inverse[b]);
+            origin += parent.rotation.rotate(joint.in_parent.translation + slide);
         }
+        let mut rotation = parent.rotation;
+        for ((axis, &x), kind) in step.axes[..usize::from(n_rotations).min(3)]
+            .iter()
+            .zip(v)
+            .zip(&step.kinds)
+        {
+            let (s, c) = x.half_angle_sin_cos();
+            rotation = match kind {
+                AxisKind::X => rotation.then_about_x(s, c),
+                AxisKind::Y => rotation.then_about_y(s, c),
+                AxisKind::Z => rotation.then_about_z(s, c),
+                AxisKind::General => rotation * Quat::from_axis_half_sin_cos(*axis, s, c),
+            };
+        }
+        if step.shape & Shape::TURNS != 0 {
+            rotation = rotation * step.end.rotation;
+        }
+        if step.shape & Shape::ENDS_AWAY != 0 {
+            origin += rotation.rotate(step.end.translation);
+        }
+        BodyFrame { rotation, origin }
     }
 
     /// The output points in ground for input coordinates `q`: forward kinematics.
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
-        let mut frames = [BodyFrame {
-            rotation: Quat::identity(),
-            origin: Vec3::zero(),
-        }; B];
-        self.frames_into(q, &mut frames);
+        let frames = self.frames_of(q);
         let mut out = [Vec3::zero(); P];
-        for (o, p) in out.iter_mut().zip(&self.points) {
+        for ((o, p), &at_origin) in out.iter_mut().zip(&self.points).zip(&self.at_origin) {
             let f = &frames[p.body];
-            *o = f.origin + f.rotation.rotate(p.offset);
+            *o = if at_origin {
+                f.origin
+            } else {
+                f.origin + f.rotation.rotate(p.offset)
+            };
         }
         out
     }
@@ -581,13 +741,19 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 rotations: j.rotations.map(d),
                 translations: j.translations.map(d),
             }),
-            moving: self.moving,
-            child_inverse: self.child_inverse.map(o),
-            kinds: self.kinds,
+            steps: self.steps.map(|st| Step {
+                axes: st.axes.map(v),
+                end: o(st.end),
+                kinds: st.kinds,
+                moving: st.moving,
+                shape: st.shape,
+                shared: st.shared,
+            }),
             points: self.points.map(|p| BodyPoint {
                 body: p.body,
                 offset: v(p.offset),
             }),
+            at_origin: self.at_origin,
             splines: self.splines.map(|sp| sp.cast()),
             couplers: self.couplers.map(|c| Coupler {
                 independent: c.independent,
@@ -785,5 +951,171 @@ mod tests {
         assert_eq!(slot, chain);
         assert!(slot.rebuild(&cyclic, &points, &[], &couplers).is_err());
         assert_eq!(slot, chain);
+    }
+
+    /// Every body's frame as OpenSim composes it, `X_PF · X_FM(q) · X_BM⁻¹` offset by offset
+    /// (what `frames` computed before its joints were precomputed into steps).
+    fn composed<const N: usize, const B: usize, const P: usize>(
+        chain: &CustomChain<f64, N, B, P>,
+        q: &[f64; N],
+    ) -> [BodyFrame<f64>; B] {
+        let ground = BodyFrame {
+            rotation: Quat::identity(),
+            origin: Vec3::zero(),
+        };
+        let mut frames = [ground; B];
+        let coupled: [f64; MAX_COUPLERS] = core::array::from_fn(|k| {
+            chain
+                .couplers()
+                .get(k)
+                .map_or(0.0, |c| chain.value(&c.function, q[c.independent]))
+        });
+        let value = |d: &Driven<f64>| {
+            let x = match d.argument {
+                Argument::None => 0.0,
+                Argument::Coordinate(i) => q[i],
+                Argument::Coupled(k) => coupled[k],
+            };
+            match d.function {
+                Function::Spline(k) => chain.splines()[k].eval(x),
+                f => chain.value(&f, x),
+            }
+        };
+        for (b, joint) in chain.joints().iter().enumerate() {
+            let parent = joint.parent.map_or(ground, |p| frames[p]);
+            let f = parent.then(&joint.in_parent);
+            let mut translation = Vec3::zero();
+            for d in &joint.translations {
+                translation += d.axis * value(d);
+            }
+            let mut rotation = f.rotation;
+            for d in &joint.rotations {
+                rotation = rotation * Quat::from_axis_angle(d.axis, value(d));
+            }
+            let m = BodyFrame {
+                origin: f.origin + f.rotation.rotate(translation),
+                rotation,
+            };
+            frames[b] = m.then(&joint.in_child.inverse());
+        }
+        frames
+    }
+
+    #[test]
+    fn steps_are_the_composed_offsets() {
+        // Oriented frames of both kinds (the same orientation on both sides, and not), a
+        // walker-knee-like joint with two splines through the same knots (one shared knot
+        // search) and a third through others, a coupled pin, a weld, a translation-only joint.
+        let x = [-1.0, -0.3, 0.2, 0.9, 1.6];
+        let other = [-1.0, -0.2, 0.2, 0.9, 1.6];
+        let splines = [
+            Spline::from_knots(&x, &[0.0, 0.05, 0.02, -0.04, 0.01]).unwrap(),
+            Spline::piecewise_linear(&x, &[0.01, 0.0, -0.01, 0.02, 0.03]).unwrap(),
+            Spline::from_knots(&other, &[0.0, 0.1, 0.03, 0.0, 0.2]).unwrap(),
+        ];
+        let coordinate = |i| {
+            (
+                Function::Linear {
+                    slope: 1.0,
+                    intercept: 0.0,
+                },
+                Argument::Coordinate(i),
+            )
+        };
+        let axis = |v: [f64; 3], (function, argument)| Driven {
+            axis: Vec3::from_f64(v),
+            function,
+            argument,
+        };
+        let spline = |k, i| (Function::Spline(k), Argument::Coordinate(i));
+        let mut joints = [CustomJoint::WELD; 6];
+        joints[0].rotations = [
+            axis([0., 0., 1.], coordinate(0)),
+            axis([1., 0., 0.], coordinate(1)),
+            axis([0., 1., 0.], coordinate(2)),
+        ];
+        joints[0].translations[1] = axis([0., 1., 0.], (Function::Constant(0.9), Argument::None));
+        let turned = [-1.64, 1.45, 1.57];
+        joints[1].parent = Some(0);
+        joints[1].in_parent = Offset::from_xyz(Vec3::new(-0.008, -0.405, -0.0027), turned);
+        joints[1].in_child = Offset::from_xyz(Vec3::new(-0.008, -0.004, -0.0015), turned);
+        joints[1].rotations = [
+            axis([-1., 0., 0.], coordinate(3)),
+            axis([0., 0., 1.], spline(0, 3)),
+            axis([0., 1., 0.], spline(2, 3)),
+        ];
+        joints[1].translations = [
+            axis([0., 1., 0.], spline(1, 3)),
+            axis([0., 0., 1.], spline(0, 3)),
+            Driven::NONE,
+        ];
+        joints[2].parent = Some(1);
+        joints[2].in_parent = Offset::from_xyz(Vec3::new(-0.01, -0.43, 0.0), [0.17, -0.1, 0.02]);
+        joints[2].in_child = Offset::from_xyz(Vec3::zero(), [0.17, -0.1, 0.02]);
+        joints[2].rotations[0] = axis(
+            [0., 0., 1.],
+            (
+                Function::Linear {
+                    slope: 0.5,
+                    intercept: 0.1,
+                },
+                Argument::Coupled(0),
+            ),
+        );
+        joints[3].parent = Some(2);
+        joints[3].in_parent = Offset::from_xyz(Vec3::new(0.1, 0.0, 0.02), [0.3, 0.0, -0.2]);
+        joints[3].in_child = Offset::from_xyz(Vec3::new(0.0, 0.01, 0.0), [-0.1, 0.4, 0.0]);
+        joints[3].rotations[0] = axis([0.6, 0.8, 0.], coordinate(4));
+        joints[4].parent = Some(3);
+        joints[4].in_parent = Offset::from_xyz(Vec3::new(0.05, 0.0, 0.0), [0.0, 0.2, 0.0]);
+        joints[4].in_child = Offset::from_xyz(Vec3::new(0.0, 0.0, 0.01), [0.1, 0.0, 0.0]);
+        joints[5].parent = Some(0);
+        joints[5].in_parent = Offset::from_xyz(Vec3::new(0.0, 0.1, 0.0), [0.0, 0.0, 0.3]);
+        joints[5].translations[0] = axis([1., 0., 0.], coordinate(4));
+        let points = [
+            BodyPoint {
+                body: 1,
+                offset: joints[1].in_child.translation,
+            },
+            BodyPoint {
+                body: 2,
+                offset: Vec3::zero(),
+            },
+            BodyPoint {
+                body: 4,
+                offset: Vec3::new(0.05, 0.01, 0.0),
+            },
+            BodyPoint {
+                body: 5,
+                offset: Vec3::zero(),
+            },
+        ];
+        let couplers = [Coupler {
+            independent: 3,
+            function: Function::Spline(2),
+        }];
+        let chain = CustomChain::<f64, 5, 6, 4>::new(joints, points, &splines, &couplers).unwrap();
+        // The knee's second spline takes the first's cubic; the third spline (other knots) and
+        // the first translation (after it) search again, the second translation shares.
+        assert_eq!(chain.steps[1].shared, 0b1_0000);
+        assert_eq!(chain.at_origin, [false, true, false, true]);
+        for k in 0..200 {
+            let q: [f64; 5] =
+                core::array::from_fn(|i| 1.4 * libm_sin(0.61 * (k * 5 + i) as f64 + 0.3));
+            let want = composed(&chain, &q);
+            for (a, b) in chain.frames(&q).iter().zip(&want) {
+                assert!(a.origin.max_abs_diff(b.origin) < 1e-15, "{k}: {a:?} {b:?}");
+                let r = a.rotation.conj() * b.rotation;
+                assert!(
+                    r.x.abs().max(r.y.abs()).max(r.z.abs()) < 1e-15,
+                    "{k}: {a:?} {b:?}"
+                );
+            }
+            for (p, point) in chain.forward(&q).iter().zip(&points) {
+                let f = &want[point.body];
+                let w = f.origin + f.rotation.rotate(point.offset);
+                assert!(p.max_abs_diff(w) < 1e-15, "{k}: {p:?} {w:?}");
+            }
+        }
     }
 }
