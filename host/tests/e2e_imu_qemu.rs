@@ -246,12 +246,7 @@ fn synthetic_recording_through_a_radio_link() {
 /// The real recording (`../shared/data/imu/`), its first `rows` rows, solved in `mode`; `None`
 /// (the reason printed) without the data or the firmware.
 fn real(rows: usize, mode: Mode) -> Option<(PathBuf, OrientationStream)> {
-    let shared = common::shared_dir()?;
-    let dir = shared.join("data/imu");
-    if !dir.join("walking_orientations.sto").is_file() {
-        eprintln!("skipped: {} has no walking_orientations.sto", dir.display());
-        return None;
-    }
+    let dir = common::imu_dir()?;
     let elf = imu_elf()?;
     let (stream, _) = OrientationStream::read(
         &dir.join("walking_orientations.sto"),

@@ -261,22 +261,10 @@ fn events_of_a_turning_synthetic_walk_are_within_one_frame_of_the_truth() {
 /// period of the knee angle (its autocorrelation's peak) over the walking part.
 #[test]
 fn imu_recording_strides_and_cadence() {
-    let Some(shared) = shared_dir() else { return };
-    let imu = shared.join("data/imu");
+    let Some(imu) = common::imu_dir() else { return };
     let dir = tempfile::tempdir().unwrap();
     let mot = dir.path().join("walk.mot");
-    let o = qgait(&[
-        "-q",
-        "imu",
-        imu.join("walking_orientations.sto").to_str().unwrap(),
-        "--calibration",
-        imu.join("placement_orientations.sto").to_str().unwrap(),
-        "--base-imu",
-        "torso_imu",
-        "-o",
-        mot.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::run_imu_tutorial(&imu, &mot, &[]);
     let out = dir.path().join("out");
     run_gait(&[mot.to_str().unwrap(), "-q", "-o", out.to_str().unwrap()]);
     let ours = events(&out);

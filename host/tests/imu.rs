@@ -7,51 +7,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{qgait, stderr};
+use common::{imu_dir, qgait, run_imu_tutorial, stderr};
 use qgait::opensim::mot::MotionTable;
-
-/// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("qgait-imu-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn imu_dir() -> Option<PathBuf> {
-    let dir = common::shared_dir()?.join("data/imu");
-    if dir.join("walking_orientations.sto").is_file() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} has no IMU recording", dir.display());
-        None
-    }
-}
-
-/// Runs `qgait imu` on the tutorial recording with its settings and `extra` arguments; checks
-/// that it prints no warning (the files are well formed; units do not apply to quaternions).
-fn run_tutorial(dir: &Path, out: &Path, extra: &[&str]) {
-    let walk = dir.join("walking_orientations.sto");
-    let pose = dir.join("placement_orientations.sto");
-    let mut args = vec![
-        "imu",
-        walk.to_str().unwrap(),
-        "--calibration",
-        pose.to_str().unwrap(),
-        "--base-imu",
-        "torso_imu",
-        "--base-heading-axis",
-        "z",
-        "--sensor-to-opensim",
-        "-1.5707963267948966,0,0",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let o = qgait(&args);
-    assert!(o.status.success(), "qgait imu failed: {}", stderr(&o));
-    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
-}
 
 /// The coordinates OpenSense determines with this IMU set (not the MTP joints, not the pelvis
 /// translations).
@@ -79,9 +36,9 @@ const DETERMINED: [&str; 18] = [
 #[test]
 fn tutorial_recording_matches_opensense_and_reads_back_through_fk() {
     let Some(dir) = imu_dir() else { return };
-    let tmp = scratch("tutorial");
+    let tmp = common::scratch("imu", "tutorial");
     let out = tmp.join("angles.mot");
-    run_tutorial(&dir, &out, &[]);
+    run_imu_tutorial(&dir, &out, &[]);
     let (ours, _) = MotionTable::read(&out).unwrap();
     let (theirs, _) = MotionTable::read(&dir.join("walking_gait2392_opensense_0-12s.sto")).unwrap();
     assert!(ours.in_degrees() && theirs.in_degrees());
@@ -165,9 +122,9 @@ fn compare(
 #[test]
 fn closed_form_mode_matches_opensense_on_the_pelvis_and_trunk() {
     let Some(dir) = imu_dir() else { return };
-    let tmp = scratch("closed-form");
+    let tmp = common::scratch("imu", "closed-form");
     let out = tmp.join("angles.mot");
-    run_tutorial(&dir, &out, &["--mode", "closed-form"]);
+    run_imu_tutorial(&dir, &out, &["--mode", "closed-form"]);
     let (ours, _) = MotionTable::read(&out).unwrap();
     let (theirs, _) = MotionTable::read(&dir.join("walking_gait2392_opensense_0-12s.sto")).unwrap();
     let failures = compare(&ours, &theirs, "closed form", 0.3, 1.0);
@@ -186,10 +143,10 @@ fn closed_form_mode_matches_opensense_on_the_pelvis_and_trunk() {
 #[test]
 fn heading_free_pelvis_does_not_follow_the_walking_direction() {
     let Some(dir) = imu_dir() else { return };
-    let tmp = scratch("heading-free");
+    let tmp = common::scratch("imu", "heading-free");
     let (world, free) = (tmp.join("world.mot"), tmp.join("free.mot"));
-    run_tutorial(&dir, &world, &[]);
-    run_tutorial(&dir, &free, &["--pelvis", "heading-free"]);
+    run_imu_tutorial(&dir, &world, &[]);
+    run_imu_tutorial(&dir, &free, &["--pelvis", "heading-free"]);
     let (w, _) = MotionTable::read(&world).unwrap();
     let (f, _) = MotionTable::read(&free).unwrap();
     // The legs and the trunk do not depend on the pelvis's convention.
@@ -247,7 +204,7 @@ fn imu_error(dir: &Path, walk: &Path, extra: &[&str]) -> String {
 
 #[test]
 fn bad_orientation_files_name_file_line_and_column() {
-    let tmp = scratch("errors");
+    let tmp = common::scratch("imu", "errors");
     // Each case: labels, rows, and what the message must contain.
     let cases: [(&str, &str, &[&str]); 6] = [
         // A cell with three components, on line 7 (header 4 lines, labels, one good row).
@@ -334,7 +291,7 @@ fn bad_orientation_files_name_file_line_and_column() {
 #[test]
 fn a_sensor_without_a_reading_is_held_and_the_rest_solved() {
     // `nan,nan,nan,nan` is no reading: the row is solved without it.
-    let tmp = scratch("nan");
+    let tmp = common::scratch("imu", "nan");
     let walk = orientation_file(
         &tmp,
         "walk.sto",
@@ -365,7 +322,7 @@ fn a_sensor_without_a_reading_is_held_and_the_rest_solved() {
 #[test]
 fn compare_prints_the_accuracy_table_and_draws_the_figure() {
     let Some(dir) = imu_dir() else { return };
-    let tmp = scratch("compare");
+    let tmp = common::scratch("imu", "compare");
     let out = tmp.join("angles.mot");
     let reference = dir.join("walking_gait2392_opensense_0-12s.sto");
     let figures = tmp.join("figures");

@@ -8,54 +8,15 @@
 mod common;
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use common::{qgait, stderr};
+use common::{imu_dir, qgait, run_imu_tutorial, stderr};
 use qgait::opensim::mot::MotionTable;
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::imu::math::{space_fixed_xyz, three_axes};
 use qgait_kernel::imu::{FitModel, Segment};
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::{Quat, Vec3};
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("qgait-imu-models-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn imu_dir() -> Option<PathBuf> {
-    let dir = common::shared_dir()?.join("data/imu");
-    if dir.join("walking_orientations.sto").is_file() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} has no IMU recording", dir.display());
-        None
-    }
-}
-
-/// `qgait imu` on the tutorial recording with its settings and `extra` arguments.
-fn run_tutorial(dir: &Path, out: &Path, extra: &[&str]) {
-    let walk = dir.join("walking_orientations.sto");
-    let pose = dir.join("placement_orientations.sto");
-    let mut args = vec![
-        "imu",
-        walk.to_str().unwrap(),
-        "--calibration",
-        pose.to_str().unwrap(),
-        "--base-imu",
-        "torso_imu",
-        "--base-heading-axis",
-        "z",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let o = qgait(&args);
-    assert!(o.status.success(), "qgait imu failed: {}", stderr(&o));
-    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
-}
 
 /// A line of an orientation `.sto` cell: `w,x,y,z`.
 fn cell(q: Quat<f64>) -> String {
@@ -70,7 +31,7 @@ fn cell(q: Quat<f64>) -> String {
 /// segment reports in a z-up world); the calibration pose is PHAK's default pose.
 #[test]
 fn phak_recovers_known_angles_through_the_cli() {
-    let tmp = scratch("phak-synthetic");
+    let tmp = common::scratch("imu-models", "phak-synthetic");
     let phak = Phak::<f64>::new(&Anthropometry::gait2392()).unwrap();
     let to_opensim = space_fixed_xyz([-core::f64::consts::FRAC_PI_2, 0.0, 0.0]);
     let sensors = [
@@ -152,10 +113,10 @@ fn phak_recovers_known_angles_through_the_cli() {
 #[test]
 fn phak_on_the_tutorial_recording_reads_back_through_fk() {
     let Some(dir) = imu_dir() else { return };
-    let tmp = scratch("phak-tutorial");
+    let tmp = common::scratch("imu-models", "phak-tutorial");
     let (phak, g2392) = (tmp.join("phak.mot"), tmp.join("gait2392.mot"));
-    run_tutorial(&dir, &phak, &["--model", "phak"]);
-    run_tutorial(&dir, &g2392, &[]);
+    run_imu_tutorial(&dir, &phak, &["--model", "phak"]);
+    run_imu_tutorial(&dir, &g2392, &[]);
     let (p, _) = MotionTable::read(&phak).unwrap();
     let (g, _) = MotionTable::read(&g2392).unwrap();
     assert_eq!(p.rows(), 2432);
@@ -298,7 +259,7 @@ fn against_opensense(ours: &MotionTable, theirs: &MotionTable) -> Vec<(&'static 
 fn rajagopal_chain_matches_opensense_with_its_own_model() {
     let Some(dir) = imu_dir() else { return };
     let osim = dir.join("../opensim/Rajagopal2015_opensense.osim");
-    let tmp = scratch("rajagopal");
+    let tmp = common::scratch("imu-models", "rajagopal");
     let chain = tmp.join("rajagopal.toml");
     let o = qgait(&[
         "model",
@@ -309,7 +270,7 @@ fn rajagopal_chain_matches_opensense_with_its_own_model() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = tmp.join("rajagopal.mot");
-    run_tutorial(
+    run_imu_tutorial(
         &dir,
         &out,
         &["--model", chain.to_str().unwrap(), "--lumbar", "locked"],
@@ -338,7 +299,7 @@ fn rajagopal_chain_matches_opensense_with_its_own_model() {
 
     // The .osim itself is the same model.
     let direct = tmp.join("direct.mot");
-    run_tutorial(
+    run_imu_tutorial(
         &dir,
         &direct,
         &["--model", osim.to_str().unwrap(), "--lumbar", "locked"],
@@ -351,7 +312,7 @@ fn rajagopal_chain_matches_opensense_with_its_own_model() {
     // With the lumbar joint free the pelvis follows its own sensor only: not OpenSense's
     // (whose model locks it), by several degrees.
     let free = tmp.join("free.mot");
-    run_tutorial(&dir, &free, &["--model", chain.to_str().unwrap()]);
+    run_imu_tutorial(&dir, &free, &["--model", chain.to_str().unwrap()]);
     let (free, _) = MotionTable::read(&free).unwrap();
     let tilt = against_opensense(&free, &theirs)[0];
     assert!(tilt.1 > 1.0, "{tilt:?}");
@@ -373,7 +334,7 @@ fn rajagopal_chain_matches_opensense_with_its_own_model() {
 
 #[test]
 fn options_that_do_not_apply_are_refused() {
-    let dir = scratch("refusals");
+    let dir = common::scratch("imu-models", "refusals");
     let run = |extra: &[&str]| {
         let mut args = vec![
             "imu",
@@ -453,10 +414,10 @@ fn rajagopal_chain_solve_in_f32_follows_f64() {
 #[test]
 fn phak_heading_free_pelvis_changes_the_rotation_only() {
     let Some(dir) = imu_dir() else { return };
-    let tmp = scratch("phak-heading-free");
+    let tmp = common::scratch("imu-models", "phak-heading-free");
     let (world, free) = (tmp.join("world.mot"), tmp.join("free.mot"));
-    run_tutorial(&dir, &world, &["--model", "phak"]);
-    run_tutorial(
+    run_imu_tutorial(&dir, &world, &["--model", "phak"]);
+    run_imu_tutorial(
         &dir,
         &free,
         &["--model", "phak", "--pelvis", "heading-free"],

@@ -2,17 +2,12 @@
 //! is sent, in order), and its refusals.
 mod common;
 
-use common::{qgait, shared_dir, stderr};
+use common::{imu_dir, qgait, stderr};
 use qgait_proto::{FrameDecoder, HeadingAxisId, InputMode, Message, ModelId, SegmentId};
 
 #[test]
 fn the_stream_is_the_configuration_the_calibration_pose_then_the_rows() {
-    let Some(shared) = shared_dir() else { return };
-    let dir = shared.join("data/imu");
-    if !dir.join("walking_orientations.sto").is_file() {
-        eprintln!("skipped: {} has no walking_orientations.sto", dir.display());
-        return;
-    }
+    let Some(dir) = imu_dir() else { return };
     let out = tempfile::tempdir().expect("temp dir");
     let stream = out.path().join("imu.bin");
     let o = qgait(&[

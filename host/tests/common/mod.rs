@@ -73,3 +73,48 @@ pub fn firmware_elf() -> Option<PathBuf> {
     }
     Some(elf)
 }
+
+/// A fresh scratch directory for one test, `<temp>/qgait-<test>-<pid>-<name>`.
+pub fn scratch(test: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("qgait-{test}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("a scratch directory");
+    d
+}
+
+/// `../shared/data/imu` (OpenSense's tutorial recording); `None` (the reason printed) when
+/// absent.
+pub fn imu_dir() -> Option<PathBuf> {
+    let dir = shared_dir()?.join("data/imu");
+    if dir.join("walking_orientations.sto").is_file() {
+        Some(dir)
+    } else {
+        eprintln!("skipped: {} has no walking_orientations.sto", dir.display());
+        None
+    }
+}
+
+/// Runs `qgait imu` on the tutorial recording in `dir` with the tutorial's settings (base IMU
+/// `torso_imu`, heading axis z, the default sensor-to-OpenSim rotation) and `extra` arguments,
+/// writing `out`; checks that it succeeds and prints no warning (the files are well formed;
+/// units do not apply to quaternions).
+pub fn run_imu_tutorial(dir: &std::path::Path, out: &std::path::Path, extra: &[&str]) {
+    let walk = dir.join("walking_orientations.sto");
+    let pose = dir.join("placement_orientations.sto");
+    let mut args = vec![
+        "imu",
+        walk.to_str().unwrap(),
+        "--calibration",
+        pose.to_str().unwrap(),
+        "--base-imu",
+        "torso_imu",
+        "--base-heading-axis",
+        "z",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let o = qgait(&args);
+    assert!(o.status.success(), "qgait imu failed: {}", stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+}
