@@ -15,29 +15,9 @@ fn vendor() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/imu/vendor")
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("qgait-imu-vendor-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
 /// Runs `qgait imu` (tutorial settings) and reads its output; panics with stderr on failure.
 fn solve(walk: &Path, calibration: &Path, out: &Path, extra: &[&str]) -> MotionTable {
-    let mut args = vec![
-        "imu",
-        walk.to_str().unwrap(),
-        "--calibration",
-        calibration.to_str().unwrap(),
-        "--base-imu",
-        "torso_imu",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let o = qgait(&args);
-    assert!(o.status.success(), "qgait imu failed: {}", stderr(&o));
-    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    common::run_imu(walk, calibration, out, extra);
     MotionTable::read(out).unwrap().0
 }
 
@@ -64,7 +44,7 @@ fn error(args: &[&str]) -> String {
 #[test]
 fn xsens_trial_is_what_opensims_reader_reads() {
     let v = vendor();
-    let tmp = scratch("xsens");
+    let tmp = common::scratch("imu-vendor", "xsens");
     let mapping = v.join("xsens/mappings.xml");
     let m = mapping.to_str().unwrap();
     let ours = solve(
@@ -96,7 +76,7 @@ fn xsens_trial_is_what_opensims_reader_reads() {
 #[test]
 fn apdm_csv_is_what_opensims_reader_reads() {
     let v = vendor();
-    let tmp = scratch("apdm");
+    let tmp = common::scratch("imu-vendor", "apdm");
     let ours = solve(
         &v.join("apdm/walk.csv"),
         &v.join("apdm/static.csv"),
@@ -123,7 +103,7 @@ fn apdm_csv_is_what_opensims_reader_reads() {
 #[test]
 fn xsens_quaternion_columns_and_the_rate() {
     let v = vendor();
-    let tmp = scratch("xsens-quat");
+    let tmp = common::scratch("imu-vendor", "xsens-quat");
     let mapping = v.join("xsens/mappings.xml");
     let text = std::fs::read_to_string(&mapping).unwrap();
     let ids: Vec<(String, String)> = text
@@ -191,7 +171,7 @@ fn xsens_quaternion_columns_and_the_rate() {
 #[test]
 fn bad_vendor_files_name_file_line_and_column() {
     let v = vendor();
-    let tmp = scratch("errors");
+    let tmp = common::scratch("imu-vendor", "errors");
     // An Xsens folder copied, one value broken, one file cut short.
     let x = tmp.join("xsens");
     std::fs::create_dir_all(&x).unwrap();
@@ -296,7 +276,7 @@ fn bad_vendor_files_name_file_line_and_column() {
 #[test]
 fn apdm_format_7() {
     let v = vendor();
-    let tmp = scratch("apdm7");
+    let tmp = common::scratch("imu-vendor", "apdm7");
     let sensors = [
         ("Lumbar", "pelvis_imu"),
         ("Right Thigh", "femur_r_imu"),

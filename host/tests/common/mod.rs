@@ -94,18 +94,31 @@ pub fn imu_dir() -> Option<PathBuf> {
     }
 }
 
-/// Runs `qgait imu` on the tutorial recording in `dir` with the tutorial's settings (base IMU
-/// `torso_imu`, heading axis z, the default sensor-to-OpenSim rotation) and `extra` arguments,
-/// writing `out`; checks that it succeeds and prints no warning (the files are well formed;
-/// units do not apply to quaternions).
+/// Runs `qgait imu` on the tutorial recording in `dir` ([`run_imu`]).
 pub fn run_imu_tutorial(dir: &std::path::Path, out: &std::path::Path, extra: &[&str]) {
-    let walk = dir.join("walking_orientations.sto");
-    let pose = dir.join("placement_orientations.sto");
+    run_imu(
+        &dir.join("walking_orientations.sto"),
+        &dir.join("placement_orientations.sto"),
+        out,
+        extra,
+    );
+}
+
+/// Runs `qgait imu` on the recording `walk` calibrated by `calibration` with the tutorial's
+/// settings (base IMU `torso_imu`, heading axis z, the default sensor-to-OpenSim rotation) and
+/// `extra` arguments, writing `out`; checks that it succeeds and prints no warning (the files
+/// are well formed; units do not apply to quaternions).
+pub fn run_imu(
+    walk: &std::path::Path,
+    calibration: &std::path::Path,
+    out: &std::path::Path,
+    extra: &[&str],
+) {
     let mut args = vec![
         "imu",
         walk.to_str().unwrap(),
         "--calibration",
-        pose.to_str().unwrap(),
+        calibration.to_str().unwrap(),
         "--base-imu",
         "torso_imu",
         "--base-heading-axis",
