@@ -283,3 +283,69 @@ fn real_recording_clean() {
         assert!(c.passed(TOLERANCE_M), "{what}: {}", c.report(TOLERANCE_M));
     }
 }
+
+/// The command-line path of the README: `qgait packets --orientations` writes the nodes' stream
+/// of the real recording, `qgait emulate --stream --verify` runs it through the IMU firmware
+/// (a frame for every intact sample but the calibration pose, each within the tolerance of the
+/// `f64` kernel on its echoed angles, the hub's counters accounting for every packet, the
+/// stream's gait2392 configuration kept to the end), and `qgait verify --orientations` checks
+/// the hub's log against the host's own `f64` IMU path.
+#[test]
+fn cli_packets_emulate_and_verify_an_orientation_stream() {
+    let Some((elf, _)) = real(0, Mode::LeastSquares) else {
+        return;
+    };
+    let Some(dir) = common::imu_dir() else { return };
+    let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let tmp = tempfile::tempdir().unwrap();
+    let (walk, pose) = (
+        dir.join("walking_orientations.sto"),
+        dir.join("placement_orientations.sto"),
+    );
+    let (stream, log) = (tmp.path().join("imu.bin"), tmp.path().join("hub.bin"));
+    let recording = [
+        "--orientations",
+        walk.to_str().unwrap(),
+        "--calibration",
+        pose.to_str().unwrap(),
+        "--base-imu",
+        "torso_imu",
+        "--rows",
+        "300",
+    ];
+    let o = common::qgait(
+        &[
+            &["packets"],
+            &recording[..],
+            &["-o", stream.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let o = common::qgait(&[
+        "emulate",
+        "--stream",
+        stream.to_str().unwrap(),
+        "--elf",
+        elf.to_str().unwrap(),
+        "--log",
+        log.to_str().unwrap(),
+        "--verify",
+    ]);
+    let out = common::stdout(&o);
+    assert!(o.status.success(), "{out}\n{}", common::stderr(&o));
+    assert!(
+        out.contains("stream: 301 samples with every packet intact"),
+        "{out}"
+    );
+    assert!(out.contains("missing samples: 0"), "{out}");
+    assert!(out.contains("config_rejected      0"), "{out}");
+    assert!(out.contains("samples_completed    300"), "{out}");
+    let o = common::qgait(&[&["verify", log.to_str().unwrap()], &recording[..]].concat());
+    let out = common::stdout(&o);
+    assert!(o.status.success(), "{out}\n{}", common::stderr(&o));
+    assert!(
+        out.contains("orientations: 300 frames against the host's f64 IMU path"),
+        "{out}"
+    );
+}

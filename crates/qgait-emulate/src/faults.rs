@@ -31,7 +31,7 @@ use crate::EmulateError;
 use std::collections::{BTreeMap, BTreeSet};
 
 use qgait_proto::{
-    FrameDecoder, JointAngle, JointId, Message, ModelId, SegmentOrientation, Status,
+    FrameDecoder, ImuConfig, JointAngle, JointId, Message, ModelId, SegmentOrientation, Status,
 };
 
 use crate::push_frame;
@@ -385,6 +385,12 @@ pub fn samples_of_stream(stream: &[u8]) -> Result<Vec<Vec<JointAngle>>, EmulateE
 pub struct Arrivals {
     /// The decodable joint-angle packets, by sequence number.
     pub packets: BTreeMap<u32, Vec<JointAngle>>,
+    /// The decodable segment-orientation packets: the segments that arrived (one bit per
+    /// [`SegmentId`](qgait_proto::SegmentId)), by sequence number.
+    pub segments: BTreeMap<u32, u8>,
+    /// The last [`ImuConfig`] of the stream, if any: with an orientation input mode, the
+    /// stream's samples are segment orientations.
+    pub imu: Option<ImuConfig>,
     /// The counters the hub's decoder must end with (`packets_accepted` and the decode-error
     /// counters).
     pub status: Status,
@@ -400,6 +406,11 @@ impl Arrivals {
                     a.status.packets_accepted += 1;
                     a.packets.entry(p.seq).or_default().push(p);
                 }
+                Ok(Message::SegmentOrientation(p)) => {
+                    a.status.packets_accepted += 1;
+                    *a.segments.entry(p.seq).or_default() |= p.segment.bit();
+                }
+                Ok(Message::ImuConfig(c)) => a.imu = Some(c),
                 Ok(_) => {}
                 Err(e) => a.status.count_decode_error(&e),
             }
@@ -407,8 +418,22 @@ impl Arrivals {
         a
     }
 
-    /// Whether every joint `model` needs arrived for sample `seq`.
+    /// The segments an orientation sample needs, if the stream's input is orientations.
+    fn orientation_segments(&self) -> Option<u8> {
+        self.imu
+            .filter(|c| c.mode.orientations())
+            .map(|c| c.segments)
+    }
+
+    /// Whether every packet a sample `seq` needs arrived: every joint `model` needs, or, for a
+    /// stream of segment orientations, every segment of its [`ImuConfig`].
     pub fn intact(&self, seq: u32, model: ModelId) -> bool {
+        if let Some(required) = self.orientation_segments() {
+            return self
+                .segments
+                .get(&seq)
+                .is_some_and(|got| got & required == required);
+        }
         self.packets.get(&seq).is_some_and(|ps| {
             model
                 .required_joints()
@@ -417,17 +442,38 @@ impl Arrivals {
         })
     }
 
-    /// The samples of which every joint `model` needs arrived.
+    /// The samples of which every packet arrived ([`intact`](Self::intact)).
     pub fn intact_samples(&self, model: ModelId) -> BTreeSet<u32> {
-        self.packets
-            .keys()
-            .copied()
+        let seqs: Vec<u32> = match self.orientation_segments() {
+            Some(_) => self.segments.keys().copied().collect(),
+            None => self.packets.keys().copied().collect(),
+        };
+        seqs.into_iter()
             .filter(|&s| self.intact(s, model))
             .collect()
     }
 
-    /// Samples of which some but not all joints of `model` arrived.
+    /// The samples a hub sends a pose frame for: the intact ones, except, for a stream of
+    /// segment orientations that asks for a calibration, the first intact one (the
+    /// calibration pose, which gives no frame).
+    pub fn framed_samples(&self, model: ModelId) -> BTreeSet<u32> {
+        let mut intact = self.intact_samples(model);
+        if self.orientation_segments().is_some() && self.imu.is_some_and(|c| c.calibrate) {
+            intact.pop_first();
+        }
+        intact
+    }
+
+    /// Samples of which some but not all packets arrived.
     pub fn partial(&self, model: ModelId) -> Vec<u32> {
+        if self.orientation_segments().is_some() {
+            return self
+                .segments
+                .keys()
+                .copied()
+                .filter(|&seq| !self.intact(seq, model))
+                .collect();
+        }
         self.packets
             .iter()
             .filter(|(seq, ps)| {

@@ -610,7 +610,14 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let config = messages(&model.hub, settings)?;
     let mut input = frames(&config)?;
     input.extend_from_slice(&stream);
-    let last = config.last().context("no configuration message")?;
+    // The closing request repeats the configuration in force at the end: the stream's own
+    // if it carries one (an orientation stream selects gait2392, and a hub in an orientation
+    // input mode refuses another model).
+    let in_stream = last_configuration(&stream);
+    let last = in_stream
+        .as_ref()
+        .or(config.last())
+        .context("no configuration message")?;
     input.extend(closing_frames(last)?);
     let expected = InputCounts::of(&input);
     if !quiet {
@@ -684,18 +691,24 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             ),
             None => {
                 // A stream may have lost packets on the way (a radio link): a frame is due for
-                // exactly the samples whose packets all arrived intact.
+                // exactly the samples whose packets all arrived intact (but an orientation
+                // stream's calibration pose).
                 let mut v = Verification::run(&model.device, &log.poses, Expected::FirstToLast);
                 let arrivals = Arrivals::of(&stream);
-                let intact = arrivals.intact_samples(model.hub.id());
+                let intact = arrivals.framed_samples(model.hub.id());
                 let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
                 let missing: Vec<u32> = intact.difference(&seen).copied().collect();
                 v.missing = missing.len() as u64;
                 v.missing_first = missing.into_iter().take(MISSING_LISTED).collect();
                 let unexpected = seen.difference(&intact).count();
+                let all_intact = arrivals.intact_samples(model.hub.id()).len();
                 println!(
-                    "stream: {} samples with every packet intact, {} with packets lost or damaged",
-                    intact.len(),
+                    "stream: {all_intact} samples with every packet intact{}, {} with packets lost or damaged",
+                    if all_intact > intact.len() {
+                        " (the first the calibration pose, no frame)"
+                    } else {
+                        ""
+                    },
                     arrivals.partial(model.hub.id()).len()
                 );
                 if unexpected > 0 {
@@ -710,6 +723,20 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         ok &= v.passed(tol);
     }
     Ok(ok)
+}
+
+/// The last model configuration (`Config`, `SubjectConfig`, `ChainConfig`) a stream carries.
+fn last_configuration(stream: &[u8]) -> Option<Message> {
+    FrameDecoder::new()
+        .feed(stream)
+        .filter_map(Result::ok)
+        .filter(|m| {
+            matches!(
+                m,
+                Message::Config(_) | Message::SubjectConfig(_) | Message::ChainConfig(_)
+            )
+        })
+        .last()
 }
 
 fn write_file(
