@@ -1,7 +1,8 @@
 //! Scenario checks of the hub's IMU orientation input (`qgait_hub::orientation`).
 //!
 //! **Generator** (the kernel's IMU tests' one, `crates/qgait-kernel/tests/imu_common`, cut down
-//! to what runs without `std`): known gait2392 coordinates ([`truth`]) go through the kernel's
+//! to what runs without `std`): known gait2392 coordinates (the kernel's synthetic walk,
+//! [`truth`]) go through the kernel's
 //! `f64` forward kinematics; each sensor's segment orientation is its chain body's frame (the
 //! torso's: the pelvis frame, lumbar angles zero); each sensor sits on its segment at a fixed
 //! mounting of 20 to 30 degrees ([`MOUNTINGS`]; the torso's with its z axis forward, as the
@@ -10,6 +11,7 @@
 //! pose facing [`HEADING0`]. The readings travel as Q14, as a node sends them.
 
 use qgait_kernel::imu::{math, Calibration, Mode, Orientations, Segment, Solver};
+use qgait_kernel::models::fixtures::{imu_walk, IMU_WALK_HEADING0};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Vec3};
 use qgait_proto::device_model::{kernel_settings, q14_quat};
 use qgait_proto::{
@@ -35,7 +37,7 @@ pub const CHECKS: [&str; 5] = [
 ];
 
 /// The subject's heading at calibration (radians about the vertical).
-pub const HEADING0: f64 = -115.0 * DEG;
+pub const HEADING0: f64 = IMU_WALK_HEADING0;
 
 const DEG: f64 = core::f64::consts::PI / 180.0;
 
@@ -52,23 +54,10 @@ pub const MOUNTINGS: [([f64; 3], f64); 8] = [
     ([0.0, 1.0, 0.0], 90.0),
 ];
 
-/// The true coordinates of sample `k` (17 chain coordinates; MTP zero: no sensor gives it).
+/// The true coordinates of sample `k` (17 chain coordinates, 20 samples a second): the
+/// kernel's synthetic walk ([`imu_walk`]).
 pub fn truth(k: u32) -> [f64; 17] {
-    let t = f64::from(k) * 0.05;
-    let s = |amp: f64, phase: f64| amp * DEG * libm::sin(5.7 * t + phase);
-    let mut q = [0.0; 17];
-    q[0] = s(6.0, 0.3) + 3.0 * DEG;
-    q[1] = s(5.0, 1.1);
-    q[2] = HEADING0 + 40.0 * DEG * t;
-    for (c, phase) in [(3, 0.0), (10, core::f64::consts::PI)] {
-        q[c] = s(30.0, phase) + 10.0 * DEG;
-        q[c + 1] = s(8.0, phase + 0.4) - 2.0 * DEG;
-        q[c + 2] = s(12.0, phase + 1.3) + 4.0 * DEG;
-        q[c + 3] = s(30.0, phase + 0.9) - 32.0 * DEG;
-        q[c + 4] = s(15.0, phase + 2.0);
-        q[c + 5] = s(10.0, phase + 0.5) + 3.0 * DEG;
-    }
-    q
+    imu_walk(f64::from(k) * 0.05).0
 }
 
 /// The sensors' Q14 readings for coordinates `q` (see the module docs).

@@ -1,9 +1,40 @@
 //! Models for the tests of the crates built on the kernel (cargo feature `fixtures`): one
-//! definition each, shared by the protocol's, the hub's and the firmware's tests.
+//! definition each, shared by the kernel's, the protocol's, the hub's and the firmware's tests.
 
 use crate::models::custom::{Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Offset};
 use crate::models::LowerLimb;
 use crate::{Spline, Vec3};
+
+const DEG: f64 = core::f64::consts::PI / 180.0;
+
+/// The subject's heading (`pelvis_rotation`, radians) at the start of [`imu_walk`]: where the
+/// synthetic IMU recordings put their calibration pose.
+pub const IMU_WALK_HEADING0: f64 = -115.0 * DEG;
+
+/// The true coordinates of the synthetic IMU recordings at time `t` (s): a gait-like cycle of
+/// 1.1 s on every coordinate eight IMUs determine, the legs half a cycle apart,
+/// `pelvis_rotation` turning from [`IMU_WALK_HEADING0`] by 50 degrees a second (one and a half
+/// turns in 10 s) plus a sway; MTP zero (no sensor). Returns the 17 gait2392 chain coordinates
+/// and the 3 lumbar angles. The kernel's IMU tests and the hub's checks generate their sensor
+/// readings from these through the kernel's own forward kinematics.
+pub fn imu_walk(t: f64) -> ([f64; 17], [f64; 3]) {
+    let w = core::f64::consts::TAU / 1.1;
+    let s = |amp: f64, phase: f64| amp * DEG * libm::sin(w * t + phase);
+    let mut q = [0.0; 17];
+    q[0] = s(6.0, 0.3) + 3.0 * DEG;
+    q[1] = s(5.0, 1.1);
+    q[2] = IMU_WALK_HEADING0 + 50.0 * DEG * t + s(6.0, 0.7);
+    for (c, phase) in [(3, 0.0), (10, core::f64::consts::PI)] {
+        q[c] = s(30.0, phase) + 10.0 * DEG;
+        q[c + 1] = s(8.0, phase + 0.4) - 2.0 * DEG;
+        q[c + 2] = s(12.0, phase + 1.3) + 4.0 * DEG;
+        q[c + 3] = s(30.0, phase + 0.9) - 32.0 * DEG;
+        q[c + 4] = s(15.0, phase + 2.0);
+        q[c + 5] = s(10.0, phase + 0.5) + 3.0 * DEG;
+    }
+    let lumbar = [s(5.0, 0.2) - 4.0 * DEG, s(3.0, 1.5), s(8.0, 2.5)];
+    (q, lumbar)
+}
 
 /// A Rajagopal-shaped lower-limb chain: oriented offset frames, a walker knee whose second
 /// rotation is a `SimmSpline` and whose translation a piecewise linear function of its angle,

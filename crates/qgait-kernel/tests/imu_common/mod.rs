@@ -15,6 +15,7 @@
 #![allow(dead_code)]
 
 use qgait_kernel::imu::{math, Orientations, Segment, SENSORS};
+use qgait_kernel::models::fixtures;
 use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Vec3};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -23,30 +24,11 @@ pub const DEG: f64 = core::f64::consts::PI / 180.0;
 /// Frames per second.
 pub const RATE: f64 = 100.0;
 /// The subject's heading at calibration (pelvis_rotation, radians).
-pub const HEADING0: f64 = -115.0 * DEG;
+pub const HEADING0: f64 = fixtures::IMU_WALK_HEADING0;
 
-/// The true coordinates at time `t` (s): a gait-like cycle of 1.1 s on every determined
-/// coordinate, the legs half a cycle apart, `pelvis_rotation` turning from [`HEADING0`] by
-/// 50 degrees a second (one and a half turns in 10 s) plus a sway; MTP zero (no sensor).
-/// Returns the 17 chain coordinates and the 3 lumbar angles.
-pub fn truth(t: f64) -> ([f64; 17], [f64; 3]) {
-    let w = core::f64::consts::TAU / 1.1;
-    let s = |amp: f64, phase: f64| amp * DEG * (w * t + phase).sin();
-    let mut q = [0.0; 17];
-    q[0] = s(6.0, 0.3) + 3.0 * DEG;
-    q[1] = s(5.0, 1.1);
-    q[2] = HEADING0 + 50.0 * DEG * t + s(6.0, 0.7);
-    for (c, phase) in [(3, 0.0), (10, core::f64::consts::PI)] {
-        q[c] = s(30.0, phase) + 10.0 * DEG;
-        q[c + 1] = s(8.0, phase + 0.4) - 2.0 * DEG;
-        q[c + 2] = s(12.0, phase + 1.3) + 4.0 * DEG;
-        q[c + 3] = s(30.0, phase + 0.9) - 32.0 * DEG;
-        q[c + 4] = s(15.0, phase + 2.0);
-        q[c + 5] = s(10.0, phase + 0.5) + 3.0 * DEG;
-    }
-    let lumbar = [s(5.0, 0.2) - 4.0 * DEG, s(3.0, 1.5), s(8.0, 2.5)];
-    (q, lumbar)
-}
+/// The true coordinates at time `t` (s): the kernel's synthetic walk with turns
+/// ([`fixtures::imu_walk`]): the 17 chain coordinates and the 3 lumbar angles.
+pub use fixtures::imu_walk as truth;
 
 /// The model the data are generated with (and solved with).
 pub fn model() -> Gait2392<f64> {
