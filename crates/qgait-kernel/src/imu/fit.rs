@@ -1,5 +1,5 @@
 //! The least squares for any chain model whose bodies carry the sensors: PHAK (the paper's
-//! 8-DoF model, solved on its own axes) and imported OpenSim chains ([`LowerLimb`]: Rajagopal,
+//! 8-DoF model, solved on its own axes) and imported OpenSim chains ([`LowerLimb`](crate::models::LowerLimb): Rajagopal,
 //! gait10dof18musc, ...; oriented frames, spline-coupled rotations, couplers).
 //!
 //! The problem is OpenSense's, as for gait2392 ([`Solver`](super::Solver)): per frame, the
