@@ -458,7 +458,10 @@ impl Arrivals {
     /// calibration pose, which gives no frame).
     pub fn framed_samples(&self, model: ModelId) -> BTreeSet<u32> {
         let mut intact = self.intact_samples(model);
-        if self.orientation_segments().is_some() && self.imu.is_some_and(|c| c.calibrate) {
+        if self
+            .imu
+            .is_some_and(|c| c.mode.orientations() && c.calibrate)
+        {
             intact.pop_first();
         }
         intact

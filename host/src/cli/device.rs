@@ -537,12 +537,16 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     Ok(passed)
 }
 
-/// What `qgait emulate` sends: the stream, the time (s) of each sample, and the number of
-/// samples when it made the stream itself (sequence numbers 0..n).
+/// What `qgait emulate` sends: the stream, the time (s) of each sample, the number of
+/// samples when it made the stream itself (sequence numbers 0..n), and the configuration the
+/// stream carries.
 struct EmulateInput {
     stream: Vec<u8>,
     times: HashMap<u32, f64>,
     count: Option<u32>,
+    /// The last model configuration (`Config`, `SubjectConfig`, `ChainConfig`) the stream
+    /// carries, if any.
+    configuration: Option<Message>,
 }
 
 /// The stream and its packets' times for `qgait emulate`.
@@ -566,17 +570,25 @@ fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Resu
         _ => bail!("give either MOTION or --stream STREAM.bin"),
     };
     let mut times = HashMap::new();
+    let mut configuration = None;
     for m in FrameDecoder::new().feed(&stream).flatten() {
-        if let Message::JointAngle(p) = m {
-            times
-                .entry(p.seq)
-                .or_insert(f64::from(p.timestamp_us) * 1e-6);
+        match m {
+            Message::JointAngle(p) => {
+                times
+                    .entry(p.seq)
+                    .or_insert(f64::from(p.timestamp_us) * 1e-6);
+            }
+            Message::Config(_) | Message::SubjectConfig(_) | Message::ChainConfig(_) => {
+                configuration = Some(m);
+            }
+            _ => {}
         }
     }
     Ok(EmulateInput {
         stream,
         times,
         count,
+        configuration,
     })
 }
 
@@ -600,6 +612,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         stream,
         times,
         count,
+        configuration,
     } = emulate_input(&args, model.hub.id(), quiet)?;
     let elf = firmware::locate(args.elf.as_deref())?;
     let settings = HubSettings {
@@ -613,8 +626,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     // The closing request repeats the configuration in force at the end: the stream's own
     // if it carries one (an orientation stream selects gait2392, and a hub in an orientation
     // input mode refuses another model).
-    let in_stream = last_configuration(&stream);
-    let last = in_stream
+    let last = configuration
         .as_ref()
         .or(config.last())
         .context("no configuration message")?;
@@ -723,20 +735,6 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         ok &= v.passed(tol);
     }
     Ok(ok)
-}
-
-/// The last model configuration (`Config`, `SubjectConfig`, `ChainConfig`) a stream carries.
-fn last_configuration(stream: &[u8]) -> Option<Message> {
-    FrameDecoder::new()
-        .feed(stream)
-        .filter_map(Result::ok)
-        .filter(|m| {
-            matches!(
-                m,
-                Message::Config(_) | Message::SubjectConfig(_) | Message::ChainConfig(_)
-            )
-        })
-        .last()
 }
 
 fn write_file(
