@@ -1,6 +1,6 @@
 //! Build script of the firmware:
-//! - puts the enabled board's memory layout in the linker's path as `memory.x` and passes the
-//!   cortex-m-rt and defmt linker scripts (here, not in .cargo/config.toml, so host builds are
+//! - puts the enabled board's memory layout in the linker's path as `memory.x` (and an empty
+//!   `device.x`) and passes the cortex-m-rt and defmt linker scripts (here, not in .cargo/config.toml, so host builds are
 //!   unaffected);
 //! - computes the expected poses of the on-target kernel tests with the same kernel in `f64` on
 //!   the host, into `$OUT_DIR/kernel_cases.rs` (PHAK) and `$OUT_DIR/gait2392_cases.rs`
@@ -24,6 +24,9 @@ fn main() {
         "memory.x"
     };
     fs::copy(memory, out.join("memory.x")).expect("copy the board's memory layout");
+    // cortex-m-rt's `device` feature includes `device.x` (a PAC's weak handler names): the
+    // firmware has no PAC, its vector table (`board::vectors`) names its handlers itself.
+    fs::write(out.join("device.x"), "").expect("write device.x");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=memory-nrf52840.x");

@@ -19,6 +19,8 @@ pub type Serial = CmsdkUart;
 const UART0_BASE: usize = 0x4000_4000;
 /// UART0 receive interrupt line.
 const UART0_RX_IRQ: i16 = 0;
+/// Device interrupt vectors: up to the UART's line (`board::vectors`).
+pub const DEVICE_VECTORS: usize = UART0_RX_IRQ as usize + 1;
 const CORE_HZ: u32 = 25_000_000;
 /// 25 MHz / 217 = 115200 baud (QEMU ignores the rate; hardware honours it).
 const BAUDDIV_115200: u32 = 217;
@@ -39,8 +41,8 @@ pub fn take() -> Option<Board> {
     })
 }
 
-/// Every device interrupt lands here (no PAC, so cortex-m-rt's table points all of them at
-/// `DefaultHandler`): UART0's receive interrupt is served, anything else is a bug that ends
+/// Every device interrupt lands here (the board's vector table, `board::vectors`, points all of
+/// them at `DefaultHandler`): UART0's receive interrupt is served, anything else is a bug that ends
 /// the run with a failure rather than looping.
 #[exception]
 unsafe fn DefaultHandler(irqn: i16) {

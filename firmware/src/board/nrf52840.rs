@@ -20,6 +20,8 @@ pub type Serial = NrfUart;
 const UART0_BASE: usize = 0x4000_2000;
 /// The UARTE0_UART0 interrupt line.
 const UART0_IRQ: i16 = 2;
+/// Device interrupt vectors: up to the UART's line (`board::vectors`).
+pub const DEVICE_VECTORS: usize = UART0_IRQ as usize + 1;
 const TX_PIN: u32 = 6;
 const RX_PIN: u32 = 8;
 const CORE_HZ: u32 = 64_000_000;
@@ -41,8 +43,8 @@ pub fn take() -> Option<Board> {
     })
 }
 
-/// Every device interrupt lands here (no PAC, so cortex-m-rt's table points all of them at
-/// `DefaultHandler`): UART0's is served, anything else is a bug that ends the run.
+/// Every device interrupt lands here (the board's vector table, `board::vectors`, points all of
+/// them at `DefaultHandler`): UART0's is served, anything else is a bug that ends the run.
 #[exception]
 unsafe fn DefaultHandler(irqn: i16) {
     if irqn == UART0_IRQ {

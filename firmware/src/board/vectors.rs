@@ -1,0 +1,17 @@
+//! The device interrupt vectors (cortex-m-rt's `__INTERRUPTS`): as many as the board's highest
+//! interrupt line in use needs, each `DefaultHandler` (the board's, which serves its UART).
+//! cortex-m-rt without a PAC would give all 240 a Cortex-M4 can have: 960 B of flash for lines
+//! that are never enabled. A line past the table is never unmasked (only the UART's is), so
+//! the core never fetches a vector beyond it.
+
+use super::DEVICE_VECTORS;
+
+unsafe extern "C" {
+    /// The board's `#[exception] DefaultHandler`.
+    fn DefaultHandler();
+}
+
+/// The vectors after the 16 of the core's exceptions.
+#[unsafe(link_section = ".vector_table.interrupts")]
+#[unsafe(no_mangle)]
+static __INTERRUPTS: [unsafe extern "C" fn(); DEVICE_VECTORS] = [DefaultHandler; DEVICE_VECTORS];
