@@ -29,6 +29,13 @@ Motions:
   settings), every 10th row: a long realistic motion in the model's own coordinates.
 - `sweep`: 61 rows, knee flexion from 0.3 rad beyond one end of the model's knee range to 0.3
   rad beyond the other, every other coordinate a different slow sine within +-0.6 rad.
+
+`rajagopal2016_polynomial_knee` is Rajagopal2016.osim with the four spline functions of each
+walker knee (rotation2, rotation3, translation1, translation2) replaced by the
+`PolynomialFunction`s of KNEE_POLYNOMIALS (the left knee's translation1 inside a
+`MultiplierFunction` of scale 1.1), as Rajagopal-Lai-Uhlrich 2023 drives its knee; the model
+file is written to a temporary directory, never kept. host/tests/opensim_models.rs makes the
+same model from the same numbers by its own text edit.
 """
 import math
 import os
@@ -52,6 +59,42 @@ MODELS = [
     ("rajagopal2016", "Rajagopal2016.osim"),
     ("rajagopal2015_opensense", "Rajagopal2015_opensense.osim"),
 ]
+
+
+# Coefficients, highest power first, by walker-knee transform axis.
+KNEE_POLYNOMIALS = {
+    "rotation2": [0.004, -0.02, -0.01, 0.07, 0.0],
+    "rotation3": [0.0, 0.02, -0.12, 0.33, 0.0],
+    "translation1": [0.0, 0.0004, -0.0019, 0.0029, 0.0],
+    "translation2": [0.0001, -0.0006, 0.0001, 0.0055, 0.0],
+}
+KNEE_MULTIPLIED = ("walker_knee_l", "translation1", 1.1)
+
+
+def polynomial_knee(path, out_path):
+    """Writes the model at path with its walker knees driven by KNEE_POLYNOMIALS."""
+    import xml.etree.ElementTree as ET
+    tree = ET.parse(path)
+    for joint in tree.iter("CustomJoint"):
+        if joint.get("name") not in ("walker_knee_r", "walker_knee_l"):
+            continue
+        for axis in joint.iter("TransformAxis"):
+            c = KNEE_POLYNOMIALS.get(axis.get("name"))
+            if c is None:
+                continue
+            spline = axis.find("SimmSpline")
+            index = list(axis).index(spline)
+            axis.remove(spline)
+            poly = ET.Element("PolynomialFunction", {"name": "function"})
+            ET.SubElement(poly, "coefficients").text = " ".join(repr(v) for v in c)
+            joint_name, axis_name, scale = KNEE_MULTIPLIED
+            if (joint.get("name"), axis.get("name")) == (joint_name, axis_name):
+                wrapped = ET.Element("MultiplierFunction", {"name": "function"})
+                ET.SubElement(wrapped, "function").append(poly)
+                ET.SubElement(wrapped, "scale").text = repr(scale)
+                poly = wrapped
+            axis.insert(index, poly)
+    tree.write(out_path)
 
 
 def read_mot(path):
@@ -216,6 +259,11 @@ def main():
 
     for name, file in MODELS:
         run(name, os.path.join(shared, file), motions, out_dir)
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "Rajagopal2016_polynomial_knee.osim")
+        polynomial_knee(os.path.join(shared, "Rajagopal2016.osim"), path)
+        run("rajagopal2016_polynomial_knee", path, motions, out_dir)
 
 
 if __name__ == "__main__":

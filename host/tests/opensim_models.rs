@@ -83,6 +83,81 @@ fn every_point_of_every_model_is_within_a_micrometre_of_opensim() {
     }
 }
 
+/// Rajagopal2016 with each walker knee's four splines replaced by polynomials (OpenSim
+/// `PolynomialFunction`, as Rajagopal-Lai-Uhlrich 2023 drives its knee; the left knee's
+/// translation1 inside a `MultiplierFunction`): the numbers and the edit of
+/// `scripts/opensim_reference.py`'s `polynomial_knee`, made here by text.
+fn polynomial_knee(rajagopal2016: &str) -> String {
+    const POLYNOMIALS: [(&str, &str); 4] = [
+        ("rotation2", "0.004 -0.02 -0.01 0.07 0.0"),
+        ("rotation3", "0.0 0.02 -0.12 0.33 0.0"),
+        ("translation1", "0.0 0.0004 -0.0019 0.0029 0.0"),
+        ("translation2", "0.0001 -0.0006 0.0001 0.0055 0.0"),
+    ];
+    let mut text = rajagopal2016.to_string();
+    for side in ["r", "l"] {
+        let joint = text
+            .find(&format!("<CustomJoint name=\"walker_knee_{side}\""))
+            .expect("Rajagopal's walker knee");
+        for (axis, coefficients) in POLYNOMIALS {
+            let at = joint
+                + text[joint..]
+                    .find(&format!("<TransformAxis name=\"{axis}\">"))
+                    .unwrap();
+            let start = at + text[at..].find("<SimmSpline").unwrap();
+            let end = start + text[start..].find("</SimmSpline>").unwrap() + "</SimmSpline>".len();
+            let mut polynomial = format!(
+                "<PolynomialFunction name=\"function\"><coefficients>{coefficients}</coefficients></PolynomialFunction>"
+            );
+            if (side, axis) == ("l", "translation1") {
+                polynomial = format!(
+                    "<MultiplierFunction name=\"function\"><function>{polynomial}</function><scale>1.1</scale></MultiplierFunction>"
+                );
+            }
+            text.replace_range(start..end, &polynomial);
+        }
+    }
+    text
+}
+
+#[test]
+fn a_polynomial_knee_is_within_a_micrometre_of_opensim_and_not_sent_to_a_hub() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();
+    let (model, _) = Model::import(&polynomial_knee(&text), "polynomial_knee.osim", None).unwrap();
+    let Model::Chain { chain, .. } = &model else {
+        panic!("a chain model")
+    };
+    let table = chain.chain().unwrap();
+    assert_eq!(table.polynomials().len(), 8);
+    assert!(table.splines().is_empty());
+    let fk = points(&model);
+    for motion in ["normal", "sweep"] {
+        let mut worst = (0.0f64, 0, "");
+        for (row, (q, expected)) in reference("rajagopal2016_polynomial_knee", motion)
+            .iter()
+            .enumerate()
+        {
+            for ((p, e), n) in fk(q).iter().zip(expected).zip(POINTS) {
+                let d = p.max_abs_diff(*e);
+                if d > worst.0 {
+                    worst = (d, row, n);
+                }
+            }
+        }
+        println!(
+            "Rajagopal2016, polynomial knee, {motion}: largest difference {:.3e} m (row {}, {})",
+            worst.0, worst.1, worst.2
+        );
+        assert!(worst.0 < 1e-6, "{motion}: {worst:?}");
+    }
+    // The chain messages carry constants, lines and splines only.
+    assert_eq!(
+        qgait_proto::device_model::ChainUpload::of_chain(&table, 1),
+        Err(qgait_proto::ConfigError::ChainPolynomial)
+    );
+}
+
 #[test]
 fn rajagopal_and_gait10dof_are_chains_and_gait2354_stays_gait2392s_table() {
     let Some(shared) = shared_dir() else { return };

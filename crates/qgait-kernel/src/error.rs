@@ -33,6 +33,9 @@ pub enum ModelError {
     SplineKnots,
     /// A segment length is negative, zero where it must not be, or not finite.
     BadLength,
+    /// A polynomial needs 1 to [`MAX_COEFFICIENTS`](crate::polynomial::MAX_COEFFICIENTS) finite
+    /// coefficients.
+    PolynomialCoefficients,
 }
 
 impl fmt::Display for ModelError {
@@ -57,6 +60,11 @@ impl fmt::Display for ModelError {
                 f.write_str("a spline needs 2 to 12 finite knots with increasing x")
             }
             Self::BadLength => f.write_str("segment lengths must be finite and non-negative"),
+            Self::PolynomialCoefficients => write!(
+                f,
+                "a polynomial needs 1 to {} finite coefficients",
+                crate::polynomial::MAX_COEFFICIENTS
+            ),
         }
     }
 }

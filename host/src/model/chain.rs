@@ -11,17 +11,17 @@
 //! axes of the parent offset frame), each an `axis`, an optional `coordinate` (one of the 17
 //! gait2392 coordinate names, or a coupler's `dependent`) and a `function` (`type` `Constant`
 //! with `value`, `Linear` with `slope` and `intercept`, `SimmSpline` or `PiecewiseLinear` with
-//! knots `x` and `y`); then `[[couplers]]` (`dependent`, `independent`, `function`), one
+//! knots `x` and `y`, `Polynomial` with `coefficients`, highest power first); then `[[couplers]]` (`dependent`, `independent`, `function`), one
 //! `[[toe_tips]]` per side (right first: `body`, `location` in it) and the `[[ranges]]` the
 //! model clamps its input coordinates to (`coordinate`, `min`, `max`; used by `qgait imu`).
 
 use qgait_kernel::models::custom::{
-    Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Offset, MAX_SPLINES,
-    MAX_SPLINE_KNOTS,
+    Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Functions, Offset,
+    MAX_POLYNOMIALS, MAX_SPLINES, MAX_SPLINE_KNOTS,
 };
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::models::LowerLimb;
-use qgait_kernel::{Spline, Vec3};
+use qgait_kernel::{Polynomial, Spline, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::diagnostics::Location;
@@ -63,6 +63,12 @@ pub enum FunctionData {
         /// Values.
         y: Vec<f64>,
     },
+    /// OpenSim `PolynomialFunction` (any `MultiplierFunction` scale applied to the
+    /// coefficients).
+    Polynomial {
+        /// Coefficients, highest power first.
+        coefficients: Vec<f64>,
+    },
 }
 
 impl FunctionData {
@@ -86,7 +92,8 @@ impl FunctionData {
                 };
                 return Ok(eval_one(chain, None, v));
             }
-            _ => {
+            Self::Polynomial { coefficients } => Polynomial::new(coefficients)?.eval(v),
+            Self::SimmSpline { .. } | Self::PiecewiseLinear { .. } => {
                 let s = self.spline().expect("a spline")?;
                 return Ok(eval_one(Function::Spline(0), Some(s), v));
             }
@@ -107,7 +114,8 @@ fn eval_one(f: Function<f64>, spline: Option<Spline<f64, MAX_SPLINE_KNOTS>>, v: 
         body: 0,
         offset: Vec3::zero(),
     };
-    qgait_kernel::models::CustomChain::<f64, 1, 1, 1>::new([joint], [point], &splines, &[])
+    let functions = Functions::splines(&splines);
+    qgait_kernel::models::CustomChain::<f64, 1, 1, 1>::new([joint], [point], functions, &[])
         .map(|c| c.forward(&[v])[0].x)
         .unwrap_or(f64::NAN)
 }
@@ -213,6 +221,7 @@ impl ChainModel {
             ));
         }
         let mut splines = Vec::new();
+        let mut polynomials = Vec::new();
         let mut function = |f: &FunctionData, what: &str| -> Result<Function<f64>, String> {
             Ok(match f {
                 FunctionData::Constant { value } => Function::Constant(*value),
@@ -220,7 +229,18 @@ impl ChainModel {
                     slope: *slope,
                     intercept: *intercept,
                 },
-                _ => {
+                FunctionData::Polynomial { coefficients } => {
+                    let p = Polynomial::new(coefficients)
+                        .map_err(|e| format!("{what}: {e} ({} given)", coefficients.len()))?;
+                    if polynomials.len() == MAX_POLYNOMIALS {
+                        return Err(format!(
+                            "{what}: more than {MAX_POLYNOMIALS} polynomials in one chain"
+                        ));
+                    }
+                    polynomials.push(p);
+                    Function::Polynomial(polynomials.len() - 1)
+                }
+                FunctionData::SimmSpline { .. } | FunctionData::PiecewiseLinear { .. } => {
                     let s = f.spline().expect("a spline").map_err(|e| {
                         format!("{what}: {e} (2 to {MAX_SPLINE_KNOTS} increasing knots)")
                     })?;
@@ -332,7 +352,11 @@ impl ChainModel {
                 offset: Vec3::from_f64(tip.location),
             };
         }
-        LowerLimb::new(joints, points, &splines, &couplers).map_err(|e| e.to_string())
+        let functions = Functions {
+            splines: &splines,
+            polynomials: &polynomials,
+        };
+        LowerLimb::new(joints, points, functions, &couplers).map_err(|e| e.to_string())
     }
 
     /// The clamped ranges by input coordinate ([`COORDINATES`] order; unbounded where none is

@@ -429,9 +429,12 @@ fn function_data(f: &Function, what: &str) -> Result<FunctionData, String> {
             x: x.clone(),
             y: y.clone(),
         },
+        Function::Polynomial(coefficients) => FunctionData::Polynomial {
+            coefficients: coefficients.clone(),
+        },
         Function::Other(t) => {
             return Err(format!(
-                "{what}: function type {t} is not supported (Constant, LinearFunction, SimmSpline, PiecewiseLinearFunction, MultiplierFunction of these)"
+                "{what}: function type {t} is not supported (Constant, LinearFunction, SimmSpline, PiecewiseLinearFunction, PolynomialFunction, MultiplierFunction of these)"
             ))
         }
     })

@@ -157,6 +157,8 @@ pub(super) enum Function {
     SimmSpline(Vec<f64>, Vec<f64>),
     /// `PiecewiseLinearFunction` knots.
     PiecewiseLinear(Vec<f64>, Vec<f64>),
+    /// `PolynomialFunction` coefficients, highest power first.
+    Polynomial(Vec<f64>),
     /// A type qgait does not evaluate (its XML tag).
     Other(String),
 }
@@ -244,6 +246,9 @@ pub(super) fn function(n: Node, what: &str) -> Result<Function, String> {
             numbers(text_of(n, "x").unwrap_or(""), what)?,
             numbers(text_of(n, "y").unwrap_or(""), what)?,
         ),
+        "PolynomialFunction" => {
+            Function::Polynomial(numbers(text_of(n, "coefficients").unwrap_or(""), what)?)
+        }
         "MultiplierFunction" => {
             let inner = child(n, "function")
                 .and_then(|f| f.children().find(|c| c.is_element()))
@@ -260,6 +265,9 @@ pub(super) fn function(n: Node, what: &str) -> Result<Function, String> {
                 }
                 Function::PiecewiseLinear(x, y) => {
                     Function::PiecewiseLinear(x, y.into_iter().map(|v| v * scale).collect())
+                }
+                Function::Polynomial(c) => {
+                    Function::Polynomial(c.into_iter().map(|v| v * scale).collect())
                 }
                 Function::Other(t) => Function::Other(format!("MultiplierFunction({t})")),
             }
@@ -500,6 +508,9 @@ fn rotations(j: &Joint, expected: &[String]) -> Result<Vec<[f64; 3]>, String> {
             Function::SimmSpline(..) | Function::PiecewiseLinear(..) => {
                 return Err(format!("{what}: a spline rotation is not supported"))
             }
+            Function::Polynomial(..) => {
+                return Err(format!("{what}: a polynomial rotation is not supported"))
+            }
             Function::Other(t) => {
                 return Err(format!("{what}: function type {t} is not supported"))
             }
@@ -583,6 +594,11 @@ fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
             Function::PiecewiseLinear(..) => {
                 return Err(format!(
                     "{what}: PiecewiseLinearFunction is not supported on gait2392's knee"
+                ))
+            }
+            Function::Polynomial(..) => {
+                return Err(format!(
+                    "{what}: PolynomialFunction is not supported on gait2392's knee"
                 ))
             }
             Function::Other(t) => {

@@ -1,7 +1,7 @@
 //! Any OpenSim lower-limb chain as data: bodies joined by `CustomJoint`s (and the `PinJoint`,
 //! `UniversalJoint` and `WeldJoint` special cases), each joint with oriented parent and child
 //! offset frames and up to three rotations and three translations, each a function of one
-//! coordinate (constant, linear, `SimmSpline`, piecewise linear), coordinates coupled to an
+//! coordinate (constant, linear, `SimmSpline`, piecewise linear, polynomial), coordinates coupled to an
 //! independent one by a `CoordinateCouplerConstraint`. What Rajagopal 2015/2016 and
 //! gait10dof18musc need, beside gait2392's family (which keeps its own faster
 //! [`Gait2392`](super::Gait2392) table).
@@ -13,16 +13,18 @@
 //! earlier ones), then the translations along their axes in `F`.
 //!
 //! Sizes are fixed: `N` input coordinates, `B` bodies (joint `b` moves body `b`), `P` output
-//! points, up to [`MAX_SPLINES`] splines of up to [`MAX_SPLINE_KNOTS`] knots and
-//! [`MAX_COUPLERS`] coupled coordinates. [`LowerLimb`] is the size the host uses: the 17
+//! points, up to [`MAX_SPLINES`] splines of up to [`MAX_SPLINE_KNOTS`] knots, up to
+//! [`MAX_POLYNOMIALS`] polynomials and [`MAX_COUPLERS`] coupled coordinates. [`LowerLimb`] is the size the host uses: the 17
 //! gait2392 coordinates, pelvis and two legs of five bodies, the 12 gait2392 points.
 
-use crate::{ModelError, Quat, Real, Spline, Vec3};
+use crate::{ModelError, Polynomial, Quat, Real, Spline, Vec3};
 
 /// Most knots of one spline (Rajagopal's knee: 13).
 pub const MAX_SPLINE_KNOTS: usize = 16;
 /// Most splines one chain holds (Rajagopal: four per knee).
 pub const MAX_SPLINES: usize = 12;
+/// Most polynomials one chain holds (Rajagopal-Lai-Uhlrich 2023: five per knee).
+pub const MAX_POLYNOMIALS: usize = 12;
 /// Most coupled coordinates one chain holds.
 pub const MAX_COUPLERS: usize = 4;
 
@@ -58,6 +60,8 @@ pub enum Function<T> {
     },
     /// Spline `k` of the chain's spline table (a `SimmSpline` or a `PiecewiseLinearFunction`).
     Spline(usize),
+    /// Polynomial `k` of the chain's polynomial table (a `PolynomialFunction`).
+    Polynomial(usize),
 }
 
 /// One transform axis: a direction and how far along or about it, as a function of an argument.
@@ -169,6 +173,25 @@ pub struct Coupler<T> {
     pub function: Function<T>,
 }
 
+/// The function tables a chain's [`Function`]s index.
+#[derive(Clone, Copy, Debug)]
+pub struct Functions<'a, T, const K: usize> {
+    /// [`Function::Spline`]`(k)` is `splines[k]`.
+    pub splines: &'a [Spline<T, K>],
+    /// [`Function::Polynomial`]`(k)` is `polynomials[k]`.
+    pub polynomials: &'a [Polynomial<T>],
+}
+
+impl<'a, T, const K: usize> Functions<'a, T, K> {
+    /// Splines only.
+    pub fn splines(splines: &'a [Spline<T, K>]) -> Self {
+        Functions {
+            splines,
+            polynomials: &[],
+        }
+    }
+}
+
 /// An output point fixed in a body.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyPoint<T> {
@@ -178,9 +201,9 @@ pub struct BodyPoint<T> {
     pub offset: Vec3<T>,
 }
 
-/// A validated chain. Joint `b` moves body `b`. `S` spline slots of `K` knots each
-/// ([`MAX_SPLINES`] and [`MAX_SPLINE_KNOTS`] unless said: a device sizes them to the models it
-/// takes).
+/// A validated chain. Joint `b` moves body `b`. `S` spline slots of `K` knots each and `Q`
+/// polynomial slots ([`MAX_SPLINES`], [`MAX_SPLINE_KNOTS`] and [`MAX_POLYNOMIALS`] unless said: a
+/// device sizes them to the models it takes).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CustomChain<
     T,
@@ -189,6 +212,7 @@ pub struct CustomChain<
     const P: usize,
     const S: usize = MAX_SPLINES,
     const K: usize = MAX_SPLINE_KNOTS,
+    const Q: usize = MAX_POLYNOMIALS,
 > {
     joints: [CustomJoint<T>; B],
     /// Per joint, what [`frames`](Self::frames) computes with (built by
@@ -198,9 +222,10 @@ pub struct CustomChain<
     /// Per point, whether it is its body's origin (nothing to rotate).
     at_origin: [bool; P],
     splines: [Spline<T, K>; S],
+    polynomials: [Polynomial<T>; Q],
     couplers: [Coupler<T>; MAX_COUPLERS],
-    /// How many of `splines` and `couplers` are in use.
-    used: (u8, u8),
+    /// How many of `splines`, `couplers` and `polynomials` are in use.
+    used: (u8, u8, u8),
 }
 
 /// A joint as [`CustomChain::frames`] evaluates it, precomputed from the [`CustomJoint`] by
@@ -352,8 +377,15 @@ impl<T: Real> BodyFrame<T> {
     }
 }
 
-impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, const K: usize>
-    CustomChain<T, N, B, P, S, K>
+impl<
+        T: Real,
+        const N: usize,
+        const B: usize,
+        const P: usize,
+        const S: usize,
+        const K: usize,
+        const Q: usize,
+    > CustomChain<T, N, B, P, S, K, Q>
 {
     /// A table of zeros (every point at the origin): a slot that
     /// [`rebuild`](Self::rebuild) fills in place. All zero bits, so writing it is a memset.
@@ -390,26 +422,27 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
             }; P],
             at_origin: [false; P],
             splines: [Spline::EMPTY; S],
+            polynomials: [Polynomial::ZERO; Q],
             couplers: [Coupler {
                 independent: 0,
                 function: Function::Constant(T::ZERO),
             }; MAX_COUPLERS],
-            used: (0, 0),
+            used: (0, 0, 0),
         }
     };
 
     /// Validates and builds a chain: parents come first (body 0 hangs on ground, every other
-    /// body on an earlier one), axes are non-zero and finite (normalised here), arguments and
-    /// splines exist, offsets are finite, couplers depend on inputs and are not chained. Axes
-    /// whose function is the constant 0 are dropped (the others keep their order).
+    /// body on an earlier one), axes are non-zero and finite (normalised here), arguments,
+    /// splines and polynomials exist, offsets are finite, couplers depend on inputs and are not
+    /// chained. Axes whose function is the constant 0 are dropped (the others keep their order).
     pub fn new(
         joints: [CustomJoint<T>; B],
         points: [BodyPoint<T>; P],
-        splines: &[Spline<T, K>],
+        functions: Functions<'_, T, K>,
         couplers: &[Coupler<T>],
     ) -> Result<Self, ModelError> {
         let mut chain = Self::EMPTY;
-        chain.rebuild(&joints, &points, splines, couplers)?;
+        chain.rebuild(&joints, &points, functions, couplers)?;
         Ok(chain)
     }
 
@@ -417,20 +450,28 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
     pub fn check(
         joints: &[CustomJoint<T>; B],
         points: &[BodyPoint<T>; P],
-        splines: &[Spline<T, K>],
+        functions: Functions<'_, T, K>,
         couplers: &[Coupler<T>],
     ) -> Result<(), ModelError> {
+        let Functions {
+            splines,
+            polynomials,
+        } = functions;
         if splines.len() > S
             || couplers.len() > MAX_COUPLERS
             || splines.iter().any(|s| s.is_empty())
         {
             return Err(ModelError::SplineKnots);
         }
+        if polynomials.len() > Q || polynomials.iter().any(|p| p.coefficients().is_empty()) {
+            return Err(ModelError::PolynomialCoefficients);
+        }
         let finite = |v: Vec3<T>| v.x.is_finite() && v.y.is_finite() && v.z.is_finite();
         let function_ok = |f: &Function<T>| match f {
             Function::Constant(c) => c.is_finite(),
             Function::Linear { slope, intercept } => slope.is_finite() && intercept.is_finite(),
             Function::Spline(k) => *k < splines.len(),
+            Function::Polynomial(k) => *k < polynomials.len(),
         };
         for c in couplers {
             if c.independent >= N || !function_ok(&c.function) {
@@ -480,10 +521,14 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         &mut self,
         joints: &[CustomJoint<T>; B],
         points: &[BodyPoint<T>; P],
-        splines: &[Spline<T, K>],
+        functions: Functions<'_, T, K>,
         couplers: &[Coupler<T>],
     ) -> Result<(), ModelError> {
-        Self::check(joints, points, splines, couplers)?;
+        Self::check(joints, points, functions, couplers)?;
+        let Functions {
+            splines,
+            polynomials,
+        } = functions;
         let still = |d: &Driven<T>| d.function == Function::Constant(T::ZERO);
         for (b, joint) in joints.iter().enumerate() {
             let mut joint = *joint;
@@ -509,6 +554,9 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         self.at_origin = points.map(|p| p.offset == Vec3::zero());
         for (slot, k) in self.splines.iter_mut().zip(0..) {
             *slot = splines.get(k).copied().unwrap_or(Spline::EMPTY);
+        }
+        for (slot, k) in self.polynomials.iter_mut().zip(0..) {
+            *slot = polynomials.get(k).copied().unwrap_or(Polynomial::ZERO);
         }
         // Which spline-driven axes can take the cubic of the one before them (in the order
         // `frames` evaluates them: by joint, rotations then translations).
@@ -539,7 +587,11 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 function: Function::Constant(T::ZERO),
             });
         }
-        self.used = (splines.len() as u8, couplers.len() as u8);
+        self.used = (
+            splines.len() as u8,
+            couplers.len() as u8,
+            polynomials.len() as u8,
+        );
         Ok(())
     }
 
@@ -558,6 +610,11 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
         &self.splines[..usize::from(self.used.0).min(S)]
     }
 
+    /// The polynomials the table's functions refer to ([`Function::Polynomial`] indices).
+    pub fn polynomials(&self) -> &[Polynomial<T>] {
+        &self.polynomials[..usize::from(self.used.2).min(Q)]
+    }
+
     /// The coupled coordinates ([`Argument::Coupled`] indices).
     pub fn couplers(&self) -> &[Coupler<T>] {
         &self.couplers[..usize::from(self.used.1).min(MAX_COUPLERS)]
@@ -569,6 +626,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
             Function::Constant(c) => c,
             Function::Linear { slope, intercept } => slope * x + intercept,
             Function::Spline(k) => self.splines[k].eval_scalar(x),
+            Function::Polynomial(k) => self.polynomial(k, x),
         }
     }
 
@@ -627,7 +685,15 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 }
                 s.eval_in(*cubic, x)
             }
+            Function::Polynomial(k) => self.polynomial(k, x),
         }
+    }
+
+    /// Polynomial `k` at `x` (`check`: `k` is in range; a table without polynomials, `Q = 0`,
+    /// compiles this to nothing).
+    #[inline(always)]
+    fn polynomial(&self, k: usize, x: T) -> T {
+        self.polynomials.get(k).map_or(T::ZERO, |p| p.eval(x))
     }
 
     /// [`frames`](Self::frames): every axis's value first (the spline calls out of the
@@ -712,7 +778,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
     }
 
     /// The whole table in another precision (e.g. an `f64` model for an `f32` device).
-    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P, S, K> {
+    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P, S, K, Q> {
         let v = |v: Vec3<T>| v.cast::<U>();
         let s = |x: T| U::from_f64(x.to_f64());
         let f = |f: Function<T>| match f {
@@ -722,6 +788,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
                 intercept: s(intercept),
             },
             Function::Spline(k) => Function::Spline(k),
+            Function::Polynomial(k) => Function::Polynomial(k),
         };
         let d = |d: Driven<T>| Driven {
             axis: v(d.axis),
@@ -755,6 +822,7 @@ impl<T: Real, const N: usize, const B: usize, const P: usize, const S: usize, co
             }),
             at_origin: self.at_origin,
             splines: self.splines.map(|sp| sp.cast()),
+            polynomials: self.polynomials.map(|p| p.cast()),
             couplers: self.couplers.map(|c| Coupler {
                 independent: c.independent,
                 function: f(c.function),
@@ -840,7 +908,7 @@ mod tests {
                 offset: v(leg.toetip_in_toes),
             };
         }
-        LowerLimb::new(joints, points, &splines, &[]).unwrap()
+        LowerLimb::new(joints, points, Functions::splines(&splines), &[]).unwrap()
     }
 
     #[test]
@@ -912,7 +980,9 @@ mod tests {
                 intercept: 0.0,
             },
         }];
-        let chain = CustomChain::<f64, 1, 2, 1>::new(joints, points, &[], &couplers).unwrap();
+        let chain =
+            CustomChain::<f64, 1, 2, 1>::new(joints, points, Functions::splines(&[]), &couplers)
+                .unwrap();
         assert_eq!(chain.couplers(), &couplers);
         assert!(chain.splines().is_empty());
         // q = π/4: F at (1, 0, 0) facing +y; M 0.5 along F's x: (1, 0.5, 0), turned a further
@@ -931,8 +1001,12 @@ mod tests {
         let mut turned = joints;
         turned[1].rotations[1] = turned[1].rotations[0];
         turned[1].rotations[0].axis = Vec3::unit_x();
-        let a = CustomChain::<f64, 1, 2, 1>::new(padded, points, &[], &couplers).unwrap();
-        let b = CustomChain::<f64, 1, 2, 1>::new(turned, points, &[], &couplers).unwrap();
+        let a =
+            CustomChain::<f64, 1, 2, 1>::new(padded, points, Functions::splines(&[]), &couplers)
+                .unwrap();
+        let b =
+            CustomChain::<f64, 1, 2, 1>::new(turned, points, Functions::splines(&[]), &couplers)
+                .unwrap();
         assert_eq!(a.joints()[1].rotations[1], b.joints()[1].rotations[1]);
         for t in [-0.7, 0.2, 1.3] {
             assert_eq!(a.forward(&[t]), b.forward(&[t]));
@@ -941,16 +1015,132 @@ mod tests {
             independent: 1,
             function: Function::Constant(0.0),
         }];
-        assert!(CustomChain::<f64, 1, 2, 1>::new(joints, points, &[], &bad).is_err());
+        assert!(
+            CustomChain::<f64, 1, 2, 1>::new(joints, points, Functions::splines(&[]), &bad)
+                .is_err()
+        );
         let mut cyclic = joints;
         cyclic[1].parent = Some(1);
-        assert!(CustomChain::<f64, 1, 2, 1>::new(cyclic, points, &[], &couplers).is_err());
+        assert!(CustomChain::<f64, 1, 2, 1>::new(
+            cyclic,
+            points,
+            Functions::splines(&[]),
+            &couplers
+        )
+        .is_err());
         // Rebuilt in place it is the chain `new` builds; a refused table changes nothing.
         let mut slot = CustomChain::<f64, 1, 2, 1>::EMPTY;
-        slot.rebuild(&joints, &points, &[], &couplers).unwrap();
+        slot.rebuild(&joints, &points, Functions::splines(&[]), &couplers)
+            .unwrap();
         assert_eq!(slot, chain);
-        assert!(slot.rebuild(&cyclic, &points, &[], &couplers).is_err());
+        assert!(slot
+            .rebuild(&cyclic, &points, Functions::splines(&[]), &couplers)
+            .is_err());
         assert_eq!(slot, chain);
+    }
+
+    #[test]
+    fn polynomial_axes_are_their_polynomials_values() {
+        // A knee-like joint on an oriented frame: a rotation and a translation, each a
+        // polynomial of coordinate 0 (as Rajagopal-Lai-Uhlrich 2023's walker knee), against the
+        // same joint driven linearly by inputs that hold the polynomials' values, summed power
+        // by power here.
+        let rotation = [0.0123, -0.045, 0.21, -0.3, 0.02];
+        let translation = [-0.0031, 0.0102, -0.0035, 0.0005];
+        let direct = |c: &[f64], x: f64| {
+            let n = c.len() - 1;
+            c.iter()
+                .enumerate()
+                .map(|(k, a)| a * x.powi((n - k) as i32))
+                .sum::<f64>()
+        };
+        let polynomials = [
+            Polynomial::new(&rotation).unwrap(),
+            Polynomial::new(&translation).unwrap(),
+        ];
+        let joints = |rotate: (Function<f64>, Argument), slide: (Function<f64>, Argument)| {
+            let mut joints = [CustomJoint::WELD; 2];
+            joints[1].parent = Some(0);
+            joints[1].in_parent =
+                Offset::from_xyz(Vec3::new(-0.0045, -0.4096, 0.00175), [0.1, -0.2, 0.3]);
+            joints[1].in_child = Offset::from_xyz(Vec3::new(0.0, 0.01, 0.0), [0.1, -0.2, 0.3]);
+            joints[1].rotations[0] = Driven {
+                axis: Vec3::new(0.0, 0.0, 1.0),
+                function: rotate.0,
+                argument: rotate.1,
+            };
+            joints[1].translations[0] = Driven {
+                axis: Vec3::new(0.0, 1.0, 0.0),
+                function: slide.0,
+                argument: slide.1,
+            };
+            joints
+        };
+        let points = [BodyPoint {
+            body: 1,
+            offset: Vec3::new(0.01, -0.4, 0.002),
+        }];
+        let functions = Functions {
+            splines: &[],
+            polynomials: &polynomials,
+        };
+        let of_knee = CustomChain::<f64, 3, 2, 1>::new(
+            joints(
+                (Function::Polynomial(0), Argument::Coordinate(0)),
+                (Function::Polynomial(1), Argument::Coordinate(0)),
+            ),
+            points,
+            functions,
+            &[],
+        )
+        .unwrap();
+        let line = Function::Linear {
+            slope: 1.0,
+            intercept: 0.0,
+        };
+        let by_value = CustomChain::<f64, 3, 2, 1>::new(
+            joints(
+                (line, Argument::Coordinate(1)),
+                (line, Argument::Coordinate(2)),
+            ),
+            points,
+            Functions::splines(&[]),
+            &[],
+        )
+        .unwrap();
+        assert_eq!(of_knee.polynomials(), &polynomials);
+        // Beyond any range: OpenSim evaluates a polynomial everywhere.
+        for x in [-0.5, 0.0, 0.7, 1.4, 2.44, 3.0] {
+            let a = of_knee.forward(&[x, 0.0, 0.0])[0];
+            let b = by_value.forward(&[0.0, direct(&rotation, x), direct(&translation, x)])[0];
+            assert!((a - b).norm() < 1e-15, "{x}: {a:?} against {b:?}");
+        }
+        // The f32 table evaluates the same polynomials.
+        let device = of_knee.cast::<f32>();
+        let p = device.forward(&[1.2, 0.0, 0.0])[0];
+        assert!((p.cast::<f64>() - of_knee.forward(&[1.2, 0.0, 0.0])[0]).norm() < 1e-6);
+        // Refused: a polynomial the table does not have, more than `Q`.
+        let missing = joints(
+            (Function::Polynomial(2), Argument::Coordinate(0)),
+            (line, Argument::Coordinate(0)),
+        );
+        assert_eq!(
+            CustomChain::<f64, 3, 2, 1>::new(missing, points, functions, &[]),
+            Err(ModelError::BadAxis { joint: 1 })
+        );
+        let none = CustomChain::<f64, 3, 2, 1, 0, 2, 1>::new(
+            joints(
+                (Function::Polynomial(0), Argument::Coordinate(0)),
+                (line, Argument::Coordinate(0)),
+            ),
+            points,
+            Functions {
+                splines: &[],
+                polynomials: &polynomials,
+            },
+            &[],
+        );
+        assert_eq!(none, Err(ModelError::PolynomialCoefficients));
     }
 
     /// Every body's frame as OpenSim composes it, `X_PF · X_FM(q) · X_BM⁻¹` offset by offset
@@ -1094,7 +1284,13 @@ mod tests {
             independent: 3,
             function: Function::Spline(2),
         }];
-        let chain = CustomChain::<f64, 5, 6, 4>::new(joints, points, &splines, &couplers).unwrap();
+        let chain = CustomChain::<f64, 5, 6, 4>::new(
+            joints,
+            points,
+            Functions::splines(&splines),
+            &couplers,
+        )
+        .unwrap();
         // The knee's second spline takes the first's cubic; the third spline (other knots) and
         // the first translation (after it) search again, the second translation shares.
         assert_eq!(chain.steps[1].shared, 0b1_0000);

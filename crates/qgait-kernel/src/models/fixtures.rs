@@ -1,7 +1,9 @@
 //! Models for the tests of the crates built on the kernel (cargo feature `fixtures`): one
 //! definition each, shared by the kernel's, the protocol's, the hub's and the firmware's tests.
 
-use crate::models::custom::{Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Offset};
+use crate::models::custom::{
+    Argument, BodyPoint, Coupler, CustomJoint, Driven, Function, Functions, Offset,
+};
 use crate::models::LowerLimb;
 use crate::{Spline, Vec3};
 
@@ -133,7 +135,7 @@ pub fn walker_chain() -> LowerLimb<f64> {
             offset: Vec3::new(0.058, 0.007, 0.001 * z),
         };
     }
-    match LowerLimb::new(joints, points, &[s0, s1], &couplers) {
+    match LowerLimb::new(joints, points, Functions::splines(&[s0, s1]), &couplers) {
         Ok(chain) => chain,
         Err(_) => unreachable!("a valid table"),
     }

@@ -6,7 +6,8 @@
 //! and the kernel here and nowhere else.
 
 use qgait_kernel::models::custom::{
-    Argument, BodyPoint, Coupler, CustomChain, CustomJoint, Driven, Function, Offset, MAX_COUPLERS,
+    Argument, BodyPoint, Coupler, CustomChain, CustomJoint, Driven, Function, Functions, Offset,
+    MAX_COUPLERS,
 };
 use qgait_kernel::{BilateralPose, Gait2392Pose, Quat, Real, Spline, Vec3};
 
@@ -26,7 +27,7 @@ pub const CHAIN_POINTS: usize = 12;
 
 /// The chain a hub computes with: the 17 coordinates in [`JointId`] order, [`CHAIN_BODIES`]
 /// bodies, [`CHAIN_POINTS`] points, up to [`MAX_CHAIN_SPLINES`] splines of up to
-/// [`MAX_CHAIN_KNOTS`] knots, in `f32`.
+/// [`MAX_CHAIN_KNOTS`] knots, no polynomials (the wire has none), in `f32`.
 pub type DeviceChain = CustomChain<
     f32,
     { JointId::COUNT },
@@ -34,17 +35,18 @@ pub type DeviceChain = CustomChain<
     CHAIN_POINTS,
     MAX_CHAIN_SPLINES,
     MAX_CHAIN_KNOTS,
+    0,
 >;
 
-/// A lower-limb chain of any size (the host's `LowerLimb` is `S = 12`, `K = 16`).
-pub type LowerLimbChain<T, const S: usize, const K: usize> =
-    CustomChain<T, { JointId::COUNT }, CHAIN_BODIES, CHAIN_POINTS, S, K>;
+/// A lower-limb chain of any size (the host's `LowerLimb` is `S = 12`, `K = 16`, `Q = 12`).
+pub type LowerLimbChain<T, const S: usize, const K: usize, const Q: usize> =
+    CustomChain<T, { JointId::COUNT }, CHAIN_BODIES, CHAIN_POINTS, S, K, Q>;
 
 /// The pose of a chain from a sample's angles (indexed by [`JointId::index`], the chain's
 /// coordinate order): hip, knee, ankle and toe tip of each leg.
 #[inline(always)]
-pub fn chain_pose<T: Real, const S: usize, const K: usize>(
-    chain: &LowerLimbChain<T, S, K>,
+pub fn chain_pose<T: Real, const S: usize, const K: usize, const Q: usize>(
+    chain: &LowerLimbChain<T, S, K, Q>,
     angles: &[T; JointId::COUNT],
 ) -> BilateralPose<T> {
     Gait2392Pose {
@@ -101,6 +103,7 @@ fn function_part<T: Real>(fun: &Function<T>) -> Result<ChainFunction, ConfigErro
             intercept: f(intercept),
         },
         Function::Spline(k) => ChainFunction::Spline(small(k)?),
+        Function::Polynomial(_) => return Err(ConfigError::ChainPolynomial),
     })
 }
 
@@ -139,9 +142,10 @@ fn moving_parts<T: Real>(
 impl ChainUpload {
     /// The parts of `chain` (numbers rounded to `f32`) under `upload`. Fails if it has more
     /// splines or knots than the hub holds ([`MAX_CHAIN_SPLINES`], [`MAX_CHAIN_KNOTS`]), or if
-    /// its points are not the joint centres of the leg bodies and a toe tip per side.
-    pub fn of_chain<T: Real, const S: usize, const K: usize>(
-        chain: &LowerLimbChain<T, S, K>,
+    /// its points are not the joint centres of the leg bodies and a toe tip per side, or if it
+    /// has polynomials (the wire carries none: [`ConfigError::ChainPolynomial`]).
+    pub fn of_chain<T: Real, const S: usize, const K: usize, const Q: usize>(
+        chain: &LowerLimbChain<T, S, K, Q>,
         upload: u8,
     ) -> Result<ChainUpload, ConfigError> {
         let points = chain.points();
@@ -374,7 +378,9 @@ impl ChainParts {
 
     /// Whether [`chain`](Self::chain) would succeed, without building the chain.
     pub fn check(&self, config: &ChainConfig) -> Result<(), ConfigError> {
-        self.with_table(config, DeviceChain::check)
+        self.with_table(config, |j, p, s, c| {
+            DeviceChain::check(j, p, Functions::splines(s), c)
+        })
     }
 
     /// Makes `chain` the chain of [`chain`](Self::chain), rebuilt in place (no chain on the
@@ -384,7 +390,9 @@ impl ChainParts {
         config: &ChainConfig,
         chain: &mut DeviceChain,
     ) -> Result<(), ConfigError> {
-        self.with_table(config, |j, p, s, c| chain.rebuild(j, p, s, c))
+        self.with_table(config, |j, p, s, c| {
+            chain.rebuild(j, p, Functions::splines(s), c)
+        })
     }
 
     /// The kernel's table of the parts and `config` (its splines built in `f32`), given to `f`.

@@ -61,6 +61,10 @@ pub enum ConfigError {
     /// A chain cannot be sent to a hub: more splines, knots or couplers than a hub holds, or
     /// points other than the leg bodies' joint centres and a toe tip per side.
     ChainTooLarge,
+    /// A chain with polynomial functions (OpenSim `PolynomialFunction`, Rajagopal-Lai-Uhlrich
+    /// 2023's knee) cannot be sent to a hub: the chain messages carry constants, lines and
+    /// splines.
+    ChainPolynomial,
     /// A knee spline has more knots than a `SubjectKnee` carries.
     SubjectKnots {
         /// 0 = right leg, 1 = left leg.
@@ -121,6 +125,9 @@ impl core::fmt::Display for ConfigError {
                 crate::MAX_CHAIN_SPLINES,
                 crate::MAX_CHAIN_KNOTS,
                 crate::MAX_CHAIN_COUPLERS
+            ),
+            ConfigError::ChainPolynomial => f.write_str(
+                "the chain has polynomial functions (PolynomialFunction), which a hub does not take",
             ),
             ConfigError::SubjectKnots { leg: l, direction } => write!(
                 f,
