@@ -30,10 +30,10 @@ pub struct HubSettings {
 pub enum HubConfigError {
     /// A subject model or a chain does not fit the parts a hub takes (e.g. a spline with too
     /// many knots).
-    #[error("the model cannot be sent in parts: {0}")]
+    #[error("the model cannot be sent in parts")]
     Parts(#[from] ConfigError),
     /// A message does not encode (a number or a length outside what the wire carries).
-    #[error("a configuration message does not encode: {0}")]
+    #[error("a configuration message does not encode")]
     Encode(#[from] EncodeError),
 }
 
