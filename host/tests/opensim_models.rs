@@ -247,6 +247,56 @@ fn a_ball_joint_in_the_chain_is_refused_naming_it() {
 }
 
 #[test]
+fn a_leg_coordinate_that_is_not_an_input_is_refused_unless_locked() {
+    // leg39 calls its hip flexion `hip_angle_r`: held at its default, the femur would not
+    // follow the motion's `hip_flexion_r`.
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();
+    let renamed = text.replace("hip_flexion_r", "hip_angle_r");
+    let err = Model::import(&renamed, "renamed.osim", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains(
+            "coordinate `hip_angle_r` moves `femur_r` but is not one of the chain's inputs"
+        ),
+        "{err}"
+    );
+    // Locked, it is held at its default, as OpenSim holds it.
+    let start = renamed.find("<Coordinate name=\"hip_angle_r\">").unwrap();
+    let end = start + renamed[start..].find("</Coordinate>").unwrap();
+    let locked = format!(
+        "{}{}{}",
+        &renamed[..start],
+        renamed[start..end].replace("<locked>false</locked>", "<locked>true</locked>"),
+        &renamed[end..]
+    );
+    let (model, notes) = Model::import(&locked, "locked.osim", None).unwrap();
+    assert!(matches!(model, Model::Chain { .. }));
+    assert!(
+        notes.iter().any(|n| n.contains("hip_angle_r is locked")),
+        "{notes:?}"
+    );
+}
+
+#[test]
+fn a_single_leg_model_is_refused_saying_so() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();
+    // Without the left hip, no joint moves `femur_l`.
+    let start = text.find("<CustomJoint name=\"hip_l\">").unwrap();
+    let end = start + text[start..].find("</CustomJoint>").unwrap() + "</CustomJoint>".len();
+    let one_leg = format!("{}{}", &text[..start], &text[end..]);
+    let err = Model::import(&one_leg, "one_leg.osim", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("a single-leg model: no joint moves `femur_l` (only `femur_r`)"),
+        "{err}"
+    );
+}
+
+#[test]
 fn fidelity_compares_phak_with_imported_models_and_agrees_with_its_gait2392_summary() {
     let Some(shared) = shared_dir() else { return };
     let raj = shared.join("data/opensim/Rajagopal2016.osim");

@@ -105,7 +105,20 @@ pub fn import(
         couplings: &couplings,
         used: Vec::new(),
         notes: Vec::new(),
+        unmapped: Vec::new(),
     };
+    let moved = |body: &str| joints.iter().any(|j| j.child == body);
+    let missing = match (moved("femur_r"), moved("femur_l")) {
+        (true, false) => Some(("femur_l", "femur_r")),
+        (false, true) => Some(("femur_r", "femur_l")),
+        _ => None,
+    };
+    if let Some((side, other)) = missing {
+        // leg39, leg6dof9musc: one leg on a pelvis.
+        return Err(err(format!(
+            "a single-leg model: no joint moves `{side}` (only `{other}`); qgait's lower-limb chains have both legs"
+        )));
+    }
     let mut out = Vec::new();
     for (b, body) in BODIES.iter().enumerate() {
         let parent = match b {
@@ -116,6 +129,13 @@ pub fn import(
         let j = osim::joint_moving(&joints, parent, body).map_err(err)?;
         let before = state.notes.len();
         let mut data = state.joint(j).map_err(err)?;
+        if let Some((what, c)) = state.unmapped.drain(..).next().filter(|_| b > 0) {
+            // Held, a leg joint would not follow the motion's coordinate of that name.
+            return Err(err(format!(
+                "{what}: coordinate `{c}` moves `{body}` but is not one of the chain's inputs ({}): rename it in the model to the input it is (e.g. hip_flexion_r), or lock it to hold it at its default",
+                COORDINATES.join(", ")
+            )));
+        }
         if b == 0 {
             // (What the dropped translations would have held is not worth a note.)
             let prefix = format!("joint `{}` translation", j.name);
@@ -243,6 +263,9 @@ struct State<'a> {
     /// Coupled coordinates the chain uses.
     used: Vec<String>,
     notes: Vec<String>,
+    /// The axes (what, coordinate) of the last joint read whose coordinate is free in the
+    /// model but not an input: held at its default.
+    unmapped: Vec<(String, String)>,
 }
 
 impl State<'_> {
@@ -406,6 +429,7 @@ impl State<'_> {
                 function,
             });
         }
+        self.unmapped.push((what.to_string(), c.clone()));
         held(
             default,
             format!("{what}: coordinate {c} is not a chain input: held at its default {default}"),
