@@ -676,8 +676,6 @@ impl<
             Argument::Coupled(k) => coupled[k],
         };
         match d.function {
-            Function::Constant(c) => c,
-            Function::Linear { slope, intercept } => slope * x + intercept,
             Function::Spline(k) => {
                 let s = &self.splines[k];
                 if !shared {
@@ -685,7 +683,7 @@ impl<
                 }
                 s.eval_in(*cubic, x)
             }
-            Function::Polynomial(k) => self.polynomial(k, x),
+            f => self.value(&f, x),
         }
     }
 
