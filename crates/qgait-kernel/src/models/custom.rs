@@ -676,6 +676,8 @@ impl<
             Argument::Coupled(k) => coupled[k],
         };
         match d.function {
+            Function::Constant(c) => c,
+            Function::Linear { slope, intercept } => slope * x + intercept,
             Function::Spline(k) => {
                 let s = &self.splines[k];
                 if !shared {
@@ -683,7 +685,7 @@ impl<
                 }
                 s.eval_in(*cubic, x)
             }
-            f => self.value(&f, x),
+            Function::Polynomial(k) => self.polynomial(k, x),
         }
     }
 
