@@ -833,3 +833,57 @@ fn the_normative_speed_group_follows_the_cadence() {
         );
     }
 }
+
+#[test]
+fn a_model_whose_knee_flexes_with_positive_angles_gets_the_same_knee_flexion() {
+    // normal.mot in gait2392's signs with gait2392, and in Rajagopal's (knee_angle positive in
+    // flexion) with Rajagopal2016: the same walking, the same clinical knee flexion.
+    let Some(shared) = shared_dir() else { return };
+    let dir = common::scratch("gait", "knee_sign");
+    let normal = shared.join("data/opensim/normal.mot");
+    let mut mot = read_mot(&normal);
+    for name in ["knee_angle_r", "knee_angle_l"] {
+        let i = mot.labels.iter().position(|l| l == name).unwrap();
+        for r in &mut mot.rows {
+            r[i] = -r[i];
+        }
+    }
+    let rajagopal_signs = dir.join("normal_rajagopal.mot");
+    mot.write(&rajagopal_signs);
+    let raj = shared.join("data/opensim/Rajagopal2016.osim");
+    let (a, b) = (dir.join("gait2392"), dir.join("rajagopal"));
+    gait_whole(&normal, &a, &["--model", "gait2392"]);
+    let (m, o) = (rajagopal_signs.to_str().unwrap(), b.to_str().unwrap());
+    let out = qgait(&[
+        "gait",
+        m,
+        "--cycle",
+        "whole",
+        "-o",
+        o,
+        "--model",
+        raj.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Its knee is in its own range: no warning.
+    assert!(
+        !stderr(&out).contains("column `knee_angle"),
+        "{}",
+        stderr(&out)
+    );
+    let knee = |dir: &Path| -> Vec<f64> {
+        read_csv(&dir.join("cycles/right.csv"))
+            .iter()
+            .map(|r| r["knee_flexion_mean"].parse().unwrap())
+            .collect()
+    };
+    let (k2392, kraj) = (knee(&a), knee(&b));
+    assert_eq!(k2392.len(), kraj.len());
+    assert!(
+        k2392.iter().cloned().fold(f64::MIN, f64::max) > 40.0,
+        "{k2392:?}"
+    );
+    for (x, y) in k2392.iter().zip(&kraj) {
+        assert!((x - y).abs() < 1e-9, "{x} against {y}");
+    }
+}

@@ -8,6 +8,7 @@ use qgait_proto::{JointAngle, Message, ModelId, MAX_FRAME_LEN};
 use std::cell::RefCell;
 
 use crate::diagnostics::Warning;
+use crate::model::coords::KneeFlexion;
 use crate::model::error::ModelError;
 use crate::model::points::drive;
 use crate::motion::source::MotionRows;
@@ -144,12 +145,20 @@ pub(crate) fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
         each(seq, wire_us(seconds), angles)
     };
     // The coordinates are read in the model's joint order (its `required_joints`, the order of
-    // its packets and of a pose frame's angles).
+    // its packets and of a pose frame's angles), their ranges checked as the hub checks them:
+    // gait2392's, for every model it computes.
+    let knee = KneeFlexion::Negative;
     match model {
-        ModelId::Hak => drive(rows, &joint_names::<6>(model), warn, |t, q| sample(t, &q)),
-        ModelId::Phak => drive(rows, &joint_names::<8>(model), warn, |t, q| sample(t, &q)),
+        ModelId::Hak => drive(rows, &joint_names::<6>(model), knee, warn, |t, q| {
+            sample(t, &q)
+        }),
+        ModelId::Phak => drive(rows, &joint_names::<8>(model), knee, warn, |t, q| {
+            sample(t, &q)
+        }),
         ModelId::Gait2392 | ModelId::Chain => {
-            drive(rows, &joint_names::<17>(model), warn, |t, q| sample(t, &q))
+            drive(rows, &joint_names::<17>(model), knee, warn, |t, q| {
+                sample(t, &q)
+            })
         }
     }
 }

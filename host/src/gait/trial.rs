@@ -9,6 +9,7 @@ use qgait_kernel::Vec3;
 use crate::device::frames_csv::FramesCsvError;
 use crate::diagnostics::Warning;
 use crate::model::choice::Model;
+use crate::model::coords::KneeFlexion;
 use crate::model::error::ModelError;
 use crate::model::points::{self, PointModel};
 use crate::motion::source::{default_label, load_motion, MotionRows, SourceError};
@@ -70,7 +71,8 @@ pub struct Trial {
     pub time: Vec<f64>,
     /// Points of each frame.
     pub frames: Vec<Frame>,
-    /// gait2392's 17 coordinates of each frame (radians, [`COORDINATES`] order; absent ones 0);
+    /// gait2392's 17 coordinates of each frame (radians, [`COORDINATES`] order, gait2392's signs:
+    /// the knee of a model that flexes it with positive angles negated; absent ones 0);
     /// `None` for a source with points only (a device's frames CSV).
     pub coordinates: Option<Vec<[f64; 17]>>,
     /// `pelvis_tx` and `pelvis_tz` of each frame (metres), when the motion has both and they
@@ -153,7 +155,16 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
     warnings.extend(w);
     // The joint angles of the recording (the model's FK gives the points only); their missing
     // columns were reported above or are not needed by the points.
-    let (coordinates, coordinate_warnings) = points::gait2392_coordinates(&table)?;
+    let knee = points.knee();
+    let (mut coordinates, coordinate_warnings) = points::gait2392_coordinates(&table, knee)?;
+    if knee == KneeFlexion::Positive {
+        // Rajagopal's knee flexes with positive angles; the trial's are gait2392's signs.
+        for k in ["knee_angle_r", "knee_angle_l"].map(coordinate) {
+            for row in &mut coordinates {
+                row[k] = -row[k];
+            }
+        }
+    }
     for w in coordinate_warnings {
         if !warnings.contains(&w) {
             warnings.push(w);

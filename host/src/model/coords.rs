@@ -5,7 +5,8 @@
 //! ([`qgait_kernel::models::ranges`]).
 //!
 //! Range check: an angle outside its range (widened by the kernel's margin) is used as it is and
-//! reported once per column at the end, with the number of such values and the first one (file
+//! reported once per column at the end (the knee's range mirrored for a model whose knee flexes
+//! with positive angles, [`KneeFlexion::Positive`]: Rajagopal's), with the number of such values and the first one (file
 //! and line). When a file in radians has values that would all be in range read as degrees, the
 //! warning says so: OpenSim's CMC and RRA write `Kinematics_q.sto` in degrees under
 //! `inDegrees=no`, and such a file otherwise gives a knee above the hip.
@@ -17,6 +18,16 @@ use crate::model::error::ModelError;
 use crate::model::kinematics::LEG_COLUMNS;
 use crate::motion::source::MotionRows;
 use crate::opensim::mot::{Header, NonFinite};
+
+/// Which sign of `knee_angle` flexes the knee in the model a motion is read for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum KneeFlexion {
+    /// Negative angles (gait2392 and its family, HAK, PHAK: the kernel's ranges).
+    #[default]
+    Negative,
+    /// Positive angles (Rajagopal's walker knee): the knee's range is mirrored.
+    Positive,
+}
 
 /// Per picked column: how its values compare with the range.
 #[derive(Debug, Clone, Default)]
@@ -42,16 +53,20 @@ pub(crate) struct Picker<const N: usize> {
     columns: [Option<usize>; N],
     /// Kernel coordinate index of each name, for the range check.
     range_index: [Option<usize>; N],
+    /// Per name, whether its range is mirrored (a knee of [`KneeFlexion::Positive`]).
+    mirrored: [bool; N],
     checks: Vec<RangeCheck>,
 }
 
 impl<const N: usize> Picker<N> {
     /// Maps `names` to the columns of `header`. The PHAK leg columns ([`LEG_COLUMNS`]) are
     /// required (an error naming the file and the columns); any other missing name counts as 0
-    /// with one warning; a needed label that names two columns is an error.
+    /// with one warning; a needed label that names two columns is an error. `knee`: the sign of
+    /// flexion of the model's `knee_angle` (the range checked).
     pub fn new(
         header: &Header,
         names: &[&'static str; N],
+        knee: KneeFlexion,
     ) -> Result<(Self, Vec<Warning>), ModelError> {
         let missing: Vec<&'static str> = LEG_COLUMNS
             .iter()
@@ -96,6 +111,9 @@ impl<const N: usize> Picker<N> {
                 names: *names,
                 columns,
                 range_index: names.map(ranges::index),
+                mirrored: names.map(|n| {
+                    knee == KneeFlexion::Positive && (n == "knee_angle_r" || n == "knee_angle_l")
+                }),
                 checks: vec![RangeCheck::default(); N],
             },
             warnings,
@@ -133,15 +151,17 @@ impl<const N: usize> Picker<N> {
             let v = raw * self.scale;
             *slot = v;
             if let Some(i) = self.range_index[k] {
+                // A mirrored knee is checked as gait2392's knee would hold it.
+                let sign = if self.mirrored[k] { -1.0 } else { 1.0 };
                 let check = &mut self.checks[k];
                 check.n += 1;
-                if !ranges::in_range(i, v) {
+                if !ranges::in_range(i, sign * v) {
                     check.out += 1;
                     if check.first_out.is_none() {
                         check.first_out = Some((v, at()));
                     }
                 }
-                if !self.in_degrees && !ranges::in_range(i, raw.to_radians()) {
+                if !self.in_degrees && !ranges::in_range(i, sign * raw.to_radians()) {
                     check.out_as_degrees += 1;
                 }
             }
@@ -158,7 +178,10 @@ impl<const N: usize> Picker<N> {
             let (Some(i), Some((first, at))) = (self.range_index[k], &check.first_out) else {
                 continue;
             };
-            let (lo, hi) = ranges::RANGES_DEG[i];
+            let (lo, hi) = match ranges::RANGES_DEG[i] {
+                (lo, hi) if self.mirrored[k] => (-hi, -lo),
+                range => range,
+            };
             warnings.push(Warning(format!(
                 "{}: column `{}`: {} of {} values outside its range {lo}..{hi}° (± {}°), the first {}° at {at}",
                 self.source,
@@ -196,8 +219,9 @@ impl<const N: usize> CoordRows<N> {
     pub fn new(
         rows: MotionRows,
         names: &[&'static str; N],
+        knee: KneeFlexion,
     ) -> Result<(Self, Vec<Warning>), ModelError> {
-        let (picker, warnings) = Picker::new(rows.header(), names)?;
+        let (picker, warnings) = Picker::new(rows.header(), names, knee)?;
         Ok((
             Self {
                 rows,
@@ -258,7 +282,14 @@ mod tests {
     }
 
     fn pick_all(t: &MotionTable) -> Result<(Vec<[f64; 8]>, Vec<Warning>), ModelError> {
-        let (mut p, mut w) = Picker::new(t.header(), &NAMES)?;
+        pick_for(t, KneeFlexion::Negative)
+    }
+
+    fn pick_for(
+        t: &MotionTable,
+        knee: KneeFlexion,
+    ) -> Result<(Vec<[f64; 8]>, Vec<Warning>), ModelError> {
+        let (mut p, mut w) = Picker::new(t.header(), &NAMES, knee)?;
         let mut rows = Vec::new();
         for r in 0..t.rows() {
             rows.push(p.pick(
@@ -293,6 +324,31 @@ mod tests {
         );
         assert!(!w.iter().any(|w| w.0.contains("knee_angle_l")), "{w:?}");
         assert!(!w.iter().any(|w| w.0.contains("look")), "{w:?}");
+    }
+
+    #[test]
+    fn a_knee_flexing_with_positive_angles_is_checked_against_the_mirrored_range() {
+        // Rajagopal's knee: 60° of flexion is +60; -60 would be hyperextension.
+        let text =
+            format!("{HEAD}time\t{LEGS}\n0\t10\t60\t0\t10\t-60\t0\n1\t10\t5\t0\t10\t-5\t0\n");
+        let (rows, w) = pick_for(&table(&text), KneeFlexion::Positive).unwrap();
+        // Values as read: only the check is mirrored.
+        assert!((rows[0][3] - 60f64.to_radians()).abs() < 1e-15);
+        assert!(!w.iter().any(|w| w.0.contains("knee_angle_r")), "{w:?}");
+        let left: Vec<&Warning> = w.iter().filter(|w| w.0.contains("knee_angle_l")).collect();
+        assert_eq!(left.len(), 1, "{w:?}");
+        assert!(
+            left[0]
+                .0
+                .contains("1 of 2 values outside its range -10..120°")
+                && left[0].0.contains("the first -60.00° at line 6"),
+            "{}",
+            left[0]
+        );
+        // The same file for gait2392 the other way round.
+        let (_, w) = pick_all(&table(&text)).unwrap();
+        assert!(w.iter().any(|w| w.0.contains("knee_angle_r")), "{w:?}");
+        assert!(!w.iter().any(|w| w.0.contains("knee_angle_l")), "{w:?}");
     }
 
     #[test]

@@ -22,9 +22,10 @@ use qgait_kernel::models::gait2392::{Knots, COORDINATES};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Phak, PhakAngles, Quat, Spline, Vec3};
 
 use crate::diagnostics::Warning;
+use crate::model::coords::KneeFlexion;
 use crate::model::error::ModelError;
 use crate::model::kinematics;
-use crate::model::points::{gait2392_coordinates, point_names};
+use crate::model::points::{gait2392_coordinates, knee_flexion, point_names};
 use crate::opensim::mot::MotionTable;
 
 /// One gait2392 feature that PHAK lacks.
@@ -253,7 +254,7 @@ pub struct Fidelity {
 
 /// Compares PHAK with gait2392 on one motion.
 pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warning>), ModelError> {
-    let (q, mut warnings) = gait2392_coordinates(table)?;
+    let (q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative)?;
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
         if !warnings.contains(&x) {
@@ -342,7 +343,8 @@ pub fn compare(
     label: &str,
     table: &MotionTable,
 ) -> Result<(Comparison, Vec<Warning>), ModelError> {
-    let (mut q, mut warnings) = gait2392_coordinates(table)?;
+    // The motion is in gait2392's coordinates, whatever the model.
+    let (mut q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative)?;
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
         if !warnings.contains(&x) {
@@ -364,17 +366,10 @@ pub fn compare(
             name: model.name().to_string(),
         });
     };
-    // Flexion moves the ankle backwards (-x): which sign of knee_angle does that?
-    let knee = index("knee_angle_r");
-    let ankle_x = |v: f64| {
-        let mut q0 = [0.0; 17];
-        q0[knee] = v;
-        fk(&q0)[2].x
-    };
-    let knee_negated = ankle_x(0.5) < ankle_x(-0.5);
+    let knee_negated = knee_flexion(&*fk) == KneeFlexion::Positive;
     if knee_negated {
         for row in &mut q {
-            for k in [knee, index("knee_angle_l")] {
+            for k in [index("knee_angle_r"), index("knee_angle_l")] {
                 row[k] = -row[k];
             }
         }

@@ -6,7 +6,7 @@ use qgait_kernel::BilateralPose;
 
 use crate::diagnostics::Warning;
 use crate::model::choice::Model;
-use crate::model::coords::Picker;
+use crate::model::coords::{KneeFlexion, Picker};
 use crate::model::error::ModelError;
 use crate::opensim::mot::MotionTable;
 
@@ -18,7 +18,8 @@ pub(crate) const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
 pub(crate) fn phak_angles(
     table: &MotionTable,
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
-    let (rows, warnings) = coordinate_rows(table, &PhakAngles::<f64>::NAMES)?;
+    let (rows, warnings) =
+        coordinate_rows(table, &PhakAngles::<f64>::NAMES, KneeFlexion::Negative)?;
     Ok((
         rows.into_iter().map(PhakAngles::from_array).collect(),
         warnings,
@@ -43,7 +44,7 @@ pub(crate) fn stick_angles(
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
     match model {
         Model::Hak { .. } => {
-            let (rows, warnings) = coordinate_rows(table, &HAK_NAMES)?;
+            let (rows, warnings) = coordinate_rows(table, &HAK_NAMES, KneeFlexion::Negative)?;
             Ok((rows.into_iter().map(hak_as_phak).collect(), warnings))
         }
         _ => phak_angles(table),
@@ -63,8 +64,9 @@ pub(crate) fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
 pub(crate) fn coordinate_rows<const N: usize>(
     table: &MotionTable,
     names: &[&'static str; N],
+    knee: KneeFlexion,
 ) -> Result<(Vec<[f64; N]>, Vec<Warning>), ModelError> {
-    let (mut picker, mut warnings) = Picker::new(table.header(), names)?;
+    let (mut picker, mut warnings) = Picker::new(table.header(), names, knee)?;
     let rows = (0..table.rows())
         .map(|r| {
             picker.pick(

@@ -11,18 +11,40 @@ use qgait_kernel::{Gait2392, Joint, PhakAngles, Side, Vec3};
 
 use crate::diagnostics::Warning;
 use crate::model::choice::Model;
-use crate::model::coords::CoordRows;
+use crate::model::coords::{CoordRows, KneeFlexion};
 use crate::model::error::ModelError;
 use crate::model::kinematics::{self, Evaluator};
 use crate::motion::source::MotionRows;
 use crate::opensim::mot::MotionTable;
 
-/// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row. The leg columns
-/// of PHAK are required; the other 11 count as 0 with one warning each when absent.
+/// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row, for a model whose
+/// knee flexes with `knee` angles. The leg columns of PHAK are required; the other 11 count as
+/// 0 with one warning each when absent.
 pub(crate) fn gait2392_coordinates(
     table: &MotionTable,
+    knee: KneeFlexion,
 ) -> Result<(Vec<[f64; 17]>, Vec<Warning>), ModelError> {
-    kinematics::coordinate_rows(table, &COORDINATES)
+    kinematics::coordinate_rows(table, &COORDINATES, knee)
+}
+
+/// Which sign of `knee_angle` flexes the knee of a model with these 12 points: flexion moves
+/// the ankle backwards (-x). gait2392's family flexes with negative angles, Rajagopal's with
+/// positive ones.
+pub(crate) fn knee_flexion(fk: &dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]) -> KneeFlexion {
+    let knee = COORDINATES
+        .iter()
+        .position(|c| *c == "knee_angle_r")
+        .unwrap_or(6);
+    let ankle_x = |v: f64| {
+        let mut q = [0.0; 17];
+        q[knee] = v;
+        fk(&q)[2].x
+    };
+    if ankle_x(0.5) < ankle_x(-0.5) {
+        KneeFlexion::Positive
+    } else {
+        KneeFlexion::Negative
+    }
 }
 
 /// Forward kinematics of an imported model: the 12 points of
@@ -86,6 +108,8 @@ pub fn point_names(extra: bool) -> Vec<String> {
 pub(crate) struct PointModel {
     kind: Kind,
     extra: bool,
+    /// The sign of the model's knee flexion (the motion's range check).
+    knee: KneeFlexion,
 }
 
 enum Kind {
@@ -116,7 +140,16 @@ impl PointModel {
             Model::Hak { .. } => Kind::Hak(Box::new(Evaluator::new(model, "fk")?)),
             Model::Phak { .. } => Kind::Phak(Box::new(Evaluator::new(model, "fk")?)),
         };
-        Ok(Self { kind, extra })
+        let knee = match &kind {
+            Kind::Chain(chain) => knee_flexion(&|q| chain.forward(q)),
+            _ => KneeFlexion::Negative,
+        };
+        Ok(Self { kind, extra, knee })
+    }
+
+    /// Which sign of `knee_angle` flexes the model's knee.
+    pub fn knee(&self) -> KneeFlexion {
+        self.knee
     }
 
     /// The names of the points of each row.
@@ -136,14 +169,18 @@ impl PointModel {
     ) -> Result<Vec<Warning>, E> {
         let mut points = Vec::with_capacity(12);
         match &self.kind {
-            Kind::Hak(evaluator) => drive(rows, &kinematics::HAK_NAMES, warn, |t, legs| {
-                let pose = evaluator.pose(&kinematics::hak_as_phak(legs));
-                each(t, &pose.points())
-            }),
-            Kind::Phak(evaluator) => drive(rows, &PhakAngles::<f64>::NAMES, warn, |t, a| {
-                each(t, &evaluator.pose(&PhakAngles::from_array(a)).points())
-            }),
-            Kind::Gait2392(chain) => drive(rows, &COORDINATES, warn, |t, q| {
+            Kind::Hak(evaluator) => {
+                drive(rows, &kinematics::HAK_NAMES, self.knee, warn, |t, legs| {
+                    let pose = evaluator.pose(&kinematics::hak_as_phak(legs));
+                    each(t, &pose.points())
+                })
+            }
+            Kind::Phak(evaluator) => {
+                drive(rows, &PhakAngles::<f64>::NAMES, self.knee, warn, |t, a| {
+                    each(t, &evaluator.pose(&PhakAngles::from_array(a)).points())
+                })
+            }
+            Kind::Gait2392(chain) => drive(rows, &COORDINATES, self.knee, warn, |t, q| {
                 let pose = chain.fk(&q);
                 points.clear();
                 points.extend_from_slice(&pose.bilateral().points());
@@ -155,7 +192,7 @@ impl PointModel {
                 }
                 each(t, &points)
             }),
-            Kind::Chain(chain) => drive(rows, &COORDINATES, warn, |t, q| {
+            Kind::Chain(chain) => drive(rows, &COORDINATES, self.knee, warn, |t, q| {
                 let all = chain.forward(&q);
                 let n = if self.extra { 12 } else { 8 };
                 points.clear();
@@ -166,14 +203,16 @@ impl PointModel {
     }
 }
 
-/// Reads every row of `rows` as the coordinates `names` and hands them to `each`.
+/// Reads every row of `rows` as the coordinates `names` of a model whose knee flexes with
+/// `knee` angles and hands them to `each`.
 pub(crate) fn drive<const N: usize, E: From<ModelError>>(
     rows: MotionRows,
     names: &[&'static str; N],
+    knee: KneeFlexion,
     warn: &dyn Fn(Vec<Warning>),
     mut each: impl FnMut(f64, [f64; N]) -> Result<(), E>,
 ) -> Result<Vec<Warning>, E> {
-    let (mut coords, w) = CoordRows::new(rows, names)?;
+    let (mut coords, w) = CoordRows::new(rows, names, knee)?;
     warn(w);
     while let Some((t, q)) = coords.next_row()? {
         each(t, q)?;
