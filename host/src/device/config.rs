@@ -229,6 +229,10 @@ mod tests {
         g.left.knee_ty.n = 13;
         let err = subject_parts(&g, 1).unwrap_err();
         assert!(matches!(err, HubConfigError::Parts(_)), "{err:?}");
-        assert!(err.to_string().contains("left knee_ty"), "{err}");
+        // The cause, which the CLI prints after the error (`{:#}`).
+        assert!(
+            format!("{:#}", anyhow::Error::from(err)).contains("left knee_ty"),
+            "the cause names the spline"
+        );
     }
 }
