@@ -48,6 +48,25 @@ fn points(model: &Model) -> qgait::model::points::ImportedFk {
         .expect("an imported model")
 }
 
+/// The largest difference of `fk`'s points from OpenSim's on every row of the reference
+/// `name`, `motion`: (metres, row, point).
+fn largest_difference(
+    fk: &qgait::model::points::ImportedFk,
+    name: &str,
+    motion: &str,
+) -> (f64, usize, &'static str) {
+    let mut worst = (0.0f64, 0, "");
+    for (row, (q, expected)) in reference(name, motion).iter().enumerate() {
+        for ((p, e), n) in fk(q).iter().zip(expected).zip(POINTS) {
+            let d = p.max_abs_diff(*e);
+            if d > worst.0 {
+                worst = (d, row, n);
+            }
+        }
+    }
+    worst
+}
+
 #[test]
 fn every_point_of_every_model_is_within_a_micrometre_of_opensim() {
     let Some(shared) = shared_dir() else { return };
@@ -62,15 +81,7 @@ fn every_point_of_every_model_is_within_a_micrometre_of_opensim() {
             motions.push("opensense");
         }
         for motion in motions {
-            let mut worst = (0.0f64, 0, "");
-            for (row, (q, expected)) in reference(name, motion).iter().enumerate() {
-                for ((p, e), n) in fk(q).iter().zip(expected).zip(POINTS) {
-                    let d = p.max_abs_diff(*e);
-                    if d > worst.0 {
-                        worst = (d, row, n);
-                    }
-                }
-            }
+            let worst = largest_difference(&fk, name, motion);
             println!(
                 "{name} ({}) {motion}: largest difference {:.3e} m (row {}, {})",
                 if general { "chain" } else { "gait2392 table" },
@@ -133,18 +144,7 @@ fn a_polynomial_knee_is_within_a_micrometre_of_opensim_and_not_sent_to_a_hub() {
     assert!(table.splines().is_empty());
     let fk = points(&model);
     for motion in ["normal", "sweep"] {
-        let mut worst = (0.0f64, 0, "");
-        for (row, (q, expected)) in reference("rajagopal2016_polynomial_knee", motion)
-            .iter()
-            .enumerate()
-        {
-            for ((p, e), n) in fk(q).iter().zip(expected).zip(POINTS) {
-                let d = p.max_abs_diff(*e);
-                if d > worst.0 {
-                    worst = (d, row, n);
-                }
-            }
-        }
+        let worst = largest_difference(&fk, "rajagopal2016_polynomial_knee", motion);
         println!(
             "Rajagopal2016, polynomial knee, {motion}: largest difference {:.3e} m (row {}, {})",
             worst.0, worst.1, worst.2
