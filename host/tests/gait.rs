@@ -886,4 +886,15 @@ fn a_model_whose_knee_flexes_with_positive_angles_gets_the_same_knee_flexion() {
     for (x, y) in k2392.iter().zip(&kraj) {
         assert!((x - y).abs() < 1e-9, "{x} against {y}");
     }
+    // A `builtin:` motion is in gait2392's signs whatever the model: the same knee either way.
+    let (c, d) = (dir.join("builtin_gait2392"), dir.join("builtin_rajagopal"));
+    gait_whole(Path::new("builtin:normal"), &c, &["--model", "gait2392"]);
+    gait_whole(
+        Path::new("builtin:normal"),
+        &d,
+        &["--model", raj.to_str().unwrap()],
+    );
+    for (x, y) in knee(&c).iter().zip(&knee(&d)) {
+        assert!((x - y).abs() < 1e-9, "builtin: {x} against {y}");
+    }
 }

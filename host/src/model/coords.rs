@@ -55,6 +55,10 @@ pub(crate) struct Picker<const N: usize> {
     range_index: [Option<usize>; N],
     /// Per name, whether its range is mirrored (a knee of [`KneeFlexion::Positive`]).
     mirrored: [bool; N],
+    /// Per name, -1 where the motion's sign is not the model's (the knee of a motion in
+    /// gait2392's signs, [`Header::gait2392_signs`], for a [`KneeFlexion::Positive`] model),
+    /// else 1: values are returned in the model's signs.
+    flip: [f64; N],
     checks: Vec<RangeCheck>,
 }
 
@@ -114,6 +118,14 @@ impl<const N: usize> Picker<N> {
                 mirrored: names.map(|n| {
                     knee == KneeFlexion::Positive && (n == "knee_angle_r" || n == "knee_angle_l")
                 }),
+                flip: names.map(|n| {
+                    let knee_col = n == "knee_angle_r" || n == "knee_angle_l";
+                    if knee_col && knee == KneeFlexion::Positive && header.gait2392_signs {
+                        -1.0
+                    } else {
+                        1.0
+                    }
+                }),
                 checks: vec![RangeCheck::default(); N],
             },
             warnings,
@@ -148,7 +160,7 @@ impl<const N: usize> Picker<N> {
                     },
                 });
             }
-            let v = raw * self.scale;
+            let v = raw * self.scale * self.flip[k];
             *slot = v;
             if let Some(i) = self.range_index[k] {
                 // A mirrored knee is checked as gait2392's knee would hold it.
@@ -161,7 +173,8 @@ impl<const N: usize> Picker<N> {
                         check.first_out = Some((v, at()));
                     }
                 }
-                if !self.in_degrees && !ranges::in_range(i, sign * raw.to_radians()) {
+                if !self.in_degrees && !ranges::in_range(i, sign * self.flip[k] * raw.to_radians())
+                {
                     check.out_as_degrees += 1;
                 }
             }
@@ -347,6 +360,13 @@ mod tests {
         );
         // The same file for gait2392 the other way round.
         let (_, w) = pick_all(&table(&text)).unwrap();
+        assert!(w.iter().any(|w| w.0.contains("knee_angle_r")), "{w:?}");
+        assert!(!w.iter().any(|w| w.0.contains("knee_angle_l")), "{w:?}");
+        // A motion in gait2392's signs (a `builtin:`) for that model: its knee is turned into
+        // the model's signs, and checked as gait2392's.
+        let (rows, w) = pick_for(&table(&text).in_gait2392_signs(), KneeFlexion::Positive).unwrap();
+        assert!((rows[0][3] + 60f64.to_radians()).abs() < 1e-15);
+        assert!((rows[0][6] - 60f64.to_radians()).abs() < 1e-15);
         assert!(w.iter().any(|w| w.0.contains("knee_angle_r")), "{w:?}");
         assert!(!w.iter().any(|w| w.0.contains("knee_angle_l")), "{w:?}");
     }

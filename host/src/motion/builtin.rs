@@ -330,6 +330,7 @@ pub fn generate(spec: &BuiltinSpec) -> MotionTable {
     let name = spec.label().replace(':', "_");
     MotionTable::new(name, spec.label(), true, labels, columns)
         .expect("generated motion is well formed")
+        .in_gait2392_signs()
 }
 
 #[cfg(test)]

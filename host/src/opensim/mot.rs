@@ -163,6 +163,9 @@ pub struct Header {
     pub labels: Vec<String>,
     /// 1-based line of the column labels in the file (`None` for generated tables).
     pub labels_line: Option<usize>,
+    /// Whether the angles are in gait2392's signs whatever the model (a `builtin:` motion: its
+    /// knee flexes with negative angles), not in the model's own.
+    pub gait2392_signs: bool,
     /// The declared row count and the key that declared it.
     declared_rows: Option<(usize, &'static str)>,
 }
@@ -252,6 +255,7 @@ impl<R: BufRead> MotionReader<R> {
                 in_degrees: true,
                 labels: Vec::new(),
                 labels_line: None,
+                gait2392_signs: false,
                 declared_rows: None,
             },
             input,
@@ -696,12 +700,19 @@ impl MotionTable {
                 in_degrees,
                 labels,
                 labels_line: None,
+                gait2392_signs: false,
                 declared_rows: None,
             },
             columns,
             lines: Vec::new(),
             non_finite: vec![None; n],
         })
+    }
+
+    /// This table, its angles in gait2392's signs whatever the model ([`Header::gait2392_signs`]).
+    pub fn in_gait2392_signs(mut self) -> Self {
+        self.header.gait2392_signs = true;
+        self
     }
 
     /// Reads a `.mot`/`.sto` file.

@@ -1141,6 +1141,20 @@ mod tests {
             &[],
         );
         assert_eq!(none, Err(ModelError::PolynomialCoefficients));
+        // A table without polynomial slots (`Q = 0`, a device's) refuses them both ways.
+        let polynomial_knee = joints(
+            (Function::Polynomial(0), Argument::Coordinate(0)),
+            (line, Argument::Coordinate(0)),
+        );
+        type NoPolynomials = CustomChain<f64, 3, 2, 1, 12, 16, 0>;
+        assert_eq!(
+            NoPolynomials::new(polynomial_knee, points, functions, &[]),
+            Err(ModelError::PolynomialCoefficients)
+        );
+        assert_eq!(
+            NoPolynomials::new(polynomial_knee, points, Functions::splines(&[]), &[]),
+            Err(ModelError::BadAxis { joint: 1 })
+        );
     }
 
     /// Every body's frame as OpenSim composes it, `X_PF · X_FM(q) · X_BM⁻¹` offset by offset
