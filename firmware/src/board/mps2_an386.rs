@@ -32,7 +32,8 @@ pub fn take() -> Option<Board> {
     if TAKEN.swap(true, Ordering::AcqRel) {
         return None;
     }
-    let core = cortex_m::Peripherals::take()?;
+    let mut core = cortex_m::Peripherals::take()?;
+    super::vectors::mask_all(&mut core.NVIC);
     // SAFETY: UART0 is used only through this driver, created once (guarded by TAKEN).
     let serial = unsafe { CmsdkUart::new(UART0_BASE, BAUDDIV_115200, UART0_RX_IRQ as u16) }?;
     Some(Board {
