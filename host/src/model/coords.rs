@@ -55,10 +55,9 @@ pub(crate) struct Picker<const N: usize> {
     range_index: [Option<usize>; N],
     /// Per name, whether its range is mirrored (a knee of [`KneeFlexion::Positive`]).
     mirrored: [bool; N],
-    /// Per name, -1 where the motion's sign is not the model's (the knee of a motion in
-    /// gait2392's signs, [`Header::gait2392_signs`], for a [`KneeFlexion::Positive`] model),
-    /// else 1: values are returned in the model's signs.
-    flip: [f64; N],
+    /// Whether the motion is in gait2392's signs ([`Header::gait2392_signs`]): a mirrored knee's
+    /// values are then negated into the model's.
+    gait2392_signs: bool,
     checks: Vec<RangeCheck>,
 }
 
@@ -118,14 +117,7 @@ impl<const N: usize> Picker<N> {
                 mirrored: names.map(|n| {
                     knee == KneeFlexion::Positive && (n == "knee_angle_r" || n == "knee_angle_l")
                 }),
-                flip: names.map(|n| {
-                    let knee_col = n == "knee_angle_r" || n == "knee_angle_l";
-                    if knee_col && knee == KneeFlexion::Positive && header.gait2392_signs {
-                        -1.0
-                    } else {
-                        1.0
-                    }
-                }),
+                gait2392_signs: header.gait2392_signs,
                 checks: vec![RangeCheck::default(); N],
             },
             warnings,
@@ -160,7 +152,14 @@ impl<const N: usize> Picker<N> {
                     },
                 });
             }
-            let v = raw * self.scale * self.flip[k];
+            // A knee of a motion in gait2392's signs, for a model whose knee flexes with
+            // positive angles, is turned into the model's signs.
+            let flip = if self.mirrored[k] && self.gait2392_signs {
+                -1.0
+            } else {
+                1.0
+            };
+            let v = raw * self.scale * flip;
             *slot = v;
             if let Some(i) = self.range_index[k] {
                 // A mirrored knee is checked as gait2392's knee would hold it.
@@ -173,8 +172,7 @@ impl<const N: usize> Picker<N> {
                         check.first_out = Some((v, at()));
                     }
                 }
-                if !self.in_degrees && !ranges::in_range(i, sign * self.flip[k] * raw.to_radians())
-                {
+                if !self.in_degrees && !ranges::in_range(i, sign * flip * raw.to_radians()) {
                     check.out_as_degrees += 1;
                 }
             }

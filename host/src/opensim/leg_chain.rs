@@ -105,7 +105,7 @@ pub fn import(
         couplings: &couplings,
         used: Vec::new(),
         notes: Vec::new(),
-        unmapped: Vec::new(),
+        leg_body: None,
     };
     let moved = |body: &str| joints.iter().any(|j| j.child == body);
     let missing = match (moved("femur_r"), moved("femur_l")) {
@@ -128,14 +128,8 @@ pub fn import(
         };
         let j = osim::joint_moving(&joints, parent, body).map_err(err)?;
         let before = state.notes.len();
+        state.leg_body = (b > 0).then_some(*body);
         let mut data = state.joint(j).map_err(err)?;
-        if let Some((what, c)) = state.unmapped.drain(..).next().filter(|_| b > 0) {
-            // Held, a leg joint would not follow the motion's coordinate of that name.
-            return Err(err(format!(
-                "{what}: coordinate `{c}` moves `{body}` but is not one of the chain's inputs ({}): rename it in the model to the input it is (e.g. hip_flexion_r), or lock it to hold it at its default",
-                COORDINATES.join(", ")
-            )));
-        }
         if b == 0 {
             // (What the dropped translations would have held is not worth a note.)
             let prefix = format!("joint `{}` translation", j.name);
@@ -263,9 +257,9 @@ struct State<'a> {
     /// Coupled coordinates the chain uses.
     used: Vec<String>,
     notes: Vec<String>,
-    /// The axes (what, coordinate) of the last joint read whose coordinate is free in the
-    /// model but not an input: held at its default.
-    unmapped: Vec<(String, String)>,
+    /// The leg body the joint being read moves (`None` for the pelvis): a free coordinate of a
+    /// leg joint must be an input.
+    leg_body: Option<&'static str>,
 }
 
 impl State<'_> {
@@ -429,7 +423,13 @@ impl State<'_> {
                 function,
             });
         }
-        self.unmapped.push((what.to_string(), c.clone()));
+        if let Some(body) = self.leg_body {
+            // Held, the leg would not follow the motion's coordinate of that name.
+            return Err(format!(
+                "{what}: coordinate `{c}` moves `{body}` but is not one of the chain's inputs ({}): rename it in the model to the input it is (e.g. hip_flexion_r), or lock it to hold it at its default",
+                COORDINATES.join(", ")
+            ));
+        }
         held(
             default,
             format!("{what}: coordinate {c} is not a chain input: held at its default {default}"),
