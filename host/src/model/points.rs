@@ -31,10 +31,8 @@ pub(crate) fn gait2392_coordinates(
 /// the ankle backwards (-x). gait2392's family flexes with negative angles, Rajagopal's with
 /// positive ones.
 pub(crate) fn knee_flexion(fk: &dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]) -> KneeFlexion {
-    let knee = COORDINATES
-        .iter()
-        .position(|c| *c == "knee_angle_r")
-        .unwrap_or(6);
+    // (A gait2392 coordinate: always found.)
+    let knee = qgait_kernel::models::ranges::index("knee_angle_r").unwrap_or(6);
     let ankle_x = |v: f64| {
         let mut q = [0.0; 17];
         q[knee] = v;
