@@ -1,7 +1,8 @@
 //! An imported Rajagopal model on the hub, end to end under QEMU: OpenSense's
 //! `Rajagopal2015_opensense.osim` imported by `qgait model import`, the firmware built with its
 //! `chain` feature, `qgait emulate --model CHAIN.toml --verify` uploads the chain in parts,
-//! streams a gait through the hub, and recomputes every frame in `f64`: within 10 µm.
+//! streams a crouch gait through the hub (its knees turned into Rajagopal's signs), and
+//! recomputes every frame in `f64`: within 10 µm, nothing out of range, every knee flexed.
 //!
 //! Skips with a printed reason without `../shared` or QEMU. The chain firmware is built in
 //! `firmware/target/chain` (a release build of its own, about a minute the first time).
@@ -69,13 +70,30 @@ fn imported_rajagopal_on_the_hub_is_within_10_micrometres_of_the_host() {
     let (out, err) = (stdout(&o), stderr(&o));
     println!("{out}");
     assert!(o.status.success(), "{out}{err}");
+    // The crouch gait's knees (gait2392's signs) turned into Rajagopal's (flexion > 0), which
+    // the hub checks in its mirrored range: nothing out of range.
     assert!(
-        out.contains("samples_completed    60") && out.contains("config_rejected      0"),
+        out.contains("samples_completed    60")
+            && out.contains("config_rejected      0")
+            && out.contains("out_of_range         0"),
         "{out}"
     );
     assert!(out.contains("verify: ok"), "{out}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let table = qgait::device::frames_csv::parse(&text, "frames.csv").unwrap();
     assert_eq!(table.seq, (0..60).collect::<Vec<u32>>());
+    // Crouched: in every frame each knee is ahead of its hip–ankle line (sagittal plane), as a
+    // flexed knee is (by 8 to 22 cm here); a hyperextended one would be behind it.
+    for (seq, p) in table.seq.iter().zip(&table.points) {
+        for leg in [0, 4] {
+            let [hip, knee, ankle] = [p[leg], p[leg + 1], p[leg + 2]];
+            let t = (knee[1] - hip[1]) / (ankle[1] - hip[1]);
+            let ahead = knee[0] - (hip[0] + t * (ankle[0] - hip[0]));
+            assert!(
+                ahead > 0.05,
+                "seq {seq}, leg {leg}: knee {ahead} m ahead of the line"
+            );
+        }
+    }
     assert!(out.contains("chain"), "frames of the chain model: {out}");
 }

@@ -21,6 +21,7 @@ use std::time::Instant;
 use qgait::device::log::HubLog;
 use qgait::device::packets::{Samples, Timing};
 use qgait::device::verify::{Expected, Verification};
+use qgait::model::coords::KneeFlexion;
 use qgait::motion::source::load_motion;
 use qgait::opensim::mot::MotionTable;
 use qgait_emulate::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
@@ -101,9 +102,14 @@ fn run(elf: &Path, stream: &[u8], what: &str) -> Run {
 }
 
 fn samples_of(table: &MotionTable) -> Samples {
-    Samples::from_motion(table, ModelId::Phak, Timing::TimeColumn)
-        .expect("PHAK columns")
-        .0
+    Samples::from_motion(
+        table,
+        ModelId::Phak,
+        KneeFlexion::Negative,
+        Timing::TimeColumn,
+    )
+    .expect("PHAK columns")
+    .0
 }
 
 fn packets_by_sample(s: &Samples) -> Vec<Vec<JointAngle>> {

@@ -22,6 +22,7 @@ use std::time::{Duration, Instant};
 
 use qgait::device::frames_csv;
 use qgait::device::packets::{push_frame, stream, Samples, Timing};
+use qgait::model::coords::KneeFlexion;
 use qgait::motion::source::load_motion;
 use qgait_emulate::qemu::{Echo, Qemu};
 use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, PoseFrame, PoseModels};
@@ -160,7 +161,13 @@ fn decode_and_verify_read_the_hub_on_a_pseudo_terminal() {
     let (qemu, pty) = Qemu::start_pty(&elf, Echo::Quiet).expect("QEMU starts");
     let port = pty.to_str().unwrap();
     let (table, _) = load_motion(&format!("builtin:normal,rows={}", 2 * N)).unwrap();
-    let (samples, _) = Samples::from_motion(&table, ModelId::Phak, Timing::Rate(100.0)).unwrap();
+    let (samples, _) = Samples::from_motion(
+        &table,
+        ModelId::Phak,
+        KneeFlexion::Negative,
+        Timing::Rate(100.0),
+    )
+    .unwrap();
     let mut first = vec![0u8];
     push_frame(
         &mut first,

@@ -4,6 +4,7 @@
 #![forbid(unsafe_code)]
 
 use qgait_kernel::models::fixtures::walker_chain;
+use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::device_model::pose_points;
 use qgait_proto::PoseModels;
@@ -118,6 +119,10 @@ pub const ALL: &[NamedCheck] = &[
     (
         "chain_model_switches_only_when_complete",
         chain_model_switches_only_when_complete,
+    ),
+    (
+        "a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range",
+        a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range,
     ),
     (
         "random_bytes_never_stop_the_pipeline",
@@ -610,6 +615,58 @@ pub fn angles_out_of_range_are_flagged_and_non_finite_ones_dropped() -> CheckRes
     let s = hub.status();
     ensure!(s.out_of_range == 2);
     ensure!(s.samples_incomplete == 1);
+    Ok(())
+}
+
+/// The chain's knee flexes with positive angles (Rajagopal's walker knee): with it in force, a
+/// sample with both knees flexed 60° is in range and one with a knee hyperextended 30° is
+/// flagged; after a `Config` back to PHAK the knees flexed 60° (positive) are flagged.
+pub fn a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range() -> CheckResult {
+    const DEG: f32 = core::f32::consts::PI / 180.0;
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let chain = walker_chain();
+    ensure!(KneeFlexion::of(|q| chain.forward(q)) == KneeFlexion::Positive);
+    let Ok(upload) = ChainUpload::of_chain(&chain, 6) else {
+        return Err(CheckFailure {
+            what: "ChainUpload::of_chain",
+            line: line!(),
+        });
+    };
+    ensure!(send_chain(hub.serial_mut(), &upload, 0));
+    ensure!(send(
+        hub.serial_mut(),
+        &Message::ChainConfig(upload.config(MissingPolicy::Drop, 4, false))
+    ));
+    // `knees[seq]`: the knee angles of sample `seq` (the other angles as `packet` has them,
+    // all in range).
+    let knees = [60.0 * DEG, -30.0 * DEG, 60.0 * DEG];
+    let sample = |hub: &mut CheckHub<'_>, model: ModelId, seq: u32| {
+        model.required_joints().iter().all(|&j| {
+            let mut p = packet(seq, j);
+            if matches!(j, JointId::KneeAngleR | JointId::KneeAngleL) {
+                p.angle = knees[seq as usize];
+            }
+            send(hub.serial_mut(), &Message::JointAngle(p))
+        })
+    };
+    ensure!(sample(&mut hub, ModelId::Chain, 0) && sample(&mut hub, ModelId::Chain, 1));
+    drain(&mut hub);
+    ensure!(hub.config().model == ModelId::Chain && hub.status().out_of_range == 2);
+    ensure!(send(
+        hub.serial_mut(),
+        &self::config(ModelId::Phak, MissingPolicy::Drop, 4, false)
+    ));
+    ensure!(sample(&mut hub, ModelId::Phak, 2));
+    drain(&mut hub);
+    let mut flagged = [None; 3];
+    poses(&mut hub, |p| {
+        if let Some(f) = flagged.get_mut(p.seq as usize) {
+            *f = Some(p.flags & FrameFlags::OUT_OF_RANGE != 0);
+        }
+    })?;
+    ensure!(flagged == [Some(false), Some(true), Some(true)]);
+    ensure!(hub.status().out_of_range == 4);
     Ok(())
 }
 
@@ -1148,7 +1205,11 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
     let host = PoseModels::<f64>::defaults().with_chain(chain);
     let (mut frames, mut worst) = (0, 0.0f32);
     poses(&mut hub, |p| {
-        if p.model == ModelId::Chain && *p == expected_frame(&mine, p.seq) {
+        // `gait_angle`'s knees (gait2392's signs, flexed up to 63°) hyperextend this chain's
+        // knee, which flexes with positive angles: the hub flags them.
+        let mut expected = expected_frame(&mine, p.seq);
+        expected.flags = FrameFlags::OUT_OF_RANGE;
+        if p.model == ModelId::Chain && *p == expected {
             frames += 1;
             if let Some(pose) = host.frame_pose(p) {
                 for (a, b) in p

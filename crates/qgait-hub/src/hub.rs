@@ -420,7 +420,7 @@ where
         bump(&mut self.status.packets_accepted);
         // Judged here, once per packet: the assembler carries the judgement to the samples
         // that use this angle (held ones included), so no sample re-checks its angles.
-        let out_of_range = !in_range(packet.joint, packet.angle);
+        let out_of_range = !in_range(packet.joint, packet.angle, self.kinematics.knee_flexion());
         if out_of_range {
             bump(&mut self.status.out_of_range);
         }

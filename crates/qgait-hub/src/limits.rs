@@ -1,12 +1,14 @@
 //! Physiological ranges of the joint angles, used to flag implausible inputs.
 //!
 //! The ranges are the kernel's ([`qgait_kernel::models::ranges`]), widened by
-//! [`MARGIN`] so that a good IMU estimate near the end of a range is never flagged. An angle
+//! [`MARGIN`] so that a good IMU estimate near the end of a range is never flagged, the knee's
+//! mirrored for a model whose knee flexes with positive angles (an uploaded Rajagopal chain:
+//! [`KneeFlexion::Positive`]). An angle
 //! outside its range is still used (the pose is computed and sent with
 //! [`FrameFlags::OUT_OF_RANGE`](qgait_proto::FrameFlags::OUT_OF_RANGE)); an angle that is not a
 //! finite number is rejected.
 
-use qgait_kernel::models::ranges;
+use qgait_kernel::models::ranges::{self, KneeFlexion};
 use qgait_proto::JointId;
 
 /// Tolerance added to both ends of every range (radians, [`ranges::MARGIN_DEG`]).
@@ -21,10 +23,11 @@ pub fn range(joint: JointId) -> (f32, f32) {
     (lo as f32 * DEG, hi as f32 * DEG)
 }
 
-/// Whether `angle` (radians) lies in the range of `joint`, margin included.
+/// Whether `angle` (radians) lies in the range of `joint` for a model whose knee flexes with
+/// `knee` angles, margin included.
 #[inline]
-pub fn in_range(joint: JointId, angle: f32) -> bool {
-    ranges::in_range(joint.index() as usize, angle)
+pub fn in_range(joint: JointId, angle: f32, knee: KneeFlexion) -> bool {
+    ranges::in_model_range(joint.index() as usize, angle, knee)
 }
 
 #[cfg(test)]
@@ -33,10 +36,23 @@ mod tests {
 
     #[test]
     fn knee_hyperextension_beyond_the_margin_is_out_of_range() {
-        assert!(in_range(JointId::KneeAngleR, -1.5));
-        assert!(in_range(JointId::KneeAngleL, 20.0 * DEG - 1e-4));
-        assert!(!in_range(JointId::KneeAngleL, 25.0 * DEG));
-        assert!(!in_range(JointId::KneeAngleR, f32::NAN));
+        let n = KneeFlexion::Negative;
+        assert!(in_range(JointId::KneeAngleR, -1.5, n));
+        assert!(in_range(JointId::KneeAngleL, 20.0 * DEG - 1e-4, n));
+        assert!(!in_range(JointId::KneeAngleL, 25.0 * DEG, n));
+        assert!(!in_range(JointId::KneeAngleR, f32::NAN, n));
+    }
+
+    #[test]
+    fn a_knee_flexing_with_positive_angles_has_the_mirrored_range() {
+        let p = KneeFlexion::Positive;
+        for knee in [JointId::KneeAngleR, JointId::KneeAngleL] {
+            assert!(in_range(knee, 1.5, p));
+            assert!(in_range(knee, -20.0 * DEG + 1e-4, p));
+            assert!(!in_range(knee, -25.0 * DEG, p));
+        }
+        assert!(!in_range(JointId::AnkleAngleR, 45.0 * DEG, p));
+        assert!(in_range(JointId::HipFlexionR, 100.0 * DEG, p));
     }
 
     #[test]

@@ -550,12 +550,17 @@ struct EmulateInput {
 }
 
 /// The stream and its packets' times for `qgait emulate`.
-fn emulate_input(args: &EmulateArgs, wire: ModelId, quiet: bool) -> anyhow::Result<EmulateInput> {
+fn emulate_input(
+    args: &EmulateArgs,
+    model: &HubModel,
+    quiet: bool,
+) -> anyhow::Result<EmulateInput> {
     let (stream, count) = match (&args.motion, &args.stream) {
         (Some(motion), None) => {
             let (table, w) = load_motion(motion)?;
             let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
-            let (samples, w2) = Samples::from_motion(&table, wire, timing)?;
+            let (samples, w2) =
+                Samples::from_motion(&table, model.id(), model.knee_flexion(), timing)?;
             Diagnostics::new(quiet).warn(w.into_iter().chain(w2));
             let packets: Vec<_> = samples.all_packets().collect();
             (
@@ -613,7 +618,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         times,
         count,
         configuration,
-    } = emulate_input(&args, model.hub.id(), quiet)?;
+    } = emulate_input(&args, &model.hub, quiet)?;
     let elf = firmware::locate(args.elf.as_deref())?;
     let settings = HubSettings {
         missing_policy: MissingPolicy::Drop,

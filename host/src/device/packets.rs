@@ -42,10 +42,14 @@ fn wire_us(seconds: f64) -> u32 {
 
 impl Samples {
     /// The joints of `model` from every row of `table` (missing optional columns count as 0,
-    /// with a warning each, as for `qgait fk`).
+    /// with a warning each, as for `qgait fk`), for a hub model whose knee flexes with `knee`
+    /// angles ([`HubModel::knee_flexion`](qgait_proto::HubModel::knee_flexion)): a motion in
+    /// gait2392's signs (`builtin:`) has its knees turned into the model's, and the ranges are
+    /// checked as that hub checks them.
     pub fn from_motion(
         table: &MotionTable,
         model: ModelId,
+        knee: KneeFlexion,
         timing: Timing,
     ) -> Result<(Samples, Vec<Warning>), PacketsError> {
         let warnings = RefCell::new(Vec::new());
@@ -54,6 +58,7 @@ impl Samples {
         let end = for_each_sample(
             MotionRows::from_table(table.clone()),
             model,
+            knee,
             timing,
             &|w| warnings.borrow_mut().extend(w),
             |_, ts, a| {
@@ -116,7 +121,8 @@ pub enum PacketsError {
     Write(#[from] std::io::Error),
 }
 
-/// Reads every row of `rows` as a sample of `model` and hands `each` its sequence number (the
+/// Reads every row of `rows` as a sample of `model` (whose knee flexes with `knee` angles, as
+/// in [`Samples::from_motion`]) and hands `each` its sequence number (the
 /// row index, wrapping), timestamp and angles (radians, [`ModelId::required_joints`] order);
 /// memory does not grow with the number of rows. `warn` gets the warnings about the columns
 /// before the first row; the warnings found while reading are returned. An error of `each`
@@ -124,6 +130,7 @@ pub enum PacketsError {
 pub(crate) fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
     rows: MotionRows,
     model: ModelId,
+    knee: KneeFlexion,
     timing: Timing,
     warn: &dyn Fn(Vec<Warning>),
     mut each: impl FnMut(u32, u32, &[f64]) -> Result<(), E>,
@@ -145,9 +152,7 @@ pub(crate) fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
         each(seq, wire_us(seconds), angles)
     };
     // The coordinates are read in the model's joint order (its `required_joints`, the order of
-    // its packets and of a pose frame's angles), their ranges checked as the hub checks them:
-    // gait2392's, for every model it computes.
-    let knee = KneeFlexion::Negative;
+    // its packets and of a pose frame's angles), their ranges checked as the hub checks them.
     match model {
         ModelId::Hak => drive(rows, &joint_names::<6>(model), knee, warn, |t, q| {
             sample(t, &q)
@@ -196,7 +201,9 @@ pub(crate) fn write_stream(
     };
     out.write_all(&[0])?;
     let mut buf = Vec::with_capacity(joints.len() * MAX_FRAME_LEN);
-    let warnings = for_each_sample(rows, model, timing, warn, |seq, ts, angles| {
+    // `qgait packets` sends HAK, PHAK and gait2392, whose knees flex with negative angles.
+    let knee = KneeFlexion::Negative;
+    let warnings = for_each_sample(rows, model, knee, timing, warn, |seq, ts, angles| {
         buf.clear();
         for (&joint, &angle) in joints.iter().zip(angles) {
             push_frame(
@@ -267,7 +274,13 @@ mod tests {
 
     #[test]
     fn one_packet_per_joint_per_row_with_the_row_as_seq() {
-        let (s, w) = Samples::from_motion(&table(), ModelId::Phak, Timing::TimeColumn).unwrap();
+        let (s, w) = Samples::from_motion(
+            &table(),
+            ModelId::Phak,
+            KneeFlexion::Negative,
+            Timing::TimeColumn,
+        )
+        .unwrap();
         // The test angles put both knees and ankles out of range (40-80 degrees): warned only.
         assert_eq!(w.len(), 4, "{w:?}");
         assert!(w.iter().all(|w| w.0.contains("outside its range")), "{w:?}");
@@ -308,11 +321,29 @@ mod tests {
 
     #[test]
     fn rate_sets_the_timestamps_and_hak_sends_six_joints() {
-        let (s, _) = Samples::from_motion(&table(), ModelId::Hak, Timing::Rate(200.0)).unwrap();
+        let (s, _) = Samples::from_motion(
+            &table(),
+            ModelId::Hak,
+            KneeFlexion::Negative,
+            Timing::Rate(200.0),
+        )
+        .unwrap();
         assert_eq!(s.timestamps_us, [0, 5000, 10_000]);
         assert_eq!(s.packets(2).count(), 6);
-        assert!(Samples::from_motion(&table(), ModelId::Hak, Timing::Rate(0.0)).is_err());
-        let (g, w) = Samples::from_motion(&table(), ModelId::Gait2392, Timing::TimeColumn).unwrap();
+        assert!(Samples::from_motion(
+            &table(),
+            ModelId::Hak,
+            KneeFlexion::Negative,
+            Timing::Rate(0.0)
+        )
+        .is_err());
+        let (g, w) = Samples::from_motion(
+            &table(),
+            ModelId::Gait2392,
+            KneeFlexion::Negative,
+            Timing::TimeColumn,
+        )
+        .unwrap();
         assert_eq!(g.packets(0).count(), 17);
         assert_eq!(w.len(), 9 + 4, "{w:?}");
     }

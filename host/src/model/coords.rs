@@ -19,15 +19,8 @@ use crate::model::kinematics::LEG_COLUMNS;
 use crate::motion::source::MotionRows;
 use crate::opensim::mot::{Header, NonFinite};
 
-/// Which sign of `knee_angle` flexes the knee in the model a motion is read for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum KneeFlexion {
-    /// Negative angles (gait2392 and its family, HAK, PHAK: the kernel's ranges).
-    #[default]
-    Negative,
-    /// Positive angles (Rajagopal's walker knee): the knee's range is mirrored.
-    Positive,
-}
+/// Which sign of `knee_angle` flexes the knee in the model a motion is read for (the kernel's).
+pub use qgait_kernel::models::ranges::KneeFlexion;
 
 /// Per picked column: how its values compare with the range.
 #[derive(Debug, Clone, Default)]
@@ -53,6 +46,9 @@ pub(crate) struct Picker<const N: usize> {
     columns: [Option<usize>; N],
     /// Kernel coordinate index of each name, for the range check.
     range_index: [Option<usize>; N],
+    /// The knee flexion of the model: its knee's range is mirrored for
+    /// [`KneeFlexion::Positive`].
+    knee: KneeFlexion,
     /// Per name, whether its range is mirrored (a knee of [`KneeFlexion::Positive`]).
     mirrored: [bool; N],
     /// Whether the motion is in gait2392's signs ([`Header::gait2392_signs`]): a mirrored knee's
@@ -114,8 +110,9 @@ impl<const N: usize> Picker<N> {
                 names: *names,
                 columns,
                 range_index: names.map(ranges::index),
+                knee,
                 mirrored: names.map(|n| {
-                    knee == KneeFlexion::Positive && (n == "knee_angle_r" || n == "knee_angle_l")
+                    ranges::index(n).is_some_and(|i| knee.in_gait2392_signs(i, 1.0) < 0.0)
                 }),
                 gait2392_signs: header.gait2392_signs,
                 checks: vec![RangeCheck::default(); N],
@@ -162,17 +159,17 @@ impl<const N: usize> Picker<N> {
             let v = raw * self.scale * flip;
             *slot = v;
             if let Some(i) = self.range_index[k] {
-                // A mirrored knee is checked as gait2392's knee would hold it.
-                let sign = if self.mirrored[k] { -1.0 } else { 1.0 };
                 let check = &mut self.checks[k];
                 check.n += 1;
-                if !ranges::in_range(i, sign * v) {
+                if !ranges::in_model_range(i, v, self.knee) {
                     check.out += 1;
                     if check.first_out.is_none() {
                         check.first_out = Some((v, at()));
                     }
                 }
-                if !self.in_degrees && !ranges::in_range(i, sign * flip * raw.to_radians()) {
+                if !self.in_degrees
+                    && !ranges::in_model_range(i, flip * raw.to_radians(), self.knee)
+                {
                     check.out_as_degrees += 1;
                 }
             }

@@ -27,22 +27,11 @@ pub(crate) fn gait2392_coordinates(
     kinematics::coordinate_rows(table, &COORDINATES, knee)
 }
 
-/// Which sign of `knee_angle` flexes the knee of a model with these 12 points: flexion moves
-/// the ankle backwards (-x). gait2392's family flexes with negative angles, Rajagopal's with
+/// Which sign of `knee_angle` flexes the knee of a model with these 12 points (the kernel's
+/// [`KneeFlexion::of`]): gait2392's family flexes with negative angles, Rajagopal's with
 /// positive ones.
 pub(crate) fn knee_flexion(fk: &dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]) -> KneeFlexion {
-    // (A gait2392 coordinate: always found.)
-    let knee = qgait_kernel::models::ranges::index("knee_angle_r").unwrap_or(6);
-    let ankle_x = |v: f64| {
-        let mut q = [0.0; 17];
-        q[knee] = v;
-        fk(&q)[2].x
-    };
-    if ankle_x(0.5) < ankle_x(-0.5) {
-        KneeFlexion::Positive
-    } else {
-        KneeFlexion::Negative
-    }
+    KneeFlexion::of(fk)
 }
 
 /// Forward kinematics of an imported model: the 12 points of

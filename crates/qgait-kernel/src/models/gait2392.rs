@@ -590,6 +590,21 @@ mod tests {
     use super::*;
 
     #[test]
+    fn gait2392s_knee_flexes_with_negative_angles() {
+        use crate::models::ranges::KneeFlexion;
+        let g = Gait2392::<f64>::new(&Gait2392Geometry::generic()).unwrap();
+        assert_eq!(
+            KneeFlexion::of(|q| g.chain().forward(q)),
+            KneeFlexion::Negative
+        );
+        let g = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap();
+        assert_eq!(
+            KneeFlexion::of(|q| g.chain().forward(q)),
+            KneeFlexion::Negative
+        );
+    }
+
+    #[test]
     fn const_f32_geometry_is_the_generic_one_rounded() {
         const G32: Gait2392Geometry<f32> = Gait2392Geometry::generic().to_f32();
         let g = Gait2392Geometry::generic();

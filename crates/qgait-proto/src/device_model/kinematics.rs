@@ -3,6 +3,7 @@
 //! a [`PoseFrame`].
 
 use qgait_kernel::metrics::distances;
+use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{
     Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, ModelError, Phak, PhakAngles,
@@ -309,6 +310,9 @@ impl<T: Real> PoseModels<T> {
 pub struct Kinematics {
     model: ModelId,
     chain: ModelChain,
+    /// The knee flexion of an uploaded chain (negative for the built-in models).
+    #[cfg(feature = "chain")]
+    knee: KneeFlexion,
 }
 
 /// The kernel model that computes the poses.
@@ -336,6 +340,8 @@ impl Kinematics {
     pub const EMPTY: Kinematics = Kinematics {
         model: ModelId::Hak,
         chain: ModelChain::Phak(Phak::EMPTY),
+        #[cfg(feature = "chain")]
+        knee: KneeFlexion::Negative,
     };
 
     /// The `model` with the given segment lengths (right, left; [`segment`] order), or
@@ -399,6 +405,10 @@ impl Kinematics {
                 .map_err(|_| ConfigError::Kernel)?;
         }
         self.model = model;
+        #[cfg(feature = "chain")]
+        {
+            self.knee = KneeFlexion::Negative;
+        }
         Ok(())
     }
 
@@ -435,6 +445,10 @@ impl Kinematics {
             g.rebuild(geometry).map_err(|_| ConfigError::Kernel)?;
         }
         self.model = ModelId::Gait2392;
+        #[cfg(feature = "chain")]
+        {
+            self.knee = KneeFlexion::Negative;
+        }
         Ok(())
     }
 
@@ -465,9 +479,26 @@ impl Kinematics {
         }
         if let ModelChain::Chain(c) = &mut self.chain {
             parts.build_into(config, c)?;
+            self.knee = KneeFlexion::of(|q| c.forward(q));
         }
         self.model = ModelId::Chain;
         Ok(())
+    }
+
+    /// Which sign of `knee_angle` flexes the knee of the model in force: an uploaded chain's
+    /// as its forward kinematics says ([`KneeFlexion::of`], once per upload), negative for
+    /// HAK, PHAK and gait2392 (and always, without the `chain` feature). The hub checks the
+    /// knee's range with it ([`in_model_range`](qgait_kernel::models::ranges::in_model_range)).
+    #[inline]
+    pub fn knee_flexion(&self) -> KneeFlexion {
+        #[cfg(feature = "chain")]
+        {
+            self.knee
+        }
+        #[cfg(not(feature = "chain"))]
+        {
+            KneeFlexion::Negative
+        }
     }
 
     /// The model poses are computed with.

@@ -2,6 +2,7 @@
 
 use std::boxed::Box;
 
+use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Anthropometry, Gait2392Geometry, ModelError};
 
@@ -58,6 +59,16 @@ impl HubModel {
                 ..
             } => Some([a.right, a.left].map(|limb| limb.to_array().map(|l| l as f32))),
             _ => None,
+        }
+    }
+
+    /// Which sign of `knee_angle` flexes this model's knee, as the hub finds it
+    /// ([`Kinematics::knee_flexion`](crate::Kinematics::knee_flexion)): the chain's, by its
+    /// forward kinematics; negative for the others.
+    pub fn knee_flexion(&self) -> KneeFlexion {
+        match self {
+            HubModel::Chain { chain, .. } => KneeFlexion::of(|q| chain.forward(q)),
+            _ => KneeFlexion::Negative,
         }
     }
 
