@@ -197,6 +197,13 @@ mod tests {
     }
 
     #[test]
+    fn a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range(
+        c: &mut SharedChecks,
+    ) -> CheckResult {
+        c.run("a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range")
+    }
+
+    #[test]
     fn random_bytes_never_stop_the_pipeline(c: &mut SharedChecks) -> CheckResult {
         c.run("random_bytes_never_stop_the_pipeline")
     }
