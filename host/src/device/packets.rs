@@ -235,7 +235,7 @@ pub fn stream<'a>(packets: impl IntoIterator<Item = &'a JointAngle>) -> Vec<u8> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use qgait_proto::FrameDecoder;
+    use qgait_proto::{FrameDecoder, JointId};
 
     fn table() -> MotionTable {
         let labels = [
@@ -317,6 +317,35 @@ mod tests {
             crate::model::kinematics::HAK_NAMES
         );
         assert_eq!(joint_names::<17>(ModelId::Gait2392), COORDINATES);
+    }
+
+    #[test]
+    fn a_chain_whose_knee_flexes_with_positive_angles_gets_its_signs_and_its_range() {
+        let from = |table: &MotionTable, knee| {
+            Samples::from_motion(table, ModelId::Chain, knee, Timing::TimeColumn).unwrap()
+        };
+        let joints = ModelId::Chain.required_joints();
+        let at = |j: JointId| joints.iter().position(|&k| k == j).unwrap();
+        let knees = [at(JointId::KneeAngleR), at(JointId::KneeAngleL)];
+        // The file's knees (40-72°) are flexed in this model's signs: in range, sent as they are.
+        let (s, w) = from(&table(), KneeFlexion::Positive);
+        assert!(w.iter().all(|w| !w.0.contains("`knee_angle")), "{w:?}");
+        assert!(w.iter().any(|w| w.0.contains("`ankle_angle_r")), "{w:?}");
+        assert_eq!(s.angles[0][knees[0]], 40f64.to_radians());
+        let (_, w) = from(&table(), KneeFlexion::Negative);
+        assert!(w.iter().any(|w| w.0.contains("`knee_angle_r")), "{w:?}");
+        // A builtin motion (gait2392's signs) has its knees negated, nothing else changed.
+        let (builtin, _) = crate::motion::source::load_motion("builtin:crouch=0.5,rows=5").unwrap();
+        let (positive, w) = from(&builtin, KneeFlexion::Positive);
+        assert!(w.iter().all(|w| !w.0.contains("outside")), "{w:?}");
+        let (negative, _) = from(&builtin, KneeFlexion::Negative);
+        for (p, n) in positive.angles.iter().zip(&negative.angles) {
+            for (k, (a, b)) in p.iter().zip(n).enumerate() {
+                let b = if knees.contains(&k) { -b } else { *b };
+                assert_eq!(*a, b);
+            }
+            assert!(p[knees[0]] > 0.3 && p[knees[1]] > 0.3, "{p:?}");
+        }
     }
 
     #[test]
