@@ -242,6 +242,16 @@ fn the_report_takes_every_model_fk_takes() {
             &out,
         );
         check_figures(&out, &["n"]);
+        // The figures and the tables name the model that computed them.
+        let caption = match model {
+            "phak" => "PHAK model, origin at the pelvis origin",
+            "hak" => "HAK model, origin at the pelvis origin",
+            _ => "gait2392 model, origin at its pelvis origin",
+        };
+        let md = std::fs::read_to_string(out.join("metrics.md")).unwrap();
+        assert!(md.contains(&format!("Model: {caption}")), "{caption}: {md}");
+        let svg = std::fs::read_to_string(out.join("stick_sagittal.svg")).unwrap();
+        assert!(svg.contains(caption), "{caption}");
         let rows = csv(&out.join("metrics.csv"));
         let hip = rows
             .iter()

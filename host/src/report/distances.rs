@@ -51,7 +51,10 @@ impl Figure for DistanceFigure<'_> {
             .map_err(draw_err)?;
         header
             .draw_text(
-                "PHAK model, 3-D Euclidean distance (paper Eqs 18-20); dashed line: end of stance in normal gait (60 %)",
+                &format!(
+                    "{}; 3-D Euclidean distance (paper Eqs 18-20); dashed line: end of stance in normal gait (60 %)",
+                    self.analysis.model
+                ),
                 &figure::text(16),
                 (16, 46),
             )

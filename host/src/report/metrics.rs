@@ -230,8 +230,10 @@ fn markdown(
     reference: &str,
 ) -> String {
     let mut md = String::from("# qgait report\n\n");
-    md.push_str(
-        "Model: PHAK (origin at the pelvis origin, ground axes: x forward, y up, z right). ",
+    let _ = write!(
+        md,
+        "Model: {}; ground axes: x forward, y up, z right. ",
+        analysis.model
     );
     md.push_str("Lengths in metres, areas in square metres. Percent of cycle = time normalised from the first to the last row.\n\n");
     md.push_str("| gait | source | rows |\n|---|---|---|\n");

@@ -99,6 +99,9 @@ pub struct Gait {
 
 /// All gaits of a report and the model that computed them.
 pub struct Analysis {
+    /// The model as the figures and `metrics.md` name it, with where its origin is (e.g.
+    /// "PHAK model, origin at the pelvis origin (midway between the hips)").
+    pub model: String,
     /// The kernel model when it is HAK or PHAK (poses between rows come from interpolated
     /// angles); `None` for a gait2392 model (poses between rows interpolate its points).
     pub evaluator: Option<Evaluator>,
@@ -164,7 +167,29 @@ impl Analysis {
                 distances,
             });
         }
-        Ok((Self { evaluator, gaits }, warnings))
+        let described = match model {
+            Model::Hak { .. } => {
+                "HAK model, origin at the pelvis origin (midway between the hips)".to_string()
+            }
+            Model::Phak { .. } => {
+                "PHAK model, origin at the pelvis origin (midway between the hips)".to_string()
+            }
+            // A model file by its name, without the directories.
+            other => format!(
+                "{} model, origin at its pelvis origin",
+                Path::new(other.name())
+                    .file_name()
+                    .map_or(other.name().into(), |n| n.to_string_lossy())
+            ),
+        };
+        Ok((
+            Self {
+                model: described,
+                evaluator,
+                gaits,
+            },
+            warnings,
+        ))
     }
 
     /// The pose of a gait at a percent of its cycle (angles interpolated between rows, then FK;

@@ -40,7 +40,10 @@ impl Figure for SagittalPaths<'_> {
             .map_err(draw_err)?;
         header
             .draw_text(
-                "PHAK model, origin at the pelvis origin; x forward, y up; each panel has its own scale; dot = 0 % of the cycle; identical curves overlap",
+                &format!(
+                    "{}; x forward, y up; each panel has its own scale; dot = 0 % of the cycle; identical curves overlap",
+                    self.analysis.model
+                ),
                 &figure::text(16),
                 (16, 44),
             )

@@ -101,7 +101,10 @@ impl Figure for StickFigure<'_> {
             .map_err(draw_err)?;
         header
             .draw_text(
-                "PHAK model, origin at the pelvis origin (midway between the hips); same scale on both axes; one row per gait",
+                &format!(
+                    "{}; same scale on both axes; one row per gait",
+                    self.analysis.model
+                ),
                 &figure::text(16),
                 (16, 44),
             )
