@@ -330,6 +330,28 @@ pub const STP_COLUMNS: [(&str, &str, f64); 10] = [
     ("double_support", "Total D. Support %", 1.0),
 ];
 
+/// What chose the pace of [`StpNormals::ranges`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PaceChoice {
+    /// The walking speed.
+    Speed,
+    /// The cadence (no speed measured).
+    Cadence,
+    /// Neither was measured: the normal pace.
+    Default,
+}
+
+impl PaceChoice {
+    /// As the report says it.
+    pub fn words(self) -> &'static str {
+        match self {
+            PaceChoice::Speed => "by its speed range",
+            PaceChoice::Cadence => "by its cadence range (no speed)",
+            PaceChoice::Default => "(neither speed nor cadence measured)",
+        }
+    }
+}
+
 /// The normal ranges of spatiotemporal parameters.
 pub struct StpNormals {
     rows: Vec<StpRow>,
@@ -431,13 +453,16 @@ impl StpNormals {
 
     /// The normal ranges (in our units, [`STP_COLUMNS`] order) for a subject of `age` years
     /// (and `male`, or both sexes' widest range when not given) walking at `speed` m/s: the
-    /// pace whose velocity range holds the speed, else the nearest. Also the pace chosen.
+    /// pace whose velocity range holds the speed, else the nearest; without a speed, the pace
+    /// whose cadence range holds `cadence` (steps/min), else the nearest; with neither, the
+    /// normal pace. Also the pace chosen and what chose it.
     pub fn ranges(
         &self,
         age: f64,
         male: Option<bool>,
         speed: Option<f64>,
-    ) -> Option<(String, Vec<Option<Range>>)> {
+        cadence: Option<f64>,
+    ) -> Option<(String, PaceChoice, Vec<Option<Range>>)> {
         let groups: Vec<&StpRow> = self
             .rows
             .iter()
@@ -447,14 +472,19 @@ impl StpNormals {
         if groups.is_empty() {
             return None;
         }
-        let velocity = self.columns[0];
+        // The measure that picks the pace: the speed (cm/s, the file's unit), else the
+        // cadence, each only when the file has its column.
+        let measure = match (speed, self.columns[0], cadence, self.columns[1]) {
+            (Some(v), Some(c), _, _) => Some((PaceChoice::Speed, c, v * 100.0)),
+            (_, _, Some(v), Some(c)) => Some((PaceChoice::Cadence, c, v)),
+            _ => None,
+        };
         let distance = |r: &StpRow| -> f64 {
-            let (Some(v), Some(c)) = (speed, velocity) else {
+            let Some((_, c, v)) = measure else {
                 return if r.pace == "Normal" { 0.0 } else { 1.0 };
             };
             match r.ranges.get(c).copied().flatten() {
                 Some((lo, hi)) => {
-                    let v = v * 100.0;
                     if v < lo {
                         lo - v
                     } else if v > hi {
@@ -466,15 +496,28 @@ impl StpNormals {
                 None => f64::INFINITY,
             }
         };
-        let best = groups
-            .iter()
-            .map(|r| distance(r))
-            .fold(f64::INFINITY, f64::min);
-        let pace = groups.iter().find(|r| distance(r) == best)?.pace.clone();
-        let chosen: Vec<&&StpRow> = groups
-            .iter()
-            .filter(|r| r.pace == pace && distance(r) == best)
-            .collect();
+        // Each sex's pace (the one nearest the measure for that sex's rows), and every row of
+        // it: with the sex not given, both sexes' rows, each at its own pace.
+        let mut paces: Vec<String> = Vec::new();
+        let mut chosen: Vec<&StpRow> = Vec::new();
+        for sex in [true, false] {
+            let rows: Vec<&StpRow> = groups.iter().copied().filter(|r| r.male == sex).collect();
+            let best = rows
+                .iter()
+                .map(|r| distance(r))
+                .fold(f64::INFINITY, f64::min);
+            let Some(pace) = rows.iter().find(|r| distance(r) == best).map(|r| &r.pace) else {
+                continue;
+            };
+            if !paces.contains(pace) {
+                paces.push(pace.clone());
+            }
+            chosen.extend(rows.iter().copied().filter(|r| &r.pace == pace));
+        }
+        let pace = match (male, paces.as_slice()) {
+            (None, [men, women]) => format!("{men} for men, {women} for women"),
+            _ => paces.first()?.clone(),
+        };
         let ranges = STP_COLUMNS
             .iter()
             .zip(&self.columns)
@@ -495,7 +538,8 @@ impl StpNormals {
                 })
             })
             .collect();
-        Some((pace, ranges))
+        let choice = measure.map_or(PaceChoice::Default, |(choice, _, _)| choice);
+        Some((pace, choice, ranges))
     }
 
     /// The cadence edges of Schwartz et al.'s speed groups ([`CadenceGroups`]) for a subject of
@@ -653,8 +697,8 @@ Male;30;39;Normal;1;2;3;4;5;6\n\
 ;;;;\n\
 Normal data are indicated for +/- 1 SD;;\n";
         let n = StpNormals::parse(text, "s.txt").unwrap();
-        let (pace, r) = n.ranges(25.0, Some(true), Some(1.3)).unwrap();
-        assert_eq!(pace, "Normal");
+        let (pace, by, r) = n.ranges(25.0, Some(true), Some(1.3), Some(90.0)).unwrap();
+        assert_eq!((pace.as_str(), by), ("Normal", PaceChoice::Speed));
         assert_eq!(
             r[1],
             Some(Range {
@@ -663,10 +707,11 @@ Normal data are indicated for +/- 1 SD;;\n";
             })
         );
         assert!((r[6].unwrap().min - 0.08).abs() < 1e-12);
-        let (pace, _) = n.ranges(29.5, Some(true), Some(0.5)).unwrap();
+        let (pace, _, _) = n.ranges(29.5, Some(true), Some(0.5), None).unwrap();
         assert_eq!(pace, "Slow");
-        // Both sexes: the widest range.
-        let (_, r) = n.ranges(20.0, None, Some(1.3)).unwrap();
+        // Both sexes: the widest range of each sex's pace.
+        let (pace, _, r) = n.ranges(20.0, None, Some(1.3), None).unwrap();
+        assert_eq!(pace, "Normal");
         assert_eq!(
             r[1],
             Some(Range {
@@ -674,7 +719,23 @@ Normal data are indicated for +/- 1 SD;;\n";
                 max: 120.0
             })
         );
-        assert!(n.ranges(70.0, None, None).is_none());
+        // 1.15 m/s is the men's slow pace and the women's normal one: both sexes' rows, each
+        // at its own pace (before, only the first sex whose range held the speed).
+        let (pace, _, r) = n.ranges(20.0, None, Some(1.15), None).unwrap();
+        assert_eq!(pace, "Slow for men, Normal for women");
+        assert_eq!(
+            r[1],
+            Some(Range {
+                min: 86.0,
+                max: 120.0
+            })
+        );
+        // No speed: the cadence picks the pace; neither: the normal pace.
+        let (pace, by, _) = n.ranges(25.0, Some(true), None, Some(90.0)).unwrap();
+        assert_eq!((pace.as_str(), by), ("Slow", PaceChoice::Cadence));
+        let (pace, by, _) = n.ranges(25.0, Some(true), None, None).unwrap();
+        assert_eq!((pace.as_str(), by), ("Normal", PaceChoice::Default));
+        assert!(n.ranges(70.0, None, None, None).is_none());
         let bad = text.replace("86;100", "86;x");
         let e = StpNormals::parse(&bad, "s.txt").err().unwrap();
         assert!(

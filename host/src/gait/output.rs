@@ -152,8 +152,9 @@ pub fn build(
     } else {
         None
     };
+    let cadence = spatiotemporal::value(&parameters, "cadence", "both");
     if let (Some(age), Some(normals)) = (subject.age, &normals) {
-        if let Some((pace, ranges)) = normals.ranges(age, subject.male, speed) {
+        if let Some((pace, choice, ranges)) = normals.ranges(age, subject.male, speed, cadence) {
             for p in parameters.iter_mut() {
                 if let Some(k) = STP_COLUMNS.iter().position(|c| c.0 == p.name) {
                     p.range = ranges[k];
@@ -165,13 +166,13 @@ pub fn build(
                 None => "male or female",
             };
             ranges_for = Some(format!(
-                "{sex}, {age} years, pace `{pace}` ({})",
+                "{sex}, {age} years, pace `{pace}` {} ({})",
+                choice.words(),
                 stp_path.display()
             ));
         }
     }
     // The normative speed group from the cadence.
-    let cadence = spatiotemporal::value(&parameters, "cadence", "both");
     let mut speed_choice = None;
     let chosen = match (needs_groups, cadence, &normals) {
         (true, Some(c), Some(n)) => n.cadence_groups(subject.age, subject.male).map(|g| {
