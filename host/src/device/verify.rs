@@ -61,6 +61,8 @@ pub struct Verification {
     pub duplicates: u64,
     /// Frames by model.
     pub models: Vec<(ModelId, u64)>,
+    /// Frames of an uploaded chain verified without the chain (each an infinite error).
+    pub without_chain: u64,
 }
 
 /// How many missing sequence numbers a [`Verification`] lists.
@@ -147,6 +149,7 @@ impl<'m> Verifier<'m> {
         }
         // A chain's frame with no chain to recompute it with: every point unverified.
         let Some(pose) = self.model.frame_pose(frame) else {
+            v.without_chain += 1;
             for e in &mut v.errors {
                 e.add(f64::INFINITY);
             }
@@ -325,6 +328,14 @@ impl Verification {
             self.frames,
             models.join(", ")
         );
+        if self.without_chain > 0 {
+            let _ = writeln!(
+                s,
+                "{} frames are of an uploaded chain (model `chain`) and cannot be recomputed \
+                 without it: give the chain the hub computed with, --model CHAIN.toml or its .osim",
+                self.without_chain
+            );
+        }
         let _ = writeln!(s, "{:<12} {:>12} {:>12}", "point", "max (µm)", "mean (µm)");
         for (name, e) in error_names().iter().zip(&self.errors) {
             let _ = writeln!(
@@ -402,6 +413,26 @@ mod tests {
         f.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
         f.distances = distances(&pose).to_array().map(|x| x as f32);
         f
+    }
+
+    #[test]
+    fn chain_frames_without_the_chain_fail_saying_what_to_give() {
+        let chain = qgait_kernel::models::fixtures::walker_chain();
+        let with_chain = PoseModels::defaults().with_chain(chain);
+        let frames: Vec<PoseFrame> = (0..3)
+            .map(|s| frame(&with_chain, ModelId::Chain, s))
+            .collect();
+        let v = Verification::run(&with_chain, &frames, Expected::FirstToLast);
+        assert!(v.passed(1e-6) && v.without_chain == 0, "{}", v.report(1e-6));
+        let v = Verification::run(&PoseModels::defaults(), &frames, Expected::FirstToLast);
+        assert_eq!(v.without_chain, 3);
+        let report = v.report(10e-6);
+        assert!(
+            report.contains("3 frames are of an uploaded chain")
+                && report.contains("--model CHAIN.toml")
+                && report.ends_with("verify: FAILED"),
+            "{report}"
+        );
     }
 
     #[test]
