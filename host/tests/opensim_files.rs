@@ -122,7 +122,7 @@ fn degrees_under_indegrees_no_are_warned_naming_file_and_columns() {
     );
     assert!(
         err.contains(&format!(
-            "{cmc}: the header says the angles are in radians (inDegrees=no)"
+            "{cmc}: the angles are read as radians (the header does not say inDegrees=yes)"
         )) && err.contains("set inDegrees=yes"),
         "{err}"
     );

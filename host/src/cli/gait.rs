@@ -135,7 +135,8 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
             .and_then(|s| s.overall)
             .map_or(String::new(), |g| format!(", GPS {}°", output::round(g, 2)));
         eprintln!(
-            "{strides} strides{gps}; wrote {} files to {}",
+            "{strides} stride{}{gps}; wrote {} files to {}",
+            if strides == 1 { "" } else { "s" },
             files.len(),
             args.output.display()
         );

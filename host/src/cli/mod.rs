@@ -26,7 +26,7 @@ use crate::motion::source::{default_label, load_motion};
 use crate::progress::Progress;
 use crate::report::{self, Analysis};
 
-/// Forward kinematics of the human lower limbs with quaternions (HAK, PHAK and gait2392 models).
+/// Forward kinematics of the human lower limbs with quaternions (HAK, PHAK, gait2392 and imported OpenSim leg models).
 ///
 /// MOTION is an OpenSim .mot/.sto file, or a built-in normative gait: `builtin:normal`,
 /// `builtin:crouch=S` (crouch severity 0..1), optionally followed by `,rows=N`.
@@ -70,7 +70,7 @@ pub enum Command {
         #[arg(short, long, value_name = "OUT.mot")]
         output: Option<PathBuf>,
     },
-    /// OpenSim models: `model import MODEL.osim -o SUBJECT.toml`.
+    /// OpenSim models: `model import MODEL.osim -o SUBJECT.toml|CHAIN.toml`.
     #[command(subcommand)]
     Model(crate::cli::model::ModelCommand),
     /// Computed joint centres as an OpenSim marker file (.trc) and table (.sto).

@@ -205,7 +205,7 @@ impl<const N: usize> Picker<N> {
         }
         if !look_like_degrees.is_empty() {
             warnings.push(Warning(format!(
-                "{}: the header says the angles are in radians (inDegrees=no), but {} would all be in range read as degrees: if the file is in degrees (as OpenSim's CMC and RRA write Kinematics_q.sto), set inDegrees=yes in its header",
+                "{}: the angles are read as radians (the header does not say inDegrees=yes), but {} would all be in range read as degrees: if the file is in degrees (as OpenSim's CMC and RRA write Kinematics_q.sto), set inDegrees=yes in its header",
                 self.source,
                 look_like_degrees.join(", ")
             )));
@@ -374,7 +374,7 @@ mod tests {
         let (_, w) = pick_all(&table(&text)).unwrap();
         let hint = w.last().unwrap();
         assert!(
-            hint.0.contains("inDegrees=no") && hint.0.contains("`knee_angle_r`"),
+            hint.0.contains("does not say inDegrees=yes") && hint.0.contains("`knee_angle_r`"),
             "{w:?}"
         );
         assert!(w

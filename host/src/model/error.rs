@@ -9,7 +9,7 @@ use crate::diagnostics::Location;
 #[non_exhaustive]
 pub enum ModelError {
     /// `--model` names no model qgait knows.
-    #[error("unknown model `{0}` (expected hak, phak, gait2392, a SUBJECT.toml file from `qgait model import`, or an OpenSim model .osim)")]
+    #[error("unknown model `{0}` (expected hak, phak, gait2392, a SUBJECT.toml or CHAIN.toml file from `qgait model import`, or an OpenSim model .osim)")]
     Unknown(String),
     /// A model or lengths file could not be read.
     #[error("{path}: cannot read: {error}")]

@@ -172,6 +172,9 @@ pub enum Problem {
     /// An option other than `rows=N`.
     #[error("unknown option `{0}`; {USAGE}")]
     Option(String),
+    /// `rows=N` given twice.
+    #[error("`rows` given twice; {USAGE}")]
+    Repeated,
 }
 
 impl BuiltinSpec {
@@ -197,21 +200,26 @@ impl BuiltinSpec {
         } else {
             return Err(bad(Problem::Unknown(kind.to_string())));
         };
-        let mut rows = DEFAULT_ROWS;
+        let mut rows = None;
         for part in parts {
             match part.trim().strip_prefix("rows=") {
+                Some(_) if rows.is_some() => return Err(bad(Problem::Repeated)),
                 Some(n) => {
                     rows = n
                         .trim()
                         .parse()
                         .ok()
                         .filter(|&n| n >= 2)
+                        .map(Some)
                         .ok_or_else(|| bad(Problem::Rows(n.to_string())))?
                 }
                 None => return Err(bad(Problem::Option(part.to_string()))),
             }
         }
-        Ok(Self { crouch, rows })
+        Ok(Self {
+            crouch,
+            rows: rows.unwrap_or(DEFAULT_ROWS),
+        })
     }
 
     /// The spec as text, e.g. `builtin:crouch=0.6`.
@@ -345,6 +353,7 @@ mod tests {
         assert_eq!(problem("run"), Problem::Unknown("run".into()));
         assert_eq!(problem("normal,rows=1"), Problem::Rows("1".into()));
         assert_eq!(problem("normal,fast"), Problem::Option("fast".into()));
+        assert_eq!(problem("crouch=0.5,rows=2,rows=3"), Problem::Repeated);
         let e = BuiltinSpec::parse("crouch=2").unwrap_err().to_string();
         assert_eq!(e, "builtin:crouch=2: crouch severity 2 is outside 0..1");
         assert_eq!(
