@@ -280,6 +280,56 @@ fn a_leg_coordinate_that_is_not_an_input_is_refused_unless_locked() {
 }
 
 #[test]
+fn a_chain_file_refused_for_what_it_says_names_the_line_and_column() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();
+    let (Model::Chain { chain, .. }, _) = Model::import(&text, "raj.osim", None).unwrap() else {
+        panic!("Rajagopal is a chain");
+    };
+    let toml = chain.to_toml(&[]);
+    // Each edit: what it replaces (its first occurrence), with what, and what the error says;
+    // the error must name the line and column where the replacement starts.
+    for (from, to, says) in [
+        (
+            "coordinate = \"pelvis_tilt\"",
+            "coordinate = \"pelvis_tlt\"",
+            "coordinate `pelvis_tlt` is neither an input",
+        ),
+        (
+            "body = \"toes_r\"\nlocation",
+            "body = \"toe_r\"\nlocation",
+            "toe tip on `toe_r`",
+        ),
+        (
+            "min = -1.57079633",
+            "min = 3",
+            "range of `pelvis_tilt`: min 3 above max",
+        ),
+        (
+            "body = \"femur_l\"",
+            "body = \"femur_x\"",
+            "joint `hip_l` moves `femur_x`",
+        ),
+    ] {
+        let start = toml
+            .find(from)
+            .unwrap_or_else(|| panic!("{from} in the file"));
+        let edited = toml.replacen(from, to, 1);
+        // The value's line and column (1-based): where `=` is followed by the value.
+        let value = start + to.find('=').unwrap() + 2;
+        let line = edited[..value].matches('\n').count() + 1;
+        let column = value - edited[..value].rfind('\n').map_or(0, |i| i + 1) + 1;
+        let err = qgait::model::chain::ChainModel::parse(&edited, "raj.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with(&format!("raj.toml:{line}:{column}: ")) && err.contains(says),
+            "{to}: {err}"
+        );
+    }
+}
+
+#[test]
 fn a_single_leg_model_is_refused_saying_so() {
     let Some(shared) = shared_dir() else { return };
     let text = std::fs::read_to_string(shared.join("data/opensim/Rajagopal2016.osim")).unwrap();

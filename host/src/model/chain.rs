@@ -24,8 +24,8 @@ use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Polynomial, Spline, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::diagnostics::Location;
 use crate::model::error::ModelError;
+use crate::model::toml_path::{Fault, Step, Step::Index, Step::Key};
 
 /// The bodies of the chain, in table order: joint `i` moves body `i`.
 pub(crate) const BODIES: [&str; 11] = [
@@ -211,43 +211,55 @@ impl ChainModel {
     /// the joints moving femur, tibia, talus, calcn, toes) and `toetip` per side, right first
     /// ([`POINTS`](qgait_kernel::models::gait2392::POINTS) order).
     pub fn chain(&self) -> Result<LowerLimb<f64>, String> {
+        self.build().map_err(|fault| fault.message)
+    }
+
+    /// [`chain`](Self::chain), a refusal saying where in the file the value refused is.
+    fn build(&self) -> Result<LowerLimb<f64>, Fault> {
         if self.joints.len() != BODIES.len() || self.toe_tips.len() != 2 {
-            return Err(format!(
+            return Err(Fault::whole(format!(
                 "{} joints and {} toe tips; a lower-limb chain has {} joints ({}) and 2 toe tips",
                 self.joints.len(),
                 self.toe_tips.len(),
                 BODIES.len(),
                 BODIES.join(", ")
-            ));
+            )));
         }
         let mut splines = Vec::new();
         let mut polynomials = Vec::new();
-        let mut function = |f: &FunctionData, what: &str| -> Result<Function<f64>, String> {
-            Ok(match f {
+        let mut function = |f: &FunctionData, what: &str, at: Vec<Step>| {
+            let fault = |message| Fault {
+                message,
+                at: [at.as_slice(), &[Key("function")]].concat(),
+            };
+            Ok::<_, Fault>(match f {
                 FunctionData::Constant { value } => Function::Constant(*value),
                 FunctionData::Linear { slope, intercept } => Function::Linear {
                     slope: *slope,
                     intercept: *intercept,
                 },
                 FunctionData::Polynomial { coefficients } => {
-                    let p = Polynomial::new(coefficients)
-                        .map_err(|e| format!("{what}: {e} ({} given)", coefficients.len()))?;
+                    let p = Polynomial::new(coefficients).map_err(|e| {
+                        fault(format!("{what}: {e} ({} given)", coefficients.len()))
+                    })?;
                     if polynomials.len() == MAX_POLYNOMIALS {
-                        return Err(format!(
+                        return Err(fault(format!(
                             "{what}: more than {MAX_POLYNOMIALS} polynomials in one chain"
-                        ));
+                        )));
                     }
                     polynomials.push(p);
                     Function::Polynomial(polynomials.len() - 1)
                 }
                 FunctionData::SimmSpline { .. } | FunctionData::PiecewiseLinear { .. } => {
                     let s = f.spline().expect("a spline").map_err(|e| {
-                        format!("{what}: {e} (2 to {MAX_SPLINE_KNOTS} increasing knots)")
+                        fault(format!(
+                            "{what}: {e} (2 to {MAX_SPLINE_KNOTS} increasing knots)"
+                        ))
                     })?;
                     if splines.len() == MAX_SPLINES {
-                        return Err(format!(
+                        return Err(fault(format!(
                             "{what}: more than {MAX_SPLINES} splines in one chain"
-                        ));
+                        )));
                     }
                     splines.push(s);
                     Function::Spline(splines.len() - 1)
@@ -256,35 +268,46 @@ impl ChainModel {
         };
         let input = |name: &str| COORDINATES.iter().position(|c| *c == name);
         let mut couplers = Vec::new();
-        for c in &self.couplers {
+        for (i, c) in self.couplers.iter().enumerate() {
             let what = format!("coupler of `{}`", c.dependent);
-            let independent = input(&c.independent).ok_or_else(|| {
-                format!(
+            let at = vec![Key("couplers"), Index(i)];
+            let independent = input(&c.independent).ok_or_else(|| Fault {
+                message: format!(
                     "{what}: independent coordinate `{}` is not one of {}",
                     c.independent,
                     COORDINATES.join(", ")
-                )
+                ),
+                at: [at.as_slice(), &[Key("independent")]].concat(),
             })?;
             couplers.push(Coupler {
                 independent,
-                function: function(&c.function, &what)?,
+                function: function(&c.function, &what, at)?,
             });
         }
         let mut joints = [CustomJoint::WELD; 11];
         for (b, (j, body)) in self.joints.iter().zip(BODIES).enumerate() {
+            let joint = [Key("joints"), Index(b)];
             if j.body != body {
-                return Err(format!(
-                    "joint `{}` moves `{}`; joint {b} must move `{body}`",
-                    j.name, j.body
-                ));
+                return Err(Fault {
+                    message: format!(
+                        "joint `{}` moves `{}`; joint {b} must move `{body}`",
+                        j.name, j.body
+                    ),
+                    at: [joint.as_slice(), &[Key("body")]].concat(),
+                });
             }
-            let mut driven = |axes: &[AxisData], kind: &str| -> Result<[Driven<f64>; 3], String> {
+            let mut driven = |axes: &[AxisData], kind: &str, key: &'static str| {
+                let at = [joint.as_slice(), &[Key(key)]].concat();
                 if axes.len() > 3 {
-                    return Err(format!("joint `{}`: more than 3 {kind}", j.name));
+                    return Err(Fault {
+                        message: format!("joint `{}`: more than 3 {kind}", j.name),
+                        at: [at.as_slice(), &[Index(3)]].concat(),
+                    });
                 }
                 let mut out = [Driven::NONE; 3];
                 for (k, (slot, a)) in out.iter_mut().zip(axes).enumerate() {
                     let what = format!("joint `{}` {kind} {}", j.name, k + 1);
+                    let at = [at.as_slice(), &[Index(k)]].concat();
                     let argument = match &a.coordinate {
                         None => Argument::None,
                         Some(n) => {
@@ -293,23 +316,26 @@ impl ChainModel {
                             } else if let Some(i) = input(n) {
                                 Argument::Coordinate(i)
                             } else {
-                                return Err(format!(
-                                    "{what}: coordinate `{n}` is neither an input ({}) nor coupled",
-                                    COORDINATES.join(", ")
-                                ));
+                                return Err(Fault {
+                                    message: format!(
+                                        "{what}: coordinate `{n}` is neither an input ({}) nor coupled",
+                                        COORDINATES.join(", ")
+                                    ),
+                                    at: [at.as_slice(), &[Key("coordinate")]].concat(),
+                                });
                             }
                         }
                     };
                     *slot = Driven {
                         axis: Vec3::from_f64(a.axis),
-                        function: function(&a.function, &what)?,
+                        function: function(&a.function, &what, at)?,
                         argument,
                     };
                 }
                 Ok(out)
             };
-            let rotations = driven(&j.rotations, "rotation")?;
-            let translations = driven(&j.translations, "translation")?;
+            let rotations = driven(&j.rotations, "rotation", "rotations")?;
+            let translations = driven(&j.translations, "translation", "translations")?;
             joints[b] = CustomJoint {
                 parent: match b {
                     0 => None,
@@ -328,11 +354,11 @@ impl ChainModel {
                 translations,
             };
         }
-        let body_index = |name: &str| {
-            BODIES
-                .iter()
-                .position(|b| *b == name)
-                .ok_or_else(|| format!("toe tip on `{name}`, which is not a body of the chain"))
+        let body_index = |name: &str, side: usize| {
+            BODIES.iter().position(|b| *b == name).ok_or_else(|| Fault {
+                message: format!("toe tip on `{name}`, which is not a body of the chain"),
+                at: vec![Key("toe_tips"), Index(side), Key("body")],
+            })
         };
         let mut points = [BodyPoint {
             body: 0,
@@ -348,7 +374,7 @@ impl ChainModel {
             }
             let tip = &self.toe_tips[side];
             points[6 * side + 5] = BodyPoint {
-                body: body_index(&tip.body)?,
+                body: body_index(&tip.body, side)?,
                 offset: Vec3::from_f64(tip.location),
             };
         }
@@ -356,30 +382,41 @@ impl ChainModel {
             splines: &splines,
             polynomials: &polynomials,
         };
-        LowerLimb::new(joints, points, functions, &couplers).map_err(|e| e.to_string())
+        LowerLimb::new(joints, points, functions, &couplers)
+            .map_err(|e| Fault::whole(e.to_string()))
     }
 
     /// The clamped ranges by input coordinate ([`COORDINATES`] order; unbounded where none is
     /// given), or the first range naming a coordinate that is not an input.
     pub fn bounds(&self) -> Result<([f64; 17], [f64; 17]), String> {
+        self.checked_bounds().map_err(|fault| fault.message)
+    }
+
+    /// [`bounds`](Self::bounds), a refusal saying where in the file the range refused is.
+    fn checked_bounds(&self) -> Result<([f64; 17], [f64; 17]), Fault> {
         let mut min = [f64::NEG_INFINITY; 17];
         let mut max = [f64::INFINITY; 17];
-        for r in &self.ranges {
+        for (k, r) in self.ranges.iter().enumerate() {
+            let at = |key| vec![Key("ranges"), Index(k), Key(key)];
             let i = COORDINATES
                 .iter()
                 .position(|c| *c == r.coordinate)
-                .ok_or_else(|| {
-                    format!(
+                .ok_or_else(|| Fault {
+                    message: format!(
                         "range of `{}`: not one of {}",
                         r.coordinate,
                         COORDINATES.join(", ")
-                    )
+                    ),
+                    at: at("coordinate"),
                 })?;
             if r.min.is_nan() || r.max.is_nan() || r.min > r.max {
-                return Err(format!(
-                    "range of `{}`: min {} above max {}",
-                    r.coordinate, r.min, r.max
-                ));
+                return Err(Fault {
+                    message: format!(
+                        "range of `{}`: min {} above max {}",
+                        r.coordinate, r.min, r.max
+                    ),
+                    at: at("min"),
+                });
             }
             (min[i], max[i]) = (r.min, r.max);
         }
@@ -405,36 +442,12 @@ impl ChainModel {
 
     /// Reads a chain file `source` and checks it with the kernel.
     pub fn parse(text: &str, source: &str) -> Result<Self, ModelError> {
-        let model: Self = toml::from_str(text).map_err(|e| {
-            let (line, column) = e
-                .span()
-                .map(|s| {
-                    let before = &text[..s.start.min(text.len())];
-                    let line = before.matches('\n').count() + 1;
-                    let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
-                    (Some(line), Some(column))
-                })
-                .unwrap_or((None, None));
-            ModelError::File {
-                at: Location {
-                    path: source.to_string(),
-                    line,
-                    column,
-                },
-                message: e.message().to_string(),
-            }
-        })?;
+        let model: Self = toml::from_str(text)
+            .map_err(|e| super::toml_error(text, source, e.span(), e.message()))?;
         model
-            .chain()
-            .and_then(|_| model.bounds())
-            .map_err(|message| ModelError::File {
-                at: Location {
-                    path: source.to_string(),
-                    line: None,
-                    column: None,
-                },
-                message,
-            })?;
+            .build()
+            .and_then(|_| model.checked_bounds())
+            .map_err(|fault| fault.in_file(text, source))?;
         Ok(model)
     }
 }

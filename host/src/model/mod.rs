@@ -14,6 +14,7 @@ pub(crate) mod fidelity;
 pub mod kinematics;
 pub mod points;
 pub mod subject;
+pub(crate) mod toml_path;
 
 /// A TOML file's error at byte range `span` of `text` (line and column of its start, counted
 /// from 1, columns in characters; the whole file without a span), the message on one line.

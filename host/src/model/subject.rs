@@ -35,8 +35,8 @@ use qgait_kernel::models::gait2392::{Knots, LegGeometry};
 use qgait_kernel::{Gait2392, Gait2392Geometry};
 use serde::{Deserialize, Serialize};
 
-use crate::diagnostics::Location;
 use crate::model::error::ModelError;
+use crate::model::toml_path::{Fault, Step, Step::Index, Step::Key};
 
 /// The file: one table per leg.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -102,45 +102,51 @@ impl LegFile {
         }
     }
 
-    fn to_leg(&self, side: &str) -> Result<LegGeometry, String> {
-        let knots = |k: &KnotsFile, name: &str| {
+    fn to_leg(&self, side: &'static str) -> Result<LegGeometry, Fault> {
+        let knots = |k: &KnotsFile, name: &'static str| {
             if k.x.len() != k.y.len() {
-                return Err(format!(
-                    "[{side}.{name}]: {} x values but {} y values",
-                    k.x.len(),
-                    k.y.len()
-                ));
+                return Err(Fault {
+                    message: format!(
+                        "[{side}.{name}]: {} x values but {} y values",
+                        k.x.len(),
+                        k.y.len()
+                    ),
+                    at: vec![Key(side), Key(name), Key("y")],
+                });
             }
             Ok(Knots::new(&k.x, &k.y))
         };
-        let three = |v: &[f64], name: &str| -> Result<[f64; 3], String> {
-            <[f64; 3]>::try_from(v)
-                .map_err(|_| format!("[{side}] {name}: expected 3 numbers, found {}", v.len()))
+        let three = |v: &[f64], name: &str, at: Vec<Step>| -> Result<[f64; 3], Fault> {
+            <[f64; 3]>::try_from(v).map_err(|_| Fault {
+                message: format!("[{side}] {name}: expected 3 numbers, found {}", v.len()),
+                at,
+            })
+        };
+        let field = |v: &[f64], name: &'static str| three(v, name, vec![Key(side), Key(name)]);
+        let axis = |k: usize| {
+            let at = vec![Key(side), Key("hip_axes"), Index(k)];
+            three(&self.hip_axes[k], &format!("hip_axes[{k}]"), at)
         };
         Ok(LegGeometry {
-            hip_in_pelvis: three(&self.hip_in_pelvis, "hip_in_pelvis")?,
-            hip_axes: match self.hip_axes.as_slice() {
-                [a, b, c] => [
-                    three(a, "hip_axes[0]")?,
-                    three(b, "hip_axes[1]")?,
-                    three(c, "hip_axes[2]")?,
-                ],
-                other => {
-                    return Err(format!(
-                        "[{side}] hip_axes: expected 3 axes, found {}",
-                        other.len()
-                    ))
+            hip_in_pelvis: field(&self.hip_in_pelvis, "hip_in_pelvis")?,
+            hip_axes: match self.hip_axes.len() {
+                3 => [axis(0)?, axis(1)?, axis(2)?],
+                n => {
+                    return Err(Fault {
+                        message: format!("[{side}] hip_axes: expected 3 axes, found {n}"),
+                        at: vec![Key(side), Key("hip_axes")],
+                    })
                 }
             },
             knee_tx: knots(&self.knee_tx, "knee_tx")?,
             knee_ty: knots(&self.knee_ty, "knee_ty")?,
-            ankle_in_tibia: three(&self.ankle_in_tibia, "ankle_in_tibia")?,
-            ankle_axis: three(&self.ankle_axis, "ankle_axis")?,
-            subtalar_in_talus: three(&self.subtalar_in_talus, "subtalar_in_talus")?,
-            subtalar_axis: three(&self.subtalar_axis, "subtalar_axis")?,
-            mtp_in_calcn: three(&self.mtp_in_calcn, "mtp_in_calcn")?,
-            mtp_axis: three(&self.mtp_axis, "mtp_axis")?,
-            toetip_in_toes: three(&self.toetip_in_toes, "toetip_in_toes")?,
+            ankle_in_tibia: field(&self.ankle_in_tibia, "ankle_in_tibia")?,
+            ankle_axis: field(&self.ankle_axis, "ankle_axis")?,
+            subtalar_in_talus: field(&self.subtalar_in_talus, "subtalar_in_talus")?,
+            subtalar_axis: field(&self.subtalar_axis, "subtalar_axis")?,
+            mtp_in_calcn: field(&self.mtp_in_calcn, "mtp_in_calcn")?,
+            mtp_axis: field(&self.mtp_axis, "mtp_axis")?,
+            toetip_in_toes: field(&self.toetip_in_toes, "toetip_in_toes")?,
         })
     }
 }
@@ -155,7 +161,7 @@ impl SubjectFile {
     }
 
     /// The geometry (not yet checked by the kernel; see [`parse`]).
-    pub(crate) fn to_geometry(&self) -> Result<Gait2392Geometry, String> {
+    pub(crate) fn to_geometry(&self) -> Result<Gait2392Geometry, Fault> {
         Ok(Gait2392Geometry {
             right: self.right.to_leg("right")?,
             left: self.left.to_leg("left")?,
@@ -185,10 +191,9 @@ pub fn to_toml(g: &Gait2392Geometry, comment: &[String]) -> String {
 pub fn parse(text: &str, source: &str) -> Result<Gait2392Geometry, ModelError> {
     let file: SubjectFile =
         toml::from_str(text).map_err(|e| super::toml_error(text, source, e.span(), e.message()))?;
-    let g = file.to_geometry().map_err(|message| ModelError::File {
-        at: Location::file(source),
-        message,
-    })?;
+    let g = file
+        .to_geometry()
+        .map_err(|fault| fault.in_file(text, source))?;
     Gait2392::<f64>::new(&g).map_err(|error| ModelError::Rejected {
         name: source.to_string(),
         error,
@@ -216,6 +221,36 @@ mod tests {
         let text = to_toml(&g, &["a comment".into()]);
         assert!(text.starts_with("# a comment\n"), "{text}");
         assert_eq!(parse(&text, "s.toml").unwrap(), g);
+    }
+
+    #[test]
+    fn numbers_refused_are_named_by_line_and_column() {
+        let good = to_toml(&Gait2392Geometry::generic(), &[]);
+        // The edited value's 1-based line and column in `text`.
+        let at = |text: &str, value: &str| {
+            let i = text.find(value).unwrap();
+            let line = text[..i].matches('\n').count() + 1;
+            (line, i - text[..i].rfind('\n').map_or(0, |n| n + 1) + 1)
+        };
+        let four = good.replacen("hip_in_pelvis = [", "hip_in_pelvis = [1.0, ", 1);
+        let (line, column) = at(&four, "[1.0, ");
+        let err = parse(&four, "s.toml").unwrap_err().to_string();
+        assert!(
+            err.starts_with(&format!("s.toml:{line}:{column}: [right] hip_in_pelvis")),
+            "{err}"
+        );
+        // A knee spline's y values, one short: at its `y`.
+        let start = good.find("[left.knee_ty]").unwrap();
+        let y = start + good[start..].find("y = [").unwrap();
+        let comma = y + good[y..].find(", ").unwrap();
+        let short = format!("{}{}", &good[..y + 5], &good[comma + 2..]);
+        let line = short[..y].matches('\n').count() + 1;
+        let column = y - short[..y].rfind('\n').map_or(0, |n| n + 1) + 1 + "y = ".len();
+        let err = parse(&short, "s.toml").unwrap_err().to_string();
+        assert!(
+            err.starts_with(&format!("s.toml:{line}:{column}: [left.knee_ty]")),
+            "{err}"
+        );
     }
 
     #[test]
