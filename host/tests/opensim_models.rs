@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{parse_fk_csv, qgait, shared_dir, stderr};
+use common::{parse_fk_csv, qgait, shared_dir, stderr, stdout};
 use qgait::model::choice::Model;
 use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
 use qgait_kernel::Vec3;
@@ -327,6 +327,53 @@ fn a_chain_file_refused_for_what_it_says_names_the_line_and_column() {
             "{to}: {err}"
         );
     }
+}
+
+#[test]
+fn a_column_of_a_coordinate_the_model_locks_is_ignored_saying_so() {
+    // OpenSense's Rajagopal locks the subtalar and MTP joints: their columns move nothing.
+    let Some(shared) = shared_dir() else { return };
+    let osim = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    let dir = tempfile::tempdir().unwrap();
+    let head = "x\nversion=1\nnRows=2\nnColumns=9\ninDegrees=yes\nendheader\n\
+                time\thip_flexion_r\tknee_angle_r\tankle_angle_r\thip_flexion_l\tknee_angle_l\tankle_angle_l";
+    let with = dir.path().join("with.mot");
+    let without = dir.path().join("without.mot");
+    std::fs::write(
+        &with,
+        format!("{head}\tsubtalar_angle_r\tmtp_angle_r\n0\t10\t20\t0\t0\t5\t0\t0\t0\n1\t10\t20\t0\t0\t5\t0\t15\t20\n"),
+    )
+    .unwrap();
+    std::fs::write(
+        &without,
+        format!("{head}\n0\t10\t20\t0\t0\t5\t0\n1\t10\t20\t0\t0\t5\t0\n"),
+    )
+    .unwrap();
+    let fk = |motion: &Path| {
+        let out = qgait(&[
+            "fk",
+            motion.to_str().unwrap(),
+            "--model",
+            osim.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        (stdout(&out), stderr(&out))
+    };
+    let (points, err) = fk(&with);
+    assert_eq!(points, fk(&without).0);
+    // The first value other than 0 and its line; nothing said of the left columns, absent
+    // but locked as well.
+    assert!(
+        err.contains("column `subtalar_angle_r` ignored: the model does not move with it")
+            && err.contains("(the first not 0: 15.00° at line 9)")
+            && err.contains("column `mtp_angle_r` ignored"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("no `subtalar_angle_l`") && !err.contains("no `mtp_angle_l`"),
+        "{err}"
+    );
+    assert!(err.contains("no `pelvis_tilt` column"), "{err}");
 }
 
 #[test]

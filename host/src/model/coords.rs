@@ -55,6 +55,11 @@ pub(crate) struct Picker<const N: usize> {
     /// values are then negated into the model's.
     gait2392_signs: bool,
     checks: Vec<RangeCheck>,
+    /// Per name the model does not read (a locked or coupled coordinate of an imported
+    /// chain): its column, if the motion has one.
+    unread: [Option<usize>; N],
+    /// Per name, the first value other than 0 in its unread column (radians) and where.
+    unread_first: Vec<Option<(f64, String)>>,
 }
 
 impl<const N: usize> Picker<N> {
@@ -66,6 +71,18 @@ impl<const N: usize> Picker<N> {
         header: &Header,
         names: &[&'static str; N],
         knee: KneeFlexion,
+    ) -> Result<(Self, Vec<Warning>), ModelError> {
+        Self::reading(header, names, knee, [true; N])
+    }
+
+    /// [`new`](Self::new) for a model that reads only the names with `read` true: the others
+    /// are taken as 0 without a warning when absent, and a column of one with a value other
+    /// than 0 gets one warning at the end ([`finish`](Self::finish)): the model ignores it.
+    pub fn reading(
+        header: &Header,
+        names: &[&'static str; N],
+        knee: KneeFlexion,
+        read: [bool; N],
     ) -> Result<(Self, Vec<Warning>), ModelError> {
         let missing: Vec<&'static str> = LEG_COLUMNS
             .iter()
@@ -87,7 +104,18 @@ impl<const N: usize> Picker<N> {
                 });
             }
         }
+        let mut unread = [None; N];
+        for (k, name) in names.iter().enumerate() {
+            if !read[k] {
+                unread[k] = header.index_of(name);
+            }
+        }
+        let mut k = 0;
         let columns = names.map(|name| {
+            k += 1;
+            if !read[k - 1] {
+                return None;
+            }
             let c = header.index_of(name);
             if c.is_none() {
                 warnings.push(Warning(format!(
@@ -116,6 +144,8 @@ impl<const N: usize> Picker<N> {
                 }),
                 gait2392_signs: header.gait2392_signs,
                 checks: vec![RangeCheck::default(); N],
+                unread,
+                unread_first: vec![None; N],
             },
             warnings,
         ))
@@ -131,6 +161,13 @@ impl<const N: usize> Picker<N> {
         non_finite: impl Fn(usize) -> Option<&'a NonFinite>,
     ) -> Result<[f64; N], ModelError> {
         let mut out = [0.0; N];
+        for (c, first) in self.unread.iter().zip(&mut self.unread_first) {
+            let Some(c) = *c else { continue };
+            let v = value(c) * self.scale;
+            if first.is_none() && v != 0.0 && v.is_finite() {
+                *first = Some((v, at()));
+            }
+        }
         for (k, slot) in out.iter_mut().enumerate() {
             let Some(c) = self.columns[k] else { continue };
             let raw = value(c);
@@ -203,6 +240,15 @@ impl<const N: usize> Picker<N> {
                 look_like_degrees.push(format!("`{}`", self.names[k]));
             }
         }
+        for (name, first) in self.names.iter().zip(&self.unread_first) {
+            if let Some((first, at)) = first {
+                warnings.push(Warning(format!(
+                    "{}: column `{name}` ignored: the model does not move with it (locked, or coupled to another coordinate), so its values are not used (the first not 0: {}° at {at})",
+                    self.source,
+                    show_degrees(first.to_degrees()),
+                )));
+            }
+        }
         if !look_like_degrees.is_empty() {
             warnings.push(Warning(format!(
                 "{}: the angles are read as radians (the header does not say inDegrees=yes), but {} would all be in range read as degrees: if the file is in degrees (as OpenSim's CMC and RRA write Kinematics_q.sto), set inDegrees=yes in its header",
@@ -223,13 +269,14 @@ pub(crate) struct CoordRows<const N: usize> {
 }
 
 impl<const N: usize> CoordRows<N> {
-    /// Maps `names` to the columns of `rows` (errors and warnings as [`Picker::new`]).
+    /// Maps `names` to the columns of `rows` (errors and warnings as [`Picker::reading`]).
     pub fn new(
         rows: MotionRows,
         names: &[&'static str; N],
         knee: KneeFlexion,
+        read: [bool; N],
     ) -> Result<(Self, Vec<Warning>), ModelError> {
-        let (picker, warnings) = Picker::new(rows.header(), names, knee)?;
+        let (picker, warnings) = Picker::reading(rows.header(), names, knee, read)?;
         Ok((
             Self {
                 rows,

@@ -179,13 +179,16 @@ impl PointModel {
                 }
                 each(t, &points)
             }),
-            Kind::Chain(chain) => drive(rows, &COORDINATES, self.knee, warn, |t, q| {
-                let all = chain.forward(&q);
-                let n = if self.extra { 12 } else { 8 };
-                points.clear();
-                points.extend(CHAIN_ORDER[..n].iter().map(|&i| all[i]));
-                each(t, &points)
-            }),
+            Kind::Chain(chain) => {
+                let read = core::array::from_fn(|i| chain.reads(i));
+                drive_reading(rows, &COORDINATES, self.knee, read, warn, |t, q| {
+                    let all = chain.forward(&q);
+                    let n = if self.extra { 12 } else { 8 };
+                    points.clear();
+                    points.extend(CHAIN_ORDER[..n].iter().map(|&i| all[i]));
+                    each(t, &points)
+                })
+            }
         }
     }
 }
@@ -197,9 +200,22 @@ pub(crate) fn drive<const N: usize, E: From<ModelError>>(
     names: &[&'static str; N],
     knee: KneeFlexion,
     warn: &dyn Fn(Vec<Warning>),
+    each: impl FnMut(f64, [f64; N]) -> Result<(), E>,
+) -> Result<Vec<Warning>, E> {
+    drive_reading(rows, names, knee, [true; N], warn, each)
+}
+
+/// [`drive`] for a model that reads only the names with `read` true
+/// ([`Picker::reading`](crate::model::coords::Picker::reading)).
+fn drive_reading<const N: usize, E: From<ModelError>>(
+    rows: MotionRows,
+    names: &[&'static str; N],
+    knee: KneeFlexion,
+    read: [bool; N],
+    warn: &dyn Fn(Vec<Warning>),
     mut each: impl FnMut(f64, [f64; N]) -> Result<(), E>,
 ) -> Result<Vec<Warning>, E> {
-    let (mut coords, w) = CoordRows::new(rows, names, knee)?;
+    let (mut coords, w) = CoordRows::new(rows, names, knee, read)?;
     warn(w);
     while let Some((t, q)) = coords.next_row()? {
         each(t, q)?;

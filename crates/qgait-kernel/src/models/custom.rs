@@ -620,6 +620,19 @@ impl<
         &self.couplers[..usize::from(self.used.1).min(MAX_COUPLERS)]
     }
 
+    /// Whether the table reads input coordinate `i`: an axis takes it, or a coupled
+    /// coordinate follows it. A coordinate it does not read moves nothing (a locked one, held
+    /// at its default when the table was built).
+    pub fn reads(&self, i: usize) -> bool {
+        let axes = self
+            .joints
+            .iter()
+            .flat_map(|j| j.rotations.iter().chain(&j.translations));
+        axes.into_iter()
+            .any(|d| d.argument == Argument::Coordinate(i))
+            || self.couplers().iter().any(|c| c.independent == i)
+    }
+
     #[inline]
     fn value(&self, f: &Function<T>, x: T) -> T {
         match *f {
@@ -835,6 +848,16 @@ impl<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_table_reads_the_coordinates_its_axes_take_and_its_couplers_follow() {
+        use crate::models::gait2392::COORDINATES;
+        let chain = crate::models::fixtures::walker_chain();
+        // Every coordinate but the MTPs, which the chain couples to the ankles.
+        for (i, name) in COORDINATES.iter().enumerate() {
+            assert_eq!(chain.reads(i), !name.starts_with("mtp_angle"), "{name}");
+        }
+    }
     use crate::models::gait2392::{Gait2392, Gait2392Geometry, COORDINATES};
 
     /// gait2392's generic chain said in this table's terms: the same points as the
