@@ -91,3 +91,19 @@ fn shared_motions_all_features_off_is_zero_and_tilt_dominates_severe_crouch() {
     );
     assert!(ankle[0] < hip[0] && ankle[2] < tilt[2], "{ankle:?}");
 }
+
+#[test]
+fn a_motion_whose_knees_flex_with_positive_angles_is_warned_about() {
+    // OpenSense's Rajagopal solution: knees 0 to 56° of flexion in Rajagopal's signs.
+    let raj = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/imu/walking_rajagopal2015_opensense_0-10s.mot"
+    );
+    let warned = |motion: &str| {
+        let out = qgait(&["fidelity", motion]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        stderr(&out).contains("the knees flex with positive angles")
+    };
+    assert!(warned(raj));
+    assert!(!warned("builtin:crouch=0.8,rows=20"));
+}

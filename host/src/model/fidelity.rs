@@ -75,6 +75,24 @@ impl Feature {
     }
 }
 
+/// A warning when a motion's knee angles (`q`, read in gait2392's signs) are nearly all at
+/// or above 0 and reach past 20°: flexion with positive angles, a motion in the signs of a
+/// model whose knee flexes so (Rajagopal's, as OpenSense writes it), which `fidelity` reads as
+/// hyperextension. (gait2392's knee hyperextends at most 10°.)
+fn knees_flexing_positive(source: &str, q: &[[f64; 17]]) -> Option<Warning> {
+    let knees = [index("knee_angle_r"), index("knee_angle_l")];
+    let values: Vec<f64> = q.iter().flat_map(|row| knees.map(|k| row[k])).collect();
+    let at_or_above = values.iter().filter(|&&v| v >= 0.0).count();
+    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (10 * at_or_above >= 9 * values.len() && max > 20f64.to_radians()).then(|| {
+        Warning(format!(
+            "{source}: {at_or_above} of {} knee angles are 0 or more, up to {:.1}°: the knees flex with positive angles, as in Rajagopal's models; fidelity reads a motion in gait2392's signs (knee flexion < 0), so these knees are hyperextended here: give the motion with its knee angles negated",
+            values.len(),
+            max.to_degrees()
+        ))
+    })
+}
+
 fn index(name: &str) -> usize {
     COORDINATES
         .iter()
@@ -255,6 +273,7 @@ pub struct Fidelity {
 /// Compares PHAK with gait2392 on one motion.
 pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warning>), ModelError> {
     let (q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative)?;
+    warnings.extend(knees_flexing_positive(table.source(), &q));
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
         if !warnings.contains(&x) {
@@ -345,6 +364,7 @@ pub fn compare(
 ) -> Result<(Comparison, Vec<Warning>), ModelError> {
     // The motion is in gait2392's coordinates, whatever the model.
     let (mut q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative)?;
+    warnings.extend(knees_flexing_positive(table.source(), &q));
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
         if !warnings.contains(&x) {
