@@ -275,3 +275,31 @@ fn the_report_takes_every_model_fk_takes() {
         "{g_x} {g_y}"
     );
 }
+
+#[test]
+fn a_devices_frames_are_captioned_as_the_hub_computed_them() {
+    let dir = tempfile::tempdir().unwrap();
+    // A frames CSV (`emulate --frames-csv`'s columns: `seq` before `fk`'s).
+    let fk = common::qgait(&["fk", "builtin:normal,rows=21"]);
+    assert!(fk.status.success(), "{}", common::stderr(&fk));
+    let frames: String = common::stdout(&fk)
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i {
+            0 => format!("seq,{l}\n"),
+            _ => format!("{},{l}\n", i - 1),
+        })
+        .collect();
+    let csv_path = dir.path().join("frames.csv");
+    std::fs::write(&csv_path, frames).unwrap();
+    let out = dir.path().join("out");
+    run_report(
+        &["builtin:normal,rows=21", csv_path.to_str().unwrap()],
+        &out,
+    );
+    let md = std::fs::read_to_string(out.join("metrics.md")).unwrap();
+    assert!(
+        md.contains("Model: PHAK model, origin at the pelvis origin (midway between the hips) (a device's frames: as the hub computed them)"),
+        "{md}"
+    );
+}

@@ -971,11 +971,29 @@ pub fn subject_config(upload: u8, request_status: bool) -> Message {
 
 /// The frame a hub computing `kinematics` sends for sample `seq` of [`gait_angle`]s.
 fn expected_frame(kinematics: &Kinematics, seq: u32) -> PoseFrame {
+    expected_frame_of(kinematics, seq, gait_angle)
+}
+
+/// The frame `kinematics` gives sample `seq` with the angles `angle(joint, seq)`.
+fn expected_frame_of(
+    kinematics: &Kinematics,
+    seq: u32,
+    angle: fn(JointId, u32) -> f32,
+) -> PoseFrame {
     let mut angles = [0.0; JointId::COUNT];
     for j in JointId::ALL {
-        angles[j.index() as usize] = gait_angle(j, seq);
+        angles[j.index() as usize] = angle(j, seq);
     }
     kinematics.pose_frame(seq, &angles, 0)
+}
+
+/// [`gait_angle`] in the signs of a chain whose knee flexes with positive angles (Rajagopal's):
+/// the knees negated.
+pub fn walker_angle(joint: JointId, seq: u32) -> f32 {
+    match joint {
+        JointId::KneeAngleR | JointId::KneeAngleL => -gait_angle(joint, seq),
+        _ => gait_angle(joint, seq),
+    }
 }
 
 /// A Config for gait2392 gives frames with all 17 angles, equal to the generic model's.
@@ -1185,11 +1203,17 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
         hub.serial_mut(),
         &Message::ChainConfig(config.clone())
     ));
+    // The gait's knees in the chain's signs (it flexes with positive angles): in range.
     for seq in 1..4 {
-        ensure!(send_sample(hub.serial_mut(), ModelId::Chain, seq));
+        ensure!(ModelId::Chain.required_joints().iter().all(|&j| {
+            let mut p = packet(seq, j);
+            p.angle = walker_angle(j, seq);
+            send(hub.serial_mut(), &Message::JointAngle(p))
+        }));
     }
     drain(&mut hub);
     ensure!(hub.status().config_rejected == 1 && hub.config().model == ModelId::Chain);
+    ensure!(hub.status().out_of_range == 0);
     let mut parts = ChainParts::new();
     for j in &upload.joints {
         ensure!(parts.add_joint(j));
@@ -1205,11 +1229,7 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
     let host = PoseModels::<f64>::defaults().with_chain(chain);
     let (mut frames, mut worst) = (0, 0.0f32);
     poses(&mut hub, |p| {
-        // `gait_angle`'s knees (gait2392's signs, flexed up to 63°) hyperextend this chain's
-        // knee, which flexes with positive angles: the hub flags them.
-        let mut expected = expected_frame(&mine, p.seq);
-        expected.flags = FrameFlags::OUT_OF_RANGE;
-        if p.model == ModelId::Chain && *p == expected {
+        if p.model == ModelId::Chain && *p == expected_frame_of(&mine, p.seq, walker_angle) {
             frames += 1;
             if let Some(pose) = host.frame_pose(p) {
                 for (a, b) in p

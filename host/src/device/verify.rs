@@ -331,9 +331,10 @@ impl Verification {
         if self.without_chain > 0 {
             let _ = writeln!(
                 s,
-                "{} frames are of an uploaded chain (model `chain`) and cannot be recomputed \
-                 without it: give the chain the hub computed with, --model CHAIN.toml or its .osim",
-                self.without_chain
+                "{} frame{} of an uploaded chain (model `chain`) cannot be recomputed without \
+                 it: give the chain the hub computed with, --model CHAIN.toml or its .osim",
+                self.without_chain,
+                if self.without_chain == 1 { "" } else { "s" }
             );
         }
         let _ = writeln!(s, "{:<12} {:>12} {:>12}", "point", "max (µm)", "mean (µm)");
@@ -428,7 +429,7 @@ mod tests {
         assert_eq!(v.without_chain, 3);
         let report = v.report(10e-6);
         assert!(
-            report.contains("3 frames are of an uploaded chain")
+            report.contains("3 frames of an uploaded chain")
                 && report.contains("--model CHAIN.toml")
                 && report.ends_with("verify: FAILED"),
             "{report}"

@@ -333,10 +333,17 @@ pub const STP_COLUMNS: [(&str, &str, f64); 10] = [
 /// What chose the pace of [`StpNormals::ranges`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PaceChoice {
-    /// The walking speed.
-    Speed,
-    /// The cadence (no speed measured).
-    Cadence,
+    /// The walking speed: within the pace's velocity range, or (`within` false) nearest it.
+    Speed {
+        /// Whether the speed is within the range.
+        within: bool,
+    },
+    /// The cadence (no speed measured, or no velocity column): within the pace's cadence
+    /// range, or nearest it.
+    Cadence {
+        /// Whether the cadence is within the range.
+        within: bool,
+    },
     /// Neither was measured: the normal pace.
     Default,
 }
@@ -345,8 +352,10 @@ impl PaceChoice {
     /// As the report says it.
     pub fn words(self) -> &'static str {
         match self {
-            PaceChoice::Speed => "by its speed range",
-            PaceChoice::Cadence => "by its cadence range (no speed)",
+            PaceChoice::Speed { within: true } => "by its speed range",
+            PaceChoice::Speed { within: false } => "the nearest to the speed",
+            PaceChoice::Cadence { within: true } => "by its cadence range",
+            PaceChoice::Cadence { within: false } => "the nearest to the cadence",
             PaceChoice::Default => "(neither speed nor cadence measured)",
         }
     }
@@ -474,9 +483,10 @@ impl StpNormals {
         }
         // The measure that picks the pace: the speed (cm/s, the file's unit), else the
         // cadence, each only when the file has its column.
+        // (`true`: the speed.)
         let measure = match (speed, self.columns[0], cadence, self.columns[1]) {
-            (Some(v), Some(c), _, _) => Some((PaceChoice::Speed, c, v * 100.0)),
-            (_, _, Some(v), Some(c)) => Some((PaceChoice::Cadence, c, v)),
+            (Some(v), Some(c), _, _) => Some((true, c, v * 100.0)),
+            (_, _, Some(v), Some(c)) => Some((false, c, v)),
             _ => None,
         };
         let distance = |r: &StpRow| -> f64 {
@@ -500,12 +510,16 @@ impl StpNormals {
         // it: with the sex not given, both sexes' rows, each at its own pace.
         let mut paces: Vec<String> = Vec::new();
         let mut chosen: Vec<&StpRow> = Vec::new();
+        let mut within = true;
         for sex in [true, false] {
             let rows: Vec<&StpRow> = groups.iter().copied().filter(|r| r.male == sex).collect();
             let best = rows
                 .iter()
                 .map(|r| distance(r))
                 .fold(f64::INFINITY, f64::min);
+            if !rows.is_empty() {
+                within &= best == 0.0;
+            }
             let Some(pace) = rows.iter().find(|r| distance(r) == best).map(|r| &r.pace) else {
                 continue;
             };
@@ -538,7 +552,11 @@ impl StpNormals {
                 })
             })
             .collect();
-        let choice = measure.map_or(PaceChoice::Default, |(choice, _, _)| choice);
+        let choice = match measure {
+            Some((true, _, _)) => PaceChoice::Speed { within },
+            Some((false, _, _)) => PaceChoice::Cadence { within },
+            None => PaceChoice::Default,
+        };
         Some((pace, choice, ranges))
     }
 
@@ -698,7 +716,10 @@ Male;30;39;Normal;1;2;3;4;5;6\n\
 Normal data are indicated for +/- 1 SD;;\n";
         let n = StpNormals::parse(text, "s.txt").unwrap();
         let (pace, by, r) = n.ranges(25.0, Some(true), Some(1.3), Some(90.0)).unwrap();
-        assert_eq!((pace.as_str(), by), ("Normal", PaceChoice::Speed));
+        assert_eq!(
+            (pace.as_str(), by),
+            ("Normal", PaceChoice::Speed { within: true })
+        );
         assert_eq!(
             r[1],
             Some(Range {
@@ -707,8 +728,11 @@ Normal data are indicated for +/- 1 SD;;\n";
             })
         );
         assert!((r[6].unwrap().min - 0.08).abs() < 1e-12);
-        let (pace, _, _) = n.ranges(29.5, Some(true), Some(0.5), None).unwrap();
-        assert_eq!(pace, "Slow");
+        let (pace, by, _) = n.ranges(29.5, Some(true), Some(0.5), None).unwrap();
+        assert_eq!(
+            (pace.as_str(), by),
+            ("Slow", PaceChoice::Speed { within: false })
+        );
         // Both sexes: the widest range of each sex's pace.
         let (pace, _, r) = n.ranges(20.0, None, Some(1.3), None).unwrap();
         assert_eq!(pace, "Normal");
@@ -732,7 +756,10 @@ Normal data are indicated for +/- 1 SD;;\n";
         );
         // No speed: the cadence picks the pace; neither: the normal pace.
         let (pace, by, _) = n.ranges(25.0, Some(true), None, Some(90.0)).unwrap();
-        assert_eq!((pace.as_str(), by), ("Slow", PaceChoice::Cadence));
+        assert_eq!(
+            (pace.as_str(), by),
+            ("Slow", PaceChoice::Cadence { within: true })
+        );
         let (pace, by, _) = n.ranges(25.0, Some(true), None, None).unwrap();
         assert_eq!((pace.as_str(), by), ("Normal", PaceChoice::Default));
         assert!(n.ranges(70.0, None, None, None).is_none());

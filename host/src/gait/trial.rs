@@ -4,12 +4,13 @@
 //! room that evaluates a model.
 
 use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::models::ranges::KNEES;
 use qgait_kernel::Vec3;
 
 use crate::device::frames_csv::FramesCsvError;
 use crate::diagnostics::Warning;
 use crate::model::choice::Model;
-use crate::model::coords::KneeFlexion;
+
 use crate::model::error::ModelError;
 use crate::model::points::{self, PointModel};
 use crate::motion::source::{default_label, load_motion, MotionRows, SourceError};
@@ -156,13 +157,12 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
     // The joint angles of the recording (the model's FK gives the points only); their missing
     // columns were reported above or are not needed by the points.
     let knee = points.knee();
-    let (mut coordinates, coordinate_warnings) = points::gait2392_coordinates(&table, knee)?;
-    if knee == KneeFlexion::Positive {
-        // Rajagopal's knee flexes with positive angles; the trial's are gait2392's signs.
-        for k in ["knee_angle_r", "knee_angle_l"].map(coordinate) {
-            for row in &mut coordinates {
-                row[k] = -row[k];
-            }
+    let (mut coordinates, coordinate_warnings) =
+        points::gait2392_coordinates(&table, knee, points.reads())?;
+    // Rajagopal's knee flexes with positive angles; the trial's are gait2392's signs.
+    for row in &mut coordinates {
+        for k in KNEES {
+            row[k] = knee.in_gait2392_signs(k, row[k]);
         }
     }
     for w in coordinate_warnings {

@@ -66,28 +66,22 @@ impl<const N: usize> Picker<N> {
     /// Maps `names` to the columns of `header`. The PHAK leg columns ([`LEG_COLUMNS`]) are
     /// required (an error naming the file and the columns); any other missing name counts as 0
     /// with one warning; a needed label that names two columns is an error. `knee`: the sign of
-    /// flexion of the model's `knee_angle` (the range checked).
+    /// flexion of the model's `knee_angle` (the range checked). Only the names with `read`
+    /// true are read: the others are taken as 0 without a warning when absent, and a column of
+    /// one with a value other than 0 gets one warning at the end ([`finish`](Self::finish)):
+    /// the model ignores it.
     pub fn new(
-        header: &Header,
-        names: &[&'static str; N],
-        knee: KneeFlexion,
-    ) -> Result<(Self, Vec<Warning>), ModelError> {
-        Self::reading(header, names, knee, [true; N])
-    }
-
-    /// [`new`](Self::new) for a model that reads only the names with `read` true: the others
-    /// are taken as 0 without a warning when absent, and a column of one with a value other
-    /// than 0 gets one warning at the end ([`finish`](Self::finish)): the model ignores it.
-    pub fn reading(
         header: &Header,
         names: &[&'static str; N],
         knee: KneeFlexion,
         read: [bool; N],
     ) -> Result<(Self, Vec<Warning>), ModelError> {
+        // A leg column is required only when the model reads it.
+        let unread_name = |c: &str| names.iter().zip(read).any(|(n, r)| *n == c && !r);
         let missing: Vec<&'static str> = LEG_COLUMNS
             .iter()
             .copied()
-            .filter(|c| header.index_of(c).is_none())
+            .filter(|c| header.index_of(c).is_none() && !unread_name(c))
             .collect();
         if !missing.is_empty() {
             return Err(ModelError::MissingColumns {
@@ -96,7 +90,7 @@ impl<const N: usize> Picker<N> {
             });
         }
         let mut warnings = Vec::new();
-        for name in names {
+        for (name, _) in names.iter().zip(read).filter(|(_, r)| *r) {
             if header.is_duplicated(name) {
                 return Err(ModelError::AmbiguousColumn {
                     at: header.labels_location(),
@@ -104,16 +98,11 @@ impl<const N: usize> Picker<N> {
                 });
             }
         }
-        let mut unread = [None; N];
-        for (k, name) in names.iter().enumerate() {
+        let unread: [Option<usize>; N] =
+            core::array::from_fn(|k| header.index_of(names[k]).filter(|_| !read[k]));
+        let columns: [Option<usize>; N] = core::array::from_fn(|k| {
+            let name = names[k];
             if !read[k] {
-                unread[k] = header.index_of(name);
-            }
-        }
-        let mut k = 0;
-        let columns = names.map(|name| {
-            k += 1;
-            if !read[k - 1] {
                 return None;
             }
             let c = header.index_of(name);
@@ -269,14 +258,14 @@ pub(crate) struct CoordRows<const N: usize> {
 }
 
 impl<const N: usize> CoordRows<N> {
-    /// Maps `names` to the columns of `rows` (errors and warnings as [`Picker::reading`]).
+    /// Maps `names` to the columns of `rows` (errors and warnings as [`Picker::new`]).
     pub fn new(
         rows: MotionRows,
         names: &[&'static str; N],
         knee: KneeFlexion,
         read: [bool; N],
     ) -> Result<(Self, Vec<Warning>), ModelError> {
-        let (picker, warnings) = Picker::reading(rows.header(), names, knee, read)?;
+        let (picker, warnings) = Picker::new(rows.header(), names, knee, read)?;
         Ok((
             Self {
                 rows,
@@ -344,7 +333,7 @@ mod tests {
         t: &MotionTable,
         knee: KneeFlexion,
     ) -> Result<(Vec<[f64; 8]>, Vec<Warning>), ModelError> {
-        let (mut p, mut w) = Picker::new(t.header(), &NAMES, knee)?;
+        let (mut p, mut w) = Picker::new(t.header(), &NAMES, knee, [true; 8])?;
         let mut rows = Vec::new();
         for r in 0..t.rows() {
             rows.push(p.pick(

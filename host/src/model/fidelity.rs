@@ -25,8 +25,9 @@ use crate::diagnostics::Warning;
 use crate::model::coords::KneeFlexion;
 use crate::model::error::ModelError;
 use crate::model::kinematics;
-use crate::model::points::{gait2392_coordinates, knee_flexion, point_names};
+use crate::model::points::{gait2392_coordinates, point_names};
 use crate::opensim::mot::MotionTable;
+use qgait_kernel::models::ranges::KNEES;
 
 /// One gait2392 feature that PHAK lacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -80,8 +81,7 @@ impl Feature {
 /// model whose knee flexes so (Rajagopal's, as OpenSense writes it), which `fidelity` reads as
 /// hyperextension. (gait2392's knee hyperextends at most 10°.)
 fn knees_flexing_positive(source: &str, q: &[[f64; 17]]) -> Option<Warning> {
-    let knees = [index("knee_angle_r"), index("knee_angle_l")];
-    let values: Vec<f64> = q.iter().flat_map(|row| knees.map(|k| row[k])).collect();
+    let values: Vec<f64> = q.iter().flat_map(|row| KNEES.map(|k| row[k])).collect();
     let at_or_above = values.iter().filter(|&&v| v >= 0.0).count();
     let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     (10 * at_or_above >= 9 * values.len() && max > 20f64.to_radians()).then(|| {
@@ -272,7 +272,7 @@ pub struct Fidelity {
 
 /// Compares PHAK with gait2392 on one motion.
 pub fn analyse(label: &str, table: &MotionTable) -> Result<(Fidelity, Vec<Warning>), ModelError> {
-    let (q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative)?;
+    let (q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative, [true; 17])?;
     warnings.extend(knees_flexing_positive(table.source(), &q));
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
@@ -363,7 +363,7 @@ pub fn compare(
     table: &MotionTable,
 ) -> Result<(Comparison, Vec<Warning>), ModelError> {
     // The motion is in gait2392's coordinates, whatever the model.
-    let (mut q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative)?;
+    let (mut q, mut warnings) = gait2392_coordinates(table, KneeFlexion::Negative, [true; 17])?;
     warnings.extend(knees_flexing_positive(table.source(), &q));
     let (angles, w) = kinematics::phak_angles(table)?;
     for x in w {
@@ -386,12 +386,11 @@ pub fn compare(
             name: model.name().to_string(),
         });
     };
-    let knee_negated = knee_flexion(&*fk) == KneeFlexion::Positive;
-    if knee_negated {
-        for row in &mut q {
-            for k in [index("knee_angle_r"), index("knee_angle_l")] {
-                row[k] = -row[k];
-            }
+    let knee = KneeFlexion::of(&*fk);
+    let knee_negated = knee == KneeFlexion::Positive;
+    for row in &mut q {
+        for k in KNEES {
+            row[k] = knee.in_gait2392_signs(k, row[k]);
         }
     }
     let points: Points = q.iter().map(|q| eight(fk(q))).collect();

@@ -18,8 +18,12 @@ pub(crate) const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
 pub(crate) fn phak_angles(
     table: &MotionTable,
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
-    let (rows, warnings) =
-        coordinate_rows(table, &PhakAngles::<f64>::NAMES, KneeFlexion::Negative)?;
+    let (rows, warnings) = coordinate_rows(
+        table,
+        &PhakAngles::<f64>::NAMES,
+        KneeFlexion::Negative,
+        [true; 8],
+    )?;
     Ok((
         rows.into_iter().map(PhakAngles::from_array).collect(),
         warnings,
@@ -44,7 +48,8 @@ pub(crate) fn stick_angles(
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
     match model {
         Model::Hak { .. } => {
-            let (rows, warnings) = coordinate_rows(table, &HAK_NAMES, KneeFlexion::Negative)?;
+            let (rows, warnings) =
+                coordinate_rows(table, &HAK_NAMES, KneeFlexion::Negative, [true; 6])?;
             Ok((rows.into_iter().map(hak_as_phak).collect(), warnings))
         }
         _ => phak_angles(table),
@@ -60,13 +65,15 @@ pub(crate) fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
 
 /// The coordinates `names` (radians, in that order) of every row of a motion, through
 /// [`Picker`]: the PHAK leg columns ([`LEG_COLUMNS`]) are required, any other missing
-/// coordinate counts as 0 with one warning, and angles outside their range are reported.
+/// coordinate counts as 0 with one warning, and angles outside their range are reported; only
+/// the names with `read` true are read ([`Picker::new`]).
 pub(crate) fn coordinate_rows<const N: usize>(
     table: &MotionTable,
     names: &[&'static str; N],
     knee: KneeFlexion,
+    read: [bool; N],
 ) -> Result<(Vec<[f64; N]>, Vec<Warning>), ModelError> {
-    let (mut picker, mut warnings) = Picker::new(table.header(), names, knee)?;
+    let (mut picker, mut warnings) = Picker::new(table.header(), names, knee, read)?;
     let rows = (0..table.rows())
         .map(|r| {
             picker.pick(

@@ -18,20 +18,14 @@ use crate::motion::source::MotionRows;
 use crate::opensim::mot::MotionTable;
 
 /// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row, for a model whose
-/// knee flexes with `knee` angles. The leg columns of PHAK are required; the other 11 count as
-/// 0 with one warning each when absent.
+/// knee flexes with `knee` angles and that reads the coordinates with `read` true. The leg
+/// columns of PHAK are required; the other 11 count as 0 with one warning each when absent.
 pub(crate) fn gait2392_coordinates(
     table: &MotionTable,
     knee: KneeFlexion,
+    read: [bool; 17],
 ) -> Result<(Vec<[f64; 17]>, Vec<Warning>), ModelError> {
-    kinematics::coordinate_rows(table, &COORDINATES, knee)
-}
-
-/// Which sign of `knee_angle` flexes the knee of a model with these 12 points (the kernel's
-/// [`KneeFlexion::of`]): gait2392's family flexes with negative angles, Rajagopal's with
-/// positive ones.
-pub(crate) fn knee_flexion(fk: &dyn Fn(&[f64; 17]) -> [Vec3<f64>; 12]) -> KneeFlexion {
-    KneeFlexion::of(fk)
+    kinematics::coordinate_rows(table, &COORDINATES, knee, read)
 }
 
 /// Forward kinematics of an imported model: the 12 points of
@@ -97,6 +91,8 @@ pub(crate) struct PointModel {
     extra: bool,
     /// The sign of the model's knee flexion (the motion's range check).
     knee: KneeFlexion,
+    /// Which of the 17 coordinates the model reads.
+    reads: [bool; 17],
 }
 
 enum Kind {
@@ -127,16 +123,30 @@ impl PointModel {
             Model::Hak { .. } => Kind::Hak(Box::new(Evaluator::new(model, "fk")?)),
             Model::Phak { .. } => Kind::Phak(Box::new(Evaluator::new(model, "fk")?)),
         };
-        let knee = match &kind {
-            Kind::Chain(chain) => knee_flexion(&|q| chain.forward(q)),
-            _ => KneeFlexion::Negative,
+        let (knee, reads) = match &kind {
+            Kind::Chain(chain) => (
+                KneeFlexion::of(|q| chain.forward(q)),
+                core::array::from_fn(|i| chain.reads(i)),
+            ),
+            _ => (KneeFlexion::Negative, [true; 17]),
         };
-        Ok(Self { kind, extra, knee })
+        Ok(Self {
+            kind,
+            extra,
+            knee,
+            reads,
+        })
     }
 
     /// Which sign of `knee_angle` flexes the model's knee.
     pub fn knee(&self) -> KneeFlexion {
         self.knee
+    }
+
+    /// Which of the 17 coordinates ([`COORDINATES`] order) the model reads: all but an
+    /// imported chain's locked or coupled ones ([`CustomChain::reads`](qgait_kernel::models::CustomChain::reads)).
+    pub fn reads(&self) -> [bool; 17] {
+        self.reads
     }
 
     /// The names of the points of each row.
@@ -180,8 +190,7 @@ impl PointModel {
                 each(t, &points)
             }),
             Kind::Chain(chain) => {
-                let read = core::array::from_fn(|i| chain.reads(i));
-                drive_reading(rows, &COORDINATES, self.knee, read, warn, |t, q| {
+                drive_reading(rows, &COORDINATES, self.knee, self.reads, warn, |t, q| {
                     let all = chain.forward(&q);
                     let n = if self.extra { 12 } else { 8 };
                     points.clear();
@@ -206,7 +215,7 @@ pub(crate) fn drive<const N: usize, E: From<ModelError>>(
 }
 
 /// [`drive`] for a model that reads only the names with `read` true
-/// ([`Picker::reading`](crate::model::coords::Picker::reading)).
+/// ([`Picker::new`](crate::model::coords::Picker::new)).
 fn drive_reading<const N: usize, E: From<ModelError>>(
     rows: MotionRows,
     names: &[&'static str; N],

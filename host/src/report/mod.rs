@@ -100,7 +100,8 @@ pub struct Gait {
 /// All gaits of a report and the model that computed them.
 pub struct Analysis {
     /// The model as the figures and `metrics.md` name it, with where its origin is (e.g.
-    /// "PHAK model, origin at the pelvis origin (midway between the hips)").
+    /// "PHAK model, origin at the pelvis origin (midway between the hips)"), and whether a
+    /// device's frames are drawn as well.
     pub model: String,
     /// The kernel model when it is HAK or PHAK (poses between rows come from interpolated
     /// angles); `None` for a gait2392 model (poses between rows interpolate its points).
@@ -242,6 +243,11 @@ impl Analysis {
             distances,
         };
         self.gaits.insert(index.min(self.gaits.len()), gait);
+        // Its points are the device's, computed with whatever model the hub had.
+        const DEVICE: &str = " (a device's frames: as the hub computed them)";
+        if !self.model.ends_with(DEVICE) {
+            self.model.push_str(DEVICE);
+        }
         Ok(())
     }
 }

@@ -624,12 +624,11 @@ impl<
     /// coordinate follows it. A coordinate it does not read moves nothing (a locked one, held
     /// at its default when the table was built).
     pub fn reads(&self, i: usize) -> bool {
-        let axes = self
+        let mut axes = self
             .joints
             .iter()
             .flat_map(|j| j.rotations.iter().chain(&j.translations));
-        axes.into_iter()
-            .any(|d| d.argument == Argument::Coordinate(i))
+        axes.any(|d| d.argument == Argument::Coordinate(i))
             || self.couplers().iter().any(|c| c.independent == i)
     }
 

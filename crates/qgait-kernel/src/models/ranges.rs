@@ -123,7 +123,8 @@ impl KneeFlexion {
     /// The knee flexion of a model with forward kinematics `fk` (the 12 points of [`POINTS`]
     /// for the 17 coordinates of [`COORDINATES`]): flexion moves the ankle backwards (-x) from
     /// the straight knee. Evaluates `fk` twice, at `knee_angle_r` = ±0.5 rad, every other
-    /// coordinate 0.
+    /// coordinate 0: the right knee's sign stands for both (the two legs of every OpenSim model
+    /// qgait imports are mirror images, and so flex alike).
     pub fn of<T: Real>(fk: impl Fn(&[T; 17]) -> [Vec3<T>; 12]) -> KneeFlexion {
         let ankle_x = |v: f64| {
             let mut q = [T::ZERO; 17];
