@@ -365,7 +365,7 @@ fn a_column_of_a_coordinate_the_model_locks_is_ignored_saying_so() {
     // but locked as well.
     assert!(
         err.contains("column `subtalar_angle_r` ignored: the model does not move with it")
-            && err.contains("(the first not 0: 15.00° at line 9)")
+            && err.contains("(the first other than 0: 15.00° at line 9)")
             && err.contains("column `mtp_angle_r` ignored"),
         "{err}"
     );

@@ -35,6 +35,10 @@ struct RangeCheck {
     out_as_degrees: usize,
 }
 
+/// Values of an unread coordinate this close to 0 (radians, 0.0057°) are not worth a warning:
+/// OpenSense writes a locked coordinate's 0 with noise of about 1e-5 rad.
+const UNREAD_NOISE_RAD: f64 = 1e-4;
+
 /// Picks `N` named coordinates (radians) from each row of a motion.
 #[derive(Debug, Clone)]
 pub(crate) struct Picker<const N: usize> {
@@ -58,7 +62,8 @@ pub(crate) struct Picker<const N: usize> {
     /// Per name the model does not read (a locked or coupled coordinate of an imported
     /// chain): its column, if the motion has one.
     unread: [Option<usize>; N],
-    /// Per name, the first value other than 0 in its unread column (radians) and where.
+    /// Per name, the first value in its unread column beyond [`UNREAD_NOISE_RAD`] (radians)
+    /// and where.
     unread_first: Vec<Option<(f64, String)>>,
 }
 
@@ -68,8 +73,8 @@ impl<const N: usize> Picker<N> {
     /// with one warning; a needed label that names two columns is an error. `knee`: the sign of
     /// flexion of the model's `knee_angle` (the range checked). Only the names with `read`
     /// true are read: the others are taken as 0 without a warning when absent, and a column of
-    /// one with a value other than 0 gets one warning at the end ([`finish`](Self::finish)):
-    /// the model ignores it.
+    /// one with a value other than 0 (beyond [`UNREAD_NOISE_RAD`]) gets one warning at the end
+    /// ([`finish`](Self::finish)): the model ignores it.
     pub fn new(
         header: &Header,
         names: &[&'static str; N],
@@ -153,7 +158,7 @@ impl<const N: usize> Picker<N> {
         for (c, first) in self.unread.iter().zip(&mut self.unread_first) {
             let Some(c) = *c else { continue };
             let v = value(c) * self.scale;
-            if first.is_none() && v != 0.0 && v.is_finite() {
+            if first.is_none() && v.abs() > UNREAD_NOISE_RAD && v.is_finite() {
                 *first = Some((v, at()));
             }
         }
@@ -232,7 +237,7 @@ impl<const N: usize> Picker<N> {
         for (name, first) in self.names.iter().zip(&self.unread_first) {
             if let Some((first, at)) = first {
                 warnings.push(Warning(format!(
-                    "{}: column `{name}` ignored: the model does not move with it (locked, or coupled to another coordinate), so its values are not used (the first not 0: {}° at {at})",
+                    "{}: column `{name}` ignored: the model does not move with it (locked, or coupled to another coordinate), so its values are not used (the first other than 0: {}° at {at})",
                     self.source,
                     show_degrees(first.to_degrees()),
                 )));
