@@ -83,6 +83,13 @@ fn analyse_all(
         .map(|m| {
             let (t, w) = trial::load(m, model)?;
             warn(w);
+            // A built-in gait is one cycle by construction: taken whole whatever `--cycle`
+            // says (its single pair of heel strikes holds no complete stride).
+            let mode = if m.starts_with("builtin:") {
+                CycleMode::Whole
+            } else {
+                mode
+            };
             Ok(gait::analyse(t, mode)?)
         })
         .collect()
