@@ -65,15 +65,25 @@ pub enum ImportError {
 }
 
 pub(super) fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
-    Document::parse(text).map_err(|e| {
-        let pos = e.pos();
-        ImportError::Xml {
-            at: Location {
-                path: source.to_string(),
-                line: Some(pos.row as usize),
-                column: Some(pos.col as usize),
-            },
-            message: e.to_string(),
+    Document::parse(text).map_err(|e| match e {
+        // The parser places these at 1:1; the file ends where they were found (a file cut
+        // off, or an element left open).
+        roxmltree::Error::UnclosedRootNode | roxmltree::Error::UnexpectedEndOfStream => {
+            ImportError::Xml {
+                at: Location::in_text(source, text, text.len()),
+                message: format!("{e}: the file ends here"),
+            }
+        }
+        e => {
+            let pos = e.pos();
+            ImportError::Xml {
+                at: Location {
+                    path: source.to_string(),
+                    line: Some(pos.row as usize),
+                    column: Some(pos.col as usize),
+                },
+                message: e.to_string(),
+            }
         }
     })
 }
@@ -859,6 +869,20 @@ fn toe_tip(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_cut_off_is_named_where_it_ends() {
+        let text = "<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"40000\">\n\t<Model name=\"m\">\n\t\t<Body";
+        let e = parse_xml(text, "m.osim").err().unwrap().to_string();
+        assert!(e.starts_with("m.osim:4:8: not XML: "), "{e}");
+        let text =
+            "<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"40000\">\n\t<Model name=\"m\">\n";
+        let e = parse_xml(text, "m.osim").err().unwrap().to_string();
+        assert!(
+            e.starts_with("m.osim:4:1: not XML: ") && e.ends_with("the file ends here"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn functions_with_multipliers_scale_their_values() {
