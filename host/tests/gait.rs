@@ -653,18 +653,15 @@ fn a_single_cycle_without_whole_and_a_bad_reference_are_clear_errors() {
     );
     // A built-in gait is one cycle by construction: a recording's strides against it, with
     // `--cycle` left at auto for the recording.
-    let o = qgait(&[
-        "gait",
-        shared
-            .join("data/imu/walking_gait2392_opensense_0-12s.sto")
-            .to_str()
-            .unwrap(),
+    let walk = shared.join("data/imu/walking_gait2392_opensense_0-12s.sto");
+    let out = dir.path().join("against_builtin");
+    run_gait(&[
+        walk.to_str().unwrap(),
         "--reference",
         "builtin:normal",
         "-o",
-        dir.path().join("against_builtin").to_str().unwrap(),
+        out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
 }
 
 /// A device's frames (points only, as `qgait emulate --frames-csv` writes them): events and

@@ -53,8 +53,6 @@ pub(crate) struct Picker<const N: usize> {
     /// The knee flexion of the model: its knee's range is mirrored for
     /// [`KneeFlexion::Positive`].
     knee: KneeFlexion,
-    /// Per name, whether its range is mirrored (a knee of [`KneeFlexion::Positive`]).
-    mirrored: [bool; N],
     /// Whether the motion is in gait2392's signs ([`Header::gait2392_signs`]): a mirrored knee's
     /// values are then negated into the model's.
     gait2392_signs: bool,
@@ -133,9 +131,6 @@ impl<const N: usize> Picker<N> {
                 columns,
                 range_index: names.map(ranges::index),
                 knee,
-                mirrored: names.map(|n| {
-                    ranges::index(n).is_some_and(|i| knee.in_gait2392_signs(i, 1.0) < 0.0)
-                }),
                 gait2392_signs: header.gait2392_signs,
                 checks: vec![RangeCheck::default(); N],
                 unread,
@@ -182,7 +177,7 @@ impl<const N: usize> Picker<N> {
             }
             // A knee of a motion in gait2392's signs, for a model whose knee flexes with
             // positive angles, is turned into the model's signs.
-            let flip = if self.mirrored[k] && self.gait2392_signs {
+            let flip = if self.mirrored(k) && self.gait2392_signs {
                 -1.0
             } else {
                 1.0
@@ -208,6 +203,11 @@ impl<const N: usize> Picker<N> {
         Ok(out)
     }
 
+    /// Whether name `k`'s range is mirrored (a knee of [`KneeFlexion::Positive`]).
+    fn mirrored(&self, k: usize) -> bool {
+        self.range_index[k].is_some_and(|i| self.knee.mirrors(i))
+    }
+
     /// The range warnings: one per column with values outside its range.
     pub fn finish(self) -> Vec<Warning> {
         let mut warnings = Vec::new();
@@ -218,7 +218,7 @@ impl<const N: usize> Picker<N> {
                 continue;
             };
             let (lo, hi) = match ranges::RANGES_DEG[i] {
-                (lo, hi) if self.mirrored[k] => (-hi, -lo),
+                (lo, hi) if self.mirrored(k) => (-hi, -lo),
                 range => range,
             };
             warnings.push(Warning(format!(

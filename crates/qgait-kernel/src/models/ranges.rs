@@ -138,11 +138,18 @@ impl KneeFlexion {
         }
     }
 
-    /// `angle` of coordinate `index` as gait2392's signs hold it: a knee of
-    /// [`Positive`](Self::Positive) negated, anything else as it is.
+    /// Whether coordinate `index` is held in the opposite sign to gait2392's: a knee of
+    /// [`Positive`](Self::Positive) (its range mirrored).
+    #[inline]
+    pub fn mirrors(self, index: usize) -> bool {
+        self == KneeFlexion::Positive && (index == KNEES[0] || index == KNEES[1])
+    }
+
+    /// `angle` of coordinate `index` as gait2392's signs hold it: negated where
+    /// [`mirrors`](Self::mirrors), anything else as it is.
     #[inline]
     pub fn in_gait2392_signs<T: Real>(self, index: usize, angle: T) -> T {
-        if self == KneeFlexion::Positive && (index == KNEES[0] || index == KNEES[1]) {
+        if self.mirrors(index) {
             -angle
         } else {
             angle
