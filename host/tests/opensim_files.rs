@@ -270,6 +270,32 @@ fn an_output_that_is_also_an_input_is_refused() {
 }
 
 #[test]
+fn one_file_given_as_two_outputs_is_refused_before_anything_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = write(dir.path(), "x.mot", &degrees_mot());
+    let old = write(dir.path(), "b.out", "old\n");
+    let same_by_another_name = format!("{}/./b.out", dir.path().display());
+    let new = dir.path().join("new.out");
+    let new = new.to_str().unwrap();
+    for args in [
+        vec!["export", &m, "--trc", &old, "--sto", &old],
+        vec!["export", &m, "--trc", &old, "--sto", &same_by_another_name],
+        vec!["export", &m, "--trc", new, "--sto", new],
+        vec!["emulate", &m, "--frames-csv", &old, "--log", &old],
+    ] {
+        let out = qgait(&args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(
+            stderr(&out).contains("given as two outputs"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+        assert_eq!(std::fs::read_to_string(&old).unwrap(), "old\n", "{args:?}");
+        assert!(!Path::new(new).exists(), "{args:?}");
+    }
+}
+
+#[test]
 fn export_and_fk_default_to_the_same_model() {
     let dir = tempfile::tempdir().unwrap();
     let motion = "builtin:crouch=0.3,rows=5";

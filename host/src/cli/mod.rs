@@ -179,11 +179,24 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 
 /// Refuses to write any of `outputs` over one of `inputs` (motion specs, model or other files
 /// given on the same command line): `qgait fk x.mot -o x.mot` would destroy its own input.
-/// Paths that do not exist yet (and `builtin:` specs) cannot be the same file.
+/// Paths that do not exist yet (and `builtin:` specs) cannot be the same file as an input.
+/// Also refuses one file given as two outputs (`export --trc x --sto x`): the second would
+/// replace the first.
 pub(crate) fn refuse_overwrite<'a>(
     outputs: impl IntoIterator<Item = &'a Path>,
     inputs: &[impl AsRef<str>],
 ) -> anyhow::Result<()> {
+    let outputs: Vec<&Path> = outputs.into_iter().collect();
+    let identities: Vec<Option<PathBuf>> = outputs.iter().map(|o| file_identity(o)).collect();
+    for (i, a) in identities.iter().enumerate() {
+        let same = identities[i + 1..].iter().any(|b| a.is_some() && a == b);
+        if same {
+            anyhow::bail!(
+                "{}: given as two outputs; the second would replace the first",
+                outputs[i].display()
+            );
+        }
+    }
     for out in outputs {
         let Ok(out_real) = out.canonicalize() else {
             continue;
@@ -198,6 +211,20 @@ pub(crate) fn refuse_overwrite<'a>(
         }
     }
     Ok(())
+}
+
+/// Where `path` is, whether or not it exists yet: its canonical form, or its directory's with
+/// its name (`None` when neither resolves).
+fn file_identity(path: &Path) -> Option<PathBuf> {
+    if let Ok(real) = path.canonicalize() {
+        return Some(real);
+    }
+    let name = path.file_name()?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(dir.canonicalize().ok()?.join(name))
 }
 
 /// A file being written: rows go to a temporary file beside it, renamed to `path` by
