@@ -55,6 +55,10 @@ pub(crate) const HARMONICS: usize = 6;
 /// Default number of rows of a built-in motion (0 %, 1 %, ..., 100 %).
 pub(crate) const DEFAULT_ROWS: usize = 101;
 
+/// Most rows of a built-in motion: one cycle sampled at 1 MHz. The motion is generated whole
+/// (about 80 MB at this size), so the count is bounded.
+pub(crate) const MAX_ROWS: usize = 1_000_000;
+
 /// Samples used to compute the Fourier coefficients of the key-event polyline.
 const FIT_SAMPLES: usize = 400;
 
@@ -166,8 +170,8 @@ pub enum Problem {
     /// `crouch=S` with S outside 0..1.
     #[error("crouch severity {0} is outside 0..1")]
     SeverityOutside(f64),
-    /// `rows=N` with N not a whole number of at least 2.
-    #[error("rows must be a whole number >= 2, found `{0}`")]
+    /// `rows=N` with N not a whole number from 2 to [`MAX_ROWS`].
+    #[error("rows must be a whole number from 2 to {MAX_ROWS}, found `{0}`")]
     Rows(String),
     /// An option other than `rows=N`.
     #[error("unknown option `{0}`; {USAGE}")]
@@ -209,7 +213,7 @@ impl BuiltinSpec {
                         .trim()
                         .parse()
                         .ok()
-                        .filter(|&n| n >= 2)
+                        .filter(|n| (2..=MAX_ROWS).contains(n))
                         .map(Some)
                         .ok_or_else(|| bad(Problem::Rows(n.to_string())))?
                 }
@@ -352,6 +356,15 @@ mod tests {
         assert_eq!(problem("crouch=x"), Problem::Severity("x".into()));
         assert_eq!(problem("run"), Problem::Unknown("run".into()));
         assert_eq!(problem("normal,rows=1"), Problem::Rows("1".into()));
+        assert_eq!(
+            problem("normal,rows=1000001"),
+            Problem::Rows("1000001".into())
+        );
+        assert_eq!(
+            problem("normal,rows=18446744073709551615"),
+            Problem::Rows("18446744073709551615".into())
+        );
+        assert!(BuiltinSpec::parse("normal,rows=1000000").is_ok());
         assert_eq!(problem("normal,fast"), Problem::Option("fast".into()));
         assert_eq!(problem("crouch=0.5,rows=2,rows=3"), Problem::Repeated);
         let e = BuiltinSpec::parse("crouch=2").unwrap_err().to_string();
