@@ -402,6 +402,9 @@ impl Arrivals {
         let mut a = Arrivals::default();
         for r in FrameDecoder::new().feed(stream) {
             match r {
+                // (A packet the hub does not take, a non-finite angle or a quaternion not of
+                // unit length, leaves its sample incomplete.)
+                Ok(ref m) if !crate::session::accepted(m) => {}
                 Ok(Message::JointAngle(p)) => {
                     a.status.packets_accepted += 1;
                     a.packets.entry(p.seq).or_default().push(p);
@@ -555,6 +558,19 @@ mod tests {
             d.packets.len() as u32
         );
         acc
+    }
+
+    #[test]
+    fn a_packet_the_hub_does_not_take_leaves_its_sample_incomplete() {
+        // Intact on the wire, but an angle the hub does not use (protocol.md 8.3).
+        let mut s = samples(5);
+        s[2][3].angle = f32::NAN;
+        let a = Arrivals::of(&stream(&s));
+        assert_eq!(a.status.packets_accepted, 39);
+        assert!(!a.intact(2, ModelId::Phak));
+        assert!(a.intact(3, ModelId::Phak));
+        assert_eq!(a.partial(ModelId::Phak), vec![2]);
+        assert_eq!(crate::session::InputCounts::of(&stream(&s)).accepted, 39);
     }
 
     #[test]

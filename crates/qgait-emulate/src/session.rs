@@ -93,6 +93,19 @@ impl Limits {
     }
 }
 
+/// Whether a hub takes node packet `m` (`packets_accepted`): a joint angle that is finite, a
+/// segment orientation whose quaternion is of unit length (protocol.md 8.3, 8.9). Other
+/// messages are not packets: `false`.
+pub(crate) fn accepted(m: &Message) -> bool {
+    match m {
+        Message::JointAngle(p) => p.angle.is_finite(),
+        Message::SegmentOrientation(p) => {
+            qgait_proto::device_model::packet_quat::<f32>(p).is_ok()
+        }
+        _ => false,
+    }
+}
+
 /// What the input will make the hub count once it has consumed it all (the hub uses the same
 /// decoder as the host, so these are exact).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -110,12 +123,8 @@ impl InputCounts {
         let mut c = InputCounts::default();
         for result in FrameDecoder::new().feed(input) {
             match result {
-                Ok(Message::JointAngle(p)) if p.angle.is_finite() => c.accepted += 1,
-                // A hub with the orientation input accepts a unit-length quaternion.
-                Ok(Message::SegmentOrientation(p))
-                    if qgait_proto::device_model::packet_quat::<f32>(&p).is_ok() =>
-                {
-                    c.accepted += 1
+                Ok(ref m @ (Message::JointAngle(_) | Message::SegmentOrientation(_))) => {
+                    c.accepted += u32::from(accepted(m))
                 }
                 // A message only a hub sends is `malformed` at a hub, well-formed or not.
                 Ok(Message::PoseFrame(_) | Message::Status(_)) => c.rejected += 1,
