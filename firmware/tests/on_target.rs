@@ -140,10 +140,10 @@ mod tests {
     }
 
     #[test]
-    fn angles_out_of_range_are_flagged_and_non_finite_ones_dropped(
+    fn angles_out_of_range_are_flagged_and_unusable_ones_dropped(
         c: &mut SharedChecks,
     ) -> CheckResult {
-        c.run("angles_out_of_range_are_flagged_and_non_finite_ones_dropped")
+        c.run("angles_out_of_range_are_flagged_and_unusable_ones_dropped")
     }
 
     #[test]

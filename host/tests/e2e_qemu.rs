@@ -497,3 +497,40 @@ fn emulate_command_verifies_and_writes_the_frames_csv() {
         "20 rows over 1 s, in whole µs"
     );
 }
+
+/// A motion holding an angle the hub does not use (finite, but beyond `JointAngle::MAX_ANGLE`):
+/// the hub drops that sample and `emulate --verify` expects no frame for it; every other frame
+/// is a rigid pose within tolerance.
+#[test]
+fn emulate_command_expects_no_frame_for_an_angle_the_hub_does_not_use() {
+    let Some(elf) = firmware_elf() else { return };
+    let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let mot = dir.path().join("huge.mot");
+    let mut text = String::from("huge\nversion=1\nnRows=6\nnColumns=7\ninDegrees=yes\nendheader\ntime\thip_flexion_r\tknee_angle_r\tankle_angle_r\thip_flexion_l\tknee_angle_l\tankle_angle_l\n");
+    for i in 0..6 {
+        let hip = if i == 3 { "1e10" } else { "20" };
+        text.push_str(&format!(
+            "{}\t{hip}\t-30\t5\t-10\t-20\t0\n",
+            f64::from(i) * 0.01
+        ));
+    }
+    std::fs::write(&mot, text).unwrap();
+    let o = common::qgait(&[
+        "emulate",
+        mot.to_str().unwrap(),
+        "--model",
+        "hak",
+        "--verify",
+        "--elf",
+        elf.to_str().unwrap(),
+    ]);
+    let (out, err) = (common::stdout(&o), common::stderr(&o));
+    assert!(o.status.success(), "{out}{err}");
+    assert!(out.contains("out_of_range         1"), "{out}");
+    assert!(out.contains("no frame due: 1 (3)"), "{out}");
+    assert!(
+        out.contains("5 frames (5 hak)") && out.contains("verify: ok"),
+        "{out}"
+    );
+}

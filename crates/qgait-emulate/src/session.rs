@@ -93,15 +93,13 @@ impl Limits {
     }
 }
 
-/// Whether a hub takes node packet `m` (`packets_accepted`): a joint angle that is finite, a
-/// segment orientation whose quaternion is of unit length (protocol.md 8.3, 8.9). Other
+/// Whether a hub takes node packet `m` (`packets_accepted`): a joint angle it can use
+/// ([`JointAngle::usable`](qgait_proto::JointAngle::usable)), a segment orientation whose quaternion is of unit length (protocol.md 8.3, 8.9). Other
 /// messages are not packets: `false`.
 pub(crate) fn accepted(m: &Message) -> bool {
     match m {
-        Message::JointAngle(p) => p.angle.is_finite(),
-        Message::SegmentOrientation(p) => {
-            qgait_proto::device_model::packet_quat::<f32>(p).is_ok()
-        }
+        Message::JointAngle(p) => p.usable(),
+        Message::SegmentOrientation(p) => qgait_proto::device_model::packet_quat::<f32>(p).is_ok(),
         _ => false,
     }
 }

@@ -83,8 +83,8 @@ pub const ALL: &[NamedCheck] = &[
         unknown_joint_and_version_are_counted,
     ),
     (
-        "angles_out_of_range_are_flagged_and_non_finite_ones_dropped",
-        angles_out_of_range_are_flagged_and_non_finite_ones_dropped,
+        "angles_out_of_range_are_flagged_and_unusable_ones_dropped",
+        angles_out_of_range_are_flagged_and_unusable_ones_dropped,
     ),
     ("uart_overrun_is_counted", uart_overrun_is_counted),
     (
@@ -580,9 +580,10 @@ pub fn unknown_joint_and_version_are_counted() -> CheckResult {
     Ok(())
 }
 
-/// An implausible but finite angle is used and flagged; a NaN angle is dropped (the sample
-/// then lacks that joint).
-pub fn angles_out_of_range_are_flagged_and_non_finite_ones_dropped() -> CheckResult {
+/// An implausible but finite angle is used and flagged; a NaN angle, or one beyond
+/// [`JointAngle::MAX_ANGLE`](qgait_proto::JointAngle::MAX_ANGLE), is dropped (the sample then
+/// lacks that joint).
+pub fn angles_out_of_range_are_flagged_and_unusable_ones_dropped() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
     for &j in ModelId::Phak.required_joints() {
@@ -599,7 +600,15 @@ pub fn angles_out_of_range_are_flagged_and_non_finite_ones_dropped() -> CheckRes
         }
         ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
     }
-    for seq in 2..6 {
+    // A finite angle too large to mean anything (10⁶ rad) is not used either.
+    for &j in ModelId::Phak.required_joints() {
+        let mut p = packet(2, j);
+        if j == JointId::AnkleAngleR {
+            p.angle = 1.0e6;
+        }
+        ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
+    }
+    for seq in 3..7 {
         ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
     }
     drain(&mut hub);
@@ -613,8 +622,8 @@ pub fn angles_out_of_range_are_flagged_and_non_finite_ones_dropped() -> CheckRes
     })?;
     ensure!(n == 5 && flagged == 1 && first_flag == 0);
     let s = hub.status();
-    ensure!(s.out_of_range == 2);
-    ensure!(s.samples_incomplete == 1);
+    ensure!(s.out_of_range == 3);
+    ensure!(s.samples_incomplete == 2);
     Ok(())
 }
 

@@ -413,7 +413,7 @@ where
 
     #[inline(always)]
     fn on_packet(&mut self, packet: &JointAngle) {
-        if !packet.angle.is_finite() {
+        if !packet.usable() {
             bump(&mut self.status.out_of_range);
             return;
         }

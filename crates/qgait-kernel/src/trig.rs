@@ -38,7 +38,8 @@ const C: [f32; 5] = [
 /// `1/pi`.
 const FRAC_1_PI: f32 = core::f32::consts::FRAC_1_PI;
 /// `pi` split in two (Cody-Waite): `PI_HI` has 8 significant bits, so `k * PI_HI` and
-/// `h - k * PI_HI` are exact for any practical `k`; `PI_LO` is the rest.
+/// `h - k * PI_HI` are exact for `|k|` up to 2¹⁶ (`|x|` up to about 4·10⁵ rad); `PI_LO` is the
+/// rest.
 const PI_HI: f32 = 3.140_625;
 #[allow(clippy::excessive_precision)]
 const PI_LO: f32 = 9.676_535_897_932_e-4;
@@ -47,8 +48,11 @@ const ROUND_MAGIC: f32 = 12_582_912.0;
 
 /// `(sin(x/2), cos(x/2))` up to a common sign (the sign of `cos` is always >= 0).
 ///
-/// Valid for |x| up to about 2²² (beyond that an angle in radians means nothing anyway);
-/// NaN or infinite `x` gives NaN.
+/// Exact reduction for |x| up to about 4·10⁵ rad (2¹⁶ half turns of the half angle); beyond,
+/// the reduction loses accuracy, and past about 2.6·10⁷ rad (where the rounding trick stops
+/// rounding) the result is not a rotation at all. An `f32` angle that large is too coarse to
+/// mean anything: a hub does not use angles beyond 2¹⁶ rad
+/// (`qgait_proto::JointAngle::MAX_ANGLE`). NaN or infinite `x` gives NaN.
 #[inline(always)]
 pub fn half_angle_sin_cos_f32(x: f32) -> (f32, f32) {
     half_angle_sin_cos_f32_with(x, |a, b, c| a * b + c)

@@ -45,6 +45,20 @@ pub struct JointAngle {
     pub quality: u8,
 }
 
+impl JointAngle {
+    /// The largest angle magnitude a hub uses, radians (2¹⁶, about 10,000 turns): an `f32`
+    /// that large is 0.008 rad coarse, and the hub's half-angle sine and cosine reduce exactly
+    /// only up to about 4·10⁵ rad (protocol.md 8.3).
+    pub const MAX_ANGLE: f32 = 65_536.0;
+
+    /// Whether a hub uses this packet's angle: a number of magnitude at most
+    /// [`MAX_ANGLE`](Self::MAX_ANGLE) (not NaN, not infinite).
+    #[inline(always)]
+    pub fn usable(&self) -> bool {
+        self.angle.abs() <= Self::MAX_ANGLE
+    }
+}
+
 /// Maximum number of input angles in a [`PoseFrame`]: one per [`JointId`].
 pub const MAX_POSE_ANGLES: usize = JointId::COUNT;
 

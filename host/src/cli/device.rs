@@ -700,41 +700,45 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         }
     }
     if args.verify {
-        let v = match count {
-            Some(n) => Verification::run(
-                &model.device,
-                &log.poses,
-                Expected::Range { first: 0, count: n },
-            ),
-            None => {
-                // A stream may have lost packets on the way (a radio link): a frame is due for
-                // exactly the samples whose packets all arrived intact (but an orientation
-                // stream's calibration pose).
-                let mut v = Verification::run(&model.device, &log.poses, Expected::FirstToLast);
-                let arrivals = Arrivals::of(&stream);
-                let intact = arrivals.framed_samples(model.hub.id());
-                let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
-                let missing: Vec<u32> = intact.difference(&seen).copied().collect();
-                v.missing = missing.len() as u64;
-                v.missing_first = missing.into_iter().take(MISSING_LISTED).collect();
-                let unexpected = seen.difference(&intact).count();
-                let all_intact = arrivals.intact_samples(model.hub.id()).len();
-                println!(
-                    "stream: {all_intact} samples with every packet intact{}, {} with packets lost or damaged",
-                    if all_intact > intact.len() {
-                        " (the first the calibration pose, no frame)"
-                    } else {
-                        ""
-                    },
-                    arrivals.partial(model.hub.id()).len()
-                );
-                if unexpected > 0 {
-                    ok = false;
-                    println!("frames for samples with packets lost or damaged: {unexpected}");
-                }
-                v
-            }
+        // A frame is due for exactly the samples whose packets all arrived intact and usable
+        // (a stream may have lost packets on the way, a radio link; a motion may hold an angle
+        // the hub does not use, protocol.md 8.3), but an orientation stream's calibration pose.
+        let expected = match count {
+            Some(n) => Expected::Range { first: 0, count: n },
+            None => Expected::FirstToLast,
         };
+        let mut v = Verification::run(&model.device, &log.poses, expected);
+        let arrivals = Arrivals::of(&stream);
+        let intact = arrivals.framed_samples(model.hub.id());
+        let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
+        let missing: Vec<u32> = intact.difference(&seen).copied().collect();
+        v.missing = missing.len() as u64;
+        v.missing_first = missing.into_iter().take(MISSING_LISTED).collect();
+        let unexpected = seen.difference(&intact).count();
+        let all_intact = arrivals.intact_samples(model.hub.id()).len();
+        let partial = arrivals.partial(model.hub.id());
+        if count.is_none() {
+            println!(
+                "stream: {all_intact} samples with every packet intact{}, {} with packets lost, damaged or unusable",
+                if all_intact > intact.len() {
+                    " (the first the calibration pose, no frame)"
+                } else {
+                    ""
+                },
+                partial.len()
+            );
+        } else if !partial.is_empty() {
+            println!(
+                "samples with an angle the hub does not use (not finite, or beyond ±{} rad), no frame due: {}{}",
+                qgait_proto::JointAngle::MAX_ANGLE,
+                partial.len(),
+                crate::device::verify::preview(&partial[..partial.len().min(MISSING_LISTED)], partial.len() as u64)
+            );
+        }
+        if unexpected > 0 {
+            ok = false;
+            println!("frames for samples with packets lost, damaged or unusable: {unexpected}");
+        }
         let tol = args.tol_um * 1e-6;
         println!("{}", v.report(tol));
         ok &= v.passed(tol);

@@ -375,7 +375,7 @@ impl Verification {
 }
 
 /// ` (3, 7, 9, ...)` for the first of `total` numbers (none when there are none).
-fn preview(first: &[u32], total: u64) -> String {
+pub(crate) fn preview(first: &[u32], total: u64) -> String {
     if first.is_empty() {
         return String::new();
     }
