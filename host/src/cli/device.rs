@@ -522,7 +522,10 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     if verifier.frames() == 0 {
         bail!("{}: no pose frames", args.log);
     }
-    let v = verifier.finish();
+    let mut v = verifier.finish();
+    if args.model.model.is_some() {
+        v.expected_model = Some(model.hub.id());
+    }
     let tol = args.tol_um * 1e-6;
     println!("{}", v.report(tol));
     let mut passed = v.passed(tol);
@@ -708,6 +711,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             None => Expected::FirstToLast,
         };
         let mut v = Verification::run(&model.device, &log.poses, expected);
+        v.expected_model = Some(model.hub.id());
         let arrivals = Arrivals::of(&stream);
         let intact = arrivals.framed_samples(model.hub.id());
         let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();

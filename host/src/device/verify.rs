@@ -63,6 +63,10 @@ pub struct Verification {
     pub models: Vec<(ModelId, u64)>,
     /// Frames of an uploaded chain verified without the chain (each an infinite error).
     pub without_chain: u64,
+    /// The model the frames must be of (the one `--model` names), if it is known: a frame of
+    /// another model fails the verification (its points may all be right for the model it
+    /// is of, but the hub did not compute what it was meant to).
+    pub expected_model: Option<ModelId>,
 }
 
 /// How many missing sequence numbers a [`Verification`] lists.
@@ -309,9 +313,23 @@ impl Verification {
         self.errors.iter().map(|e| e.max).fold(0.0, f64::max)
     }
 
-    /// Whether every error is within `tolerance_m`, nothing is missing and there was a frame.
+    /// Whether every error is within `tolerance_m`, nothing is missing, there was a frame and
+    /// every frame is of the [`expected_model`](Self::expected_model).
     pub fn passed(&self, tolerance_m: f64) -> bool {
-        self.frames > 0 && self.max_error() <= tolerance_m && self.missing == 0
+        self.frames > 0
+            && self.max_error() <= tolerance_m
+            && self.missing == 0
+            && self.of_other_models() == 0
+    }
+
+    /// Frames not of the [`expected_model`](Self::expected_model).
+    pub fn of_other_models(&self) -> u64 {
+        let other = |m: &ModelId| self.expected_model.is_some_and(|e| e != *m);
+        self.models
+            .iter()
+            .filter(|(m, _)| other(m))
+            .map(|(_, n)| n)
+            .sum()
     }
 
     /// The report: a table of max and mean error per point (µm), then the verdict lines.
@@ -363,6 +381,18 @@ impl Verification {
         );
         if self.duplicates > 0 {
             let _ = writeln!(s, "repeated sequence numbers: {}", self.duplicates);
+        }
+        if let (Some(model), n @ 1..) = (self.expected_model, self.of_other_models()) {
+            let _ = writeln!(
+                s,
+                "frames of another model than `{model}`, the one --model names: {n}{}",
+                if model == ModelId::Chain {
+                    " (a hub built without the `chain` feature keeps its model and counts a \
+                     chain's parts as malformed: firmware built with --features chain takes them)"
+                } else {
+                    ""
+                }
+            );
         }
         let verdict = if self.passed(tolerance_m) {
             "ok"
@@ -463,6 +493,26 @@ mod tests {
         );
         let v = Verification::run(&model, &frames[..3], Expected::Range { first: 0, count: 5 });
         assert_eq!((v.missing, v.missing_first.as_slice()), (2, &[3, 4][..]));
+    }
+
+    #[test]
+    fn frames_of_another_model_than_the_expected_one_fail() {
+        let model = PoseModels::defaults();
+        let frames: Vec<PoseFrame> = (0..4).map(|s| frame(&model, ModelId::Phak, s)).collect();
+        let mut v = Verification::run(&model, &frames, Expected::FirstToLast);
+        assert!(v.passed(1e-6));
+        v.expected_model = Some(ModelId::Phak);
+        assert!(v.passed(1e-6) && v.of_other_models() == 0);
+        v.expected_model = Some(ModelId::Hak);
+        assert_eq!(v.of_other_models(), 4);
+        let report = v.report(1e-6);
+        assert!(
+            report.contains("frames of another model than `hak`, the one --model names: 4\n")
+                && report.ends_with("verify: FAILED"),
+            "{report}"
+        );
+        v.expected_model = Some(ModelId::Chain);
+        assert!(v.report(1e-6).contains("--features chain"));
     }
 
     #[test]
