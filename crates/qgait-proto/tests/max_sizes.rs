@@ -209,3 +209,35 @@ fn encode_frame_fits_a_max_frame_len_buffer() {
     let mut exact = [0u8; MAX_FRAME_LEN];
     assert!(encode_frame(&msg, &mut exact).is_ok());
 }
+
+/// `ChainConfig` is 33 to 73 bytes (protocol.md 4.9): no couplers, then the most couplers,
+/// each of the largest function.
+#[test]
+fn chain_config_is_33_to_73_bytes() {
+    use qgait_proto::{ChainConfig, ChainCoupler, ChainFunction, ChainPoint, MAX_CHAIN_COUPLERS};
+    let tip = ChainPoint {
+        body: 10,
+        offset: [ANGLE; 3],
+    };
+    let mut config = ChainConfig {
+        upload: 0xFF,
+        splines: 8,
+        couplers: heapless::Vec::new(),
+        toe_tips: [tip; 2],
+        missing_policy: MissingPolicy::HoldLast,
+        reorder_window: 8,
+        request_status: true,
+    };
+    assert_eq!(message_len(&Message::ChainConfig(config.clone())), 33);
+    for _ in 0..MAX_CHAIN_COUPLERS {
+        let coupler = ChainCoupler {
+            independent: 16,
+            function: ChainFunction::Linear {
+                slope: ANGLE,
+                intercept: ANGLE,
+            },
+        };
+        config.couplers.push(coupler).unwrap();
+    }
+    assert_eq!(message_len(&Message::ChainConfig(config)), 73);
+}
