@@ -313,12 +313,16 @@ impl Verification {
         self.errors.iter().map(|e| e.max).fold(0.0, f64::max)
     }
 
-    /// Whether every error is within `tolerance_m`, nothing is missing, there was a frame and
-    /// every frame is of the [`expected_model`](Self::expected_model).
+    /// Whether every error is within `tolerance_m`, nothing is missing, no sequence number
+    /// came twice, there was a frame and every frame is of the
+    /// [`expected_model`](Self::expected_model). (A hub sends each sample once: a number that
+    /// comes again is a restart, or two sessions in one log, whose gaps one sequence cannot
+    /// tell apart.)
     pub fn passed(&self, tolerance_m: f64) -> bool {
         self.frames > 0
             && self.max_error() <= tolerance_m
             && self.missing == 0
+            && self.duplicates == 0
             && self.of_other_models() == 0
     }
 
@@ -380,7 +384,13 @@ impl Verification {
             preview(&self.missing_first, self.missing)
         );
         if self.duplicates > 0 {
-            let _ = writeln!(s, "repeated sequence numbers: {}", self.duplicates);
+            let _ = writeln!(
+                s,
+                "repeated sequence numbers: {} (a hub sends each sample once: a restart, or two \
+                 sessions in one log, whose gaps cannot be told apart; verify each session's \
+                 log on its own)",
+                self.duplicates
+            );
         }
         if let (Some(model), n @ 1..) = (self.expected_model, self.of_other_models()) {
             let _ = writeln!(
@@ -493,6 +503,24 @@ mod tests {
         );
         let v = Verification::run(&model, &frames[..3], Expected::Range { first: 0, count: 5 });
         assert_eq!((v.missing, v.missing_first.as_slice()), (2, &[3, 4][..]));
+    }
+
+    #[test]
+    fn a_sequence_number_that_comes_again_fails() {
+        let model = PoseModels::defaults();
+        let f = |s| frame(&model, ModelId::Phak, s);
+        // A second session from 0 whose gap (3) the first session's numbers hide.
+        let mut frames: Vec<PoseFrame> = (0..10).map(f).collect();
+        frames.extend([0, 1, 2, 4, 5].map(f));
+        let v = Verification::run(&model, &frames, Expected::FirstToLast);
+        assert_eq!((v.missing, v.duplicates), (0, 5));
+        assert!(!v.passed(1e-6));
+        let report = v.report(1e-6);
+        assert!(
+            report.contains("repeated sequence numbers: 5 (a hub sends each sample once")
+                && report.ends_with("verify: FAILED"),
+            "{report}"
+        );
     }
 
     #[test]
