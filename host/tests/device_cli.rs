@@ -111,4 +111,13 @@ fn decode_skips_damage_and_verify_passes_a_good_log_and_fails_a_gap() {
         stdout(&o),
         stderr(&o)
     );
+    for tol in ["nan", "inf", "-1", "x"] {
+        let o = qgait(&["verify", bad.to_str().unwrap(), &format!("--tol-um={tol}")]);
+        assert!(!o.status.success());
+        assert!(
+            stderr(&o).contains("is not a tolerance in micrometres"),
+            "{tol}: {}",
+            stderr(&o)
+        );
+    }
 }

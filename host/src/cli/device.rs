@@ -174,6 +174,15 @@ pub enum Live {
     Off,
 }
 
+fn micrometres(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!(
+            "`{s}` is not a tolerance in micrometres (a number, 0 or more)"
+        )),
+    }
+}
+
 fn positive_seconds(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
@@ -236,7 +245,7 @@ pub struct VerifyArgs {
     /// Hub log (what the hub sent): a file, `-` for standard input, or a serial port.
     pub log: String,
     /// Largest accepted error per point (micrometres).
-    #[arg(long, default_value_t = 10.0, value_name = "UM")]
+    #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
     pub tol_um: f64,
     /// The model and lengths the hub was configured with.
     #[command(flatten)]
@@ -285,7 +294,7 @@ pub struct EmulateArgs {
     #[arg(long)]
     pub verify: bool,
     /// Tolerance of --verify (micrometres).
-    #[arg(long, default_value_t = 10.0, value_name = "UM")]
+    #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
     pub tol_um: f64,
 }
 

@@ -350,6 +350,9 @@ impl Verification {
             self.frames,
             models.join(", ")
         );
+        if self.frames == 0 {
+            let _ = writeln!(s, "no pose frame to check: the hub sent none");
+        }
         if self.without_chain > 0 {
             let _ = writeln!(
                 s,
