@@ -404,7 +404,8 @@ impl Arrivals {
             match r {
                 // (A packet the hub does not take, a non-finite angle or a quaternion not of
                 // unit length, leaves its sample incomplete.)
-                Ok(ref m) if !crate::session::accepted(m) => {}
+                Ok(ref m @ (Message::JointAngle(_) | Message::SegmentOrientation(_)))
+                    if !crate::session::accepted(m) => {}
                 Ok(Message::JointAngle(p)) => {
                     a.status.packets_accepted += 1;
                     a.packets.entry(p.seq).or_default().push(p);

@@ -141,10 +141,14 @@ impl InputCounts {
         }
     }
 
-    /// Whether `status` shows all of it consumed.
+    /// Whether `status` shows all of it consumed: as many frames counted, accepted or
+    /// rejected, as the input has (a hub that takes a message otherwise than expected, such as
+    /// one built without the `imu` feature counting segment orientations as malformed, has
+    /// still consumed them; the counts then disagree, which the caller reports).
     pub fn consumed_by(&self, s: &Status) -> bool {
         let got = Self::counted_by(s);
-        got.accepted >= self.accepted && got.rejected >= self.rejected
+        u64::from(got.accepted) + u64::from(got.rejected)
+            >= u64::from(self.accepted) + u64::from(self.rejected)
     }
 }
 
@@ -363,6 +367,27 @@ pub fn run(
 mod tests {
     use super::*;
     use qgait_proto::{Config, MissingPolicy, ModelId};
+
+    #[test]
+    fn input_counted_otherwise_than_expected_is_still_consumed() {
+        let input = InputCounts {
+            accepted: 10,
+            rejected: 2,
+        };
+        // A hub without the `imu` feature: the orientations counted as malformed.
+        let otherwise = Status {
+            malformed: 12,
+            ..Status::default()
+        };
+        assert!(input.consumed_by(&otherwise));
+        assert_ne!(InputCounts::counted_by(&otherwise), input);
+        let partway = Status {
+            packets_accepted: 9,
+            crc_errors: 2,
+            ..Status::default()
+        };
+        assert!(!input.consumed_by(&partway));
+    }
 
     #[test]
     fn the_closing_request_survives_noise_just_before_it() {

@@ -701,6 +701,14 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                     "error: the hub counted {} packets accepted and {} damaged frames; the input has {} and {}",
                     got.accepted, got.rejected, want.accepted, want.rejected
                 );
+                let orientations = !Arrivals::of(&stream).segments.is_empty();
+                if orientations && s.malformed > 0 && got.accepted < want.accepted {
+                    eprintln!(
+                        "(the hub counted the segment orientations as malformed: it is a build \
+                         without the `imu` feature; run the IMU firmware, \
+                         --elf firmware/target/imu/thumbv7em-none-eabihf/release/qgait-firmware)"
+                    );
+                }
             }
         }
         None => {
