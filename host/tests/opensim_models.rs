@@ -497,3 +497,50 @@ fn a_weld_constraint_on_a_leg_body_is_refused_and_one_on_the_arm_accepted() {
     );
     assert!(Model::import(&with("hand_r"), "weld.osim", None).is_ok());
 }
+
+/// A gait2392 model with a leg coordinate locked is imported as a general chain, which holds
+/// the coordinate at its default as OpenSim does (gait2392's table would move it).
+#[test]
+fn a_locked_coordinate_of_a_gait2392_model_is_held_at_its_default() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/gait2392_simbody.osim")).unwrap();
+    let at = text.find("<Coordinate name=\"hip_flexion_r\">").unwrap();
+    let lock = at + text[at..].find("<locked>false</locked>").unwrap();
+    let locked = format!(
+        "{}<locked>true</locked>{}",
+        &text[..lock],
+        &text[lock + "<locked>false</locked>".len()..]
+    );
+    let (model, notes) = Model::import(&locked, "locked.osim", None).unwrap();
+    assert!(matches!(model, Model::Chain { .. }));
+    let all = notes.join("\n");
+    assert!(all.contains("hip_flexion_r is locked"), "{all}");
+    let fk = points(&model);
+    let mut q = [0.0; 17];
+    let still = fk(&q);
+    q[3] = 0.6; // hip_flexion_r
+    assert_eq!(fk(&q), still);
+    let (free, _) = Model::import(&text, "free.osim", None).unwrap();
+    assert!(matches!(free, Model::Gait2392 { .. }));
+    assert_ne!(points(&free)(&q)[1], still[1]);
+}
+
+/// A transform axis turning by a coordinate its joint does not declare is refused, as OpenSim
+/// refuses the model.
+#[test]
+fn an_axis_naming_a_coordinate_its_joint_does_not_declare_is_refused() {
+    let Some(shared) = shared_dir() else { return };
+    let text = std::fs::read_to_string(shared.join("data/opensim/gait2392_simbody.osim")).unwrap();
+    let renamed = text.replacen(
+        "<Coordinate name=\"knee_angle_r\">",
+        "<Coordinate name=\"knee_r_flex\">",
+        1,
+    );
+    let err = Model::import(&renamed, "renamed.osim", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("turns by coordinate `knee_angle_r`, which the joint does not declare (its coordinates: knee_r_flex)"),
+        "{err}"
+    );
+}

@@ -114,6 +114,13 @@ pub fn import(
     };
     let joints = read_joints(&doc).map_err(err)?;
     check_constraints(&doc).map_err(err)?;
+    // gait2392's table moves every coordinate; a locked one takes the general chain, which
+    // holds it at its default as OpenSim does.
+    if let Some(c) = locked_coordinate(&doc) {
+        return Err(err(format!(
+            "coordinate {c} is locked in the model; gait2392's table moves every coordinate"
+        )));
+    }
     let mut notes = vec![format!(
         "imported from {source} (OpenSim {} format, Version={version}) by qgait model import",
         if version < 30000 { "3.x" } else { "4.x" }
@@ -417,6 +424,22 @@ pub(super) fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
             coordinates: joint_coordinates(j),
             name,
         });
+    }
+    for j in &joints {
+        for ax in &j.axes {
+            if let Some(c) = ax.coordinates.iter().find(|c| !j.coordinates.contains(c)) {
+                return Err(format!(
+                    "joint `{}` {} turns by coordinate `{c}`, which the joint does not declare (its coordinates: {}); OpenSim refuses such a model",
+                    j.name,
+                    ax.name,
+                    if j.coordinates.is_empty() {
+                        "none".to_string()
+                    } else {
+                        j.coordinates.join(", ")
+                    }
+                ));
+            }
+        }
     }
     Ok(joints)
 }
@@ -743,6 +766,15 @@ pub(super) fn constraint_naming<'a, 'i>(
         }
     }
     None
+}
+
+/// The first of the 17 chain coordinates the model locks.
+fn locked_coordinate<'a>(doc: &'a Document) -> Option<&'a str> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("Coordinate"))
+        .filter(|c| text_of(*c, "locked") == Some("true"))
+        .filter_map(|c| c.attribute("name"))
+        .find(|name| COORDINATES.contains(name))
 }
 
 /// Notes for chain coordinates whose `default_value` is not 0: OpenSim uses the default for a
