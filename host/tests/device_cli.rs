@@ -98,7 +98,7 @@ fn decode_skips_damage_and_verify_passes_a_good_log_and_fails_a_gap() {
     let rows = stdout(&o).lines().count() - 1;
     assert!(rows == 9, "{rows} rows\n{}", stdout(&o));
     assert!(
-        stderr(&o).contains("damaged frame ending at byte"),
+        stderr(&o).contains(&format!("{}: damaged frame ending at byte", bad.display())),
         "{}",
         stderr(&o)
     );

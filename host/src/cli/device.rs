@@ -174,6 +174,17 @@ pub enum Live {
     Off,
 }
 
+/// What a damaged frame the decoder reported at byte `offset` is, for a message.
+fn damage_message(offset: u64, error: &qgait_proto::DecodeError) -> String {
+    match error {
+        qgait_proto::DecodeError::Oversize => format!(
+            "a frame longer than {} bytes, at byte {offset}: skipped to the next delimiter",
+            qgait_proto::MAX_FRAME_LEN - 1
+        ),
+        _ => format!("damaged frame ending at byte {offset}: {error} (skipped)"),
+    }
+}
+
 fn micrometres(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
@@ -456,9 +467,7 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
         view.record(&record);
         if let Record::Damaged { offset, error } = &record {
             if !quiet && reported < 20 {
-                view.message(&format!(
-                    "damaged frame ending at byte {offset}: {error} (skipped)"
-                ));
+                view.message(&format!("{}: {}", args.log, damage_message(*offset, error)));
             }
             reported += 1;
         }
@@ -524,7 +533,14 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     if let Some(why) = end.describe().filter(|_| !quiet) {
         eprintln!("{why}");
     }
-    eprintln!("decoded {}", decoder.counts());
+    let counts = decoder.counts();
+    eprintln!("decoded {counts}");
+    if counts.unterminated > 0 {
+        eprintln!(
+            "warning: {}: the log ends inside a frame ({} bytes without a delimiter): that frame is lost",
+            args.log, counts.unterminated
+        );
+    }
     if let port::End::Failed(e) = end {
         return Err(e.into());
     }
