@@ -29,7 +29,8 @@
 //! - **Columns.** A label that appears twice gives a warning; it is an error only for a model that
 //!   needs that column (see [`crate::model::coords`]). `nan` and `inf` values are kept: they are an error
 //!   (with file, line and column) only in a column a model needs, or in `time`.
-//! - **Text.** Lines that are not UTF-8 (a Latin-1 `é` in a header comment) are read as Latin-1,
+//! - **Text.** A UTF-8 byte order mark at the start of the file is skipped (OpenSim does not
+//!   skip it, and then misses a first-line `inDegrees=`). Lines that are not UTF-8 (a Latin-1 `é` in a header comment) are read as Latin-1,
 //!   with one warning. Header lines not understood (free text such as `Units are S.I. units`)
 //!   are ignored.
 //!
@@ -304,6 +305,10 @@ impl<R: BufRead> MotionReader<R> {
         self.line_no += 1;
         while matches!(self.buf.last(), Some(b'\n' | b'\r')) {
             self.buf.pop();
+        }
+        // A UTF-8 byte order mark (as some Windows editors write) is not part of the first line.
+        if self.line_no == 1 && self.buf.starts_with(b"\xEF\xBB\xBF") {
+            self.buf.drain(..3);
         }
         Ok(Some(match std::str::from_utf8(&self.buf) {
             Ok(s) => s.to_string(),
@@ -945,6 +950,23 @@ mod tests {
         assert!(w.is_empty());
         assert!(!t.in_degrees());
         assert_eq!(t.column("q").unwrap(), &[0.25, 0.5]);
+    }
+
+    #[test]
+    fn a_byte_order_mark_before_the_header_is_skipped() {
+        // OpenSim 4 style: the first line is `inDegrees=`, which the mark would hide.
+        let text = "\u{FEFF}inDegrees=yes\nversion=3\nendheader\ntime\tq\n0\t30\n1\t45\n";
+        let (t, w) = MotionTable::parse(text, "x.sto").unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert!(t.in_degrees());
+        assert_eq!(t.column("q").unwrap(), &[30.0, 45.0]);
+        // A name line keeps no mark; a mark later in the file is not skipped.
+        let (t, w) = MotionTable::parse(&format!("\u{FEFF}{NROWS_STYLE}"), "a.mot").unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert_eq!(t.header().name, "walk");
+        let later = NROWS_STYLE.replace("inDegrees", "\u{FEFF}inDegrees");
+        let (t, w) = MotionTable::parse(&later, "a.mot").unwrap();
+        assert!(!t.in_degrees(), "{w:?}");
     }
 
     #[test]
