@@ -909,3 +909,56 @@ fn a_model_whose_knee_flexes_with_positive_angles_gets_the_same_knee_flexion() {
         assert!((x - y).abs() < 1e-9, "builtin: {x} against {y}");
     }
 }
+
+/// `--age` must be a finite number of years, and one `stp_normals.txt` has rows for: an age
+/// outside the table is an error naming its ages, not a report without normal ranges.
+#[test]
+fn an_age_without_normal_ranges_is_refused() {
+    let Some(_) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let gait = |age: &str, sex: &[&str]| {
+        let arg = format!("--age={age}");
+        qgait(
+            &[
+                &["gait", "builtin:normal", &arg, "-o", out.to_str().unwrap()],
+                sex,
+            ]
+            .concat(),
+        )
+    };
+    for age in ["nan", "inf", "-5", "old"] {
+        let o = gait(age, &[]);
+        assert!(!o.status.success(), "--age {age} accepted");
+        assert!(stderr(&o).contains("--age"), "{age}: {}", stderr(&o));
+    }
+    for age in ["99", "200", "0.5"] {
+        let o = gait(age, &[]);
+        assert!(!o.status.success(), "--age {age} accepted");
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!("--age {age}: "))
+                && e.contains(&format!(
+                    "stp_normals.txt has normal ranges for ages 1 to 89 (male or female), not {age}"
+                )),
+            "{age}: {e}"
+        );
+        assert!(!out.join("spatiotemporal.csv").exists());
+    }
+    let o = gait("99", &["--sex", "female"]);
+    assert!(
+        stderr(&o).contains("ages 1 to 89 (female)"),
+        "{}",
+        stderr(&o)
+    );
+    // The oldest row (85-89) holds 89.5; its parameters get normal ranges.
+    let o = gait("89.5", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let ranged = std::fs::read_to_string(out.join("spatiotemporal.csv")).unwrap();
+    assert!(
+        ranged
+            .lines()
+            .any(|l| l.starts_with("cadence,both,") && !l.contains(",,,")),
+        "{ranged}"
+    );
+}
