@@ -11,6 +11,13 @@ use qgait_proto::PoseFrame;
 use crate::diagnostics::Location;
 use crate::model::points::{csv_header, point_names, PointsCsv};
 
+/// Whether `path` names a frames CSV: its extension is `csv`, in any case (`FRAMES.CSV` too).
+pub fn is_frames_csv(path: &str) -> bool {
+    std::path::Path::new(path)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+}
+
 /// The header line (without the newline).
 pub fn header() -> String {
     format!("seq,{}", csv_header(&point_names(false)))
@@ -164,6 +171,16 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
 mod tests {
     use super::*;
     use qgait_proto::ModelId;
+
+    #[test]
+    fn a_frames_csv_is_known_by_its_extension_in_any_case() {
+        assert!(is_frames_csv("a/frames.csv"));
+        assert!(is_frames_csv("FRAMES.CSV"));
+        assert!(is_frames_csv("f.Csv"));
+        assert!(!is_frames_csv("walk.mot"));
+        assert!(!is_frames_csv("csv"));
+        assert!(!is_frames_csv("walk.csv.mot"));
+    }
 
     #[test]
     fn frames_round_trip_through_the_csv() {

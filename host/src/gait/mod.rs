@@ -254,6 +254,11 @@ mod tests {
         std::fs::write(&frames, text).unwrap();
         let e = trial::load(frames.to_str().unwrap(), &model).err().unwrap();
         assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
+        // The extension in capitals is a frames CSV still, not a motion.
+        let upper = dir.path().join("FRAMES.CSV");
+        std::fs::copy(&frames, &upper).unwrap();
+        let e = trial::load(upper.to_str().unwrap(), &model).err().unwrap();
+        assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
         let e = trial::load("builtin:walk", &model).err().unwrap();
         assert!(matches!(e, TrialError::Source(_)), "{e}");
     }

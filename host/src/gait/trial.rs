@@ -85,7 +85,7 @@ pub struct Trial {
 /// evaluates `model` on every row.
 pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialError> {
     let label = default_label(source);
-    if source.ends_with(".csv") {
+    if crate::device::frames_csv::is_frames_csv(source) {
         let text = std::fs::read_to_string(source).map_err(|error| TrialError::Read {
             path: source.to_string(),
             error,
