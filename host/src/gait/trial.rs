@@ -82,7 +82,8 @@ pub struct Trial {
 }
 
 /// Loads `source` (a `.mot`/`.sto` motion, `builtin:...`, or a device's frames CSV) and
-/// evaluates `model` on every row.
+/// evaluates `model` on every row. A frames CSV's rows are taken in time order as a `.mot`'s
+/// ([`FramesTable::in_time_order`](crate::device::frames_csv::FramesTable::in_time_order)).
 pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialError> {
     let label = default_label(source);
     if crate::device::frames_csv::is_frames_csv(source) {
@@ -91,10 +92,11 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
             error,
         })?;
         let table = crate::device::frames_csv::parse(&text, source)?;
-        let time = match table.time.iter().copied().collect::<Option<Vec<f64>>>() {
-            Some(t) => t,
-            None => return Err(TrialError::NoTimes(source.to_string())),
-        };
+        if !table.time.is_empty() && table.time.iter().all(Option::is_none) {
+            return Err(TrialError::NoTimes(source.to_string()));
+        }
+        let (table, warnings) = table.in_time_order(source)?;
+        let time: Vec<f64> = table.time.iter().flatten().copied().collect();
         let frames = table
             .points
             .iter()
@@ -118,7 +120,7 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
                 coordinates: None,
                 translation: None,
             },
-            Vec::new(),
+            warnings,
         ));
     }
     let (table, mut warnings) = load_motion(source)?;
