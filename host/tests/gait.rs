@@ -962,3 +962,90 @@ fn an_age_without_normal_ranges_is_refused() {
         "{ranged}"
     );
 }
+
+/// A straight walk: `normal.mot`'s cycle repeated `cycles` times at 100 Hz from mid-stride,
+/// as a `.mot` (its row of time `i / 100` on line `8 + i`).
+fn straight_walk(shared: &Path, cycles: f64) -> Mot {
+    let normal = read_mot(&shared.join("data/opensim/normal.mot"));
+    let t_src = normal.col("time");
+    let period = t_src[t_src.len() - 1] - t_src[0];
+    let columns: Vec<&str> = COORDINATES
+        .iter()
+        .copied()
+        .filter(|c| normal.labels.iter().any(|l| l == c))
+        .collect();
+    let values: Vec<Vec<f64>> = columns.iter().map(|c| normal.col(c)).collect();
+    let rows = (0..(cycles * period * 100.0) as usize)
+        .map(|i| {
+            let t = i as f64 / 100.0;
+            let mut r = vec![t];
+            r.extend(
+                values
+                    .iter()
+                    .map(|v| periodic(&t_src, v, 0.37 + t / period)),
+            );
+            r
+        })
+        .collect();
+    let mut labels = vec!["time".to_string()];
+    labels.extend(columns.iter().map(|c| c.to_string()));
+    Mot { labels, rows }
+}
+
+/// `qgait gait MOTION -o OUT` (not quiet): the number of strides it reports, and stderr.
+fn gait_strides(motion: &Path, out: &Path) -> (usize, String) {
+    let o = qgait(&[
+        "gait",
+        motion.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    let line = e.lines().last().expect("a stride count");
+    (line.split(' ').next().unwrap().parse().unwrap(), e)
+}
+
+/// Every event of `cut` is one of `full` (within a frame): none is made up.
+fn events_within(cut: &[(String, String, f64)], full: &[(String, String, f64)]) {
+    for (s, e, t) in cut {
+        assert!(
+            full.iter()
+                .any(|(s2, e2, t2)| s == s2 && e == e2 && (t - t2).abs() <= 0.011),
+            "{s} {e} at {t} s is not an event of the whole recording"
+        );
+    }
+}
+
+/// A straight walk with 1 s of rows cut out (5.00 to 6.00 s): a warning naming the line after
+/// the gap, no event or stride made up across it, the strides elsewhere kept.
+#[test]
+fn a_gap_in_time_gets_a_warning_and_no_stride_across_it() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut walk = straight_walk(&shared, 10.0);
+    let path = dir.path().join("full.mot");
+    walk.write(&path);
+    let (full_strides, _) = gait_strides(&path, &dir.path().join("full"));
+    let full = events(&dir.path().join("full"));
+    assert!(full_strides >= 14, "{full_strides}");
+    walk.rows.retain(|r| !(4.995..6.005).contains(&r[0]));
+    let path = dir.path().join("cut.mot");
+    walk.write(&path);
+    let (strides, e) = gait_strides(&path, &dir.path().join("cut"));
+    // 6.01 s was on line 8 + 601, before 101 rows were cut.
+    assert!(
+        e.contains(
+            "cut.mot:508: time jumps from 4.99 s to 6.01 s, a gap of 1.02 s (the median step is 0.01 s): no event or stride is formed across it"
+        ),
+        "{e}"
+    );
+    events_within(&events(&dir.path().join("cut")), &full);
+    // The strides over 5-6 s are lost (those that end in the gap, or start in it, or span it),
+    // the others kept.
+    assert!(
+        strides < full_strides && strides + 6 >= full_strides,
+        "{strides} of {full_strides}"
+    );
+    println!("gap: {strides} of {full_strides} strides kept");
+}

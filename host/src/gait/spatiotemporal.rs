@@ -282,6 +282,7 @@ mod tests {
             time: time.clone(),
             coordinates: None,
             translation: None,
+            breaks: Vec::new(),
         };
         let cycle = Cycle {
             side: 0,
@@ -329,6 +330,7 @@ mod tests {
             frames,
             coordinates: None,
             translation: None,
+            breaks: Vec::new(),
         };
         let forward = vec![Vec3::new(off.cos(), 0.0, off.sin()); 2];
         let cycle = |side: usize, frame: usize| Cycle {

@@ -79,6 +79,66 @@ pub struct Trial {
     /// `pelvis_tx` and `pelvis_tz` of each frame (metres), when the motion has both and they
     /// change.
     pub translation: Option<Vec<[f64; 2]>>,
+    /// The frames that begin a new stretch of the recording, in order: after a gap in time
+    /// ([`gaps`]) or after rows left out. No event or stride spans one.
+    pub breaks: Vec<usize>,
+}
+
+impl Trial {
+    /// The stretches of frames between [`Trial::breaks`], in order (one when there is none).
+    pub fn segments(&self) -> Vec<std::ops::Range<usize>> {
+        let n = self.time.len();
+        let mut out = Vec::with_capacity(self.breaks.len() + 1);
+        let mut start = 0;
+        for &b in self.breaks.iter().filter(|&&b| b > 0 && b < n) {
+            if b > start {
+                out.push(start..b);
+                start = b;
+            }
+        }
+        out.push(start..n);
+        out
+    }
+}
+
+/// A step in time longer than this many times the median step between frames is a gap in the
+/// recording (lost frames, or a cut): no event or stride is formed across it. A step of twice
+/// the median is one frame lost; sampling jitter stays well below half a step.
+pub const GAP_FACTOR: f64 = 1.5;
+
+/// The frames that follow a gap in `time` ([`GAP_FACTOR`]), merged with the breaks `known`
+/// already (rows left out: not warned about again), in order; a warning for each new one.
+/// `at(i)` says where frame `i` is (`file:line`).
+pub fn gaps(
+    time: &[f64],
+    known: &[usize],
+    at: impl Fn(usize) -> String,
+) -> (Vec<usize>, Vec<Warning>) {
+    let mut steps: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
+    let mut breaks = known.to_vec();
+    let mut warnings = Vec::new();
+    if !steps.is_empty() {
+        steps.sort_by(f64::total_cmp);
+        let median = steps[steps.len() / 2];
+        let secs = |x: f64| (x * 1e6).round() / 1e6;
+        for i in 1..time.len() {
+            let step = time[i] - time[i - 1];
+            if step > GAP_FACTOR * median && !known.contains(&i) {
+                breaks.push(i);
+                warnings.push(Warning(format!(
+                    "{}: time jumps from {} s to {} s, a gap of {} s (the median step is {} s): no event or stride is formed across it",
+                    at(i),
+                    secs(time[i - 1]),
+                    secs(time[i]),
+                    secs(step),
+                    secs(median)
+                )));
+            }
+        }
+    }
+    breaks.sort_unstable();
+    breaks.dedup();
+    (breaks, warnings)
 }
 
 /// Loads `source` (a `.mot`/`.sto` motion, `builtin:...`, or a device's frames CSV) and
@@ -95,8 +155,10 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
         if !table.time.is_empty() && table.time.iter().all(Option::is_none) {
             return Err(TrialError::NoTimes(source.to_string()));
         }
-        let (table, warnings) = table.in_time_order(source)?;
+        let (table, mut warnings) = table.in_time_order(source)?;
         let time: Vec<f64> = table.time.iter().flatten().copied().collect();
+        let (breaks, w) = gaps(&time, &[], |i| format!("{source}:{}", table.at[i].0));
+        warnings.extend(w);
         let frames = table
             .points
             .iter()
@@ -119,6 +181,7 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
                 frames,
                 coordinates: None,
                 translation: None,
+                breaks,
             },
             warnings,
         ));
@@ -180,6 +243,11 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
         }
         _ => None,
     };
+    let (breaks, w) = gaps(&time, &[], |i| match table.line(i) {
+        Some(line) => format!("{source}:{line}"),
+        None => format!("{source}: row {}", i + 1),
+    });
+    warnings.extend(w);
     Ok((
         Trial {
             label,
@@ -188,6 +256,7 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
             frames,
             coordinates: Some(coordinates),
             translation,
+            breaks,
         },
         warnings,
     ))
@@ -199,4 +268,41 @@ pub fn coordinate(name: &str) -> usize {
         .iter()
         .position(|c| *c == name)
         .unwrap_or_else(|| panic!("`{name}` is not a gait2392 coordinate"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_step_longer_than_one_and_a_half_frames_is_a_gap() {
+        // 100 Hz with a jitter of 0.2 ms, 2 s missing after 8 s.
+        let mut time: Vec<f64> = (0..=800).map(|i| i as f64 * 0.01).collect();
+        time.extend((1000..=1200).map(|i| i as f64 * 0.01));
+        time[10] += 0.0002;
+        let (breaks, w) = gaps(&time, &[], |i| format!("w.mot:{}", i + 7));
+        assert_eq!(breaks, [801]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(
+            w[0].0,
+            "w.mot:808: time jumps from 8 s to 10 s, a gap of 2 s (the median step is 0.01 s): no event or stride is formed across it"
+        );
+        // A break known already is not warned about again; others are merged in order.
+        let (breaks, w) = gaps(&time, &[801, 3], |i| i.to_string());
+        assert_eq!(breaks, [3, 801]);
+        assert!(w.is_empty(), "{w:?}");
+        let trial = Trial {
+            label: "w".into(),
+            source: "w.mot".into(),
+            time: time.clone(),
+            frames: vec![[Limb::default(); 2]; time.len()],
+            coordinates: None,
+            translation: None,
+            breaks,
+        };
+        assert_eq!(trial.segments(), [0..3, 3..801, 801..1002]);
+        // Steady sampling: no gap.
+        let (breaks, w) = gaps(&time[..801], &[], |i| i.to_string());
+        assert!(breaks.is_empty() && w.is_empty());
+    }
 }
