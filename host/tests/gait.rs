@@ -1049,3 +1049,69 @@ fn a_gap_in_time_gets_a_warning_and_no_stride_across_it() {
     );
     println!("gap: {strides} of {full_strides} strides kept");
 }
+
+/// A straight walk with `nan` in `knee_angle_r` at 5.00 s: the strides that include that row
+/// are left out with a warning naming file, line and column, the others analysed; `fk` still
+/// refuses the file. A `nan` in a column nothing reads changes nothing.
+#[test]
+fn a_bad_value_loses_only_the_strides_that_include_it() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut walk = straight_walk(&shared, 10.0);
+    walk.labels.push("force".into());
+    for r in &mut walk.rows {
+        r.push(1.0);
+    }
+    let path = dir.path().join("full.mot");
+    walk.write(&path);
+    let (full_strides, _) = gait_strides(&path, &dir.path().join("full"));
+    let full = events(&dir.path().join("full"));
+    // `force` is read by nothing.
+    let force = walk.labels.len() - 1;
+    walk.rows[300][force] = f64::NAN;
+    let path = dir.path().join("other.mot");
+    walk.write(&path);
+    let (strides, e) = gait_strides(&path, &dir.path().join("other"));
+    assert_eq!(strides, full_strides);
+    assert!(!e.contains("`force`") && !e.contains("left out"), "{e}");
+    assert_eq!(events(&dir.path().join("other")), full);
+    // The knee of 5.00 s: line 8 + 500.
+    walk.rows[300][force] = 1.0;
+    let knee = walk
+        .labels
+        .iter()
+        .position(|l| l == "knee_angle_r")
+        .unwrap();
+    walk.rows[500][knee] = f64::NAN;
+    let path = dir.path().join("nan.mot");
+    walk.write(&path);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let line = text.lines().nth(507).unwrap();
+    let column = line
+        .split('\t')
+        .take(knee)
+        .map(|c| c.len() + 1)
+        .sum::<usize>()
+        + 1;
+    let (strides, e) = gait_strides(&path, &dir.path().join("nan"));
+    assert!(
+        e.contains(&format!(
+            "nan.mot:508:{column}: value `NaN` in column `knee_angle_r` is not a finite number: this row is left out, with the strides that include them"
+        )),
+        "{e}"
+    );
+    assert!(!e.contains("time jumps"), "{e}");
+    events_within(&events(&dir.path().join("nan")), &full);
+    assert!(
+        strides < full_strides && strides + 4 >= full_strides,
+        "{strides} of {full_strides}"
+    );
+    println!("nan: {strides} of {full_strides} strides kept");
+    let o = qgait(&["fk", path.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains(&format!("nan.mot:508:{column}: value `NaN`")),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -307,6 +307,11 @@ mod tests {
             "{e}"
         );
         assert!(builtin_walk("w").require_strides().is_ok());
+        // One cycle cannot have a gap.
+        let mut gap = still(300);
+        gap.breaks = vec![150];
+        let e = analyse(gap, CycleMode::Whole).err().unwrap();
+        assert!(matches!(e, AnalysisError::WholeWithGap { .. }), "{e}");
     }
 
     #[test]

@@ -134,7 +134,10 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             let (a, b) = (tr[c.span.0], tr[c.span.1]);
             let t = trial.time[c.span.1] - trial.time[c.span.0];
             // Per second of the frames spanned, times the stride's duration.
-            (t > 0.0).then(|| (b[0] - a[0]).hypot(b[1] - a[1]) / t * c.duration)
+            // A translation that is not a finite number (a column the model does not read)
+            // gives none: the step lengths are estimated instead.
+            let d = (b[0] - a[0]).hypot(b[1] - a[1]);
+            (t > 0.0 && d.is_finite()).then(|| d / t * c.duration)
         });
         if moved.len() == cycles.len() {
             displacement[s] = mean(&moved);

@@ -14,6 +14,7 @@ use crate::model::choice::Model;
 use crate::model::error::ModelError;
 use crate::model::points::{self, PointModel};
 use crate::motion::source::{default_label, load_motion, MotionRows, SourceError};
+use crate::opensim::mot::MotionTable;
 
 /// Why a recording cannot be loaded for gait analysis.
 #[derive(Debug, thiserror::Error)]
@@ -189,6 +190,8 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
     let (table, mut warnings) = load_motion(source)?;
     let foot = model.lengths().is_none();
     let points = PointModel::new(model, foot)?;
+    let (table, left_out, w) = leave_out_non_finite(table, points.reads());
+    warnings.extend(w);
     let mut time = Vec::with_capacity(table.rows());
     let mut frames = Vec::with_capacity(table.rows());
     let column_warnings = std::cell::RefCell::new(Vec::new());
@@ -243,7 +246,7 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
         }
         _ => None,
     };
-    let (breaks, w) = gaps(&time, &[], |i| match table.line(i) {
+    let (breaks, w) = gaps(&time, &left_out, |i| match table.line(i) {
         Some(line) => format!("{source}:{line}"),
         None => format!("{source}: row {}", i + 1),
     });
@@ -262,6 +265,80 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
     ))
 }
 
+/// `table` without its rows that have a value that is not a finite number (`nan`, `inf`) in a
+/// column the analysis reads: the coordinates of [`COORDINATES`] with `reads` true (the model's
+/// and the joint angles'); a column it does not read does not matter. Each run of such rows
+/// gets one warning naming the file, line and column of its first bad value. Also the rows
+/// (of the table returned) that follow a run left out: breaks ([`Trial::breaks`]).
+fn leave_out_non_finite(
+    table: MotionTable,
+    reads: [bool; 17],
+) -> (MotionTable, Vec<usize>, Vec<Warning>) {
+    let header = table.header();
+    let columns: Vec<(usize, &str)> = COORDINATES
+        .iter()
+        .zip(reads)
+        .filter(|(_, r)| *r)
+        .filter_map(|(name, _)| header.index_of(name).map(|c| (c, *name)))
+        .collect();
+    let bad: Vec<Option<(usize, &str)>> = (0..table.rows())
+        .map(|r| {
+            columns
+                .iter()
+                .copied()
+                .find(|&(c, _)| !table.value(r, c).is_finite())
+        })
+        .collect();
+    if bad.iter().all(Option::is_none) {
+        return (table, Vec::new(), Vec::new());
+    }
+    let source = table.source();
+    let row_at = |r: usize| match table.line(r) {
+        Some(line) => format!("line {line}"),
+        None => format!("row {}", r + 1),
+    };
+    let (mut warnings, mut breaks) = (Vec::new(), Vec::new());
+    let (mut r, mut kept) = (0, 0);
+    while r < bad.len() {
+        let Some((c, name)) = bad[r] else {
+            r += 1;
+            kept += 1;
+            continue;
+        };
+        let end = (r..bad.len())
+            .find(|&k| bad[k].is_none())
+            .unwrap_or(bad.len());
+        let (at, text) = match table.non_finite_at(r, c) {
+            Some(nf) => (
+                format!("{source}:{}:{}", nf.line, nf.column),
+                nf.text.clone(),
+            ),
+            None => (
+                format!("{source}: {}", row_at(r)),
+                table.value(r, c).to_string(),
+            ),
+        };
+        let rows = if end - r == 1 {
+            "this row is".to_string()
+        } else {
+            format!(
+                "this row and the next {} to {} are",
+                end - r - 1,
+                row_at(end - 1)
+            )
+        };
+        warnings.push(Warning(format!(
+            "{at}: value `{text}` in column `{name}` is not a finite number: {rows} left out, with the strides that include them"
+        )));
+        if kept > 0 && end < bad.len() {
+            breaks.push(kept);
+        }
+        r = end;
+    }
+    let table = table.without_rows(|r| bad[r].is_some());
+    (table, breaks, warnings)
+}
+
 /// The index of a coordinate in [`COORDINATES`].
 pub fn coordinate(name: &str) -> usize {
     COORDINATES
@@ -273,6 +350,50 @@ pub fn coordinate(name: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_with_a_bad_value_in_a_column_read_are_left_out() {
+        let head =
+            "m\nversion=1\ninDegrees=yes\nendheader\ntime\thip_flexion_r\tknee_angle_r\tforce\n";
+        let rows = [
+            "0\t1\t-5\t1",
+            "0.01\t1\tnan\t1",
+            "0.02\t1\t-inf\t1",
+            "0.03\t1\t-5\tnan",
+            "0.04\tNaN\tnan\t1",
+            "0.05\t1\t-5\t1",
+            "0.06\t1\tnan\t1",
+        ];
+        let text = format!("{head}{}\n", rows.join("\n"));
+        let (table, _) = MotionTable::parse(&text, "m.mot").unwrap();
+        let (kept, breaks, w) = leave_out_non_finite(table.clone(), [true; 17]);
+        // `force` is read by nothing: its `nan` does not matter.
+        assert_eq!(kept.time(), &[0.0, 0.03, 0.05]);
+        assert_eq!(kept.line(1), Some(9));
+        assert_eq!(breaks, [1, 2]);
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert_eq!(
+            w[0].0,
+            "m.mot:7:8: value `nan` in column `knee_angle_r` is not a finite number: this row and the next 1 to line 8 are left out, with the strides that include them"
+        );
+        assert!(
+            w[1].0
+                .starts_with("m.mot:10:6: value `NaN` in column `hip_flexion_r`"),
+            "{w:?}"
+        );
+        assert!(w[2].0.starts_with("m.mot:12:8: value `nan` in column `knee_angle_r` is not a finite number: this row is left out"), "{w:?}");
+        // A column the model does not read (an imported chain's locked one) does not matter.
+        let mut reads = [true; 17];
+        reads[coordinate("knee_angle_r")] = false;
+        let (kept, breaks, w) = leave_out_non_finite(table.clone(), reads);
+        assert_eq!(kept.rows(), 6);
+        assert_eq!(breaks, [4]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        // Nothing bad: the table as it is.
+        let (kept, breaks, w) = leave_out_non_finite(kept, reads);
+        assert_eq!(kept.rows(), 6);
+        assert!(breaks.is_empty() && w.is_empty());
+    }
 
     #[test]
     fn a_step_longer_than_one_and_a_half_frames_is_a_gap() {

@@ -28,7 +28,8 @@
 //!   tools often write the last time twice), with a warning; a time that goes back is an error.
 //! - **Columns.** A label that appears twice gives a warning; it is an error only for a model that
 //!   needs that column (see [`crate::model::coords`]). `nan` and `inf` values are kept: they are an error
-//!   (with file, line and column) only in a column a model needs, or in `time`.
+//!   (with file, line and column) only in a column a model needs, or in `time` (`qgait gait`
+//!   leaves such a row out instead, [`crate::gait::trial`]).
 //! - **Text.** A UTF-8 byte order mark at the start of the file is skipped (OpenSim does not
 //!   skip it, and then misses a first-line `inDegrees=`). Lines that are not UTF-8 (a Latin-1 `é` in a header comment) are read as Latin-1,
 //!   with one warning. Header lines not understood (free text such as `Units are S.I. units`)
@@ -632,8 +633,8 @@ pub struct MotionTable {
     columns: Vec<Vec<f64>>,
     /// 1-based line of each row (empty for generated tables).
     lines: Vec<usize>,
-    /// The first non-finite value of each column, if any.
-    non_finite: Vec<Option<NonFinite>>,
+    /// Every non-finite value of each column, in row order.
+    non_finite: Vec<Vec<NonFinite>>,
 }
 
 impl MotionTable {
@@ -710,7 +711,7 @@ impl MotionTable {
             },
             columns,
             lines: Vec::new(),
-            non_finite: vec![None; n],
+            non_finite: vec![Vec::new(); n],
         })
     }
 
@@ -738,13 +739,13 @@ impl MotionTable {
         let n = reader.header().labels.len();
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); n];
         let mut lines = Vec::new();
-        let mut non_finite: Vec<Option<NonFinite>> = vec![None; n];
+        let mut non_finite: Vec<Vec<NonFinite>> = vec![Vec::new(); n];
         while let Some(row) = reader.next_row()? {
             for (c, v) in row.values.into_iter().enumerate() {
                 columns[c].push(v);
             }
             for (c, at) in row.non_finite {
-                non_finite[c].get_or_insert(at);
+                non_finite[c].push(at);
             }
             lines.push(row.line);
         }
@@ -833,8 +834,40 @@ impl MotionTable {
     }
 
     /// The first value of column `c` that is not a finite number, if any.
+    #[cfg(test)]
     pub(crate) fn non_finite(&self, c: usize) -> Option<&NonFinite> {
-        self.non_finite[c].as_ref()
+        self.non_finite[c].first()
+    }
+
+    /// Where the value of column `c` in row `r` was read, if it is not a finite number.
+    pub(crate) fn non_finite_at(&self, r: usize, c: usize) -> Option<&NonFinite> {
+        let line = self.line(r)?;
+        self.non_finite[c].iter().find(|nf| nf.line == line)
+    }
+
+    /// This table without the rows `r` for which `leave(r)` is true.
+    pub(crate) fn without_rows(&self, leave: impl Fn(usize) -> bool) -> Self {
+        let keep: Vec<usize> = (0..self.rows()).filter(|&r| !leave(r)).collect();
+        let lines: Vec<usize> = keep.iter().filter_map(|&r| self.line(r)).collect();
+        Self {
+            header: self.header.clone(),
+            columns: self
+                .columns
+                .iter()
+                .map(|c| keep.iter().map(|&r| c[r]).collect())
+                .collect(),
+            non_finite: self
+                .non_finite
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .filter(|nf| lines.binary_search(&nf.line).is_ok())
+                        .cloned()
+                        .collect()
+                })
+                .collect(),
+            lines,
+        }
     }
 
     /// Percent of the cycle of every row: time normalised from the first row (0 %) to the last
