@@ -909,3 +909,209 @@ fn a_model_whose_knee_flexes_with_positive_angles_gets_the_same_knee_flexion() {
         assert!((x - y).abs() < 1e-9, "builtin: {x} against {y}");
     }
 }
+
+/// `--age` must be a finite number of years, and one `stp_normals.txt` has rows for: an age
+/// outside the table is an error naming its ages, not a report without normal ranges.
+#[test]
+fn an_age_without_normal_ranges_is_refused() {
+    let Some(_) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let gait = |age: &str, sex: &[&str]| {
+        let arg = format!("--age={age}");
+        qgait(
+            &[
+                &["gait", "builtin:normal", &arg, "-o", out.to_str().unwrap()],
+                sex,
+            ]
+            .concat(),
+        )
+    };
+    for age in ["nan", "inf", "-5", "old"] {
+        let o = gait(age, &[]);
+        assert!(!o.status.success(), "--age {age} accepted");
+        assert!(stderr(&o).contains("--age"), "{age}: {}", stderr(&o));
+    }
+    for age in ["99", "200", "0.5"] {
+        let o = gait(age, &[]);
+        assert!(!o.status.success(), "--age {age} accepted");
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!("--age {age}: "))
+                && e.contains(&format!(
+                    "stp_normals.txt has normal ranges for ages 1 to 89 (male or female), not {age}"
+                )),
+            "{age}: {e}"
+        );
+        assert!(!out.join("spatiotemporal.csv").exists());
+    }
+    let o = gait("99", &["--sex", "female"]);
+    assert!(
+        stderr(&o).contains("ages 1 to 89 (female)"),
+        "{}",
+        stderr(&o)
+    );
+    // The oldest row (85-89) holds 89.5; its parameters get normal ranges.
+    let o = gait("89.5", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let ranged = std::fs::read_to_string(out.join("spatiotemporal.csv")).unwrap();
+    assert!(
+        ranged
+            .lines()
+            .any(|l| l.starts_with("cadence,both,") && !l.contains(",,,")),
+        "{ranged}"
+    );
+}
+
+/// A straight walk: `normal.mot`'s cycle repeated `cycles` times at 100 Hz from mid-stride,
+/// as a `.mot` (its row of time `i / 100` on line `8 + i`).
+fn straight_walk(shared: &Path, cycles: f64) -> Mot {
+    let normal = read_mot(&shared.join("data/opensim/normal.mot"));
+    let t_src = normal.col("time");
+    let period = t_src[t_src.len() - 1] - t_src[0];
+    let columns: Vec<&str> = COORDINATES
+        .iter()
+        .copied()
+        .filter(|c| normal.labels.iter().any(|l| l == c))
+        .collect();
+    let values: Vec<Vec<f64>> = columns.iter().map(|c| normal.col(c)).collect();
+    let rows = (0..(cycles * period * 100.0) as usize)
+        .map(|i| {
+            let t = i as f64 / 100.0;
+            let mut r = vec![t];
+            r.extend(
+                values
+                    .iter()
+                    .map(|v| periodic(&t_src, v, 0.37 + t / period)),
+            );
+            r
+        })
+        .collect();
+    let mut labels = vec!["time".to_string()];
+    labels.extend(columns.iter().map(|c| c.to_string()));
+    Mot { labels, rows }
+}
+
+/// `qgait gait MOTION -o OUT` (not quiet): the number of strides it reports, and stderr.
+fn gait_strides(motion: &Path, out: &Path) -> (usize, String) {
+    let o = qgait(&[
+        "gait",
+        motion.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    let line = e.lines().last().expect("a stride count");
+    (line.split(' ').next().unwrap().parse().unwrap(), e)
+}
+
+/// Every event of `cut` is one of `full` (within a frame): none is made up.
+fn events_within(cut: &[(String, String, f64)], full: &[(String, String, f64)]) {
+    for (s, e, t) in cut {
+        assert!(
+            full.iter()
+                .any(|(s2, e2, t2)| s == s2 && e == e2 && (t - t2).abs() <= 0.011),
+            "{s} {e} at {t} s is not an event of the whole recording"
+        );
+    }
+}
+
+/// A straight walk with 1 s of rows cut out (5.00 to 6.00 s): a warning naming the line after
+/// the gap, no event or stride made up across it, the strides elsewhere kept.
+#[test]
+fn a_gap_in_time_gets_a_warning_and_no_stride_across_it() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut walk = straight_walk(&shared, 10.0);
+    let path = dir.path().join("full.mot");
+    walk.write(&path);
+    let (full_strides, _) = gait_strides(&path, &dir.path().join("full"));
+    let full = events(&dir.path().join("full"));
+    assert!(full_strides >= 14, "{full_strides}");
+    walk.rows.retain(|r| !(4.995..6.005).contains(&r[0]));
+    let path = dir.path().join("cut.mot");
+    walk.write(&path);
+    let (strides, e) = gait_strides(&path, &dir.path().join("cut"));
+    // 6.01 s was on line 8 + 601, before 101 rows were cut.
+    assert!(
+        e.contains(
+            "cut.mot:508: time jumps from 4.99 s to 6.01 s, a gap of 1.02 s (the median step is 0.01 s): no event or stride is formed across it"
+        ),
+        "{e}"
+    );
+    events_within(&events(&dir.path().join("cut")), &full);
+    // The strides over 5-6 s are lost (those that end in the gap, or start in it, or span it),
+    // the others kept.
+    assert!(
+        strides < full_strides && strides + 6 >= full_strides,
+        "{strides} of {full_strides}"
+    );
+    println!("gap: {strides} of {full_strides} strides kept");
+}
+
+/// A straight walk with `nan` in `knee_angle_r` at 5.00 s: the strides that include that row
+/// are left out with a warning naming file, line and column, the others analysed; `fk` still
+/// refuses the file. A `nan` in a column nothing reads changes nothing.
+#[test]
+fn a_bad_value_loses_only_the_strides_that_include_it() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut walk = straight_walk(&shared, 10.0);
+    walk.labels.push("force".into());
+    for r in &mut walk.rows {
+        r.push(1.0);
+    }
+    let path = dir.path().join("full.mot");
+    walk.write(&path);
+    let (full_strides, _) = gait_strides(&path, &dir.path().join("full"));
+    let full = events(&dir.path().join("full"));
+    // `force` is read by nothing.
+    let force = walk.labels.len() - 1;
+    walk.rows[300][force] = f64::NAN;
+    let path = dir.path().join("other.mot");
+    walk.write(&path);
+    let (strides, e) = gait_strides(&path, &dir.path().join("other"));
+    assert_eq!(strides, full_strides);
+    assert!(!e.contains("`force`") && !e.contains("left out"), "{e}");
+    assert_eq!(events(&dir.path().join("other")), full);
+    // The knee of 5.00 s: line 8 + 500.
+    walk.rows[300][force] = 1.0;
+    let knee = walk
+        .labels
+        .iter()
+        .position(|l| l == "knee_angle_r")
+        .unwrap();
+    walk.rows[500][knee] = f64::NAN;
+    let path = dir.path().join("nan.mot");
+    walk.write(&path);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let line = text.lines().nth(507).unwrap();
+    let column = line
+        .split('\t')
+        .take(knee)
+        .map(|c| c.len() + 1)
+        .sum::<usize>()
+        + 1;
+    let (strides, e) = gait_strides(&path, &dir.path().join("nan"));
+    assert!(
+        e.contains(&format!(
+            "nan.mot:508:{column}: value `NaN` in column `knee_angle_r` is not a finite number: this row is left out, with the strides that include them"
+        )),
+        "{e}"
+    );
+    assert!(!e.contains("time jumps"), "{e}");
+    events_within(&events(&dir.path().join("nan")), &full);
+    assert!(
+        strides < full_strides && strides + 4 >= full_strides,
+        "{strides} of {full_strides}"
+    );
+    println!("nan: {strides} of {full_strides} strides kept");
+    let o = qgait(&["fk", path.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains(&format!("nan.mot:508:{column}: value `NaN`")),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -38,8 +38,9 @@ pub struct GaitArgs {
         value_name = "normative[:SPEED]|MOTION"
     )]
     pub reference: String,
-    /// The subject's age in years, for the normal ranges of the spatiotemporal parameters.
-    #[arg(long, value_name = "YEARS")]
+    /// The subject's age in years, for the normal ranges of the spatiotemporal parameters
+    /// (an age that `stp_normals.txt` has no rows for is an error).
+    #[arg(long, value_name = "YEARS", value_parser = parse_age)]
     pub age: Option<f64>,
     /// The subject's sex, for the normal ranges (default: the range of either).
     #[arg(long, value_enum)]
@@ -51,6 +52,15 @@ pub struct GaitArgs {
     /// Output directory (created if needed).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
+}
+
+/// `--age`: a finite number of years, 0 or more.
+fn parse_age(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(age) if age.is_finite() && age >= 0.0 => Ok(age),
+        Ok(_) => Err("expected a finite number of years, 0 or more".into()),
+        Err(error) => Err(error.to_string()),
+    }
 }
 
 /// `--cycle`.

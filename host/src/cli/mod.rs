@@ -125,7 +125,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     .get(i)
                     .cloned()
                     .unwrap_or_else(|| default_label(spec));
-                if spec.ends_with(".csv") {
+                if crate::device::frames_csv::is_frames_csv(spec) {
                     let text = std::fs::read_to_string(spec)
                         .with_context(|| format!("{spec}: cannot read"))?;
                     let table = crate::device::frames_csv::parse(&text, spec)?;

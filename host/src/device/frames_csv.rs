@@ -8,8 +8,15 @@ use std::io::{self, Write};
 
 use qgait_proto::PoseFrame;
 
-use crate::diagnostics::Location;
+use crate::diagnostics::{Location, Warning};
 use crate::model::points::{csv_header, point_names, PointsCsv};
+
+/// Whether `path` names a frames CSV: its extension is `csv`, in any case (`FRAMES.CSV` too).
+pub fn is_frames_csv(path: &str) -> bool {
+    std::path::Path::new(path)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+}
 
 /// The header line (without the newline).
 pub fn header() -> String {
@@ -61,6 +68,67 @@ pub struct FramesTable {
     pub time: Vec<Option<f64>>,
     /// The 8 points of each row, [`crate::model::points::point_names`] order.
     pub points: Vec<[[f64; 3]; 8]>,
+    /// Where each row is: its 1-based line and the 1-based column where its `time` starts.
+    pub at: Vec<(usize, usize)>,
+}
+
+impl FramesTable {
+    /// The rows in time order, as a gait analysis needs them (the rules of a `.mot`): every
+    /// row must have a time (an error naming the line and column of an empty one), a time
+    /// before the previous row's is an error, and a row whose time repeats the previous row's
+    /// (a frame written twice) replaces it with a warning. `source` names the file.
+    pub fn in_time_order(self, source: &str) -> Result<(Self, Vec<Warning>), FramesCsvError> {
+        let at = |(line, column): (usize, usize)| Location {
+            path: source.to_string(),
+            line: Some(line),
+            column: Some(column),
+        };
+        let mut out = FramesTable {
+            seq: Vec::with_capacity(self.seq.len()),
+            time: Vec::with_capacity(self.seq.len()),
+            points: Vec::with_capacity(self.seq.len()),
+            at: Vec::with_capacity(self.seq.len()),
+        };
+        let mut warnings = Vec::new();
+        for (((seq, time), points), here) in self
+            .seq
+            .into_iter()
+            .zip(self.time)
+            .zip(self.points)
+            .zip(self.at)
+        {
+            let Some(t) = time else {
+                return Err(FramesCsvError::NoTime { at: at(here) });
+            };
+            if let (Some(Some(p)), Some(&before), Some(&before_seq)) =
+                (out.time.last(), out.at.last(), out.seq.last())
+            {
+                if t < *p {
+                    return Err(FramesCsvError::TimeBack {
+                        at: at(here),
+                        time: t,
+                        previous: *p,
+                        previous_line: before.0,
+                    });
+                }
+                if t == *p {
+                    warnings.push(Warning(format!(
+                        "{}: time {t} (seq {seq}) repeats the previous row's (line {}, seq {before_seq}); this row replaces it, as in a .mot",
+                        at(here), before.0
+                    )));
+                    out.seq.pop();
+                    out.time.pop();
+                    out.points.pop();
+                    out.at.pop();
+                }
+            }
+            out.seq.push(seq);
+            out.time.push(Some(t));
+            out.points.push(points);
+            out.at.push(here);
+        }
+        Ok((out, warnings))
+    }
 }
 
 /// Why a file is not a frames CSV: where and what.
@@ -82,6 +150,24 @@ pub enum FramesCsvError {
         at: Location,
         /// How many it has.
         found: usize,
+    },
+    /// A row without a time, where a gait analysis needs every row's.
+    #[error("{at}: no time in this row (a gait analysis needs the time of every frame)")]
+    NoTime {
+        /// The row's line and the column of its empty `time`.
+        at: Location,
+    },
+    /// A time before the previous row's.
+    #[error("{at}: time {time} is before the previous row's {previous} (line {previous_line})")]
+    TimeBack {
+        /// The row's line and the column of its `time`.
+        at: Location,
+        /// Its time (s).
+        time: f64,
+        /// The previous row's (s).
+        previous: f64,
+        /// The previous row's line.
+        previous_line: usize,
     },
     /// A value is not a number (or not finite).
     #[error("{at}: bad {what} `{text}`")]
@@ -116,6 +202,7 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
         seq: Vec::new(),
         time: Vec::new(),
         points: Vec::new(),
+        at: Vec::new(),
     };
     for (i, line) in lines {
         let line = line.trim_end();
@@ -156,6 +243,7 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
                 .ok_or_else(|| bad("number", v))?;
         }
         t.points.push(p);
+        t.at.push((i + 1, cells[0].chars().count() + 2));
     }
     Ok(t)
 }
@@ -164,6 +252,66 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
 mod tests {
     use super::*;
     use qgait_proto::ModelId;
+
+    #[test]
+    fn a_frames_csv_is_known_by_its_extension_in_any_case() {
+        assert!(is_frames_csv("a/frames.csv"));
+        assert!(is_frames_csv("FRAMES.CSV"));
+        assert!(is_frames_csv("f.Csv"));
+        assert!(!is_frames_csv("walk.mot"));
+        assert!(!is_frames_csv("csv"));
+        assert!(!is_frames_csv("walk.csv.mot"));
+    }
+
+    #[test]
+    fn rows_in_time_order_as_in_a_mot() {
+        let points = vec!["0.5"; 24].join(",");
+        let csv = |rows: &[(&str, &str)]| {
+            let mut text = format!("{}\n", header());
+            for (seq, t) in rows {
+                text.push_str(&format!("{seq},{t},{points}\n"));
+            }
+            parse(&text, "f.csv").unwrap()
+        };
+        // A frame written twice: the later replaces it, with a warning.
+        let (t, w) = csv(&[("0", "0"), ("1", "0.01"), ("1", "0.01"), ("2", "0.02")])
+            .in_time_order("f.csv")
+            .unwrap();
+        assert_eq!(t.seq, [0, 1, 2]);
+        assert_eq!(t.time, [Some(0.0), Some(0.01), Some(0.02)]);
+        assert_eq!(t.at.iter().map(|a| a.0).collect::<Vec<_>>(), [2, 4, 5]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(
+            w[0].0,
+            "f.csv:4:3: time 0.01 (seq 1) repeats the previous row's (line 3, seq 1); this row replaces it, as in a .mot"
+        );
+        // Time going back: an error at its line and column.
+        let e = csv(&[("8", "0"), ("9", "0.5"), ("10", "0.25")])
+            .in_time_order("f.csv")
+            .unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                FramesCsvError::TimeBack {
+                    previous_line: 3,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert_eq!(
+            e.to_string(),
+            "f.csv:4:4: time 0.25 is before the previous row's 0.5 (line 3)"
+        );
+        // One row without a time: named by line and column.
+        let e = csv(&[("0", "0"), ("1", ""), ("2", "0.02")])
+            .in_time_order("f.csv")
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "f.csv:3:3: no time in this row (a gait analysis needs the time of every frame)"
+        );
+    }
 
     #[test]
     fn frames_round_trip_through_the_csv() {

@@ -88,22 +88,35 @@ pub struct Dropped {
     pub turning: usize,
 }
 
-/// The strides of each side from detected events.
+/// The strides of each side from detected events. `segments` are the stretches of frames
+/// between gaps ([`Trial::segments`](crate::gait::trial::Trial::segments)): two heel strikes
+/// in different segments make no stride (what happened in the gap is unknown), and a
+/// stride's frames stay within its segment.
 pub fn strides(
     time: &[f64],
     events: &Events,
     forward: &[Vec3<f64>],
+    segments: &[std::ops::Range<usize>],
 ) -> ([Vec<Cycle>; 2], [Dropped; 2]) {
     let mut out: [Vec<Cycle>; 2] = Default::default();
     let mut dropped = [Dropped::default(); 2];
+    let segment_of = |frame: usize| segments.partition_point(|r| r.end <= frame);
     for s in 0..2 {
         let o = 1 - s;
         let hs = &events.heel_strike[s];
-        let mut durations: Vec<f64> = hs.windows(2).map(|w| w[1].time - w[0].time).collect();
+        let pairs: Vec<_> = hs
+            .windows(2)
+            .filter(|w| segment_of(w[0].frame) == segment_of(w[1].frame))
+            .collect();
+        let mut durations: Vec<f64> = pairs.iter().map(|w| w[1].time - w[0].time).collect();
         durations.sort_by(f64::total_cmp);
         let median = durations.get(durations.len() / 2).copied().unwrap_or(0.0);
-        for w in hs.windows(2) {
+        for w in pairs {
             let (a, b) = (w[0], w[1]);
+            let segment = segments
+                .get(segment_of(a.frame))
+                .cloned()
+                .unwrap_or(0..time.len());
             let within = |list: &[crate::gait::events::Event], from: f64, to: f64| -> Vec<f64> {
                 list.iter()
                     .filter(|e| e.time > from && e.time < to)
@@ -127,8 +140,8 @@ pub fn strides(
                 dropped[s].turning += 1;
                 continue;
             }
-            let first = a.frame.saturating_sub(1);
-            let last = (b.frame + 1).min(time.len() - 1);
+            let first = a.frame.saturating_sub(1).max(segment.start);
+            let last = (b.frame + 1).min(segment.end - 1);
             out[s].push(Cycle {
                 side: s,
                 start: a.time,

@@ -173,7 +173,7 @@ pub fn along(
         .collect()
 }
 
-/// Detects heel strikes and toe offs of both sides.
+/// Detects heel strikes and toe offs of both sides (frames without gaps; see [`detect_in`]).
 pub fn detect(time: &[f64], frames: &[Frame], forward: &[Vec3<f64>]) -> Events {
     let span = frames_in(time, SEARCH_SPAN);
     let mut events = Events::default();
@@ -191,6 +191,32 @@ pub fn detect(time: &[f64], frames: &[Frame], forward: &[Vec3<f64>]) -> Events {
             .into_iter()
             .map(|i| refine(time, &toe, i))
             .collect();
+    }
+    events
+}
+
+/// [`detect`] in each of `segments` (stretches of frames between gaps) on its own: no
+/// extremum is sought across a gap, and one at a segment's end is treated as at the end of a
+/// recording. Frames are those of the whole recording.
+pub fn detect_in(
+    time: &[f64],
+    frames: &[Frame],
+    forward: &[Vec3<f64>],
+    segments: &[std::ops::Range<usize>],
+) -> Events {
+    let mut events = Events::default();
+    for r in segments {
+        let part = detect(&time[r.clone()], &frames[r.clone()], &forward[r.clone()]);
+        let shift = |list: Vec<Event>| {
+            list.into_iter().map(|e| Event {
+                frame: e.frame + r.start,
+                time: e.time,
+            })
+        };
+        for s in 0..2 {
+            events.heel_strike[s].extend(shift(part.heel_strike[s].clone()));
+            events.toe_off[s].extend(shift(part.toe_off[s].clone()));
+        }
     }
     events
 }

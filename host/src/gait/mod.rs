@@ -34,6 +34,12 @@ pub enum AnalysisError {
         /// Its rows.
         rows: usize,
     },
+    /// `--cycle whole` on a recording with a gap or rows left out.
+    #[error("{recording}: --cycle whole takes the recording as one cycle, but it has a gap in time or rows left out (see the warnings)")]
+    WholeWithGap {
+        /// The recording.
+        recording: String,
+    },
     /// Not one complete stride on either side.
     #[error("{recording}: no complete stride found ({right} heel strikes right, {left} left); for a file that holds one gait cycle, use --cycle whole")]
     NoStride {
@@ -96,10 +102,21 @@ pub fn analyse(trial: Trial, mode: CycleMode) -> Result<Walk, AnalysisError> {
         // One cycle: its mean direction.
         CycleMode::Whole => f64::INFINITY,
     };
-    let forward = events::progression(&trial.time, &trial.frames, window);
-    let events = events::detect(&trial.time, &trial.frames, &forward);
+    if mode == CycleMode::Whole && !trial.breaks.is_empty() {
+        return Err(AnalysisError::WholeWithGap {
+            recording: trial.source,
+        });
+    }
+    // Each stretch between gaps on its own: its direction of progression, its events, its
+    // strides.
+    let segments = trial.segments();
+    let forward: Vec<Vec3<f64>> = segments
+        .iter()
+        .flat_map(|r| events::progression(&trial.time[r.clone()], &trial.frames[r.clone()], window))
+        .collect();
+    let events = events::detect_in(&trial.time, &trial.frames, &forward, &segments);
     let (cycles, dropped) = match mode {
-        CycleMode::Auto => cycles::strides(&trial.time, &events, &forward),
+        CycleMode::Auto => cycles::strides(&trial.time, &events, &forward, &segments),
         CycleMode::Whole => {
             let heel = [0, 1].map(|s| events::along(&trial.frames, &forward, |f| f[s].heel));
             let [r, l] = cycles::whole(&trial.time, [&heel[0], &heel[1]], &events);
@@ -254,6 +271,11 @@ mod tests {
         std::fs::write(&frames, text).unwrap();
         let e = trial::load(frames.to_str().unwrap(), &model).err().unwrap();
         assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
+        // The extension in capitals is a frames CSV still, not a motion.
+        let upper = dir.path().join("FRAMES.CSV");
+        std::fs::copy(&frames, &upper).unwrap();
+        let e = trial::load(upper.to_str().unwrap(), &model).err().unwrap();
+        assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
         let e = trial::load("builtin:walk", &model).err().unwrap();
         assert!(matches!(e, TrialError::Source(_)), "{e}");
     }
@@ -267,6 +289,7 @@ mod tests {
             frames: vec![[Limb::default(); 2]; rows],
             coordinates: None,
             translation: None,
+            breaks: Vec::new(),
         };
         let e = analyse(still(2), CycleMode::Auto).err().unwrap();
         assert!(matches!(e, AnalysisError::TooShort { rows: 2, .. }), "{e}");
@@ -284,6 +307,11 @@ mod tests {
             "{e}"
         );
         assert!(builtin_walk("w").require_strides().is_ok());
+        // One cycle cannot have a gap.
+        let mut gap = still(300);
+        gap.breaks = vec![150];
+        let e = analyse(gap, CycleMode::Whole).err().unwrap();
+        assert!(matches!(e, AnalysisError::WholeWithGap { .. }), "{e}");
     }
 
     #[test]

@@ -54,6 +54,20 @@ pub enum NormativeError {
         /// What is wrong.
         message: String,
     },
+    /// `--age` is outside the ages of `stp_normals.txt` (for `--sex`, if given).
+    #[error("--age {age}: {path} has normal ranges for ages {min} to {max} ({sex}), not {age}; give an age in that range, or leave --age out for a report without normal ranges")]
+    AgeOutside {
+        /// The table.
+        path: String,
+        /// The age given.
+        age: f64,
+        /// `male`, `female` or `male or female`.
+        sex: &'static str,
+        /// The youngest age of the table's rows.
+        min: f64,
+        /// The oldest.
+        max: f64,
+    },
     /// `--reference normative:SPEED` names no speed.
     #[error("--reference `{arg}`: unknown speed `{speed}` (expected very-slow, slow, free, fast or very-fast)")]
     UnknownSpeed {
@@ -460,6 +474,27 @@ impl StpNormals {
         Ok(Self { rows, columns })
     }
 
+    /// The ages (years, first and last) of the rows of `male` (`None`: either sex), if any.
+    pub fn ages(&self, male: Option<bool>) -> Option<(f64, f64)> {
+        let rows = || {
+            self.rows
+                .iter()
+                .filter(|r| male.is_none_or(|m| r.male == m))
+        };
+        let min = rows().map(|r| r.age.0).reduce(f64::min)?;
+        let max = rows().map(|r| r.age.1).reduce(f64::max)?;
+        Some((min, max))
+    }
+
+    /// Whether a row of `male` (`None`: either sex) holds `age` (a row `a;b` holds the ages
+    /// from `a` up to, not including, `b + 1`: `18;29` holds 29.5).
+    pub fn holds(&self, age: f64, male: Option<bool>) -> bool {
+        self.rows
+            .iter()
+            .filter(|r| male.is_none_or(|m| r.male == m))
+            .any(|r| age >= r.age.0 && age < r.age.1 + 1.0)
+    }
+
     /// The normal ranges (in our units, [`STP_COLUMNS`] order) for a subject of `age` years
     /// (and `male`, or both sexes' widest range when not given) walking at `speed` m/s: the
     /// pace whose velocity range holds the speed, else the nearest; without a speed, the pace
@@ -763,6 +798,10 @@ Normal data are indicated for +/- 1 SD;;\n";
         let (pace, by, _) = n.ranges(25.0, Some(true), None, None).unwrap();
         assert_eq!((pace.as_str(), by), ("Normal", PaceChoice::Default));
         assert!(n.ranges(70.0, None, None, None).is_none());
+        assert_eq!(n.ages(None), Some((18.0, 39.0)));
+        assert_eq!(n.ages(Some(false)), Some((18.0, 29.0)));
+        assert!(n.holds(39.9, Some(true)) && !n.holds(39.9, Some(false)));
+        assert!(!n.holds(40.0, None) && !n.holds(17.9, None));
         let bad = text.replace("86;100", "86;x");
         let e = StpNormals::parse(&bad, "s.txt").err().unwrap();
         assert!(

@@ -118,6 +118,15 @@ pub struct Subject {
     pub male: Option<bool>,
 }
 
+/// `male`, `female` or `male or female`, for messages.
+fn sex_words(male: Option<bool>) -> &'static str {
+    match male {
+        Some(true) => "male",
+        Some(false) => "female",
+        None => "male or female",
+    }
+}
+
 /// Builds the report from analysed walks.
 pub fn build(
     walks: Vec<Walk>,
@@ -154,17 +163,26 @@ pub fn build(
     };
     let cadence = spatiotemporal::value(&parameters, "cadence", "both");
     if let (Some(age), Some(normals)) = (subject.age, &normals) {
+        // Asked for the normal ranges of an age the table lacks: an error rather than a report
+        // without them (or with another age's) that could be read as age-matched.
+        if !normals.holds(age, subject.male) {
+            let (min, max) = normals.ages(subject.male).unwrap_or((f64::NAN, f64::NAN));
+            return Err(NormativeError::AgeOutside {
+                path: stp_path.display().to_string(),
+                age,
+                sex: sex_words(subject.male),
+                min,
+                max,
+            }
+            .into());
+        }
         if let Some((pace, choice, ranges)) = normals.ranges(age, subject.male, speed, cadence) {
             for p in parameters.iter_mut() {
                 if let Some(k) = STP_COLUMNS.iter().position(|c| c.0 == p.name) {
                     p.range = ranges[k];
                 }
             }
-            let sex = match subject.male {
-                Some(true) => "male",
-                Some(false) => "female",
-                None => "male or female",
-            };
+            let sex = sex_words(subject.male);
             ranges_for = Some(format!(
                 "{sex}, {age} years, pace `{pace}` {} ({})",
                 choice.words(),

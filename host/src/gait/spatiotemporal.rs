@@ -134,7 +134,10 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             let (a, b) = (tr[c.span.0], tr[c.span.1]);
             let t = trial.time[c.span.1] - trial.time[c.span.0];
             // Per second of the frames spanned, times the stride's duration.
-            (t > 0.0).then(|| (b[0] - a[0]).hypot(b[1] - a[1]) / t * c.duration)
+            // A translation that is not a finite number (a column the model does not read)
+            // gives none: the step lengths are estimated instead.
+            let d = (b[0] - a[0]).hypot(b[1] - a[1]);
+            (t > 0.0 && d.is_finite()).then(|| d / t * c.duration)
         });
         if moved.len() == cycles.len() {
             displacement[s] = mean(&moved);
@@ -282,6 +285,7 @@ mod tests {
             time: time.clone(),
             coordinates: None,
             translation: None,
+            breaks: Vec::new(),
         };
         let cycle = Cycle {
             side: 0,
@@ -329,6 +333,7 @@ mod tests {
             frames,
             coordinates: None,
             translation: None,
+            breaks: Vec::new(),
         };
         let forward = vec![Vec3::new(off.cos(), 0.0, off.sin()); 2];
         let cycle = |side: usize, frame: usize| Cycle {

@@ -82,7 +82,7 @@ pub(crate) fn coordinate_rows<const N: usize>(
                     Some(line) => format!("line {line}"),
                     None => format!("row {}", r + 1),
                 },
-                |c| table.non_finite(c),
+                |c| table.non_finite_at(r, c),
             )
         })
         .collect::<Result<Vec<_>, _>>()?;

@@ -118,12 +118,7 @@ impl MotionRows {
                     .iter()
                     .enumerate()
                     .filter(|(_, v)| !v.is_finite())
-                    .filter_map(|(c, _)| {
-                        table
-                            .non_finite(c)
-                            .filter(|nf| Some(nf.line) == line)
-                            .map(|nf| (c, nf.clone()))
-                    })
+                    .filter_map(|(c, _)| table.non_finite_at(r, c).map(|nf| (c, nf.clone())))
                     .collect();
                 let at = line.map_or(Location::Row(r + 1), Location::Line);
                 Ok(Some((

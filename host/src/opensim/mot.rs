@@ -28,8 +28,10 @@
 //!   tools often write the last time twice), with a warning; a time that goes back is an error.
 //! - **Columns.** A label that appears twice gives a warning; it is an error only for a model that
 //!   needs that column (see [`crate::model::coords`]). `nan` and `inf` values are kept: they are an error
-//!   (with file, line and column) only in a column a model needs, or in `time`.
-//! - **Text.** Lines that are not UTF-8 (a Latin-1 `é` in a header comment) are read as Latin-1,
+//!   (with file, line and column) only in a column a model needs, or in `time` (`qgait gait`
+//!   leaves such a row out instead, [`crate::gait::trial`]).
+//! - **Text.** A UTF-8 byte order mark at the start of the file is skipped (OpenSim does not
+//!   skip it, and then misses a first-line `inDegrees=`). Lines that are not UTF-8 (a Latin-1 `é` in a header comment) are read as Latin-1,
 //!   with one warning. Header lines not understood (free text such as `Units are S.I. units`)
 //!   are ignored.
 //!
@@ -304,6 +306,10 @@ impl<R: BufRead> MotionReader<R> {
         self.line_no += 1;
         while matches!(self.buf.last(), Some(b'\n' | b'\r')) {
             self.buf.pop();
+        }
+        // A UTF-8 byte order mark (as some Windows editors write) is not part of the first line.
+        if self.line_no == 1 && self.buf.starts_with(b"\xEF\xBB\xBF") {
+            self.buf.drain(..3);
         }
         Ok(Some(match std::str::from_utf8(&self.buf) {
             Ok(s) => s.to_string(),
@@ -627,8 +633,8 @@ pub struct MotionTable {
     columns: Vec<Vec<f64>>,
     /// 1-based line of each row (empty for generated tables).
     lines: Vec<usize>,
-    /// The first non-finite value of each column, if any.
-    non_finite: Vec<Option<NonFinite>>,
+    /// Every non-finite value of each column, in row order.
+    non_finite: Vec<Vec<NonFinite>>,
 }
 
 impl MotionTable {
@@ -705,7 +711,7 @@ impl MotionTable {
             },
             columns,
             lines: Vec::new(),
-            non_finite: vec![None; n],
+            non_finite: vec![Vec::new(); n],
         })
     }
 
@@ -733,13 +739,13 @@ impl MotionTable {
         let n = reader.header().labels.len();
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); n];
         let mut lines = Vec::new();
-        let mut non_finite: Vec<Option<NonFinite>> = vec![None; n];
+        let mut non_finite: Vec<Vec<NonFinite>> = vec![Vec::new(); n];
         while let Some(row) = reader.next_row()? {
             for (c, v) in row.values.into_iter().enumerate() {
                 columns[c].push(v);
             }
             for (c, at) in row.non_finite {
-                non_finite[c].get_or_insert(at);
+                non_finite[c].push(at);
             }
             lines.push(row.line);
         }
@@ -828,8 +834,40 @@ impl MotionTable {
     }
 
     /// The first value of column `c` that is not a finite number, if any.
+    #[cfg(test)]
     pub(crate) fn non_finite(&self, c: usize) -> Option<&NonFinite> {
-        self.non_finite[c].as_ref()
+        self.non_finite[c].first()
+    }
+
+    /// Where the value of column `c` in row `r` was read, if it is not a finite number.
+    pub(crate) fn non_finite_at(&self, r: usize, c: usize) -> Option<&NonFinite> {
+        let line = self.line(r)?;
+        self.non_finite[c].iter().find(|nf| nf.line == line)
+    }
+
+    /// This table without the rows `r` for which `leave(r)` is true.
+    pub(crate) fn without_rows(&self, leave: impl Fn(usize) -> bool) -> Self {
+        let keep: Vec<usize> = (0..self.rows()).filter(|&r| !leave(r)).collect();
+        let lines: Vec<usize> = keep.iter().filter_map(|&r| self.line(r)).collect();
+        Self {
+            header: self.header.clone(),
+            columns: self
+                .columns
+                .iter()
+                .map(|c| keep.iter().map(|&r| c[r]).collect())
+                .collect(),
+            non_finite: self
+                .non_finite
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .filter(|nf| lines.binary_search(&nf.line).is_ok())
+                        .cloned()
+                        .collect()
+                })
+                .collect(),
+            lines,
+        }
     }
 
     /// Percent of the cycle of every row: time normalised from the first row (0 %) to the last
@@ -945,6 +983,23 @@ mod tests {
         assert!(w.is_empty());
         assert!(!t.in_degrees());
         assert_eq!(t.column("q").unwrap(), &[0.25, 0.5]);
+    }
+
+    #[test]
+    fn a_byte_order_mark_before_the_header_is_skipped() {
+        // OpenSim 4 style: the first line is `inDegrees=`, which the mark would hide.
+        let text = "\u{FEFF}inDegrees=yes\nversion=3\nendheader\ntime\tq\n0\t30\n1\t45\n";
+        let (t, w) = MotionTable::parse(text, "x.sto").unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert!(t.in_degrees());
+        assert_eq!(t.column("q").unwrap(), &[30.0, 45.0]);
+        // A name line keeps no mark; a mark later in the file is not skipped.
+        let (t, w) = MotionTable::parse(&format!("\u{FEFF}{NROWS_STYLE}"), "a.mot").unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert_eq!(t.header().name, "walk");
+        let later = NROWS_STYLE.replace("inDegrees", "\u{FEFF}inDegrees");
+        let (t, w) = MotionTable::parse(&later, "a.mot").unwrap();
+        assert!(!t.in_degrees(), "{w:?}");
     }
 
     #[test]
