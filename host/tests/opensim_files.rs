@@ -272,7 +272,7 @@ fn an_output_that_is_also_an_input_is_refused() {
 #[test]
 fn one_file_given_as_two_outputs_is_refused_before_anything_is_written() {
     let dir = tempfile::tempdir().unwrap();
-    let m = write(dir.path(), "x.mot", &degrees_mot());
+    let m = write(dir.path(), "x.mot", degrees_mot());
     let old = write(dir.path(), "b.out", "old\n");
     let same_by_another_name = format!("{}/./b.out", dir.path().display());
     let new = dir.path().join("new.out");
