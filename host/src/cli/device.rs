@@ -744,7 +744,11 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             None => Expected::FirstToLast,
         };
         let mut v = Verification::run(&model.device, &log.poses, expected);
-        v.expected_model = Some(model.hub.id());
+        // (A stream carries its own configuration: its model is checked against --model only
+        // when that is given.)
+        if args.stream.is_none() || args.model.model.is_some() {
+            v.expected_model = Some(model.hub.id());
+        }
         let arrivals = Arrivals::of(&stream);
         let intact = arrivals.framed_samples(model.hub.id());
         let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
