@@ -302,4 +302,19 @@ fn a_devices_frames_are_captioned_as_the_hub_computed_them() {
         md.contains("Model: PHAK model, origin at the pelvis origin (midway between the hips) (a device's frames: as the hub computed them)"),
         "{md}"
     );
+    // Its rows in time order, as `gait` takes them: time going back is refused at its line.
+    let text = std::fs::read_to_string(&csv_path).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines.swap(5, 6);
+    let back = dir.path().join("back.csv");
+    std::fs::write(&back, lines.join("\n") + "\n").unwrap();
+    let o = common::qgait(&[
+        "report",
+        back.to_str().unwrap(),
+        "-o",
+        dir.path().join("out2").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = common::stderr(&o);
+    assert!(err.contains(&format!("{}:7:", back.display())), "{err}");
 }

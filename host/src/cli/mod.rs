@@ -128,7 +128,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 if crate::device::frames_csv::is_frames_csv(spec) {
                     let text = std::fs::read_to_string(spec)
                         .with_context(|| format!("{spec}: cannot read"))?;
-                    let table = crate::device::frames_csv::parse(&text, spec)?;
+                    let mut table = crate::device::frames_csv::parse(&text, spec)?;
+                    // Timed frames in time order, as `gait` takes them.
+                    if table.time.iter().any(Option::is_some) {
+                        let (ordered, w) = table.in_time_order(spec)?;
+                        warn(w);
+                        table = ordered;
+                    }
                     frames.push((i, label, spec.clone(), table));
                     continue;
                 }
