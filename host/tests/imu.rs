@@ -314,6 +314,15 @@ fn a_sensor_without_a_reading_is_held_and_the_rest_solved() {
     for v in t.column("hip_flexion_r").unwrap() {
         assert!(v.abs() < 1e-9, "{v}");
     }
+    // Said, with where: the held values are not measurements.
+    assert!(
+        stderr(&o).contains(&format!(
+            "{}:7: `femur_r_imu` has no reading (nan) in 1 of 2 rows, the first here",
+            walk.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
     let _ = std::fs::remove_dir_all(&tmp);
 }
 

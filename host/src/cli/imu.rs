@@ -416,7 +416,11 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
             )));
         }
     }
+    let present = calibration.1.clone();
     let calibration = calibration.0;
+    // Rows without a reading of each sensor the calibration pose has: (count, first line).
+    let mut gaps: Vec<(Segment, usize, usize)> = Vec::new();
+    let mut rows = 0usize;
 
     let name = a
         .orientations
@@ -440,6 +444,15 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
                 write_mot_row(&mut *out, &row)
             };
         while let Some(r) = reader.next_row()? {
+            rows += 1;
+            for &sensor in &present {
+                if r.readings.get(sensor).is_none() {
+                    match gaps.iter_mut().find(|(s, ..)| *s == sensor) {
+                        Some((_, n, _)) => *n += 1,
+                        None => gaps.push((sensor, 1, r.line)),
+                    }
+                }
+            }
             let segments = calibration
                 .segments(&r.readings)
                 .map_err(|e| anyhow::anyhow!("{}:{}: {e}", reader.source(), r.line))?;
@@ -460,6 +473,12 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     })?;
     progress.finish();
     warnings.extend(reader.take_warnings());
+    for (sensor, n, line) in gaps {
+        warnings.push(Warning(format!(
+            "{}:{line}: `{sensor}` has no reading (nan) in {n} of {rows} rows, the first here: what only it determines keeps its previous value there (0 before its first reading), not a measurement",
+            reader.source()
+        )));
+    }
     diagnostics.warn(warnings);
     if let Some(reference) = &a.compare {
         let (ours, _) = MotionTable::read(&a.output)?;
