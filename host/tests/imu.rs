@@ -314,6 +314,23 @@ fn a_sensor_without_a_reading_is_held_and_the_rest_solved() {
     for v in t.column("hip_flexion_r").unwrap() {
         assert!(v.abs() < 1e-9, "{v}");
     }
+    // --rate is for files without times: said to be ignored here.
+    let o = qgait(&[
+        "imu",
+        walk.to_str().unwrap(),
+        "--calibration",
+        pose.to_str().unwrap(),
+        "--rate",
+        "50",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--rate 50 ignored: the file has its own times"),
+        "{}",
+        stderr(&o)
+    );
     // Said, with where: the held values are not measurements.
     assert!(
         stderr(&o).contains(&format!(

@@ -91,4 +91,22 @@ fn orientations_need_their_calibration_and_no_motion() {
     ]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("no/such/static.sto"), "{}", stderr(&o));
+    // A recording has its own times: --rate is MOTION's.
+    let o = qgait(&[
+        "packets",
+        "--orientations",
+        "walk.sto",
+        "--calibration",
+        "static.sto",
+        "--rate",
+        "7",
+        "-o",
+        "x.bin",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("'--rate <HZ>'") && stderr(&o).contains("cannot be used with"),
+        "{}",
+        stderr(&o)
+    );
 }

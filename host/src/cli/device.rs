@@ -91,8 +91,9 @@ pub struct PacketsArgs {
         conflicts_with = "orientations"
     )]
     pub motion: Option<String>,
-    /// Samples per second (default: the motion's time column).
-    #[arg(long, value_name = "HZ")]
+    /// Samples per second of MOTION (default: its time column; an orientation recording has
+    /// its own times).
+    #[arg(long, value_name = "HZ", conflicts_with = "orientations")]
     pub rate: Option<f64>,
     /// Model whose joints are sent (one packet per joint per row).
     #[arg(long, value_enum, default_value = "phak")]

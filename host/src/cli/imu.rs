@@ -398,6 +398,12 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
         &mut warnings,
     )?;
     let mut reader = imu_vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
+    if let (Some(r), true) = (a.rate, reader.has_times()) {
+        warnings.push(Warning(format!(
+            "{}: --rate {r} ignored: the file has its own times (--rate is for an Xsens trial or an APDM file that gives none)",
+            reader.source()
+        )));
+    }
     for s in &calibration.1 {
         if !reader.sensors().contains(s) {
             bail!(

@@ -57,11 +57,18 @@ pub trait OrientationSource {
     fn take_warnings(&mut self) -> Vec<Warning>;
     /// The next row, or `None` after the last (an error if there is no row at all).
     fn next_row(&mut self) -> Result<Option<OrientationRow>, MotError>;
+    /// Whether the rows' times are the file's own (a time column), whatever rate is given.
+    fn has_times(&self) -> bool {
+        false
+    }
 }
 
 impl OrientationSource for OrientationReader {
     fn source(&self) -> &str {
         OrientationReader::source(self)
+    }
+    fn has_times(&self) -> bool {
+        true
     }
     fn sensors(&self) -> Vec<Segment> {
         OrientationReader::sensors(self).collect()
