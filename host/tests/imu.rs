@@ -167,6 +167,19 @@ fn heading_free_pelvis_does_not_follow_the_walking_direction() {
     assert!(world_rot > 360.0);
     let rms = (free_rot.iter().map(|v| v * v).sum::<f64>() / free_rot.len() as f64).sqrt();
     assert!(rms < 30.0, "heading-free pelvis_rotation rms {rms:.1}°");
+    // The file says so, and `gait` warns that turns cannot be found in it.
+    assert!(f.header().pelvis_heading_free && !w.header().pelvis_heading_free);
+    let o = qgait(&[
+        "gait",
+        free.to_str().unwrap(),
+        "-o",
+        tmp.join("gait").to_str().unwrap(),
+    ]);
+    assert!(
+        stderr(&o).contains("its pelvis is heading-free (qgait imu --pelvis heading-free)"),
+        "{}",
+        stderr(&o)
+    );
     let _ = std::fs::remove_dir_all(&tmp);
 }
 

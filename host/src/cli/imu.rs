@@ -440,7 +440,7 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     let progress = Progress::new(0, "imu", diagnostics.quiet());
     let mut window = ProgressionWindow::new(PROGRESSION_WINDOW, 1 + solving.heading_column());
     write_output_with(Some(&a.output), |out| {
-        write_mot_header(&mut *out, &name, &labels, true, None)?;
+        write_mot_header(&mut *out, &name, &labels, true, None, heading_free)?;
         let mut emit =
             |row: &Row, heading: Option<f64>, solving: &Solving| -> std::io::Result<()> {
                 let mut row = row.clone();

@@ -188,6 +188,11 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
         ));
     }
     let (table, mut warnings) = load_motion(source)?;
+    if table.header().pelvis_heading_free {
+        warnings.push(Warning(format!(
+            "{source}: its pelvis is heading-free (qgait imu --pelvis heading-free): the walking direction is not in it, so turns cannot be found and strides taken while turning are analysed as straight walking; for gait analysis, solve with the default pelvis"
+        )));
+    }
     let foot = model.lengths().is_none();
     let points = PointModel::new(model, foot)?;
     let (table, left_out, w) = leave_out_non_finite(table, points.reads());

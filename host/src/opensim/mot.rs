@@ -168,6 +168,10 @@ pub struct Header {
     /// Whether the angles are in gait2392's signs whatever the model (a `builtin:` motion: its
     /// knee flexes with negative angles), not in the model's own.
     pub gait2392_signs: bool,
+    /// Whether the pelvis is relative to the direction of progression, not to ground
+    /// (`qgaitPelvis=heading-free` in the header, what `qgait imu --pelvis heading-free`
+    /// writes): the walking direction, and so turns, are not in the motion.
+    pub pelvis_heading_free: bool,
     /// The declared row count and the key that declared it.
     declared_rows: Option<(usize, &'static str)>,
 }
@@ -258,6 +262,7 @@ impl<R: BufRead> MotionReader<R> {
                 labels: Vec::new(),
                 labels_line: None,
                 gait2392_signs: false,
+                pelvis_heading_free: false,
                 declared_rows: None,
             },
             input,
@@ -372,6 +377,9 @@ impl<R: BufRead> MotionReader<R> {
                             .map(|n| (n, "nColumns"))
                     }
                     "datatype" => self.data_type = Some(value.to_string()),
+                    "qgaitpelvis" => {
+                        self.header.pelvis_heading_free = value.eq_ignore_ascii_case(HEADING_FREE)
+                    }
                     "version" => {
                         version = Some((value.parse::<f64>().unwrap_or(0.0), value.to_string()))
                     }
@@ -707,6 +715,7 @@ impl MotionTable {
                 labels,
                 labels_line: None,
                 gait2392_signs: false,
+                pelvis_heading_free: false,
                 declared_rows: None,
             },
             columns,
@@ -770,6 +779,7 @@ impl MotionTable {
             &self.header.labels,
             self.header.in_degrees,
             Some(self.rows()),
+            self.header.pelvis_heading_free,
         )?;
         let mut row = vec![0.0; self.columns.len()];
         for r in 0..self.rows() {
@@ -883,20 +893,30 @@ impl MotionTable {
     }
 }
 
+/// The value of the header key `qgaitPelvis` that says the pelvis is heading-free
+/// ([`Header::pelvis_heading_free`]).
+pub(crate) const HEADING_FREE: &str = "heading-free";
+
 /// Writes a `.mot` header (name, `version=1`, `nRows=` when `rows` is known, `nColumns=`,
 /// `inDegrees=`, `endheader`) and the column labels: [`MotionTable::write_mot`], or a writer
 /// that streams its rows with [`write_mot_row`] (no `nRows=`: the reader counts the rows).
+/// With `qgaitPelvis=heading-free` when `pelvis_heading_free` (OpenSim reads past a header key
+/// it does not know).
 pub(crate) fn write_mot_header<W: Write>(
     mut w: W,
     name: &str,
     labels: &[String],
     in_degrees: bool,
     rows: Option<usize>,
+    pelvis_heading_free: bool,
 ) -> io::Result<()> {
     let name = if name.is_empty() { "motion" } else { name };
     writeln!(w, "{name}\nversion=1")?;
     if let Some(n) = rows {
         writeln!(w, "nRows={n}")?;
+    }
+    if pelvis_heading_free {
+        writeln!(w, "qgaitPelvis={HEADING_FREE}")?;
     }
     writeln!(w, "nColumns={}", labels.len())?;
     writeln!(
