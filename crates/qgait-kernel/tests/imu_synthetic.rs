@@ -91,6 +91,38 @@ fn exact_data_come_back_within_a_hundredth_of_a_degree_in_f64() {
     }
 }
 
+/// gait2392 clamps no coordinate, so OpenSense's inverse kinematics bounds none: a knee
+/// hyperextended past the model's +10° range, or a hip flexed past its 120°, comes back as it is.
+#[test]
+fn coordinates_beyond_the_models_ranges_are_not_bounded() {
+    let model = model();
+    let mount = mountings(3);
+    let rec = recording(0.1, &mount, &mount, Disturbance::default());
+    let cal = Calibration::new(&model, &rec.calibration, &Settings::opensense_tutorial()).unwrap();
+    let s_inv = sensor_to_opensim().conj();
+    let (_, q0, lumbar) = &rec.frames[0];
+    let mut q = *q0;
+    q[6] = 15.0 * DEG; // knee_angle_r (range -120..10)
+    q[10] = 125.0 * DEG; // hip_flexion_l (range -120..120)
+    let bodies = segments(&model, &q, lumbar);
+    let mut readings = Orientations::EMPTY;
+    for (i, seg) in qgait_kernel::imu::Segment::ALL.into_iter().enumerate() {
+        readings.set(seg, Some(s_inv * bodies[i] * mount[i]));
+    }
+    let seg = cal.segments(&readings).unwrap();
+    for mode in [Mode::ClosedForm, Mode::LeastSquares] {
+        let mut solver = Solver::<f64>::new();
+        let mut out: ImuAngles<f64> = solver.solve(&model, &seg, mode);
+        for _ in 0..5 {
+            out = solver.solve(&model, &seg, mode);
+        }
+        for i in [6, 10] {
+            let e = (out.coordinates[i] - q[i]).abs() / DEG;
+            assert!(e < 0.01, "{mode:?} coordinate {i}: {} off", e);
+        }
+    }
+}
+
 #[test]
 fn exact_data_in_f32_are_close() {
     let rec = exact();

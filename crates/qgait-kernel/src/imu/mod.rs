@@ -40,7 +40,8 @@
 //!    Jacobian leaves the residual unchanged (`J(r) r = r`), the fixed point is the exact
 //!    minimiser, not an approximation of it. Warm start: the previous frame's solution (the
 //!    closed form on the first frame and after [`Solver::reset`]); [`ITERATIONS`] iterations,
-//!    each clamped to the model's coordinate ranges ([`range`]).
+//!    none clamped: gait2392 clamps no coordinate, so OpenSense's inverse kinematics bounds
+//!    none.
 //!
 //! **What the eight-IMU set determines.** The pelvis (tilt, list, rotation: pelvis sensor), the
 //! hips (3 each: pelvis and femur), the knees (femur and tibia), the ankles and subtalars
@@ -81,7 +82,7 @@ mod solve;
 pub use calibration::{Calibration, Heading, HeadingAxis, Settings};
 pub use fit::{FitAngles, FitModel, FitSolver};
 pub use solve::{
-    closed_form, heading_free_pelvis, lumbar, range, ImuAngles, Mode, Solver, ITERATIONS, LUMBAR,
+    closed_form, heading_free_pelvis, lumbar, ImuAngles, Mode, Solver, ITERATIONS, LUMBAR,
 };
 
 use core::fmt;

@@ -36,39 +36,6 @@ pub enum Mode {
     LeastSquares,
 }
 
-/// The range of chain coordinate `i` (radians) that the least squares and the closed form clamp
-/// it to: the ranges written in `gait2392_simbody.osim` (hips +-120 degrees, knees -120 to
-/// +10, right ankle, subtalars and right MTP +-90, left ankle and left MTP +-60), except the
-/// pelvis, which is unbounded (turning: its +-90 degree range is not applied). Computed, not
-/// stored: each bound folds to a constant (no table in the device's RAM).
-// The model file's numbers (radians rounded to 8 digits), not approximations of pi.
-#[allow(clippy::approx_constant)]
-pub fn range<T: Real>(i: usize) -> (T, T) {
-    let (hip, r90, r60) = (2.094_395_1, 1.570_796_33, 1.047_197_55);
-    let (min, max) = match i {
-        0..=2 => (f64::NEG_INFINITY, f64::INFINITY),
-        6 | 13 => (-2.094_395_1, 0.174_532_93),
-        3..=5 | 10..=12 => (-hip, hip),
-        14 | 16 => (-r60, r60),
-        _ => (-r90, r90),
-    };
-    (T::from_f64(min), T::from_f64(max))
-}
-
-/// `q` clamped to the [`range`] of coordinate `i` (NaN stays NaN). Not inlined: one copy of
-/// the bounds on the device (flash).
-#[inline(never)]
-fn clamp<T: Real>(i: usize, q: T) -> T {
-    let (min, max) = range::<T>(i);
-    if q < min {
-        min
-    } else if q > max {
-        max
-    } else {
-        q
-    }
-}
-
 /// One leg of the chain: its joints and coordinates.
 struct Leg {
     /// Chain joints: hip (femur), knee (tibia), ankle (talus), subtalar (calcaneus).
@@ -102,7 +69,8 @@ fn axes<T: Real, const N: usize>(model: &Gait2392<T>, j: usize) -> [Vec3<T>; N] 
 /// The closed form (see the [module](super) docs): each joint's relative rotation decomposed
 /// into its axes, for the segment orientations `segments` ([`Calibration::segments`](super::Calibration::segments)).
 /// Coordinates whose segments are missing keep their value in `previous`; `pelvis_rotation`
-/// is unwrapped relative to it. Leg coordinates are clamped to their [`range`].
+/// is unwrapped relative to it. No coordinate is clamped: gait2392 clamps none
+/// (`<clamped>false</clamped>` throughout), so OpenSense's inverse kinematics bounds none.
 pub fn closed_form<T: Real>(
     model: &Gait2392<T>,
     segments: &Orientations<T>,
@@ -145,7 +113,7 @@ fn decompose<T: Real>(
             (Some(p), Some(f)) => {
                 let hip = three_axes(p.conj() * f, axes(model, leg.hip));
                 for (k, angle) in hip.into_iter().enumerate() {
-                    q[c + k] = clamp(c + k, angle);
+                    q[c + k] = angle;
                 }
             }
             _ => out.held |= 0b111 << c,
@@ -153,7 +121,7 @@ fn decompose<T: Real>(
         match (femur, tibia) {
             (Some(f), Some(t)) => {
                 let [knee] = axes(model, leg.hip + 1);
-                q[c + 3] = clamp(c + 3, twist(f.conj() * t, knee));
+                q[c + 3] = twist(f.conj() * t, knee);
             }
             _ => out.held |= 1 << (c + 3),
         }
@@ -162,8 +130,8 @@ fn decompose<T: Real>(
                 let [ankle] = axes(model, leg.hip + 2);
                 let [subtalar] = axes(model, leg.hip + 3);
                 let [a, s] = two_axes(t.conj() * f, ankle, subtalar);
-                q[c + 4] = clamp(c + 4, a);
-                q[c + 5] = clamp(c + 5, s);
+                q[c + 4] = a;
+                q[c + 5] = s;
             }
             _ => out.held |= 0b11 << (c + 4),
         }
@@ -336,7 +304,7 @@ pub(crate) fn frames<T: Real>(model: &Gait2392<T>, q: &[T; 17]) -> [Frame<T>; 11
 }
 
 /// One Gauss-Newton step of one leg at the chain frames `frames` of coordinates `q`: updates
-/// the leg's six coordinates in `q` (clamped), unless no sensor of the leg is present.
+/// the leg's six coordinates in `q`, unless no sensor of the leg is present.
 // Not inlined: one copy on the device whichever caller (flash; BENCHMARKS.md).
 #[inline(never)]
 fn gauss_newton_step<T: Real>(
@@ -382,7 +350,7 @@ fn gauss_newton_step<T: Real>(
     }
     if let Some(step) = normal.step(6) {
         for (k, d) in step.into_iter().enumerate() {
-            q[c + k] = clamp(c + k, q[c + k] + d);
+            q[c + k] += d;
         }
     }
 }
