@@ -73,23 +73,20 @@ pub struct FramesTable {
 }
 
 impl FramesTable {
-    /// The rows in time order, as a gait analysis needs them (the rules of a `.mot`): every
-    /// row must have a time (an error naming the line and column of an empty one), a time
-    /// before the previous row's is an error, and a row whose time repeats the previous row's
-    /// (a frame written twice) replaces it with a warning. `source` names the file.
+    /// The rows in time order, as a gait analysis needs them: every row must have a time (an
+    /// error naming the line and column of an empty one); the rows are taken in sequence
+    /// order (a hub sends a sample that completes first first, so its frames may come out of
+    /// order within its reorder window), times continuing across the hub's timestamp wrap
+    /// (2³² µs, 71.6 min); then, by the rules of a `.mot`, a time before the previous row's is
+    /// an error and a row whose time repeats the previous row's (a frame written twice)
+    /// replaces it with a warning. `source` names the file.
     pub fn in_time_order(self, source: &str) -> Result<(Self, Vec<Warning>), FramesCsvError> {
         let at = |(line, column): (usize, usize)| Location {
             path: source.to_string(),
             line: Some(line),
             column: Some(column),
         };
-        let mut out = FramesTable {
-            seq: Vec::with_capacity(self.seq.len()),
-            time: Vec::with_capacity(self.seq.len()),
-            points: Vec::with_capacity(self.seq.len()),
-            at: Vec::with_capacity(self.seq.len()),
-        };
-        let mut warnings = Vec::new();
+        let mut rows = Vec::with_capacity(self.seq.len());
         for (((seq, time), points), here) in self
             .seq
             .into_iter()
@@ -100,9 +97,29 @@ impl FramesTable {
             let Some(t) = time else {
                 return Err(FramesCsvError::NoTime { at: at(here) });
             };
+            rows.push((seq, t, points, here));
+        }
+        // Sequence order relative to the first frame (numbers wrap at 2³²).
+        let first = rows.first().map_or(0, |r| r.0);
+        rows.sort_by_key(|r| r.0.wrapping_sub(first));
+        let mut out = FramesTable {
+            seq: Vec::with_capacity(rows.len()),
+            time: Vec::with_capacity(rows.len()),
+            points: Vec::with_capacity(rows.len()),
+            at: Vec::with_capacity(rows.len()),
+        };
+        let mut warnings = Vec::new();
+        let mut wraps = 0.0;
+        for (seq, t, points, here) in rows {
+            let mut t = t + wraps;
             if let (Some(Some(p)), Some(&before), Some(&before_seq)) =
                 (out.time.last(), out.at.last(), out.seq.last())
             {
+                if *p - t > TIMESTAMP_WRAP_S / 2.0 {
+                    // The hub's microsecond timestamp wrapped.
+                    wraps += TIMESTAMP_WRAP_S;
+                    t += TIMESTAMP_WRAP_S;
+                }
                 if t < *p {
                     return Err(FramesCsvError::TimeBack {
                         at: at(here),
@@ -113,7 +130,7 @@ impl FramesTable {
                 }
                 if t == *p {
                     warnings.push(Warning(format!(
-                        "{}: time {t} (seq {seq}) repeats the previous row's (line {}, seq {before_seq}); this row replaces it, as in a .mot",
+                        "{}: time {t} (seq {seq}) repeats the previous frame's (line {}, seq {before_seq}); this row replaces it, as in a .mot",
                         at(here), before.0
                     )));
                     out.seq.pop();
@@ -130,6 +147,10 @@ impl FramesTable {
         Ok((out, warnings))
     }
 }
+
+/// The span of a hub's `timestamp_us` (2³² µs) in seconds: a frames CSV's times from a device
+/// go back by it when the timestamp wraps.
+const TIMESTAMP_WRAP_S: f64 = 4_294.967_296;
 
 /// Why a file is not a frames CSV: where and what.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -151,14 +172,14 @@ pub enum FramesCsvError {
         /// How many it has.
         found: usize,
     },
-    /// A row without a time, where a gait analysis needs every row's.
-    #[error("{at}: no time in this row (a gait analysis needs the time of every frame)")]
+    /// A row without a time, where every row's is needed (a frames CSV with times).
+    #[error("{at}: no time in this row (the other rows have one: every frame's is needed)")]
     NoTime {
         /// The row's line and the column of its empty `time`.
         at: Location,
     },
-    /// A time before the previous row's.
-    #[error("{at}: time {time} is before the previous row's {previous} (line {previous_line})")]
+    /// A time before the previous frame's (in sequence order).
+    #[error("{at}: time {time} is before the previous frame's {previous} (line {previous_line})")]
     TimeBack {
         /// The row's line and the column of its `time`.
         at: Location,
@@ -283,8 +304,27 @@ mod tests {
         assert_eq!(w.len(), 1, "{w:?}");
         assert_eq!(
             w[0].0,
-            "f.csv:4:3: time 0.01 (seq 1) repeats the previous row's (line 3, seq 1); this row replaces it, as in a .mot"
+            "f.csv:4:3: time 0.01 (seq 1) repeats the previous frame's (line 3, seq 1); this row replaces it, as in a .mot"
         );
+        // Frames as a hub sends them (a sample that completes first, first): in sequence
+        // order; the hub's timestamp wrapping after 2³² µs continues.
+        let (t, w) = csv(&[
+            ("4294967295", "4294.96"),
+            ("1", "0.02"),
+            ("0", "0.01"),
+            ("2", "0.03"),
+        ])
+        .in_time_order("f.csv")
+        .unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert_eq!(t.seq, [4294967295, 0, 1, 2]);
+        let times: Vec<f64> = t.time.iter().flatten().copied().collect();
+        for (got, want) in times
+            .iter()
+            .zip([4294.96, 4294.977296, 4294.987296, 4294.997296])
+        {
+            assert!((got - want).abs() < 1e-9, "{times:?}");
+        }
         // Time going back: an error at its line and column.
         let e = csv(&[("8", "0"), ("9", "0.5"), ("10", "0.25")])
             .in_time_order("f.csv")
@@ -301,7 +341,7 @@ mod tests {
         );
         assert_eq!(
             e.to_string(),
-            "f.csv:4:4: time 0.25 is before the previous row's 0.5 (line 3)"
+            "f.csv:4:4: time 0.25 is before the previous frame's 0.5 (line 3)"
         );
         // One row without a time: named by line and column.
         let e = csv(&[("0", "0"), ("1", ""), ("2", "0.02")])
@@ -309,7 +349,7 @@ mod tests {
             .unwrap_err();
         assert_eq!(
             e.to_string(),
-            "f.csv:3:3: no time in this row (a gait analysis needs the time of every frame)"
+            "f.csv:3:3: no time in this row (the other rows have one: every frame's is needed)"
         );
     }
 
