@@ -499,7 +499,8 @@ fn a_weld_constraint_on_a_leg_body_is_refused_and_one_on_the_arm_accepted() {
 }
 
 /// A gait2392 model with a leg coordinate locked is imported as a general chain, which holds
-/// the coordinate at its default as OpenSim does (gait2392's table would move it).
+/// the coordinate at its default as OpenSim does (gait2392's table would move it); one with a
+/// leg coordinate clamped too.
 #[test]
 fn a_locked_coordinate_of_a_gait2392_model_is_held_at_its_default() {
     let Some(shared) = shared_dir() else { return };
@@ -523,6 +524,17 @@ fn a_locked_coordinate_of_a_gait2392_model_is_held_at_its_default() {
     let (free, _) = Model::import(&text, "free.osim", None).unwrap();
     assert!(matches!(free, Model::Gait2392 { .. }));
     assert_ne!(points(&free)(&q)[1], still[1]);
+    // A clamped one takes the general chain too (its range bounds `qgait imu`).
+    let clamp = at + text[at..].find("<clamped>false</clamped>").unwrap();
+    let clamped = format!(
+        "{}<clamped>true</clamped>{}",
+        &text[..clamp],
+        &text[clamp + "<clamped>false</clamped>".len()..]
+    );
+    let (model, _) = Model::import(&clamped, "clamped.osim", None).unwrap();
+    assert!(matches!(model, Model::Chain { .. }));
+    let (a, b) = (points(&model)(&q)[1], points(&free)(&q)[1]);
+    assert!(a.max_abs_diff(b) < 1e-12, "{a:?} {b:?}");
 }
 
 /// A transform axis turning by a coordinate its joint does not declare is refused, as OpenSim

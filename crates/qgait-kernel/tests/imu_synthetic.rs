@@ -118,7 +118,7 @@ fn coordinates_beyond_the_models_ranges_are_not_bounded() {
         }
         for i in [6, 10] {
             let e = (out.coordinates[i] - q[i]).abs() / DEG;
-            assert!(e < 0.01, "{mode:?} coordinate {i}: {} off", e);
+            assert!(e < 0.01, "{mode:?} coordinate {i}: {e} off");
         }
     }
 }

@@ -852,7 +852,10 @@ impl MotionTable {
     /// Where the value of column `c` in row `r` was read, if it is not a finite number.
     pub(crate) fn non_finite_at(&self, r: usize, c: usize) -> Option<&NonFinite> {
         let line = self.line(r)?;
-        self.non_finite[c].iter().find(|nf| nf.line == line)
+        // In row order, so in line order.
+        let column = self.non_finite.get(c)?;
+        let k = column.binary_search_by_key(&line, |nf| nf.line).ok()?;
+        column.get(k)
     }
 
     /// This table without the rows `r` for which `leave(r)` is true.

@@ -114,11 +114,12 @@ pub fn import(
     };
     let joints = read_joints(&doc).map_err(err)?;
     check_constraints(&doc).map_err(err)?;
-    // gait2392's table moves every coordinate; a locked one takes the general chain, which
-    // holds it at its default as OpenSim does.
-    if let Some(c) = locked_coordinate(&doc) {
+    // gait2392's table moves every coordinate freely; a locked or clamped one takes the
+    // general chain, which holds it at its default or keeps it in its range (`qgait imu`) as
+    // OpenSim does.
+    if let Some((c, how)) = held_coordinate(&doc) {
         return Err(err(format!(
-            "coordinate {c} is locked in the model; gait2392's table moves every coordinate"
+            "coordinate {c} is {how} in the model; gait2392's table moves every coordinate freely"
         )));
     }
     let mut notes = vec![format!(
@@ -768,13 +769,21 @@ pub(super) fn constraint_naming<'a, 'i>(
     None
 }
 
-/// The first of the 17 chain coordinates the model locks.
-fn locked_coordinate<'a>(doc: &'a Document) -> Option<&'a str> {
+/// The first of the 17 chain coordinates the model locks or clamps, and which.
+fn held_coordinate<'a>(doc: &'a Document) -> Option<(&'a str, &'static str)> {
     doc.descendants()
         .filter(|n| n.has_tag_name("Coordinate"))
-        .filter(|c| text_of(*c, "locked") == Some("true"))
-        .filter_map(|c| c.attribute("name"))
-        .find(|name| COORDINATES.contains(name))
+        .filter_map(|c| {
+            let name = c.attribute("name").filter(|n| COORDINATES.contains(n))?;
+            if text_of(c, "locked") == Some("true") {
+                Some((name, "locked"))
+            } else if text_of(c, "clamped") == Some("true") {
+                Some((name, "clamped"))
+            } else {
+                None
+            }
+        })
+        .next()
 }
 
 /// Notes for chain coordinates whose `default_value` is not 0: OpenSim uses the default for a
