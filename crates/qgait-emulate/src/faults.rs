@@ -402,7 +402,7 @@ impl Arrivals {
         let mut a = Arrivals::default();
         for r in FrameDecoder::new().feed(stream) {
             match r {
-                // (A packet the hub does not take, a non-finite angle or a quaternion not of
+                // (A packet the hub does not take, an unusable angle or a quaternion not of
                 // unit length, leaves its sample incomplete.)
                 Ok(ref m @ (Message::JointAngle(_) | Message::SegmentOrientation(_)))
                     if !crate::session::accepted(m) => {}

@@ -108,8 +108,8 @@ pub(crate) fn accepted(m: &Message) -> bool {
 /// decoder as the host, so these are exact).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct InputCounts {
-    /// Joint-angle packets with a finite angle and orientation packets with a unit-length
-    /// quaternion (`packets_accepted`).
+    /// Joint-angle packets with a usable angle and orientation packets with a unit-length
+    /// quaternion (`packets_accepted`; what `accepted` says).
     pub accepted: u32,
     /// Frames the decoder rejects (the sum of the hub's decode-error counters).
     pub rejected: u32,

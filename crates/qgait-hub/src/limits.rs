@@ -5,8 +5,9 @@
 //! mirrored for a model whose knee flexes with positive angles (an uploaded Rajagopal chain:
 //! [`KneeFlexion::Positive`]). An angle
 //! outside its range is still used (the pose is computed and sent with
-//! [`FrameFlags::OUT_OF_RANGE`](qgait_proto::FrameFlags::OUT_OF_RANGE)); an angle that is not a
-//! finite number is rejected.
+//! [`FrameFlags::OUT_OF_RANGE`](qgait_proto::FrameFlags::OUT_OF_RANGE)); an angle the hub
+//! cannot use (not finite, or beyond [`JointAngle::MAX_ANGLE`](qgait_proto::JointAngle::MAX_ANGLE))
+//! is rejected before.
 
 use qgait_kernel::models::ranges::{self, KneeFlexion};
 use qgait_proto::JointId;

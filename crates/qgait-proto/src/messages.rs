@@ -110,7 +110,8 @@ pub struct PoseFrame {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Status {
-    /// Well-formed [`JointAngle`] packets accepted.
+    /// Well-formed [`JointAngle`] packets accepted (their angle [`usable`](JointAngle::usable)),
+    /// and, with the orientation input, segment orientations of unit length.
     pub packets_accepted: u32,
     /// Frames rejected for a CRC mismatch.
     pub crc_errors: u32,
@@ -122,7 +123,8 @@ pub struct Status {
     pub unknown_version: u32,
     /// Packets naming an unknown joint or segment.
     pub unknown_joint: u32,
-    /// Angles outside their physiological range.
+    /// Angles outside their physiological range (used), or not
+    /// [`usable`](JointAngle::usable) (dropped).
     pub out_of_range: u32,
     /// Samples completed (a pose was computed).
     pub samples_completed: u32,

@@ -61,8 +61,8 @@
 //! [`ImuAngles::held`] says which were kept.
 //!
 //! **Turning.** `pelvis_rotation` is unbounded: each frame's value is unwrapped to within half a
-//! turn of the previous frame's, so it never wraps or jumps by 360 degrees, and the pelvis is
-//! never clamped (OpenSim's +-90 degree range is not applied). [`heading_free_pelvis`]
+//! turn of the previous frame's, so it never wraps or jumps by 360 degrees (no coordinate is
+//! clamped: gait2392 clamps none, its pelvis's +-90 degree range included). [`heading_free_pelvis`]
 //! re-expresses the pelvis relative to a direction of progression, for analyses of turning
 //! walks (in the world frame, gait2392's tilt and list change with the walking direction).
 //!
