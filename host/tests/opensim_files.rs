@@ -277,11 +277,21 @@ fn one_file_given_as_two_outputs_is_refused_before_anything_is_written() {
     let same_by_another_name = format!("{}/./b.out", dir.path().display());
     let new = dir.path().join("new.out");
     let new = new.to_str().unwrap();
+    let in_new_dir = dir.path().join("d/f.out");
+    let in_new_dir = in_new_dir.to_str().unwrap();
     for args in [
         vec!["export", &m, "--trc", &old, "--sto", &old],
         vec!["export", &m, "--trc", &old, "--sto", &same_by_another_name],
         vec!["export", &m, "--trc", new, "--sto", new],
         vec!["emulate", &m, "--frames-csv", &old, "--log", &old],
+        vec![
+            "emulate",
+            &m,
+            "--frames-csv",
+            in_new_dir,
+            "--log",
+            in_new_dir,
+        ],
     ] {
         let out = qgait(&args);
         assert!(!out.status.success(), "{args:?}");
@@ -292,7 +302,11 @@ fn one_file_given_as_two_outputs_is_refused_before_anything_is_written() {
         );
         assert_eq!(std::fs::read_to_string(&old).unwrap(), "old\n", "{args:?}");
         assert!(!Path::new(new).exists(), "{args:?}");
+        assert!(!dir.path().join("d").exists(), "{args:?}");
     }
+    // /dev/null is not a file one output would replace: given twice, it is taken.
+    let o = qgait(&["export", &m, "--trc", "/dev/null", "--sto", "/dev/null"]);
+    assert!(o.status.success(), "{}", stderr(&o));
 }
 
 #[test]

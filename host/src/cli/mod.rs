@@ -220,8 +220,12 @@ pub(crate) fn refuse_overwrite<'a>(
 }
 
 /// Where `path` is, whether or not it exists yet: its canonical form, or its directory's with
-/// its name (`None` when neither resolves).
+/// its name, or (a directory still to be made) the path made absolute. `None` for a file that
+/// is not a regular one (`/dev/null`, a pipe: written directly, any number of times).
 fn file_identity(path: &Path) -> Option<PathBuf> {
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        return None;
+    }
     if let Ok(real) = path.canonicalize() {
         return Some(real);
     }
@@ -230,7 +234,10 @@ fn file_identity(path: &Path) -> Option<PathBuf> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    Some(dir.canonicalize().ok()?.join(name))
+    match dir.canonicalize() {
+        Ok(dir) => Some(dir.join(name)),
+        Err(_) => std::path::absolute(path).ok(),
+    }
 }
 
 /// A file being written: rows go to a temporary file beside it, renamed to `path` by

@@ -209,6 +209,8 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
         line: Some(line),
         column: None,
     };
+    // A UTF-8 byte order mark (a spreadsheet's "UTF-8 CSV") is not part of the header.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, h)) if h.trim_end() == header() => {}
@@ -282,6 +284,14 @@ mod tests {
         assert!(!is_frames_csv("walk.mot"));
         assert!(!is_frames_csv("csv"));
         assert!(!is_frames_csv("walk.csv.mot"));
+    }
+
+    #[test]
+    fn a_byte_order_mark_before_the_header_is_skipped() {
+        let points = vec!["0.5"; 24].join(",");
+        let text = format!("\u{feff}{}\n0,0,{points}\n", header());
+        let t = parse(&text, "f.csv").unwrap();
+        assert_eq!((t.seq.as_slice(), t.at[0]), (&[0][..], (2, 3)));
     }
 
     #[test]
