@@ -86,6 +86,23 @@ fn decode_skips_damage_and_verify_passes_a_good_log_and_fails_a_gap() {
         stdout(&o)
     );
 
+    // A log cut off inside its last frame: both say that frame is lost.
+    let mut cut = hub_log(0..10);
+    cut.truncate(cut.len() - 20);
+    let cut_path = dir.path().join("cut.bin");
+    std::fs::write(&cut_path, &cut).unwrap();
+    for command in ["decode", "verify"] {
+        let o = qgait(&[command, cut_path.to_str().unwrap()]);
+        assert!(
+            stderr(&o).contains(&format!(
+                "warning: {}: the log ends inside a frame",
+                cut_path.display()
+            )),
+            "{command}: {}",
+            stderr(&o)
+        );
+    }
+
     // A frame damaged in the middle: decode reports it and decodes the others; verify fails
     // because its sample is missing.
     let mut bytes = hub_log(0..10);

@@ -1096,7 +1096,7 @@ fn a_bad_value_loses_only_the_strides_that_include_it() {
     let (strides, e) = gait_strides(&path, &dir.path().join("nan"));
     assert!(
         e.contains(&format!(
-            "nan.mot:508:{column}: value `NaN` in column `knee_angle_r` is not a finite number: this row is left out, with the strides that include them"
+            "nan.mot:508:{column}: value `NaN` in column `knee_angle_r` is not a finite number: this row is left out, with the strides that include it"
         )),
         "{e}"
     );

@@ -175,6 +175,15 @@ pub enum Live {
     Off,
 }
 
+/// A warning when `log` ends with `unterminated` bytes of a frame cut off.
+fn warn_cut_off(log: &str, unterminated: usize) {
+    if unterminated > 0 {
+        eprintln!(
+            "warning: {log}: the log ends inside a frame ({unterminated} bytes without a delimiter): that frame is lost"
+        );
+    }
+}
+
 /// What a damaged frame the decoder reported at byte `offset` is, for a message.
 fn damage_message(offset: u64, error: &qgait_proto::DecodeError) -> String {
     match error {
@@ -495,7 +504,9 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
     if let Some(why) = end.describe().filter(|_| !quiet) {
         eprintln!("{why}");
     }
-    eprintln!("decoded {}", decoder.counts());
+    let counts = decoder.counts();
+    eprintln!("decoded {counts}");
+    warn_cut_off(&args.log, counts.unterminated);
     match end {
         port::End::Failed(e) => Err(e.into()),
         _ => Ok(()),
@@ -536,12 +547,7 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     }
     let counts = decoder.counts();
     eprintln!("decoded {counts}");
-    if counts.unterminated > 0 {
-        eprintln!(
-            "warning: {}: the log ends inside a frame ({} bytes without a delimiter): that frame is lost",
-            args.log, counts.unterminated
-        );
-    }
+    warn_cut_off(&args.log, counts.unterminated);
     if let port::End::Failed(e) = end {
         return Err(e.into());
     }

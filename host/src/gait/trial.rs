@@ -324,16 +324,16 @@ fn leave_out_non_finite(
             ),
         };
         let rows = if end - r == 1 {
-            "this row is".to_string()
+            "this row is left out, with the strides that include it".to_string()
         } else {
             format!(
-                "this row and the next {} to {} are",
+                "this row and the next {} to {} are left out, with the strides that include them",
                 end - r - 1,
                 row_at(end - 1)
             )
         };
         warnings.push(Warning(format!(
-            "{at}: value `{text}` in column `{name}` is not a finite number: {rows} left out, with the strides that include them"
+            "{at}: value `{text}` in column `{name}` is not a finite number: {rows}"
         )));
         if kept > 0 && end < bad.len() {
             breaks.push(kept);
