@@ -196,19 +196,13 @@ fn damage_message(offset: u64, error: &qgait_proto::DecodeError) -> String {
 }
 
 fn micrometres(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
-        _ => Err(format!(
-            "`{s}` is not a tolerance in micrometres (a number, 0 or more)"
-        )),
-    }
+    crate::cli::amount(s, 0.0, true)
+        .ok_or_else(|| format!("`{s}` is not a tolerance in micrometres (a number, 0 or more)"))
 }
 
 fn positive_seconds(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
-        _ => Err(format!("`{s}` is not a positive number of seconds")),
-    }
+    crate::cli::amount(s, 0.0, false)
+        .ok_or_else(|| format!("`{s}` is not a positive number of seconds"))
 }
 
 impl PortArgs {

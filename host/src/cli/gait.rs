@@ -56,11 +56,9 @@ pub struct GaitArgs {
 
 /// `--age`: a finite number of years, 0 or more.
 fn parse_age(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(age) if age.is_finite() && age >= 0.0 => Ok(age),
-        Ok(_) => Err("expected a finite number of years, 0 or more".into()),
-        Err(error) => Err(error.to_string()),
-    }
+    crate::cli::amount(text, 0.0, true).ok_or_else(|| {
+        format!("`{text}` is not an age: expected a finite number of years, 0 or more")
+    })
 }
 
 /// `--cycle`.

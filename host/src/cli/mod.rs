@@ -219,6 +219,13 @@ pub(crate) fn refuse_overwrite<'a>(
     Ok(())
 }
 
+/// `text` as a finite number above `min`, or equal to it if `or_equal`: what the options that
+/// take an amount (seconds, micrometres, years) accept.
+pub(crate) fn amount(text: &str, min: f64, or_equal: bool) -> Option<f64> {
+    let x: f64 = text.trim().parse().ok()?;
+    (x.is_finite() && (x > min || or_equal && x == min)).then_some(x)
+}
+
 /// Where `path` is, whether or not it exists yet: its canonical form, or its directory's with
 /// its name, or (a directory still to be made) the path made absolute. `None` for a file that
 /// is not a regular one (`/dev/null`, a pipe: written directly, any number of times).

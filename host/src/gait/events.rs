@@ -223,17 +223,17 @@ pub fn detect_in(
 
 /// The number of frames in `seconds`, from the median frame interval.
 pub fn frames_in(time: &[f64], seconds: f64) -> usize {
+    match median_step(time) {
+        Some(median) if median > 0.0 => ((seconds / median).round() as usize).max(1),
+        _ => 1,
+    }
+}
+
+/// The median step between frames (s); `None` for fewer than two frames.
+pub fn median_step(time: &[f64]) -> Option<f64> {
     let mut dt: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
-    if dt.is_empty() {
-        return 1;
-    }
     dt.sort_by(f64::total_cmp);
-    let median = dt[dt.len() / 2];
-    if median > 0.0 {
-        ((seconds / median).round() as usize).max(1)
-    } else {
-        1
-    }
+    dt.get(dt.len() / 2).copied()
 }
 
 /// The prominence an event must have in `signal`.

@@ -115,12 +115,9 @@ pub fn gaps(
     known: &[usize],
     at: impl Fn(usize) -> String,
 ) -> (Vec<usize>, Vec<Warning>) {
-    let mut steps: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
     let mut breaks = known.to_vec();
     let mut warnings = Vec::new();
-    if !steps.is_empty() {
-        steps.sort_by(f64::total_cmp);
-        let median = steps[steps.len() / 2];
+    if let Some(median) = crate::gait::events::median_step(time) {
         let secs = |x: f64| (x * 1e6).round() / 1e6;
         for i in 1..time.len() {
             let step = time[i] - time[i - 1];
