@@ -78,7 +78,7 @@ impl Model {
                 let (model, notes) = Self::import(&text, arg, None)?;
                 (model, notes.into_iter().skip(1).collect())
             }
-            _ if arg.ends_with(".toml") || path.is_file() => {
+            _ if arg.to_ascii_lowercase().ends_with(".toml") || path.is_file() => {
                 let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
                     path: arg.to_string(),
                     error,
