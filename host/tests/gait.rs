@@ -1115,3 +1115,42 @@ fn a_bad_value_loses_only_the_strides_that_include_it() {
         stderr(&o)
     );
 }
+
+/// A `builtin:` gait is one cycle, taken whole whatever `--cycle` says: its events are the heel
+/// strikes that bound that cycle, and the report says how its cycles were taken.
+#[test]
+fn a_builtin_gait_is_reported_as_taken_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b");
+    run_gait(&["builtin:normal", "-q", "-o", out.to_str().unwrap()]);
+    let events = std::fs::read_to_string(out.join("events.csv")).unwrap();
+    let right_strikes: Vec<&str> = events
+        .lines()
+        .filter(|l| l.starts_with("right,heel_strike,"))
+        .map(|l| l.rsplit(',').next().unwrap())
+        .collect();
+    assert_eq!(right_strikes, ["0", "1"], "{events}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.contains("whole: each recording is one cycle"),
+        "{html}"
+    );
+}
+
+/// When the speed picks the normal ranges' pace and the cadence the kinematic bands' speed
+/// group, the report says the two may differ (crouch4: pace Slow by speed, group by cadence).
+#[test]
+fn the_report_says_when_speed_and_cadence_pick_the_normals() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c");
+    let motion = shared.join("data/opensim/crouch4.mot");
+    let (m, o) = (motion.to_str().unwrap(), out.to_str().unwrap());
+    run_gait(&[m, "-q", "--cycle", "whole", "--age", "30", "-o", o]);
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.contains("by its speed range")
+            && html.contains("the kinematic bands' speed group is picked by cadence"),
+        "{html}"
+    );
+}

@@ -128,6 +128,12 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         age: args.age,
         male: args.sex.map(|s| s == SexArg::Male),
     };
+    // Every recording taken whole (`builtin:` gaits are): the report says so.
+    let mode = if walks.iter().all(|w| w.mode == CycleMode::Whole) {
+        CycleMode::Whole
+    } else {
+        mode
+    };
     let report = output::build(
         walks,
         model.name().to_string(),

@@ -60,9 +60,14 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
         );
     };
     setting("model", r.model.clone());
+    // (A `builtin:` gait is taken whole whatever `--cycle` says.)
+    let builtin_whole = r.walks.iter().any(|w| w.mode != r.mode);
     setting(
         "cycles",
         match r.mode {
+            crate::gait::CycleMode::Auto if builtin_whole => {
+                "auto: heel strike to heel strike of each side (Zeni et al. 2008); a builtin: gait whole (it is one cycle)".into()
+            }
             crate::gait::CycleMode::Auto => {
                 "auto: heel strike to heel strike of each side (Zeni et al. 2008)".into()
             }

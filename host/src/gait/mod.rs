@@ -86,6 +86,8 @@ pub struct Walk {
     /// The nine variables of each frame (`[side][variable][frame]`, degrees), when the
     /// recording has joint angles.
     pub angles: Option<[[Vec<f64>; 9]; 2]>,
+    /// How its cycles were taken (a `builtin:` gait whole whatever `--cycle` says).
+    pub mode: CycleMode,
 }
 
 /// Analyses one recording.
@@ -131,15 +133,16 @@ pub fn analyse(trial: Trial, mode: CycleMode) -> Result<Walk, AnalysisError> {
         cycles,
         dropped,
         angles,
+        mode,
     })
 }
 
 impl Walk {
-    /// The events to report, in time order: `(side, kind, time)`. With `--cycle whole`, the
-    /// heel strikes that bound the declared cycles, and the toe offs inside.
-    pub fn event_list(&self, mode: CycleMode) -> Vec<(usize, Kind, f64)> {
+    /// The events to report, in time order: `(side, kind, time)`. Taken whole, the heel
+    /// strikes that bound the declared cycles, and the toe offs inside.
+    pub fn event_list(&self) -> Vec<(usize, Kind, f64)> {
         let mut out = Vec::new();
-        match mode {
+        match self.mode {
             CycleMode::Auto => {
                 for s in 0..2 {
                     out.extend(

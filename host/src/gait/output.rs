@@ -183,10 +183,18 @@ pub fn build(
                 }
             }
             let sex = sex_words(subject.male);
+            // (The kinematic bands' speed group is picked by cadence, below: the two may
+            // differ when the speed picks the pace.)
+            let by_speed = matches!(choice, crate::gait::normative::PaceChoice::Speed { .. });
             ranges_for = Some(format!(
-                "{sex}, {age} years, pace `{pace}` {} ({})",
+                "{sex}, {age} years, pace `{pace}` {} ({}){}",
                 choice.words(),
-                stp_path.display()
+                stp_path.display(),
+                if by_speed && needs_groups {
+                    "; the kinematic bands' speed group is picked by cadence, so the two may differ"
+                } else {
+                    ""
+                }
             ));
         }
     }
@@ -375,7 +383,7 @@ pub fn events_csv(report: &Report) -> Result<String, ReportError> {
         }
         w.write_record(&head)?;
         for walk in &report.walks {
-            for (s, kind, t) in walk.event_list(report.mode) {
+            for (s, kind, t) in walk.event_list() {
                 let time = round(t, 6);
                 let mut row = vec![SIDES[s], kind.name(), time.as_str()];
                 if several {
