@@ -34,8 +34,8 @@ use crate::model::chain::{
     AxisData, ChainModel, CouplerData, FunctionData, JointData, PointData, RangeData, BODIES,
 };
 use crate::opensim::osim::{
-    self, child, function, generic_toe_tip, name_of, read_joints, text_of, toe_marker, Function,
-    ImportError, Joint,
+    self, child, function, generic_toe_tip, name_of, read_coordinates, read_joints, text_of,
+    toe_marker, Coordinate, Function, ImportError, Joint,
 };
 
 /// An imported chain and one line per choice made.
@@ -45,15 +45,6 @@ pub struct ImportedChain {
     pub model: ChainModel,
     /// How the file was read: what was held, left out, where the toe tip came from.
     pub notes: Vec<String>,
-}
-
-/// A model coordinate: default value and whether it is locked.
-struct Coordinate {
-    name: String,
-    default: f64,
-    locked: bool,
-    /// `range`, if `clamped` is true.
-    clamped: Option<(f64, f64)>,
 }
 
 struct Coupling {
@@ -79,26 +70,7 @@ pub fn import(
         "imported from {source} (OpenSim Version={version}) by qgait model import as a general lower-limb chain"
     )];
     let joints = read_joints(&doc).map_err(err)?;
-    let coordinates: Vec<Coordinate> = doc
-        .descendants()
-        .filter(|n| n.has_tag_name("Coordinate") && n.attribute("name").is_some())
-        .map(|c| Coordinate {
-            name: name_of(c),
-            default: text_of(c, "default_value")
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(0.0),
-            locked: text_of(c, "locked") == Some("true"),
-            clamped: (text_of(c, "clamped") == Some("true"))
-                .then(|| {
-                    let r: Vec<f64> = text_of(c, "range")?
-                        .split_whitespace()
-                        .filter_map(|v| v.parse().ok())
-                        .collect();
-                    (r.len() == 2 && r[0] <= r[1]).then(|| (r[0], r[1]))
-                })
-                .flatten(),
-        })
-        .collect();
+    let coordinates = read_coordinates(&doc);
     let couplings = read_couplings(&doc).map_err(err)?;
     let mut state = State {
         coordinates: &coordinates,

@@ -769,21 +769,48 @@ pub(super) fn constraint_naming<'a, 'i>(
     None
 }
 
-/// The first of the 17 chain coordinates the model locks or clamps, and which.
-fn held_coordinate<'a>(doc: &'a Document) -> Option<(&'a str, &'static str)> {
+/// A model coordinate: default value, whether it is locked, and its range if clamped.
+pub(super) struct Coordinate {
+    pub(super) name: String,
+    pub(super) default: f64,
+    pub(super) locked: bool,
+    /// `range`, if `clamped` is true.
+    pub(super) clamped: Option<(f64, f64)>,
+}
+
+/// The model's coordinates (4.x and 3.x alike: every named `Coordinate`).
+pub(super) fn read_coordinates(doc: &Document) -> Vec<Coordinate> {
     doc.descendants()
-        .filter(|n| n.has_tag_name("Coordinate"))
-        .filter_map(|c| {
-            let name = c.attribute("name").filter(|n| COORDINATES.contains(n))?;
-            if text_of(c, "locked") == Some("true") {
-                Some((name, "locked"))
-            } else if text_of(c, "clamped") == Some("true") {
-                Some((name, "clamped"))
-            } else {
-                None
-            }
+        .filter(|n| n.has_tag_name("Coordinate") && n.attribute("name").is_some())
+        .map(|c| Coordinate {
+            name: name_of(c),
+            default: text_of(c, "default_value")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(0.0),
+            locked: text_of(c, "locked") == Some("true"),
+            clamped: (text_of(c, "clamped") == Some("true"))
+                .then(|| {
+                    let r: Vec<f64> = text_of(c, "range")?
+                        .split_whitespace()
+                        .filter_map(|v| v.parse().ok())
+                        .collect();
+                    (r.len() == 2 && r[0] <= r[1]).then(|| (r[0], r[1]))
+                })
+                .flatten(),
         })
-        .next()
+        .collect()
+}
+
+/// The first of the 17 chain coordinates the model locks or clamps, and which.
+fn held_coordinate(doc: &Document) -> Option<(String, &'static str)> {
+    read_coordinates(doc)
+        .into_iter()
+        .filter(|c| COORDINATES.contains(&c.name.as_str()))
+        .find_map(|c| match (c.locked, c.clamped) {
+            (true, _) => Some((c.name, "locked")),
+            (false, Some(_)) => Some((c.name, "clamped")),
+            (false, None) => None,
+        })
 }
 
 /// Notes for chain coordinates whose `default_value` is not 0: OpenSim uses the default for a
