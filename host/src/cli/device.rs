@@ -698,6 +698,10 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         }
     }
     let mut ok = true;
+    // What the stream delivers, as the hub decodes it (for the hint below and --verify):
+    // decoded once, when first needed.
+    let arrivals = std::cell::OnceCell::new();
+    let arrivals = || arrivals.get_or_init(|| Arrivals::of(&stream));
     match &out.status {
         Some(s) => {
             println!("device status:");
@@ -718,7 +722,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                     "error: the hub counted {} packets accepted and {} damaged frames; the input has {} and {}",
                     got.accepted, got.rejected, want.accepted, want.rejected
                 );
-                let orientations = !Arrivals::of(&stream).segments.is_empty();
+                let orientations = !arrivals().segments.is_empty();
                 if orientations && s.malformed > 0 && got.accepted < want.accepted {
                     eprintln!(
                         "(the hub counted the segment orientations as malformed: it is a build \
@@ -750,15 +754,14 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         if args.stream.is_none() || args.model.model.is_some() {
             v.expected_model = Some(model.hub.id());
         }
-        let arrivals = Arrivals::of(&stream);
-        let intact = arrivals.framed_samples(model.hub.id());
+        let intact = arrivals().framed_samples(model.hub.id());
         let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
         let missing: Vec<u32> = intact.difference(&seen).copied().collect();
         v.missing = missing.len() as u64;
         v.missing_first = missing.into_iter().take(MISSING_LISTED).collect();
         let unexpected = seen.difference(&intact).count();
-        let all_intact = arrivals.intact_samples(model.hub.id()).len();
-        let partial = arrivals.partial(model.hub.id());
+        let all_intact = arrivals().intact_samples(model.hub.id()).len();
+        let partial = arrivals().partial(model.hub.id());
         if count.is_none() {
             println!(
                 "stream: {all_intact} samples with every packet intact{}, {} with packets lost, damaged or unusable",

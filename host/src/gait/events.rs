@@ -213,9 +213,11 @@ pub fn detect_in(
                 time: e.time,
             })
         };
-        for s in 0..2 {
-            events.heel_strike[s].extend(shift(part.heel_strike[s].clone()));
-            events.toe_off[s].extend(shift(part.toe_off[s].clone()));
+        let [hr, hl] = part.heel_strike;
+        let [tr, tl] = part.toe_off;
+        for (s, (hs, to)) in [(hr, tr), (hl, tl)].into_iter().enumerate() {
+            events.heel_strike[s].extend(shift(hs));
+            events.toe_off[s].extend(shift(to));
         }
     }
     events
