@@ -556,3 +556,38 @@ fn an_axis_naming_a_coordinate_its_joint_does_not_declare_is_refused() {
         "{err}"
     );
 }
+
+/// The packed table a hub holds (`qgait_kernel::models::packed`), of every chain model, against
+/// OpenSim on every reference row: within 1 µm in `f64`, and within 10 µm in `f32` in the pool
+/// size a hub's model slot has room for.
+#[test]
+fn every_chain_model_packed_is_within_a_micrometre_of_opensim() {
+    use qgait_kernel::models::packed::PackedChain;
+    let Some(shared) = shared_dir() else { return };
+    for (name, file) in MODELS {
+        let path = shared.join("data/opensim").join(file);
+        let (model, _) = Model::load(path.to_str().unwrap(), None).unwrap();
+        let Model::Chain { chain, .. } = model else {
+            continue;
+        };
+        let chain = chain.chain().unwrap();
+        let packed = PackedChain::<f64, 17, 11, 12, 12, 12, 1024>::pack(&chain).unwrap();
+        let device = PackedChain::<f32, 17, 11, 12, 8, 0, 384>::pack(&chain).unwrap();
+        let (mut worst, mut worst32) = (0.0f64, 0.0f64);
+        for motion in ["normal", "sweep"] {
+            for (q, expected) in reference(name, motion) {
+                let p32 = device.forward(&q.map(|v| v as f32));
+                for ((p, e), a) in packed.forward(&q).iter().zip(&expected).zip(&p32) {
+                    worst = worst.max(p.max_abs_diff(*e));
+                    worst32 = worst32.max(a.cast::<f64>().max_abs_diff(*e));
+                }
+            }
+        }
+        println!(
+            "{name} packed: {} numbers, largest difference {worst:.3e} m in f64, {worst32:.3e} m in f32",
+            packed.used
+        );
+        assert!(worst < 1e-6, "{name}: {worst}");
+        assert!(worst32 < 1e-5, "{name}: {worst32}");
+    }
+}

@@ -101,6 +101,13 @@ impl<T: Real, const K: usize> Spline<T, K> {
         (&self.x[..n], &self.y[..n])
     }
 
+    /// The slope at each knot (the cubics' first coefficients; for
+    /// [`piecewise_linear`](Self::piecewise_linear), each segment's slope, the last one's at the
+    /// last knot): with the knots, the spline in Hermite form.
+    pub fn slopes(&self) -> &[T] {
+        &self.b[..self.len().min(K)]
+    }
+
     /// Whether it is straight between its knots (no quadratic or cubic terms): what
     /// [`piecewise_linear`](Self::piecewise_linear) builds, and what `SimmSpline` is through
     /// knots on one line.

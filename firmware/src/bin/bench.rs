@@ -160,6 +160,15 @@ fn main() -> ! {
         g_base,
         CALLS,
     );
+    let Ok(packed) = RajagopalPacked::pack(&raj) else {
+        board::exit(5)
+    };
+    net(
+        "rajagopal.packed",
+        bench_rajagopal_packed(&packed, &g_in, CALLS),
+        g_base,
+        CALLS,
+    );
 
     imu_benches(&g, &mut rng);
 
@@ -370,6 +379,16 @@ fn rajagopal() -> DeviceChain {
     }
     let Some(config) = config else { board::exit(5) };
     parts.chain(&config).unwrap_or_else(|_| board::exit(5))
+}
+
+/// The Rajagopal chain packed as a hub's model slot would hold it.
+type RajagopalPacked = qgait_kernel::models::packed::PackedChain<f32, 17, 11, 12, 8, 0, 384>;
+
+#[inline(never)]
+fn bench_rajagopal_packed(model: &RajagopalPacked, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).forward(black_box(&q[i % INPUTS])));
+    })
 }
 
 #[inline(never)]

@@ -237,42 +237,42 @@ pub struct CustomChain<
 /// ankles) is one product about its axis, and the identity rotations and zero translations
 /// left out.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Step<T> {
+pub(super) struct Step<T> {
     /// The moving rotation axes in the parent body's frame (`R_F aᵢ`).
-    axes: [Vec3<T>; 3],
+    pub(super) axes: [Vec3<T>; 3],
     /// After the rotations: `R_F R_M⁻¹` and `−t_M`. For a joint that does not move, the whole
     /// joint, `F · M⁻¹`, applied to the parent's frame.
-    end: Offset<T>,
+    pub(super) end: Offset<T>,
     /// Whether each of `axes` is a coordinate axis.
-    kinds: [AxisKind; 3],
+    pub(super) kinds: [AxisKind; 3],
     /// How many rotations and translations move (the others, zero constants, are dropped by
     /// [`CustomChain::new`]: no work for a locked coordinate or an unused axis).
-    moving: (u8, u8),
+    pub(super) moving: (u8, u8),
     /// [`Shape`] bits: which parts of the joint are not the identity.
-    shape: u8,
+    pub(super) shape: u8,
     /// Bit `i` (rotations 0 to 2, translations 3 to 5): the axis's spline takes the cubic the
     /// previous spline-driven axis found (same argument, same abscissae: a knee's four).
     shared: u8,
 }
 
 /// Bits of [`Step::shape`].
-struct Shape;
+pub(super) struct Shape;
 
 impl Shape {
     /// `t_F` is not zero or translations move: `R_P (t_F + …)` is computed.
-    const START: u8 = 1;
+    pub(super) const START: u8 = 1;
     /// `R_F` is not the identity: translations are turned by it.
-    const ORIENTED: u8 = 2;
+    pub(super) const ORIENTED: u8 = 2;
     /// `R_F R_M⁻¹` is not the identity.
-    const TURNS: u8 = 4;
+    pub(super) const TURNS: u8 = 4;
     /// `t_M` is not zero.
-    const ENDS_AWAY: u8 = 8;
+    pub(super) const ENDS_AWAY: u8 = 8;
 }
 
 /// How a rotation axis is turned about: a coordinate axis (the cheaper product) or any.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
-enum AxisKind {
+pub(super) enum AxisKind {
     /// Any axis (all zero bits: what an empty table holds).
     General = 0,
     /// +x.
@@ -364,12 +364,12 @@ impl<T: Real> Step<T> {
 
 impl<T: Real> BodyFrame<T> {
     /// The ground frame.
-    const GROUND: Self = Self {
+    pub(super) const GROUND: Self = Self {
         rotation: Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO),
         origin: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
     };
 
-    fn then(&self, o: &Offset<T>) -> Self {
+    pub(super) fn then(&self, o: &Offset<T>) -> Self {
         Self {
             origin: self.origin + self.rotation.rotate(o.translation),
             rotation: self.rotation * o.rotation,
@@ -603,6 +603,11 @@ impl<
     /// The output points.
     pub fn points(&self) -> &[BodyPoint<T>; P] {
         &self.points
+    }
+
+    /// What [`frames`](Self::frames) computes each joint with.
+    pub(super) fn steps(&self) -> &[Step<T>; B] {
+        &self.steps
     }
 
     /// The splines the table's functions refer to ([`Function::Spline`] indices).

@@ -12,6 +12,7 @@ pub mod custom;
 pub mod fixtures;
 pub mod gait2392;
 mod hak;
+pub mod packed;
 mod phak;
 pub mod ranges;
 
