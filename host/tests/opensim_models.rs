@@ -571,8 +571,8 @@ fn every_chain_model_packed_is_within_a_micrometre_of_opensim() {
             continue;
         };
         let chain = chain.chain().unwrap();
-        let packed = PackedChain::<f64, 17, 11, 12, 12, 12, 1024>::pack(&chain).unwrap();
-        let device = PackedChain::<f32, 17, 11, 12, 8, 0, 384>::pack(&chain).unwrap();
+        let packed = PackedChain::<f64, 17, 11, 12, 12, 12, 66, 1024>::pack(&chain).unwrap();
+        let device = PackedChain::<f32, 17, 11, 12, 8, 0, 24, 384>::pack(&chain).unwrap();
         let (mut worst, mut worst32) = (0.0f64, 0.0f64);
         for motion in ["normal", "sweep"] {
             for (q, expected) in reference(name, motion) {

@@ -382,7 +382,7 @@ fn rajagopal() -> DeviceChain {
 }
 
 /// The Rajagopal chain packed as a hub's model slot would hold it.
-type RajagopalPacked = qgait_kernel::models::packed::PackedChain<f32, 17, 11, 12, 8, 0, 384>;
+type RajagopalPacked = qgait_kernel::models::packed::PackedChain<f32, 17, 11, 12, 8, 0, 24, 384>;
 
 #[inline(never)]
 fn bench_rajagopal_packed(model: &RajagopalPacked, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {

@@ -25,8 +25,9 @@ use crate::{Quat, Real, Vec3};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Drive {
     /// Bits 6-7: [`Drive::LINEAR`] (two numbers in the pool: slope, value at 0),
-    /// [`Drive::SPLINE`], [`Drive::POLYNOMIAL`] (bits 0-5: which), or [`Drive::IDENTITY`] (the
-    /// argument itself).
+    /// [`Drive::SPLINE`], [`Drive::POLYNOMIAL`] (bits 0-4: which), or [`Drive::IDENTITY`] (the
+    /// argument itself); bit 5, [`Drive::SHARES`]: a spline that takes the weights of the
+    /// spline-driven axis evaluated before it (the same argument and abscissae).
     pub function: u8,
     /// Bits 6-7: [`Drive::NONE`] (0), [`Drive::COORDINATE`] or [`Drive::COUPLED`]; bits 0-5:
     /// which.
@@ -48,12 +49,16 @@ impl Drive {
     pub const COORDINATE: u8 = 1 << 6;
     /// Coupled coordinate `k`.
     pub const COUPLED: u8 = 2 << 6;
+    /// With [`Drive::SPLINE`]: the weights of the spline before it.
+    pub const SHARES: u8 = 1 << 5;
     const KIND: u8 = 3 << 6;
     const INDEX: u8 = 0x3f;
+    const FUNCTION_INDEX: u8 = 0x1f;
 }
 
-/// One joint. Its moving axes' [`Drive::LINEAR`] slopes and intercepts are at the pool's start
-/// (after the couplers', joints and axes in order). Its geometry, from [`words`](Self::words)
+/// One joint. Its moving axes' drives are the next `moving` of [`PackedChain::drives`],
+/// translations first, then rotations; their [`Drive::LINEAR`] slopes and intercepts are at the
+/// pool's start (after the couplers', in the drives' order). Its geometry, from [`words`](Self::words)
 /// on: for a joint that does not move, the fixed offset (translation 3, rotation 4); otherwise,
 /// in order,
 /// - `START`: the parent frame's origin `t_F` (3), then each moving translation's axis (3);
@@ -71,11 +76,6 @@ pub struct JointCode {
     pub shape: u8,
     /// Each moving rotation's axis, two bits each from bit 0: 0 general, 1 +x, 2 +y, 3 +z.
     pub kinds: u8,
-    /// Bit `i`: drive `i` is a spline that takes the weights of the spline-driven axis before
-    /// it (the same argument and abscissae).
-    pub shared: u8,
-    /// The moving axes' drives: rotations first, then translations.
-    pub drives: [Drive; 6],
     /// The joint's first geometry number in the pool.
     pub words: u16,
 }
@@ -133,12 +133,14 @@ pub enum PackError {
         /// How many it needs.
         needed: usize,
     },
-    /// More splines or polynomials than the table's `S` or `Q`, or an index past 63.
+    /// More splines or polynomials than the table's `S` or `Q`, or an index past 31.
     Functions,
+    /// More moving axes than the table's `D`.
+    Drives,
 }
 
 /// A chain of `N` input coordinates, `B` bodies and `P` points, packed: up to `S` splines, `Q`
-/// polynomials, [`MAX_COUPLERS`] couplers and a pool of `W` numbers.
+/// polynomials, [`MAX_COUPLERS`] couplers, `D` moving axes and a pool of `W` numbers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PackedChain<
     T,
@@ -147,10 +149,15 @@ pub struct PackedChain<
     const P: usize,
     const S: usize,
     const Q: usize,
+    const D: usize,
     const W: usize,
 > {
     /// By body.
     pub joints: [JointCode; B],
+    /// The moving axes' drives, by joint (see [`JointCode`]).
+    pub drives: [Drive; D],
+    /// How many of `drives` are in use.
+    pub drive_count: u8,
     /// The output points.
     pub points: [PointCode; P],
     /// The splines [`Drive::SPLINE`] refers to.
@@ -186,8 +193,9 @@ impl<
         const P: usize,
         const S: usize,
         const Q: usize,
+        const D: usize,
         const W: usize,
-    > PackedChain<T, N, B, P, S, Q, W>
+    > PackedChain<T, N, B, P, S, Q, D, W>
 {
     /// Everything zero: every point at the origin.
     pub const EMPTY: Self = Self {
@@ -196,13 +204,13 @@ impl<
             moving: 0,
             shape: 0,
             kinds: 0,
-            shared: 0,
-            drives: [Drive {
-                function: 0,
-                argument: 0,
-            }; 6],
             words: 0,
         }; B],
+        drives: [Drive {
+            function: 0,
+            argument: 0,
+        }; D],
+        drive_count: 0,
         points: [PointCode {
             body: 0,
             at_origin: 0,
@@ -234,7 +242,7 @@ impl<
             len: 0,
         };
         let index = |k: usize, limit: usize| {
-            if k < limit && k <= usize::from(Drive::INDEX) {
+            if k < limit && k <= usize::from(Drive::FUNCTION_INDEX) {
                 Ok(k as u8)
             } else {
                 Err(PackError::Functions)
@@ -278,26 +286,23 @@ impl<
         }
         let mut previous: Option<(u8, u8)> = None;
         let mut spline_x = [u16::MAX; S];
-        // The drives (their linear coefficients after the couplers'), then the geometry.
-        for (code, (joint, step)) in table
-            .joints
-            .iter_mut()
-            .zip(chain.joints().iter().zip(chain.steps()))
-        {
+        let mut count = 0;
+        // The drives (their linear coefficients after the couplers'), by joint, translations
+        // first, then rotations; then the geometry.
+        for (joint, step) in chain.joints().iter().zip(chain.steps()) {
             let (nr, nt) = step.moving;
-            let moving = joint.rotations[..usize::from(nr)]
+            let moving = joint.translations[..usize::from(nt)]
                 .iter()
-                .chain(&joint.translations[..usize::from(nt)]);
-            for (i, d) in moving.enumerate() {
-                let function = drive_function(&d.function, d.argument, &mut pool)?;
+                .chain(&joint.rotations[..usize::from(nr)]);
+            for d in moving {
+                let mut function = drive_function(&d.function, d.argument, &mut pool)?;
                 let argument = match d.argument {
                     Argument::None => Drive::NONE,
                     Argument::Coordinate(k) => Drive::COORDINATE | index(k, N)?,
                     Argument::Coupled(k) => Drive::COUPLED | index(k, MAX_COUPLERS)?,
                 };
-                code.drives[i] = Drive { function, argument };
                 if function & Drive::KIND == Drive::SPLINE {
-                    let k = usize::from(function & Drive::INDEX);
+                    let k = usize::from(function & Drive::FUNCTION_INDEX);
                     // The abscissae's first user, by the splines' own abscissae.
                     let first = (0..=k)
                         .find(|&j| splines[j].same_abscissae(&splines[k]))
@@ -305,12 +310,16 @@ impl<
                     let linear = u8::from(splines[k].is_piecewise_linear());
                     let key = (first as u8 | linear << 7, argument);
                     if previous == Some(key) {
-                        code.shared |= 1 << i;
+                        function |= Drive::SHARES;
                     }
                     previous = Some(key);
                 }
+                let slot = table.drives.get_mut(count).ok_or(PackError::Drives)?;
+                *slot = Drive { function, argument };
+                count += 1;
             }
         }
+        table.drive_count = count as u8;
         for (b, (joint, step)) in chain.joints().iter().zip(chain.steps()).enumerate() {
             let code = &mut table.joints[b];
             code.parent = joint.parent.unwrap_or(0) as u8;
@@ -395,40 +404,46 @@ impl<
 
     /// The output points in ground for input coordinates `q`: forward kinematics.
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
-        let mut values = [[T::ZERO; 6]; B];
+        let mut values = [T::ZERO; D];
         self.values(q, &mut values);
         let mut frames = [BodyFrame::GROUND; B];
-        for (b, (code, v)) in self.joints.iter().zip(&values).enumerate() {
-            let (done, rest) = frames.split_at_mut(b);
+        let mut rest = &values[..];
+        for (b, code) in self.joints.iter().enumerate() {
+            let (nr, nt) = (
+                usize::from(code.moving & 3),
+                usize::from(code.moving >> 2 & 3),
+            );
+            let (v, after) = rest.split_at((nr + nt).min(rest.len()));
+            rest = after;
+            let (done, todo) = frames.split_at_mut(b);
             let parent = match done.get(usize::from(code.parent)) {
                 Some(p) if b > 0 => p,
                 _ => &BodyFrame::GROUND,
             };
-            if let Some(f) = rest.first_mut() {
-                *f = self.frame(code, parent, v);
+            if let Some(f) = todo.first_mut() {
+                *f = self.frame(code, parent, v, nr, nt);
             }
         }
         let mut cursor = usize::from(self.points_at);
-        let mut out = [Vec3::zero(); P];
-        for (o, p) in out.iter_mut().zip(&self.points) {
-            let f = frames
-                .get(usize::from(p.body))
-                .copied()
-                .unwrap_or(BodyFrame::GROUND);
-            *o = if p.at_origin != 0 {
-                f.origin
+        core::array::from_fn(|k| {
+            let p = &self.points[k];
+            let offset = if p.at_origin != 0 {
+                None
             } else {
-                f.origin + f.rotation.rotate(self.vec(&mut cursor))
+                Some(self.vec(&mut cursor))
             };
-        }
-        out
+            match (frames.get(usize::from(p.body)), offset) {
+                (Some(f), None) => f.origin,
+                (Some(f), Some(o)) => f.origin + f.rotation.rotate(o),
+                (None, _) => Vec3::zero(),
+            }
+        })
     }
 
-    /// Every moving axis's value for `q`, by joint in drive order (rotations, then
-    /// translations); the couplers' first, the linear coefficients read in order from the
-    /// pool's start.
+    /// Every moving axis's value for `q`, in drive order; the couplers' first, the linear
+    /// coefficients read in order from the pool's start.
     #[inline(always)]
-    fn values(&self, q: &[T; N], values: &mut [[T; 6]; B]) {
+    fn values(&self, q: &[T; N], values: &mut [T; D]) {
         let mut cursor = 0;
         let mut coupled = [T::ZERO; MAX_COUPLERS];
         let mut weights = Weights {
@@ -443,31 +458,32 @@ impl<
                 .get(usize::from(c.independent))
                 .copied()
                 .unwrap_or(T::ZERO);
-            *v = self.function(c.function, x, &mut cursor, &mut weights, false);
+            *v = self.function(c.function, x, &mut cursor, &mut weights);
         }
-        for (code, values) in self.joints.iter().zip(values) {
-            let n = usize::from((code.moving & 3) + (code.moving >> 2 & 3));
-            for (i, (v, d)) in values.iter_mut().zip(&code.drives).take(n).enumerate() {
-                let index = usize::from(d.argument & Drive::INDEX);
-                let x = match d.argument & Drive::KIND {
-                    Drive::COORDINATE => q.get(index).copied().unwrap_or(T::ZERO),
-                    Drive::COUPLED => coupled.get(index).copied().unwrap_or(T::ZERO),
-                    _ => T::ZERO,
-                };
-                let shared = code.shared & (1 << i) != 0;
-                *v = self.function(d.function, x, &mut cursor, &mut weights, shared);
-            }
+        let count = usize::from(self.drive_count).min(D);
+        for (v, d) in values[..count].iter_mut().zip(&self.drives) {
+            let index = usize::from(d.argument & Drive::INDEX);
+            let x = match d.argument & Drive::KIND {
+                Drive::COORDINATE => q.get(index).copied().unwrap_or(T::ZERO),
+                Drive::COUPLED => coupled.get(index).copied().unwrap_or(T::ZERO),
+                _ => T::ZERO,
+            };
+            *v = self.function(d.function, x, &mut cursor, &mut weights);
         }
     }
 
-    /// The frame of a joint's body on its parent's frame, as [`CustomChain`] computes it.
+    /// The frame of a joint's body on its parent's frame, as [`CustomChain`] computes it: `v`
+    /// its `nt` translations' values, then its `nr` rotations'.
     #[inline(always)]
-    fn frame(&self, code: &JointCode, parent: &BodyFrame<T>, v: &[T; 6]) -> BodyFrame<T> {
+    fn frame(
+        &self,
+        code: &JointCode,
+        parent: &BodyFrame<T>,
+        v: &[T],
+        nr: usize,
+        nt: usize,
+    ) -> BodyFrame<T> {
         let mut cursor = usize::from(code.words);
-        let (nr, nt) = (
-            usize::from(code.moving & 3),
-            usize::from(code.moving >> 2 & 3),
-        );
         if nr == 0 && nt == 0 {
             let translation = self.vec(&mut cursor);
             let rotation = self.quat(&mut cursor);
@@ -480,7 +496,7 @@ impl<
         if code.shape & Shape::START != 0 {
             let start = self.vec(&mut cursor);
             let mut slide = Vec3::zero();
-            for &x in &v[nr.min(6)..(nr + nt).min(6)] {
+            for &x in v.iter().take(nt) {
                 slide += self.vec(&mut cursor) * x;
             }
             if code.shape & Shape::ORIENTED != 0 {
@@ -489,7 +505,7 @@ impl<
             origin += parent.rotation.rotate(start + slide);
         }
         let mut rotation = parent.rotation;
-        for (r, &x) in v[..nr.min(3)].iter().enumerate() {
+        for (r, &x) in v.iter().skip(nt).take(nr).enumerate() {
             let (s, c) = x.half_angle_sin_cos();
             rotation = match code.kinds >> (2 * r) & 3 {
                 1 => rotation.then_about_x(s, c),
@@ -508,17 +524,11 @@ impl<
     }
 
     /// The value of function code `function` at `x`; linear coefficients read at `cursor`, a
-    /// spline's weights found (into `weights`) unless `shared`.
+    /// spline's weights found (into `weights`) unless it [`Drive::SHARES`] them.
     #[inline(always)]
-    fn function(
-        &self,
-        function: u8,
-        x: T,
-        cursor: &mut usize,
-        weights: &mut Weights<T>,
-        shared: bool,
-    ) -> T {
-        let index = usize::from(function & Drive::INDEX);
+    fn function(&self, function: u8, x: T, cursor: &mut usize, weights: &mut Weights<T>) -> T {
+        let index = usize::from(function & Drive::FUNCTION_INDEX);
+        let shared = function & Drive::SHARES != 0;
         match function & Drive::KIND {
             Drive::LINEAR => {
                 let [slope, intercept] = self.take::<2>(cursor);
@@ -567,11 +577,6 @@ impl<
             };
         };
         let last = n - 1;
-        // The last knot at or below t, below the last knot (the knots increase): how many of
-        // knots 1 to last - 1 are at or below t. A NaN t takes the last cubic (the negated
-        // comparison), as `Spline::interval`.
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let k = x[1..last].iter().filter(|&&xj| !(t < xj)).count();
         if t < x[0] {
             return Weights {
                 k: 0,
@@ -587,6 +592,19 @@ impl<
                 a: zero,
                 b: t - x[last],
             };
+        }
+        // The last knot at or below t, below the last knot (the knots increase), by bisection:
+        // x[k] <= t and t < x[end] while they are apart. A NaN t takes the last cubic (the
+        // negated comparison), as `Spline::interval`.
+        let (mut k, mut end) = (0, last);
+        while end - k > 1 {
+            let mid = (k + end) / 2;
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(t < x[mid]) {
+                k = mid;
+            } else {
+                end = mid;
+            }
         }
         let dx = t - x[k];
         let s_ = dx / (x[k + 1] - x[k]);
@@ -667,7 +685,7 @@ mod tests {
     use crate::models::fixtures::walker_chain;
     use crate::models::LowerLimb;
 
-    type Packed<T> = PackedChain<T, 17, 11, 12, 12, 12, 512>;
+    type Packed<T> = PackedChain<T, 17, 11, 12, 12, 12, 66, 512>;
 
     /// Poses over and past the fixture's spline range (knees -1 to 2.5 rad: its knots span 0 to
     /// 2.1), every other coordinate moving.
@@ -703,13 +721,17 @@ mod tests {
         assert_eq!(packed.splines[0].x, packed.splines[1].x);
         assert_ne!(packed.splines[0].values, packed.splines[1].values);
         // The straight spline takes the cubic's knot but not its weights.
-        assert_eq!(packed.joints[2].shared, 0);
+        let shares = packed.drives[..usize::from(packed.drive_count)]
+            .iter()
+            .filter(|d| d.function & Drive::SHARES != 0)
+            .count();
+        assert_eq!(shares, 0);
     }
 
     #[test]
     fn a_packed_chain_in_f32_is_its_chain_within_f32_rounding() {
         let chain = walker_chain();
-        let packed = PackedChain::<f32, 17, 11, 12, 12, 12, 512>::pack(&chain).unwrap();
+        let packed = PackedChain::<f32, 17, 11, 12, 12, 12, 66, 512>::pack(&chain).unwrap();
         for q in poses() {
             let q32 = q.map(|v| v as f32);
             for (p, r) in packed.forward(&q32).iter().zip(&chain.forward(&q)) {
@@ -722,14 +744,14 @@ mod tests {
     fn a_pool_too_small_is_refused_saying_how_much_it_needs() {
         let chain = walker_chain();
         let full = Packed::<f64>::pack(&chain).unwrap();
-        let small = PackedChain::<f64, 17, 11, 12, 12, 12, 16>::pack(&chain);
+        let small = PackedChain::<f64, 17, 11, 12, 12, 12, 66, 16>::pack(&chain);
         assert_eq!(
             small,
             Err(PackError::Words {
                 needed: usize::from(full.used)
             })
         );
-        let no_splines = PackedChain::<f64, 17, 11, 12, 1, 12, 512>::pack(&chain);
+        let no_splines = PackedChain::<f64, 17, 11, 12, 1, 12, 66, 512>::pack(&chain);
         assert_eq!(no_splines, Err(PackError::Functions));
     }
 
@@ -750,15 +772,15 @@ mod tests {
                 j.moving = byte();
                 j.shape = byte();
                 j.kinds = byte();
-                j.shared = byte();
                 j.words = u16::from(byte()) * 3;
-                for d in &mut j.drives {
-                    *d = Drive {
-                        function: byte(),
-                        argument: byte(),
-                    };
-                }
             }
+            for d in &mut packed.drives {
+                *d = Drive {
+                    function: byte(),
+                    argument: byte(),
+                };
+            }
+            packed.drive_count = byte();
             for s in &mut packed.splines {
                 s.x = u16::from(byte()) * 2;
                 s.values = u16::from(byte()) * 2;
