@@ -1,38 +1,44 @@
 //! A [`CustomChain`] packed for a device: the same forward kinematics from a table that holds
 //! only what is not the identity. [`PackedChain::pack`] builds it (on the host, from the
-//! validated chain); [`PackedChain::forward`] evaluates it.
+//! validated chain); [`PackedChain::forward`] evaluates it; in `f32` its bytes
+//! ([`PackedChain::IMAGE_LEN`], [`read_image`](PackedChain::read_image),
+//! [`write_image`](PackedChain::write_image)) are what a host uploads into a hub's model slot.
 //!
-//! The table is byte codes and a pool of numbers ([`PackedChain::words`]):
+//! The table is byte codes and a pool of numbers:
 //! - per joint a [`JointCode`]: its parent, how many rotations and translations move, which
-//!   parts of the joint are not the identity ([`CustomChain`]'s evaluation steps), and per moving
-//!   axis what drives it ([`Drive`]); the joint's numbers follow in the pool in a fixed order
-//!   (see [`JointCode`]);
+//!   parts of the joint are not the identity ([`CustomChain`]'s evaluation steps), each
+//!   rotation's axis kind, and where its numbers start in the pool (in a fixed order, see
+//!   [`JointCode`]);
+//! - per moving axis, joint by joint, a [`Drive`]: its function and the argument it is
+//!   evaluated at;
 //! - splines in Hermite form: per knot its value and slope (the same cubic between two knots as
 //!   the Forsythe-Malcolm-Moler coefficients, two numbers a knot instead of four), splines
 //!   through the same abscissae (a knee's four) sharing them;
 //! - polynomials' coefficients, couplers' functions, and the output points.
 //!
-//! Numbers are read with bounds checks that cannot panic (a short pool reads as zeros), so a
-//! table of any content evaluates without panicking.
+//! Every read is bounds-checked without panicking (a short pool reads as zeros, an index past a
+//! table as nothing), so a table of any content evaluates without panicking.
+//!
+//! The image of a table (`f32`), in bytes: the joints' codes ([`JointCode::LEN`] each), the
+//! drives' (2 each), the points' (2 each), the splines' ([`SplineCode::LEN`] each), the
+//! polynomials' (3 each), the couplers' (2 each, [`MAX_COUPLERS`]), the counts (the drives in
+//! use, the couplers in use, where the points' offsets start and how many numbers are in use,
+//! the last two `u16` little-endian), then the `W` numbers, each `f32` little-endian.
 
 use super::custom::{
     Argument, AxisKind, BodyFrame, CustomChain, Function, Offset, Shape, MAX_COUPLERS,
 };
 use crate::{Quat, Real, Vec3};
 
-/// What drives one moving axis: its function ([`Drive::function`]) and the argument it is
-/// evaluated at ([`Drive::argument`]).
+/// What drives one moving axis: its function byte and its argument byte.
+///
+/// Function, bits 6-7: [`Drive::LINEAR`] (two numbers in the pool: slope, value at 0),
+/// [`Drive::SPLINE`], [`Drive::POLYNOMIAL`] (bits 0-4: which), or [`Drive::IDENTITY`] (the
+/// argument itself); bit 5, [`Drive::SHARES`]: a spline that takes the weights of the
+/// spline-driven axis evaluated before it (the same argument and abscissae). Argument, bits 6-7:
+/// [`Drive::NONE`] (0), [`Drive::COORDINATE`] or [`Drive::COUPLED`]; bits 0-5: which.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Drive {
-    /// Bits 6-7: [`Drive::LINEAR`] (two numbers in the pool: slope, value at 0),
-    /// [`Drive::SPLINE`], [`Drive::POLYNOMIAL`] (bits 0-4: which), or [`Drive::IDENTITY`] (the
-    /// argument itself); bit 5, [`Drive::SHARES`]: a spline that takes the weights of the
-    /// spline-driven axis evaluated before it (the same argument and abscissae).
-    pub function: u8,
-    /// Bits 6-7: [`Drive::NONE`] (0), [`Drive::COORDINATE`] or [`Drive::COUPLED`]; bits 0-5:
-    /// which.
-    pub argument: u8,
-}
+pub struct Drive(pub [u8; 2]);
 
 impl Drive {
     /// `slope · x + intercept`.
@@ -43,98 +49,146 @@ impl Drive {
     pub const POLYNOMIAL: u8 = 2 << 6;
     /// `x`.
     pub const IDENTITY: u8 = 3 << 6;
+    /// With [`Drive::SPLINE`]: the weights of the spline before it.
+    pub const SHARES: u8 = 1 << 5;
     /// Evaluated at 0.
     pub const NONE: u8 = 0;
     /// Input coordinate `i`.
     pub const COORDINATE: u8 = 1 << 6;
     /// Coupled coordinate `k`.
     pub const COUPLED: u8 = 2 << 6;
-    /// With [`Drive::SPLINE`]: the weights of the spline before it.
-    pub const SHARES: u8 = 1 << 5;
     const KIND: u8 = 3 << 6;
     const INDEX: u8 = 0x3f;
     const FUNCTION_INDEX: u8 = 0x1f;
+
+    /// The function byte.
+    #[inline(always)]
+    pub fn function(self) -> u8 {
+        self.0[0]
+    }
+
+    /// The argument byte.
+    #[inline(always)]
+    pub fn argument(self) -> u8 {
+        self.0[1]
+    }
 }
 
-/// One joint. Its moving axes' drives are the next `moving` of [`PackedChain::drives`],
-/// translations first, then rotations; their [`Drive::LINEAR`] slopes and intercepts are at the
-/// pool's start (after the couplers', in the drives' order). Its geometry, from [`words`](Self::words)
-/// on: for a joint that does not move, the fixed offset (translation 3, rotation 4); otherwise,
-/// in order,
-/// - `START`: the parent frame's origin `t_F` (3), then each moving translation's axis (3);
-/// - `ORIENTED`: the parent frame's orientation `R_F` (4), which turns the translation axes;
-/// - each moving rotation about a general axis: the axis in the parent body's frame (3);
-/// - `TURNS`: the rotation after the joint's own, `R_F R_M⁻¹` (4);
-/// - `ENDS_AWAY`: `−t_M` (3).
+/// One joint: `[parent, moving, shape, kinds, words (u16 little-endian)]`.
+///
+/// - `parent`: the parent body (ignored for body 0, which hangs on ground);
+/// - `moving`: moving rotations (bits 0-1) and translations (bits 2-3); their drives are the
+///   next ones of the table, translations first, then rotations, and their
+///   [`Drive::LINEAR`] slopes and intercepts are at the pool's start (after the couplers', in
+///   the drives' order);
+/// - `shape`: bits 1 `START`, 2 `ORIENTED`, 4 `TURNS`, 8 `ENDS_AWAY` (below);
+/// - `kinds`: each moving rotation's axis, two bits each from bit 0: 0 general, 1 +x, 2 +y,
+///   3 +z;
+/// - `words`: the joint's first number in the pool. From there: for a joint that does not
+///   move, the fixed offset (translation 3, rotation 4); otherwise, in order, with `START` the
+///   parent frame's origin `t_F` (3) and each moving translation's axis (3); with `ORIENTED`
+///   the parent frame's orientation `R_F` (4), which turns the translation axes; each moving
+///   rotation about a general axis, the axis in the parent body's frame (3); with `TURNS` the
+///   rotation after the joint's own, `R_F R_M⁻¹` (4); with `ENDS_AWAY`, `−t_M` (3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct JointCode {
-    /// The parent body (ignored for body 0, which hangs on ground).
-    pub parent: u8,
-    /// Moving rotations (bits 0-1) and translations (bits 2-3).
-    pub moving: u8,
-    /// Bits: 1 `START`, 2 `ORIENTED`, 4 `TURNS`, 8 `ENDS_AWAY` (see above).
-    pub shape: u8,
-    /// Each moving rotation's axis, two bits each from bit 0: 0 general, 1 +x, 2 +y, 3 +z.
-    pub kinds: u8,
-    /// The joint's first geometry number in the pool.
-    pub words: u16,
+pub struct JointCode(pub [u8; JointCode::LEN]);
+
+impl JointCode {
+    /// Bytes of one joint's code.
+    pub const LEN: usize = 6;
+
+    #[inline(always)]
+    fn parent(self) -> usize {
+        usize::from(self.0[0])
+    }
+
+    /// Moving rotations and translations.
+    #[inline(always)]
+    fn moving(self) -> (usize, usize) {
+        (usize::from(self.0[1] & 3), usize::from(self.0[1] >> 2 & 3))
+    }
+
+    #[inline(always)]
+    fn shape(self) -> u8 {
+        self.0[2]
+    }
+
+    #[inline(always)]
+    fn kinds(self) -> u8 {
+        self.0[3]
+    }
+
+    #[inline(always)]
+    fn words(self) -> usize {
+        usize::from(u16::from_le_bytes([self.0[4], self.0[5]]))
+    }
 }
 
-/// One spline in Hermite form: `knots` abscissae at [`x`](Self::x), then `knots` values and
-/// `knots` slopes at [`values`](Self::values). Outside the knots, lines with the end slopes
-/// (as OpenSim's `SimmSpline` and `PiecewiseLinearFunction`).
+/// One spline in Hermite form: `[x, values (u16 little-endian each), knots, linear]`: `knots`
+/// abscissae at `x` in the pool, then `knots` values and `knots` slopes at `values`; `linear`
+/// 1: straight between the knots (a `PiecewiseLinearFunction`), the slopes each segment's.
+/// Outside the knots, lines with the end slopes (as OpenSim's `SimmSpline` and
+/// `PiecewiseLinearFunction`). Fewer than 2 knots: zero everywhere.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SplineCode {
-    /// First abscissa in the pool.
-    pub x: u16,
-    /// First value in the pool (the slopes follow the values).
-    pub values: u16,
-    /// Knot count (2 or more; 0: no spline, zero everywhere).
-    pub knots: u8,
-    /// 1: straight between the knots (a `PiecewiseLinearFunction`), the slopes each segment's.
-    pub linear: u8,
+pub struct SplineCode(pub [u8; SplineCode::LEN]);
+
+impl SplineCode {
+    /// Bytes of one spline's code.
+    pub const LEN: usize = 6;
+
+    #[inline(always)]
+    fn x(self) -> usize {
+        usize::from(u16::from_le_bytes([self.0[0], self.0[1]]))
+    }
+
+    #[inline(always)]
+    fn values(self) -> usize {
+        usize::from(u16::from_le_bytes([self.0[2], self.0[3]]))
+    }
+
+    #[inline(always)]
+    fn knots(self) -> usize {
+        usize::from(self.0[4])
+    }
+
+    #[inline(always)]
+    fn linear(self) -> bool {
+        self.0[5] != 0
+    }
 }
 
-/// One polynomial: `len` coefficients, highest power first, at `start` in the pool.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PolynomialCode {
-    /// First coefficient in the pool.
-    pub start: u16,
-    /// Coefficient count.
-    pub len: u8,
-}
-
-/// A coupled coordinate: `function` (a [`Drive`] function byte) of input `independent`. Its
-/// linear coefficients, if any, are first in the pool, couplers in order.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct CouplerCode {
-    /// The input coordinate it follows.
-    pub independent: u8,
-    /// Its function.
-    pub function: u8,
-}
-
-/// An output point: fixed in `body`, its offset three numbers in the pool (none if
-/// `at_origin`), points in order from [`PackedChain::points_at`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PointCode {
-    /// The body.
-    pub body: u8,
-    /// 1: the body's origin.
-    pub at_origin: u8,
+/// The table's codes, in image order, and its numbers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Codes<const B: usize, const P: usize, const S: usize, const Q: usize, const D: usize> {
+    joints: [[u8; JointCode::LEN]; B],
+    /// `[function, argument]` ([`Drive`]).
+    drives: [[u8; 2]; D],
+    /// `[body, at_origin]`: an output point fixed in `body`, its offset three numbers in the
+    /// pool (none if `at_origin` is 1), points in order from `points_at`.
+    points: [[u8; 2]; P],
+    splines: [[u8; SplineCode::LEN]; S],
+    /// `[start (u16 little-endian), len]`: `len` coefficients, highest power first.
+    polynomials: [[u8; 3]; Q],
+    /// `[independent, function]`: a coupled coordinate, the [`Drive`] function byte of input
+    /// `independent`; its linear coefficients, if any, first in the pool, couplers in order.
+    couplers: [[u8; 2]; MAX_COUPLERS],
+    /// `[drives in use, couplers in use, points_at (u16), used (u16)]`.
+    counts: [u8; 6],
 }
 
 /// What [`PackedChain::pack`] cannot pack.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum PackError {
-    /// The numbers need more than the pool's `W`.
+    /// The numbers need more than the pool's `W` (or 65,535).
     Words {
         /// How many it needs.
         needed: usize,
     },
     /// More splines or polynomials than the table's `S` or `Q`, or an index past 31.
     Functions,
+    /// A coordinate or coupled coordinate past the table's `N` or [`MAX_COUPLERS`], or past 63.
+    Arguments,
     /// More moving axes than the table's `D`.
     Drives,
 }
@@ -152,28 +206,8 @@ pub struct PackedChain<
     const D: usize,
     const W: usize,
 > {
-    /// By body.
-    pub joints: [JointCode; B],
-    /// The moving axes' drives, by joint (see [`JointCode`]).
-    pub drives: [Drive; D],
-    /// How many of `drives` are in use.
-    pub drive_count: u8,
-    /// The output points.
-    pub points: [PointCode; P],
-    /// The splines [`Drive::SPLINE`] refers to.
-    pub splines: [SplineCode; S],
-    /// The polynomials [`Drive::POLYNOMIAL`] refers to.
-    pub polynomials: [PolynomialCode; Q],
-    /// The coupled coordinates [`Drive::COUPLED`] refers to.
-    pub couplers: [CouplerCode; MAX_COUPLERS],
-    /// How many of `couplers` are in use.
-    pub coupler_count: u8,
-    /// Where the points' offsets start in the pool.
-    pub points_at: u16,
-    /// How many of the pool's numbers are in use.
-    pub used: u16,
-    /// The pool.
-    pub words: [T; W],
+    codes: Codes<B, P, S, Q, D>,
+    words: [T; W],
 }
 
 /// Where a spline's cubic is, and the weights of its two knots' values and slopes at the
@@ -199,44 +233,28 @@ impl<
 {
     /// Everything zero: every point at the origin.
     pub const EMPTY: Self = Self {
-        joints: [JointCode {
-            parent: 0,
-            moving: 0,
-            shape: 0,
-            kinds: 0,
-            words: 0,
-        }; B],
-        drives: [Drive {
-            function: 0,
-            argument: 0,
-        }; D],
-        drive_count: 0,
-        points: [PointCode {
-            body: 0,
-            at_origin: 0,
-        }; P],
-        splines: [SplineCode {
-            x: 0,
-            values: 0,
-            knots: 0,
-            linear: 0,
-        }; S],
-        polynomials: [PolynomialCode { start: 0, len: 0 }; Q],
-        couplers: [CouplerCode {
-            independent: 0,
-            function: 0,
-        }; MAX_COUPLERS],
-        coupler_count: 0,
-        points_at: 0,
-        used: 0,
+        codes: Codes {
+            joints: [[0; JointCode::LEN]; B],
+            drives: [[0; 2]; D],
+            points: [[0; 2]; P],
+            splines: [[0; SplineCode::LEN]; S],
+            polynomials: [[0; 3]; Q],
+            couplers: [[0; 2]; MAX_COUPLERS],
+            counts: [0; 6],
+        },
         words: [T::ZERO; W],
     };
+
+    /// Bytes of the codes, the start of the image.
+    pub const CODES_LEN: usize =
+        JointCode::LEN * B + 2 * D + 2 * P + SplineCode::LEN * S + 3 * Q + 2 * MAX_COUPLERS + 6;
 
     /// Packs `chain`, its numbers rounded to `T`.
     pub fn pack<U: Real, const S2: usize, const K: usize, const Q2: usize>(
         chain: &CustomChain<U, N, B, P, S2, K, Q2>,
     ) -> Result<Self, PackError> {
         let mut table = Self::EMPTY;
+        let codes = &mut table.codes;
         let mut pool = Pool {
             words: &mut table.words,
             len: 0,
@@ -246,6 +264,13 @@ impl<
                 Ok(k as u8)
             } else {
                 Err(PackError::Functions)
+            }
+        };
+        let argument_index = |k: usize, limit: usize| {
+            if k < limit && k <= usize::from(Drive::INDEX) {
+                Ok(k as u8)
+            } else {
+                Err(PackError::Arguments)
             }
         };
         // Every function's code; linear coefficients pushed to the pool as met.
@@ -272,13 +297,11 @@ impl<
             })
         };
         let couplers = chain.couplers();
-        for (code, c) in table.couplers.iter_mut().zip(couplers) {
-            *code = CouplerCode {
-                independent: c.independent as u8,
-                function: drive_function(&c.function, Argument::Coordinate(0), &mut pool)?,
-            };
+        for (code, c) in codes.couplers.iter_mut().zip(couplers) {
+            let function = drive_function(&c.function, Argument::Coordinate(0), &mut pool)?;
+            *code = [c.independent as u8, function];
         }
-        table.coupler_count = couplers.len() as u8;
+        codes.counts[1] = couplers.len() as u8;
         // Abscissae first seen (their pool position) for each spline, to share them.
         let splines = chain.splines();
         if splines.len() > S || chain.polynomials().len() > Q {
@@ -298,8 +321,8 @@ impl<
                 let mut function = drive_function(&d.function, d.argument, &mut pool)?;
                 let argument = match d.argument {
                     Argument::None => Drive::NONE,
-                    Argument::Coordinate(k) => Drive::COORDINATE | index(k, N)?,
-                    Argument::Coupled(k) => Drive::COUPLED | index(k, MAX_COUPLERS)?,
+                    Argument::Coordinate(k) => Drive::COORDINATE | argument_index(k, N)?,
+                    Argument::Coupled(k) => Drive::COUPLED | argument_index(k, MAX_COUPLERS)?,
                 };
                 if function & Drive::KIND == Drive::SPLINE {
                     let k = usize::from(function & Drive::FUNCTION_INDEX);
@@ -314,27 +337,27 @@ impl<
                     }
                     previous = Some(key);
                 }
-                let slot = table.drives.get_mut(count).ok_or(PackError::Drives)?;
-                *slot = Drive { function, argument };
+                let slot = codes.drives.get_mut(count).ok_or(PackError::Drives)?;
+                *slot = [function, argument];
                 count += 1;
             }
         }
-        table.drive_count = count as u8;
+        codes.counts[0] = count as u8;
         for (b, (joint, step)) in chain.joints().iter().zip(chain.steps()).enumerate() {
-            let code = &mut table.joints[b];
-            code.parent = joint.parent.unwrap_or(0) as u8;
-            code.words = pool.len as u16;
+            let code = &mut codes.joints[b];
+            code[0] = joint.parent.unwrap_or(0) as u8;
+            [code[4], code[5]] = (pool.len as u16).to_le_bytes();
             let (nr, nt) = step.moving;
             if (nr, nt) == (0, 0) {
                 pool.offset(&step.end);
                 continue;
             }
-            code.moving = nr | nt << 2;
+            code[1] = nr | nt << 2;
             let mut shape = step.shape;
             if nt == 0 {
                 shape &= !Shape::ORIENTED;
             }
-            code.shape = shape;
+            code[2] = shape;
             if shape & Shape::START != 0 {
                 pool.vec(joint.in_parent.translation);
             }
@@ -345,7 +368,7 @@ impl<
                 pool.quat(joint.in_parent.rotation);
             }
             for (r, kind) in step.kinds[..usize::from(nr)].iter().enumerate() {
-                code.kinds |= (*kind as u8) << (2 * r);
+                code[3] |= (*kind as u8) << (2 * r);
                 if *kind == AxisKind::General {
                     pool.vec(step.axes[r]);
                 }
@@ -357,13 +380,11 @@ impl<
                 pool.vec(step.end.translation);
             }
         }
-        table.points_at = pool.len as u16;
-        for (code, p) in table.points.iter_mut().zip(chain.points()) {
-            *code = PointCode {
-                body: p.body as u8,
-                at_origin: (p.offset == Vec3::zero()) as u8,
-            };
-            if code.at_origin == 0 {
+        [codes.counts[2], codes.counts[3]] = (pool.len as u16).to_le_bytes();
+        for (code, p) in codes.points.iter_mut().zip(chain.points()) {
+            let at_origin = p.offset == Vec3::zero();
+            *code = [p.body as u8, u8::from(at_origin)];
+            if !at_origin {
                 pool.vec(p.offset);
             }
         }
@@ -379,44 +400,101 @@ impl<
                 }
             };
             spline_x[k] = at;
-            table.splines[k] = SplineCode {
-                x: at,
-                values: pool.len as u16,
-                knots: x.len() as u8,
-                linear: s.is_piecewise_linear() as u8,
-            };
+            let [x0, x1] = at.to_le_bytes();
+            let [v0, v1] = (pool.len as u16).to_le_bytes();
+            codes.splines[k] = [x0, x1, v0, v1, x.len() as u8, u8::from(s.is_piecewise_linear())];
             pool.push(y);
             pool.push(s.slopes());
         }
-        for (code, p) in table.polynomials.iter_mut().zip(chain.polynomials()) {
-            *code = PolynomialCode {
-                start: pool.len as u16,
-                len: p.coefficients().len() as u8,
-            };
+        for (code, p) in codes.polynomials.iter_mut().zip(chain.polynomials()) {
+            let [s0, s1] = (pool.len as u16).to_le_bytes();
+            *code = [s0, s1, p.coefficients().len() as u8];
             pool.push(p.coefficients());
         }
-        if pool.len > W {
+        if pool.len > W || pool.len > usize::from(u16::MAX) {
             return Err(PackError::Words { needed: pool.len });
         }
-        table.used = pool.len as u16;
+        [codes.counts[4], codes.counts[5]] = (pool.len as u16).to_le_bytes();
         Ok(table)
     }
 
+    /// How many of the pool's numbers are in use.
+    pub fn used(&self) -> usize {
+        usize::from(u16::from_le_bytes([self.codes.counts[4], self.codes.counts[5]]))
+    }
+
+    /// The pool's numbers in use.
+    pub fn numbers(&self) -> &[T] {
+        &self.words[..self.used().min(W)]
+    }
+
+    /// Whether the table is one [`pack`](Self::pack) could have made, as far as a device can
+    /// cheaply tell: its counts within the table's sizes and every number in use finite. (Any
+    /// table evaluates without panicking; this is what a hub checks of an uploaded one.)
+    pub fn is_usable(&self) -> bool {
+        let counts = &self.codes.counts;
+        usize::from(counts[0]) <= D
+            && usize::from(counts[1]) <= MAX_COUPLERS
+            && self.used() <= W
+            && self.numbers().iter().all(|w| w.is_finite())
+    }
+
+    /// The joint codes.
+    pub fn joints(&self) -> impl Iterator<Item = JointCode> + '_ {
+        self.codes.joints.iter().map(|&c| JointCode(c))
+    }
+
+    /// The drives in use.
+    pub fn drives(&self) -> impl Iterator<Item = Drive> + '_ {
+        let count = usize::from(self.codes.counts[0]).min(D);
+        self.codes.drives[..count].iter().map(|&d| Drive(d))
+    }
+
+    /// The spline codes.
+    pub fn splines(&self) -> impl Iterator<Item = SplineCode> + '_ {
+        self.codes.splines.iter().map(|&s| SplineCode(s))
+    }
+
+    /// Every body's frame in ground for input coordinates `q`.
+    pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
+        self.frames_inline(q)
+    }
+
     /// The output points in ground for input coordinates `q`: forward kinematics.
+    #[inline]
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
+        let frames = self.frames_inline(q);
+        let mut cursor =
+            usize::from(u16::from_le_bytes([self.codes.counts[2], self.codes.counts[3]]));
+        core::array::from_fn(|k| {
+            let [body, at_origin] = self.codes.points[k];
+            let offset = if at_origin != 0 {
+                None
+            } else {
+                Some(self.vec(&mut cursor))
+            };
+            match (frames.get(usize::from(body)), offset) {
+                (Some(f), None) => f.origin,
+                (Some(f), Some(o)) => f.origin + f.rotation.rotate(o),
+                (None, _) => Vec3::zero(),
+            }
+        })
+    }
+
+    /// [`frames`](Self::frames): every drive's value first, then the frames joint by joint.
+    #[inline(always)]
+    fn frames_inline(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
         let mut values = [T::ZERO; D];
         self.values(q, &mut values);
         let mut frames = [BodyFrame::GROUND; B];
         let mut rest = &values[..];
-        for (b, code) in self.joints.iter().enumerate() {
-            let (nr, nt) = (
-                usize::from(code.moving & 3),
-                usize::from(code.moving >> 2 & 3),
-            );
+        for (b, &code) in self.codes.joints.iter().enumerate() {
+            let code = JointCode(code);
+            let (nr, nt) = code.moving();
             let (v, after) = rest.split_at((nr + nt).min(rest.len()));
             rest = after;
             let (done, todo) = frames.split_at_mut(b);
-            let parent = match done.get(usize::from(code.parent)) {
+            let parent = match done.get(code.parent()) {
                 Some(p) if b > 0 => p,
                 _ => &BodyFrame::GROUND,
             };
@@ -424,20 +502,7 @@ impl<
                 *f = self.frame(code, parent, v, nr, nt);
             }
         }
-        let mut cursor = usize::from(self.points_at);
-        core::array::from_fn(|k| {
-            let p = &self.points[k];
-            let offset = if p.at_origin != 0 {
-                None
-            } else {
-                Some(self.vec(&mut cursor))
-            };
-            match (frames.get(usize::from(p.body)), offset) {
-                (Some(f), None) => f.origin,
-                (Some(f), Some(o)) => f.origin + f.rotation.rotate(o),
-                (None, _) => Vec3::zero(),
-            }
-        })
+        frames
     }
 
     /// Every moving axis's value for `q`, in drive order; the couplers' first, the linear
@@ -452,23 +517,20 @@ impl<
             a: T::ZERO,
             b: T::ZERO,
         };
-        let count = usize::from(self.coupler_count).min(MAX_COUPLERS);
-        for (v, c) in coupled[..count].iter_mut().zip(&self.couplers) {
-            let x = q
-                .get(usize::from(c.independent))
-                .copied()
-                .unwrap_or(T::ZERO);
-            *v = self.function(c.function, x, &mut cursor, &mut weights);
+        let count = usize::from(self.codes.counts[1]).min(MAX_COUPLERS);
+        for (v, &[independent, function]) in coupled[..count].iter_mut().zip(&self.codes.couplers) {
+            let x = q.get(usize::from(independent)).copied().unwrap_or(T::ZERO);
+            *v = self.function(function, x, &mut cursor, &mut weights);
         }
-        let count = usize::from(self.drive_count).min(D);
-        for (v, d) in values[..count].iter_mut().zip(&self.drives) {
-            let index = usize::from(d.argument & Drive::INDEX);
-            let x = match d.argument & Drive::KIND {
+        let count = usize::from(self.codes.counts[0]).min(D);
+        for (v, &[function, argument]) in values[..count].iter_mut().zip(&self.codes.drives) {
+            let index = usize::from(argument & Drive::INDEX);
+            let x = match argument & Drive::KIND {
                 Drive::COORDINATE => q.get(index).copied().unwrap_or(T::ZERO),
                 Drive::COUPLED => coupled.get(index).copied().unwrap_or(T::ZERO),
                 _ => T::ZERO,
             };
-            *v = self.function(d.function, x, &mut cursor, &mut weights);
+            *v = self.function(function, x, &mut cursor, &mut weights);
         }
     }
 
@@ -477,13 +539,13 @@ impl<
     #[inline(always)]
     fn frame(
         &self,
-        code: &JointCode,
+        code: JointCode,
         parent: &BodyFrame<T>,
         v: &[T],
         nr: usize,
         nt: usize,
     ) -> BodyFrame<T> {
-        let mut cursor = usize::from(code.words);
+        let mut cursor = code.words();
         if nr == 0 && nt == 0 {
             let translation = self.vec(&mut cursor);
             let rotation = self.quat(&mut cursor);
@@ -492,14 +554,15 @@ impl<
                 rotation,
             });
         }
+        let shape = code.shape();
         let mut origin = parent.origin;
-        if code.shape & Shape::START != 0 {
+        if shape & Shape::START != 0 {
             let start = self.vec(&mut cursor);
             let mut slide = Vec3::zero();
             for &x in v.iter().take(nt) {
                 slide += self.vec(&mut cursor) * x;
             }
-            if code.shape & Shape::ORIENTED != 0 {
+            if shape & Shape::ORIENTED != 0 {
                 slide = self.quat(&mut cursor).rotate(slide);
             }
             origin += parent.rotation.rotate(start + slide);
@@ -507,17 +570,17 @@ impl<
         let mut rotation = parent.rotation;
         for (r, &x) in v.iter().skip(nt).take(nr).enumerate() {
             let (s, c) = x.half_angle_sin_cos();
-            rotation = match code.kinds >> (2 * r) & 3 {
+            rotation = match code.kinds() >> (2 * r) & 3 {
                 1 => rotation.then_about_x(s, c),
                 2 => rotation.then_about_y(s, c),
                 3 => rotation.then_about_z(s, c),
                 _ => rotation * Quat::from_axis_half_sin_cos(self.vec(&mut cursor), s, c),
             };
         }
-        if code.shape & Shape::TURNS != 0 {
+        if shape & Shape::TURNS != 0 {
             rotation = rotation * self.quat(&mut cursor);
         }
-        if code.shape & Shape::ENDS_AWAY != 0 {
+        if shape & Shape::ENDS_AWAY != 0 {
             origin += rotation.rotate(self.vec(&mut cursor));
         }
         BodyFrame { rotation, origin }
@@ -535,24 +598,25 @@ impl<
                 slope * x + intercept
             }
             Drive::SPLINE => {
-                let Some(s) = self.splines.get(index) else {
+                let Some(&s) = self.codes.splines.get(index) else {
                     return T::ZERO;
                 };
+                let s = SplineCode(s);
                 if !shared {
                     *weights = self.weights(s, x);
                 }
-                let at = usize::from(s.values) + weights.k;
-                let n = usize::from(s.knots);
+                let at = s.values() + weights.k;
+                let n = s.knots();
                 let [y0, y1] = self.take::<2>(&mut at.clone());
                 let [m0, m1] = self.take::<2>(&mut (at + n));
                 y0 + (y1 - y0) * weights.w + m0 * weights.a + m1 * weights.b
             }
             Drive::POLYNOMIAL => {
-                let Some(p) = self.polynomials.get(index) else {
+                let Some(&[s0, s1, len]) = self.codes.polynomials.get(index) else {
                     return T::ZERO;
                 };
-                let start = usize::from(p.start);
-                let c = self.words.get(start..start + usize::from(p.len));
+                let start = usize::from(u16::from_le_bytes([s0, s1]));
+                let c = self.words.get(start..start + usize::from(len));
                 c.unwrap_or(&[])
                     .iter()
                     .fold(T::ZERO, |value, &c| value * x + c)
@@ -564,9 +628,9 @@ impl<
     /// The weights of spline `s`'s knots at `t`: the cubic of the last knot at or below `t`
     /// (the first below the second knot), or the end lines outside the knots.
     #[inline(always)]
-    fn weights(&self, s: &SplineCode, t: T) -> Weights<T> {
-        let n = usize::from(s.knots);
-        let start = usize::from(s.x);
+    fn weights(&self, s: SplineCode, t: T) -> Weights<T> {
+        let n = s.knots();
+        let start = s.x();
         let zero = T::ZERO;
         let Some(x) = self.words.get(start..start + n).filter(|x| x.len() >= 2) else {
             return Weights {
@@ -608,7 +672,7 @@ impl<
         }
         let dx = t - x[k];
         let s_ = dx / (x[k + 1] - x[k]);
-        if s.linear != 0 {
+        if s.linear() {
             return Weights {
                 k,
                 w: s_,
@@ -646,6 +710,73 @@ impl<
     fn quat(&self, cursor: &mut usize) -> Quat<T> {
         let [w, x, y, z] = self.take::<4>(cursor);
         Quat::new(w, x, y, z)
+    }
+}
+
+/// The code bytes of `codes` in image order: `as_flattened` and `iter`, or their `_mut`s.
+macro_rules! code_bytes {
+    ($codes:expr, $flat:ident, $iter:ident) => {
+        $codes
+            .joints
+            .$flat()
+            .$iter()
+            .chain($codes.drives.$flat().$iter())
+            .chain($codes.points.$flat().$iter())
+            .chain($codes.splines.$flat().$iter())
+            .chain($codes.polynomials.$flat().$iter())
+            .chain($codes.couplers.$flat().$iter())
+            .chain($codes.counts.$iter())
+    };
+}
+
+impl<
+        const N: usize,
+        const B: usize,
+        const P: usize,
+        const S: usize,
+        const Q: usize,
+        const D: usize,
+        const W: usize,
+    > PackedChain<f32, N, B, P, S, Q, D, W>
+{
+    /// Bytes of the image: the codes, then the numbers (see the module docs).
+    pub const IMAGE_LEN: usize = Self::CODES_LEN + 4 * W;
+
+    /// The code bytes, in image order.
+    fn code_bytes_mut(&mut self) -> impl Iterator<Item = &mut u8> {
+        code_bytes!(self.codes, as_flattened_mut, iter_mut)
+    }
+
+    /// The image's bytes, in order.
+    pub fn image(&self) -> impl Iterator<Item = u8> + '_ {
+        code_bytes!(self.codes, as_flattened, iter)
+            .copied()
+            .chain(self.words.iter().flat_map(|w| w.to_le_bytes()))
+    }
+
+    /// Writes `bytes` into the image from byte `at` on (what lies past
+    /// [`IMAGE_LEN`](Self::IMAGE_LEN) is ignored): how a hub fills its slot as an upload's
+    /// parts arrive, with no second copy of the table.
+    pub fn write_image(&mut self, at: usize, bytes: &[u8]) {
+        for (c, &b) in self.code_bytes_mut().skip(at).zip(bytes) {
+            *c = b;
+        }
+        let skip = Self::CODES_LEN.saturating_sub(at);
+        let first = at.saturating_sub(Self::CODES_LEN);
+        for (i, &b) in (first..).zip(bytes.iter().skip(skip)) {
+            if let Some(w) = self.words.get_mut(i / 4) {
+                let mut le = w.to_le_bytes();
+                le[i % 4] = b;
+                *w = f32::from_le_bytes(le);
+            }
+        }
+    }
+
+    /// Reads the image from byte `at` on into `out` (as much as there is).
+    pub fn read_image(&self, at: usize, out: &mut [u8]) {
+        for (o, b) in out.iter_mut().zip(self.image().skip(at)) {
+            *o = b;
+        }
     }
 }
 
@@ -717,13 +848,20 @@ mod tests {
         let chain = walker_chain();
         let packed = Packed::<f64>::pack(&chain).unwrap();
         assert_same(&packed, &chain, 1e-14);
+        for q in poses() {
+            for (p, r) in packed.frames(&q).iter().zip(&chain.frames(&q)) {
+                assert!(p.origin.max_abs_diff(r.origin) < 1e-14);
+            }
+        }
         // Its abscissae are stored once.
-        assert_eq!(packed.splines[0].x, packed.splines[1].x);
-        assert_ne!(packed.splines[0].values, packed.splines[1].values);
+        let mut splines = packed.splines();
+        let (a, b) = (splines.next().unwrap(), splines.next().unwrap());
+        assert_eq!(a.x(), b.x());
+        assert_ne!(a.values(), b.values());
         // The straight spline takes the cubic's knot but not its weights.
-        let shares = packed.drives[..usize::from(packed.drive_count)]
-            .iter()
-            .filter(|d| d.function & Drive::SHARES != 0)
+        let shares = packed
+            .drives()
+            .filter(|d| d.function() & Drive::SHARES != 0)
             .count();
         assert_eq!(shares, 0);
     }
@@ -731,7 +869,7 @@ mod tests {
     #[test]
     fn a_packed_chain_in_f32_is_its_chain_within_f32_rounding() {
         let chain = walker_chain();
-        let packed = PackedChain::<f32, 17, 11, 12, 12, 12, 66, 512>::pack(&chain).unwrap();
+        let packed = Packed::<f32>::pack(&chain).unwrap();
         for q in poses() {
             let q32 = q.map(|v| v as f32);
             for (p, r) in packed.forward(&q32).iter().zip(&chain.forward(&q)) {
@@ -748,17 +886,74 @@ mod tests {
         assert_eq!(
             small,
             Err(PackError::Words {
-                needed: usize::from(full.used)
+                needed: full.used()
             })
         );
         let no_splines = PackedChain::<f64, 17, 11, 12, 1, 12, 66, 512>::pack(&chain);
         assert_eq!(no_splines, Err(PackError::Functions));
+        let few_drives = PackedChain::<f64, 17, 11, 12, 12, 12, 4, 512>::pack(&chain);
+        assert_eq!(few_drives, Err(PackError::Drives));
+    }
+
+    #[test]
+    fn an_image_written_in_any_pieces_is_the_table() {
+        let packed = Packed::<f32>::pack(&walker_chain()).unwrap();
+        let mut image = [0u8; Packed::<f32>::IMAGE_LEN];
+        packed.read_image(0, &mut image);
+        // The numbers are the pool's, little-endian, after the codes.
+        let at = Packed::<f32>::CODES_LEN;
+        assert_eq!(image[at..at + 4], packed.numbers()[0].to_le_bytes());
+        for piece in [1, 7, 64, 150, image.len()] {
+            let mut table = Packed::<f32>::EMPTY;
+            for (k, chunk) in image.chunks(piece).enumerate() {
+                table.write_image(k * piece, chunk);
+            }
+            assert_eq!(table, packed, "pieces of {piece}");
+            // Read back in pieces too.
+            let mut again = [0u8; Packed::<f32>::IMAGE_LEN];
+            for (k, chunk) in again.chunks_mut(piece).enumerate() {
+                table.read_image(k * piece, chunk);
+            }
+            assert_eq!(again, image);
+        }
+        // Past the end: nothing written, nothing read.
+        let mut table = packed;
+        table.write_image(image.len(), &[0xff; 8]);
+        assert_eq!(table, packed);
+        let mut out = [7u8; 4];
+        table.read_image(image.len(), &mut out);
+        assert_eq!(out, [7; 4]);
+    }
+
+    #[test]
+    fn a_table_with_counts_past_its_sizes_or_a_number_not_finite_is_not_usable() {
+        let packed = Packed::<f32>::pack(&walker_chain()).unwrap();
+        assert!(packed.is_usable());
+        let counts = Packed::<f32>::CODES_LEN - 6;
+        let mut bad = packed;
+        bad.write_image(counts, &[67]);
+        assert!(!bad.is_usable(), "drives past D");
+        let mut bad = packed;
+        bad.write_image(counts + 1, &[5]);
+        assert!(!bad.is_usable(), "couplers past MAX_COUPLERS");
+        let mut bad = packed;
+        bad.write_image(counts + 4, &513u16.to_le_bytes());
+        assert!(!bad.is_usable(), "numbers past W");
+        let mut bad = packed;
+        bad.write_image(Packed::<f32>::CODES_LEN + 4, &f32::NAN.to_le_bytes());
+        assert!(!bad.is_usable(), "a NaN");
+        // A number past those in use is not looked at.
+        let mut past = packed;
+        past.write_image(Packed::<f32>::CODES_LEN + 4 * packed.used(), &f32::NAN.to_le_bytes());
+        assert!(past.is_usable());
     }
 
     #[test]
     fn any_table_evaluates_without_panicking() {
         // Codes pointing past the pool, past the tables, at bodies that do not exist.
-        let mut packed = Packed::<f32>::pack(&walker_chain()).unwrap();
+        let packed = Packed::<f32>::pack(&walker_chain()).unwrap();
+        let mut image = [0u8; Packed::<f32>::CODES_LEN];
+        packed.read_image(0, &mut image);
         let mut state = 0x2545_f491u32;
         let mut byte = || {
             state ^= state << 13;
@@ -766,32 +961,22 @@ mod tests {
             state ^= state << 5;
             state as u8
         };
-        for _ in 0..200 {
-            for j in &mut packed.joints {
-                j.parent = byte();
-                j.moving = byte();
-                j.shape = byte();
-                j.kinds = byte();
-                j.words = u16::from(byte()) * 3;
+        for round in 0..400 {
+            let mut table = packed;
+            let mut codes = image;
+            // Half the rounds change a few bytes of a good table, half fill it at random.
+            if round % 2 == 0 {
+                for _ in 0..4 {
+                    let at = usize::from(byte()) * 256 + usize::from(byte());
+                    let len = codes.len();
+                    codes[at % len] = byte();
+                }
+            } else {
+                codes.iter_mut().for_each(|c| *c = byte());
             }
-            for d in &mut packed.drives {
-                *d = Drive {
-                    function: byte(),
-                    argument: byte(),
-                };
-            }
-            packed.drive_count = byte();
-            for s in &mut packed.splines {
-                s.x = u16::from(byte()) * 2;
-                s.values = u16::from(byte()) * 2;
-                s.knots = byte();
-            }
-            for p in &mut packed.points {
-                p.body = byte() % 16;
-            }
-            packed.coupler_count = byte();
-            packed.points_at = u16::from(byte()) * 2;
-            let _ = packed.forward(&[0.3; 17]);
+            table.write_image(0, &codes);
+            let _ = table.forward(&[0.3; 17]);
+            let _ = table.forward(&[f32::NAN; 17]);
         }
     }
 }
