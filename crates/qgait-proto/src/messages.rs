@@ -9,7 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    ChainAxes, ChainConfig, ChainJoint, ChainSpline, ImuConfig, JointId, ModelId,
+    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId,
     SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg,
 };
 
@@ -205,7 +205,7 @@ pub struct Config {
     pub request_status: bool,
 }
 
-/// Every message of the protocol. The variant order is the wire tag (0 to 12): new variants
+/// Every message of the protocol. The variant order is the wire tag (0 to 10): new variants
 /// are only ever appended, existing ones never change.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -228,14 +228,12 @@ pub enum Message {
     SegmentOrientation(SegmentOrientation),
     /// Tag 8: host to hub, the input mode and IMU settings.
     ImuConfig(ImuConfig),
-    /// Tag 9 ([`CHAIN_JOINT_TAG`](crate::CHAIN_JOINT_TAG)): host to hub, a part of a chain.
-    ChainJoint(ChainJoint),
-    /// Tag 10 ([`CHAIN_AXES_TAG`](crate::CHAIN_AXES_TAG)): host to hub, a part of a chain.
-    ChainAxes(ChainAxes),
-    /// Tag 11 ([`CHAIN_SPLINE_TAG`](crate::CHAIN_SPLINE_TAG)): host to hub, a part of a chain.
-    ChainSpline(ChainSpline),
-    /// Tag 12 ([`CHAIN_CONFIG_TAG`](crate::CHAIN_CONFIG_TAG)): host to hub, switch to a chain.
-    ChainConfig(ChainConfig),
+    /// Tag 9 ([`CHAIN_TABLE_TAG`](crate::CHAIN_TABLE_TAG)): host to hub, bytes of a chain's
+    /// table.
+    ChainTable(ChainTable),
+    /// Tag 10 ([`CHAIN_TABLE_CONFIG_TAG`](crate::CHAIN_TABLE_CONFIG_TAG)): host to hub, switch
+    /// to a chain's table.
+    ChainTableConfig(ChainTableConfig),
 }
 
 impl Status {
@@ -279,10 +277,8 @@ impl Message {
             Message::SubjectConfig(_) => 6,
             Message::SegmentOrientation(_) => 7,
             Message::ImuConfig(_) => 8,
-            Message::ChainJoint(_) => crate::CHAIN_JOINT_TAG,
-            Message::ChainAxes(_) => crate::CHAIN_AXES_TAG,
-            Message::ChainSpline(_) => crate::CHAIN_SPLINE_TAG,
-            Message::ChainConfig(_) => crate::CHAIN_CONFIG_TAG,
+            Message::ChainTable(_) => crate::CHAIN_TABLE_TAG,
+            Message::ChainTableConfig(_) => crate::CHAIN_TABLE_CONFIG_TAG,
         }
     }
 }
@@ -323,27 +319,15 @@ impl From<SubjectKnee> for Message {
     }
 }
 
-impl From<ChainJoint> for Message {
-    fn from(m: ChainJoint) -> Self {
-        Message::ChainJoint(m)
+impl From<ChainTable> for Message {
+    fn from(m: ChainTable) -> Self {
+        Message::ChainTable(m)
     }
 }
 
-impl From<ChainAxes> for Message {
-    fn from(m: ChainAxes) -> Self {
-        Message::ChainAxes(m)
-    }
-}
-
-impl From<ChainSpline> for Message {
-    fn from(m: ChainSpline) -> Self {
-        Message::ChainSpline(m)
-    }
-}
-
-impl From<ChainConfig> for Message {
-    fn from(m: ChainConfig) -> Self {
-        Message::ChainConfig(m)
+impl From<ChainTableConfig> for Message {
+    fn from(m: ChainTableConfig) -> Self {
+        Message::ChainTableConfig(m)
     }
 }
 

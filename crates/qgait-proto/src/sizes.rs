@@ -1,13 +1,15 @@
 //! Maximum encoded sizes, computed from worst-case postcard encodings.
 //!
 //! postcard writes `u8` and `bool` as 1 byte, `f32` as 4 bytes, an `Option` tag as 1 byte, and
-//! `u32` and lengths as LEB128 varints of at most 5 bytes (7 bits per byte). A message tag and
+//! `u16`, `u32` and lengths as LEB128 varints of at most 3, 5 and 5 bytes (7 bits per byte). A message tag and
 //! every enum value of this protocol fit one byte.
 
-use crate::{cobs, point, segment, JointId, MAX_CHAIN_COUPLERS, MAX_CHAIN_KNOTS, MAX_KNEE_KNOTS};
+use crate::{cobs, point, segment, JointId, MAX_CHAIN_TABLE_BYTES, MAX_KNEE_KNOTS};
 
 /// Worst-case bytes of a postcard `u32` varint.
 const VARINT_U32: usize = 5;
+/// Worst-case bytes of a postcard `u16` varint.
+const VARINT_U16: usize = 3;
 /// Bytes of an `f32`.
 const F32: usize = 4;
 /// Bytes of the message tag (tags < 128 are one varint byte).
@@ -57,37 +59,14 @@ pub const SEGMENT_ORIENTATION_MAX_LEN: usize =
 /// tag, mode, segments, calibrate, 3 `f32`, option tag, base, axis, request_status.
 pub const IMU_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 1 + 3 * F32 + 1 + 1 + 1 + 1;
 
-/// Largest postcard encoding of a [`ChainJoint`](crate::ChainJoint) message, tag included:
-/// tag, upload, body, parent, two offsets of 3 + 4 `f32`, the point's 3 `f32`.
-pub const CHAIN_JOINT_MAX_LEN: usize = TAG + 1 + 1 + 1 + 2 * 7 * F32 + 3 * F32;
+/// Largest postcard encoding of a [`ChainTable`](crate::ChainTable) message, tag included:
+/// tag, upload, `at` (a `u16` varint), byte count, the bytes.
+pub const CHAIN_TABLE_MAX_LEN: usize = TAG + 1 + VARINT_U16 + 2 + MAX_CHAIN_TABLE_BYTES;
 
-/// Largest postcard encoding of a [`ChainFunction`](crate::ChainFunction): variant, 2 `f32`.
-const CHAIN_FUNCTION_MAX_LEN: usize = 1 + 2 * F32;
-
-/// Largest postcard encoding of a [`ChainAxis`](crate::ChainAxis): 3 `f32`, a function, an
-/// argument (variant and index).
-const CHAIN_AXIS_MAX_LEN: usize = 3 * F32 + CHAIN_FUNCTION_MAX_LEN + 2;
-
-/// Largest postcard encoding of a [`ChainAxes`](crate::ChainAxes) message, tag included:
-/// tag, upload, body, two counts of up to 3 axes.
-pub const CHAIN_AXES_MAX_LEN: usize = TAG + 1 + 1 + 2 * (1 + 3 * CHAIN_AXIS_MAX_LEN);
-
-/// Largest postcard encoding of a [`ChainSpline`](crate::ChainSpline) message, tag included:
-/// tag, upload, index, linear, knot count, 13 knots of 2 `f32`.
-pub const CHAIN_SPLINE_MAX_LEN: usize = TAG + 1 + 1 + 1 + 1 + MAX_CHAIN_KNOTS * 2 * F32;
-
-/// Largest postcard encoding of a [`ChainConfig`](crate::ChainConfig) message, tag included:
-/// tag, upload, spline count, coupler count and 4 couplers (index and function), 2 toe tips
-/// (body and 3 `f32`), missing policy, reorder window, request_status.
-pub const CHAIN_CONFIG_MAX_LEN: usize = TAG
-    + 1
-    + 1
-    + 1
-    + MAX_CHAIN_COUPLERS * (1 + CHAIN_FUNCTION_MAX_LEN)
-    + 2 * (1 + 3 * F32)
-    + 1
-    + 1
-    + 1;
+/// Largest postcard encoding of a [`ChainTableConfig`](crate::ChainTableConfig) message, tag
+/// included: tag, upload, `len` (a `u16` varint), `crc` (a `u32` varint), missing policy,
+/// reorder window, request_status.
+pub const CHAIN_TABLE_CONFIG_MAX_LEN: usize = TAG + 1 + VARINT_U16 + VARINT_U32 + 1 + 1 + 1;
 
 const fn max(a: usize, b: usize) -> usize {
     if a > b {
@@ -106,14 +85,11 @@ pub const MAX_MESSAGE_LEN: usize = max(
     max(
         max(
             max(SUBJECT_LEG_MAX_LEN, SUBJECT_KNEE_MAX_LEN),
-            max(SUBJECT_CONFIG_MAX_LEN, CHAIN_JOINT_MAX_LEN),
+            max(SUBJECT_CONFIG_MAX_LEN, CHAIN_TABLE_MAX_LEN),
         ),
         max(
-            max(CHAIN_AXES_MAX_LEN, CHAIN_SPLINE_MAX_LEN),
-            max(
-                CHAIN_CONFIG_MAX_LEN,
-                max(SEGMENT_ORIENTATION_MAX_LEN, IMU_CONFIG_MAX_LEN),
-            ),
+            CHAIN_TABLE_CONFIG_MAX_LEN,
+            max(SEGMENT_ORIENTATION_MAX_LEN, IMU_CONFIG_MAX_LEN),
         ),
     ),
 );

@@ -173,10 +173,8 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
             }
             .into(),
         ),
-        ("chain-joint", common::chain_joint().into()),
-        ("chain-axes", common::chain_axes().into()),
-        ("chain-spline", common::chain_spline().into()),
-        ("chain-config", common::chain_config().into()),
+        ("chain-table", common::chain_table().into()),
+        ("chain-table-config", common::chain_table_config().into()),
     ]
 }
 
@@ -290,24 +288,28 @@ fn constants() -> Vec<String> {
             qgait_proto::SEGMENT_ORIENTATION_MAX_LEN
         ),
         format!("IMU_CONFIG_MAX_LEN = {}", qgait_proto::IMU_CONFIG_MAX_LEN),
-        format!("CHAIN_JOINT_MAX_LEN = {}", qgait_proto::CHAIN_JOINT_MAX_LEN),
-        format!("CHAIN_AXES_MAX_LEN = {}", qgait_proto::CHAIN_AXES_MAX_LEN),
+        format!("CHAIN_TABLE_MAX_LEN = {}", qgait_proto::CHAIN_TABLE_MAX_LEN),
         format!(
-            "CHAIN_SPLINE_MAX_LEN = {}",
-            qgait_proto::CHAIN_SPLINE_MAX_LEN
-        ),
-        format!(
-            "CHAIN_CONFIG_MAX_LEN = {}",
-            qgait_proto::CHAIN_CONFIG_MAX_LEN
+            "CHAIN_TABLE_CONFIG_MAX_LEN = {}",
+            qgait_proto::CHAIN_TABLE_CONFIG_MAX_LEN
         ),
         format!("MAX_KNEE_KNOTS = {}", qgait_proto::MAX_KNEE_KNOTS),
         format!("MAX_CHAIN_SPLINES = {}", qgait_proto::MAX_CHAIN_SPLINES),
-        format!("MAX_CHAIN_KNOTS = {}", qgait_proto::MAX_CHAIN_KNOTS),
-        format!("MAX_CHAIN_COUPLERS = {}", qgait_proto::MAX_CHAIN_COUPLERS),
-        format!("CHAIN_JOINT_TAG = {}", qgait_proto::CHAIN_JOINT_TAG),
-        format!("CHAIN_AXES_TAG = {}", qgait_proto::CHAIN_AXES_TAG),
-        format!("CHAIN_SPLINE_TAG = {}", qgait_proto::CHAIN_SPLINE_TAG),
-        format!("CHAIN_CONFIG_TAG = {}", qgait_proto::CHAIN_CONFIG_TAG),
+        format!("MAX_CHAIN_DRIVES = {}", qgait_proto::MAX_CHAIN_DRIVES),
+        format!("MAX_CHAIN_WORDS = {}", qgait_proto::MAX_CHAIN_WORDS),
+        format!(
+            "MAX_CHAIN_TABLE_BYTES = {}",
+            qgait_proto::MAX_CHAIN_TABLE_BYTES
+        ),
+        format!(
+            "CHAIN_IMAGE_LEN = {}",
+            qgait_proto::device_model::CHAIN_IMAGE_LEN
+        ),
+        format!("CHAIN_TABLE_TAG = {}", qgait_proto::CHAIN_TABLE_TAG),
+        format!(
+            "CHAIN_TABLE_CONFIG_TAG = {}",
+            qgait_proto::CHAIN_TABLE_CONFIG_TAG
+        ),
         format!("MAX_REORDER_WINDOW = {}", qgait_proto::MAX_REORDER_WINDOW),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
     ]

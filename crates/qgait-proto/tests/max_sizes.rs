@@ -210,34 +210,36 @@ fn encode_frame_fits_a_max_frame_len_buffer() {
     assert!(encode_frame(&msg, &mut exact).is_ok());
 }
 
-/// `ChainConfig` is 33 to 73 bytes (protocol.md 4.9): no couplers, then the most couplers,
-/// each of the largest function.
+/// `ChainTable` is 4 to 167 bytes and `ChainTableConfig` 7 to 13 (protocol.md 4.9): the
+/// smallest fields, then the largest.
 #[test]
-fn chain_config_is_33_to_73_bytes() {
-    use qgait_proto::{ChainConfig, ChainCoupler, ChainFunction, ChainPoint, MAX_CHAIN_COUPLERS};
-    let tip = ChainPoint {
-        body: 10,
-        offset: [ANGLE; 3],
+fn chain_table_messages_are_their_documented_sizes() {
+    use qgait_proto::{
+        ChainTable, ChainTableConfig, CHAIN_TABLE_CONFIG_MAX_LEN, CHAIN_TABLE_MAX_LEN,
+        MAX_CHAIN_TABLE_BYTES,
     };
-    let mut config = ChainConfig {
-        upload: 0xFF,
-        splines: 8,
-        couplers: heapless::Vec::new(),
-        toe_tips: [tip; 2],
-        missing_policy: MissingPolicy::HoldLast,
-        reorder_window: 8,
-        request_status: true,
+    let mut part = ChainTable {
+        upload: 0,
+        at: 0,
+        bytes: heapless::Vec::new(),
     };
-    assert_eq!(message_len(&Message::ChainConfig(config.clone())), 33);
-    for _ in 0..MAX_CHAIN_COUPLERS {
-        let coupler = ChainCoupler {
-            independent: 16,
-            function: ChainFunction::Linear {
-                slope: ANGLE,
-                intercept: ANGLE,
-            },
-        };
-        config.couplers.push(coupler).unwrap();
-    }
-    assert_eq!(message_len(&Message::ChainConfig(config)), 73);
+    assert_eq!(message_len(&Message::ChainTable(part.clone())), 4);
+    part.upload = 0xFF;
+    part.at = u16::MAX;
+    part.bytes.resize(MAX_CHAIN_TABLE_BYTES, 0xFF).unwrap();
+    assert_eq!(message_len(&Message::ChainTable(part)), 167);
+    assert_eq!(CHAIN_TABLE_MAX_LEN, 167);
+    let mut config = ChainTableConfig {
+        upload: 0,
+        len: 0,
+        crc: 0,
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 1,
+        request_status: false,
+    };
+    assert_eq!(message_len(&Message::ChainTableConfig(config.clone())), 7);
+    config.len = u16::MAX;
+    config.crc = u32::MAX;
+    assert_eq!(message_len(&Message::ChainTableConfig(config)), 13);
+    assert_eq!(CHAIN_TABLE_CONFIG_MAX_LEN, 13);
 }

@@ -41,10 +41,8 @@ fn kind_max_len(msg: &Message) -> usize {
         Message::SubjectConfig(_) => SUBJECT_CONFIG_MAX_LEN,
         Message::SegmentOrientation(_) => qgait_proto::SEGMENT_ORIENTATION_MAX_LEN,
         Message::ImuConfig(_) => qgait_proto::IMU_CONFIG_MAX_LEN,
-        Message::ChainJoint(_) => qgait_proto::CHAIN_JOINT_MAX_LEN,
-        Message::ChainAxes(_) => qgait_proto::CHAIN_AXES_MAX_LEN,
-        Message::ChainSpline(_) => qgait_proto::CHAIN_SPLINE_MAX_LEN,
-        Message::ChainConfig(_) => qgait_proto::CHAIN_CONFIG_MAX_LEN,
+        Message::ChainTable(_) => qgait_proto::CHAIN_TABLE_MAX_LEN,
+        Message::ChainTableConfig(_) => qgait_proto::CHAIN_TABLE_CONFIG_MAX_LEN,
     }
 }
 

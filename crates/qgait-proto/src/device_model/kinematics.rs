@@ -12,9 +12,9 @@ use qgait_kernel::{
 
 use crate::device_model::chain::chain_pose;
 #[cfg(feature = "chain")]
-use crate::device_model::chain::{ChainParts, DeviceChain};
+use crate::device_model::chain::{device_chain_pose, table_crc, DeviceChain, CHAIN_IMAGE_LEN};
 #[cfg(feature = "chain")]
-use crate::ChainConfig;
+use crate::{ChainTable, ChainTableConfig};
 use crate::{
     encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection,
     ModelId, PoseFrame, PoseFrameParts,
@@ -53,18 +53,18 @@ pub enum ConfigError {
     /// The reorder window asked for is not in `1..=MAX_REORDER_WINDOW`
     /// ([`MAX_REORDER_WINDOW`](crate::MAX_REORDER_WINDOW)).
     ReorderWindow(u8),
-    /// A chain was asked for before all its parts arrived (or by a `Config`, which cannot
-    /// name one).
+    /// A chain was asked for whose table the hub does not hold whole: another upload's, a part
+    /// missing or changed (the image's CRC differs), or one it cannot compute (counts past the
+    /// table's sizes, a number not finite); or by a `Config`, which cannot name one.
     ChainIncomplete {
         /// The upload asked for.
         upload: u8,
     },
-    /// A chain cannot be sent to a hub: more splines, knots or couplers than a hub holds, or
-    /// points other than the leg bodies' joint centres and a toe tip per side.
+    /// A chain cannot be sent to a hub: more splines, moving axes or numbers than a hub's table
+    /// holds.
     ChainTooLarge,
     /// A chain with polynomial functions (OpenSim `PolynomialFunction`, Rajagopal-Lai-Uhlrich
-    /// 2023's knee) cannot be sent to a hub: the chain messages carry constants, lines and
-    /// splines.
+    /// 2023's knee) cannot be sent to a hub: a hub's table holds constants, lines and splines.
     ChainPolynomial,
     /// A knee spline has more knots than a `SubjectKnee` carries.
     SubjectKnots {
@@ -116,16 +116,17 @@ impl core::fmt::Display for ConfigError {
                 "reorder window {w} is not in 1..={}",
                 crate::MAX_REORDER_WINDOW
             ),
-            ConfigError::ChainIncomplete { upload } => {
-                write!(f, "chain {upload}: not every part arrived")
-            }
+            ConfigError::ChainIncomplete { upload } => write!(
+                f,
+                "chain {upload}: the hub does not hold its whole table (a part missing or changed)"
+            ),
             ConfigError::ChainTooLarge => write!(
                 f,
-                "the chain does not fit a hub: at most {} splines of {} knots and {} couplers, \
-                 points the leg joint centres and a toe tip per side",
+                "the chain does not fit a hub's table: at most {} splines, {} moving axes and {} \
+                 numbers",
                 crate::MAX_CHAIN_SPLINES,
-                crate::MAX_CHAIN_KNOTS,
-                crate::MAX_CHAIN_COUPLERS
+                crate::MAX_CHAIN_DRIVES,
+                crate::MAX_CHAIN_WORDS
             ),
             ConfigError::ChainPolynomial => f.write_str(
                 "the chain has polynomial functions (PolynomialFunction), which a hub does not take",
@@ -313,6 +314,13 @@ pub struct Kinematics {
     /// The knee flexion of an uploaded chain (negative for the built-in models).
     #[cfg(feature = "chain")]
     knee: KneeFlexion,
+    /// The upload whose table the slot holds (`None` for the built-in models).
+    #[cfg(feature = "chain")]
+    upload: Option<u8>,
+    /// A table is being written: no model to compute with until a
+    /// [`set_chain`](Kinematics::set_chain) takes it.
+    #[cfg(feature = "chain")]
+    loading: bool,
 }
 
 /// The kernel model that computes the poses.
@@ -342,6 +350,10 @@ impl Kinematics {
         chain: ModelChain::Phak(Phak::EMPTY),
         #[cfg(feature = "chain")]
         knee: KneeFlexion::Negative,
+        #[cfg(feature = "chain")]
+        upload: None,
+        #[cfg(feature = "chain")]
+        loading: false,
     };
 
     /// The `model` with the given segment lengths (right, left; [`segment`] order), or
@@ -354,7 +366,7 @@ impl Kinematics {
     ) -> Result<Kinematics, ConfigError> {
         let mut kinematics = Kinematics::EMPTY;
         if model == ModelId::Chain {
-            // A chain comes in parts, with a `ChainConfig`.
+            // A chain comes in parts, with a `ChainTableConfig`.
             return Err(ConfigError::ChainIncomplete { upload: 0 });
         }
         if model == ModelId::Gait2392 {
@@ -406,9 +418,7 @@ impl Kinematics {
         }
         self.model = model;
         #[cfg(feature = "chain")]
-        {
-            self.knee = KneeFlexion::Negative;
-        }
+        self.built_in();
         Ok(())
     }
 
@@ -446,9 +456,7 @@ impl Kinematics {
         }
         self.model = ModelId::Gait2392;
         #[cfg(feature = "chain")]
-        {
-            self.knee = KneeFlexion::Negative;
-        }
+        self.built_in();
         Ok(())
     }
 
@@ -463,26 +471,74 @@ impl Kinematics {
         }
     }
 
-    /// Makes this the chain `config` names, built from `parts` ([`ChainParts::chain`]) in
-    /// place. Unchanged if the parts are incomplete or the kernel refuses the chain.
+    /// A built-in model in the slot: its knee flexes negatively, no table held.
+    #[cfg(feature = "chain")]
+    fn built_in(&mut self) {
+        self.knee = KneeFlexion::Negative;
+        self.upload = None;
+        self.loading = false;
+    }
+
+    /// Writes a part of a chain's table into the slot: the model in force stops (until
+    /// [`set_chain`](Self::set_chain)), and a part of another upload than the one held starts
+    /// from an empty table. `false` (nothing written) for a part reaching past the image
+    /// ([`CHAIN_IMAGE_LEN`]).
     #[cfg(feature = "chain")]
     #[inline(never)]
-    pub fn set_chain(
-        &mut self,
-        parts: &ChainParts,
-        config: &ChainConfig,
-    ) -> Result<(), ConfigError> {
-        if !matches!(self.chain, ModelChain::Chain(_)) {
-            // As in `set_phak`: checked before the other model is given up.
-            parts.check(config)?;
+    pub fn write_chain(&mut self, part: &ChainTable) -> bool {
+        let at = usize::from(part.at);
+        if at + part.bytes.len() > CHAIN_IMAGE_LEN {
+            return false;
+        }
+        if self.upload != Some(part.upload) || !matches!(self.chain, ModelChain::Chain(_)) {
             self.chain = ModelChain::Chain(DeviceChain::EMPTY);
+            self.upload = Some(part.upload);
         }
+        self.loading = true;
         if let ModelChain::Chain(c) = &mut self.chain {
-            parts.build_into(config, c)?;
-            self.knee = KneeFlexion::of(|q| c.forward(q));
+            c.write_image(at, &part.bytes);
         }
+        true
+    }
+
+    /// Makes the table held the model, if it is the one `config` describes: the same upload,
+    /// the CRC of its image's first `config.len` bytes `config.crc`, and a table the hub can
+    /// compute ([`DeviceChain::is_usable`]). Unchanged otherwise.
+    #[cfg(feature = "chain")]
+    #[inline(never)]
+    pub fn set_chain(&mut self, config: &ChainTableConfig) -> Result<(), ConfigError> {
+        let refused = ConfigError::ChainIncomplete {
+            upload: config.upload,
+        };
+        let len = usize::from(config.len);
+        let ModelChain::Chain(c) = &self.chain else {
+            return Err(refused);
+        };
+        if self.upload != Some(config.upload)
+            || len > CHAIN_IMAGE_LEN
+            || table_crc(c, len) != config.crc
+            || !c.is_usable()
+        {
+            return Err(refused);
+        }
+        self.knee = KneeFlexion::of(|q| c.forward(q));
+        self.loading = false;
         self.model = ModelId::Chain;
         Ok(())
+    }
+
+    /// Whether there is a model to compute poses with: not while a chain's table is being
+    /// written ([`write_chain`](Self::write_chain)).
+    #[inline(always)]
+    pub fn computes(&self) -> bool {
+        #[cfg(feature = "chain")]
+        {
+            !self.loading
+        }
+        #[cfg(not(feature = "chain"))]
+        {
+            true
+        }
     }
 
     /// Which sign of `knee_angle` flexes the knee of the model in force: an uploaded chain's
@@ -562,7 +618,7 @@ impl Kinematics {
             ModelChain::Phak(phak) => stick_pose(phak, self.model, angles),
             ModelChain::Gait2392(g) => gait2392_pose(g, angles),
             #[cfg(feature = "chain")]
-            ModelChain::Chain(c) => chain_pose(c, angles),
+            ModelChain::Chain(c) => device_chain_pose(c, angles),
         }
     }
 }

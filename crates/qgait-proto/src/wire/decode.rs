@@ -10,11 +10,11 @@ use super::varint::{end, take, take_varint_u32};
 use crate::{
     point, segment, Config, DecodeError, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
     JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, SegmentId,
-    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_CONFIG_TAG,
-    CHAIN_JOINT_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
+    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_TABLE_CONFIG_TAG,
+    CHAIN_TABLE_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 #[cfg(feature = "chain")]
-use crate::{ChainAxes, ChainConfig, ChainJoint, ChainSpline, CHAIN_AXES_TAG, CHAIN_SPLINE_TAG};
+use crate::{ChainTable, ChainTableConfig};
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
 /// and the ones only a hub sends, not decoded.
@@ -37,17 +37,11 @@ pub enum HubMessage {
     ImuConfig(ImuConfig),
     /// Tag 9 (with the `chain` feature).
     #[cfg(feature = "chain")]
-    ChainJoint(ChainJoint),
+    ChainTable(ChainTable),
     /// Tag 10 (with the `chain` feature).
     #[cfg(feature = "chain")]
-    ChainAxes(ChainAxes),
-    /// Tag 11 (with the `chain` feature).
-    #[cfg(feature = "chain")]
-    ChainSpline(ChainSpline),
-    /// Tag 12 (with the `chain` feature).
-    #[cfg(feature = "chain")]
-    ChainConfig(ChainConfig),
-    /// A chain message (tags 9 to 12) to a hub built without the `chain` feature, with this
+    ChainTableConfig(ChainTableConfig),
+    /// A chain message (tag 9 or 10) to a hub built without the `chain` feature, with this
     /// tag. Its body is not decoded (so such a hub links none of their decoders).
     NotTaken(u32),
     /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
@@ -86,15 +80,11 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         7 => segment_orientation(body).map(HubMessage::SegmentOrientation),
         8 => imu_config(body).map(HubMessage::ImuConfig),
         #[cfg(feature = "chain")]
-        CHAIN_JOINT_TAG => whole(body).map(HubMessage::ChainJoint),
+        CHAIN_TABLE_TAG => whole(body).map(HubMessage::ChainTable),
         #[cfg(feature = "chain")]
-        CHAIN_AXES_TAG => whole(body).map(HubMessage::ChainAxes),
-        #[cfg(feature = "chain")]
-        CHAIN_SPLINE_TAG => whole(body).map(HubMessage::ChainSpline),
-        #[cfg(feature = "chain")]
-        CHAIN_CONFIG_TAG => whole(body).map(HubMessage::ChainConfig),
+        CHAIN_TABLE_CONFIG_TAG => whole(body).map(HubMessage::ChainTableConfig),
         #[cfg(not(feature = "chain"))]
-        CHAIN_JOINT_TAG..=CHAIN_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
+        CHAIN_TABLE_TAG..=CHAIN_TABLE_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }

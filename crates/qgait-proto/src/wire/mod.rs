@@ -56,10 +56,8 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         6 => decode::subject_config(body).map(Message::SubjectConfig),
         7 => decode::segment_orientation(body).map(Message::SegmentOrientation),
         8 => decode::imu_config(body).map(Message::ImuConfig),
-        crate::CHAIN_JOINT_TAG => decode::whole(body).map(Message::ChainJoint),
-        crate::CHAIN_AXES_TAG => decode::whole(body).map(Message::ChainAxes),
-        crate::CHAIN_SPLINE_TAG => decode::whole(body).map(Message::ChainSpline),
-        crate::CHAIN_CONFIG_TAG => decode::whole(body).map(Message::ChainConfig),
+        crate::CHAIN_TABLE_TAG => decode::whole(body).map(Message::ChainTable),
+        crate::CHAIN_TABLE_CONFIG_TAG => decode::whole(body).map(Message::ChainTableConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }

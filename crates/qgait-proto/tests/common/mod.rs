@@ -153,75 +153,24 @@ pub fn subject_knee() -> SubjectKnee {
     }
 }
 
-/// The right knee of a walker-knee chain (body 2, the tibia, on body 1, the femur), upload 3:
-/// the parent frame 0.40625 m down the femur, turned a third of a turn about (1, 1, 1).
-pub fn chain_joint() -> qgait_proto::ChainJoint {
-    qgait_proto::ChainJoint {
+/// Bytes 1,200 to 1,207 of the table image of upload 3: two numbers of its pool, 1 and -0.5
+/// (`f32` little-endian).
+pub fn chain_table() -> qgait_proto::ChainTable {
+    qgait_proto::ChainTable {
         upload: 3,
-        body: 2,
-        parent: 1,
-        in_parent: qgait_proto::ChainOffset {
-            translation: [0.0, -0.40625, 0.0],
-            rotation: [0.5, 0.5, 0.5, 0.5],
-        },
-        in_child: qgait_proto::ChainOffset {
-            translation: [0.0, 0.0, 0.0],
-            rotation: [1.0, 0.0, 0.0, 0.0],
-        },
-        point: [0.0, 0.0, 0.0],
+        at: 1200,
+        bytes: heapless::Vec::from_slice(&[0x00, 0x00, 0x80, 0x3f, 0x00, 0x00, 0x00, 0xbf])
+            .expect("8 fit"),
     }
 }
 
-/// Its axes: `knee_angle_r` (6) about x, spline 0 of it about z, spline 1 of it along y.
-pub fn chain_axes() -> qgait_proto::ChainAxes {
-    use qgait_proto::{ChainArgument, ChainAxis, ChainFunction};
-    let axis = |axis, function| ChainAxis {
-        axis,
-        function,
-        argument: ChainArgument::Coordinate(6),
-    };
-    qgait_proto::ChainAxes {
+/// Switch to the table of upload 3, whose image's first 1,532 bytes have the CRC-32C
+/// 0x1234_5678, hold last, window 4, status requested.
+pub fn chain_table_config() -> qgait_proto::ChainTableConfig {
+    qgait_proto::ChainTableConfig {
         upload: 3,
-        body: 2,
-        rotations: heapless::Vec::from_slice(&[
-            axis(
-                [1.0, 0.0, 0.0],
-                ChainFunction::Linear {
-                    slope: 1.0,
-                    intercept: 0.0,
-                },
-            ),
-            axis([0.0, 0.0, 1.0], ChainFunction::Spline(0)),
-        ])
-        .expect("2 fit"),
-        translations: heapless::Vec::from_slice(&[axis([0.0, 1.0, 0.0], ChainFunction::Spline(1))])
-            .expect("1 fits"),
-    }
-}
-
-/// Spline 0 of upload 3: a `SimmSpline` through 4 knots.
-pub fn chain_spline() -> qgait_proto::ChainSpline {
-    qgait_proto::ChainSpline {
-        upload: 3,
-        index: 0,
-        linear: false,
-        knots: heapless::Vec::from_slice(&[[0.0, 0.0], [0.5, 0.0125], [1.0, 0.03125], [2.0, 0.0]])
-            .expect("4 fit"),
-    }
-}
-
-/// Switch to the chain of upload 3 (2 splines, no couplers, toe tips on the toes), hold last,
-/// window 4, status requested.
-pub fn chain_config() -> qgait_proto::ChainConfig {
-    let tip = |body| qgait_proto::ChainPoint {
-        body,
-        offset: [0.0625, 0.0078125, 0.0],
-    };
-    qgait_proto::ChainConfig {
-        upload: 3,
-        splines: 2,
-        couplers: heapless::Vec::new(),
-        toe_tips: [tip(5), tip(10)],
+        len: 1532,
+        crc: 0x1234_5678,
         missing_policy: MissingPolicy::HoldLast,
         reorder_window: 4,
         request_status: true,

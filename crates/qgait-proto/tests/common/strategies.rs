@@ -3,11 +3,10 @@
 
 use proptest::prelude::*;
 use qgait_proto::{
-    ChainArgument, ChainAxes, ChainAxis, ChainConfig, ChainCoupler, ChainFunction, ChainJoint,
-    ChainOffset, ChainPoint, ChainSpline, Config, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
+    ChainTable, ChainTableConfig, Config, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
     JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, SegmentId,
-    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_CHAIN_COUPLERS,
-    MAX_CHAIN_KNOTS, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
+    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_CHAIN_TABLE_BYTES,
+    MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
 };
 
 /// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
@@ -142,129 +141,41 @@ pub fn message() -> impl Strategy<Value = Message> {
         subject_config().prop_map(Message::SubjectConfig),
         segment_orientation().prop_map(Message::SegmentOrientation),
         imu_config().prop_map(Message::ImuConfig),
-        chain_joint().prop_map(Message::ChainJoint),
-        chain_axes().prop_map(Message::ChainAxes),
-        chain_spline().prop_map(Message::ChainSpline),
-        chain_config().prop_map(Message::ChainConfig),
+        chain_table().prop_map(Message::ChainTable),
+        chain_table_config().prop_map(Message::ChainTableConfig),
     ]
 }
 
-fn chain_function() -> impl Strategy<Value = ChainFunction> {
-    prop_oneof![
-        any_f32_bits().prop_map(ChainFunction::Constant),
-        (any_f32_bits(), any_f32_bits())
-            .prop_map(|(slope, intercept)| ChainFunction::Linear { slope, intercept }),
-        any::<u8>().prop_map(ChainFunction::Spline),
-    ]
-}
-
-fn chain_axis() -> impl Strategy<Value = ChainAxis> {
-    (
-        [any_f32_bits(), any_f32_bits(), any_f32_bits()],
-        chain_function(),
-        prop_oneof![
-            Just(ChainArgument::None),
-            any::<u8>().prop_map(ChainArgument::Coordinate),
-            any::<u8>().prop_map(ChainArgument::Coupled),
-        ],
-    )
-        .prop_map(|(axis, function, argument)| ChainAxis {
-            axis,
-            function,
-            argument,
-        })
-}
-
-pub fn chain_joint() -> impl Strategy<Value = ChainJoint> {
-    (
-        (any::<u8>(), any::<u8>(), any::<u8>()),
-        proptest::collection::vec(any_f32_bits(), 17),
-    )
-        .prop_map(|((upload, body, parent), v)| {
-            let offset = |i: usize| ChainOffset {
-                translation: [v[i], v[i + 1], v[i + 2]],
-                rotation: [v[i + 3], v[i + 4], v[i + 5], v[i + 6]],
-            };
-            ChainJoint {
-                upload,
-                body,
-                parent,
-                in_parent: offset(0),
-                in_child: offset(7),
-                point: [v[14], v[15], v[16]],
-            }
-        })
-}
-
-pub fn chain_axes() -> impl Strategy<Value = ChainAxes> {
+pub fn chain_table() -> impl Strategy<Value = ChainTable> {
     (
         any::<u8>(),
-        any::<u8>(),
-        proptest::collection::vec(chain_axis(), 0..=3),
-        proptest::collection::vec(chain_axis(), 0..=3),
+        any::<u16>(),
+        proptest::collection::vec(any::<u8>(), 0..=MAX_CHAIN_TABLE_BYTES),
     )
-        .prop_map(|(upload, body, r, t)| ChainAxes {
+        .prop_map(|(upload, at, bytes)| ChainTable {
             upload,
-            body,
-            rotations: heapless::Vec::from_slice(&r).expect("3 fit"),
-            translations: heapless::Vec::from_slice(&t).expect("3 fit"),
+            at,
+            bytes: heapless::Vec::from_slice(&bytes).expect("at most MAX_CHAIN_TABLE_BYTES"),
         })
 }
 
-pub fn chain_spline() -> impl Strategy<Value = ChainSpline> {
+pub fn chain_table_config() -> impl Strategy<Value = ChainTableConfig> {
     (
         any::<u8>(),
+        any::<u16>(),
+        any::<u32>(),
+        any::<bool>(),
         any::<u8>(),
         any::<bool>(),
-        proptest::collection::vec([any_f32_bits(), any_f32_bits()], 0..=MAX_CHAIN_KNOTS),
-    )
-        .prop_map(|(upload, index, linear, knots)| ChainSpline {
-            upload,
-            index,
-            linear,
-            knots: heapless::Vec::from_slice(&knots).expect("at most MAX_CHAIN_KNOTS"),
-        })
-}
-
-pub fn chain_config() -> impl Strategy<Value = ChainConfig> {
-    (
-        (
-            any::<u8>(),
-            any::<u8>(),
-            any::<bool>(),
-            any::<u8>(),
-            any::<bool>(),
-        ),
-        proptest::collection::vec((any::<u8>(), chain_function()), 0..=MAX_CHAIN_COUPLERS),
-        [
-            (
-                any::<u8>(),
-                [any_f32_bits(), any_f32_bits(), any_f32_bits()],
-            ),
-            (
-                any::<u8>(),
-                [any_f32_bits(), any_f32_bits(), any_f32_bits()],
-            ),
-        ],
     )
         .prop_map(
-            |((upload, splines, hold, reorder_window, request_status), couplers, tips)| {
-                let couplers: Vec<ChainCoupler> = couplers
-                    .into_iter()
-                    .map(|(independent, function)| ChainCoupler {
-                        independent,
-                        function,
-                    })
-                    .collect();
-                ChainConfig {
-                    upload,
-                    splines,
-                    couplers: heapless::Vec::from_slice(&couplers).expect("4 fit"),
-                    toe_tips: tips.map(|(body, offset)| ChainPoint { body, offset }),
-                    missing_policy: missing_policy(hold),
-                    reorder_window,
-                    request_status,
-                }
+            |(upload, len, crc, hold, reorder_window, request_status)| ChainTableConfig {
+                upload,
+                len,
+                crc,
+                missing_policy: missing_policy(hold),
+                reorder_window,
+                request_status,
             },
         )
 }
