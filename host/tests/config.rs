@@ -150,10 +150,12 @@ fn a_window_outside_one_to_eight_is_refused() {
     );
 }
 
-/// An imported Rajagopal model is its 30 parts and a `ChainConfig`; the hub's parts build a
-/// chain in `f32` whose joint centres are the imported model's to 2 µm.
+/// An imported Rajagopal model is its table's image in 10 `ChainTable` parts and a
+/// `ChainTableConfig`; the table the parts write, which the config's CRC accepts, gives the
+/// imported model's joint centres to 2 µm in `f32`.
 #[test]
-fn imported_chain_is_its_parts_and_a_chain_config() {
+fn imported_chain_is_its_table_and_a_chain_table_config() {
+    use qgait_proto::device_model::{table_crc, DeviceChain};
     let Some(shared) = common::shared_dir() else {
         return;
     };
@@ -163,22 +165,22 @@ fn imported_chain_is_its_parts_and_a_chain_config() {
     let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
     assert!(run.status.success(), "{}", stderr(&run));
     let messages = config(dir.path(), &["--model", s(&toml), "--upload", "3"]);
-    assert_eq!(messages.len(), 31);
-    let mut parts = qgait_proto::device_model::ChainParts::new();
-    for m in &messages[..30] {
-        assert!(match m {
-            Message::ChainJoint(p) => parts.add_joint(p),
-            Message::ChainAxes(p) => parts.add_axes(p),
-            Message::ChainSpline(p) => parts.add_spline(p),
-            other => panic!("{other:?}"),
-        });
+    // 200 bytes of codes and 333 numbers: 1,532 bytes, 160 a part.
+    assert_eq!(messages.len(), 11);
+    let mut hub = DeviceChain::EMPTY;
+    for m in &messages[..10] {
+        let Message::ChainTable(p) = m else {
+            panic!("{m:?}")
+        };
+        assert_eq!(p.upload, 3);
+        hub.write_image(usize::from(p.at), &p.bytes);
     }
-    let Message::ChainConfig(c) = &messages[30] else {
-        panic!("{:?}", messages[30])
+    let Message::ChainTableConfig(c) = &messages[10] else {
+        panic!("{:?}", messages[10])
     };
-    assert_eq!((c.upload, c.splines, c.reorder_window), (3, 8, 4));
-    assert!(c.request_status && c.couplers.is_empty());
-    let hub = parts.chain(c).expect("the hub's parts make the chain");
+    assert_eq!((c.upload, c.len, c.reorder_window), (3, 1532, 4));
+    assert!(c.request_status);
+    assert_eq!(table_crc(&hub, usize::from(c.len)), c.crc);
     let text = std::fs::read_to_string(&toml).unwrap();
     let host = qgait::model::chain::ChainModel::parse(&text, "raj.toml")
         .unwrap()

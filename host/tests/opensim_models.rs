@@ -585,7 +585,7 @@ fn every_chain_model_packed_is_within_a_micrometre_of_opensim() {
         }
         println!(
             "{name} packed: {} numbers, largest difference {worst:.3e} m in f64, {worst32:.3e} m in f32",
-            packed.used
+            packed.used()
         );
         assert!(worst < 1e-6, "{name}: {worst}");
         assert!(worst32 < 1e-5, "{name}: {worst32}");

@@ -69,10 +69,6 @@ const DEVICE: &[(&str, &str)] = &[
         "device.rajagopal.quat.instructions_per_frame",
     ),
     (
-        "rajagopal.packed",
-        "device.rajagopal.packed.instructions_per_frame",
-    ),
-    (
         "trig.half_angle_sin_cos",
         "device.trig.half_angle_sin_cos.instructions_per_call",
     ),

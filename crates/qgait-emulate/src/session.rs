@@ -153,7 +153,7 @@ impl InputCounts {
 }
 
 /// The frames that end a session: a 0x00 (so that line noise just before cannot swallow them),
-/// then `configuration` (the last `Config`, `SubjectConfig` or `ChainConfig` sent) with its
+/// then `configuration` (the last `Config`, `SubjectConfig` or `ChainTableConfig` sent) with its
 /// reorder window
 /// changed, which makes the hub close (and count) the samples still open in its window, and
 /// a status request.
@@ -170,11 +170,13 @@ pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, EmulateError> 
             request_status: true,
             ..*c
         }),
-        Message::ChainConfig(c) => Message::ChainConfig(qgait_proto::ChainConfig {
-            reorder_window: toggle(c.reorder_window),
-            request_status: true,
-            ..c.clone()
-        }),
+        Message::ChainTableConfig(c) => {
+            Message::ChainTableConfig(qgait_proto::ChainTableConfig {
+                reorder_window: toggle(c.reorder_window),
+                request_status: true,
+                ..c.clone()
+            })
+        }
         other => return Err(EmulateError::NotAConfiguration(other.tag())),
     };
     let mut out = vec![0u8];

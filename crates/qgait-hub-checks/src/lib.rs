@@ -6,7 +6,7 @@
 use qgait_kernel::models::fixtures::walker_chain;
 use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::Gait2392Geometry;
-use qgait_proto::device_model::pose_points;
+use qgait_proto::device_model::{pose_points, CHAIN_IMAGE_LEN};
 use qgait_proto::PoseModels;
 use qgait_proto::{
     encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags, JointAngle, JointId, Message,
@@ -14,7 +14,7 @@ use qgait_proto::{
 };
 
 use qgait_hub::{
-    parts_of, ChainParts, ChainUpload, Hub, Kinematics, ManualClock, MemorySerial,
+    parts_of, ChainUpload, Hub, Kinematics, ManualClock, MemorySerial,
     MAX_BYTES_PER_POLL, READ_CHUNK,
 };
 
@@ -645,7 +645,7 @@ pub fn a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range() -> C
     ensure!(send_chain(hub.serial_mut(), &upload, 0));
     ensure!(send(
         hub.serial_mut(),
-        &Message::ChainConfig(upload.config(MissingPolicy::Drop, 4, false))
+        &Message::ChainTableConfig(upload.config(MissingPolicy::Drop, 4, false))
     ));
     // `knees[seq]`: the knee angles of sample `seq` (the other angles as `packet` has them,
     // all in range).
@@ -1168,26 +1168,22 @@ pub fn parts_of_another_upload_discard_the_held_ones() -> CheckResult {
     Ok(())
 }
 
-/// Queues the parts of `upload` (joints, axes, splines), the last `skip` left out.
+/// Queues the [`ChainTable`](qgait_proto::ChainTable) parts of `upload`, the last `skip` left
+/// out.
 pub fn send_chain(serial: &mut CheckSerial, upload: &ChainUpload, skip: usize) -> bool {
-    let mut messages: heapless::Vec<Message, 30> = heapless::Vec::new();
-    for j in &upload.joints {
-        let _ = messages.push(Message::ChainJoint(*j));
-    }
-    for a in &upload.axes {
-        let _ = messages.push(Message::ChainAxes(a.clone()));
-    }
-    for s in &upload.splines {
-        let _ = messages.push(Message::ChainSpline(s.clone()));
-    }
-    let n = messages.len().saturating_sub(skip);
-    messages[..n].iter().all(|m| send(serial, m))
+    let n = upload.parts().count().saturating_sub(skip);
+    upload
+        .parts()
+        .take(n)
+        .all(|part| send(serial, &Message::ChainTable(part)))
 }
 
-/// A chain without its last spline and its `ChainConfig`: refused, PHAK stays. The spline and
-/// the `ChainConfig` again: frames of model `chain` with all 17 angles, each the frame of the
-/// kernel's chain built from the same parts, within 10 µm of the chain in `f64`. A `Config`
-/// naming the chain model is refused, a part naming body 11 counted as malformed.
+/// A chain's table without its last part and its `ChainTableConfig`: refused, and PHAK, stopped
+/// by the first part, computes nothing (a complete sample closes without a pose). The last part
+/// and the `ChainTableConfig` again: frames of model `chain` with all 17 angles, each the frame
+/// of the kernel's table written from the same parts, within 10 µm of the chain in `f64`. A
+/// `Config` naming the chain model is refused, a part reaching past the image counted as
+/// malformed and not stopping the model.
 pub fn chain_model_switches_only_when_complete() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
@@ -1202,15 +1198,16 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
     ensure!(send_chain(hub.serial_mut(), &upload, 1));
     ensure!(send(
         hub.serial_mut(),
-        &Message::ChainConfig(config.clone())
+        &Message::ChainTableConfig(config.clone())
     ));
     ensure!(send_sample(hub.serial_mut(), ModelId::Phak, 0));
     drain(&mut hub);
     ensure!(hub.status().config_rejected == 1 && hub.config().model == ModelId::Phak);
+    ensure!(hub.status().samples_incomplete == 1 && hub.status().samples_completed == 0);
     ensure!(send_chain(hub.serial_mut(), &upload, 0));
     ensure!(send(
         hub.serial_mut(),
-        &Message::ChainConfig(config.clone())
+        &Message::ChainTableConfig(config.clone())
     ));
     // The gait's knees in the chain's signs (it flexes with positive angles): in range.
     for seq in 1..4 {
@@ -1223,18 +1220,11 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
     drain(&mut hub);
     ensure!(hub.status().config_rejected == 1 && hub.config().model == ModelId::Chain);
     ensure!(hub.status().out_of_range == 0);
-    let mut parts = ChainParts::new();
-    for j in &upload.joints {
-        ensure!(parts.add_joint(j));
-    }
-    for a in &upload.axes {
-        ensure!(parts.add_axes(a));
-    }
-    for s in &upload.splines {
-        ensure!(parts.add_spline(s));
-    }
     let mut mine = Kinematics::EMPTY;
-    ensure!(mine.set_chain(&parts, &config).is_ok());
+    for part in upload.parts() {
+        ensure!(mine.write_chain(&part));
+    }
+    ensure!(mine.set_chain(&config).is_ok());
     let host = PoseModels::<f64>::defaults().with_chain(chain);
     let (mut frames, mut worst) = (0, 0.0f32);
     poses(&mut hub, |p| {
@@ -1258,11 +1248,17 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
         hub.serial_mut(),
         &self::config(ModelId::Chain, MissingPolicy::Drop, 4, false)
     ));
-    let mut far = upload.joints[0];
-    far.body = 11;
-    ensure!(send(hub.serial_mut(), &Message::ChainJoint(far)));
+    let Some(mut far) = upload.parts().next() else {
+        return Err(CheckFailure {
+            what: "ChainUpload::parts",
+            line: line!(),
+        });
+    };
+    far.at = (CHAIN_IMAGE_LEN + 1 - far.bytes.len()) as u16;
+    ensure!(send(hub.serial_mut(), &Message::ChainTable(far)));
+    ensure!(send_sample(hub.serial_mut(), ModelId::Chain, 4));
     drain(&mut hub);
     ensure!(hub.status().config_rejected == 2 && hub.status().malformed == 1);
-    ensure!(hub.config().model == ModelId::Chain);
+    ensure!(hub.config().model == ModelId::Chain && hub.status().samples_completed == 4);
     Ok(())
 }

@@ -20,12 +20,10 @@ use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
 #[cfg(feature = "imu")]
 use crate::orientation::{ImuInput, SegmentOutput};
-#[cfg(feature = "chain")]
-use crate::ChainParts;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
 #[cfg(feature = "chain")]
-use qgait_proto::ChainConfig;
+use qgait_proto::{ChainTable, ChainTableConfig};
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
@@ -99,9 +97,6 @@ pub struct Hub<S, C> {
     /// The [`SubjectParts::generation`] the subject model in force was built from.
     subject_generation: u32,
     subject_parts: SubjectParts,
-    /// The parts of an imported chain received so far.
-    #[cfg(feature = "chain")]
-    chain_parts: ChainParts,
     kinematics: Kinematics,
     input: Input,
     /// The IMU settings, calibration and solver (kept whatever the input in force).
@@ -165,8 +160,6 @@ where
             addr_of_mut!((*hub).subject).write(None);
             addr_of_mut!((*hub).subject_generation).write(0);
             addr_of_mut!((*hub).subject_parts).write(SubjectParts::new());
-            #[cfg(feature = "chain")]
-            addr_of_mut!((*hub).chain_parts).write(ChainParts::new());
             addr_of_mut!((*hub).kinematics).write(Kinematics::EMPTY);
             addr_of_mut!((*hub).input).write(Input::Joints(assembler_for(&config)));
             #[cfg(feature = "imu")]
@@ -196,8 +189,6 @@ where
             subject: _,
             subject_generation: _,
             subject_parts: _,
-            #[cfg(feature = "chain")]
-                chain_parts: _,
             kinematics: _,
             input: _,
             #[cfg(feature = "imu")]
@@ -228,8 +219,6 @@ where
             subject: None,
             subject_generation: 0,
             subject_parts: SubjectParts::new(),
-            #[cfg(feature = "chain")]
-            chain_parts: ChainParts::new(),
             status: Status::default(),
             started_ms: now,
             last_status_ms: now,
@@ -387,22 +376,9 @@ where
             HubMessage::SegmentOrientation(packet) => self.on_orientation(&packet),
             HubMessage::ImuConfig(config) => self.on_imu_config(&config),
             #[cfg(feature = "chain")]
-            HubMessage::ChainConfig(config) => self.on_chain_config(&config),
+            HubMessage::ChainTable(part) => self.on_chain_table(&part),
             #[cfg(feature = "chain")]
-            HubMessage::ChainJoint(part) => {
-                let taken = self.chain_parts.add_joint(&part);
-                self.took_part(taken);
-            }
-            #[cfg(feature = "chain")]
-            HubMessage::ChainAxes(part) => {
-                let taken = self.chain_parts.add_axes(&part);
-                self.took_part(taken);
-            }
-            #[cfg(feature = "chain")]
-            HubMessage::ChainSpline(part) => {
-                let taken = self.chain_parts.add_spline(&part);
-                self.took_part(taken);
-            }
+            HubMessage::ChainTableConfig(config) => self.on_chain_config(&config),
             // Without chain support the chain messages are messages this hub does not take.
             HubMessage::NotTaken(_) => bump(&mut self.status.malformed),
             // A pose frame or a status (well-formed or not: its body is not decoded): only a
@@ -586,19 +562,27 @@ where
         self.after_config(result, config.request_status);
     }
 
-    /// Counts a chain part that named a body or spline out of range.
-    #[cfg(feature = "chain")]
-    fn took_part(&mut self, taken: bool) {
-        if !taken {
-            bump(&mut self.status.malformed);
-        }
-    }
-
-    /// A `ChainConfig`: the chain of its upload, always rebuilt from the parts held (a part
-    /// resent since takes effect).
+    /// A part of a chain's table: written into the model slot, the model in force stopped
+    /// first (its open samples closed under it); counted in `malformed` if it reaches past
+    /// the image.
     #[cfg(feature = "chain")]
     #[inline(never)]
-    fn on_chain_config(&mut self, config: &ChainConfig) {
+    fn on_chain_table(&mut self, part: &ChainTable) {
+        if !Kinematics::takes_chain_part(part) {
+            bump(&mut self.status.malformed);
+            return;
+        }
+        if self.kinematics.computes() {
+            self.close_open_samples();
+        }
+        self.kinematics.write_chain(part);
+    }
+
+    /// A `ChainTableConfig`: the table held, checked against it every time (a part rewritten
+    /// since takes effect).
+    #[cfg(feature = "chain")]
+    #[inline(never)]
+    fn on_chain_config(&mut self, config: &ChainTableConfig) {
         let new = Config {
             model: ModelId::Chain,
             // Kept for a later HAK or PHAK.
@@ -611,12 +595,13 @@ where
         self.after_config(result, config.request_status);
     }
 
-    /// Switches to the chain `config` names, with the settings of `new`: checked and built
-    /// from the parts first (the model in force stays if it is refused), then the open samples
-    /// are closed under the old model.
+    /// Switches to the table `config` describes, with the settings of `new`: checked first
+    /// (nothing changes if it is refused), then, unless this table with these settings is what
+    /// is in force, the open samples are closed under what is in force (no pose while a table
+    /// is being written) and the table becomes the model.
     #[cfg(feature = "chain")]
     #[inline(never)]
-    fn switch_chain(&mut self, new: Config, config: &ChainConfig) -> Result<(), ConfigError> {
+    fn switch_chain(&mut self, new: Config, config: &ChainTableConfig) -> Result<(), ConfigError> {
         if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
             return Err(ConfigError::ReorderWindow(new.reorder_window));
         }
@@ -625,10 +610,12 @@ where
         if self.imu.config().mode.orientations() {
             return Err(ConfigError::ImuNeedsGait2392);
         }
-        // Checked before anything changes.
-        self.chain_parts.check(config)?;
+        self.kinematics.check_chain(config)?;
+        if self.kinematics.computes() && new == self.config {
+            return Ok(());
+        }
         self.close_open_samples();
-        self.kinematics.set_chain(&self.chain_parts, config)?;
+        self.kinematics.set_chain(config)?;
         self.config = new;
         #[cfg(feature = "imu")]
         set_input(&mut self.input, &self.config, &self.imu);
@@ -798,6 +785,11 @@ impl<S: Write> Output<'_, S> {
                 return;
             }
         };
+        // No model while a chain's table is being written.
+        if !self.kinematics.computes() {
+            bump(&mut self.status.samples_incomplete);
+            return;
+        }
         bump(&mut self.status.samples_completed);
         // The joints judged out of range as their packets arrived (a held angle as its packet
         // was): the angles are not checked again here.

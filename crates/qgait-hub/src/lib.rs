@@ -23,5 +23,5 @@ pub use crate::hub::{
 };
 pub use crate::memory_serial::MemorySerial;
 pub use qgait_proto::device_model::{
-    parts_of, ChainParts, ChainUpload, ConfigError, Kinematics, SubjectParts,
+    parts_of, ChainUpload, ConfigError, Kinematics, SubjectParts,
 };

@@ -59,15 +59,9 @@ pub(crate) fn update(mut register: u32, bytes: &[u8]) -> u32 {
         register = step(register);
     }
     for &byte in rest {
-        register = update_byte(register, byte);
+        register = step(register ^ u32::from(byte));
     }
     register
-}
-
-/// Runs one byte through the (not inverted) CRC-32C register `register`.
-#[inline]
-pub(crate) fn update_byte(register: u32, byte: u8) -> u32 {
-    step(register ^ u32::from(byte))
 }
 
 /// The register before any byte.

@@ -20,7 +20,7 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use qgait_firmware::board;
-use qgait_hub::{ChainParts, Hub, JointSet, Kinematics, ManualClock, Sample, READ_CHUNK};
+use qgait_hub::{Hub, JointSet, Kinematics, ManualClock, Sample, READ_CHUNK};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::reference::chain_by_matrices;
 use qgait_kernel::trig::half_angle_sin_cos_f32;
@@ -28,7 +28,7 @@ use qgait_kernel::{
     Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Hak, HakAngles, Limb, Phak,
     PhakAngles, Real,
 };
-use qgait_proto::device_model::DeviceChain;
+use qgait_proto::device_model::{table_crc, DeviceChain};
 use qgait_proto::{
     crc32c, decode_message, decode_packet, encode_frame, encode_message, encode_pose_frame, Config,
     FrameDecoder, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, MAX_FRAME_LEN,
@@ -157,15 +157,6 @@ fn main() -> ! {
     net(
         "rajagopal.quat",
         bench_rajagopal_quat(&raj, &g_in, CALLS),
-        g_base,
-        CALLS,
-    );
-    let Ok(packed) = RajagopalPacked::pack(&raj) else {
-        board::exit(5)
-    };
-    net(
-        "rajagopal.packed",
-        bench_rajagopal_packed(&packed, &g_in, CALLS),
         g_base,
         CALLS,
     );
@@ -353,42 +344,26 @@ fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32)
 }
 
 /// The imported Rajagopal 2015 (OpenSense) chain, as `qgait config --model` sends it: its
-/// frames decoded and its parts built into the hub's chain in `f32`.
+/// table's parts written into the hub's table, checked against its config's CRC.
 /// `rajagopal2015_opensense.chain.bin` is made by `qgait model import
 /// ../shared/data/opensim/Rajagopal2015_opensense.osim -o raj.toml` then
 /// `qgait config --model raj.toml --upload 1 -o firmware/src/bin/rajagopal2015_opensense.chain.bin`.
 fn rajagopal() -> DeviceChain {
     static FRAMES: &[u8] = include_bytes!("rajagopal2015_opensense.chain.bin");
     let mut decoder = FrameDecoder::new();
-    let mut parts = ChainParts::new();
+    let mut table = DeviceChain::EMPTY;
     let mut config = None;
     for message in decoder.feed(FRAMES) {
         match message {
-            Ok(Message::ChainJoint(p)) => {
-                parts.add_joint(&p);
-            }
-            Ok(Message::ChainAxes(p)) => {
-                parts.add_axes(&p);
-            }
-            Ok(Message::ChainSpline(p)) => {
-                parts.add_spline(&p);
-            }
-            Ok(Message::ChainConfig(c)) => config = Some(c),
+            Ok(Message::ChainTable(p)) => table.write_image(usize::from(p.at), &p.bytes),
+            Ok(Message::ChainTableConfig(c)) => config = Some(c),
             _ => board::exit(5),
         }
     }
-    let Some(config) = config else { board::exit(5) };
-    parts.chain(&config).unwrap_or_else(|_| board::exit(5))
-}
-
-/// The Rajagopal chain packed as a hub's model slot would hold it.
-type RajagopalPacked = qgait_kernel::models::packed::PackedChain<f32, 17, 11, 12, 8, 0, 24, 384>;
-
-#[inline(never)]
-fn bench_rajagopal_packed(model: &RajagopalPacked, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(black_box(model).forward(black_box(&q[i % INPUTS])));
-    })
+    match config {
+        Some(c) if table_crc(&table, usize::from(c.len)) == c.crc => table,
+        _ => board::exit(5),
+    }
 }
 
 #[inline(never)]

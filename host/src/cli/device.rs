@@ -612,7 +612,7 @@ fn emulate_input(
                     .entry(p.seq)
                     .or_insert(f64::from(p.timestamp_us) * 1e-6);
             }
-            Message::Config(_) | Message::SubjectConfig(_) | Message::ChainConfig(_) => {
+            Message::Config(_) | Message::SubjectConfig(_) | Message::ChainTableConfig(_) => {
                 configuration = Some(m);
             }
             _ => {}

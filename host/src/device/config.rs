@@ -4,7 +4,6 @@
 //! (`ChainJoint`, `ChainAxes`, `ChainSpline`) followed by its `ChainConfig`. Layouts:
 //! `docs/protocol.md`, sections 4.4 to 4.7.
 
-use qgait_kernel::models::LowerLimb;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::device_model::{parts_of, ChainUpload, ConfigError, SubjectParts};
 pub use qgait_proto::HubModel;
@@ -65,13 +64,14 @@ pub fn messages(model: &HubModel, settings: HubSettings) -> Result<Vec<Message>,
             Ok(out)
         }
         HubModel::Chain { chain, upload } => {
-            let id = match upload {
-                Some(id) => *id,
-                None => upload_id(&chain_parts(chain, 0)?)?,
+            let packed = ChainUpload::of_chain(&**chain, 0)?;
+            // Without an id, the low byte of the table's CRC, as a subject's (below).
+            let upload = ChainUpload {
+                upload: upload.unwrap_or(packed.crc as u8),
+                ..packed
             };
-            let upload = ChainUpload::of_chain(&**chain, id)?;
-            let mut out = chain_parts(chain, id)?;
-            out.push(Message::ChainConfig(upload.config(
+            let mut out: Vec<Message> = upload.parts().map(Message::ChainTable).collect();
+            out.push(Message::ChainTableConfig(upload.config(
                 settings.missing_policy,
                 settings.reorder_window,
                 settings.request_status,
@@ -90,18 +90,6 @@ fn upload_id(probe: &[Message]) -> Result<u8, HubConfigError> {
         bytes.extend_from_slice(encoded);
     }
     Ok(crc32c(&bytes) as u8)
-}
-
-/// The parts of an imported chain, numbers rounded to `f32`: the 11 joints, the 11 axes
-/// parts, then the splines (`docs/protocol.md` 4.7); its `ChainConfig` follows them.
-pub fn chain_parts(chain: &LowerLimb<f64>, upload: u8) -> Result<Vec<Message>, HubConfigError> {
-    let u = ChainUpload::of_chain(chain, upload)?;
-    Ok(u.joints
-        .into_iter()
-        .map(Message::ChainJoint)
-        .chain(u.axes.into_iter().map(Message::ChainAxes))
-        .chain(u.splines.into_iter().map(Message::ChainSpline))
-        .collect())
 }
 
 /// The frames of `messages`, each preceded by a 0x00 (which a receiver skips, and which ends

@@ -713,19 +713,19 @@ impl<
     }
 }
 
-/// The code bytes of `codes` in image order: `as_flattened` and `iter`, or their `_mut`s.
-macro_rules! code_bytes {
-    ($codes:expr, $flat:ident, $iter:ident) => {
-        $codes
-            .joints
-            .$flat()
-            .$iter()
-            .chain($codes.drives.$flat().$iter())
-            .chain($codes.points.$flat().$iter())
-            .chain($codes.splines.$flat().$iter())
-            .chain($codes.polynomials.$flat().$iter())
-            .chain($codes.couplers.$flat().$iter())
-            .chain($codes.counts.$iter())
+/// The code sections of `codes` in image order: with `as_flattened` or, and `mut`,
+/// `as_flattened_mut`.
+macro_rules! code_sections {
+    ($codes:expr, $flat:ident $(, $m:tt)?) => {
+        [
+            $codes.joints.$flat(),
+            $codes.drives.$flat(),
+            $codes.points.$flat(),
+            $codes.splines.$flat(),
+            $codes.polynomials.$flat(),
+            $codes.couplers.$flat(),
+            &$($m)? $codes.counts[..],
+        ]
     };
 }
 
@@ -742,34 +742,45 @@ impl<
     /// Bytes of the image: the codes, then the numbers (see the module docs).
     pub const IMAGE_LEN: usize = Self::CODES_LEN + 4 * W;
 
-    /// The code bytes, in image order.
-    fn code_bytes_mut(&mut self) -> impl Iterator<Item = &mut u8> {
-        code_bytes!(self.codes, as_flattened_mut, iter_mut)
+    /// The codes, in image order, in sections.
+    pub fn code_sections(&self) -> [&[u8]; 7] {
+        code_sections!(self.codes, as_flattened)
     }
 
-    /// The image's bytes, in order.
-    pub fn image(&self) -> impl Iterator<Item = u8> + '_ {
-        code_bytes!(self.codes, as_flattened, iter)
-            .copied()
-            .chain(self.words.iter().flat_map(|w| w.to_le_bytes()))
+    /// The numbers (the image after the codes).
+    pub fn words(&self) -> &[f32; W] {
+        &self.words
     }
 
     /// Writes `bytes` into the image from byte `at` on (what lies past
     /// [`IMAGE_LEN`](Self::IMAGE_LEN) is ignored): how a hub fills its slot as an upload's
     /// parts arrive, with no second copy of the table.
     pub fn write_image(&mut self, at: usize, bytes: &[u8]) {
-        for (c, &b) in self.code_bytes_mut().skip(at).zip(bytes) {
-            *c = b;
+        let (mut at, mut bytes) = (at, bytes);
+        for section in code_sections!(self.codes, as_flattened_mut, mut) {
+            if let Some(to) = section.get_mut(at..) {
+                let n = to.len().min(bytes.len());
+                to[..n].copy_from_slice(&bytes[..n]);
+                bytes = &bytes[n..];
+            }
+            at = at.saturating_sub(section.len());
         }
-        let skip = Self::CODES_LEN.saturating_sub(at);
-        let first = at.saturating_sub(Self::CODES_LEN);
-        for (i, &b) in (first..).zip(bytes.iter().skip(skip)) {
+        for (i, &b) in (at..).zip(bytes) {
             if let Some(w) = self.words.get_mut(i / 4) {
                 let mut le = w.to_le_bytes();
                 le[i % 4] = b;
                 *w = f32::from_le_bytes(le);
             }
         }
+    }
+
+    /// The image's bytes, in order.
+    pub fn image(&self) -> impl Iterator<Item = u8> + '_ {
+        self.code_sections()
+            .into_iter()
+            .flatten()
+            .copied()
+            .chain(self.words.iter().flat_map(|w| w.to_le_bytes()))
     }
 
     /// Reads the image from byte `at` on into `out` (as much as there is).

@@ -65,8 +65,16 @@ fn points_pose<T: Real>(points: [Vec3<T>; CHAIN_POINTS]) -> BilateralPose<T> {
 /// carries).
 pub fn table_crc(table: &DeviceChain, len: usize) -> u32 {
     let mut register = crate::crc::INIT;
-    for byte in table.image().take(len) {
-        register = crate::crc::update_byte(register, byte);
+    let mut left = len;
+    for section in table.code_sections() {
+        let n = section.len().min(left);
+        register = crate::crc::update(register, &section[..n]);
+        left -= n;
+    }
+    for w in table.words() {
+        let n = left.min(4);
+        register = crate::crc::update(register, &w.to_le_bytes()[..n]);
+        left -= n;
     }
     !register
 }

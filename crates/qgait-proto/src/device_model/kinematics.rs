@@ -486,8 +486,7 @@ impl Kinematics {
     #[cfg(feature = "chain")]
     #[inline(never)]
     pub fn write_chain(&mut self, part: &ChainTable) -> bool {
-        let at = usize::from(part.at);
-        if at + part.bytes.len() > CHAIN_IMAGE_LEN {
+        if !Kinematics::takes_chain_part(part) {
             return false;
         }
         if self.upload != Some(part.upload) || !matches!(self.chain, ModelChain::Chain(_)) {
@@ -496,32 +495,49 @@ impl Kinematics {
         }
         self.loading = true;
         if let ModelChain::Chain(c) = &mut self.chain {
-            c.write_image(at, &part.bytes);
+            c.write_image(usize::from(part.at), &part.bytes);
         }
         true
     }
 
-    /// Makes the table held the model, if it is the one `config` describes: the same upload,
-    /// the CRC of its image's first `config.len` bytes `config.crc`, and a table the hub can
-    /// compute ([`DeviceChain::is_usable`]). Unchanged otherwise.
+    /// Whether [`write_chain`](Self::write_chain) writes `part`: whether it lies within the
+    /// image ([`CHAIN_IMAGE_LEN`]).
+    #[cfg(feature = "chain")]
+    pub fn takes_chain_part(part: &ChainTable) -> bool {
+        usize::from(part.at) + part.bytes.len() <= CHAIN_IMAGE_LEN
+    }
+
+    /// Whether the table held is the one `config` describes: the same upload, the CRC of its
+    /// image's first `config.len` bytes `config.crc`, and a table the hub can compute
+    /// ([`DeviceChain::is_usable`]).
+    #[cfg(feature = "chain")]
+    #[inline(never)]
+    pub fn check_chain(&self, config: &ChainTableConfig) -> Result<(), ConfigError> {
+        let len = usize::from(config.len);
+        match &self.chain {
+            ModelChain::Chain(c)
+                if self.upload == Some(config.upload)
+                    && len <= CHAIN_IMAGE_LEN
+                    && table_crc(c, len) == config.crc
+                    && c.is_usable() =>
+            {
+                Ok(())
+            }
+            _ => Err(ConfigError::ChainIncomplete {
+                upload: config.upload,
+            }),
+        }
+    }
+
+    /// Makes the table held the model if [`check_chain`](Self::check_chain) accepts it;
+    /// unchanged otherwise.
     #[cfg(feature = "chain")]
     #[inline(never)]
     pub fn set_chain(&mut self, config: &ChainTableConfig) -> Result<(), ConfigError> {
-        let refused = ConfigError::ChainIncomplete {
-            upload: config.upload,
-        };
-        let len = usize::from(config.len);
-        let ModelChain::Chain(c) = &self.chain else {
-            return Err(refused);
-        };
-        if self.upload != Some(config.upload)
-            || len > CHAIN_IMAGE_LEN
-            || table_crc(c, len) != config.crc
-            || !c.is_usable()
-        {
-            return Err(refused);
+        self.check_chain(config)?;
+        if let ModelChain::Chain(c) = &self.chain {
+            self.knee = KneeFlexion::of(|q| c.forward(q));
         }
-        self.knee = KneeFlexion::of(|q| c.forward(q));
         self.loading = false;
         self.model = ModelId::Chain;
         Ok(())

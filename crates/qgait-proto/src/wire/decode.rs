@@ -13,7 +13,6 @@ use crate::{
     SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_TABLE_CONFIG_TAG,
     CHAIN_TABLE_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
-#[cfg(feature = "chain")]
 use crate::{ChainTable, ChainTableConfig};
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
@@ -80,9 +79,9 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         7 => segment_orientation(body).map(HubMessage::SegmentOrientation),
         8 => imu_config(body).map(HubMessage::ImuConfig),
         #[cfg(feature = "chain")]
-        CHAIN_TABLE_TAG => whole(body).map(HubMessage::ChainTable),
+        CHAIN_TABLE_TAG => chain_table(body).map(HubMessage::ChainTable),
         #[cfg(feature = "chain")]
-        CHAIN_TABLE_CONFIG_TAG => whole(body).map(HubMessage::ChainTableConfig),
+        CHAIN_TABLE_CONFIG_TAG => chain_table_config(body).map(HubMessage::ChainTableConfig),
         #[cfg(not(feature = "chain"))]
         CHAIN_TABLE_TAG..=CHAIN_TABLE_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
@@ -277,10 +276,40 @@ pub(super) fn imu_config(body: &[u8]) -> Result<ImuConfig, DecodeError> {
 
 /// A body decoded as one postcard value (the chain messages: each field is a value postcard
 /// checks, none a raw byte with an error of its own), every byte used.
-pub(super) fn whole<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, DecodeError> {
-    let (value, rest) = take(body)?;
+/// A [`ChainTable`]'s body: upload, `at` (a `u16` varint), the byte count, the bytes.
+pub(super) fn chain_table(body: &[u8]) -> Result<ChainTable, DecodeError> {
+    let (upload, rest) = take(body)?;
+    let (at, rest) = take::<u16>(rest)?;
+    let (count, rest) = take_varint_u32(rest)?;
+    let (bytes, rest) = usize::try_from(count)
+        .ok()
+        .and_then(|n| rest.split_at_checked(n))
+        .ok_or(DecodeError::Malformed)?;
     end(rest)?;
-    Ok(value)
+    Ok(ChainTable {
+        upload,
+        at,
+        bytes: heapless::Vec::from_slice(bytes).map_err(|_| DecodeError::Malformed)?,
+    })
+}
+
+/// A [`ChainTableConfig`]'s body.
+pub(super) fn chain_table_config(body: &[u8]) -> Result<ChainTableConfig, DecodeError> {
+    let (upload, rest) = take(body)?;
+    let (len, rest) = take::<u16>(rest)?;
+    let (crc, rest) = take_varint_u32(rest)?;
+    let (policy, rest) = take::<u8>(rest)?;
+    let (reorder_window, rest) = take(rest)?;
+    let (request_status, rest) = take(rest)?;
+    end(rest)?;
+    Ok(ChainTableConfig {
+        upload,
+        len,
+        crc,
+        missing_policy: missing_policy(policy)?,
+        reorder_window,
+        request_status,
+    })
 }
 
 fn missing_policy(byte: u8) -> Result<MissingPolicy, DecodeError> {

@@ -56,8 +56,10 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         6 => decode::subject_config(body).map(Message::SubjectConfig),
         7 => decode::segment_orientation(body).map(Message::SegmentOrientation),
         8 => decode::imu_config(body).map(Message::ImuConfig),
-        crate::CHAIN_TABLE_TAG => decode::whole(body).map(Message::ChainTable),
-        crate::CHAIN_TABLE_CONFIG_TAG => decode::whole(body).map(Message::ChainTableConfig),
+        crate::CHAIN_TABLE_TAG => decode::chain_table(body).map(Message::ChainTable),
+        crate::CHAIN_TABLE_CONFIG_TAG => {
+            decode::chain_table_config(body).map(Message::ChainTableConfig)
+        }
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
