@@ -170,13 +170,11 @@ pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, EmulateError> 
             request_status: true,
             ..*c
         }),
-        Message::ChainTableConfig(c) => {
-            Message::ChainTableConfig(qgait_proto::ChainTableConfig {
-                reorder_window: toggle(c.reorder_window),
-                request_status: true,
-                ..c.clone()
-            })
-        }
+        Message::ChainTableConfig(c) => Message::ChainTableConfig(qgait_proto::ChainTableConfig {
+            reorder_window: toggle(c.reorder_window),
+            request_status: true,
+            ..c.clone()
+        }),
         other => return Err(EmulateError::NotAConfiguration(other.tag())),
     };
     let mut out = vec![0u8];

@@ -14,8 +14,8 @@ use qgait_proto::{
 };
 
 use qgait_hub::{
-    parts_of, ChainUpload, Hub, Kinematics, ManualClock, MemorySerial,
-    MAX_BYTES_PER_POLL, READ_CHUNK,
+    parts_of, ChainUpload, Hub, Kinematics, ManualClock, MemorySerial, MAX_BYTES_PER_POLL,
+    READ_CHUNK,
 };
 
 /// A failed check: what did not hold, and where.

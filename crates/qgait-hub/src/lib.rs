@@ -22,6 +22,4 @@ pub use crate::hub::{
     Hub, PollSummary, DEFAULT_CONFIG, DEFAULT_STATUS_PERIOD_MS, MAX_BYTES_PER_POLL, READ_CHUNK,
 };
 pub use crate::memory_serial::MemorySerial;
-pub use qgait_proto::device_model::{
-    parts_of, ChainUpload, ConfigError, Kinematics, SubjectParts,
-};
+pub use qgait_proto::device_model::{parts_of, ChainUpload, ConfigError, Kinematics, SubjectParts};

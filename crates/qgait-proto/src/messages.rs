@@ -9,8 +9,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId,
-    SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg,
+    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId, SegmentOrientation, SubjectConfig,
+    SubjectKnee, SubjectLeg,
 };
 
 /// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for

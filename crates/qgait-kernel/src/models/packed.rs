@@ -9,24 +9,24 @@
 //!   parts of the joint are not the identity ([`CustomChain`]'s evaluation steps), each
 //!   rotation's axis kind, and where its numbers start in the pool (in a fixed order, see
 //!   [`JointCode`]);
-//! - per moving axis, joint by joint, a [`Drive`]: its function and the argument it is
-//!   evaluated at;
+//! - per coupled coordinate, then per moving axis, joint by joint, a [`Drive`]: its function
+//!   and the argument it is evaluated at;
 //! - splines in Hermite form: per knot its value and slope (the same cubic between two knots as
 //!   the Forsythe-Malcolm-Moler coefficients, two numbers a knot instead of four), splines
 //!   through the same abscissae (a knee's four) sharing them;
-//! - polynomials' coefficients, couplers' functions, and the output points.
+//! - polynomials' coefficients and the output points.
 //!
-//! Every read is bounds-checked without panicking (a short pool reads as zeros, an index past a
-//! table as nothing), so a table of any content evaluates without panicking.
+//! Every read is bounded without panicking (a read past the pool reads its last numbers, an
+//! index past a table reads nothing), so a table of any content evaluates without panicking.
 //!
 //! The image of a table (`f32`), in bytes: the joints' codes ([`JointCode::LEN`] each), the
 //! drives' (2 each), the points' (2 each), the splines' ([`SplineCode::LEN`] each), the
-//! polynomials' (3 each), the couplers' (2 each, [`MAX_COUPLERS`]), the counts (the drives in
-//! use, the couplers in use, where the points' offsets start and how many numbers are in use,
-//! the last two `u16` little-endian), then the `W` numbers, each `f32` little-endian.
+//! polynomials' (3 each), the counts (the drives in use, how many of them are coupled
+//! coordinates, where the points' offsets start and how many numbers are in use, the last two
+//! `u16` little-endian), then the `W` numbers, each `f32` little-endian.
 
 use super::custom::{
-    Argument, AxisKind, BodyFrame, CustomChain, Function, Offset, Shape, MAX_COUPLERS,
+    Argument, AxisKind, BodyFrame, CustomChain, Driven, Function, Shape, MAX_COUPLERS,
 };
 use crate::{Quat, Real, Vec3};
 
@@ -36,7 +36,8 @@ use crate::{Quat, Real, Vec3};
 /// [`Drive::SPLINE`], [`Drive::POLYNOMIAL`] (bits 0-4: which), or [`Drive::IDENTITY`] (the
 /// argument itself); bit 5, [`Drive::SHARES`]: a spline that takes the weights of the
 /// spline-driven axis evaluated before it (the same argument and abscissae). Argument, bits 6-7:
-/// [`Drive::NONE`] (0), [`Drive::COORDINATE`] or [`Drive::COUPLED`]; bits 0-5: which.
+/// [`Drive::NONE`] (0), [`Drive::COORDINATE`] or [`Drive::COUPLED`] (coupled coordinate `k`:
+/// the value of drive `k`, one of the first drives); bits 0-5: which.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Drive(pub [u8; 2]);
 
@@ -79,17 +80,16 @@ impl Drive {
 /// - `parent`: the parent body (ignored for body 0, which hangs on ground);
 /// - `moving`: moving rotations (bits 0-1) and translations (bits 2-3); their drives are the
 ///   next ones of the table, translations first, then rotations, and their
-///   [`Drive::LINEAR`] slopes and intercepts are at the pool's start (after the couplers', in
-///   the drives' order);
-/// - `shape`: bits 1 `START`, 2 `ORIENTED`, 4 `TURNS`, 8 `ENDS_AWAY` (below);
+///   [`Drive::LINEAR`] slopes and intercepts are at the pool's start (in the drives' order);
+/// - `shape`: bits 1 `START`, 4 `TURNS`, 8 `ENDS_AWAY` (below; bit 2 is not used);
 /// - `kinds`: each moving rotation's axis, two bits each from bit 0: 0 general, 1 +x, 2 +y,
 ///   3 +z;
-/// - `words`: the joint's first number in the pool. From there: for a joint that does not
-///   move, the fixed offset (translation 3, rotation 4); otherwise, in order, with `START` the
-///   parent frame's origin `t_F` (3) and each moving translation's axis (3); with `ORIENTED`
-///   the parent frame's orientation `R_F` (4), which turns the translation axes; each moving
-///   rotation about a general axis, the axis in the parent body's frame (3); with `TURNS` the
-///   rotation after the joint's own, `R_F R_M⁻¹` (4); with `ENDS_AWAY`, `−t_M` (3).
+/// - `words`: the joint's first number in the pool. From there, in order: with `START` the
+///   parent frame's origin `t_F` (3) and each moving translation's axis in the parent body's
+///   frame (3, `R_F dᵢ`); each moving rotation about a general axis, the axis in the parent
+///   body's frame (3, `R_F aᵢ`); with `TURNS` the
+///   rotation after the joint's own, `R_F R_M⁻¹` (4); with `ENDS_AWAY`, `−t_M` (3). A joint
+///   that does not move (a weld) has its whole offset `F · M⁻¹` as its `t_F` and its turn.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct JointCode(pub [u8; JointCode::LEN]);
 
@@ -169,10 +169,7 @@ struct Codes<const B: usize, const P: usize, const S: usize, const Q: usize, con
     splines: [[u8; SplineCode::LEN]; S],
     /// `[start (u16 little-endian), len]`: `len` coefficients, highest power first.
     polynomials: [[u8; 3]; Q],
-    /// `[independent, function]`: a coupled coordinate, the [`Drive`] function byte of input
-    /// `independent`; its linear coefficients, if any, first in the pool, couplers in order.
-    couplers: [[u8; 2]; MAX_COUPLERS],
-    /// `[drives in use, couplers in use, points_at (u16), used (u16)]`.
+    /// `[drives in use, coupled coordinates (the first drives), points_at (u16), used (u16)]`.
     counts: [u8; 6],
 }
 
@@ -239,7 +236,6 @@ impl<
             points: [[0; 2]; P],
             splines: [[0; SplineCode::LEN]; S],
             polynomials: [[0; 3]; Q],
-            couplers: [[0; 2]; MAX_COUPLERS],
             counts: [0; 6],
         },
         words: [T::ZERO; W],
@@ -247,7 +243,7 @@ impl<
 
     /// Bytes of the codes, the start of the image.
     pub const CODES_LEN: usize =
-        JointCode::LEN * B + 2 * D + 2 * P + SplineCode::LEN * S + 3 * Q + 2 * MAX_COUPLERS + 6;
+        JointCode::LEN * B + 2 * D + 2 * P + SplineCode::LEN * S + 3 * Q + 6;
 
     /// Packs `chain`, its numbers rounded to `T`.
     pub fn pack<U: Real, const S2: usize, const K: usize, const Q2: usize>(
@@ -297,10 +293,6 @@ impl<
             })
         };
         let couplers = chain.couplers();
-        for (code, c) in codes.couplers.iter_mut().zip(couplers) {
-            let function = drive_function(&c.function, Argument::Coordinate(0), &mut pool)?;
-            *code = [c.independent as u8, function];
-        }
         codes.counts[1] = couplers.len() as u8;
         // Abscissae first seen (their pool position) for each spline, to share them.
         let splines = chain.splines();
@@ -310,14 +302,26 @@ impl<
         let mut previous: Option<(u8, u8)> = None;
         let mut spline_x = [u16::MAX; S];
         let mut count = 0;
-        // The drives (their linear coefficients after the couplers'), by joint, translations
-        // first, then rotations; then the geometry.
-        for (joint, step) in chain.joints().iter().zip(chain.steps()) {
-            let (nr, nt) = step.moving;
-            let moving = joint.translations[..usize::from(nt)]
-                .iter()
-                .chain(&joint.rotations[..usize::from(nr)]);
-            for d in moving {
+        // The drives (their linear coefficients in the same order): the coupled coordinates,
+        // then by joint, translations first, then rotations; then the geometry.
+        let coupled = couplers.iter().map(|c| Driven {
+            axis: Vec3::zero(),
+            function: c.function,
+            argument: Argument::Coordinate(c.independent),
+        });
+        let moving = chain
+            .joints()
+            .iter()
+            .zip(chain.steps())
+            .flat_map(|(joint, step)| {
+                let (nr, nt) = step.moving;
+                joint.translations[..usize::from(nt)]
+                    .iter()
+                    .chain(&joint.rotations[..usize::from(nr)])
+                    .copied()
+            });
+        for d in coupled.chain(moving) {
+            {
                 let mut function = drive_function(&d.function, d.argument, &mut pool)?;
                 let argument = match d.argument {
                     Argument::None => Drive::NONE,
@@ -349,23 +353,28 @@ impl<
             [code[4], code[5]] = (pool.len as u16).to_le_bytes();
             let (nr, nt) = step.moving;
             if (nr, nt) == (0, 0) {
-                pool.offset(&step.end);
+                // A weld, `F · M⁻¹` on the parent: the steps' start and turn, those that are
+                // not the identity.
+                let end = &step.end;
+                if end.translation != Vec3::zero() {
+                    code[2] |= Shape::START;
+                    pool.vec(end.translation);
+                }
+                if end.rotation != Quat::identity() {
+                    code[2] |= Shape::TURNS;
+                    pool.quat(end.rotation);
+                }
                 continue;
             }
             code[1] = nr | nt << 2;
-            let mut shape = step.shape;
-            if nt == 0 {
-                shape &= !Shape::ORIENTED;
-            }
+            // The translation axes are stored turned into the parent body's frame.
+            let shape = step.shape & !Shape::ORIENTED;
             code[2] = shape;
             if shape & Shape::START != 0 {
                 pool.vec(joint.in_parent.translation);
             }
             for d in &joint.translations[..usize::from(nt)] {
-                pool.vec(d.axis);
-            }
-            if shape & Shape::ORIENTED != 0 {
-                pool.quat(joint.in_parent.rotation);
+                pool.vec(joint.in_parent.rotation.rotate(d.axis));
             }
             for (r, kind) in step.kinds[..usize::from(nr)].iter().enumerate() {
                 code[3] |= (*kind as u8) << (2 * r);
@@ -402,7 +411,14 @@ impl<
             spline_x[k] = at;
             let [x0, x1] = at.to_le_bytes();
             let [v0, v1] = (pool.len as u16).to_le_bytes();
-            codes.splines[k] = [x0, x1, v0, v1, x.len() as u8, u8::from(s.is_piecewise_linear())];
+            codes.splines[k] = [
+                x0,
+                x1,
+                v0,
+                v1,
+                x.len() as u8,
+                u8::from(s.is_piecewise_linear()),
+            ];
             pool.push(y);
             pool.push(s.slopes());
         }
@@ -420,7 +436,10 @@ impl<
 
     /// How many of the pool's numbers are in use.
     pub fn used(&self) -> usize {
-        usize::from(u16::from_le_bytes([self.codes.counts[4], self.codes.counts[5]]))
+        usize::from(u16::from_le_bytes([
+            self.codes.counts[4],
+            self.codes.counts[5],
+        ]))
     }
 
     /// The pool's numbers in use.
@@ -434,7 +453,7 @@ impl<
     pub fn is_usable(&self) -> bool {
         let counts = &self.codes.counts;
         usize::from(counts[0]) <= D
-            && usize::from(counts[1]) <= MAX_COUPLERS
+            && usize::from(counts[1]) <= usize::from(counts[0]).min(MAX_COUPLERS)
             && self.used() <= W
             && self.numbers().iter().all(|w| w.is_finite())
     }
@@ -464,8 +483,10 @@ impl<
     #[inline]
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
         let frames = self.frames_inline(q);
-        let mut cursor =
-            usize::from(u16::from_le_bytes([self.codes.counts[2], self.codes.counts[3]]));
+        let mut cursor = usize::from(u16::from_le_bytes([
+            self.codes.counts[2],
+            self.codes.counts[3],
+        ]));
         core::array::from_fn(|k| {
             let [body, at_origin] = self.codes.points[k];
             let offset = if at_origin != 0 {
@@ -487,7 +508,9 @@ impl<
         let mut values = [T::ZERO; D];
         self.values(q, &mut values);
         let mut frames = [BodyFrame::GROUND; B];
-        let mut rest = &values[..];
+        let mut rest = values
+            .get(usize::from(self.codes.counts[1])..)
+            .unwrap_or(&[]);
         for (b, &code) in self.codes.joints.iter().enumerate() {
             let code = JointCode(code);
             let (nr, nt) = code.moving();
@@ -505,32 +528,28 @@ impl<
         frames
     }
 
-    /// Every moving axis's value for `q`, in drive order; the couplers' first, the linear
-    /// coefficients read in order from the pool's start.
+    /// Every drive's value for `q`, in order (the coupled coordinates first, then the moving
+    /// axes'), the linear coefficients read in order from the pool's start. A coupled
+    /// coordinate is the value of an earlier drive (0 otherwise).
     #[inline(always)]
     fn values(&self, q: &[T; N], values: &mut [T; D]) {
         let mut cursor = 0;
-        let mut coupled = [T::ZERO; MAX_COUPLERS];
         let mut weights = Weights {
             k: 0,
             w: T::ZERO,
             a: T::ZERO,
             b: T::ZERO,
         };
-        let count = usize::from(self.codes.counts[1]).min(MAX_COUPLERS);
-        for (v, &[independent, function]) in coupled[..count].iter_mut().zip(&self.codes.couplers) {
-            let x = q.get(usize::from(independent)).copied().unwrap_or(T::ZERO);
-            *v = self.function(function, x, &mut cursor, &mut weights);
-        }
         let count = usize::from(self.codes.counts[0]).min(D);
-        for (v, &[function, argument]) in values[..count].iter_mut().zip(&self.codes.drives) {
+        for i in 0..count {
+            let [function, argument] = self.codes.drives[i];
             let index = usize::from(argument & Drive::INDEX);
             let x = match argument & Drive::KIND {
                 Drive::COORDINATE => q.get(index).copied().unwrap_or(T::ZERO),
-                Drive::COUPLED => coupled.get(index).copied().unwrap_or(T::ZERO),
+                Drive::COUPLED if index < i => values[index],
                 _ => T::ZERO,
             };
-            *v = self.function(function, x, &mut cursor, &mut weights);
+            values[i] = self.function(function, x, &mut cursor, &mut weights);
         }
     }
 
@@ -546,14 +565,6 @@ impl<
         nt: usize,
     ) -> BodyFrame<T> {
         let mut cursor = code.words();
-        if nr == 0 && nt == 0 {
-            let translation = self.vec(&mut cursor);
-            let rotation = self.quat(&mut cursor);
-            return parent.then(&Offset {
-                translation,
-                rotation,
-            });
-        }
         let shape = code.shape();
         let mut origin = parent.origin;
         if shape & Shape::START != 0 {
@@ -561,9 +572,6 @@ impl<
             let mut slide = Vec3::zero();
             for &x in v.iter().take(nt) {
                 slide += self.vec(&mut cursor) * x;
-            }
-            if shape & Shape::ORIENTED != 0 {
-                slide = self.quat(&mut cursor).rotate(slide);
             }
             origin += parent.rotation.rotate(start + slide);
         }
@@ -689,12 +697,13 @@ impl<
         }
     }
 
-    /// `M` numbers from `cursor` on (zeros past the pool), the cursor moved past them.
+    /// `M` numbers from `cursor` on, the cursor moved past them; past the pool, its last `M`
+    /// (a clamped index: no branch, nothing to panic; zeros if the pool is shorter than `M`).
     #[inline(always)]
     fn take<const M: usize>(&self, cursor: &mut usize) -> [T; M] {
-        let at = *cursor;
-        *cursor = at + M;
-        match self.words.get(at..).and_then(|w| w.first_chunk::<M>()) {
+        let at = (*cursor).min(W.saturating_sub(M));
+        *cursor = cursor.saturating_add(M);
+        match self.words[at..].first_chunk::<M>() {
             Some(w) => *w,
             None => [T::ZERO; M],
         }
@@ -723,7 +732,6 @@ macro_rules! code_sections {
             $codes.points.$flat(),
             $codes.splines.$flat(),
             $codes.polynomials.$flat(),
-            $codes.couplers.$flat(),
             &$($m)? $codes.counts[..],
         ]
     };
@@ -743,7 +751,7 @@ impl<
     pub const IMAGE_LEN: usize = Self::CODES_LEN + 4 * W;
 
     /// The codes, in image order, in sections.
-    pub fn code_sections(&self) -> [&[u8]; 7] {
+    pub fn code_sections(&self) -> [&[u8]; 6] {
         code_sections!(self.codes, as_flattened)
     }
 
@@ -813,11 +821,6 @@ impl<T: Real, const W: usize> Pool<'_, T, W> {
 
     fn quat<U: Real>(&mut self, q: Quat<U>) {
         self.push(&[q.w, q.x, q.y, q.z]);
-    }
-
-    fn offset<U: Real>(&mut self, o: &Offset<U>) {
-        self.vec(o.translation);
-        self.quat(o.rotation);
     }
 }
 
@@ -955,7 +958,10 @@ mod tests {
         assert!(!bad.is_usable(), "a NaN");
         // A number past those in use is not looked at.
         let mut past = packed;
-        past.write_image(Packed::<f32>::CODES_LEN + 4 * packed.used(), &f32::NAN.to_le_bytes());
+        past.write_image(
+            Packed::<f32>::CODES_LEN + 4 * packed.used(),
+            &f32::NAN.to_le_bytes(),
+        );
         assert!(past.is_usable());
     }
 

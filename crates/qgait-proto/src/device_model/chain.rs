@@ -52,7 +52,10 @@ pub fn chain_pose<T: Real, const S: usize, const K: usize, const Q: usize>(
 
 /// [`chain_pose`] of a hub's table.
 #[inline(always)]
-pub fn device_chain_pose(chain: &DeviceChain, angles: &[f32; JointId::COUNT]) -> BilateralPose<f32> {
+pub fn device_chain_pose(
+    chain: &DeviceChain,
+    angles: &[f32; JointId::COUNT],
+) -> BilateralPose<f32> {
     points_pose(chain.forward(angles))
 }
 
@@ -68,15 +71,22 @@ pub fn table_crc(table: &DeviceChain, len: usize) -> u32 {
     let mut left = len;
     for section in table.code_sections() {
         let n = section.len().min(left);
-        register = crate::crc::update(register, &section[..n]);
+        register = update(register, &section[..n]);
         left -= n;
     }
     for w in table.words() {
         let n = left.min(4);
-        register = crate::crc::update(register, &w.to_le_bytes()[..n]);
+        register = update(register, &w.to_le_bytes()[..n]);
         left -= n;
     }
     !register
+}
+
+/// The CRC register through `bytes`: one copy for [`table_crc`]'s two loops (a hub runs it once
+/// an upload, the frames' CRC has its own, inlined where speed counts).
+#[inline(never)]
+fn update(register: u32, bytes: &[u8]) -> u32 {
+    crate::crc::update(register, bytes)
 }
 
 /// A chain packed for a hub, and its image's length and CRC: the parts and the config that
@@ -203,7 +213,11 @@ mod tests {
                     table.write_image(usize::from(part.at), &part.bytes);
                 }
             }
-            assert_ne!(table_crc(&table, upload.len), upload.crc, "part {skip} lost");
+            assert_ne!(
+                table_crc(&table, upload.len),
+                upload.crc,
+                "part {skip} lost"
+            );
         }
         let mut changed = whole;
         changed.write_image(upload.len - 1, &[0x5a]);

@@ -13,12 +13,12 @@ use qgait_kernel::{
 use crate::device_model::chain::chain_pose;
 #[cfg(feature = "chain")]
 use crate::device_model::chain::{device_chain_pose, table_crc, DeviceChain, CHAIN_IMAGE_LEN};
-#[cfg(feature = "chain")]
-use crate::{ChainTable, ChainTableConfig};
 use crate::{
     encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection,
     ModelId, PoseFrame, PoseFrameParts,
 };
+#[cfg(feature = "chain")]
+use crate::{ChainTable, ChainTableConfig};
 
 /// Why a configuration cannot be used.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

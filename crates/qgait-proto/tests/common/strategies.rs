@@ -168,16 +168,16 @@ pub fn chain_table_config() -> impl Strategy<Value = ChainTableConfig> {
         any::<u8>(),
         any::<bool>(),
     )
-        .prop_map(
-            |(upload, len, crc, hold, reorder_window, request_status)| ChainTableConfig {
+        .prop_map(|(upload, len, crc, hold, reorder_window, request_status)| {
+            ChainTableConfig {
                 upload,
                 len,
                 crc,
                 missing_policy: missing_policy(hold),
                 reorder_window,
                 request_status,
-            },
-        )
+            }
+        })
 }
 
 pub fn segment_id() -> impl Strategy<Value = SegmentId> {
