@@ -600,7 +600,7 @@ where
     /// is in force, the open samples are closed under what is in force (no pose while a table
     /// is being written) and the table becomes the model.
     #[cfg(feature = "chain")]
-    #[inline(never)]
+    #[inline(always)]
     fn switch_chain(&mut self, new: Config, config: &ChainTableConfig) -> Result<(), ConfigError> {
         if !(1..=MAX_REORDER_WINDOW).contains(&new.reorder_window) {
             return Err(ConfigError::ReorderWindow(new.reorder_window));
@@ -610,12 +610,12 @@ where
         if self.imu.config().mode.orientations() {
             return Err(ConfigError::ImuNeedsGait2392);
         }
-        self.kinematics.check_chain(config)?;
+        let checked = self.kinematics.check_chain(config)?;
         if self.kinematics.computes() && new == self.config {
             return Ok(());
         }
         self.close_open_samples();
-        self.kinematics.set_chain(config)?;
+        self.kinematics.take_chain(checked);
         self.config = new;
         #[cfg(feature = "imu")]
         set_input(&mut self.input, &self.config, &self.imu);

@@ -8,6 +8,10 @@
 //! (605 against 1,168 for a PHAK pose frame's 146 bytes, 77 against 112 for a packet's 11;
 //! `cargo xtask bench`, figures `device.crc.*`): a word a step against the crate's byte a step,
 //! with the same 1 KiB table.
+//!
+//! With the `small-crc` feature the table is 16 entries (64 bytes) and the register takes four
+//! bits a step instead: the same CRC in about twice the instructions, for a hub whose flash
+//! counts more than those (the firmware's `chain` build, BENCHMARKS.md).
 
 /// The CRC algorithm of every frame: CRC-32C (Castagnoli), also known as CRC-32/ISCSI.
 ///
@@ -21,16 +25,23 @@ pub const FRAME_CRC_CHECK: u32 = 0xE306_9283;
 /// The reflected polynomial.
 const POLY: u32 = 0x82F6_3B78;
 
-/// `TABLE[i]`: the register after shifting the byte `i` through it (one byte per step).
-static TABLE: [u32; 256] = table();
+/// Bits the register takes a step: 8 (a 256-entry table) or, with `small-crc`, 4 (16
+/// entries).
+const STEP_BITS: u32 = if cfg!(feature = "small-crc") { 4 } else { 8 };
 
-const fn table() -> [u32; 256] {
-    let mut table = [0u32; 256];
+/// Entries of [`TABLE`].
+const ENTRIES: usize = 1 << STEP_BITS;
+
+/// `TABLE[i]`: the register after shifting the `STEP_BITS` bits `i` through it.
+static TABLE: [u32; ENTRIES] = table();
+
+const fn table() -> [u32; ENTRIES] {
+    let mut table = [0u32; ENTRIES];
     let mut i = 0;
-    while i < 256 {
+    while i < ENTRIES {
         let mut r = i as u32;
         let mut bit = 0;
-        while bit < 8 {
+        while bit < STEP_BITS {
             r = if r & 1 != 0 { (r >> 1) ^ POLY } else { r >> 1 };
             bit += 1;
         }
@@ -42,11 +53,17 @@ const fn table() -> [u32; 256] {
 
 /// One byte through the register (the low byte of `register` must already hold the input).
 #[inline(always)]
-fn step(register: u32) -> u32 {
-    TABLE[(register & 0xFF) as usize] ^ (register >> 8)
+fn step(mut register: u32) -> u32 {
+    let mut bits = 0;
+    while bits < 8 {
+        register = TABLE[(register as usize) & (ENTRIES - 1)] ^ (register >> STEP_BITS);
+        bits += STEP_BITS;
+    }
+    register
 }
 
 /// Runs `bytes` through the (not inverted) CRC-32C register `register`.
+#[cfg(not(feature = "small-crc"))]
 #[inline]
 pub(crate) fn update(mut register: u32, bytes: &[u8]) -> u32 {
     let words = bytes.chunks_exact(4);
@@ -64,6 +81,17 @@ pub(crate) fn update(mut register: u32, bytes: &[u8]) -> u32 {
     register
 }
 
+/// Runs `bytes` through the (not inverted) CRC-32C register `register`: a byte a step, one
+/// copy (flash first).
+#[cfg(feature = "small-crc")]
+#[inline(never)]
+pub(crate) fn update(mut register: u32, bytes: &[u8]) -> u32 {
+    for &byte in bytes {
+        register = step(register ^ u32::from(byte));
+    }
+    register
+}
+
 /// The register before any byte.
 pub(crate) const INIT: u32 = 0xFFFF_FFFF;
 
@@ -76,8 +104,8 @@ const fn residue() -> u32 {
     // and shift its four zero CRC bytes through the initial register.
     let mut r = INIT;
     let mut i = 0;
-    while i < 4 {
-        r = table()[(r & 0xFF) as usize] ^ (r >> 8);
+    while i < 4 * 8 / STEP_BITS {
+        r = table()[(r as usize) & (ENTRIES - 1)] ^ (r >> STEP_BITS);
         i += 1;
     }
     r

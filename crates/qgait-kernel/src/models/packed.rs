@@ -447,15 +447,15 @@ impl<
         &self.words[..self.used().min(W)]
     }
 
-    /// Whether the table is one [`pack`](Self::pack) could have made, as far as a device can
-    /// cheaply tell: its counts within the table's sizes and every number in use finite. (Any
-    /// table evaluates without panicking; this is what a hub checks of an uploaded one.)
+    /// Whether the table's counts are within its sizes, as [`pack`](Self::pack) makes them:
+    /// its drives at most `D`, its coupled coordinates at most [`MAX_COUPLERS`] and its drives,
+    /// its numbers in use at most `W`. (Any table evaluates without panicking; this is what a
+    /// hub checks of an uploaded one beside its CRC.)
     pub fn is_usable(&self) -> bool {
         let counts = &self.codes.counts;
         usize::from(counts[0]) <= D
             && usize::from(counts[1]) <= usize::from(counts[0]).min(MAX_COUPLERS)
             && self.used() <= W
-            && self.numbers().iter().all(|w| w.is_finite())
     }
 
     /// The joint codes.
@@ -489,15 +489,14 @@ impl<
         ]));
         core::array::from_fn(|k| {
             let [body, at_origin] = self.codes.points[k];
-            let offset = if at_origin != 0 {
-                None
-            } else {
-                Some(self.vec(&mut cursor))
+            // A body past the table reads the last one.
+            let Some(f) = frames.get(usize::from(body).min(B.saturating_sub(1))) else {
+                return Vec3::zero();
             };
-            match (frames.get(usize::from(body)), offset) {
-                (Some(f), None) => f.origin,
-                (Some(f), Some(o)) => f.origin + f.rotation.rotate(o),
-                (None, _) => Vec3::zero(),
+            if at_origin != 0 {
+                f.origin
+            } else {
+                f.origin + f.rotation.rotate(self.vec(&mut cursor))
             }
         })
     }
@@ -672,14 +671,22 @@ impl<
         while end - k > 1 {
             let mid = (k + end) / 2;
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            if !(t < x[mid]) {
+            if x.get(mid).is_some_and(|&xm| !(t < xm)) {
                 k = mid;
             } else {
                 end = mid;
             }
         }
-        let dx = t - x[k];
-        let s_ = dx / (x[k + 1] - x[k]);
+        let Some(&[xk, xk1]) = x.get(k..k + 2) else {
+            return Weights {
+                k,
+                w: zero,
+                a: zero,
+                b: zero,
+            };
+        };
+        let dx = t - xk;
+        let s_ = dx / (xk1 - xk);
         if s.linear() {
             return Weights {
                 k,
@@ -940,7 +947,7 @@ mod tests {
     }
 
     #[test]
-    fn a_table_with_counts_past_its_sizes_or_a_number_not_finite_is_not_usable() {
+    fn a_table_with_counts_past_its_sizes_is_not_usable() {
         let packed = Packed::<f32>::pack(&walker_chain()).unwrap();
         assert!(packed.is_usable());
         let counts = Packed::<f32>::CODES_LEN - 6;
@@ -953,16 +960,10 @@ mod tests {
         let mut bad = packed;
         bad.write_image(counts + 4, &513u16.to_le_bytes());
         assert!(!bad.is_usable(), "numbers past W");
+        // More coupled coordinates than drives.
         let mut bad = packed;
-        bad.write_image(Packed::<f32>::CODES_LEN + 4, &f32::NAN.to_le_bytes());
-        assert!(!bad.is_usable(), "a NaN");
-        // A number past those in use is not looked at.
-        let mut past = packed;
-        past.write_image(
-            Packed::<f32>::CODES_LEN + 4 * packed.used(),
-            &f32::NAN.to_le_bytes(),
-        );
-        assert!(past.is_usable());
+        bad.write_image(counts, &[1, 2]);
+        assert!(!bad.is_usable(), "couplers past the drives");
     }
 
     #[test]

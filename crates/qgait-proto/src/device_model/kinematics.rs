@@ -6,13 +6,13 @@ use qgait_kernel::metrics::distances;
 use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{
-    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Limb, ModelError, Phak, PhakAngles,
-    Real,
+    Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Gait2392Pose, Limb, ModelError, Phak,
+    PhakAngles, Real,
 };
 
 use crate::device_model::chain::chain_pose;
 #[cfg(feature = "chain")]
-use crate::device_model::chain::{device_chain_pose, table_crc, DeviceChain, CHAIN_IMAGE_LEN};
+use crate::device_model::chain::{table_crc, DeviceChain, CHAIN_IMAGE_LEN};
 use crate::{
     encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection,
     ModelId, PoseFrame, PoseFrameParts,
@@ -323,6 +323,13 @@ pub struct Kinematics {
     loading: bool,
 }
 
+/// What [`Kinematics::check_chain`] gives for the table it accepted, and
+/// [`Kinematics::take_chain`] takes (only the kinematics make one).
+#[cfg(feature = "chain")]
+#[derive(Debug)]
+#[must_use]
+pub struct CheckedChain(());
+
 /// The kernel model that computes the poses.
 #[derive(Debug, Clone)]
 // One Kinematics lives in the hub, for its whole life: boxing is not an option without a heap.
@@ -484,7 +491,7 @@ impl Kinematics {
     /// from an empty table. `false` (nothing written) for a part reaching past the image
     /// ([`CHAIN_IMAGE_LEN`]).
     #[cfg(feature = "chain")]
-    #[inline(never)]
+    #[inline]
     pub fn write_chain(&mut self, part: &ChainTable) -> bool {
         if !Kinematics::takes_chain_part(part) {
             return false;
@@ -511,8 +518,8 @@ impl Kinematics {
     /// image's first `config.len` bytes `config.crc`, and a table the hub can compute
     /// ([`DeviceChain::is_usable`]).
     #[cfg(feature = "chain")]
-    #[inline(never)]
-    pub fn check_chain(&self, config: &ChainTableConfig) -> Result<(), ConfigError> {
+    #[inline]
+    pub fn check_chain(&self, config: &ChainTableConfig) -> Result<CheckedChain, ConfigError> {
         let len = usize::from(config.len);
         match &self.chain {
             ModelChain::Chain(c)
@@ -521,7 +528,7 @@ impl Kinematics {
                     && table_crc(c, len) == config.crc
                     && c.is_usable() =>
             {
-                Ok(())
+                Ok(CheckedChain(()))
             }
             _ => Err(ConfigError::ChainIncomplete {
                 upload: config.upload,
@@ -532,15 +539,22 @@ impl Kinematics {
     /// Makes the table held the model if [`check_chain`](Self::check_chain) accepts it;
     /// unchanged otherwise.
     #[cfg(feature = "chain")]
-    #[inline(never)]
     pub fn set_chain(&mut self, config: &ChainTableConfig) -> Result<(), ConfigError> {
-        self.check_chain(config)?;
+        let checked = self.check_chain(config)?;
+        self.take_chain(checked);
+        Ok(())
+    }
+
+    /// Makes the table held the model: what [`check_chain`](Self::check_chain) accepted (its
+    /// [`CheckedChain`] says so; nothing may be written between the two).
+    #[cfg(feature = "chain")]
+    #[inline]
+    pub fn take_chain(&mut self, _checked: CheckedChain) {
         if let ModelChain::Chain(c) = &self.chain {
             self.knee = KneeFlexion::of(|q| c.forward(q));
         }
         self.loading = false;
         self.model = ModelId::Chain;
-        Ok(())
     }
 
     /// Whether there is a model to compute poses with: not while a chain's table is being
@@ -630,12 +644,14 @@ impl Kinematics {
     /// The kernel's pose of these angles with the model in force.
     #[inline(always)]
     fn pose(&self, angles: &[f32; JointId::COUNT]) -> BilateralPose<f32> {
-        match &self.chain {
-            ModelChain::Phak(phak) => stick_pose(phak, self.model, angles),
-            ModelChain::Gait2392(g) => gait2392_pose(g, angles),
+        // gait2392 and a chain have the same 12 points: one conversion to the pose.
+        let points = match &self.chain {
+            ModelChain::Phak(phak) => return stick_pose(phak, self.model, angles),
+            ModelChain::Gait2392(g) => g.fk(angles).points,
             #[cfg(feature = "chain")]
-            ModelChain::Chain(c) => device_chain_pose(c, angles),
-        }
+            ModelChain::Chain(c) => c.forward(angles),
+        };
+        Gait2392Pose { points }.bilateral()
     }
 }
 

@@ -44,6 +44,8 @@ pub use imu::{
     input_mode, kernel_heading_axis, kernel_mode, kernel_segment, kernel_settings, packet_quat,
     q14_quat, wire_heading_axis, wire_segment, wire_settings,
 };
+#[cfg(feature = "chain")]
+pub use kinematics::CheckedChain;
 pub use kinematics::{
     gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose,
     ConfigError, Kinematics, PoseModels, MAX_SEGMENT_M,
