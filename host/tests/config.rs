@@ -165,7 +165,7 @@ fn imported_chain_is_its_table_and_a_chain_table_config() {
     let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
     assert!(run.status.success(), "{}", stderr(&run));
     let messages = config(dir.path(), &["--model", s(&toml), "--upload", "3"]);
-    // 200 bytes of codes and 333 numbers: 1,532 bytes, 160 a part.
+    // 192 bytes of codes and 325 numbers: 1,492 bytes, 160 a part.
     assert_eq!(messages.len(), 11);
     let mut hub = DeviceChain::EMPTY;
     for m in &messages[..10] {
@@ -178,7 +178,7 @@ fn imported_chain_is_its_table_and_a_chain_table_config() {
     let Message::ChainTableConfig(c) = &messages[10] else {
         panic!("{:?}", messages[10])
     };
-    assert_eq!((c.upload, c.len, c.reorder_window), (3, 1532, 4));
+    assert_eq!((c.upload, c.len, c.reorder_window), (3, 1492, 4));
     assert!(c.request_status);
     assert_eq!(table_crc(&hub, usize::from(c.len)), c.crc);
     let text = std::fs::read_to_string(&toml).unwrap();

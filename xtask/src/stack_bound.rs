@@ -62,22 +62,25 @@ pub fn objdump() -> Option<String> {
 /// The RAM target of issue 8: static RAM plus the stack bound within 8 KiB.
 pub const RAM_LIMIT: u64 = 8 * 1024;
 
-/// The test step: static RAM plus the stack bound of the release ELF at `elf` within
-/// [`RAM_LIMIT`].
-pub fn ram_step(elf: &Path) -> Step {
-    let name = "RAM bound (disassembly)".to_string();
+/// The flash target beside it: 32 KiB.
+pub const FLASH_LIMIT: u64 = 32 * 1024;
+
+/// The test step `name`: the release ELF at `elf` within the budget, its flash within
+/// [`FLASH_LIMIT`] and its static RAM plus stack bound within [`RAM_LIMIT`].
+pub fn budget_step(name: &str, elf: &Path) -> Step {
     let measured = std::fs::read(elf)
         .map_err(|e| format!("reading {}: {e}", elf.display()))
         .and_then(|bytes| crate::elf_size::footprint(&bytes))
-        .and_then(|f| Ok((f.static_ram, bound(elf)?)));
+        .and_then(|f| Ok((f, bound(elf)?)));
     let (ok, line) = match measured {
-        Ok((static_ram, b)) => {
-            let ram = static_ram + b.bytes;
+        Ok((f, b)) => {
+            let ram = f.static_ram + b.bytes;
             (
-                ram <= RAM_LIMIT,
+                ram <= RAM_LIMIT && f.flash <= FLASH_LIMIT,
                 format!(
-                    "RAM bound {ram} bytes (static {static_ram} + stack bound {}) of {RAM_LIMIT}",
-                    b.bytes
+                    "flash {} bytes of {FLASH_LIMIT}; RAM bound {ram} bytes (static {} + stack \
+                     bound {}) of {RAM_LIMIT}",
+                    f.flash, f.static_ram, b.bytes
                 ),
             )
         }
@@ -85,7 +88,7 @@ pub fn ram_step(elf: &Path) -> Step {
     };
     println!("\n==> {name}\n{line}");
     Step {
-        name,
+        name: name.to_string(),
         ok,
         summaries: vec![line],
     }

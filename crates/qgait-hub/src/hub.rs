@@ -539,7 +539,7 @@ where
             // gait2392's lengths are those of its model.
             Err(ConfigError::AnthropometryWithGait2392)
         } else if config.model == ModelId::Chain {
-            // A chain comes with its `ChainConfig`.
+            // A chain comes with its `ChainTableConfig`.
             Err(ConfigError::ChainIncomplete { upload: 0 })
         } else {
             // Without lengths, the HAK and PHAK lengths in force stay. gait2392's generic
@@ -683,7 +683,7 @@ where
             return Err(ConfigError::ImuNeedsGait2392);
         }
         if new.model == ModelId::Chain {
-            // A chain comes with its `ChainConfig`, never by a `Config`.
+            // A chain comes with its `ChainTableConfig`, never by a `Config`.
             return Err(ConfigError::ChainIncomplete { upload: 0 });
         }
         if subject.is_none() && new.model != ModelId::Gait2392 {

@@ -36,6 +36,9 @@ pub enum ModelError {
     /// A polynomial needs 1 to [`MAX_COEFFICIENTS`](crate::polynomial::MAX_COEFFICIENTS) finite
     /// coefficients.
     PolynomialCoefficients,
+    /// A chain has more moving axes or numbers than its table holds (a
+    /// [`CustomChain`](crate::models::CustomChain)'s `D` and `W`).
+    TableSize,
 }
 
 impl fmt::Display for ModelError {
@@ -60,6 +63,9 @@ impl fmt::Display for ModelError {
                 f.write_str("a spline needs 2 to 12 finite knots with increasing x")
             }
             Self::BadLength => f.write_str("segment lengths must be finite and non-negative"),
+            Self::TableSize => {
+                f.write_str("the chain has more moving axes or numbers than its table holds")
+            }
             Self::PolynomialCoefficients => write!(
                 f,
                 "a polynomial needs 1 to {} finite coefficients",

@@ -26,7 +26,7 @@ pub const MAX_CHAIN_DRIVES: usize = 24;
 /// The most numbers of one chain's table (Rajagopal 2015 and 2016: 333).
 pub const MAX_CHAIN_WORDS: usize = 384;
 /// The most bytes of the image one [`ChainTable`] carries.
-pub const MAX_CHAIN_TABLE_BYTES: usize = 160;
+pub const MAX_CHAIN_TABLE_BYTES: usize = 128;
 
 /// Bytes `at..at + bytes.len()` of the image of chain `upload`'s table.
 ///

@@ -37,9 +37,9 @@ pub enum ModelId {
     Phak = 1,
     /// OpenSim gait2392: every [`JointId`].
     Gait2392 = 2,
-    /// An imported lower-limb chain (Rajagopal, gait10dof18musc, ...) uploaded in parts
-    /// (`ChainJoint`, `ChainAxes`, `ChainSpline`, switched to by a `ChainConfig`): every
-    /// [`JointId`], as gait2392.
+    /// An imported lower-limb chain (Rajagopal, gait10dof18musc, ...) uploaded as its table
+    /// (`ChainTable` parts, switched to by a `ChainTableConfig`): every [`JointId`], as
+    /// gait2392.
     Chain = 3,
 }
 

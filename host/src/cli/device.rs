@@ -573,7 +573,7 @@ struct EmulateInput {
     stream: Vec<u8>,
     times: HashMap<u32, f64>,
     count: Option<u32>,
-    /// The last model configuration (`Config`, `SubjectConfig`, `ChainConfig`) the stream
+    /// The last model configuration (`Config`, `SubjectConfig`, `ChainTableConfig`) the stream
     /// carries, if any.
     configuration: Option<Message>,
 }

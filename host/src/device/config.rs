@@ -1,8 +1,8 @@
 //! The messages that configure a qgait hub (`qgait config`): a `Config` for HAK, PHAK and the
 //! generic gait2392, a subject gait2392 model as its six parts (`SubjectLeg`, `SubjectKnee`)
-//! followed by the `SubjectConfig` that switches to it, or an imported chain as its parts
-//! (`ChainJoint`, `ChainAxes`, `ChainSpline`) followed by its `ChainConfig`. Layouts:
-//! `docs/protocol.md`, sections 4.4 to 4.7.
+//! followed by the `SubjectConfig` that switches to it, or an imported chain as its table's
+//! `ChainTable` parts followed by its `ChainTableConfig`. Layouts: `docs/protocol.md`, sections
+//! 4.4 to 4.9.
 
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::device_model::{parts_of, ChainUpload, ConfigError, SubjectParts};

@@ -17,6 +17,7 @@
 //! [`MAX_POLYNOMIALS`] polynomials and [`MAX_COUPLERS`] coupled coordinates. [`LowerLimb`] is the size the host uses: the 17
 //! gait2392 coordinates, pelvis and two legs of five bodies, the 12 gait2392 points.
 
+use super::packed::PackedChain;
 use crate::{ModelError, Polynomial, Quat, Real, Spline, Vec3};
 
 /// Most knots of one spline (Rajagopal's knee: 13).
@@ -202,8 +203,9 @@ pub struct BodyPoint<T> {
 }
 
 /// A validated chain. Joint `b` moves body `b`. `S` spline slots of `K` knots each and `Q`
-/// polynomial slots ([`MAX_SPLINES`], [`MAX_SPLINE_KNOTS`] and [`MAX_POLYNOMIALS`] unless said: a
-/// device sizes them to the models it takes).
+/// polynomial slots ([`MAX_SPLINES`], [`MAX_SPLINE_KNOTS`] and [`MAX_POLYNOMIALS`] unless said),
+/// evaluated by its [`PackedChain`] of up to `D` drives and `W` numbers (enough for any chain
+/// of 11 bodies unless said).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CustomChain<
     T,
@@ -213,20 +215,36 @@ pub struct CustomChain<
     const S: usize = MAX_SPLINES,
     const K: usize = MAX_SPLINE_KNOTS,
     const Q: usize = MAX_POLYNOMIALS,
+    const D: usize = MAX_DRIVES,
+    const W: usize = MAX_WORDS,
 > {
     joints: [CustomJoint<T>; B],
-    /// Per joint, what [`frames`](Self::frames) computes with (built by
-    /// [`rebuild`](Self::rebuild) from the joint).
+    /// Per joint, what its evaluation needs (built by [`rebuild`](Self::rebuild) from the
+    /// joint, and packed into `table`).
     steps: [Step<T>; B],
     points: [BodyPoint<T>; P],
-    /// Per point, whether it is its body's origin (nothing to rotate).
-    at_origin: [bool; P],
     splines: [Spline<T, K>; S],
     polynomials: [Polynomial<T>; Q],
     couplers: [Coupler<T>; MAX_COUPLERS],
     /// How many of `splines`, `couplers` and `polynomials` are in use.
     used: (u8, u8, u8),
+    /// The chain packed: what [`forward`](Self::forward) and [`frames`](Self::frames)
+    /// evaluate (the one evaluation of a chain, a device's too).
+    table: PackedChain<T, N, B, P, S, Q, D, W>,
 }
+
+/// Most drives (moving axes and coupled coordinates) a [`CustomChain`]'s table holds unless
+/// said: six axes for each of 11 bodies, and [`MAX_COUPLERS`].
+pub const MAX_DRIVES: usize = 6 * 11 + MAX_COUPLERS;
+
+/// Most numbers a [`CustomChain`]'s table holds unless said: every part of 11 joints (28
+/// each), 12 points (3 each), the linear drives' two each, [`MAX_SPLINES`] of
+/// [`MAX_SPLINE_KNOTS`] (3 a knot) and [`MAX_POLYNOMIALS`] of their most coefficients.
+pub const MAX_WORDS: usize = 11 * 28
+    + 12 * 3
+    + 2 * MAX_DRIVES
+    + MAX_SPLINES * 3 * MAX_SPLINE_KNOTS
+    + MAX_POLYNOMIALS * crate::polynomial::MAX_COEFFICIENTS;
 
 /// A joint as [`CustomChain::frames`] evaluates it, precomputed from the [`CustomJoint`] by
 /// [`CustomChain::rebuild`]. With `R_F`, `t_F` and `R_M`, `t_M` the parent and child offset
@@ -250,9 +268,6 @@ pub(super) struct Step<T> {
     pub(super) moving: (u8, u8),
     /// [`Shape`] bits: which parts of the joint are not the identity.
     pub(super) shape: u8,
-    /// Bit `i` (rotations 0 to 2, translations 3 to 5): the axis's spline takes the cubic the
-    /// previous spline-driven axis found (same argument, same abscissae: a knee's four).
-    shared: u8,
 }
 
 /// Bits of [`Step::shape`].
@@ -303,7 +318,6 @@ impl<T: Real> Step<T> {
             kinds: [AxisKind::General; 3],
             moving,
             shape: 0,
-            shared: 0,
         };
         if moving == (0, 0) {
             // A joint that does not move (a weld, a locked pin) is one fixed offset: `F · M⁻¹`
@@ -368,13 +382,6 @@ impl<T: Real> BodyFrame<T> {
         rotation: Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO),
         origin: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
     };
-
-    pub(super) fn then(&self, o: &Offset<T>) -> Self {
-        Self {
-            origin: self.origin + self.rotation.rotate(o.translation),
-            rotation: self.rotation * o.rotation,
-        }
-    }
 }
 
 impl<
@@ -385,7 +392,9 @@ impl<
         const S: usize,
         const K: usize,
         const Q: usize,
-    > CustomChain<T, N, B, P, S, K, Q>
+        const D: usize,
+        const W: usize,
+    > CustomChain<T, N, B, P, S, K, Q, D, W>
 {
     /// A table of zeros (every point at the origin): a slot that
     /// [`rebuild`](Self::rebuild) fills in place. All zero bits, so writing it is a memset.
@@ -414,13 +423,11 @@ impl<
                 kinds: [AxisKind::General; 3],
                 moving: (0, 0),
                 shape: 0,
-                shared: 0,
             }; B],
             points: [BodyPoint {
                 body: 0,
                 offset: zero,
             }; P],
-            at_origin: [false; P],
             splines: [Spline::EMPTY; S],
             polynomials: [Polynomial::ZERO; Q],
             couplers: [Coupler {
@@ -428,6 +435,7 @@ impl<
                 function: Function::Constant(T::ZERO),
             }; MAX_COUPLERS],
             used: (0, 0, 0),
+            table: PackedChain::EMPTY,
         }
     };
 
@@ -551,35 +559,11 @@ impl<
             self.steps[b] = Step::of(&joint, m);
         }
         self.points = *points;
-        self.at_origin = points.map(|p| p.offset == Vec3::zero());
         for (slot, k) in self.splines.iter_mut().zip(0..) {
             *slot = splines.get(k).copied().unwrap_or(Spline::EMPTY);
         }
         for (slot, k) in self.polynomials.iter_mut().zip(0..) {
             *slot = polynomials.get(k).copied().unwrap_or(Polynomial::ZERO);
-        }
-        // Which spline-driven axes can take the cubic of the one before them (in the order
-        // `frames` evaluates them: by joint, rotations then translations).
-        let mut previous: Option<(usize, Argument)> = None;
-        for (joint, step) in self.joints.iter().zip(&mut self.steps) {
-            step.shared = 0;
-            let (nr, nt) = (usize::from(step.moving.0), usize::from(step.moving.1));
-            let moving = joint.rotations[..nr.min(3)]
-                .iter()
-                .zip(0..)
-                .chain(joint.translations[..nt.min(3)].iter().zip(3..));
-            for (d, i) in moving {
-                if let Function::Spline(k) = d.function {
-                    if let Some((j, argument)) = previous {
-                        if argument == d.argument
-                            && self.splines[k].same_abscissae(&self.splines[j])
-                        {
-                            step.shared |= 1 << i;
-                        }
-                    }
-                    previous = Some((k, d.argument));
-                }
-            }
         }
         for (slot, k) in self.couplers.iter_mut().zip(0..) {
             *slot = couplers.get(k).copied().unwrap_or(Coupler {
@@ -592,7 +576,16 @@ impl<
             couplers.len() as u8,
             polynomials.len() as u8,
         );
-        Ok(())
+        match PackedChain::pack(self) {
+            Ok(table) => {
+                self.table = table;
+                Ok(())
+            }
+            Err(_) => {
+                *self = Self::EMPTY;
+                Err(ModelError::TableSize)
+            }
+        }
     }
 
     /// The joints, by body (zero-constant axes dropped, the moving ones first).
@@ -637,165 +630,24 @@ impl<
             || self.couplers().iter().any(|c| c.independent == i)
     }
 
-    #[inline]
-    fn value(&self, f: &Function<T>, x: T) -> T {
-        match *f {
-            Function::Constant(c) => c,
-            Function::Linear { slope, intercept } => slope * x + intercept,
-            Function::Spline(k) => self.splines[k].eval_scalar(x),
-            Function::Polynomial(k) => self.polynomial(k, x),
-        }
-    }
-
     /// Every body's frame in ground for input coordinates `q`.
     pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
-        self.frames_of(q)
-    }
-
-    /// Every moving axis's value (radians or metres) for `q` into `values`, by joint:
-    /// rotations at 0 to 2, translations at 3 to 5. Splines through the same abscissae
-    /// evaluated at the same argument one after the other (a knee's four) share one knot
-    /// search.
-    #[inline(always)]
-    fn values(&self, q: &[T; N], values: &mut [[T; 6]; B]) {
-        let mut coupled = [T::ZERO; MAX_COUPLERS];
-        let used = usize::from(self.used.1).min(MAX_COUPLERS);
-        for (v, c) in coupled[..used].iter_mut().zip(&self.couplers) {
-            *v = self.value(&c.function, q[c.independent]);
-        }
-        // The cubic the last spline-driven axis took.
-        let mut cubic = 0;
-        for ((joint, step), v) in self.joints.iter().zip(&self.steps).zip(values) {
-            let (nr, nt) = (usize::from(step.moving.0), usize::from(step.moving.1));
-            for (i, d) in joint.rotations[..nr.min(3)].iter().enumerate() {
-                v[i] = self.axis_value(d, q, &coupled, &mut cubic, step.shared & (1 << i) != 0);
-            }
-            for (i, d) in joint.translations[..nt.min(3)].iter().enumerate() {
-                v[3 + i] = self.axis_value(d, q, &coupled, &mut cubic, step.shared & (8 << i) != 0);
-            }
-        }
-    }
-
-    /// The value of axis `d`; a spline's cubic found (into `cubic`) unless `shared`, then
-    /// `cubic` taken.
-    #[inline(always)]
-    fn axis_value(
-        &self,
-        d: &Driven<T>,
-        q: &[T; N],
-        coupled: &[T; MAX_COUPLERS],
-        cubic: &mut usize,
-        shared: bool,
-    ) -> T {
-        let x = match d.argument {
-            Argument::None => T::ZERO,
-            Argument::Coordinate(i) => q[i],
-            Argument::Coupled(k) => coupled[k],
-        };
-        match d.function {
-            Function::Constant(c) => c,
-            Function::Linear { slope, intercept } => slope * x + intercept,
-            Function::Spline(k) => {
-                let s = &self.splines[k];
-                if !shared {
-                    *cubic = s.interval(x);
-                }
-                s.eval_in(*cubic, x)
-            }
-            Function::Polynomial(k) => self.polynomial(k, x),
-        }
-    }
-
-    /// Polynomial `k` at `x` (`check`: `k` is in range; a table without polynomials, `Q = 0`,
-    /// compiles this to nothing).
-    #[inline(always)]
-    fn polynomial(&self, k: usize, x: T) -> T {
-        self.polynomials.get(k).map_or(T::ZERO, |p| p.eval(x))
-    }
-
-    /// [`frames`](Self::frames): every axis's value first (the spline calls out of the
-    /// geometry loop), then the frames as each joint's [`Step`] says. Joint 0, the one root,
-    /// fills the array the others then overwrite in order.
-    #[inline(always)]
-    fn frames_of(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
-        if B == 0 {
-            return [BodyFrame::GROUND; B];
-        }
-        let mut values = [[T::ZERO; 6]; B];
-        self.values(q, &mut values);
-        let mut frames = [self.frame(0, &BodyFrame::GROUND, &values[0]); B];
-        for b in 1..B {
-            // (`check`: every body after the first hangs on an earlier one.)
-            let parent = frames[self.joints[b].parent.unwrap_or(0)];
-            frames[b] = self.frame(b, &parent, &values[b]);
-        }
-        frames
-    }
-
-    /// The frame of body `b` on its parent's frame, its axes' values `v`: a rotation about a
-    /// coordinate axis is the cheaper product ([`Quat::then_about_x`] and the like).
-    #[inline(always)]
-    fn frame(&self, b: usize, parent: &BodyFrame<T>, v: &[T; 6]) -> BodyFrame<T> {
-        let joint = &self.joints[b];
-        let step = &self.steps[b];
-        let (n_rotations, n_translations) = step.moving;
-        if n_rotations == 0 && n_translations == 0 {
-            return parent.then(&step.end);
-        }
-        let mut origin = parent.origin;
-        if step.shape & Shape::START != 0 {
-            let mut slide = Vec3::zero();
-            for (d, &x) in joint.translations[..usize::from(n_translations).min(3)]
-                .iter()
-                .zip(&v[3..])
-            {
-                slide += d.axis * x;
-            }
-            if step.shape & Shape::ORIENTED != 0 {
-                slide = joint.in_parent.rotation.rotate(slide);
-            }
-            origin += parent.rotation.rotate(joint.in_parent.translation + slide);
-        }
-        let mut rotation = parent.rotation;
-        for ((axis, &x), kind) in step.axes[..usize::from(n_rotations).min(3)]
-            .iter()
-            .zip(v)
-            .zip(&step.kinds)
-        {
-            let (s, c) = x.half_angle_sin_cos();
-            rotation = match kind {
-                AxisKind::X => rotation.then_about_x(s, c),
-                AxisKind::Y => rotation.then_about_y(s, c),
-                AxisKind::Z => rotation.then_about_z(s, c),
-                AxisKind::General => rotation * Quat::from_axis_half_sin_cos(*axis, s, c),
-            };
-        }
-        if step.shape & Shape::TURNS != 0 {
-            rotation = rotation * step.end.rotation;
-        }
-        if step.shape & Shape::ENDS_AWAY != 0 {
-            origin += rotation.rotate(step.end.translation);
-        }
-        BodyFrame { rotation, origin }
+        self.table.frames(q)
     }
 
     /// The output points in ground for input coordinates `q`: forward kinematics.
+    #[inline]
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
-        let frames = self.frames_of(q);
-        let mut out = [Vec3::zero(); P];
-        for ((o, p), &at_origin) in out.iter_mut().zip(&self.points).zip(&self.at_origin) {
-            let f = &frames[p.body];
-            *o = if at_origin {
-                f.origin
-            } else {
-                f.origin + f.rotation.rotate(p.offset)
-            };
-        }
-        out
+        self.table.forward(q)
+    }
+
+    /// The packed table the chain evaluates (a device's is one of these, in `f32`).
+    pub fn table(&self) -> &PackedChain<T, N, B, P, S, Q, D, W> {
+        &self.table
     }
 
     /// The whole table in another precision (e.g. an `f64` model for an `f32` device).
-    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P, S, K, Q> {
+    pub fn cast<U: Real>(&self) -> CustomChain<U, N, B, P, S, K, Q, D, W> {
         let v = |v: Vec3<T>| v.cast::<U>();
         let s = |x: T| U::from_f64(x.to_f64());
         let f = |f: Function<T>| match f {
@@ -831,13 +683,11 @@ impl<
                 kinds: st.kinds,
                 moving: st.moving,
                 shape: st.shape,
-                shared: st.shared,
             }),
             points: self.points.map(|p| BodyPoint {
                 body: p.body,
                 offset: v(p.offset),
             }),
-            at_origin: self.at_origin,
             splines: self.splines.map(|sp| sp.cast()),
             polynomials: self.polynomials.map(|p| p.cast()),
             couplers: self.couplers.map(|c| Coupler {
@@ -845,6 +695,8 @@ impl<
                 function: f(c.function),
             }),
             used: self.used,
+            // The same sizes as this chain's table, which packed: never refused.
+            table: PackedChain::pack(self).unwrap_or(PackedChain::EMPTY),
         }
     }
 }
@@ -1195,11 +1047,21 @@ mod tests {
             origin: Vec3::zero(),
         };
         let mut frames = [ground; B];
+        let function = |f: &Function<f64>, x: f64| match *f {
+            Function::Constant(c) => c,
+            Function::Linear { slope, intercept } => slope * x + intercept,
+            Function::Spline(k) => chain.splines()[k].eval(x),
+            Function::Polynomial(k) => chain.polynomials()[k].eval(x),
+        };
+        let then = |a: &BodyFrame<f64>, o: &Offset<f64>| BodyFrame {
+            origin: a.origin + a.rotation.rotate(o.translation),
+            rotation: a.rotation * o.rotation,
+        };
         let coupled: [f64; MAX_COUPLERS] = core::array::from_fn(|k| {
             chain
                 .couplers()
                 .get(k)
-                .map_or(0.0, |c| chain.value(&c.function, q[c.independent]))
+                .map_or(0.0, |c| function(&c.function, q[c.independent]))
         });
         let value = |d: &Driven<f64>| {
             let x = match d.argument {
@@ -1207,14 +1069,11 @@ mod tests {
                 Argument::Coordinate(i) => q[i],
                 Argument::Coupled(k) => coupled[k],
             };
-            match d.function {
-                Function::Spline(k) => chain.splines()[k].eval(x),
-                f => chain.value(&f, x),
-            }
+            function(&d.function, x)
         };
         for (b, joint) in chain.joints().iter().enumerate() {
             let parent = joint.parent.map_or(ground, |p| frames[p]);
-            let f = parent.then(&joint.in_parent);
+            let f = then(&parent, &joint.in_parent);
             let mut translation = Vec3::zero();
             for d in &joint.translations {
                 translation += d.axis * value(d);
@@ -1227,7 +1086,7 @@ mod tests {
                 origin: f.origin + f.rotation.rotate(translation),
                 rotation,
             };
-            frames[b] = m.then(&joint.in_child.inverse());
+            frames[b] = then(&m, &joint.in_child.inverse());
         }
         frames
     }
@@ -1332,10 +1191,14 @@ mod tests {
             &couplers,
         )
         .unwrap();
-        // The knee's second spline takes the first's cubic; the third spline (other knots) and
-        // the first translation (after it) search again, the second translation shares.
-        assert_eq!(chain.steps[1].shared, 0b1_0000);
-        assert_eq!(chain.at_origin, [false, true, false, true]);
+        // In the table's order (translations before rotations), one spline-driven axis takes
+        // the weights of the one evaluated before it.
+        let shares = chain
+            .table()
+            .drives()
+            .filter(|d| d.function() & super::super::packed::Drive::SHARES != 0)
+            .count();
+        assert_eq!(shares, 1);
         for k in 0..200 {
             let q: [f64; 5] =
                 core::array::from_fn(|i| 1.4 * libm_sin(0.61 * (k * 5 + i) as f64 + 0.3));
