@@ -63,8 +63,10 @@ fn init_hub(board: Board) -> &'static mut AppHub {
     };
     match Hub::init(slot, board.serial, board.clock, DEFAULT_STATUS_PERIOD_MS) {
         Ok(hub) => hub,
-        Err(e) => {
-            defmt::error!("default model refused: {}", e);
+        // PHAK with gait2392's lengths, which the hub's tests build: never refused. The error
+        // is not logged: its `defmt::Format` would cost 252 B of flash for a path not taken.
+        Err(_) => {
+            defmt::error!("default model refused");
             board::exit(1)
         }
     }
