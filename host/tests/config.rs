@@ -165,18 +165,18 @@ fn imported_chain_is_its_table_and_a_chain_table_config() {
     let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
     assert!(run.status.success(), "{}", stderr(&run));
     let messages = config(dir.path(), &["--model", s(&toml), "--upload", "3"]);
-    // 192 bytes of codes and 325 numbers: 1,492 bytes, 160 a part.
-    assert_eq!(messages.len(), 11);
+    // 192 bytes of codes and 325 numbers: 1,492 bytes, 128 a part.
+    assert_eq!(messages.len(), 13);
     let mut hub = DeviceChain::EMPTY;
-    for m in &messages[..10] {
+    for m in &messages[..12] {
         let Message::ChainTable(p) = m else {
             panic!("{m:?}")
         };
         assert_eq!(p.upload, 3);
         hub.write_image(usize::from(p.at), &p.bytes);
     }
-    let Message::ChainTableConfig(c) = &messages[10] else {
-        panic!("{:?}", messages[10])
+    let Message::ChainTableConfig(c) = &messages[12] else {
+        panic!("{:?}", messages[12])
     };
     assert_eq!((c.upload, c.len, c.reorder_window), (3, 1492, 4));
     assert!(c.request_status);

@@ -1,6 +1,6 @@
 //! An imported Rajagopal model on the hub, end to end under QEMU: OpenSense's
 //! `Rajagopal2015_opensense.osim` imported by `qgait model import`, the firmware built with its
-//! `chain` feature, `qgait emulate --model CHAIN.toml --verify` uploads the chain in parts,
+//! `chain` feature, `qgait emulate --model CHAIN.toml --verify` uploads the chain's table,
 //! streams a crouch gait through the hub (its knees turned into Rajagopal's signs), and
 //! recomputes every frame in `f64`: within 10 µm, nothing out of range, every knee flexed.
 //!

@@ -210,7 +210,7 @@ fn encode_frame_fits_a_max_frame_len_buffer() {
     assert!(encode_frame(&msg, &mut exact).is_ok());
 }
 
-/// `ChainTable` is 4 to 167 bytes and `ChainTableConfig` 7 to 13 (protocol.md 4.9): the
+/// `ChainTable` is 4 to 135 bytes and `ChainTableConfig` 7 to 13 (protocol.md 4.9): the
 /// smallest fields, then the largest.
 #[test]
 fn chain_table_messages_are_their_documented_sizes() {
@@ -227,8 +227,8 @@ fn chain_table_messages_are_their_documented_sizes() {
     part.upload = 0xFF;
     part.at = u16::MAX;
     part.bytes.resize(MAX_CHAIN_TABLE_BYTES, 0xFF).unwrap();
-    assert_eq!(message_len(&Message::ChainTable(part)), 167);
-    assert_eq!(CHAIN_TABLE_MAX_LEN, 167);
+    assert_eq!(message_len(&Message::ChainTable(part)), 135);
+    assert_eq!(CHAIN_TABLE_MAX_LEN, 135);
     let mut config = ChainTableConfig {
         upload: 0,
         len: 0,
