@@ -611,7 +611,13 @@ where
             return Err(ConfigError::ImuNeedsGait2392);
         }
         let checked = self.kinematics.check_chain(config)?;
-        if self.kinematics.computes() && new == self.config {
+        // `new` keeps the lengths in force: the model and the settings say whether it changes.
+        let c = &self.config;
+        if self.kinematics.computes()
+            && c.model == new.model
+            && c.missing_policy == new.missing_policy
+            && c.reorder_window == new.reorder_window
+        {
             return Ok(());
         }
         self.close_open_samples();

@@ -60,6 +60,9 @@ pub struct ChainTableConfig {
     pub len: u16,
     /// Their CRC-32C (the frames' CRC, section 2.2 of the protocol).
     pub crc: u32,
+    /// The model's knee flexes with positive `knee_angle` (Rajagopal's walker knee), as the
+    /// host finds from its forward kinematics: the hub judges the knee's range mirrored.
+    pub knee_flexes_positive: bool,
     /// What to do with incomplete samples.
     pub missing_policy: MissingPolicy,
     /// How many samples the hub waits for late packets:

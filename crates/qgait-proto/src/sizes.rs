@@ -64,9 +64,9 @@ pub const IMU_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + 1 + 3 * F32 + 1 + 1 + 1 + 1;
 pub const CHAIN_TABLE_MAX_LEN: usize = TAG + 1 + VARINT_U16 + 2 + MAX_CHAIN_TABLE_BYTES;
 
 /// Largest postcard encoding of a [`ChainTableConfig`](crate::ChainTableConfig) message, tag
-/// included: tag, upload, `len` (a `u16` varint), `crc` (a `u32` varint), missing policy,
-/// reorder window, request_status.
-pub const CHAIN_TABLE_CONFIG_MAX_LEN: usize = TAG + 1 + VARINT_U16 + VARINT_U32 + 1 + 1 + 1;
+/// included: tag, upload, `len` (a `u16` varint), `crc` (a `u32` varint), the knee's sign,
+/// missing policy, reorder window, request_status.
+pub const CHAIN_TABLE_CONFIG_MAX_LEN: usize = TAG + 1 + VARINT_U16 + VARINT_U32 + 1 + 1 + 1 + 1;
 
 const fn max(a: usize, b: usize) -> usize {
     if a > b {

@@ -210,7 +210,7 @@ fn encode_frame_fits_a_max_frame_len_buffer() {
     assert!(encode_frame(&msg, &mut exact).is_ok());
 }
 
-/// `ChainTable` is 4 to 135 bytes and `ChainTableConfig` 7 to 13 (protocol.md 4.9): the
+/// `ChainTable` is 4 to 135 bytes and `ChainTableConfig` 8 to 14 (protocol.md 4.9): the
 /// smallest fields, then the largest.
 #[test]
 fn chain_table_messages_are_their_documented_sizes() {
@@ -233,13 +233,14 @@ fn chain_table_messages_are_their_documented_sizes() {
         upload: 0,
         len: 0,
         crc: 0,
+        knee_flexes_positive: false,
         missing_policy: MissingPolicy::Drop,
         reorder_window: 1,
         request_status: false,
     };
-    assert_eq!(message_len(&Message::ChainTableConfig(config.clone())), 7);
+    assert_eq!(message_len(&Message::ChainTableConfig(config.clone())), 8);
     config.len = u16::MAX;
     config.crc = u32::MAX;
-    assert_eq!(message_len(&Message::ChainTableConfig(config)), 13);
-    assert_eq!(CHAIN_TABLE_CONFIG_MAX_LEN, 13);
+    assert_eq!(message_len(&Message::ChainTableConfig(config)), 14);
+    assert_eq!(CHAIN_TABLE_CONFIG_MAX_LEN, 14);
 }

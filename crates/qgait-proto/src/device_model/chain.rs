@@ -6,6 +6,7 @@
 //! pose from a sample's angles on either side.
 
 use qgait_kernel::models::packed::PackedChain;
+use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::{BilateralPose, Gait2392Pose, Real, Vec3};
 
 use crate::device_model::ConfigError;
@@ -101,6 +102,8 @@ pub struct ChainUpload {
     pub len: usize,
     /// Their CRC-32C.
     pub crc: u32,
+    /// Which sign of `knee_angle` flexes the chain's knee (its forward kinematics says).
+    pub knee: KneeFlexion,
 }
 
 impl ChainUpload {
@@ -119,6 +122,7 @@ impl ChainUpload {
         Ok(ChainUpload {
             upload,
             crc: table_crc(&table, len),
+            knee: KneeFlexion::of(|q| chain.forward(q)),
             table,
             len,
         })
@@ -151,6 +155,7 @@ impl ChainUpload {
             upload: self.upload,
             len: self.len as u16,
             crc: self.crc,
+            knee_flexes_positive: self.knee == KneeFlexion::Positive,
             missing_policy,
             reorder_window,
             request_status,

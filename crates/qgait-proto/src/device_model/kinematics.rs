@@ -328,7 +328,7 @@ pub struct Kinematics {
 #[cfg(feature = "chain")]
 #[derive(Debug)]
 #[must_use]
-pub struct CheckedChain(());
+pub struct CheckedChain(KneeFlexion);
 
 /// The kernel model that computes the poses.
 #[derive(Debug, Clone)]
@@ -528,7 +528,11 @@ impl Kinematics {
                     && table_crc(c, len) == config.crc
                     && c.is_usable() =>
             {
-                Ok(CheckedChain(()))
+                Ok(CheckedChain(if config.knee_flexes_positive {
+                    KneeFlexion::Positive
+                } else {
+                    KneeFlexion::Negative
+                }))
             }
             _ => Err(ConfigError::ChainIncomplete {
                 upload: config.upload,
@@ -549,10 +553,8 @@ impl Kinematics {
     /// [`CheckedChain`] says so; nothing may be written between the two).
     #[cfg(feature = "chain")]
     #[inline]
-    pub fn take_chain(&mut self, _checked: CheckedChain) {
-        if let ModelChain::Chain(c) = &self.chain {
-            self.knee = KneeFlexion::of(|q| c.forward(q));
-        }
+    pub fn take_chain(&mut self, checked: CheckedChain) {
+        self.knee = checked.0;
         self.loading = false;
         self.model = ModelId::Chain;
     }
@@ -572,7 +574,7 @@ impl Kinematics {
     }
 
     /// Which sign of `knee_angle` flexes the knee of the model in force: an uploaded chain's
-    /// as its forward kinematics says ([`KneeFlexion::of`], once per upload), negative for
+    /// as its `ChainTableConfig` says (the host's [`KneeFlexion::of`] of the model), negative for
     /// HAK, PHAK and gait2392 (and always, without the `chain` feature). The hub checks the
     /// knee's range with it ([`in_model_range`](qgait_kernel::models::ranges::in_model_range)).
     #[inline]

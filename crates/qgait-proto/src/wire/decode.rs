@@ -298,6 +298,7 @@ pub(super) fn chain_table_config(body: &[u8]) -> Result<ChainTableConfig, Decode
     let (upload, rest) = take(body)?;
     let (len, rest) = take::<u16>(rest)?;
     let (crc, rest) = take_varint_u32(rest)?;
+    let (knee_flexes_positive, rest) = take(rest)?;
     let (policy, rest) = take::<u8>(rest)?;
     let (reorder_window, rest) = take(rest)?;
     let (request_status, rest) = take(rest)?;
@@ -306,6 +307,7 @@ pub(super) fn chain_table_config(body: &[u8]) -> Result<ChainTableConfig, Decode
         upload,
         len,
         crc,
+        knee_flexes_positive,
         missing_policy: missing_policy(policy)?,
         reorder_window,
         request_status,

@@ -171,6 +171,7 @@ pub fn chain_table_config() -> qgait_proto::ChainTableConfig {
         upload: 3,
         len: 1532,
         crc: 0x1234_5678,
+        knee_flexes_positive: true,
         missing_policy: MissingPolicy::HoldLast,
         reorder_window: 4,
         request_status: true,

@@ -165,19 +165,23 @@ pub fn chain_table_config() -> impl Strategy<Value = ChainTableConfig> {
         any::<u16>(),
         any::<u32>(),
         any::<bool>(),
+        any::<bool>(),
         any::<u8>(),
         any::<bool>(),
     )
-        .prop_map(|(upload, len, crc, hold, reorder_window, request_status)| {
-            ChainTableConfig {
-                upload,
-                len,
-                crc,
-                missing_policy: missing_policy(hold),
-                reorder_window,
-                request_status,
-            }
-        })
+        .prop_map(
+            |(upload, len, crc, knee_flexes_positive, hold, reorder_window, request_status)| {
+                ChainTableConfig {
+                    upload,
+                    len,
+                    crc,
+                    knee_flexes_positive,
+                    missing_policy: missing_policy(hold),
+                    reorder_window,
+                    request_status,
+                }
+            },
+        )
 }
 
 pub fn segment_id() -> impl Strategy<Value = SegmentId> {
