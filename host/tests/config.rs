@@ -150,6 +150,39 @@ fn a_window_outside_one_to_eight_is_refused() {
     );
 }
 
+/// The device benchmark's Rajagopal upload (`firmware/src/bin/rajagopal2015_opensense.chain.bin`,
+/// which its `rajagopal()` decodes and checks by its CRC) is what `qgait config` sends today:
+/// a change to the table or its messages fails here, not as a benchmark that exits.
+#[test]
+fn the_benchmarks_rajagopal_upload_is_current() {
+    let Some(shared) = common::shared_dir() else {
+        return;
+    };
+    let osim = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("raj.toml");
+    let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let out = dir.path().join("raj.bin");
+    let run = qgait(&[
+        "config",
+        "--model",
+        s(&toml),
+        "--upload",
+        "1",
+        "-o",
+        s(&out),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let bench = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../firmware/src/bin/rajagopal2015_opensense.chain.bin");
+    assert!(
+        std::fs::read(&out).unwrap() == std::fs::read(&bench).unwrap(),
+        "{} is stale: make it again as its doc comment in firmware/src/bin/bench.rs says",
+        bench.display()
+    );
+}
+
 /// An imported Rajagopal model is its table's image in 10 `ChainTable` parts and a
 /// `ChainTableConfig`; the table the parts write, which the config's CRC accepts, gives the
 /// imported model's joint centres to 2 µm in `f32`.
