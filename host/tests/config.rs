@@ -150,19 +150,26 @@ fn a_window_outside_one_to_eight_is_refused() {
     );
 }
 
+/// OpenSense's Rajagopal 2015 imported by `qgait model import` into `dir` (`None`, and a printed
+/// reason, without the shared data).
+fn imported_rajagopal(dir: &Path) -> Option<std::path::PathBuf> {
+    let shared = common::shared_dir()?;
+    let osim = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    let toml = dir.join("raj.toml");
+    let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    Some(toml)
+}
+
 /// The device benchmark's Rajagopal upload (`firmware/src/bin/rajagopal2015_opensense.chain.bin`,
 /// which its `rajagopal()` decodes and checks by its CRC) is what `qgait config` sends today:
 /// a change to the table or its messages fails here, not as a benchmark that exits.
 #[test]
 fn the_benchmarks_rajagopal_upload_is_current() {
-    let Some(shared) = common::shared_dir() else {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(toml) = imported_rajagopal(dir.path()) else {
         return;
     };
-    let osim = shared.join("data/opensim/Rajagopal2015_opensense.osim");
-    let dir = tempfile::tempdir().unwrap();
-    let toml = dir.path().join("raj.toml");
-    let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
-    assert!(run.status.success(), "{}", stderr(&run));
     let out = dir.path().join("raj.bin");
     let run = qgait(&[
         "config",
@@ -183,20 +190,16 @@ fn the_benchmarks_rajagopal_upload_is_current() {
     );
 }
 
-/// An imported Rajagopal model is its table's image in 10 `ChainTable` parts and a
+/// An imported Rajagopal model is its table's image in 12 `ChainTable` parts and a
 /// `ChainTableConfig`; the table the parts write, which the config's CRC accepts, gives the
 /// imported model's joint centres to 2 µm in `f32`.
 #[test]
 fn imported_chain_is_its_table_and_a_chain_table_config() {
     use qgait_proto::device_model::{table_crc, DeviceChain};
-    let Some(shared) = common::shared_dir() else {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(toml) = imported_rajagopal(dir.path()) else {
         return;
     };
-    let osim = shared.join("data/opensim/Rajagopal2015_opensense.osim");
-    let dir = tempfile::tempdir().unwrap();
-    let toml = dir.path().join("raj.toml");
-    let run = qgait(&["model", "import", "-q", s(&osim), "-o", s(&toml)]);
-    assert!(run.status.success(), "{}", stderr(&run));
     let messages = config(dir.path(), &["--model", s(&toml), "--upload", "3"]);
     // 192 bytes of codes and 325 numbers: 1,492 bytes, 128 a part.
     assert_eq!(messages.len(), 13);

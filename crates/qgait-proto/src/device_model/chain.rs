@@ -2,12 +2,12 @@
 //! (the host's `LowerLimb<f64>`) into the hub's table ([`DeviceChain`], numbers rounded to
 //! `f32`) and cuts its image into [`ChainTable`] parts; the hub writes them into its slot
 //! ([`Kinematics::write_chain`](crate::Kinematics::write_chain)) and checks them against the
-//! [`ChainTableConfig`] ([`table_crc`]); [`chain_pose`] and [`device_chain_pose`] are a chain's
-//! pose from a sample's angles on either side.
+//! [`ChainTableConfig`] ([`table_crc`]); [`chain_pose`] is the host's chain's pose from a
+//! sample's angles (the hub's is `Kinematics`').
 
 use qgait_kernel::models::packed::PackedChain;
 use qgait_kernel::models::ranges::KneeFlexion;
-use qgait_kernel::{BilateralPose, Gait2392Pose, Real, Vec3};
+use qgait_kernel::{BilateralPose, Gait2392Pose, Real};
 
 use crate::device_model::ConfigError;
 use crate::{
@@ -48,21 +48,10 @@ pub fn chain_pose<T: Real, const S: usize, const K: usize, const Q: usize>(
     chain: &LowerLimbChain<T, S, K, Q>,
     angles: &[T; JointId::COUNT],
 ) -> BilateralPose<T> {
-    points_pose(chain.forward(angles))
-}
-
-/// [`chain_pose`] of a hub's table.
-#[inline(always)]
-pub fn device_chain_pose(
-    chain: &DeviceChain,
-    angles: &[f32; JointId::COUNT],
-) -> BilateralPose<f32> {
-    points_pose(chain.forward(angles))
-}
-
-#[inline(always)]
-fn points_pose<T: Real>(points: [Vec3<T>; CHAIN_POINTS]) -> BilateralPose<T> {
-    Gait2392Pose { points }.bilateral()
+    Gait2392Pose {
+        points: chain.forward(angles),
+    }
+    .bilateral()
 }
 
 /// The CRC-32C of the first `len` bytes of `table`'s image (what a [`ChainTableConfig`]
@@ -197,9 +186,9 @@ mod tests {
                 let t = 0.37 * (k * 17 + i) as f64;
                 0.8 * Real::sin_cos(t).0 + if i == 6 || i == 13 { 1.0 } else { 0.0 }
             });
-            let want = chain_pose(&host, &q);
-            let got = device_chain_pose(&hub, &q.map(|a| a as f32));
-            for (a, b) in want.points().iter().zip(got.points()) {
+            let want = host.forward(&q);
+            let got = hub.forward(&q.map(|a| a as f32));
+            for (a, b) in want.iter().zip(&got) {
                 worst = worst.max(a.max_abs_diff(b.cast()));
             }
         }

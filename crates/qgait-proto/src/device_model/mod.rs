@@ -15,8 +15,7 @@
 //! - the IMU input ([`kernel_segment`], [`kernel_settings`], [`kernel_mode`],
 //!   [`packet_quat`] and their inverses): the wire's segments, heading settings, modes and Q14
 //!   quaternions as the kernel's `imu` types, for the hub and the host alike.
-//! - [`ChainUpload`], [`DeviceChain`], [`table_crc`], [`chain_pose`] and
-//!   [`device_chain_pose`]: an imported lower-limb chain (the kernel's `CustomChain`) packed
+//! - [`ChainUpload`], [`DeviceChain`], [`table_crc`] and [`chain_pose`]: an imported lower-limb chain (the kernel's `CustomChain`) packed
 //!   into the hub's table (the kernel's `PackedChain` in `f32`), the
 //!   [`ChainTable`](crate::ChainTable) parts its image travels in, and its pose.
 //! - [`Status::count_decode_error`](crate::Status::count_decode_error): which counter a
@@ -37,8 +36,7 @@ mod model;
 mod subject;
 
 pub use chain::{
-    chain_pose, device_chain_pose, table_crc, ChainUpload, DeviceChain, LowerLimbChain,
-    CHAIN_IMAGE_LEN, CHAIN_POINTS,
+    chain_pose, table_crc, ChainUpload, DeviceChain, LowerLimbChain, CHAIN_IMAGE_LEN, CHAIN_POINTS,
 };
 pub use imu::{
     input_mode, kernel_heading_axis, kernel_mode, kernel_segment, kernel_settings, packet_quat,
