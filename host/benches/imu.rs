@@ -15,13 +15,13 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use qgait::opensim::imu_sto::OrientationReader;
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::imu::{
     Calibration, FitSolver, Heading, HeadingAxis, Mode, Orientations, Segment, Settings, Solver,
 };
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::{Gait2392, Gait2392Geometry};
+use qgait_opensim::imu_sto::OrientationReader;
 
 /// The recording's frames used (the 12 s OpenSense's reference solution covers).
 const FRAMES: usize = 1201;
@@ -95,7 +95,7 @@ fn bench(c: &mut Criterion) {
     });
     let osim = dir.join("../opensim/Rajagopal2015_opensense.osim");
     if let Ok(text) = std::fs::read_to_string(&osim) {
-        let imported = qgait::opensim::leg_chain::import(&text, "Rajagopal2015_opensense", None)
+        let imported = qgait::model::leg_chain::import(&text, "Rajagopal2015_opensense", None)
             .expect("imports");
         let chain = imported.model.chain().expect("a chain");
         let (min, max) = imported.model.bounds().expect("ranges");

@@ -3,10 +3,8 @@
 
 pub mod cli;
 pub mod device;
-pub mod diagnostics;
 pub mod gait;
 pub mod model;
 pub mod motion;
-pub mod opensim;
 pub(crate) mod progress;
 pub(crate) mod report;

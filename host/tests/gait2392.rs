@@ -7,8 +7,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::{parse_fk_csv, qgait, shared_dir, stderr, stdout};
-use qgait::opensim::mot::MotionTable;
 use qgait_kernel::Gait2392Geometry;
+use qgait_opensim::mot::MotionTable;
 
 const MODELS: [&str; 2] = ["gait2392_simbody.osim", "gait2392_thelen2003muscle.osim"];
 

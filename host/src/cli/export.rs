@@ -10,8 +10,8 @@ use crate::cli::fk::{inputs, prepare, Prepared};
 use crate::cli::model_args::ModelArgs;
 use crate::cli::{refuse_overwrite, with_path, OutputFile};
 use crate::motion::source::MotionRows;
-use crate::opensim::export;
 use crate::progress::Progress;
+use qgait_opensim::export;
 
 /// `qgait export` arguments.
 #[derive(Debug, Args)]

@@ -6,10 +6,10 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::diagnostics::Warning;
 use crate::gait::output::{self, ReferenceArg, Subject};
 use crate::gait::{self, trial, CycleMode};
 use crate::model::choice::Model;
+use qgait_opensim::diagnostics::Warning;
 
 /// Arguments of `qgait gait`.
 #[derive(Debug, Args)]

@@ -8,8 +8,8 @@ use std::io::{self, Write};
 
 use qgait_proto::PoseFrame;
 
-use crate::diagnostics::{Location, Warning};
 use crate::model::points::{csv_header, point_names, PointsCsv};
+use qgait_opensim::diagnostics::{Location, Warning};
 
 /// Whether `path` names a frames CSV: its extension is `csv`, in any case (`FRAMES.CSV` too).
 pub fn is_frames_csv(path: &str) -> bool {

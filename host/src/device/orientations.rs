@@ -23,9 +23,9 @@ use qgait_proto::{
     SegmentId, SegmentOrientation, PROTOCOL_VERSION,
 };
 
-use crate::diagnostics::Warning;
-use crate::opensim::imu_sto::OrientationReader;
-use crate::opensim::mot::MotError;
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::imu_sto::OrientationReader;
+use qgait_opensim::mot::MotError;
 
 /// One sample: the Q14 quaternion of each segment with a reading (by segment index).
 pub type Q14Sample = [Option<[i16; 4]>; SegmentId::COUNT];

@@ -7,12 +7,12 @@ use qgait_proto::{JointAngle, Message, ModelId, MAX_FRAME_LEN};
 
 use std::cell::RefCell;
 
-use crate::diagnostics::Warning;
 use crate::model::coords::KneeFlexion;
 use crate::model::error::ModelError;
 use crate::model::points::drive;
 use crate::motion::source::MotionRows;
-use crate::opensim::mot::MotionTable;
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::MotionTable;
 
 /// The samples of a motion as a node network would measure them: per row, the angle of every
 /// joint the model needs, in [`ModelId::required_joints`] order (radians), and a timestamp.

@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 use qgait_proto::Message;
 
 use crate::device::log::{LogDecoder, Record};
-use crate::diagnostics::Warning;
+use qgait_opensim::diagnostics::Warning;
 
 /// The hub's baud rate (both boards' UARTs run at 115200 8N1).
 pub const DEFAULT_BAUD: u32 = 115_200;

@@ -6,7 +6,7 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-use crate::diagnostics::Location;
+use qgait_opensim::diagnostics::Location;
 
 /// Why the normative data cannot be used. Each names the file (and where in it).
 #[derive(Debug, thiserror::Error)]

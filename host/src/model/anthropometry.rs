@@ -22,8 +22,8 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::toml_error;
-use crate::diagnostics::Warning;
 use crate::model::error::ModelError;
+use qgait_opensim::diagnostics::Warning;
 
 /// The file: each length for both sides, or per side (`_r`, `_l`); every key optional.
 #[derive(Debug, Default, Deserialize)]

@@ -10,7 +10,7 @@ use qgait_kernel::{Gait2392, Gait2392Geometry};
 use crate::model::chain::ChainModel;
 use crate::model::error::ModelError;
 use crate::model::subject;
-use crate::opensim::osim::ImportError;
+use qgait_opensim::osim::ImportError;
 
 /// A kinematic model with its numbers.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,7 +107,7 @@ impl Model {
     }
 
     /// The leg chain of an OpenSim model `text` (named `source`; `markers` as for
-    /// [`crate::opensim::osim::import`]): gait2392's table when the chain has gait2392's shape
+    /// [`qgait_opensim::osim::import`]): gait2392's table when the chain has gait2392's shape
     /// (its family: the faster evaluation, the hub's subject upload), else a general chain.
     /// Returns the import's notes.
     pub fn import(
@@ -115,7 +115,7 @@ impl Model {
         source: &str,
         markers: Option<(&str, &str)>,
     ) -> Result<(Self, Vec<String>), ModelError> {
-        match crate::opensim::osim::import(text, source, markers) {
+        match qgait_opensim::osim::import(text, source, markers) {
             Ok(imported) => Ok((
                 Self::Gait2392 {
                     geometry: Box::new(imported.geometry),
@@ -124,7 +124,7 @@ impl Model {
                 imported.notes,
             )),
             Err(ImportError::Chain { .. }) => {
-                let imported = crate::opensim::leg_chain::import(text, source, markers)?;
+                let imported = crate::model::leg_chain::import(text, source, markers)?;
                 Ok((
                     Self::Chain {
                         chain: Box::new(imported.model),
@@ -177,7 +177,7 @@ impl Model {
             }
             Self::Chain { chain, name } => {
                 chain.chain().map(drop).map_err(|message| ModelError::File {
-                    at: crate::diagnostics::Location {
+                    at: qgait_opensim::diagnostics::Location {
                         path: name.clone(),
                         line: None,
                         column: None,

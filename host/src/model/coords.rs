@@ -13,11 +13,11 @@
 
 use qgait_kernel::models::ranges;
 
-use crate::diagnostics::Warning;
 use crate::model::error::ModelError;
 use crate::model::kinematics::LEG_COLUMNS;
 use crate::motion::source::MotionRows;
-use crate::opensim::mot::{Header, NonFinite};
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::{Header, NonFinite};
 
 /// Which sign of `knee_angle` flexes the knee in the model a motion is read for (the kernel's).
 pub use qgait_kernel::models::ranges::KneeFlexion;
@@ -322,7 +322,7 @@ fn show_degrees(d: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::opensim::mot::MotionTable;
+    use qgait_opensim::mot::MotionTable;
 
     const NAMES: [&str; 8] = qgait_kernel::PhakAngles::<f64>::NAMES;
 

@@ -2,7 +2,7 @@
 
 use std::io;
 
-use crate::diagnostics::Location;
+use qgait_opensim::diagnostics::Location;
 
 /// Why a model or a motion for it cannot be used. Each names the file (and where in it).
 #[derive(Debug, thiserror::Error)]
@@ -29,7 +29,7 @@ pub enum ModelError {
     },
     /// An OpenSim model's leg chain cannot be imported.
     #[error(transparent)]
-    Import(#[from] crate::opensim::osim::ImportError),
+    Import(#[from] qgait_opensim::osim::ImportError),
     /// The kernel refuses the model's numbers (a zero axis, a bad length, ...).
     #[error("{name}: model rejected by the kernel: {error}")]
     Rejected {
@@ -88,5 +88,5 @@ pub enum ModelError {
     },
     /// Reading the motion failed.
     #[error(transparent)]
-    Motion(#[from] crate::opensim::mot::MotError),
+    Motion(#[from] qgait_opensim::mot::MotError),
 }

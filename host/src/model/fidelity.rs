@@ -21,13 +21,13 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::gait2392::{Knots, COORDINATES};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Phak, PhakAngles, Quat, Spline, Vec3};
 
-use crate::diagnostics::Warning;
 use crate::model::coords::KneeFlexion;
 use crate::model::error::ModelError;
 use crate::model::kinematics;
 use crate::model::points::{gait2392_coordinates, point_names};
-use crate::opensim::mot::MotionTable;
 use qgait_kernel::models::ranges::KNEES;
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::MotionTable;
 
 /// One gait2392 feature that PHAK lacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,11 +4,11 @@
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::BilateralPose;
 
-use crate::diagnostics::Warning;
 use crate::model::choice::Model;
 use crate::model::coords::{KneeFlexion, Picker};
 use crate::model::error::ModelError;
-use crate::opensim::mot::MotionTable;
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::MotionTable;
 
 /// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`] (after the pelvis).
 pub(crate) const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;

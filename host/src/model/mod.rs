@@ -12,6 +12,7 @@ pub mod coords;
 pub mod error;
 pub(crate) mod fidelity;
 pub mod kinematics;
+pub mod leg_chain;
 pub mod points;
 pub mod subject;
 pub(crate) mod toml_path;
@@ -26,8 +27,8 @@ pub(crate) fn toml_error(
 ) -> error::ModelError {
     error::ModelError::File {
         at: match span {
-            Some(span) => crate::diagnostics::Location::in_text(source, text, span.start),
-            None => crate::diagnostics::Location::file(source),
+            Some(span) => qgait_opensim::diagnostics::Location::in_text(source, text, span.start),
+            None => qgait_opensim::diagnostics::Location::file(source),
         },
         message: message.split_whitespace().collect::<Vec<_>>().join(" "),
     }

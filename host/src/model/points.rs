@@ -9,13 +9,13 @@ use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Gait2392, Joint, PhakAngles, Side, Vec3};
 
-use crate::diagnostics::Warning;
 use crate::model::choice::Model;
 use crate::model::coords::{CoordRows, KneeFlexion};
 use crate::model::error::ModelError;
 use crate::model::kinematics::{self, Evaluator};
 use crate::motion::source::MotionRows;
-use crate::opensim::mot::MotionTable;
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::MotionTable;
 
 /// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row, for a model whose
 /// knee flexes with `knee` angles and that reads the coordinates with `read` true. The leg
@@ -56,7 +56,7 @@ fn chain_of(
     name: &str,
 ) -> Result<LowerLimb<f64>, ModelError> {
     chain.chain().map_err(|message| ModelError::File {
-        at: crate::diagnostics::Location {
+        at: qgait_opensim::diagnostics::Location {
             path: name.to_string(),
             line: None,
             column: None,

@@ -2,8 +2,8 @@
 //! array indices leads to, for errors about what a file says rather than how it is written
 //! (those `toml` locates itself).
 
-use crate::diagnostics::Location;
 use crate::model::error::ModelError;
+use qgait_opensim::diagnostics::Location;
 
 /// What a file says, refused: why, and the path to the value refused (empty: the file as a
 /// whole).

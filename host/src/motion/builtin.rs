@@ -47,7 +47,7 @@
 
 use qgait_kernel::PhakAngles;
 
-use crate::opensim::mot::MotionTable;
+use qgait_opensim::mot::MotionTable;
 
 /// Number of Fourier harmonics kept per coordinate.
 pub(crate) const HARMONICS: usize = 6;

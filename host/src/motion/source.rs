@@ -4,9 +4,9 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
-use crate::diagnostics::Warning;
 use crate::motion::builtin::{self, BuiltinSpec};
-use crate::opensim::mot::{Header, MotError, MotionReader, MotionTable, Row};
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::{Header, MotError, MotionReader, MotionTable, Row};
 
 /// Why a motion cannot be loaded: its file, or its `builtin:` spec.
 #[derive(Debug, thiserror::Error)]

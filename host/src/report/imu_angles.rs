@@ -19,7 +19,7 @@ use qgait_kernel::imu::math::three_axes;
 use qgait_kernel::{Quat, Vec3};
 
 use super::figure::{self, draw_err, gait_color, Figure};
-use crate::opensim::mot::MotionTable;
+use qgait_opensim::mot::MotionTable;
 
 /// Why two solutions cannot be compared, or the figure not written.
 #[derive(Debug, thiserror::Error)]

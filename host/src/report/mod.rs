@@ -27,14 +27,14 @@ use qgait_kernel::{BilateralPose, LegPose, Vec3};
 
 use crate::device::frames_csv::FramesTable;
 
-use crate::diagnostics::Warning;
 use crate::model::choice::Model;
 use crate::model::error::ModelError;
 use crate::model::kinematics::{self, Evaluator};
 use crate::model::points::PointModel;
 use crate::motion::source::MotionRows;
-use crate::opensim::mot::MotionTable;
 use crate::progress::Progress;
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::MotionTable;
 
 /// Why a report cannot be made or written.
 #[derive(Debug, thiserror::Error)]

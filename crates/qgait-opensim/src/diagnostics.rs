@@ -36,7 +36,7 @@ impl Location {
     }
 
     /// The location of byte offset `at` of `text` (line and character column), in file `path`.
-    pub(crate) fn in_text(path: impl Into<String>, text: &str, at: usize) -> Self {
+    pub fn in_text(path: impl Into<String>, text: &str, at: usize) -> Self {
         let before = &text[..at.min(text.len())];
         Self {
             path: path.into(),

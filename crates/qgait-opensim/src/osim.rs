@@ -64,7 +64,8 @@ pub enum ImportError {
     },
 }
 
-pub(super) fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
+/// Parses the XML of an `.osim` file named `source`; a file that is not XML is named as such.
+pub fn parse_xml<'a>(text: &'a str, source: &str) -> Result<Document<'a>, ImportError> {
     Document::parse(text).map_err(|e| match e {
         // The parser places these at 1:1; the file ends where they were found (a file cut
         // off, or an element left open).
@@ -98,7 +99,7 @@ pub struct Imported {
 }
 
 /// The generic toe tip in `toes_r` (left: z negated).
-pub(crate) const GENERIC_TOETIP_RIGHT: [f64; 3] = [0.0812, 0.007, -0.00108];
+pub const GENERIC_TOETIP_RIGHT: [f64; 3] = [0.0812, 0.007, -0.00108];
 
 /// Imports `text` (an `.osim` file named `source` in messages); `markers` is an optional
 /// marker file (text and name) holding `R.Toe.Tip`/`L.Toe.Tip`.
@@ -152,10 +153,7 @@ pub fn import(
 
 /// Parses an OpenSim model `text` (named `source` in messages): the document and its
 /// `<OpenSimDocument Version=...>`.
-pub(super) fn document<'a>(
-    text: &'a str,
-    source: &str,
-) -> Result<(Document<'a>, u32), ImportError> {
+pub fn document<'a>(text: &'a str, source: &str) -> Result<(Document<'a>, u32), ImportError> {
     let doc = parse_xml(text, source)?;
     let version: u32 = doc
         .descendants()
@@ -168,10 +166,12 @@ pub(super) fn document<'a>(
 
 /// A transform function, with any `MultiplierFunction` scale applied.
 #[derive(Debug, Clone, PartialEq)]
-pub(super) enum Function {
+pub enum Function {
+    /// `Constant`: the value.
     Constant(f64),
     /// `slope * q + intercept`.
     Linear(f64, f64),
+    /// `SimmSpline` knots (x, y).
     SimmSpline(Vec<f64>, Vec<f64>),
     /// `PiecewiseLinearFunction` knots.
     PiecewiseLinear(Vec<f64>, Vec<f64>),
@@ -181,39 +181,58 @@ pub(super) enum Function {
     Other(String),
 }
 
+/// One axis of a `CustomJoint`'s `SpatialTransform` (or a joint type's axis as one).
 #[derive(Debug, Clone)]
-pub(super) struct TransformAxis {
-    pub(super) name: String,
-    pub(super) coordinates: Vec<String>,
-    pub(super) axis: [f64; 3],
-    pub(super) function: Function,
+pub struct TransformAxis {
+    /// `rotation1`..`rotation3`, `translation1`..`translation3`.
+    pub name: String,
+    /// The coordinates driving it.
+    pub coordinates: Vec<String>,
+    /// The axis, in the parent offset frame.
+    pub axis: [f64; 3],
+    /// Its function of the coordinate.
+    pub function: Function,
 }
 
+/// A joint of a model, in either file format (3.x or 4.x), its frames resolved to bodies.
 #[derive(Debug, Clone)]
-pub(super) struct Joint {
-    pub(super) name: String,
-    pub(super) kind: String,
-    pub(super) parent: String,
-    pub(super) child: String,
-    pub(super) location_in_parent: [f64; 3],
-    pub(super) orientation_in_parent: [f64; 3],
-    pub(super) location_in_child: [f64; 3],
-    pub(super) orientation_in_child: [f64; 3],
-    pub(super) reverse: bool,
-    pub(super) axes: Vec<TransformAxis>,
+pub struct Joint {
+    /// The joint's name.
+    pub name: String,
+    /// Its XML tag (`CustomJoint`, `PinJoint`, ...).
+    pub kind: String,
+    /// The parent body.
+    pub parent: String,
+    /// The child body.
+    pub child: String,
+    /// The parent offset frame's translation in the parent body (metres).
+    pub location_in_parent: [f64; 3],
+    /// The parent offset frame's orientation (body-fixed x-y-z angles, radians).
+    pub orientation_in_parent: [f64; 3],
+    /// The child offset frame's translation in the child body (metres).
+    pub location_in_child: [f64; 3],
+    /// The child offset frame's orientation (body-fixed x-y-z angles, radians).
+    pub orientation_in_child: [f64; 3],
+    /// OpenSim's `reverse` flag.
+    pub reverse: bool,
+    /// Its transform axes, in order.
+    pub axes: Vec<TransformAxis>,
     /// The joint's own coordinates, in order (what a `PinJoint` or `UniversalJoint` turns by).
-    pub(super) coordinates: Vec<String>,
+    pub coordinates: Vec<String>,
 }
 
-pub(super) fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
+/// The first child element of `n` with tag `tag`.
+pub fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
     n.children().find(|c| c.is_element() && c.has_tag_name(tag))
 }
 
-pub(super) fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
+/// The trimmed text of `n`'s child element `tag`.
+pub fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
     child(n, tag).map(|c| c.text().unwrap_or("").trim())
 }
 
-pub(super) fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
+/// The whitespace-separated numbers of `s`; `what` names them in the error.
+pub fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
     s.split_whitespace()
         .map(|v| {
             v.parse::<f64>()
@@ -224,7 +243,8 @@ pub(super) fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
         .collect()
 }
 
-pub(super) fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
+/// The three numbers of `n`'s child element `tag`; `what` names them in the error.
+pub fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
     match text_of(n, tag) {
         None => Ok([0.0; 3]),
         Some(t) => {
@@ -235,12 +255,13 @@ pub(super) fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
     }
 }
 
-pub(super) fn name_of(n: Node) -> String {
+/// The `name` attribute of `n` (empty when absent).
+pub fn name_of(n: Node) -> String {
     n.attribute("name").unwrap_or("").to_string()
 }
 
 /// Parses a function element (`<Constant>`, `<LinearFunction>`, ...).
-pub(super) fn function(n: Node, what: &str) -> Result<Function, String> {
+pub fn function(n: Node, what: &str) -> Result<Function, String> {
     let tag = n.tag_name().name();
     Ok(match tag {
         "Constant" => Function::Constant(
@@ -332,7 +353,8 @@ fn transform_axes(joint: Node, joint_name: &str) -> Result<Vec<TransformAxis>, S
     Ok(axes)
 }
 
-pub(super) fn last_path_part(p: &str) -> &str {
+/// The last part of a component path (`../femur_r` → `femur_r`).
+pub fn last_path_part(p: &str) -> &str {
     p.trim()
         .trim_end_matches('/')
         .rsplit('/')
@@ -378,7 +400,8 @@ fn resolve_frame(
     }
 }
 
-pub(super) fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
+/// Every joint of the model, in file order, its offset frames resolved to bodies.
+pub fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
     let mut joints = Vec::new();
     // 4.x: <JointSet><objects>...
     for set in doc.descendants().filter(|n| n.has_tag_name("JointSet")) {
@@ -455,7 +478,7 @@ fn joint_coordinates(j: Node) -> Vec<String> {
 }
 
 /// The one joint moving `body`, checked to hang on `parent` (the chain's next link).
-pub(super) fn joint_moving<'a>(
+pub fn joint_moving<'a>(
     joints: &'a [Joint],
     parent: &str,
     body: &str,
@@ -736,13 +759,13 @@ fn check_constraints(doc: &Document) -> Result<(), String> {
 }
 
 /// Whether a constraint is on (not `isDisabled`, not `isEnforced` false).
-pub(super) fn enforced(c: Node) -> bool {
+pub fn enforced(c: Node) -> bool {
     !(text_of(c, "isDisabled") == Some("true") || text_of(c, "isEnforced") == Some("false"))
 }
 
 /// The first enforced constraint (other than those tagged `skip`) whose text names one of
 /// `names` (a coordinate or body), and that name.
-pub(super) fn constraint_naming<'a, 'i>(
+pub fn constraint_naming<'a, 'i>(
     doc: &'a Document<'i>,
     names: &[String],
     skip: Option<&str>,
@@ -770,16 +793,19 @@ pub(super) fn constraint_naming<'a, 'i>(
 }
 
 /// A model coordinate: default value, whether it is locked, and its range if clamped.
-pub(super) struct Coordinate {
-    pub(super) name: String,
-    pub(super) default: f64,
-    pub(super) locked: bool,
+pub struct Coordinate {
+    /// The coordinate's name.
+    pub name: String,
+    /// `default_value`.
+    pub default: f64,
+    /// `locked`.
+    pub locked: bool,
     /// `range`, if `clamped` is true.
-    pub(super) clamped: Option<(f64, f64)>,
+    pub clamped: Option<(f64, f64)>,
 }
 
 /// The model's coordinates (4.x and 3.x alike: every named `Coordinate`).
-pub(super) fn read_coordinates(doc: &Document) -> Vec<Coordinate> {
+pub fn read_coordinates(doc: &Document) -> Vec<Coordinate> {
     doc.descendants()
         .filter(|n| n.has_tag_name("Coordinate") && n.attribute("name").is_some())
         .map(|c| Coordinate {
@@ -831,7 +857,7 @@ fn non_zero_defaults(doc: &Document) -> Vec<String> {
 }
 
 /// A marker `name` in a document: (body, location).
-pub(super) fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
+pub fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
     let Some(m) = doc
         .descendants()
         .find(|n| n.has_tag_name("Marker") && n.attribute("name") == Some(name))
@@ -871,11 +897,11 @@ fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
 }
 
 /// A marker found: `(body, location)` and the file it came from.
-pub(super) type FoundMarker<'f> = Option<((String, [f64; 3]), &'f str)>;
+pub type FoundMarker<'f> = Option<((String, [f64; 3]), &'f str)>;
 
 /// Marker `R.Toe.Tip`/`L.Toe.Tip` of side `s`: from the marker file if given, else from the
 /// model (`source`): its name, `(body, location)` and the file it came from.
-pub(super) fn toe_marker<'f>(
+pub fn toe_marker<'f>(
     model: &Document,
     source: &'f str,
     markers: Option<&(Document, &'f str)>,
@@ -894,7 +920,7 @@ pub(super) fn toe_marker<'f>(
 }
 
 /// gait2392's toe tip in `toes_<s>` times the toes' geometry scale factors, and the note saying so.
-pub(super) fn generic_toe_tip(model: &Document, s: &str, name: &str) -> ([f64; 3], String) {
+pub fn generic_toe_tip(model: &Document, s: &str, name: &str) -> ([f64; 3], String) {
     let k = toes_scale(model, s);
     let g = GENERIC_TOETIP_RIGHT;
     let z = if s == "r" { g[2] } else { -g[2] };

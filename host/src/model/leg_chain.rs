@@ -33,7 +33,7 @@ use roxmltree::Document;
 use crate::model::chain::{
     AxisData, ChainModel, CouplerData, FunctionData, JointData, PointData, RangeData, BODIES,
 };
-use crate::opensim::osim::{
+use qgait_opensim::osim::{
     self, child, function, generic_toe_tip, name_of, read_coordinates, read_joints, text_of,
     toe_marker, Coordinate, Function, ImportError, Joint,
 };

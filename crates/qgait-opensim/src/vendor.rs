@@ -42,8 +42,8 @@ use qgait_kernel::imu::{unit, Orientations, Segment, UNIT_TOLERANCE};
 use qgait_kernel::Quat;
 
 use crate::diagnostics::Warning;
-use crate::opensim::imu_sto::{OrientationReader, OrientationRow};
-use crate::opensim::mot::MotError;
+use crate::imu_sto::{OrientationReader, OrientationRow};
+use crate::mot::MotError;
 
 /// Where orientation rows come from: an OpenSim `.sto`, an Xsens trial or an APDM `.csv`.
 pub trait OrientationSource {

@@ -27,9 +27,9 @@
 //! - **Repeated time.** A row with the same time as the one before replaces it (as OpenSim does;
 //!   tools often write the last time twice), with a warning; a time that goes back is an error.
 //! - **Columns.** A label that appears twice gives a warning; it is an error only for a model that
-//!   needs that column (see [`crate::model::coords`]). `nan` and `inf` values are kept: they are an error
+//!   needs that column (see `qgait_model::coords`). `nan` and `inf` values are kept: they are an error
 //!   (with file, line and column) only in a column a model needs, or in `time` (`qgait gait`
-//!   leaves such a row out instead, [`crate::gait::trial`]).
+//!   leaves such a row out instead, `qgait_gait::trial`).
 //! - **Text.** A UTF-8 byte order mark at the start of the file is skipped (OpenSim does not
 //!   skip it, and then misses a first-line `inDegrees=`). Lines that are not UTF-8 (a Latin-1 `é` in a header comment) are read as Latin-1,
 //!   with one warning. Header lines not understood (free text such as `Units are S.I. units`)
@@ -179,7 +179,7 @@ pub struct Header {
 impl Header {
     /// Where the column labels are, for messages: `file:line`, or just the source for a
     /// generated table.
-    pub(crate) fn labels_location(&self) -> String {
+    pub fn labels_location(&self) -> String {
         match self.labels_line {
             Some(line) => format!("{}:{line}", self.source),
             None => self.source.clone(),
@@ -187,17 +187,17 @@ impl Header {
     }
 
     /// The index of the first column labelled `label`.
-    pub(crate) fn index_of(&self, label: &str) -> Option<usize> {
+    pub fn index_of(&self, label: &str) -> Option<usize> {
         self.labels.iter().position(|l| l == label)
     }
 
     /// Whether `label` names more than one column.
-    pub(crate) fn is_duplicated(&self, label: &str) -> bool {
+    pub fn is_duplicated(&self, label: &str) -> bool {
         self.labels.iter().filter(|l| *l == label).count() > 1
     }
 
     /// The number of rows the header declares (`nRows`, `datarows`), if it does.
-    pub(crate) fn declared_rows(&self) -> Option<usize> {
+    pub fn declared_rows(&self) -> Option<usize> {
         self.declared_rows.map(|(n, _)| n)
     }
 }
@@ -285,12 +285,12 @@ impl<R: BufRead> MotionReader<R> {
     }
 
     /// The header's `DataType=` value (`double`, `Quaternion`, ...), if it has one.
-    pub(crate) fn data_type(&self) -> Option<&str> {
+    pub fn data_type(&self) -> Option<&str> {
         self.data_type.as_deref()
     }
 
     /// Warnings so far (taken: each is returned once).
-    pub(crate) fn take_warnings(&mut self) -> Vec<Warning> {
+    pub fn take_warnings(&mut self) -> Vec<Warning> {
         std::mem::take(&mut self.warnings)
     }
 
@@ -505,7 +505,7 @@ impl<R: BufRead> MotionReader<R> {
     /// The next non-empty line after the column labels, as text, with its 1-based line number
     /// (for tables whose cells are not single numbers, such as the quaternion cells of an
     /// orientation `.sto`); `None` at the end of the input. [`tokens`] splits it into cells.
-    pub(crate) fn next_text_line(&mut self) -> Result<Option<(usize, String)>, MotError> {
+    pub fn next_text_line(&mut self) -> Result<Option<(usize, String)>, MotError> {
         loop {
             match self.next_line()? {
                 None => return Ok(None),
@@ -736,8 +736,7 @@ impl MotionTable {
     }
 
     /// Parses the text of a `.mot`/`.sto` file; `source` names it in errors and warnings.
-    #[cfg(test)]
-    pub(crate) fn parse(text: &str, source: &str) -> Result<(Self, Vec<Warning>), MotError> {
+    pub fn parse(text: &str, source: &str) -> Result<(Self, Vec<Warning>), MotError> {
         Self::collect(MotionReader::new(text.as_bytes(), source)?)
     }
 
@@ -772,7 +771,7 @@ impl MotionTable {
 
     /// Writes the table as a `.mot` file (`nRows=` header style, tab separated, values printed
     /// with the shortest representation that reads back to the same `f64`).
-    pub(crate) fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {
+    pub fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {
         write_mot_header(
             &mut w,
             &self.header.name,
@@ -844,13 +843,12 @@ impl MotionTable {
     }
 
     /// The first value of column `c` that is not a finite number, if any.
-    #[cfg(test)]
-    pub(crate) fn non_finite(&self, c: usize) -> Option<&NonFinite> {
+    pub fn non_finite(&self, c: usize) -> Option<&NonFinite> {
         self.non_finite[c].first()
     }
 
     /// Where the value of column `c` in row `r` was read, if it is not a finite number.
-    pub(crate) fn non_finite_at(&self, r: usize, c: usize) -> Option<&NonFinite> {
+    pub fn non_finite_at(&self, r: usize, c: usize) -> Option<&NonFinite> {
         let line = self.line(r)?;
         // In row order, so in line order.
         let column = self.non_finite.get(c)?;
@@ -859,7 +857,7 @@ impl MotionTable {
     }
 
     /// This table without the rows `r` for which `leave(r)` is true.
-    pub(crate) fn without_rows(&self, leave: impl Fn(usize) -> bool) -> Self {
+    pub fn without_rows(&self, leave: impl Fn(usize) -> bool) -> Self {
         let keep: Vec<usize> = (0..self.rows()).filter(|&r| !leave(r)).collect();
         let lines: Vec<usize> = keep.iter().filter_map(|&r| self.line(r)).collect();
         Self {
@@ -885,7 +883,7 @@ impl MotionTable {
 
     /// Percent of the cycle of every row: time normalised from the first row (0 %) to the last
     /// (100 %). Each motion is taken to be one gait cycle.
-    pub(crate) fn percent_of_cycle(&self) -> Vec<f64> {
+    pub fn percent_of_cycle(&self) -> Vec<f64> {
         let t = self.time();
         let (t0, t1) = (t[0], t[t.len() - 1]);
         if t1 > t0 {
@@ -898,14 +896,14 @@ impl MotionTable {
 
 /// The value of the header key `qgaitPelvis` that says the pelvis is heading-free
 /// ([`Header::pelvis_heading_free`]).
-pub(crate) const HEADING_FREE: &str = "heading-free";
+pub const HEADING_FREE: &str = "heading-free";
 
 /// Writes a `.mot` header (name, `version=1`, `nRows=` when `rows` is known, `nColumns=`,
 /// `inDegrees=`, `endheader`) and the column labels: [`MotionTable::write_mot`], or a writer
 /// that streams its rows with [`write_mot_row`] (no `nRows=`: the reader counts the rows).
 /// With `qgaitPelvis=heading-free` when `pelvis_heading_free` (OpenSim reads past a header key
 /// it does not know).
-pub(crate) fn write_mot_header<W: Write>(
+pub fn write_mot_header<W: Write>(
     mut w: W,
     name: &str,
     labels: &[String],
@@ -932,7 +930,7 @@ pub(crate) fn write_mot_header<W: Write>(
 
 /// Writes one `.mot` row: tab separated, each value with the shortest representation that
 /// reads back to the same `f64`.
-pub(crate) fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()> {
+pub fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()> {
     for (c, v) in values.iter().enumerate() {
         if c > 0 {
             w.write_all(b"\t")?;
@@ -943,7 +941,7 @@ pub(crate) fn write_mot_row<W: Write>(mut w: W, values: &[f64]) -> io::Result<()
 }
 
 /// Whitespace-separated tokens (a row's cells) with their byte offsets.
-pub(crate) fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
+pub fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
     let mut rest = line.char_indices().peekable();
     std::iter::from_fn(move || {
         while rest.next_if(|(_, c)| c.is_whitespace()).is_some() {}

@@ -28,7 +28,7 @@ pub fn rate(rows: usize, first: f64, last: f64) -> f64 {
 
 /// Writes the header of the `.trc` marker file: `file_name` in its first line, the points'
 /// `names` as markers, `frames` rows at `rate` frames per second.
-pub(crate) fn write_trc_header<W: Write + ?Sized>(
+pub fn write_trc_header<W: Write + ?Sized>(
     w: &mut W,
     names: &[String],
     file_name: &str,
@@ -59,7 +59,7 @@ pub(crate) fn write_trc_header<W: Write + ?Sized>(
 }
 
 /// Writes one `.trc` row (`frame` from 1).
-pub(crate) fn write_trc_row<W: Write + ?Sized>(
+pub fn write_trc_row<W: Write + ?Sized>(
     w: &mut W,
     frame: usize,
     time: f64,
@@ -73,7 +73,7 @@ pub(crate) fn write_trc_row<W: Write + ?Sized>(
 }
 
 /// Writes the header of the `.sto` table.
-pub(crate) fn write_sto_header<W: Write + ?Sized>(w: &mut W, names: &[String]) -> io::Result<()> {
+pub fn write_sto_header<W: Write + ?Sized>(w: &mut W, names: &[String]) -> io::Result<()> {
     writeln!(w, "inDegrees=no")?;
     writeln!(w, "DataType=double")?;
     writeln!(w, "version=3")?;
@@ -86,7 +86,7 @@ pub(crate) fn write_sto_header<W: Write + ?Sized>(w: &mut W, names: &[String]) -
 }
 
 /// Writes one `.sto` row.
-pub(crate) fn write_sto_row<W: Write + ?Sized>(
+pub fn write_sto_row<W: Write + ?Sized>(
     w: &mut W,
     time: f64,
     points: &[Vec3<f64>],

@@ -15,7 +15,7 @@ use qgait_kernel::imu::{unit, Orientations, Segment};
 use qgait_kernel::Quat;
 
 use crate::diagnostics::Warning;
-use crate::opensim::mot::{tokens, MotError, MotionReader};
+use crate::mot::{tokens, MotError, MotionReader};
 
 /// One row: its 1-based line, its time and each sensor's reading (raw, in the sensors' world
 /// frame, normalised).
@@ -127,12 +127,12 @@ impl OrientationReader {
     }
 
     /// Where the column labels are (`file:line`), for messages.
-    pub(crate) fn labels_location(&self) -> String {
+    pub fn labels_location(&self) -> String {
         self.reader.header().labels_location()
     }
 
     /// Warnings so far (each returned once).
-    pub(crate) fn take_warnings(&mut self) -> Vec<Warning> {
+    pub fn take_warnings(&mut self) -> Vec<Warning> {
         let mut w = std::mem::take(&mut self.warnings);
         w.extend(self.reader.take_warnings());
         w
