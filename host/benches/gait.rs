@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use criterion::{criterion_group, criterion_main, Criterion};
 use qgait::gait::output::{self, ReferenceArg, Subject};
 use qgait::gait::{analyse, trial, CycleMode};
-use qgait::model::choice::Model;
+use qgait_model::choice::Model;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

@@ -95,7 +95,7 @@ fn bench(c: &mut Criterion) {
     });
     let osim = dir.join("../opensim/Rajagopal2015_opensense.osim");
     if let Ok(text) = std::fs::read_to_string(&osim) {
-        let imported = qgait::model::leg_chain::import(&text, "Rajagopal2015_opensense", None)
+        let imported = qgait_model::leg_chain::import(&text, "Rajagopal2015_opensense", None)
             .expect("imports");
         let chain = imported.model.chain().expect("a chain");
         let (min, max) = imported.model.bounds().expect("ranges");

@@ -4,7 +4,5 @@
 pub mod cli;
 pub mod device;
 pub mod gait;
-pub mod model;
-pub mod motion;
 pub(crate) mod progress;
 pub(crate) mod report;

@@ -21,11 +21,11 @@ use std::time::Instant;
 use qgait::device::log::HubLog;
 use qgait::device::packets::{Samples, Timing};
 use qgait::device::verify::{Expected, Verification};
-use qgait::model::coords::KneeFlexion;
-use qgait::motion::source::load_motion;
 use qgait_emulate::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
+use qgait_model::coords::KneeFlexion;
+use qgait_model::motion::source::load_motion;
 use qgait_opensim::mot::MotionTable;
 use qgait_proto::{
     Config, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseModels, Status,

@@ -368,7 +368,7 @@ fn rajagopal_chain_solve_in_f32_follows_f64() {
     let Some(dir) = imu_dir() else { return };
     let osim = dir.join("../opensim/Rajagopal2015_opensense.osim");
     let text = std::fs::read_to_string(&osim).unwrap();
-    let imported = qgait::model::leg_chain::import(&text, "raj", None).unwrap();
+    let imported = qgait_model::leg_chain::import(&text, "raj", None).unwrap();
     let (min, max) = imported.model.bounds().unwrap();
     let chain = imported.model.chain().unwrap();
     let chain32 = chain.cast::<f32>();

@@ -7,9 +7,9 @@ mod common;
 use std::path::Path;
 
 use common::{parse_fk_csv, qgait, shared_dir, stderr, stdout};
-use qgait::model::choice::Model;
 use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
 use qgait_kernel::Vec3;
+use qgait_model::choice::Model;
 
 const MODELS: [(&str, &str); 5] = [
     ("gait2392", "gait2392_simbody.osim"),
@@ -42,8 +42,8 @@ fn reference(name: &str, motion: &str) -> Vec<([f64; 17], [Vec3<f64>; 12])> {
 }
 
 /// The 12 points of a loaded model for coordinates `q`.
-fn points(model: &Model) -> qgait::model::points::ImportedFk {
-    qgait::model::points::imported_fk(model)
+fn points(model: &Model) -> qgait_model::points::ImportedFk {
+    qgait_model::points::imported_fk(model)
         .unwrap()
         .expect("an imported model")
 }
@@ -51,7 +51,7 @@ fn points(model: &Model) -> qgait::model::points::ImportedFk {
 /// The largest difference of `fk`'s points from OpenSim's on every row of the reference
 /// `name`, `motion`: (metres, row, point).
 fn largest_difference(
-    fk: &qgait::model::points::ImportedFk,
+    fk: &qgait_model::points::ImportedFk,
     name: &str,
     motion: &str,
 ) -> (f64, usize, &'static str) {
@@ -319,7 +319,7 @@ fn a_chain_file_refused_for_what_it_says_names_the_line_and_column() {
         let value = start + to.find('=').unwrap() + 2;
         let line = edited[..value].matches('\n').count() + 1;
         let column = value - edited[..value].rfind('\n').map_or(0, |i| i + 1) + 1;
-        let err = qgait::model::chain::ChainModel::parse(&edited, "raj.toml")
+        let err = qgait_model::chain::ChainModel::parse(&edited, "raj.toml")
             .unwrap_err()
             .to_string();
         assert!(

@@ -22,9 +22,9 @@ use std::time::{Duration, Instant};
 
 use qgait::device::frames_csv;
 use qgait::device::packets::{push_frame, stream, Samples, Timing};
-use qgait::model::coords::KneeFlexion;
-use qgait::motion::source::load_motion;
 use qgait_emulate::qemu::{Echo, Qemu};
+use qgait_model::coords::KneeFlexion;
+use qgait_model::motion::source::load_motion;
 use qgait_proto::{Config, JointAngle, Message, MissingPolicy, ModelId, PoseFrame, PoseModels};
 
 /// Samples per run.

@@ -9,7 +9,7 @@ use qgait_proto::{MissingPolicy, ModelId};
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::device::config::{frames, messages, HubModel, HubSettings};
-use crate::model::choice::Model;
+use qgait_model::choice::Model;
 
 /// `qgait config` arguments.
 #[derive(Debug, Args)]

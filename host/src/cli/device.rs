@@ -26,7 +26,7 @@ use crate::device::orientations::{OrientationCheck, OrientationStream};
 use crate::device::packets::{PacketsError, Samples, Timing};
 use crate::device::port::{self, Input, Until};
 use crate::device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
-use crate::motion::source::load_motion;
+use qgait_model::motion::source::load_motion;
 
 /// The model, loaded: what to send the hub ([`HubModel`]), and how to recompute its frames.
 struct LoadedModel {
@@ -324,7 +324,7 @@ pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     crate::cli::refuse_overwrite([args.output.as_path()], &[motion])?;
     let diagnostics = Diagnostics::new(quiet);
     let warn = |w| diagnostics.warn(w);
-    let (rows, w) = crate::motion::source::MotionRows::open(motion)?;
+    let (rows, w) = qgait_model::motion::source::MotionRows::open(motion)?;
     warn(w);
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
     let mut file = crate::cli::OutputFile::create(&args.output)?;

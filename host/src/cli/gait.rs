@@ -8,7 +8,7 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::gait::output::{self, ReferenceArg, Subject};
 use crate::gait::{self, trial, CycleMode};
-use crate::model::choice::Model;
+use qgait_model::choice::Model;
 use qgait_opensim::diagnostics::Warning;
 
 /// Arguments of `qgait gait`.

@@ -21,9 +21,9 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 
 use crate::cli::diagnostics::Diagnostics;
-use crate::motion::source::{default_label, load_motion};
 use crate::progress::Progress;
 use crate::report::{self, Analysis};
+use qgait_model::motion::source::{default_label, load_motion};
 use qgait_opensim::diagnostics::Warning;
 
 /// Forward kinematics of the human lower limbs with quaternions (HAK, PHAK, gait2392 and imported OpenSim leg models).

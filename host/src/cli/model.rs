@@ -8,8 +8,8 @@ use clap::Subcommand;
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::refuse_overwrite;
-use crate::model::choice::Model;
-use crate::model::subject;
+use qgait_model::choice::Model;
+use qgait_model::subject;
 
 /// `qgait model` subcommands.
 #[derive(Debug, Subcommand)]

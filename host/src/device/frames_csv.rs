@@ -8,7 +8,7 @@ use std::io::{self, Write};
 
 use qgait_proto::PoseFrame;
 
-use crate::model::points::{csv_header, point_names, PointsCsv};
+use qgait_model::points::{csv_header, point_names, PointsCsv};
 use qgait_opensim::diagnostics::{Location, Warning};
 
 /// Whether `path` names a frames CSV: its extension is `csv`, in any case (`FRAMES.CSV` too).
@@ -66,7 +66,7 @@ pub struct FramesTable {
     pub seq: Vec<u32>,
     /// Times (s), `None` where the column is empty.
     pub time: Vec<Option<f64>>,
-    /// The 8 points of each row, [`crate::model::points::point_names`] order.
+    /// The 8 points of each row, [`qgait_model::points::point_names`] order.
     pub points: Vec<[[f64; 3]; 8]>,
     /// Where each row is: its 1-based line and the 1-based column where its `time` starts.
     pub at: Vec<(usize, usize)>,

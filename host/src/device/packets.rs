@@ -7,10 +7,10 @@ use qgait_proto::{JointAngle, Message, ModelId, MAX_FRAME_LEN};
 
 use std::cell::RefCell;
 
-use crate::model::coords::KneeFlexion;
-use crate::model::error::ModelError;
-use crate::model::points::drive;
-use crate::motion::source::MotionRows;
+use qgait_model::coords::KneeFlexion;
+use qgait_model::error::ModelError;
+use qgait_model::motion::source::MotionRows;
+use qgait_model::points::drive;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::MotionTable;
 
@@ -314,7 +314,7 @@ mod tests {
         assert_eq!(joint_names::<8>(ModelId::Phak), PhakAngles::<f64>::NAMES);
         assert_eq!(
             joint_names::<6>(ModelId::Hak),
-            crate::model::kinematics::HAK_NAMES
+            qgait_model::kinematics::HAK_NAMES
         );
         assert_eq!(joint_names::<17>(ModelId::Gait2392), COORDINATES);
     }
@@ -335,7 +335,8 @@ mod tests {
         let (_, w) = from(&table(), KneeFlexion::Negative);
         assert!(w.iter().any(|w| w.0.contains("`knee_angle_r")), "{w:?}");
         // A builtin motion (gait2392's signs) has its knees negated, nothing else changed.
-        let (builtin, _) = crate::motion::source::load_motion("builtin:crouch=0.5,rows=5").unwrap();
+        let (builtin, _) =
+            qgait_model::motion::source::load_motion("builtin:crouch=0.5,rows=5").unwrap();
         let (positive, w) = from(&builtin, KneeFlexion::Positive);
         assert!(w.iter().all(|w| !w.0.contains("outside")), "{w:?}");
         let (negative, _) = from(&builtin, KneeFlexion::Negative);

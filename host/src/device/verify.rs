@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use qgait_kernel::metrics::distances;
 use qgait_proto::{ModelId, PoseFrame, PoseModels};
 
-use crate::model::points::point_names;
+use qgait_model::points::point_names;
 
 /// Max and mean of an error (metres).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -241,8 +241,8 @@ mod tests {
     use crate::gait::output::{self, ReferenceArg, ReportError, Subject};
     use crate::gait::trial::{Limb, TrialError};
 
-    fn gait2392() -> crate::model::choice::Model {
-        crate::model::choice::Model::load("gait2392", None)
+    fn gait2392() -> qgait_model::choice::Model {
+        qgait_model::choice::Model::load("gait2392", None)
             .expect("gait2392")
             .0
     }

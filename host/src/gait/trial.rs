@@ -8,12 +8,12 @@ use qgait_kernel::models::ranges::KNEES;
 use qgait_kernel::Vec3;
 
 use crate::device::frames_csv::FramesCsvError;
-use crate::model::choice::Model;
+use qgait_model::choice::Model;
 use qgait_opensim::diagnostics::Warning;
 
-use crate::model::error::ModelError;
-use crate::model::points::{self, PointModel};
-use crate::motion::source::{default_label, load_motion, MotionRows, SourceError};
+use qgait_model::error::ModelError;
+use qgait_model::motion::source::{default_label, load_motion, MotionRows, SourceError};
+use qgait_model::points::{self, PointModel};
 use qgait_opensim::mot::MotionTable;
 
 /// Why a recording cannot be loaded for gait analysis.

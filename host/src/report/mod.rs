@@ -27,12 +27,12 @@ use qgait_kernel::{BilateralPose, LegPose, Vec3};
 
 use crate::device::frames_csv::FramesTable;
 
-use crate::model::choice::Model;
-use crate::model::error::ModelError;
-use crate::model::kinematics::{self, Evaluator};
-use crate::model::points::PointModel;
-use crate::motion::source::MotionRows;
 use crate::progress::Progress;
+use qgait_model::choice::Model;
+use qgait_model::error::ModelError;
+use qgait_model::kinematics::{self, Evaluator};
+use qgait_model::motion::source::MotionRows;
+use qgait_model::points::PointModel;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::MotionTable;
 

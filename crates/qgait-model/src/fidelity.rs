@@ -21,10 +21,10 @@ use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::models::gait2392::{Knots, COORDINATES};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Phak, PhakAngles, Quat, Spline, Vec3};
 
-use crate::model::coords::KneeFlexion;
-use crate::model::error::ModelError;
-use crate::model::kinematics;
-use crate::model::points::{gait2392_coordinates, point_names};
+use crate::coords::KneeFlexion;
+use crate::error::ModelError;
+use crate::kinematics;
+use crate::points::{gait2392_coordinates, point_names};
 use qgait_kernel::models::ranges::KNEES;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::MotionTable;
@@ -358,7 +358,7 @@ pub struct Comparison {
 /// positive angles (Rajagopal's) gets the knee angles negated: the same walking in its
 /// coordinates. Points: hip, knee, ankle and the toe tip of each leg, as for gait2392.
 pub fn compare(
-    model: &crate::model::choice::Model,
+    model: &crate::choice::Model,
     label: &str,
     table: &MotionTable,
 ) -> Result<(Comparison, Vec<Warning>), ModelError> {
@@ -380,7 +380,7 @@ pub fn compare(
     let eight = |p: [Vec3<f64>; 12]| -> [Vec3<f64>; 8] {
         [p[0], p[1], p[2], p[5], p[6], p[7], p[8], p[11]]
     };
-    let Some(fk) = crate::model::points::imported_fk(model)? else {
+    let Some(fk) = crate::points::imported_fk(model)? else {
         return Err(ModelError::NeedsChain {
             what: "fidelity --model",
             name: model.name().to_string(),

@@ -4,18 +4,18 @@
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::BilateralPose;
 
-use crate::model::choice::Model;
-use crate::model::coords::{KneeFlexion, Picker};
-use crate::model::error::ModelError;
+use crate::choice::Model;
+use crate::coords::{KneeFlexion, Picker};
+use crate::error::ModelError;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::MotionTable;
 
 /// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`] (after the pelvis).
-pub(crate) const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
+pub const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
 
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
-pub(crate) fn phak_angles(
+pub fn phak_angles(
     table: &MotionTable,
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
     let (rows, warnings) = coordinate_rows(
@@ -31,7 +31,7 @@ pub(crate) fn phak_angles(
 }
 
 /// The coordinates HAK uses: the leg ones of [`PhakAngles::NAMES`].
-pub(crate) const HAK_NAMES: [&str; 6] = [
+pub const HAK_NAMES: [&str; 6] = [
     PhakAngles::<f64>::NAMES[2],
     PhakAngles::<f64>::NAMES[3],
     PhakAngles::<f64>::NAMES[4],
@@ -42,7 +42,7 @@ pub(crate) const HAK_NAMES: [&str; 6] = [
 
 /// The angles `model` (HAK or PHAK) uses (radians) of every row, as [`PhakAngles`]: for HAK
 /// the pelvis columns are not read (0, no warning about them).
-pub(crate) fn stick_angles(
+pub fn stick_angles(
     table: &MotionTable,
     model: &Model,
 ) -> Result<(Vec<PhakAngles<f64>>, Vec<Warning>), ModelError> {
@@ -57,7 +57,7 @@ pub(crate) fn stick_angles(
 }
 
 /// HAK's six leg angles as [`PhakAngles`] with a level pelvis.
-pub(crate) fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
+pub fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
     let mut all = [0.0; 8];
     all[2..].copy_from_slice(&legs);
     PhakAngles::from_array(all)
@@ -67,7 +67,7 @@ pub(crate) fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
 /// [`Picker`]: the PHAK leg columns ([`LEG_COLUMNS`]) are required, any other missing
 /// coordinate counts as 0 with one warning, and angles outside their range are reported; only
 /// the names with `read` true are read ([`Picker::new`]).
-pub(crate) fn coordinate_rows<const N: usize>(
+pub fn coordinate_rows<const N: usize>(
     table: &MotionTable,
     names: &[&'static str; N],
     knee: KneeFlexion,
@@ -91,7 +91,7 @@ pub(crate) fn coordinate_rows<const N: usize>(
 }
 
 /// Evaluates HAK or PHAK one set of angles at a time.
-pub(crate) struct Evaluator {
+pub struct Evaluator {
     hak: bool,
     phak: Phak<f64>,
 }
@@ -127,7 +127,7 @@ impl Evaluator {
 
 /// Angles at `percent` of the cycle, linearly interpolated between the rows around it
 /// (`percent_of_rows` increasing, as from [`MotionTable::percent_of_cycle`]).
-pub(crate) fn angles_at(
+pub fn angles_at(
     percent_of_rows: &[f64],
     angles: &[PhakAngles<f64>],
     percent: f64,

@@ -7,9 +7,9 @@ use std::path::Path;
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::{Gait2392, Gait2392Geometry};
 
-use crate::model::chain::ChainModel;
-use crate::model::error::ModelError;
-use crate::model::subject;
+use crate::chain::ChainModel;
+use crate::error::ModelError;
+use crate::subject;
 use qgait_opensim::osim::ImportError;
 
 /// A kinematic model with its numbers.
@@ -124,7 +124,7 @@ impl Model {
                 imported.notes,
             )),
             Err(ImportError::Chain { .. }) => {
-                let imported = crate::model::leg_chain::import(text, source, markers)?;
+                let imported = crate::leg_chain::import(text, source, markers)?;
                 Ok((
                     Self::Chain {
                         chain: Box::new(imported.model),

@@ -2,13 +2,13 @@
 //! array indices leads to, for errors about what a file says rather than how it is written
 //! (those `toml` locates itself).
 
-use crate::model::error::ModelError;
+use crate::error::ModelError;
 use qgait_opensim::diagnostics::Location;
 
 /// What a file says, refused: why, and the path to the value refused (empty: the file as a
 /// whole).
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Fault {
+pub struct Fault {
     /// Why.
     pub message: String,
     /// Where.
@@ -36,7 +36,7 @@ impl Fault {
 
 /// One step down a TOML document: a key of a table, or an index into an array of tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Step {
+pub enum Step {
     /// A key.
     Key(&'static str),
     /// An index.
@@ -45,7 +45,7 @@ pub(crate) enum Step {
 
 /// The location in `text` (file `source`) of the value `path` leads to: its line and
 /// column, or the nearest enclosing table's the path reaches, or the whole file.
-pub(crate) fn locate(text: &str, source: &str, path: &[Step]) -> Location {
+pub fn locate(text: &str, source: &str, path: &[Step]) -> Location {
     let Ok(document) = toml_edit::Document::parse(text) else {
         return Location::file(source);
     };

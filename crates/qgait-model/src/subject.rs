@@ -35,13 +35,13 @@ use qgait_kernel::models::gait2392::{Knots, LegGeometry};
 use qgait_kernel::{Gait2392, Gait2392Geometry};
 use serde::{Deserialize, Serialize};
 
-use crate::model::error::ModelError;
-use crate::model::toml_path::{Fault, Step, Step::Index, Step::Key};
+use crate::error::ModelError;
+use crate::toml_path::{Fault, Step, Step::Index, Step::Key};
 
 /// The file: one table per leg.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(crate) struct SubjectFile {
+pub struct SubjectFile {
     /// Right leg.
     pub right: LegFile,
     /// Left leg.
@@ -52,7 +52,7 @@ pub(crate) struct SubjectFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
-pub(crate) struct LegFile {
+pub struct LegFile {
     pub hip_in_pelvis: Vec<f64>,
     pub hip_axes: Vec<Vec<f64>>,
     pub ankle_in_tibia: Vec<f64>,
@@ -69,7 +69,7 @@ pub(crate) struct LegFile {
 /// Spline knots: `x` (radians of `knee_angle`), `y` (metres).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(crate) struct KnotsFile {
+pub struct KnotsFile {
     /// Abscissae, strictly increasing.
     pub x: Vec<f64>,
     /// Values, as many as `x`.
@@ -153,7 +153,7 @@ impl LegFile {
 
 impl SubjectFile {
     /// The file for a geometry.
-    pub(crate) fn from_geometry(g: &Gait2392Geometry) -> Self {
+    pub fn from_geometry(g: &Gait2392Geometry) -> Self {
         Self {
             right: LegFile::from_leg(&g.right),
             left: LegFile::from_leg(&g.left),
@@ -161,7 +161,7 @@ impl SubjectFile {
     }
 
     /// The geometry (not yet checked by the kernel; see [`parse`]).
-    pub(crate) fn to_geometry(&self) -> Result<Gait2392Geometry, Fault> {
+    pub fn to_geometry(&self) -> Result<Gait2392Geometry, Fault> {
         Ok(Gait2392Geometry {
             right: self.right.to_leg("right")?,
             left: self.left.to_leg("left")?,

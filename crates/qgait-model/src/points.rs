@@ -9,10 +9,10 @@ use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Gait2392, Joint, PhakAngles, Side, Vec3};
 
-use crate::model::choice::Model;
-use crate::model::coords::{CoordRows, KneeFlexion};
-use crate::model::error::ModelError;
-use crate::model::kinematics::{self, Evaluator};
+use crate::choice::Model;
+use crate::coords::{CoordRows, KneeFlexion};
+use crate::error::ModelError;
+use crate::kinematics::{self, Evaluator};
 use crate::motion::source::MotionRows;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::MotionTable;
@@ -20,7 +20,7 @@ use qgait_opensim::mot::MotionTable;
 /// The 17 gait2392 coordinates (radians, [`COORDINATES`] order) of every row, for a model whose
 /// knee flexes with `knee` angles and that reads the coordinates with `read` true. The leg
 /// columns of PHAK are required; the other 11 count as 0 with one warning each when absent.
-pub(crate) fn gait2392_coordinates(
+pub fn gait2392_coordinates(
     table: &MotionTable,
     knee: KneeFlexion,
     read: [bool; 17],
@@ -51,10 +51,7 @@ pub fn imported_fk(model: &Model) -> Result<Option<ImportedFk>, ModelError> {
 }
 
 /// The kernel table of a chain model `name`.
-fn chain_of(
-    chain: &crate::model::chain::ChainModel,
-    name: &str,
-) -> Result<LowerLimb<f64>, ModelError> {
+fn chain_of(chain: &crate::chain::ChainModel, name: &str) -> Result<LowerLimb<f64>, ModelError> {
     chain.chain().map_err(|message| ModelError::File {
         at: qgait_opensim::diagnostics::Location {
             path: name.to_string(),
@@ -86,7 +83,7 @@ pub fn point_names(extra: bool) -> Vec<String> {
 
 /// A model ready to evaluate rows: the kernel model of a [`Model`] and the points it gives
 /// ([`point_names`]; metres, origin and axes as the model's CSV).
-pub(crate) struct PointModel {
+pub struct PointModel {
     kind: Kind,
     extra: bool,
     /// The sign of the model's knee flexion (the motion's range check).
@@ -204,7 +201,7 @@ impl PointModel {
 
 /// Reads every row of `rows` as the coordinates `names` of a model whose knee flexes with
 /// `knee` angles and hands them to `each`.
-pub(crate) fn drive<const N: usize, E: From<ModelError>>(
+pub fn drive<const N: usize, E: From<ModelError>>(
     rows: MotionRows,
     names: &[&'static str; N],
     knee: KneeFlexion,
@@ -215,7 +212,7 @@ pub(crate) fn drive<const N: usize, E: From<ModelError>>(
 }
 
 /// [`drive`] for a model that reads only the names with `read` true
-/// ([`Picker::new`](crate::model::coords::Picker::new)).
+/// ([`Picker::new`](crate::coords::Picker::new)).
 fn drive_reading<const N: usize, E: From<ModelError>>(
     rows: MotionRows,
     names: &[&'static str; N],
@@ -247,7 +244,7 @@ pub fn csv_header(names: &[String]) -> String {
 /// A points CSV being written with the `csv` crate: the header ([`csv_header`], with `seq` in
 /// front for a device's frames), then one row per call. Numbers are written with Rust's `{}`
 /// for `f64`; an unknown time is an empty field.
-pub(crate) struct PointsCsv<W: std::io::Write> {
+pub struct PointsCsv<W: std::io::Write> {
     csv: csv::Writer<PassOn<W>>,
     field: String,
     seq: bool,
@@ -307,7 +304,7 @@ impl<W: std::io::Write> PointsCsv<W> {
     }
 
     /// Passes what is buffered on to the writer and flushes the writer.
-    pub(crate) fn flush_through(&mut self) -> std::io::Result<()> {
+    pub fn flush_through(&mut self) -> std::io::Result<()> {
         self.csv.get_ref().flush.set(true);
         let flushed = self.csv.flush();
         self.csv.get_ref().flush.set(false);

@@ -24,11 +24,11 @@ use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{Polynomial, Spline, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::model::error::ModelError;
-use crate::model::toml_path::{Fault, Step, Step::Index, Step::Key};
+use crate::error::ModelError;
+use crate::toml_path::{Fault, Step, Step::Index, Step::Key};
 
 /// The bodies of the chain, in table order: joint `i` moves body `i`.
-pub(crate) const BODIES: [&str; 11] = [
+pub const BODIES: [&str; 11] = [
     "pelvis", "femur_r", "tibia_r", "talus_r", "calcn_r", "toes_r", "femur_l", "tibia_l",
     "talus_l", "calcn_l", "toes_l",
 ];
@@ -436,7 +436,7 @@ impl ChainModel {
     }
 
     /// Whether `text` is a chain file (it has `[[joints]]` tables) rather than a SUBJECT.toml.
-    pub(crate) fn is_chain_file(text: &str) -> bool {
+    pub fn is_chain_file(text: &str) -> bool {
         text.lines().any(|l| l.trim() == "[[joints]]")
     }
 

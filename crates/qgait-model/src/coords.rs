@@ -13,8 +13,8 @@
 
 use qgait_kernel::models::ranges;
 
-use crate::model::error::ModelError;
-use crate::model::kinematics::LEG_COLUMNS;
+use crate::error::ModelError;
+use crate::kinematics::LEG_COLUMNS;
 use crate::motion::source::MotionRows;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::{Header, NonFinite};
@@ -41,7 +41,7 @@ const UNREAD_NOISE_RAD: f64 = 1e-4;
 
 /// Picks `N` named coordinates (radians) from each row of a motion.
 #[derive(Debug, Clone)]
-pub(crate) struct Picker<const N: usize> {
+pub struct Picker<const N: usize> {
     source: String,
     scale: f64,
     in_degrees: bool,
@@ -143,7 +143,7 @@ impl<const N: usize> Picker<N> {
     /// The coordinates of one row: `value(c)` is the value of column `c` as stored; `at` says
     /// where the row is (`line N` or `row N`); `non_finite(c)` where a non-finite value of
     /// column `c` was read. A non-finite needed value is an error naming file, line and column.
-    pub(crate) fn pick<'a>(
+    pub fn pick<'a>(
         &mut self,
         value: impl Fn(usize) -> f64,
         at: impl Fn() -> String,
@@ -256,7 +256,7 @@ impl<const N: usize> Picker<N> {
 
 /// The coordinates `N` names (radians) of each row of a motion read as it goes: a
 /// [`MotionRows`] through a [`Picker`], in memory independent of the number of rows.
-pub(crate) struct CoordRows<const N: usize> {
+pub struct CoordRows<const N: usize> {
     rows: MotionRows,
     picker: Picker<N>,
     warnings: Vec<Warning>,

@@ -50,14 +50,14 @@ use qgait_kernel::PhakAngles;
 use qgait_opensim::mot::MotionTable;
 
 /// Number of Fourier harmonics kept per coordinate.
-pub(crate) const HARMONICS: usize = 6;
+pub const HARMONICS: usize = 6;
 
 /// Default number of rows of a built-in motion (0 %, 1 %, ..., 100 %).
-pub(crate) const DEFAULT_ROWS: usize = 101;
+pub const DEFAULT_ROWS: usize = 101;
 
 /// Most rows of a built-in motion: one cycle sampled at 1 MHz. The motion is generated whole
 /// (about 80 MB at this size), so the count is bounded.
-pub(crate) const MAX_ROWS: usize = 1_000_000;
+pub const MAX_ROWS: usize = 1_000_000;
 
 /// Samples used to compute the Fourier coefficients of the key-event polyline.
 const FIT_SAMPLES: usize = 400;
@@ -66,7 +66,7 @@ const FIT_SAMPLES: usize = 400;
 type KeyEvents = &'static [(f64, f64)];
 
 /// Hip flexion, degrees.
-pub(crate) const HIP_FLEXION: KeyEvents = &[
+pub const HIP_FLEXION: KeyEvents = &[
     (0.0, 30.0),
     (10.0, 29.0),
     (30.0, 10.0),
@@ -77,7 +77,7 @@ pub(crate) const HIP_FLEXION: KeyEvents = &[
     (100.0, 30.0),
 ];
 /// Knee flexion (clinical sign: flexion > 0), degrees.
-pub(crate) const KNEE_FLEXION: KeyEvents = &[
+pub const KNEE_FLEXION: KeyEvents = &[
     (0.0, 5.0),
     (13.0, 18.0),
     (38.0, 5.0),
@@ -89,7 +89,7 @@ pub(crate) const KNEE_FLEXION: KeyEvents = &[
     (100.0, 5.0),
 ];
 /// Ankle dorsiflexion, degrees.
-pub(crate) const ANKLE_DORSIFLEXION: KeyEvents = &[
+pub const ANKLE_DORSIFLEXION: KeyEvents = &[
     (0.0, 0.0),
     (10.0, -5.0),
     (30.0, 5.0),
@@ -100,7 +100,7 @@ pub(crate) const ANKLE_DORSIFLEXION: KeyEvents = &[
     (100.0, 0.0),
 ];
 /// Pelvis rotation (right side forward > 0), degrees.
-pub(crate) const PELVIS_ROTATION: KeyEvents = &[
+pub const PELVIS_ROTATION: KeyEvents = &[
     (0.0, 5.0),
     (25.0, 0.0),
     (50.0, -5.0),
@@ -108,7 +108,7 @@ pub(crate) const PELVIS_ROTATION: KeyEvents = &[
     (100.0, 5.0),
 ];
 /// Pelvic obliquity as OpenSim `pelvis_list` (right side down > 0), degrees.
-pub(crate) const PELVIS_LIST: KeyEvents = &[
+pub const PELVIS_LIST: KeyEvents = &[
     (0.0, 0.0),
     (15.0, -4.0),
     (35.0, -2.0),
@@ -238,7 +238,7 @@ impl BuiltinSpec {
 
 /// A truncated Fourier series `a0 + Σ (a_k cos kθ + b_k sin kθ)`, θ = 2π · percent / 100.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Harmonics {
+pub struct Harmonics {
     /// Mean value.
     pub a0: f64,
     /// Cosine coefficients for k = 1..=HARMONICS.

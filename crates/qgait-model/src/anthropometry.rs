@@ -22,7 +22,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::toml_error;
-use crate::model::error::ModelError;
+use crate::error::ModelError;
 use qgait_opensim::diagnostics::Warning;
 
 /// The file: each length for both sides, or per side (`_r`, `_l`); every key optional.

@@ -21,7 +21,7 @@ pub enum SourceError {
 }
 
 /// Prefix that selects the built-in gait generator instead of a file.
-pub(crate) const BUILTIN_PREFIX: &str = "builtin:";
+pub const BUILTIN_PREFIX: &str = "builtin:";
 
 /// Loads a motion from a path or a `builtin:` spec.
 pub fn load_motion(spec: &str) -> Result<(MotionTable, Vec<Warning>), SourceError> {
@@ -34,7 +34,7 @@ pub fn load_motion(spec: &str) -> Result<(MotionTable, Vec<Warning>), SourceErro
 }
 
 /// A short label for a motion spec: the file stem, or the spec itself for `builtin:`.
-pub(crate) fn default_label(spec: &str) -> String {
+pub fn default_label(spec: &str) -> String {
     if spec.starts_with(BUILTIN_PREFIX) {
         spec.to_string()
     } else {
@@ -47,7 +47,7 @@ pub(crate) fn default_label(spec: &str) -> String {
 
 /// The rows of a motion, one at a time: a file read as it goes ([`MotionReader`], memory
 /// independent of its length), or a table in memory (a `builtin:` gait).
-pub(crate) struct MotionRows {
+pub struct MotionRows {
     inner: Inner,
 }
 
@@ -75,7 +75,7 @@ impl MotionRows {
     }
 
     /// The rows of a table.
-    pub(crate) fn from_table(table: MotionTable) -> Self {
+    pub fn from_table(table: MotionTable) -> Self {
         Self {
             inner: Inner::Table { table, next: 0 },
         }
@@ -90,7 +90,7 @@ impl MotionRows {
     }
 
     /// The number of rows if known in advance (a table's, or the file's declared count).
-    pub(crate) fn size_hint(&self) -> Option<usize> {
+    pub fn size_hint(&self) -> Option<usize> {
         match &self.inner {
             Inner::File(r) => r.header().declared_rows(),
             Inner::Table { table, .. } => Some(table.rows()),
@@ -134,7 +134,7 @@ impl MotionRows {
     }
 
     /// Warnings found since the last call (a repeated time, the declared row count at the end).
-    pub(crate) fn take_warnings(&mut self) -> Vec<Warning> {
+    pub fn take_warnings(&mut self) -> Vec<Warning> {
         match &mut self.inner {
             Inner::File(r) => r.take_warnings(),
             Inner::Table { .. } => Vec::new(),

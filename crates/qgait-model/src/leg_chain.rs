@@ -30,7 +30,7 @@
 use qgait_kernel::models::gait2392::COORDINATES;
 use roxmltree::Document;
 
-use crate::model::chain::{
+use crate::chain::{
     AxisData, ChainModel, CouplerData, FunctionData, JointData, PointData, RangeData, BODIES,
 };
 use qgait_opensim::osim::{
