@@ -10,8 +10,8 @@
 //! ([`HubLog::decode`], [`Verification::run`]).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use qgait::device::log::HubLog;
-use qgait::device::verify::{Expected, Verification};
+use qgait_device::log::HubLog;
+use qgait_device::verify::{Expected, Verification};
 use qgait_proto::device_model::sample_angles;
 use qgait_proto::{encode_frame, Kinematics, Message, ModelId, PoseModels, Status, MAX_FRAME_LEN};
 use std::hint::black_box;

@@ -2,7 +2,6 @@
 #![warn(missing_docs)]
 
 pub mod cli;
-pub mod device;
 pub mod gait;
 pub(crate) mod progress;
 pub(crate) mod report;

@@ -6,7 +6,7 @@ mod common;
 use std::path::Path;
 
 use common::{qgait, stderr};
-use qgait::device::config::geometry_of_parts;
+use qgait_device::config::geometry_of_parts;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId};
 

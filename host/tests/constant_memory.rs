@@ -10,7 +10,7 @@ use std::sync::Mutex;
 
 use clap::Parser;
 use qgait::cli::{Cli, Command};
-use qgait::device::packets::push_frame;
+use qgait_device::packets::push_frame;
 use qgait_proto::device_model::{pose_distances, pose_points};
 use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 

@@ -9,7 +9,7 @@ use std::process::{Child, ChildStdin, Command, Stdio};
 use std::thread;
 use std::time::{Duration, Instant};
 
-use qgait::device::packets::push_frame;
+use qgait_device::packets::push_frame;
 use qgait_proto::{Message, ModelId, PoseFrame};
 
 /// Safety limit of every wait (the runs end in well under a second).

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{qgait, stderr, stdout};
-use qgait::device::packets::push_frame;
+use qgait_device::packets::push_frame;
 use qgait_proto::device_model::{pose_distances, pose_points};
 use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 

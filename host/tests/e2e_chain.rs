@@ -80,7 +80,7 @@ fn imported_rajagopal_on_the_hub_is_within_10_micrometres_of_the_host() {
     );
     assert!(out.contains("verify: ok"), "{out}");
     let text = std::fs::read_to_string(&csv).unwrap();
-    let table = qgait::device::frames_csv::parse(&text, "frames.csv").unwrap();
+    let table = qgait_device::frames_csv::parse(&text, "frames.csv").unwrap();
     assert_eq!(table.seq, (0..60).collect::<Vec<u32>>());
     // Crouched: in every frame each knee is ahead of its hip–ankle line (sagittal plane), as a
     // flexed knee is (by 8 to 22 cm here); a hyperextended one would be behind it.

@@ -24,8 +24,8 @@ mod imu_common;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use qgait::device::log::HubLog;
-use qgait::device::orientations::{OrientationCheck, OrientationStream};
+use qgait_device::log::HubLog;
+use qgait_device::orientations::{OrientationCheck, OrientationStream};
 use qgait_emulate::faults::{damage, Fate, FaultPlan};
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};

@@ -18,9 +18,9 @@ use std::path::Path;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use qgait::device::log::HubLog;
-use qgait::device::packets::{Samples, Timing};
-use qgait::device::verify::{Expected, Verification};
+use qgait_device::log::HubLog;
+use qgait_device::packets::{Samples, Timing};
+use qgait_device::verify::{Expected, Verification};
 use qgait_emulate::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
@@ -457,7 +457,7 @@ fn emulate_command_on_a_radio_damaged_stream_of_2000_samples() {
         "{accounting:?}\n{out}"
     );
     let table =
-        qgait::device::frames_csv::parse(&std::fs::read_to_string(&csv).unwrap(), "f.csv").unwrap();
+        qgait_device::frames_csv::parse(&std::fs::read_to_string(&csv).unwrap(), "f.csv").unwrap();
     let mut seqs = table.seq.clone();
     seqs.sort_unstable();
     assert_eq!(seqs, complete, "a frame for exactly the intact samples");
@@ -489,7 +489,7 @@ fn emulate_command_verifies_and_writes_the_frames_csv() {
         "{err}"
     );
     let text = std::fs::read_to_string(&csv).unwrap();
-    let table = qgait::device::frames_csv::parse(&text, "frames.csv").unwrap();
+    let table = qgait_device::frames_csv::parse(&text, "frames.csv").unwrap();
     assert_eq!(table.seq, (0..20).collect::<Vec<u32>>());
     assert_eq!(
         table.time[1],

@@ -20,8 +20,8 @@ use std::sync::mpsc;
 use std::thread;
 use std::time::{Duration, Instant};
 
-use qgait::device::frames_csv;
-use qgait::device::packets::{push_frame, stream, Samples, Timing};
+use qgait_device::frames_csv;
+use qgait_device::packets::{push_frame, stream, Samples, Timing};
 use qgait_emulate::qemu::{Echo, Qemu};
 use qgait_model::coords::KneeFlexion;
 use qgait_model::motion::source::load_motion;

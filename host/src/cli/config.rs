@@ -8,7 +8,7 @@ use qgait_proto::{MissingPolicy, ModelId};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::device::config::{frames, messages, HubModel, HubSettings};
+use qgait_device::config::{frames, messages, HubModel, HubSettings};
 use qgait_model::choice::Model;
 
 /// `qgait config` arguments.

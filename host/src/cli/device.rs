@@ -1,4 +1,4 @@
-//! The device commands: `qgait packets`, `decode`, `verify` and `emulate` (module [`crate::device`]).
+//! The device commands: `qgait packets`, `decode`, `verify` and `emulate` (crate `qgait_device`).
 
 use std::collections::{BTreeSet, HashMap};
 use std::fs::File;
@@ -19,13 +19,13 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::jsonl;
 use crate::cli::live::LiveView;
 use crate::cli::model_args::ModelArgs;
-use crate::device::config::{frames, messages, HubModel, HubSettings};
-use crate::device::frames_csv;
-use crate::device::log::{HubLog, LogDecoder, Record};
-use crate::device::orientations::{OrientationCheck, OrientationStream};
-use crate::device::packets::{PacketsError, Samples, Timing};
-use crate::device::port::{self, Input, Until};
-use crate::device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
+use qgait_device::config::{frames, messages, HubModel, HubSettings};
+use qgait_device::frames_csv;
+use qgait_device::log::{HubLog, LogDecoder, Record};
+use qgait_device::orientations::{OrientationCheck, OrientationStream};
+use qgait_device::packets::{PacketsError, Samples, Timing};
+use qgait_device::port::{self, Input, Until};
+use qgait_device::verify::{Expected, Verification, Verifier, MISSING_LISTED};
 use qgait_model::motion::source::load_motion;
 
 /// The model, loaded: what to send the hub ([`HubModel`]), and how to recompute its frames.
@@ -329,7 +329,7 @@ pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
     let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
     let mut file = crate::cli::OutputFile::create(&args.output)?;
     let (counts, w) =
-        crate::device::packets::write_stream(rows, args.model.into(), timing, &warn, file.writer())
+        qgait_device::packets::write_stream(rows, args.model.into(), timing, &warn, file.writer())
             .map_err(|e| match e {
                 PacketsError::Write(io) => crate::cli::with_path(io.into(), &args.output),
                 other => other.into(),
@@ -593,7 +593,7 @@ fn emulate_input(
             Diagnostics::new(quiet).warn(w.into_iter().chain(w2));
             let packets: Vec<_> = samples.all_packets().collect();
             (
-                crate::device::packets::stream(&packets),
+                qgait_device::packets::stream(&packets),
                 Some(samples.len() as u32),
             )
         }
@@ -777,7 +777,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 "samples with an angle the hub does not use (not finite, or beyond ±{} rad), no frame due: {}{}",
                 qgait_proto::JointAngle::MAX_ANGLE,
                 partial.len(),
-                crate::device::verify::preview(&partial[..partial.len().min(MISSING_LISTED)], partial.len() as u64)
+                qgait_device::verify::preview(&partial[..partial.len().min(MISSING_LISTED)], partial.len() as u64)
             );
         }
         if unexpected > 0 {

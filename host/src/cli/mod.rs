@@ -125,10 +125,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     .get(i)
                     .cloned()
                     .unwrap_or_else(|| default_label(spec));
-                if crate::device::frames_csv::is_frames_csv(spec) {
+                if qgait_device::frames_csv::is_frames_csv(spec) {
                     let text = std::fs::read_to_string(spec)
                         .with_context(|| format!("{spec}: cannot read"))?;
-                    let mut table = crate::device::frames_csv::parse(&text, spec)?;
+                    let mut table = qgait_device::frames_csv::parse(&text, spec)?;
                     // Timed frames in time order, as `gait` takes them.
                     if table.time.iter().any(Option::is_some) {
                         let (ordered, w) = table.in_time_order(spec)?;

@@ -268,7 +268,7 @@ mod tests {
         let row = format!("0,{}", vec!["0.1"; 24].join(","));
         let text = format!(
             "{}\n{}\n",
-            crate::device::frames_csv::header(),
+            qgait_device::frames_csv::header(),
             row.replacen(",", ",,", 1)
         );
         std::fs::write(&frames, text).unwrap();

@@ -7,7 +7,7 @@ use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::models::ranges::KNEES;
 use qgait_kernel::Vec3;
 
-use crate::device::frames_csv::FramesCsvError;
+use qgait_device::frames_csv::FramesCsvError;
 use qgait_model::choice::Model;
 use qgait_opensim::diagnostics::Warning;
 
@@ -141,15 +141,15 @@ pub fn gaps(
 
 /// Loads `source` (a `.mot`/`.sto` motion, `builtin:...`, or a device's frames CSV) and
 /// evaluates `model` on every row. A frames CSV's rows are taken in time order as a `.mot`'s
-/// ([`FramesTable::in_time_order`](crate::device::frames_csv::FramesTable::in_time_order)).
+/// ([`FramesTable::in_time_order`](qgait_device::frames_csv::FramesTable::in_time_order)).
 pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialError> {
     let label = default_label(source);
-    if crate::device::frames_csv::is_frames_csv(source) {
+    if qgait_device::frames_csv::is_frames_csv(source) {
         let text = std::fs::read_to_string(source).map_err(|error| TrialError::Read {
             path: source.to_string(),
             error,
         })?;
-        let table = crate::device::frames_csv::parse(&text, source)?;
+        let table = qgait_device::frames_csv::parse(&text, source)?;
         if !table.time.is_empty() && table.time.iter().all(Option::is_none) {
             return Err(TrialError::NoTimes(source.to_string()));
         }

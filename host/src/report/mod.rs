@@ -25,7 +25,7 @@ use qgait_kernel::metrics::{self as kmetrics, Distances};
 use qgait_kernel::models::PhakAngles;
 use qgait_kernel::{BilateralPose, LegPose, Vec3};
 
-use crate::device::frames_csv::FramesTable;
+use qgait_device::frames_csv::FramesTable;
 
 use crate::progress::Progress;
 use qgait_model::choice::Model;

@@ -101,7 +101,7 @@ impl Samples {
     }
 
     /// Every packet, row after row.
-    pub(crate) fn all_packets(&self) -> impl Iterator<Item = JointAngle> + '_ {
+    pub fn all_packets(&self) -> impl Iterator<Item = JointAngle> + '_ {
         (0..self.len()).flat_map(move |row| self.packets(row))
     }
 }
@@ -127,7 +127,7 @@ pub enum PacketsError {
 /// memory does not grow with the number of rows. `warn` gets the warnings about the columns
 /// before the first row; the warnings found while reading are returned. An error of `each`
 /// ends the reading and is returned.
-pub(crate) fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
+pub fn for_each_sample<E: From<PacketsError> + From<ModelError>>(
     rows: MotionRows,
     model: ModelId,
     knee: KneeFlexion,
@@ -176,7 +176,7 @@ fn joint_names<const N: usize>(model: ModelId) -> [&'static str; N] {
 
 /// What [`write_stream`] wrote.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub(crate) struct StreamCounts {
+pub struct StreamCounts {
     /// Rows (samples).
     pub samples: u64,
     /// Packets.
@@ -187,7 +187,7 @@ pub(crate) struct StreamCounts {
 
 /// Writes the stream of [`stream`] for every row of `rows` as it is read: a 0x00, then each
 /// sample's packets (as [`Samples::packets`] makes them).
-pub(crate) fn write_stream(
+pub fn write_stream(
     rows: MotionRows,
     model: ModelId,
     timing: Timing,

@@ -107,10 +107,7 @@ pub fn frames(messages: &[Message]) -> Result<Vec<u8>, HubConfigError> {
 
 /// The six parts of a subject model, numbers rounded to `f32`: the legs (right, left), then
 /// the knee splines (right tx, right ty, left tx, left ty).
-pub(crate) fn subject_parts(
-    g: &Gait2392Geometry,
-    upload: u8,
-) -> Result<Vec<Message>, HubConfigError> {
+pub fn subject_parts(g: &Gait2392Geometry, upload: u8) -> Result<Vec<Message>, HubConfigError> {
     let (legs, knees) = parts_of(g, upload)?;
     Ok(legs
         .into_iter()

@@ -25,7 +25,7 @@ pub fn header() -> String {
 
 /// A frames CSV being written (with the `csv` crate, through [`PointsCsv`]): the [`header`],
 /// then one row per frame.
-pub(crate) struct FramesCsv<W: Write>(PointsCsv<W>);
+pub struct FramesCsv<W: Write>(PointsCsv<W>);
 
 impl<W: Write> FramesCsv<W> {
     /// Writes the header.

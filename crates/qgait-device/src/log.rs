@@ -8,7 +8,7 @@ use qgait_proto::{DecodeError, FrameDecoder, Message, PoseFrame, Status};
 
 /// One item of a decoded log, in arrival order.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Record {
+pub enum Record {
     /// A good frame and the offset of the byte that ended it (its 0x00 delimiter).
     Message {
         /// Byte offset of the frame's delimiter in the input.
@@ -82,7 +82,7 @@ impl fmt::Display for Counts {
 
 /// A streaming log decoder: feed chunks as they come, get records.
 #[derive(Debug, Default)]
-pub(crate) struct LogDecoder {
+pub struct LogDecoder {
     decoder: FrameDecoder,
     counts: Counts,
 }
@@ -94,7 +94,7 @@ impl LogDecoder {
     }
 
     /// Decodes `chunk`, handing each record to `on_record`.
-    pub(crate) fn feed(&mut self, chunk: &[u8], mut on_record: impl FnMut(Record)) {
+    pub fn feed(&mut self, chunk: &[u8], mut on_record: impl FnMut(Record)) {
         for &byte in chunk {
             let offset = self.counts.bytes;
             self.counts.bytes += 1;
@@ -162,7 +162,7 @@ impl HubLog {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::device::packets::push_frame;
+    use crate::packets::push_frame;
     use qgait_proto::ModelId;
 
     fn pose(seq: u32) -> Message {

@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 
 use qgait_proto::Message;
 
-use crate::device::log::{LogDecoder, Record};
+use crate::log::{LogDecoder, Record};
 use qgait_opensim::diagnostics::Warning;
 
 /// The hub's baud rate (both boards' UARTs run at 115200 8N1).
@@ -423,7 +423,7 @@ pub mod interrupt {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::device::packets::push_frame;
+    use crate::packets::push_frame;
     use qgait_proto::{ModelId, PoseFrame, Status};
 
     fn pose(seq: u32) -> Message {

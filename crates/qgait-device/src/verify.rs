@@ -37,7 +37,7 @@ impl ErrorStat {
 }
 
 /// Names of the error rows: the 8 points, then the 3 distances.
-pub(crate) fn error_names() -> Vec<String> {
+pub fn error_names() -> Vec<String> {
     let mut names = point_names(false);
     names.extend(["knee-knee", "ankle-ankle", "toe-toe"].map(String::from));
     names
@@ -70,12 +70,12 @@ pub struct Verification {
 }
 
 /// How many missing sequence numbers a [`Verification`] lists.
-pub(crate) const MISSING_LISTED: usize = 10;
+pub const MISSING_LISTED: usize = 10;
 
 /// Most runs of consecutive sequence numbers a [`Verifier`] keeps apart (each run costs a few
 /// tens of bytes): beyond it, the two lowest runs are joined and the gap between them is
 /// counted as missing for good.
-pub(crate) const MAX_RUNS: usize = 65_536;
+pub const MAX_RUNS: usize = 65_536;
 
 /// Which sequence numbers must be there.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -418,7 +418,7 @@ impl Verification {
 }
 
 /// ` (3, 7, 9, ...)` for the first of `total` numbers (none when there are none).
-pub(crate) fn preview(first: &[u32], total: u64) -> String {
+pub fn preview(first: &[u32], total: u64) -> String {
     if first.is_empty() {
         return String::new();
     }
