@@ -4,4 +4,3 @@
 pub mod cli;
 pub mod gait;
 pub(crate) mod progress;
-pub(crate) mod report;

@@ -18,7 +18,7 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::cli::{refuse_overwrite, write_output_with};
 use crate::progress::Progress;
-use crate::report::imu_angles;
+use qgait_figures::imu_angles;
 use qgait_model::choice::Model;
 use qgait_model::error::ModelError;
 use qgait_opensim::diagnostics::Warning;

@@ -22,7 +22,7 @@ use clap::{Parser, Subcommand};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::progress::Progress;
-use crate::report::{self, Analysis};
+use qgait_figures::{self as report, Analysis};
 use qgait_model::motion::source::{default_label, load_motion};
 use qgait_opensim::diagnostics::Warning;
 
@@ -144,12 +144,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let rows: usize = tables.iter().map(|(_, t)| t.rows()).sum();
             let progress = Progress::new(rows as u64 + report::FIGURE_COUNT, "report", cli.quiet);
-            let (mut analysis, w) = Analysis::new(&tables, &model, &progress)?;
+            let (mut analysis, w) = Analysis::new(&tables, &model, &|n| progress.inc(n))?;
             warn(w);
             for (i, label, spec, table) in &frames {
                 analysis.insert_frames(*i, label, spec, table)?;
             }
-            let files = report::write_report(&analysis, &output, &progress)?;
+            let files = report::write_report(&analysis, &output, &|n| progress.inc(n))?;
             progress.finish();
             diagnostics.done(format!(
                 "wrote {} files to {}",

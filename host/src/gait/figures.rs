@@ -14,7 +14,7 @@ use plotters::prelude::*;
 use crate::gait::angles::Variable;
 use crate::gait::events::along;
 use crate::gait::output::Report;
-use crate::report::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
+use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
 
 /// Side colours, right first.
 pub const SIDE_COLORS: [RGBColor; 2] = [RIGHT_LEG, LEFT_LEG];

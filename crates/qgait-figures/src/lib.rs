@@ -1,19 +1,9 @@
-//! `qgait report`: the paper's results (Figs 5-10 and the metrics) for one or more gaits.
-//!
-//! Files written to the output directory (figures as both `.png` and `.svg`):
-//! - `stick_sagittal`, `stick_frontal`, `stick_transverse`: both legs at 0, 20, 40, 60, 80 and
-//!   100 % of the cycle, one row per gait, equal scale on both axes (Figs 5-7);
-//! - `paths_sagittal`: hip, knee, ankle and toe paths in the sagittal plane, right and left
-//!   limb, gaits overlaid (Figs 8-9);
-//! - `distances`: knee-knee, ankle-ankle and toe-toe distance over the cycle (Fig 10);
-//! - `metrics.csv`, `hip_shift.csv`, `distance_stats.csv` and `metrics.md` (see [`metrics`]).
-//!
-//! The model is any the CLI takes (`--model`, default PHAK; origin at the pelvis origin, ground
-//! axes); percent of cycle is the time normalised from the first to the last row of each motion.
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
 
 mod distances;
-pub(crate) mod figure;
-mod font;
+pub mod figure;
+pub mod font;
 pub mod imu_angles;
 pub mod metrics;
 mod paths;
@@ -27,7 +17,6 @@ use qgait_kernel::{BilateralPose, LegPose, Vec3};
 
 use qgait_device::frames_csv::FramesTable;
 
-use crate::progress::Progress;
 use qgait_model::choice::Model;
 use qgait_model::error::ModelError;
 use qgait_model::kinematics::{self, Evaluator};
@@ -111,11 +100,11 @@ pub struct Analysis {
 }
 
 impl Analysis {
-    /// Runs the model on every row of every motion.
+    /// Runs the model on every row of every motion; `progress` is told of each row done.
     pub fn new(
         motions: &[(String, MotionTable)],
         model: &Model,
-        progress: &Progress,
+        progress: &dyn Fn(u64),
     ) -> Result<(Self, Vec<Warning>), ModelError> {
         // HAK and PHAK keep their angles (poses between rows from interpolated angles); other
         // models give their points only.
@@ -133,7 +122,7 @@ impl Analysis {
                     let poses = angles
                         .iter()
                         .map(|a| {
-                            progress.inc(1);
+                            progress(1);
                             evaluator.pose(a)
                         })
                         .collect();
@@ -147,7 +136,7 @@ impl Analysis {
                         MotionRows::from_table(table.clone()),
                         &|w| column_warnings.borrow_mut().extend(w),
                         |_, p| {
-                            progress.inc(1);
+                            progress(1);
                             poses
                                 .push(pose_from_points(&core::array::from_fn(|i| p[i].to_array())));
                             Ok(())
@@ -292,10 +281,11 @@ fn points_at(gait: &Gait, percent: f64) -> BilateralPose<f64> {
 pub const FIGURE_COUNT: u64 = 5;
 
 /// Writes every figure and table into `dir` (created if needed); returns the files written.
+/// `progress` is told of each figure done ([`FIGURE_COUNT`] in all).
 pub fn write_report(
     analysis: &Analysis,
     dir: &Path,
-    progress: &Progress,
+    progress: &dyn Fn(u64),
 ) -> Result<Vec<PathBuf>, ReportError> {
     std::fs::create_dir_all(dir).map_err(|error| ReportError::CreateDir {
         path: dir.to_path_buf(),
@@ -307,12 +297,12 @@ pub fn write_report(
             &stick::StickFigure::new(analysis, plane),
             dir,
         )?);
-        progress.inc(1);
+        progress(1);
     }
     files.extend(figure::save(&paths::SagittalPaths { analysis }, dir)?);
-    progress.inc(1);
+    progress(1);
     files.extend(figure::save(&distances::DistanceFigure { analysis }, dir)?);
-    progress.inc(1);
+    progress(1);
     files.extend(metrics::write_all(analysis, dir)?);
     Ok(files)
 }
