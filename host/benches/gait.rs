@@ -9,8 +9,8 @@
 use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use qgait::gait::output::{self, ReferenceArg, Subject};
-use qgait::gait::{analyse, trial, CycleMode};
+use qgait_gait::output::{self, ReferenceArg, Subject};
+use qgait_gait::{analyse, trial, CycleMode};
 use qgait_model::choice::Model;
 use std::hint::black_box;
 

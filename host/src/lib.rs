@@ -2,5 +2,4 @@
 #![warn(missing_docs)]
 
 pub mod cli;
-pub mod gait;
 pub(crate) mod progress;

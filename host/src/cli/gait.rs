@@ -1,4 +1,4 @@
-//! `qgait gait`: clinical gait analysis of one or more recordings ([`crate::gait`]).
+//! `qgait gait`: clinical gait analysis of one or more recordings (crate `qgait_gait`).
 
 use std::path::PathBuf;
 
@@ -6,8 +6,8 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::gait::output::{self, ReferenceArg, Subject};
-use crate::gait::{self, trial, CycleMode};
+use qgait_gait::output::{self, ReferenceArg, Subject};
+use qgait_gait::{self as gait, trial, CycleMode};
 use qgait_model::choice::Model;
 use qgait_opensim::diagnostics::Warning;
 

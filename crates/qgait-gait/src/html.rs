@@ -4,9 +4,9 @@
 
 use std::fmt::Write as _;
 
-use crate::gait::angles::Variable;
-use crate::gait::output::{round, Report};
-use crate::gait::spatiotemporal::SIDES;
+use crate::angles::Variable;
+use crate::output::{round, Report};
+use crate::spatiotemporal::SIDES;
 
 /// Escapes text for HTML.
 pub fn escape(s: &str) -> String {
@@ -65,13 +65,13 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
     setting(
         "cycles",
         match r.mode {
-            crate::gait::CycleMode::Auto if builtin_whole => {
+            crate::CycleMode::Auto if builtin_whole => {
                 "auto: heel strike to heel strike of each side (Zeni et al. 2008); a builtin: gait whole (it is one cycle)".into()
             }
-            crate::gait::CycleMode::Auto => {
+            crate::CycleMode::Auto => {
                 "auto: heel strike to heel strike of each side (Zeni et al. 2008)".into()
             }
-            crate::gait::CycleMode::Whole => "whole: each recording is one cycle".into(),
+            crate::CycleMode::Whole => "whole: each recording is one cycle".into(),
         },
     );
     setting("reference", r.reference.label.clone());

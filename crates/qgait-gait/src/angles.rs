@@ -22,7 +22,7 @@ use qgait_kernel::imu::math::three_axes;
 use qgait_kernel::progression::{foot_progression, heading};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Side, Vec3};
 
-use crate::gait::trial::{coordinate, Trial};
+use crate::trial::{coordinate, Trial};
 
 /// A Gait Profile Score variable, in Baker et al.'s (2009) order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

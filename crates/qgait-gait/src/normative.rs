@@ -301,7 +301,7 @@ pub fn default_dir() -> PathBuf {
     }
     let candidates = [
         PathBuf::from("../shared/data/normative"),
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/normative"),
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/normative"),
     ];
     candidates
         .iter()

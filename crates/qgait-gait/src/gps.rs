@@ -6,7 +6,7 @@
 //! ankle and foot variables of each side and the three pelvic ones once, from the left side
 //! (Baker's choice: the pelvis is one segment, and its left-cycle curves stand for it).
 
-use crate::gait::angles::Variable;
+use crate::angles::Variable;
 
 /// Points of the cycle the scores use (every 2 %).
 pub const POINTS: usize = 51;

@@ -18,9 +18,9 @@
 use qgait_kernel::progression::horizontal_unit;
 use qgait_kernel::Vec3;
 
-use crate::gait::cycles::Cycle;
-use crate::gait::normative::Range;
-use crate::gait::trial::Trial;
+use crate::cycles::Cycle;
+use crate::normative::Range;
+use crate::trial::Trial;
 
 /// One parameter of one side.
 #[derive(Clone, Debug, PartialEq)]
@@ -241,7 +241,7 @@ pub fn value(params: &[Parameter], name: &str, side: &str) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gait::trial::Limb;
+    use crate::trial::Limb;
 
     /// A stride along a direction 20° off x, the pelvis swaying 3 cm side to side and facing
     /// elsewhere: the feet give the direction of travel exactly, and the step is measured

@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::gait::angles::Variable;
-use crate::gait::events::along;
-use crate::gait::output::Report;
+use crate::angles::Variable;
+use crate::events::along;
+use crate::output::Report;
 use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
 
 /// Side colours, right first.
@@ -171,7 +171,7 @@ impl Kinematics<'_> {
                 .map(|(_, _, b)| (b.mean.as_slice(), b.sd.as_slice()))
                 .collect(),
         };
-        let curves: Vec<(usize, &crate::gait::cycles::Curve)> = match v {
+        let curves: Vec<(usize, &crate::cycles::Curve)> = match v {
             Some(v) => (0..2)
                 .filter_map(|s| r.curves[s][v].as_ref().map(|c| (s, c)))
                 .collect(),

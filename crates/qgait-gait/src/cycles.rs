@@ -5,7 +5,7 @@
 use qgait_kernel::progression::angle_about_vertical;
 use qgait_kernel::Vec3;
 
-use crate::gait::events::Events;
+use crate::events::Events;
 
 /// Points of a time-normalised curve: 0, 1, ..., 100 % of the cycle.
 pub const POINTS: usize = 101;
@@ -89,7 +89,7 @@ pub struct Dropped {
 }
 
 /// The strides of each side from detected events. `segments` are the stretches of frames
-/// between gaps ([`Trial::segments`](crate::gait::trial::Trial::segments)): two heel strikes
+/// between gaps ([`Trial::segments`](crate::trial::Trial::segments)): two heel strikes
 /// in different segments make no stride (what happened in the gap is unknown), and a
 /// stride's frames stay within its segment.
 pub fn strides(
@@ -117,7 +117,7 @@ pub fn strides(
                 .get(segment_of(a.frame))
                 .cloned()
                 .unwrap_or(0..time.len());
-            let within = |list: &[crate::gait::events::Event], from: f64, to: f64| -> Vec<f64> {
+            let within = |list: &[crate::events::Event], from: f64, to: f64| -> Vec<f64> {
                 list.iter()
                     .filter(|e| e.time > from && e.time < to)
                     .map(|e| e.time - a.time)
@@ -182,7 +182,7 @@ pub fn whole(time: &[f64], heel_forward: [&[f64]; 2], events: &Events) -> [Cycle
         }
     };
     let phase = |t: f64, start: f64| (t - start).rem_euclid(period);
-    let one = |list: &[crate::gait::events::Event], start: f64| -> Option<f64> {
+    let one = |list: &[crate::events::Event], start: f64| -> Option<f64> {
         list.first().map(|e| phase(e.time, start))
     };
     [0, 1].map(|s| {

@@ -1,9 +1,5 @@
-//! `qgait gait`: clinical gait analysis on the kernel's forward kinematics. Gait events and
-//! cycles from the feet's positions relative to the pelvis ([`events`], [`cycles`]),
-//! spatiotemporal parameters ([`spatiotemporal`]), joint angles in the Conventional Gait
-//! Model's conventions ([`angles`]) against normative bands ([`normative`]), the Gait Profile
-//! Score ([`gps`]), figures ([`figures`]) and one HTML report ([`html`]).
-//! `docs/gait-analysis.md` describes the methods and the conventions.
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
 
 pub mod angles;
 pub mod cycles;
@@ -18,9 +14,9 @@ pub mod trial;
 
 use qgait_kernel::Vec3;
 
-use crate::gait::cycles::{Curve, Cycle, Dropped};
-use crate::gait::events::{Events, Kind};
-use crate::gait::trial::Trial;
+use crate::cycles::{Curve, Cycle, Dropped};
+use crate::events::{Events, Kind};
+use crate::trial::Trial;
 
 /// Why a recording cannot be analysed.
 #[derive(Debug, thiserror::Error)]
@@ -53,7 +49,8 @@ pub enum AnalysisError {
 }
 
 /// How the cycles are found.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum CycleMode {
     /// From the detected heel strikes: every complete, straight stride of each side.
     Auto,
@@ -236,10 +233,10 @@ pub fn leg_length(walks: &[Walk]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gait::figures::{self, FigureError};
-    use crate::gait::normative::NormativeError;
-    use crate::gait::output::{self, ReferenceArg, ReportError, Subject};
-    use crate::gait::trial::{Limb, TrialError};
+    use crate::figures::{self, FigureError};
+    use crate::normative::NormativeError;
+    use crate::output::{self, ReferenceArg, ReportError, Subject};
+    use crate::trial::{Limb, TrialError};
 
     fn gait2392() -> qgait_model::choice::Model {
         qgait_model::choice::Model::load("gait2392", None)

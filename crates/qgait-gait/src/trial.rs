@@ -117,7 +117,7 @@ pub fn gaps(
 ) -> (Vec<usize>, Vec<Warning>) {
     let mut breaks = known.to_vec();
     let mut warnings = Vec::new();
-    if let Some(median) = crate::gait::events::median_step(time) {
+    if let Some(median) = crate::events::median_step(time) {
         let secs = |x: f64| (x * 1e6).round() / 1e6;
         for i in 1..time.len() {
             let step = time[i] - time[i - 1];

@@ -17,7 +17,7 @@
 use qgait_kernel::progression::{heading, horizontal_unit, pelvis_forward};
 use qgait_kernel::Vec3;
 
-use crate::gait::trial::Frame;
+use crate::trial::Frame;
 
 /// Width (s, centred) of the local fit of the pelvis's heading that is the direction of
 /// progression ([`progression`]): about one stride. Wider windows lag in sharp turns (a

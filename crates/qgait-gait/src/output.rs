@@ -4,13 +4,13 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-use crate::gait::angles::Variable;
-use crate::gait::cycles::{Curve, POINTS};
-use crate::gait::figures::FigureError;
-use crate::gait::gps::{self, every_2_percent, Scores};
-use crate::gait::normative::{Band, Kinematics, NormativeError, Speed, StpNormals, STP_COLUMNS};
-use crate::gait::spatiotemporal::{self, Parameter, SIDES};
-use crate::gait::{curves, leg_length, toe_off_percent, CycleMode, Walk};
+use crate::angles::Variable;
+use crate::cycles::{Curve, POINTS};
+use crate::figures::FigureError;
+use crate::gps::{self, every_2_percent, Scores};
+use crate::normative::{Band, Kinematics, NormativeError, Speed, StpNormals, STP_COLUMNS};
+use crate::spatiotemporal::{self, Parameter, SIDES};
+use crate::{curves, leg_length, toe_off_percent, CycleMode, Walk};
 
 /// Why the report cannot be made or written.
 #[derive(Debug, thiserror::Error)]
@@ -185,7 +185,7 @@ pub fn build(
             let sex = sex_words(subject.male);
             // (The kinematic bands' speed group is picked by cadence, below: the two may
             // differ when the speed picks the pace.)
-            let by_speed = matches!(choice, crate::gait::normative::PaceChoice::Speed { .. });
+            let by_speed = matches!(choice, crate::normative::PaceChoice::Speed { .. });
             ranges_for = Some(format!(
                 "{sex}, {age} years, pace `{pace}` {} ({}){}",
                 choice.words(),
@@ -226,7 +226,7 @@ pub fn build(
             normative_reference(&normative_dir.join("Schwartz2008.json"), speed)?
         }
         (ReferenceArg::Motion(m), Some(rw)) => {
-            let c = crate::gait::curves(&rw);
+            let c = crate::curves(&rw);
             let label = rw
                 .first()
                 .map_or_else(|| m.clone(), |w| w.trial.label.clone());
@@ -336,7 +336,7 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
         }
     }
     let mut svgs = Vec::new();
-    for written in crate::gait::figures::save_all(report, dir)? {
+    for written in crate::figures::save_all(report, dir)? {
         if written.extension().is_some_and(|e| e == "svg") {
             let text = std::fs::read_to_string(&written).map_err(io_error(&written, "read"))?;
             svgs.push((
@@ -349,11 +349,7 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
         }
         files.push(written);
     }
-    put(
-        &mut files,
-        "report.html",
-        crate::gait::html::page(report, &svgs),
-    )?;
+    put(&mut files, "report.html", crate::html::page(report, &svgs))?;
     Ok(files)
 }
 
