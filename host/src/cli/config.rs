@@ -77,7 +77,7 @@ pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubM
 
 /// Runs `qgait config`.
 pub fn run_config(args: ConfigArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
-    crate::cli::refuse_overwrite([args.output.as_path()], &args.model.inputs())?;
+    crate::cli::output::refuse_overwrite([args.output.as_path()], &args.model.inputs())?;
     let model = hub_model(args.model.load(diagnostics)?, args.upload)?;
     let settings = HubSettings {
         missing_policy: match args.policy {

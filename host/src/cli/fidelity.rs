@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::cli::diagnostics::Diagnostics;
-use crate::cli::{refuse_overwrite, write_output};
+use crate::cli::output::{refuse_overwrite, write_output};
 use qgait_model::choice::Model;
 use qgait_model::fidelity;
 use qgait_model::motion::source::{default_label, load_motion};

@@ -16,7 +16,7 @@ use qgait_kernel::Gait2392;
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::cli::{refuse_overwrite, write_output_with};
+use crate::cli::output::{refuse_overwrite, write_output_with};
 use crate::progress::Progress;
 use qgait_figures::imu_angles;
 use qgait_model::choice::Model;

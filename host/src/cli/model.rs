@@ -7,7 +7,7 @@ use anyhow::Context;
 use clap::Subcommand;
 
 use crate::cli::diagnostics::Diagnostics;
-use crate::cli::refuse_overwrite;
+use crate::cli::output::refuse_overwrite;
 use qgait_model::choice::Model;
 use qgait_model::subject;
 
