@@ -9,7 +9,7 @@
 //! printed, when QEMU or the firmware is missing.
 #![cfg(target_os = "linux")]
 
-mod common;
+use qgait_system_tests as common;
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -61,7 +61,7 @@ fn settings(pty: &Path) -> (u32, bool) {
 
 /// Starts `qgait args` and waits until it has set the port raw at 115200 baud.
 fn start_qgait(pty: &Path, args: &[&str]) -> Child {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qgait"))
+    let mut child = Command::new(common::qgait_bin())
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

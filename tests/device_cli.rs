@@ -1,7 +1,7 @@
 //! `qgait packets`, `decode` and `verify` through the binary (no QEMU needed: the hub log is
 //! made here from the f64 kernel rounded to f32, as a hub would send it).
 
-mod common;
+use qgait_system_tests as common;
 
 use common::{qgait, stderr, stdout};
 use qgait_device::packets::push_frame;

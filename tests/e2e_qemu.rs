@@ -10,7 +10,7 @@
 //! build location); each test is skipped, with the reason printed, when either is missing.
 //! `cargo xtask test` builds the firmware first, so there they run.
 
-mod common;
+use qgait_system_tests as common;
 
 use common::firmware_elf;
 

@@ -6,7 +6,7 @@
 //!
 //! Skips with a printed reason without `../shared` or QEMU. The chain firmware is built in
 //! `firmware/target/chain` (a release build of its own, about a minute the first time).
-mod common;
+use qgait_system_tests as common;
 
 use std::path::PathBuf;
 use std::process::Command;

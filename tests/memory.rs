@@ -44,7 +44,7 @@ fn write_motion(path: &Path, rows: usize) {
 /// Runs qgait and returns its peak resident memory in KiB.
 #[allow(clippy::zombie_processes)] // waited for by wait4, which also gives its rusage
 fn peak_kib(args: &[&str]) -> i64 {
-    let child = Command::new(env!("CARGO_BIN_EXE_qgait"))
+    let child = Command::new(qgait_system_tests::qgait_bin())
         .args(args)
         .spawn()
         .expect("qgait runs");

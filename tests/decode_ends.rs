@@ -2,7 +2,7 @@
 //! from a serial bridge): `--idle`, `--seconds` and `--frames`, with the output whole. The
 //! serial-port case, with Ctrl-C, is in `serial_pty.rs`.
 
-mod common;
+use qgait_system_tests as common;
 
 use std::io::{Read, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -28,7 +28,7 @@ fn pose(seq: u32) -> Message {
 
 /// `qgait args` with `bytes` written to its standard input, which is then kept open.
 fn start(args: &[&str], bytes: &[u8]) -> (Child, ChildStdin) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qgait"))
+    let mut child = Command::new(common::qgait_bin())
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

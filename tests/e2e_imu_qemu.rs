@@ -17,8 +17,8 @@
 //! `firmware::imu_elf`, built or brought up to date first). Each test is skipped, with the reason printed,
 //! when QEMU or the build is missing.
 
-mod common;
-#[path = "../../crates/qgait-kernel/tests/imu_common/mod.rs"]
+use qgait_system_tests as common;
+#[path = "../crates/qgait-kernel/tests/imu_common/mod.rs"]
 mod imu_common;
 
 use std::path::{Path, PathBuf};
