@@ -1,7 +1,7 @@
 //! Host throughput of reading a hub log: frame decoding alone, and decoding plus verification
 //! of every pose against the kernel recomputed in `f64`.
 //!
-//! `cargo bench -p qgait --bench decode_verify` (criterion; medians in target/criterion).
+//! `cargo bench -p qgait-device --bench decode_verify` (criterion; medians in target/criterion).
 //! The log is what the hub sends for a PHAK session: one `PoseFrame` per sample (the hub's
 //! own `Kinematics`, in `f32`) and a `Status` every 100 samples.
 //! Element throughput = frames: criterion prints frames per second per core.

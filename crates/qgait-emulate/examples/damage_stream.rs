@@ -4,7 +4,7 @@
 //! `qgait emulate --stream`, `decode` or `verify` on it, and says what a hub must count:
 //!
 //! ```text
-//! cargo run -p qgait --example damage_stream -- CLEAN.bin DAMAGED.bin [SEED]
+//! cargo run -p qgait-emulate --example damage_stream -- CLEAN.bin DAMAGED.bin [SEED]
 //! ```
 
 use std::process::ExitCode;

@@ -8,7 +8,7 @@
 //! one as `qgait imu` does. BENCHMARKS.md sets the median beside OpenSense's own IK
 //! (`scripts/opensense_ik_timing.py`).
 //!
-//! `cargo bench -p qgait --bench imu` (criterion; medians in target/criterion). Without
+//! `cargo bench -p qgait-model --bench imu` (criterion; medians in target/criterion). Without
 //! `../shared` it prints why and measures nothing.
 
 use std::hint::black_box;
@@ -27,7 +27,7 @@ use qgait_opensim::imu_sto::OrientationReader;
 const FRAMES: usize = 1201;
 
 fn imu_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/imu");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/imu");
     dir.is_dir().then_some(dir)
 }
 
