@@ -57,7 +57,7 @@ fn bench(c: &mut Criterion) {
     });
     let out = dir.path().join("out");
     g.bench_function("imu_walk_24s_report", |b| {
-        b.iter(|| black_box(output::write(&analysis(), &out).expect("writes")))
+        b.iter(|| black_box(qgait_gait::files::write(&analysis(), &out).expect("writes")))
     });
     g.finish();
 }

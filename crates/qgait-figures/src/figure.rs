@@ -46,7 +46,9 @@ pub trait Figure {
 
 /// Writes `<dir>/<stem>.png` and `<dir>/<stem>.svg`.
 pub fn save<F: Figure>(figure: &F, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    font::ensure_registered()?;
+    if !font::ensure_registered() {
+        return Err(FigureError::Font);
+    }
     let stem = figure.stem();
     let png = dir.join(format!("{stem}.png"));
     let svg = dir.join(format!("{stem}.svg"));

@@ -17,7 +17,7 @@
 use qgait_kernel::progression::{heading, horizontal_unit, pelvis_forward};
 use qgait_kernel::Vec3;
 
-use crate::trial::Frame;
+use crate::trial::{median_step, Frame};
 
 /// Width (s, centred) of the local fit of the pelvis's heading that is the direction of
 /// progression ([`progression`]): about one stride. Wider windows lag in sharp turns (a
@@ -229,13 +229,6 @@ pub fn frames_in(time: &[f64], seconds: f64) -> usize {
         Some(median) if median > 0.0 => ((seconds / median).round() as usize).max(1),
         _ => 1,
     }
-}
-
-/// The median step between frames (s); `None` for fewer than two frames.
-pub fn median_step(time: &[f64]) -> Option<f64> {
-    let mut dt: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
-    dt.sort_by(f64::total_cmp);
-    dt.get(dt.len() / 2).copied()
 }
 
 /// The prominence an event must have in `signal`.

@@ -12,6 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::angles::Variable;
+use crate::error::FigureError;
 use crate::events::along;
 use crate::output::Report;
 use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
@@ -52,21 +53,6 @@ pub const PANELS: [[Panel; 3]; 5] = {
         ],
     ]
 };
-
-/// Why a figure of the report cannot be drawn or written.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum FigureError {
-    /// Drawing or writing one figure failed (the report room's drawing error, which names the
-    /// file).
-    #[error("{stem}: {error}")]
-    Save {
-        /// The figure (`kinematics`, `map`, `events`).
-        stem: String,
-        /// Why.
-        error: Box<dyn std::error::Error + Send + Sync>,
-    },
-}
 
 /// Draws one figure to PNG and SVG in `dir`.
 fn save<F: Figure>(f: &F, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {

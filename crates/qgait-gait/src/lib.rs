@@ -3,8 +3,10 @@
 
 pub mod angles;
 pub mod cycles;
+pub mod error;
 pub mod events;
 pub mod figures;
+pub mod files;
 pub mod gps;
 pub mod html;
 pub mod normative;
@@ -233,9 +235,11 @@ pub fn leg_length(walks: &[Walk]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::figures::{self, FigureError};
+    use crate::error::{FigureError, ReportError};
+    use crate::figures;
+    use crate::files;
     use crate::normative::NormativeError;
-    use crate::output::{self, ReferenceArg, ReportError, Subject};
+    use crate::output::{self, ReferenceArg, Subject};
     use crate::trial::{Limb, TrialError};
 
     fn gait2392() -> qgait_model::choice::Model {
@@ -343,7 +347,7 @@ mod tests {
         );
         let report = build(&motion, Some(vec![builtin_walk("ref.mot")])).unwrap();
         // The CSVs through the csv crate: a field with a comma is quoted.
-        let events = output::events_csv(&report).unwrap();
+        let events = files::events_csv(&report).unwrap();
         assert!(events.starts_with("side,event,time,motion\n"), "{events}");
         assert!(events.contains(",\"a,b.mot\"\n"), "{events}");
         assert!(events.contains(",c.mot\n"), "{events}");
@@ -354,7 +358,7 @@ mod tests {
         assert!(matches!(e, FigureError::Save { .. }), "{e}");
         let file = dir.path().join("file");
         std::fs::write(&file, "").unwrap();
-        let e = output::write(&report, &file.join("out")).err().unwrap();
+        let e = files::write(&report, &file.join("out")).err().unwrap();
         assert!(
             matches!(
                 e,
@@ -365,7 +369,7 @@ mod tests {
             ),
             "{e}"
         );
-        let files = output::write(&report, &dir.path().join("out")).unwrap();
+        let files = files::write(&report, &dir.path().join("out")).unwrap();
         assert!(files.iter().any(|f| f.ends_with("report.html")));
     }
 }

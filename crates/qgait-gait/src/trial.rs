@@ -117,7 +117,7 @@ pub fn gaps(
 ) -> (Vec<usize>, Vec<Warning>) {
     let mut breaks = known.to_vec();
     let mut warnings = Vec::new();
-    if let Some(median) = crate::events::median_step(time) {
+    if let Some(median) = median_step(time) {
         let secs = |x: f64| (x * 1e6).round() / 1e6;
         for i in 1..time.len() {
             let step = time[i] - time[i - 1];
@@ -347,6 +347,13 @@ pub fn coordinate(name: &str) -> usize {
         .iter()
         .position(|c| *c == name)
         .unwrap_or_else(|| panic!("`{name}` is not a gait2392 coordinate"))
+}
+
+/// The median step between frames (s); `None` for fewer than two frames.
+pub fn median_step(time: &[f64]) -> Option<f64> {
+    let mut dt: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
+    dt.sort_by(f64::total_cmp);
+    dt.get(dt.len() / 2).copied()
 }
 
 #[cfg(test)]

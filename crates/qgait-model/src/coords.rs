@@ -14,7 +14,6 @@
 use qgait_kernel::models::ranges;
 
 use crate::error::ModelError;
-use crate::kinematics::LEG_COLUMNS;
 use crate::motion::source::MotionRows;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::{Header, NonFinite};
@@ -37,6 +36,9 @@ struct RangeCheck {
 
 /// Values of an unread coordinate this close to 0 (radians, 0.0057°) are not worth a warning:
 /// OpenSense writes a locked coordinate's 0 with noise of about 1e-5 rad.
+/// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`](qgait_kernel::models::PhakAngles::NAMES) (after the pelvis).
+pub const LEG_COLUMNS: &[&str] = qgait_kernel::models::PhakAngles::<f64>::NAMES.split_at(2).1;
+
 const UNREAD_NOISE_RAD: f64 = 1e-4;
 
 /// Picks `N` named coordinates (radians) from each row of a motion.

@@ -10,9 +10,6 @@ use crate::error::ModelError;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::MotionTable;
 
-/// Coordinates that are required: the leg ones of [`PhakAngles::NAMES`] (after the pelvis).
-pub const LEG_COLUMNS: &[&str] = PhakAngles::<f64>::NAMES.split_at(2).1;
-
 /// The PHAK angles (radians) of every row of a motion. Missing pelvis columns count as 0 with a
 /// warning; a missing leg column is an error that names the file and the columns.
 pub fn phak_angles(
@@ -64,7 +61,7 @@ pub fn hak_as_phak(legs: [f64; 6]) -> PhakAngles<f64> {
 }
 
 /// The coordinates `names` (radians, in that order) of every row of a motion, through
-/// [`Picker`]: the PHAK leg columns ([`LEG_COLUMNS`]) are required, any other missing
+/// [`Picker`]: the PHAK leg columns ([`LEG_COLUMNS`](crate::coords::LEG_COLUMNS)) are required, any other missing
 /// coordinate counts as 0 with one warning, and angles outside their range are reported; only
 /// the names with `read` true are read ([`Picker::new`]).
 pub fn coordinate_rows<const N: usize>(

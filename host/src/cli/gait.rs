@@ -143,7 +143,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         &normative_dir,
         subject,
     )?;
-    let files = output::write(&report, &args.output)?;
+    let files = qgait_gait::files::write(&report, &args.output)?;
     if !diagnostics.quiet() {
         let strides: usize = report
             .walks
