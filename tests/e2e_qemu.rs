@@ -319,9 +319,9 @@ fn recording_of_5000_samples() {
 
 /// The 100,000-sample recording through QEMU's one-byte UART takes several minutes on a
 /// 2-core machine (see host/README.md, "End-to-end tests"): run it on purpose with
-/// `cargo test -p qgait --test e2e_qemu -- --ignored`.
+/// `cargo test -p qgait-system-tests --test e2e_qemu -- --ignored`.
 #[test]
-#[ignore = "several minutes under QEMU: cargo test -p qgait --test e2e_qemu -- --ignored"]
+#[ignore = "several minutes under QEMU: cargo test -p qgait-system-tests --test e2e_qemu -- --ignored"]
 fn recording_of_100000_samples() {
     let Some(elf) = firmware_elf() else { return };
     let seconds = clean(&elf, &recording(100_000), "100,000-sample recording");

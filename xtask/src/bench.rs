@@ -7,7 +7,7 @@
 //!   the UART session, and the code size of each measured loop in the bench ELF (the kernel's
 //!   share per model and method).
 //! - Host: criterion's medians (`target/criterion/**/new/estimates.json`) of the kernel's `fk`
-//!   bench and of the host crate's `decode_verify` bench.
+//!   bench and of `qgait-device`'s `decode_verify` bench.
 //!
 //! - Large files: the release `qgait` on a generated 1,000,000-row motion (in a temporary
 //!   directory, removed afterwards): `fk`, `export`, `packets` and `report` on it, `decode` and
