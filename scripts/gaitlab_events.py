@@ -31,6 +31,8 @@ TO_SPEED_FRACTION = 0.66  # Bruening & Ridge 2014: toe sagittal speed > 0.66 v a
 GHOUSSAYNI_SPEED = 0.5  # m/s, Ghoussayni et al. 2004 (as tabulated by Bonci et al. 2022)
 RUN_DUTY_FACTOR = 0.5  # Alexander 1989: running is duty factor < 0.5 (a flight phase)
 OVERGROUND_RATIO = 0.5  # pelvis travel / foot-derived travel: ~1 overground, ~0 treadmill
+FROUDE_TRANSITION = 0.5  # Alexander 1989, Kram et al. 1997: humans change gait near Fr = 0.5
+FROUDE_RUN_FLOOR = 0.25  # half of it: no "running" at walking pace (a guard, see the doc)
 
 
 # --------------------------------------------------------------------------------------------
@@ -90,11 +92,15 @@ def foot_points(model_path, ik_path):
               ["pelvis", "femur_r", "talus_r", "calcn_r", "toes_r", "femur_l", "talus_l", "calcn_l",
                "toes_l"]}
     markers = model.getMarkerSet()
-    heel_in_calcn = {s: markers.get(("R" if s == "r" else "L") + ".Heel").get_location()
-                     for s in SIDES}
+    heel_in_calcn = {}
+    for s in SIDES:
+        name = ("R" if s == "r" else "L") + ".Heel"
+        # a model without the marker set: the calcn origin stands in (the heel marker changed
+        # nothing measurable on the gait-lab recordings)
+        heel_in_calcn[s] = markers.get(name).get_location() if markers.contains(name) else osim.Vec3(0, 0, 0)
     # the kernel's toe tip: gait2392's Toe.Tip in the toes frame, scaled like the MTP offset
     mtp_generic = 0.1788
-    out = {"pelvis": np.zeros((len(time), 3))}
+    out = {"pelvis": np.zeros((len(time), 3)), "pelvis_forward": np.zeros((len(time), 3))}
     for s in SIDES:
         for p in ("hip", "ankle", "subtalar", "heel", "mtp", "toe"):
             out[f"{p}_{s}"] = np.zeros((len(time), 3))
@@ -116,6 +122,8 @@ def foot_points(model_path, ik_path):
             return [g.get(0), g.get(1), g.get(2)]
 
         out["pelvis"][i] = at("pelvis")
+        fwd = bodies["pelvis"].expressVectorInGround(state, osim.Vec3(1, 0, 0))
+        out["pelvis_forward"][i] = [fwd.get(0), fwd.get(1), fwd.get(2)]
         for s in SIDES:
             out[f"hip_{s}"][i] = at(f"femur_{s}")
             out[f"ankle_{s}"][i] = at(f"talus_{s}")
@@ -254,24 +262,49 @@ def first_crossing(t, y, level, start, stop, rising):
 # Methods. Each takes the recording's kinematics dict K (built by `signals`) and returns per
 # side (heel strikes, toe offs) as arrays of times.
 # --------------------------------------------------------------------------------------------
-def signals(t, P, translation=True, fc=None):
+def progression(t, P, window=1.2):
+    """The direction of progression per frame, as qgait's events::progression in spirit: the
+    horizontal direction the pelvis faces, averaged over `window` s centred on the frame."""
+    f = P["pelvis_forward"].copy()
+    f[:, 1] = 0
+    f /= np.linalg.norm(f, axis=1)[:, None]
+    out = np.zeros_like(f)
+    for i in range(len(t)):
+        sel = np.abs(t - t[i]) <= window / 2
+        m = f[sel].mean(axis=0)
+        out[i] = m / np.linalg.norm(m)
+    return out
+
+
+def to_heading(v, d):
+    """Vectors v (N x 3, ground axes) in the heading frame of directions d: x along d, y up."""
+    z = np.cross(d, [0.0, 1.0, 0.0])  # right of the direction of progression
+    return np.stack([np.sum(v * d, axis=1), v[:, 1], -np.sum(v * z, axis=1)], axis=1)
+
+
+def signals(t, P, translation=True, fc=None, heading=False):
     """What a kinematics-only method can use: positions relative to the pelvis origin (the
-    kernel's FK frame), their velocities, and, with `translation`, the ground-frame ones."""
+    kernel's FK frame), their velocities, and, with `translation`, the ground-frame ones.
+    With `heading`, the relative ones are expressed along the direction of progression
+    (derivatives taken in ground axes, then projected), for recordings that turn."""
     K = {"t": t}
     pel = lowpass(t, P["pelvis"], fc)
+    d = progression(t, P) if heading else None
+    rot = (lambda v: to_heading(v, d)) if heading else (lambda v: v)
     for s in SIDES:
         for p in ("ankle", "subtalar", "heel", "mtp", "toe"):
             g = lowpass(t, P[f"{p}_{s}"], fc)
             r = g - pel
-            K[f"{p}_{s}_rel"] = r
-            K[f"{p}_{s}_vrel"] = deriv(t, r)
-            K[f"{p}_{s}_arel"] = deriv(t, K[f"{p}_{s}_vrel"])
+            vr = deriv(t, r)
+            K[f"{p}_{s}_rel"] = rot(r)
+            K[f"{p}_{s}_vrel"] = rot(vr)
+            K[f"{p}_{s}_arel"] = rot(deriv(t, vr))
             if translation:
                 K[f"{p}_{s}"] = g
                 K[f"{p}_{s}_v"] = deriv(t, g)
                 K[f"{p}_{s}_a"] = deriv(t, K[f"{p}_{s}_v"])
         K[f"knee_angle_{s}"] = P[f"knee_angle_{s}"]
-        K[f"hip_{s}_rel"] = P[f"hip_{s}"] - P["pelvis"]
+        K[f"hip_{s}_rel"] = rot(P[f"hip_{s}"] - P["pelvis"])
     return K
 
 
@@ -584,8 +617,8 @@ def recommended(K):
     v0 = float(np.median([v for _, v in mid_stance_speed(K, base)]))
     first, _ = velocity_events(K, base, vertical="rel", heel="subtalar", speed=v0)
     duty = np.mean([x for s in SIDES for x in stance_points(first)[s]]) / 100
-    mode = "running" if duty < RUN_DUTY_FACTOR else "walking"
     L = leg_length(K)
+    mode = "running" if duty < RUN_DUTY_FACTOR and v0 * v0 / (9.81 * L) >= FROUDE_RUN_FLOOR else "walking"
     if mode == "walking":
         v = float(np.median([v for _, v in lowest_point_speed(K, first, ("subtalar", "mtp"))]))
         ev, _ = velocity_events(K, base, vertical="rel", heel="subtalar", speed=v,
@@ -598,12 +631,41 @@ def recommended(K):
     return ev, mode, v, duty, froude, L
 
 
+def imu_check():
+    """OpenSense's IMU solution of a real walk (no translation, no markers, no plates): what
+    the rules say, for plausibility only."""
+    sto = os.path.join(os.path.dirname(DATA.rstrip("/")), "imu", "walking_gait2392_opensense_0-12s.sto")
+    osim_file = os.path.join(os.path.dirname(DATA.rstrip("/")), "opensim", "gait2392_simbody.osim")
+    if not (os.path.exists(sto) and os.path.exists(osim_file)):
+        print("\n(no IMU solution found beside the gait-lab data: skipped)")
+        return
+    cfile = "/tmp/gaitlab_kin3_imu.npz"
+    if os.path.exists(cfile):
+        z = np.load(cfile)
+        t, P = z["t"], {k: z[k] for k in z.files if k != "t"}
+    else:
+        t, P = foot_points(osim_file, sto)
+        np.savez(cfile, t=t, **P)
+    K = signals(t, P, translation=False, heading=True)
+    base = zeni(K)
+    v0 = float(np.median([v for _, v in mid_stance_speed(K, base)]))
+    first, _ = velocity_events(K, base, vertical="rel", heel="subtalar", speed=v0)
+    duty1 = np.mean([x for s in SIDES for x in stance_points(first)[s]]) / 100
+    ev, mode, v, _, froude, L = recommended(K)
+    st = stance_points(ev)
+    print(f"\n=== OpenSense IMU solution, walking_gait2392_opensense_0-12s (no truth): first-pass duty "
+          f"{duty1:.3f}, mid-stance speed {v0:.3f} m/s, Froude {v0 * v0 / (9.81 * L):.3f} -> {mode}; "
+          f"speed {v:.3f} m/s; stride time {stride_time(ev):.2f} s; heel strikes "
+          f"{[len(ev[s][0]) for s in SIDES]}, toe offs {[len(ev[s][1]) for s in SIDES]}; stance % "
+          f"{[round(x, 1) for x in st['r']]} {[round(x, 1) for x in st['l']]}")
+
+
 def load():
     """Per recording: (label, IK time, points, GRF time, plate events, belt speeds)."""
     results = {}
     for label, folder, ik, osim_file, grf, trc in RECORDINGS:
         d = os.path.join(DATA, folder)
-        cfile = f"/tmp/gaitlab_kin2_{folder}.npz"  # a cache of the OpenSim evaluation
+        cfile = f"/tmp/gaitlab_kin3_{folder}.npz"  # a cache of the OpenSim evaluation
         if os.path.exists(cfile):
             z = np.load(cfile)
             t = z["t"]
@@ -707,6 +769,9 @@ def main():
         Ki = signals(t, P, translation=False)  # what an IMU solution gives: nothing in ground
         ri = recommended(Ki)
         summarise(f"R without any ground-frame quantity ({ri[1]}, v={ri[2]:.3f})", ri[0], plate, t0, t1, rows)
+        Kh = signals(t, P, heading=True)
+        rh = recommended(Kh)
+        summarise(f"R along the pelvis heading (as qgait's progression) ({rh[1]}, v={rh[2]:.3f})", rh[0], plate, t0, t1, rows)
         summarise("D6 D on 6 Hz low-passed points", velocity_events(f6, zeni(f6), vertical="rel", heel="subtalar")[0], plate, t0, t1, rows)
         summarise("A6 A on 6 Hz low-passed points", zeni(f6), plate, t0, t1, rows)
 
@@ -788,3 +853,4 @@ def lowest_point_speed(K, ev=None, points=("subtalar", "mtp", "toe")):
 
 if __name__ == "__main__":
     main()
+    imu_check()
