@@ -11,6 +11,7 @@ pub mod gps;
 pub mod html;
 pub mod normative;
 pub mod output;
+pub mod rules;
 pub mod spatiotemporal;
 pub mod trial;
 
@@ -87,10 +88,22 @@ pub struct Walk {
     pub angles: Option<[[Vec<f64>; 9]; 2]>,
     /// How its cycles were taken (a `builtin:` gait whole whatever `--cycle` says).
     pub mode: CycleMode,
+    /// Mode, ground and speed from the rules ([`rules`]), when the recording has the strides
+    /// for them (its events are then the rules'; else Zeni's).
+    pub gait: Option<rules::Gait>,
 }
 
 /// Analyses one recording.
 pub fn analyse(trial: Trial, mode: CycleMode) -> Result<Walk, AnalysisError> {
+    analyse_with(trial, mode, None)
+}
+
+/// Analyses one recording; `given_speed` is a known belt speed (m/s, `--treadmill-speed`).
+pub fn analyse_with(
+    trial: Trial,
+    mode: CycleMode,
+    given_speed: Option<f64>,
+) -> Result<Walk, AnalysisError> {
     let n = trial.time.len();
     if n < 3 {
         return Err(AnalysisError::TooShort {
@@ -115,7 +128,26 @@ pub fn analyse(trial: Trial, mode: CycleMode) -> Result<Walk, AnalysisError> {
         .iter()
         .flat_map(|r| events::progression(&trial.time[r.clone()], &trial.frames[r.clone()], window))
         .collect();
-    let events = events::detect_in(&trial.time, &trial.frames, &forward, &segments);
+    let anchors = events::detect_in(&trial.time, &trial.frames, &forward, &segments);
+    let knee = trial.coordinates.as_ref().map(|c| {
+        ["knee_angle_r", "knee_angle_l"].map(|name| {
+            let k = trial::coordinate(name);
+            c.iter().map(|row| row[k]).collect::<Vec<f64>>()
+        })
+    });
+    let input = rules::Input {
+        time: &trial.time,
+        frames: &trial.frames,
+        forward: &forward,
+        segments: &segments,
+        knee,
+        translation: trial.translation.as_deref(),
+        given_speed,
+    };
+    let (events, gait) = match rules::apply(&input, &anchors) {
+        Some((e, g)) => (e, Some(g)),
+        None => (anchors, None),
+    };
     let (cycles, dropped) = match mode {
         CycleMode::Auto => cycles::strides(&trial.time, &events, &forward, &segments),
         CycleMode::Whole => {
@@ -133,6 +165,7 @@ pub fn analyse(trial: Trial, mode: CycleMode) -> Result<Walk, AnalysisError> {
         dropped,
         angles,
         mode,
+        gait,
     })
 }
 
@@ -294,6 +327,7 @@ mod tests {
             coordinates: None,
             translation: None,
             breaks: Vec::new(),
+            planar: false,
         };
         let e = analyse(still(2), CycleMode::Auto).err().unwrap();
         assert!(matches!(e, AnalysisError::TooShort { rows: 2, .. }), "{e}");

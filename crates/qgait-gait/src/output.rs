@@ -108,7 +108,7 @@ pub fn build(
     let mut parameters = {
         let list: Vec<spatiotemporal::Walk<'_>> = walks
             .iter()
-            .map(|w| (&w.trial, w.forward.as_slice(), &w.cycles))
+            .map(|w| (&w.trial, w.forward.as_slice(), &w.cycles, w.gait.as_ref()))
             .collect();
         spatiotemporal::parameters(&list)
     };

@@ -20,6 +20,7 @@ use qgait_kernel::Vec3;
 
 use crate::cycles::Cycle;
 use crate::normative::Range;
+use crate::rules::{Gait, Mode};
 use crate::trial::Trial;
 
 /// One parameter of one side.
@@ -46,11 +47,24 @@ fn mean(v: &[f64]) -> Option<f64> {
     (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
-/// A value of one cycle of a recording (with its direction of progression), if it has one.
-type PerCycle<'a> = dyn Fn(&Trial, &[Vec3<f64>], &Cycle) -> Option<f64> + 'a;
+/// A value of one cycle of a recording (with its direction of progression and what the rules
+/// found), if it has one.
+type PerCycle<'a> = dyn Fn(&Trial, &[Vec3<f64>], &Cycle, Option<&Gait>) -> Option<f64> + 'a;
 
-/// One analysed recording: the trial, its direction of progression and its cycles.
-pub type Walk<'a> = (&'a Trial, &'a [Vec3<f64>], &'a [Vec<Cycle>; 2]);
+/// One analysed recording: the trial, its direction of progression, its cycles and what the
+/// rules found ([`crate::rules`]).
+pub type Walk<'a> = (
+    &'a Trial,
+    &'a [Vec3<f64>],
+    &'a [Vec<Cycle>; 2],
+    Option<&'a Gait>,
+);
+
+/// The note of a length from the speed: speed times a time.
+pub const FROM_SPEED: &str = "speed x stride time";
+/// The note of a step length from the speed.
+pub const STEP_FROM_SPEED: &str =
+    "speed x step time (heel strike to the other foot's): the distance travelled between contacts of opposite feet";
 
 /// The direction of travel over a stride (horizontal unit vector), from the feet alone: a foot
 /// in stance stands still on the ground, so relative to the pelvis its forefoot (gait2392's
@@ -108,15 +122,19 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     let mut stride_time = [None; 2];
     let mut displacement = [None; 2];
     let mut all_durations = Vec::new();
+    let mut step_note = "heels at heel strike";
     for s in 0..2 {
         let o = 1 - s;
         // Every cycle of the side with its recording.
-        let cycles: Vec<(&Trial, &[Vec3<f64>], &Cycle)> = walks
+        let cycles: Vec<(&Trial, &[Vec3<f64>], &Cycle, Option<&Gait>)> = walks
             .iter()
-            .flat_map(|(t, f, c)| c[s].iter().map(move |c| (*t, *f, c)))
+            .flat_map(|(t, f, c, g)| c[s].iter().map(move |c| (*t, *f, c, *g)))
             .collect();
         let collect = |f: &PerCycle| -> Vec<f64> {
-            cycles.iter().filter_map(|(t, d, c)| f(t, d, c)).collect()
+            cycles
+                .iter()
+                .filter_map(|(t, d, c, g)| f(t, d, c, *g))
+                .collect()
         };
         let at_strike = |trial: &Trial, forward: &[Vec3<f64>], c: &Cycle| {
             let f = &trial.frames[c.strike_frame];
@@ -125,11 +143,22 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             let across = Vec3::new(-d.z, 0.0, d.x);
             (between.dot(d), between.dot(across).abs())
         };
-        let durations = collect(&|_, _, c| Some(c.duration));
+        let durations = collect(&|_, _, c, _| Some(c.duration));
         all_durations.extend(&durations);
         stride_time[s] = mean(&durations);
-        step_length[s] = mean(&collect(&|t, d, c| Some(at_strike(t, d, c).0)));
-        let moved = collect(&|trial, _, c| {
+        // With a speed from the rules: speed x step time, whatever the pelvis does.
+        let from_speed = cycles.iter().all(|c| c.3.is_some());
+        step_length[s] = if from_speed {
+            mean(&collect(&|_, _, c, g| {
+                Some(g?.speed * (c.duration - c.opposite_strike?))
+            }))
+        } else {
+            mean(&collect(&|t, d, c, _| Some(at_strike(t, d, c).0)))
+        };
+        let moved = collect(&|trial, _, c, g| {
+            if let Some(g) = g {
+                return Some(g.speed * c.duration);
+            }
             let tr = trial.translation.as_ref()?;
             let (a, b) = (tr[c.span.0], tr[c.span.1]);
             let t = trial.time[c.span.1] - trial.time[c.span.0];
@@ -154,48 +183,78 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
         push(
             "step_time",
             side,
-            mean(&collect(&|_, _, c| {
+            mean(&collect(&|_, _, c, _| {
                 c.opposite_strike.map(|o| c.duration - o)
             })),
             "s",
             "",
         );
-        let stance = mean(&collect(&|_, _, c| c.toe_off.map(|t| c.percent(t))));
+        let stance = mean(&collect(&|_, _, c, _| c.toe_off.map(|t| c.percent(t))));
         push("stance", side, stance, "%", "");
         push("swing", side, stance.map(|s| 100.0 - s), "%", "");
-        push(
-            "double_support",
-            side,
-            mean(&collect(
-                &|_, _, c| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
-                    (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
-                        Some(c.percent(oto) + c.percent(to - ohs))
+        let running = cycles
+            .iter()
+            .any(|c| c.3.is_some_and(|g| g.mode == Mode::Running));
+        if running {
+            // Running: no double support; the flight from the side's toe off to the other
+            // foot's contact.
+            push(
+                "flight",
+                side,
+                mean(&collect(&|_, _, c, _| {
+                    let (to, ohs) = (c.toe_off?, c.opposite_strike?);
+                    (ohs > to).then(|| c.percent(ohs - to))
+                })),
+                "%",
+                "the side's toe off to the other foot's heel strike (running)",
+            );
+        } else {
+            push(
+                "double_support",
+                side,
+                mean(&collect(&|_, _, c, _| {
+                    match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+                        (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
+                            Some(c.percent(oto) + c.percent(to - ohs))
+                        }
+                        _ => None,
                     }
-                    _ => None,
-                },
-            )),
-            "%",
-            "",
-        );
+                })),
+                "%",
+                "",
+            );
+        }
         push(
             "step_length",
             side,
             step_length[s],
             "m",
-            "heels at heel strike",
+            if from_speed {
+                step_note = STEP_FROM_SPEED;
+                step_note
+            } else {
+                step_note
+            },
         );
-        step_width[s] = mean(&collect(&|t, d, c| Some(at_strike(t, d, c).1)));
-        push(
-            "step_width",
-            side,
-            step_width[s],
-            "m",
-            "heels at heel strike",
-        );
+        let planar = cycles.iter().any(|c| c.0.planar);
+        if !planar {
+            step_width[s] = mean(&collect(&|t, d, c, _| Some(at_strike(t, d, c).1)));
+            push(
+                "step_width",
+                side,
+                step_width[s],
+                "m",
+                "heels at heel strike",
+            );
+        }
     }
     // Stride length and speed per side, then both.
     let estimated = "estimated: the two mean step lengths (no pelvis translation)";
-    let measured = "pelvis_tx/pelvis_tz";
+    let rules: Vec<&Gait> = walks.iter().filter_map(|w| w.3).collect();
+    let measured = match rules.first() {
+        Some(g) if rules.len() == walks.len() => g.speed_method.note(),
+        _ => "pelvis_tx/pelvis_tz",
+    };
     let stride_length = |s: usize| -> Option<(f64, &'static str)> {
         match displacement[s] {
             Some(d) => Some((d, measured)),
@@ -205,10 +264,13 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     let mut lengths = Vec::new();
     for s in 0..2 {
         if let (Some((l, note)), Some(t)) = (stride_length(s), stride_time[s]) {
-            push("stride_length", SIDES[s], Some(l), "m", note);
+            push("stride_length", SIDES[s], Some(l), "m", length_note(note));
             push("speed", SIDES[s], Some(l / t), "m/s", note);
             lengths.push((l, note));
         }
+    }
+    if let [Some(r), Some(l)] = step_length {
+        push("step_length", "both", Some((r + l) / 2.0), "m", step_note);
     }
     if let [Some(r), Some(l)] = step_width {
         push(
@@ -224,10 +286,19 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     push("stride_time", "both", t, "s", "");
     if let (Some(t), Some(&(_, note))) = (t, lengths.first()) {
         let l = lengths.iter().map(|x| x.0).sum::<f64>() / lengths.len() as f64;
-        push("stride_length", "both", Some(l), "m", note);
+        push("stride_length", "both", Some(l), "m", length_note(note));
         push("speed", "both", Some(l / t), "m/s", note);
     }
     out
+}
+
+/// The note of a stride length whose speed's note is `note`.
+fn length_note(note: &'static str) -> &'static str {
+    if note.starts_with("foot velocity") || note.starts_with("given") {
+        FROM_SPEED
+    } else {
+        note
+    }
 }
 
 /// The value of a parameter of `side`.
@@ -286,6 +357,7 @@ mod tests {
             coordinates: None,
             translation: None,
             breaks: Vec::new(),
+            planar: false,
         };
         let cycle = Cycle {
             side: 0,
@@ -304,7 +376,7 @@ mod tests {
         // right, whatever the pelvis faces.
         let facing = vec![Vec3::new(1.0, 0.0, 0.0); time.len()];
         let cycles = [vec![cycle], Vec::new()];
-        let p = parameters(&[(&trial, &facing, &cycles)]);
+        let p = parameters(&[(&trial, &facing, &cycles, None)]);
         let length = value(&p, "step_length", "right").unwrap();
         let width = value(&p, "step_width", "right").unwrap();
         assert!((length - 0.6).abs() < 1e-12, "{length}");
@@ -334,6 +406,7 @@ mod tests {
             coordinates: None,
             translation: None,
             breaks: Vec::new(),
+            planar: false,
         };
         let forward = vec![Vec3::new(off.cos(), 0.0, off.sin()); 2];
         let cycle = |side: usize, frame: usize| Cycle {
@@ -348,7 +421,7 @@ mod tests {
             span: (frame, frame),
         };
         let cycles = [vec![cycle(0, 0)], vec![cycle(1, 1)]];
-        let p = parameters(&[(&trial, &forward, &cycles)]);
+        let p = parameters(&[(&trial, &forward, &cycles, None)]);
         let r = value(&p, "step_width", "right").unwrap();
         let l = value(&p, "step_width", "left").unwrap();
         let shift = len * off.sin();

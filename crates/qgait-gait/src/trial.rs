@@ -83,6 +83,10 @@ pub struct Trial {
     /// The frames that begin a new stretch of the recording, in order: after a gap in time
     /// ([`gaps`]) or after rows left out. No event or stride spans one.
     pub breaks: Vec<usize>,
+    /// The model moves the legs in the sagittal plane only (no hip adduction or rotation, no
+    /// pelvis list or rotation, e.g. gait10dof18musc): no frontal or transverse quantity
+    /// (step width) can be seen.
+    pub planar: bool,
 }
 
 impl Trial {
@@ -180,6 +184,7 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
                 coordinates: None,
                 translation: None,
                 breaks,
+                planar: false,
             },
             warnings,
         ));
@@ -192,6 +197,12 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
     }
     let foot = model.lengths().is_none();
     let points = PointModel::new(model, foot)?;
+    let planar = {
+        let reads = points.reads();
+        ["hip_adduction_r", "hip_adduction_l", "hip_rotation_r", "hip_rotation_l"]
+            .iter()
+            .all(|c| !reads[coordinate(c)])
+    };
     let (table, left_out, w) = leave_out_non_finite(table, points.reads());
     warnings.extend(w);
     let mut time = Vec::with_capacity(table.rows());
@@ -262,6 +273,7 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
             coordinates: Some(coordinates),
             translation,
             breaks,
+            planar,
         },
         warnings,
     ))
@@ -429,6 +441,7 @@ mod tests {
             coordinates: None,
             translation: None,
             breaks,
+            planar: false,
         };
         assert_eq!(trial.segments(), [0..3, 3..801, 801..1002]);
         // Steady sampling: no gap.

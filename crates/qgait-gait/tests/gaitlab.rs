@@ -1,0 +1,363 @@
+//! The gait analysis against force plates and markers: the shared gait-lab recordings
+//! (`../shared/data/gaitlab/`, skipped with a printed reason when absent). The truth comes
+//! from the ground reaction forces (a foot's vertical force crossing 20 N) and from the
+//! markers (the belt speed from the feet's backward velocity in mid-stance), never from the
+//! joint angles the analysis reads.
+
+use std::path::{Path, PathBuf};
+
+use qgait_gait::events::Kind;
+use qgait_gait::rules::{Ground, Mode};
+use qgait_gait::spatiotemporal::value;
+use qgait_gait::{analyse_with, trial, CycleMode, Walk};
+use qgait_model::choice::Model;
+use qgait_opensim::mot::MotionTable;
+
+/// Vertical force (N) whose crossing is contact.
+const THRESHOLD: f64 = 20.0;
+/// Events this close (s) to an end of the records are not scored.
+const MARGIN: f64 = 0.2;
+/// A detected event matches a true one of the same side and kind within this (s).
+const MATCH: f64 = 0.15;
+
+fn dir() -> Option<PathBuf> {
+    let d = std::env::var_os("QGAIT_GAITLAB")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/gaitlab")
+        });
+    let d = if d.is_dir() {
+        d
+    } else {
+        PathBuf::from("/work/shared/data/gaitlab")
+    };
+    if d.is_dir() {
+        Some(d)
+    } else {
+        eprintln!(
+            "skipped: no gait-lab recordings at {} (set QGAIT_GAITLAB)",
+            d.display()
+        );
+        None
+    }
+}
+
+/// Plate events per side: `(heel strikes, toe offs)`, times (s), and the GRF's time span.
+type Plate = ([Vec<f64>; 2], [Vec<f64>; 2], (f64, f64));
+
+fn plate_events(grf: &Path) -> Plate {
+    let (table, _) = MotionTable::read(grf).expect("GRF reads");
+    let t = table.time();
+    let mut hs: [Vec<f64>; 2] = Default::default();
+    let mut to: [Vec<f64>; 2] = Default::default();
+    for (s, name) in ["ground_force_vy", "1_ground_force_vy"].iter().enumerate() {
+        let f = table.column(name).expect("vertical force");
+        for k in 1..f.len() {
+            let (a, b) = (f[k - 1] - THRESHOLD, f[k] - THRESHOLD);
+            if (a < 0.0) != (b < 0.0) {
+                let at = t[k - 1] + (-a / (b - a)) * (t[k] - t[k - 1]);
+                if b >= 0.0 {
+                    hs[s].push(at);
+                } else {
+                    to[s].push(at);
+                }
+            }
+        }
+    }
+    (hs, to, (t[0], t[t.len() - 1]))
+}
+
+/// The markers of a `.trc` (m), by name: per frame x, y, z; and the times.
+fn markers(trc: &Path, names: &[&str]) -> (Vec<f64>, Vec<Vec<[f64; 3]>>) {
+    let text = std::fs::read_to_string(trc).expect("trc reads");
+    let lines: Vec<&str> = text.lines().collect();
+    let units = lines[2].split('\t').nth(4).unwrap_or("mm").trim();
+    let scale = if units == "mm" { 1e-3 } else { 1.0 };
+    let labels: Vec<&str> = lines[3].split('\t').collect();
+    let cols: Vec<usize> = names
+        .iter()
+        .map(|n| labels.iter().position(|l| l.trim() == *n).expect(n))
+        .collect();
+    let (mut time, mut out) = (Vec::new(), vec![Vec::new(); names.len()]);
+    for l in &lines[5..] {
+        let v: Vec<f64> = l
+            .split('\t')
+            .map(|x| x.trim().parse().unwrap_or(f64::NAN))
+            .collect();
+        if v.len() < 2 || !v[1].is_finite() {
+            continue;
+        }
+        time.push(v[1]);
+        for (m, &c) in cols.iter().enumerate() {
+            out[m].push([v[c] * scale, v[c + 1] * scale, v[c + 2] * scale]);
+        }
+    }
+    (time, out)
+}
+
+/// The belt speed: per plate stance, the median over its middle third of the heel and toe
+/// markers' backward velocity, averaged; the median over stances.
+fn belt_speed(trc: &Path, plate: &Plate) -> f64 {
+    let sides = [["R.Heel", "R.Toe.Tip"], ["L.Heel", "L.Toe.Tip"]];
+    let mut per_stance = Vec::new();
+    for (s, names) in sides.iter().enumerate() {
+        let (time, m) = markers(trc, names);
+        for &h in &plate.0[s] {
+            let Some(&o) = plate.1[s].iter().find(|&&o| o > h) else {
+                continue;
+            };
+            let (a, b) = (h + (o - h) / 3.0, h + 2.0 * (o - h) / 3.0);
+            let mut per_marker = Vec::new();
+            for p in &m {
+                let mut v: Vec<f64> = (1..time.len() - 1)
+                    .filter(|&k| time[k] >= a && time[k] <= b)
+                    .map(|k| -(p[k + 1][0] - p[k - 1][0]) / (time[k + 1] - time[k - 1]))
+                    .filter(|v| v.is_finite())
+                    .collect();
+                if v.is_empty() {
+                    continue;
+                }
+                v.sort_by(f64::total_cmp);
+                per_marker.push(v[v.len() / 2]);
+            }
+            if per_marker.len() == 2 {
+                per_stance.push((per_marker[0] + per_marker[1]) / 2.0);
+            }
+        }
+    }
+    per_stance.sort_by(f64::total_cmp);
+    per_stance[per_stance.len() / 2]
+}
+
+struct Scored {
+    mean_ms: f64,
+    worst_ms: f64,
+    matched: usize,
+    missed: usize,
+    false_events: usize,
+}
+
+/// Matches detected to true events of one side and kind in `span`.
+fn score(detected: &[f64], truth: &[f64], span: (f64, f64)) -> (Vec<f64>, usize, usize) {
+    let inside = |t: &f64| *t >= span.0 && *t <= span.1;
+    let mut errors = Vec::new();
+    let mut missed = 0;
+    for &t in truth.iter().filter(|t| inside(t)) {
+        match detected
+            .iter()
+            .map(|d| d - t)
+            .filter(|e| e.abs() <= MATCH)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+        {
+            Some(e) => errors.push(e),
+            None => missed += 1,
+        }
+    }
+    let false_events = detected
+        .iter()
+        .filter(|d| inside(d) && !truth.iter().any(|t| (*d - t).abs() <= MATCH))
+        .count();
+    (errors, missed, false_events)
+}
+
+/// Stance as % of each plate stride of a side.
+fn plate_stance(plate: &Plate, s: usize) -> f64 {
+    let hs = &plate.0[s];
+    let v: Vec<f64> = hs
+        .windows(2)
+        .filter_map(|w| {
+            let to = plate.1[s].iter().find(|&&o| o > w[0] && o < w[1])?;
+            Some(100.0 * (to - w[0]) / (w[1] - w[0]))
+        })
+        .collect();
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
+fn plate_stride(plate: &Plate) -> f64 {
+    let v: Vec<f64> = (0..2)
+        .flat_map(|s| plate.0[s].windows(2).map(|w| w[1] - w[0]))
+        .collect();
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
+struct Case {
+    dir: &'static str,
+    ik: &'static str,
+    model: &'static str,
+    grf: &'static str,
+    trc: &'static str,
+    mode: Mode,
+}
+
+const CASES: [Case; 2] = [
+    Case {
+        dir: "subject01_walk1",
+        ik: "subject01_walk1_ik.mot",
+        model: "subject01_simbody.osim",
+        grf: "subject01_walk1_grf.mot",
+        trc: "subject01_walk1.trc",
+        mode: Mode::Walking,
+    },
+    Case {
+        dir: "subject02_running",
+        ik: "subject02_running_ik.mot",
+        model: "subject02_scaled.osim",
+        grf: "subject02_running_grf.mot",
+        trc: "subject02_running.trc",
+        mode: Mode::Running,
+    },
+];
+
+fn run(case: &Case, root: &Path, pelvis: bool) -> (Walk, Plate, (f64, f64), f64) {
+    let d = root.join(case.dir);
+    let (model, _) = Model::load(d.join(case.model).to_str().unwrap(), None).expect("model");
+    let ik = d.join(case.ik);
+    let source = if pelvis {
+        ik.to_str().unwrap().to_string()
+    } else {
+        // The same motion without its pelvis translation (as an IMU solution has it).
+        let (table, _) = MotionTable::read(&ik).unwrap();
+        let labels: Vec<String> = table.labels().to_vec();
+        let columns: Vec<Vec<f64>> = labels
+            .iter()
+            .map(|l| {
+                let c = table.column(l).unwrap();
+                if ["pelvis_tx", "pelvis_ty", "pelvis_tz"].contains(&l.as_str()) {
+                    vec![0.0; c.len()]
+                } else {
+                    c.to_vec()
+                }
+            })
+            .collect();
+        let t =
+            MotionTable::new("no_translation", "mem", table.in_degrees(), labels, columns).unwrap();
+        let out = std::env::temp_dir().join(format!("qgait_gaitlab_{}_still.mot", case.dir));
+        let mut f = std::fs::File::create(&out).unwrap();
+        t.write_mot(&mut f).unwrap();
+        out.to_str().unwrap().to_string()
+    };
+    let (t, _) = trial::load(&source, &model).expect("loads");
+    let ik_span = (t.time[0], *t.time.last().unwrap());
+    let walk = analyse_with(t, CycleMode::Auto, None).expect("analyses");
+    let plate = plate_events(&d.join(case.grf));
+    let (mtime, _) = markers(&d.join(case.trc), &["R.Heel"]);
+    let span = (
+        ik_span.0.max(plate.2 .0).max(mtime[0]) + MARGIN,
+        ik_span.1.min(plate.2 .1).min(*mtime.last().unwrap()) - MARGIN,
+    );
+    let belt = belt_speed(&d.join(case.trc), &plate);
+    (walk, plate, span, belt)
+}
+
+fn events_of(walk: &Walk, side: usize, kind: Kind) -> Vec<f64> {
+    let e = match kind {
+        Kind::HeelStrike => &walk.events.heel_strike[side],
+        Kind::ToeOff => &walk.events.toe_off[side],
+    };
+    e.iter().map(|e| e.time).collect()
+}
+
+#[test]
+fn events_speed_and_lengths_match_the_plates_and_markers() {
+    let Some(root) = dir() else { return };
+    for case in &CASES {
+        for pelvis in [true, false] {
+            let (walk, plate, span, belt) = run(case, &root, pelvis);
+            let label = format!(
+                "{} ({})",
+                case.dir,
+                if pelvis {
+                    "with pelvis translation"
+                } else {
+                    "without"
+                }
+            );
+            let gait = walk.gait.as_ref().expect("the rules apply");
+            assert_eq!(gait.mode, case.mode, "{label}: {gait:?}");
+            assert_eq!(
+                gait.ground,
+                if pelvis {
+                    Ground::Treadmill
+                } else {
+                    Ground::Unknown
+                },
+                "{label}"
+            );
+            let mut all = Vec::new();
+            for side in 0..2 {
+                for (kind, truth) in [(Kind::HeelStrike, &plate.0), (Kind::ToeOff, &plate.1)] {
+                    let (errors, missed, false_events) =
+                        score(&events_of(&walk, side, kind), &truth[side], span);
+                    let s = Scored {
+                        mean_ms: 1e3 * errors.iter().sum::<f64>() / errors.len().max(1) as f64,
+                        worst_ms: 1e3 * errors.iter().fold(0.0f64, |m, e| m.max(e.abs())),
+                        matched: errors.len(),
+                        missed,
+                        false_events,
+                    };
+                    eprintln!(
+                        "{label} {} {}: mean {:+.1} ms, worst {:.1} ms, {} matched, {} missed, {} false",
+                        ["right", "left"][side],
+                        kind.name(),
+                        s.mean_ms,
+                        s.worst_ms,
+                        s.matched,
+                        s.missed,
+                        s.false_events
+                    );
+                    assert!(s.matched > 0, "{label}: nothing matched");
+                    assert_eq!((s.missed, s.false_events), (0, 0), "{label}");
+                    assert!(s.worst_ms <= 25.0, "{label}: worst {} ms", s.worst_ms);
+                    all.extend(errors);
+                }
+            }
+            let mean = 1e3 * all.iter().map(|e| e.abs()).sum::<f64>() / all.len() as f64;
+            assert!(mean <= 10.0, "{label}: mean absolute {mean} ms");
+            // Spatiotemporal parameters against the plates and the belt.
+            let p = walk_parameters(&walk);
+            let speed = value(&p, "speed", "both").unwrap();
+            let stride = value(&p, "stride_length", "both").unwrap();
+            let step = value(&p, "step_length", "both").unwrap();
+            let cadence = value(&p, "cadence", "both").unwrap();
+            let t = plate_stride(&plate);
+            let rel = |a: f64, b: f64| (a - b) / b * 100.0;
+            eprintln!(
+                "{label}: speed {speed:.3} (belt {belt:.3}, {:+.1} %), stride {stride:.3} ({:+.1} %), step {step:.3} ({:+.1} %), cadence {cadence:.1} ({:+.2} %)",
+                rel(speed, belt),
+                rel(stride, belt * t),
+                rel(step, belt * t / 2.0),
+                rel(cadence, 120.0 / t)
+            );
+            assert!(rel(speed, belt).abs() <= 3.0, "{label}: speed {speed}");
+            assert!(rel(stride, belt * t).abs() <= 3.0, "{label}: stride {stride}");
+            assert!(rel(step, belt * t / 2.0).abs() <= 5.0, "{label}: step {step}");
+            assert!(rel(cadence, 120.0 / t).abs() <= 1.0, "{label}: cadence {cadence}");
+            for side in 0..2 {
+                let stance = value(&p, "stance", ["right", "left"][side]).unwrap();
+                let truth = plate_stance(&plate, side);
+                eprintln!("{label}: stance {side} {stance:.1} % (plates {truth:.1} %)");
+                assert!((stance - truth).abs() <= 2.0, "{label}: stance {stance} vs {truth}");
+            }
+            let names: Vec<&str> = p.iter().map(|p| p.name).collect();
+            match case.mode {
+                Mode::Running => {
+                    assert!(names.contains(&"flight"), "{names:?}");
+                    assert!(!names.contains(&"double_support"), "{names:?}");
+                }
+                Mode::Walking => {
+                    assert!(names.contains(&"double_support"), "{names:?}");
+                    assert!(!names.contains(&"flight"), "{names:?}");
+                }
+            }
+        }
+    }
+}
+
+fn walk_parameters(walk: &Walk) -> Vec<qgait_gait::spatiotemporal::Parameter> {
+    qgait_gait::spatiotemporal::parameters(&[(
+        &walk.trial,
+        walk.forward.as_slice(),
+        &walk.cycles,
+        walk.gait.as_ref(),
+    )])
+}
