@@ -35,6 +35,22 @@ pub enum ReportError {
     /// A figure could not be drawn.
     #[error(transparent)]
     Figure(#[from] FigureError),
+    /// A result outside what a human can do: the input is not what it claims to be.
+    #[error("{recordings}: {what} is {value} {unit}, outside what a human can do ({min} to {max} {unit}): the input is not what it claims to be (angles in degrees declared radians? see --angles-in), so no report is made")]
+    Impossible {
+        /// The recordings.
+        recordings: String,
+        /// The quantity and side (`cadence (right)`).
+        what: String,
+        /// Its value.
+        value: String,
+        /// Its unit.
+        unit: &'static str,
+        /// The least possible.
+        min: f64,
+        /// The most possible.
+        max: f64,
+    },
 }
 
 /// Why a figure of the report cannot be drawn or written.

@@ -36,6 +36,7 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
         "spatiotemporal.csv",
         spatiotemporal_csv(&report.parameters)?,
     )?;
+    put(&mut files, "summary.json", summary_json(report))?;
     if let Some(s) = &report.scores {
         put(&mut files, "gps.csv", gps_csv(s)?)?;
     }
@@ -103,6 +104,74 @@ pub fn events_csv(report: &Report) -> Result<String, ReportError> {
         }
         Ok(())
     })
+}
+
+/// `summary.json`: per recording its mode (`walking`/`running`), ground
+/// (`treadmill`/`overground`/`unknown`), speed and how it was found, duty factor, Froude number
+/// and leg length; and the headline figures over all recordings (both sides).
+pub fn summary_json(report: &Report) -> String {
+    let recordings: Vec<serde_json::Value> = report
+        .walks
+        .iter()
+        .map(|w| match &w.gait {
+            Some(g) => serde_json::json!({
+                "recording": w.trial.source,
+                "mode": g.mode.name(),
+                "ground": g.ground.name(),
+                "speed": g.speed,
+                "speed_method": g.speed_method.note(),
+                "duty_factor": g.duty,
+                "first_pass_duty_factor": g.first_duty,
+                "froude": g.froude,
+                "leg_length": g.leg_length,
+                "travel_ratio": g.travel_ratio,
+                "events": "rules R (docs/gait-analysis.md)",
+                "notes": g.notes,
+            }),
+            None => serde_json::json!({
+                "recording": w.trial.source,
+                "mode": serde_json::Value::Null,
+                "ground": "unknown",
+                "events": "Zeni et al. 2008 (too few strides for the rules)",
+            }),
+        })
+        .collect();
+    let mut headline = serde_json::Map::new();
+    for name in [
+        "speed",
+        "cadence",
+        "stride_time",
+        "stride_length",
+        "step_length",
+        "step_width",
+    ] {
+        if let Some(p) = report
+            .parameters
+            .iter()
+            .find(|p| p.name == name && p.side == "both")
+        {
+            headline.insert(
+                name.into(),
+                serde_json::json!({"value": p.value, "unit": p.unit, "method": p.note}),
+            );
+        }
+    }
+    for name in ["stance", "double_support", "flight"] {
+        for p in report.parameters.iter().filter(|p| p.name == name) {
+            headline.insert(
+                format!("{name}_{}", p.side),
+                serde_json::json!({"value": p.value, "unit": p.unit}),
+            );
+        }
+    }
+    let first = report.walks.first().and_then(|w| w.gait.as_ref());
+    let value = serde_json::json!({
+        "mode": first.map(|g| g.mode.name()),
+        "ground": first.map_or("unknown", |g| g.ground.name()),
+        "recordings": recordings,
+        "headline": headline,
+    });
+    serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"
 }
 
 /// `spatiotemporal.csv`: `parameter,side,value,unit,normal_min,normal_max,note`.

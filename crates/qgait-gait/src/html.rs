@@ -8,6 +8,11 @@ use crate::angles::Variable;
 use crate::output::{round, Report};
 use crate::spatiotemporal::SIDES;
 
+/// Whether a recording was evaluated with a planar model.
+fn w_planar(r: &Report) -> bool {
+    r.walks.iter().any(|w| w.trial.planar)
+}
+
 /// Escapes text for HTML.
 pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -74,6 +79,42 @@ pub fn page(r: &Report, svgs: &[(String, String)]) -> String {
             crate::CycleMode::Whole => "whole: each recording is one cycle".into(),
         },
     );
+    for w in &r.walks {
+        let text = match &w.gait {
+            Some(g) => format!(
+                "{}: {} on {} ground ({}); speed {} m/s ({}); duty factor {}, Froude number {}, leg length {} m; events by the rules of docs/gait-analysis.md{}{}",
+                w.trial.label,
+                g.mode.name(),
+                g.ground.name(),
+                match g.travel_ratio {
+                    Some(t) => format!("pelvis travel {} of speed x stride time", round(t, 3)),
+                    None => "no changing pelvis translation".into(),
+                },
+                round(g.speed, 3),
+                g.speed_method.note(),
+                round(g.duty.unwrap_or(g.first_duty), 3),
+                round(g.froude, 2),
+                round(g.leg_length, 3),
+                if g.mode == crate::rules::Mode::Running {
+                    "; the normative bands and normal ranges are walking's"
+                } else {
+                    ""
+                },
+                g.notes.iter().map(|n| format!("; {n}")).collect::<String>(),
+            ),
+            None => format!(
+                "{}: too few strides for the rules: Zeni's events, mode and ground unknown",
+                w.trial.label
+            ),
+        };
+        setting("gait", text);
+    }
+    if w_planar(r) {
+        setting(
+            "planar model",
+            "the model moves the legs in the sagittal plane only: no step width or other frontal or transverse quantity is reported".into(),
+        );
+    }
     setting("reference", r.reference.label.clone());
     if let Some(c) = &r.speed_choice {
         setting("normative speed group", c.clone());

@@ -8,6 +8,7 @@ use crate::cycles::Curve;
 use crate::error::ReportError;
 use crate::gps::{self, every_2_percent, Scores};
 use crate::normative::{Band, Kinematics, NormativeError, Speed, StpNormals, STP_COLUMNS};
+use crate::rules::Mode;
 use crate::spatiotemporal::{self, Parameter};
 use crate::{curves, leg_length, toe_off_percent, CycleMode, Walk};
 
@@ -112,6 +113,10 @@ pub fn build(
             .collect();
         spatiotemporal::parameters(&list)
     };
+    check_possible(&walks, &parameters)?;
+    let running = walks
+        .iter()
+        .any(|w| w.gait.as_ref().is_some_and(|g| g.mode == Mode::Running));
     let speed = spatiotemporal::value(&parameters, "speed", "both");
     let leg = leg_length(&walks);
     let dimensionless_speed = match (speed, leg) {
@@ -142,7 +147,12 @@ pub fn build(
             }
             .into());
         }
-        if let Some((pace, choice, ranges)) = normals.ranges(age, subject.male, speed, cadence) {
+        if running {
+            ranges_for =
+                Some("not shown: the normal ranges are walking's, and this is running".to_string());
+        } else if let Some((pace, choice, ranges)) =
+            normals.ranges(age, subject.male, speed, cadence)
+        {
             for p in parameters.iter_mut() {
                 if let Some(k) = STP_COLUMNS.iter().position(|c| c.0 == p.name) {
                     p.range = ranges[k];
@@ -235,6 +245,81 @@ pub fn build(
         dimensionless_speed,
         speed_choice,
     })
+}
+
+/// What a human can do, per parameter: `(name, least, most)`; the leg length is checked
+/// apart.
+pub const POSSIBLE: [(&str, f64, f64); 9] = [
+    ("cadence", 20.0, 300.0),
+    ("stance", 0.0, 100.0),
+    ("swing", 0.0, 100.0),
+    ("double_support", 0.0, 100.0),
+    ("flight", 0.0, 100.0),
+    ("speed", 0.0, 12.5),
+    ("stride_length", 0.0, 6.0),
+    ("step_length", 0.0, 6.0),
+    ("duty_factor", 0.0, 1.0),
+];
+
+/// Leg length (m) a human can have.
+pub const POSSIBLE_LEG: (f64, f64) = (0.3, 1.5);
+
+/// [`ReportError::Impossible`] for the first parameter outside [`POSSIBLE`] or a leg length
+/// outside [`POSSIBLE_LEG`].
+pub fn check_possible(walks: &[Walk], parameters: &[Parameter]) -> Result<(), ReportError> {
+    let recordings = walks
+        .iter()
+        .map(|w| w.trial.source.as_str())
+        .collect::<Vec<_>>()
+        .join(", ");
+    for p in parameters {
+        if let Some(&(_, min, max)) = POSSIBLE.iter().find(|c| c.0 == p.name) {
+            if !(p.value >= min && p.value <= max) {
+                return Err(ReportError::Impossible {
+                    recordings,
+                    what: format!("{} ({})", p.name, p.side),
+                    value: round(p.value, 3),
+                    unit: p.unit,
+                    min,
+                    max,
+                });
+            }
+        }
+    }
+    // The rules' speed, which stands even without a complete stride.
+    for w in walks {
+        if let Some(g) = &w.gait {
+            let (_, min, max) = POSSIBLE[5];
+            if !(g.speed >= min && g.speed <= max) {
+                return Err(ReportError::Impossible {
+                    recordings: w.trial.source.clone(),
+                    what: format!("speed ({})", g.speed_method.note()),
+                    value: round(g.speed, 3),
+                    unit: "m/s",
+                    min,
+                    max,
+                });
+            }
+        }
+    }
+    let legs = walks
+        .iter()
+        .filter_map(|w| w.gait.as_ref().map(|g| g.leg_length))
+        .chain(leg_length(walks).filter(|_| walks.iter().all(|w| w.gait.is_none())));
+    for l in legs {
+        let (min, max) = POSSIBLE_LEG;
+        if !(l >= min && l <= max) {
+            return Err(ReportError::Impossible {
+                recordings,
+                what: "leg length".into(),
+                value: round(l, 3),
+                unit: "m",
+                min,
+                max,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The normative data at one speed as a reference.

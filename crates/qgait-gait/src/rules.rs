@@ -605,3 +605,38 @@ mod tests {
         assert!((v[5][0].toe.z + 1.0).abs() < 1e-12);
     }
 }
+
+#[cfg(test)]
+mod possible {
+    use crate::error::ReportError;
+    use crate::output::check_possible;
+    use crate::spatiotemporal::Parameter;
+
+    fn p(name: &'static str, value: f64) -> Parameter {
+        Parameter {
+            name,
+            side: "both",
+            value,
+            unit: "steps/min",
+            range: None,
+            note: "",
+        }
+    }
+
+    /// A cadence of 1,830/min or a double support of 131.7 % is an error, not a figure.
+    #[test]
+    fn impossible_results_are_errors() {
+        for (name, v) in [
+            ("cadence", 1830.0),
+            ("double_support", 131.7),
+            ("stance", -1.0),
+        ] {
+            let e = check_possible(&[], &[p("cadence", 100.0), p(name, v)]).unwrap_err();
+            assert!(
+                matches!(&e, ReportError::Impossible { what, .. } if what.starts_with(name)),
+                "{e}"
+            );
+        }
+        assert!(check_possible(&[], &[p("cadence", 100.0), p("stance", 62.0)]).is_ok());
+    }
+}

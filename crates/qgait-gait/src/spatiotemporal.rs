@@ -212,14 +212,14 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             push(
                 "double_support",
                 side,
-                mean(&collect(&|_, _, c, _| {
-                    match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+                mean(&collect(
+                    &|_, _, c, _| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
                         (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
                             Some(c.percent(oto) + c.percent(to - ohs))
                         }
                         _ => None,
-                    }
-                })),
+                    },
+                )),
                 "%",
                 "",
             );
@@ -280,6 +280,51 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             "m",
             "the mean of the two sides",
         );
+    }
+    // What the rules found (one recording's, or the first's of several).
+    if let Some(g) = rules.first() {
+        push(
+            "duty_factor",
+            "both",
+            g.duty.or(Some(g.first_duty)),
+            "",
+            match g.mode {
+                Mode::Running => "running (duty factor below 0.5, Froude number at least 0.25): flight instead of double support; the normal ranges and normative bands are walking's",
+                Mode::Walking => "walking (duty factor at least 0.5, or Froude number below 0.25)",
+            },
+        );
+        push(
+            "froude",
+            "both",
+            Some(g.froude),
+            "",
+            if g.travel_ratio.is_none() {
+                "speed^2 / (g x leg length), the walk-run transition near 0.5; ground unknown: no changing pelvis translation"
+            } else {
+                "speed^2 / (g x leg length); the walk-run transition is near 0.5"
+            },
+        );
+        push(
+            "leg_length",
+            "both",
+            Some(g.leg_length),
+            "m",
+            "hip centre to the lowest foot point",
+        );
+        if let Some(r) = g.travel_ratio {
+            let ground = g.ground;
+            push(
+                "travel_ratio",
+                "both",
+                Some(r),
+                "",
+                if ground == crate::rules::Ground::Treadmill {
+                    "treadmill: the pelvis travels less than half of speed x stride time per stride"
+                } else {
+                    "overground: the pelvis travels at least half of speed x stride time per stride"
+                },
+            );
+        }
     }
     let t = mean(&all_durations);
     push("cadence", "both", t.map(|t| 120.0 / t), "steps/min", "");

@@ -40,6 +40,88 @@ pub enum TrialError {
     /// The model cannot be used, or the motion does not fit it.
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// The angles cannot be in the unit the header declares.
+    #[error("{at}: the header declares the angles in radians (`{declared}`), but `{column}` reaches {value} rad ({degrees}°; no joint turns more than {max} rad): the angles are in degrees, as in OpenSim's CMC/RRA `Kinematics_q.sto`; state the unit with --angles-in deg (or --angles-in rad to keep the header's)")]
+    Units {
+        /// `file:line` of the header's `inDegrees` (or of the column labels without one).
+        at: String,
+        /// The header line as written.
+        declared: String,
+        /// The column.
+        column: String,
+        /// Its largest magnitude.
+        value: String,
+        /// The same in degrees.
+        degrees: String,
+        /// The largest possible (rad).
+        max: String,
+    },
+}
+
+/// The unit of a motion's angles, stated over its header (`--angles-in`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum AngleUnit {
+    /// Degrees.
+    Deg,
+    /// Radians.
+    Rad,
+}
+
+/// No joint angle of gait2392's coordinates reaches this many radians (a full turn): a file
+/// whose angles do, declared in radians, is in degrees.
+pub const MAX_RADIANS: f64 = std::f64::consts::TAU;
+
+/// [`TrialError::Units`] when `table` declares radians and a gait2392 coordinate reaches more
+/// than [`MAX_RADIANS`]; `stated` overrides the header (no check).
+pub fn check_units(
+    table: MotionTable,
+    source: &str,
+    stated: Option<AngleUnit>,
+) -> Result<MotionTable, TrialError> {
+    if let Some(unit) = stated {
+        return Ok(table.with_in_degrees(unit == AngleUnit::Deg));
+    }
+    if table.in_degrees() {
+        return Ok(table);
+    }
+    let worst = COORDINATES
+        .iter()
+        .filter_map(|name| {
+            let c = table.column(name)?;
+            let m = c
+                .iter()
+                .filter(|v| v.is_finite())
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            Some((*name, m))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((column, value)) = worst.filter(|w| w.1 > MAX_RADIANS) else {
+        return Ok(table);
+    };
+    // The header's line that declares the unit.
+    let text = std::fs::read_to_string(source).unwrap_or_default();
+    let found = text
+        .lines()
+        .enumerate()
+        .take_while(|(_, l)| !l.trim().eq_ignore_ascii_case("endheader"))
+        .find(|(_, l)| l.trim_start().to_ascii_lowercase().starts_with("indegrees"));
+    let (at, declared) = match found {
+        Some((i, l)) => (format!("{source}:{}", i + 1), l.trim().to_string()),
+        None => (
+            table.labels_location(),
+            "no inDegrees line: radians by default".to_string(),
+        ),
+    };
+    let r = |v: f64| format!("{:.1}", v);
+    Err(TrialError::Units {
+        at,
+        declared,
+        column: column.to_string(),
+        value: r(value),
+        degrees: r(value.to_degrees()),
+        max: format!("{:.2}", MAX_RADIANS),
+    })
 }
 
 /// The points of one foot and its hip in one frame (metres; origin at the pelvis origin,
@@ -147,6 +229,16 @@ pub fn gaps(
 /// evaluates `model` on every row. A frames CSV's rows are taken in time order as a `.mot`'s
 /// ([`FramesTable::in_time_order`](qgait_device::frames_csv::FramesTable::in_time_order)).
 pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialError> {
+    load_with(source, model, None)
+}
+
+/// [`load`], the motion's angles in `angles_in` whatever its header says (`None`: the
+/// header's, checked by [`check_units`]).
+pub fn load_with(
+    source: &str,
+    model: &Model,
+    angles_in: Option<AngleUnit>,
+) -> Result<(Trial, Vec<Warning>), TrialError> {
     let label = default_label(source);
     if qgait_device::frames_csv::is_frames_csv(source) {
         let text = std::fs::read_to_string(source).map_err(|error| TrialError::Read {
@@ -190,6 +282,7 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
         ));
     }
     let (table, mut warnings) = load_motion(source)?;
+    let table = check_units(table, source, angles_in)?;
     if table.header().pelvis_heading_free {
         warnings.push(Warning(format!(
             "{source}: its pelvis is heading-free (qgait imu --pelvis heading-free): the walking direction is not in it, so turns cannot be found and strides taken while turning are analysed as straight walking; for gait analysis, solve with the default pelvis"
@@ -199,9 +292,14 @@ pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialE
     let points = PointModel::new(model, foot)?;
     let planar = {
         let reads = points.reads();
-        ["hip_adduction_r", "hip_adduction_l", "hip_rotation_r", "hip_rotation_l"]
-            .iter()
-            .all(|c| !reads[coordinate(c)])
+        [
+            "hip_adduction_r",
+            "hip_adduction_l",
+            "hip_rotation_r",
+            "hip_rotation_l",
+        ]
+        .iter()
+        .all(|c| !reads[coordinate(c)])
     };
     let (table, left_out, w) = leave_out_non_finite(table, points.reads());
     warnings.extend(w);

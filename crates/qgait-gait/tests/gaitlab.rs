@@ -329,14 +329,26 @@ fn events_speed_and_lengths_match_the_plates_and_markers() {
                 rel(cadence, 120.0 / t)
             );
             assert!(rel(speed, belt).abs() <= 3.0, "{label}: speed {speed}");
-            assert!(rel(stride, belt * t).abs() <= 3.0, "{label}: stride {stride}");
-            assert!(rel(step, belt * t / 2.0).abs() <= 5.0, "{label}: step {step}");
-            assert!(rel(cadence, 120.0 / t).abs() <= 1.0, "{label}: cadence {cadence}");
+            assert!(
+                rel(stride, belt * t).abs() <= 3.0,
+                "{label}: stride {stride}"
+            );
+            assert!(
+                rel(step, belt * t / 2.0).abs() <= 5.0,
+                "{label}: step {step}"
+            );
+            assert!(
+                rel(cadence, 120.0 / t).abs() <= 1.0,
+                "{label}: cadence {cadence}"
+            );
             for side in 0..2 {
                 let stance = value(&p, "stance", ["right", "left"][side]).unwrap();
                 let truth = plate_stance(&plate, side);
                 eprintln!("{label}: stance {side} {stance:.1} % (plates {truth:.1} %)");
-                assert!((stance - truth).abs() <= 2.0, "{label}: stance {stance} vs {truth}");
+                assert!(
+                    (stance - truth).abs() <= 2.0,
+                    "{label}: stance {stance} vs {truth}"
+                );
             }
             let names: Vec<&str> = p.iter().map(|p| p.name).collect();
             match case.mode {
@@ -360,4 +372,130 @@ fn walk_parameters(walk: &Walk) -> Vec<qgait_gait::spatiotemporal::Parameter> {
         &walk.cycles,
         walk.gait.as_ref(),
     )])
+}
+
+/// The walk's angles written in degrees under `inDegrees=no` (what OpenSim's CMC writes in
+/// `Kinematics_q.sto`): refused with the header line; read right with `--angles-in deg`.
+#[test]
+fn degrees_declared_radians_are_refused_with_the_header_line() {
+    let Some(root) = dir() else { return };
+    let ik = root.join("subject01_walk1/subject01_walk1_ik.mot");
+    let text = std::fs::read_to_string(&ik).unwrap();
+    let line = text
+        .lines()
+        .position(|l| l.trim() == "inDegrees=yes")
+        .expect("inDegrees line")
+        + 1;
+    let wrong = text.replacen("inDegrees=yes", "inDegrees=no", 1);
+    let path = std::env::temp_dir().join("qgait_gaitlab_Kinematics_q.sto");
+    std::fs::write(&path, wrong).unwrap();
+    let model = Model::load("gait2392", None).unwrap().0;
+    let source = path.to_str().unwrap();
+    let e = trial::load(source, &model).err().expect("refused");
+    let message = e.to_string();
+    assert!(
+        message.starts_with(&format!("{source}:{line}: ")),
+        "{message}"
+    );
+    assert!(message.contains("inDegrees=no"), "{message}");
+    assert!(message.contains("--angles-in deg"), "{message}");
+    // Stated: the same analysis as the original.
+    let (t, _) = trial::load_with(source, &model, Some(trial::AngleUnit::Deg)).unwrap();
+    let (o, _) = trial::load(ik.to_str().unwrap(), &model).unwrap();
+    assert_eq!(t.frames, o.frames);
+    // Stated radians: read as the header says, and the analysis refuses the impossible
+    // result instead of reporting it.
+    let (t, _) = trial::load_with(source, &model, Some(trial::AngleUnit::Rad)).unwrap();
+    let walk = analyse_with(t, CycleMode::Auto, None).unwrap();
+    let e = report(vec![walk], &root).err();
+    match e {
+        Some(e) => {
+            let m = e.to_string();
+            assert!(m.contains("outside what a human can do"), "{m}");
+        }
+        None => panic!("an impossible walk was reported"),
+    }
+}
+
+fn report(
+    walks: Vec<Walk>,
+    root: &Path,
+) -> Result<qgait_gait::output::Report, qgait_gait::error::ReportError> {
+    let reference = walks.iter().map(|w| w.trial.source.clone()).next().unwrap();
+    let model = Model::load("gait2392", None).unwrap().0;
+    let (t, _) = trial::load(
+        root.join("subject01_walk1/subject01_walk1_ik.mot")
+            .to_str()
+            .unwrap(),
+        &model,
+    )
+    .unwrap();
+    let r = analyse_with(t, CycleMode::Auto, None).unwrap();
+    qgait_gait::output::build(
+        walks,
+        "gait2392".into(),
+        CycleMode::Auto,
+        &qgait_gait::output::ReferenceArg::Motion(reference),
+        Some(vec![r]),
+        Path::new("/nonexistent"),
+        qgait_gait::output::Subject::default(),
+    )
+}
+
+/// The report says the mode and the ground in `summary.json` and `spatiotemporal.csv`; a
+/// run gets flight, no double support.
+#[test]
+fn the_report_says_mode_and_ground() {
+    let Some(root) = dir() else { return };
+    for (case, pelvis, mode, ground) in [
+        (&CASES[0], true, "walking", "treadmill"),
+        (&CASES[1], true, "running", "treadmill"),
+        (&CASES[1], false, "running", "unknown"),
+    ] {
+        let (walk, ..) = run(case, &root, pelvis);
+        let r = report(vec![walk], &root).expect("report");
+        let summary: serde_json::Value =
+            serde_json::from_str(&qgait_gait::files::summary_json(&r)).unwrap();
+        assert_eq!(summary["mode"], mode, "{summary}");
+        assert_eq!(summary["ground"], ground, "{summary}");
+        assert!(summary["headline"]["speed"]["value"].as_f64().unwrap() > 1.0);
+        let csv = qgait_gait::files::spatiotemporal_csv(&r.parameters).unwrap();
+        assert!(csv.contains(&format!("duty_factor,both,")), "{csv}");
+        assert!(csv.contains(mode), "{csv}");
+        if ground == "unknown" {
+            assert!(csv.contains("ground unknown"), "{csv}");
+        } else {
+            assert!(
+                csv.contains(&format!("{ground}: the pelvis travels")),
+                "{csv}"
+            );
+        }
+        if mode == "running" {
+            assert!(csv.contains("flight,right"), "{csv}");
+            assert!(!csv.contains("double_support"), "{csv}");
+            assert!(csv.contains("normative bands are walking's"), "{csv}");
+        }
+    }
+}
+
+/// A planar model (gait10dof18musc) cannot see step width: none is reported.
+#[test]
+fn a_planar_model_gives_no_step_width() {
+    let Some(root) = dir() else { return };
+    let osim = root.join("../opensim/gait10dof18musc.osim");
+    if !osim.is_file() {
+        eprintln!("skipped: no {}", osim.display());
+        return;
+    }
+    let model = Model::load(osim.to_str().unwrap(), None).unwrap().0;
+    let ik = root.join("subject01_walk1/subject01_walk1_ik.mot");
+    let (t, _) = trial::load(ik.to_str().unwrap(), &model).unwrap();
+    assert!(t.planar);
+    let walk = analyse_with(t, CycleMode::Auto, None).unwrap();
+    let p = walk_parameters(&walk);
+    assert!(p.iter().all(|p| p.name != "step_width"), "{p:?}");
+    assert!(value(&p, "step_length", "both").is_some());
+    // The 3-D subject's model does report it.
+    let (walk, ..) = run(&CASES[0], &root, true);
+    assert!(value(&walk_parameters(&walk), "step_width", "both").is_some());
 }

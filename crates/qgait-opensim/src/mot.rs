@@ -724,6 +724,13 @@ impl MotionTable {
         })
     }
 
+    /// This table with its angle columns declared in degrees (`true`) or radians: for a file
+    /// whose header states the wrong unit.
+    pub fn with_in_degrees(mut self, in_degrees: bool) -> Self {
+        self.header.in_degrees = in_degrees;
+        self
+    }
+
     /// This table, its angles in gait2392's signs whatever the model ([`Header::gait2392_signs`]).
     pub fn in_gait2392_signs(mut self) -> Self {
         self.header.gait2392_signs = true;
