@@ -49,9 +49,23 @@ pub struct GaitArgs {
     /// `$QGAIT_NORMATIVE`, or `../shared/data/normative`).
     #[arg(long, value_name = "DIR")]
     pub normative: Option<PathBuf>,
+    /// A known belt speed (m/s): used for the event thresholds and the lengths instead of
+    /// the speed estimated from the feet.
+    #[arg(long, value_name = "V", value_parser = parse_speed)]
+    pub treadmill_speed: Option<f64>,
+    /// The unit of the motions' angles whatever their headers say (OpenSim's CMC/RRA
+    /// `Kinematics_q.sto` are in degrees under `inDegrees=no`).
+    #[arg(long, value_enum, value_name = "deg|rad")]
+    pub angles_in: Option<trial::AngleUnit>,
     /// Output directory (created if needed).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
+}
+
+/// `--treadmill-speed`: a finite speed above 0 m/s.
+fn parse_speed(text: &str) -> Result<f64, String> {
+    crate::cli::amount(text, 0.0, false)
+        .ok_or_else(|| format!("`{text}` is not a speed: expected a finite number of m/s above 0"))
 }
 
 /// `--age`: a finite number of years, 0 or more.
@@ -84,12 +98,13 @@ fn analyse_all(
     motions: &[String],
     model: &Model,
     mode: CycleMode,
+    args: &GaitArgs,
     warn: &dyn Fn(Vec<Warning>),
 ) -> anyhow::Result<Vec<gait::Walk>> {
     motions
         .iter()
         .map(|m| {
-            let (t, w) = trial::load(m, model)?;
+            let (t, w) = trial::load_with(m, model, args.angles_in)?;
             warn(w);
             // A built-in gait is one cycle by construction: taken whole whatever `--cycle`
             // says (its single pair of heel strikes holds no complete stride).
@@ -98,7 +113,7 @@ fn analyse_all(
             } else {
                 mode
             };
-            Ok(gait::analyse(t, mode)?)
+            Ok(gait::analyse_with(t, mode, args.treadmill_speed)?)
         })
         .collect()
 }
@@ -112,9 +127,15 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     };
     let reference = ReferenceArg::parse(&args.reference)?;
     let model = args.model.load_or("gait2392", diagnostics)?;
-    let walks = analyse_all(&args.motions, &model, mode, &warn)?;
+    let walks = analyse_all(&args.motions, &model, mode, &args, &warn)?;
     let reference_walks = match &reference {
-        ReferenceArg::Motion(m) => Some(analyse_all(std::slice::from_ref(m), &model, mode, &warn)?),
+        ReferenceArg::Motion(m) => Some(analyse_all(
+            std::slice::from_ref(m),
+            &model,
+            mode,
+            &args,
+            &warn,
+        )?),
         ReferenceArg::Normative(_) => None,
     };
     for w in walks.iter().chain(reference_walks.iter().flatten()) {
