@@ -138,3 +138,22 @@ fn decode_skips_damage_and_verify_passes_a_good_log_and_fails_a_gap() {
         );
     }
 }
+
+/// `decode` of garbage or of a `.mot` finds no frame: it says so and fails.
+#[test]
+fn decode_of_what_is_not_a_log_says_nothing_was_found() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, bytes) in [
+        ("garbage.bin", vec![0x5a_u8; 4096]),
+        (
+            "walk.mot",
+            b"m\nversion=1\ninDegrees=yes\nendheader\ntime\tknee_angle_r\n0\t1\n".to_vec(),
+        ),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let o = qgait(&["decode", path.to_str().unwrap()]);
+        assert!(!o.status.success(), "{name}");
+        assert!(stderr(&o).contains("nothing was found"), "{}", stderr(&o));
+    }
+}

@@ -313,6 +313,15 @@ mod tests {
         std::fs::copy(&frames, &upper).unwrap();
         let e = trial::load(upper.to_str().unwrap(), &model).err().unwrap();
         assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
+        // A comma-separated motion is said to be one.
+        let comma = dir.path().join("comma.mot");
+        std::fs::write(
+            &comma,
+            "m\nversion=1\ninDegrees=yes\nendheader\ntime,pelvis_tilt,hip_flexion_r\n0,1,2\n",
+        )
+        .unwrap();
+        let e = trial::load(comma.to_str().unwrap(), &model).err().unwrap();
+        assert!(e.to_string().contains("comma-separated"), "{e}");
         let e = trial::load("builtin:walk", &model).err().unwrap();
         assert!(matches!(e, TrialError::Source(_)), "{e}");
     }

@@ -398,7 +398,7 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
         Some(v) => (v, SpeedMethod::Given),
         None => (median(samples)?, SpeedMethod::MidStanceMedian),
     };
-    if !(v0 > 0.0) {
+    if v0.is_nan() || v0 <= 0.0 {
         return None;
     }
     // Step 4: the first pass.
@@ -427,7 +427,7 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
             toe_off: first.toe_off.clone(),
         };
         if let Some(knee) = &input.knee {
-            for side in 0..2 {
+            for (side, knee) in knee.iter().enumerate() {
                 let fore = |i: usize| s.over(i, s.vel[i][side].forefoot, v0);
                 let mut list = Vec::new();
                 for o in &anchors.toe_off[side] {
@@ -436,16 +436,13 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
                         continue;
                     };
                     let r = s.frames(c, time[c], o.time + KNEE_AFTER * stride);
-                    let Some(k) = r
-                        .clone()
-                        .max_by(|&a, &b| knee[side][a].total_cmp(&knee[side][b]))
-                    else {
+                    let Some(k) = r.clone().max_by(|&a, &b| knee[a].total_cmp(&knee[b])) else {
                         continue;
                     };
                     if k == r.start || k + 1 == r.end {
                         continue;
                     }
-                    keep(&mut list, refine(time, &knee[side], k), HALF * stride);
+                    keep(&mut list, refine(time, knee, k), HALF * stride);
                 }
                 events.toe_off[side] = list;
             }

@@ -60,6 +60,9 @@ pub type Walk<'a> = (
     Option<&'a Gait>,
 );
 
+/// One cycle with its recording, direction of progression and what the rules found.
+type OneCycle<'a> = (&'a Trial, &'a [Vec3<f64>], &'a Cycle, Option<&'a Gait>);
+
 /// The note of a length from the speed: speed times a time.
 pub const FROM_SPEED: &str = "speed x stride time";
 /// The note of a step length from the speed.
@@ -126,7 +129,7 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     for s in 0..2 {
         let o = 1 - s;
         // Every cycle of the side with its recording.
-        let cycles: Vec<(&Trial, &[Vec3<f64>], &Cycle, Option<&Gait>)> = walks
+        let cycles: Vec<OneCycle> = walks
             .iter()
             .flat_map(|(t, f, c, g)| c[s].iter().map(move |c| (*t, *f, c, *g)))
             .collect();

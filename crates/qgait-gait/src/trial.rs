@@ -41,21 +41,22 @@ pub enum TrialError {
     #[error(transparent)]
     Model(#[from] ModelError),
     /// The angles cannot be in the unit the header declares.
-    #[error("{at}: the header declares the angles in radians (`{declared}`), but `{column}` reaches {value} rad ({degrees}°; no joint turns more than {max} rad): the angles are in degrees, as in OpenSim's CMC/RRA `Kinematics_q.sto`; state the unit with --angles-in deg (or --angles-in rad to keep the header's)")]
-    Units {
-        /// `file:line` of the header's `inDegrees` (or of the column labels without one).
-        at: String,
-        /// The header line as written.
-        declared: String,
-        /// The column.
-        column: String,
-        /// Its largest magnitude.
-        value: String,
-        /// The same in degrees.
-        degrees: String,
-        /// The largest possible (rad).
-        max: String,
-    },
+    #[error(transparent)]
+    Units(#[from] Box<UnitsError>),
+}
+
+/// A motion declared in radians whose angles are too large for radians.
+#[derive(Debug, thiserror::Error)]
+#[error("{at}: the header declares the angles in radians (`{declared}`), but `{column}` reaches {value:.1} rad ({:.1}°; no joint turns more than {:.2} rad): the angles are in degrees, as in OpenSim's CMC/RRA `Kinematics_q.sto`; state the unit with --angles-in deg (or --angles-in rad to keep the header's)", .value.to_degrees(), MAX_RADIANS)]
+pub struct UnitsError {
+    /// `file:line` of the header's `inDegrees` (or of the column labels without one).
+    pub at: String,
+    /// The header line as written.
+    pub declared: String,
+    /// The column.
+    pub column: String,
+    /// Its largest magnitude (rad as declared).
+    pub value: f64,
 }
 
 /// The unit of a motion's angles, stated over its header (`--angles-in`).
@@ -113,15 +114,12 @@ pub fn check_units(
             "no inDegrees line: radians by default".to_string(),
         ),
     };
-    let r = |v: f64| format!("{:.1}", v);
-    Err(TrialError::Units {
+    Err(TrialError::Units(Box::new(UnitsError {
         at,
         declared,
         column: column.to_string(),
-        value: r(value),
-        degrees: r(value.to_degrees()),
-        max: format!("{:.2}", MAX_RADIANS),
-    })
+        value,
+    })))
 }
 
 /// The points of one foot and its hip in one frame (metres; origin at the pelvis origin,
@@ -193,7 +191,12 @@ impl Trial {
 /// the median is one frame lost; sampling jitter stays well below half a step.
 pub const GAP_FACTOR: f64 = 1.5;
 
-/// The frames that follow a gap in `time` ([`GAP_FACTOR`]), merged with the breaks `known`
+/// A step in time shorter than this (s) is never a gap: events are sought to 25 ms, and a
+/// variable-step file (OpenSim's CMC output) has steps of any length below it. A frame lost at
+/// 60 Hz (33 ms) is interpolated over like any other step.
+pub const MIN_GAP: f64 = 0.05;
+
+/// The frames that follow a gap in `time` ([`GAP_FACTOR`] and [`MIN_GAP`]), merged with the breaks `known`
 /// already (rows left out: not warned about again), in order; a warning for each new one.
 /// `at(i)` says where frame `i` is (`file:line`).
 pub fn gaps(
@@ -207,7 +210,7 @@ pub fn gaps(
         let secs = |x: f64| (x * 1e6).round() / 1e6;
         for i in 1..time.len() {
             let step = time[i] - time[i - 1];
-            if step > GAP_FACTOR * median && !known.contains(&i) {
+            if step > GAP_FACTOR * median && step > MIN_GAP && !known.contains(&i) {
                 breaks.push(i);
                 warnings.push(Warning(format!(
                     "{}: time jumps from {} s to {} s, a gap of {} s (the median step is {} s): no event or stride is formed across it",
@@ -545,5 +548,13 @@ mod tests {
         // Steady sampling: no gap.
         let (breaks, w) = gaps(&time[..801], &[], |i| i.to_string());
         assert!(breaks.is_empty() && w.is_empty());
+        // A variable step (CMC output: 1 to 20 ms): no gap; a 0.3 s jump in it is one.
+        let mut t = vec![0.0];
+        for k in 0..2000 {
+            let step = [0.001, 0.004, 0.02, 0.0025, 0.012][k % 5];
+            t.push(t[k] + if k == 1000 { 0.3 } else { step });
+        }
+        let (breaks, w) = gaps(&t, &[], |i| i.to_string());
+        assert_eq!(breaks, [1001], "{w:?}");
     }
 }

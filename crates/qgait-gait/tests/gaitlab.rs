@@ -460,7 +460,7 @@ fn the_report_says_mode_and_ground() {
         assert_eq!(summary["ground"], ground, "{summary}");
         assert!(summary["headline"]["speed"]["value"].as_f64().unwrap() > 1.0);
         let csv = qgait_gait::files::spatiotemporal_csv(&r.parameters).unwrap();
-        assert!(csv.contains(&format!("duty_factor,both,")), "{csv}");
+        assert!(csv.contains("duty_factor,both,"), "{csv}");
         assert!(csv.contains(mode), "{csv}");
         if ground == "unknown" {
             assert!(csv.contains("ground unknown"), "{csv}");

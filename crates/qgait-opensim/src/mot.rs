@@ -471,10 +471,15 @@ impl<R: BufRead> MotionReader<R> {
             }
         };
         if !labels[0].eq_ignore_ascii_case("time") {
+            let comma = labels[0].to_ascii_lowercase().starts_with("time,");
             return Err(fmt_err(
                 &source,
                 label_line,
-                format!("the first column must be `time`, found `{}`", labels[0]),
+                if comma {
+                    format!("the file is comma-separated (`{}`): a .mot/.sto needs tab- or space-separated columns, the first `time`", labels[0].chars().take(60).collect::<String>())
+                } else {
+                    format!("the first column must be `time`, found `{}`", labels[0])
+                },
             ));
         }
         for (i, l) in labels.iter().enumerate() {

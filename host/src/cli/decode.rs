@@ -170,6 +170,14 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
     warn_cut_off(&args.log, counts.unterminated);
     match end {
         port::End::Failed(e) => Err(e.into()),
+        // A file (garbage, a `.mot`) without a single good frame: nothing was found.
+        _ if !live && counts.poses + counts.statuses + counts.other == 0 => {
+            anyhow::bail!(
+                "{}: nothing was found: {} bytes without a single qgait frame (not a device log; a .mot/.sto motion goes to `qgait gait` or `qgait fk`)",
+                args.log,
+                counts.bytes
+            )
+        }
         _ => Ok(()),
     }
 }
