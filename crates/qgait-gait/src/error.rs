@@ -35,6 +35,9 @@ pub enum ReportError {
     /// A figure could not be drawn.
     #[error(transparent)]
     Figure(#[from] FigureError),
+    /// `report.html` could not be rendered from its template.
+    #[error("report.html: {0}")]
+    Html(#[from] askama::Error),
 }
 
 /// Why a figure of the report cannot be drawn or written.
