@@ -94,6 +94,8 @@ const DEVICE: &[(&str, &str)] = &[
     // The kernel's VQF (orientation from raw IMU samples), f32: one update and its output.
     ("vqf.update_9d", "device.vqf.update_9d_instructions"),
     ("vqf.update_6d", "device.vqf.update_6d_instructions"),
+    ("vqf_rs.update_9d", "device.vqf_rs.update_9d_instructions"),
+    ("vqf_rs.update_6d", "device.vqf_rs.update_6d_instructions"),
     ("sample.net", "device.sample.instructions"),
     (
         "sample.gross",

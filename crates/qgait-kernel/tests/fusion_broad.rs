@@ -11,16 +11,43 @@ use fusion_common::{angle_between, broad_trials, read_raw_csv, run_vqf, score};
 /// shared trials, from `scripts/vqf_fixtures.py broad`: 9D total, heading and inclination
 /// RMSE and 6D inclination RMSE, degrees.
 const REFERENCE: [(&str, [f64; 4]); 10] = [
-    ("03_undisturbed_slow_rotation_C", [1.9305, 1.8842, 0.4203, 0.4203]),
-    ("05_undisturbed_slow_rotation_with_breaks_B", [0.9858, 0.9204, 0.3531, 0.3531]),
-    ("06_undisturbed_fast_rotation_A", [4.0338, 3.9529, 0.8041, 0.8041]),
-    ("11_undisturbed_slow_translation_B", [0.8993, 0.7952, 0.4198, 0.4198]),
-    ("14_undisturbed_slow_translation_with_breaks_B", [0.7329, 0.6056, 0.4127, 0.4127]),
-    ("16_undisturbed_fast_translation_B", [0.7425, 0.5101, 0.5395, 0.5395]),
+    (
+        "03_undisturbed_slow_rotation_C",
+        [1.9305, 1.8842, 0.4203, 0.4203],
+    ),
+    (
+        "05_undisturbed_slow_rotation_with_breaks_B",
+        [0.9858, 0.9204, 0.3531, 0.3531],
+    ),
+    (
+        "06_undisturbed_fast_rotation_A",
+        [4.0338, 3.9529, 0.8041, 0.8041],
+    ),
+    (
+        "11_undisturbed_slow_translation_B",
+        [0.8993, 0.7952, 0.4198, 0.4198],
+    ),
+    (
+        "14_undisturbed_slow_translation_with_breaks_B",
+        [0.7329, 0.6056, 0.4127, 0.4127],
+    ),
+    (
+        "16_undisturbed_fast_translation_B",
+        [0.7425, 0.5101, 0.5395, 0.5395],
+    ),
     ("24_disturbed_tapping_A", [1.5458, 1.4216, 0.6073, 0.6073]),
-    ("27_disturbed_phone_vibration_B", [6.7328, 6.7227, 0.3702, 0.3702]),
-    ("30_disturbed_stationary_magnet_C", [2.5740, 2.2499, 1.2503, 1.2503]),
-    ("34_disturbed_attached_magnet_3cm", [3.3504, 3.2876, 0.6459, 0.6459]),
+    (
+        "27_disturbed_phone_vibration_B",
+        [6.7328, 6.7227, 0.3702, 0.3702],
+    ),
+    (
+        "30_disturbed_stationary_magnet_C",
+        [2.5740, 2.2499, 1.2503, 1.2503],
+    ),
+    (
+        "34_disturbed_attached_magnet_3cm",
+        [3.3504, 3.2876, 0.6459, 0.6459],
+    ),
 ];
 
 /// 9D: mean total RMSE no worse than the reference's + 0.1°, no trial more than 0.5° worse;
@@ -29,7 +56,9 @@ const REFERENCE: [(&str, [f64; 4]); 10] = [
 fn broad_errors_match_reference_vqf() {
     let Some(files) = broad_trials() else { return };
     let (mut mine, mut theirs) = (Vec::new(), Vec::new());
-    eprintln!("trial | 9D total | heading | inclination | 6D inclination | VQF 9D total | VQF 6D incl.");
+    eprintln!(
+        "trial | 9D total | heading | inclination | 6D inclination | VQF 9D total | VQF 6D incl."
+    );
     for path in &files {
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
         let Some((_, reference)) = REFERENCE.iter().find(|(n, _)| *n == stem) else {
@@ -64,8 +93,14 @@ fn broad_errors_match_reference_vqf() {
         mean(&theirs, 0),
         mean(&theirs, 3)
     );
-    assert!(mean(&mine, 0) <= mean(&theirs, 0) + 0.1, "9D mean total RMSE above VQF's + 0.1°");
-    assert!(mean(&mine, 3) <= mean(&theirs, 3) + 0.1, "6D mean inclination RMSE above VQF's + 0.1°");
+    assert!(
+        mean(&mine, 0) <= mean(&theirs, 0) + 0.1,
+        "9D mean total RMSE above VQF's + 0.1°"
+    );
+    assert!(
+        mean(&mine, 3) <= mean(&theirs, 3) + 0.1,
+        "6D mean inclination RMSE above VQF's + 0.1°"
+    );
 }
 
 /// The device's `f32` filter against the `f64` one over a whole trial (204 s, 58,412
@@ -73,7 +108,10 @@ fn broad_errors_match_reference_vqf() {
 #[test]
 fn f32_filter_follows_f64_over_a_whole_trial() {
     let Some(files) = broad_trials() else { return };
-    let Some(path) = files.iter().find(|p| p.to_string_lossy().contains("03_undisturbed_slow_rotation_C")) else {
+    let Some(path) = files.iter().find(|p| {
+        p.to_string_lossy()
+            .contains("03_undisturbed_slow_rotation_C")
+    }) else {
         eprintln!("SKIPPED: trial 03 not among the shared BROAD trials");
         return;
     };
@@ -81,7 +119,11 @@ fn f32_filter_follows_f64_over_a_whole_trial() {
     for nine_d in [true, false] {
         let a = run_vqf::<f64>(&trial, nine_d);
         let b = run_vqf::<f32>(&trial, nine_d);
-        let angles: Vec<f64> = a.iter().zip(&b).map(|(a, b)| angle_between(*a, *b).to_degrees()).collect();
+        let angles: Vec<f64> = a
+            .iter()
+            .zip(&b)
+            .map(|(a, b)| angle_between(*a, *b).to_degrees())
+            .collect();
         let rms = (angles.iter().map(|x| x * x).sum::<f64>() / angles.len() as f64).sqrt();
         let max = angles.iter().copied().fold(0.0, f64::max);
         let last = angles[angles.len() - 1];

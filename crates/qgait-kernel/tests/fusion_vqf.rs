@@ -18,7 +18,11 @@ fn compare<T: FusionReal>(f: &Fixture) -> (f64, f64, f64, usize) {
     for i in 0..f.gyr.len() {
         vqf.update(c(f.gyr[i]), c(f.acc[i]), f.mag.as_ref().map(|m| c(m[i])));
         let mine = u8::from(vqf.rest_detected())
-            | if f.mag.is_some() { u8::from(vqf.mag_dist_detected()) << 1 } else { 0 };
+            | if f.mag.is_some() {
+                u8::from(vqf.mag_dist_detected()) << 1
+            } else {
+                0
+            };
         if mine != f.flags[i] {
             flags += 1;
         }
@@ -29,13 +33,13 @@ fn compare<T: FusionReal>(f: &Fixture) -> (f64, f64, f64, usize) {
             }
             for (a, b) in pairs {
                 let a = a.map(T::to_f64);
-                for k in 0..4 {
-                    dq = dq.max((a[k] - b[k]).abs());
+                for (x, y) in a.iter().zip(b) {
+                    dq = dq.max((x - y).abs());
                 }
                 dangle = dangle.max(angle_between(a, b));
             }
-            for k in 0..3 {
-                db = db.max((vqf.bias()[k].to_f64() - bias[k]).abs());
+            for (x, y) in vqf.bias().iter().zip(bias) {
+                db = db.max((x.to_f64() - y).abs());
             }
         }
     }
@@ -51,7 +55,10 @@ fn check(name: &str) {
          {flags} flag mismatches over {} samples",
         f.gyr.len()
     );
-    assert!(dq < 1e-9 && db < 1e-9 && dangle < 1e-9, "{name}: f64 port departs from VQF");
+    assert!(
+        dq < 1e-9 && db < 1e-9 && dangle < 1e-9,
+        "{name}: f64 port departs from VQF"
+    );
     assert_eq!(flags, 0, "{name}: rest or disturbance flags differ");
     let (dq32, db32, dangle32, flags32) = compare::<f32>(&f);
     eprintln!(
@@ -59,7 +66,10 @@ fn check(name: &str) {
          {flags32} flag mismatches",
         dangle32.to_degrees()
     );
-    assert!(dangle32.to_degrees() < 0.5, "{name}: f32 filter departs from VQF");
+    assert!(
+        dangle32.to_degrees() < 0.5,
+        "{name}: f32 filter departs from VQF"
+    );
 }
 
 #[test]
@@ -78,8 +88,20 @@ fn fixtures_cover_rest_and_disturbance() {
     let f = read_fixture("broad34_9d.bin");
     let rest = f.flags.iter().filter(|&&x| x & 1 != 0).count();
     let dist = f.flags.iter().filter(|&&x| x & 2 != 0).count();
-    let changes = f.flags.windows(2).filter(|w| (w[0] ^ w[1]) & 2 != 0).count();
+    let changes = f
+        .flags
+        .windows(2)
+        .filter(|w| (w[0] ^ w[1]) & 2 != 0)
+        .count();
     assert!(rest > 100 && dist > 100 && dist < f.flags.len() && changes > 2);
     let s = read_fixture("synthetic_6d.bin");
     assert!(s.flags.iter().any(|&x| x & 1 != 0));
+}
+
+/// The filter's whole state (parameters, coefficients and state) stays a few hundred bytes.
+#[test]
+fn state_size() {
+    let (s32, s64) = (size_of::<Vqf<f32>>(), size_of::<Vqf<f64>>());
+    eprintln!("Vqf<f32>: {s32} bytes, Vqf<f64>: {s64} bytes");
+    assert!(s32 <= 600 && s64 <= 1200);
 }

@@ -1076,7 +1076,34 @@ fn fusion_benches(rng: &mut Lcg) {
                 CALLS,
             );
         }
+    } // vqf-rs on the same samples (fewer calls: it is slower).
+    let base = bench_vqf_empty(&samples, VQF_RS_CALLS);
+    for nine_d in [true, false] {
+        let mut vqf = vqf_rs::VQF::new(VQF_TS, None, None, None);
+        for i in 0..2000 {
+            let s = &samples[i % VQF_INPUTS];
+            vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
+        }
+        let ticks = bench_vqf_rs(&mut vqf, &samples, VQF_RS_CALLS, nine_d);
+        let name = if nine_d {
+            "vqf_rs.update_9d"
+        } else {
+            "vqf_rs.update_6d"
+        };
+        net(name, ticks, base, VQF_RS_CALLS);
     }
+}
+
+/// Calls per measurement of vqf-rs.
+const VQF_RS_CALLS: u32 = 512;
+
+#[inline(never)]
+fn bench_vqf_rs(vqf: &mut vqf_rs::VQF, x: &[ImuSample; VQF_INPUTS], n: u32, nine_d: bool) -> u32 {
+    timed(n, |i| {
+        let s = black_box(&x[i % VQF_INPUTS]);
+        vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
+        black_box(if nine_d { vqf.quat_9d() } else { vqf.quat_6d() });
+    })
 }
 
 #[inline(never)]

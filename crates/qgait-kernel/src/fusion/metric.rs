@@ -25,7 +25,12 @@ impl OrientationError {
         }
         let a = estimate.map(|x| x / na);
         // The inverse of a unit quaternion is its conjugate.
-        let b = [reference[0] / nb, -reference[1] / nb, -reference[2] / nb, -reference[3] / nb];
+        let b = [
+            reference[0] / nb,
+            -reference[1] / nb,
+            -reference[2] / nb,
+            -reference[3] / nb,
+        ];
         let ew = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3];
         let ez = a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0];
         Some(Self {

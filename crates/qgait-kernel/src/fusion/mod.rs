@@ -65,10 +65,20 @@ pub trait FusionReal: Real {
     fn acc_div(a: Self::Acc, b: Self::Acc) -> Self;
     /// One step of a second-order filter in transposed direct form II (`a0` = 1):
     /// `y = b0 x + s0; s0 = b1 x - a1 y + s1; s1 = b2 x - a2 y`.
-    fn filter_step(x: Self, b: &[Self::Acc; 3], a: &[Self::Acc; 2], state: &mut [Self::Acc]) -> Self;
+    fn filter_step(
+        x: Self,
+        b: &[Self::Acc; 3],
+        a: &[Self::Acc; 2],
+        state: &mut [Self::Acc],
+    ) -> Self;
     /// The state of the filter in steady state for a constant input `x0` (scipy's
     /// `lfilter_zi`).
-    fn filter_initial_state(x0: Self, b: &[Self::Acc; 3], a: &[Self::Acc; 2], state: &mut [Self::Acc]);
+    fn filter_initial_state(
+        x0: Self,
+        b: &[Self::Acc; 3],
+        a: &[Self::Acc; 2],
+        state: &mut [Self::Acc],
+    );
 }
 
 macro_rules! impl_fusion_real {
@@ -109,14 +119,24 @@ macro_rules! impl_fusion_real {
                 a / b
             }
             #[inline(always)]
-            fn filter_step(x: Self, b: &[Self::Acc; 3], a: &[Self::Acc; 2], state: &mut [Self::Acc]) -> Self {
+            fn filter_step(
+                x: Self,
+                b: &[Self::Acc; 3],
+                a: &[Self::Acc; 2],
+                state: &mut [Self::Acc],
+            ) -> Self {
                 let y = b[0] * x + state[0];
                 state[0] = b[1] * x - a[0] * y + state[1];
                 state[1] = b[2] * x - a[1] * y;
                 y
             }
             #[inline(always)]
-            fn filter_initial_state(x0: Self, b: &[Self::Acc; 3], a: &[Self::Acc; 2], state: &mut [Self::Acc]) {
+            fn filter_initial_state(
+                x0: Self,
+                b: &[Self::Acc; 3],
+                a: &[Self::Acc; 2],
+                state: &mut [Self::Acc],
+            ) {
                 state[0] = x0 * (1.0 - b[0]);
                 state[1] = x0 * (b[2] - a[1]);
             }

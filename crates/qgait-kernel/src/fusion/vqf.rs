@@ -25,7 +25,8 @@
 //! (construct a new filter instead). Differences by precision, all in [`FusionReal`]:
 //! the gyroscope step's and the heading's half-angle sine and cosine are
 //! [`Real::half_angle_sin_cos`] (libm in `f64`, the kernel's polynomial in `f32`), and `f32`
-//! keeps the low-pass filters' state in the compensated form described at [`FusionReal::Acc`].
+//! keeps the low-pass filters' state in `f32` where the reference keeps it in `double` (see
+//! [`FusionReal`]).
 
 use core::f64::consts::PI;
 
@@ -248,7 +249,10 @@ fn filter_coeffs(tau: f64, ts: f64) -> ([f64; 3], [f64; 2]) {
     let b0 = c * c / d;
     (
         [b0, 2.0 * b0, b0],
-        [2.0 * (c * c - 1.0) / d, (1.0 - libm::sqrt(2.0) * c + c * c) / d],
+        [
+            2.0 * (c * c - 1.0) / d,
+            (1.0 - libm::sqrt(2.0) * c + c * c) / d,
+        ],
     )
 }
 
@@ -437,7 +441,10 @@ impl<T: FusionReal> Vqf<T> {
     /// # Panics
     /// If a period is not positive.
     pub fn with_rates(params: &VqfParams, gyr_ts: f64, acc_ts: f64, mag_ts: f64) -> Self {
-        assert!(gyr_ts > 0.0 && acc_ts > 0.0 && mag_ts > 0.0, "sampling periods must be positive");
+        assert!(
+            gyr_ts > 0.0 && acc_ts > 0.0 && mag_ts > 0.0,
+            "sampling periods must be positive"
+        );
         let p = params;
         let t = T::from_f64;
         let bias_p0 = square(p.bias_sigma_init * 100.0);

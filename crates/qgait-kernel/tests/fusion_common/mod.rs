@@ -35,8 +35,8 @@ fn col(header: &[&str], name: &str) -> Option<usize> {
 
 /// Reads a CSV in the shared layout.
 pub fn read_raw_csv(path: &Path) -> Result<RawTrial, CsvError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CsvError(format!("{}: {e}", path.display())))?;
+    let text =
+        std::fs::read_to_string(path).map_err(|e| CsvError(format!("{}: {e}", path.display())))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines
         .next()
@@ -73,7 +73,9 @@ pub fn read_raw_csv(path: &Path) -> Result<RawTrial, CsvError> {
                 ))
             })
         };
-        let v3 = |c: [usize; 3]| -> Result<[f64; 3], CsvError> { Ok([num(c[0])?, num(c[1])?, num(c[2])?]) };
+        let v3 = |c: [usize; 3]| -> Result<[f64; 3], CsvError> {
+            Ok([num(c[0])?, num(c[1])?, num(c[2])?])
+        };
         let ti = num(time)?;
         if t0.is_nan() {
             t0 = ti;
@@ -86,7 +88,9 @@ pub fn read_raw_csv(path: &Path) -> Result<RawTrial, CsvError> {
         }
         let q = if has_opt {
             let o = opt.map(Option::unwrap);
-            if o.iter().all(|&c| cells.get(c).is_none_or(|s| s.trim().is_empty())) {
+            if o.iter()
+                .all(|&c| cells.get(c).is_none_or(|s| s.trim().is_empty()))
+            {
                 None
             } else {
                 Some([num(o[0])?, num(o[1])?, num(o[2])?, num(o[3])?])
@@ -100,8 +104,11 @@ pub fn read_raw_csv(path: &Path) -> Result<RawTrial, CsvError> {
             None => true,
         });
     }
-    if t.gyr.len() < 2 || !(t1 > t0) {
-        return Err(CsvError(format!("{}: fewer than two samples or times not increasing", path.display())));
+    if t.gyr.len() < 2 || t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
+        return Err(CsvError(format!(
+            "{}: fewer than two samples or times not increasing",
+            path.display()
+        )));
     }
     t.ts = (t1 - t0) / (t.gyr.len() - 1) as f64;
     Ok(t)
@@ -120,7 +127,10 @@ pub fn broad_trials() -> Option<Vec<PathBuf>> {
     files.retain(|p| p.extension().is_some_and(|e| e == "csv"));
     files.sort();
     if files.is_empty() {
-        eprintln!("SKIPPED: BROAD trials not found in {} (set QGAIT_SHARED)", dir.display());
+        eprintln!(
+            "SKIPPED: BROAD trials not found in {} (set QGAIT_SHARED)",
+            dir.display()
+        );
         return None;
     }
     Some(files)
@@ -164,6 +174,9 @@ pub fn angle_between(a: [f64; 4], b: [f64; 4]) -> f64 {
     2.0 * (x * x + y * y + z * z).sqrt().atan2(w.abs())
 }
 
+/// The reference's outputs after one sample: (index, quat6D, quat9D if 9D, bias).
+pub type Reference = (usize, [f64; 4], Option<[f64; 4]>, [f64; 3]);
+
 /// One fixture written by `scripts/vqf_fixtures.py`.
 pub struct Fixture {
     pub ts: f64,
@@ -173,7 +186,7 @@ pub struct Fixture {
     /// Bit 0 rest detected, bit 1 magnetic disturbance detected, per sample.
     pub flags: Vec<u8>,
     /// Sample index and reference outputs (quat6D, quat9D if 9D, bias) every `stride` samples.
-    pub outputs: Vec<(usize, [f64; 4], Option<[f64; 4]>, [f64; 3])>,
+    pub outputs: Vec<Reference>,
 }
 
 struct Bytes<'a> {
@@ -200,7 +213,9 @@ impl<'a> Bytes<'a> {
 
 /// Reads `tests/data/vqf/NAME`.
 pub fn read_fixture(name: &str) -> Fixture {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/vqf").join(name);
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/vqf")
+        .join(name);
     let b = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut r = Bytes { b: &b, at: 0 };
     assert_eq!(&r.take::<4>(), b"VQFX", "{name}: not a VQF fixture");
