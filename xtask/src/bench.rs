@@ -257,16 +257,8 @@ const VQF_RUN: f64 = 4096.0;
 
 /// Host figures: (criterion directory under target/criterion, figure name, frames per iteration).
 const HOST: &[(&str, &str, f64)] = &[
-    (
-        "vqf_f64/update_9d",
-        "host.vqf.f64.update_9d_ns",
-        VQF_RUN,
-    ),
-    (
-        "vqf_f64/update_6d",
-        "host.vqf.f64.update_6d_ns",
-        VQF_RUN,
-    ),
+    ("vqf_f64/update_9d", "host.vqf.f64.update_9d_ns", VQF_RUN),
+    ("vqf_f64/update_6d", "host.vqf.f64.update_6d_ns", VQF_RUN),
     (
         "single_frame_f64/hak_quat",
         "host.hak.f64.quat.single_ns_per_frame",

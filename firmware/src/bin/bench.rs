@@ -1001,7 +1001,7 @@ fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
 // A sensor turning about the vertical at 400 °/s (one turn in `VQF_INPUTS` samples at BROAD's
 // 285.7 Hz, so the cycled inputs stay consistent) while it tilts back and forth by ±0.5 rad about
 // a tilted axis (four times per turn): angular rate up to 15 rad/s with a little noise, gravity
-// and a 44 µT field with 64° dip in the sensor frame. The filter first runs 4 s of it, past the
+// and a 44 µT field with 64° dip in the sensor frame. The filter first runs 7 s of it, past the
 // running-mean start of its low-pass filters (3 s) and the first acceptance of the magnetic
 // field (5 s of rotation above 20 °/s), so the figures are of the steady update in motion (bias
 // estimation by the Kalman filter, magnetometer in use). Each figure is one `update` plus
