@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """OpenSim 4.6's joint centres and toe tips of the lower-limb models qgait imports, written as
-reference CSVs for host/tests/opensim_models.rs.
+reference CSVs for crates/qgait-model/tests/opensim_models.rs.
 
 Usage: python3 scripts/opensim_reference.py [SHARED_OPENSIM_DIR] [OUT_DIR]
-(defaults: ../shared/data/opensim and host/tests/data/opensim_reference, from the repo root).
+(defaults: ../shared/data/opensim and crates/qgait-model/tests/data/opensim_reference, from the
+repo root).
 
 For every model and motion, one CSV row per motion row:
 - `time`, then the 17 gait2392 coordinates (radians, the values set in OpenSim; named as in
@@ -34,7 +35,7 @@ Motions:
 walker knee (rotation2, rotation3, translation1, translation2) replaced by the
 `PolynomialFunction`s of KNEE_POLYNOMIALS (the left knee's translation1 inside a
 `MultiplierFunction` of scale 1.1), as Rajagopal-Lai-Uhlrich 2023 drives its knee; the model
-file is written to a temporary directory, never kept. host/tests/opensim_models.rs makes the
+file is written to a temporary directory, never kept. crates/qgait-model/tests/opensim_models.rs makes the
 same model from the same numbers by its own text edit.
 """
 import math
@@ -242,7 +243,7 @@ def run(name, path, motions, out_dir):
 
 def main():
     shared = sys.argv[1] if len(sys.argv) > 1 else "../shared/data/opensim"
-    out_dir = sys.argv[2] if len(sys.argv) > 2 else "host/tests/data/opensim_reference"
+    out_dir = sys.argv[2] if len(sys.argv) > 2 else "crates/qgait-model/tests/data/opensim_reference"
     os.makedirs(out_dir, exist_ok=True)
     normal = read_mot(os.path.join(shared, "normal.mot"))
 

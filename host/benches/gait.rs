@@ -9,9 +9,9 @@
 use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use qgait::gait::output::{self, ReferenceArg, Subject};
-use qgait::gait::{analyse, trial, CycleMode};
-use qgait::model::choice::Model;
+use qgait_gait::output::{self, ReferenceArg, Subject};
+use qgait_gait::{analyse, trial, CycleMode};
+use qgait_model::choice::Model;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
@@ -57,7 +57,7 @@ fn bench(c: &mut Criterion) {
     });
     let out = dir.path().join("out");
     g.bench_function("imu_walk_24s_report", |b| {
-        b.iter(|| black_box(output::write(&analysis(), &out).expect("writes")))
+        b.iter(|| black_box(qgait_gait::files::write(&analysis(), &out).expect("writes")))
     });
     g.finish();
 }

@@ -2,11 +2,4 @@
 #![warn(missing_docs)]
 
 pub mod cli;
-pub mod device;
-pub mod diagnostics;
-pub mod gait;
-pub mod model;
-pub mod motion;
-pub mod opensim;
 pub(crate) mod progress;
-pub(crate) mod report;

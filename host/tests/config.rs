@@ -6,7 +6,7 @@ mod common;
 use std::path::Path;
 
 use common::{qgait, stderr};
-use qgait::device::config::geometry_of_parts;
+use qgait_device::config::geometry_of_parts;
 use qgait_kernel::Gait2392Geometry;
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, ModelId};
 
@@ -70,7 +70,7 @@ fn subject_toml_is_six_parts_and_a_subject_config() {
     let mut g = Gait2392Geometry::generic();
     g.left.toetip_in_toes[0] = 0.09;
     let file = dir.path().join("subject.toml");
-    std::fs::write(&file, qgait::model::subject::to_toml(&g, &[])).unwrap();
+    std::fs::write(&file, qgait_model::subject::to_toml(&g, &[])).unwrap();
     let sent = config(
         dir.path(),
         &["--model", s(&file), "--upload", "17", "--no-status-request"],
@@ -218,7 +218,7 @@ fn imported_chain_is_its_table_and_a_chain_table_config() {
     assert!(c.request_status);
     assert_eq!(table_crc(&hub, usize::from(c.len)), c.crc);
     let text = std::fs::read_to_string(&toml).unwrap();
-    let host = qgait::model::chain::ChainModel::parse(&text, "raj.toml")
+    let host = qgait_model::chain::ChainModel::parse(&text, "raj.toml")
         .unwrap()
         .chain()
         .unwrap();

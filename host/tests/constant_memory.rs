@@ -10,7 +10,7 @@ use std::sync::Mutex;
 
 use clap::Parser;
 use qgait::cli::{Cli, Command};
-use qgait::device::packets::push_frame;
+use qgait_device::packets::push_frame;
 use qgait_proto::device_model::{pose_distances, pose_points};
 use qgait_proto::{Message, ModelId, PoseFrame, PoseModels, Status};
 
@@ -117,7 +117,7 @@ fn verify_holds_less_than_a_megabyte_of_a_9_mb_log() {
     let Command::Verify(args) = command(&["verify", log.to_str().unwrap()]) else {
         unreachable!()
     };
-    let (passed, peak) = peak_of(|| qgait::cli::device::run_verify(args, true).unwrap());
+    let (passed, peak) = peak_of(|| qgait::cli::verify::run_verify(args, true).unwrap());
     assert!(passed, "the log verifies");
     eprintln!("verify: {peak} bytes of heap at the peak for a {size}-byte log");
     assert!(
@@ -138,7 +138,7 @@ fn decode_holds_less_than_a_megabyte_of_a_9_mb_log() {
             unreachable!()
         };
         let mut out = CountingSink(0);
-        let (result, peak) = peak_of(|| qgait::cli::device::decode_to(&args, &mut out, true));
+        let (result, peak) = peak_of(|| qgait::cli::decode::decode_to(&args, &mut out, true));
         result.unwrap();
         assert!(out.0 > size as usize, "{format}: {} bytes out", out.0);
         eprintln!(

@@ -764,8 +764,8 @@ fn pelvic_tilt_is_measured_along_the_asis_psis_line() {
     let osim = std::fs::read_to_string(data.join("Rajagopal2016.osim")).unwrap();
     let m = pelvis_markers(&osim);
     let mid = |a: &str, b: &str| [0, 1].map(|k| (m[a][k] + m[b][k]) / 2.0);
-    assert_eq!(mid("RASI", "LASI"), qgait::gait::angles::MID_ASIS);
-    assert_eq!(mid("RPSI", "LPSI"), qgait::gait::angles::MID_PSIS);
+    assert_eq!(mid("RASI", "LASI"), qgait_gait::angles::MID_ASIS);
+    assert_eq!(mid("RPSI", "LPSI"), qgait_gait::angles::MID_PSIS);
     let (asis, psis) = (mid("RASI", "LASI"), mid("RPSI", "LPSI"));
     let offset = (psis[1] - asis[1]).atan2(asis[0] - psis[0]).to_degrees();
     assert!((offset - 5.87).abs() < 0.01, "{offset}");

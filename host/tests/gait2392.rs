@@ -7,8 +7,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::{parse_fk_csv, qgait, shared_dir, stderr, stdout};
-use qgait::opensim::mot::MotionTable;
 use qgait_kernel::Gait2392Geometry;
+use qgait_opensim::mot::MotionTable;
 
 const MODELS: [&str; 2] = ["gait2392_simbody.osim", "gait2392_thelen2003muscle.osim"];
 
@@ -145,7 +145,7 @@ fn fk_gait2392_without_points_has_the_standard_columns_and_warns_for_absent_coor
     let (header, rows) = parse_fk_csv(&csv);
     assert_eq!(
         header,
-        qgait::model::points::csv_header(&qgait::model::points::point_names(false))
+        qgait_model::points::csv_header(&qgait_model::points::point_names(false))
     );
     assert_eq!(rows.len(), 3);
     assert_eq!(rows[0].len(), std_rows[0].len());
@@ -268,7 +268,7 @@ fn importing_both_model_formats_gives_the_generic_geometry_and_the_same_fk() {
             dir.path(),
             &format!("{m}.toml"),
         );
-        let g = qgait::model::subject::read(&toml).unwrap();
+        let g = qgait_model::subject::read(&toml).unwrap();
         assert_generic(&g, m);
         imported.push((toml, g));
     }
@@ -538,7 +538,7 @@ fn a_marker_file_sets_the_toe_tip() {
         err.contains("toe tip l: no L.Toe.Tip marker; generic"),
         "{err}"
     );
-    let g = qgait::model::subject::read(&out).unwrap();
+    let g = qgait_model::subject::read(&out).unwrap();
     let tip = g.right.toetip_in_toes;
     let expected = [0.27 - 0.1788, 0.005 + 0.002, -0.00108];
     for i in 0..3 {
@@ -583,7 +583,7 @@ fn export_writes_a_trc_and_an_sto_that_read_back_as_the_fk_csv() {
     assert_eq!(values, ["10", "10", "11", "12", "m", "10", "1", "11"]);
     let markers: Vec<&str> = lines[3].split('\t').filter(|m| !m.is_empty()).collect();
     assert_eq!(markers[..2], ["Frame#", "Time"]);
-    assert_eq!(markers[2..], qgait::model::points::point_names(true));
+    assert_eq!(markers[2..], qgait_model::points::point_names(true));
     let xyz: Vec<&str> = lines[4].split('\t').collect();
     assert_eq!(xyz.len(), 2 + 3 * 12);
     assert_eq!(xyz[2..5], ["X1", "Y1", "Z1"]);
@@ -639,7 +639,7 @@ fn a_knee_offset_folds_into_the_splines_and_a_linear_knee_translation_is_a_two_k
     );
     let path = dir.path().join("knee.osim");
     std::fs::write(&path, edited).unwrap();
-    let g = qgait::model::subject::read(&import(&path, dir.path(), "knee.toml")).unwrap();
+    let g = qgait_model::subject::read(&import(&path, dir.path(), "knee.toml")).unwrap();
     let generic = Gait2392Geometry::generic();
     // translation1: the line 0.01 q - 0.004 plus the offset 0.001, as two knots.
     let tx = g.right.knee_tx;

@@ -8,7 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::{imu_dir, qgait, run_imu_tutorial, stderr};
-use qgait::opensim::mot::MotionTable;
+use qgait_opensim::mot::MotionTable;
 
 /// The coordinates OpenSense determines with this IMU set (not the MTP joints, not the pelvis
 /// translations).

@@ -11,12 +11,12 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use common::{imu_dir, qgait, run_imu_tutorial, stderr};
-use qgait::opensim::mot::MotionTable;
 use qgait_kernel::anthropometry::Anthropometry;
 use qgait_kernel::imu::math::{space_fixed_xyz, three_axes};
 use qgait_kernel::imu::{FitModel, Segment};
 use qgait_kernel::models::{Phak, PhakAngles};
 use qgait_kernel::{Quat, Vec3};
+use qgait_opensim::mot::MotionTable;
 
 /// A line of an orientation `.sto` cell: `w,x,y,z`.
 fn cell(q: Quat<f64>) -> String {
@@ -363,12 +363,12 @@ fn options_that_do_not_apply_are_refused() {
 /// Rajagopal2015_opensense.
 #[test]
 fn rajagopal_chain_solve_in_f32_follows_f64() {
-    use qgait::opensim::imu_sto::OrientationReader;
     use qgait_kernel::imu::{Calibration, FitSolver, Orientations, Settings};
+    use qgait_opensim::imu_sto::OrientationReader;
     let Some(dir) = imu_dir() else { return };
     let osim = dir.join("../opensim/Rajagopal2015_opensense.osim");
     let text = std::fs::read_to_string(&osim).unwrap();
-    let imported = qgait::opensim::leg_chain::import(&text, "raj", None).unwrap();
+    let imported = qgait_model::leg_chain::import(&text, "raj", None).unwrap();
     let (min, max) = imported.model.bounds().unwrap();
     let chain = imported.model.chain().unwrap();
     let chain32 = chain.cast::<f32>();

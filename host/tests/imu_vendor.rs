@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use common::{qgait, stderr};
-use qgait::opensim::mot::MotionTable;
+use qgait_opensim::mot::MotionTable;
 
 fn vendor() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/imu/vendor")

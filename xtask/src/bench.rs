@@ -7,7 +7,7 @@
 //!   the UART session, and the code size of each measured loop in the bench ELF (the kernel's
 //!   share per model and method).
 //! - Host: criterion's medians (`target/criterion/**/new/estimates.json`) of the kernel's `fk`
-//!   bench and of the host crate's `decode_verify` bench.
+//!   bench and of `qgait-device`'s `decode_verify` bench.
 //!
 //! - Large files: the release `qgait` on a generated 1,000,000-row motion (in a temporary
 //!   directory, removed afterwards): `fk`, `export`, `packets` and `report` on it, `decode` and
@@ -39,7 +39,7 @@ const REPEATABILITY: f64 = 0.01;
 /// Frames per call of the kernel's batch benches (`BATCH` in crates/qgait-kernel/benches/fk.rs).
 const KERNEL_BATCH: f64 = 4096.0;
 
-/// Pose frames per iteration of the log benches (`SAMPLES` in host/benches/decode_verify.rs).
+/// Pose frames per iteration of the log benches (`SAMPLES` in crates/qgait-device/benches/decode_verify.rs).
 const LOG_FRAMES: f64 = 10_000.0;
 
 /// Device figures: (name printed by the bench binary, name printed here).
@@ -547,7 +547,10 @@ fn host_benches() -> Result<(), String> {
     let root = repo_root();
     cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fk"])?;
     cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fusion"])?;
-    cargo(&root, &["bench", "-p", "qgait", "--bench", "decode_verify"])?;
+    cargo(
+        &root,
+        &["bench", "-p", "qgait-device", "--bench", "decode_verify"],
+    )?;
     let criterion = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target"))

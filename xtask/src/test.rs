@@ -27,7 +27,7 @@ pub fn run() -> Result<ExitCode, String> {
     let firmware = root.join("firmware");
     let runner = [firmware_runner_env()?];
     // The firmware is built first: the host workspace tests include the end-to-end tests
-    // (host/tests/e2e_qemu.rs), which run this ELF under QEMU.
+    // (tests/e2e_qemu.rs), which run this ELF under QEMU.
     let mps2 = step(
         "firmware build, mps2-an386",
         &firmware,
@@ -39,7 +39,7 @@ pub fn run() -> Result<ExitCode, String> {
     // Flash within 32 KiB and static RAM plus the stack bound within 8 KiB (issue 8's target),
     // for the default build and the one with imported chains (issue 17's).
     let default_budget = budget(&mps2, "budget, default build", &elf_path);
-    // In the directory host/tests/e2e_chain.rs builds it in: one build for both.
+    // In the directory tests/e2e_chain.rs builds it in: one build for both.
     let chain_elf = firmware.join("target/chain/thumbv7em-none-eabihf/release/qgait-firmware");
     let chain = step(
         "firmware build, mps2-an386, chain",
@@ -108,7 +108,7 @@ pub fn run() -> Result<ExitCode, String> {
             &[
                 "test",
                 "-p",
-                "qgait",
+                "qgait-system-tests",
                 "--test",
                 "e2e_qemu",
                 "recording_of_100000",

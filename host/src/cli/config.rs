@@ -8,8 +8,8 @@ use qgait_proto::{MissingPolicy, ModelId};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::device::config::{frames, messages, HubModel, HubSettings};
-use crate::model::choice::Model;
+use qgait_device::config::{frames, messages, HubModel, HubSettings};
+use qgait_model::choice::Model;
 
 /// `qgait config` arguments.
 #[derive(Debug, Args)]
@@ -77,7 +77,7 @@ pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubM
 
 /// Runs `qgait config`.
 pub fn run_config(args: ConfigArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
-    crate::cli::refuse_overwrite([args.output.as_path()], &args.model.inputs())?;
+    crate::cli::output::refuse_overwrite([args.output.as_path()], &args.model.inputs())?;
     let model = hub_model(args.model.load(diagnostics)?, args.upload)?;
     let settings = HubSettings {
         missing_policy: match args.policy {

@@ -3,7 +3,7 @@
 
 use std::fmt::Display;
 
-use crate::diagnostics::Warning;
+use qgait_opensim::diagnostics::Warning;
 
 /// Shows warnings (`warning: ...`) and notes (`note: ...`) unless quiet.
 #[derive(Debug, Clone, Copy)]

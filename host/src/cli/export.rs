@@ -8,10 +8,10 @@ use clap::Args;
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::fk::{inputs, prepare, Prepared};
 use crate::cli::model_args::ModelArgs;
-use crate::cli::{refuse_overwrite, with_path, OutputFile};
-use crate::motion::source::MotionRows;
-use crate::opensim::export;
+use crate::cli::output::{refuse_overwrite, with_path, OutputFile};
 use crate::progress::Progress;
+use qgait_model::motion::source::MotionRows;
+use qgait_opensim::export;
 
 /// `qgait export` arguments.
 #[derive(Debug, Args)]

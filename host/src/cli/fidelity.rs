@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::cli::diagnostics::Diagnostics;
-use crate::cli::{refuse_overwrite, write_output};
-use crate::model::choice::Model;
-use crate::model::fidelity;
-use crate::motion::source::{default_label, load_motion};
+use crate::cli::output::{refuse_overwrite, write_output};
+use qgait_model::choice::Model;
+use qgait_model::fidelity;
+use qgait_model::motion::source::{default_label, load_motion};
 
 /// `qgait fidelity` arguments.
 #[derive(Debug, Args)]

@@ -8,10 +8,10 @@ use clap::Args;
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::cli::{refuse_overwrite, write_output_with};
-use crate::model::points::{PointModel, PointsCsv};
-use crate::motion::source::MotionRows;
+use crate::cli::output::{refuse_overwrite, write_output_with};
 use crate::progress::Progress;
+use qgait_model::motion::source::MotionRows;
+use qgait_model::points::{PointModel, PointsCsv};
 
 /// `qgait fk` arguments.
 #[derive(Debug, Args)]

@@ -1,4 +1,4 @@
-//! `qgait gait`: clinical gait analysis of one or more recordings ([`crate::gait`]).
+//! `qgait gait`: clinical gait analysis of one or more recordings (crate `qgait_gait`).
 
 use std::path::PathBuf;
 
@@ -6,10 +6,10 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::diagnostics::Warning;
-use crate::gait::output::{self, ReferenceArg, Subject};
-use crate::gait::{self, trial, CycleMode};
-use crate::model::choice::Model;
+use qgait_gait::output::{self, ReferenceArg, Subject};
+use qgait_gait::{self as gait, trial, CycleMode};
+use qgait_model::choice::Model;
+use qgait_opensim::diagnostics::Warning;
 
 /// Arguments of `qgait gait`.
 #[derive(Debug, Args)]
@@ -143,7 +143,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         &normative_dir,
         subject,
     )?;
-    let files = output::write(&report, &args.output)?;
+    let files = qgait_gait::files::write(&report, &args.output)?;
     if !diagnostics.quiet() {
         let strides: usize = report
             .walks

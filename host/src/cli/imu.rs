@@ -16,14 +16,14 @@ use qgait_kernel::Gait2392;
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
-use crate::cli::{refuse_overwrite, write_output_with};
-use crate::diagnostics::Warning;
-use crate::model::choice::Model;
-use crate::model::error::ModelError;
-use crate::opensim::imu_vendor::{self, Mapping};
-use crate::opensim::mot::{write_mot_header, write_mot_row, MotionTable};
+use crate::cli::output::{refuse_overwrite, write_output_with};
 use crate::progress::Progress;
-use crate::report::imu_angles;
+use qgait_figures::imu_angles;
+use qgait_model::choice::Model;
+use qgait_model::error::ModelError;
+use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::mot::{write_mot_header, write_mot_row, MotionTable};
+use qgait_opensim::vendor::{self, Mapping};
 
 /// Arguments of `qgait imu`.
 #[derive(Debug, Args)]
@@ -354,7 +354,7 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
                 );
             }
             let model = chain.chain().map_err(|message| ModelError::File {
-                at: crate::diagnostics::Location {
+                at: qgait_opensim::diagnostics::Location {
                     path: name.clone(),
                     line: None,
                     column: None,
@@ -362,7 +362,7 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
                 message,
             })?;
             let (min, max) = chain.bounds().map_err(|message| ModelError::File {
-                at: crate::diagnostics::Location {
+                at: qgait_opensim::diagnostics::Location {
                     path: name.clone(),
                     line: None,
                     column: None,
@@ -397,7 +397,7 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
         &settings,
         &mut warnings,
     )?;
-    let mut reader = imu_vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
+    let mut reader = vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
     if let (Some(r), true) = (a.rate, reader.has_times()) {
         warnings.push(Warning(format!(
             "{}: --rate {r} ignored: the file has its own times (--rate is for an Xsens trial or an APDM file that gives none)",
@@ -581,7 +581,7 @@ fn calibrate(
     settings: &Settings<f64>,
     warnings: &mut Vec<Warning>,
 ) -> anyhow::Result<(Calibration<f64>, Vec<Segment>)> {
-    let mut reader = imu_vendor::open(path, mapping, rate)?;
+    let mut reader = vendor::open(path, mapping, rate)?;
     let row = reader
         .next_row()?
         .expect("the reader refuses a file without rows");

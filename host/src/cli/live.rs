@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use qgait_proto::{Message, Status};
 
-use crate::device::log::Record;
+use qgait_device::log::Record;
 
 /// Shortest time between two redraws.
 const REDRAW: Duration = Duration::from_millis(100);

@@ -7,9 +7,9 @@ use anyhow::Context;
 use clap::Subcommand;
 
 use crate::cli::diagnostics::Diagnostics;
-use crate::cli::refuse_overwrite;
-use crate::model::choice::Model;
-use crate::model::subject;
+use crate::cli::output::refuse_overwrite;
+use qgait_model::choice::Model;
+use qgait_model::subject;
 
 /// `qgait model` subcommands.
 #[derive(Debug, Subcommand)]

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::cli::diagnostics::Diagnostics;
-use crate::model::anthropometry;
-use crate::model::choice::Model;
-use crate::model::error::ModelError;
+use qgait_model::anthropometry;
+use qgait_model::choice::Model;
+use qgait_model::error::ModelError;
 
 /// The model a command computes with.
 #[derive(Debug, Args, Clone, Default)]

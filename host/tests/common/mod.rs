@@ -48,32 +48,6 @@ pub fn parse_fk_csv(text: &str) -> (String, Vec<Vec<f64>>) {
     (header, rows)
 }
 
-/// The release firmware ELF (`QGAIT_FIRMWARE_ELF`, else the default build location), when it
-/// and `qemu-system-arm` are there; `None` (with the reason printed) when either is missing.
-pub fn firmware_elf() -> Option<PathBuf> {
-    use qgait_emulate::{firmware, qemu};
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let elf = std::env::var_os("QGAIT_FIRMWARE_ELF")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| firmware::default_elf(&root));
-    if !qemu::available() {
-        eprintln!(
-            "skipped: {} is not installed (cargo xtask test installs it)",
-            qemu::QEMU
-        );
-        return None;
-    }
-    if !elf.is_file() {
-        eprintln!(
-            "skipped: no firmware at {} (build it: {}; cargo xtask test does)",
-            elf.display(),
-            firmware::build_command(&root)
-        );
-        return None;
-    }
-    Some(elf)
-}
-
 /// A fresh scratch directory for one test, `<temp>/qgait-<test>-<pid>-<name>`.
 pub fn scratch(test: &str, name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("qgait-{test}-{}-{name}", std::process::id()));

@@ -1,0 +1,230 @@
+//! The clinical joint angles of each frame in the Conventional Gait Model's conventions (the
+//! normative data's), from gait2392's coordinates and the FK: the nine variables of the Gait
+//! Profile Score. `docs/gait-analysis.md` says how each maps and what is not the same angle.
+//!
+//! - Pelvis: gait2392's tilt, list and rotation re-expressed relative to the direction of
+//!   progression ([`heading_free_pelvis`]), the pelvis frame turned about its lateral axis onto
+//!   the CGM's (whose forward axis runs from the mid-PSIS to the mid-ASIS point,
+//!   [`pelvis_tilt_offset`]), then in the CGM's signs: tilt anterior positive (`-tilt`),
+//!   obliquity positive with the side up (`-list` right, `+list` left), rotation positive with
+//!   the side forward (`+rotation` right, `-rotation` left).
+//! - Hip flexion, adduction (the GPS's "hip abduction" variable, adduction positive as the
+//!   CGM) and internal rotation: gait2392's `hip_*`, relative to the CGM's pelvis frame: the
+//!   flexion (the first rotation, about the same lateral axis) plus [`pelvis_tilt_offset`],
+//!   exactly; adduction and rotation as they are.
+//! - Knee flexion: `-knee_angle`. Ankle dorsiflexion: `ankle_angle`.
+//! - Foot progression: from the FK, the foot's long axis (heel to MTP joint: gait2392's
+//!   calcaneus origin to its MTP centre, nearly horizontal standing) in the horizontal plane
+//!   against the direction of progression ([`foot_progression`]), internal positive.
+
+use qgait_kernel::imu::heading_free_pelvis;
+use qgait_kernel::imu::math::three_axes;
+use qgait_kernel::progression::{foot_progression, heading};
+use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Side, Vec3};
+
+use crate::trial::{coordinate, Trial};
+
+/// A Gait Profile Score variable, in Baker et al.'s (2009) order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Variable {
+    /// Pelvic tilt (anterior positive).
+    PelvicTilt,
+    /// Pelvic obliquity (the side up positive).
+    PelvicObliquity,
+    /// Pelvic rotation (the side forward positive).
+    PelvicRotation,
+    /// Hip flexion.
+    HipFlexion,
+    /// Hip ab/adduction (adduction positive).
+    HipAbduction,
+    /// Hip rotation (internal positive).
+    HipRotation,
+    /// Knee flexion.
+    KneeFlexion,
+    /// Ankle dorsiflexion.
+    AnkleDorsiflexion,
+    /// Foot progression (internal positive).
+    FootProgression,
+}
+
+impl Variable {
+    /// All nine.
+    pub const ALL: [Variable; 9] = [
+        Variable::PelvicTilt,
+        Variable::PelvicObliquity,
+        Variable::PelvicRotation,
+        Variable::HipFlexion,
+        Variable::HipAbduction,
+        Variable::HipRotation,
+        Variable::KneeFlexion,
+        Variable::AnkleDorsiflexion,
+        Variable::FootProgression,
+    ];
+
+    /// The name in `gps.csv` and the `cycles/` files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Variable::PelvicTilt => "pelvic_tilt",
+            Variable::PelvicObliquity => "pelvic_obliquity",
+            Variable::PelvicRotation => "pelvic_rotation",
+            Variable::HipFlexion => "hip_flexion",
+            Variable::HipAbduction => "hip_abduction",
+            Variable::HipRotation => "hip_rotation",
+            Variable::KneeFlexion => "knee_flexion",
+            Variable::AnkleDorsiflexion => "ankle_dorsiflexion",
+            Variable::FootProgression => "foot_progression",
+        }
+    }
+
+    /// A title for figures and tables, with the positive direction.
+    pub fn title(self) -> &'static str {
+        match self {
+            Variable::PelvicTilt => "Pelvic tilt (ant +)",
+            Variable::PelvicObliquity => "Pelvic obliquity (up +)",
+            Variable::PelvicRotation => "Pelvic rotation (fwd +)",
+            Variable::HipFlexion => "Hip flexion (flex +)",
+            Variable::HipAbduction => "Hip adduction (add +)",
+            Variable::HipRotation => "Hip rotation (int +)",
+            Variable::KneeFlexion => "Knee flexion (flex +)",
+            Variable::AnkleDorsiflexion => "Ankle dorsiflexion (dors +)",
+            Variable::FootProgression => "Foot progression (int +)",
+        }
+    }
+
+    /// The normative data's variable and axis.
+    pub fn normative(self) -> (&'static str, &'static str) {
+        match self {
+            Variable::PelvicTilt => ("PelvisAngles", "X"),
+            Variable::PelvicObliquity => ("PelvisAngles", "Y"),
+            Variable::PelvicRotation => ("PelvisAngles", "Z"),
+            Variable::HipFlexion => ("HipAngles", "X"),
+            Variable::HipAbduction => ("HipAngles", "Y"),
+            Variable::HipRotation => ("HipAngles", "Z"),
+            Variable::KneeFlexion => ("KneeAngles", "X"),
+            Variable::AnkleDorsiflexion => ("AnkleAngles", "X"),
+            Variable::FootProgression => ("FootProgressAngles", "Z"),
+        }
+    }
+
+    /// A pelvis variable (one pelvis for both sides).
+    pub fn is_pelvis(self) -> bool {
+        matches!(
+            self,
+            Variable::PelvicTilt | Variable::PelvicObliquity | Variable::PelvicRotation
+        )
+    }
+}
+
+/// The mid-ASIS point in gait2392's pelvis frame (x forward, y up; metres): the `RASI` and
+/// `LASI` markers of Rajagopal et al.'s (2016) model, whose pelvis carries gait2392's bone
+/// meshes unscaled (`Rajagopal2016.osim`; gait2392's own files have no markers).
+pub const MID_ASIS: [f64; 2] = [0.009_530_47, 0.018_081_6];
+
+/// The mid-PSIS point, as [`MID_ASIS`]: the `RPSI` and `LPSI` markers.
+pub const MID_PSIS: [f64; 2] = [-0.155, 0.035];
+
+/// The CGM's pelvic tilt when gait2392's pelvis frame is level (radians, anterior positive):
+/// the angle of the line from the mid-PSIS to the mid-ASIS point below the pelvis frame's
+/// forward axis (5.87°). The CGM's pelvis frame is gait2392's turned by it about the lateral
+/// axis.
+pub fn pelvis_tilt_offset() -> f64 {
+    (MID_PSIS[1] - MID_ASIS[1]).atan2(MID_ASIS[0] - MID_PSIS[0])
+}
+
+/// The CGM's pelvis angles `[tilt, list, rotation]` (radians, still in gait2392's signs and
+/// sequence: tilt about the lateral z, list about x, rotation about y) of a pelvis whose
+/// gait2392 angles relative to the direction of progression are `pelvis`: the frame turned
+/// anteriorly by [`pelvis_tilt_offset`] about its own lateral axis, decomposed again.
+pub fn cgm_pelvis(pelvis: [f64; 3]) -> [f64; 3] {
+    let axes = [Vec3::unit_z(), Vec3::unit_x(), Vec3::unit_y()];
+    let q = Quat::from_axis_angle(axes[0], pelvis[0])
+        * Quat::from_axis_angle(axes[1], pelvis[1])
+        * Quat::from_axis_angle(axes[2], pelvis[2])
+        * Quat::from_axis_angle(axes[0], -pelvis_tilt_offset());
+    three_axes(q, axes)
+}
+
+/// The nine variables (degrees) of every frame of a trial, per side: `[side][variable][frame]`.
+/// `None` for a trial without joint angles (a device's frames).
+pub fn angles(trial: &Trial, forward: &[Vec3<f64>]) -> Option<[[Vec<f64>; 9]; 2]> {
+    let q = trial.coordinates.as_ref()?;
+    // The pelvis's axes are the same in every gait2392 (tilt z, list x, rotation y).
+    let model = Gait2392::<f64>::new(&Gait2392Geometry::generic()).ok()?;
+    let [tilt, list, rot] = ["pelvis_tilt", "pelvis_list", "pelvis_rotation"].map(coordinate);
+    let pelvis: Vec<[f64; 3]> = q
+        .iter()
+        .zip(forward)
+        .map(|(q, f)| {
+            cgm_pelvis(heading_free_pelvis(
+                &model,
+                [q[tilt], q[list], q[rot]],
+                heading(*f),
+            ))
+            .map(f64::to_degrees)
+        })
+        .collect();
+    let offset = pelvis_tilt_offset().to_degrees();
+    let mut out: [[Vec<f64>; 9]; 2] = Default::default();
+    for (s, side) in Side::ALL.into_iter().enumerate() {
+        let sign = if s == 0 { 1.0 } else { -1.0 };
+        let c = |name: &str| coordinate(&format!("{name}_{}", side.suffix()));
+        let [hf, ha, hr, knee, ankle] = [
+            c("hip_flexion"),
+            c("hip_adduction"),
+            c("hip_rotation"),
+            c("knee_angle"),
+            c("ankle_angle"),
+        ];
+        for v in Variable::ALL {
+            let i = Variable::ALL.iter().position(|x| *x == v).unwrap_or(0);
+            out[s][i] = (0..q.len())
+                .map(|f| match v {
+                    Variable::PelvicTilt => -pelvis[f][0],
+                    Variable::PelvicObliquity => -sign * pelvis[f][1],
+                    Variable::PelvicRotation => sign * pelvis[f][2],
+                    Variable::HipFlexion => q[f][hf].to_degrees() + offset,
+                    Variable::HipAbduction => q[f][ha].to_degrees(),
+                    Variable::HipRotation => q[f][hr].to_degrees(),
+                    Variable::KneeFlexion => -q[f][knee].to_degrees(),
+                    Variable::AnkleDorsiflexion => q[f][ankle].to_degrees(),
+                    Variable::FootProgression => {
+                        let limb = trial.frames[f][s];
+                        foot_progression(side, limb.heel, limb.forefoot, forward[f]).to_degrees()
+                    }
+                })
+                .collect();
+        }
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cgm_pelvis_is_tilted_forward_by_the_asis_psis_line() {
+        let offset = pelvis_tilt_offset().to_degrees();
+        assert!((offset - 5.87).abs() < 0.01, "{offset}");
+        // A level gait2392 pelvis reads the offset as anterior tilt (CGM tilt = -tilt).
+        let [t, l, r] = cgm_pelvis([0.0; 3]);
+        assert!((-t.to_degrees() - offset).abs() < 1e-9);
+        assert!(l.abs() < 1e-12 && r.abs() < 1e-12);
+        // With no list or rotation, the offset adds to the tilt exactly; with both, the frame
+        // turns about its own lateral axis, not the ground's.
+        let [t, ..] = cgm_pelvis([(-8f64).to_radians(), 0.0, 0.0]);
+        assert!((-t.to_degrees() - (8.0 + offset)).abs() < 1e-9);
+        let p = [0.1, 0.15, 0.3];
+        let [t, l, r] = cgm_pelvis(p);
+        let back = Quat::from_axis_angle(Vec3::unit_z(), t)
+            * Quat::from_axis_angle(Vec3::unit_x(), l)
+            * Quat::from_axis_angle(Vec3::unit_y(), r);
+        let x = back.rotate(Vec3::unit_x());
+        let want = Quat::from_axis_angle(Vec3::unit_z(), p[0])
+            * Quat::from_axis_angle(Vec3::unit_x(), p[1])
+            * Quat::from_axis_angle(Vec3::unit_y(), p[2]);
+        let asis = Vec3::new(MID_ASIS[0] - MID_PSIS[0], MID_ASIS[1] - MID_PSIS[1], 0.0);
+        let along = want.rotate(asis);
+        assert!(Vec3::distance(x, along.normalized()) < 1e-12);
+    }
+}

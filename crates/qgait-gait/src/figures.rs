@@ -1,0 +1,535 @@
+//! The report's figures, drawn with the report room's helpers (PNG and SVG each):
+//! - `kinematics`: every joint angle over the cycle, rows proximal to distal (pelvis, hip,
+//!   knee, ankle, foot), columns sagittal, frontal, transverse; the reference's mean ± 1 SD as
+//!   a grey band, each side's mean ± SD in its colour, each side's toe off as a vertical line;
+//! - `map`: the Movement Analysis Profile, the nine GVS per side and the GPS as bars;
+//! - `events`: the heel's and toe's forward position relative to the pelvis over time with the
+//!   detected events, to check them.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::angles::Variable;
+use crate::error::FigureError;
+use crate::events::along;
+use crate::output::Report;
+use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
+
+/// Side colours, right first.
+pub const SIDE_COLORS: [RGBColor; 2] = [RIGHT_LEG, LEFT_LEG];
+
+/// What a panel of the kinematics figure shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Panel {
+    /// A GPS variable.
+    Variable(Variable),
+    /// An angle the models do not give (its normative band only, if any), with its title.
+    Absent(&'static str),
+}
+
+/// The 5 x 3 panels: rows pelvis, hip, knee, ankle, foot; columns sagittal, frontal, transverse.
+pub const PANELS: [[Panel; 3]; 5] = {
+    use Panel::{Absent, Variable as V};
+    use Variable::*;
+    [
+        [V(PelvicTilt), V(PelvicObliquity), V(PelvicRotation)],
+        [V(HipFlexion), V(HipAbduction), V(HipRotation)],
+        [
+            V(KneeFlexion),
+            Absent("Knee varus (var +)"),
+            Absent("Knee rotation (int +)"),
+        ],
+        [
+            V(AnkleDorsiflexion),
+            Absent("Ankle frontal"),
+            Absent("Ankle transverse"),
+        ],
+        [
+            Absent("Foot sagittal"),
+            Absent("Foot frontal"),
+            V(FootProgression),
+        ],
+    ]
+};
+
+/// Draws one figure to PNG and SVG in `dir`.
+fn save<F: Figure>(f: &F, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    figure::save(f, dir).map_err(|error| FigureError::Save {
+        stem: f.stem(),
+        error: error.into(),
+    })
+}
+
+/// Writes every figure; returns the files.
+pub fn save_all(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let mut files = Vec::new();
+    if report.curves.iter().flatten().any(Option::is_some) {
+        files.extend(save(&Kinematics { report }, dir)?);
+    }
+    if report.scores.is_some() {
+        files.extend(save(&Map { report }, dir)?);
+    }
+    files.extend(save(&EventsFigure { report }, dir)?);
+    Ok(files)
+}
+
+const PANEL_W: u32 = 420;
+const PANEL_H: u32 = 260;
+const HEADER: u32 = 100;
+
+/// The normative-band figure.
+pub struct Kinematics<'a> {
+    /// The report.
+    pub report: &'a Report,
+}
+
+impl Figure for Kinematics<'_> {
+    fn stem(&self) -> String {
+        "kinematics".into()
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (3 * PANEL_W, HEADER + 5 * PANEL_H)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), figure::PlotError> {
+        let r = self.report;
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (header, grid) = root.split_vertically(HEADER);
+        header
+            .draw_text(
+                "Joint angles over the gait cycle",
+                &figure::bold(24),
+                (16, 10),
+            )
+            .map_err(draw_err)?;
+        header
+            .draw_text(
+                &format!(
+                    "grey: {} mean (line) ± 1 SD (band); colours: mean ± SD of each side; dashed: toe off",
+                    r.reference.label
+                ),
+                &figure::text(15),
+                (16, 44),
+            )
+            .map_err(draw_err)?;
+        side_legend(&header, 16, 70)?;
+        let cells = grid.split_evenly((5, 3));
+        for (i, cell) in cells.iter().enumerate() {
+            let (row, col) = (i / 3, i % 3);
+            self.panel(cell, row, col)?;
+        }
+        Ok(())
+    }
+}
+
+impl Kinematics<'_> {
+    fn panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        row: usize,
+        col: usize,
+    ) -> Result<(), figure::PlotError> {
+        let r = self.report;
+        let panel = PANELS[row][col];
+        let (title, v) = match panel {
+            Panel::Variable(v) => (
+                v.title(),
+                Some(Variable::ALL.iter().position(|x| *x == v).unwrap_or(0)),
+            ),
+            Panel::Absent(t) => (t, None),
+        };
+        let band: Vec<(&[f64], &[f64])> = match v {
+            Some(v) => (0..2)
+                .filter_map(|s| r.reference.bands[s][v].as_ref())
+                .map(|b| (b.mean.as_slice(), b.sd.as_slice()))
+                .collect(),
+            None => r
+                .reference
+                .extra
+                .iter()
+                .filter(|(cell, _, _)| *cell == (row, col))
+                .map(|(_, _, b)| (b.mean.as_slice(), b.sd.as_slice()))
+                .collect(),
+        };
+        let curves: Vec<(usize, &crate::cycles::Curve)> = match v {
+            Some(v) => (0..2)
+                .filter_map(|s| r.curves[s][v].as_ref().map(|c| (s, c)))
+                .collect(),
+            None => Vec::new(),
+        };
+        if band.is_empty() && curves.is_empty() {
+            area.draw_text(title, &figure::bold(15), (40, 12))
+                .map_err(draw_err)?;
+            area.draw_text(
+                "not in the model or the normative data",
+                &figure::text(13),
+                (40, 40),
+            )
+            .map_err(draw_err)?;
+            return Ok(());
+        }
+        let values = band
+            .iter()
+            .flat_map(|(m, s)| m.iter().zip(*s).flat_map(|(m, s)| [m - s, m + s]))
+            .chain(
+                curves
+                    .iter()
+                    .flat_map(|(_, c)| c.mean.iter().zip(&c.sd).flat_map(|(m, s)| [m - s, m + s])),
+            );
+        let (y0, y1) = figure::padded_range(values, 0.05, 10.0);
+        let mut chart = ChartBuilder::on(area)
+            .caption(title, figure::bold(15))
+            .margin(8)
+            .x_label_area_size(28)
+            .y_label_area_size(40)
+            .build_cartesian_2d(0.0..100.0, y0..y1)
+            .map_err(draw_err)?;
+        chart
+            .configure_mesh()
+            .x_labels(6)
+            .y_labels(5)
+            .label_style(figure::text(12))
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| figure::tick(*v, 0))
+            .light_line_style(WHITE.mix(0.0))
+            .bold_line_style(BLACK.mix(0.08))
+            .draw()
+            .map_err(draw_err)?;
+        let step = |n: usize| 100.0 / (n - 1) as f64;
+        for (mean, sd) in &band {
+            let dx = step(mean.len());
+            let mut poly: Vec<(f64, f64)> = mean
+                .iter()
+                .zip(*sd)
+                .enumerate()
+                .map(|(i, (m, s))| (i as f64 * dx, m + s))
+                .collect();
+            poly.extend(
+                mean.iter()
+                    .zip(*sd)
+                    .enumerate()
+                    .rev()
+                    .map(|(i, (m, s))| (i as f64 * dx, m - s)),
+            );
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    poly,
+                    BLACK.mix(0.12).filled(),
+                )))
+                .map_err(draw_err)?;
+        }
+        // The reference's mean (a recording's may have no spread to show): grey when one for
+        // both sides (the normative data), else each side's in its colour.
+        let same = band.windows(2).all(|w| w[0].0 == w[1].0);
+        for (s, (mean, _)) in band.iter().enumerate() {
+            let style = match (same, v) {
+                (false, Some(_)) => SIDE_COLORS[s].mix(0.6).stroke_width(1),
+                _ => BLACK.mix(0.45).stroke_width(1),
+            };
+            let dx = step(mean.len());
+            let pts: Vec<(f64, f64)> = mean
+                .iter()
+                .enumerate()
+                .map(|(i, m)| (i as f64 * dx, *m))
+                .collect();
+            figure::draw_polyline(chart.plotting_area(), &pts, style)?;
+        }
+        if let Some(zero) = (y0 < 0.0 && y1 > 0.0).then_some(0.0) {
+            chart
+                .draw_series(LineSeries::new(
+                    [(0.0, zero), (100.0, zero)],
+                    BLACK.mix(0.3),
+                ))
+                .map_err(draw_err)?;
+        }
+        for (s, c) in &curves {
+            let color = SIDE_COLORS[*s];
+            let dx = step(c.mean.len());
+            if c.n > 1 {
+                let mut poly: Vec<(f64, f64)> = c
+                    .mean
+                    .iter()
+                    .zip(&c.sd)
+                    .enumerate()
+                    .map(|(i, (m, sd))| (i as f64 * dx, m + sd))
+                    .collect();
+                poly.extend(
+                    c.mean
+                        .iter()
+                        .zip(&c.sd)
+                        .enumerate()
+                        .rev()
+                        .map(|(i, (m, sd))| (i as f64 * dx, m - sd)),
+                );
+                chart
+                    .draw_series(std::iter::once(Polygon::new(
+                        poly,
+                        color.mix(0.15).filled(),
+                    )))
+                    .map_err(draw_err)?;
+            }
+            let pts: Vec<(f64, f64)> = c
+                .mean
+                .iter()
+                .enumerate()
+                .map(|(i, m)| (i as f64 * dx, *m))
+                .collect();
+            figure::draw_polyline(chart.plotting_area(), &pts, color.stroke_width(2))?;
+        }
+        for (s, to) in r.toe_off.iter().enumerate() {
+            if let Some(p) = to {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        [(*p, y0), (*p, y1)],
+                        6,
+                        4,
+                        SIDE_COLORS[s].stroke_width(1),
+                    ))
+                    .map_err(draw_err)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// "right" and "left" in their colours, from (x, y).
+fn side_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    y: i32,
+) -> Result<(), figure::PlotError> {
+    for (s, name) in ["right", "left"].iter().enumerate() {
+        let x = x + 140 * s as i32;
+        area.draw(&PathElement::new(
+            vec![(x, y + 9), (x + 36, y + 9)],
+            SIDE_COLORS[s].stroke_width(4),
+        ))
+        .map_err(draw_err)?;
+        area.draw(&Text::new(name.to_string(), (x + 44, y), figure::text(16)))
+            .map_err(draw_err)?;
+    }
+    Ok(())
+}
+
+/// The Movement Analysis Profile.
+pub struct Map<'a> {
+    /// The report.
+    pub report: &'a Report,
+}
+
+impl Figure for Map<'_> {
+    fn stem(&self) -> String {
+        "map".into()
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (1100, 520)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), figure::PlotError> {
+        let Some(s) = &self.report.scores else {
+            return Ok(());
+        };
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (header, area) = root.split_vertically(90);
+        header
+            .draw_text("Movement Analysis Profile", &figure::bold(24), (16, 10))
+            .map_err(draw_err)?;
+        header
+            .draw_text(
+                &format!(
+                    "Gait Variable Scores and Gait Profile Score (degrees) against {}",
+                    self.report.reference.label
+                ),
+                &figure::text(15),
+                (16, 42),
+            )
+            .map_err(draw_err)?;
+        side_legend(&header, 16, 64)?;
+        header
+            .draw(&PathElement::new(
+                vec![(296, 73), (332, 73)],
+                RGBColor(60, 60, 60).stroke_width(4),
+            ))
+            .map_err(draw_err)?;
+        header
+            .draw(&Text::new("overall GPS", (340, 64), figure::text(16)))
+            .map_err(draw_err)?;
+        // Groups: the nine variables, then GPS (right, left, overall).
+        let labels: Vec<String> = Variable::ALL
+            .iter()
+            .map(|v| v.title().split(" (").next().unwrap_or("").to_string())
+            .chain(["GPS".to_string()])
+            .collect();
+        let mut bars: Vec<(usize, usize, f64, RGBColor)> = Vec::new();
+        for (v, _) in Variable::ALL.iter().enumerate() {
+            for (side, color) in SIDE_COLORS.iter().enumerate() {
+                if let Some(g) = s.gvs[side][v] {
+                    bars.push((v, side, g, *color));
+                }
+            }
+        }
+        for (side, color) in SIDE_COLORS.iter().enumerate() {
+            if let Some(g) = s.gps[side] {
+                bars.push((9, side, g, *color));
+            }
+        }
+        if let Some(g) = s.overall {
+            bars.push((9, 2, g, RGBColor(60, 60, 60)));
+        }
+        let top = bars.iter().map(|b| b.2).fold(5.0f64, f64::max) * 1.15;
+        let mut chart = ChartBuilder::on(&area)
+            .margin(12)
+            .x_label_area_size(60)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0..labels.len() as f64, 0.0..top)
+            .map_err(draw_err)?;
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .x_labels(0)
+            .y_labels(6)
+            .y_desc("degrees")
+            .label_style(figure::text(13))
+            .axis_desc_style(figure::text(13))
+            .y_label_formatter(&|v| figure::tick(*v, 0))
+            .light_line_style(WHITE.mix(0.0))
+            .bold_line_style(BLACK.mix(0.08))
+            .draw()
+            .map_err(draw_err)?;
+        for (g, side, value, color) in &bars {
+            let width = if *g == 9 { 0.27 } else { 0.38 };
+            let x0 = *g as f64 + 0.1 + *side as f64 * width;
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(x0, 0.0), (x0 + width * 0.9, *value)],
+                    color.filled(),
+                )))
+                .map_err(draw_err)?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    format!("{value:.1}"),
+                    (x0, *value + top * 0.03),
+                    figure::text(11),
+                )))
+                .map_err(draw_err)?;
+        }
+        // Group labels under the axis, a word per line (on the whole figure: the chart clips).
+        for (g, label) in labels.iter().enumerate() {
+            let (px, py) = chart.plotting_area().map_coordinate(&(g as f64 + 0.1, 0.0));
+            for (k, w) in label.split(' ').enumerate() {
+                root.draw(&Text::new(
+                    w.to_string(),
+                    (px, py + 8 + 16 * k as i32),
+                    figure::text(13),
+                ))
+                .map_err(draw_err)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The events over time.
+pub struct EventsFigure<'a> {
+    /// The report.
+    pub report: &'a Report,
+}
+
+impl Figure for EventsFigure<'_> {
+    fn stem(&self) -> String {
+        "events".into()
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (1200, 110 + 300 * self.report.walks.len() as u32)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), figure::PlotError> {
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (header, area) = root.split_vertically(110);
+        header
+            .draw_text(
+                "Gait events (Zeni et al. 2008)",
+                &figure::bold(24),
+                (16, 10),
+            )
+            .map_err(draw_err)?;
+        header
+            .draw_text(
+                "heel (solid) and toe tip (thin) forward of the pelvis along the direction of progression; triangles: heel strikes, dots: toe offs",
+                &figure::text(15),
+                (16, 44),
+            )
+            .map_err(draw_err)?;
+        side_legend(&header, 16, 74)?;
+        let rows = area.split_evenly((self.report.walks.len().max(1), 1));
+        for (w, row) in self.report.walks.iter().zip(&rows) {
+            let t = &w.trial.time;
+            let heel = [0, 1].map(|s| along(&w.trial.frames, &w.forward, |f| f[s].heel));
+            let toe = [0, 1].map(|s| along(&w.trial.frames, &w.forward, |f| f[s].toe));
+            let (y0, y1) =
+                figure::padded_range(heel.iter().chain(&toe).flatten().copied(), 0.05, 0.2);
+            let (t0, t1) = (t[0], *t.last().unwrap_or(&t[0]));
+            let mut chart = ChartBuilder::on(row)
+                .caption(&w.trial.label, figure::bold(15))
+                .margin(10)
+                .x_label_area_size(36)
+                .y_label_area_size(56)
+                .build_cartesian_2d(t0..t1.max(t0 + 1e-6), y0..y1)
+                .map_err(draw_err)?;
+            chart
+                .configure_mesh()
+                .x_desc("time (s)")
+                .y_desc("forward (m)")
+                .label_style(figure::text(12))
+                .axis_desc_style(figure::text(12))
+                .y_label_formatter(&|v| figure::tick(*v, 2))
+                .light_line_style(WHITE.mix(0.0))
+                .bold_line_style(BLACK.mix(0.08))
+                .draw()
+                .map_err(draw_err)?;
+            for s in 0..2 {
+                let color = SIDE_COLORS[s];
+                for (signal, width) in [(&heel[s], 2), (&toe[s], 1)] {
+                    let pts = figure::decimate_series(
+                        chart.plotting_area(),
+                        t.iter().copied().zip(signal.iter().copied()),
+                    );
+                    figure::draw_polyline(chart.plotting_area(), &pts, color.stroke_width(width))?;
+                }
+                for e in &w.events.heel_strike[s] {
+                    chart
+                        .draw_series(std::iter::once(TriangleMarker::new(
+                            (t[e.frame], heel[s][e.frame]),
+                            6,
+                            color.filled(),
+                        )))
+                        .map_err(draw_err)?;
+                }
+                for e in &w.events.toe_off[s] {
+                    chart
+                        .draw_series(std::iter::once(Circle::new(
+                            (t[e.frame], toe[s][e.frame]),
+                            4,
+                            color.filled(),
+                        )))
+                        .map_err(draw_err)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,179 @@
+//! The report's files written to a directory: its CSVs (`events.csv`, `spatiotemporal.csv`,
+//! `gps.csv`, `cycles/<side>.csv`), its figures ([`crate::figures`]) and one HTML page
+//! ([`crate::html`]) with the figures inline.
+
+use std::path::{Path, PathBuf};
+
+use crate::angles::Variable;
+use crate::cycles::{Curve, POINTS};
+use crate::error::ReportError;
+use crate::gps::Scores;
+use crate::output::{round, Report};
+use crate::spatiotemporal::{Parameter, SIDES};
+
+/// Writes every file of the report to `dir` (created if needed); returns their paths.
+pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
+    let io_error = |path: &Path, action: &'static str| {
+        let path = path.display().to_string();
+        move |error| ReportError::Io {
+            path,
+            action,
+            error,
+        }
+    };
+    let cycles = dir.join("cycles");
+    std::fs::create_dir_all(&cycles).map_err(io_error(&cycles, "create"))?;
+    let mut files = Vec::new();
+    let put = |files: &mut Vec<PathBuf>, name: &str, text: String| -> Result<(), ReportError> {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(io_error(&p, "write"))?;
+        files.push(p);
+        Ok(())
+    };
+    put(&mut files, "events.csv", events_csv(report)?)?;
+    put(
+        &mut files,
+        "spatiotemporal.csv",
+        spatiotemporal_csv(&report.parameters)?,
+    )?;
+    if let Some(s) = &report.scores {
+        put(&mut files, "gps.csv", gps_csv(s)?)?;
+    }
+    for (s, side) in SIDES.iter().enumerate() {
+        if report.curves[s].iter().any(Option::is_some) {
+            put(
+                &mut files,
+                &format!("cycles/{side}.csv"),
+                cycles_csv(&report.curves[s])?,
+            )?;
+        }
+    }
+    let mut svgs = Vec::new();
+    for written in crate::figures::save_all(report, dir)? {
+        if written.extension().is_some_and(|e| e == "svg") {
+            let text = std::fs::read_to_string(&written).map_err(io_error(&written, "read"))?;
+            svgs.push((
+                written
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                text,
+            ));
+        }
+        files.push(written);
+    }
+    put(&mut files, "report.html", crate::html::page(report, &svgs))?;
+    Ok(files)
+}
+
+/// The text of a CSV file written by `rows` (through the csv crate: fields quoted when they
+/// hold a comma, a quote or a line break).
+fn csv_text(
+    file: &'static str,
+    rows: impl FnOnce(&mut csv::Writer<Vec<u8>>) -> csv::Result<()>,
+) -> Result<String, ReportError> {
+    let error = |error| ReportError::Csv { file, error };
+    let mut w = csv::Writer::from_writer(Vec::new());
+    rows(&mut w).map_err(error)?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| error(csv::Error::from(e.into_error())))?;
+    // Every field is UTF-8, so the whole is.
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
+}
+
+/// `events.csv`: `side,event,time` (and `motion` with several recordings), in time order.
+pub fn events_csv(report: &Report) -> Result<String, ReportError> {
+    let several = report.walks.len() > 1;
+    csv_text("events.csv", |w| {
+        let mut head = vec!["side", "event", "time"];
+        if several {
+            head.push("motion");
+        }
+        w.write_record(&head)?;
+        for walk in &report.walks {
+            for (s, kind, t) in walk.event_list() {
+                let time = round(t, 6);
+                let mut row = vec![SIDES[s], kind.name(), time.as_str()];
+                if several {
+                    row.push(walk.trial.source.as_str());
+                }
+                w.write_record(&row)?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// `spatiotemporal.csv`: `parameter,side,value,unit,normal_min,normal_max,note`.
+pub fn spatiotemporal_csv(params: &[Parameter]) -> Result<String, ReportError> {
+    csv_text("spatiotemporal.csv", |w| {
+        w.write_record([
+            "parameter",
+            "side",
+            "value",
+            "unit",
+            "normal_min",
+            "normal_max",
+            "note",
+        ])?;
+        for p in params {
+            let (lo, hi) = p.range.map_or((String::new(), String::new()), |r| {
+                (round(r.min, 4), round(r.max, 4))
+            });
+            w.write_record([p.name, p.side, &round(p.value, 4), p.unit, &lo, &hi, p.note])?;
+        }
+        Ok(())
+    })
+}
+
+/// `gps.csv`: `variable,side,gvs_deg`, the nine GVS per side, then `GPS` per side and overall.
+pub fn gps_csv(s: &Scores) -> Result<String, ReportError> {
+    csv_text("gps.csv", |w| {
+        w.write_record(["variable", "side", "gvs_deg"])?;
+        for (side, name) in SIDES.iter().enumerate() {
+            for (v, var) in Variable::ALL.iter().enumerate() {
+                if let Some(g) = s.gvs[side][v] {
+                    w.write_record([var.name(), name, &round(g, 4)])?;
+                }
+            }
+        }
+        for (side, name) in SIDES.iter().enumerate() {
+            if let Some(g) = s.gps[side] {
+                w.write_record(["GPS", name, &round(g, 4)])?;
+            }
+        }
+        if let Some(g) = s.overall {
+            w.write_record(["GPS", "both", &round(g, 4)])?;
+        }
+        Ok(())
+    })
+}
+
+/// `cycles/<side>.csv`: `percent`, then `<variable>_mean,<variable>_sd` per variable (degrees),
+/// 101 rows.
+pub fn cycles_csv(curves: &[Option<Curve>; 9]) -> Result<String, ReportError> {
+    let present: Vec<(usize, &Curve)> = curves
+        .iter()
+        .enumerate()
+        .filter_map(|(v, c)| c.as_ref().map(|c| (v, c)))
+        .collect();
+    csv_text("cycles.csv", |w| {
+        let mut head = vec!["percent".to_string()];
+        for (v, _) in &present {
+            let n = Variable::ALL[*v].name();
+            head.push(format!("{n}_mean"));
+            head.push(format!("{n}_sd"));
+        }
+        w.write_record(&head)?;
+        for p in 0..POINTS {
+            let mut row = vec![p.to_string()];
+            for (_, c) in &present {
+                row.push(round(c.mean[p], 4));
+                row.push(round(c.sd[p], 4));
+            }
+            w.write_record(&row)?;
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,143 @@
+//! The Gait Profile Score, the Gait Variable Scores and the Movement Analysis Profile as
+//! Baker et al. (2009, Gait & Posture 30:265-269) define them: each GVS is the root mean square
+//! difference between the subject's mean curve and the reference mean over the 51 points
+//! 0, 2, ..., 100 % of the cycle; a side's GPS is the root mean square of its nine GVS (the
+//! pelvis included); the overall GPS is the root mean square of fifteen GVS: the six hip, knee,
+//! ankle and foot variables of each side and the three pelvic ones once, from the left side
+//! (Baker's choice: the pelvis is one segment, and its left-cycle curves stand for it).
+
+use crate::angles::Variable;
+
+/// Points of the cycle the scores use (every 2 %).
+pub const POINTS: usize = 51;
+
+/// The subject's and the reference's curves at the 51 points, per side and variable; `None`
+/// where either has no curve.
+pub type Curves = [[Option<Vec<f64>>; 9]; 2];
+
+/// The scores.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scores {
+    /// GVS per side and variable (degrees), [`Variable::ALL`] order.
+    pub gvs: [[Option<f64>; 9]; 2],
+    /// GPS per side (degrees), when all nine GVS of the side are known.
+    pub gps: [Option<f64>; 2],
+    /// Overall GPS (degrees), when all fifteen GVS are known.
+    pub overall: Option<f64>,
+}
+
+/// The 51 points of a curve at 0, 1, ..., 100 % (101 points): every other one.
+pub fn every_2_percent(curve: &[f64]) -> Vec<f64> {
+    curve.iter().step_by(2).copied().collect()
+}
+
+/// One GVS: the root mean square difference of two curves of [`POINTS`] points.
+pub fn gvs(subject: &[f64], reference: &[f64]) -> f64 {
+    assert_eq!(subject.len(), POINTS, "a GVS needs {POINTS} points");
+    assert_eq!(reference.len(), POINTS, "a GVS needs {POINTS} points");
+    let ss: f64 = subject
+        .iter()
+        .zip(reference)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum();
+    (ss / POINTS as f64).sqrt()
+}
+
+/// Root mean square of values.
+fn rms(values: &[f64]) -> f64 {
+    (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt()
+}
+
+/// The scores of `subject` against `reference` (both 51-point curves).
+pub fn scores(subject: &Curves, reference: &Curves) -> Scores {
+    let mut gvs_all = [[None; 9]; 2];
+    for s in 0..2 {
+        for v in 0..9 {
+            if let (Some(a), Some(b)) = (&subject[s][v], &reference[s][v]) {
+                gvs_all[s][v] = Some(gvs(a, b));
+            }
+        }
+    }
+    let side_gps = |s: usize| -> Option<f64> {
+        let all: Option<Vec<f64>> = gvs_all[s].iter().copied().collect();
+        all.map(|v| rms(&v))
+    };
+    let mut fifteen = Vec::with_capacity(15);
+    for (v, var) in Variable::ALL.iter().enumerate() {
+        if var.is_pelvis() {
+            fifteen.push(gvs_all[1][v]);
+        } else {
+            fifteen.push(gvs_all[0][v]);
+            fifteen.push(gvs_all[1][v]);
+        }
+    }
+    let overall: Option<Vec<f64>> = fifteen.into_iter().collect();
+    Scores {
+        gvs: gvs_all,
+        gps: [side_gps(0), side_gps(1)],
+        overall: overall.map(|v| rms(&v)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curves(f: impl Fn(usize, usize, usize) -> f64) -> Curves {
+        std::array::from_fn(|s| {
+            std::array::from_fn(|v| Some((0..POINTS).map(|p| f(s, v, p)).collect()))
+        })
+    }
+
+    fn shape(s: usize, v: usize, p: usize) -> f64 {
+        (p as f64 * 0.2 + v as f64).sin() * 20.0 + s as f64
+    }
+
+    #[test]
+    fn a_constant_offset_in_one_variable_is_its_gvs() {
+        let reference = curves(shape);
+        // Knee flexion of the right side 5 degrees more at every point.
+        let knee = 6;
+        let subject =
+            curves(|s, v, p| shape(s, v, p) + if s == 0 && v == knee { 5.0 } else { 0.0 });
+        let sc = scores(&subject, &reference);
+        assert_eq!(sc.gvs[0][knee], Some(5.0));
+        assert_eq!(sc.gvs[1][knee], Some(0.0));
+        // GPS right: sqrt(25 / 9); overall: sqrt(25 / 15).
+        assert!((sc.gps[0].unwrap() - (25.0f64 / 9.0).sqrt()).abs() < 1e-12);
+        assert_eq!(sc.gps[1], Some(0.0));
+        assert!((sc.overall.unwrap() - (25.0f64 / 15.0).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_recording_against_itself_scores_zero() {
+        let c = curves(shape);
+        let sc = scores(&c, &c);
+        assert_eq!(sc.gps, [Some(0.0), Some(0.0)]);
+        assert_eq!(sc.overall, Some(0.0));
+    }
+
+    #[test]
+    fn the_pelvis_counts_once_from_the_left() {
+        let reference = curves(shape);
+        // Pelvic tilt off by 3 on the right only, then on the left only.
+        let right = curves(|s, v, p| shape(s, v, p) + if s == 0 && v == 0 { 3.0 } else { 0.0 });
+        let left = curves(|s, v, p| shape(s, v, p) + if s == 1 && v == 0 { 3.0 } else { 0.0 });
+        assert_eq!(scores(&right, &reference).overall, Some(0.0));
+        let o = scores(&left, &reference).overall.unwrap();
+        assert!((o - (9.0f64 / 15.0).sqrt()).abs() < 1e-12, "{o}");
+    }
+
+    #[test]
+    fn a_hand_computed_gvs() {
+        // Differences 0, 1, 2, ..., 50: RMS = sqrt(sum k^2 / 51) = sqrt(50 * 51 * 101 / 6 / 51).
+        let a: Vec<f64> = (0..POINTS).map(|k| k as f64).collect();
+        let b = vec![0.0; POINTS];
+        let want = (50.0 * 101.0 / 6.0f64).sqrt();
+        assert!((gvs(&a, &b) - want).abs() < 1e-12);
+        assert_eq!(
+            every_2_percent(&(0..101).map(f64::from).collect::<Vec<_>>()).len(),
+            51
+        );
+    }
+}

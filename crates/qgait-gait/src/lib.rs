@@ -1,0 +1,375 @@
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
+
+pub mod angles;
+pub mod cycles;
+pub mod error;
+pub mod events;
+pub mod figures;
+pub mod files;
+pub mod gps;
+pub mod html;
+pub mod normative;
+pub mod output;
+pub mod spatiotemporal;
+pub mod trial;
+
+use qgait_kernel::Vec3;
+
+use crate::cycles::{Curve, Cycle, Dropped};
+use crate::events::{Events, Kind};
+use crate::trial::Trial;
+
+/// Why a recording cannot be analysed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnalysisError {
+    /// Too few rows for a walk.
+    #[error("{recording}: {rows} rows; a gait analysis needs a walk")]
+    TooShort {
+        /// The recording.
+        recording: String,
+        /// Its rows.
+        rows: usize,
+    },
+    /// `--cycle whole` on a recording with a gap or rows left out.
+    #[error("{recording}: --cycle whole takes the recording as one cycle, but it has a gap in time or rows left out (see the warnings)")]
+    WholeWithGap {
+        /// The recording.
+        recording: String,
+    },
+    /// Not one complete stride on either side.
+    #[error("{recording}: no complete stride found ({right} heel strikes right, {left} left); for a file that holds one gait cycle, use --cycle whole")]
+    NoStride {
+        /// The recording.
+        recording: String,
+        /// Right heel strikes detected.
+        right: usize,
+        /// Left heel strikes detected.
+        left: usize,
+    },
+}
+
+/// How the cycles are found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum CycleMode {
+    /// From the detected heel strikes: every complete, straight stride of each side.
+    Auto,
+    /// The whole recording is one cycle (a single-cycle file).
+    Whole,
+}
+
+impl CycleMode {
+    /// The option's value.
+    pub fn name(self) -> &'static str {
+        match self {
+            CycleMode::Auto => "auto",
+            CycleMode::Whole => "whole",
+        }
+    }
+}
+
+/// One recording, analysed.
+pub struct Walk {
+    /// The recording.
+    pub trial: Trial,
+    /// Direction of progression of each frame.
+    pub forward: Vec<Vec3<f64>>,
+    /// Detected events.
+    pub events: Events,
+    /// The cycles of each side.
+    pub cycles: [Vec<Cycle>; 2],
+    /// Strides left out, per side.
+    pub dropped: [Dropped; 2],
+    /// The nine variables of each frame (`[side][variable][frame]`, degrees), when the
+    /// recording has joint angles.
+    pub angles: Option<[[Vec<f64>; 9]; 2]>,
+    /// How its cycles were taken (a `builtin:` gait whole whatever `--cycle` says).
+    pub mode: CycleMode,
+}
+
+/// Analyses one recording.
+pub fn analyse(trial: Trial, mode: CycleMode) -> Result<Walk, AnalysisError> {
+    let n = trial.time.len();
+    if n < 3 {
+        return Err(AnalysisError::TooShort {
+            recording: trial.source,
+            rows: n,
+        });
+    }
+    let window = match mode {
+        CycleMode::Auto => events::PROGRESSION_WINDOW,
+        // One cycle: its mean direction.
+        CycleMode::Whole => f64::INFINITY,
+    };
+    if mode == CycleMode::Whole && !trial.breaks.is_empty() {
+        return Err(AnalysisError::WholeWithGap {
+            recording: trial.source,
+        });
+    }
+    // Each stretch between gaps on its own: its direction of progression, its events, its
+    // strides.
+    let segments = trial.segments();
+    let forward: Vec<Vec3<f64>> = segments
+        .iter()
+        .flat_map(|r| events::progression(&trial.time[r.clone()], &trial.frames[r.clone()], window))
+        .collect();
+    let events = events::detect_in(&trial.time, &trial.frames, &forward, &segments);
+    let (cycles, dropped) = match mode {
+        CycleMode::Auto => cycles::strides(&trial.time, &events, &forward, &segments),
+        CycleMode::Whole => {
+            let heel = [0, 1].map(|s| events::along(&trial.frames, &forward, |f| f[s].heel));
+            let [r, l] = cycles::whole(&trial.time, [&heel[0], &heel[1]], &events);
+            ([vec![r], vec![l]], [Dropped::default(); 2])
+        }
+    };
+    let angles = angles::angles(&trial, &forward);
+    Ok(Walk {
+        trial,
+        forward,
+        events,
+        cycles,
+        dropped,
+        angles,
+        mode,
+    })
+}
+
+impl Walk {
+    /// The events to report, in time order: `(side, kind, time)`. Taken whole, the heel
+    /// strikes that bound the declared cycles, and the toe offs inside.
+    pub fn event_list(&self) -> Vec<(usize, Kind, f64)> {
+        let mut out = Vec::new();
+        match self.mode {
+            CycleMode::Auto => {
+                for s in 0..2 {
+                    out.extend(
+                        self.events.heel_strike[s]
+                            .iter()
+                            .map(|e| (s, Kind::HeelStrike, e.time)),
+                    );
+                    out.extend(
+                        self.events.toe_off[s]
+                            .iter()
+                            .map(|e| (s, Kind::ToeOff, e.time)),
+                    );
+                }
+            }
+            CycleMode::Whole => {
+                let end = *self.trial.time.last().unwrap_or(&0.0);
+                for (s, c) in self.cycles.iter().enumerate() {
+                    for c in c {
+                        out.push((s, Kind::HeelStrike, c.start));
+                        if c.start == self.trial.time[0] {
+                            out.push((s, Kind::HeelStrike, end));
+                        }
+                        out.extend(
+                            self.events.toe_off[s]
+                                .iter()
+                                .map(|e| (s, Kind::ToeOff, e.time)),
+                        );
+                    }
+                }
+            }
+        }
+        out.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
+        out
+    }
+
+    /// `Ok` when either side has a cycle, else [`AnalysisError::NoStride`].
+    pub fn require_strides(&self) -> Result<(), AnalysisError> {
+        if self.cycles.iter().any(|c| !c.is_empty()) {
+            return Ok(());
+        }
+        Err(AnalysisError::NoStride {
+            recording: self.trial.source.clone(),
+            right: self.events.heel_strike[0].len(),
+            left: self.events.heel_strike[1].len(),
+        })
+    }
+
+    /// The number of cycles of each side.
+    pub fn strides(&self) -> [usize; 2] {
+        [self.cycles[0].len(), self.cycles[1].len()]
+    }
+}
+
+/// Mean and SD over every cycle of every walk, per side and variable (101 points); `None`
+/// where no walk has angles or a side has no cycle.
+pub fn curves(walks: &[Walk]) -> [[Option<Curve>; 9]; 2] {
+    std::array::from_fn(|s| {
+        std::array::from_fn(|v| {
+            let all: Vec<Vec<f64>> = walks
+                .iter()
+                .filter_map(|w| w.angles.as_ref().map(|a| (w, &a[s][v])))
+                .flat_map(|(w, a)| w.cycles[s].iter().map(move |c| c.normalise(|f| a[f])))
+                .collect();
+            Curve::of(&all)
+        })
+    })
+}
+
+/// The mean percentage of the cycle at which each side's toe comes off.
+pub fn toe_off_percent(walks: &[Walk]) -> [Option<f64>; 2] {
+    std::array::from_fn(|s| {
+        let v: Vec<f64> = walks
+            .iter()
+            .flat_map(|w| w.cycles[s].iter())
+            .filter_map(|c| c.toe_off.map(|t| c.percent(t)))
+            .collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    })
+}
+
+/// The longest hip-to-ankle distance of either side over the walks (m): the leg length that
+/// makes the walking speed non-dimensional.
+pub fn leg_length(walks: &[Walk]) -> Option<f64> {
+    walks
+        .iter()
+        .flat_map(|w| w.trial.frames.iter())
+        .flat_map(|f| f.iter().map(|l| Vec3::distance(l.hip, l.ankle)))
+        .fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.max(d))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::{FigureError, ReportError};
+    use crate::figures;
+    use crate::files;
+    use crate::normative::NormativeError;
+    use crate::output::{self, ReferenceArg, Subject};
+    use crate::trial::{Limb, TrialError};
+
+    fn gait2392() -> qgait_model::choice::Model {
+        qgait_model::choice::Model::load("gait2392", None)
+            .expect("gait2392")
+            .0
+    }
+
+    /// The built-in normal cycle, analysed as one whole cycle.
+    fn builtin_walk(label: &str) -> Walk {
+        let (mut t, _) = trial::load("builtin:normal", &gait2392()).expect("loads");
+        t.source = label.to_string();
+        analyse(t, CycleMode::Whole).expect("analyses")
+    }
+
+    #[test]
+    fn loading_errors_name_what_failed() {
+        let model = gait2392();
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("none.csv");
+        let e = trial::load(missing.to_str().unwrap(), &model)
+            .err()
+            .unwrap();
+        assert!(matches!(e, TrialError::Read { .. }), "{e}");
+        // A device's frames without times.
+        let frames = dir.path().join("frames.csv");
+        let row = format!("0,{}", vec!["0.1"; 24].join(","));
+        let text = format!(
+            "{}\n{}\n",
+            qgait_device::frames_csv::header(),
+            row.replacen(",", ",,", 1)
+        );
+        std::fs::write(&frames, text).unwrap();
+        let e = trial::load(frames.to_str().unwrap(), &model).err().unwrap();
+        assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
+        // The extension in capitals is a frames CSV still, not a motion.
+        let upper = dir.path().join("FRAMES.CSV");
+        std::fs::copy(&frames, &upper).unwrap();
+        let e = trial::load(upper.to_str().unwrap(), &model).err().unwrap();
+        assert!(matches!(e, TrialError::NoTimes(_)), "{e}");
+        let e = trial::load("builtin:walk", &model).err().unwrap();
+        assert!(matches!(e, TrialError::Source(_)), "{e}");
+    }
+
+    #[test]
+    fn analysis_errors_say_why() {
+        let still = |rows: usize| Trial {
+            label: "still".into(),
+            source: "still.mot".into(),
+            time: (0..rows).map(|i| i as f64 / 100.0).collect(),
+            frames: vec![[Limb::default(); 2]; rows],
+            coordinates: None,
+            translation: None,
+            breaks: Vec::new(),
+        };
+        let e = analyse(still(2), CycleMode::Auto).err().unwrap();
+        assert!(matches!(e, AnalysisError::TooShort { rows: 2, .. }), "{e}");
+        let w = analyse(still(300), CycleMode::Auto).unwrap();
+        let e = w.require_strides().err().unwrap();
+        assert!(
+            matches!(
+                e,
+                AnalysisError::NoStride {
+                    right: 0,
+                    left: 0,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(builtin_walk("w").require_strides().is_ok());
+        // One cycle cannot have a gap.
+        let mut gap = still(300);
+        gap.breaks = vec![150];
+        let e = analyse(gap, CycleMode::Whole).err().unwrap();
+        assert!(matches!(e, AnalysisError::WholeWithGap { .. }), "{e}");
+    }
+
+    #[test]
+    fn report_errors_say_why() {
+        let e = ReferenceArg::parse("normative:medium").err().unwrap();
+        assert!(
+            matches!(&e, NormativeError::UnknownSpeed { speed, .. } if speed == "medium"),
+            "{e}"
+        );
+        let build = |reference: &ReferenceArg, walks: Option<Vec<Walk>>| {
+            output::build(
+                vec![builtin_walk("a,b.mot"), builtin_walk("c.mot")],
+                "gait2392".into(),
+                CycleMode::Whole,
+                reference,
+                walks,
+                std::path::Path::new("/nonexistent"),
+                Subject::default(),
+            )
+        };
+        let motion = ReferenceArg::Motion("ref.mot".into());
+        let e = build(&motion, None).err().unwrap();
+        assert!(matches!(e, ReportError::ReferenceNotAnalysed(_)), "{e}");
+        // The normative data are read from the directory given.
+        let e = build(&ReferenceArg::Normative(None), None).err().unwrap();
+        assert!(
+            matches!(e, ReportError::Normative(NormativeError::Read { .. })),
+            "{e}"
+        );
+        let report = build(&motion, Some(vec![builtin_walk("ref.mot")])).unwrap();
+        // The CSVs through the csv crate: a field with a comma is quoted.
+        let events = files::events_csv(&report).unwrap();
+        assert!(events.starts_with("side,event,time,motion\n"), "{events}");
+        assert!(events.contains(",\"a,b.mot\"\n"), "{events}");
+        assert!(events.contains(",c.mot\n"), "{events}");
+        let dir = tempfile::tempdir().unwrap();
+        let e = figures::save_all(&report, &dir.path().join("missing"))
+            .err()
+            .unwrap();
+        assert!(matches!(e, FigureError::Save { .. }), "{e}");
+        let file = dir.path().join("file");
+        std::fs::write(&file, "").unwrap();
+        let e = files::write(&report, &file.join("out")).err().unwrap();
+        assert!(
+            matches!(
+                e,
+                ReportError::Io {
+                    action: "create",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let files = files::write(&report, &dir.path().join("out")).unwrap();
+        assert!(files.iter().any(|f| f.ends_with("report.html")));
+    }
+}

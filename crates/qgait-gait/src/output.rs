@@ -1,0 +1,280 @@
+//! The whole analysis of `qgait gait` and the files it writes: `events.csv`,
+//! `spatiotemporal.csv`, `gps.csv`, `cycles/*.csv`, the figures and `report.html`.
+
+use std::path::Path;
+
+use crate::angles::Variable;
+use crate::cycles::Curve;
+use crate::error::ReportError;
+use crate::gps::{self, every_2_percent, Scores};
+use crate::normative::{Band, Kinematics, NormativeError, Speed, StpNormals, STP_COLUMNS};
+use crate::spatiotemporal::{self, Parameter};
+use crate::{curves, leg_length, toe_off_percent, CycleMode, Walk};
+
+/// `--reference`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReferenceArg {
+    /// The normative data at a speed (`None`: from the measured speed).
+    Normative(Option<Speed>),
+    /// Another recording, analysed the same way.
+    Motion(String),
+}
+
+impl ReferenceArg {
+    /// `normative`, `normative:SPEED` or a motion.
+    pub fn parse(s: &str) -> Result<Self, NormativeError> {
+        match s.split_once(':') {
+            None if s == "normative" => Ok(Self::Normative(None)),
+            Some(("normative", speed)) => Speed::parse(speed)
+                .map(|v| Self::Normative(Some(v)))
+                .ok_or_else(|| NormativeError::UnknownSpeed {
+                    arg: s.to_string(),
+                    speed: speed.to_string(),
+                }),
+            _ => Ok(Self::Motion(s.to_string())),
+        }
+    }
+}
+
+/// The reference curves: mean and SD at 51 points per side and variable.
+pub struct Reference {
+    /// What it is, for titles (`Schwartz 2008, free speed` or the motion's label).
+    pub label: String,
+    /// The normative speed, when the reference is the normative data.
+    pub speed: Option<Speed>,
+    /// Bands per side and variable ([`Variable::ALL`] order).
+    pub bands: [[Option<Band>; 9]; 2],
+    /// Normative bands of angles the models do not give (knee varus/valgus and rotation), by
+    /// (row, column) of the kinematics figure.
+    pub extra: Vec<((usize, usize), String, Band)>,
+}
+
+/// Everything the report shows.
+pub struct Report {
+    /// The recordings.
+    pub walks: Vec<Walk>,
+    /// The model's name.
+    pub model: String,
+    /// `--cycle`.
+    pub mode: CycleMode,
+    /// Mean and SD per side and variable (101 points).
+    pub curves: [[Option<Curve>; 9]; 2],
+    /// Mean toe off per side (% of the cycle).
+    pub toe_off: [Option<f64>; 2],
+    /// Spatiotemporal parameters with their normal ranges where known.
+    pub parameters: Vec<Parameter>,
+    /// The pace group of the normal ranges (`Normal`, `Slow`, ...), and for whom.
+    pub ranges_for: Option<String>,
+    /// The reference.
+    pub reference: Reference,
+    /// Scores against the reference, when the recordings have joint angles.
+    pub scores: Option<Scores>,
+    /// Non-dimensional walking speed and leg length (m), when known.
+    pub dimensionless_speed: Option<(f64, f64)>,
+    /// How the normative speed group was chosen from the cadence, when it was.
+    pub speed_choice: Option<String>,
+}
+
+/// Subject details for the normal ranges.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Subject {
+    /// Age in years.
+    pub age: Option<f64>,
+    /// `Some(true)` male, `Some(false)` female, `None` either.
+    pub male: Option<bool>,
+}
+
+/// `male`, `female` or `male or female`, for messages.
+fn sex_words(male: Option<bool>) -> &'static str {
+    match male {
+        Some(true) => "male",
+        Some(false) => "female",
+        None => "male or female",
+    }
+}
+
+/// Builds the report from analysed walks.
+pub fn build(
+    walks: Vec<Walk>,
+    model: String,
+    mode: CycleMode,
+    reference: &ReferenceArg,
+    reference_walks: Option<Vec<Walk>>,
+    normative_dir: &Path,
+    subject: Subject,
+) -> Result<Report, ReportError> {
+    let curves = curves(&walks);
+    let toe_off = toe_off_percent(&walks);
+    let mut parameters = {
+        let list: Vec<spatiotemporal::Walk<'_>> = walks
+            .iter()
+            .map(|w| (&w.trial, w.forward.as_slice(), &w.cycles))
+            .collect();
+        spatiotemporal::parameters(&list)
+    };
+    let speed = spatiotemporal::value(&parameters, "speed", "both");
+    let leg = leg_length(&walks);
+    let dimensionless_speed = match (speed, leg) {
+        (Some(v), Some(l)) if l > 0.0 => Some((v / (9.81 * l).sqrt(), l)),
+        _ => None,
+    };
+    // Normal ranges.
+    let mut ranges_for = None;
+    let stp_path = normative_dir.join("stp_normals.txt");
+    let needs_groups = matches!(reference, ReferenceArg::Normative(None));
+    let normals = if subject.age.is_some() || needs_groups {
+        Some(StpNormals::read(&stp_path)?)
+    } else {
+        None
+    };
+    let cadence = spatiotemporal::value(&parameters, "cadence", "both");
+    if let (Some(age), Some(normals)) = (subject.age, &normals) {
+        // Asked for the normal ranges of an age the table lacks: an error rather than a report
+        // without them (or with another age's) that could be read as age-matched.
+        if !normals.holds(age, subject.male) {
+            let (min, max) = normals.ages(subject.male).unwrap_or((f64::NAN, f64::NAN));
+            return Err(NormativeError::AgeOutside {
+                path: stp_path.display().to_string(),
+                age,
+                sex: sex_words(subject.male),
+                min,
+                max,
+            }
+            .into());
+        }
+        if let Some((pace, choice, ranges)) = normals.ranges(age, subject.male, speed, cadence) {
+            for p in parameters.iter_mut() {
+                if let Some(k) = STP_COLUMNS.iter().position(|c| c.0 == p.name) {
+                    p.range = ranges[k];
+                }
+            }
+            let sex = sex_words(subject.male);
+            // (The kinematic bands' speed group is picked by cadence, below: the two may
+            // differ when the speed picks the pace.)
+            let by_speed = matches!(choice, crate::normative::PaceChoice::Speed { .. });
+            ranges_for = Some(format!(
+                "{sex}, {age} years, pace `{pace}` {} ({}){}",
+                choice.words(),
+                stp_path.display(),
+                if by_speed && needs_groups {
+                    "; the kinematic bands' speed group is picked by cadence, so the two may differ"
+                } else {
+                    ""
+                }
+            ));
+        }
+    }
+    // The normative speed group from the cadence.
+    let mut speed_choice = None;
+    let chosen = match (needs_groups, cadence, &normals) {
+        (true, Some(c), Some(n)) => n.cadence_groups(subject.age, subject.male).map(|g| {
+            let speed = g.group(c);
+            let range = match g.range(speed) {
+                (None, Some(hi)) => format!("below {}", round(hi, 1)),
+                (Some(lo), None) => format!("from {}", round(lo, 1)),
+                (Some(lo), Some(hi)) => format!("{} to {}", round(lo, 1), round(hi, 1)),
+                (None, None) => String::new(),
+            };
+            speed_choice = Some(format!(
+                "{}: cadence {} steps/min, in its range {range} steps/min (from the slow, normal and fast cadence of {}, {})",
+                speed.words(),
+                round(c, 1),
+                g.from,
+                stp_path.display()
+            ));
+            speed
+        }),
+        _ => None,
+    };
+    let reference = match (reference, reference_walks) {
+        (ReferenceArg::Normative(speed), _) => {
+            let speed = speed.or(chosen).unwrap_or(Speed::Free);
+            normative_reference(&normative_dir.join("Schwartz2008.json"), speed)?
+        }
+        (ReferenceArg::Motion(m), Some(rw)) => {
+            let c = crate::curves(&rw);
+            let label = rw
+                .first()
+                .map_or_else(|| m.clone(), |w| w.trial.label.clone());
+            Reference {
+                label,
+                speed: None,
+                bands: std::array::from_fn(|s| {
+                    std::array::from_fn(|v| {
+                        c[s][v].as_ref().map(|c| Band {
+                            mean: every_2_percent(&c.mean),
+                            sd: every_2_percent(&c.sd),
+                        })
+                    })
+                }),
+                extra: Vec::new(),
+            }
+        }
+        (ReferenceArg::Motion(m), None) => {
+            return Err(ReportError::ReferenceNotAnalysed(m.clone()))
+        }
+    };
+    let subject_curves: gps::Curves = std::array::from_fn(|s| {
+        std::array::from_fn(|v| curves[s][v].as_ref().map(|c| every_2_percent(&c.mean)))
+    });
+    let reference_curves: gps::Curves = std::array::from_fn(|s| {
+        std::array::from_fn(|v| reference.bands[s][v].as_ref().map(|b| b.mean.clone()))
+    });
+    let has_angles = walks.iter().any(|w| w.angles.is_some());
+    let scores = has_angles.then(|| gps::scores(&subject_curves, &reference_curves));
+    Ok(Report {
+        walks,
+        model,
+        mode,
+        curves,
+        toe_off,
+        parameters,
+        ranges_for,
+        reference,
+        scores,
+        dimensionless_speed,
+        speed_choice,
+    })
+}
+
+/// The normative data at one speed as a reference.
+pub fn normative_reference(path: &Path, speed: Speed) -> Result<Reference, NormativeError> {
+    let k = Kinematics::read(path, speed)?;
+    let mut bands: [[Option<Band>; 9]; 2] = Default::default();
+    for (v, var) in Variable::ALL.iter().enumerate() {
+        let (name, axis) = var.normative();
+        let b = k.band(name, axis)?;
+        bands[0][v] = b.clone();
+        bands[1][v] = b;
+    }
+    let mut extra = Vec::new();
+    for (cell, name, axis, title) in [
+        ((2, 1), "KneeAngles", "Y", "Knee varus (var +)"),
+        ((2, 2), "KneeAngles", "Z", "Knee rotation (int +)"),
+    ] {
+        if let Some(b) = k.band(name, axis)? {
+            extra.push((cell, title.to_string(), b));
+        }
+    }
+    Ok(Reference {
+        label: format!("Schwartz et al. 2008, {} speed", speed.key()),
+        speed: Some(speed),
+        bands,
+        extra,
+    })
+}
+
+/// A number with at most `decimals` decimals, without trailing zeros.
+pub fn round(v: f64, decimals: usize) -> String {
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}

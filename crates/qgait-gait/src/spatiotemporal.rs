@@ -1,0 +1,360 @@
+//! Spatiotemporal parameters from the cycles and the feet's FK positions at heel strike.
+//!
+//! Per stride of a side (heel strike to heel strike): stride time; step time (the other side's
+//! heel strike to the side's next); stance (to the side's toe off) and swing as % of the
+//! stride; double support (both feet down: heel strike to the other side's toe off, and the
+//! other side's heel strike to the side's toe off) as % of the stride. At the side's heel
+//! strike: step length, the heels' distance along the stride's direction of travel, and step
+//! width, their distance across it (horizontal). The direction of travel is the pelvis's
+//! horizontal displacement over the stride as the feet give it ([`stride_direction`]), else
+//! (a cycle without all four events) the direction the pelvis faces at the heel strike. Stride length: the pelvis's horizontal
+//! displacement over the stride where the motion has `pelvis_tx`/`pelvis_tz`, else the sum of
+//! the two sides' mean step lengths (the FK positions are relative to the pelvis, and at heel
+//! strike both feet are down). Speed: stride length over stride time. Each is the mean over
+//! the side's strides; `both` is over all strides, except the step width's, the mean of the
+//! two sides' (a direction of progression a few degrees off the feet's path widens one side's
+//! steps and narrows the other's by the same amount, to first order).
+
+use qgait_kernel::progression::horizontal_unit;
+use qgait_kernel::Vec3;
+
+use crate::cycles::Cycle;
+use crate::normative::Range;
+use crate::trial::Trial;
+
+/// One parameter of one side.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    /// Name (`cadence`, `stride_time`, ...).
+    pub name: &'static str,
+    /// `right`, `left` or `both`.
+    pub side: &'static str,
+    /// Value.
+    pub value: f64,
+    /// Unit.
+    pub unit: &'static str,
+    /// Normal range, where known.
+    pub range: Option<Range>,
+    /// How it was obtained, where that needs saying.
+    pub note: &'static str,
+}
+
+/// Side names, [`qgait_kernel::Side::ALL`] order.
+pub const SIDES: [&str; 2] = ["right", "left"];
+
+fn mean(v: &[f64]) -> Option<f64> {
+    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+}
+
+/// A value of one cycle of a recording (with its direction of progression), if it has one.
+type PerCycle<'a> = dyn Fn(&Trial, &[Vec3<f64>], &Cycle) -> Option<f64> + 'a;
+
+/// One analysed recording: the trial, its direction of progression and its cycles.
+pub type Walk<'a> = (&'a Trial, &'a [Vec3<f64>], &'a [Vec<Cycle>; 2]);
+
+/// The direction of travel over a stride (horizontal unit vector), from the feet alone: a foot
+/// in stance stands still on the ground, so relative to the pelvis its forefoot (gait2392's
+/// MTP joint, the toe tip without a foot) moves back by exactly what the pelvis moves forward.
+/// Summing that over the stride with the foot in stance at each moment (the other foot's from
+/// the heel strike to its toe off, the side's own to its toe off, then the other's; the
+/// trailing foot's during double support, whose forefoot stays down until it leaves the
+/// ground) gives the pelvis's displacement over the stride, and the side-to-side sway of the
+/// pelvis within it cancels. `None` for a cycle without its toe offs and the other side's heel
+/// strike, or without a displacement.
+pub fn stride_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
+    let (to, ohs, oto) = (c.toe_off?, c.opposite_strike?, c.opposite_toe_off?);
+    if !(oto <= ohs && ohs <= to) {
+        return None;
+    }
+    let stance = |t: f64| {
+        if t >= oto && t < to {
+            c.side
+        } else {
+            1 - c.side
+        }
+    };
+    let inside: Vec<(usize, f64)> = c
+        .samples
+        .iter()
+        .copied()
+        .filter(|(_, t)| (0.0..=c.duration).contains(t))
+        .collect();
+    let mut moved = Vec3::new(0.0, 0.0, 0.0);
+    for w in inside.windows(2) {
+        let ((f0, t0), (f1, _)) = (w[0], w[1]);
+        let foot = stance(t0);
+        moved = moved - (trial.frames[f1][foot].forefoot - trial.frames[f0][foot].forefoot);
+    }
+    horizontal_unit(moved)
+}
+
+/// The parameters of the cycles of both sides, over every stride of every recording.
+pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
+    let mut out = Vec::new();
+    let mut push = |name, side, value: Option<f64>, unit, note| {
+        if let Some(value) = value.filter(|v: &f64| v.is_finite()) {
+            out.push(Parameter {
+                name,
+                side,
+                value,
+                unit,
+                range: None,
+                note,
+            });
+        }
+    };
+    let mut step_length = [None; 2];
+    let mut step_width = [None; 2];
+    let mut stride_time = [None; 2];
+    let mut displacement = [None; 2];
+    let mut all_durations = Vec::new();
+    for s in 0..2 {
+        let o = 1 - s;
+        // Every cycle of the side with its recording.
+        let cycles: Vec<(&Trial, &[Vec3<f64>], &Cycle)> = walks
+            .iter()
+            .flat_map(|(t, f, c)| c[s].iter().map(move |c| (*t, *f, c)))
+            .collect();
+        let collect = |f: &PerCycle| -> Vec<f64> {
+            cycles.iter().filter_map(|(t, d, c)| f(t, d, c)).collect()
+        };
+        let at_strike = |trial: &Trial, forward: &[Vec3<f64>], c: &Cycle| {
+            let f = &trial.frames[c.strike_frame];
+            let d = stride_direction(trial, c).unwrap_or(forward[c.strike_frame]);
+            let between = f[s].heel - f[o].heel;
+            let across = Vec3::new(-d.z, 0.0, d.x);
+            (between.dot(d), between.dot(across).abs())
+        };
+        let durations = collect(&|_, _, c| Some(c.duration));
+        all_durations.extend(&durations);
+        stride_time[s] = mean(&durations);
+        step_length[s] = mean(&collect(&|t, d, c| Some(at_strike(t, d, c).0)));
+        let moved = collect(&|trial, _, c| {
+            let tr = trial.translation.as_ref()?;
+            let (a, b) = (tr[c.span.0], tr[c.span.1]);
+            let t = trial.time[c.span.1] - trial.time[c.span.0];
+            // Per second of the frames spanned, times the stride's duration.
+            // A translation that is not a finite number (a column the model does not read)
+            // gives none: the step lengths are estimated instead.
+            let d = (b[0] - a[0]).hypot(b[1] - a[1]);
+            (t > 0.0 && d.is_finite()).then(|| d / t * c.duration)
+        });
+        if moved.len() == cycles.len() {
+            displacement[s] = mean(&moved);
+        }
+        let side = SIDES[s];
+        push(
+            "cadence",
+            side,
+            stride_time[s].map(|t| 120.0 / t),
+            "steps/min",
+            "",
+        );
+        push("stride_time", side, stride_time[s], "s", "");
+        push(
+            "step_time",
+            side,
+            mean(&collect(&|_, _, c| {
+                c.opposite_strike.map(|o| c.duration - o)
+            })),
+            "s",
+            "",
+        );
+        let stance = mean(&collect(&|_, _, c| c.toe_off.map(|t| c.percent(t))));
+        push("stance", side, stance, "%", "");
+        push("swing", side, stance.map(|s| 100.0 - s), "%", "");
+        push(
+            "double_support",
+            side,
+            mean(&collect(
+                &|_, _, c| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+                    (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
+                        Some(c.percent(oto) + c.percent(to - ohs))
+                    }
+                    _ => None,
+                },
+            )),
+            "%",
+            "",
+        );
+        push(
+            "step_length",
+            side,
+            step_length[s],
+            "m",
+            "heels at heel strike",
+        );
+        step_width[s] = mean(&collect(&|t, d, c| Some(at_strike(t, d, c).1)));
+        push(
+            "step_width",
+            side,
+            step_width[s],
+            "m",
+            "heels at heel strike",
+        );
+    }
+    // Stride length and speed per side, then both.
+    let estimated = "estimated: the two mean step lengths (no pelvis translation)";
+    let measured = "pelvis_tx/pelvis_tz";
+    let stride_length = |s: usize| -> Option<(f64, &'static str)> {
+        match displacement[s] {
+            Some(d) => Some((d, measured)),
+            None => Some((step_length[0]? + step_length[1]?, estimated)),
+        }
+    };
+    let mut lengths = Vec::new();
+    for s in 0..2 {
+        if let (Some((l, note)), Some(t)) = (stride_length(s), stride_time[s]) {
+            push("stride_length", SIDES[s], Some(l), "m", note);
+            push("speed", SIDES[s], Some(l / t), "m/s", note);
+            lengths.push((l, note));
+        }
+    }
+    if let [Some(r), Some(l)] = step_width {
+        push(
+            "step_width",
+            "both",
+            Some((r + l) / 2.0),
+            "m",
+            "the mean of the two sides",
+        );
+    }
+    let t = mean(&all_durations);
+    push("cadence", "both", t.map(|t| 120.0 / t), "steps/min", "");
+    push("stride_time", "both", t, "s", "");
+    if let (Some(t), Some(&(_, note))) = (t, lengths.first()) {
+        let l = lengths.iter().map(|x| x.0).sum::<f64>() / lengths.len() as f64;
+        push("stride_length", "both", Some(l), "m", note);
+        push("speed", "both", Some(l / t), "m/s", note);
+    }
+    out
+}
+
+/// The value of a parameter of `side`.
+pub fn value(params: &[Parameter], name: &str, side: &str) -> Option<f64> {
+    params
+        .iter()
+        .find(|p| p.name == name && p.side == side)
+        .map(|p| p.value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trial::Limb;
+
+    /// A stride along a direction 20° off x, the pelvis swaying 3 cm side to side and facing
+    /// elsewhere: the feet give the direction of travel exactly, and the step is measured
+    /// along it.
+    #[test]
+    fn the_feet_give_the_direction_of_travel() {
+        let u = Vec3::new(20f64.to_radians().cos(), 0.0, -20f64.to_radians().sin());
+        let n = Vec3::new(-u.z, 0.0, u.x);
+        let (duration, frames) = (1.0, 100);
+        let (oto, ohs, to) = (0.1, 0.5, 0.6);
+        let pelvis = |t: f64| u * (1.2 * t) + n * (0.03 * (2.0 * std::f64::consts::PI * t).sin());
+        // World positions of the forefeet: the right (this side) down from 0 to its toe off;
+        // the left down until its toe off, then at its next contact from its heel strike.
+        let right = u * 0.35 + n * 0.06;
+        let left = |t: f64| {
+            if t <= oto {
+                u * (-0.25) - n * 0.06
+            } else if t >= ohs {
+                u * 0.95 - n * 0.06
+            } else {
+                u * (2.0 * t) + Vec3::new(0.0, 0.1, 0.0)
+            }
+        };
+        let time: Vec<f64> = (0..=frames).map(|k| k as f64 / frames as f64).collect();
+        let limb = |p: Vec3<f64>| Limb {
+            heel: p - u * 0.2,
+            forefoot: p,
+            ..Limb::default()
+        };
+        let trial = Trial {
+            label: "t".into(),
+            source: "t".into(),
+            frames: time
+                .iter()
+                .map(|&t| {
+                    let swing = u * (1.4 * (t - to)) + Vec3::new(0.0, 0.1, 0.0);
+                    let r = if t <= to { right } else { right + swing };
+                    [limb(r - pelvis(t)), limb(left(t) - pelvis(t))]
+                })
+                .collect(),
+            time: time.clone(),
+            coordinates: None,
+            translation: None,
+            breaks: Vec::new(),
+        };
+        let cycle = Cycle {
+            side: 0,
+            start: 0.0,
+            duration,
+            strike_frame: 0,
+            samples: time.iter().enumerate().map(|(f, t)| (f, *t)).collect(),
+            toe_off: Some(to),
+            opposite_strike: Some(ohs),
+            opposite_toe_off: Some(oto),
+            span: (0, frames),
+        };
+        let d = stride_direction(&trial, &cycle).unwrap();
+        assert!(Vec3::distance(d, u) < 1e-12, "{d:?}");
+        // At the heel strike the right heel is 0.6 m ahead of the left and 0.12 m to its
+        // right, whatever the pelvis faces.
+        let facing = vec![Vec3::new(1.0, 0.0, 0.0); time.len()];
+        let cycles = [vec![cycle], Vec::new()];
+        let p = parameters(&[(&trial, &facing, &cycles)]);
+        let length = value(&p, "step_length", "right").unwrap();
+        let width = value(&p, "step_width", "right").unwrap();
+        assert!((length - 0.6).abs() < 1e-12, "{length}");
+        assert!((width - 0.12).abs() < 1e-12, "{width}");
+    }
+
+    /// Feet 0.6 m apart along the walk and 0.15 m across it at each heel strike, seen along a
+    /// direction of progression turned 8° off the walk: each side's width moves by the step
+    /// length times sin 8°, one up, one down; their mean is the width times cos 8°.
+    #[test]
+    fn a_heading_offset_cancels_in_the_mean_step_width() {
+        let (len, width, off) = (0.6, 0.15, 8f64.to_radians());
+        let heel = |x: f64, z: f64| Limb {
+            heel: Vec3::new(x, 0.0, z),
+            ..Limb::default()
+        };
+        // Frame 0: right heel strike (right ahead); frame 1: left heel strike (left ahead).
+        let frames = vec![
+            [heel(len / 2.0, width / 2.0), heel(-len / 2.0, -width / 2.0)],
+            [heel(-len / 2.0, width / 2.0), heel(len / 2.0, -width / 2.0)],
+        ];
+        let trial = Trial {
+            label: "t".into(),
+            source: "t".into(),
+            time: vec![0.0, 0.5],
+            frames,
+            coordinates: None,
+            translation: None,
+            breaks: Vec::new(),
+        };
+        let forward = vec![Vec3::new(off.cos(), 0.0, off.sin()); 2];
+        let cycle = |side: usize, frame: usize| Cycle {
+            side,
+            start: 0.0,
+            duration: 1.0,
+            strike_frame: frame,
+            samples: Vec::new(),
+            toe_off: None,
+            opposite_strike: None,
+            opposite_toe_off: None,
+            span: (frame, frame),
+        };
+        let cycles = [vec![cycle(0, 0)], vec![cycle(1, 1)]];
+        let p = parameters(&[(&trial, &forward, &cycles)]);
+        let r = value(&p, "step_width", "right").unwrap();
+        let l = value(&p, "step_width", "left").unwrap();
+        let shift = len * off.sin();
+        assert!((r - (width * off.cos() - shift).abs()).abs() < 1e-12, "{r}");
+        assert!((l - (width * off.cos() + shift)).abs() < 1e-12, "{l}");
+        let both = value(&p, "step_width", "both").unwrap();
+        assert!((both - width * off.cos()).abs() < 1e-12, "{both}");
+    }
+}

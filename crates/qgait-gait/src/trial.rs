@@ -1,0 +1,438 @@
+//! A recording ready for gait analysis: per frame the time, the points the analysis needs
+//! (hips, heels, ankles, forefeet, toe tips, from the kernel's FK) and, where the source has
+//! them, gait2392's coordinates and the pelvis translation. This is the one place of the gait
+//! room that evaluates a model.
+
+use qgait_kernel::models::gait2392::COORDINATES;
+use qgait_kernel::models::ranges::KNEES;
+use qgait_kernel::Vec3;
+
+use qgait_device::frames_csv::FramesCsvError;
+use qgait_model::choice::Model;
+use qgait_opensim::diagnostics::Warning;
+
+use qgait_model::error::ModelError;
+use qgait_model::motion::source::{default_label, load_motion, MotionRows, SourceError};
+use qgait_model::points::{self, PointModel};
+use qgait_opensim::mot::MotionTable;
+
+/// Why a recording cannot be loaded for gait analysis.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TrialError {
+    /// The file could not be read.
+    #[error("{path}: cannot read: {error}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A device's frames CSV is malformed.
+    #[error(transparent)]
+    Frames(#[from] FramesCsvError),
+    /// A device's frames CSV has no times.
+    #[error("{0}: the frames have no times (a `time` column is needed for events and cadence)")]
+    NoTimes(String),
+    /// The motion cannot be read.
+    #[error(transparent)]
+    Source(#[from] SourceError),
+    /// The model cannot be used, or the motion does not fit it.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+}
+
+/// The points of one foot and its hip in one frame (metres; origin at the pelvis origin,
+/// ground axes: x forward, y up, z right).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Limb {
+    /// Hip centre.
+    pub hip: Vec3<f64>,
+    /// The heel: gait2392's subtalar joint centre (its calcaneus origin, at the back of the
+    /// heel); the ankle centre for models without a foot (HAK, PHAK, a device's frames).
+    pub heel: Vec3<f64>,
+    /// Ankle centre.
+    pub ankle: Vec3<f64>,
+    /// The forefoot end of the foot's long axis (from the heel): gait2392's MTP joint centre;
+    /// the toe tip for models without a foot.
+    pub forefoot: Vec3<f64>,
+    /// Toe tip.
+    pub toe: Vec3<f64>,
+}
+
+/// One frame: right limb, then left ([`qgait_kernel::Side::ALL`] order).
+pub type Frame = [Limb; 2];
+
+/// One recording.
+pub struct Trial {
+    /// Label (the file stem).
+    pub label: String,
+    /// Where it came from (the path or `builtin:` spec).
+    pub source: String,
+    /// Time of each frame (s).
+    pub time: Vec<f64>,
+    /// Points of each frame.
+    pub frames: Vec<Frame>,
+    /// gait2392's 17 coordinates of each frame (radians, [`COORDINATES`] order, gait2392's signs:
+    /// the knee of a model that flexes it with positive angles negated; absent ones 0);
+    /// `None` for a source with points only (a device's frames CSV).
+    pub coordinates: Option<Vec<[f64; 17]>>,
+    /// `pelvis_tx` and `pelvis_tz` of each frame (metres), when the motion has both and they
+    /// change.
+    pub translation: Option<Vec<[f64; 2]>>,
+    /// The frames that begin a new stretch of the recording, in order: after a gap in time
+    /// ([`gaps`]) or after rows left out. No event or stride spans one.
+    pub breaks: Vec<usize>,
+}
+
+impl Trial {
+    /// The stretches of frames between [`Trial::breaks`], in order (one when there is none).
+    pub fn segments(&self) -> Vec<std::ops::Range<usize>> {
+        let n = self.time.len();
+        let mut out = Vec::with_capacity(self.breaks.len() + 1);
+        let mut start = 0;
+        for &b in self.breaks.iter().filter(|&&b| b > 0 && b < n) {
+            if b > start {
+                out.push(start..b);
+                start = b;
+            }
+        }
+        out.push(start..n);
+        out
+    }
+}
+
+/// A step in time longer than this many times the median step between frames is a gap in the
+/// recording (lost frames, or a cut): no event or stride is formed across it. A step of twice
+/// the median is one frame lost; sampling jitter stays well below half a step.
+pub const GAP_FACTOR: f64 = 1.5;
+
+/// The frames that follow a gap in `time` ([`GAP_FACTOR`]), merged with the breaks `known`
+/// already (rows left out: not warned about again), in order; a warning for each new one.
+/// `at(i)` says where frame `i` is (`file:line`).
+pub fn gaps(
+    time: &[f64],
+    known: &[usize],
+    at: impl Fn(usize) -> String,
+) -> (Vec<usize>, Vec<Warning>) {
+    let mut breaks = known.to_vec();
+    let mut warnings = Vec::new();
+    if let Some(median) = median_step(time) {
+        let secs = |x: f64| (x * 1e6).round() / 1e6;
+        for i in 1..time.len() {
+            let step = time[i] - time[i - 1];
+            if step > GAP_FACTOR * median && !known.contains(&i) {
+                breaks.push(i);
+                warnings.push(Warning(format!(
+                    "{}: time jumps from {} s to {} s, a gap of {} s (the median step is {} s): no event or stride is formed across it",
+                    at(i),
+                    secs(time[i - 1]),
+                    secs(time[i]),
+                    secs(step),
+                    secs(median)
+                )));
+            }
+        }
+    }
+    breaks.sort_unstable();
+    breaks.dedup();
+    (breaks, warnings)
+}
+
+/// Loads `source` (a `.mot`/`.sto` motion, `builtin:...`, or a device's frames CSV) and
+/// evaluates `model` on every row. A frames CSV's rows are taken in time order as a `.mot`'s
+/// ([`FramesTable::in_time_order`](qgait_device::frames_csv::FramesTable::in_time_order)).
+pub fn load(source: &str, model: &Model) -> Result<(Trial, Vec<Warning>), TrialError> {
+    let label = default_label(source);
+    if qgait_device::frames_csv::is_frames_csv(source) {
+        let text = std::fs::read_to_string(source).map_err(|error| TrialError::Read {
+            path: source.to_string(),
+            error,
+        })?;
+        let table = qgait_device::frames_csv::parse(&text, source)?;
+        if !table.time.is_empty() && table.time.iter().all(Option::is_none) {
+            return Err(TrialError::NoTimes(source.to_string()));
+        }
+        let (table, mut warnings) = table.in_time_order(source)?;
+        let time: Vec<f64> = table.time.iter().flatten().copied().collect();
+        let (breaks, w) = gaps(&time, &[], |i| format!("{source}:{}", table.at[i].0));
+        warnings.extend(w);
+        let frames = table
+            .points
+            .iter()
+            .map(|p| {
+                let v = |i: usize| Vec3::new(p[i][0], p[i][1], p[i][2]);
+                [0, 4].map(|b| Limb {
+                    hip: v(b),
+                    heel: v(b + 2),
+                    ankle: v(b + 2),
+                    forefoot: v(b + 3),
+                    toe: v(b + 3),
+                })
+            })
+            .collect();
+        return Ok((
+            Trial {
+                label,
+                source: source.to_string(),
+                time,
+                frames,
+                coordinates: None,
+                translation: None,
+                breaks,
+            },
+            warnings,
+        ));
+    }
+    let (table, mut warnings) = load_motion(source)?;
+    if table.header().pelvis_heading_free {
+        warnings.push(Warning(format!(
+            "{source}: its pelvis is heading-free (qgait imu --pelvis heading-free): the walking direction is not in it, so turns cannot be found and strides taken while turning are analysed as straight walking; for gait analysis, solve with the default pelvis"
+        )));
+    }
+    let foot = model.lengths().is_none();
+    let points = PointModel::new(model, foot)?;
+    let (table, left_out, w) = leave_out_non_finite(table, points.reads());
+    warnings.extend(w);
+    let mut time = Vec::with_capacity(table.rows());
+    let mut frames = Vec::with_capacity(table.rows());
+    let column_warnings = std::cell::RefCell::new(Vec::new());
+    let w = points.run::<TrialError>(
+        MotionRows::from_table(table.clone()),
+        &|w| column_warnings.borrow_mut().extend(w),
+        |t, p| {
+            time.push(t);
+            // hip, knee, ankle, toe per side, then (gait2392) subtalar and MTP per side.
+            frames.push([0, 1].map(|s| {
+                let b = 4 * s;
+                let (heel, forefoot) = if foot {
+                    (p[8 + 2 * s], p[9 + 2 * s])
+                } else {
+                    (p[b + 2], p[b + 3])
+                };
+                Limb {
+                    hip: p[b],
+                    heel,
+                    ankle: p[b + 2],
+                    forefoot,
+                    toe: p[b + 3],
+                }
+            }));
+            Ok(())
+        },
+    );
+    let w = w?;
+    warnings.extend(column_warnings.into_inner());
+    warnings.extend(w);
+    // The joint angles of the recording (the model's FK gives the points only); their missing
+    // columns were reported above or are not needed by the points.
+    let knee = points.knee();
+    let (mut coordinates, coordinate_warnings) =
+        points::gait2392_coordinates(&table, knee, points.reads())?;
+    // Rajagopal's knee flexes with positive angles; the trial's are gait2392's signs.
+    for row in &mut coordinates {
+        for k in KNEES {
+            row[k] = knee.in_gait2392_signs(k, row[k]);
+        }
+    }
+    for w in coordinate_warnings {
+        if !warnings.contains(&w) {
+            warnings.push(w);
+        }
+    }
+    // A translation that never changes (an IMU solution writes zeros) says nothing.
+    let moves = |c: &[f64]| c.iter().any(|v| (v - c[0]).abs() > 1e-6);
+    let translation = match (table.column("pelvis_tx"), table.column("pelvis_tz")) {
+        (Some(x), Some(z)) if moves(x) || moves(z) => {
+            Some(x.iter().zip(z).map(|(&x, &z)| [x, z]).collect())
+        }
+        _ => None,
+    };
+    let (breaks, w) = gaps(&time, &left_out, |i| match table.line(i) {
+        Some(line) => format!("{source}:{line}"),
+        None => format!("{source}: row {}", i + 1),
+    });
+    warnings.extend(w);
+    Ok((
+        Trial {
+            label,
+            source: source.to_string(),
+            time,
+            frames,
+            coordinates: Some(coordinates),
+            translation,
+            breaks,
+        },
+        warnings,
+    ))
+}
+
+/// `table` without its rows that have a value that is not a finite number (`nan`, `inf`) in a
+/// column the analysis reads: the coordinates of [`COORDINATES`] with `reads` true (the model's
+/// and the joint angles'); a column it does not read does not matter. Each run of such rows
+/// gets one warning naming the file, line and column of its first bad value. Also the rows
+/// (of the table returned) that follow a run left out: breaks ([`Trial::breaks`]).
+fn leave_out_non_finite(
+    table: MotionTable,
+    reads: [bool; 17],
+) -> (MotionTable, Vec<usize>, Vec<Warning>) {
+    let header = table.header();
+    let columns: Vec<(usize, &str)> = COORDINATES
+        .iter()
+        .zip(reads)
+        .filter(|(_, r)| *r)
+        .filter_map(|(name, _)| header.index_of(name).map(|c| (c, *name)))
+        .collect();
+    let bad: Vec<Option<(usize, &str)>> = (0..table.rows())
+        .map(|r| {
+            columns
+                .iter()
+                .copied()
+                .find(|&(c, _)| !table.value(r, c).is_finite())
+        })
+        .collect();
+    if bad.iter().all(Option::is_none) {
+        return (table, Vec::new(), Vec::new());
+    }
+    let source = table.source();
+    let row_at = |r: usize| match table.line(r) {
+        Some(line) => format!("line {line}"),
+        None => format!("row {}", r + 1),
+    };
+    let (mut warnings, mut breaks) = (Vec::new(), Vec::new());
+    let (mut r, mut kept) = (0, 0);
+    while r < bad.len() {
+        let Some((c, name)) = bad[r] else {
+            r += 1;
+            kept += 1;
+            continue;
+        };
+        let end = (r..bad.len())
+            .find(|&k| bad[k].is_none())
+            .unwrap_or(bad.len());
+        let (at, text) = match table.non_finite_at(r, c) {
+            Some(nf) => (
+                format!("{source}:{}:{}", nf.line, nf.column),
+                nf.text.clone(),
+            ),
+            None => (
+                format!("{source}: {}", row_at(r)),
+                table.value(r, c).to_string(),
+            ),
+        };
+        let rows = if end - r == 1 {
+            "this row is left out, with the strides that include it".to_string()
+        } else {
+            format!(
+                "this row and the next {} to {} are left out, with the strides that include them",
+                end - r - 1,
+                row_at(end - 1)
+            )
+        };
+        warnings.push(Warning(format!(
+            "{at}: value `{text}` in column `{name}` is not a finite number: {rows}"
+        )));
+        if kept > 0 && end < bad.len() {
+            breaks.push(kept);
+        }
+        r = end;
+    }
+    let table = table.without_rows(|r| bad[r].is_some());
+    (table, breaks, warnings)
+}
+
+/// The index of a coordinate in [`COORDINATES`].
+pub fn coordinate(name: &str) -> usize {
+    COORDINATES
+        .iter()
+        .position(|c| *c == name)
+        .unwrap_or_else(|| panic!("`{name}` is not a gait2392 coordinate"))
+}
+
+/// The median step between frames (s); `None` for fewer than two frames.
+pub fn median_step(time: &[f64]) -> Option<f64> {
+    let mut dt: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
+    dt.sort_by(f64::total_cmp);
+    dt.get(dt.len() / 2).copied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_with_a_bad_value_in_a_column_read_are_left_out() {
+        let head =
+            "m\nversion=1\ninDegrees=yes\nendheader\ntime\thip_flexion_r\tknee_angle_r\tforce\n";
+        let rows = [
+            "0\t1\t-5\t1",
+            "0.01\t1\tnan\t1",
+            "0.02\t1\t-inf\t1",
+            "0.03\t1\t-5\tnan",
+            "0.04\tNaN\tnan\t1",
+            "0.05\t1\t-5\t1",
+            "0.06\t1\tnan\t1",
+        ];
+        let text = format!("{head}{}\n", rows.join("\n"));
+        let (table, _) = MotionTable::parse(&text, "m.mot").unwrap();
+        let (kept, breaks, w) = leave_out_non_finite(table.clone(), [true; 17]);
+        // `force` is read by nothing: its `nan` does not matter.
+        assert_eq!(kept.time(), &[0.0, 0.03, 0.05]);
+        assert_eq!(kept.line(1), Some(9));
+        assert_eq!(breaks, [1, 2]);
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert_eq!(
+            w[0].0,
+            "m.mot:7:8: value `nan` in column `knee_angle_r` is not a finite number: this row and the next 1 to line 8 are left out, with the strides that include them"
+        );
+        assert!(
+            w[1].0
+                .starts_with("m.mot:10:6: value `NaN` in column `hip_flexion_r`"),
+            "{w:?}"
+        );
+        assert!(w[2].0.starts_with("m.mot:12:8: value `nan` in column `knee_angle_r` is not a finite number: this row is left out"), "{w:?}");
+        // A column the model does not read (an imported chain's locked one) does not matter.
+        let mut reads = [true; 17];
+        reads[coordinate("knee_angle_r")] = false;
+        let (kept, breaks, w) = leave_out_non_finite(table.clone(), reads);
+        assert_eq!(kept.rows(), 6);
+        assert_eq!(breaks, [4]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        // Nothing bad: the table as it is.
+        let (kept, breaks, w) = leave_out_non_finite(kept, reads);
+        assert_eq!(kept.rows(), 6);
+        assert!(breaks.is_empty() && w.is_empty());
+    }
+
+    #[test]
+    fn a_step_longer_than_one_and_a_half_frames_is_a_gap() {
+        // 100 Hz with a jitter of 0.2 ms, 2 s missing after 8 s.
+        let mut time: Vec<f64> = (0..=800).map(|i| i as f64 * 0.01).collect();
+        time.extend((1000..=1200).map(|i| i as f64 * 0.01));
+        time[10] += 0.0002;
+        let (breaks, w) = gaps(&time, &[], |i| format!("w.mot:{}", i + 7));
+        assert_eq!(breaks, [801]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(
+            w[0].0,
+            "w.mot:808: time jumps from 8 s to 10 s, a gap of 2 s (the median step is 0.01 s): no event or stride is formed across it"
+        );
+        // A break known already is not warned about again; others are merged in order.
+        let (breaks, w) = gaps(&time, &[801, 3], |i| i.to_string());
+        assert_eq!(breaks, [3, 801]);
+        assert!(w.is_empty(), "{w:?}");
+        let trial = Trial {
+            label: "w".into(),
+            source: "w.mot".into(),
+            time: time.clone(),
+            frames: vec![[Limb::default(); 2]; time.len()],
+            coordinates: None,
+            translation: None,
+            breaks,
+        };
+        assert_eq!(trial.segments(), [0..3, 3..801, 801..1002]);
+        // Steady sampling: no gap.
+        let (breaks, w) = gaps(&time[..801], &[], |i| i.to_string());
+        assert!(breaks.is_empty() && w.is_empty());
+    }
+}

@@ -1,0 +1,849 @@
+//! The vendor IMU exports OpenSense reads, with OpenSense's reader settings: Xsens MT Manager
+//! `.txt` (one file per sensor) and APDM `.csv` (one file per trial), beside OpenSim's own
+//! orientation `.sto` ([`OrientationReader`]). [`open`] picks the reader by what the path is.
+//!
+//! **Reader settings** ([`Mapping`]): OpenSim's `XsensDataReaderSettings` or
+//! `APDMDataReaderSettings` XML (`myIMUMappings.xml` in OpenSense's tutorials), read as OpenSense
+//! reads it: each `<ExperimentalSensor name="...">` maps a vendor sensor (an Xsens file-name
+//! suffix such as `_00B421AF`, an APDM sensor label such as `Lumbar`) to its IMU in the model
+//! (`<name_in_model>pelvis_imu</name_in_model>`); `<trial_prefix>` and `<sampling_rate>` are
+//! used when given. A sensor mapped to a name that is not one of the lower-body set is ignored
+//! with a warning.
+//!
+//! **Xsens MT Manager `.txt`** (OpenSim's `XsensDataReader`): a trial is the files
+//! `<folder>/<trial prefix><sensor name>.txt`, one per mapped sensor. Each file: any number of
+//! comment lines starting with `//` (`// Update Rate: 100.0Hz` gives the sampling rate), a line
+//! of tab-separated labels, then one tab-separated line per sample. The orientation is read
+//! from `Quat_q0`..`Quat_q3` (w, x, y, z) or, without them, from the rotation matrix
+//! `Mat[1][1]`, `Mat[2][1]`, `Mat[3][1]`, `Mat[1][2]`, ... (sensor to world, `Mat[row][column]`).
+//! Sample `k` is at `k / rate` seconds, as OpenSim times it. The rate comes from the files'
+//! `Update Rate` comment, else the settings' `sampling_rate`, else `--rate`; without any of them
+//! the trial is refused (OpenSim would assume 40 Hz, which recent MT Manager versions make wrong
+//! for most recordings). All files must have the same rate and the same number of samples.
+//!
+//! **APDM `.csv`** (OpenSim's `APDMDataReader`), either layout: the older one (`Test Name:`,
+//! `Sample Rate:,<Hz>` lines, a label line `Time,<sensor>/Acceleration/X,...,
+//! <sensor>/Orientation/Scalar,<sensor>/Orientation/X,<sensor>/Orientation/Y,
+//! <sensor>/Orientation/Z,...`, a units line, then samples) or `Format=7` (the sensor names on
+//! the first line, the orientation's four columns seven after each name; two more header lines;
+//! 128 Hz as OpenSim assumes, unless `--rate`). Sample `k` is at `k / rate` seconds. Without
+//! settings, the sensor labels themselves are taken as model IMU names (`pelvis_imu` or
+//! `pelvis`).
+//!
+//! Rows are read one at a time (constant memory). Errors name the file, the line and, for a
+//! value, its column.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+
+use qgait_kernel::imu::math::from_rotation_matrix;
+use qgait_kernel::imu::{unit, Orientations, Segment, UNIT_TOLERANCE};
+use qgait_kernel::Quat;
+
+use crate::diagnostics::Warning;
+use crate::imu_sto::{OrientationReader, OrientationRow};
+use crate::mot::MotError;
+
+/// Where orientation rows come from: an OpenSim `.sto`, an Xsens trial or an APDM `.csv`.
+pub trait OrientationSource {
+    /// The file (or the Xsens trial's files), as named in messages.
+    fn source(&self) -> &str;
+    /// The sensors that have a column.
+    fn sensors(&self) -> Vec<Segment>;
+    /// Where the column labels are (`file:line`), for messages.
+    fn labels_location(&self) -> String;
+    /// Warnings so far (each returned once).
+    fn take_warnings(&mut self) -> Vec<Warning>;
+    /// The next row, or `None` after the last (an error if there is no row at all).
+    fn next_row(&mut self) -> Result<Option<OrientationRow>, MotError>;
+    /// Whether the rows' times are the file's own (a time column), whatever rate is given.
+    fn has_times(&self) -> bool {
+        false
+    }
+}
+
+impl OrientationSource for OrientationReader {
+    fn source(&self) -> &str {
+        OrientationReader::source(self)
+    }
+    fn has_times(&self) -> bool {
+        true
+    }
+    fn sensors(&self) -> Vec<Segment> {
+        OrientationReader::sensors(self).collect()
+    }
+    fn labels_location(&self) -> String {
+        OrientationReader::labels_location(self)
+    }
+    fn take_warnings(&mut self) -> Vec<Warning> {
+        OrientationReader::take_warnings(self)
+    }
+    fn next_row(&mut self) -> Result<Option<OrientationRow>, MotError> {
+        OrientationReader::next_row(self)
+    }
+}
+
+fn format_err(path: &str, line: usize, message: String) -> MotError {
+    MotError::Format {
+        path: path.to_string(),
+        line,
+        message,
+    }
+}
+
+/// OpenSense's reader settings (`XsensDataReaderSettings` or `APDMDataReaderSettings`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mapping {
+    /// The settings file, as named in messages.
+    pub source: String,
+    /// `trial_prefix`, if given (Xsens).
+    pub trial_prefix: Option<String>,
+    /// `sampling_rate` (Hz), if given (Xsens).
+    pub sampling_rate: Option<f64>,
+    /// Vendor sensor name, the model IMU it is (if one of the set), and the line of its entry.
+    pub sensors: Vec<(String, Option<Segment>, usize)>,
+    /// Sensors mapped to names outside the lower-body set.
+    pub warnings: Vec<Warning>,
+}
+
+impl Mapping {
+    /// Reads a settings XML file.
+    pub fn read(path: &Path) -> Result<Self, MotError> {
+        let source = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|error| MotError::Io {
+            path: source.clone(),
+            error,
+        })?;
+        let doc = roxmltree::Document::parse(&text)
+            .map_err(|e| format_err(&source, e.pos().row as usize, format!("not XML: {e}")))?;
+        let line = |n: roxmltree::Node| doc.text_pos_at(n.range().start).row as usize;
+        let text_of = |n: roxmltree::Node, tag: &str| {
+            n.children()
+                .find(|c| c.has_tag_name(tag))
+                .and_then(|c| c.text())
+                .map(|t| t.trim().to_string())
+                .filter(|t| !t.is_empty())
+        };
+        let root = doc
+            .descendants()
+            .find(|n| {
+                n.has_tag_name("XsensDataReaderSettings")
+                    || n.has_tag_name("APDMDataReaderSettings")
+            })
+            .ok_or_else(|| {
+                format_err(
+                    &source,
+                    1,
+                    "no <XsensDataReaderSettings> or <APDMDataReaderSettings> (OpenSense's IMU reader settings)".into(),
+                )
+            })?;
+        let sampling_rate = match root.children().find(|c| c.has_tag_name("sampling_rate")) {
+            None => None,
+            Some(n) => {
+                let t = n.text().unwrap_or("").trim();
+                Some(
+                    t.parse::<f64>()
+                        .ok()
+                        .filter(|r| *r > 0.0 && r.is_finite())
+                        .ok_or_else(|| {
+                            format_err(
+                                &source,
+                                line(n),
+                                format!("sampling_rate `{t}` is not a rate in Hz"),
+                            )
+                        })?,
+                )
+            }
+        };
+        let mut sensors = Vec::new();
+        let mut warnings = Vec::new();
+        for n in root
+            .descendants()
+            .filter(|n| n.has_tag_name("ExperimentalSensor"))
+        {
+            let at = line(n);
+            let name = n.attribute("name").unwrap_or("").to_string();
+            let in_model = text_of(n, "name_in_model").ok_or_else(|| {
+                format_err(
+                    &source,
+                    at,
+                    format!("sensor `{name}` has no <name_in_model>"),
+                )
+            })?;
+            let segment = Segment::from_name(&in_model);
+            if segment.is_none() {
+                warnings.push(Warning(format!(
+                    "{source}:{at}: sensor `{name}` is `{in_model}`, not an IMU of the lower-body set ({}); ignored",
+                    Segment::ALL.map(Segment::imu_label).join(", ")
+                )));
+            }
+            if sensors
+                .iter()
+                .any(|(_, s, _)| segment.is_some() && *s == segment)
+            {
+                return Err(format_err(
+                    &source,
+                    at,
+                    format!("`{in_model}` is mapped from two sensors"),
+                ));
+            }
+            sensors.push((name, segment, at));
+        }
+        if sensors.is_empty() {
+            return Err(format_err(
+                &source,
+                line(root),
+                "no <ExperimentalSensor> in <ExperimentalSensors>".into(),
+            ));
+        }
+        Ok(Self {
+            source,
+            trial_prefix: text_of(root, "trial_prefix"),
+            sampling_rate,
+            sensors,
+            warnings,
+        })
+    }
+}
+
+/// Opens the orientations at `path`: an OpenSim `.sto`/`.mot`, an APDM `.csv`, or an Xsens
+/// trial (a folder, whose trial prefix the settings give, or `FOLDER/PREFIX`: the files
+/// `FOLDER/PREFIX<sensor>.txt`; `mapping` required). `rate` (Hz) is used where the files and
+/// settings give none.
+pub fn open(
+    path: &Path,
+    mapping: Option<&Mapping>,
+    rate: Option<f64>,
+) -> Result<Box<dyn OrientationSource>, MotError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("csv") => Ok(Box::new(ApdmTrial::open(path, mapping, rate)?)),
+        Some("sto") | Some("mot") => Ok(Box::new(OrientationReader::open(path)?)),
+        _ if path.is_file() => Err(format_err(
+            &path.display().to_string(),
+            1,
+            "not an orientation file qgait reads: an OpenSim orientation .sto, an APDM .csv, or an Xsens trial (its folder or FOLDER/PREFIX, with --imu-mapping)".into(),
+        )),
+        _ => Ok(Box::new(XsensTrial::open(path, mapping, rate)?)),
+    }
+}
+
+/// A text file read line by line with its line number (Latin-1 bytes kept as characters).
+struct Lines {
+    reader: BufReader<File>,
+    line: usize,
+    buffer: Vec<u8>,
+}
+
+impl Lines {
+    fn open(path: &Path) -> Result<Self, MotError> {
+        let file = File::open(path).map_err(|error| MotError::Io {
+            path: path.display().to_string(),
+            error,
+        })?;
+        Ok(Self {
+            reader: BufReader::new(file),
+            line: 0,
+            buffer: Vec::new(),
+        })
+    }
+
+    /// The next line without its end, or `None` at the end of the file.
+    fn next(&mut self, path: &str) -> Result<Option<String>, MotError> {
+        self.buffer.clear();
+        let n = self
+            .reader
+            .read_until(b'\n', &mut self.buffer)
+            .map_err(|error| MotError::Io {
+                path: path.to_string(),
+                error,
+            })?;
+        if n == 0 {
+            return Ok(None);
+        }
+        self.line += 1;
+        while matches!(self.buffer.last(), Some(b'\n' | b'\r')) {
+            self.buffer.pop();
+        }
+        Ok(Some(match String::from_utf8(self.buffer.clone()) {
+            Ok(s) => s,
+            Err(_) => self.buffer.iter().map(|&b| b as char).collect(),
+        }))
+    }
+
+    /// The next line that is not blank.
+    fn next_data(&mut self, path: &str) -> Result<Option<String>, MotError> {
+        while let Some(l) = self.next(path)? {
+            if !l.trim().is_empty() {
+                return Ok(Some(l));
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// The 1-based character column of each cell of `line` split at `separator`.
+fn cells(line: &str, separator: char) -> Vec<(usize, &str)> {
+    let mut out = Vec::new();
+    let mut column = 1;
+    for cell in line.split(separator) {
+        out.push((column, cell));
+        column += cell.chars().count() + 1;
+    }
+    out
+}
+
+/// The number in `cells[index]`, or an error naming file, line, column and label.
+fn number(
+    path: &str,
+    line: usize,
+    cells: &[(usize, &str)],
+    index: usize,
+    label: &str,
+) -> Result<f64, MotError> {
+    let Some((column, text)) = cells.get(index) else {
+        return Err(format_err(
+            path,
+            line,
+            format!(
+                "{} values, but `{label}` is column {}",
+                cells.len(),
+                index + 1
+            ),
+        ));
+    };
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| MotError::BadNumber {
+            path: path.to_string(),
+            line,
+            column: *column,
+            name: label.to_string(),
+            text: text.to_string(),
+        })
+}
+
+/// `q` normalised, or an error naming where it is.
+fn reading(
+    q: Quat<f64>,
+    segment: Segment,
+    path: &str,
+    line: usize,
+    column: usize,
+    label: &str,
+) -> Result<Quat<f64>, MotError> {
+    unit(q, segment).map_err(|_| {
+        format_err(
+            path,
+            line,
+            format!(
+                "column {column} (`{label}`): the orientation's norm {} is not within {UNIT_TOLERANCE} of 1 (not a rotation)",
+                q.norm()
+            ),
+        )
+    })
+}
+
+/// How an Xsens file holds the orientation.
+#[derive(Debug, Clone, Copy)]
+enum XsensOrientation {
+    /// `Quat_q0`..`Quat_q3` columns.
+    Quaternion([usize; 4]),
+    /// `Mat[r][c]` columns, in `[row][column]` order.
+    Matrix([[usize; 3]; 3]),
+}
+
+struct XsensFile {
+    path: String,
+    lines: Lines,
+    labels_line: usize,
+    segment: Segment,
+    orientation: XsensOrientation,
+    /// The first orientation column's label, for messages.
+    first_label: String,
+}
+
+/// An Xsens MT Manager trial: one `.txt` per sensor, read in step.
+pub struct XsensTrial {
+    source: String,
+    files: Vec<XsensFile>,
+    rate: f64,
+    rows: usize,
+    warnings: Vec<Warning>,
+}
+
+impl XsensTrial {
+    fn open(path: &Path, mapping: Option<&Mapping>, rate: Option<f64>) -> Result<Self, MotError> {
+        let shown = path.display().to_string();
+        let Some(mapping) = mapping else {
+            return Err(format_err(
+                &shown,
+                1,
+                "an Xsens trial (a folder or FOLDER/PREFIX of MT Manager .txt files) needs --imu-mapping SETTINGS.xml (OpenSense's XsensDataReaderSettings: which file is which IMU)".into(),
+            ));
+        };
+        let (folder, prefix): (PathBuf, String) = if path.is_dir() {
+            (
+                path.to_path_buf(),
+                mapping.trial_prefix.clone().unwrap_or_default(),
+            )
+        } else {
+            let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
+            let prefix = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            (folder, prefix)
+        };
+        let source = folder.join(format!("{prefix}*.txt")).display().to_string();
+        let mut files = Vec::new();
+        let mut file_rate: Option<(f64, String)> = None;
+        for (name, segment, at) in &mapping.sensors {
+            let Some(segment) = *segment else { continue };
+            let file_path = folder.join(format!("{prefix}{name}.txt"));
+            let p = file_path.display().to_string();
+            if !file_path.is_file() {
+                return Err(format_err(
+                    &mapping.source,
+                    *at,
+                    format!("sensor `{name}` ({segment}): no file {p}"),
+                ));
+            }
+            let mut lines = Lines::open(&file_path)?;
+            let mut this_rate = None;
+            let header = loop {
+                let Some(l) = lines.next(&p)? else {
+                    return Err(format_err(
+                        &p,
+                        lines.line.max(1),
+                        "no label line (PacketCounter, ..., Quat_q0 or Mat[1][1], ...) after the // comments".into(),
+                    ));
+                };
+                if let Some(comment) = l.strip_prefix("//") {
+                    if let Some((key, value)) = comment.split_once(':') {
+                        if key.trim() == "Update Rate" {
+                            let v = value.trim().trim_end_matches("Hz").trim();
+                            this_rate = Some(
+                                v.parse::<f64>()
+                                    .ok()
+                                    .filter(|r| *r > 0.0 && r.is_finite())
+                                    .ok_or_else(|| {
+                                        format_err(
+                                            &p,
+                                            lines.line,
+                                            format!(
+                                                "Update Rate `{}` is not a rate in Hz",
+                                                value.trim()
+                                            ),
+                                        )
+                                    })?,
+                            );
+                        }
+                    }
+                    continue;
+                }
+                if l.trim().is_empty() {
+                    continue;
+                }
+                break l;
+            };
+            if let Some(r) = this_rate {
+                match &file_rate {
+                    Some((other, other_path)) if *other != r => {
+                        return Err(format_err(
+                            &p,
+                            1,
+                            format!("Update Rate {r} Hz, but {other_path} says {other} Hz"),
+                        ))
+                    }
+                    None => file_rate = Some((r, p.clone())),
+                    _ => {}
+                }
+            }
+            let labels: Vec<&str> = header.split('\t').map(str::trim).collect();
+            let find = |l: &str| labels.iter().position(|x| *x == l);
+            let quat: Option<Vec<usize>> = ["Quat_q0", "Quat_q1", "Quat_q2", "Quat_q3"]
+                .iter()
+                .map(|l| find(l))
+                .collect();
+            let mat: Option<Vec<usize>> = (1..=3)
+                .flat_map(|r| (1..=3).map(move |c| format!("Mat[{r}][{c}]")))
+                .map(|l| find(&l))
+                .collect();
+            let (orientation, first_label) = match (quat, mat) {
+                (Some(q), _) => (
+                    XsensOrientation::Quaternion([q[0], q[1], q[2], q[3]]),
+                    "Quat_q0".to_string(),
+                ),
+                (None, Some(m)) => (
+                    XsensOrientation::Matrix([
+                        [m[0], m[1], m[2]],
+                        [m[3], m[4], m[5]],
+                        [m[6], m[7], m[8]],
+                    ]),
+                    "Mat[1][1]".to_string(),
+                ),
+                (None, None) => {
+                    return Err(format_err(
+                        &p,
+                        lines.line,
+                        "no orientation columns: export Quat_q0..Quat_q3 or the rotation matrix Mat[1][1]..Mat[3][3] from MT Manager (Euler angles alone are not read)".into(),
+                    ))
+                }
+            };
+            files.push(XsensFile {
+                path: p,
+                labels_line: lines.line,
+                lines,
+                segment,
+                orientation,
+                first_label,
+            });
+        }
+        if files.is_empty() {
+            return Err(format_err(
+                &mapping.source,
+                1,
+                "no sensor is mapped to an IMU of the lower-body set".into(),
+            ));
+        }
+        let rate = file_rate
+            .map(|(r, _)| r)
+            .or(mapping.sampling_rate)
+            .or(rate)
+            .ok_or_else(|| {
+                format_err(
+                    &files[0].path,
+                    1,
+                    "no `// Update Rate:` comment, no <sampling_rate> in the settings and no --rate: the sampling rate is unknown".into(),
+                )
+            })?;
+        Ok(Self {
+            source,
+            files,
+            rate,
+            rows: 0,
+            warnings: mapping.warnings.clone(),
+        })
+    }
+}
+
+impl OrientationSource for XsensTrial {
+    fn source(&self) -> &str {
+        &self.source
+    }
+    fn sensors(&self) -> Vec<Segment> {
+        self.files.iter().map(|f| f.segment).collect()
+    }
+    fn labels_location(&self) -> String {
+        format!("{}:{}", self.files[0].path, self.files[0].labels_line)
+    }
+    fn take_warnings(&mut self) -> Vec<Warning> {
+        std::mem::take(&mut self.warnings)
+    }
+    fn next_row(&mut self) -> Result<Option<OrientationRow>, MotError> {
+        // One line from every file: all present, or all at their end.
+        let mut texts = Vec::with_capacity(self.files.len());
+        for f in &mut self.files {
+            texts.push(f.lines.next_data(&f.path)?);
+        }
+        if let Some(short) = texts.iter().position(Option::is_none) {
+            if let Some(long) = texts.iter().position(Option::is_some) {
+                let f = &self.files[short];
+                return Err(format_err(
+                    &f.path,
+                    f.lines.line,
+                    format!(
+                        "ends after {} samples, but {} has more",
+                        self.rows, self.files[long].path
+                    ),
+                ));
+            }
+            if self.rows == 0 {
+                return Err(format_err(
+                    &self.files[0].path,
+                    self.files[0].labels_line,
+                    "no samples after the labels".into(),
+                ));
+            }
+            return Ok(None);
+        }
+        let mut readings = Orientations::EMPTY;
+        for (f, text) in self.files.iter().zip(texts) {
+            let text = text.expect("every file has a line");
+            let line = f.lines.line;
+            let c = cells(&text, '\t');
+            let first = match f.orientation {
+                XsensOrientation::Quaternion(i) => i[0],
+                XsensOrientation::Matrix(m) => m[0][0],
+            };
+            let column = c.get(first).map_or(0, |x| x.0);
+            let q = match f.orientation {
+                XsensOrientation::Quaternion(i) => {
+                    let mut v = [0.0; 4];
+                    for (k, label) in ["Quat_q0", "Quat_q1", "Quat_q2", "Quat_q3"]
+                        .iter()
+                        .enumerate()
+                    {
+                        v[k] = number(&f.path, line, &c, i[k], label)?;
+                    }
+                    Quat::new(v[0], v[1], v[2], v[3])
+                }
+                XsensOrientation::Matrix(m) => {
+                    let mut out = [[0.0; 3]; 3];
+                    for (r, row) in out.iter_mut().enumerate() {
+                        for (col, v) in row.iter_mut().enumerate() {
+                            let label = format!("Mat[{}][{}]", r + 1, col + 1);
+                            *v = number(&f.path, line, &c, m[r][col], &label)?;
+                        }
+                    }
+                    let rows_unit = out.iter().all(|r| {
+                        let n = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+                        (n - 1.0).abs() <= UNIT_TOLERANCE
+                    });
+                    if !rows_unit {
+                        return Err(format_err(
+                            &f.path,
+                            line,
+                            format!(
+                                "column {column} (`Mat[1][1]`..`Mat[3][3]`): not a rotation matrix (a row's length is not within {UNIT_TOLERANCE} of 1)"
+                            ),
+                        ));
+                    }
+                    from_rotation_matrix(out)
+                }
+            };
+            readings.set(
+                f.segment,
+                Some(reading(
+                    q,
+                    f.segment,
+                    &f.path,
+                    line,
+                    column,
+                    &f.first_label,
+                )?),
+            );
+        }
+        let time = self.rows as f64 / self.rate;
+        self.rows += 1;
+        Ok(Some(OrientationRow {
+            line: self.files[0].lines.line,
+            time,
+            readings,
+        }))
+    }
+}
+
+/// An APDM `.csv` trial.
+pub struct ApdmTrial {
+    source: String,
+    lines: Lines,
+    labels_line: usize,
+    /// Per sensor: its segment, the column of its orientation's scalar (w), and its label.
+    sensors: Vec<(Segment, usize, String)>,
+    rate: f64,
+    rows: usize,
+    warnings: Vec<Warning>,
+}
+
+impl ApdmTrial {
+    fn open(path: &Path, mapping: Option<&Mapping>, rate: Option<f64>) -> Result<Self, MotError> {
+        let source = path.display().to_string();
+        let mut lines = Lines::open(path)?;
+        let next = |lines: &mut Lines, what: &str| -> Result<String, MotError> {
+            lines.next(&source)?.ok_or_else(|| {
+                format_err(&source, lines.line.max(1), format!("ends before {what}"))
+            })
+        };
+        let first = next(&mut lines, "the header")?;
+        let first_cells: Vec<String> = first.split(',').map(|s| s.trim().to_string()).collect();
+        let mut warnings = mapping.map(|m| m.warnings.clone()).unwrap_or_default();
+        // The sensors to read: the mapping's, or every label that names an IMU of the set.
+        let wanted = |label: &str| -> Option<Option<Segment>> {
+            match mapping {
+                Some(m) => m
+                    .sensors
+                    .iter()
+                    .find(|(n, _, _)| n == label)
+                    .map(|(_, s, _)| *s),
+                None => Some(Segment::from_name(label)),
+            }
+        };
+        let (sensors, labels_line, file_rate) = if first_cells[0] == "Format=7" {
+            // The sensor names on line 1; the orientation's S, X, Y, Z seven columns after.
+            let mut sensors = Vec::new();
+            for (i, name) in first_cells.iter().enumerate().skip(1) {
+                if name.is_empty() {
+                    continue;
+                }
+                if let Some(Some(segment)) = wanted(name) {
+                    sensors.push((segment, i + 7, name.clone()));
+                }
+            }
+            next(&mut lines, "the second header line")?;
+            next(&mut lines, "the third header line")?;
+            (sensors, 1, rate.unwrap_or(128.0))
+        } else {
+            if first_cells[0] != "Test Name:" {
+                return Err(format_err(
+                    &source,
+                    1,
+                    format!(
+                        "not an APDM export: the first line starts with `{}` (expected `Test Name:` or `Format=7`)",
+                        first_cells[0]
+                    ),
+                ));
+            }
+            let second = next(&mut lines, "the `Sample Rate:` line")?;
+            let c = cells(&second, ',');
+            if c.first().map(|x| x.1.trim()) != Some("Sample Rate:") {
+                return Err(format_err(
+                    &source,
+                    2,
+                    "expected `Sample Rate:,<Hz>`".into(),
+                ));
+            }
+            let file_rate = number(&source, 2, &c, 1, "Sample Rate")?;
+            if file_rate <= 0.0 {
+                return Err(format_err(
+                    &source,
+                    2,
+                    format!("sample rate {file_rate} Hz"),
+                ));
+            }
+            let labels = next(&mut lines, "the labels")?;
+            let labels: Vec<&str> = labels.split(',').map(str::trim).collect();
+            if labels.first() != Some(&"Time") {
+                return Err(format_err(
+                    &source,
+                    3,
+                    format!("the labels start with `{}` (expected `Time`)", labels[0]),
+                ));
+            }
+            let mut sensors = Vec::new();
+            for (i, l) in labels.iter().enumerate() {
+                let Some(name) = l.strip_suffix("/Orientation/Scalar") else {
+                    continue;
+                };
+                let rest = ["X", "Y", "Z"].map(|a| format!("{name}/Orientation/{a}"));
+                if (0..3).any(|k| labels.get(i + 1 + k) != Some(&rest[k].as_str())) {
+                    return Err(format_err(
+                        &source,
+                        3,
+                        format!(
+                            "column {}: `{l}` is not followed by {}",
+                            i + 1,
+                            rest.join(", ")
+                        ),
+                    ));
+                }
+                if let Some(Some(segment)) = wanted(name) {
+                    sensors.push((segment, i, name.to_string()));
+                }
+                if mapping.is_none() && Segment::from_name(name).is_none() {
+                    warnings.push(Warning(format!(
+                        "{source}:3: sensor `{name}` is not an IMU of the lower-body set; ignored (map APDM sensors with --imu-mapping)"
+                    )));
+                }
+            }
+            next(&mut lines, "the units line")?;
+            (sensors, 3, file_rate)
+        };
+        if let Some(m) = mapping {
+            for (name, segment, at) in &m.sensors {
+                if segment.is_some() && !sensors.iter().any(|(_, _, n)| n == name) {
+                    return Err(format_err(
+                        &m.source,
+                        *at,
+                        format!("sensor `{name}` has no orientation columns in {source}"),
+                    ));
+                }
+            }
+        }
+        if sensors.is_empty() {
+            return Err(format_err(
+                &source,
+                labels_line,
+                "no orientation of an IMU of the lower-body set (map the APDM sensors with --imu-mapping)".into(),
+            ));
+        }
+        for (k, (s, _, name)) in sensors.iter().enumerate() {
+            if sensors[..k].iter().any(|(o, _, _)| o == s) {
+                return Err(format_err(
+                    &source,
+                    labels_line,
+                    format!("`{name}` is a second sensor for {s}"),
+                ));
+            }
+        }
+        Ok(Self {
+            source,
+            lines,
+            labels_line,
+            sensors,
+            rate: file_rate,
+            rows: 0,
+            warnings,
+        })
+    }
+}
+
+impl OrientationSource for ApdmTrial {
+    fn source(&self) -> &str {
+        &self.source
+    }
+    fn sensors(&self) -> Vec<Segment> {
+        self.sensors.iter().map(|s| s.0).collect()
+    }
+    fn labels_location(&self) -> String {
+        format!("{}:{}", self.source, self.labels_line)
+    }
+    fn take_warnings(&mut self) -> Vec<Warning> {
+        std::mem::take(&mut self.warnings)
+    }
+    fn next_row(&mut self) -> Result<Option<OrientationRow>, MotError> {
+        let Some(text) = self.lines.next_data(&self.source)? else {
+            if self.rows == 0 {
+                return Err(format_err(
+                    &self.source,
+                    self.labels_line,
+                    "no samples after the header".into(),
+                ));
+            }
+            return Ok(None);
+        };
+        let line = self.lines.line;
+        let c = cells(&text, ',');
+        let mut readings = Orientations::EMPTY;
+        for (segment, index, name) in &self.sensors {
+            let labels = ["Scalar", "X", "Y", "Z"].map(|a| format!("{name}/Orientation/{a}"));
+            let mut v = [0.0; 4];
+            for k in 0..4 {
+                v[k] = number(&self.source, line, &c, index + k, &labels[k])?;
+            }
+            let column = c.get(*index).map_or(0, |x| x.0);
+            let q = reading(
+                Quat::new(v[0], v[1], v[2], v[3]),
+                *segment,
+                &self.source,
+                line,
+                column,
+                &labels[0],
+            )?;
+            readings.set(*segment, Some(q));
+        }
+        let time = self.rows as f64 / self.rate;
+        self.rows += 1;
+        Ok(Some(OrientationRow {
+            line,
+            time,
+            readings,
+        }))
+    }
+}

@@ -1,0 +1,302 @@
+//! `qgait emulate`: the hub firmware under QEMU with a motion streamed into its UART.
+
+use std::collections::{BTreeSet, HashMap};
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+use clap::Args;
+use qgait_emulate::faults::Arrivals;
+use qgait_emulate::firmware;
+use qgait_emulate::qemu::Echo;
+use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
+use qgait_proto::{FrameDecoder, Message, MissingPolicy};
+
+use crate::cli::device_args::{micrometres, LoadedModel};
+use crate::cli::diagnostics::Diagnostics;
+use crate::cli::model_args::ModelArgs;
+use qgait_device::config::{frames, messages, HubModel, HubSettings};
+use qgait_device::frames_csv;
+use qgait_device::log::HubLog;
+use qgait_device::packets::{Samples, Timing};
+use qgait_device::verify::{Expected, Verification, MISSING_LISTED};
+use qgait_model::motion::source::load_motion;
+
+/// `qgait emulate` arguments.
+#[derive(Debug, Args)]
+pub struct EmulateArgs {
+    /// Motion file (.mot/.sto) or `builtin:...` to stream (its packets as `qgait packets`
+    /// makes them).
+    #[arg(required_unless_present = "stream", conflicts_with = "stream")]
+    pub motion: Option<String>,
+    /// A byte stream to send as it is (e.g. from `qgait packets`).
+    #[arg(long, value_name = "STREAM.bin")]
+    pub stream: Option<PathBuf>,
+    /// Firmware ELF (default: the release build of firmware/, built if missing).
+    #[arg(long, value_name = "PATH")]
+    pub elf: Option<PathBuf>,
+    /// Samples per second for MOTION (default: its time column).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// The hub's configuration, sent before the stream.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
+    #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub window: u8,
+    /// Write the frames (the `fk` columns plus `seq`) to this CSV.
+    #[arg(long, value_name = "OUT.csv")]
+    pub frames_csv: Option<PathBuf>,
+    /// Write everything the hub sent (its UART output) to this file.
+    #[arg(long, value_name = "LOG.bin")]
+    pub log: Option<PathBuf>,
+    /// Check every frame against the f64 kernel and that no sample is missing (with --stream:
+    /// a frame for exactly the samples whose packets all arrived intact).
+    #[arg(long)]
+    pub verify: bool,
+    /// Tolerance of --verify (micrometres).
+    #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
+    pub tol_um: f64,
+}
+
+/// What `qgait emulate` sends: the stream, the time (s) of each sample, the number of
+/// samples when it made the stream itself (sequence numbers 0..n), and the configuration the
+/// stream carries.
+struct EmulateInput {
+    stream: Vec<u8>,
+    times: HashMap<u32, f64>,
+    count: Option<u32>,
+    /// The last model configuration (`Config`, `SubjectConfig`, `ChainTableConfig`) the stream
+    /// carries, if any.
+    configuration: Option<Message>,
+}
+
+/// The stream and its packets' times for `qgait emulate`.
+fn emulate_input(
+    args: &EmulateArgs,
+    model: &HubModel,
+    quiet: bool,
+) -> anyhow::Result<EmulateInput> {
+    let (stream, count) = match (&args.motion, &args.stream) {
+        (Some(motion), None) => {
+            let (table, w) = load_motion(motion)?;
+            let timing = args.rate.map_or(Timing::TimeColumn, Timing::Rate);
+            let (samples, w2) =
+                Samples::from_motion(&table, model.id(), model.knee_flexion(), timing)?;
+            Diagnostics::new(quiet).warn(w.into_iter().chain(w2));
+            let packets: Vec<_> = samples.all_packets().collect();
+            (
+                qgait_device::packets::stream(&packets),
+                Some(samples.len() as u32),
+            )
+        }
+        (None, Some(path)) => (
+            std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?,
+            None,
+        ),
+        _ => bail!("give either MOTION or --stream STREAM.bin"),
+    };
+    let mut times = HashMap::new();
+    let mut configuration = None;
+    for m in FrameDecoder::new().feed(&stream).flatten() {
+        match m {
+            Message::JointAngle(p) => {
+                times
+                    .entry(p.seq)
+                    .or_insert(f64::from(p.timestamp_us) * 1e-6);
+            }
+            Message::Config(_) | Message::SubjectConfig(_) | Message::ChainTableConfig(_) => {
+                configuration = Some(m);
+            }
+            _ => {}
+        }
+    }
+    Ok(EmulateInput {
+        stream,
+        times,
+        count,
+        configuration,
+    })
+}
+
+/// Runs `qgait emulate`; `Ok(false)` when --verify failed or the session did not end normally.
+pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
+    let paths = |p: &Option<PathBuf>| p.as_deref().map(|p| p.to_string_lossy().into_owned());
+    let mut inputs: Vec<String> = [paths(&args.stream), paths(&args.elf), args.motion.clone()]
+        .into_iter()
+        .flatten()
+        .collect();
+    inputs.extend(args.model.inputs());
+    crate::cli::output::refuse_overwrite(
+        args.frames_csv
+            .iter()
+            .chain(&args.log)
+            .map(PathBuf::as_path),
+        &inputs,
+    )?;
+    let model = LoadedModel::load(&args.model, quiet)?;
+    let EmulateInput {
+        stream,
+        times,
+        count,
+        configuration,
+    } = emulate_input(&args, &model.hub, quiet)?;
+    let elf = firmware::locate(args.elf.as_deref())?;
+    let settings = HubSettings {
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: args.window,
+        request_status: false,
+    };
+    let config = messages(&model.hub, settings)?;
+    let mut input = frames(&config)?;
+    input.extend_from_slice(&stream);
+    // The closing request repeats the configuration in force at the end: the stream's own
+    // if it carries one (an orientation stream selects gait2392, and a hub in an orientation
+    // input mode refuses another model).
+    let last = configuration
+        .as_ref()
+        .or(config.last())
+        .context("no configuration message")?;
+    input.extend(closing_frames(last)?);
+    let expected = InputCounts::of(&input);
+    if !quiet {
+        eprintln!(
+            "running {} under QEMU mps2-an386: {} bytes into UART0",
+            elf.display(),
+            input.len()
+        );
+    }
+    let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
+    let out = session::run(
+        &elf,
+        input,
+        expected,
+        echo,
+        Limits::for_stream(stream.len()),
+    )?;
+    if let Some(path) = &args.log {
+        std::fs::write(path, &out.uart)
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+    }
+    let log = HubLog::decode(&out.uart);
+    eprintln!(
+        "hub sent {} in {:.2} s",
+        log.counts,
+        out.elapsed.as_secs_f64()
+    );
+    if let Some(path) = &args.frames_csv {
+        write_file(path, |w| frames_csv::write(w, &log.poses, &times))?;
+        if !quiet {
+            eprintln!("wrote {} frames to {}", log.poses.len(), path.display());
+        }
+    }
+    let mut ok = true;
+    // What the stream delivers, as the hub decodes it (for the hint below and --verify):
+    // decoded once, when first needed.
+    let arrivals = std::cell::OnceCell::new();
+    let arrivals = || arrivals.get_or_init(|| Arrivals::of(&stream));
+    match &out.status {
+        Some(s) => {
+            println!("device status:");
+            for (k, v) in s.named_counters() {
+                println!("  {k:<20} {v}");
+            }
+            // The hub decodes as the host does: its counters must account for every frame
+            // of the input, damaged ones included.
+            let (got, want) = (InputCounts::counted_by(s), expected);
+            if got == want {
+                println!(
+                    "input accounted for: {} packets accepted, {} damaged frames counted",
+                    got.accepted, got.rejected
+                );
+            } else {
+                ok = false;
+                eprintln!(
+                    "error: the hub counted {} packets accepted and {} damaged frames; the input has {} and {}",
+                    got.accepted, got.rejected, want.accepted, want.rejected
+                );
+                let orientations = !arrivals().segments.is_empty();
+                if orientations && s.malformed > 0 && got.accepted < want.accepted {
+                    eprintln!(
+                        "(the hub counted the segment orientations as malformed: it is a build \
+                         without the `imu` feature; run the IMU firmware, \
+                         --elf firmware/target/imu/thumbv7em-none-eabihf/release/qgait-firmware)"
+                    );
+                }
+            }
+        }
+        None => {
+            ok = false;
+            eprintln!(
+                "error: {}",
+                out.problem.as_deref().unwrap_or("no status from the hub")
+            );
+        }
+    }
+    if args.verify {
+        // A frame is due for exactly the samples whose packets all arrived intact and usable
+        // (a stream may have lost packets on the way, a radio link; a motion may hold an angle
+        // the hub does not use, protocol.md 8.3), but an orientation stream's calibration pose.
+        let expected = match count {
+            Some(n) => Expected::Range { first: 0, count: n },
+            None => Expected::FirstToLast,
+        };
+        let mut v = Verification::run(&model.device, &log.poses, expected);
+        // (A stream carries its own configuration: its model is checked against --model only
+        // when that is given.)
+        if args.stream.is_none() || args.model.model.is_some() {
+            v.expected_model = Some(model.hub.id());
+        }
+        let intact = arrivals().framed_samples(model.hub.id());
+        let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
+        let missing: Vec<u32> = intact.difference(&seen).copied().collect();
+        v.missing = missing.len() as u64;
+        v.missing_first = missing.into_iter().take(MISSING_LISTED).collect();
+        let unexpected = seen.difference(&intact).count();
+        let all_intact = arrivals().intact_samples(model.hub.id()).len();
+        let partial = arrivals().partial(model.hub.id());
+        if count.is_none() {
+            println!(
+                "stream: {all_intact} samples with every packet intact{}, {} with packets lost, damaged or unusable",
+                if all_intact > intact.len() {
+                    " (the first the calibration pose, no frame)"
+                } else {
+                    ""
+                },
+                partial.len()
+            );
+        } else if !partial.is_empty() {
+            println!(
+                "samples with an angle the hub does not use (not finite, or beyond ±{} rad), no frame due: {}{}",
+                qgait_proto::JointAngle::MAX_ANGLE,
+                partial.len(),
+                qgait_device::verify::preview(&partial[..partial.len().min(MISSING_LISTED)], partial.len() as u64)
+            );
+        }
+        if unexpected > 0 {
+            ok = false;
+            println!("frames for samples with packets lost, damaged or unusable: {unexpected}");
+        }
+        let tol = args.tol_um * 1e-6;
+        println!("{}", v.report(tol));
+        ok &= v.passed(tol);
+    }
+    Ok(ok)
+}
+
+fn write_file(
+    path: &Path,
+    body: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> anyhow::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
+    let mut w = BufWriter::new(
+        File::create(path).with_context(|| format!("{}: cannot create", path.display()))?,
+    );
+    body(&mut w)
+        .and_then(|_| w.flush())
+        .with_context(|| format!("{}: cannot write", path.display()))
+}

@@ -1,0 +1,94 @@
+//! `qgait verify`: every pose frame of a hub log recomputed with the `f64` kernel; fails on
+//! errors or gaps.
+
+use anyhow::bail;
+use clap::Args;
+use qgait_proto::Message;
+
+use crate::cli::device_args::{micrometres, warn_cut_off, LoadedModel, OrientationArgs, PortArgs};
+use crate::cli::model_args::ModelArgs;
+use qgait_device::log::{LogDecoder, Record};
+use qgait_device::orientations::OrientationCheck;
+use qgait_device::port;
+use qgait_device::verify::{Expected, Verifier};
+
+/// `qgait verify` arguments.
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// Hub log (what the hub sent): a file, `-` for standard input, or a serial port.
+    pub log: String,
+    /// Largest accepted error per point (micrometres).
+    #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
+    pub tol_um: f64,
+    /// The model and lengths the hub was configured with.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Reading a live hub: baud rate, when to stop, live view.
+    #[command(flatten)]
+    pub port: PortArgs,
+    /// The IMU recording the hub was sent (as `qgait packets --orientations`): its frames are
+    /// also checked against the host's f64 IMU path on the same stream (the rows the hub sent
+    /// frames for, so a damaged link's lost samples are skipped on both sides; held frames are
+    /// not compared).
+    #[command(flatten)]
+    pub imu: OrientationArgs,
+}
+
+/// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
+/// ([`Verifier`]): memory is independent of the log's length.
+pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
+    let model = LoadedModel::load(&args.model, quiet)?;
+    let (mut input, mut view) = args.port.open(&args.log, false, false, quiet)?;
+    let mut decoder = LogDecoder::new();
+    let mut verifier = Verifier::new(&model.device, Expected::FirstToLast);
+    let imu = args.imu.stream(quiet)?;
+    let mut poses = Vec::new();
+    let end = port::read_log(&mut input, &mut decoder, args.port.until(), |event| {
+        match event {
+            port::Event::Record(record) => {
+                view.record(&record);
+                if let Record::Message {
+                    message: Message::PoseFrame(p),
+                    ..
+                } = &record
+                {
+                    verifier.add(p);
+                    if imu.is_some() {
+                        poses.push(p.clone());
+                    }
+                }
+            }
+            port::Event::Chunk => view.refresh(),
+        }
+        true
+    });
+    view.finish();
+    if let Some(why) = end.describe().filter(|_| !quiet) {
+        eprintln!("{why}");
+    }
+    let counts = decoder.counts();
+    eprintln!("decoded {counts}");
+    warn_cut_off(&args.log, counts.unterminated);
+    if let port::End::Failed(e) = end {
+        return Err(e.into());
+    }
+    if verifier.frames() == 0 {
+        bail!("{}: no pose frames", args.log);
+    }
+    let mut v = verifier.finish();
+    if args.model.model.is_some() {
+        v.expected_model = Some(model.hub.id());
+    }
+    let tol = args.tol_um * 1e-6;
+    println!("{}", v.report(tol));
+    let mut passed = v.passed(tol);
+    if let Some(imu) = &imu {
+        // The rows the hub solved, as it solved them (a lost sample skipped on both sides).
+        let solved: std::collections::HashSet<u32> = poses.iter().map(|p| p.seq).collect();
+        let host = imu.host_angles_of(|seq| solved.contains(&seq))?;
+        let c = OrientationCheck::run(&poses, &host);
+        println!("{}", c.report(tol));
+        passed &= c.passed(tol);
+    }
+    Ok(passed)
+}
