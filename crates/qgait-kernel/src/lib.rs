@@ -9,6 +9,7 @@
 pub mod anthropometry;
 pub mod chain;
 mod error;
+pub mod fusion;
 pub mod imu;
 pub mod lanes;
 pub mod metrics;
