@@ -209,7 +209,11 @@ impl<T: Real, const K: usize> Spline<T, K> {
         if t < self.x[0] {
             (self.y[0] + (t - self.x[0]) * self.b[0], self.b[0], zero)
         } else if self.x[last] < t {
-            (self.y[last] + (t - self.x[last]) * self.b[last], self.b[last], zero)
+            (
+                self.y[last] + (t - self.x[last]) * self.b[last],
+                self.b[last],
+                zero,
+            )
         } else {
             inside
         }

@@ -117,9 +117,8 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         let mut velocity = parent.velocity + w.cross(r);
         let mut acceleration = zero;
         if ACC {
-            acceleration = parent.acceleration
-                + parent.angular_acceleration.cross(r)
-                + w.cross(w.cross(r));
+            acceleration =
+                parent.acceleration + parent.angular_acceleration.cross(r) + w.cross(w.cross(r));
         }
         if S > 0 && self.spline_ranges[j].0 != self.spline_ranges[j].1 {
             let rate = parent.rotation.rotate(rate);

@@ -40,10 +40,7 @@ impl<
     pub fn forward_velocities(&self, q: &[T; N], qd: &[T; N]) -> ([Vec3<T>; P], [Vec3<T>; P]) {
         let frames = self.motions_inline::<false>(q, qd, qd);
         let points = self.points_of(&frames);
-        (
-            points.map(|p| p.position),
-            points.map(|p| p.velocity),
-        )
+        (points.map(|p| p.position), points.map(|p| p.velocity))
     }
 
     /// The points on their bodies' motions (as `forward` reads them).
@@ -233,7 +230,11 @@ impl<
         SplineWeights {
             k,
             w: [s_ * s_ * (three - two * s_), dx * r * r, -(dx * s_ * r)],
-            d: [six * s_ * r / h, r * (one - three * s_), s_ * (three * s_ - two)],
+            d: [
+                six * s_ * r / h,
+                r * (one - three * s_),
+                s_ * (three * s_ - two),
+            ],
             dd: [
                 six * (one - two * s_) / (h * h),
                 (six * s_ - two - two) / h,
