@@ -29,7 +29,9 @@ Outputs, per model (`gait2392`, `rajagopal2015`):
   f64): `time`; per coordinate (the 17 in gait2392 order, then `pelvis_tx,ty,tz`) `q_<c>`,
   `qd_<c>`, `qdd_<c>`; per output point (POINTS, qgait's: per side `hip`, `knee`, `ankle`,
   `subtalar`, `mtp`, the origin of the child frame of the joint that moves femur, tibia,
-  talus, calcaneus, toes, and `toetip`, as scripts/opensim_reference.py defines them) its
+  talus, calcaneus, toes, and `toetip`: marker `R.Toe.Tip`/`L.Toe.Tip` if the model has one,
+  else gait2392's toe tip in `toes_<s>` scaled by the toes' geometry scale factors, as
+  scripts/opensim_reference.py defines them) its
   velocity `<p>_v{x,y,z}` and acceleration `<p>_a{x,y,z}` in ground (m/s, m/s^2: with the
   pelvis translation's); per body (pelvis, then femur, tibia, talus, calcn, toes per side r
   then l) its angular velocity `<b>_w{x,y,z}` and angular acceleration `<b>_dw{x,y,z}` in
@@ -146,7 +148,14 @@ def toe_tip(model, s):
         m = markers.get(name)
         return m.getParentFrame(), m.get_location()
     z = -0.00108 if s == "r" else 0.00108
-    return model.getBodySet().get(f"toes_{s}"), osim.Vec3(0.0812, 0.007, z)
+    toes = model.getBodySet().get(f"toes_{s}")
+    # A scaled model: its scale tool multiplied the toes' geometry scale factors by the body's
+    # scale factors; the generic toe tip is scaled the same way (1 when absent).
+    k = [1.0, 1.0, 1.0]
+    if toes.getPropertyByName("attached_geometry").size() > 0:
+        f = toes.get_attached_geometry(0).get_scale_factors()
+        k = [f.get(i) for i in range(3)]
+    return toes, osim.Vec3(0.0812 * k[0], 0.007 * k[1], z * k[2])
 
 
 def vec(v):

@@ -181,6 +181,53 @@ pub fn imu_signals<T: Real>(body: &FrameMotion<T>, mount: &ImuMount<T>) -> ImuSi
     }
 }
 
+/// The first and second time derivatives of a uniformly sampled series (a coordinate of a
+/// motion file without speeds), `dt` apart: five-point stencils, fourth order, no filter.
+///
+/// Inside, the central differences `q̇ᵢ = (qᵢ₋₂ − 8qᵢ₋₁ + 8qᵢ₊₁ − qᵢ₊₂) / 12Δt` and
+/// `q̈ᵢ = (−qᵢ₋₂ + 16qᵢ₋₁ − 30qᵢ + 16qᵢ₊₁ − qᵢ₊₂) / 12Δt²`; the two samples at each end take the
+/// one-sided five-point stencils. Non-causal (two samples ahead), so for recorded series, not
+/// a live stream. Accuracy on a sinusoid of angular frequency `ω`: inside, relative errors of
+/// `(ωΔt)⁴/30` (rate) and `(ωΔt)⁴/90` (acceleration), so a 6 Hz component (gait's highest of
+/// note) comes out within 6.7e-4 and 2.2e-4 of itself at 100 Hz, 6.7e-8 and 2.2e-8 at 1 kHz;
+/// at the first and last samples `(ωΔt)⁴/5` and `5(ωΔt)³/6` (the one-sided acceleration is
+/// third order: 4.5 % at 6 Hz and 100 Hz, 4.5e-5 at 1 kHz; the second and last-but-one samples
+/// a twelfth of that). Noise `ε` on the samples gives about `0.95 ε / Δt` on the rate and
+/// `3 ε / Δt²` on the acceleration (no smoothing: low-pass filter a noisy recording first, as
+/// OpenSim's tools offer a cut-off).
+///
+/// Writes `min(q, qd, qdd)` lengths; a series of fewer than five samples gives NaN.
+pub fn differentiate<T: Real>(q: &[T], dt: T, qd: &mut [T], qdd: &mut [T]) {
+    let n = q.len().min(qd.len()).min(qdd.len());
+    let nan = T::ZERO / T::ZERO;
+    if n < 5 {
+        qd[..n].fill(nan);
+        qdd[..n].fill(nan);
+        return;
+    }
+    let c = |k: i32| T::from_f64(f64::from(k));
+    let (d1, d2) = (T::ONE / (c(12) * dt), T::ONE / (c(12) * dt * dt));
+    let at = |i: usize, w: [i32; 5]| {
+        q[i..i + 5]
+            .iter()
+            .zip(w)
+            .fold(T::ZERO, |s, (&v, k)| s + c(k) * v)
+    };
+    for i in 2..n - 2 {
+        qd[i] = at(i - 2, [1, -8, 0, 8, -1]) * d1;
+        qdd[i] = at(i - 2, [-1, 16, -30, 16, -1]) * d2;
+    }
+    let last = n - 5;
+    qd[0] = at(0, [-25, 48, -36, 16, -3]) * d1;
+    qd[1] = at(0, [-3, -10, 18, -6, 1]) * d1;
+    qd[n - 2] = at(last, [-1, 6, -18, 10, 3]) * d1;
+    qd[n - 1] = at(last, [3, -16, 36, -48, 25]) * d1;
+    qdd[0] = at(0, [35, -104, 114, -56, 11]) * d2;
+    qdd[1] = at(0, [11, -20, 6, 4, -1]) * d2;
+    qdd[n - 2] = at(last, [-1, 4, 6, -20, 11]) * d2;
+    qdd[n - 1] = at(last, [11, -56, 114, -104, 35]) * d2;
+}
+
 /// A value and its first and second time derivatives: what a coordinate-driven function
 /// passes down the chain rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
