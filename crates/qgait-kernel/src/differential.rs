@@ -228,6 +228,130 @@ pub fn differentiate<T: Real>(q: &[T], dt: T, qd: &mut [T], qdd: &mut [T]) {
     qdd[n - 1] = at(last, [11, -56, 114, -104, 35]) * d2;
 }
 
+/// A frame's position and velocity only: what the velocity evaluators carry down the chain
+/// (a [`FrameMotion`] without its accelerations, so they are neither computed nor copied).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Twist<T> {
+    pub(crate) rotation: Quat<T>,
+    pub(crate) origin: Vec3<T>,
+    pub(crate) velocity: Vec3<T>,
+    pub(crate) angular_velocity: Vec3<T>,
+}
+
+/// A frame's motion as an evaluator carries it: [`FrameMotion`] (with accelerations) or
+/// [`Twist`] (without: its accelerations read as zero and are dropped when set).
+pub(crate) trait Carried<T: Real>: Copy {
+    /// Whether the accelerations are carried.
+    const ACC: bool;
+    /// Ground.
+    const GROUND: Self;
+    /// Orientation, origin, the origin's velocity, angular velocity.
+    fn twist(&self) -> (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>);
+    /// The origin's acceleration and the angular acceleration (zero without them).
+    fn accelerations(&self) -> (Vec3<T>, Vec3<T>);
+    /// From its parts (the accelerations ignored without them).
+    fn of(twist: (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>), accelerations: (Vec3<T>, Vec3<T>)) -> Self;
+
+    /// The origin itself: position, velocity, acceleration (no arithmetic on a zero offset:
+    /// `0 · x` does not fold in floating point).
+    #[inline(always)]
+    fn origin_motion(&self) -> PointMotion<T> {
+        let (_, origin, velocity, _) = self.twist();
+        PointMotion {
+            position: origin,
+            velocity,
+            acceleration: if Self::ACC {
+                self.accelerations().0
+            } else {
+                Vec3::zero()
+            },
+        }
+    }
+
+    /// The point `r` (ground axes) from the origin: position, velocity, acceleration.
+    #[inline(always)]
+    fn point_at(&self, r: Vec3<T>) -> PointMotion<T> {
+        let (_, origin, velocity, w) = self.twist();
+        let mut acceleration = Vec3::zero();
+        if Self::ACC {
+            let (a, alpha) = self.accelerations();
+            acceleration = a + alpha.cross(r) + w.cross(w.cross(r));
+        }
+        PointMotion {
+            position: origin + r,
+            velocity: velocity + w.cross(r),
+            acceleration,
+        }
+    }
+}
+
+impl<T: Real> Carried<T> for FrameMotion<T> {
+    const ACC: bool = true;
+    const GROUND: Self = FrameMotion::GROUND;
+    #[inline(always)]
+    fn twist(&self) -> (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>) {
+        (
+            self.rotation,
+            self.origin,
+            self.velocity,
+            self.angular_velocity,
+        )
+    }
+    #[inline(always)]
+    fn accelerations(&self) -> (Vec3<T>, Vec3<T>) {
+        (self.acceleration, self.angular_acceleration)
+    }
+    #[inline(always)]
+    fn of(
+        (rotation, origin, velocity, angular_velocity): (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>),
+        (acceleration, angular_acceleration): (Vec3<T>, Vec3<T>),
+    ) -> Self {
+        Self {
+            rotation,
+            origin,
+            velocity,
+            acceleration,
+            angular_velocity,
+            angular_acceleration,
+        }
+    }
+}
+
+impl<T: Real> Carried<T> for Twist<T> {
+    const ACC: bool = false;
+    const GROUND: Self = Twist {
+        rotation: Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO),
+        origin: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+        velocity: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+        angular_velocity: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+    };
+    #[inline(always)]
+    fn twist(&self) -> (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>) {
+        (
+            self.rotation,
+            self.origin,
+            self.velocity,
+            self.angular_velocity,
+        )
+    }
+    #[inline(always)]
+    fn accelerations(&self) -> (Vec3<T>, Vec3<T>) {
+        (Vec3::zero(), Vec3::zero())
+    }
+    #[inline(always)]
+    fn of(
+        (rotation, origin, velocity, angular_velocity): (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>),
+        _: (Vec3<T>, Vec3<T>),
+    ) -> Self {
+        Self {
+            rotation,
+            origin,
+            velocity,
+            angular_velocity,
+        }
+    }
+}
+
 /// A value and its first and second time derivatives: what a coordinate-driven function
 /// passes down the chain rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

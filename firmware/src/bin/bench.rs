@@ -76,10 +76,16 @@ fn main() -> ! {
     // Speeds (rad/s) and accelerations (rad/s^2) for the differential kinematics: gait-like
     // magnitudes (the angles' range times 4 and 40).
     let phak_rates: [[[f32; 8]; 2]; INPUTS] = core::array::from_fn(|_| {
-        [rng.angles().map(|v| 4.0 * v), rng.angles().map(|v| 40.0 * v)]
+        [
+            rng.angles().map(|v| 4.0 * v),
+            rng.angles().map(|v| 40.0 * v),
+        ]
     });
     let g_rates: [[[f32; 17]; 2]; INPUTS] = core::array::from_fn(|_| {
-        [rng.angles().map(|v| 4.0 * v), rng.angles().map(|v| 40.0 * v)]
+        [
+            rng.angles().map(|v| 4.0 * v),
+            rng.angles().map(|v| 40.0 * v),
+        ]
     });
 
     let hak = Hak::<f32>::new(&Limb::gait2392()).unwrap_or_else(|_| board::exit(1));

@@ -3,7 +3,7 @@
 //! [`Chain::frames`]' own.
 
 use super::{AxisKind, Chain};
-use crate::differential::{FrameMotion, PointMotion};
+use crate::differential::{Carried, FrameMotion, PointMotion, Twist};
 use crate::{Quat, Real, Vec3};
 
 impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Chain<T, N, J, P, S> {
@@ -13,7 +13,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     /// (rad/s²). The orientations and origins are [`frames`](Self::frames)'.
     #[inline]
     pub fn motions(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [FrameMotion<T>; J] {
-        self.motions_inline::<true>(q, qd, qdd)
+        self.carried(q, qd, qdd)
     }
 
     /// The output points' positions, velocities and accelerations in ground (ground axes,
@@ -21,16 +21,20 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     /// for coordinates `q`, speeds `qd` and accelerations `qdd`.
     #[inline]
     pub fn forward_motion(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [PointMotion<T>; P] {
-        let frames = self.motions_inline::<true>(q, qd, qdd);
-        core::array::from_fn(|i| self.point_motion(&frames, i))
+        let frames: [FrameMotion<T>; J] = self.carried(q, qd, qdd);
+        let mut out = [PointMotion::default(); P];
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.point_motion(&frames, i);
+        }
+        out
     }
 
     /// The output points' positions and velocities in ground (as
-    /// [`forward_motion`](Self::forward_motion), without the accelerations' work): `(positions,
-    /// velocities)`.
+    /// [`forward_motion`](Self::forward_motion), the accelerations neither computed nor
+    /// carried): `(positions, velocities)`.
     #[inline]
     pub fn forward_velocities(&self, q: &[T; N], qd: &[T; N]) -> ([Vec3<T>; P], [Vec3<T>; P]) {
-        let frames = self.motions_inline::<false>(q, qd, qd);
+        let frames: [Twist<T>; J] = self.carried(q, qd, qd);
         let mut positions = [Vec3::zero(); P];
         let mut velocities = [Vec3::zero(); P];
         for i in 0..P {
@@ -43,31 +47,22 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
 
     /// Point `i`'s motion on its joint's frame.
     #[inline(always)]
-    fn point_motion(&self, frames: &[FrameMotion<T>; J], i: usize) -> PointMotion<T> {
+    fn point_motion<K: Carried<T>>(&self, frames: &[K; J], i: usize) -> PointMotion<T> {
         let p = &self.points[i];
         let f = &frames[p.body];
         if self.at_origin[i] {
-            PointMotion {
-                position: f.origin,
-                velocity: f.velocity,
-                acceleration: f.acceleration,
-            }
+            f.origin_motion()
         } else {
-            f.point_at(self.point_kinds[i].rotate(f.rotation, p.offset))
+            f.point_at(self.point_kinds[i].rotate(f.twist().0, p.offset))
         }
     }
 
-    /// The frames' motions; with `ACC` false, the accelerations are not computed (left zero,
-    /// `qdd` unread).
+    /// The frames' motions, with their accelerations if `K` carries them (`qdd` unread
+    /// otherwise).
     #[inline(always)]
-    fn motions_inline<const ACC: bool>(
-        &self,
-        q: &[T; N],
-        qd: &[T; N],
-        qdd: &[T; N],
-    ) -> [FrameMotion<T>; J] {
+    fn carried<K: Carried<T>>(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [K; J] {
         if J == 0 {
-            return [FrameMotion::GROUND; J];
+            return [K::GROUND; J];
         }
         // The spline translations' values and first and second derivatives by their
         // coordinate, first (as `frames`: no calls in the joint loop).
@@ -75,27 +70,36 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         for (value, s) in slide.iter_mut().zip(&self.splines) {
             *value = s.spline.eval_derivatives(q[s.coordinate]);
         }
-        let mut frames = [self.joint_motion::<ACC>(0, &FrameMotion::GROUND, q, qd, qdd, &slide); J];
+        let mut frames = [self.joint_motion(0, &K::GROUND, q, qd, qdd, &slide); J];
         for j in 1..J {
-            let parent = frames[self.joints[j].parent.unwrap_or(0)];
-            frames[j] = self.joint_motion::<ACC>(j, &parent, q, qd, qdd, &slide);
+            let f = self.joint_motion(
+                j,
+                &frames[self.joints[j].parent.unwrap_or(0)],
+                q,
+                qd,
+                qdd,
+                &slide,
+            );
+            frames[j] = f;
         }
         frames
     }
 
     /// Joint `j`'s motion given its parent's.
     #[inline(always)]
-    fn joint_motion<const ACC: bool>(
+    fn joint_motion<K: Carried<T>>(
         &self,
         j: usize,
-        parent: &FrameMotion<T>,
+        parent: &K,
         q: &[T; N],
         qd: &[T; N],
         qdd: &[T; N],
         slide: &[(T, T, T); S],
-    ) -> FrameMotion<T> {
+    ) -> K {
         let joint = &self.joints[j];
         let zero = Vec3::zero();
+        let (parent_rotation, parent_origin, parent_velocity, w) = parent.twist();
+        let (parent_acceleration, parent_alpha) = parent.accelerations();
         // The offset in the parent's frame and its rates (the splines'), then in ground.
         let mut offset = joint.offset;
         let (mut rate, mut accel) = (zero, zero);
@@ -107,58 +111,58 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
                 let (u, du) = (qd[s.coordinate], qdd[s.coordinate]);
                 offset += s.direction * x;
                 rate += s.direction * (dx * u);
-                if ACC {
+                if K::ACC {
                     accel += s.direction * (ddx * u * u + dx * du);
                 }
             }
         }
-        let r = self.offset_kinds[j].rotate(parent.rotation, offset);
-        let w = parent.angular_velocity;
-        let mut velocity = parent.velocity + w.cross(r);
+        let r = self.offset_kinds[j].rotate(parent_rotation, offset);
+        let mut velocity = parent_velocity + w.cross(r);
         let mut acceleration = zero;
-        if ACC {
-            acceleration =
-                parent.acceleration + parent.angular_acceleration.cross(r) + w.cross(w.cross(r));
+        if K::ACC {
+            acceleration = parent_acceleration + parent_alpha.cross(r) + w.cross(w.cross(r));
         }
         if S > 0 && self.spline_ranges[j].0 != self.spline_ranges[j].1 {
-            let rate = parent.rotation.rotate(rate);
+            let rate = parent_rotation.rotate(rate);
             velocity += rate;
-            if ACC {
-                acceleration += w.cross(rate) * T::TWO + parent.rotation.rotate(accel);
+            if K::ACC {
+                acceleration += w.cross(rate) * T::TWO + parent_rotation.rotate(accel);
             }
         }
-        let mut rotation = parent.rotation;
+        let mut rotation = parent_rotation;
         let mut omega = w;
-        let mut alpha = parent.angular_acceleration;
+        let mut alpha = parent_alpha;
         let one = T::ONE;
         for (axis, kind) in joint.axes[..joint.n_axes].iter().zip(&self.axis_kinds[j]) {
             let c = axis.coordinate;
             let (s, co) = q[c].half_angle_sin_cos();
-            rotation = match kind {
-                AxisKind::X => rotation.then_about_x(s, co),
-                AxisKind::Y => rotation.then_about_y(s, co),
-                AxisKind::Z => rotation.then_about_z(s, co),
-                AxisKind::General => rotation * Quat::from_axis_half_sin_cos(axis.direction, s, co),
-            };
             // The axis in ground (unmoved by its own rotation).
             let g = match kind {
-                AxisKind::X => rotation.rotate_x(one),
-                AxisKind::Y => rotation.rotate_y(one),
-                AxisKind::Z => rotation.rotate_z(one),
-                AxisKind::General => rotation.rotate(axis.direction),
+                AxisKind::X => {
+                    rotation = rotation.then_about_x(s, co);
+                    rotation.rotate_x(one)
+                }
+                AxisKind::Y => {
+                    rotation = rotation.then_about_y(s, co);
+                    rotation.rotate_y(one)
+                }
+                AxisKind::Z => {
+                    rotation = rotation.then_about_z(s, co);
+                    rotation.rotate_z(one)
+                }
+                AxisKind::General => {
+                    rotation = rotation * Quat::from_axis_half_sin_cos(axis.direction, s, co);
+                    rotation.rotate(axis.direction)
+                }
             };
-            if ACC {
+            if K::ACC {
                 alpha += g * qdd[c] + omega.cross(g) * qd[c];
             }
             omega += g * qd[c];
         }
-        FrameMotion {
-            rotation,
-            origin: parent.origin + r,
-            velocity,
-            acceleration,
-            angular_velocity: omega,
-            angular_acceleration: alpha,
-        }
+        K::of(
+            (rotation, parent_origin + r, velocity, omega),
+            (acceleration, alpha),
+        )
     }
 }

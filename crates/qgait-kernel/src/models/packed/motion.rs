@@ -3,7 +3,7 @@
 //! chain rule through their functions' analytic derivatives.
 
 use super::{Drive, JointCode, PackedChain, SplineCode};
-use crate::differential::{polynomial, FrameMotion, Jet, PointMotion};
+use crate::differential::{polynomial, Carried, FrameMotion, Jet, PointMotion, Twist};
 use crate::models::custom::Shape;
 use crate::{Quat, Real, Vec3};
 
@@ -23,29 +23,35 @@ impl<
     /// coordinates `q`, speeds `qd` and accelerations `qdd`. The orientations and origins are
     /// [`frames`](Self::frames)'.
     pub fn motions(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [FrameMotion<T>; B] {
-        self.motions_inline::<true>(q, qd, qdd)
+        self.carried(q, qd, qdd)
     }
 
     /// The output points' positions, velocities and accelerations in ground (the time
     /// derivatives of [`forward`](Self::forward)'s points).
     #[inline]
     pub fn forward_motion(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [PointMotion<T>; P] {
-        let frames = self.motions_inline::<true>(q, qd, qdd);
+        let frames: [FrameMotion<T>; B] = self.carried(q, qd, qdd);
         self.points_of(&frames)
     }
 
-    /// The output points' positions and velocities (as [`forward_motion`](Self::forward_motion)
-    /// without the accelerations' work): `(positions, velocities)`.
+    /// The output points' positions and velocities (as [`forward_motion`](Self::forward_motion),
+    /// the accelerations neither computed nor carried): `(positions, velocities)`.
     #[inline]
     pub fn forward_velocities(&self, q: &[T; N], qd: &[T; N]) -> ([Vec3<T>; P], [Vec3<T>; P]) {
-        let frames = self.motions_inline::<false>(q, qd, qd);
+        let frames: [Twist<T>; B] = self.carried(q, qd, qd);
         let points = self.points_of(&frames);
-        (points.map(|p| p.position), points.map(|p| p.velocity))
+        let mut positions = [Vec3::zero(); P];
+        let mut velocities = [Vec3::zero(); P];
+        for (i, p) in points.iter().enumerate() {
+            positions[i] = p.position;
+            velocities[i] = p.velocity;
+        }
+        (positions, velocities)
     }
 
     /// The points on their bodies' motions (as `forward` reads them).
     #[inline(always)]
-    fn points_of(&self, frames: &[FrameMotion<T>; B]) -> [PointMotion<T>; P] {
+    fn points_of<K: Carried<T>>(&self, frames: &[K; B]) -> [PointMotion<T>; P] {
         let mut cursor = usize::from(u16::from_le_bytes([
             self.codes.counts[2],
             self.codes.counts[3],
@@ -56,23 +62,20 @@ impl<
                 return PointMotion::default();
             };
             if at_origin != 0 {
-                f.point_at(Vec3::zero())
+                f.origin_motion()
             } else {
-                f.point(self.vec(&mut cursor))
+                f.point_at(f.twist().0.rotate(self.vec(&mut cursor)))
             }
         })
     }
 
+    /// The bodies' motions, with their accelerations if `K` carries them (`qdd` unread
+    /// otherwise).
     #[inline(always)]
-    fn motions_inline<const ACC: bool>(
-        &self,
-        q: &[T; N],
-        qd: &[T; N],
-        qdd: &[T; N],
-    ) -> [FrameMotion<T>; B] {
+    fn carried<K: Carried<T>>(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [K; B] {
         let mut values = [Jet::ZERO; D];
         self.jets(q, qd, qdd, &mut values);
-        let mut frames = [FrameMotion::GROUND; B];
+        let mut frames = [K::GROUND; B];
         let mut rest = values
             .get(usize::from(self.codes.counts[1])..)
             .unwrap_or(&[]);
@@ -84,10 +87,10 @@ impl<
             let (done, todo) = frames.split_at_mut(b);
             let parent = match done.get(code.parent()) {
                 Some(p) if b > 0 => p,
-                _ => &FrameMotion::GROUND,
+                _ => &K::GROUND,
             };
             if let Some(f) = todo.first_mut() {
-                *f = self.body_motion::<ACC>(code, parent, v, nr, nt);
+                *f = self.body_motion(code, parent, v, nr, nt);
             }
         }
         frames
@@ -246,21 +249,19 @@ impl<
     /// A body's motion on its parent's, as `frame` places it: `v` its `nt` translations'
     /// drives, then its `nr` rotations'.
     #[inline(always)]
-    fn body_motion<const ACC: bool>(
+    fn body_motion<K: Carried<T>>(
         &self,
         code: JointCode,
-        parent: &FrameMotion<T>,
+        parent: &K,
         v: &[Jet<T>],
         nr: usize,
         nt: usize,
-    ) -> FrameMotion<T> {
+    ) -> K {
         let mut cursor = code.words();
         let shape = code.shape();
         let zero = Vec3::zero();
-        let w = parent.angular_velocity;
-        let mut origin = parent.origin;
-        let mut velocity = parent.velocity;
-        let mut acceleration = parent.acceleration;
+        let (parent_rotation, mut origin, mut velocity, w) = parent.twist();
+        let (mut acceleration, parent_alpha) = parent.accelerations();
         if shape & Shape::START != 0 {
             let start = self.vec(&mut cursor);
             let (mut slide, mut rate, mut accel) = (zero, zero, zero);
@@ -268,23 +269,23 @@ impl<
                 let axis = self.vec(&mut cursor);
                 slide += axis * x.value;
                 rate += axis * x.rate;
-                if ACC {
+                if K::ACC {
                     accel += axis * x.accel;
                 }
             }
-            let r = parent.rotation.rotate(start + slide);
-            let rate = parent.rotation.rotate(rate);
+            let r = parent_rotation.rotate(start + slide);
+            let rate = parent_rotation.rotate(rate);
             origin += r;
             velocity += w.cross(r) + rate;
-            if ACC {
-                acceleration += parent.angular_acceleration.cross(r)
+            if K::ACC {
+                acceleration += parent_alpha.cross(r)
                     + w.cross(w.cross(r) + rate * T::TWO)
-                    + parent.rotation.rotate(accel);
+                    + parent_rotation.rotate(accel);
             }
         }
-        let mut rotation = parent.rotation;
+        let mut rotation = parent_rotation;
         let mut omega = w;
-        let mut alpha = parent.angular_acceleration;
+        let mut alpha = parent_alpha;
         let one = T::ONE;
         for (r, x) in v.iter().skip(nt).take(nr).enumerate() {
             let (s, c) = x.value.half_angle_sin_cos();
@@ -307,7 +308,7 @@ impl<
                     rotation.rotate(axis)
                 }
             };
-            if ACC {
+            if K::ACC {
                 alpha += g * x.accel + omega.cross(g) * x.rate;
             }
             omega += g * x.rate;
@@ -315,19 +316,13 @@ impl<
         if shape & Shape::TURNS != 0 {
             rotation = rotation * self.quat(&mut cursor);
         }
-        let mut body = FrameMotion {
-            rotation,
-            origin,
-            velocity,
-            acceleration,
-            angular_velocity: omega,
-            angular_acceleration: alpha,
-        };
+        let mut body = K::of((rotation, origin, velocity, omega), (acceleration, alpha));
         if shape & Shape::ENDS_AWAY != 0 {
-            let end = body.point(self.vec(&mut cursor));
-            body.origin = end.position;
-            body.velocity = end.velocity;
-            body.acceleration = end.acceleration;
+            let end = body.point_at(rotation.rotate(self.vec(&mut cursor)));
+            body = K::of(
+                (rotation, end.position, end.velocity, omega),
+                (end.acceleration, alpha),
+            );
         }
         body
     }
