@@ -72,15 +72,8 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         }
         let mut frames = [self.joint_motion(0, &K::GROUND, q, qd, qdd, &slide); J];
         for j in 1..J {
-            let f = self.joint_motion(
-                j,
-                &frames[self.joints[j].parent.unwrap_or(0)],
-                q,
-                qd,
-                qdd,
-                &slide,
-            );
-            frames[j] = f;
+            let parent = frames[self.joints[j].parent.unwrap_or(0)];
+            frames[j] = self.joint_motion(j, &parent, q, qd, qdd, &slide);
         }
         frames
     }
