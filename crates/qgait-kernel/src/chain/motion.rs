@@ -72,6 +72,8 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         }
         let mut frames = [self.joint_motion(0, &K::GROUND, q, qd, qdd, &slide); J];
         for j in 1..J {
+            // (A copy of the parent's frame: fewer instructions than a reference into the
+            // array being written, PHAK's velocities 2,182 against 2,519.)
             let parent = frames[self.joints[j].parent.unwrap_or(0)];
             frames[j] = self.joint_motion(j, &parent, q, qd, qdd, &slide);
         }
