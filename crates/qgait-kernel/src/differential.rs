@@ -199,7 +199,7 @@ pub fn imu_signals<T: Real>(body: &FrameMotion<T>, mount: &ImuMount<T>) -> ImuSi
 /// Writes `min(q, qd, qdd)` lengths; a series of fewer than five samples gives NaN.
 pub fn differentiate<T: Real>(q: &[T], dt: T, qd: &mut [T], qdd: &mut [T]) {
     let n = q.len().min(qd.len()).min(qdd.len());
-    let nan = T::ZERO / T::ZERO;
+    let nan = T::from_f64(f64::NAN);
     if n < 5 {
         qd[..n].fill(nan);
         qdd[..n].fill(nan);

@@ -179,8 +179,7 @@ fn gait2392_velocities_accelerations_and_imu_signals_are_opensims() {
 
 /// `c + A sin(w t + p)` per coordinate, with its derivatives: a motion every coordinate moves in.
 fn analytic<const N: usize>(t: f64, seed: f64) -> [[f64; N]; 3] {
-    let mut out = [[0.0; N]; 3];
-    for i in 0..N {
+    let term = |i: usize, order: usize| {
         let k = i as f64 + seed;
         let (c, a, w, p) = (
             0.3 * (1.7 * k).sin(),
@@ -188,11 +187,13 @@ fn analytic<const N: usize>(t: f64, seed: f64) -> [[f64; N]; 3] {
             5.0 + k,
             0.7 * k,
         );
-        out[0][i] = c + a * (w * t + p).sin();
-        out[1][i] = a * w * (w * t + p).cos();
-        out[2][i] = -a * w * w * (w * t + p).sin();
-    }
-    out
+        match order {
+            0 => c + a * (w * t + p).sin(),
+            1 => a * w * (w * t + p).cos(),
+            _ => -a * w * w * (w * t + p).sin(),
+        }
+    };
+    [0, 1, 2].map(|order| core::array::from_fn(|i| term(i, order)))
 }
 
 /// `(f(t-2h) - 8 f(t-h) + 8 f(t+h) - f(t+2h)) / 12h`, element-wise.
