@@ -460,7 +460,7 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                     ],
                     "the JointAngle of 7.1 with joint 17",
                 ),
-                Step::Body(vec![0x0d], "a message of tag 13"),
+                Step::Body(vec![0x14], "a message of tag 20"),
                 Step::Wait(500),
                 Step::Frame(
                     config(ModelId::Phak, MissingPolicy::Drop, 4, true),

@@ -175,6 +175,9 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
         ),
         ("chain-table", common::chain_table().into()),
         ("chain-table-config", common::chain_table_config().into()),
+        ("raw-imu-sample", common::raw_imu_sample().into()),
+        ("raw-imu-config", common::raw_imu_config().into()),
+        ("raw-imu-status", common::raw_imu_status().into()),
     ]
 }
 
@@ -209,7 +212,17 @@ fn golden_errors() -> Vec<(&'static str, Vec<u8>, DecodeError)> {
         .expect("encodes")
         .to_vec();
     unknown_segment[3] = 8;
+    // An `ImuConfig` of mode 3 (not 0-2) whose heading's base is 9 (no segment): the mode is
+    // field 1, the heading field 5, so `Malformed`.
+    let mode_first = vec![
+        0x08, 0x03, 0x01, 0x00, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x01, 0x09, 0x00, 0x00,
+    ];
     vec![
+        (
+            "error-imu-config-mode-first",
+            mode_first,
+            DecodeError::Malformed,
+        ),
         (
             "error-unknown-model",
             unknown_model,
@@ -310,6 +323,21 @@ fn constants() -> Vec<String> {
             "CHAIN_TABLE_CONFIG_TAG = {}",
             qgait_proto::CHAIN_TABLE_CONFIG_TAG
         ),
+        format!(
+            "RAW_IMU_SAMPLE_MAX_LEN = {}",
+            qgait_proto::RAW_IMU_SAMPLE_MAX_LEN
+        ),
+        format!(
+            "RAW_IMU_CONFIG_MAX_LEN = {}",
+            qgait_proto::RAW_IMU_CONFIG_MAX_LEN
+        ),
+        format!(
+            "RAW_IMU_STATUS_MAX_LEN = {}",
+            qgait_proto::RAW_IMU_STATUS_MAX_LEN
+        ),
+        format!("RAW_IMU_SAMPLE_TAG = {}", qgait_proto::RAW_IMU_SAMPLE_TAG),
+        format!("RAW_IMU_CONFIG_TAG = {}", qgait_proto::RAW_IMU_CONFIG_TAG),
+        format!("RAW_IMU_STATUS_TAG = {}", qgait_proto::RAW_IMU_STATUS_TAG),
         format!("MAX_REORDER_WINDOW = {}", qgait_proto::MAX_REORDER_WINDOW),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
     ]

@@ -112,7 +112,55 @@ pub fn every_message() -> Vec<Message> {
             request_status: false,
         }
         .into(),
+        raw_imu_sample().into(),
+        raw_imu_config().into(),
+        raw_imu_status().into(),
     ]
+}
+
+/// The golden raw sample of protocol.md 7.9: node 4 on the right shank, an ICM-20948's counts
+/// (gyroscope at ±2000 °/s, accelerometer at ±16 g, AK09916 magnetometer).
+pub fn raw_imu_sample() -> qgait_proto::RawImuSample {
+    qgait_proto::RawImuSample {
+        version: qgait_proto::PROTOCOL_VERSION,
+        node: 4,
+        segment: qgait_proto::SegmentId::TibiaR,
+        seq: 300,
+        timestamp_us: 1_234_567,
+        gyro: [-188, 47, 3289],
+        accel: [251, 2005, -84],
+        mag: Some([133, -233, 80]),
+    }
+}
+
+/// The golden raw configuration of protocol.md 7.9: every segment, 9D, 100 Hz, an
+/// orientation per sample, the ICM-20948's sensitivities, status requested.
+pub fn raw_imu_config() -> qgait_proto::RawImuConfig {
+    qgait_proto::RawImuConfig {
+        segments: 0xff,
+        fusion: qgait_proto::FusionMode::NineD,
+        rate_hz: 100,
+        output_every: 1,
+        gyro_per_count: qgait_proto::RawImuConfig::gyro_per_count_of(16.4),
+        accel_per_count: qgait_proto::RawImuConfig::accel_per_count_of(2048.0),
+        mag_per_count: 0.15,
+        request_status: true,
+    }
+}
+
+/// The golden raw status of protocol.md 7.9.
+pub fn raw_imu_status() -> qgait_proto::RawImuStatus {
+    qgait_proto::RawImuStatus {
+        samples_accepted: 48_000,
+        saturated: 3,
+        rate_gaps: 2,
+        samples_lost: 5,
+        timing_errors: 1,
+        stale_samples: 1,
+        resyncs: 0,
+        missing_magnetometer: 0,
+        not_configured: 4,
+    }
 }
 
 /// The generic gait2392 right leg as a subject-model part.
