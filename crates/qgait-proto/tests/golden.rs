@@ -270,7 +270,27 @@ fn expected_blocks() -> BTreeMap<String, Vec<u8>> {
         f
     };
     blocks.insert("error-crc.frame".to_owned(), bad_crc);
+    blocks.insert(
+        "chain-coupled.image".to_owned(),
+        common::chain_coupled_image(),
+    );
     blocks
+}
+
+/// The points of protocol.md 9.5's table for its angles, as the document lists them: every
+/// point the hub computes, `f32` as Rust prints it.
+fn chain_coupled_points(image: &[u8]) -> Vec<String> {
+    let mut table = qgait_proto::device_model::DeviceChain::EMPTY;
+    table.write_image(0, image);
+    let mut q = [0.0f32; 17];
+    q[JointId::HipFlexionR.index() as usize] = 0.5;
+    q[JointId::KneeAngleR.index() as usize] = -0.6;
+    table
+        .forward(&q)
+        .iter()
+        .enumerate()
+        .map(|(k, p)| format!("point {k}: {} {} {}", p.x, p.y, p.z))
+        .collect()
 }
 
 fn constants() -> Vec<String> {
@@ -352,6 +372,10 @@ fn print_blocks_on_request() {
         println!("{}\n", to_hex_block(&name, &bytes));
     }
     println!("```text golden=constants\n{}\n```", constants().join("\n"));
+    println!(
+        "```text golden=chain-coupled.points\n{}\n```",
+        chain_coupled_points(&common::chain_coupled_image()).join("\n")
+    );
 }
 
 #[test]
@@ -360,6 +384,7 @@ fn document_holds_exactly_the_golden_blocks() {
     let doc = golden_blocks(&protocol_md());
     let mut want: Vec<String> = expected_blocks().into_keys().collect();
     want.push("constants".to_owned());
+    want.push("chain-coupled.points".to_owned());
     want.sort();
     let have: Vec<String> = doc.into_keys().collect();
     assert_eq!(have, want);
@@ -450,4 +475,18 @@ fn crc_is_crc32c_as_documented() {
         let data: Vec<u8> = (0..len).map(|_| rng.byte()).collect();
         assert_eq!(crc32c(&data), crc32c_bitwise(&data), "len {len}");
     }
+}
+
+/// 9.5's worked chain: its image, read from the document, evaluates to the points the document
+/// lists (the hub's table code, `f32`).
+#[test]
+fn chain_example_points_are_the_documented_ones() {
+    let doc = golden_blocks(&protocol_md());
+    let image = parse_hex(&doc["chain-coupled.image"]);
+    let listed: Vec<String> = doc["chain-coupled.points"]
+        .iter()
+        .map(|l| l.trim().to_owned())
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(listed, chain_coupled_points(&image));
 }

@@ -296,3 +296,42 @@ pub fn code_positions(body: &[u8]) -> Vec<usize> {
     }
     positions
 }
+
+/// The chain table of protocol.md 9.5, byte by byte as section 9.4 lays it out: one coupled
+/// coordinate (a linear function of `knee_angle_r`) sliding body 1 along an axis, body 1
+/// turning about z by a linear function of `hip_flexion_r`, three points. The first
+/// `192 + 4 × used` bytes of its image (what a host sends).
+pub fn chain_coupled_image() -> Vec<u8> {
+    const DRIVES: usize = 66;
+    const POINTS: usize = 114;
+    const COUNTS: usize = 186;
+    const NUMBERS: usize = 192;
+    let numbers: [f32; 16] = [
+        // linear drives' slopes and values at 0, in drive order: drive 0, then drive 2
+        0.5, 0.1, -1.0, 0.25, //
+        // body 1 (from index 4): t_F, the translation's axis, e (ENDS_AWAY)
+        0.0, -0.1, 0.08, 0.6, 0.8, 0.0, 0.0, -0.4, 0.0, //
+        // points_at 13: point 2's offset in body 1
+        0.05, -0.2, 0.0,
+    ];
+    let mut image = vec![0u8; NUMBERS + 4 * numbers.len()];
+    // Joint 1: parent 0, one rotation and one translation, START | ENDS_AWAY, rotation 0
+    // about z, its numbers from index 4.
+    image[6..12].copy_from_slice(&[0, 0x05, 0x09, 0x03, 4, 0]);
+    // Drive 0 (the coupled coordinate): linear of angle 6 (knee_angle_r). Drive 1 (body 1's
+    // translation): the argument itself, coupled coordinate 0. Drive 2 (body 1's rotation):
+    // linear of angle 3 (hip_flexion_r).
+    image[DRIVES..DRIVES + 6].copy_from_slice(&[0x00, 0x46, 0xc0, 0x80, 0x00, 0x43]);
+    // Points: 0 at body 0's origin, 1 at body 1's origin, 2 at an offset in body 1, the others
+    // at body 0's origin.
+    for k in 0..12 {
+        image[POINTS + 2 * k..POINTS + 2 * k + 2].copy_from_slice(&[0, 1]);
+    }
+    image[POINTS + 2..POINTS + 6].copy_from_slice(&[1, 1, 1, 0]);
+    // 3 drives, 1 coupled coordinate, points_at 13, 16 numbers in use.
+    image[COUNTS..COUNTS + 6].copy_from_slice(&[3, 1, 13, 0, 16, 0]);
+    for (k, n) in numbers.iter().enumerate() {
+        image[NUMBERS + 4 * k..NUMBERS + 4 * k + 4].copy_from_slice(&n.to_le_bytes());
+    }
+    image
+}
