@@ -101,7 +101,7 @@ fn q14_does_not_clamp_and_keeps_the_sign() {
         [16384, -16384, 24576, -32604]
     );
     assert_eq!(
-        SegmentOrientation::q14_of([1.9999, 0.0, 0.0, 0.0])[0],
+        SegmentOrientation::q14_of([1.99998, 0.0, 0.0, 0.0])[0],
         i16::MAX
     );
     assert_eq!(packet([24576, 0, 0, 0]).quaternion(), [1.5, 0.0, 0.0, 0.0]);
