@@ -141,7 +141,8 @@ pub struct Status {
     /// Packets for a (sample, joint) already received.
     pub duplicate_packets: u32,
     /// Frames with a good CRC whose contents could not be decoded (bad postcard encoding,
-    /// unknown model, wrong angle count).
+    /// unknown model, wrong angle count), and messages the hub does not take (those only a hub
+    /// sends; the chain messages without chain support; the raw IMU messages).
     pub malformed: u32,
     /// Configurations the hub could not use and ignored, keeping the one in force: a reorder
     /// window outside `1..=`[`MAX_REORDER_WINDOW`], a [`Config`] with unusable segment lengths
