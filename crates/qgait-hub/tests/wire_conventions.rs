@@ -163,3 +163,59 @@ fn minus_q_gives_the_frames_of_q() {
         }
     }
 }
+
+/// Mode 0 (protocol.md 4.8): any `segments`, the pelvis included or not, is accepted; the
+/// settings and a calibration request are kept for a later orientation mode; non-finite
+/// sensor-to-OpenSim angles are rejected (a hub built with the orientation input).
+#[test]
+fn mode_0_keeps_the_settings_and_a_calibration_request() {
+    let model = model_f64().expect("the generic gait2392");
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock);
+    let serial = hub.serial_mut();
+    assert!(send(
+        serial,
+        &Message::Config(Config {
+            model: ModelId::Gait2392,
+            anthropometry: None,
+            missing_policy: MissingPolicy::Drop,
+            reorder_window: 4,
+            request_status: false,
+        })
+    ));
+    let joints = ImuConfig {
+        segments: 0,
+        ..imu_config(InputMode::JointAngles, true, 0)
+    };
+    assert!(send(serial, &Message::ImuConfig(joints)));
+    let nan = ImuConfig {
+        sensor_to_opensim: [f32::NAN, 0.0, 0.0],
+        calibrate: false,
+        ..joints
+    };
+    assert!(send(serial, &Message::ImuConfig(nan)));
+    // The orientation mode without `calibrate`: the request of the mode-0 message stands.
+    let orientations = imu_config(InputMode::OrientationsClosedForm, false, 0);
+    assert!(send(serial, &Message::ImuConfig(orientations)));
+    assert!(send_orientations(
+        serial,
+        1,
+        &calibration_readings(&model),
+        ImuConfig::ALL_SEGMENTS
+    ));
+    assert!(send_orientations(
+        serial,
+        2,
+        &readings(&model, &truth(2)),
+        ImuConfig::ALL_SEGMENTS
+    ));
+    drain(&mut hub);
+    let status = hub.status();
+    assert_eq!(status.config_rejected, 1, "{status:?}");
+    assert_eq!(status.calibrations, 1, "{status:?}");
+    assert_eq!(status.uncalibrated_samples, 0, "{status:?}");
+    assert_eq!(
+        hub.imu_config().sensor_to_opensim,
+        orientations.sensor_to_opensim
+    );
+}
