@@ -194,6 +194,19 @@ fn broad_trials_fused_by_the_binary_score_as_the_reference_vqf() {
                 "{}",
                 stderr(&o)
             );
+            // --truth: the copy (same stem) scored against the original: the same figures.
+            let o = qgait(&[
+                "fuse",
+                blank.to_str().unwrap(),
+                "--mode",
+                "9d",
+                "--truth",
+                path.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            assert!(stdout(&o).contains(&row), "{}\nexpected {row}", stdout(&o));
         }
         std::fs::remove_file(&blank).unwrap();
         scored += 1;

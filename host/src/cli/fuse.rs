@@ -38,6 +38,11 @@ pub struct FuseArgs {
     /// as a Markdown table on stdout.
     #[arg(long)]
     pub score: bool,
+    /// Scores against the reference of other files in the same layout (one per input, in
+    /// order, with the same times): the originals of copies whose `opt_*` cells are empty, as
+    /// an estimator is given them. Implies --score.
+    #[arg(long, value_name = "ORIGINAL.csv")]
+    pub truth: Vec<PathBuf>,
     /// Output orientation .sto (DataType=Quaternion, one `w,x,y,z` column per sensor).
     #[arg(short, long, value_name = "ORIENTATIONS.sto")]
     pub output: PathBuf,
@@ -114,6 +119,13 @@ pub(crate) fn run_fuse(a: FuseArgs, diagnostics: &Diagnostics) -> anyhow::Result
             Segment::ALL.map(Segment::imu_label).join(", ")
         ))]);
     }
+    if !a.truth.is_empty() && a.truth.len() != a.inputs.len() {
+        bail!(
+            "{} --truth for {} files: give one per file, in their order",
+            a.truth.len(),
+            a.inputs.len()
+        );
+    }
     let mode = match a.mode {
         ModeArg::NineD => Mode::NineD,
         ModeArg::SixD => Mode::SixD,
@@ -162,7 +174,15 @@ pub(crate) fn run_fuse(a: FuseArgs, diagnostics: &Diagnostics) -> anyhow::Result
             Mode::SixD => "6D, z up",
         }
     ));
-    if a.score {
+    if !a.truth.is_empty() {
+        let mut truths = Vec::with_capacity(a.truth.len());
+        for (p, r) in a.truth.iter().zip(&recordings) {
+            let t = read_csv(p)?;
+            same_times(r, &t)?;
+            truths.push(t);
+        }
+        print_scores(&truths, &names, &columns, mode)?;
+    } else if a.score {
         print_scores(&recordings, &names, &columns, mode)?;
     }
     Ok(())
