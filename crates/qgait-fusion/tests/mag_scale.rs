@@ -35,6 +35,9 @@ fn the_field_in_any_unit_gives_the_same_orientations() {
             2.0 * dot.min(1.0).acos().to_degrees()
         })
         .fold(0.0, f64::max);
-    eprintln!("µT against µT/44 over {} samples: at most {worst:.2e}°", a.len());
+    eprintln!(
+        "µT against µT/44 over {} samples: at most {worst:.2e}°",
+        a.len()
+    );
     assert!(worst < 1e-4, "{worst}° apart");
 }

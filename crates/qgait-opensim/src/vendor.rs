@@ -30,7 +30,11 @@
 //! settings, the sensor labels themselves are taken as model IMU names (`pelvis_imu` or
 //! `pelvis`).
 //!
-//! Rows are read one at a time (constant memory). Errors name the file, the line and, for a
+//! **Xsens raw channels** ([`XsensRaw`], for `qgait fuse`): one MT Manager `.txt` with
+//! `Acc_X..Z` (m/s²), `Gyr_X..Z` (rad/s) and optionally `Mag_X..Z` (arbitrary units normalised
+//! to about 1), read whole, with the same comment and label rules.
+//!
+//! Orientation rows are read one at a time (constant memory). Errors name the file, the line and, for a
 //! value, its column.
 
 use std::fs::File;
