@@ -181,9 +181,9 @@ pub(crate) fn run_fuse(a: FuseArgs, diagnostics: &Diagnostics) -> anyhow::Result
             same_times(r, &t)?;
             truths.push(t);
         }
-        print_scores(&truths, &names, &columns, mode)?;
+        print_scores(&truths, &names, &columns, mode, diagnostics)?;
     } else if a.score {
-        print_scores(&recordings, &names, &columns, mode)?;
+        print_scores(&recordings, &names, &columns, mode, diagnostics)?;
     }
     Ok(())
 }
@@ -219,6 +219,7 @@ fn print_scores(
     names: &[String],
     columns: &[Vec<[f64; 4]>],
     mode: Mode,
+    diagnostics: &Diagnostics,
 ) -> anyhow::Result<()> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
@@ -242,7 +243,8 @@ fn print_scores(
         bail!("--score: no file has reference orientations (opt_w..z) in a scored row");
     }
     if mode == Mode::SixD {
-        eprintln!("note: 6D: only the inclination RMSE is meaningful (the heading is arbitrary)");
+        diagnostics
+            .notes(["6D: only the inclination RMSE is meaningful (the heading is arbitrary)"]);
     }
     Ok(())
 }
