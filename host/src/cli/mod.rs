@@ -8,6 +8,7 @@ pub mod emulate;
 pub(crate) mod export;
 pub(crate) mod fidelity;
 pub(crate) mod fk;
+pub(crate) mod fuse;
 pub(crate) mod gait;
 pub(crate) mod imu;
 pub(crate) mod jsonl;
@@ -68,6 +69,9 @@ pub enum Command {
     /// Joint angles (gait2392, .mot in degrees) from IMU segment orientations (OpenSim
     /// orientation .sto), calibrated on a static pose as OpenSim's OpenSense does it.
     Imu(crate::cli::imu::ImuArgs),
+    /// Orientations (OpenSense orientation .sto) from raw IMU recordings (gyroscope,
+    /// accelerometer, magnetometer) with the kernel's VQF, one column per sensor.
+    Fuse(crate::cli::fuse::FuseArgs),
     /// Clinical gait analysis: events, cycles, spatiotemporal parameters, normative bands and
     /// the Gait Profile Score, as one HTML report and CSVs.
     Gait(crate::cli::gait::GaitArgs),
@@ -78,6 +82,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let diagnostics = Diagnostics::new(cli.quiet);
     match cli.command {
         Command::Fk(args) => crate::cli::fk::run_fk(args, &diagnostics)?,
+        Command::Fuse(args) => crate::cli::fuse::run_fuse(args, &diagnostics)?,
         Command::Imu(args) => crate::cli::imu::run_imu(args, &diagnostics)?,
         Command::Gait(args) => crate::cli::gait::run_gait(args, &diagnostics)?,
         Command::Report(args) => crate::cli::report::run_report(args, &diagnostics)?,
