@@ -48,6 +48,11 @@ const DEVICE: &[(&str, &str)] = &[
     ("hak.matrix", "device.hak.matrix.instructions_per_frame"),
     ("phak.quat", "device.phak.quat.instructions_per_frame"),
     (
+        "phak.velocities",
+        "device.phak.velocities.instructions_per_frame",
+    ),
+    ("phak.motion", "device.phak.motion.instructions_per_frame"),
+    (
         "phak.quat_frames",
         "device.phak.quat.joint_frames_instructions",
     ),
@@ -61,12 +66,28 @@ const DEVICE: &[(&str, &str)] = &[
         "device.gait2392.quat.joint_frames_instructions",
     ),
     (
+        "gait2392.velocities",
+        "device.gait2392.velocities.instructions_per_frame",
+    ),
+    (
+        "gait2392.motion",
+        "device.gait2392.motion.instructions_per_frame",
+    ),
+    (
         "gait2392.matrix",
         "device.gait2392.matrix.instructions_per_frame",
     ),
     (
         "rajagopal.quat",
         "device.rajagopal.quat.instructions_per_frame",
+    ),
+    (
+        "rajagopal.velocities",
+        "device.rajagopal.velocities.instructions_per_frame",
+    ),
+    (
+        "rajagopal.motion",
+        "device.rajagopal.motion.instructions_per_frame",
     ),
     (
         "trig.half_angle_sin_cos",

@@ -8,6 +8,8 @@
 
 use crate::{ModelError, Quat, Real, Spline, Vec3};
 
+mod motion;
+
 /// Most rotation axes one joint has (OpenSim's CustomJoint: three).
 pub const MAX_AXES: usize = 3;
 

@@ -8,6 +8,7 @@
 
 pub mod anthropometry;
 pub mod chain;
+pub mod differential;
 mod error;
 pub mod imu;
 pub mod lanes;

@@ -73,6 +73,20 @@ fn main() -> ! {
         core::array::from_fn(|_| PhakAngles::from_array(rng.angles()));
     let g_in: [[f32; 17]; INPUTS] = core::array::from_fn(|_| rng.angles());
     let scalars: [f32; INPUTS] = core::array::from_fn(|_| rng.angles::<1>()[0]);
+    // Speeds (rad/s) and accelerations (rad/s^2) for the differential kinematics: gait-like
+    // magnitudes (the angles' range times 4 and 40).
+    let phak_rates: [[[f32; 8]; 2]; INPUTS] = core::array::from_fn(|_| {
+        [
+            rng.angles().map(|v| 4.0 * v),
+            rng.angles().map(|v| 40.0 * v),
+        ]
+    });
+    let g_rates: [[[f32; 17]; 2]; INPUTS] = core::array::from_fn(|_| {
+        [
+            rng.angles().map(|v| 4.0 * v),
+            rng.angles().map(|v| 40.0 * v),
+        ]
+    });
 
     let hak = Hak::<f32>::new(&Limb::gait2392()).unwrap_or_else(|_| board::exit(1));
     let phak = Phak::<f32>::new(&Anthropometry::gait2392()).unwrap_or_else(|_| board::exit(1));
@@ -121,6 +135,18 @@ fn main() -> ! {
         CALLS,
     );
     net(
+        "phak.velocities",
+        bench_phak_velocities(&phak, &phak_in, &phak_rates, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.motion",
+        bench_phak_motion(&phak, &phak_in, &phak_rates, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
         "phak.quat_frames",
         bench_phak_frames(&phak, &phak_in, CALLS),
         phak_base,
@@ -147,6 +173,18 @@ fn main() -> ! {
         CALLS,
     );
     net(
+        "gait2392.velocities",
+        bench_gait2392_velocities(&g, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.motion",
+        bench_gait2392_motion(&g, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
         "gait2392.matrix",
         bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS),
         bench_empty(&g_in, MATRIX_CALLS),
@@ -157,6 +195,18 @@ fn main() -> ! {
     net(
         "rajagopal.quat",
         bench_rajagopal_quat(&raj, &g_in, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "rajagopal.velocities",
+        bench_rajagopal_velocities(&raj, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "rajagopal.motion",
+        bench_rajagopal_motion(&raj, &g_in, &g_rates, CALLS),
         g_base,
         CALLS,
     );
@@ -308,6 +358,42 @@ fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> 
     })
 }
 
+/// PHAK's points' positions and velocities from angles and speeds.
+#[inline(never)]
+fn bench_phak_velocities(
+    model: &Phak<f32>,
+    q: &[PhakAngles<f32>; INPUTS],
+    rates: &[[[f32; 8]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_velocities(&black_box(&q[i % INPUTS]).to_array(), qd),
+        );
+    })
+}
+
+/// PHAK's points' positions, velocities and accelerations.
+#[inline(never)]
+fn bench_phak_motion(
+    model: &Phak<f32>,
+    q: &[PhakAngles<f32>; INPUTS],
+    rates: &[[[f32; 8]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).chain().forward_motion(
+            &black_box(&q[i % INPUTS]).to_array(),
+            qd,
+            qdd,
+        ));
+    })
+}
+
 #[inline(never)]
 fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
@@ -333,6 +419,40 @@ fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -
 fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
         black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_velocities(
+    model: &Gait2392<f32>,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_velocities(black_box(&q[i % INPUTS]), qd),
+        );
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_motion(
+    model: &Gait2392<f32>,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_motion(black_box(&q[i % INPUTS]), qd, qdd),
+        );
     })
 }
 
@@ -370,6 +490,32 @@ fn rajagopal() -> DeviceChain {
 fn bench_rajagopal_quat(model: &DeviceChain, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
         black_box(black_box(model).forward(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_rajagopal_velocities(
+    model: &DeviceChain,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).forward_velocities(black_box(&q[i % INPUTS]), qd));
+    })
+}
+
+#[inline(never)]
+fn bench_rajagopal_motion(
+    model: &DeviceChain,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).forward_motion(black_box(&q[i % INPUTS]), qd, qdd));
     })
 }
 
