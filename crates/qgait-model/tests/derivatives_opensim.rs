@@ -13,7 +13,7 @@ mod common;
 use std::collections::HashMap;
 
 use common::shared_dir;
-use qgait::model::choice::Model;
+use qgait_model::choice::Model;
 use qgait_kernel::differential::{imu_signals, ImuMount, PointMotion};
 use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
 use qgait_kernel::models::packed::PackedChain;
@@ -27,7 +27,7 @@ struct Reference {
 impl Reference {
     fn load(name: &str) -> Self {
         let path = format!(
-            "{}/../crates/qgait-kernel/tests/data/derivatives/{name}_reference.csv",
+            "{}/../qgait-kernel/tests/data/derivatives/{name}_reference.csv",
             env!("CARGO_MANIFEST_DIR")
         );
         let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
