@@ -10,6 +10,7 @@ pub(crate) mod fidelity;
 pub(crate) mod fk;
 pub(crate) mod gait;
 pub(crate) mod imu;
+pub(crate) mod imu_signals;
 pub(crate) mod jsonl;
 pub(crate) mod live;
 pub(crate) mod model;
@@ -71,6 +72,9 @@ pub enum Command {
     /// Clinical gait analysis: events, cycles, spatiotemporal parameters, normative bands and
     /// the Gait Profile Score, as one HTML report and CSVs.
     Gait(crate::cli::gait::GaitArgs),
+    /// What IMUs fixed to a model's bodies measure during a motion (orientation, gyroscope,
+    /// accelerometer), as OpenSim's IMU component, with optional noise and bias.
+    ImuSignals(crate::cli::imu_signals::ImuSignalsArgs),
 }
 
 /// Runs a parsed command line.
@@ -79,6 +83,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Fk(args) => crate::cli::fk::run_fk(args, &diagnostics)?,
         Command::Imu(args) => crate::cli::imu::run_imu(args, &diagnostics)?,
+        Command::ImuSignals(args) => {
+            crate::cli::imu_signals::run_imu_signals(args, &diagnostics)?
+        }
         Command::Gait(args) => crate::cli::gait::run_gait(args, &diagnostics)?,
         Command::Report(args) => crate::cli::report::run_report(args, &diagnostics)?,
         Command::Motion(args) => crate::cli::motion::run_motion(args, &diagnostics)?,
