@@ -103,7 +103,10 @@ impl Table {
     }
 
     fn get(&self, row: &[f64], column: &str) -> f64 {
-        row[*self.columns.get(column).unwrap_or_else(|| panic!("no {column}"))]
+        row[*self
+            .columns
+            .get(column)
+            .unwrap_or_else(|| panic!("no {column}"))]
     }
 }
 
@@ -111,6 +114,17 @@ impl Table {
 /// differences from OpenSim's (relative to the pelvis origin), over the reference rows the
 /// motion covers.
 fn fk_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table) -> (f64, f64) {
+    fk_against_opensim_where(test, model, motion, reference, |_| true)
+}
+
+/// [`fk_against_opensim`] over the reference rows whose time `at` accepts.
+fn fk_against_opensim_where(
+    test: &str,
+    model: &str,
+    motion: &Path,
+    reference: &Table,
+    at: impl Fn(f64) -> bool,
+) -> (f64, f64) {
     let out = scratch(test, "fk").join("out.csv");
     let o = qgait(&[
         "fk",
@@ -125,7 +139,9 @@ fn fk_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table)
     let ours = Table::csv(&std::fs::read_to_string(&out).unwrap());
     let (mut v, mut a, mut compared) = (0.0f64, 0.0f64, 0);
     for r in &reference.rows {
-        let Some(row) = ours.row_at(r[0]) else { continue };
+        let Some(row) = ours.row_at(r[0]).filter(|_| at(r[0])) else {
+            continue;
+        };
         compared += 1;
         for p in POINTS {
             // OpenSim's name of the toe tip.
@@ -140,7 +156,7 @@ fn fk_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table)
             }
         }
     }
-    assert!(compared >= 6, "{compared} reference rows in the motion");
+    assert!(compared >= 4, "{compared} reference rows in the motion");
     (v, a)
 }
 
@@ -169,7 +185,8 @@ fn imu_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table
     );
     let mut worst = [0.0f64; 3];
     for r in &reference.rows {
-        let (Some(g), Some(a), Some(q)) = (gyro.row_at(r[0]), acc.row_at(r[0]), orient.row_at(r[0]))
+        let (Some(g), Some(a), Some(q)) =
+            (gyro.row_at(r[0]), acc.row_at(r[0]), orient.row_at(r[0]))
         else {
             continue;
         };
@@ -181,7 +198,9 @@ fn imu_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table
                 worst[1] = worst[1].max((acc.get(a, &format!("{name}_{k}")) - ra).abs());
             }
             // Orientation: the same rotation (q or -q).
-            let ours: Vec<f64> = (0..4).map(|k| orient.get(q, &format!("{name}_{k}"))).collect();
+            let ours: Vec<f64> = (0..4)
+                .map(|k| orient.get(q, &format!("{name}_{k}")))
+                .collect();
             let theirs: Vec<f64> = ["w", "x", "y", "z"]
                 .iter()
                 .map(|c| reference.get(r, &format!("{name}_q{c}")))
@@ -194,9 +213,8 @@ fn imu_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table
 }
 
 fn check(model: &str, name: &str, test: &str) {
-    let reference = Table::csv(
-        &std::fs::read_to_string(fixture(&format!("{name}_reference.csv"))).unwrap(),
-    );
+    let reference =
+        Table::csv(&std::fs::read_to_string(fixture(&format!("{name}_reference.csv"))).unwrap());
     let (v, a) = fk_against_opensim(
         &format!("{test}_states"),
         model,
@@ -213,7 +231,8 @@ fn check(model: &str, name: &str, test: &str) {
     );
     println!("{name}, 1 kHz .mot: velocities {v:.1e} m/s, accelerations {a:.1e} m/s^2");
     assert!(v < 1e-4 && a < 1e-2, "{v} {a}");
-    let [g, acc, q] = imu_against_opensim(test, model, &fixture(&format!("{name}.mot")), &reference);
+    let [g, acc, q] =
+        imu_against_opensim(test, model, &fixture(&format!("{name}.mot")), &reference);
     println!(
         "{name}, imu-signals from the 1 kHz .mot: gyroscope {g:.1e} rad/s, accelerometer {acc:.1e} m/s^2, orientation 1-|q.q'| {q:.1e}"
     );
@@ -230,4 +249,142 @@ fn rajagopal_derivatives_and_imu_signals_are_opensims() {
     let Some(shared) = shared_dir() else { return };
     let model = shared.join("data/opensim/Rajagopal2015_opensense.osim");
     check(model.to_str().unwrap(), "rajagopal2015", "deriv_rajagopal");
+}
+
+/// The same motion sampled at 100 Hz (every tenth row of the 1 kHz `.mot`): what a 100 Hz
+/// recording gives (the reference rows include the first and last, one-sided, samples).
+#[test]
+fn a_100_hz_motion_is_within_its_stated_accuracy() {
+    let reference =
+        Table::csv(&std::fs::read_to_string(fixture("gait2392_reference.csv")).unwrap());
+    let text = std::fs::read_to_string(fixture("gait2392.mot")).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let header = lines.iter().position(|l| *l == "endheader").unwrap() + 2;
+    let rows: Vec<&str> = lines.split_off(header).into_iter().step_by(10).collect();
+    let n = format!("nRows={}", rows.len());
+    let mut out: Vec<&str> = lines
+        .iter()
+        .map(|l| {
+            if l.starts_with("nRows=") {
+                n.as_str()
+            } else {
+                l
+            }
+        })
+        .collect();
+    out.extend(rows);
+    let motion = scratch("deriv_100hz", "mot").join("gait2392_100hz.mot");
+    std::fs::write(&motion, out.join("\n") + "\n").unwrap();
+    let (v, a) = fk_against_opensim("deriv_100hz", "gait2392", &motion, &reference);
+    let inside = |t: f64| t > 0.01 && t < 0.09;
+    let (vi, ai) =
+        fk_against_opensim_where("deriv_100hz_in", "gait2392", &motion, &reference, inside);
+    println!(
+        "gait2392, 100 Hz .mot: velocities {v:.1e} m/s, accelerations {a:.1e} m/s^2 (first and \
+         last samples included); inside: {vi:.1e} m/s, {ai:.1e} m/s^2"
+    );
+    assert!(v < 1e-3 && a < 0.3, "{v} {a}");
+    assert!(vi < 1e-4 && ai < 1e-2, "{vi} {ai}");
+}
+
+/// OpenSim's states files carry every muscle's states: they are passed over.
+#[test]
+fn other_states_are_passed_over() {
+    let text = std::fs::read_to_string(fixture("gait2392_states.sto")).unwrap();
+    let widened: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("time\t") {
+                format!("{l}\t/forceset/soleus_r/activation\t/forceset/soleus_r/fiber_length")
+            } else if l.starts_with(|c: char| c.is_ascii_digit()) {
+                format!("{l}\t0.05\t0.031")
+            } else if let Some(n) = l.strip_prefix("nColumns=") {
+                format!("nColumns={}", n.parse::<usize>().unwrap() + 2)
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    let dir = scratch("deriv_muscles", "in");
+    let wide = dir.join("wide.sto");
+    std::fs::write(&wide, widened.join("\n") + "\n").unwrap();
+    let run = |motion: &Path, out: &str| {
+        let out = dir.join(out);
+        let o = qgait(&[
+            "fk",
+            motion.to_str().unwrap(),
+            "--model",
+            "gait2392",
+            "--derivatives",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read_to_string(out).unwrap()
+    };
+    assert_eq!(
+        run(&wide, "wide.csv"),
+        run(&fixture("gait2392_states.sto"), "plain.csv")
+    );
+}
+
+/// Noise and bias: the same seed gives the same signals; white noise of a stated deviation and
+/// a constant bias show in the gyroscope as stated; the output rate takes every k-th row.
+#[test]
+fn imu_noise_bias_and_rate_are_as_stated() {
+    let dir = scratch("deriv_noise", "in");
+    let placement = dir.join("placement.toml");
+    std::fs::write(&placement, PLACEMENT).unwrap();
+    let motion = fixture("gait2392_states.sto");
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "imu-signals",
+            motion.to_str().unwrap(),
+            "--model",
+            "gait2392",
+            "--imus",
+            placement.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = qgait(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        Table::sto(&std::fs::read_to_string(out.join("angular_velocity.sto")).unwrap())
+    };
+    let clean = run("clean", &[]);
+    let noisy = [
+        "--gyro-noise-std",
+        "0.01",
+        "--gyro-bias",
+        "0.1,-0.2,0.3",
+        "--seed",
+        "7",
+    ];
+    let a = run("a", &noisy);
+    let b = run("b", &noisy);
+    assert_eq!(a.rows, b.rows);
+    let mut diffs = [Vec::new(), Vec::new(), Vec::new()];
+    for (c, n) in clean.rows.iter().zip(&a.rows) {
+        for name in ["pelvis_imu", "femur_r_imu", "tibia_l_imu", "calcn_r_imu"] {
+            for (k, d) in diffs.iter_mut().enumerate() {
+                let col = format!("{name}_{k}");
+                d.push(a.get(n, &col) - clean.get(c, &col));
+            }
+        }
+    }
+    for (d, bias) in diffs.iter().zip([0.1, -0.2, 0.3]) {
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (d.len() - 1) as f64).sqrt();
+        // 404 samples: the mean within 5 standard errors, the deviation within 20 %.
+        assert!(
+            (mean - bias).abs() < 5.0 * 0.01 / (d.len() as f64).sqrt(),
+            "{mean}"
+        );
+        assert!((sd - 0.01).abs() < 0.002, "{sd}");
+    }
+    let decimated = run("rate", &["--rate", "100"]);
+    assert_eq!(decimated.rows.len(), 11);
+    assert_eq!(decimated.rows[1], clean.rows[10]);
 }

@@ -10,10 +10,10 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::cli::output::{refuse_overwrite, write_output_with};
 use crate::progress::Progress;
-use qgait_model::motion::source::MotionRows;
 use qgait_model::derivatives::{MotionModel, Series};
 use qgait_model::motion::source::load_motion;
-use qgait_model::points::{point_names, CHAIN_ORDER, PointModel, PointsCsv};
+use qgait_model::motion::source::MotionRows;
+use qgait_model::points::{point_names, PointModel, PointsCsv, CHAIN_ORDER};
 
 /// `qgait fk` arguments.
 #[derive(Debug, Args)]
@@ -125,7 +125,8 @@ fn run_fk_derivatives(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()
                 let p = points[i];
                 [p.position, p.velocity, p.acceleration].map(|v| [v.x, v.y, v.z])
             });
-            csv.row(0, Some(series.time[r]), values).map_err(csv_error)?;
+            csv.row(0, Some(series.time[r]), values)
+                .map_err(csv_error)?;
         }
         Ok(csv.flush()?)
     })?;

@@ -64,7 +64,12 @@ pub struct ImuSignalsArgs {
     #[arg(long, value_name = "M/S²")]
     pub accel_noise_std: Option<f64>,
     /// Gyroscope constant bias, the same for every IMU, in the IMU frame (rad/s): `X,Y,Z`.
-    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', num_args = 3)]
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
     pub gyro_bias: Option<Vec<f64>>,
     /// Gyroscope bias random walk (rad/s/√s): each IMU's bias moves by a Gaussian step of
     /// standard deviation walk·√Δt per sample and axis, from the constant bias.
@@ -144,7 +149,10 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
                     BODIES.join(", ")
                 )
             })?;
-            Ok((body, ImuMount::from_xyz(Vec3::from_f64(e.translation), e.orientation)))
+            Ok((
+                body,
+                ImuMount::from_xyz(Vec3::from_f64(e.translation), e.orientation),
+            ))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let model = MotionModel::new(&a.model.load_or("gait2392", diagnostics)?, "imu-signals")?;
@@ -169,7 +177,10 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
     let gyro_sd = per_sample(a.gyro_noise_density, a.gyro_noise_std, rate);
     let accel_sd = per_sample(a.accel_noise_density, a.accel_noise_std, rate);
     let walk_sd = a.gyro_bias_walk.unwrap_or(0.0) * dt.sqrt();
-    let bias0 = a.gyro_bias.as_deref().map_or([0.0; 3], |b| [b[0], b[1], b[2]]);
+    let bias0 = a
+        .gyro_bias
+        .as_deref()
+        .map_or([0.0; 3], |b| [b[0], b[1], b[2]]);
     let mut bias = vec![bias0; mounts.len()];
     let mut rng = rand::rngs::SmallRng::seed_from_u64(a.seed);
     let mut gauss = |sd: f64| -> f64 {
@@ -200,7 +211,12 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
                 *b += gauss(walk_sd);
             }
             let acc = s.accelerometer;
-            a_row.push([acc.x, acc.y, acc.z].iter().map(|v| v + gauss(accel_sd)).collect());
+            a_row.push(
+                [acc.x, acc.y, acc.z]
+                    .iter()
+                    .map(|v| v + gauss(accel_sd))
+                    .collect(),
+            );
         }
         time.push(series.time[r]);
         orientations.push(o_row);
