@@ -388,3 +388,54 @@ fn imu_noise_bias_and_rate_are_as_stated() {
     assert_eq!(decimated.rows.len(), 11);
     assert_eq!(decimated.rows[1], clean.rows[10]);
 }
+
+/// `--lowpass`: a cut-off well above a motion's components changes its derivatives by what
+/// the filter's gain says away from the ends (the built-in gait at 1 kHz, harmonics of 1 Hz up
+/// to 6 Hz; a 30 Hz cut-off passes 6 Hz with a gain of 1 − 2.6e-6), and a cut-off below them
+/// takes the fast components away.
+#[test]
+fn lowpass_keeps_what_is_below_the_cut_off() {
+    let dir = scratch("deriv_lowpass", "out");
+    let run = |extra: &[&str], name: &str| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "fk",
+            "builtin:normal,rows=1001",
+            "--model",
+            "gait2392",
+            "--derivatives",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = qgait(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        Table::csv(&std::fs::read_to_string(&out).unwrap())
+    };
+    let plain = run(&[], "plain.csv");
+    let mut worst = Vec::new();
+    for hz in ["30", "2"] {
+        let filtered = run(&["--lowpass", hz], &format!("{hz}.csv"));
+        let (mut v, mut a) = (0.0f64, 0.0f64);
+        for (p, f) in plain.rows.iter().zip(&filtered.rows) {
+            // Two cut-off periods of 2 Hz from either end.
+            if p[0] < 0.25 || p[0] > 0.75 {
+                continue;
+            }
+            for point in POINTS {
+                for axis in ["x", "y", "z"] {
+                    let c = |k: &str| format!("{point}_{k}{axis}");
+                    v = v.max((plain.get(p, &c("v")) - filtered.get(f, &c("v"))).abs());
+                    a = a.max((plain.get(p, &c("a")) - filtered.get(f, &c("a"))).abs());
+                }
+            }
+        }
+        worst.push((v, a));
+    }
+    println!(
+        "inside, --lowpass 30 against none: {:.1e} m/s, {:.1e} m/s^2; --lowpass 2: {:.1e} m/s",
+        worst[0].0, worst[0].1, worst[1].0
+    );
+    assert!(worst[0].0 < 1e-4 && worst[0].1 < 1e-2, "{worst:?}");
+    assert!(worst[1].0 > 1e-2, "{worst:?}");
+}

@@ -76,7 +76,10 @@ impl Series {
     /// from [`differentiate`] otherwise; `lowpass` (Hz) filters coordinates that are
     /// differentiated first ([`lowpass`]). A coordinate without a column is 0 (one warning).
     /// Rows must be uniformly sampled (to 0.1 % of the step), at least five of them.
-    pub fn of(table: &MotionTable, lowpass_hz: Option<f64>) -> Result<(Self, Vec<Warning>), ModelError> {
+    pub fn of(
+        table: &MotionTable,
+        lowpass_hz: Option<f64>,
+    ) -> Result<(Self, Vec<Warning>), ModelError> {
         let n = table.rows();
         let time = table.time().to_vec();
         if n < 5 {
@@ -86,7 +89,10 @@ impl Series {
             ));
         }
         let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
-        if let Some(w) = time.windows(2).find(|w| ((w[1] - w[0]) - dt).abs() > 1e-3 * dt) {
+        if let Some(w) = time
+            .windows(2)
+            .find(|w| ((w[1] - w[0]) - dt).abs() > 1e-3 * dt)
+        {
             return Err(file_error(
                 table,
                 format!(
@@ -232,7 +238,9 @@ impl Series {
 /// Butterworth's squared, `1 / (1 + (f/f_c)⁸)`: −6 dB at the cut-off, 0.39 % down at half
 /// of it). Before filtering the series is extended at each end by its odd reflection (6 cut-off
 /// periods, at most the series' length) and each pass starts from its first sample, so the
-/// ends carry no start-up transient of note.
+/// ends carry no start-up transient of note. The reflection keeps the level and slope at an
+/// end but flips its curvature: within about two cut-off periods of an end the derivatives
+/// are biased (the host README gives figures).
 pub fn lowpass(x: &[f64], dt: f64, hz: f64) -> Vec<f64> {
     let n = x.len();
     if n < 2 {
@@ -279,18 +287,18 @@ impl MotionModel {
     /// The evaluators of `model`; `what` names the command in the error for HAK and PHAK.
     pub fn new(model: &Model, what: &'static str) -> Result<Self, ModelError> {
         Ok(match model {
-            Model::Gait2392 { geometry, name } => {
-                Self::Gait2392(Box::new(Gait2392::<f64>::new(geometry).map_err(|error| {
-                    ModelError::Rejected {
-                        name: name.clone(),
-                        error,
-                    }
-                })?))
-            }
+            Model::Gait2392 { geometry, name } => Self::Gait2392(Box::new(
+                Gait2392::<f64>::new(geometry).map_err(|error| ModelError::Rejected {
+                    name: name.clone(),
+                    error,
+                })?,
+            )),
             Model::Chain { chain, name } => {
-                Self::Chain(Box::new(chain.chain().map_err(|message| ModelError::File {
-                    at: Location::file(name),
-                    message,
+                Self::Chain(Box::new(chain.chain().map_err(|message| {
+                    ModelError::File {
+                        at: Location::file(name),
+                        message,
+                    }
                 })?))
             }
             Model::Hak { .. } | Model::Phak { .. } => {
@@ -344,7 +352,10 @@ mod tests {
         // A constant and a straight line pass unchanged (ends included).
         let line: Vec<f64> = (0..3000).map(|i| 0.3 + 0.002 * i as f64).collect();
         let y = lowpass(&line, dt, 6.0);
-        let worst = y.iter().zip(&line).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let worst = y
+            .iter()
+            .zip(&line)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         assert!(worst < 1e-6, "{worst}");
     }
 }

@@ -266,8 +266,11 @@ impl<W: std::io::Write> PointsCsv<W> {
                 flush: std::cell::Cell::new(false),
             });
         let seq_column = seq.then_some("seq".to_string());
-        let header = std::iter::once("time".to_string())
-            .chain(names.iter().flat_map(|n| axes.iter().map(move |a| format!("{n}_{a}"))));
+        let header = std::iter::once("time".to_string()).chain(
+            names
+                .iter()
+                .flat_map(|n| axes.iter().map(move |a| format!("{n}_{a}"))),
+        );
         csv.write_record(seq_column.into_iter().chain(header))?;
         Ok(Self {
             csv,

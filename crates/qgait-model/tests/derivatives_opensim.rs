@@ -13,11 +13,11 @@ mod common;
 use std::collections::HashMap;
 
 use common::shared_dir;
-use qgait_model::choice::Model;
 use qgait_kernel::differential::{imu_signals, ImuMount, PointMotion};
 use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
 use qgait_kernel::models::packed::PackedChain;
 use qgait_kernel::Vec3;
+use qgait_model::choice::Model;
 
 struct Reference {
     columns: HashMap<String, usize>,
