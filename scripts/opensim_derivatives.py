@@ -326,7 +326,7 @@ def joint_path(model, c):
 def write_motion(probe, name, out_dir):
     n = int(round(SPAN * RATE)) + 1
     times = [k / RATE for k in range(n)]
-    rotational = [c for c in COORDINATES if not c.startswith("pelvis_t")]
+    rotational = [c for c in COORDINATES if c not in ("pelvis_tx", "pelvis_ty", "pelvis_tz")]
     lines = [f"{name}_analytic", "version=1", f"nRows={n}", f"nColumns={1 + len(COORDINATES)}",
              "inDegrees=yes", "endheader", "\t".join(["time"] + COORDINATES)]
     for t in times:

@@ -11,6 +11,7 @@ pub(crate) mod fk;
 pub(crate) mod fuse;
 pub(crate) mod gait;
 pub(crate) mod imu;
+pub(crate) mod imu_signals;
 pub(crate) mod jsonl;
 pub(crate) mod live;
 pub(crate) mod model;
@@ -75,6 +76,9 @@ pub enum Command {
     /// Clinical gait analysis: events, cycles, spatiotemporal parameters, normative bands and
     /// the Gait Profile Score, as one HTML report and CSVs.
     Gait(crate::cli::gait::GaitArgs),
+    /// What IMUs fixed to a model's bodies measure during a motion (orientation, gyroscope,
+    /// accelerometer), as OpenSim's IMU component, with optional noise and bias.
+    ImuSignals(crate::cli::imu_signals::ImuSignalsArgs),
 }
 
 /// Runs a parsed command line.
@@ -84,6 +88,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fk(args) => crate::cli::fk::run_fk(args, &diagnostics)?,
         Command::Fuse(args) => crate::cli::fuse::run_fuse(args, &diagnostics)?,
         Command::Imu(args) => crate::cli::imu::run_imu(args, &diagnostics)?,
+        Command::ImuSignals(args) => crate::cli::imu_signals::run_imu_signals(args, &diagnostics)?,
         Command::Gait(args) => crate::cli::gait::run_gait(args, &diagnostics)?,
         Command::Report(args) => crate::cli::report::run_report(args, &diagnostics)?,
         Command::Motion(args) => crate::cli::motion::run_motion(args, &diagnostics)?,

@@ -13,11 +13,11 @@ mod common;
 use std::collections::HashMap;
 
 use common::shared_dir;
-use qgait::model::choice::Model;
 use qgait_kernel::differential::{imu_signals, ImuMount, PointMotion};
 use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
 use qgait_kernel::models::packed::PackedChain;
 use qgait_kernel::Vec3;
+use qgait_model::choice::Model;
 
 struct Reference {
     columns: HashMap<String, usize>,
@@ -27,7 +27,7 @@ struct Reference {
 impl Reference {
     fn load(name: &str) -> Self {
         let path = format!(
-            "{}/../crates/qgait-kernel/tests/data/derivatives/{name}_reference.csv",
+            "{}/../qgait-kernel/tests/data/derivatives/{name}_reference.csv",
             env!("CARGO_MANIFEST_DIR")
         );
         let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
