@@ -196,4 +196,36 @@ mod tests {
         let v: serde_json::Value = serde_json::from_str(&pose(&frame)).unwrap();
         assert_eq!(v["angles"][0].as_f64(), Some(f64::from(0.1f32)));
     }
+
+    #[test]
+    fn a_chain_part_is_its_bytes_in_hex_and_a_knee_its_knots() {
+        let mut bytes = heapless::Vec::new();
+        bytes.extend_from_slice(&[0x00, 0xab, 0x10]).unwrap();
+        let line = message(&Message::ChainTable(qgait_proto::ChainTable {
+            upload: 7,
+            at: 256,
+            bytes,
+        }));
+        assert_eq!(
+            line,
+            r#"{"type":"chain_table","upload":7,"at":256,"bytes":3,"hex":"00ab10"}"#
+        );
+        let mut knots = heapless::Vec::new();
+        knots
+            .extend_from_slice(&[[-2.0, 0.1], [0.0, f32::NAN]])
+            .unwrap();
+        let v: serde_json::Value =
+            serde_json::from_str(&message(&Message::SubjectKnee(qgait_proto::SubjectKnee {
+                upload: 7,
+                leg: qgait_proto::Leg::Left,
+                direction: qgait_proto::KneeDirection::Ty,
+                knots,
+            })))
+            .unwrap();
+        assert_eq!(v["type"], "subject_knee");
+        assert_eq!(v["leg"], "Left");
+        assert_eq!(v["direction"], "Ty");
+        assert_eq!(v["knots"][0][1].as_f64(), Some(f64::from(0.1f32)));
+        assert!(v["knots"][1][1].is_null());
+    }
 }
