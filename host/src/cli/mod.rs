@@ -61,7 +61,7 @@ pub enum Command {
     Config(crate::cli::config::ConfigArgs),
     /// The byte stream the IMU nodes send for a motion (one JointAngle packet per joint per row).
     Packets(crate::cli::packets::PacketsArgs),
-    /// Decodes a hub log (pose frames, status; damaged frames reported and skipped).
+    /// Decodes a hub log or any stream of frames (every message; damaged ones reported, skipped).
     Decode(crate::cli::decode::DecodeArgs),
     /// Recomputes every pose frame of a hub log with the f64 kernel; fails on errors or gaps.
     Verify(crate::cli::verify::VerifyArgs),
