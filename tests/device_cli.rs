@@ -62,12 +62,15 @@ fn packets_then_decode_gives_one_packet_per_joint_per_row() {
     assert_eq!(
         stdout(&o)
             .lines()
-            .filter(|l| l.contains(r#""type":"other","tag":0"#))
+            .filter(|l| l.starts_with(r#"{"type":"joint_angle","version":2,"#))
             .count(),
         30
     );
     assert!(
-        stderr(&o).contains("0 pose frames, 0 status frames, 30 other messages, 0 damaged frames"),
+        stderr(&o).contains(
+            "0 pose frames, 0 status frames, 30 other messages, 0 damaged frames; \
+             other messages: joint_angle 30"
+        ),
         "{}",
         stderr(&o)
     );

@@ -1127,7 +1127,7 @@ fn the_report_says_when_speed_and_cadence_pick_the_normals() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(
         html.contains("by its speed range")
-            && html.contains("the kinematic bands' speed group is picked by cadence"),
+            && html.contains("the kinematic bands&#39; speed group is picked by cadence"),
         "{html}"
     );
 }

@@ -10,8 +10,9 @@ pub fn root() -> PathBuf {
 }
 
 /// The `qgait` binary, built once per test process by cargo (a no-op when it is up to date) in
-/// the profile of this test build: the system tests run the binary exactly as a user does, from
-/// any state of the target directory.
+/// the profile of this test build and into the same target directory (no `--target`, which
+/// would build everything again under a directory of its own): the system tests run the binary
+/// exactly as a user does, from any state of the target directory.
 pub fn qgait_bin() -> &'static std::path::Path {
     static BIN: OnceLock<PathBuf> = OnceLock::new();
     BIN.get_or_init(|| {
@@ -20,7 +21,6 @@ pub fn qgait_bin() -> &'static std::path::Path {
             .package("qgait")
             .bin("qgait")
             .current_release()
-            .current_target()
             .run()
             .expect("cargo builds the qgait binary")
             .path()

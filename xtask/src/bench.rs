@@ -48,6 +48,11 @@ const DEVICE: &[(&str, &str)] = &[
     ("hak.matrix", "device.hak.matrix.instructions_per_frame"),
     ("phak.quat", "device.phak.quat.instructions_per_frame"),
     (
+        "phak.velocities",
+        "device.phak.velocities.instructions_per_frame",
+    ),
+    ("phak.motion", "device.phak.motion.instructions_per_frame"),
+    (
         "phak.quat_frames",
         "device.phak.quat.joint_frames_instructions",
     ),
@@ -61,12 +66,28 @@ const DEVICE: &[(&str, &str)] = &[
         "device.gait2392.quat.joint_frames_instructions",
     ),
     (
+        "gait2392.velocities",
+        "device.gait2392.velocities.instructions_per_frame",
+    ),
+    (
+        "gait2392.motion",
+        "device.gait2392.motion.instructions_per_frame",
+    ),
+    (
         "gait2392.matrix",
         "device.gait2392.matrix.instructions_per_frame",
     ),
     (
         "rajagopal.quat",
         "device.rajagopal.quat.instructions_per_frame",
+    ),
+    (
+        "rajagopal.velocities",
+        "device.rajagopal.velocities.instructions_per_frame",
+    ),
+    (
+        "rajagopal.motion",
+        "device.rajagopal.motion.instructions_per_frame",
     ),
     (
         "trig.half_angle_sin_cos",
@@ -91,6 +112,11 @@ const DEVICE: &[(&str, &str)] = &[
         "imu.whole_ls",
         "device.imu.least_squares_and_gait2392_fk_instructions",
     ),
+    // The kernel's VQF (orientation from raw IMU samples), f32: one update and its output.
+    ("vqf.update_9d", "device.vqf.update_9d_instructions"),
+    ("vqf.update_6d", "device.vqf.update_6d_instructions"),
+    ("vqf_rs.update_9d", "device.vqf_rs.update_9d_instructions"),
+    ("vqf_rs.update_6d", "device.vqf_rs.update_6d_instructions"),
     ("sample.net", "device.sample.instructions"),
     (
         "sample.gross",
@@ -216,6 +242,25 @@ const CODE: &[(&str, &str, &[&str])] = &[
         &["Spline$LT$T$GT$4eval"],
     ),
     (
+        "firmware.kernel.vqf_9d.code_bytes",
+        "bench_vqf_9d",
+        &[
+            "Vqf$LT$T$GT$6update",
+            "Vqf$LT$T$GT$10update_gyr",
+            "Vqf$LT$T$GT$10update_acc",
+            "Vqf$LT$T$GT$13estimate_bias",
+            "Vqf$LT$T$GT$10update_mag",
+            "fusion3vqf10filter_vec",
+            "fusion3vqf11quat_rotate",
+            "fusion3vqf13quat_multiply",
+            "fusion3vqf16matrix3_multiply",
+            "fusion3vqf9normalize",
+            "atanf5atanf",
+            "asinf5asinf",
+            "atan2f6atan2f",
+        ],
+    ),
+    (
         "firmware.libm_sincosf.code_bytes",
         "",
         &[
@@ -228,8 +273,13 @@ const CODE: &[(&str, &str, &[&str])] = &[
     ),
 ];
 
+/// Samples per iteration of the kernel's `fusion` bench.
+const VQF_RUN: f64 = 4096.0;
+
 /// Host figures: (criterion directory under target/criterion, figure name, frames per iteration).
 const HOST: &[(&str, &str, f64)] = &[
+    ("vqf_f64/update_9d", "host.vqf.f64.update_9d_ns", VQF_RUN),
+    ("vqf_f64/update_6d", "host.vqf.f64.update_6d_ns", VQF_RUN),
     (
         "single_frame_f64/hak_quat",
         "host.hak.f64.quat.single_ns_per_frame",
@@ -517,6 +567,7 @@ fn firmware_footprint() -> Result<(), String> {
 fn host_benches() -> Result<(), String> {
     let root = repo_root();
     cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fk"])?;
+    cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fusion"])?;
     cargo(
         &root,
         &["bench", "-p", "qgait-device", "--bench", "decode_verify"],

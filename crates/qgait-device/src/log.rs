@@ -6,6 +6,27 @@ use std::fmt;
 
 use qgait_proto::{DecodeError, FrameDecoder, Message, PoseFrame, Status};
 
+/// The name of `message`'s kind, snake case (`"joint_angle"`, `"raw_imu_status"`, ...): the
+/// `type` of `qgait decode`'s JSON lines and the kinds of [`Counts`]' summary.
+pub fn kind(message: &Message) -> &'static str {
+    match message {
+        Message::JointAngle(_) => "joint_angle",
+        Message::PoseFrame(_) => "pose",
+        Message::Status(_) => "status",
+        Message::Config(_) => "config",
+        Message::SubjectLeg(_) => "subject_leg",
+        Message::SubjectKnee(_) => "subject_knee",
+        Message::SubjectConfig(_) => "subject_config",
+        Message::SegmentOrientation(_) => "segment_orientation",
+        Message::ImuConfig(_) => "imu_config",
+        Message::ChainTable(_) => "chain_table",
+        Message::ChainTableConfig(_) => "chain_table_config",
+        Message::RawImuSample(_) => "raw_imu_sample",
+        Message::RawImuConfig(_) => "raw_imu_config",
+        Message::RawImuStatus(_) => "raw_imu_status",
+    }
+}
+
 /// One item of a decoded log, in arrival order.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Record {
@@ -37,6 +58,8 @@ pub struct Counts {
     pub statuses: u64,
     /// Other good messages (e.g. joint-angle packets when decoding a node stream).
     pub other: u64,
+    /// The other messages by [`kind`].
+    pub other_kinds: BTreeMap<&'static str, u64>,
     /// Damaged frames by kind (`Crc`, `Cobs`, ...).
     pub damaged: BTreeMap<String, u64>,
     /// Bytes at the end that no delimiter closed.
@@ -76,6 +99,14 @@ impl fmt::Display for Counts {
                 self.unterminated
             )?;
         }
+        if !self.other_kinds.is_empty() {
+            let kinds: Vec<String> = self
+                .other_kinds
+                .iter()
+                .map(|(k, n)| format!("{k} {n}"))
+                .collect();
+            write!(f, "; other messages: {}", kinds.join(", "))?;
+        }
         Ok(())
     }
 }
@@ -104,7 +135,10 @@ impl LogDecoder {
                     match &message {
                         Message::PoseFrame(_) => self.counts.poses += 1,
                         Message::Status(_) => self.counts.statuses += 1,
-                        _ => self.counts.other += 1,
+                        other => {
+                            self.counts.other += 1;
+                            *self.counts.other_kinds.entry(kind(other)).or_default() += 1;
+                        }
                     }
                     on_record(Record::Message { offset, message });
                 }
@@ -195,6 +229,10 @@ mod tests {
             }),
         );
         push_frame(&mut bytes, &pose(3));
+        push_frame(
+            &mut bytes,
+            &Message::RawImuStatus(qgait_proto::RawImuStatus::default()),
+        );
         bytes.extend_from_slice(&[1, 2, 3]);
         let mut records = Vec::new();
         let mut d = LogDecoder::new();
@@ -202,7 +240,7 @@ mod tests {
         for chunk in bytes.chunks(7) {
             d.feed(chunk, |r| records.push(r));
         }
-        assert_eq!(records.len(), 4);
+        assert_eq!(records.len(), 5);
         assert!(
             matches!(records[1], Record::Damaged { offset, .. } if offset as usize > damaged_at),
             "{:?}",
@@ -216,7 +254,11 @@ mod tests {
         assert_eq!(d.counts(), log.counts);
         let text = log.counts.to_string();
         assert!(
-            text.contains("2 pose frames, 1 status frames, 0 other messages, 1 damaged frames ("),
+            text.contains("2 pose frames, 1 status frames, 1 other messages, 1 damaged frames ("),
+            "{text}"
+        );
+        assert!(
+            text.ends_with("; other messages: raw_imu_status 1"),
             "{text}"
         );
     }

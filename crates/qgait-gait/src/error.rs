@@ -51,6 +51,9 @@ pub enum ReportError {
         /// The most possible.
         max: f64,
     },
+    /// `report.html` could not be rendered from its template.
+    #[error("report.html: {0}")]
+    Html(#[from] askama::Error),
 }
 
 /// Why a figure of the report cannot be drawn or written.

@@ -63,7 +63,7 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
         }
         files.push(written);
     }
-    put(&mut files, "report.html", crate::html::page(report, &svgs))?;
+    put(&mut files, "report.html", crate::html::page(report, &svgs)?)?;
     Ok(files)
 }
 

@@ -415,4 +415,63 @@ mod tests {
         let files = files::write(&report, &dir.path().join("out")).unwrap();
         assert!(files.iter().any(|f| f.ends_with("report.html")));
     }
+
+    /// The page: every field escaped (askama's numeric character references), the figures inline without their XML declaration, the
+    /// sections in order, the scores' table when there are scores and a note when not.
+    #[test]
+    fn the_page_escapes_text_and_inlines_the_figures() {
+        let mut walk = builtin_walk("a<b>&\"c\".mot");
+        walk.trial.label = "x&y".into();
+        let motion = ReferenceArg::Motion("ref.mot".into());
+        let mut report = output::build(
+            vec![walk],
+            "gait<2392>".into(),
+            CycleMode::Whole,
+            &motion,
+            Some(vec![builtin_walk("ref.mot")]),
+            std::path::Path::new("/nonexistent"),
+            Subject::default(),
+        )
+        .unwrap();
+        let svgs = [(
+            "map".to_string(),
+            "<?xml version=\"1.0\"?>\n<svg><text>a &amp; b</text></svg>".to_string(),
+        )];
+        let page = html::page(&report, &svgs).unwrap();
+        assert!(page.starts_with("<!DOCTYPE html>\n"), "{page}");
+        assert!(page.ends_with("</body></html>\n"), "{page}");
+        assert!(
+            page.contains("<title>Gait analysis: x&#38;y</title>"),
+            "{page}"
+        );
+        assert!(page.contains("a&#60;b&#62;&#38;&#34;c&#34;.mot"), "{page}");
+        assert!(page.contains("gait&#60;2392&#62;"), "{page}");
+        assert!(
+            page.contains("<figure id=\"fig-map\"><svg><text>a &amp; b</text></svg><figcaption>map</figcaption></figure>"),
+            "{page}"
+        );
+        assert!(!page.contains("<?xml"), "{page}");
+        let at = |s: &str| page.find(s).unwrap_or_else(|| panic!("no {s}: {page}"));
+        let sections = [
+            "<h2>Recordings and settings</h2>",
+            "<h2>Spatiotemporal parameters</h2>",
+            "<h2>Gait Profile Score</h2>",
+            "<h2>Figures</h2>",
+            "Sides: right, left.",
+        ];
+        assert!(sections.windows(2).all(|w| at(w[0]) < at(w[1])), "{page}");
+        assert!(page.contains("<th class=\"l\">GPS overall</th>"), "{page}");
+        assert_eq!(
+            page.matches("<tr><td class=\"l\">knee_flexion</td>")
+                .count(),
+            1
+        );
+        report.scores = None;
+        let page = html::page(&report, &[]).unwrap();
+        assert!(
+            page.contains("<p>Not computed: the recording has no joint angles"),
+            "{page}"
+        );
+        assert!(!page.contains("<figure"), "{page}");
+    }
 }

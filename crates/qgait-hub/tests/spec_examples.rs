@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use qgait_hub::{Hub, ManualClock, MemorySerial};
 use qgait_proto::{
     encode_frame, encode_raw_frame, Config, FrameDecoder, JointAngle, JointId, Message,
-    MissingPolicy, ModelId, PoseFrame, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    MissingPolicy, ModelId, PoseFrame, RawImuSample, SegmentId, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 type Serial = MemorySerial<4096, 65536>;
@@ -446,6 +446,19 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                     [0x02].into_iter().chain([0x00; 20]).collect(),
                     "a Status sent to the hub",
                 ),
+                Step::Frame(
+                    Message::RawImuSample(RawImuSample {
+                        version: PROTOCOL_VERSION,
+                        node: 4,
+                        segment: SegmentId::TibiaR,
+                        seq: 300,
+                        timestamp_us: 1_234_567,
+                        gyro: [-188, 47, 3289],
+                        accel: [251, 2005, -84],
+                        mag: Some([133, -233, 80]),
+                    }),
+                    "the RawImuSample of 7.9: no hub takes raw input",
+                ),
                 Step::Body(
                     vec![
                         0x00, 0x01, 0x02, 0x06, 0xac, 0x02, 0x87, 0xad, 0x4b, 0x00, 0x00, 0x00,
@@ -460,7 +473,7 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                     ],
                     "the JointAngle of 7.1 with joint 17",
                 ),
-                Step::Body(vec![0x0d], "a message of tag 13"),
+                Step::Body(vec![0x14], "a message of tag 20"),
                 Step::Wait(500),
                 Step::Frame(
                     config(ModelId::Phak, MissingPolicy::Drop, 4, true),

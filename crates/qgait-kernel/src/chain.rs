@@ -4,9 +4,13 @@
 //! its parent (in the parent's frame), a body-fixed sequence of up to three rotation axes each
 //! driven by one input coordinate, and optionally translations that depend on a coordinate
 //! through a [`Spline`] (gait2392's knee). Output points are fixed offsets in a joint's frame.
-//! HAK, PHAK and gait2392 are three tables of this type; one evaluator serves them all.
+//! HAK, PHAK and gait2392 are three tables of this type, all evaluated by [`Chain::forward`];
+//! an imported OpenSim chain is evaluated by its
+//! [`PackedChain`](crate::models::packed::PackedChain) instead.
 
 use crate::{ModelError, Quat, Real, Spline, Vec3};
+
+mod motion;
 
 /// Most rotation axes one joint has (OpenSim's CustomJoint: three).
 pub const MAX_AXES: usize = 3;

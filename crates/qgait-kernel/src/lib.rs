@@ -8,7 +8,9 @@
 
 pub mod anthropometry;
 pub mod chain;
+pub mod differential;
 mod error;
+pub mod fusion;
 pub mod imu;
 pub mod lanes;
 pub mod metrics;

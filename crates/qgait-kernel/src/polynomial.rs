@@ -53,6 +53,12 @@ impl<T: Real> Polynomial<T> {
             .fold(T::ZERO, |value, &c| value * x + c)
     }
 
+    /// The value at `x` and the first and second derivatives there.
+    #[inline]
+    pub fn eval_derivatives(&self, x: T) -> (T, T, T) {
+        crate::differential::polynomial(self.coefficients(), x)
+    }
+
     /// The same polynomial in another precision.
     pub fn cast<U: Real>(&self) -> Polynomial<U> {
         Polynomial {

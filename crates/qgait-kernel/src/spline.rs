@@ -190,6 +190,35 @@ impl<T: Real, const K: usize> Spline<T, K> {
         self.x[last].lt_select(t, above, v)
     }
 
+    /// The value of [`eval_scalar`](Self::eval_scalar) at `t` and its first and second
+    /// derivatives, analytic: the cubic's between the knots, the end lines' outside them (the
+    /// second derivative 0 there, and between the knots of a piecewise-linear function).
+    #[inline]
+    pub fn eval_derivatives(&self, t: T) -> (T, T, T) {
+        let last = self.last.min(K - 1);
+        let k = self.interval(t);
+        let (x, y, b, c, d) = (self.x[k], self.y[k], self.b[k], self.c[k], self.d[k]);
+        let dx = t - x;
+        let three = T::TWO + T::ONE;
+        let inside = (
+            y + dx * (b + dx * (c + dx * d)),
+            b + dx * (T::TWO * c + three * d * dx),
+            T::TWO * (c + three * d * dx),
+        );
+        let zero = T::ZERO;
+        if t < self.x[0] {
+            (self.y[0] + (t - self.x[0]) * self.b[0], self.b[0], zero)
+        } else if self.x[last] < t {
+            (
+                self.y[last] + (t - self.x[last]) * self.b[last],
+                self.b[last],
+                zero,
+            )
+        } else {
+            inside
+        }
+    }
+
     /// Whether `interval` is the same function for both: the same knot count and abscissae.
     pub fn same_abscissae(&self, other: &Self) -> bool {
         self.last == other.last && self.knots().0 == other.knots().0

@@ -5,6 +5,7 @@ pub mod anthropometry;
 pub mod chain;
 pub mod choice;
 pub mod coords;
+pub mod derivatives;
 pub mod error;
 pub mod fidelity;
 pub mod kinematics;

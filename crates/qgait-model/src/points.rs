@@ -102,7 +102,7 @@ enum Kind {
 /// Where [`point_names`]' points are in a [`LowerLimb`]'s output
 /// ([`POINTS`](qgait_kernel::models::gait2392::POINTS) order): hip, knee, ankle, toe tip per side,
 /// then subtalar and MTP per side.
-const CHAIN_ORDER: [usize; 12] = [0, 1, 2, 5, 6, 7, 8, 11, 3, 4, 9, 10];
+pub const CHAIN_ORDER: [usize; 12] = [0, 1, 2, 5, 6, 7, 8, 11, 3, 4, 9, 10];
 
 impl PointModel {
     /// The kernel model of `model`. `extra` adds subtalar and MTP (gait2392 models only; an
@@ -253,15 +253,25 @@ pub struct PointsCsv<W: std::io::Write> {
 impl<W: std::io::Write> PointsCsv<W> {
     /// Writes the header for the points `names` (and a first `seq` column if `seq`).
     pub fn new(w: W, names: &[String], seq: bool) -> csv::Result<Self> {
+        Self::with_axes(w, names, seq, &["x", "y", "z"])
+    }
+
+    /// [`PointsCsv::new`] with the columns `<name>_<axis>` for each of `axes` per point (in
+    /// groups of three per row value: `fk --derivatives` writes `x, y, z, vx, ..., az`).
+    pub fn with_axes(w: W, names: &[String], seq: bool, axes: &[&str]) -> csv::Result<Self> {
         let mut csv = csv::WriterBuilder::new()
             .buffer_capacity(1 << 16)
             .from_writer(PassOn {
                 w,
                 flush: std::cell::Cell::new(false),
             });
-        let header = csv_header(names);
-        let seq_column = seq.then_some("seq");
-        csv.write_record(seq_column.into_iter().chain(header.split(',')))?;
+        let seq_column = seq.then_some("seq".to_string());
+        let header = std::iter::once("time".to_string()).chain(
+            names
+                .iter()
+                .flat_map(|n| axes.iter().map(move |a| format!("{n}_{a}"))),
+        );
+        csv.write_record(seq_column.into_iter().chain(header))?;
         Ok(Self {
             csv,
             field: String::with_capacity(32),

@@ -1281,3 +1281,58 @@ mod tests {
         }
     }
 }
+
+/// What a column of an OpenSim 4 states file (`.sto` of forward simulations, CMC, `Manager`)
+/// holds: a coordinate's value or speed. Labels are paths such as
+/// `/jointset/hip_r/hip_flexion_r/value`; every other state (a muscle's activation or fibre
+/// length, `/forceset/...`) is not a coordinate's and gives `None`, so a reader passes over it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StateColumn<'a> {
+    /// The coordinate's value (radians or metres; states files are never in degrees).
+    Value(&'a str),
+    /// The coordinate's speed (radians or metres per second).
+    Speed(&'a str),
+}
+
+impl<'a> StateColumn<'a> {
+    /// The coordinate and quantity of a states-file label, `None` for any other label.
+    pub fn parse(label: &'a str) -> Option<Self> {
+        let rest = label.strip_prefix("/jointset/")?;
+        let mut parts = rest.split('/');
+        let (_joint, coordinate, kind) = (parts.next()?, parts.next()?, parts.next()?);
+        if parts.next().is_some() || coordinate.is_empty() {
+            return None;
+        }
+        match kind {
+            "value" => Some(Self::Value(coordinate)),
+            "speed" => Some(Self::Speed(coordinate)),
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod state_column_tests {
+    use super::StateColumn;
+
+    #[test]
+    fn coordinates_values_and_speeds_and_nothing_else() {
+        assert_eq!(
+            StateColumn::parse("/jointset/hip_r/hip_flexion_r/value"),
+            Some(StateColumn::Value("hip_flexion_r"))
+        );
+        assert_eq!(
+            StateColumn::parse("/jointset/knee_l/knee_angle_l/speed"),
+            Some(StateColumn::Speed("knee_angle_l"))
+        );
+        for other in [
+            "/forceset/soleus_r/activation",
+            "/forceset/soleus_r/fiber_length",
+            "/jointset/hip_r/hip_flexion_r/value/x",
+            "hip_flexion_r",
+            "time",
+        ] {
+            assert_eq!(StateColumn::parse(other), None, "{other}");
+        }
+    }
+}

@@ -30,7 +30,11 @@
 //! settings, the sensor labels themselves are taken as model IMU names (`pelvis_imu` or
 //! `pelvis`).
 //!
-//! Rows are read one at a time (constant memory). Errors name the file, the line and, for a
+//! **Xsens raw channels** ([`XsensRaw`], for `qgait fuse`): one MT Manager `.txt` with
+//! `Acc_X..Z` (m/s²), `Gyr_X..Z` (rad/s) and optionally `Mag_X..Z` (arbitrary units normalised
+//! to about 1), read whole, with the same comment and label rules.
+//!
+//! Orientation rows are read one at a time (constant memory). Errors name the file, the line and, for a
 //! value, its column.
 
 use std::fs::File;
@@ -349,6 +353,135 @@ fn reading(
     })
 }
 
+/// The `//` comment lines of an Xsens MT Manager `.txt` (the `Update Rate`, if any) and its label
+/// line (the first other line that is not blank).
+fn xsens_header(lines: &mut Lines, p: &str) -> Result<(Option<f64>, String), MotError> {
+    let mut rate = None;
+    loop {
+        let Some(l) = lines.next(p)? else {
+            return Err(format_err(
+                p,
+                lines.line.max(1),
+                "no label line (PacketCounter, ..., Quat_q0 or Mat[1][1], ...) after the // comments".into(),
+            ));
+        };
+        if let Some(comment) = l.strip_prefix("//") {
+            if let Some((key, value)) = comment.split_once(':') {
+                if key.trim() == "Update Rate" {
+                    let v = value.trim().trim_end_matches("Hz").trim();
+                    rate = Some(
+                        v.parse::<f64>()
+                            .ok()
+                            .filter(|r| *r > 0.0 && r.is_finite())
+                            .ok_or_else(|| {
+                                format_err(
+                                    p,
+                                    lines.line,
+                                    format!("Update Rate `{}` is not a rate in Hz", value.trim()),
+                                )
+                            })?,
+                    );
+                }
+            }
+            continue;
+        }
+        if l.trim().is_empty() {
+            continue;
+        }
+        return Ok((rate, l));
+    }
+}
+
+/// One Xsens MT Manager `.txt` with the raw inertial channels (`Acc_X`..`Acc_Z` in m/s²,
+/// `Gyr_X`..`Gyr_Z` in rad/s and, if exported, `Mag_X`..`Mag_Z` in MT Manager's arbitrary
+/// units, normalised to about 1), read whole, in the sensor's frame. The sampling rate is the
+/// `// Update Rate` comment's, else the one given; sample `k` is at `k / rate` seconds, as
+/// OpenSim times Xsens files.
+#[derive(Debug, Clone, PartialEq)]
+pub struct XsensRaw {
+    /// The file, as named in messages.
+    pub source: String,
+    /// Hz.
+    pub rate: f64,
+    /// The 1-based line of each sample.
+    pub lines: Vec<usize>,
+    /// Specific force, m/s².
+    pub acc: Vec<[f64; 3]>,
+    /// Angular rate, rad/s.
+    pub gyr: Vec<[f64; 3]>,
+    /// Magnetic field (arbitrary units), when the file has `Mag_*` columns.
+    pub mag: Option<Vec<[f64; 3]>>,
+}
+
+impl XsensRaw {
+    /// Reads `path`; `rate` (Hz) is used when the file has no `Update Rate` comment.
+    pub fn read(path: &Path, rate: Option<f64>) -> Result<Self, MotError> {
+        let p = path.display().to_string();
+        let mut lines = Lines::open(path)?;
+        let (file_rate, header) = xsens_header(&mut lines, &p)?;
+        let labels_line = lines.line;
+        let labels: Vec<&str> = header.split('\t').map(str::trim).collect();
+        let find3 = |prefix: &str| -> Option<[usize; 3]> {
+            let f = |a: &str| labels.iter().position(|x| *x == format!("{prefix}_{a}"));
+            Some([f("X")?, f("Y")?, f("Z")?])
+        };
+        let need = |prefix: &str| {
+            find3(prefix).ok_or_else(|| {
+                format_err(
+                    &p,
+                    labels_line,
+                    format!(
+                        "no {prefix}_X, {prefix}_Y, {prefix}_Z columns: export the raw (calibrated) inertial data from MT Manager"
+                    ),
+                )
+            })
+        };
+        let acc_at = need("Acc")?;
+        let gyr_at = need("Gyr")?;
+        let mag_at = find3("Mag");
+        let rate = file_rate.or(rate).ok_or_else(|| {
+            format_err(
+                &p,
+                1,
+                "no `// Update Rate:` comment and no --rate: the sampling rate is unknown".into(),
+            )
+        })?;
+        let mut raw = Self {
+            source: p.clone(),
+            rate,
+            lines: Vec::new(),
+            acc: Vec::new(),
+            gyr: Vec::new(),
+            mag: mag_at.map(|_| Vec::new()),
+        };
+        while let Some(text) = lines.next_data(&p)? {
+            let line = lines.line;
+            let c = cells(&text, '\t');
+            let v3 = |at: [usize; 3], prefix: &str| -> Result<[f64; 3], MotError> {
+                let mut v = [0.0; 3];
+                for (k, a) in ["X", "Y", "Z"].iter().enumerate() {
+                    v[k] = number(&p, line, &c, at[k], &format!("{prefix}_{a}"))?;
+                }
+                Ok(v)
+            };
+            raw.acc.push(v3(acc_at, "Acc")?);
+            raw.gyr.push(v3(gyr_at, "Gyr")?);
+            if let (Some(at), Some(m)) = (mag_at, &mut raw.mag) {
+                m.push(v3(at, "Mag")?);
+            }
+            raw.lines.push(line);
+        }
+        if raw.lines.is_empty() {
+            return Err(format_err(
+                &p,
+                labels_line,
+                "no samples after the labels".into(),
+            ));
+        }
+        Ok(raw)
+    }
+}
+
 /// How an Xsens file holds the orientation.
 #[derive(Debug, Clone, Copy)]
 enum XsensOrientation {
@@ -415,43 +548,7 @@ impl XsensTrial {
                 ));
             }
             let mut lines = Lines::open(&file_path)?;
-            let mut this_rate = None;
-            let header = loop {
-                let Some(l) = lines.next(&p)? else {
-                    return Err(format_err(
-                        &p,
-                        lines.line.max(1),
-                        "no label line (PacketCounter, ..., Quat_q0 or Mat[1][1], ...) after the // comments".into(),
-                    ));
-                };
-                if let Some(comment) = l.strip_prefix("//") {
-                    if let Some((key, value)) = comment.split_once(':') {
-                        if key.trim() == "Update Rate" {
-                            let v = value.trim().trim_end_matches("Hz").trim();
-                            this_rate = Some(
-                                v.parse::<f64>()
-                                    .ok()
-                                    .filter(|r| *r > 0.0 && r.is_finite())
-                                    .ok_or_else(|| {
-                                        format_err(
-                                            &p,
-                                            lines.line,
-                                            format!(
-                                                "Update Rate `{}` is not a rate in Hz",
-                                                value.trim()
-                                            ),
-                                        )
-                                    })?,
-                            );
-                        }
-                    }
-                    continue;
-                }
-                if l.trim().is_empty() {
-                    continue;
-                }
-                break l;
-            };
+            let (this_rate, header) = xsens_header(&mut lines, &p)?;
             if let Some(r) = this_rate {
                 match &file_rate {
                     Some((other, other_path)) if *other != r => {

@@ -18,6 +18,7 @@ mod joint;
 mod messages;
 mod model;
 mod orientation;
+mod raw;
 mod sizes;
 mod subject;
 mod wire;
@@ -47,11 +48,16 @@ pub use crate::orientation::{
     HeadingAxisId, ImuConfig, ImuHeading, InputMode, SegmentId, SegmentOrientation,
     Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
 };
+pub use crate::raw::{
+    FusionMode, RawImuConfig, RawImuSample, RawImuStatus, RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,
+    RAW_IMU_STATUS_COUNTERS, RAW_IMU_STATUS_TAG,
+};
 pub use crate::sizes::{
     CHAIN_TABLE_CONFIG_MAX_LEN, CHAIN_TABLE_MAX_LEN, CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN,
     JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN,
-    MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN,
-    SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, RAW_IMU_CONFIG_MAX_LEN, RAW_IMU_SAMPLE_MAX_LEN,
+    RAW_IMU_STATUS_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
+    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 pub use crate::subject::{
     KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,

@@ -9,8 +9,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId, SegmentOrientation, SubjectConfig,
-    SubjectKnee, SubjectLeg,
+    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId, RawImuConfig, RawImuSample,
+    RawImuStatus, SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg,
 };
 
 /// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for
@@ -141,7 +141,8 @@ pub struct Status {
     /// Packets for a (sample, joint) already received.
     pub duplicate_packets: u32,
     /// Frames with a good CRC whose contents could not be decoded (bad postcard encoding,
-    /// unknown model, wrong angle count).
+    /// unknown model, wrong angle count), and messages the hub does not take (those only a hub
+    /// sends; the chain messages without chain support; the raw IMU messages).
     pub malformed: u32,
     /// Configurations the hub could not use and ignored, keeping the one in force: a reorder
     /// window outside `1..=`[`MAX_REORDER_WINDOW`], a [`Config`] with unusable segment lengths
@@ -205,7 +206,7 @@ pub struct Config {
     pub request_status: bool,
 }
 
-/// Every message of the protocol. The variant order is the wire tag (0 to 10): new variants
+/// Every message of the protocol. The variant order is the wire tag (0 to 13): new variants
 /// are only ever appended, existing ones never change.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -234,6 +235,15 @@ pub enum Message {
     /// Tag 10 ([`CHAIN_TABLE_CONFIG_TAG`](crate::CHAIN_TABLE_CONFIG_TAG)): host to hub, switch
     /// to a chain's table.
     ChainTableConfig(ChainTableConfig),
+    /// Tag 11 ([`RAW_IMU_SAMPLE_TAG`](crate::RAW_IMU_SAMPLE_TAG)): node to the receiver that
+    /// fuses it, a raw IMU sample.
+    RawImuSample(RawImuSample),
+    /// Tag 12 ([`RAW_IMU_CONFIG_TAG`](crate::RAW_IMU_CONFIG_TAG)): host to the receiver that
+    /// fuses raw samples, its settings.
+    RawImuConfig(RawImuConfig),
+    /// Tag 13 ([`RAW_IMU_STATUS_TAG`](crate::RAW_IMU_STATUS_TAG)): the raw input's counters,
+    /// to the host.
+    RawImuStatus(RawImuStatus),
 }
 
 impl Status {
@@ -279,6 +289,9 @@ impl Message {
             Message::ImuConfig(_) => 8,
             Message::ChainTable(_) => crate::CHAIN_TABLE_TAG,
             Message::ChainTableConfig(_) => crate::CHAIN_TABLE_CONFIG_TAG,
+            Message::RawImuSample(_) => crate::RAW_IMU_SAMPLE_TAG,
+            Message::RawImuConfig(_) => crate::RAW_IMU_CONFIG_TAG,
+            Message::RawImuStatus(_) => crate::RAW_IMU_STATUS_TAG,
         }
     }
 }
@@ -346,5 +359,23 @@ impl From<SegmentOrientation> for Message {
 impl From<ImuConfig> for Message {
     fn from(m: ImuConfig) -> Self {
         Message::ImuConfig(m)
+    }
+}
+
+impl From<RawImuSample> for Message {
+    fn from(m: RawImuSample) -> Self {
+        Message::RawImuSample(m)
+    }
+}
+
+impl From<RawImuConfig> for Message {
+    fn from(m: RawImuConfig) -> Self {
+        Message::RawImuConfig(m)
+    }
+}
+
+impl From<RawImuStatus> for Message {
+    fn from(m: RawImuStatus) -> Self {
+        Message::RawImuStatus(m)
     }
 }

@@ -68,6 +68,28 @@ pub const CHAIN_TABLE_MAX_LEN: usize = TAG + 1 + VARINT_U16 + 2 + MAX_CHAIN_TABL
 /// missing policy, reorder window, request_status.
 pub const CHAIN_TABLE_CONFIG_MAX_LEN: usize = TAG + 1 + VARINT_U16 + VARINT_U32 + 1 + 1 + 1 + 1;
 
+/// Largest postcard encoding of a [`RawImuSample`](crate::RawImuSample) message, tag
+/// included: tag, version, node, segment, seq, timestamp_us, 3 gyroscope and 3 accelerometer
+/// counts, the magnetometer's option tag and 3 counts.
+pub const RAW_IMU_SAMPLE_MAX_LEN: usize = TAG
+    + 1
+    + 1
+    + 1
+    + VARINT_U32
+    + VARINT_U32
+    + 3 * VARINT_I16
+    + 3 * VARINT_I16
+    + 1
+    + 3 * VARINT_I16;
+
+/// Largest postcard encoding of a [`RawImuConfig`](crate::RawImuConfig) message, tag included:
+/// tag, segments, fusion, rate (a `u16` varint), output_every, 3 `f32` sensitivities,
+/// request_status.
+pub const RAW_IMU_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + VARINT_U16 + 1 + 3 * F32 + 1;
+
+/// Largest postcard encoding of a [`RawImuStatus`](crate::RawImuStatus) message, tag included.
+pub const RAW_IMU_STATUS_MAX_LEN: usize = TAG + crate::RAW_IMU_STATUS_COUNTERS * VARINT_U32;
+
 const fn max(a: usize, b: usize) -> usize {
     if a > b {
         a
@@ -79,18 +101,24 @@ const fn max(a: usize, b: usize) -> usize {
 /// Largest postcard encoding of any [`Message`](crate::Message) (no CRC, no framing).
 pub const MAX_MESSAGE_LEN: usize = max(
     max(
-        max(JOINT_ANGLE_MAX_LEN, POSE_FRAME_MAX_LEN),
-        max(STATUS_MAX_LEN, CONFIG_MAX_LEN),
+        max(
+            max(JOINT_ANGLE_MAX_LEN, POSE_FRAME_MAX_LEN),
+            max(STATUS_MAX_LEN, CONFIG_MAX_LEN),
+        ),
+        max(
+            max(
+                max(SUBJECT_LEG_MAX_LEN, SUBJECT_KNEE_MAX_LEN),
+                max(SUBJECT_CONFIG_MAX_LEN, CHAIN_TABLE_MAX_LEN),
+            ),
+            max(
+                CHAIN_TABLE_CONFIG_MAX_LEN,
+                max(SEGMENT_ORIENTATION_MAX_LEN, IMU_CONFIG_MAX_LEN),
+            ),
+        ),
     ),
     max(
-        max(
-            max(SUBJECT_LEG_MAX_LEN, SUBJECT_KNEE_MAX_LEN),
-            max(SUBJECT_CONFIG_MAX_LEN, CHAIN_TABLE_MAX_LEN),
-        ),
-        max(
-            CHAIN_TABLE_CONFIG_MAX_LEN,
-            max(SEGMENT_ORIENTATION_MAX_LEN, IMU_CONFIG_MAX_LEN),
-        ),
+        RAW_IMU_SAMPLE_MAX_LEN,
+        max(RAW_IMU_CONFIG_MAX_LEN, RAW_IMU_STATUS_MAX_LEN),
     ),
 );
 

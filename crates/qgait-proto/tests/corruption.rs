@@ -337,7 +337,7 @@ fn garbage_between_frames_is_reported_and_costs_at_most_the_frame_it_runs_into()
 fn bad_contents_with_a_good_crc_are_reported_by_kind() {
     use DecodeError::*;
     let cases: Vec<(&str, Vec<u8>, DecodeError)> = vec![
-        ("unknown tag 13", vec![0x0D], UnknownMessage(13)),
+        ("unknown tag 20", vec![0x14], UnknownMessage(20)),
         ("empty segment orientation body", vec![0x07], Malformed),
         (
             "unknown tag 200 (two-byte varint)",

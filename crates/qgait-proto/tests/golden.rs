@@ -175,6 +175,9 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
         ),
         ("chain-table", common::chain_table().into()),
         ("chain-table-config", common::chain_table_config().into()),
+        ("raw-imu-sample", common::raw_imu_sample().into()),
+        ("raw-imu-config", common::raw_imu_config().into()),
+        ("raw-imu-status", common::raw_imu_status().into()),
     ]
 }
 
@@ -209,7 +212,17 @@ fn golden_errors() -> Vec<(&'static str, Vec<u8>, DecodeError)> {
         .expect("encodes")
         .to_vec();
     unknown_segment[3] = 8;
+    // An `ImuConfig` of mode 3 (not 0-2) whose heading's base is 9 (no segment): the mode is
+    // field 1, the heading field 5, so `Malformed`.
+    let mode_first = vec![
+        0x08, 0x03, 0x01, 0x00, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x01, 0x09, 0x00, 0x00,
+    ];
     vec![
+        (
+            "error-imu-config-mode-first",
+            mode_first,
+            DecodeError::Malformed,
+        ),
         (
             "error-unknown-model",
             unknown_model,
@@ -257,7 +270,27 @@ fn expected_blocks() -> BTreeMap<String, Vec<u8>> {
         f
     };
     blocks.insert("error-crc.frame".to_owned(), bad_crc);
+    blocks.insert(
+        "chain-coupled.image".to_owned(),
+        common::chain_coupled_image(),
+    );
     blocks
+}
+
+/// The points of protocol.md 9.5's table for its angles, as the document lists them: every
+/// point the hub computes, `f32` as Rust prints it.
+fn chain_coupled_points(image: &[u8]) -> Vec<String> {
+    let mut table = qgait_proto::device_model::DeviceChain::EMPTY;
+    table.write_image(0, image);
+    let mut q = [0.0f32; 17];
+    q[JointId::HipFlexionR.index() as usize] = 0.5;
+    q[JointId::KneeAngleR.index() as usize] = -0.6;
+    table
+        .forward(&q)
+        .iter()
+        .enumerate()
+        .map(|(k, p)| format!("point {k}: {} {} {}", p.x, p.y, p.z))
+        .collect()
 }
 
 fn constants() -> Vec<String> {
@@ -310,6 +343,21 @@ fn constants() -> Vec<String> {
             "CHAIN_TABLE_CONFIG_TAG = {}",
             qgait_proto::CHAIN_TABLE_CONFIG_TAG
         ),
+        format!(
+            "RAW_IMU_SAMPLE_MAX_LEN = {}",
+            qgait_proto::RAW_IMU_SAMPLE_MAX_LEN
+        ),
+        format!(
+            "RAW_IMU_CONFIG_MAX_LEN = {}",
+            qgait_proto::RAW_IMU_CONFIG_MAX_LEN
+        ),
+        format!(
+            "RAW_IMU_STATUS_MAX_LEN = {}",
+            qgait_proto::RAW_IMU_STATUS_MAX_LEN
+        ),
+        format!("RAW_IMU_SAMPLE_TAG = {}", qgait_proto::RAW_IMU_SAMPLE_TAG),
+        format!("RAW_IMU_CONFIG_TAG = {}", qgait_proto::RAW_IMU_CONFIG_TAG),
+        format!("RAW_IMU_STATUS_TAG = {}", qgait_proto::RAW_IMU_STATUS_TAG),
         format!("MAX_REORDER_WINDOW = {}", qgait_proto::MAX_REORDER_WINDOW),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
     ]
@@ -324,6 +372,10 @@ fn print_blocks_on_request() {
         println!("{}\n", to_hex_block(&name, &bytes));
     }
     println!("```text golden=constants\n{}\n```", constants().join("\n"));
+    println!(
+        "```text golden=chain-coupled.points\n{}\n```",
+        chain_coupled_points(&common::chain_coupled_image()).join("\n")
+    );
 }
 
 #[test]
@@ -332,6 +384,7 @@ fn document_holds_exactly_the_golden_blocks() {
     let doc = golden_blocks(&protocol_md());
     let mut want: Vec<String> = expected_blocks().into_keys().collect();
     want.push("constants".to_owned());
+    want.push("chain-coupled.points".to_owned());
     want.sort();
     let have: Vec<String> = doc.into_keys().collect();
     assert_eq!(have, want);
@@ -422,4 +475,18 @@ fn crc_is_crc32c_as_documented() {
         let data: Vec<u8> = (0..len).map(|_| rng.byte()).collect();
         assert_eq!(crc32c(&data), crc32c_bitwise(&data), "len {len}");
     }
+}
+
+/// 9.5's worked chain: its image, read from the document, evaluates to the points the document
+/// lists (the hub's table code, `f32`).
+#[test]
+fn chain_example_points_are_the_documented_ones() {
+    let doc = golden_blocks(&protocol_md());
+    let image = parse_hex(&doc["chain-coupled.image"]);
+    let listed: Vec<String> = doc["chain-coupled.points"]
+        .iter()
+        .map(|l| l.trim().to_owned())
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(listed, chain_coupled_points(&image));
 }

@@ -63,20 +63,25 @@ fn check_hub_decoding(bytes: &[u8]) -> Result<(), String> {
         (Ok(Message::ImuConfig(a)), Ok(HubMessage::ImuConfig(b))) => {
             encoded(&Message::ImuConfig(*a)) == encoded(&Message::ImuConfig(*b))
         }
-        // A hub without the `chain` feature reports a chain message by its tag, undecoded.
-        (_, Ok(HubMessage::NotTaken(t))) => (9..=10).contains(t) && tag(bytes) == Some(*t),
+        // A hub without the `chain` feature reports a chain message by its tag, undecoded, and
+        // every hub a raw sample or configuration.
+        (_, Ok(HubMessage::NotTaken(t))) => {
+            (cfg!(not(feature = "chain")) && (9..=10).contains(t) || (11..=12).contains(t))
+                && tag(bytes) == Some(*t)
+        }
         #[cfg(feature = "chain")]
         (Ok(Message::ChainTable(a)), Ok(HubMessage::ChainTable(b))) => a == b,
         #[cfg(feature = "chain")]
         (Ok(Message::ChainTableConfig(a)), Ok(HubMessage::ChainTableConfig(b))) => a == b,
         // A pose frame or a status, well-formed or not, is reported by its tag.
         (Ok(Message::PoseFrame(_)), Ok(HubMessage::FromHub(1)))
-        | (Ok(Message::Status(_)), Ok(HubMessage::FromHub(2))) => true,
-        (Err(_), Ok(HubMessage::FromHub(t))) => (*t == 1 || *t == 2) && tag(bytes) == Some(*t),
+        | (Ok(Message::Status(_)), Ok(HubMessage::FromHub(2)))
+        | (Ok(Message::RawImuStatus(_)), Ok(HubMessage::FromHub(13))) => true,
+        (Err(_), Ok(HubMessage::FromHub(t))) => matches!(*t, 1 | 2 | 13) && tag(bytes) == Some(*t),
         // Without the `chain` feature the chain tags never reach an error (`NotTaken`).
         (Err(a), Err(b)) => {
             a == b
-                && !matches!(tag(bytes), Some(1 | 2))
+                && !matches!(tag(bytes), Some(1 | 2 | 11..=13))
                 && (cfg!(feature = "chain") || !matches!(tag(bytes), Some(9..=10)))
         }
         _ => false,
@@ -95,7 +100,10 @@ proptest! {
     fn hub_decoding_of_valid_messages_is_decode_message(msg in strategies::message()) {
         let bytes = encoded(&msg);
         check_hub_decoding(&bytes).map_err(TestCaseError::fail)?;
-        let from_hub = matches!(msg, Message::PoseFrame(_) | Message::Status(_));
+        let from_hub = matches!(
+            msg,
+            Message::PoseFrame(_) | Message::Status(_) | Message::RawImuStatus(_)
+        );
         prop_assert_eq!(
             from_hub,
             matches!(decode_hub_message(&bytes), Ok(HubMessage::FromHub(_)))
@@ -143,7 +151,7 @@ fn hub_decoding_of_mutated_and_random_bytes_is_decode_message() {
 fn hub_decoding_errors_are_decode_messages() {
     for (bytes, error) in [
         (&[][..], DecodeError::Malformed),
-        (&[0x0D][..], DecodeError::UnknownMessage(13)),
+        (&[0x14][..], DecodeError::UnknownMessage(20)),
         (&[0x80, 0x00, 0x03][..], DecodeError::UnknownVersion(3)),
         (&[0x03, 0x09][..], DecodeError::Malformed),
     ] {
@@ -169,7 +177,7 @@ fn hub_decoding_errors_are_decode_messages() {
 /// types (their serde derives, whole) is the reference: on mutated encodings of every message
 /// and random bytes, a message one decodes the other decodes to the same bytes, and what
 /// postcard refuses is refused. The only messages postcard takes and the protocol refuses
-/// are a joint-angle or segment-orientation packet of another version and a pose frame
+/// are a joint-angle, segment-orientation or raw sample packet of another version and a pose frame
 /// with another angle count.
 #[test]
 fn field_by_field_decoding_is_postcards() {
@@ -200,6 +208,7 @@ fn field_by_field_decoding_is_postcards() {
                             DecodeError::UnknownVersion(_),
                             Message::SegmentOrientation(_)
                         )
+                        | (DecodeError::UnknownVersion(_), Message::RawImuSample(_))
                         | (DecodeError::AngleCount { .. }, Message::PoseFrame(_))
                 ),
                 "{bytes:02x?}: {e:?} vs {b:?}"

@@ -4,12 +4,13 @@ mod common;
 
 use qgait_proto::{
     cobs_max_encoded_len, encode_frame, encode_message, Config, DecodeError, FrameDecoder,
-    HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId, KneeDirection, Leg,
-    Message, MissingPolicy, ModelId, PoseFrame, SegmentId, SegmentOrientation, Status,
-    SubjectConfig, SubjectKnee, SubjectLeg, CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN,
-    JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN,
-    POSE_FRAME_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
-    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId,
+    KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, RawImuConfig, RawImuSample,
+    RawImuStatus, SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg,
+    CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN,
+    MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN, RAW_IMU_CONFIG_MAX_LEN,
+    RAW_IMU_SAMPLE_MAX_LEN, RAW_IMU_STATUS_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN,
+    SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
 };
 
 /// Any float: an f32 is always 4 bytes.
@@ -138,6 +139,55 @@ fn per_message_maxima_are_reached_exactly() {
         request_status: true,
     };
     assert_eq!(message_len(&imu_config.into()), IMU_CONFIG_MAX_LEN);
+    let raw_sample = RawImuSample {
+        version: 0xFF,
+        node: 0xFF,
+        segment: SegmentId::Torso,
+        seq: u32::MAX,
+        timestamp_us: u32::MAX,
+        // Zigzag: every count of magnitude 8192 or more takes 3 bytes.
+        gyro: [i16::MIN, i16::MAX, -8193],
+        accel: [8192, -32767, 20000],
+        mag: Some([i16::MIN, 8192, -8193]),
+    };
+    assert_eq!(message_len(&raw_sample.into()), RAW_IMU_SAMPLE_MAX_LEN);
+    let raw_6d = RawImuSample {
+        mag: None,
+        ..raw_sample
+    };
+    assert_eq!(message_len(&raw_6d.into()), RAW_IMU_SAMPLE_MAX_LEN - 9);
+    let raw_config = RawImuConfig {
+        segments: 0xFF,
+        fusion: FusionMode::NineD,
+        rate_hz: u16::MAX,
+        output_every: 0xFF,
+        gyro_per_count: ANGLE,
+        accel_per_count: ANGLE,
+        mag_per_count: ANGLE,
+        request_status: true,
+    };
+    assert_eq!(message_len(&raw_config.into()), RAW_IMU_CONFIG_MAX_LEN);
+    let raw_status = RawImuStatus {
+        samples_accepted: u32::MAX,
+        saturated: u32::MAX,
+        rate_gaps: u32::MAX,
+        samples_lost: u32::MAX,
+        timing_errors: u32::MAX,
+        stale_samples: u32::MAX,
+        resyncs: u32::MAX,
+        missing_magnetometer: u32::MAX,
+        not_configured: u32::MAX,
+    };
+    assert_eq!(message_len(&raw_status.into()), RAW_IMU_STATUS_MAX_LEN);
+    // The smallest: 6D, every number under 64 in magnitude, 7-bit seq and timestamp.
+    let raw_small = RawImuSample {
+        seq: 1,
+        timestamp_us: 100,
+        gyro: [0, -1, 63],
+        accel: [-64, 0, 1],
+        ..raw_6d
+    };
+    assert_eq!(message_len(&raw_small.into()), 13);
     assert_eq!(
         MAX_MESSAGE_LEN,
         [
@@ -150,6 +200,11 @@ fn per_message_maxima_are_reached_exactly() {
             SUBJECT_CONFIG_MAX_LEN,
             SEGMENT_ORIENTATION_MAX_LEN,
             IMU_CONFIG_MAX_LEN,
+            qgait_proto::CHAIN_TABLE_MAX_LEN,
+            qgait_proto::CHAIN_TABLE_CONFIG_MAX_LEN,
+            RAW_IMU_SAMPLE_MAX_LEN,
+            RAW_IMU_CONFIG_MAX_LEN,
+            RAW_IMU_STATUS_MAX_LEN,
         ]
         .into_iter()
         .max()

@@ -92,6 +92,27 @@ fn q14_of_rounds_to_nearest_and_saturates() {
     );
 }
 
+/// Nothing is clamped to ±1: a component over 1 is sent as it is, up to 32767 / 16384; q and
+/// -q encode to each other's negation (protocol.md 4.7).
+#[test]
+fn q14_does_not_clamp_and_keeps_the_sign() {
+    assert_eq!(
+        SegmentOrientation::q14_of([1.00003, -1.00003, 1.5, -1.99]),
+        [16384, -16384, 24576, -32604]
+    );
+    assert_eq!(
+        SegmentOrientation::q14_of([1.99998, 0.0, 0.0, 0.0])[0],
+        i16::MAX
+    );
+    assert_eq!(packet([24576, 0, 0, 0]).quaternion(), [1.5, 0.0, 0.0, 0.0]);
+    let q = [0.5, -0.5, 0.5, -0.5];
+    let minus = q.map(|c: f64| -c);
+    assert_eq!(
+        SegmentOrientation::q14_of(minus),
+        SegmentOrientation::q14_of(q).map(|c| -c)
+    );
+}
+
 /// A quaternion farther than the kernel's tolerance from unit length is refused (the hub
 /// counts it in `orientation_not_unit`); nearer, it is normalised.
 #[test]

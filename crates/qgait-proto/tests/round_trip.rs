@@ -43,6 +43,9 @@ fn kind_max_len(msg: &Message) -> usize {
         Message::ImuConfig(_) => qgait_proto::IMU_CONFIG_MAX_LEN,
         Message::ChainTable(_) => qgait_proto::CHAIN_TABLE_MAX_LEN,
         Message::ChainTableConfig(_) => qgait_proto::CHAIN_TABLE_CONFIG_MAX_LEN,
+        Message::RawImuSample(_) => qgait_proto::RAW_IMU_SAMPLE_MAX_LEN,
+        Message::RawImuConfig(_) => qgait_proto::RAW_IMU_CONFIG_MAX_LEN,
+        Message::RawImuStatus(_) => qgait_proto::RAW_IMU_STATUS_MAX_LEN,
     }
 }
 

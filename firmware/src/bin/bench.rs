@@ -73,6 +73,20 @@ fn main() -> ! {
         core::array::from_fn(|_| PhakAngles::from_array(rng.angles()));
     let g_in: [[f32; 17]; INPUTS] = core::array::from_fn(|_| rng.angles());
     let scalars: [f32; INPUTS] = core::array::from_fn(|_| rng.angles::<1>()[0]);
+    // Speeds (rad/s) and accelerations (rad/s^2) for the differential kinematics: gait-like
+    // magnitudes (the angles' range times 4 and 40).
+    let phak_rates: [[[f32; 8]; 2]; INPUTS] = core::array::from_fn(|_| {
+        [
+            rng.angles().map(|v| 4.0 * v),
+            rng.angles().map(|v| 40.0 * v),
+        ]
+    });
+    let g_rates: [[[f32; 17]; 2]; INPUTS] = core::array::from_fn(|_| {
+        [
+            rng.angles().map(|v| 4.0 * v),
+            rng.angles().map(|v| 40.0 * v),
+        ]
+    });
 
     let hak = Hak::<f32>::new(&Limb::gait2392()).unwrap_or_else(|_| board::exit(1));
     let phak = Phak::<f32>::new(&Anthropometry::gait2392()).unwrap_or_else(|_| board::exit(1));
@@ -121,6 +135,18 @@ fn main() -> ! {
         CALLS,
     );
     net(
+        "phak.velocities",
+        bench_phak_velocities(&phak, &phak_in, &phak_rates, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.motion",
+        bench_phak_motion(&phak, &phak_in, &phak_rates, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
         "phak.quat_frames",
         bench_phak_frames(&phak, &phak_in, CALLS),
         phak_base,
@@ -147,6 +173,18 @@ fn main() -> ! {
         CALLS,
     );
     net(
+        "gait2392.velocities",
+        bench_gait2392_velocities(&g, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.motion",
+        bench_gait2392_motion(&g, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
         "gait2392.matrix",
         bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS),
         bench_empty(&g_in, MATRIX_CALLS),
@@ -160,8 +198,21 @@ fn main() -> ! {
         g_base,
         CALLS,
     );
+    net(
+        "rajagopal.velocities",
+        bench_rajagopal_velocities(&raj, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "rajagopal.motion",
+        bench_rajagopal_motion(&raj, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
 
     imu_benches(&g, &mut rng);
+    fusion_benches(&mut rng);
 
     sample_sections(&phak_in);
     whole_sample(ModelId::Phak, "sample");
@@ -308,6 +359,42 @@ fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> 
     })
 }
 
+/// PHAK's points' positions and velocities from angles and speeds.
+#[inline(never)]
+fn bench_phak_velocities(
+    model: &Phak<f32>,
+    q: &[PhakAngles<f32>; INPUTS],
+    rates: &[[[f32; 8]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_velocities(&black_box(&q[i % INPUTS]).to_array(), qd),
+        );
+    })
+}
+
+/// PHAK's points' positions, velocities and accelerations.
+#[inline(never)]
+fn bench_phak_motion(
+    model: &Phak<f32>,
+    q: &[PhakAngles<f32>; INPUTS],
+    rates: &[[[f32; 8]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).chain().forward_motion(
+            &black_box(&q[i % INPUTS]).to_array(),
+            qd,
+            qdd,
+        ));
+    })
+}
+
 #[inline(never)]
 fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
@@ -333,6 +420,40 @@ fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -
 fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
         black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_velocities(
+    model: &Gait2392<f32>,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_velocities(black_box(&q[i % INPUTS]), qd),
+        );
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_motion(
+    model: &Gait2392<f32>,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_motion(black_box(&q[i % INPUTS]), qd, qdd),
+        );
     })
 }
 
@@ -370,6 +491,32 @@ fn rajagopal() -> DeviceChain {
 fn bench_rajagopal_quat(model: &DeviceChain, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
         black_box(black_box(model).forward(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_rajagopal_velocities(
+    model: &DeviceChain,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).forward_velocities(black_box(&q[i % INPUTS]), qd));
+    })
+}
+
+#[inline(never)]
+fn bench_rajagopal_motion(
+    model: &DeviceChain,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).forward_motion(black_box(&q[i % INPUTS]), qd, qdd));
     })
 }
 
@@ -993,6 +1140,149 @@ fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
         base,
         256,
     );
+}
+
+// ---- Orientation estimation (the kernel's VQF, `qgait_kernel::fusion`) ----------------------
+//
+// A sensor turning about the vertical at 400 °/s (one turn in `VQF_INPUTS` samples at BROAD's
+// 285.7 Hz, so the cycled inputs stay consistent) while it tilts back and forth by ±0.5 rad about
+// a tilted axis (four times per turn): angular rate up to 15 rad/s with a little noise, gravity
+// and a 44 µT field with 64° dip in the sensor frame. The filter first runs 7 s of it, past the
+// running-mean start of its low-pass filters (3 s) and the first acceptance of the magnetic
+// field (5 s of rotation above 20 °/s), so the figures are of the steady update in motion (bias
+// estimation by the Kalman filter, magnetometer in use). Each figure is one `update` plus
+// reading the orientation.
+
+/// BROAD's sampling period, s.
+const VQF_TS: f32 = 0.0035;
+/// Samples of one turn.
+const VQF_INPUTS: usize = 256;
+
+struct ImuSample {
+    gyr: [f32; 3],
+    acc: [f32; 3],
+    mag: [f32; 3],
+}
+
+fn imu_samples(rng: &mut Lcg) -> [ImuSample; VQF_INPUTS] {
+    use qgait_kernel::{Quat, Vec3};
+    let axis = Vec3::new(0.3f32, 0.5, 0.8).normalized();
+    let up = Vec3::new(0.0f32, 0.0, 1.0);
+    let amplitude = 0.5f32;
+    // Heading rate and tilt frequency, rad/s.
+    let turn = 2.0 * core::f32::consts::PI / (VQF_INPUTS as f32 * VQF_TS);
+    let tilt = 4.0 * turn;
+    core::array::from_fn(|k| {
+        let t = k as f32 * VQF_TS;
+        let (s, c) = Real::sin_cos(tilt * t);
+        let tilt_q = Quat::from_axis_angle(axis, amplitude * s);
+        // Sensor to earth: about the vertical, then the tilt.
+        let q = Quat::from_axis_angle(up, turn * t) * tilt_q;
+        let to_sensor = q.conj();
+        let w = tilt_q.conj().rotate(up * turn) + axis * (amplitude * tilt * c);
+        let noise = rng.angles::<3>().map(|a| a * 0.01);
+        ImuSample {
+            gyr: [w.x + noise[0], w.y + noise[1], w.z + noise[2]],
+            acc: to_sensor.rotate(Vec3::new(0.0, 0.0, 9.81)).to_array(),
+            mag: to_sensor.rotate(Vec3::new(0.0, 19.3, -39.5)).to_array(),
+        }
+    })
+}
+
+fn fusion_benches(rng: &mut Lcg) {
+    use qgait_kernel::fusion::Vqf;
+    let samples = imu_samples(rng);
+    defmt::println!(
+        "bench vqf.state_bytes {=usize}",
+        core::mem::size_of::<Vqf<f32>>()
+    );
+    let base = bench_vqf_empty(&samples, CALLS);
+    for nine_d in [true, false] {
+        let mut vqf = Vqf::<f32>::new_default(VQF_TS as f64);
+        for i in 0..2000 {
+            let s = &samples[i % VQF_INPUTS];
+            vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
+        }
+        if nine_d {
+            net(
+                "vqf.update_9d",
+                bench_vqf_9d(&mut vqf, &samples, CALLS),
+                base,
+                CALLS,
+            );
+            if vqf.mag_dist_detected() {
+                defmt::error!("the benchmark's magnetic field was not accepted");
+                board::exit(PIPELINE_EXIT_CODE)
+            }
+        } else {
+            net(
+                "vqf.update_6d",
+                bench_vqf_6d(&mut vqf, &samples, CALLS),
+                base,
+                CALLS,
+            );
+        }
+    } // vqf-rs on the same samples (fewer calls: it is slower).
+    let base = bench_vqf_empty(&samples, VQF_RS_CALLS);
+    for nine_d in [true, false] {
+        let mut vqf = vqf_rs::VQF::new(VQF_TS, None, None, None);
+        for i in 0..2000 {
+            let s = &samples[i % VQF_INPUTS];
+            vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
+        }
+        let ticks = bench_vqf_rs(&mut vqf, &samples, VQF_RS_CALLS, nine_d);
+        let name = if nine_d {
+            "vqf_rs.update_9d"
+        } else {
+            "vqf_rs.update_6d"
+        };
+        net(name, ticks, base, VQF_RS_CALLS);
+    }
+}
+
+/// Calls per measurement of vqf-rs.
+const VQF_RS_CALLS: u32 = 512;
+
+#[inline(never)]
+fn bench_vqf_rs(vqf: &mut vqf_rs::VQF, x: &[ImuSample; VQF_INPUTS], n: u32, nine_d: bool) -> u32 {
+    timed(n, |i| {
+        let s = black_box(&x[i % VQF_INPUTS]);
+        vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
+        black_box(if nine_d { vqf.quat_9d() } else { vqf.quat_6d() });
+    })
+}
+
+#[inline(never)]
+fn bench_vqf_empty(x: &[ImuSample; VQF_INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(&x[i % VQF_INPUTS]);
+    })
+}
+
+#[inline(never)]
+fn bench_vqf_9d(
+    vqf: &mut qgait_kernel::fusion::Vqf<f32>,
+    x: &[ImuSample; VQF_INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let s = black_box(&x[i % VQF_INPUTS]);
+        vqf.update(s.gyr, s.acc, Some(s.mag));
+        black_box(vqf.quat_9d());
+    })
+}
+
+#[inline(never)]
+fn bench_vqf_6d(
+    vqf: &mut qgait_kernel::fusion::Vqf<f32>,
+    x: &[ImuSample; VQF_INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let s = black_box(&x[i % VQF_INPUTS]);
+        vqf.update(s.gyr, s.acc, None);
+        black_box(vqf.quat_6d());
+    })
 }
 
 // ---- The protocol crate's CRC-32C and COBS beside the crates ----------------------------------

@@ -41,9 +41,10 @@ fn damage_message(offset: u64, error: &qgait_proto::DecodeError) -> String {
 /// `qgait decode --format`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
-    /// One row per pose frame: seq, time (empty), the `fk` columns.
+    /// One row per pose frame: seq, time (empty), the `fk` columns (other messages are only
+    /// counted, by kind, in the summary on standard error).
     Csv,
-    /// One JSON object per frame (pose, status, other) and per damaged frame.
+    /// One JSON object per frame, every kind of message with its fields, and per damaged frame.
     Jsonl,
 }
 
@@ -95,15 +96,7 @@ impl<'a> DecodeOut<'a> {
 /// The JSON line of `qgait decode` for `record`.
 fn jsonl_line(record: &Record) -> String {
     match record {
-        Record::Message {
-            message: Message::PoseFrame(p),
-            ..
-        } => jsonl::pose(p),
-        Record::Message {
-            message: Message::Status(s),
-            ..
-        } => jsonl::status(s),
-        Record::Message { message, .. } => jsonl::other(message.tag()),
+        Record::Message { message, .. } => jsonl::message(message),
         Record::Damaged { offset, error } => jsonl::damaged(*offset, error),
     }
 }

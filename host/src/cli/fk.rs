@@ -10,8 +10,10 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::cli::output::{refuse_overwrite, write_output_with};
 use crate::progress::Progress;
+use qgait_model::derivatives::{MotionModel, Series};
+use qgait_model::motion::source::load_motion;
 use qgait_model::motion::source::MotionRows;
-use qgait_model::points::{PointModel, PointsCsv};
+use qgait_model::points::{point_names, PointModel, PointsCsv, CHAIN_ORDER};
 
 /// `qgait fk` arguments.
 #[derive(Debug, Args)]
@@ -25,6 +27,17 @@ pub struct FkArgs {
     /// `subtalar_r_x..z, mtp_r_x..z, subtalar_l_x..z, mtp_l_x..z` after the standard ones.
     #[arg(long)]
     pub points: bool,
+    /// Also each point's velocity and acceleration (OpenSim leg chains: gait2392, SUBJECT.toml,
+    /// CHAIN.toml, MODEL.osim): after its `x,y,z` columns, `<point>_vx,_vy,_vz` (m/s) and
+    /// `_ax,_ay,_az` (m/s²), the time derivatives of the positions (ground axes, origin at the
+    /// pelvis origin). Speeds come from an OpenSim states .sto's `/speed` columns when present,
+    /// otherwise from five-point differences of the coordinates.
+    #[arg(long)]
+    pub derivatives: bool,
+    /// With --derivatives: low-pass filter the coordinates that are differentiated (zero-phase
+    /// 4th-order Butterworth, cut-off HZ), as OpenSim's `lowpass_cutoff_frequency`.
+    #[arg(long, value_name = "HZ", requires = "derivatives")]
+    pub lowpass: Option<f64>,
     /// Output CSV file (default: standard output).
     #[arg(short, long, value_name = "OUT.csv")]
     pub output: Option<PathBuf>,
@@ -66,6 +79,9 @@ fn csv_error(e: csv::Error) -> anyhow::Error {
 
 /// Runs `qgait fk`: each row is computed and written before the next is read.
 pub fn run_fk(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
+    if a.derivatives {
+        return run_fk_derivatives(a, diagnostics);
+    }
     // No bar while CSV goes to the same terminal.
     let csv_on_terminal = a.output.is_none() && io::stdout().is_terminal();
     refuse_overwrite(a.output.as_deref(), &inputs(&a.motion, &a.model))?;
@@ -87,5 +103,32 @@ pub fn run_fk(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     })?;
     progress.finish();
     diagnostics.warn(warnings);
+    Ok(())
+}
+
+/// `qgait fk --derivatives`: the whole motion is read (the differentiator looks ahead), then
+/// each row's points with their velocities and accelerations are written.
+fn run_fk_derivatives(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
+    refuse_overwrite(a.output.as_deref(), &inputs(&a.motion, &a.model))?;
+    let model = MotionModel::new(&a.model.load(diagnostics)?, "fk --derivatives")?;
+    let (table, w) = load_motion(&a.motion)?;
+    diagnostics.warn(w);
+    let (series, w) = Series::of(&table, a.lowpass)?;
+    diagnostics.warn(w);
+    let names = point_names(a.points);
+    let axes = ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"];
+    write_output_with(a.output.as_deref(), |out| {
+        let mut csv = PointsCsv::with_axes(out, &names, false, &axes).map_err(csv_error)?;
+        for r in 0..series.time.len() {
+            let points = model.points(&series.q[r], &series.qd[r], &series.qdd[r]);
+            let values = CHAIN_ORDER[..names.len()].iter().flat_map(|&i| {
+                let p = points[i];
+                [p.position, p.velocity, p.acceleration].map(|v| [v.x, v.y, v.z])
+            });
+            csv.row(0, Some(series.time[r]), values)
+                .map_err(csv_error)?;
+        }
+        Ok(csv.flush()?)
+    })?;
     Ok(())
 }

@@ -1,13 +1,24 @@
-//! `qgait decode --format jsonl`: one JSON object per line for each frame of a hub log, with
-//! `serde_json`. Objects: `{"type":"pose","seq","model","flags","angles","points","distances"}`,
+//! `qgait decode --format jsonl`: one JSON object per line for each frame of a log (what a hub
+//! sends, what nodes send it, what the host sends it), with `serde_json`. Objects:
+//! `{"type":"pose","seq","model","flags","angles","points","distances"}`,
 //! `{"type":"status", <counter>: n, ...}` (the counters in wire order),
-//! `{"type":"other","tag"}` and `{"type":"damaged","offset","error"}`. A non-finite number is
-//! `null`.
+//! `{"type":"damaged","offset","error"}`, and every other message as
+//! `{"type": <its kind>, <field>: value, ...}`: the kind is
+//! [`qgait_device::log::kind`] (`joint_angle`, `raw_imu_sample`, ...), the fields the message's
+//! own, in their order, by its serde derive, with these changes: a joint is its OpenSim name
+//! and a model its lower-case name (as in a pose line), a segment orientation also gives its
+//! `quaternion` decoded (not normalised), a chain-table part gives its `bytes` as a count and
+//! their `hex`, and a raw-input status is its counters in wire order. Enumerations otherwise
+//! are their variant names (`"Right"`, `"HoldLast"`, `"FemurR"`). Numbers are the `f32` values
+//! written as `f64` (exactly the value sent); a non-finite number is `null`.
 
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
-use qgait_proto::{DecodeError, PoseFrame, Status};
+use serde_json::{Map, Value};
+
+use qgait_device::log::kind;
+use qgait_proto::{DecodeError, Message, PoseFrame, Status};
 
 #[derive(Serialize)]
 struct Pose {
@@ -53,18 +64,78 @@ pub fn status(s: &Status) -> String {
     to_line(&Counters(s))
 }
 
-#[derive(Serialize)]
-struct Other {
-    r#type: &'static str,
-    tag: u32,
+/// Any message: a pose or status line for those, else the message's fields (module docs).
+pub fn message(m: &Message) -> String {
+    let mut line = Map::new();
+    line.insert("type".into(), kind(m).into());
+    match m {
+        Message::PoseFrame(p) => return pose(p),
+        Message::Status(s) => return status(s),
+        Message::RawImuStatus(s) => {
+            for (name, value) in s.named_counters() {
+                line.insert(name.into(), value.into());
+            }
+        }
+        Message::JointAngle(a) => {
+            fields(&mut line, a);
+            line.insert("joint".into(), a.joint.name().into());
+        }
+        Message::Config(c) => {
+            fields(&mut line, c);
+            line.insert("model".into(), c.model.to_string().into());
+        }
+        Message::SubjectLeg(l) => fields(&mut line, l),
+        Message::SubjectKnee(k) => fields(&mut line, k),
+        Message::SubjectConfig(c) => fields(&mut line, c),
+        Message::SegmentOrientation(o) => {
+            fields(&mut line, o);
+            let quality = line.remove("quality");
+            let q = o.quaternion().map(f64::from);
+            line.insert("quaternion".into(), q.to_vec().into());
+            line.extend(quality.map(|v| ("quality".into(), v)));
+        }
+        Message::ImuConfig(c) => fields(&mut line, c),
+        Message::ChainTable(t) => {
+            fields(&mut line, t);
+            line.insert("bytes".into(), t.bytes.len().into());
+            line.insert("hex".into(), hex(&t.bytes).into());
+        }
+        Message::ChainTableConfig(c) => fields(&mut line, c),
+        Message::RawImuSample(r) => fields(&mut line, r),
+        Message::RawImuConfig(c) => fields(&mut line, c),
+    }
+    to_line(&line)
 }
 
-/// Another message (its tag).
-pub fn other(tag: u32) -> String {
-    to_line(&Other {
-        r#type: "other",
-        tag,
-    })
+/// Appends the fields of `value` (a struct whose numbers are integers and `f32`s) to `line`, in
+/// their order, each `f32` as the `f64` of the same value.
+fn fields(line: &mut Map<String, Value>, value: &impl Serialize) {
+    match serde_json::to_value(value).expect("the messages serialise to JSON") {
+        Value::Object(mut o) => {
+            o.values_mut().for_each(widen);
+            line.extend(o);
+        }
+        other => unreachable!("a message is a struct, not {other}"),
+    }
+}
+
+/// Rewrites every float in `v` (an `f32` that `serde_json` holds as its shortest decimal, e.g.
+/// `0.1`) as the `f64` of that `f32` (`0.10000000149011612`), as in a pose line.
+fn widen(v: &mut Value) {
+    match v {
+        Value::Number(n) if n.is_f64() => {
+            let x = n.as_f64().expect("a float") as f32;
+            *v = Value::from(f64::from(x));
+        }
+        Value::Array(a) => a.iter_mut().for_each(widen),
+        Value::Object(o) => o.values_mut().for_each(widen),
+        _ => {}
+    }
+}
+
+/// `bytes` as lower-case hex pairs, no separator.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 #[derive(Serialize)]
@@ -124,5 +195,37 @@ mod tests {
         frame.angles[0] = 0.1;
         let v: serde_json::Value = serde_json::from_str(&pose(&frame)).unwrap();
         assert_eq!(v["angles"][0].as_f64(), Some(f64::from(0.1f32)));
+    }
+
+    #[test]
+    fn a_chain_part_is_its_bytes_in_hex_and_a_knee_its_knots() {
+        let mut bytes = heapless::Vec::new();
+        bytes.extend_from_slice(&[0x00, 0xab, 0x10]).unwrap();
+        let line = message(&Message::ChainTable(qgait_proto::ChainTable {
+            upload: 7,
+            at: 256,
+            bytes,
+        }));
+        assert_eq!(
+            line,
+            r#"{"type":"chain_table","upload":7,"at":256,"bytes":3,"hex":"00ab10"}"#
+        );
+        let mut knots = heapless::Vec::new();
+        knots
+            .extend_from_slice(&[[-2.0, 0.1], [0.0, f32::NAN]])
+            .unwrap();
+        let v: serde_json::Value =
+            serde_json::from_str(&message(&Message::SubjectKnee(qgait_proto::SubjectKnee {
+                upload: 7,
+                leg: qgait_proto::Leg::Left,
+                direction: qgait_proto::KneeDirection::Ty,
+                knots,
+            })))
+            .unwrap();
+        assert_eq!(v["type"], "subject_knee");
+        assert_eq!(v["leg"], "Left");
+        assert_eq!(v["direction"], "Ty");
+        assert_eq!(v["knots"][0][1].as_f64(), Some(f64::from(0.1f32)));
+        assert!(v["knots"][1][1].is_null());
     }
 }

@@ -8,8 +8,10 @@ pub mod emulate;
 pub(crate) mod export;
 pub(crate) mod fidelity;
 pub(crate) mod fk;
+pub(crate) mod fuse;
 pub(crate) mod gait;
 pub(crate) mod imu;
+pub(crate) mod imu_signals;
 pub(crate) mod jsonl;
 pub(crate) mod live;
 pub(crate) mod model;
@@ -59,7 +61,7 @@ pub enum Command {
     Config(crate::cli::config::ConfigArgs),
     /// The byte stream the IMU nodes send for a motion (one JointAngle packet per joint per row).
     Packets(crate::cli::packets::PacketsArgs),
-    /// Decodes a hub log (pose frames, status; damaged frames reported and skipped).
+    /// Decodes a hub log or any stream of frames (every message; damaged ones reported, skipped).
     Decode(crate::cli::decode::DecodeArgs),
     /// Recomputes every pose frame of a hub log with the f64 kernel; fails on errors or gaps.
     Verify(crate::cli::verify::VerifyArgs),
@@ -68,9 +70,15 @@ pub enum Command {
     /// Joint angles (gait2392, .mot in degrees) from IMU segment orientations (OpenSim
     /// orientation .sto), calibrated on a static pose as OpenSim's OpenSense does it.
     Imu(crate::cli::imu::ImuArgs),
+    /// Orientations (OpenSense orientation .sto) from raw IMU recordings (gyroscope,
+    /// accelerometer, magnetometer) with the kernel's VQF, one column per sensor.
+    Fuse(crate::cli::fuse::FuseArgs),
     /// Clinical gait analysis: events, cycles, spatiotemporal parameters, normative bands and
     /// the Gait Profile Score, as one HTML report and CSVs.
     Gait(crate::cli::gait::GaitArgs),
+    /// What IMUs fixed to a model's bodies measure during a motion (orientation, gyroscope,
+    /// accelerometer), as OpenSim's IMU component, with optional noise and bias.
+    ImuSignals(crate::cli::imu_signals::ImuSignalsArgs),
 }
 
 /// Runs a parsed command line.
@@ -78,7 +86,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let diagnostics = Diagnostics::new(cli.quiet);
     match cli.command {
         Command::Fk(args) => crate::cli::fk::run_fk(args, &diagnostics)?,
+        Command::Fuse(args) => crate::cli::fuse::run_fuse(args, &diagnostics)?,
         Command::Imu(args) => crate::cli::imu::run_imu(args, &diagnostics)?,
+        Command::ImuSignals(args) => crate::cli::imu_signals::run_imu_signals(args, &diagnostics)?,
         Command::Gait(args) => crate::cli::gait::run_gait(args, &diagnostics)?,
         Command::Report(args) => crate::cli::report::run_report(args, &diagnostics)?,
         Command::Motion(args) => crate::cli::motion::run_motion(args, &diagnostics)?,

@@ -641,6 +641,28 @@ impl<
         self.table.forward(q)
     }
 
+    /// Every body's motion in ground for coordinates `q`, speeds `qd` and accelerations `qdd`
+    /// ([`PackedChain::motions`]).
+    pub fn motions(
+        &self,
+        q: &[T; N],
+        qd: &[T; N],
+        qdd: &[T; N],
+    ) -> [crate::differential::FrameMotion<T>; B] {
+        self.table.motions(q, qd, qdd)
+    }
+
+    /// The output points' positions, velocities and accelerations in ground
+    /// ([`PackedChain::forward_motion`]).
+    pub fn forward_motion(
+        &self,
+        q: &[T; N],
+        qd: &[T; N],
+        qdd: &[T; N],
+    ) -> [crate::differential::PointMotion<T>; P] {
+        self.table.forward_motion(q, qd, qdd)
+    }
+
     /// The packed table the chain evaluates (a device's is one of these, in `f32`).
     pub fn table(&self) -> &PackedChain<T, N, B, P, S, Q, D, W> {
         &self.table

@@ -1,4 +1,8 @@
-//! The models, each a constant [`Chain`](crate::Chain) table built from a subject's lengths.
+//! The models. The built-in ones ([`Hak`], [`Phak`], [`Gait2392`]) are each a
+//! [`Chain`](crate::Chain) table built from a subject's numbers and evaluated by
+//! [`Chain::forward`](crate::Chain::forward) (coordinate-axis fast paths, no general functions);
+//! any other OpenSim lower-limb chain is a [`CustomChain`] (its joints as OpenSim states them),
+//! packed into a [`PackedChain`](packed::PackedChain) that evaluates it on the host and the hub.
 //!
 //! | model | inputs (OpenSim coordinates, radians) | outputs |
 //! |---|---|---|

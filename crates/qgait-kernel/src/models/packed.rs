@@ -30,6 +30,8 @@ use super::custom::{
 };
 use crate::{Quat, Real, Vec3};
 
+mod motion;
+
 /// What drives one moving axis: its function byte and its argument byte.
 ///
 /// Function, bits 6-7: [`Drive::LINEAR`] (two numbers in the pool: slope, value at 0),

@@ -14,6 +14,10 @@ use crate::{
     CHAIN_TABLE_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 use crate::{ChainTable, ChainTableConfig};
+use crate::{
+    FusionMode, RawImuConfig, RawImuSample, RawImuStatus, RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,
+    RAW_IMU_STATUS_TAG,
+};
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
 /// and the ones only a hub sends, not decoded.
@@ -40,11 +44,14 @@ pub enum HubMessage {
     /// Tag 10 (with the `chain` feature).
     #[cfg(feature = "chain")]
     ChainTableConfig(ChainTableConfig),
-    /// A chain message (tag 9 or 10) to a hub built without the `chain` feature, with this
-    /// tag. Its body is not decoded (so such a hub links none of their decoders).
+    /// A message this hub does not take, with its tag: a chain message (tag 9 or 10) to a hub
+    /// built without the `chain` feature, or a raw IMU sample or configuration (tag 11 or 12:
+    /// no hub of this crate takes raw input yet). Its body is not decoded (so such a hub links
+    /// none of their decoders).
     NotTaken(u32),
-    /// A message only a hub sends ([`PoseFrame`], tag 1, or [`Status`], tag 2), with this tag.
-    /// Its body is not decoded: it may or may not be well-formed.
+    /// A message only a hub (or a raw input) sends ([`PoseFrame`], tag 1, [`Status`], tag 2,
+    /// or [`RawImuStatus`], tag 13), with this tag. Its body is not decoded: it may or may not
+    /// be well-formed.
     FromHub(u32),
 }
 
@@ -84,6 +91,8 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         CHAIN_TABLE_CONFIG_TAG => chain_table_config(body).map(HubMessage::ChainTableConfig),
         #[cfg(not(feature = "chain"))]
         CHAIN_TABLE_TAG..=CHAIN_TABLE_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
+        RAW_IMU_SAMPLE_TAG | RAW_IMU_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
+        RAW_IMU_STATUS_TAG => Ok(HubMessage::FromHub(tag)),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -140,7 +149,7 @@ pub(super) fn pose_frame(body: &[u8]) -> Result<PoseFrame, DecodeError> {
     })
 }
 
-/// A [`Status`]'s body: its 16 varints.
+/// A [`Status`]'s body: its 20 varints.
 pub(super) fn status(body: &[u8]) -> Result<Status, DecodeError> {
     let (status, rest) = take(body)?;
     end(rest)?;
@@ -248,7 +257,8 @@ pub(super) fn segment_orientation(body: &[u8]) -> Result<SegmentOrientation, Dec
     })
 }
 
-/// An [`ImuConfig`]'s body.
+/// An [`ImuConfig`]'s body: the layout first (`Malformed`), then the values in wire order:
+/// the mode, then the heading's base segment, then its axis.
 pub(super) fn imu_config(body: &[u8]) -> Result<ImuConfig, DecodeError> {
     let (mode, rest) = take::<u8>(body)?;
     let (segments, rest) = take(rest)?;
@@ -257,6 +267,7 @@ pub(super) fn imu_config(body: &[u8]) -> Result<ImuConfig, DecodeError> {
     let (heading, rest) = take::<Option<(u8, u8)>>(rest)?;
     let (request_status, rest) = take(rest)?;
     end(rest)?;
+    let mode = InputMode::from_repr(mode).ok_or(DecodeError::Malformed)?;
     let heading = match heading {
         None => None,
         Some((base, axis)) => Some(ImuHeading {
@@ -265,7 +276,7 @@ pub(super) fn imu_config(body: &[u8]) -> Result<ImuConfig, DecodeError> {
         }),
     };
     Ok(ImuConfig {
-        mode: InputMode::from_repr(mode).ok_or(DecodeError::Malformed)?,
+        mode,
         segments,
         calibrate,
         sensor_to_opensim,
@@ -274,8 +285,6 @@ pub(super) fn imu_config(body: &[u8]) -> Result<ImuConfig, DecodeError> {
     })
 }
 
-/// A body decoded as one postcard value (the chain messages: each field is a value postcard
-/// checks, none a raw byte with an error of its own), every byte used.
 /// A [`ChainTable`]'s body: upload, `at` (a `u16` varint), the byte count, the bytes.
 pub(super) fn chain_table(body: &[u8]) -> Result<ChainTable, DecodeError> {
     let (upload, rest) = take(body)?;
@@ -312,6 +321,64 @@ pub(super) fn chain_table_config(body: &[u8]) -> Result<ChainTableConfig, Decode
         reorder_window,
         request_status,
     })
+}
+
+/// A [`RawImuSample`]'s body: the version first (as a [`JointAngle`]'s), then the layout
+/// (`Malformed`), then the segment.
+pub(super) fn raw_imu_sample(body: &[u8]) -> Result<RawImuSample, DecodeError> {
+    let (&version, _) = body.split_first().ok_or(DecodeError::Malformed)?;
+    if version != PROTOCOL_VERSION {
+        return Err(DecodeError::UnknownVersion(version));
+    }
+    let (_, rest) = take::<u8>(body)?;
+    let (node, rest) = take(rest)?;
+    let (segment, rest) = take::<u8>(rest)?;
+    let (seq, rest) = take_varint_u32(rest)?;
+    let (timestamp_us, rest) = take_varint_u32(rest)?;
+    let (gyro, rest) = take(rest)?;
+    let (accel, rest) = take(rest)?;
+    let (mag, rest) = take(rest)?;
+    end(rest)?;
+    Ok(RawImuSample {
+        version,
+        node,
+        segment: SegmentId::from_index(segment).ok_or(DecodeError::UnknownSegment(segment))?,
+        seq,
+        timestamp_us,
+        gyro,
+        accel,
+        mag,
+    })
+}
+
+/// A [`RawImuConfig`]'s body: the layout, then the fusion mode.
+pub(super) fn raw_imu_config(body: &[u8]) -> Result<RawImuConfig, DecodeError> {
+    let (segments, rest) = take(body)?;
+    let (fusion, rest) = take::<u8>(rest)?;
+    let (rate_hz, rest) = take(rest)?;
+    let (output_every, rest) = take(rest)?;
+    let (gyro_per_count, rest) = take(rest)?;
+    let (accel_per_count, rest) = take(rest)?;
+    let (mag_per_count, rest) = take(rest)?;
+    let (request_status, rest) = take(rest)?;
+    end(rest)?;
+    Ok(RawImuConfig {
+        segments,
+        fusion: FusionMode::from_repr(fusion).ok_or(DecodeError::Malformed)?,
+        rate_hz,
+        output_every,
+        gyro_per_count,
+        accel_per_count,
+        mag_per_count,
+        request_status,
+    })
+}
+
+/// A [`RawImuStatus`]'s body: its 9 varints.
+pub(super) fn raw_imu_status(body: &[u8]) -> Result<RawImuStatus, DecodeError> {
+    let (status, rest) = take(body)?;
+    end(rest)?;
+    Ok(status)
 }
 
 fn missing_policy(byte: u8) -> Result<MissingPolicy, DecodeError> {

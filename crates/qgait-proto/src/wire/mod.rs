@@ -60,6 +60,9 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         crate::CHAIN_TABLE_CONFIG_TAG => {
             decode::chain_table_config(body).map(Message::ChainTableConfig)
         }
+        crate::RAW_IMU_SAMPLE_TAG => decode::raw_imu_sample(body).map(Message::RawImuSample),
+        crate::RAW_IMU_CONFIG_TAG => decode::raw_imu_config(body).map(Message::RawImuConfig),
+        crate::RAW_IMU_STATUS_TAG => decode::raw_imu_status(body).map(Message::RawImuStatus),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }

@@ -112,7 +112,55 @@ pub fn every_message() -> Vec<Message> {
             request_status: false,
         }
         .into(),
+        raw_imu_sample().into(),
+        raw_imu_config().into(),
+        raw_imu_status().into(),
     ]
+}
+
+/// The golden raw sample of protocol.md 7.9: node 4 on the right shank, an ICM-20948's counts
+/// (gyroscope at ±2000 °/s, accelerometer at ±16 g, AK09916 magnetometer).
+pub fn raw_imu_sample() -> qgait_proto::RawImuSample {
+    qgait_proto::RawImuSample {
+        version: qgait_proto::PROTOCOL_VERSION,
+        node: 4,
+        segment: qgait_proto::SegmentId::TibiaR,
+        seq: 300,
+        timestamp_us: 1_234_567,
+        gyro: [-188, 47, 3289],
+        accel: [251, 2005, -84],
+        mag: Some([133, -233, 80]),
+    }
+}
+
+/// The golden raw configuration of protocol.md 7.9: every segment, 9D, 100 Hz, an
+/// orientation per sample, the ICM-20948's sensitivities, status requested.
+pub fn raw_imu_config() -> qgait_proto::RawImuConfig {
+    qgait_proto::RawImuConfig {
+        segments: 0xff,
+        fusion: qgait_proto::FusionMode::NineD,
+        rate_hz: 100,
+        output_every: 1,
+        gyro_per_count: qgait_proto::RawImuConfig::gyro_per_count_of(16.4),
+        accel_per_count: qgait_proto::RawImuConfig::accel_per_count_of(2048.0),
+        mag_per_count: 0.15,
+        request_status: true,
+    }
+}
+
+/// The golden raw status of protocol.md 7.9.
+pub fn raw_imu_status() -> qgait_proto::RawImuStatus {
+    qgait_proto::RawImuStatus {
+        samples_accepted: 48_000,
+        saturated: 3,
+        rate_gaps: 2,
+        samples_lost: 5,
+        timing_errors: 1,
+        stale_samples: 1,
+        resyncs: 0,
+        missing_magnetometer: 0,
+        not_configured: 4,
+    }
 }
 
 /// The generic gait2392 right leg as a subject-model part.
@@ -247,4 +295,43 @@ pub fn code_positions(body: &[u8]) -> Vec<usize> {
         i += body[i] as usize;
     }
     positions
+}
+
+/// The chain table of protocol.md 9.5, byte by byte as section 9.4 lays it out: one coupled
+/// coordinate (a linear function of `knee_angle_r`) sliding body 1 along an axis, body 1
+/// turning about z by a linear function of `hip_flexion_r`, three points. The first
+/// `192 + 4 × used` bytes of its image (what a host sends).
+pub fn chain_coupled_image() -> Vec<u8> {
+    const DRIVES: usize = 66;
+    const POINTS: usize = 114;
+    const COUNTS: usize = 186;
+    const NUMBERS: usize = 192;
+    let numbers: [f32; 16] = [
+        // linear drives' slopes and values at 0, in drive order: drive 0, then drive 2
+        0.5, 0.1, -1.0, 0.25, //
+        // body 1 (from index 4): t_F, the translation's axis, e (ENDS_AWAY)
+        0.0, -0.1, 0.08, 0.6, 0.8, 0.0, 0.0, -0.4, 0.0, //
+        // points_at 13: point 2's offset in body 1
+        0.05, -0.2, 0.0,
+    ];
+    let mut image = vec![0u8; NUMBERS + 4 * numbers.len()];
+    // Joint 1: parent 0, one rotation and one translation, START | ENDS_AWAY, rotation 0
+    // about z, its numbers from index 4.
+    image[6..12].copy_from_slice(&[0, 0x05, 0x09, 0x03, 4, 0]);
+    // Drive 0 (the coupled coordinate): linear of angle 6 (knee_angle_r). Drive 1 (body 1's
+    // translation): the argument itself, coupled coordinate 0. Drive 2 (body 1's rotation):
+    // linear of angle 3 (hip_flexion_r).
+    image[DRIVES..DRIVES + 6].copy_from_slice(&[0x00, 0x46, 0xc0, 0x80, 0x00, 0x43]);
+    // Points: 0 at body 0's origin, 1 at body 1's origin, 2 at an offset in body 1, the others
+    // at body 0's origin.
+    for k in 0..12 {
+        image[POINTS + 2 * k..POINTS + 2 * k + 2].copy_from_slice(&[0, 1]);
+    }
+    image[POINTS + 2..POINTS + 6].copy_from_slice(&[1, 1, 1, 0]);
+    // 3 drives, 1 coupled coordinate, points_at 13, 16 numbers in use.
+    image[COUNTS..COUNTS + 6].copy_from_slice(&[3, 1, 13, 0, 16, 0]);
+    for (k, n) in numbers.iter().enumerate() {
+        image[NUMBERS + 4 * k..NUMBERS + 4 * k + 4].copy_from_slice(&n.to_le_bytes());
+    }
+    image
 }

@@ -2,10 +2,11 @@
 
 use super::Rng;
 use qgait_proto::{
-    encode_frame, encode_message, encode_raw_frame, Config, HeadingAxisId, ImuConfig, ImuHeading,
-    InputMode, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
-    SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_FRAME_LEN,
-    MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
+    encode_frame, encode_message, encode_raw_frame, ChainTable, ChainTableConfig, Config,
+    FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId,
+    KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, RawImuConfig, RawImuSample,
+    RawImuStatus, SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg,
+    MAX_CHAIN_TABLE_BYTES, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
 };
 
 /// A float that is usually ordinary and sometimes any bit pattern (NaN, inf, subnormal).
@@ -23,9 +24,18 @@ fn varint_u32(rng: &mut Rng) -> u32 {
     rng.next_u32() >> (32 - bits)
 }
 
+/// A sensor count: small (one varint byte), middling (two) or any (up to three).
+fn count(rng: &mut Rng) -> i16 {
+    match rng.below(3) {
+        0 => rng.below(128) as i16 - 64,
+        1 => rng.below(16384) as i16 - 8192,
+        _ => rng.next_u32() as i16,
+    }
+}
+
 /// Any valid message.
 pub fn message(rng: &mut Rng) -> Message {
-    match rng.below(9) {
+    match rng.below(14) {
         0 => Message::JointAngle(JointAngle {
             version: PROTOCOL_VERSION,
             node: rng.byte(),
@@ -95,6 +105,67 @@ pub fn message(rng: &mut Rng) -> Message {
                 axis: HeadingAxisId::from_repr(rng.below(6) as u8).expect("in range"),
             }),
             request_status: rng.chance(50),
+        }),
+        9 => {
+            let mut bytes = heapless::Vec::new();
+            for _ in 0..rng.below(MAX_CHAIN_TABLE_BYTES + 1) {
+                bytes
+                    .push(rng.byte())
+                    .expect("at most MAX_CHAIN_TABLE_BYTES");
+            }
+            Message::ChainTable(ChainTable {
+                upload: rng.byte(),
+                at: varint_u32(rng) as u16,
+                bytes,
+            })
+        }
+        10 => Message::ChainTableConfig(ChainTableConfig {
+            upload: rng.byte(),
+            len: varint_u32(rng) as u16,
+            crc: varint_u32(rng),
+            knee_flexes_positive: rng.chance(50),
+            missing_policy: if rng.chance(50) {
+                MissingPolicy::Drop
+            } else {
+                MissingPolicy::HoldLast
+            },
+            reorder_window: rng.byte(),
+            request_status: rng.chance(50),
+        }),
+        11 => Message::RawImuSample(RawImuSample {
+            version: PROTOCOL_VERSION,
+            node: rng.byte(),
+            segment: SegmentId::ALL[rng.below(SegmentId::COUNT)],
+            seq: varint_u32(rng),
+            timestamp_us: varint_u32(rng),
+            gyro: [0; 3].map(|_: i16| count(rng)),
+            accel: [0; 3].map(|_: i16| count(rng)),
+            mag: rng.chance(50).then(|| [0; 3].map(|_: i16| count(rng))),
+        }),
+        12 => Message::RawImuConfig(RawImuConfig {
+            segments: rng.byte(),
+            fusion: if rng.chance(50) {
+                FusionMode::SixD
+            } else {
+                FusionMode::NineD
+            },
+            rate_hz: varint_u32(rng) as u16,
+            output_every: rng.byte(),
+            gyro_per_count: float(rng),
+            accel_per_count: float(rng),
+            mag_per_count: float(rng),
+            request_status: rng.chance(50),
+        }),
+        13 => Message::RawImuStatus(RawImuStatus {
+            samples_accepted: varint_u32(rng),
+            saturated: varint_u32(rng),
+            rate_gaps: varint_u32(rng),
+            samples_lost: varint_u32(rng),
+            timing_errors: varint_u32(rng),
+            stale_samples: varint_u32(rng),
+            resyncs: varint_u32(rng),
+            missing_magnetometer: varint_u32(rng),
+            not_configured: varint_u32(rng),
         }),
         4 => Message::SubjectLeg(SubjectLeg {
             upload: rng.byte(),
@@ -204,7 +275,7 @@ pub fn stream(rng: &mut Rng) -> (Vec<u8>, Vec<Message>) {
     let mut bytes = Vec::new();
     let mut goods = Vec::new();
     for _ in 0..1 + rng.below(12) {
-        match rng.below(9) {
+        match rng.below(14) {
             0 | 1 => {
                 let msg = message(rng);
                 bytes.push(0);

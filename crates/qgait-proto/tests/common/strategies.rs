@@ -3,10 +3,10 @@
 
 use proptest::prelude::*;
 use qgait_proto::{
-    ChainTable, ChainTableConfig, Config, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
-    JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, SegmentId,
-    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, MAX_CHAIN_TABLE_BYTES,
-    MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
+    ChainTable, ChainTableConfig, Config, FusionMode, HeadingAxisId, ImuConfig, ImuHeading,
+    InputMode, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
+    RawImuConfig, RawImuSample, RawImuStatus, SegmentId, SegmentOrientation, Status, SubjectConfig,
+    SubjectKnee, SubjectLeg, MAX_CHAIN_TABLE_BYTES, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
 };
 
 /// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
@@ -143,6 +143,9 @@ pub fn message() -> impl Strategy<Value = Message> {
         imu_config().prop_map(Message::ImuConfig),
         chain_table().prop_map(Message::ChainTable),
         chain_table_config().prop_map(Message::ChainTableConfig),
+        raw_imu_sample().prop_map(Message::RawImuSample),
+        raw_imu_config().prop_map(Message::RawImuConfig),
+        raw_imu_status().prop_map(Message::RawImuStatus),
     ]
 }
 
@@ -302,4 +305,80 @@ pub fn subject_config() -> impl Strategy<Value = SubjectConfig> {
             request_status,
         },
     )
+}
+
+/// Counts spread over every zigzag varint length (1 to 3 bytes), the ends included.
+pub fn any_count() -> impl Strategy<Value = i16> {
+    prop_oneof![
+        -64i16..64,
+        -8192i16..8192,
+        Just(i16::MIN),
+        Just(i16::MAX),
+        any::<i16>(),
+    ]
+}
+
+pub fn raw_imu_sample() -> impl Strategy<Value = RawImuSample> {
+    (
+        any::<u8>(),
+        segment_id(),
+        any_varint_u32(),
+        any_varint_u32(),
+        [any_count(), any_count(), any_count()],
+        [any_count(), any_count(), any_count()],
+        proptest::option::of([any_count(), any_count(), any_count()]),
+    )
+        .prop_map(
+            |(node, segment, seq, timestamp_us, gyro, accel, mag)| RawImuSample {
+                version: qgait_proto::PROTOCOL_VERSION,
+                node,
+                segment,
+                seq,
+                timestamp_us,
+                gyro,
+                accel,
+                mag,
+            },
+        )
+}
+
+pub fn raw_imu_config() -> impl Strategy<Value = RawImuConfig> {
+    (
+        any::<u8>(),
+        any::<bool>(),
+        prop_oneof![1u16..128, any::<u16>()],
+        any::<u8>(),
+        [any_f32_bits(), any_f32_bits(), any_f32_bits()],
+        any::<bool>(),
+    )
+        .prop_map(
+            |(segments, nine, rate_hz, output_every, [g, a, m], request_status)| RawImuConfig {
+                segments,
+                fusion: if nine {
+                    FusionMode::NineD
+                } else {
+                    FusionMode::SixD
+                },
+                rate_hz,
+                output_every,
+                gyro_per_count: g,
+                accel_per_count: a,
+                mag_per_count: m,
+                request_status,
+            },
+        )
+}
+
+pub fn raw_imu_status() -> impl Strategy<Value = RawImuStatus> {
+    proptest::array::uniform9(any_varint_u32()).prop_map(|c| RawImuStatus {
+        samples_accepted: c[0],
+        saturated: c[1],
+        rate_gaps: c[2],
+        samples_lost: c[3],
+        timing_errors: c[4],
+        stale_samples: c[5],
+        resyncs: c[6],
+        missing_magnetometer: c[7],
+        not_configured: c[8],
+    })
 }

@@ -1,0 +1,441 @@
+//! `qgait fk --derivatives` and `qgait imu-signals` against OpenSim 4.6, through the binary, on
+//! `scripts/opensim_derivatives.py`'s analytic motion (crates/qgait-kernel/tests/data/derivatives/:
+//! a 1 kHz `.mot` in degrees, a states `.sto` with the exact speeds, OpenSim's velocities,
+//! accelerations from its exact velocities, and its `IMU` components' signals), on gait2392 and
+//! on the imported Rajagopal 2015 model (../shared/data/opensim, skipped when absent):
+//! - states file: point velocities within 1e-9 m/s, accelerations (the file's speeds
+//!   differentiated) within 1e-2 m/s²;
+//! - the 1 kHz `.mot`: velocities within 1e-4 m/s, accelerations within 1e-2 m/s²;
+//! - `imu-signals` from the `.mot`: gyroscope within 1e-4 rad/s, accelerometer within
+//!   1e-2 m/s², orientations within 1e-9; noise options change the signals by what they say.
+
+mod common;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use common::{qgait, scratch, shared_dir, stderr};
+
+const POINTS: [&str; 8] = [
+    "hip_r", "knee_r", "ankle_r", "toe_r", "hip_l", "knee_l", "ankle_l", "toe_l",
+];
+
+/// The script's IMUs, as PLACEMENT.toml.
+const PLACEMENT: &str = r#"
+[[imu]]
+name = "pelvis_imu"
+body = "pelvis"
+translation = [-0.14, 0.03, 0.0]
+orientation = [0.51, -0.70, 0.40]
+
+[[imu]]
+name = "femur_r_imu"
+body = "femur_r"
+translation = [0.02, -0.20, 0.06]
+orientation = [0.10, 0.30, -0.20]
+
+[[imu]]
+name = "tibia_l_imu"
+body = "tibia_l"
+translation = [0.03, -0.15, -0.05]
+orientation = [-0.30, 0.20, 0.60]
+
+[[imu]]
+name = "calcn_r_imu"
+body = "calcn_r"
+translation = [0.10, 0.05, 0.0]
+orientation = [1.20, -0.40, 0.30]
+"#;
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../crates/qgait-kernel/tests/data/derivatives")
+        .join(name)
+}
+
+/// A CSV of a header and numbers, rows keyed by time (to the microsecond).
+struct Table {
+    columns: HashMap<String, usize>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    fn csv(text: &str) -> Self {
+        let mut lines = text.lines();
+        let columns = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .enumerate()
+            .map(|(i, c)| (c.to_string(), i))
+            .collect();
+        let rows = lines
+            .filter(|l| !l.is_empty())
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        Self { columns, rows }
+    }
+
+    /// An `.sto` of `x,y,z` (or `w,x,y,z`) cells as columns `<name>_0, _1, ...`.
+    fn sto(text: &str) -> Self {
+        let mut lines = text.lines().skip_while(|l| *l != "endheader").skip(1);
+        let labels: Vec<&str> = lines.next().unwrap().split('\t').collect();
+        let mut columns = HashMap::from([("time".to_string(), 0)]);
+        let rows: Vec<Vec<f64>> = lines
+            .filter(|l| !l.is_empty())
+            .map(|l| {
+                let cells: Vec<&str> = l.split('\t').collect();
+                let mut row = vec![cells[0].parse().unwrap()];
+                for (label, cell) in labels[1..].iter().zip(&cells[1..]) {
+                    for (k, v) in cell.split(',').enumerate() {
+                        columns.insert(format!("{label}_{k}"), row.len());
+                        row.push(v.parse().unwrap());
+                    }
+                }
+                row
+            })
+            .collect();
+        Self { columns, rows }
+    }
+
+    fn row_at(&self, t: f64) -> Option<&Vec<f64>> {
+        self.rows.iter().find(|r| (r[0] - t).abs() < 1e-6)
+    }
+
+    fn get(&self, row: &[f64], column: &str) -> f64 {
+        row[*self
+            .columns
+            .get(column)
+            .unwrap_or_else(|| panic!("no {column}"))]
+    }
+}
+
+/// Runs `fk --derivatives` on `motion` and returns the largest velocity and acceleration
+/// differences from OpenSim's (relative to the pelvis origin), over the reference rows the
+/// motion covers.
+fn fk_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table) -> (f64, f64) {
+    fk_against_opensim_where(test, model, motion, reference, |_| true)
+}
+
+/// [`fk_against_opensim`] over the reference rows whose time `at` accepts.
+fn fk_against_opensim_where(
+    test: &str,
+    model: &str,
+    motion: &Path,
+    reference: &Table,
+    at: impl Fn(f64) -> bool,
+) -> (f64, f64) {
+    let out = scratch(test, "fk").join("out.csv");
+    let o = qgait(&[
+        "fk",
+        motion.to_str().unwrap(),
+        "--model",
+        model,
+        "--derivatives",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let ours = Table::csv(&std::fs::read_to_string(&out).unwrap());
+    let (mut v, mut a, mut compared) = (0.0f64, 0.0f64, 0);
+    for r in &reference.rows {
+        let Some(row) = ours.row_at(r[0]).filter(|_| at(r[0])) else {
+            continue;
+        };
+        compared += 1;
+        for p in POINTS {
+            // OpenSim's name of the toe tip.
+            let theirs = p.replace("toe_", "toetip_");
+            for axis in ["x", "y", "z"] {
+                let rv = reference.get(r, &format!("{theirs}_v{axis}"))
+                    - reference.get(r, &format!("qd_pelvis_t{axis}"));
+                let ra = reference.get(r, &format!("{theirs}_a{axis}"))
+                    - reference.get(r, &format!("qdd_pelvis_t{axis}"));
+                v = v.max((ours.get(row, &format!("{p}_v{axis}")) - rv).abs());
+                a = a.max((ours.get(row, &format!("{p}_a{axis}")) - ra).abs());
+            }
+        }
+    }
+    assert!(compared >= 4, "{compared} reference rows in the motion");
+    (v, a)
+}
+
+/// Runs `imu-signals` on `motion`; the largest gyroscope, accelerometer and orientation
+/// differences from OpenSim's `IMU` components.
+fn imu_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table) -> [f64; 3] {
+    let dir = scratch(test, "imu");
+    let placement = scratch(test, "placement").join("placement.toml");
+    std::fs::write(&placement, PLACEMENT).unwrap();
+    let o = qgait(&[
+        "imu-signals",
+        motion.to_str().unwrap(),
+        "--model",
+        model,
+        "--imus",
+        placement.to_str().unwrap(),
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |f: &str| Table::sto(&std::fs::read_to_string(dir.join(f)).unwrap());
+    let (gyro, acc, orient) = (
+        read("angular_velocity.sto"),
+        read("linear_acceleration.sto"),
+        read("orientations.sto"),
+    );
+    let mut worst = [0.0f64; 3];
+    for r in &reference.rows {
+        let (Some(g), Some(a), Some(q)) =
+            (gyro.row_at(r[0]), acc.row_at(r[0]), orient.row_at(r[0]))
+        else {
+            continue;
+        };
+        for name in ["pelvis_imu", "femur_r_imu", "tibia_l_imu", "calcn_r_imu"] {
+            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+                let rg = reference.get(r, &format!("{name}_gyro_{axis}"));
+                let ra = reference.get(r, &format!("{name}_acc_{axis}"));
+                worst[0] = worst[0].max((gyro.get(g, &format!("{name}_{k}")) - rg).abs());
+                worst[1] = worst[1].max((acc.get(a, &format!("{name}_{k}")) - ra).abs());
+            }
+            // Orientation: the same rotation (q or -q).
+            let ours: Vec<f64> = (0..4)
+                .map(|k| orient.get(q, &format!("{name}_{k}")))
+                .collect();
+            let theirs: Vec<f64> = ["w", "x", "y", "z"]
+                .iter()
+                .map(|c| reference.get(r, &format!("{name}_q{c}")))
+                .collect();
+            let dot: f64 = ours.iter().zip(&theirs).map(|(a, b)| a * b).sum();
+            worst[2] = worst[2].max(1.0 - dot.abs());
+        }
+    }
+    worst
+}
+
+fn check(model: &str, name: &str, test: &str) {
+    let reference =
+        Table::csv(&std::fs::read_to_string(fixture(&format!("{name}_reference.csv"))).unwrap());
+    let (v, a) = fk_against_opensim(
+        &format!("{test}_states"),
+        model,
+        &fixture(&format!("{name}_states.sto")),
+        &reference,
+    );
+    println!("{name}, states .sto: velocities {v:.1e} m/s, accelerations {a:.1e} m/s^2");
+    assert!(v < 1e-9 && a < 1e-2, "{v} {a}");
+    let (v, a) = fk_against_opensim(
+        &format!("{test}_mot"),
+        model,
+        &fixture(&format!("{name}.mot")),
+        &reference,
+    );
+    println!("{name}, 1 kHz .mot: velocities {v:.1e} m/s, accelerations {a:.1e} m/s^2");
+    assert!(v < 1e-4 && a < 1e-2, "{v} {a}");
+    let [g, acc, q] =
+        imu_against_opensim(test, model, &fixture(&format!("{name}.mot")), &reference);
+    println!(
+        "{name}, imu-signals from the 1 kHz .mot: gyroscope {g:.1e} rad/s, accelerometer {acc:.1e} m/s^2, orientation 1-|q.q'| {q:.1e}"
+    );
+    assert!(g < 1e-4 && acc < 1e-2 && q < 1e-9, "{g} {acc} {q}");
+}
+
+#[test]
+fn gait2392_derivatives_and_imu_signals_are_opensims() {
+    check("gait2392", "gait2392", "deriv_gait2392");
+}
+
+#[test]
+fn rajagopal_derivatives_and_imu_signals_are_opensims() {
+    let Some(shared) = shared_dir() else { return };
+    let model = shared.join("data/opensim/Rajagopal2015_opensense.osim");
+    check(model.to_str().unwrap(), "rajagopal2015", "deriv_rajagopal");
+}
+
+/// The same motion sampled at 100 Hz (every tenth row of the 1 kHz `.mot`): what a 100 Hz
+/// recording gives (the reference rows include the first and last, one-sided, samples).
+#[test]
+fn a_100_hz_motion_is_within_its_stated_accuracy() {
+    let reference =
+        Table::csv(&std::fs::read_to_string(fixture("gait2392_reference.csv")).unwrap());
+    let text = std::fs::read_to_string(fixture("gait2392.mot")).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let header = lines.iter().position(|l| *l == "endheader").unwrap() + 2;
+    let rows: Vec<&str> = lines.split_off(header).into_iter().step_by(10).collect();
+    let n = format!("nRows={}", rows.len());
+    let mut out: Vec<&str> = lines
+        .iter()
+        .map(|l| {
+            if l.starts_with("nRows=") {
+                n.as_str()
+            } else {
+                l
+            }
+        })
+        .collect();
+    out.extend(rows);
+    let motion = scratch("deriv_100hz", "mot").join("gait2392_100hz.mot");
+    std::fs::write(&motion, out.join("\n") + "\n").unwrap();
+    let (v, a) = fk_against_opensim("deriv_100hz", "gait2392", &motion, &reference);
+    let inside = |t: f64| t > 0.01 && t < 0.09;
+    let (vi, ai) =
+        fk_against_opensim_where("deriv_100hz_in", "gait2392", &motion, &reference, inside);
+    println!(
+        "gait2392, 100 Hz .mot: velocities {v:.1e} m/s, accelerations {a:.1e} m/s^2 (first and \
+         last samples included); inside: {vi:.1e} m/s, {ai:.1e} m/s^2"
+    );
+    assert!(v < 1e-3 && a < 0.3, "{v} {a}");
+    assert!(vi < 1e-4 && ai < 1e-2, "{vi} {ai}");
+}
+
+/// OpenSim's states files carry every muscle's states: they are passed over.
+#[test]
+fn other_states_are_passed_over() {
+    let text = std::fs::read_to_string(fixture("gait2392_states.sto")).unwrap();
+    let widened: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("time\t") {
+                format!("{l}\t/forceset/soleus_r/activation\t/forceset/soleus_r/fiber_length")
+            } else if l.starts_with(|c: char| c.is_ascii_digit()) {
+                format!("{l}\t0.05\t0.031")
+            } else if let Some(n) = l.strip_prefix("nColumns=") {
+                format!("nColumns={}", n.parse::<usize>().unwrap() + 2)
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    let dir = scratch("deriv_muscles", "in");
+    let wide = dir.join("wide.sto");
+    std::fs::write(&wide, widened.join("\n") + "\n").unwrap();
+    let run = |motion: &Path, out: &str| {
+        let out = dir.join(out);
+        let o = qgait(&[
+            "fk",
+            motion.to_str().unwrap(),
+            "--model",
+            "gait2392",
+            "--derivatives",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read_to_string(out).unwrap()
+    };
+    assert_eq!(
+        run(&wide, "wide.csv"),
+        run(&fixture("gait2392_states.sto"), "plain.csv")
+    );
+}
+
+/// Noise and bias: the same seed gives the same signals; white noise of a stated deviation and
+/// a constant bias show in the gyroscope as stated; the output rate takes every k-th row.
+#[test]
+fn imu_noise_bias_and_rate_are_as_stated() {
+    let dir = scratch("deriv_noise", "in");
+    let placement = dir.join("placement.toml");
+    std::fs::write(&placement, PLACEMENT).unwrap();
+    let motion = fixture("gait2392_states.sto");
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "imu-signals",
+            motion.to_str().unwrap(),
+            "--model",
+            "gait2392",
+            "--imus",
+            placement.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = qgait(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        Table::sto(&std::fs::read_to_string(out.join("angular_velocity.sto")).unwrap())
+    };
+    let clean = run("clean", &[]);
+    let noisy = [
+        "--gyro-noise-std",
+        "0.01",
+        "--gyro-bias",
+        "0.1,-0.2,0.3",
+        "--seed",
+        "7",
+    ];
+    let a = run("a", &noisy);
+    let b = run("b", &noisy);
+    assert_eq!(a.rows, b.rows);
+    let mut diffs = [Vec::new(), Vec::new(), Vec::new()];
+    for (c, n) in clean.rows.iter().zip(&a.rows) {
+        for name in ["pelvis_imu", "femur_r_imu", "tibia_l_imu", "calcn_r_imu"] {
+            for (k, d) in diffs.iter_mut().enumerate() {
+                let col = format!("{name}_{k}");
+                d.push(a.get(n, &col) - clean.get(c, &col));
+            }
+        }
+    }
+    for (d, bias) in diffs.iter().zip([0.1, -0.2, 0.3]) {
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (d.len() - 1) as f64).sqrt();
+        // 404 samples: the mean within 5 standard errors, the deviation within 20 %.
+        assert!(
+            (mean - bias).abs() < 5.0 * 0.01 / (d.len() as f64).sqrt(),
+            "{mean}"
+        );
+        assert!((sd - 0.01).abs() < 0.002, "{sd}");
+    }
+    let decimated = run("rate", &["--rate", "100"]);
+    assert_eq!(decimated.rows.len(), 11);
+    assert_eq!(decimated.rows[1], clean.rows[10]);
+}
+
+/// `--lowpass`: a cut-off well above a motion's components changes its derivatives by what
+/// the filter's gain says away from the ends (the built-in gait at 1 kHz, harmonics of 1 Hz up
+/// to 6 Hz; a 30 Hz cut-off passes 6 Hz with a gain of 1 − 2.6e-6), and a cut-off below them
+/// takes the fast components away.
+#[test]
+fn lowpass_keeps_what_is_below_the_cut_off() {
+    let dir = scratch("deriv_lowpass", "out");
+    let run = |extra: &[&str], name: &str| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "fk",
+            "builtin:normal,rows=1001",
+            "--model",
+            "gait2392",
+            "--derivatives",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = qgait(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        Table::csv(&std::fs::read_to_string(&out).unwrap())
+    };
+    let plain = run(&[], "plain.csv");
+    let mut worst = Vec::new();
+    for hz in ["30", "2"] {
+        let filtered = run(&["--lowpass", hz], &format!("{hz}.csv"));
+        let (mut v, mut a) = (0.0f64, 0.0f64);
+        for (p, f) in plain.rows.iter().zip(&filtered.rows) {
+            // Two cut-off periods of 2 Hz from either end.
+            if p[0] < 0.25 || p[0] > 0.75 {
+                continue;
+            }
+            for point in POINTS {
+                for axis in ["x", "y", "z"] {
+                    let c = |k: &str| format!("{point}_{k}{axis}");
+                    v = v.max((plain.get(p, &c("v")) - filtered.get(f, &c("v"))).abs());
+                    a = a.max((plain.get(p, &c("a")) - filtered.get(f, &c("a"))).abs());
+                }
+            }
+        }
+        worst.push((v, a));
+    }
+    println!(
+        "inside, --lowpass 30 against none: {:.1e} m/s, {:.1e} m/s^2; --lowpass 2: {:.1e} m/s",
+        worst[0].0, worst[0].1, worst[1].0
+    );
+    assert!(worst[0].0 < 1e-4 && worst[0].1 < 1e-2, "{worst:?}");
+    assert!(worst[1].0 > 1e-2, "{worst:?}");
+}
