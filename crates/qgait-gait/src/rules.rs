@@ -42,6 +42,10 @@ pub const FROUDE_FLOOR: f64 = 0.25;
 pub const OVERGROUND: f64 = 0.5;
 /// The search half-window, as a fraction of the median stride time.
 pub const HALF: f64 = 0.5;
+/// The window for a foot's swing peak next to its mid-stance, as a fraction of the median
+/// stride time: from mid-stance (about 30 % of the cycle) the same foot's swing peak is about
+/// 45 % of a stride away, the other stance's mid-point a whole stride.
+pub const SWING: f64 = 0.75;
 /// The knee-extension window ends this fraction of the stride time after Zeni's toe off.
 pub const KNEE_AFTER: f64 = 0.1;
 /// Gravity (m/s²), for the Froude number.
@@ -236,6 +240,9 @@ impl Signals<'_> {
     fn argmin(&self, r: std::ops::Range<usize>, f: impl Fn(usize) -> f64) -> Option<usize> {
         r.min_by(|&a, &b| f(a).total_cmp(&f(b)))
     }
+    fn argmax(&self, r: std::ops::Range<usize>, f: impl Fn(usize) -> f64) -> Option<usize> {
+        r.max_by(|&a, &b| f(a).total_cmp(&f(b)))
+    }
 }
 
 /// The time where `f` crosses `level` between frames `k - 1` and `k` (linear).
@@ -287,9 +294,13 @@ fn threshold_pass(
             let Some(c) = s.argmin(s.frames(h.frame, h.time, h.time + half), fore) else {
                 continue;
             };
-            let r = s.frames(c, time[c] - half, time[c]);
-            let found = (r.start + 1..r.end)
-                .rev()
+            // The first fall below the level after the heel's swing peak: on the steep flank
+            // of the swing, not where the speed hovers near the level in early stance (slow
+            // walking, an IMU solution's noisier feet).
+            let Some(p) = s.argmax(s.frames(c, time[c] - SWING * s.stride, time[c]), heel) else {
+                continue;
+            };
+            let found = (p + 1..=c)
                 .find(|&k| heel(k - 1) >= heel_level && heel(k) < heel_level)
                 .map(|k| cross(time, &heel, k, heel_level));
             if let Some(t) = found {
@@ -300,8 +311,12 @@ fn threshold_pass(
             let Some(c) = s.argmin(s.frames(o.frame, o.time - half, o.time), fore) else {
                 continue;
             };
-            let r = s.frames(c, time[c], time[c] + half);
-            let found = (r.start.max(1)..r.end)
+            // The last rise above the level before the toe's swing peak (as for heel strike).
+            let Some(p) = s.argmax(s.frames(c, time[c], time[c] + SWING * s.stride), toe) else {
+                continue;
+            };
+            let found = (c.max(1)..=p)
+                .rev()
                 .find(|&k| toe(k - 1) <= toe_level && toe(k) > toe_level)
                 .map(|k| cross(time, &toe, k, toe_level));
             if let Some(t) = found {
