@@ -352,3 +352,48 @@ fn errors_are_one_line_and_non_zero() {
         assert!(!err.contains("panicked"));
     }
 }
+
+/// A motion that moves coordinates the model does not have (PHAK: no pelvis tilt, hip
+/// adduction or rotation) gets one warning naming them and the model that has them; the
+/// joint centres are PHAK's all the same. gait2392 has them all: no such warning.
+#[test]
+fn coordinates_the_model_lacks_are_named_in_one_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let columns = format!("{COLUMNS}\thip_adduction_r\tpelvis_tilt\thip_rotation_l");
+    let rows: String = ROWS_DEG
+        .iter()
+        .map(|r| {
+            let v: Vec<String> = r.iter().map(|x| x.to_string()).collect();
+            format!("{}\t0\t0\t0\n", v.join("\t"))
+        })
+        .collect();
+    let still = write(
+        dir.path(),
+        "still.mot",
+        &format!("g\ninDegrees=yes\nendheader\n{columns}\n{rows}"),
+    );
+    let moving_rows = rows.replacen("\t0\t0\t0\n", "\t-4.9\t0\t7.5\n", 2);
+    let moving = write(
+        dir.path(),
+        "moving.mot",
+        &format!("g\ninDegrees=yes\nendheader\n{columns}\n{moving_rows}"),
+    );
+    let (_, base, warn) = fk_ok(&["fk", &still]);
+    assert!(!warn.contains("does not have"), "{warn}");
+    let (_, got, warn) = fk_ok(&["fk", &moving]);
+    assert_eq!(got, base, "PHAK's joint centres do not depend on them");
+    let lines: Vec<&str> = warn
+        .lines()
+        .filter(|l| l.contains("does not have"))
+        .collect();
+    assert_eq!(lines.len(), 1, "{warn}");
+    assert!(
+        lines[0].contains("`hip_adduction_r` (-4.9° at line 5)")
+            && lines[0].contains("`hip_rotation_l` (7.5° at line 5)")
+            && !lines[0].contains("pelvis_tilt")
+            && lines[0].contains("--model gait2392"),
+        "{warn}"
+    );
+    let (_, _, warn) = fk_ok(&["fk", &moving, "--model", "gait2392"]);
+    assert!(!warn.contains("does not have"), "{warn}");
+}

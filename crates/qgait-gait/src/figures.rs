@@ -460,12 +460,13 @@ impl Figure for EventsFigure<'_> {
     ) -> Result<(), figure::PlotError> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, area) = root.split_vertically(110);
+        let method = if self.report.walks.iter().all(|w| w.gait.is_some()) {
+            "Gait events (foot-velocity rules R of docs/gait-analysis.md)"
+        } else {
+            "Gait events (Zeni et al. 2008 where a recording has too few strides for the rules)"
+        };
         header
-            .draw_text(
-                "Gait events (Zeni et al. 2008)",
-                &figure::bold(24),
-                (16, 10),
-            )
+            .draw_text(method, &figure::bold(24), (16, 10))
             .map_err(draw_err)?;
         header
             .draw_text(

@@ -11,6 +11,7 @@
 //! warning says so: OpenSim's CMC and RRA write `Kinematics_q.sto` in degrees under
 //! `inDegrees=no`, and such a file otherwise gives a knee above the hip.
 
+use qgait_kernel::models::gait2392::COORDINATES as GAIT2392_COORDINATES;
 use qgait_kernel::models::ranges;
 
 use crate::error::ModelError;
@@ -65,6 +66,10 @@ pub struct Picker<const N: usize> {
     /// Per name, the first value in its unread column beyond [`UNREAD_NOISE_RAD`] (radians)
     /// and where.
     unread_first: Vec<Option<(f64, String)>>,
+    /// gait2392 coordinates the motion has and `names` lacks (PHAK has no pelvis list or
+    /// rotation, no hip adduction or rotation): name, column, the first value beyond
+    /// [`UNREAD_NOISE_RAD`] (radians) and where.
+    unmodelled: Vec<(&'static str, usize, Option<(f64, String)>)>,
 }
 
 impl<const N: usize> Picker<N> {
@@ -119,6 +124,11 @@ impl<const N: usize> Picker<N> {
             }
             c
         });
+        let unmodelled = GAIT2392_COORDINATES
+            .iter()
+            .filter(|c| !names.contains(c))
+            .filter_map(|c| Some((*c, header.index_of(c)?, None)))
+            .collect();
         let scale = if header.in_degrees {
             std::f64::consts::PI / 180.0
         } else {
@@ -137,6 +147,7 @@ impl<const N: usize> Picker<N> {
                 checks: vec![RangeCheck::default(); N],
                 unread,
                 unread_first: vec![None; N],
+                unmodelled,
             },
             warnings,
         ))
@@ -155,6 +166,12 @@ impl<const N: usize> Picker<N> {
         for (c, first) in self.unread.iter().zip(&mut self.unread_first) {
             let Some(c) = *c else { continue };
             let v = value(c) * self.scale;
+            if first.is_none() && v.abs() > UNREAD_NOISE_RAD && v.is_finite() {
+                *first = Some((v, at()));
+            }
+        }
+        for (_, c, first) in &mut self.unmodelled {
+            let v = value(*c) * self.scale;
             if first.is_none() && v.abs() > UNREAD_NOISE_RAD && v.is_finite() {
                 *first = Some((v, at()));
             }
@@ -244,6 +261,24 @@ impl<const N: usize> Picker<N> {
                     show_degrees(first.to_degrees()),
                 )));
             }
+        }
+        let moved: Vec<String> = self
+            .unmodelled
+            .iter()
+            .filter_map(|(name, _, first)| {
+                let (v, at) = first.as_ref()?;
+                Some(format!(
+                    "`{name}` ({}° at {at})",
+                    show_degrees(v.to_degrees())
+                ))
+            })
+            .collect();
+        if !moved.is_empty() {
+            warnings.push(Warning(format!(
+                "{}: the motion moves {}, which the model does not have: they are ignored, so its joint centres differ from those of the motion's own model (gait2392 has them: `--model gait2392`, or the subject's scaled .osim)",
+                self.source,
+                moved.join(", "),
+            )));
         }
         if !look_like_degrees.is_empty() {
             warnings.push(Warning(format!(

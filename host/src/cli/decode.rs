@@ -163,8 +163,9 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
     warn_cut_off(&args.log, counts.unterminated);
     match end {
         port::End::Failed(e) => Err(e.into()),
-        // A file (garbage, a `.mot`) without a single good frame: nothing was found.
-        _ if !live && counts.poses + counts.statuses + counts.other == 0 => {
+        // A file (garbage, a `.mot`) read to its end without a single good frame: nothing
+        // was found. (A live input stopped by --seconds or --idle may simply have been quiet.)
+        port::End::InputEnded if !live && counts.poses + counts.statuses + counts.other == 0 => {
             anyhow::bail!(
                 "{}: nothing was found: {} bytes without a single qgait frame (not a device log; a .mot/.sto motion goes to `qgait gait` or `qgait fk`)",
                 args.log,

@@ -70,6 +70,8 @@ pub fn run_report(args: ReportArgs, diagnostics: &Diagnostics) -> anyhow::Result
         }
         let (table, w) = load_motion(spec)?;
         warn(w);
+        let (table, w) = one_cycle(spec, table);
+        warn(w);
         tables.push((label, table));
     }
     let rows: usize = tables.iter().map(|(_, t)| t.rows()).sum();
@@ -91,4 +93,39 @@ pub fn run_report(args: ReportArgs, diagnostics: &Diagnostics) -> anyhow::Result
         output.display()
     ));
     Ok(())
+}
+
+/// The figures are drawn over one gait cycle per motion (0-100 % of its rows' time). A
+/// recording of several strides (its events found by `qgait gait`'s rules on gait2392) is cut
+/// to its first complete right stride, with a warning that says so; one that holds a single
+/// cycle (a `builtin:` gait), or whose strides cannot be found, is drawn whole.
+fn one_cycle(
+    spec: &str,
+    table: qgait_opensim::mot::MotionTable,
+) -> (qgait_opensim::mot::MotionTable, Vec<Warning>) {
+    // A `builtin:` gait is one cycle by construction.
+    if spec.starts_with("builtin:") {
+        return (table, Vec::new());
+    }
+    let strides = qgait_model::choice::Model::load("gait2392", None)
+        .ok()
+        .and_then(|(model, _)| qgait_gait::trial::load(spec, &model).ok())
+        .and_then(|(trial, _)| qgait_gait::analyse(trial, qgait_gait::CycleMode::Auto).ok());
+    let Some(walk) = strides else {
+        return (table, Vec::new());
+    };
+    let [right, left] = walk.strides();
+    let Some(first) = walk.cycles[0].first() else {
+        return (table, Vec::new());
+    };
+    if right + left < 2 {
+        return (table, Vec::new());
+    }
+    let (t0, t1) = (first.start, first.start + first.duration);
+    let time = table.time().to_vec();
+    let cut = table.without_rows(|r| time[r] < t0 - 1e-9 || time[r] > t1 + 1e-9);
+    let warning = Warning(format!(
+        "{spec}: {right} right and {left} left strides; the report draws one gait cycle per motion: the first right stride, heel strike at {t0:.3} s to the next at {t1:.3} s (`qgait gait` averages every stride)"
+    ));
+    (cut, vec![warning])
 }
