@@ -388,8 +388,8 @@ fn coordinates_the_model_lacks_are_named_in_one_warning() {
         .collect();
     assert_eq!(lines.len(), 1, "{warn}");
     assert!(
-        lines[0].contains("`hip_adduction_r` (-4.9° at line 5)")
-            && lines[0].contains("`hip_rotation_l` (7.5° at line 5)")
+        lines[0].contains("`hip_adduction_r` (-4.90° at line 5)")
+            && lines[0].contains("`hip_rotation_l` (7.50° at line 5)")
             && !lines[0].contains("pelvis_tilt")
             && lines[0].contains("--model gait2392"),
         "{warn}"

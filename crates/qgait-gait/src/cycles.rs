@@ -158,13 +158,14 @@ pub fn strides(
     (out, dropped)
 }
 
-/// The whole recording as one cycle (a single-cycle file, `--cycle whole`). The side whose
-/// heel is further forward at the first frame strikes there, and its cycle is the recording.
-/// The other side's cycle starts at its own heel strike inside the recording, taking the
-/// recording as periodic (its last frame is the first frame of the next cycle): frames from
-/// that strike to the end, then from the second frame up to the strike. Without a heel strike
-/// of the other side, its cycle is the recording too. Toe offs and the other side's events
-/// are the detected ones inside the recording.
+/// The whole recording as one cycle (a single-cycle file, `--cycle whole`), taken as periodic
+/// (its last frame is the first frame of the next cycle). Each side's cycle starts at its
+/// detected heel strike: at the first frame when one is detected within [`AT_AN_END`] of the
+/// period from either end (a file cut at heel strike, as single-cycle files are), else at the
+/// first one inside the recording (a recording that starts mid-swing): frames from that strike
+/// to the end, then from the second frame up to the strike. A side without a detected heel
+/// strike has the recording as it is for its cycle. Toe offs and the other side's events are
+/// the detected ones inside the recording.
 pub fn whole(time: &[f64], heel_forward: [&[f64]; 2], events: &Events) -> [Cycle; 2] {
     let n = time.len();
     let (t0, t_end) = (time[0], time[n - 1]);
@@ -174,13 +175,17 @@ pub fn whole(time: &[f64], heel_forward: [&[f64]; 2], events: &Events) -> [Cycle
     } else {
         1
     };
-    let start_of = |s: usize| -> f64 {
-        if s == first {
+    let starts = [0, 1].map(|s: usize| -> f64 {
+        let strikes = &events.heel_strike[s];
+        let near_an_end = |t: f64| (t - t0).min(t_end - t) <= AT_AN_END * period;
+        if strikes.iter().any(|e| near_an_end(e.time)) {
             t0
         } else {
-            events.heel_strike[s].first().map_or(t0, |e| e.time)
+            strikes.first().map_or(t0, |e| e.time)
         }
-    };
+    });
+    let detected = [0, 1].map(|s| !events.heel_strike[s].is_empty());
+    let start_of = |s: usize| starts[s];
     let phase = |t: f64, start: f64| (t - start).rem_euclid(period);
     let one = |list: &[crate::events::Event], start: f64| -> Option<f64> {
         list.first().map(|e| phase(e.time, start))
@@ -208,16 +213,23 @@ pub fn whole(time: &[f64], heel_forward: [&[f64]; 2], events: &Events) -> [Cycle
             strike_frame,
             samples,
             toe_off: one(&events.toe_off[s], start),
-            opposite_strike: if o == first {
+            opposite_strike: if detected[o] {
+                Some(phase(starts[o], start)).filter(|p| *p > 0.0)
+            } else if o == first {
                 Some(phase(t0, start)).filter(|p| *p > 0.0)
             } else {
-                one(&events.heel_strike[o], start)
+                None
             },
             opposite_toe_off: one(&events.toe_off[o], start),
             span: (0, n - 1),
         }
     })
 }
+
+/// A heel strike detected within this fraction of the period of either end of a whole
+/// recording is taken as the recording's start (a single-cycle file cut at heel strike; the
+/// detectors place an event at an end a frame or two in).
+pub const AT_AN_END: f64 = 0.05;
 
 /// Mean and SD at each point of curves of equal length.
 #[derive(Clone, Debug, PartialEq)]

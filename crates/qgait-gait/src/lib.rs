@@ -40,7 +40,9 @@ pub enum AnalysisError {
         recording: String,
     },
     /// Not one complete stride on either side.
-    #[error("{recording}: no complete stride found ({right} heel strikes right, {left} left); for a file that holds one gait cycle, use --cycle whole")]
+    #[error(
+        "{recording}: no complete stride found ({right} heel strikes right, {left} left){hint}"
+    )]
     NoStride {
         /// The recording.
         recording: String,
@@ -48,8 +50,14 @@ pub enum AnalysisError {
         right: usize,
         /// Left heel strikes detected.
         left: usize,
+        /// What may help, where something does ([`Walk::require_strides`]).
+        hint: String,
     },
 }
+
+/// The longest recording for which `--cycle whole` is suggested (s): a gait cycle lasts about
+/// 0.6 s (a run) to 1.6 s (a slow walk); a recording of 2 s or more would hold strides.
+pub const ONE_CYCLE_AT_MOST: f64 = 2.0;
 
 /// How the cycles are found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -215,10 +223,25 @@ impl Walk {
         if self.cycles.iter().any(|c| !c.is_empty()) {
             return Ok(());
         }
+        let t = &self.trial.time;
+        let duration = t[t.len() - 1] - t[0];
+        let hint = if !self.trial.breaks.is_empty() {
+            format!(
+                "; its {} stretches between gaps in time are each too short for a stride (see the warnings about gaps)",
+                self.trial.breaks.len() + 1
+            )
+        } else if duration <= ONE_CYCLE_AT_MOST {
+            format!(
+                "; the recording is {duration:.2} s long: for a file that holds one gait cycle, use --cycle whole"
+            )
+        } else {
+            format!("; in {duration:.1} s without a gap, no stride whose events pair up: is it a walk or a run?")
+        };
         Err(AnalysisError::NoStride {
             recording: self.trial.source.clone(),
             right: self.events.heel_strike[0].len(),
             left: self.events.heel_strike[1].len(),
+            hint,
         })
     }
 
