@@ -35,7 +35,7 @@ fn bench(c: &mut Criterion) {
     assert!(status.success());
     let mot = mot.to_str().expect("utf-8 path").to_string();
     let (model, _) = Model::load("gait2392", None).expect("gait2392");
-    let normative = shared.join("normative");
+    let normative = qgait_gait::normative::Source::Dir(shared.join("normative"));
     let analysis = || {
         let (t, _) = trial::load(&mot, &model).expect("loads");
         let walk = analyse(t, CycleMode::Auto).expect("analyses");

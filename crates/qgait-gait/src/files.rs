@@ -37,6 +37,19 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
         spatiotemporal_csv(&report.parameters)?,
     )?;
     put(&mut files, "summary.json", summary_json(report))?;
+    let bouts: Vec<(&str, Vec<crate::bouts::Bout>)> = report
+        .walks
+        .iter()
+        .map(|w| (w.trial.source.as_str(), crate::bouts::bouts(w)))
+        .collect();
+    put(
+        &mut files,
+        "bouts.csv",
+        crate::bouts::csv(&bouts).map_err(|error| ReportError::Csv {
+            file: "bouts.csv",
+            error,
+        })?,
+    )?;
     if let Some(s) = &report.scores {
         put(&mut files, "gps.csv", gps_csv(s)?)?;
     }
@@ -165,11 +178,30 @@ pub fn summary_json(report: &Report) -> String {
         }
     }
     let first = report.walks.first().and_then(|w| w.gait.as_ref());
+    let mut durations: Vec<f64> = report
+        .walks
+        .iter()
+        .flat_map(crate::bouts::bouts)
+        .map(|b| b.end - b.start)
+        .collect();
+    durations.sort_by(f64::total_cmp);
+    let bouts = serde_json::json!({
+        "count": durations.len(),
+        "walking_time": durations.iter().sum::<f64>(),
+        "duration_median": durations.get(durations.len() / 2),
+        "duration_max": durations.last(),
+        "rule": format!(
+            "strides at most {} s apart, at least {} of one side (bouts.csv)",
+            crate::bouts::MAX_PAUSE,
+            crate::bouts::MIN_STRIDES
+        ),
+    });
     let value = serde_json::json!({
         "mode": first.map(|g| g.mode.name()),
         "ground": first.map_or("unknown", |g| g.ground.name()),
         "recordings": recordings,
         "headline": headline,
+        "bouts": bouts,
     });
     serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"
 }

@@ -2,6 +2,7 @@
 #![warn(missing_docs)]
 
 pub mod angles;
+pub mod bouts;
 pub mod cycles;
 pub mod error;
 pub mod events;
@@ -304,6 +305,15 @@ mod tests {
             .0
     }
 
+    /// The built-in normal walk with `cycles` in place of its own (a test of what reads
+    /// only the cycles).
+    pub(crate) fn walk_with_cycles(cycles: [Vec<Cycle>; 2]) -> Walk {
+        let mut w = builtin_walk("cycles");
+        w.cycles = cycles;
+        w.gait = None;
+        w
+    }
+
     /// The built-in normal cycle, analysed as one whole cycle.
     fn builtin_walk(label: &str) -> Walk {
         let (mut t, _) = trial::load("builtin:normal", &gait2392()).expect("loads");
@@ -398,7 +408,7 @@ mod tests {
                 CycleMode::Whole,
                 reference,
                 walks,
-                std::path::Path::new("/nonexistent"),
+                &crate::normative::Source::Dir("/nonexistent".into()),
                 Subject::default(),
             )
         };
@@ -452,7 +462,7 @@ mod tests {
             CycleMode::Whole,
             &motion,
             Some(vec![builtin_walk("ref.mot")]),
-            std::path::Path::new("/nonexistent"),
+            &crate::normative::Source::Dir("/nonexistent".into()),
             Subject::default(),
         )
         .unwrap();

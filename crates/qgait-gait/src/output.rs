@@ -1,8 +1,6 @@
 //! The whole analysis of `qgait gait` and the files it writes: `events.csv`,
 //! `spatiotemporal.csv`, `gps.csv`, `cycles/*.csv`, the figures and `report.html`.
 
-use std::path::Path;
-
 use crate::angles::Variable;
 use crate::cycles::Curve;
 use crate::error::ReportError;
@@ -101,7 +99,7 @@ pub fn build(
     mode: CycleMode,
     reference: &ReferenceArg,
     reference_walks: Option<Vec<Walk>>,
-    normative_dir: &Path,
+    normative: &crate::normative::Source,
     subject: Subject,
 ) -> Result<Report, ReportError> {
     let curves = curves(&walks);
@@ -125,10 +123,10 @@ pub fn build(
     };
     // Normal ranges.
     let mut ranges_for = None;
-    let stp_path = normative_dir.join("stp_normals.txt");
+    let stp_name = normative.name("stp_normals.txt");
     let needs_groups = matches!(reference, ReferenceArg::Normative(None));
     let normals = if subject.age.is_some() || needs_groups {
-        Some(StpNormals::read(&stp_path)?)
+        Some(StpNormals::load(normative)?)
     } else {
         None
     };
@@ -139,7 +137,7 @@ pub fn build(
         if !normals.holds(age, subject.male) {
             let (min, max) = normals.ages(subject.male).unwrap_or((f64::NAN, f64::NAN));
             return Err(NormativeError::AgeOutside {
-                path: stp_path.display().to_string(),
+                path: stp_name.clone(),
                 age,
                 sex: sex_words(subject.male),
                 min,
@@ -165,7 +163,7 @@ pub fn build(
             ranges_for = Some(format!(
                 "{sex}, {age} years, pace `{pace}` {} ({}){}",
                 choice.words(),
-                stp_path.display(),
+                stp_name,
                 if by_speed && needs_groups {
                     "; the kinematic bands' speed group is picked by cadence, so the two may differ"
                 } else {
@@ -190,7 +188,7 @@ pub fn build(
                 speed.words(),
                 round(c, 1),
                 g.from,
-                stp_path.display()
+                stp_name
             ));
             speed
         }),
@@ -199,7 +197,7 @@ pub fn build(
     let reference = match (reference, reference_walks) {
         (ReferenceArg::Normative(speed), _) => {
             let speed = speed.or(chosen).unwrap_or(Speed::Free);
-            normative_reference(&normative_dir.join("Schwartz2008.json"), speed)?
+            normative_reference(normative, speed)?
         }
         (ReferenceArg::Motion(m), Some(rw)) => {
             let c = crate::curves(&rw);
@@ -323,8 +321,11 @@ pub fn check_possible(walks: &[Walk], parameters: &[Parameter]) -> Result<(), Re
 }
 
 /// The normative data at one speed as a reference.
-pub fn normative_reference(path: &Path, speed: Speed) -> Result<Reference, NormativeError> {
-    let k = Kinematics::read(path, speed)?;
+pub fn normative_reference(
+    source: &crate::normative::Source,
+    speed: Speed,
+) -> Result<Reference, NormativeError> {
+    let k = Kinematics::load(source, speed)?;
     let mut bands: [[Option<Band>; 9]; 2] = Default::default();
     for (v, var) in Variable::ALL.iter().enumerate() {
         let (name, axis) = var.normative();
@@ -342,7 +343,11 @@ pub fn normative_reference(path: &Path, speed: Speed) -> Result<Reference, Norma
         }
     }
     Ok(Reference {
-        label: format!("Schwartz et al. 2008, {} speed", speed.key()),
+        label: format!(
+            "Schwartz et al. 2008, {} speed ({})",
+            speed.key(),
+            source.describe()
+        ),
         speed: Some(speed),
         bands,
         extra,

@@ -144,6 +144,9 @@ pub struct Gait {
     pub travel_ratio: Option<f64>,
     /// Doubts about the mode (a slow jog, a fast walk, a duty factor against the mode).
     pub notes: Vec<String>,
+    /// The speed measured over each stride (walking) or stance (running) the speed came from:
+    /// `(start, end, speed)` in s, s, m/s, in no particular order (none for a given speed).
+    pub local_speeds: Vec<(f64, f64, f64)>,
 }
 
 /// Velocities (m/s) relative to the pelvis origin, in ground axes, of one foot's points.
@@ -391,6 +394,7 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
     };
     // Step 2: the mid-stance median.
     let mut samples = Vec::new();
+    let mut stance_speeds = Vec::new();
     for side in 0..2 {
         for h in &anchors.heel_strike[side] {
             let Some(o) = anchors.toe_off[side]
@@ -406,6 +410,7 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
                     .collect::<Vec<_>>(),
             ) {
                 samples.push(m);
+                stance_speeds.push((h.time, o.time, m));
             }
         }
     }
@@ -435,6 +440,7 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
         .sum::<f64>()
         / 2.0;
     let running = first_duty < RUN_DUTY && v0 * v0 / (G * leg_length) >= FROUDE_FLOOR;
+    let mut local = Vec::new();
     let (mode, speed, events) = if running {
         // Step 5b.
         let mut events = Events {
@@ -462,13 +468,16 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
                 events.toe_off[side] = list;
             }
         }
+        if input.given_speed.is_none() {
+            local = stance_speeds;
+        }
         (Mode::Running, v0, events)
     } else {
         // Step 5a.
         let v = match input.given_speed {
             Some(v) => v,
             None => {
-                let per_stride: Vec<f64> = (0..2)
+                let per_stride: Vec<(f64, f64, f64)> = (0..2)
                     .flat_map(|side| strides(&s, &first, side))
                     .filter_map(|(a, b, _)| {
                         let r = s.frames(event(time, a).frame, a, b);
@@ -490,11 +499,13 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
                             })
                             .collect();
                         (!values.is_empty())
-                            .then(|| values.iter().sum::<f64>() / values.len() as f64)
+                            .then(|| (a, b, values.iter().sum::<f64>() / values.len() as f64))
                     })
                     .collect();
                 method = SpeedMethod::LowestPointStrideIntegral;
-                median(per_stride)?
+                let v = median(per_stride.iter().map(|p| p.2).collect())?;
+                local = per_stride;
+                v
             }
         };
         let events = threshold_pass(&s, anchors, v, WALK_SPEED, WALK_SPEED);
@@ -555,6 +566,7 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
             froude,
             travel_ratio,
             notes,
+            local_speeds: local,
         },
     ))
 }

@@ -437,7 +437,7 @@ fn report(
         CycleMode::Auto,
         &qgait_gait::output::ReferenceArg::Motion(reference),
         Some(vec![r]),
-        Path::new("/nonexistent"),
+        &qgait_gait::normative::Source::Dir("/nonexistent".into()),
         qgait_gait::output::Subject::default(),
     )
 }

@@ -69,8 +69,11 @@ pub struct Picker<const N: usize> {
     /// gait2392 coordinates the motion has and `names` lacks (PHAK has no pelvis list or
     /// rotation, no hip adduction or rotation): name, column, the first value beyond
     /// [`UNREAD_NOISE_RAD`] (radians) and where.
-    unmodelled: Vec<(&'static str, usize, Option<(f64, String)>)>,
+    unmodelled: Vec<(&'static str, usize, Option<FirstValue>)>,
 }
+
+/// A column's first value beyond the noise (radians) and where it is.
+type FirstValue = (f64, String);
 
 impl<const N: usize> Picker<N> {
     /// Maps `names` to the columns of `header`. The PHAK leg columns ([`LEG_COLUMNS`]) are

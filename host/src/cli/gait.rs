@@ -45,8 +45,8 @@ pub struct GaitArgs {
     /// The subject's sex, for the normal ranges (default: the range of either).
     #[arg(long, value_enum)]
     pub sex: Option<SexArg>,
-    /// The directory with `Schwartz2008.json` and `stp_normals.txt` (default:
-    /// `$QGAIT_NORMATIVE`, or `../shared/data/normative`).
+    /// A directory with `Schwartz2008.json` and `stp_normals.txt` to use instead of the data
+    /// compiled into qgait (default: `$QGAIT_NORMATIVE`, else those compiled in).
     #[arg(long, value_name = "DIR")]
     pub normative: Option<PathBuf>,
     /// A known belt speed (m/s): used for the event thresholds and the lengths instead of
@@ -141,10 +141,10 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     for w in walks.iter().chain(reference_walks.iter().flatten()) {
         w.require_strides()?;
     }
-    let normative_dir = args
-        .normative
-        .clone()
-        .unwrap_or_else(gait::normative::default_dir);
+    let normative = match &args.normative {
+        Some(dir) => gait::normative::Source::Dir(dir.clone()),
+        None => gait::normative::Source::default_for_run(),
+    };
     let subject = Subject {
         age: args.age,
         male: args.sex.map(|s| s == SexArg::Male),
@@ -161,7 +161,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         mode,
         &reference,
         reference_walks,
-        &normative_dir,
+        &normative,
         subject,
     )?;
     let files = qgait_gait::files::write(&report, &args.output)?;

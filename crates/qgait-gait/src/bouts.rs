@@ -1,0 +1,187 @@
+//! Walking bouts: a free-living recording is walking between standing, sitting and lying.
+//!
+//! A bout is a run of strides (both sides' cycles, [`crate::cycles`]) in which each stride
+//! starts at most [`MAX_PAUSE`] after the bout so far has ended, holding at least
+//! [`MIN_STRIDES`] strides of one side. This is the definition of the wearable-gait literature
+//! (the Mobilise-D consortium's: strides separated by at most 3 s belong to one bout, Kluge et
+//! al. 2021; Micó-Amigo et al. 2023), with three strides rather than two as the least bout, so
+//! that a bout's cadence is a mean over at least three cycles. Strides left out of the analysis
+//! (turning, a missed event, a gap in the recording) count as pauses, which is how a long turn
+//! splits a bout.
+
+use crate::rules::Gait;
+use crate::Walk;
+
+/// The longest pause (s) between the end of a bout's strides and the next stride's start.
+pub const MAX_PAUSE: f64 = 3.0;
+
+/// The fewest strides of one side in a bout.
+pub const MIN_STRIDES: usize = 3;
+
+/// One walking bout.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bout {
+    /// The first stride's heel strike (s).
+    pub start: f64,
+    /// The last stride's end: its next heel strike (s).
+    pub end: f64,
+    /// Strides of the right and the left side.
+    pub strides: [usize; 2],
+    /// Steps per minute: 120 over the bout's mean stride time.
+    pub cadence: f64,
+    /// Median of the speeds measured over the bout's strides ([`Gait::local_speeds`]), else
+    /// the recording's speed; `None` without a speed.
+    pub speed: Option<f64>,
+}
+
+/// The bouts of a recording, in time order.
+pub fn bouts(walk: &Walk) -> Vec<Bout> {
+    let mut strides: Vec<(f64, f64, usize)> = (0..2)
+        .flat_map(|s| {
+            walk.cycles[s]
+                .iter()
+                .map(move |c| (c.start, c.start + c.duration, s))
+        })
+        .collect();
+    strides.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut groups: Vec<Vec<(f64, f64, usize)>> = Vec::new();
+    for st in strides {
+        match groups.last_mut() {
+            Some(g) if st.0 <= g.iter().map(|x| x.1).fold(f64::MIN, f64::max) + MAX_PAUSE => {
+                g.push(st)
+            }
+            _ => groups.push(vec![st]),
+        }
+    }
+    groups
+        .into_iter()
+        .filter_map(|g| {
+            let strides = [0, 1].map(|s| g.iter().filter(|x| x.2 == s).count());
+            if strides.iter().all(|&n| n < MIN_STRIDES) {
+                return None;
+            }
+            let start = g.iter().map(|x| x.0).fold(f64::MAX, f64::min);
+            let end = g.iter().map(|x| x.1).fold(f64::MIN, f64::max);
+            let mean_stride = g.iter().map(|x| x.1 - x.0).sum::<f64>() / g.len() as f64;
+            Some(Bout {
+                start,
+                end,
+                strides,
+                cadence: 120.0 / mean_stride,
+                speed: walk
+                    .gait
+                    .as_ref()
+                    .and_then(|gait| speed_in(gait, start, end)),
+            })
+        })
+        .collect()
+}
+
+/// The median of the local speeds whose span lies in `[start, end]`, else the recording's.
+fn speed_in(gait: &Gait, start: f64, end: f64) -> Option<f64> {
+    let mut v: Vec<f64> = gait
+        .local_speeds
+        .iter()
+        .filter(|(a, b, s)| *a >= start - 1e-9 && *b <= end + 1e-9 && s.is_finite())
+        .map(|x| x.2)
+        .collect();
+    if v.is_empty() {
+        return gait.speed.is_finite().then_some(gait.speed);
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    Some(if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        (v[n / 2 - 1] + v[n / 2]) / 2.0
+    })
+}
+
+/// `bouts.csv`: `recording,start,end,duration,strides_right,strides_left,cadence,speed` (s,
+/// s, s, -, -, steps/min, m/s; an empty speed where there is none).
+pub fn csv(recordings: &[(&str, Vec<Bout>)]) -> Result<String, csv::Error> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "recording",
+        "start",
+        "end",
+        "duration",
+        "strides_right",
+        "strides_left",
+        "cadence",
+        "speed",
+    ])?;
+    for (label, bouts) in recordings {
+        for b in bouts {
+            w.write_record([
+                label.to_string(),
+                format!("{:.3}", b.start),
+                format!("{:.3}", b.end),
+                format!("{:.3}", b.end - b.start),
+                b.strides[0].to_string(),
+                b.strides[1].to_string(),
+                format!("{:.2}", b.cadence),
+                b.speed.map_or(String::new(), |v| format!("{v:.3}")),
+            ])?;
+        }
+    }
+    let bytes = w.into_inner().map_err(|e| e.into_error())?;
+    Ok(String::from_utf8(bytes).unwrap_or_default())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::Cycle;
+
+    fn cycle(side: usize, start: f64, duration: f64) -> Cycle {
+        Cycle {
+            side,
+            start,
+            duration,
+            strike_frame: 0,
+            samples: Vec::new(),
+            toe_off: None,
+            opposite_strike: None,
+            opposite_toe_off: None,
+            span: (0, 0),
+        }
+    }
+
+    fn strides_between(t0: f64, t1: f64, period: f64) -> [Vec<Cycle>; 2] {
+        let mut out: [Vec<Cycle>; 2] = Default::default();
+        for (s, offset) in [(0, 0.0), (1, period / 2.0)] {
+            let mut t = t0 + offset;
+            while t + period <= t1 + 1e-9 {
+                out[s].push(cycle(s, t, period));
+                t += period;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn pauses_over_three_seconds_split_bouts_and_short_runs_are_not_bouts() {
+        let [mut r, mut l] = strides_between(5.0, 20.0, 1.0);
+        // A pause of 2.5 s does not split; one of 10 s does; two strides are no bout.
+        for (t0, t1) in [(22.5, 30.0), (40.0, 50.0), (60.0, 62.2)] {
+            let [a, b] = strides_between(t0, t1, 1.0);
+            r.extend(a);
+            l.extend(b);
+        }
+        let walk = crate::tests::walk_with_cycles([r, l]);
+        let b = bouts(&walk);
+        assert_eq!(b.len(), 2, "{b:?}");
+        assert_eq!((b[0].start, b[0].end), (5.0, 30.0));
+        assert_eq!((b[1].start, b[1].end), (40.0, 50.0));
+        assert_eq!(b[1].strides, [10, 9]);
+        assert!((b[1].cadence - 120.0).abs() < 1e-9);
+        let text = csv(&[("w", b)]).unwrap();
+        assert_eq!(text.lines().count(), 3, "{text}");
+        assert!(text
+            .lines()
+            .nth(2)
+            .unwrap()
+            .starts_with("w,40.000,50.000,10.000,10,9,120.00,"));
+    }
+}
