@@ -160,3 +160,46 @@ fn decode_of_what_is_not_a_log_says_nothing_was_found() {
         assert!(stderr(&o).contains("nothing was found"), "{}", stderr(&o));
     }
 }
+
+/// `decode --rate HZ` gives each frame its time, `seq / HZ` (a hub's frames carry the sample's
+/// sequence number), so that `gait` can read the CSV; without it the column is empty and
+/// `gait` says how to get the times. A rate that is not above 0 is refused.
+#[test]
+fn decode_with_the_sampling_rate_writes_each_frames_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hub.bin");
+    std::fs::write(&log, hub_log([100, 101, 103])).unwrap();
+    let log = log.to_str().unwrap();
+    let o = qgait(&["decode", log, "--rate", "50"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let times: Vec<String> = stdout(&o)
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().to_string())
+        .collect();
+    assert_eq!(times, ["2", "2.02", "2.06"]);
+
+    let o = qgait(&["decode", log]);
+    let csv = dir.path().join("frames.csv");
+    std::fs::write(&csv, stdout(&o)).unwrap();
+    let o = qgait(&[
+        "gait",
+        csv.to_str().unwrap(),
+        "-o",
+        dir.path().join("g").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("qgait decode --rate HZ"),
+        "{}",
+        stderr(&o)
+    );
+
+    for bad in ["0", "-100", "nan"] {
+        let o = qgait(&["decode", log, &format!("--rate={bad}")]);
+        assert!(
+            !o.status.success() && stderr(&o).contains("not a sampling rate"),
+            "{bad}"
+        );
+    }
+}

@@ -22,9 +22,24 @@ pub struct DecodeArgs {
     /// Output format on standard output.
     #[arg(long, value_enum, default_value = "csv")]
     pub format: Format,
+    /// The nodes' sampling rate (Hz): the CSV's `time` is then each frame's sample `seq` over
+    /// it. A hub's frames carry the sample's sequence number, not its time; nodes sample at a
+    /// fixed rate, so this gives every frame its time and `qgait gait` can read the CSV.
+    #[arg(long, value_name = "HZ", value_parser = positive_rate)]
+    pub rate: Option<f64>,
     /// Reading a live hub: baud rate, when to stop, live view.
     #[command(flatten)]
     pub port: PortArgs,
+}
+
+/// `--rate`: a finite number of hertz above 0.
+fn positive_rate(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a sampling rate in Hz (a number above 0)"
+        )),
+    }
 }
 
 /// What a damaged frame the decoder reported at byte `offset` is, for a message.
@@ -41,8 +56,8 @@ fn damage_message(offset: u64, error: &qgait_proto::DecodeError) -> String {
 /// `qgait decode --format`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
-    /// One row per pose frame: seq, time (empty), the `fk` columns (other messages are only
-    /// counted, by kind, in the summary on standard error).
+    /// One row per pose frame: seq, time (`seq / --rate`, empty without it), the `fk` columns
+    /// (other messages are only counted, by kind, in the summary on standard error).
     Csv,
     /// One JSON object per frame, every kind of message with its fields, and per damaged frame.
     Jsonl,
@@ -55,17 +70,18 @@ pub fn run_decode(args: DecodeArgs, quiet: bool) -> anyhow::Result<()> {
     decode_to(&args, &mut out, quiet)
 }
 
-/// Where `qgait decode` writes: frame rows of a frames CSV, or JSON lines.
+/// Where `qgait decode` writes: frame rows of a frames CSV (with the sampling rate, if known),
+/// or JSON lines.
 enum DecodeOut<'a> {
-    Csv(Box<frames_csv::FramesCsv<&'a mut dyn Write>>),
+    Csv(Box<frames_csv::FramesCsv<&'a mut dyn Write>>, Option<f64>),
     Jsonl(&'a mut dyn Write),
 }
 
 impl<'a> DecodeOut<'a> {
     /// Starts the output (the CSV's header).
-    fn new(format: Format, out: &'a mut dyn Write) -> io::Result<Self> {
+    fn new(format: Format, out: &'a mut dyn Write, rate: Option<f64>) -> io::Result<Self> {
         Ok(match format {
-            Format::Csv => DecodeOut::Csv(Box::new(frames_csv::FramesCsv::new(out)?)),
+            Format::Csv => DecodeOut::Csv(Box::new(frames_csv::FramesCsv::new(out)?), rate),
             Format::Jsonl => DecodeOut::Jsonl(out),
         })
     }
@@ -73,11 +89,13 @@ impl<'a> DecodeOut<'a> {
     /// Writes what `record` gives in this format; whether it gave anything.
     fn record(&mut self, record: &Record) -> io::Result<bool> {
         match self {
-            DecodeOut::Csv(csv) => match record {
+            DecodeOut::Csv(csv, rate) => match record {
                 Record::Message {
                     message: Message::PoseFrame(p),
                     ..
-                } => csv.row(p, None).map(|()| true),
+                } => csv
+                    .row(p, rate.map(|r| f64::from(p.seq) / r))
+                    .map(|()| true),
                 _ => Ok(false),
             },
             DecodeOut::Jsonl(out) => writeln!(out, "{}", jsonl_line(record)).map(|()| true),
@@ -87,7 +105,7 @@ impl<'a> DecodeOut<'a> {
     /// Passes everything written on and flushes the writer.
     fn flush(&mut self) -> io::Result<()> {
         match self {
-            DecodeOut::Csv(csv) => csv.flush(),
+            DecodeOut::Csv(csv, _) => csv.flush(),
             DecodeOut::Jsonl(out) => out.flush(),
         }
     }
@@ -108,7 +126,7 @@ pub fn decode_to(args: &DecodeArgs, out: &mut dyn Write, quiet: bool) -> anyhow:
     let (mut input, mut view) =
         args.port
             .open(&args.log, args.format == Format::Csv && !quiet, true, quiet)?;
-    let mut out = DecodeOut::new(args.format, out)?;
+    let mut out = DecodeOut::new(args.format, out, args.rate)?;
     let live = input.is_serial();
     let mut decoder = LogDecoder::new();
     let mut reported = 0u32;
