@@ -688,3 +688,63 @@ fn a_non_zero_coordinate_default_is_noted() {
         .unwrap()
         .contains("# coordinate mtp_angle_r has default_value 0.25"));
 }
+
+/// `export --lab-frame` writes the points in OpenSim's ground frame: against OpenSim 4.6's
+/// own positions of normal.mot (its `groundrel` columns plus the pelvis origin in ground),
+/// within a micrometre. normal.mot sets `pelvis_ty` only: the other two are 0 with a warning.
+/// A motion without any pelvis translation is refused.
+#[test]
+fn export_in_the_lab_frame_matches_opensims_ground_positions() {
+    let Some(shared) = shared_dir() else { return };
+    let reference = Reference::load(&shared);
+    let dir = tempfile::tempdir().unwrap();
+    let sto = dir.path().join("lab.sto");
+    let motion = shared.join("data/opensim/normal.mot");
+    let (_, err) = run_ok(&[
+        "export",
+        s(&motion),
+        "--model",
+        "gait2392",
+        "--points",
+        "--lab-frame",
+        "--sto",
+        s(&sto),
+    ]);
+    assert!(
+        err.contains("no `pelvis_tx` column; taken as 0 in the lab frame")
+            && err.contains("no `pelvis_tz` column")
+            && !err.contains("no `pelvis_ty` column"),
+        "{err}"
+    );
+    let (table, _) = MotionTable::read(&sto).unwrap();
+    let mut worst = 0.0f64;
+    for name in table.labels().iter().skip(1) {
+        let col = table.column(name).unwrap();
+        let axis = &name[name.len() - 1..];
+        let point = name.replacen("toe_", "toetip_", 1);
+        for (r, v) in col.iter().enumerate() {
+            let truth = reference.get(r, &format!("{point}_groundrel"))
+                + reference.get(r, &format!("pelvis_{axis}_ground"));
+            worst = worst.max((v - truth).abs());
+        }
+    }
+    assert!(
+        worst < 1e-6,
+        "worst {worst} m from OpenSim's ground positions"
+    );
+    // The pelvis is 0.96 m up: the lab frame is not the pelvis-relative one.
+    let hip_y = table.column("hip_r_y").unwrap()[0];
+    assert!((hip_y - (0.96 - 0.0661)).abs() < 0.01, "{hip_y}");
+
+    let err = run_err(&[
+        "export",
+        "builtin:normal",
+        "--lab-frame",
+        "--sto",
+        s(&dir.path().join("b.sto")),
+    ]);
+    assert!(
+        err.contains("--lab-frame needs the pelvis translation"),
+        "{err}"
+    );
+}

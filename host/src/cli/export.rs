@@ -10,7 +10,9 @@ use crate::cli::fk::{inputs, prepare, Prepared};
 use crate::cli::model_args::ModelArgs;
 use crate::cli::output::{refuse_overwrite, with_path, OutputFile};
 use crate::progress::Progress;
+use qgait_kernel::Vec3;
 use qgait_model::motion::source::MotionRows;
+use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::export;
 
 /// `qgait export` arguments.
@@ -30,6 +32,61 @@ pub struct ExportArgs {
     /// OpenSim table to write.
     #[arg(long, value_name = "OUT.sto")]
     pub sto: Option<PathBuf>,
+    /// Positions in the lab (ground) frame: the motion's pelvis translation
+    /// (`pelvis_tx`, `pelvis_ty`, `pelvis_tz`) added to each point, as a `.trc` of joint centres
+    /// beside the lab's markers needs. Without it the points are relative to the pelvis origin
+    /// (ground axes), as `qgait fk` writes them.
+    #[arg(long)]
+    pub lab_frame: bool,
+}
+
+/// The columns of the pelvis translation, in x, y, z order.
+const TRANSLATION: [&str; 3] = ["pelvis_tx", "pelvis_ty", "pelvis_tz"];
+
+/// The motion's pelvis translation of each row, read beside the model's evaluation (a second
+/// reader of the same rows, so memory stays independent of the motion's length).
+struct Translation {
+    rows: MotionRows,
+    columns: [Option<usize>; 3],
+}
+
+impl Translation {
+    /// The reader, and a warning per translation column the motion lacks (taken as 0, as
+    /// OpenSim takes a coordinate a motion does not set); none of them is an error.
+    fn open(motion: &str) -> anyhow::Result<(Self, Vec<Warning>)> {
+        let (rows, _) = MotionRows::open(motion)?;
+        let header = rows.header();
+        let columns = TRANSLATION.map(|c| header.index_of(c));
+        if columns.iter().all(Option::is_none) {
+            anyhow::bail!(
+                "{}: --lab-frame needs the pelvis translation, and the motion has none of {}",
+                header.labels_location(),
+                TRANSLATION.join(", ")
+            );
+        }
+        let warnings = TRANSLATION
+            .iter()
+            .zip(columns)
+            .filter(|(_, c)| c.is_none())
+            .map(|(name, _)| {
+                Warning(format!(
+                    "{}: no `{name}` column; taken as 0 in the lab frame",
+                    header.source
+                ))
+            })
+            .collect();
+        Ok((Self { rows, columns }, warnings))
+    }
+
+    /// The next row's translation (metres).
+    fn next(&mut self) -> anyhow::Result<Vec3<f64>> {
+        let (row, _) = self
+            .rows
+            .next_row()?
+            .context("the motion ended before the points did")?;
+        let [x, y, z] = self.columns.map(|c| c.map_or(0.0, |c| row.values[c]));
+        Ok(Vec3::new(x, y, z))
+    }
 }
 
 /// Runs `qgait export`: rows are written as they are computed; for a `.trc` a first pass over
@@ -73,10 +130,27 @@ pub fn run_export(a: ExportArgs, diagnostics: &Diagnostics) -> anyhow::Result<()
         }
         None => None,
     };
+    let mut translation = if a.lab_frame {
+        let (t, w) = Translation::open(&a.motion)?;
+        diagnostics.warn(w);
+        Some(t)
+    } else {
+        None
+    };
     let mut frame = 0;
+    let mut moved = Vec::new();
     let warnings = model.run::<anyhow::Error>(rows, &|w| diagnostics.warn(w), |t, points| {
         progress.inc(1);
         frame += 1;
+        let points = match &mut translation {
+            Some(tr) => {
+                let d = tr.next()?;
+                moved.clear();
+                moved.extend(points.iter().map(|p| *p + d));
+                &moved[..]
+            }
+            None => points,
+        };
         if let Some(f) = &mut trc {
             export::write_trc_row(f.writer(), frame, t, points)
                 .map_err(|e| with_path(e.into(), f.path()))?;
