@@ -152,6 +152,7 @@ pub fn analyse_with(
         knee,
         translation: trial.translation.as_deref(),
         given_speed,
+        velocities: trial.velocities.as_deref(),
     };
     let (events, gait) = match rules::apply(&input, &anchors) {
         Some((e, g)) => (e, Some(g)),
@@ -321,6 +322,36 @@ mod tests {
         analyse(t, CycleMode::Whole).expect("analyses")
     }
 
+    /// The feet's velocities come from the kernel's differential kinematics for a motion on a
+    /// leg chain, and they are the time derivatives of the positions: against central
+    /// differences of the FK points of a finely sampled cycle. HAK has none (its points are
+    /// differenced by the rules).
+    #[test]
+    fn foot_velocities_are_the_derivatives_of_the_positions() {
+        let (t, _) = trial::load("builtin:normal,rows=2001", &gait2392()).expect("loads");
+        let v = t.velocities.as_ref().expect("kernel velocities");
+        let mut worst = 0.0f64;
+        for (i, vi) in v.iter().enumerate().take(t.time.len() - 2).skip(2) {
+            let dt = t.time[i + 1] - t.time[i - 1];
+            for (s, vs) in vi.iter().enumerate() {
+                let d = |p: fn(&trial::Limb) -> qgait_kernel::Vec3<f64>| {
+                    (p(&t.frames[i + 1][s]) - p(&t.frames[i - 1][s])) * (1.0 / dt)
+                };
+                for (a, b) in [
+                    (vs.heel, d(|l| l.heel)),
+                    (vs.forefoot, d(|l| l.forefoot)),
+                    (vs.toe, d(|l| l.toe)),
+                ] {
+                    worst = worst.max((a - b).norm());
+                }
+            }
+        }
+        assert!(worst < 2e-3, "worst {worst} m/s");
+        let hak = qgait_model::choice::Model::load("hak", None).unwrap().0;
+        let (t, _) = trial::load("builtin:normal", &hak).expect("loads");
+        assert!(t.velocities.is_none());
+    }
+
     #[test]
     fn loading_errors_name_what_failed() {
         let model = gait2392();
@@ -370,6 +401,7 @@ mod tests {
             translation: None,
             breaks: Vec::new(),
             planar: false,
+            velocities: None,
         };
         let e = analyse(still(2), CycleMode::Auto).err().unwrap();
         assert!(matches!(e, AnalysisError::TooShort { rows: 2, .. }), "{e}");

@@ -13,8 +13,9 @@
 //! The foot's speed over the surface is its velocity relative to the pelvis plus the walking
 //! speed forward: overground the pelvis moves forward at v, on a treadmill the belt moves back
 //! at v. Hence the rules need no pelvis translation and apply unchanged to treadmill and
-//! overground recordings and to IMU solutions. The velocities come from one function,
-//! [`foot_velocities`].
+//! overground recordings and to IMU solutions. The velocities are the kernel's differential
+//! kinematics where the recording has them ([`crate::trial::foot_velocities`]), else
+//! [`foot_velocities`] differences the positions.
 
 use qgait_kernel::Vec3;
 
@@ -212,6 +213,10 @@ pub struct Input<'a> {
     pub translation: Option<&'a [[f64; 2]]>,
     /// A known belt speed (m/s).
     pub given_speed: Option<f64>,
+    /// The feet's velocities from the kernel's differential kinematics, where the recording
+    /// has them ([`crate::trial::Trial::velocities`]); else [`foot_velocities`] differentiates
+    /// the positions.
+    pub velocities: Option<&'a [[FootVelocity; 2]]>,
 }
 
 /// Per-frame signals of one recording.
@@ -388,7 +393,10 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
     )?;
     let s = Signals {
         input,
-        vel: foot_velocities(time, input.frames, input.segments),
+        vel: match input.velocities {
+            Some(v) if v.len() == n => v.to_vec(),
+            _ => foot_velocities(time, input.frames, input.segments),
+        },
         seg,
         stride,
     };

@@ -406,6 +406,7 @@ mod tests {
             translation: None,
             breaks: Vec::new(),
             planar: false,
+            velocities: None,
         };
         let cycle = Cycle {
             side: 0,
@@ -455,6 +456,7 @@ mod tests {
             translation: None,
             breaks: Vec::new(),
             planar: false,
+            velocities: None,
         };
         let forward = vec![Vec3::new(off.cos(), 0.0, off.sin()); 2];
         let cycle = |side: usize, frame: usize| Cycle {

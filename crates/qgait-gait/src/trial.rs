@@ -3,9 +3,13 @@
 //! them, gait2392's coordinates and the pelvis translation. This is the one place of the gait
 //! room that evaluates a model.
 
+use qgait_kernel::differential::differentiate;
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::models::ranges::KNEES;
 use qgait_kernel::Vec3;
+use qgait_model::derivatives::MotionModel;
+
+use crate::rules::FootVelocity;
 
 use qgait_device::frames_csv::FramesCsvError;
 use qgait_model::choice::Model;
@@ -167,6 +171,11 @@ pub struct Trial {
     /// pelvis list or rotation, e.g. gait10dof18musc): no frontal or transverse quantity
     /// (step width) can be seen.
     pub planar: bool,
+    /// The feet's velocities relative to the pelvis of each frame, from the kernel's
+    /// differential kinematics ([`foot_velocities`]); `None` where they cannot be had that way
+    /// (a device's frames, HAK or PHAK, a variable-step file): the rules then differentiate the
+    /// positions.
+    pub velocities: Option<Vec<[FootVelocity; 2]>>,
 }
 
 impl Trial {
@@ -280,6 +289,7 @@ pub fn load_with(
                 translation: None,
                 breaks,
                 planar: false,
+                velocities: None,
             },
             warnings,
         ));
@@ -365,6 +375,20 @@ pub fn load_with(
         None => format!("{source}: row {}", i + 1),
     });
     warnings.extend(w);
+    // The kernel's velocities need the model's own signs back.
+    let velocities = MotionModel::new(model, "gait").ok().and_then(|m| {
+        let own: Vec<[f64; 17]> = coordinates
+            .iter()
+            .map(|row| {
+                let mut row = *row;
+                for k in KNEES {
+                    row[k] = knee.in_gait2392_signs(k, row[k]);
+                }
+                row
+            })
+            .collect();
+        foot_velocities(&m, &time, &own, &breaks)
+    });
     Ok((
         Trial {
             label,
@@ -375,6 +399,7 @@ pub fn load_with(
             translation,
             breaks,
             planar,
+            velocities,
         },
         warnings,
     ))
@@ -469,6 +494,63 @@ pub fn median_step(time: &[f64]) -> Option<f64> {
     dt.get(dt.len() / 2).copied()
 }
 
+/// The feet's velocities relative to the pelvis (ground axes) of every frame: the kernel's
+/// differential kinematics of `model` at each frame's coordinates (the model's own signs) and
+/// their speeds, the speeds from the kernel's five-point [`differentiate`] within each stretch
+/// between the rows left out. `None` when a stretch is not evenly sampled (the differentiator
+/// needs one step: OpenSim's variable-step CMC output) or shorter than five frames.
+pub fn foot_velocities(
+    model: &MotionModel,
+    time: &[f64],
+    coordinates: &[[f64; 17]],
+    breaks: &[usize],
+) -> Option<Vec<[FootVelocity; 2]>> {
+    let n = time.len();
+    let mut cuts: Vec<usize> = breaks.iter().copied().filter(|&b| b > 0 && b < n).collect();
+    cuts.sort_unstable();
+    cuts.dedup();
+    let mut out = Vec::with_capacity(n);
+    let mut start = 0;
+    for end in cuts.into_iter().chain([n]) {
+        let t = &time[start..end];
+        let m = t.len();
+        if m < 5 {
+            return None;
+        }
+        let dt = (t[m - 1] - t[0]) / (m - 1) as f64;
+        if dt.is_nan()
+            || dt <= 0.0
+            || t.windows(2)
+                .any(|w| ((w[1] - w[0]) - dt).abs() > 1e-6 * dt.max(1e-3))
+        {
+            return None;
+        }
+        let (mut qd, mut qdd) = (vec![[0.0; 17]; m], vec![[0.0; 17]; m]);
+        let (mut col, mut d1, mut d2) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        for k in 0..17 {
+            for (c, q) in col.iter_mut().zip(&coordinates[start..end]) {
+                *c = q[k];
+            }
+            differentiate(&col, dt, &mut d1, &mut d2);
+            for i in 0..m {
+                qd[i][k] = d1[i];
+                qdd[i][k] = d2[i];
+            }
+        }
+        for i in 0..m {
+            let p = model.points(&coordinates[start + i], &qd[i], &qdd[i]);
+            // gait2392's points: hip, knee, ankle, subtalar, MTP, toe tip per side.
+            out.push([0, 6].map(|b| FootVelocity {
+                heel: p[b + 3].velocity,
+                forefoot: p[b + 4].velocity,
+                toe: p[b + 5].velocity,
+            }));
+        }
+        start = end;
+    }
+    Some(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -543,6 +625,7 @@ mod tests {
             translation: None,
             breaks,
             planar: false,
+            velocities: None,
         };
         assert_eq!(trial.segments(), [0..3, 3..801, 801..1002]);
         // Steady sampling: no gap.

@@ -212,6 +212,8 @@ fn run(case: &Case, root: &Path, pelvis: bool) -> (Walk, Plate, (f64, f64), f64)
     let d = root.join(case.dir);
     let (model, _) = Model::load(d.join(case.model).to_str().unwrap(), None).expect("model");
     let ik = d.join(case.ik);
+    // Each call its own directory: the tests run in parallel.
+    let tmp = tempfile::tempdir().unwrap();
     let source = if pelvis {
         ik.to_str().unwrap().to_string()
     } else {
@@ -231,7 +233,7 @@ fn run(case: &Case, root: &Path, pelvis: bool) -> (Walk, Plate, (f64, f64), f64)
             .collect();
         let t =
             MotionTable::new("no_translation", "mem", table.in_degrees(), labels, columns).unwrap();
-        let out = std::env::temp_dir().join(format!("qgait_gaitlab_{}_still.mot", case.dir));
+        let out = tmp.path().join(format!("{}_still.mot", case.dir));
         let mut f = std::fs::File::create(&out).unwrap();
         t.write_mot(&mut f).unwrap();
         out.to_str().unwrap().to_string()
@@ -387,7 +389,8 @@ fn degrees_declared_radians_are_refused_with_the_header_line() {
         .expect("inDegrees line")
         + 1;
     let wrong = text.replacen("inDegrees=yes", "inDegrees=no", 1);
-    let path = std::env::temp_dir().join("qgait_gaitlab_Kinematics_q.sto");
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("Kinematics_q.sto");
     std::fs::write(&path, wrong).unwrap();
     let model = Model::load("gait2392", None).unwrap().0;
     let source = path.to_str().unwrap();
