@@ -950,7 +950,7 @@ fn an_age_without_normal_ranges_is_refused() {
         assert!(
             e.contains(&format!("--age {age}: "))
                 && e.contains(&format!(
-                    "stp_normals.txt has normal ranges for ages 1 to 89 (male or female), not {age}"
+                    "has normal ranges for ages 1 to 89 (male or female), not {age}"
                 )),
             "{age}: {e}"
         );
