@@ -128,25 +128,79 @@ pub const MID_PSIS: [f64; 2] = [-0.155, 0.035];
 /// forward axis (5.87°). The CGM's pelvis frame is gait2392's turned by it about the lateral
 /// axis.
 pub fn pelvis_tilt_offset() -> f64 {
-    (MID_PSIS[1] - MID_ASIS[1]).atan2(MID_ASIS[0] - MID_PSIS[0])
+    tilt_offset(
+        [MID_ASIS[0], MID_ASIS[1], 0.0],
+        [MID_PSIS[0], MID_PSIS[1], 0.0],
+    )
+}
+
+/// The tilt of the CGM's pelvis when the model's pelvis frame is level (radians, anterior
+/// positive): the angle of the line from `posterior` (mid-PSIS or sacrum) to `mid_asis`
+/// below the frame's forward axis, both in the pelvis frame (x forward, y up).
+pub fn tilt_offset(mid_asis: [f64; 3], posterior: [f64; 3]) -> f64 {
+    (posterior[1] - mid_asis[1]).atan2(mid_asis[0] - posterior[0])
+}
+
+/// How the CGM's pelvis frame is had from the model's.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CgmPelvis {
+    /// [`pelvis_tilt_offset`]: Rajagopal 2016's ASIS and PSIS markers on gait2392's pelvis.
+    Fixed,
+    /// From the model's own pelvis markers.
+    Markers {
+        /// [`tilt_offset`] of the markers (radians).
+        offset: f64,
+        /// The markers, as the model names them.
+        names: Vec<String>,
+    },
+}
+
+impl CgmPelvis {
+    /// The tilt of the CGM's pelvis in the model's level pelvis frame (radians).
+    pub fn offset(&self) -> f64 {
+        match self {
+            CgmPelvis::Fixed => pelvis_tilt_offset(),
+            CgmPelvis::Markers { offset, .. } => *offset,
+        }
+    }
+
+    /// What the report says.
+    pub fn describe(&self) -> String {
+        match self {
+            CgmPelvis::Fixed => format!(
+                "the model's pelvis frame turned {:.2}° anteriorly (the ASIS-PSIS line of Rajagopal 2016's markers; the model has no pelvis markers)",
+                pelvis_tilt_offset().to_degrees()
+            ),
+            CgmPelvis::Markers { offset, names } => format!(
+                "the model's pelvis frame turned {:.2}° anteriorly, from its own markers {}",
+                offset.to_degrees(),
+                names.join(", ")
+            ),
+        }
+    }
 }
 
 /// The CGM's pelvis angles `[tilt, list, rotation]` (radians, still in gait2392's signs and
 /// sequence: tilt about the lateral z, list about x, rotation about y) of a pelvis whose
 /// gait2392 angles relative to the direction of progression are `pelvis`: the frame turned
-/// anteriorly by [`pelvis_tilt_offset`] about its own lateral axis, decomposed again.
-pub fn cgm_pelvis(pelvis: [f64; 3]) -> [f64; 3] {
+/// anteriorly by `offset` ([`CgmPelvis::offset`]) about its own lateral axis, decomposed again.
+pub fn cgm_pelvis(pelvis: [f64; 3], offset: f64) -> [f64; 3] {
     let axes = [Vec3::unit_z(), Vec3::unit_x(), Vec3::unit_y()];
     let q = Quat::from_axis_angle(axes[0], pelvis[0])
         * Quat::from_axis_angle(axes[1], pelvis[1])
         * Quat::from_axis_angle(axes[2], pelvis[2])
-        * Quat::from_axis_angle(axes[0], -pelvis_tilt_offset());
+        * Quat::from_axis_angle(axes[0], -offset);
     three_axes(q, axes)
 }
 
-/// The nine variables (degrees) of every frame of a trial, per side: `[side][variable][frame]`.
-/// `None` for a trial without joint angles (a device's frames).
-pub fn angles(trial: &Trial, forward: &[Vec3<f64>]) -> Option<[[Vec<f64>; 9]; 2]> {
+/// The nine variables (degrees) of every frame of a trial, per side: `[side][variable][frame]`,
+/// the CGM's pelvis as `pelvis` says. `None` for a trial without joint angles (a device's
+/// frames).
+pub fn angles(
+    trial: &Trial,
+    forward: &[Vec3<f64>],
+    pelvis_frame: &CgmPelvis,
+) -> Option<[[Vec<f64>; 9]; 2]> {
     let q = trial.coordinates.as_ref()?;
     // The pelvis's axes are the same in every gait2392 (tilt z, list x, rotation y).
     let model = Gait2392::<f64>::new(&Gait2392Geometry::generic()).ok()?;
@@ -155,15 +209,14 @@ pub fn angles(trial: &Trial, forward: &[Vec3<f64>]) -> Option<[[Vec<f64>; 9]; 2]
         .iter()
         .zip(forward)
         .map(|(q, f)| {
-            cgm_pelvis(heading_free_pelvis(
-                &model,
-                [q[tilt], q[list], q[rot]],
-                heading(*f),
-            ))
+            cgm_pelvis(
+                heading_free_pelvis(&model, [q[tilt], q[list], q[rot]], heading(*f)),
+                pelvis_frame.offset(),
+            )
             .map(f64::to_degrees)
         })
         .collect();
-    let offset = pelvis_tilt_offset().to_degrees();
+    let offset = pelvis_frame.offset().to_degrees();
     let mut out: [[Vec<f64>; 9]; 2] = Default::default();
     for (s, side) in Side::ALL.into_iter().enumerate() {
         let sign = if s == 0 { 1.0 } else { -1.0 };
@@ -207,15 +260,15 @@ mod tests {
         let offset = pelvis_tilt_offset().to_degrees();
         assert!((offset - 5.87).abs() < 0.01, "{offset}");
         // A level gait2392 pelvis reads the offset as anterior tilt (CGM tilt = -tilt).
-        let [t, l, r] = cgm_pelvis([0.0; 3]);
+        let [t, l, r] = cgm_pelvis([0.0; 3], pelvis_tilt_offset());
         assert!((-t.to_degrees() - offset).abs() < 1e-9);
         assert!(l.abs() < 1e-12 && r.abs() < 1e-12);
         // With no list or rotation, the offset adds to the tilt exactly; with both, the frame
         // turns about its own lateral axis, not the ground's.
-        let [t, ..] = cgm_pelvis([(-8f64).to_radians(), 0.0, 0.0]);
+        let [t, ..] = cgm_pelvis([(-8f64).to_radians(), 0.0, 0.0], pelvis_tilt_offset());
         assert!((-t.to_degrees() - (8.0 + offset)).abs() < 1e-9);
         let p = [0.1, 0.15, 0.3];
-        let [t, l, r] = cgm_pelvis(p);
+        let [t, l, r] = cgm_pelvis(p, pelvis_tilt_offset());
         let back = Quat::from_axis_angle(Vec3::unit_z(), t)
             * Quat::from_axis_angle(Vec3::unit_x(), l)
             * Quat::from_axis_angle(Vec3::unit_y(), r);

@@ -202,6 +202,7 @@ pub fn summary_json(report: &Report) -> String {
         "recordings": recordings,
         "headline": headline,
         "bouts": bouts,
+        "cgm_pelvis": report.walks.first().map(|w| w.pelvis.describe()),
     });
     serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"
 }

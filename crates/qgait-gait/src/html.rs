@@ -188,6 +188,9 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
             "the model moves the legs in the sagittal plane only: no step width or other frontal or transverse quantity is reported".into(),
         ));
     }
+    if let Some(w) = r.walks.first() {
+        s.push(("pelvis (CGM)", w.pelvis.describe()));
+    }
     s.push(("reference", r.reference.label.clone()));
     if let Some(c) = &r.speed_choice {
         s.push(("normative speed group", c.clone()));

@@ -100,6 +100,8 @@ pub struct Walk {
     /// Mode, ground and speed from the rules ([`rules`]), when the recording has the strides
     /// for them (its events are then the rules'; else Zeni's).
     pub gait: Option<rules::Gait>,
+    /// How the CGM's pelvis frame was had ([`Walk::with_cgm_pelvis`]).
+    pub pelvis: angles::CgmPelvis,
 }
 
 /// Analyses one recording.
@@ -166,7 +168,7 @@ pub fn analyse_with(
             ([vec![r], vec![l]], [Dropped::default(); 2])
         }
     };
-    let angles = angles::angles(&trial, &forward);
+    let angles = angles::angles(&trial, &forward, &angles::CgmPelvis::Fixed);
     Ok(Walk {
         trial,
         forward,
@@ -176,10 +178,19 @@ pub fn analyse_with(
         angles,
         mode,
         gait,
+        pelvis: angles::CgmPelvis::Fixed,
     })
 }
 
 impl Walk {
+    /// The walk with its joint angles in the CGM's pelvis frame `pelvis` (e.g. from the
+    /// model's own pelvis markers) instead of the fixed one.
+    pub fn with_cgm_pelvis(mut self, pelvis: angles::CgmPelvis) -> Self {
+        self.angles = angles::angles(&self.trial, &self.forward, &pelvis);
+        self.pelvis = pelvis;
+        self
+    }
+
     /// The events to report, in time order: `(side, kind, time)`. Taken whole, the heel
     /// strikes that bound the declared cycles, and the toe offs inside.
     pub fn event_list(&self) -> Vec<(usize, Kind, f64)> {

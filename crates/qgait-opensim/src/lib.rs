@@ -6,4 +6,5 @@ pub mod export;
 pub mod imu_sto;
 pub mod mot;
 pub mod osim;
+pub mod pelvis_markers;
 pub mod vendor;

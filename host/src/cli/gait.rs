@@ -57,6 +57,13 @@ pub struct GaitArgs {
     /// `Kinematics_q.sto` are in degrees under `inDegrees=no`).
     #[arg(long, value_enum, value_name = "deg|rad")]
     pub angles_in: Option<trial::AngleUnit>,
+    /// The Conventional Gait Model's pelvis frame in the model's: `fixed` (the ASIS-PSIS line
+    /// of Rajagopal 2016's markers, 5.87°) or `model-markers` (the `--model` .osim's own ASIS
+    /// and PSIS or sacral markers; `fixed` when it has none). On the gait-lab recordings `fixed`
+    /// is within 0.6° of the tilt the lab's own markers give, `model-markers` 2.1-2.9° below it
+    /// (docs/gait-analysis.md).
+    #[arg(long, value_enum, default_value = "fixed")]
+    pub cgm_pelvis: CgmPelvisArg,
     /// Output directory (created if needed).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
@@ -76,6 +83,15 @@ fn parse_age(text: &str) -> Result<f64, String> {
 }
 
 /// `--cycle`.
+/// `--cgm-pelvis`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CgmPelvisArg {
+    /// Rajagopal 2016's ASIS and PSIS markers on gait2392's pelvis.
+    Fixed,
+    /// The model's own pelvis markers.
+    ModelMarkers,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum CycleArg {
     /// From the events.
@@ -118,6 +134,22 @@ fn analyse_all(
         .collect()
 }
 
+/// The CGM's pelvis frame from an `.osim` model's own pelvis markers (ASIS with PSIS or
+/// sacrum) where it has them, else the fixed offset.
+fn cgm_pelvis(model: Option<&str>) -> gait::angles::CgmPelvis {
+    let landmarks = model
+        .filter(|m| m.to_ascii_lowercase().ends_with(".osim"))
+        .and_then(|m| std::fs::read_to_string(m).ok())
+        .and_then(|text| qgait_opensim::pelvis_markers::pelvis_landmarks(&text));
+    match landmarks {
+        Some(l) => gait::angles::CgmPelvis::Markers {
+            offset: gait::angles::tilt_offset(l.mid_asis, l.posterior),
+            names: l.names,
+        },
+        None => gait::angles::CgmPelvis::Fixed,
+    }
+}
+
 /// Runs `qgait gait`.
 pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     let warn = |w: Vec<Warning>| diagnostics.warn(w);
@@ -127,15 +159,21 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     };
     let reference = ReferenceArg::parse(&args.reference)?;
     let model = args.model.load_or("gait2392", diagnostics)?;
-    let walks = analyse_all(&args.motions, &model, mode, &args, &warn)?;
+    let pelvis = match args.cgm_pelvis {
+        CgmPelvisArg::Fixed => gait::angles::CgmPelvis::Fixed,
+        CgmPelvisArg::ModelMarkers => cgm_pelvis(args.model.model.as_deref()),
+    };
+    let walks: Vec<gait::Walk> = analyse_all(&args.motions, &model, mode, &args, &warn)?
+        .into_iter()
+        .map(|w| w.with_cgm_pelvis(pelvis.clone()))
+        .collect();
     let reference_walks = match &reference {
-        ReferenceArg::Motion(m) => Some(analyse_all(
-            std::slice::from_ref(m),
-            &model,
-            mode,
-            &args,
-            &warn,
-        )?),
+        ReferenceArg::Motion(m) => Some(
+            analyse_all(std::slice::from_ref(m), &model, mode, &args, &warn)?
+                .into_iter()
+                .map(|w| w.with_cgm_pelvis(pelvis.clone()))
+                .collect(),
+        ),
         ReferenceArg::Normative(_) => None,
     };
     for w in walks.iter().chain(reference_walks.iter().flatten()) {
