@@ -79,22 +79,13 @@ pub fn bouts(walk: &Walk) -> Vec<Bout> {
 
 /// The median of the local speeds whose span lies in `[start, end]`, else the recording's.
 fn speed_in(gait: &Gait, start: f64, end: f64) -> Option<f64> {
-    let mut v: Vec<f64> = gait
+    let v: Vec<f64> = gait
         .local_speeds
         .iter()
-        .filter(|(a, b, s)| *a >= start - 1e-9 && *b <= end + 1e-9 && s.is_finite())
+        .filter(|(a, b, _)| *a >= start - 1e-9 && *b <= end + 1e-9)
         .map(|x| x.2)
         .collect();
-    if v.is_empty() {
-        return gait.speed.is_finite().then_some(gait.speed);
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    Some(if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        (v[n / 2 - 1] + v[n / 2]) / 2.0
-    })
+    crate::rules::median(v).or_else(|| gait.speed.is_finite().then_some(gait.speed))
 }
 
 /// `bouts.csv`: `recording,start,end,duration,strides_right,strides_left,cadence,speed` (s,

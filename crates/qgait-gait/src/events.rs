@@ -301,7 +301,7 @@ pub fn peaks(signal: &[f64], min_prominence: f64, span: usize) -> Vec<usize> {
 
 /// The time of the extremum at frame `i`, refined by the parabola through frames `i - 1`, `i`
 /// and `i + 1` (the frame's own time if the three do not bend).
-fn refine(time: &[f64], signal: &[f64], i: usize) -> Event {
+pub(crate) fn refine(time: &[f64], signal: &[f64], i: usize) -> Event {
     let mut t = time[i];
     if i > 0 && i + 1 < signal.len() {
         let (a, b, c) = (signal[i - 1], signal[i], signal[i + 1]);

@@ -19,7 +19,7 @@
 
 use qgait_kernel::Vec3;
 
-use crate::events::{Event, Events};
+use crate::events::{refine, Event, Events};
 use crate::trial::Frame;
 
 /// Bruening & Ridge 2014: the heel's sagittal speed is below this fraction of the walking speed
@@ -260,7 +260,8 @@ fn cross(time: &[f64], f: &impl Fn(usize) -> f64, k: usize, level: f64) -> f64 {
     time[k - 1] + w.clamp(0.0, 1.0) * (time[k] - time[k - 1])
 }
 
-fn median(mut v: Vec<f64>) -> Option<f64> {
+/// The median of the finite values of `v`.
+pub(crate) fn median(mut v: Vec<f64>) -> Option<f64> {
     v.retain(|x| x.is_finite());
     if v.is_empty() {
         return None;
@@ -586,24 +587,6 @@ fn percentile_95(mut v: Vec<f64>) -> Option<f64> {
     }
     v.sort_by(f64::total_cmp);
     Some(v[((v.len() - 1) as f64 * 0.95).round() as usize])
-}
-
-/// The time of the maximum of `signal` at frame `i`, refined by the parabola through it and
-/// its neighbours.
-fn refine(time: &[f64], signal: &[f64], i: usize) -> Event {
-    let (a, b, c) = (signal[i - 1], signal[i], signal[i + 1]);
-    let denom = a - 2.0 * b + c;
-    let mut t = time[i];
-    if denom < 0.0 {
-        let offset = (0.5 * (a - c) / denom).clamp(-0.5, 0.5);
-        let dt = if offset >= 0.0 {
-            time[i + 1] - time[i]
-        } else {
-            time[i] - time[i - 1]
-        };
-        t += offset * dt;
-    }
-    Event { frame: i, time: t }
 }
 
 #[cfg(test)]
