@@ -1300,3 +1300,68 @@ fn walking_bouts_between_standing_and_sitting_are_found() {
     let walking = summary["bouts"]["walking_time"].as_f64().unwrap();
     assert!((walking - 27.0).abs() < 6.0, "walking time {walking} s");
 }
+
+/// `gait --each`: every recording on its own, in parallel: its own report in `DIR/<name>/`,
+/// a row of `recordings.csv` each (the same figures as a run on that recording alone), two
+/// recordings with one name in two folders, and one that fails named with its error while the
+/// others are written; the exit status says that one failed.
+#[test]
+fn each_recording_on_its_own_with_a_table_of_all() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a");
+    let b = dir.path().join("b");
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::create_dir_all(&b).unwrap();
+    let good = qgait(&[
+        "-q",
+        "motion",
+        "builtin:normal",
+        "-o",
+        a.join("walk.mot").to_str().unwrap(),
+    ]);
+    assert!(good.status.success(), "{}", stderr(&good));
+    let good = qgait(&[
+        "-q",
+        "motion",
+        "builtin:crouch=0.5",
+        "-o",
+        b.join("walk.mot").to_str().unwrap(),
+    ]);
+    assert!(good.status.success(), "{}", stderr(&good));
+    let bad = dir.path().join("bad.mot");
+    std::fs::write(&bad, "not a motion\n").unwrap();
+    let out = dir.path().join("out");
+    let o = qgait(&[
+        "gait",
+        "--each",
+        "--cycle",
+        "whole",
+        a.join("walk.mot").to_str().unwrap(),
+        b.join("walk.mot").to_str().unwrap(),
+        bad.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("1 of 3 recordings failed"),
+        "{}",
+        stderr(&o)
+    );
+    let rows = read_csv(&out.join("recordings.csv"));
+    assert_eq!(rows.len(), 3);
+    assert!(rows[0]["error"].is_empty() && rows[1]["error"].is_empty());
+    assert!(rows[2]["error"].contains("bad.mot"), "{:?}", rows[2]);
+    assert_ne!(rows[0]["output"], rows[1]["output"]);
+    for (r, motion) in rows.iter().zip([a.join("walk.mot"), b.join("walk.mot")]) {
+        assert!(Path::new(&r["output"]).join("report.html").is_file());
+        // The same figures as `gait` on that recording alone.
+        let alone = dir.path().join("alone");
+        gait_whole(&motion, &alone, &[]);
+        let cadence: f64 = r["cadence"].parse().unwrap();
+        assert!(
+            (cadence - param(&alone, "cadence", "both")).abs() < 1e-3,
+            "{r:?}"
+        );
+    }
+}

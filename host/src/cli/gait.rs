@@ -12,7 +12,7 @@ use qgait_model::choice::Model;
 use qgait_opensim::diagnostics::Warning;
 
 /// Arguments of `qgait gait`.
-#[derive(Debug, Args)]
+#[derive(Debug, Args, Clone)]
 pub struct GaitArgs {
     /// Recordings of one subject: OpenSim motions (.mot/.sto, e.g. `qgait imu` output),
     /// `builtin:...`, or a device's frames CSVs (`qgait emulate --frames-csv`: events and
@@ -64,6 +64,11 @@ pub struct GaitArgs {
     /// (docs/gait-analysis.md).
     #[arg(long, value_enum, default_value = "fixed")]
     pub cgm_pelvis: CgmPelvisArg,
+    /// Each motion on its own (not pooled as one subject's): one report per motion in
+    /// `DIR/<name>/` and `DIR/recordings.csv` with every recording's headline figures and
+    /// errors, the recordings analysed in parallel on every core.
+    #[arg(long)]
+    pub each: bool,
     /// Output directory (created if needed).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
@@ -152,6 +157,9 @@ fn cgm_pelvis(model: Option<&str>) -> gait::angles::CgmPelvis {
 
 /// Runs `qgait gait`.
 pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
+    if args.each {
+        return crate::cli::gait_each::run(args, diagnostics);
+    }
     let warn = |w: Vec<Warning>| diagnostics.warn(w);
     let mode = match args.cycle {
         CycleArg::Auto => CycleMode::Auto,

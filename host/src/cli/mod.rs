@@ -10,6 +10,7 @@ pub(crate) mod fidelity;
 pub(crate) mod fk;
 pub(crate) mod fuse;
 pub(crate) mod gait;
+pub(crate) mod gait_each;
 pub(crate) mod imu;
 pub(crate) mod imu_signals;
 pub(crate) mod jsonl;
