@@ -63,7 +63,8 @@ pub use crate::subject::{
     KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,
 };
 pub use crate::wire::{
-    decode_hub_message, decode_message, decode_packet, encode_message, HubMessage, PoseFrameParts,
+    decode_hub_message, decode_message, decode_node_message, decode_packet, encode_message,
+    HubMessage, NodeMessage, PoseFrameParts,
 };
 
 /// Largest COBS encoding (delimiter excluded) of `len` bytes: `len + ceil(len / 254)`, 1 if empty.

@@ -15,7 +15,7 @@ mod decode;
 mod encode;
 mod varint;
 
-pub use decode::{decode_hub_message, decode_packet, HubMessage};
+pub use decode::{decode_hub_message, decode_node_message, decode_packet, HubMessage, NodeMessage};
 pub use encode::PoseFrameParts;
 pub(crate) use encode::{
     encode_pose_frame_message, encode_pose_frame_parts_message, encode_status_message,
