@@ -5,8 +5,9 @@ use embedded_io::{Read, ReadReady, Write};
 use qgait_hub::counters::bump;
 use qgait_hub::Clock;
 use qgait_proto::{
-    cobs_max_encoded_len, decode_node_message, encode_frame, encode_status_frame, FrameDecoder,
-    Message, NodeMessage, RawImuConfig, RawImuSample, Status, CRC_LEN, STATUS_MAX_LEN,
+    cobs_max_encoded_len, decode_node_message, encode_raw_imu_status_frame,
+    encode_segment_orientation_frame, encode_status_frame, FrameDecoder, NodeMessage, RawImuConfig,
+    RawImuSample, Status, CRC_LEN, STATUS_MAX_LEN,
 };
 
 use crate::raw_input::{orientation_packet, RawInput, RawOutcome};
@@ -156,8 +157,8 @@ where
     fn on_sample(&mut self, sample: &RawImuSample) {
         bump(&mut self.status.packets_accepted);
         if let RawOutcome::Fused(Some(q)) = self.input.push(sample) {
-            let packet = Message::SegmentOrientation(orientation_packet(sample, q));
-            if let Ok(frame) = encode_frame(&packet, &mut self.tx) {
+            let packet = orientation_packet(sample, q);
+            if let Ok(frame) = encode_segment_orientation_frame(&packet, &mut self.tx) {
                 write_frame(&mut self.serial, &mut self.status, frame);
                 bump(&mut self.status.samples_completed);
             }
@@ -199,8 +200,7 @@ where
         if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
             write_frame(&mut self.serial, &mut self.status, frame);
         }
-        let raw = Message::RawImuStatus(self.input.status());
-        if let Ok(frame) = encode_frame(&raw, &mut self.tx) {
+        if let Ok(frame) = encode_raw_imu_status_frame(&self.input.status(), &mut self.tx) {
             write_frame(&mut self.serial, &mut self.status, frame);
         }
         self.status_frames = self.status_frames.wrapping_add(1);

@@ -156,19 +156,22 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
         if nine_d && sample.mag.is_none() {
             bump(&mut status.missing_magnetometer);
         }
-        // Rule 5: the step, in nanoseconds (exact: d × 1e9 / rate in u64).
+        // Rule 5: the step, as dt / T (the rate in Hz, times in µs: |dt - d·T| ≤ T / 2 is
+        // |dt·rate - d·1e6| ≤ 5e5, in integers).
         let rate = u64::from(c.rate_hz);
-        let nominal_ns = u64::from(steps) * 1_000_000_000 / rate;
-        let dt_ns = match dt_us {
+        let scale = match dt_us {
             // The first sample of a fusion: one period.
-            None => nominal_ns,
+            None => None,
             Some(dt) => {
-                let dt_ns = u64::from(dt) * 1000;
-                if 2 * dt_ns.abs_diff(nominal_ns) <= 1_000_000_000 / rate {
-                    dt_ns
-                } else {
+                let (measured, nominal) = (u64::from(dt) * rate, u64::from(steps) * 1_000_000);
+                if 2 * measured.abs_diff(nominal) > 1_000_000 {
                     bump(&mut status.timing_errors);
-                    nominal_ns
+                    (steps > 1).then(|| T::from_f32(steps as f32))
+                } else if measured != 1_000_000 {
+                    // dt × rate / 1e6, dt exact in f32 below 2^24 µs (16 s).
+                    Some(T::from_f32(dt as f32) * T::from_f32(c.rate_hz.into()) / T::from_f32(1e6))
+                } else {
+                    None
                 }
             }
         };
@@ -176,9 +179,7 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
         // times dt / T.
         let f = |x: f32| T::from_f32(x);
         let mut gyr = sample.gyro.map(|g| f(g.into()) * f(c.gyro_per_count));
-        if dt_ns != 1_000_000_000 / rate {
-            // dt / T = dt_ns × rate / 1e9, both factors exact in f32 below 2^24.
-            let k = f(dt_ns as f32) * f(c.rate_hz.into()) / f(1e9);
+        if let Some(k) = scale {
             gyr = gyr.map(|g| g * k);
         }
         let acc = sample.accel.map(|a| f(a.into()) * f(c.accel_per_count));

@@ -36,7 +36,7 @@ pub use crate::error::{DecodeError, EncodeError, ErrorKind};
 pub use crate::flags::{FrameFlags, QualityFlags};
 pub use crate::frame::{
     decode_frame, encode_frame, encode_pose_frame, encode_pose_frame_parts, encode_raw_frame,
-    encode_status_frame,
+    encode_raw_imu_status_frame, encode_segment_orientation_frame, encode_status_frame,
 };
 pub use crate::joint::JointId;
 pub use crate::messages::{

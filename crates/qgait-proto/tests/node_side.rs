@@ -5,7 +5,10 @@ mod common;
 
 use common::{random, strategies, Rng};
 use proptest::prelude::*;
-use qgait_proto::{decode_message, decode_node_message, encode_message, Message, NodeMessage};
+use qgait_proto::{
+    decode_message, decode_node_message, encode_frame, encode_message, encode_raw_imu_status_frame,
+    encode_segment_orientation_frame, Message, NodeMessage, MAX_FRAME_LEN,
+};
 
 /// The message tag at the start of `bytes` as postcard reads it (a varint), if any.
 fn tag(bytes: &[u8]) -> Option<u32> {
@@ -54,6 +57,27 @@ proptest! {
             taken,
             !matches!(decode_node_message(&bytes), Ok(NodeMessage::NotTaken(_)))
         );
+    }
+}
+
+proptest! {
+    /// A node's frames are `encode_frame`'s, byte for byte, in buffers of every size (too small
+    /// ones refused alike).
+    #[test]
+    fn node_frames_are_encode_frames(msg in strategies::message(), size in 0usize..MAX_FRAME_LEN + 4) {
+        let mut a = vec![0u8; size];
+        let mut b = vec![0u8; size];
+        let fast = match &msg {
+            Message::SegmentOrientation(p) => encode_segment_orientation_frame(p, &mut a),
+            Message::RawImuStatus(s) => encode_raw_imu_status_frame(s, &mut a),
+            _ => return Ok(()),
+        }
+        .map(|f| f.to_vec());
+        let reference = encode_frame(&msg, &mut b).map(|f| f.to_vec());
+        prop_assert_eq!(fast.is_ok(), reference.is_ok());
+        if let (Ok(f), Ok(r)) = (fast, reference) {
+            prop_assert_eq!(f, r);
+        }
     }
 }
 
