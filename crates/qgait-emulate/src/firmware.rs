@@ -110,6 +110,11 @@ pub fn locate_node(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
         return Err(EmulateError::NothingToBuild(path));
     }
     eprintln!("{} is missing: building the IMU node", path.display());
+    build_node(&root)
+}
+
+/// Builds the IMU node ([`node_elf`]; cargo does nothing when it is up to date).
+pub fn build_node(root: &Path) -> Result<PathBuf, EmulateError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
         .args([
@@ -123,10 +128,11 @@ pub fn locate_node(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
         .current_dir(root.join("firmware"))
         .status()
         .map_err(EmulateError::io("starting cargo"))?;
+    let path = node_elf(root);
     if !status.success() {
         return Err(EmulateError::BuildFailed {
             status,
-            command: node_build_command(&root),
+            command: node_build_command(root),
         });
     }
     if path.is_file() {
