@@ -285,7 +285,7 @@ fn any_byte_stream_is_counted_and_never_stops_the_node() {
     for seq in 0..3000u32 {
         let mut s = sample(SegmentId::Pelvis, seq, 2.0, &c);
         // Wild values too: extreme counts, random seq and timestamps.
-        if rng.next() % 7 == 0 {
+        if rng.next().is_multiple_of(7) {
             s.gyro = [0; 3].map(|_| rng.next() as i16);
             s.accel = [0; 3].map(|_| rng.next() as i16);
             s.seq = rng.next() as u32;
