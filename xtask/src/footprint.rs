@@ -87,3 +87,73 @@ pub fn run(chain: bool, imu: bool) -> Result<ExitCode, String> {
         ExitCode::FAILURE
     })
 }
+
+/// `cargo xtask footprint --node`: the IMU node's flash and static RAM on both boards and its
+/// stack bound from the disassembly (its peak stack is logged by the node under `qgait emulate
+/// --node`).
+pub fn run_node() -> Result<ExitCode, String> {
+    let node_elf = qgait_emulate::firmware::node_elf(&repo_root());
+    let measure = |name: &str, args: &[&str]| -> Result<Footprint, String> {
+        let s = step(
+            &format!("node build, {name}"),
+            &repo_root().join("firmware"),
+            args,
+            &[],
+        );
+        if !s.ok {
+            return Err(format!("building the node for {name} failed"));
+        }
+        let bytes =
+            std::fs::read(&node_elf).map_err(|e| format!("reading {}: {e}", node_elf.display()))?;
+        footprint(&bytes)
+    };
+    let node = ["--features", "node", "--bin", "qgait-node"];
+    let nrf = measure(
+        "nrf52840",
+        &[
+            &["build", "--release", "--no-default-features"][..],
+            &node[..],
+            &["--features", "nrf52840"][..],
+        ]
+        .concat(),
+    )?;
+    let mps2 = measure(
+        "mps2-an386",
+        &[&["build", "--release"][..], &node[..]].concat(),
+    )?;
+    let bound = crate::stack_bound::bound(&node_elf)?;
+    println!(
+        "\n{:<12} {:>10} {:>16} {:>16}",
+        "node board", "flash (B)", "static RAM (B)", "RAM bound (B)"
+    );
+    println!(
+        "{:<12} {:>10} {:>16} {:>16}",
+        "mps2-an386",
+        mps2.flash,
+        mps2.static_ram,
+        mps2.static_ram + bound.bytes
+    );
+    println!(
+        "{:<12} {:>10} {:>16} {:>16}",
+        "nrf52840", nrf.flash, nrf.static_ram, "(not run)"
+    );
+    println!(
+        "\nmps2-an386 stack bound (disassembly): {} bytes; deepest path from Reset:",
+        bound.bytes
+    );
+    for (function, frame) in &bound.main_path {
+        println!("  {frame:>6}  {function}");
+    }
+    for (handler, depth) in &bound.handlers {
+        println!("  handler {handler}: {depth} bytes + the exception frame");
+    }
+    let fits = |f: &Footprint| f.flash <= 32 * 1024;
+    Ok(
+        if fits(&mps2) && fits(&nrf) && mps2.static_ram + bound.bytes <= 8 * 1024 {
+            ExitCode::SUCCESS
+        } else {
+            eprintln!("the node is over its 32 KiB / 8 KiB budget");
+            ExitCode::FAILURE
+        },
+    )
+}

@@ -65,6 +65,9 @@ enum Task {
         /// `--chain`: both).
         #[arg(long)]
         imu: bool,
+        /// The IMU node (`qgait-node`, the firmware's `node` feature) instead of the hub.
+        #[arg(long, conflicts_with_all = ["chain", "imu"])]
+        node: bool,
     },
     /// Every benchmark figure (device, footprint, host), one `NAME VALUE` line each.
     Bench(bench::BenchArgs),
@@ -74,7 +77,13 @@ fn main() -> ExitCode {
     let result = match Xtask::parse().command {
         Task::Test => test::run(),
         Task::Demo => demo::run_demo(),
-        Task::Footprint { chain, imu } => footprint::run(chain, imu),
+        Task::Footprint { chain, imu, node } => {
+            if node {
+                footprint::run_node()
+            } else {
+                footprint::run(chain, imu)
+            }
+        }
         Task::Bench(args) => bench::run(&args),
         Task::QemuRun { elf, .. } => qemu::run_elf(&elf),
     };

@@ -7,4 +7,5 @@ pub mod log;
 pub mod orientations;
 pub mod packets;
 pub mod port;
+pub mod raw;
 pub mod verify;

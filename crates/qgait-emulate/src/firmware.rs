@@ -77,6 +77,71 @@ pub fn build_imu(root: &Path) -> Result<PathBuf, EmulateError> {
     }
 }
 
+/// Where the IMU node's ELF is built (`cargo build --release --features node --bin
+/// qgait-node` in `firmware/`): beside the hub's.
+pub fn node_elf(root: &Path) -> PathBuf {
+    default_elf(root).with_file_name("qgait-node")
+}
+
+/// The command that builds the IMU node, for messages.
+pub fn node_build_command(root: &Path) -> String {
+    format!(
+        "cd {} && cargo build --release --features node --bin qgait-node",
+        root.join("firmware").display()
+    )
+}
+
+/// The IMU node's ELF to run: `elf` if given (it must exist), else [`node_elf`], built first if
+/// it is missing and `firmware/` is there.
+pub fn locate_node(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
+    if let Some(p) = elf {
+        return if p.is_file() {
+            Ok(p.to_path_buf())
+        } else {
+            Err(EmulateError::NoElf(p.to_path_buf()))
+        };
+    }
+    let root = repo_root();
+    let path = node_elf(&root);
+    if path.is_file() {
+        return Ok(path);
+    }
+    if !root.join("firmware/Cargo.toml").is_file() {
+        return Err(EmulateError::NothingToBuild(path));
+    }
+    eprintln!("{} is missing: building the IMU node", path.display());
+    build_node(&root)
+}
+
+/// Builds the IMU node ([`node_elf`]; cargo does nothing when it is up to date).
+pub fn build_node(root: &Path) -> Result<PathBuf, EmulateError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .args([
+            "build",
+            "--release",
+            "--features",
+            "node",
+            "--bin",
+            "qgait-node",
+        ])
+        .current_dir(root.join("firmware"))
+        .status()
+        .map_err(EmulateError::io("starting cargo"))?;
+    let path = node_elf(root);
+    if !status.success() {
+        return Err(EmulateError::BuildFailed {
+            status,
+            command: node_build_command(root),
+        });
+    }
+    if path.is_file() {
+        Ok(path)
+    } else {
+        Err(EmulateError::BuildProducedNothing(path))
+    }
+}
+
 /// The command that builds the firmware, for messages.
 pub fn build_command(root: &Path) -> String {
     format!(

@@ -124,6 +124,9 @@ impl InputCounts {
                 Ok(ref m @ (Message::JointAngle(_) | Message::SegmentOrientation(_))) => {
                     c.accepted += u32::from(accepted(m))
                 }
+                // What a node fusing its own sensor takes (`qgait-node`; a hub counts it as
+                // malformed, which the caller reports as a disagreement).
+                Ok(Message::RawImuSample(_)) => c.accepted += 1,
                 // A message only a hub sends is `malformed` at a hub, well-formed or not.
                 Ok(Message::PoseFrame(_) | Message::Status(_)) => c.rejected += 1,
                 Ok(_) => {}
@@ -153,7 +156,8 @@ impl InputCounts {
 }
 
 /// The frames that end a session: a 0x00 (so that line noise just before cannot swallow them),
-/// then `configuration` (the last `Config`, `SubjectConfig` or `ChainTableConfig` sent) with its
+/// then `configuration` (the last `Config`, `SubjectConfig` or `ChainTableConfig` sent, or a
+/// node's `RawImuConfig`, asking for its status) with its
 /// reorder window
 /// changed, which makes the hub close (and count) the samples still open in its window, and
 /// a status request.
@@ -174,6 +178,11 @@ pub fn closing_frames(configuration: &Message) -> Result<Vec<u8>, EmulateError> 
             reorder_window: toggle(c.reorder_window),
             request_status: true,
             ..c.clone()
+        }),
+        // A node's: the same settings (its fusion starts afresh, at the end), status asked.
+        Message::RawImuConfig(c) => Message::RawImuConfig(qgait_proto::RawImuConfig {
+            request_status: true,
+            ..*c
         }),
         other => return Err(EmulateError::NotAConfiguration(other.tag())),
     };

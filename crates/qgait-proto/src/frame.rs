@@ -2,12 +2,12 @@
 
 use crate::crc::{self, crc32c};
 use crate::wire::{
-    encode_pose_frame_message, encode_pose_frame_parts_message, encode_status_message,
-    PoseFrameParts,
+    encode_pose_frame_message, encode_pose_frame_parts_message, encode_raw_imu_status_message,
+    encode_segment_orientation_message, encode_status_message, PoseFrameParts,
 };
 use crate::{
-    cobs, decode_message, encode_message, DecodeError, EncodeError, Message, PoseFrame, Status,
-    CRC_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
+    cobs, decode_message, encode_message, DecodeError, EncodeError, Message, PoseFrame,
+    RawImuStatus, SegmentOrientation, Status, CRC_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
 };
 
 /// Encodes `msg` as one complete frame into `out` and returns it, trailing 0x00 included.
@@ -52,6 +52,28 @@ pub fn encode_status_frame<'a>(
 ) -> Result<&'a [u8], EncodeError> {
     encode_frame_with(out, |payload| {
         encode_status_message(status, payload).map(|m| m.len())
+    })
+}
+
+/// [`encode_frame`] of `Message::SegmentOrientation(packet)`, without building the
+/// [`Message`]: the same bytes (a node's path, which links no other message's serialiser).
+pub fn encode_segment_orientation_frame<'a>(
+    packet: &SegmentOrientation,
+    out: &'a mut [u8],
+) -> Result<&'a [u8], EncodeError> {
+    encode_frame_with(out, |payload| {
+        encode_segment_orientation_message(packet, payload)
+    })
+}
+
+/// [`encode_frame`] of `Message::RawImuStatus(status)`, without building the [`Message`]: the
+/// same bytes.
+pub fn encode_raw_imu_status_frame<'a>(
+    status: &RawImuStatus,
+    out: &'a mut [u8],
+) -> Result<&'a [u8], EncodeError> {
+    encode_frame_with(out, |payload| {
+        encode_raw_imu_status_message(status, payload)
     })
 }
 

@@ -36,7 +36,7 @@ pub use crate::error::{DecodeError, EncodeError, ErrorKind};
 pub use crate::flags::{FrameFlags, QualityFlags};
 pub use crate::frame::{
     decode_frame, encode_frame, encode_pose_frame, encode_pose_frame_parts, encode_raw_frame,
-    encode_status_frame,
+    encode_raw_imu_status_frame, encode_segment_orientation_frame, encode_status_frame,
 };
 pub use crate::joint::JointId;
 pub use crate::messages::{
@@ -63,7 +63,8 @@ pub use crate::subject::{
     KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,
 };
 pub use crate::wire::{
-    decode_hub_message, decode_message, decode_packet, encode_message, HubMessage, PoseFrameParts,
+    decode_hub_message, decode_message, decode_node_message, decode_packet, encode_message,
+    HubMessage, NodeMessage, PoseFrameParts,
 };
 
 /// Largest COBS encoding (delimiter excluded) of `len` bytes: `len + ceil(len / 254)`, 1 if empty.

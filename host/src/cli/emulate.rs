@@ -58,6 +58,125 @@ pub struct EmulateArgs {
     /// Tolerance of --verify (micrometres).
     #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
     pub tol_um: f64,
+    /// Run the IMU node firmware (`qgait-node`) instead of the hub, with --stream a raw stream
+    /// (`qgait packets --raw`): it fuses the samples and sends orientations; --verify checks
+    /// them against the host's f64 fusion of the same stream.
+    #[arg(long, requires = "stream", conflicts_with_all = ["frames_csv", "motion"])]
+    pub node: bool,
+    /// Tolerance of --node --verify: the RMS angle between the device's orientations and the
+    /// host's (degrees).
+    #[arg(long, default_value_t = 0.1, value_name = "DEG")]
+    pub tol_deg: f64,
+}
+
+/// `qgait emulate --node`: a raw stream through the IMU node firmware.
+fn run_node(args: &EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
+    use qgait_device::raw::{host_orientations, RawCheck};
+    let Some(path) = &args.stream else {
+        bail!("--node runs a raw stream: give --stream STREAM.bin (from `qgait packets --raw`)");
+    };
+    let inputs = [path.to_string_lossy().into_owned()];
+    crate::cli::output::refuse_overwrite(args.log.iter().map(PathBuf::as_path), &inputs)?;
+    let stream = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let config = FrameDecoder::new()
+        .feed(&stream)
+        .flatten()
+        .filter_map(|m| match m {
+            Message::RawImuConfig(c) => Some(c),
+            _ => None,
+        })
+        .last()
+        .with_context(|| {
+            format!(
+                "{}: no RawImuConfig: not a raw stream (`qgait packets --raw`)",
+                path.display()
+            )
+        })?;
+    let elf = firmware::locate_node(args.elf.as_deref())?;
+    let mut input = stream.clone();
+    input.extend(closing_frames(&Message::RawImuConfig(config))?);
+    let expected = InputCounts::of(&input);
+    if !quiet {
+        eprintln!(
+            "running {} under QEMU mps2-an386: {} bytes into UART0",
+            elf.display(),
+            input.len()
+        );
+    }
+    let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
+    let out = session::run(
+        &elf,
+        input,
+        expected,
+        echo,
+        Limits::for_stream(stream.len()),
+    )?;
+    if let Some(log) = &args.log {
+        std::fs::write(log, &out.uart)
+            .with_context(|| format!("{}: cannot write", log.display()))?;
+    }
+    let mut orientations = Vec::new();
+    let mut raw_status = None;
+    for m in FrameDecoder::new().feed(&out.uart).flatten() {
+        match m {
+            Message::SegmentOrientation(o) => orientations.push(o),
+            Message::RawImuStatus(s) => raw_status = Some(s),
+            _ => {}
+        }
+    }
+    eprintln!(
+        "node sent {} orientations in {:.2} s",
+        orientations.len(),
+        out.elapsed.as_secs_f64()
+    );
+    let mut ok = true;
+    match &out.status {
+        Some(s) => {
+            println!("device status:");
+            for (k, v) in s.named_counters() {
+                println!("  {k:<20} {v}");
+            }
+            if let Some(r) = raw_status {
+                println!("raw input:");
+                for (k, v) in r.named_counters() {
+                    println!("  {k:<20} {v}");
+                }
+            }
+            let (got, want) = (InputCounts::counted_by(s), expected);
+            if got == want {
+                println!(
+                    "input accounted for: {} raw samples taken, {} damaged frames counted",
+                    got.accepted, got.rejected
+                );
+            } else {
+                ok = false;
+                eprintln!(
+                    "error: the node counted {} raw samples and {} damaged frames; the input has {} and {}",
+                    got.accepted, got.rejected, want.accepted, want.rejected
+                );
+            }
+            if s.config_rejected > 0 {
+                ok = false;
+                eprintln!(
+                    "error: the node rejected {} configurations (a node fuses one sensor: give `qgait packets --raw` one file)",
+                    s.config_rejected
+                );
+            }
+        }
+        None => {
+            ok = false;
+            eprintln!(
+                "error: {}",
+                out.problem.as_deref().unwrap_or("no status from the node")
+            );
+        }
+    }
+    if args.verify {
+        let c = RawCheck::run(&orientations, &host_orientations(&stream));
+        println!("{}", c.report(args.tol_deg));
+        ok &= c.passed(args.tol_deg);
+    }
+    Ok(ok)
 }
 
 /// What `qgait emulate` sends: the stream, the time (s) of each sample, the number of
@@ -122,6 +241,9 @@ fn emulate_input(
 
 /// Runs `qgait emulate`; `Ok(false)` when --verify failed or the session did not end normally.
 pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
+    if args.node {
+        return run_node(&args, quiet);
+    }
     let paths = |p: &Option<PathBuf>| p.as_deref().map(|p| p.to_string_lossy().into_owned());
     let mut inputs: Vec<String> = [paths(&args.stream), paths(&args.elf), args.motion.clone()]
         .into_iter()

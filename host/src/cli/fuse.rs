@@ -60,7 +60,7 @@ pub enum ModeArg {
 }
 
 /// Reads one recording by its kind: an Xsens `.txt`, else the CSV layout.
-fn read(path: &Path, rate: Option<f64>) -> anyhow::Result<RawRecording> {
+pub(crate) fn read(path: &Path, rate: Option<f64>) -> anyhow::Result<RawRecording> {
     let xsens = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("txt"));

@@ -1,10 +1,11 @@
-//! `qgait packets`: the byte stream the IMU nodes send for a motion, or the segment nodes' stream
-//! of an IMU recording (`--orientations`).
+//! `qgait packets`: the byte stream the IMU nodes send for a motion, the segment nodes' stream
+//! of an IMU recording (`--orientations`), or the raw nodes' stream of raw IMU recordings
+//! (`--raw`).
 
 use std::io::Write;
 use std::path::PathBuf;
 
-use anyhow::bail;
+use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
 use qgait_proto::ModelId;
 
@@ -18,8 +19,8 @@ use qgait_device::packets::{PacketsError, Timing};
 pub struct PacketsArgs {
     /// Motion file (.mot/.sto) or `builtin:...`.
     #[arg(
-        required_unless_present = "orientations",
-        conflicts_with = "orientations"
+        required_unless_present_any = ["orientations", "raw"],
+        conflicts_with_all = ["orientations", "raw"]
     )]
     pub motion: Option<String>,
     /// Samples per second of MOTION (default: its time column; an orientation recording has
@@ -35,6 +36,104 @@ pub struct PacketsArgs {
     /// The IMU orientation input instead of a motion.
     #[command(flatten)]
     pub imu: OrientationArgs,
+    /// Raw nodes instead: their samples (protocol.md 4.10) from raw IMU recordings.
+    #[command(flatten)]
+    pub raw: RawArgs,
+}
+
+/// `qgait packets --raw`: what raw nodes send.
+#[derive(Debug, Args)]
+pub struct RawArgs {
+    /// Raw IMU recordings, one per sensor, as `qgait fuse` reads them (the shared CSV layout or
+    /// an Xsens MT Manager .txt), sampling in step: a `RawImuConfig`, then every sensor's
+    /// `RawImuSample`s, the counts of an ICM-20948 (±2000 °/s at 16.4 counts per °/s, ±16 g at
+    /// 2048 counts per g, 0.15 µT per count).
+    #[arg(long, value_name = "RAW", num_args = 1.., conflicts_with = "orientations")]
+    pub raw: Vec<PathBuf>,
+    /// Each recording's segment, in the order of the files (`pelvis`, `femur_r`, `tibia_r`,
+    /// `calcn_r`, `femur_l`, `tibia_l`, `calcn_l`, `torso`; default: in that order).
+    #[arg(long, value_name = "SEGMENT", requires = "raw")]
+    pub segment: Vec<String>,
+    /// 9d: with the magnetometer (default when every file has one); 6d: without.
+    #[arg(long = "fusion", value_enum, requires = "raw")]
+    pub fusion: Option<crate::cli::fuse::ModeArg>,
+    /// One orientation per this many samples (`RawImuConfig.output_every`).
+    #[arg(long, default_value_t = 1, value_name = "N", requires = "raw", value_parser = clap::value_parser!(u8).range(1..))]
+    pub output_every: u8,
+    /// Only the first N samples of each recording.
+    #[arg(long = "raw-rows", value_name = "N", requires = "raw")]
+    pub raw_rows: Option<usize>,
+    /// The sampling rate (Hz) of Xsens files without a `// Update Rate` comment.
+    #[arg(long = "raw-rate", value_name = "HZ", requires = "raw")]
+    pub raw_rate: Option<f64>,
+}
+
+impl RawArgs {
+    /// The raw stream the arguments describe, if `--raw` is given.
+    pub fn stream(&self) -> anyhow::Result<Option<qgait_device::raw::RawStream>> {
+        use qgait_device::raw::{segment_of_name, RawStream, Sensitivities};
+        use qgait_proto::{FusionMode, SegmentId};
+        if self.raw.is_empty() {
+            return Ok(None);
+        }
+        if !self.segment.is_empty() && self.segment.len() != self.raw.len() {
+            bail!(
+                "{} --segment for {} --raw files: give one per file, or none",
+                self.segment.len(),
+                self.raw.len()
+            );
+        }
+        if self.raw.len() > SegmentId::COUNT {
+            bail!(
+                "at most {} raw recordings (one per segment)",
+                SegmentId::COUNT
+            );
+        }
+        let mut recordings = Vec::new();
+        for (i, path) in self.raw.iter().enumerate() {
+            let segment = match self.segment.get(i) {
+                Some(name) => segment_of_name(name).with_context(|| {
+                    format!("--segment {name}: not one of pelvis, femur_r, tibia_r, calcn_r, femur_l, tibia_l, calcn_l, torso")
+                })?,
+                None => SegmentId::ALL[i],
+            };
+            let mut r = crate::cli::fuse::read(path, self.raw_rate)?;
+            if let Some(n) = self.raw_rows {
+                truncate(&mut r, n);
+            }
+            recordings.push((segment, r));
+        }
+        let fusion = match self.fusion {
+            Some(crate::cli::fuse::ModeArg::NineD) => FusionMode::NineD,
+            Some(crate::cli::fuse::ModeArg::SixD) => FusionMode::SixD,
+            None if recordings.iter().all(|(_, r)| r.mag.is_some()) => FusionMode::NineD,
+            None => FusionMode::SixD,
+        };
+        let sensors: Vec<_> = recordings.iter().map(|(s, r)| (*s, r)).collect();
+        Ok(Some(RawStream::new(
+            &sensors,
+            fusion,
+            self.output_every,
+            Sensitivities::default(),
+        )?))
+    }
+}
+
+/// Keeps the first `n` samples of `r`.
+fn truncate(r: &mut qgait_fusion::RawRecording, n: usize) {
+    r.times.truncate(n);
+    r.lines.truncate(n);
+    r.gyr.truncate(n);
+    r.acc.truncate(n);
+    if let Some(m) = &mut r.mag {
+        m.truncate(n);
+    }
+    if let Some(t) = &mut r.truth {
+        t.truncate(n);
+    }
+    if let Some(m) = &mut r.movement {
+        m.truncate(n);
+    }
 }
 
 /// A model id on the command line.
@@ -60,11 +159,14 @@ impl From<WireModel> for ModelId {
 
 /// Runs `qgait packets`: each row's packets are written before the next row is read.
 pub fn run_packets(args: PacketsArgs, quiet: bool) -> anyhow::Result<()> {
+    if let Some(stream) = args.raw.stream()? {
+        return write_raw_stream(&args, &stream, quiet);
+    }
     if let Some(stream) = args.imu.stream(quiet)? {
         return write_orientation_stream(&args, &stream, quiet);
     }
     let Some(motion) = &args.motion else {
-        bail!("give either MOTION or --orientations ORIENTATIONS.sto --calibration STATIC.sto");
+        bail!("give MOTION, --orientations ORIENTATIONS.sto --calibration STATIC.sto, or --raw RAW...");
     };
     crate::cli::output::refuse_overwrite([args.output.as_path()], &[motion])?;
     let diagnostics = Diagnostics::new(quiet);
@@ -118,6 +220,41 @@ fn write_orientation_stream(
             stream.imu.mode,
             stream.rows.len(),
             stream.imu.segments.count_ones(),
+            bytes.len(),
+            args.output.display()
+        );
+    }
+    Ok(())
+}
+
+/// `qgait packets --raw`: the raw nodes' stream of raw IMU recordings.
+fn write_raw_stream(
+    args: &PacketsArgs,
+    stream: &qgait_device::raw::RawStream,
+    quiet: bool,
+) -> anyhow::Result<()> {
+    let inputs: Vec<String> = args
+        .raw
+        .raw
+        .iter()
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    crate::cli::output::refuse_overwrite([args.output.as_path()], &inputs)?;
+    let bytes = stream.bytes();
+    let mut file = crate::cli::output::OutputFile::create(&args.output)?;
+    file.writer()
+        .write_all(&bytes)
+        .map_err(|e| crate::cli::output::with_path(e.into(), &args.output))?;
+    file.commit()?;
+    if !quiet {
+        let c = &stream.config;
+        eprintln!(
+            "wrote the raw input's configuration ({:?}, {} Hz, an orientation every {} samples) and {} samples of {} sensors, {} bytes, to {}",
+            c.fusion,
+            c.rate_hz,
+            c.output_every,
+            stream.rows,
+            c.segments.count_ones(),
             bytes.len(),
             args.output.display()
         );

@@ -10,6 +10,7 @@ use crate::cli::model_args::ModelArgs;
 use qgait_device::log::{LogDecoder, Record};
 use qgait_device::orientations::OrientationCheck;
 use qgait_device::port;
+use qgait_device::raw::{host_orientations, RawCheck};
 use qgait_device::verify::{Expected, Verifier};
 
 /// `qgait verify` arguments.
@@ -32,6 +33,15 @@ pub struct VerifyArgs {
     /// not compared).
     #[command(flatten)]
     pub imu: OrientationArgs,
+    /// The raw stream a node (or a receiver with raw input) was sent (`qgait packets --raw`):
+    /// the log's segment orientations are checked against the host's f64 fusion of the same
+    /// stream, by the same rules (protocol.md 4.10), instead of pose frames.
+    #[arg(long, value_name = "STREAM.bin", conflicts_with = "orientations")]
+    pub raw: Option<std::path::PathBuf>,
+    /// Tolerance of --raw: the RMS angle between the device's orientations and the host's
+    /// (degrees).
+    #[arg(long, default_value_t = 0.1, value_name = "DEG", requires = "raw")]
+    pub tol_deg: f64,
 }
 
 /// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
@@ -43,6 +53,7 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     let mut verifier = Verifier::new(&model.device, Expected::FirstToLast);
     let imu = args.imu.stream(quiet)?;
     let mut poses = Vec::new();
+    let mut orientations = Vec::new();
     let end = port::read_log(&mut input, &mut decoder, args.port.until(), |event| {
         match event {
             port::Event::Record(record) => {
@@ -56,6 +67,13 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
                     if imu.is_some() {
                         poses.push(p.clone());
                     }
+                }
+                if let Record::Message {
+                    message: Message::SegmentOrientation(o),
+                    ..
+                } = &record
+                {
+                    orientations.push(*o);
                 }
             }
             port::Event::Chunk => view.refresh(),
@@ -71,6 +89,16 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     warn_cut_off(&args.log, counts.unterminated);
     if let port::End::Failed(e) = end {
         return Err(e.into());
+    }
+    if let Some(path) = &args.raw {
+        let stream = std::fs::read(path)
+            .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", path.display()))?;
+        if orientations.is_empty() {
+            bail!("{}: no segment orientations", args.log);
+        }
+        let c = RawCheck::run(&orientations, &host_orientations(&stream));
+        println!("{}", c.report(args.tol_deg));
+        return Ok(c.passed(args.tol_deg));
     }
     if verifier.frames() == 0 {
         bail!("{}: no pose frames", args.log);

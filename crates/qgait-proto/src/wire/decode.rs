@@ -97,6 +97,34 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
     }
 }
 
+/// A message as a node fusing its own sensor takes it ([`decode_node_message`]): its raw
+/// samples and their configuration, decoded; any other known message only by its tag.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum NodeMessage {
+    /// Tag 11.
+    RawImuSample(RawImuSample),
+    /// Tag 12.
+    RawImuConfig(RawImuConfig),
+    /// A known message a node does not take (tags 0 to 10 and 13), with its tag. Its body is
+    /// not decoded (so a node links none of their decoders).
+    NotTaken(u32),
+}
+
+/// [`decode_message`](crate::decode_message) for a node fusing its own sensor (protocol.md
+/// 4.10): a [`RawImuSample`] or a [`RawImuConfig`] is decoded exactly as `decode_message`
+/// decodes it (the same values, the same errors); any other known tag is
+/// [`NodeMessage::NotTaken`], an unknown one [`DecodeError::UnknownMessage`].
+pub fn decode_node_message(bytes: &[u8]) -> Result<NodeMessage, DecodeError> {
+    let (tag, body) = take::<u32>(bytes)?;
+    match tag {
+        RAW_IMU_SAMPLE_TAG => raw_imu_sample(body).map(NodeMessage::RawImuSample),
+        RAW_IMU_CONFIG_TAG => raw_imu_config(body).map(NodeMessage::RawImuConfig),
+        0..=RAW_IMU_STATUS_TAG => Ok(NodeMessage::NotTaken(tag)),
+        unknown => Err(DecodeError::UnknownMessage(unknown)),
+    }
+}
+
 /// A [`JointAngle`]'s body (after the tag), by hand: version, node, joint, seq (varint),
 /// timestamp (varint), angle (`f32` LE), quality, and nothing after. The errors are postcard's
 /// for the layout: the version first, then the layout (`Malformed`), then the joint.

@@ -7,7 +7,10 @@
 use super::check_angle_count;
 use super::varint::{varint_u32, VARINT_U32_MAX};
 use crate::sizes::STATUS_COUNTERS;
-use crate::{point, EncodeError, ModelId, PoseFrame, Status, MAX_MESSAGE_LEN};
+use crate::{
+    point, EncodeError, ModelId, PoseFrame, RawImuStatus, SegmentOrientation, Status,
+    MAX_MESSAGE_LEN,
+};
 
 /// [`encode_message`] of `Message::PoseFrame(frame)`, without building the [`Message`]: the
 /// same bytes as postcard's, written by hand (46 `f32`s through postcard's serializer cost
@@ -180,6 +183,72 @@ pub(crate) fn encode_status_message<'a>(
         }
     }
     out.get_mut(..len).ok_or(too_small)
+}
+
+/// A message written a field at a time as postcard writes it: `u8`s as bytes, `u32`s as
+/// varints, `i16`s as zigzag varints.
+struct Fields<'a> {
+    out: &'a mut [u8],
+    len: usize,
+}
+
+impl Fields<'_> {
+    const TOO_SMALL: EncodeError = EncodeError::BufferTooSmall {
+        needed: MAX_MESSAGE_LEN,
+    };
+
+    fn byte(&mut self, b: u8) -> Result<(), EncodeError> {
+        *self.out.get_mut(self.len).ok_or(Self::TOO_SMALL)? = b;
+        self.len += 1;
+        Ok(())
+    }
+
+    fn varint(&mut self, mut value: u32) -> Result<(), EncodeError> {
+        while value >= 0x80 {
+            self.byte((value as u8) | 0x80)?;
+            value >>= 7;
+        }
+        self.byte(value as u8)
+    }
+
+    fn zigzag(&mut self, v: i16) -> Result<(), EncodeError> {
+        self.varint(u32::from(((v << 1) ^ (v >> 15)) as u16))
+    }
+}
+
+/// [`encode_message`] of `Message::SegmentOrientation(packet)`, by hand (a node links no
+/// message serialiser): the tag 7, version, node, segment, seq, timestamp, the Q14
+/// components, quality.
+pub(crate) fn encode_segment_orientation_message(
+    p: &SegmentOrientation,
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
+    let mut f = Fields { out, len: 0 };
+    f.byte(7)?;
+    f.byte(p.version)?;
+    f.byte(p.node)?;
+    f.byte(p.segment.index())?;
+    f.varint(p.seq)?;
+    f.varint(p.timestamp_us)?;
+    for c in p.q14 {
+        f.zigzag(c)?;
+    }
+    f.byte(p.quality)?;
+    Ok(f.len)
+}
+
+/// [`encode_message`] of `Message::RawImuStatus(status)`, by hand: the tag 13, then its
+/// counters as varints in wire order.
+pub(crate) fn encode_raw_imu_status_message(
+    s: &RawImuStatus,
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
+    let mut f = Fields { out, len: 0 };
+    f.varint(crate::RAW_IMU_STATUS_TAG)?;
+    for (_, value) in s.named_counters() {
+        f.varint(value)?;
+    }
+    Ok(f.len)
 }
 
 /// Writes `values` as postcard writes `f32`s (4 bytes, little-endian) into `out`.

@@ -15,10 +15,11 @@ mod decode;
 mod encode;
 mod varint;
 
-pub use decode::{decode_hub_message, decode_packet, HubMessage};
+pub use decode::{decode_hub_message, decode_node_message, decode_packet, HubMessage, NodeMessage};
 pub use encode::PoseFrameParts;
 pub(crate) use encode::{
-    encode_pose_frame_message, encode_pose_frame_parts_message, encode_status_message,
+    encode_pose_frame_message, encode_pose_frame_parts_message, encode_raw_imu_status_message,
+    encode_segment_orientation_message, encode_status_message,
 };
 
 use crate::{DecodeError, EncodeError, Message, ModelId, MAX_MESSAGE_LEN};

@@ -1,0 +1,10 @@
+#![doc = include_str!("../README.md")]
+#![no_std]
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod node;
+pub mod raw_input;
+
+pub use crate::node::{Node, NodePoll, DEFAULT_STATUS_PERIOD_MS, NODE_SEGMENTS, TX_LEN};
+pub use crate::raw_input::{orientation_packet, RawInput, RawOutcome, MAX_SEQ_STEP};
