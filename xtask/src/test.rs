@@ -51,11 +51,42 @@ pub fn run() -> Result<ExitCode, String> {
         )],
     );
     let chain_budget = budget(&chain, "budget, chain build", &chain_elf);
+    // The IMU node (its own binary, `--features node`): within the same 32 KiB / 8 KiB.
+    let node = step(
+        "firmware build, node, mps2-an386",
+        &firmware,
+        &[
+            "build",
+            "--release",
+            "--features",
+            "node",
+            "--bin",
+            "qgait-node",
+        ],
+        &[],
+    );
+    let node_elf = qgait_emulate::firmware::node_elf(&root);
+    let node_budget = budget(&node, "budget, node", &node_elf);
     let steps: Vec<Step> = vec![
         mps2,
         default_budget,
         chain,
         chain_budget,
+        node,
+        node_budget,
+        step(
+            "node on-target tests under QEMU",
+            &firmware,
+            &[
+                "test",
+                "--release",
+                "--features",
+                "node",
+                "--test",
+                "node_on_target",
+            ],
+            &runner,
+        ),
         // Every crate of the root workspace, the hub's host tests and scenario checks included.
         step(
             "host workspace tests",
@@ -173,6 +204,12 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             "clippy, firmware",
             firmware,
             &clippy(&["--all-targets"]),
+            &[],
+        ),
+        step(
+            "clippy, firmware, node",
+            firmware,
+            &clippy(&["--all-targets", "--features", "node"]),
             &[],
         ),
     ]
