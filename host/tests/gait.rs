@@ -572,23 +572,29 @@ fn the_report_has_every_file_and_a_self_contained_page() {
     browser_check(&out.join("report.html"));
 }
 
-/// Renders the page in headless Chromium (when installed: `$QGAIT_CHROMIUM`, `chromium`,
-/// `chromium-browser` or `google-chrome`) and checks that the DOM it built holds every figure
-/// and that the browser logged no error.
-fn browser_check(page: &Path) {
+/// A headless Chromium (`$QGAIT_CHROMIUM`, `chromium`, `chromium-browser` or
+/// `google-chrome`), or `None` with the reason printed.
+fn chromium() -> Option<String> {
     let candidates: Vec<String> = std::env::var("QGAIT_CHROMIUM")
         .into_iter()
         .chain(["chromium", "chromium-browser", "google-chrome"].map(String::from))
         .collect();
-    let Some(browser) = candidates.into_iter().find(|b| {
+    let found = candidates.into_iter().find(|b| {
         std::process::Command::new(b)
             .arg("--version")
             .output()
             .is_ok_and(|o| o.status.success())
-    }) else {
+    });
+    if found.is_none() {
         eprintln!("skipped the browser check: no headless Chromium found (set QGAIT_CHROMIUM)");
-        return;
-    };
+    }
+    found
+}
+
+/// Renders the page in headless Chromium (when installed, [`chromium`]) and checks that the
+/// DOM it built holds every figure and that the browser logged no error; returns the DOM.
+fn browser_check(page: &Path) -> Option<String> {
+    let browser = chromium()?;
     let o = std::process::Command::new(&browser)
         .args([
             "--headless",
@@ -616,6 +622,175 @@ fn browser_check(page: &Path) {
     for bad in ["Uncaught", "CONSOLE(", "Failed to load"] {
         assert!(!log.contains(bad), "{browser} logged `{bad}`: {log}");
     }
+    Some(dom.into_owned())
+}
+
+/// A screenshot of the page by headless Chromium into `png` (`width` x `height` pixels);
+/// `false` (the reason printed) without a Chromium.
+fn screenshot(page: &Path, png: &Path, width: u32, height: u32) -> bool {
+    let Some(browser) = chromium() else {
+        return false;
+    };
+    let o = std::process::Command::new(&browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            &format!("--window-size={width},{height}"),
+            &format!("--screenshot={}", png.display()),
+        ])
+        .arg(format!("file://{}", page.canonicalize().unwrap().display()))
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{browser}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    true
+}
+
+/// The text of every `<text>` element of the `<figure id="fig-STEM">` of a page.
+fn figure_texts(page: &str, stem: &str) -> Vec<String> {
+    let start = page
+        .find(&format!("<figure id=\"fig-{stem}\""))
+        .unwrap_or_else(|| panic!("no figure {stem}"));
+    let end = start + page[start..].find("</figure>").unwrap();
+    page[start..end]
+        .split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let body = &t[t.find('>')? + 1..];
+            Some(body[..body.find("</text>")?].trim().to_string())
+        })
+        .collect()
+}
+
+/// The clinical report of a walk with a gap and a subject, rendered by headless Chromium: the
+/// subject and session in the header, the gap's warning in the warnings section, every event
+/// time of `events.csv` in the event table, every kinematics panel with both axis titles and
+/// no panel without data, the MAP's typical scores, readable spatiotemporal names, a
+/// screenshot.
+#[test]
+fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_every_axis() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut walk = straight_walk(&shared, 8.0);
+    walk.rows.retain(|r| !(3.995..4.505).contains(&r[0]));
+    let motion = dir.path().join("gap.mot");
+    walk.write(&motion);
+    let out = dir.path().join("out");
+    let o = qgait(&[
+        "gait",
+        motion.to_str().unwrap(),
+        "--subject-id",
+        "P-0042",
+        "--date",
+        "2026-03-04",
+        "--age",
+        "34",
+        "--sex",
+        "female",
+        "--height",
+        "1.68",
+        "--mass",
+        "61.5",
+        "--condition",
+        "barefoot, no assistive device",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    let warnings: Vec<&str> = e
+        .lines()
+        .filter_map(|l| l.strip_prefix("warning: "))
+        .collect();
+    assert!(
+        warnings.iter().any(|w| w.contains("time jumps")),
+        "{e}"
+    );
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    // The header.
+    for want in [
+        "<title>Gait analysis: P-0042</title>",
+        "<td class=\"l\">P-0042</td>",
+        "<td class=\"l\">2026-03-04</td>",
+        "<td class=\"l\">34 years</td>",
+        "<td class=\"l\">female</td>",
+        "<td class=\"l\">1.68 m</td>",
+        "<td class=\"l\">61.5 kg</td>",
+        "<td class=\"l\">barefoot, no assistive device</td>",
+        "<th class=\"l\">Condition (detected)</th><td class=\"l\">walking, ",
+        "gap.mot",
+    ] {
+        assert!(html.contains(want), "no {want} in the page");
+    }
+    // summary.json's subject.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["subject"]["id"], "P-0042");
+    assert_eq!(summary["subject"]["date"], "2026-03-04");
+    assert_eq!(summary["subject"]["height_m"], 1.68);
+    assert_eq!(summary["subject"]["mass_kg"], 61.5);
+    // Every warning printed is in the warnings section, escaped as the page escapes text.
+    let section = &html[html.find("<h2 id=\"warnings\">").unwrap()..html.find("<h2>Kinematics").unwrap()];
+    for w in &warnings {
+        let escaped = w
+            .replace('&', "&#38;")
+            .replace('<', "&#60;")
+            .replace('>', "&#62;")
+            .replace('"', "&#34;")
+            .replace('\'', "&#39;");
+        assert!(section.contains(&format!("<li>{escaped}</li>")), "no {w} in {section}");
+    }
+    assert_eq!(section.matches("<li>").count(), warnings.len());
+    assert_eq!(summary["warnings"].as_array().unwrap().len(), warnings.len());
+    // Every event of events.csv in the event table.
+    let ev = events(&out);
+    assert!(ev.len() >= 20, "{ev:?}");
+    let table = &html[html.find("<table class=\"events\">").unwrap()..];
+    for (side, event, t) in &ev {
+        let row = format!(
+            "<tr><td class=\"l\">{side}</td><td class=\"l\">{}</td><td>{t}</td></tr>",
+            event.replace('_', " ")
+        );
+        assert!(table.contains(&row), "no {row} in the event table");
+    }
+    assert_eq!(table.matches("<tr><td").count(), ev.len());
+    // Readable names and units in the spatiotemporal table, a flag column.
+    assert!(html.contains("<td class=\"l\">Cadence</td><td class=\"l\">steps/min</td>"));
+    assert!(html.contains("<th class=\"l\">flag</th>"));
+    assert!(!html.contains("<td class=\"l\">double_support</td>"));
+    // In the browser: the DOM holds the three figures; every kinematics panel has its two
+    // axis titles: the nine variables and the two knee angles only the normative data have,
+    // none of the panels without data (ankle inversion).
+    let Some(dom) = browser_check(&out.join("report.html")) else {
+        return;
+    };
+    let texts = figure_texts(&dom, "kinematics");
+    let count = |s: &str| texts.iter().filter(|t| t.as_str() == s).count();
+    assert_eq!(count("% gait cycle"), 11, "{texts:?}");
+    assert_eq!(count("deg"), 11, "{texts:?}");
+    assert!(texts.iter().any(|t| t == "Knee flexion (flex +)"));
+    assert!(!texts.iter().any(|t| t.starts_with("Ankle inversion")), "{texts:?}");
+    assert!(!texts.iter().any(|t| t.contains("not in the model")), "{texts:?}");
+    assert!(texts.iter().any(|t| t.contains("normal stance")), "{texts:?}");
+    let map = figure_texts(&dom, "map");
+    assert!(map.iter().any(|t| t.contains("typical of the reference")), "{map:?}");
+    // Captions say what a figure is.
+    for stem in ["kinematics", "map", "events"] {
+        let at = dom.find(&format!("<figure id=\"fig-{stem}\"")).unwrap();
+        let cap = &dom[at + dom[at..].find("<figcaption>").unwrap() + 12..];
+        let cap = &cap[..cap.find("</figcaption>").unwrap()];
+        assert!(cap.split(' ').count() > 15, "{stem}: {cap}");
+    }
+    let png = dir.path().join("report.png");
+    assert!(screenshot(&out.join("report.html"), &png, 1300, 2400));
+    let bytes = std::fs::read(&png).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 50_000, "{}", bytes.len());
 }
 
 /// Errors name what is wrong.

@@ -1,8 +1,12 @@
 //! The report's figures, drawn with the report room's helpers (PNG and SVG each):
 //! - `kinematics`: every joint angle over the cycle, rows proximal to distal (pelvis, hip,
-//!   knee, ankle, foot), columns sagittal, frontal, transverse; the reference's mean ± 1 SD as
-//!   a grey band, each side's mean ± SD in its colour, each side's toe off as a vertical line;
-//! - `map`: the Movement Analysis Profile, the nine GVS per side and the GPS as bars;
+//!   knee, ankle and foot), columns sagittal, frontal, transverse, each panel with its axis
+//!   titles (`% gait cycle`, `deg`); the reference's mean ± 1 SD as a grey band, each side's
+//!   mean ± SD in its colour over its strides drawn thin, each side's measured toe off as a
+//!   solid vertical line and the reference's (the normal range of the stance phase, or the
+//!   reference recording's) dashed; a panel with neither a curve nor a band is left out;
+//! - `map`: the Movement Analysis Profile, the nine GVS per side and the GPS as bars, with the
+//!   scores of a typical member of the reference as ticks;
 //! - `events`: the heel's and toe's forward position relative to the pelvis over time with the
 //!   detected events, to check them.
 
@@ -20,6 +24,9 @@ use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
 /// Side colours, right first.
 pub const SIDE_COLORS: [RGBColor; 2] = [RIGHT_LEG, LEFT_LEG];
 
+/// The MAP's ticks at the scores of a typical member of the reference.
+const NORMAL_TICK: RGBColor = RGBColor(30, 30, 30);
+
 /// What a panel of the kinematics figure shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Panel {
@@ -29,8 +36,10 @@ pub enum Panel {
     Absent(&'static str),
 }
 
-/// The 5 x 3 panels: rows pelvis, hip, knee, ankle, foot; columns sagittal, frontal, transverse.
-pub const PANELS: [[Panel; 3]; 5] = {
+/// The 4 x 3 panels: rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal,
+/// transverse (the foot progression in the ankle's row, as the Plug-in Gait report has it).
+/// Only the panels with something to draw are drawn ([`Kinematics::shown`]).
+pub const PANELS: [[Panel; 3]; 4] = {
     use Panel::{Absent, Variable as V};
     use Variable::*;
     [
@@ -43,16 +52,32 @@ pub const PANELS: [[Panel; 3]; 5] = {
         ],
         [
             V(AnkleDorsiflexion),
-            Absent("Ankle frontal"),
-            Absent("Ankle transverse"),
-        ],
-        [
-            Absent("Foot sagittal"),
-            Absent("Foot frontal"),
+            Absent("Ankle inversion (inv +)"),
             V(FootProgression),
         ],
     ]
 };
+
+/// At most this many strides of a side are drawn one by one in a panel (evenly spread over
+/// them): past that the lines are a blur, and the SVG grows with each.
+pub const MAX_STRIDE_LINES: usize = 60;
+
+/// The x axis title of every kinematics panel.
+pub const X_TITLE: &str = "% gait cycle";
+/// The y axis title of every kinematics panel.
+pub const Y_TITLE: &str = "deg";
+
+/// `n` indices spread evenly over `0..total` (all of them when `total <= n`), first and last
+/// included.
+pub fn spread(total: usize, n: usize) -> Vec<usize> {
+    if total <= n {
+        return (0..total).collect();
+    }
+    if n < 2 {
+        return (0..n).collect();
+    }
+    (0..n).map(|k| k * (total - 1) / (n - 1)).collect()
+}
 
 /// Draws one figure to PNG and SVG in `dir`.
 fn save<F: Figure>(f: &F, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
@@ -76,8 +101,8 @@ pub fn save_all(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, FigureError
 }
 
 const PANEL_W: u32 = 420;
-const PANEL_H: u32 = 260;
-const HEADER: u32 = 100;
+const PANEL_H: u32 = 280;
+const HEADER: u32 = 130;
 
 /// The normative-band figure.
 pub struct Kinematics<'a> {
@@ -91,7 +116,7 @@ impl Figure for Kinematics<'_> {
     }
 
     fn size(&self) -> (u32, u32) {
-        (3 * PANEL_W, HEADER + 5 * PANEL_H)
+        (3 * PANEL_W, HEADER + self.rows().len().max(1) as u32 * PANEL_H)
     }
 
     fn draw<DB: DrawingBackend>(
@@ -108,27 +133,88 @@ impl Figure for Kinematics<'_> {
                 (16, 10),
             )
             .map_err(draw_err)?;
+        // The legend: what the grey is, the sides, the thin lines, the toe-off lines.
+        header
+            .draw(&Rectangle::new(
+                [(16, 46), (52, 60)],
+                BLACK.mix(0.12).filled(),
+            ))
+            .map_err(draw_err)?;
+        header
+            .draw(&PathElement::new(
+                vec![(16, 53), (52, 53)],
+                BLACK.mix(0.45).stroke_width(1),
+            ))
+            .map_err(draw_err)?;
         header
             .draw_text(
-                &format!(
-                    "grey: {} mean (line) ± 1 SD (band); colours: mean ± SD of each side; dashed: toe off",
-                    r.reference.label
-                ),
+                &format!("{}: mean ± 1 SD", r.reference.label),
                 &figure::text(15),
-                (16, 44),
+                (60, 44),
             )
             .map_err(draw_err)?;
-        side_legend(&header, 16, 70)?;
-        let cells = grid.split_evenly((5, 3));
+        side_legend(&header, 16, 72)?;
+        header
+            .draw_text(
+                "mean ± 1 SD of each side; thin lines: single strides",
+                &figure::text(15),
+                (300, 72),
+            )
+            .map_err(draw_err)?;
+        header
+            .draw_text(
+                &if r.reference.toe_off_from.is_empty() {
+                    "vertical lines: measured toe off (solid)".to_string()
+                } else {
+                    format!(
+                        "vertical lines: measured toe off (solid); reference toe off (dashed): {}",
+                        r.reference.toe_off_from
+                    )
+                },
+                &figure::text(15),
+                (16, 100),
+            )
+            .map_err(draw_err)?;
+        let rows = self.rows();
+        let cells = grid.split_evenly((rows.len().max(1), 3));
         for (i, cell) in cells.iter().enumerate() {
-            let (row, col) = (i / 3, i % 3);
-            self.panel(cell, row, col)?;
+            let (k, col) = (i / 3, i % 3);
+            if let Some(&row) = rows.get(k) {
+                if self.shown(row, col) {
+                    self.panel(cell, row, col)?;
+                }
+            }
         }
         Ok(())
     }
 }
 
 impl Kinematics<'_> {
+    /// The [`Variable::ALL`] index of a panel's variable, if it is one.
+    fn variable(row: usize, col: usize) -> Option<usize> {
+        match PANELS[row][col] {
+            Panel::Variable(v) => Variable::ALL.iter().position(|x| *x == v),
+            Panel::Absent(_) => None,
+        }
+    }
+
+    /// Whether panel (row, col) has something to draw: a curve of the subject or a band of the
+    /// reference.
+    pub fn shown(&self, row: usize, col: usize) -> bool {
+        let r = self.report;
+        match Self::variable(row, col) {
+            Some(v) => (0..2).any(|s| r.curves[s][v].is_some() || r.reference.bands[s][v].is_some()),
+            None => r.reference.extra.iter().any(|(cell, _, _)| *cell == (row, col)),
+        }
+    }
+
+    /// The rows of [`PANELS`] with a panel to draw.
+    pub fn rows(&self) -> Vec<usize> {
+        (0..PANELS.len())
+            .filter(|&row| (0..3).any(|col| self.shown(row, col)))
+            .collect()
+    }
+
     fn panel<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
@@ -137,12 +223,10 @@ impl Kinematics<'_> {
     ) -> Result<(), figure::PlotError> {
         let r = self.report;
         let panel = PANELS[row][col];
-        let (title, v) = match panel {
-            Panel::Variable(v) => (
-                v.title(),
-                Some(Variable::ALL.iter().position(|x| *x == v).unwrap_or(0)),
-            ),
-            Panel::Absent(t) => (t, None),
+        let v = Self::variable(row, col);
+        let title = match panel {
+            Panel::Variable(var) => var.title(),
+            Panel::Absent(t) => t,
         };
         let band: Vec<(&[f64], &[f64])> = match v {
             Some(v) => (0..2)
@@ -163,17 +247,22 @@ impl Kinematics<'_> {
                 .collect(),
             None => Vec::new(),
         };
-        if band.is_empty() && curves.is_empty() {
-            area.draw_text(title, &figure::bold(15), (40, 12))
-                .map_err(draw_err)?;
-            area.draw_text(
-                "not in the model or the normative data",
-                &figure::text(13),
-                (40, 40),
-            )
-            .map_err(draw_err)?;
-            return Ok(());
-        }
+        // Each side's strides, at most MAX_STRIDE_LINES of them.
+        let strides: Vec<(usize, Vec<Vec<f64>>)> = match v {
+            Some(v) => (0..2)
+                .map(|s| {
+                    let all = crate::stride_curves(&r.walks, s, v);
+                    let pick = spread(all.len(), MAX_STRIDE_LINES);
+                    (s, pick.into_iter().map(|k| all[k].clone()).collect())
+                })
+                .collect(),
+            None => Vec::new(),
+        };
+        let title = if band.is_empty() || !curves.is_empty() {
+            title.to_string()
+        } else {
+            format!("{title}: reference only")
+        };
         let values = band
             .iter()
             .flat_map(|(m, s)| m.iter().zip(*s).flat_map(|(m, s)| [m - s, m + s]))
@@ -181,19 +270,23 @@ impl Kinematics<'_> {
                 curves
                     .iter()
                     .flat_map(|(_, c)| c.mean.iter().zip(&c.sd).flat_map(|(m, s)| [m - s, m + s])),
-            );
+            )
+            .chain(strides.iter().flat_map(|(_, c)| c.iter().flatten().copied()));
         let (y0, y1) = figure::padded_range(values, 0.05, 10.0);
         let mut chart = ChartBuilder::on(area)
             .caption(title, figure::bold(15))
             .margin(8)
-            .x_label_area_size(28)
-            .y_label_area_size(40)
+            .x_label_area_size(40)
+            .y_label_area_size(52)
             .build_cartesian_2d(0.0..100.0, y0..y1)
             .map_err(draw_err)?;
         chart
             .configure_mesh()
             .x_labels(6)
             .y_labels(5)
+            .x_desc(X_TITLE)
+            .y_desc(Y_TITLE)
+            .axis_desc_style(figure::text(12))
             .label_style(figure::text(12))
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| figure::tick(*v, 0))
@@ -202,6 +295,15 @@ impl Kinematics<'_> {
             .draw()
             .map_err(draw_err)?;
         let step = |n: usize| 100.0 / (n - 1) as f64;
+        // The normal toe off's range, behind everything.
+        if let Some(rg) = r.reference.toe_off_range {
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(rg.min, y0), (rg.max, y1)],
+                    BLACK.mix(0.05).filled(),
+                )))
+                .map_err(draw_err)?;
+        }
         for (mean, sd) in &band {
             let dx = step(mean.len());
             let mut poly: Vec<(f64, f64)> = mean
@@ -248,6 +350,15 @@ impl Kinematics<'_> {
                 ))
                 .map_err(draw_err)?;
         }
+        for (s, all) in &strides {
+            let color = SIDE_COLORS[*s].mix(0.3).stroke_width(1);
+            for c in all {
+                let dx = step(c.len());
+                let pts: Vec<(f64, f64)> =
+                    c.iter().enumerate().map(|(i, m)| (i as f64 * dx, *m)).collect();
+                figure::draw_polyline(chart.plotting_area(), &pts, color)?;
+            }
+        }
         for (s, c) in &curves {
             let color = SIDE_COLORS[*s];
             let dx = step(c.mean.len());
@@ -282,14 +393,32 @@ impl Kinematics<'_> {
                 .collect();
             figure::draw_polyline(chart.plotting_area(), &pts, color.stroke_width(2))?;
         }
-        for (s, to) in r.toe_off.iter().enumerate() {
+        // The reference's toe off, dashed: grey when one for both sides (the normative one),
+        // else each side's in its colour; then the measured one of each side, solid.
+        let same_toe_off = r.reference.toe_off[0] == r.reference.toe_off[1];
+        for (s, to) in r.reference.toe_off.iter().enumerate() {
             if let Some(p) = to {
+                let color = if same_toe_off {
+                    BLACK.mix(0.6)
+                } else {
+                    SIDE_COLORS[s].mix(0.6)
+                };
                 chart
                     .draw_series(DashedLineSeries::new(
                         [(*p, y0), (*p, y1)],
                         6,
                         4,
-                        SIDE_COLORS[s].stroke_width(1),
+                        color.stroke_width(2),
+                    ))
+                    .map_err(draw_err)?;
+            }
+        }
+        for (s, to) in r.toe_off.iter().enumerate() {
+            if let Some(p) = to {
+                chart
+                    .draw_series(LineSeries::new(
+                        [(*p, y0), (*p, y1)],
+                        SIDE_COLORS[s].stroke_width(2),
                     ))
                     .map_err(draw_err)?;
             }
@@ -364,29 +493,50 @@ impl Figure for Map<'_> {
         header
             .draw(&Text::new("overall GPS", (340, 64), figure::text(16)))
             .map_err(draw_err)?;
+        let normal = self.report.normal_scores.as_ref();
+        if normal.is_some() {
+            header
+                .draw(&PathElement::new(
+                    vec![(480, 73), (516, 73)],
+                    NORMAL_TICK.stroke_width(3),
+                ))
+                .map_err(draw_err)?;
+            header
+                .draw(&Text::new(
+                    "typical of the reference (RMS of its SD)",
+                    (524, 64),
+                    figure::text(16),
+                ))
+                .map_err(draw_err)?;
+        }
         // Groups: the nine variables, then GPS (right, left, overall).
         let labels: Vec<String> = Variable::ALL
             .iter()
             .map(|v| v.title().split(" (").next().unwrap_or("").to_string())
             .chain(["GPS".to_string()])
             .collect();
-        let mut bars: Vec<(usize, usize, f64, RGBColor)> = Vec::new();
+        // Bars: (group, slot, value, colour, the reference member's value).
+        let mut bars: Vec<(usize, usize, f64, RGBColor, Option<f64>)> = Vec::new();
         for (v, _) in Variable::ALL.iter().enumerate() {
             for (side, color) in SIDE_COLORS.iter().enumerate() {
                 if let Some(g) = s.gvs[side][v] {
-                    bars.push((v, side, g, *color));
+                    bars.push((v, side, g, *color, normal.and_then(|n| n.gvs[side][v])));
                 }
             }
         }
         for (side, color) in SIDE_COLORS.iter().enumerate() {
             if let Some(g) = s.gps[side] {
-                bars.push((9, side, g, *color));
+                bars.push((9, side, g, *color, normal.and_then(|n| n.gps[side])));
             }
         }
         if let Some(g) = s.overall {
-            bars.push((9, 2, g, RGBColor(60, 60, 60)));
+            bars.push((9, 2, g, RGBColor(60, 60, 60), normal.and_then(|n| n.overall)));
         }
-        let top = bars.iter().map(|b| b.2).fold(5.0f64, f64::max) * 1.15;
+        let top = bars
+            .iter()
+            .flat_map(|b| [b.2, b.4.unwrap_or(0.0)])
+            .fold(5.0f64, f64::max)
+            * 1.15;
         let mut chart = ChartBuilder::on(&area)
             .margin(12)
             .x_label_area_size(60)
@@ -406,7 +556,7 @@ impl Figure for Map<'_> {
             .bold_line_style(BLACK.mix(0.08))
             .draw()
             .map_err(draw_err)?;
-        for (g, side, value, color) in &bars {
+        for (g, side, value, color, typical) in &bars {
             let width = if *g == 9 { 0.27 } else { 0.38 };
             let x0 = *g as f64 + 0.1 + *side as f64 * width;
             chart
@@ -415,6 +565,14 @@ impl Figure for Map<'_> {
                     color.filled(),
                 )))
                 .map_err(draw_err)?;
+            if let Some(n) = typical {
+                chart
+                    .draw_series(LineSeries::new(
+                        [(x0 - 0.02, *n), (x0 + width * 0.9 + 0.02, *n)],
+                        NORMAL_TICK.stroke_width(3),
+                    ))
+                    .map_err(draw_err)?;
+            }
             chart
                 .draw_series(std::iter::once(Text::new(
                     format!("{value:.1}"),
@@ -532,5 +690,22 @@ impl Figure for EventsFigure<'_> {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strides_drawn_are_spread_over_all() {
+        assert_eq!(spread(3, 60), vec![0, 1, 2]);
+        assert_eq!(spread(0, 60), Vec::<usize>::new());
+        assert_eq!(spread(101, 5), vec![0, 25, 50, 75, 100]);
+        let s = spread(1000, MAX_STRIDE_LINES);
+        assert_eq!(s.len(), MAX_STRIDE_LINES);
+        assert_eq!((s[0], s[s.len() - 1]), (0, 999));
+        assert!(s.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(spread(10, 1), vec![0]);
     }
 }

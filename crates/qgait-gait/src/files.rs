@@ -119,7 +119,8 @@ pub fn events_csv(report: &Report) -> Result<String, ReportError> {
     })
 }
 
-/// `summary.json`: per recording its mode (`walking`/`running`), ground
+/// `summary.json`: the subject and session as given (`subject`, [`crate::session::Session::json`]);
+/// per recording its mode (`walking`/`running`), ground
 /// (`treadmill`/`overground`/`unknown`), speed and how it was found, duty factor, Froude number
 /// and leg length; and the headline figures over all recordings (both sides).
 pub fn summary_json(report: &Report) -> String {
@@ -197,12 +198,14 @@ pub fn summary_json(report: &Report) -> String {
         ),
     });
     let value = serde_json::json!({
+        "subject": report.session.json(),
         "mode": first.map(|g| g.mode.name()),
         "ground": first.map_or("unknown", |g| g.ground.name()),
         "recordings": recordings,
         "headline": headline,
         "bouts": bouts,
         "cgm_pelvis": report.walks.first().map(|w| w.pelvis.describe()),
+        "warnings": report.warnings,
     });
     serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"
 }

@@ -58,6 +58,24 @@ pub fn scores(subject: &Curves, reference: &Curves) -> Scores {
             }
         }
     }
+    from_gvs(gvs_all)
+}
+
+/// The scores a subject drawn from the reference population has, the MAP's normal reference:
+/// each GVS is the root mean square over the 51 points of the reference's SD (`sd`, per side
+/// and variable; `None` where the reference has no curve). The normative SD at a point is the
+/// spread of the control subjects' mean curves about the group mean, so its mean square over
+/// the cycle is the expected square of a control's GVS; the GPS follow from these GVS by the
+/// same rules as a subject's. With another recording as the reference, its SD is its own
+/// stride-to-stride spread, and these are the scores of one of its strides.
+pub fn normal_scores(sd: &Curves) -> Scores {
+    from_gvs(std::array::from_fn(|s| {
+        std::array::from_fn(|v| sd[s][v].as_ref().map(|sd| rms(sd)))
+    }))
+}
+
+/// The GPS of each side and overall from the nine GVS of each side ([`Variable::ALL`] order).
+fn from_gvs(gvs_all: [[Option<f64>; 9]; 2]) -> Scores {
     let side_gps = |s: usize| -> Option<f64> {
         let all: Option<Vec<f64>> = gvs_all[s].iter().copied().collect();
         all.map(|v| rms(&v))
@@ -126,6 +144,54 @@ mod tests {
         assert_eq!(scores(&right, &reference).overall, Some(0.0));
         let o = scores(&left, &reference).overall.unwrap();
         assert!((o - (9.0f64 / 15.0).sqrt()).abs() < 1e-12, "{o}");
+    }
+
+    /// The normal reference is the RMS of the SD: exactly for a constant SD, and, for a
+    /// population of curves spread about a mean, the root mean square of its members' GVS
+    /// against that mean (simulated: 4000 members, a deterministic generator).
+    #[test]
+    fn the_normal_scores_are_what_a_member_of_the_reference_scores() {
+        let flat = normal_scores(&curves(|s, _, _| 2.0 + s as f64));
+        assert!(flat.gvs[0].iter().all(|g| *g == Some(2.0)));
+        assert_eq!(flat.gps, [Some(2.0), Some(3.0)]);
+        // Overall: 3 pelvic GVS from the left (3) and 6 of each side.
+        let want = ((3.0 * 9.0 + 6.0 * 4.0 + 6.0 * 9.0) / 15.0f64).sqrt();
+        assert!((flat.overall.unwrap() - want).abs() < 1e-12);
+        // Members: mean + z1 * sd1(p) + z2 * sd2(p), z1 and z2 independent standard normal,
+        // so the population's SD at p is sqrt(sd1² + sd2²).
+        let (sd1, sd2) = (
+            |p: usize| 3.0 + (p as f64 * 0.3).sin(),
+            |p: usize| 1.0 + (p as f64 * 0.1).cos().abs(),
+        );
+        let mut seed = 12345u64;
+        let mut uniform = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let mut normal = move || {
+            let (a, b) = (uniform(), uniform());
+            (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
+        };
+        let mean = vec![0.0; POINTS];
+        let n = 4000;
+        let mut sum_sq = 0.0;
+        for _ in 0..n {
+            let (z1, z2) = (normal(), normal());
+            let member: Vec<f64> = (0..POINTS).map(|p| z1 * sd1(p) + z2 * sd2(p)).collect();
+            sum_sq += gvs(&member, &mean).powi(2);
+        }
+        let simulated = (sum_sq / n as f64).sqrt();
+        let sd: Vec<f64> = (0..POINTS).map(|p| sd1(p).hypot(sd2(p))).collect();
+        let mut population: Curves = Default::default();
+        population[0][6] = Some(sd);
+        let expected = normal_scores(&population).gvs[0][6].unwrap();
+        assert!(
+            (simulated / expected - 1.0).abs() < 0.03,
+            "{simulated} vs {expected}"
+        );
+        assert_eq!(normal_scores(&population).gps[0], None);
     }
 
     #[test]

@@ -12,28 +12,50 @@ use askama::Template;
 use crate::angles::Variable;
 use crate::cycles::Dropped;
 use crate::output::{round, Report};
-use crate::spatiotemporal::SIDES;
+use crate::spatiotemporal::{Parameter, SIDES};
 
 /// The page's fields, one group per section (`templates/report/*.html`).
 #[derive(Template)]
 #[template(path = "report.html")]
 pub struct Page<'a> {
-    /// The recordings' labels, for the title.
+    /// The subject ID, else the recordings' labels, for the title.
     title: String,
+    /// Section `header`: the subject and the session, name and value.
+    header: Vec<(&'static str, String)>,
+    /// Section `warnings`: every warning of the run.
+    warnings: &'a [String],
+    /// Section `events`: one row per event of `events.csv`.
+    events: Vec<EventRow<'a>>,
+    /// Section `events`: whether the rows name their recording (several recordings).
+    several: bool,
     /// Section `recordings`: one row per recording.
     recordings: Vec<Recording<'a>>,
     /// Section `recordings`: the settings, name and value.
     settings: Vec<(&'static str, String)>,
     /// Section `spatiotemporal`: one row per parameter.
     parameters: Vec<ParameterRow>,
+    /// Section `spatiotemporal`: the reference recording's label, when its values have a
+    /// column.
+    reference_column: Option<&'a str>,
     /// Section `gps`: what the scores are against.
     reference: &'a str,
     /// Section `gps`: the scores, when the recordings have joint angles.
     gps: Option<GpsTable>,
-    /// Section `figures`.
-    figures: Vec<Figure<'a>>,
+    /// The figures by section: the joint angles, the MAP, the events.
+    kinematics: Option<Figure<'a>>,
+    map: Option<Figure<'a>>,
+    events_figure: Option<Figure<'a>>,
     /// The side names, for the closing note.
     sides: String,
+}
+
+/// A row of the event table.
+struct EventRow<'a> {
+    side: &'static str,
+    event: &'static str,
+    /// Seconds, as in `events.csv`.
+    time: String,
+    recording: &'a str,
 }
 
 /// A row of the recordings table.
@@ -50,17 +72,23 @@ struct Recording<'a> {
 
 /// A row of the spatiotemporal table.
 struct ParameterRow {
-    name: &'static str,
+    /// Readable name ([`title`]).
+    name: String,
+    /// Readable unit ([`unit`]).
     unit: &'static str,
     /// Right, left, both.
     cells: [Cell; 3],
+    /// The reference recording's value (both sides, else right / left), when it has one.
+    reference: String,
     /// `min – max`, or empty.
     range: String,
+    /// The sides outside the normal range, in words (`below: right, left`), or empty.
+    flag: String,
     note: &'static str,
 }
 
-/// A value cell: `in` or `out` of the normal range when there is one; empty when the parameter
-/// has no value for that side.
+/// A value cell: `in` or `out` of the normal range when there is one (an arrow says which
+/// way it is out); empty when the parameter has no value for that side.
 #[derive(Default)]
 struct Cell {
     class: Option<&'static str>,
@@ -69,18 +97,71 @@ struct Cell {
 
 /// The scores, rounded.
 struct GpsTable {
-    /// Variable, right, left (empty where unknown).
-    rows: Vec<(&'static str, String, String)>,
-    /// GPS right and left.
-    gps: [String; 2],
-    overall: String,
+    /// Variable, right, left, a member of the reference's (empty where unknown).
+    rows: Vec<(&'static str, String, String, String)>,
+    /// GPS right and left, and a member of the reference's.
+    gps: [String; 3],
+    /// Overall GPS, and a member of the reference's.
+    overall: [String; 2],
 }
 
-/// An inline figure.
+/// An inline figure with its caption.
 struct Figure<'a> {
     stem: &'a str,
     /// The SVG element (its XML declaration removed).
     svg: &'a str,
+    /// What it shows.
+    caption: String,
+}
+
+/// A parameter's readable name: `stride_time` is `Stride time`; a name this table does not
+/// know is its words, capitalised.
+pub fn title(name: &str) -> String {
+    let known = match name {
+        "cadence" => "Cadence",
+        "stride_time" => "Stride time",
+        "step_time" => "Step time",
+        "stance" => "Stance phase",
+        "swing" => "Swing phase",
+        "double_support" => "Double support",
+        "flight" => "Flight phase",
+        "step_length" => "Step length",
+        "step_width" => "Step width",
+        "stride_length" => "Stride length",
+        "speed" => "Speed",
+        "duty_factor" => "Duty factor (stance / stride)",
+        "froude" => "Froude number",
+        "leg_length" => "Leg length (hip to ankle)",
+        "travel_ratio" => "Pelvis travel / (speed × stride time)",
+        _ => "",
+    };
+    if !known.is_empty() {
+        return known.to_string();
+    }
+    let words = name.replace('_', " ");
+    let mut c = words.chars();
+    c.next()
+        .map_or_else(String::new, |f| f.to_uppercase().chain(c).collect())
+}
+
+/// A unit as the table shows it: `%` is of the gait cycle, a ratio says it has none.
+pub fn unit(unit: &'static str) -> &'static str {
+    match unit {
+        "%" => "% gait cycle",
+        "" => "(ratio)",
+        u => u,
+    }
+}
+
+/// `below` or `above` when `value` is outside `range`, else `None`.
+pub fn outside(value: f64, range: crate::normative::Range) -> Option<&'static str> {
+    if value < range.min {
+        Some("below")
+    } else if value > range.max {
+        Some("above")
+    } else {
+        None
+    }
 }
 
 impl<'a> Page<'a> {
@@ -101,37 +182,190 @@ impl<'a> Page<'a> {
                 }
             })
             .collect();
+        let events = r
+            .walks
+            .iter()
+            .flat_map(|w| {
+                w.event_list().into_iter().map(|(s, kind, t)| EventRow {
+                    side: SIDES[s],
+                    event: match kind {
+                        crate::events::Kind::HeelStrike => "heel strike",
+                        crate::events::Kind::ToeOff => "toe off",
+                    },
+                    time: round(t, 6),
+                    recording: &w.trial.source,
+                })
+            })
+            .collect();
+        let figure = |stem: &str| {
+            svgs.iter().find(|(s, _)| s == stem).map(|(stem, svg)| {
+                let svg = svg.trim_start();
+                let svg = svg.strip_prefix("<?xml").map_or(svg, |rest| {
+                    rest.find("?>").map_or(svg, |e| rest[e + 2..].trim_start())
+                });
+                Figure {
+                    stem,
+                    svg,
+                    caption: caption(r, stem),
+                }
+            })
+        };
+        let motion_reference = !r.reference.parameters.is_empty();
         Self {
-            title: names.join(", "),
+            title: r
+                .session
+                .subject_id
+                .clone()
+                .unwrap_or_else(|| names.join(", ")),
+            header: header(r),
+            warnings: &r.warnings,
+            events,
+            several: r.walks.len() > 1,
             recordings,
             settings: settings(r),
             parameters: parameters(r),
+            reference_column: motion_reference.then_some(r.reference.label.as_str()),
             reference: &r.reference.label,
             gps: r.scores.as_ref().map(|s| {
                 let cell = |v: Option<f64>| v.map_or(String::new(), |v| round(v, 2));
+                // A member of the reference's scores: one value when both sides' are the same
+                // (the normative data), else right / left.
+                let both = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                    (Some(a), Some(b)) if round(a, 2) != round(b, 2) => {
+                        format!("{} / {}", round(a, 2), round(b, 2))
+                    }
+                    (a, b) => cell(a.or(b)),
+                };
+                let n = r.normal_scores.as_ref();
                 GpsTable {
                     rows: Variable::ALL
                         .iter()
                         .enumerate()
-                        .map(|(v, var)| (var.name(), cell(s.gvs[0][v]), cell(s.gvs[1][v])))
+                        .map(|(v, var)| {
+                            (
+                                var.title(),
+                                cell(s.gvs[0][v]),
+                                cell(s.gvs[1][v]),
+                                n.map_or(String::new(), |n| both(n.gvs[0][v], n.gvs[1][v])),
+                            )
+                        })
                         .collect(),
-                    gps: s.gps.map(cell),
-                    overall: cell(s.overall),
+                    gps: [
+                        cell(s.gps[0]),
+                        cell(s.gps[1]),
+                        n.map_or(String::new(), |n| both(n.gps[0], n.gps[1])),
+                    ],
+                    overall: [cell(s.overall), n.map_or(String::new(), |n| cell(n.overall))],
                 }
             }),
-            figures: svgs
-                .iter()
-                .map(|(stem, svg)| {
-                    let svg = svg.trim_start();
-                    let svg = svg.strip_prefix("<?xml").map_or(svg, |rest| {
-                        rest.find("?>").map_or(svg, |e| rest[e + 2..].trim_start())
-                    });
-                    Figure { stem, svg }
-                })
-                .collect(),
+            kinematics: figure("kinematics"),
+            map: figure("map"),
+            events_figure: figure("events"),
             sides: SIDES.join(", "),
         }
     }
+}
+
+/// What a figure shows, in a sentence or two (its caption).
+fn caption(r: &Report, stem: &str) -> String {
+    let reference = &r.reference.label;
+    match stem {
+        "kinematics" => format!(
+            "Joint angles (degrees) over the gait cycle (0-100 %, heel strike to the next heel strike of the same side): rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal and transverse planes. Each side's mean ± 1 SD over {} strides (right red, left blue; every stride a thin line), against {reference}: its mean ± 1 SD in grey. Vertical lines: each side's measured toe off (solid){}. Only the angles the model gives or the reference has are drawn.",
+            match r.walks.iter().map(|w| w.strides()).fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]]) {
+                [rt, lt] => format!("{rt} right and {lt} left"),
+            },
+            if r.reference.toe_off_from.is_empty() {
+                String::new()
+            } else {
+                format!(" and the reference's (dashed: {})", r.reference.toe_off_from)
+            }
+        ),
+        "map" => format!(
+            "Movement Analysis Profile (Baker et al. 2009): the Gait Variable Score of each joint angle and side, the RMS difference in degrees between the subject's mean curve and the mean of {reference}, and the Gait Profile Score of each side and overall. Dark grey ticks: the scores of a typical member of the reference (the RMS of its SD over the cycle); bars well above them are the angles furthest from the reference.",
+        ),
+        "events" => "Gait events over time, to check them: the heel (thick) and the toe tip (thin) forward of the pelvis along the direction of progression; triangles mark heel strikes, dots toe offs (right red, left blue). Each event's time is in the event table.".to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// The header block: the subject and session (what was given), the model, the files, the
+/// condition as detected and as given, the strides.
+fn header(r: &Report) -> Vec<(&'static str, String)> {
+    let s = &r.session;
+    let mut h = vec![(
+        "Subject ID",
+        s.subject_id.clone().unwrap_or_else(|| "not given".into()),
+    )];
+    h.push((
+        "Session date",
+        match (&s.date, &s.date_from) {
+            (Some(d), Some(from)) if from != "given" => {
+                format!("{d} (modification date of {from})")
+            }
+            (Some(d), _) => d.clone(),
+            (None, _) => "not given".into(),
+        },
+    ));
+    if let Some(a) = s.age {
+        h.push(("Age", format!("{} years", round(a, 1))));
+    }
+    if let Some(x) = s.sex {
+        h.push(("Sex", x.to_string()));
+    }
+    if let Some(v) = s.height {
+        h.push(("Height", format!("{} m", round(v, 3))));
+    }
+    if let Some(v) = s.mass {
+        h.push(("Mass", format!("{} kg", round(v, 1))));
+    }
+    if let Some(v) = s.bmi() {
+        h.push(("BMI", format!("{} kg/m²", round(v, 1))));
+    }
+    h.push(("Model", r.model.clone()));
+    h.push((
+        "Files",
+        r.walks
+            .iter()
+            .map(|w| w.trial.source.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+    ));
+    for w in &r.walks {
+        let text = match &w.gait {
+            Some(g) => format!(
+                "{}, {}, {} m/s{}",
+                g.mode.name(),
+                match g.ground {
+                    crate::rules::Ground::Unknown =>
+                        "treadmill or overground unknown (no pelvis translation)",
+                    other => other.name(),
+                },
+                round(g.speed, 2),
+                if r.walks.len() > 1 {
+                    format!(" ({})", w.trial.label)
+                } else {
+                    String::new()
+                }
+            ),
+            None => format!(
+                "not determined: too few strides for the rules ({})",
+                w.trial.label
+            ),
+        };
+        h.push(("Condition (detected)", text));
+    }
+    if let Some(c) = &s.condition {
+        h.push(("Condition (as given)", c.clone()));
+    }
+    let [rt, lt] = r
+        .walks
+        .iter()
+        .map(|w| w.strides())
+        .fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]]);
+    h.push(("Strides analysed", format!("right {rt}, left {lt}")));
+    h.push(("Reference", r.reference.label.clone()));
+    h
 }
 
 /// The settings table: the model, how the cycles were taken, the reference and the normal
@@ -215,7 +449,8 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
     s
 }
 
-/// The spatiotemporal table: one row per parameter (in the report's order), a cell per side.
+/// The spatiotemporal table: one row per parameter (in the report's order), a cell per side,
+/// the reference recording's value where it has one.
 fn parameters(r: &Report) -> Vec<ParameterRow> {
     let mut names: Vec<&str> = Vec::new();
     for p in &r.parameters {
@@ -227,32 +462,55 @@ fn parameters(r: &Report) -> Vec<ParameterRow> {
         .into_iter()
         .map(|name| {
             let ps: Vec<_> = r.parameters.iter().filter(|p| p.name == name).collect();
+            let mut out: Vec<String> = Vec::new();
             let cells = ["right", "left", "both"].map(|side| {
                 ps.iter()
                     .find(|p| p.side == side)
-                    .map_or_else(Cell::default, |p| Cell {
-                        class: p.range.map(|rg| {
-                            if p.value < rg.min || p.value > rg.max {
-                                "out"
-                            } else {
-                                "in"
-                            }
-                        }),
-                        value: round(p.value, 3),
+                    .map_or_else(Cell::default, |p| {
+                        let off = p.range.and_then(|rg| outside(p.value, rg));
+                        if let Some(way) = off {
+                            out.push(format!("{way}: {side}"));
+                        }
+                        Cell {
+                            class: p.range.map(|_| if off.is_some() { "out" } else { "in" }),
+                            value: match off {
+                                Some("below") => format!("{} ↓", round(p.value, 3)),
+                                Some(_) => format!("{} ↑", round(p.value, 3)),
+                                None => round(p.value, 3),
+                            },
+                        }
                     })
             });
             let range = ps.iter().find_map(|p| p.range).map_or(String::new(), |rg| {
                 format!("{} – {}", round(rg.min, 3), round(rg.max, 3))
             });
             ParameterRow {
-                name,
-                unit: ps[0].unit,
+                name: title(name),
+                unit: unit(ps[0].unit),
                 cells,
+                reference: reference_value(&r.reference.parameters, name),
                 range,
+                flag: out.join(", "),
                 note: ps[0].note,
             }
         })
         .collect()
+}
+
+/// A reference recording's value of a parameter: both sides', else right / left; empty when
+/// it has none.
+fn reference_value(params: &[Parameter], name: &str) -> String {
+    let get = |side: &str| {
+        params
+            .iter()
+            .find(|p| p.name == name && p.side == side)
+            .map(|p| round(p.value, 3))
+    };
+    match (get("both"), get("right"), get("left")) {
+        (Some(b), _, _) => b,
+        (None, Some(r), Some(l)) => format!("{r} / {l}"),
+        (None, r, l) => r.or(l).unwrap_or_default(),
+    }
 }
 
 /// The page. `svgs`: the figures' stems and SVG texts.

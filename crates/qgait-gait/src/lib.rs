@@ -13,6 +13,7 @@ pub mod html;
 pub mod normative;
 pub mod output;
 pub mod rules;
+pub mod session;
 pub mod spatiotemporal;
 pub mod trial;
 
@@ -267,16 +268,20 @@ impl Walk {
 /// Mean and SD over every cycle of every walk, per side and variable (101 points); `None`
 /// where no walk has angles or a side has no cycle.
 pub fn curves(walks: &[Walk]) -> [[Option<Curve>; 9]; 2] {
-    std::array::from_fn(|s| {
-        std::array::from_fn(|v| {
-            let all: Vec<Vec<f64>> = walks
-                .iter()
-                .filter_map(|w| w.angles.as_ref().map(|a| (w, &a[s][v])))
-                .flat_map(|(w, a)| w.cycles[s].iter().map(move |c| c.normalise(|f| a[f])))
-                .collect();
-            Curve::of(&all)
-        })
-    })
+    std::array::from_fn(|s| std::array::from_fn(|v| Curve::of(&stride_curves(walks, s, v))))
+}
+
+/// Every cycle of side `s` of every walk with angles, variable `v` ([`Variable::ALL`] order)
+/// time-normalised to 101 points: the strides whose mean and SD [`curves`] gives, and which
+/// the kinematics figure draws one by one.
+///
+/// [`Variable::ALL`]: angles::Variable::ALL
+pub fn stride_curves(walks: &[Walk], s: usize, v: usize) -> Vec<Vec<f64>> {
+    walks
+        .iter()
+        .filter_map(|w| w.angles.as_ref().map(|a| (w, &a[s][v])))
+        .flat_map(|(w, a)| w.cycles[s].iter().map(move |c| c.normalise(|f| a[f])))
+        .collect()
 }
 
 /// The mean percentage of the cycle at which each side's toe comes off.
@@ -523,25 +528,74 @@ mod tests {
         assert!(page.contains("a&#60;b&#62;&#38;&#34;c&#34;.mot"), "{page}");
         assert!(page.contains("gait&#60;2392&#62;"), "{page}");
         assert!(
-            page.contains("<figure id=\"fig-map\"><svg><text>a &amp; b</text></svg><figcaption>map</figcaption></figure>"),
+            page.contains("<figure id=\"fig-map\"><svg><text>a &amp; b</text></svg><figcaption>Movement Analysis Profile (Baker et al. 2009)"),
             "{page}"
         );
         assert!(!page.contains("<?xml"), "{page}");
         let at = |s: &str| page.find(s).unwrap_or_else(|| panic!("no {s}: {page}"));
         let sections = [
-            "<h2>Recordings and settings</h2>",
+            "<th class=\"l\">Subject ID</th><td class=\"l\">not given</td>",
+            "<h2 id=\"warnings\">Warnings</h2>",
+            "<h2>Kinematics</h2>",
+            "<h2>Movement Analysis Profile and Gait Profile Score</h2>",
             "<h2>Spatiotemporal parameters</h2>",
-            "<h2>Gait Profile Score</h2>",
-            "<h2>Figures</h2>",
+            "<h2>Gait events</h2>",
+            "<h2>Recordings and settings</h2>",
             "Sides: right, left.",
         ];
         assert!(sections.windows(2).all(|w| at(w[0]) < at(w[1])), "{page}");
         assert!(page.contains("<th class=\"l\">GPS overall</th>"), "{page}");
         assert_eq!(
-            page.matches("<tr><td class=\"l\">knee_flexion</td>")
+            page.matches("<tr><td class=\"l\">Knee flexion (flex +)</td>")
                 .count(),
             1
         );
+        // No warning: the section says so. The spatiotemporal table: readable names and units,
+        // the reference recording's column.
+        assert!(page.contains("the run emitted no warning"), "{page}");
+        assert!(page.contains("<td class=\"l\">Stride time</td><td class=\"l\">s</td>"));
+        assert!(page.contains("<td class=\"l\">Stance phase</td><td class=\"l\">% gait cycle</td>"));
+        assert!(!page.contains(">stride_time<"), "{page}");
+        assert!(page.contains("<th class=\"ref\">reference: ref.mot</th>"), "{page}");
+        // Every event, as events.csv has it.
+        let events = files::events_csv(&report).unwrap();
+        assert!(events.lines().count() > 3);
+        for line in events.lines().skip(1) {
+            let f: Vec<&str> = line.split(',').collect();
+            let row = format!(
+                "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td></tr>",
+                f[0],
+                f[1].replace('_', " "),
+                f[2]
+            );
+            assert!(page.contains(&row), "no {row}: {page}");
+        }
+        // The subject and session, and the warnings, escaped.
+        report.session = crate::session::Session {
+            subject_id: Some("P<7>".into()),
+            date: Some("2026-03-04".into()),
+            date_from: Some("given".into()),
+            age: Some(41.0),
+            sex: Some("female"),
+            height: Some(1.7),
+            mass: Some(65.0),
+            condition: Some("barefoot & cane".into()),
+        };
+        report.warnings = vec!["w.mot:9: a <gap>".into(), "second".into()];
+        let page = html::page(&report, &[]).unwrap();
+        for want in [
+            "<title>Gait analysis: P&#60;7&#62;</title>",
+            "<td class=\"l\">2026-03-04</td>",
+            "<td class=\"l\">41 years</td>",
+            "<td class=\"l\">1.7 m</td>",
+            "<td class=\"l\">65 kg</td>",
+            "<td class=\"l\">22.5 kg/m²</td>",
+            "<td class=\"l\">barefoot &#38; cane</td>",
+            "<li>w.mot:9: a &#60;gap&#62;</li>",
+            "with 2 warnings",
+        ] {
+            assert!(page.contains(want), "no {want}: {page}");
+        }
         report.scores = None;
         let page = html::page(&report, &[]).unwrap();
         assert!(

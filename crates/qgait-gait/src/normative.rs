@@ -689,6 +689,44 @@ impl StpNormals {
         Some((pace, choice, ranges))
     }
 
+    /// The normal stance phase (% of the cycle; its end is the normal toe off) for a subject of
+    /// `age` years at the pace [`StpNormals::ranges`] picks from `speed` and `cadence`; without
+    /// an age, an adult's: the mean over the age groups from 18 to 69 years of each group's
+    /// range (the adults' rows, as [`StpNormals::cadence_groups`] takes them). `None` when
+    /// the file has no stance column or no such rows.
+    pub fn stance(
+        &self,
+        age: Option<f64>,
+        male: Option<bool>,
+        speed: Option<f64>,
+        cadence: Option<f64>,
+    ) -> Option<Range> {
+        let k = STP_COLUMNS.iter().position(|c| c.0 == "stance")?;
+        let ages: Vec<f64> = match age {
+            Some(a) => vec![a],
+            None => {
+                let mut a: Vec<f64> = self
+                    .rows
+                    .iter()
+                    .filter(|r| r.age.0 >= 18.0 && r.age.1 < 70.0)
+                    .map(|r| r.age.0)
+                    .collect();
+                a.sort_by(f64::total_cmp);
+                a.dedup();
+                a
+            }
+        };
+        let found: Vec<Range> = ages
+            .iter()
+            .filter_map(|a| self.ranges(*a, male, speed, cadence)?.2[k])
+            .collect();
+        let n = found.len() as f64;
+        (!found.is_empty()).then(|| Range {
+            min: found.iter().map(|r| r.min).sum::<f64>() / n,
+            max: found.iter().map(|r| r.max).sum::<f64>() / n,
+        })
+    }
+
     /// The cadence edges of Schwartz et al.'s speed groups ([`CadenceGroups`]) for a subject of
     /// `age` years (`None`: an adult) and `male` (`None`: either): the mean over the rows of that
     /// age and sex of each pace's range centre and half-width. Ages whose rows lack the slow or
@@ -845,6 +883,37 @@ Female;18;29;Fast;165;225;129;157;\n";
         assert_eq!(g.edges, [87.0, 103.5, 123.75, 149.5]);
         assert_eq!(g.group(87.7), Speed::Slow);
         assert_eq!(g.group(120.0), Speed::Free);
+    }
+
+    /// The normal stance of an age, or the adults' mean over their age groups.
+    #[test]
+    fn the_normal_stance_is_the_age_groups() {
+        let text = "Gender;Age (min);Age (max);Pace;Velocity (cm./sec.);;Stance %;;\n\
+;;;;min;max;min;max\n\
+Male;8;8;Normal;120;149.999;50;52\n\
+Male;18;29;Normal;120;164.999;56;66\n\
+Male;30;39;Normal;120;164.999;58;70\n\
+Male;70;74;Normal;120;164.999;80;90\n";
+        let n = StpNormals::parse(text, "s.txt").unwrap();
+        assert_eq!(
+            n.stance(Some(8.0), None, Some(1.3), None),
+            Some(Range {
+                min: 50.0,
+                max: 52.0
+            })
+        );
+        // Adults: 18-29 and 30-39, not the 8- or 70-year-olds.
+        assert_eq!(
+            n.stance(None, Some(true), Some(1.3), None),
+            Some(Range {
+                min: 57.0,
+                max: 68.0
+            })
+        );
+        assert_eq!(n.stance(None, Some(false), Some(1.3), None), None);
+        let no_stance = "Gender;Age (min);Age (max);Pace;Velocity (cm./sec.);;\n;;;;min;max\nMale;18;29;Normal;1;2\n";
+        let n = StpNormals::parse(no_stance, "s.txt").unwrap();
+        assert_eq!(n.stance(Some(20.0), None, None, None), None);
     }
 
     #[test]

@@ -5,8 +5,9 @@ use crate::angles::Variable;
 use crate::cycles::Curve;
 use crate::error::ReportError;
 use crate::gps::{self, every_2_percent, Scores};
-use crate::normative::{Band, Kinematics, NormativeError, Speed, StpNormals, STP_COLUMNS};
+use crate::normative::{Band, Kinematics, NormativeError, Range, Speed, StpNormals, STP_COLUMNS};
 use crate::rules::Mode;
+use crate::session::Session;
 use crate::spatiotemporal::{self, Parameter};
 use crate::{curves, leg_length, toe_off_percent, CycleMode, Walk};
 
@@ -46,6 +47,15 @@ pub struct Reference {
     /// Normative bands of angles the models do not give (knee varus/valgus and rotation), by
     /// (row, column) of the kinematics figure.
     pub extra: Vec<((usize, usize), String, Band)>,
+    /// The reference recording's own spatiotemporal parameters (none for the normative data).
+    pub parameters: Vec<Parameter>,
+    /// The reference's toe off per side (% of the cycle): the normal one ([`Reference::toe_off_range`]'s
+    /// centre, both sides) or the reference recording's measured mean.
+    pub toe_off: [Option<f64>; 2],
+    /// The normal range of the toe off (the stance phase's normal range), for the normative data.
+    pub toe_off_range: Option<Range>,
+    /// Where [`Reference::toe_off`] comes from, for legends (empty when there is none).
+    pub toe_off_from: String,
 }
 
 /// Everything the report shows.
@@ -72,6 +82,15 @@ pub struct Report {
     pub dimensionless_speed: Option<(f64, f64)>,
     /// How the normative speed group was chosen from the cadence, when it was.
     pub speed_choice: Option<String>,
+    /// The scores a member of the reference population has ([`gps::normal_scores`]), when the
+    /// subject has scores: the MAP's normal reference.
+    pub normal_scores: Option<Scores>,
+    /// The subject and the session, for the header ([`build`] leaves it empty: the caller
+    /// fills it in).
+    pub session: Session,
+    /// Every warning the run emitted about its inputs, in order (the caller's: [`build`]
+    /// leaves it empty).
+    pub warnings: Vec<String>,
 }
 
 /// Subject details for the normal ranges.
@@ -116,6 +135,7 @@ pub fn build(
         .iter()
         .any(|w| w.gait.as_ref().is_some_and(|g| g.mode == Mode::Running));
     let speed = spatiotemporal::value(&parameters, "speed", "both");
+    let speed_measured = speed;
     let leg = leg_length(&walks);
     let dimensionless_speed = match (speed, leg) {
         (Some(v), Some(l)) if l > 0.0 => Some((v / (9.81 * l).sqrt(), l)),
@@ -128,7 +148,8 @@ pub fn build(
     let normals = if subject.age.is_some() || needs_groups {
         Some(StpNormals::load(normative)?)
     } else {
-        None
+        // Only for the normal toe off: without the table, the figure has no such line.
+        StpNormals::load(normative).ok()
     };
     let cadence = spatiotemporal::value(&parameters, "cadence", "both");
     if let (Some(age), Some(normals)) = (subject.age, &normals) {
@@ -197,14 +218,49 @@ pub fn build(
     let reference = match (reference, reference_walks) {
         (ReferenceArg::Normative(speed), _) => {
             let speed = speed.or(chosen).unwrap_or(Speed::Free);
-            normative_reference(normative, speed)?
+            let mut r = normative_reference(normative, speed)?;
+            // The normal toe off: the end of the normal stance phase, walking's only.
+            let range = normals
+                .as_ref()
+                .filter(|_| !running)
+                .and_then(|n| n.stance(subject.age, subject.male, speed_measured, cadence));
+            if let Some(range) = range {
+                let centre = (range.min + range.max) / 2.0;
+                r.toe_off = [Some(centre); 2];
+                r.toe_off_range = Some(range);
+                r.toe_off_from = format!(
+                    "normal stance {}-{} % ({}, {})",
+                    round(range.min, 1),
+                    round(range.max, 1),
+                    match subject.age {
+                        Some(a) => format!("{}, {} years", sex_words(subject.male), round(a, 1)),
+                        None => format!("{} adults", sex_words(subject.male)),
+                    },
+                    stp_name
+                );
+            }
+            r
         }
         (ReferenceArg::Motion(m), Some(rw)) => {
             let c = crate::curves(&rw);
             let label = rw
                 .first()
                 .map_or_else(|| m.clone(), |w| w.trial.label.clone());
+            let list: Vec<spatiotemporal::Walk<'_>> = rw
+                .iter()
+                .map(|w| (&w.trial, w.forward.as_slice(), &w.cycles, w.gait.as_ref()))
+                .collect();
+            let reference_parameters = spatiotemporal::parameters(&list);
+            let toe_off = toe_off_percent(&rw);
             Reference {
+                toe_off_from: if toe_off.iter().any(Option::is_some) {
+                    format!("{label}'s mean toe off")
+                } else {
+                    String::new()
+                },
+                parameters: reference_parameters,
+                toe_off,
+                toe_off_range: None,
                 label,
                 speed: None,
                 bands: std::array::from_fn(|s| {
@@ -230,6 +286,10 @@ pub fn build(
     });
     let has_angles = walks.iter().any(|w| w.angles.is_some());
     let scores = has_angles.then(|| gps::scores(&subject_curves, &reference_curves));
+    let reference_sd: gps::Curves = std::array::from_fn(|s| {
+        std::array::from_fn(|v| reference.bands[s][v].as_ref().map(|b| b.sd.clone()))
+    });
+    let normal_scores = has_angles.then(|| gps::normal_scores(&reference_sd));
     Ok(Report {
         walks,
         model,
@@ -242,6 +302,9 @@ pub fn build(
         scores,
         dimensionless_speed,
         speed_choice,
+        normal_scores,
+        session: Session::default(),
+        warnings: Vec::new(),
     })
 }
 
@@ -351,6 +414,10 @@ pub fn normative_reference(
         speed: Some(speed),
         bands,
         extra,
+        parameters: Vec::new(),
+        toe_off: [None; 2],
+        toe_off_range: None,
+        toe_off_from: String::new(),
     })
 }
 

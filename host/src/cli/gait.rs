@@ -45,6 +45,22 @@ pub struct GaitArgs {
     /// The subject's sex, for the normal ranges (default: the range of either).
     #[arg(long, value_enum)]
     pub sex: Option<SexArg>,
+    /// The subject's identifier, for the report's header, its title and `summary.json`.
+    #[arg(long, value_name = "ID")]
+    pub subject_id: Option<String>,
+    /// The session's date, YYYY-MM-DD (default: the first recording's modification date, UTC).
+    #[arg(long, value_name = "YYYY-MM-DD", value_parser = parse_date)]
+    pub date: Option<String>,
+    /// The subject's height in metres, for the report's header (with --mass, the BMI).
+    #[arg(long, value_name = "M", value_parser = parse_height)]
+    pub height: Option<f64>,
+    /// The subject's body mass in kilograms, for the report's header.
+    #[arg(long, value_name = "KG", value_parser = parse_mass)]
+    pub mass: Option<f64>,
+    /// The session's condition in words (shoes, orthoses, assistive device, ...), shown beside
+    /// the condition the analysis detects (walking or running, treadmill or overground, speed).
+    #[arg(long, value_name = "TEXT")]
+    pub condition: Option<String>,
     /// A directory with `Schwartz2008.json` and `stp_normals.txt` to use instead of the data
     /// compiled into qgait (default: `$QGAIT_NORMATIVE`, else those compiled in).
     #[arg(long, value_name = "DIR")]
@@ -87,7 +103,26 @@ fn parse_age(text: &str) -> Result<f64, String> {
     })
 }
 
-/// `--cycle`.
+/// `--date`: a calendar date, YYYY-MM-DD.
+fn parse_date(text: &str) -> Result<String, String> {
+    qgait_gait::session::parse_date(text)
+        .ok_or_else(|| format!("`{text}` is not a date: expected YYYY-MM-DD, a day that exists"))
+}
+
+/// `--height`: a finite number of metres above 0 and at most 3.
+fn parse_height(text: &str) -> Result<f64, String> {
+    crate::cli::amount(text, 0.0, false)
+        .filter(|h| *h <= 3.0)
+        .ok_or_else(|| format!("`{text}` is not a height: expected metres above 0 and at most 3 (1.75, not 175)"))
+}
+
+/// `--mass`: a finite number of kilograms above 0 and at most 500.
+fn parse_mass(text: &str) -> Result<f64, String> {
+    crate::cli::amount(text, 0.0, false)
+        .filter(|m| *m <= 500.0)
+        .ok_or_else(|| format!("`{text}` is not a body mass: expected kilograms above 0 and at most 500"))
+}
+
 /// `--cgm-pelvis`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum CgmPelvisArg {
@@ -160,13 +195,20 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     if args.each {
         return crate::cli::gait_each::run(args, diagnostics);
     }
-    let warn = |w: Vec<Warning>| diagnostics.warn(w);
+    // Every warning is shown as it comes and kept for the report's warnings section.
+    let kept: std::cell::RefCell<Vec<String>> = Default::default();
+    let warn = |w: Vec<Warning>| {
+        kept.borrow_mut().extend(w.iter().map(|w| w.to_string()));
+        diagnostics.warn(w)
+    };
     let mode = match args.cycle {
         CycleArg::Auto => CycleMode::Auto,
         CycleArg::Whole => CycleMode::Whole,
     };
     let reference = ReferenceArg::parse(&args.reference)?;
-    let model = args.model.load_or("gait2392", diagnostics)?;
+    let (model, model_warnings) = args.model.load_or_keeping("gait2392", diagnostics)?;
+    kept.borrow_mut()
+        .extend(model_warnings.iter().map(|w| w.to_string()));
     let pelvis = match args.cgm_pelvis {
         CgmPelvisArg::Fixed => gait::angles::CgmPelvis::Fixed,
         CgmPelvisArg::ModelMarkers => cgm_pelvis(args.model.model.as_deref()),
@@ -201,7 +243,8 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     } else {
         mode
     };
-    let report = output::build(
+    let session = session(&args);
+    let mut report = output::build(
         walks,
         model.name().to_string(),
         mode,
@@ -210,6 +253,8 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         &normative,
         subject,
     )?;
+    report.session = session;
+    report.warnings = kept.into_inner();
     let files = qgait_gait::files::write(&report, &args.output)?;
     if !diagnostics.quiet() {
         let strides: usize = report
@@ -230,4 +275,30 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         );
     }
     Ok(())
+}
+
+/// The subject and the session as given; the date, when not given, the first recording's
+/// modification date (none for a `builtin:` gait).
+fn session(args: &GaitArgs) -> gait::session::Session {
+    let (date, date_from) = match &args.date {
+        Some(d) => (Some(d.clone()), Some("given".to_string())),
+        None => args
+            .motions
+            .iter()
+            .find_map(|m| gait::session::file_date(m).map(|d| (d, m.clone())))
+            .map_or((None, None), |(d, m)| (Some(d), Some(m))),
+    };
+    gait::session::Session {
+        subject_id: args.subject_id.clone(),
+        date,
+        date_from,
+        age: args.age,
+        sex: args.sex.map(|s| match s {
+            SexArg::Male => "male",
+            SexArg::Female => "female",
+        }),
+        height: args.height,
+        mass: args.mass,
+        condition: args.condition.clone(),
+    }
 }

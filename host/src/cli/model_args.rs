@@ -9,6 +9,7 @@ use crate::cli::diagnostics::Diagnostics;
 use qgait_model::anthropometry;
 use qgait_model::choice::Model;
 use qgait_model::error::ModelError;
+use qgait_opensim::diagnostics::Warning;
 
 /// The model a command computes with.
 #[derive(Debug, Args, Clone, Default)]
@@ -53,17 +54,29 @@ impl ModelArgs {
     /// and the lengths file's warnings. Lengths for a gait2392 model are refused before the
     /// lengths file is read.
     pub fn load_or(&self, default: &str, diagnostics: &Diagnostics) -> anyhow::Result<Model> {
+        Ok(self.load_or_keeping(default, diagnostics)?.0)
+    }
+
+    /// [`ModelArgs::load_or`], also returning the warnings it showed (for a report that lists
+    /// them).
+    pub fn load_or_keeping(
+        &self,
+        default: &str,
+        diagnostics: &Diagnostics,
+    ) -> anyhow::Result<(Model, Vec<Warning>)> {
         let (mut model, notes) = Model::load(self.name_or(default), None)?;
         diagnostics.notes(notes);
+        let mut kept = Vec::new();
         if let Some(path) = &self.anthropometry {
             let (Model::Hak { stated } | Model::Phak { stated }) = &mut model else {
                 return Err(ModelError::LengthsNotApplicable(model.name().to_string()).into());
             };
             let (lengths, warnings) = anthropometry::read(path)?;
-            diagnostics.warn(warnings);
+            diagnostics.warn(warnings.iter().cloned());
+            kept = warnings;
             *stated = Some(lengths);
         }
-        Ok(model)
+        Ok((model, kept))
     }
 
     /// [`ModelArgs::load_or`] with the default model, [`ModelArgs::DEFAULT`].
