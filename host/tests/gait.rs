@@ -752,6 +752,7 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
     let ev = events(&out);
     assert!(ev.len() >= 20, "{ev:?}");
     let table = &html[html.find("<table class=\"events\">").unwrap()..];
+    let table = &table[..table.find("</table>").unwrap()];
     for (side, event, t) in &ev {
         let row = format!(
             "<tr><td class=\"l\">{side}</td><td class=\"l\">{}</td><td>{t}</td></tr>",

@@ -25,7 +25,7 @@ use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
 pub const SIDE_COLORS: [RGBColor; 2] = [RIGHT_LEG, LEFT_LEG];
 
 /// The MAP's ticks at the scores of a typical member of the reference.
-const NORMAL_TICK: RGBColor = RGBColor(30, 30, 30);
+const NORMAL_TICK: RGBColor = RGBColor(0, 140, 70);
 
 /// What a panel of the kinematics figure shows.
 #[derive(Clone, Copy, Debug, PartialEq)]

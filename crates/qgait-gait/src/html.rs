@@ -282,7 +282,7 @@ fn caption(r: &Report, stem: &str) -> String {
             }
         ),
         "map" => format!(
-            "Movement Analysis Profile (Baker et al. 2009): the Gait Variable Score of each joint angle and side, the RMS difference in degrees between the subject's mean curve and the mean of {reference}, and the Gait Profile Score of each side and overall. Dark grey ticks: the scores of a typical member of the reference (the RMS of its SD over the cycle); bars well above them are the angles furthest from the reference.",
+            "Movement Analysis Profile (Baker et al. 2009): the Gait Variable Score of each joint angle and side, the RMS difference in degrees between the subject's mean curve and the mean of {reference}, and the Gait Profile Score of each side and overall. Green ticks: the scores of a typical member of the reference (the RMS of its SD over the cycle); bars well above them are the angles furthest from the reference.",
         ),
         "events" => "Gait events over time, to check them: the heel (thick) and the toe tip (thin) forward of the pelvis along the direction of progression; triangles mark heel strikes, dots toe offs (right red, left blue). Each event's time is in the event table.".to_string(),
         other => other.to_string(),
