@@ -707,10 +707,7 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
         .lines()
         .filter_map(|l| l.strip_prefix("warning: "))
         .collect();
-    assert!(
-        warnings.iter().any(|w| w.contains("time jumps")),
-        "{e}"
-    );
+    assert!(warnings.iter().any(|w| w.contains("time jumps")), "{e}");
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     // The header.
     for want in [
@@ -729,14 +726,14 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
     }
     // summary.json's subject.
     let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["subject"]["id"], "P-0042");
     assert_eq!(summary["subject"]["date"], "2026-03-04");
     assert_eq!(summary["subject"]["height_m"], 1.68);
     assert_eq!(summary["subject"]["mass_kg"], 61.5);
     // Every warning printed is in the warnings section, escaped as the page escapes text.
-    let section = &html[html.find("<h2 id=\"warnings\">").unwrap()..html.find("<h2>Kinematics").unwrap()];
+    let section =
+        &html[html.find("<h2 id=\"warnings\">").unwrap()..html.find("<h2>Kinematics").unwrap()];
     for w in &warnings {
         let escaped = w
             .replace('&', "&#38;")
@@ -744,10 +741,16 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
             .replace('>', "&#62;")
             .replace('"', "&#34;")
             .replace('\'', "&#39;");
-        assert!(section.contains(&format!("<li>{escaped}</li>")), "no {w} in {section}");
+        assert!(
+            section.contains(&format!("<li>{escaped}</li>")),
+            "no {w} in {section}"
+        );
     }
     assert_eq!(section.matches("<li>").count(), warnings.len());
-    assert_eq!(summary["warnings"].as_array().unwrap().len(), warnings.len());
+    assert_eq!(
+        summary["warnings"].as_array().unwrap().len(),
+        warnings.len()
+    );
     // Every event of events.csv in the event table.
     let ev = events(&out);
     assert!(ev.len() >= 20, "{ev:?}");
@@ -776,11 +779,23 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
     assert_eq!(count("% gait cycle"), 11, "{texts:?}");
     assert_eq!(count("deg"), 11, "{texts:?}");
     assert!(texts.iter().any(|t| t == "Knee flexion (flex +)"));
-    assert!(!texts.iter().any(|t| t.starts_with("Ankle inversion")), "{texts:?}");
-    assert!(!texts.iter().any(|t| t.contains("not in the model")), "{texts:?}");
-    assert!(texts.iter().any(|t| t.contains("normal stance")), "{texts:?}");
+    assert!(
+        !texts.iter().any(|t| t.starts_with("Ankle inversion")),
+        "{texts:?}"
+    );
+    assert!(
+        !texts.iter().any(|t| t.contains("not in the model")),
+        "{texts:?}"
+    );
+    assert!(
+        texts.iter().any(|t| t.contains("normal stance")),
+        "{texts:?}"
+    );
     let map = figure_texts(&dom, "map");
-    assert!(map.iter().any(|t| t.contains("typical of the reference")), "{map:?}");
+    assert!(
+        map.iter().any(|t| t.contains("typical of the reference")),
+        "{map:?}"
+    );
     // Captions say what a figure is.
     for stem in ["kinematics", "map", "events"] {
         let at = dom.find(&format!("<figure id=\"fig-{stem}\"")).unwrap();
@@ -791,7 +806,82 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
     let png = dir.path().join("report.png");
     assert!(screenshot(&out.join("report.html"), &png, 1300, 2400));
     let bytes = std::fs::read(&png).unwrap();
-    assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 50_000, "{}", bytes.len());
+    assert!(
+        bytes.starts_with(b"\x89PNG") && bytes.len() > 50_000,
+        "{}",
+        bytes.len()
+    );
+}
+
+/// With `--reference MOTION`: the kinematics legend names the reference recording (and says
+/// mean ± 1 SD, not "band"), the spatiotemporal table has its own values in a column beside
+/// the subject's (those of its own analysis), the toe-off legend says they are its, and the
+/// GPS table has the reference's typical scores.
+#[test]
+fn a_reference_recording_has_its_values_beside_the_subjects() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("visit1.mot");
+    straight_walk(&shared, 8.0).write(&reference);
+    let subject = dir.path().join("visit2.mot");
+    let mut walk = straight_walk(&shared, 6.0);
+    walk.rows.retain(|r| !(2.995..3.505).contains(&r[0]));
+    walk.write(&subject);
+    let alone = dir.path().join("alone");
+    run_gait(&[
+        reference.to_str().unwrap(),
+        "-q",
+        "-o",
+        alone.to_str().unwrap(),
+    ]);
+    let out = dir.path().join("out");
+    run_gait(&[
+        subject.to_str().unwrap(),
+        "-q",
+        "--reference",
+        reference.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.contains("<th class=\"ref\">reference: visit1.mot</th>")
+            || html.contains("<th class=\"ref\">reference: visit1</th>"),
+        "no reference column"
+    );
+    // The cadence row: the reference column holds the reference's own cadence.
+    let own: Vec<HashMap<String, String>> = read_csv(&alone.join("spatiotemporal.csv"));
+    let cadence = own
+        .iter()
+        .find(|r| r["parameter"] == "cadence" && r["side"] == "both")
+        .unwrap()["value"]
+        .parse::<f64>()
+        .unwrap();
+    let row_at = html.find("<td class=\"l\">Cadence</td>").unwrap();
+    let row = &html[row_at..row_at + html[row_at..].find("</tr>").unwrap()];
+    let cell = row
+        .split("<td class=\"ref\">")
+        .nth(1)
+        .map(|c| &c[..c.find("</td>").unwrap()])
+        .unwrap_or_else(|| panic!("no reference cell in {row}"));
+    let shown: f64 = cell.parse().unwrap_or_else(|_| panic!("{cell}"));
+    assert!((shown - cadence).abs() < 1e-3, "{shown} vs {cadence}");
+    assert!(html.contains("<th>typical of the reference (°)</th>"));
+    let Some(dom) = browser_check(&out.join("report.html")) else {
+        return;
+    };
+    let texts = figure_texts(&dom, "kinematics");
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.starts_with("visit1") && t.ends_with(": mean ± 1 SD")),
+        "{texts:?}"
+    );
+    assert!(!texts.iter().any(|t| t.contains("band")), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t.contains("mean toe off")),
+        "{texts:?}"
+    );
 }
 
 /// Errors name what is wrong.

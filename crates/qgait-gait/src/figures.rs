@@ -116,7 +116,10 @@ impl Figure for Kinematics<'_> {
     }
 
     fn size(&self) -> (u32, u32) {
-        (3 * PANEL_W, HEADER + self.rows().len().max(1) as u32 * PANEL_H)
+        (
+            3 * PANEL_W,
+            HEADER + self.rows().len().max(1) as u32 * PANEL_H,
+        )
     }
 
     fn draw<DB: DrawingBackend>(
@@ -203,8 +206,14 @@ impl Kinematics<'_> {
     pub fn shown(&self, row: usize, col: usize) -> bool {
         let r = self.report;
         match Self::variable(row, col) {
-            Some(v) => (0..2).any(|s| r.curves[s][v].is_some() || r.reference.bands[s][v].is_some()),
-            None => r.reference.extra.iter().any(|(cell, _, _)| *cell == (row, col)),
+            Some(v) => {
+                (0..2).any(|s| r.curves[s][v].is_some() || r.reference.bands[s][v].is_some())
+            }
+            None => r
+                .reference
+                .extra
+                .iter()
+                .any(|(cell, _, _)| *cell == (row, col)),
         }
     }
 
@@ -271,7 +280,11 @@ impl Kinematics<'_> {
                     .iter()
                     .flat_map(|(_, c)| c.mean.iter().zip(&c.sd).flat_map(|(m, s)| [m - s, m + s])),
             )
-            .chain(strides.iter().flat_map(|(_, c)| c.iter().flatten().copied()));
+            .chain(
+                strides
+                    .iter()
+                    .flat_map(|(_, c)| c.iter().flatten().copied()),
+            );
         let (y0, y1) = figure::padded_range(values, 0.05, 10.0);
         let mut chart = ChartBuilder::on(area)
             .caption(title, figure::bold(15))
@@ -354,8 +367,11 @@ impl Kinematics<'_> {
             let color = SIDE_COLORS[*s].mix(0.3).stroke_width(1);
             for c in all {
                 let dx = step(c.len());
-                let pts: Vec<(f64, f64)> =
-                    c.iter().enumerate().map(|(i, m)| (i as f64 * dx, *m)).collect();
+                let pts: Vec<(f64, f64)> = c
+                    .iter()
+                    .enumerate()
+                    .map(|(i, m)| (i as f64 * dx, *m))
+                    .collect();
                 figure::draw_polyline(chart.plotting_area(), &pts, color)?;
             }
         }
@@ -530,7 +546,13 @@ impl Figure for Map<'_> {
             }
         }
         if let Some(g) = s.overall {
-            bars.push((9, 2, g, RGBColor(60, 60, 60), normal.and_then(|n| n.overall)));
+            bars.push((
+                9,
+                2,
+                g,
+                RGBColor(60, 60, 60),
+                normal.and_then(|n| n.overall),
+            ));
         }
         let top = bars
             .iter()

@@ -255,7 +255,10 @@ impl<'a> Page<'a> {
                         cell(s.gps[1]),
                         n.map_or(String::new(), |n| both(n.gps[0], n.gps[1])),
                     ],
-                    overall: [cell(s.overall), n.map_or(String::new(), |n| cell(n.overall))],
+                    overall: [
+                        cell(s.overall),
+                        n.map_or(String::new(), |n| cell(n.overall)),
+                    ],
                 }
             }),
             kinematics: figure("kinematics"),

@@ -556,7 +556,10 @@ mod tests {
         assert!(page.contains("<td class=\"l\">Stride time</td><td class=\"l\">s</td>"));
         assert!(page.contains("<td class=\"l\">Stance phase</td><td class=\"l\">% gait cycle</td>"));
         assert!(!page.contains(">stride_time<"), "{page}");
-        assert!(page.contains("<th class=\"ref\">reference: builtin:normal</th>"), "{page}");
+        assert!(
+            page.contains("<th class=\"ref\">reference: builtin:normal</th>"),
+            "{page}"
+        );
         // Every event, as events.csv has it.
         let events = files::events_csv(&report).unwrap();
         assert!(events.lines().count() > 3);

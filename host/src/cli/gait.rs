@@ -113,14 +113,20 @@ fn parse_date(text: &str) -> Result<String, String> {
 fn parse_height(text: &str) -> Result<f64, String> {
     crate::cli::amount(text, 0.0, false)
         .filter(|h| *h <= 3.0)
-        .ok_or_else(|| format!("`{text}` is not a height: expected metres above 0 and at most 3 (1.75, not 175)"))
+        .ok_or_else(|| {
+            format!(
+                "`{text}` is not a height: expected metres above 0 and at most 3 (1.75, not 175)"
+            )
+        })
 }
 
 /// `--mass`: a finite number of kilograms above 0 and at most 500.
 fn parse_mass(text: &str) -> Result<f64, String> {
     crate::cli::amount(text, 0.0, false)
         .filter(|m| *m <= 500.0)
-        .ok_or_else(|| format!("`{text}` is not a body mass: expected kilograms above 0 and at most 500"))
+        .ok_or_else(|| {
+            format!("`{text}` is not a body mass: expected kilograms above 0 and at most 500")
+        })
 }
 
 /// `--cgm-pelvis`.
