@@ -152,7 +152,7 @@ impl Figure for Kinematics<'_> {
         header
             .draw_text(
                 &format!("{}: mean ± 1 SD", r.reference.label),
-                &figure::text(15),
+                &figure::text(18),
                 (60, 44),
             )
             .map_err(draw_err)?;
@@ -160,8 +160,8 @@ impl Figure for Kinematics<'_> {
         header
             .draw_text(
                 "mean ± 1 SD of each side; thin lines: single strides",
-                &figure::text(15),
-                (300, 72),
+                &figure::text(18),
+                (300, 70),
             )
             .map_err(draw_err)?;
         header
@@ -174,7 +174,7 @@ impl Figure for Kinematics<'_> {
                         r.reference.toe_off_from
                     )
                 },
-                &figure::text(15),
+                &figure::text(18),
                 (16, 100),
             )
             .map_err(draw_err)?;
@@ -287,10 +287,10 @@ impl Kinematics<'_> {
             );
         let (y0, y1) = figure::padded_range(values, 0.05, 10.0);
         let mut chart = ChartBuilder::on(area)
-            .caption(title, figure::bold(15))
+            .caption(title, figure::bold(17))
             .margin(8)
-            .x_label_area_size(40)
-            .y_label_area_size(52)
+            .x_label_area_size(44)
+            .y_label_area_size(56)
             .build_cartesian_2d(0.0..100.0, y0..y1)
             .map_err(draw_err)?;
         chart
@@ -299,8 +299,8 @@ impl Kinematics<'_> {
             .y_labels(5)
             .x_desc(X_TITLE)
             .y_desc(Y_TITLE)
-            .axis_desc_style(figure::text(12))
-            .label_style(figure::text(12))
+            .axis_desc_style(figure::text(14))
+            .label_style(figure::text(13))
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| figure::tick(*v, 0))
             .light_line_style(WHITE.mix(0.0))
