@@ -765,7 +765,7 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
     }
     assert_eq!(table.matches("<tr><td").count(), ev.len());
     // Readable names and units in the spatiotemporal table, a flag column.
-    assert!(html.contains("<td class=\"l\">Cadence</td><td class=\"l\">steps/min</td>"));
+    assert!(html.contains("<td class=\"l\">Cadence</td><td class=\"l unit\">steps/min</td>"));
     assert!(html.contains("<th class=\"l\">flag</th>"));
     assert!(!html.contains("<td class=\"l\">double_support</td>"));
     // In the browser: the DOM holds the three figures; every kinematics panel has its two

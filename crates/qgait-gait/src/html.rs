@@ -465,14 +465,15 @@ fn parameters(r: &Report) -> Vec<ParameterRow> {
         .into_iter()
         .map(|name| {
             let ps: Vec<_> = r.parameters.iter().filter(|p| p.name == name).collect();
-            let mut out: Vec<String> = Vec::new();
+            // The sides outside the range, by which way.
+            let mut out: Vec<(&str, &str)> = Vec::new();
             let cells = ["right", "left", "both"].map(|side| {
                 ps.iter()
                     .find(|p| p.side == side)
                     .map_or_else(Cell::default, |p| {
                         let off = p.range.and_then(|rg| outside(p.value, rg));
                         if let Some(way) = off {
-                            out.push(format!("{way}: {side}"));
+                            out.push((way, side));
                         }
                         Cell {
                             class: p.range.map(|_| if off.is_some() { "out" } else { "in" }),
@@ -493,11 +494,24 @@ fn parameters(r: &Report) -> Vec<ParameterRow> {
                 cells,
                 reference: reference_value(&r.reference.parameters, name),
                 range,
-                flag: out.join(", "),
+                flag: flag(&out),
                 note: ps[0].note,
             }
         })
         .collect()
+}
+
+/// The flag column's words for the sides outside the normal range, `(way, side)` each:
+/// `below: right, left` (and `; above: ...`); empty when none is.
+pub fn flag(out: &[(&str, &str)]) -> String {
+    ["below", "above"]
+        .iter()
+        .filter_map(|way| {
+            let sides: Vec<&str> = out.iter().filter(|o| o.0 == *way).map(|o| o.1).collect();
+            (!sides.is_empty()).then(|| format!("{way}: {}", sides.join(", ")))
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// A reference recording's value of a parameter: both sides', else right / left; empty when
@@ -519,4 +533,32 @@ fn reference_value(params: &[Parameter], name: &str) -> String {
 /// The page. `svgs`: the figures' stems and SVG texts.
 pub fn page(r: &Report, svgs: &[(String, String)]) -> Result<String, askama::Error> {
     Page::new(r, svgs).render()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::normative::Range;
+
+    #[test]
+    fn names_units_and_flags_read_as_words() {
+        assert_eq!(title("stride_time"), "Stride time");
+        assert_eq!(title("double_support"), "Double support");
+        // A name the table does not know: its words, capitalised.
+        assert_eq!(title("single_support_time"), "Single support time");
+        assert_eq!(title(""), "");
+        assert_eq!(unit("%"), "% gait cycle");
+        assert_eq!(unit(""), "(ratio)");
+        assert_eq!(unit("m/s"), "m/s");
+        let r = Range { min: 1.0, max: 2.0 };
+        assert_eq!(outside(0.99, r), Some("below"));
+        assert_eq!(outside(1.0, r), None);
+        assert_eq!(outside(2.0, r), None);
+        assert_eq!(outside(2.01, r), Some("above"));
+        assert_eq!(
+            flag(&[("below", "right"), ("above", "left"), ("below", "both")]),
+            "below: right, both; above: left"
+        );
+        assert_eq!(flag(&[]), "");
+    }
 }

@@ -553,8 +553,9 @@ mod tests {
         // No warning: the section says so. The spatiotemporal table: readable names and units,
         // the reference recording's column.
         assert!(page.contains("the run emitted no warning"), "{page}");
-        assert!(page.contains("<td class=\"l\">Stride time</td><td class=\"l\">s</td>"));
-        assert!(page.contains("<td class=\"l\">Stance phase</td><td class=\"l\">% gait cycle</td>"));
+        assert!(page.contains("<td class=\"l\">Stride time</td><td class=\"l unit\">s</td>"));
+        assert!(page
+            .contains("<td class=\"l\">Stance phase</td><td class=\"l unit\">% gait cycle</td>"));
         assert!(!page.contains(">stride_time<"), "{page}");
         assert!(
             page.contains("<th class=\"ref\">reference: builtin:normal</th>"),
