@@ -1,6 +1,10 @@
-//! `report.html`: one self-contained page (no external resources; the figures inline as SVG)
-//! with the recordings, the settings, the spatiotemporal parameters beside their normal
-//! ranges, the Gait Profile Score and the figures.
+//! `report.html`: one self-contained page (no external resources; the figures inline as SVG),
+//! in the order a clinician reads a Vicon Polygon or pyCGM2 report: the subject and session
+//! (what was given, the model, the files, the condition detected and given), every warning of
+//! the run, the joint angles against the reference, the Movement Analysis Profile with the
+//! scores and their normal reference, the spatiotemporal parameters (readable names and units,
+//! normal ranges, flags, a reference recording's own values), every event of `events.csv`, the
+//! recordings and the settings. Each figure has a caption that says what it shows.
 //!
 //! The page is an askama template (`templates/report.html`, one partial per section under
 //! `templates/report/`), compiled into the crate and checked against [`Page`]'s fields at build
