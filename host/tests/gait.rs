@@ -751,6 +751,30 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
         summary["warnings"].as_array().unwrap().len(),
         warnings.len()
     );
+    // Quiet, nothing on stderr, the same warnings in the report.
+    let quiet = dir.path().join("quiet");
+    let o = qgait(&[
+        "-q",
+        "gait",
+        motion.to_str().unwrap(),
+        "-o",
+        quiet.to_str().unwrap(),
+    ]);
+    assert!(
+        o.status.success() && stderr(&o).is_empty(),
+        "{}",
+        stderr(&o)
+    );
+    let quiet: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(quiet.join("summary.json")).unwrap())
+            .unwrap();
+    let kept: Vec<&str> = quiet["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap())
+        .collect();
+    assert_eq!(kept, warnings);
     // Every event of events.csv in the event table.
     let ev = events(&out);
     assert!(ev.len() >= 20, "{ev:?}");
