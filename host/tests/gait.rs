@@ -898,7 +898,7 @@ fn a_reference_recording_has_its_values_beside_the_subjects() {
     assert!(
         texts
             .iter()
-            .any(|t| t.starts_with("visit1") && t.ends_with(": mean ± 1 SD")),
+            .any(|t| t.starts_with("reference recording visit1") && t.ends_with(": mean ± 1 SD")),
         "{texts:?}"
     );
     assert!(!texts.iter().any(|t| t.contains("band")), "{texts:?}");

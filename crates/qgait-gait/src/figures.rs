@@ -151,7 +151,7 @@ impl Figure for Kinematics<'_> {
             .map_err(draw_err)?;
         header
             .draw_text(
-                &format!("{}: mean ± 1 SD", r.reference.label),
+                &format!("{}: mean ± 1 SD", r.reference.legend()),
                 &figure::text(18),
                 (60, 44),
             )
@@ -493,7 +493,7 @@ impl Figure for Map<'_> {
             .draw_text(
                 &format!(
                     "Gait Variable Scores and Gait Profile Score (degrees) against {}",
-                    self.report.reference.label
+                    self.report.reference.legend()
                 ),
                 &figure::text(15),
                 (16, 42),

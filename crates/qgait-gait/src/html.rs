@@ -275,7 +275,7 @@ impl<'a> Page<'a> {
 
 /// What a figure shows, in a sentence or two (its caption).
 fn caption(r: &Report, stem: &str) -> String {
-    let reference = &r.reference.label;
+    let reference = r.reference.legend();
     match stem {
         "kinematics" => format!(
             "Joint angles (degrees) over the gait cycle (0-100 %, heel strike to the next heel strike of the same side): rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal and transverse planes. Each side's mean ± 1 SD over {} strides (right red, left blue; every stride a thin line), against {reference}: its mean ± 1 SD in grey. Vertical lines: each side's measured toe off (solid){}. Only the angles the model gives or the reference has are drawn.",

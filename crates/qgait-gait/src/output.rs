@@ -58,6 +58,19 @@ pub struct Reference {
     pub toe_off_from: String,
 }
 
+impl Reference {
+    /// What the reference is, for legends and captions: the normative data's label, or
+    /// `reference recording LABEL` (a recording's label alone could read as a normative
+    /// group: `normal`).
+    pub fn legend(&self) -> String {
+        if self.speed.is_some() {
+            self.label.clone()
+        } else {
+            format!("reference recording {}", self.label)
+        }
+    }
+}
+
 /// Everything the report shows.
 pub struct Report {
     /// The recordings.
