@@ -497,6 +497,65 @@ mod tests {
         assert!(files.iter().any(|f| f.ends_with("report.html")));
     }
 
+    /// Against the normative data: the normal toe off is the centre of the stance range of
+    /// the subject's age (shaded by the range, both sides alike), and the MAP's normal
+    /// reference is the RMS of the bands' SD. Skipped (with the reason printed) without the
+    /// data compiled in.
+    #[test]
+    fn the_normative_reference_has_a_normal_toe_off_and_typical_scores() {
+        if crate::normative::EMBEDDED.is_none() {
+            eprintln!(
+                "skipped: no normative data compiled in (../shared/data/normative at build time)"
+            );
+            return;
+        }
+        let source = crate::normative::Source::Embedded;
+        let build = |age: Option<f64>| {
+            output::build(
+                vec![builtin_walk("n.mot")],
+                "gait2392".into(),
+                CycleMode::Whole,
+                &ReferenceArg::Normative(None),
+                None,
+                &source,
+                Subject {
+                    age,
+                    male: Some(true),
+                },
+            )
+            .unwrap()
+        };
+        let report = build(Some(30.0));
+        let r = &report.reference;
+        let range = r.toe_off_range.expect("a normal stance range");
+        assert!(
+            range.min > 45.0 && range.max < 80.0 && range.min < range.max,
+            "{range:?}"
+        );
+        assert_eq!(r.toe_off, [Some((range.min + range.max) / 2.0); 2]);
+        assert!(
+            r.toe_off_from.contains("male, 30 years"),
+            "{}",
+            r.toe_off_from
+        );
+        // The stance row of the table has the same range.
+        let stance = report
+            .parameters
+            .iter()
+            .find(|p| p.name == "stance")
+            .and_then(|p| p.range)
+            .unwrap();
+        assert_eq!(stance, range);
+        // Without an age: the adults'.
+        assert!(build(None).reference.toe_off_from.contains("male adults"));
+        // The typical scores: the RMS of each band's SD.
+        let n = report.normal_scores.as_ref().unwrap();
+        let knee = &r.bands[0][6].as_ref().unwrap().sd;
+        let rms = (knee.iter().map(|v| v * v).sum::<f64>() / knee.len() as f64).sqrt();
+        assert!((n.gvs[0][6].unwrap() - rms).abs() < 1e-12);
+        assert!(n.overall.is_some());
+    }
+
     /// The page: every field escaped (askama's numeric character references), the figures inline without their XML declaration, the
     /// sections in order, the scores' table when there are scores and a note when not.
     #[test]
