@@ -798,6 +798,12 @@ fn the_clinical_report_names_the_subject_lists_events_and_warnings_and_labels_ev
     let Some(dom) = browser_check(&out.join("report.html")) else {
         return;
     };
+    // The rendered page holds the header, the warnings and every event row too.
+    assert!(dom.contains("<td class=\"l\">P-0042</td>"));
+    assert!(dom.contains("<h2 id=\"warnings\">Warnings</h2>"));
+    let rendered = &dom[dom.find("<table class=\"events\">").unwrap()..];
+    let rendered = &rendered[..rendered.find("</table>").unwrap()];
+    assert_eq!(rendered.matches("<tr><td").count(), ev.len());
     let texts = figure_texts(&dom, "kinematics");
     let count = |s: &str| texts.iter().filter(|t| t.as_str() == s).count();
     assert_eq!(count("% gait cycle"), 11, "{texts:?}");
