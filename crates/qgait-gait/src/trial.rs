@@ -294,7 +294,21 @@ pub fn load_with(
             warnings,
         ));
     }
-    let (table, mut warnings) = load_motion(source)?;
+    let (table, warnings) = load_motion(source)?;
+    from_table(source, label, table, warnings, model, angles_in)
+}
+
+/// The recording of the motion `table` read from `source` (the whole file, or one window of
+/// it: [`crate::stream`]), evaluated with `model`; `warnings` are the reader's so far, to which
+/// the loading's are added.
+pub fn from_table(
+    source: &str,
+    label: String,
+    table: MotionTable,
+    mut warnings: Vec<Warning>,
+    model: &Model,
+    angles_in: Option<AngleUnit>,
+) -> Result<(Trial, Vec<Warning>), TrialError> {
     let table = check_units(table, source, angles_in)?;
     if table.header().pelvis_heading_free {
         warnings.push(Warning(format!(
