@@ -47,9 +47,6 @@ fn mean(v: &[f64]) -> Option<f64> {
     (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
-/// A value of one cycle of a recording (with its direction of progression and what the rules
-/// found), if it has one.
-type PerCycle<'a> = dyn Fn(&Trial, &[Vec3<f64>], &Cycle, Option<&Gait>) -> Option<f64> + 'a;
 
 /// One analysed recording: the trial, its direction of progression, its cycles and what the
 /// rules found ([`crate::rules`]).
@@ -60,8 +57,6 @@ pub type Walk<'a> = (
     Option<&'a Gait>,
 );
 
-/// One cycle with its recording, direction of progression and what the rules found.
-type OneCycle<'a> = (&'a Trial, &'a [Vec3<f64>], &'a Cycle, Option<&'a Gait>);
 
 /// The note of a length from the speed: speed times a time.
 pub const FROM_SPEED: &str = "speed x stride time";
@@ -105,8 +100,92 @@ pub fn stride_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
     horizontal_unit(moved)
 }
 
+/// What the parameters need of one stride, computed while its recording (or window of a long
+/// recording, [`crate::stream`]) is in memory: a few numbers, so that the strides of a day of
+/// data can be kept.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stride {
+    /// Its heel strike (s).
+    pub start: f64,
+    /// Duration (s).
+    pub duration: f64,
+    /// Toe off of the side, since the start (s).
+    pub toe_off: Option<f64>,
+    /// Heel strike of the other side, since the start (s).
+    pub opposite_strike: Option<f64>,
+    /// Toe off of the other side, since the start (s).
+    pub opposite_toe_off: Option<f64>,
+    /// At its heel strike, the heels' distance along the direction of travel (m).
+    pub along: f64,
+    /// At its heel strike, the heels' horizontal distance across it (m).
+    pub across: f64,
+    /// The distance travelled over the stride (m): the rules' speed times its duration, else
+    /// from the pelvis translation; `None` without either.
+    pub moved: Option<f64>,
+    /// The rules' speed of its recording (m/s), when the rules ran.
+    pub speed: Option<f64>,
+    /// The rules found running.
+    pub running: bool,
+    /// Its recording's model is planar.
+    pub planar: bool,
+}
+
+impl Stride {
+    /// The stride of cycle `c` (of side `c.side`) of `trial`.
+    pub fn of(trial: &Trial, forward: &[Vec3<f64>], c: &Cycle, g: Option<&Gait>) -> Self {
+        let (s, o) = (c.side, 1 - c.side);
+        let f = &trial.frames[c.strike_frame];
+        let d = stride_direction(trial, c).unwrap_or(forward[c.strike_frame]);
+        let between = f[s].heel - f[o].heel;
+        let across = Vec3::new(-d.z, 0.0, d.x);
+        let moved = match g {
+            Some(g) => Some(g.speed * c.duration),
+            None => trial.translation.as_ref().and_then(|tr| {
+                let (a, b) = (tr[c.span.0], tr[c.span.1]);
+                let t = trial.time[c.span.1] - trial.time[c.span.0];
+                // Per second of the frames spanned, times the stride's duration.
+                // A translation that is not a finite number (a column the model does not read)
+                // gives none: the step lengths are estimated instead.
+                let d = (b[0] - a[0]).hypot(b[1] - a[1]);
+                (t > 0.0 && d.is_finite()).then(|| d / t * c.duration)
+            }),
+        };
+        Self {
+            start: c.start,
+            duration: c.duration,
+            toe_off: c.toe_off,
+            opposite_strike: c.opposite_strike,
+            opposite_toe_off: c.opposite_toe_off,
+            along: between.dot(d),
+            across: between.dot(across).abs(),
+            moved,
+            speed: g.map(|g| g.speed),
+            running: g.is_some_and(|g| g.mode == Mode::Running),
+            planar: trial.planar,
+        }
+    }
+
+    /// An event time (s since the start) as a percentage of the stride.
+    pub fn percent(&self, since_start: f64) -> f64 {
+        100.0 * since_start / self.duration
+    }
+}
+
 /// The parameters of the cycles of both sides, over every stride of every recording.
 pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
+    let strides: [Vec<Stride>; 2] = std::array::from_fn(|s| {
+        walks
+            .iter()
+            .flat_map(|(t, f, c, g)| c[s].iter().map(|c| Stride::of(t, f, c, *g)))
+            .collect()
+    });
+    let rules: Vec<Option<&Gait>> = walks.iter().map(|w| w.3).collect();
+    parameters_of(&strides, &rules)
+}
+
+/// The parameters of the strides of each side; `rules` holds what the rules found of each
+/// recording (`None` where they did not run).
+pub fn parameters_of(strides: &[Vec<Stride>; 2], rules: &[Option<&Gait>]) -> Vec<Parameter> {
     let mut out = Vec::new();
     let mut push = |name, side, value: Option<f64>, unit, note| {
         if let Some(value) = value.filter(|v: &f64| v.is_finite()) {
@@ -127,50 +206,21 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     let mut all_durations = Vec::new();
     let mut step_note = "heels at heel strike";
     for s in 0..2 {
-        let o = 1 - s;
-        // Every cycle of the side with its recording.
-        let cycles: Vec<OneCycle> = walks
-            .iter()
-            .flat_map(|(t, f, c, g)| c[s].iter().map(move |c| (*t, *f, c, *g)))
-            .collect();
-        let collect = |f: &PerCycle| -> Vec<f64> {
-            cycles
-                .iter()
-                .filter_map(|(t, d, c, g)| f(t, d, c, *g))
-                .collect()
+        let cycles = &strides[s];
+        let collect = |f: &dyn Fn(&Stride) -> Option<f64>| -> Vec<f64> {
+            cycles.iter().filter_map(f).collect()
         };
-        let at_strike = |trial: &Trial, forward: &[Vec3<f64>], c: &Cycle| {
-            let f = &trial.frames[c.strike_frame];
-            let d = stride_direction(trial, c).unwrap_or(forward[c.strike_frame]);
-            let between = f[s].heel - f[o].heel;
-            let across = Vec3::new(-d.z, 0.0, d.x);
-            (between.dot(d), between.dot(across).abs())
-        };
-        let durations = collect(&|_, _, c, _| Some(c.duration));
+        let durations = collect(&|c| Some(c.duration));
         all_durations.extend(&durations);
         stride_time[s] = mean(&durations);
         // With a speed from the rules: speed x step time, whatever the pelvis does.
-        let from_speed = cycles.iter().all(|c| c.3.is_some());
+        let from_speed = cycles.iter().all(|c| c.speed.is_some());
         step_length[s] = if from_speed {
-            mean(&collect(&|_, _, c, g| {
-                Some(g?.speed * (c.duration - c.opposite_strike?))
-            }))
+            mean(&collect(&|c| Some(c.speed? * (c.duration - c.opposite_strike?))))
         } else {
-            mean(&collect(&|t, d, c, _| Some(at_strike(t, d, c).0)))
+            mean(&collect(&|c| Some(c.along)))
         };
-        let moved = collect(&|trial, _, c, g| {
-            if let Some(g) = g {
-                return Some(g.speed * c.duration);
-            }
-            let tr = trial.translation.as_ref()?;
-            let (a, b) = (tr[c.span.0], tr[c.span.1]);
-            let t = trial.time[c.span.1] - trial.time[c.span.0];
-            // Per second of the frames spanned, times the stride's duration.
-            // A translation that is not a finite number (a column the model does not read)
-            // gives none: the step lengths are estimated instead.
-            let d = (b[0] - a[0]).hypot(b[1] - a[1]);
-            (t > 0.0 && d.is_finite()).then(|| d / t * c.duration)
-        });
+        let moved = collect(&|c| c.moved);
         if moved.len() == cycles.len() {
             displacement[s] = mean(&moved);
         }
@@ -186,25 +236,21 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
         push(
             "step_time",
             side,
-            mean(&collect(&|_, _, c, _| {
-                c.opposite_strike.map(|o| c.duration - o)
-            })),
+            mean(&collect(&|c| c.opposite_strike.map(|o| c.duration - o))),
             "s",
             "",
         );
-        let stance = mean(&collect(&|_, _, c, _| c.toe_off.map(|t| c.percent(t))));
+        let stance = mean(&collect(&|c| c.toe_off.map(|t| c.percent(t))));
         push("stance", side, stance, "%", "");
         push("swing", side, stance.map(|s| 100.0 - s), "%", "");
-        let running = cycles
-            .iter()
-            .any(|c| c.3.is_some_and(|g| g.mode == Mode::Running));
+        let running = cycles.iter().any(|c| c.running);
         if running {
             // Running: no double support; the flight from the side's toe off to the other
             // foot's contact.
             push(
                 "flight",
                 side,
-                mean(&collect(&|_, _, c, _| {
+                mean(&collect(&|c| {
                     let (to, ohs) = (c.toe_off?, c.opposite_strike?);
                     (ohs > to).then(|| c.percent(ohs - to))
                 })),
@@ -216,7 +262,7 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
                 "double_support",
                 side,
                 mean(&collect(
-                    &|_, _, c, _| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+                    &|c| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
                         (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
                             Some(c.percent(oto) + c.percent(to - ohs))
                         }
@@ -239,9 +285,9 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
                 step_note
             },
         );
-        let planar = cycles.iter().any(|c| c.0.planar);
+        let planar = cycles.iter().any(|c| c.planar);
         if !planar {
-            step_width[s] = mean(&collect(&|t, d, c, _| Some(at_strike(t, d, c).1)));
+            step_width[s] = mean(&collect(&|c| Some(c.across)));
             push(
                 "step_width",
                 side,
@@ -253,9 +299,10 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     }
     // Stride length and speed per side, then both.
     let estimated = "estimated: the two mean step lengths (no pelvis translation)";
-    let rules: Vec<&Gait> = walks.iter().filter_map(|w| w.3).collect();
+    let every = rules.len();
+    let rules: Vec<&Gait> = rules.iter().filter_map(|g| *g).collect();
     let measured = match rules.first() {
-        Some(g) if rules.len() == walks.len() => g.speed_method.note(),
+        Some(g) if rules.len() == every => g.speed_method.note(),
         _ => "pelvis_tx/pelvis_tz",
     };
     let stride_length = |s: usize| -> Option<(f64, &'static str)> {
