@@ -9,7 +9,6 @@
 //! (turning, a missed event, a gap in the recording) count as pauses, which is how a long turn
 //! splits a bout.
 
-use crate::rules::Gait;
 use crate::Walk;
 
 /// The longest pause (s) between the end of a bout's strides and the next stride's start.
@@ -29,20 +28,35 @@ pub struct Bout {
     pub strides: [usize; 2],
     /// Steps per minute: 120 over the bout's mean stride time.
     pub cadence: f64,
-    /// Median of the speeds measured over the bout's strides ([`Gait::local_speeds`]), else
+    /// Median of the speeds measured over the bout's strides ([`crate::rules::Gait::local_speeds`]), else
     /// the recording's speed; `None` without a speed.
     pub speed: Option<f64>,
 }
 
 /// The bouts of a recording, in time order.
 pub fn bouts(walk: &Walk) -> Vec<Bout> {
-    let mut strides: Vec<(f64, f64, usize)> = (0..2)
+    let strides: Vec<(f64, f64, usize)> = (0..2)
         .flat_map(|s| {
             walk.cycles[s]
                 .iter()
                 .map(move |c| (c.start, c.start + c.duration, s))
         })
         .collect();
+    let (local, speed) = match &walk.gait {
+        Some(g) => (g.local_speeds.as_slice(), Some(g.speed)),
+        None => (&[][..], None),
+    };
+    of(strides, local, speed)
+}
+
+/// The bouts of the strides `(start, end, side)` of a recording (in any order), in time order;
+/// `local_speeds` are the speeds measured over spans of it ([`crate::rules::Gait::local_speeds`]), `speed`
+/// the recording's (`None`: no speed, the rules did not run).
+pub fn of(
+    mut strides: Vec<(f64, f64, usize)>,
+    local_speeds: &[(f64, f64, f64)],
+    speed: Option<f64>,
+) -> Vec<Bout> {
     strides.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut groups: Vec<Vec<(f64, f64, usize)>> = Vec::new();
     for st in strides {
@@ -68,24 +82,20 @@ pub fn bouts(walk: &Walk) -> Vec<Bout> {
                 end,
                 strides,
                 cadence: 120.0 / mean_stride,
-                speed: walk
-                    .gait
-                    .as_ref()
-                    .and_then(|gait| speed_in(gait, start, end)),
+                speed: speed.and_then(|v| speed_in(local_speeds, v, start, end)),
             })
         })
         .collect()
 }
 
 /// The median of the local speeds whose span lies in `[start, end]`, else the recording's.
-fn speed_in(gait: &Gait, start: f64, end: f64) -> Option<f64> {
-    let v: Vec<f64> = gait
-        .local_speeds
+fn speed_in(local_speeds: &[(f64, f64, f64)], speed: f64, start: f64, end: f64) -> Option<f64> {
+    let v: Vec<f64> = local_speeds
         .iter()
         .filter(|(a, b, _)| *a >= start - 1e-9 && *b <= end + 1e-9)
         .map(|x| x.2)
         .collect();
-    crate::rules::median(v).or_else(|| gait.speed.is_finite().then_some(gait.speed))
+    crate::rules::median(v).or_else(|| speed.is_finite().then_some(speed))
 }
 
 /// `bouts.csv`: `recording,start,end,duration,strides_right,strides_left,cadence,speed` (s,

@@ -86,16 +86,15 @@ struct Figure<'a> {
 impl<'a> Page<'a> {
     /// The page's fields from the report. `svgs`: the figures' stems and SVG texts.
     pub fn new(r: &'a Report, svgs: &'a [(String, String)]) -> Self {
-        let names: Vec<&str> = r.walks.iter().map(|w| w.trial.label.as_str()).collect();
+        let names: Vec<&str> = r.recordings.iter().map(|w| w.label.as_str()).collect();
         let recordings = r
-            .walks
+            .recordings
             .iter()
             .map(|w| {
-                let t = &w.trial.time;
                 Recording {
-                    source: &w.trial.source,
-                    frames: t.len(),
-                    duration: round(t[t.len() - 1] - t[0], 3),
+                    source: &w.source,
+                    frames: w.frames,
+                    duration: round(w.duration(), 3),
                     strides: w.strides(),
                     dropped: &w.dropped,
                 }
@@ -139,7 +138,7 @@ impl<'a> Page<'a> {
 fn settings(r: &Report) -> Vec<(&'static str, String)> {
     let mut s = vec![("model", r.model.clone())];
     // (A `builtin:` gait is taken whole whatever `--cycle` says.)
-    let builtin_whole = r.walks.iter().any(|w| w.mode != r.mode);
+    let builtin_whole = r.recordings.iter().any(|w| w.mode != r.mode);
     s.push((
         "cycles",
         match r.mode {
@@ -152,11 +151,11 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
             crate::CycleMode::Whole => "whole: each recording is one cycle".into(),
         },
     ));
-    for w in &r.walks {
+    for w in &r.recordings {
         let text = match &w.gait {
             Some(g) => format!(
                 "{}: {} on {} ground ({}); speed {} m/s ({}); duty factor {}, Froude number {}, leg length {} m; events by the rules of docs/gait-analysis.md{}{}",
-                w.trial.label,
+                w.label,
                 g.mode.name(),
                 g.ground.name(),
                 match g.travel_ratio {
@@ -177,18 +176,18 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
             ),
             None => format!(
                 "{}: too few strides for the rules: Zeni's events, mode and ground unknown",
-                w.trial.label
+                w.label
             ),
         };
         s.push(("gait", text));
     }
-    if r.walks.iter().any(|w| w.trial.planar) {
+    if r.recordings.iter().any(|w| w.planar) {
         s.push((
             "planar model",
             "the model moves the legs in the sagittal plane only: no step width or other frontal or transverse quantity is reported".into(),
         ));
     }
-    if let Some(w) = r.walks.first() {
+    if let Some(w) = r.recordings.first() {
         s.push(("pelvis (CGM)", w.pelvis.describe()));
     }
     s.push(("reference", r.reference.label.clone()));
