@@ -90,14 +90,12 @@ impl<'a> Page<'a> {
         let recordings = r
             .recordings
             .iter()
-            .map(|w| {
-                Recording {
-                    source: &w.source,
-                    frames: w.frames,
-                    duration: round(w.duration(), 3),
-                    strides: w.strides(),
-                    dropped: &w.dropped,
-                }
+            .map(|w| Recording {
+                source: &w.source,
+                frames: w.frames,
+                duration: round(w.duration(), 3),
+                strides: w.strides(),
+                dropped: &w.dropped,
             })
             .collect();
         Self {

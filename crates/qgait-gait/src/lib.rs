@@ -175,9 +175,7 @@ pub fn analyse_with_pelvis(
         None => (anchors, None),
     };
     let (cycles, left_out) = match mode {
-        CycleMode::Auto => {
-            cycles::strides_and_left_out(&trial.time, &events, &forward, &segments)
-        }
+        CycleMode::Auto => cycles::strides_and_left_out(&trial.time, &events, &forward, &segments),
         CycleMode::Whole => {
             let heel = [0, 1].map(|s| events::along(&trial.frames, &forward, |f| f[s].heel));
             let [r, l] = cycles::whole(&trial.time, [&heel[0], &heel[1]], &events);

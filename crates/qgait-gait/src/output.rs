@@ -260,11 +260,10 @@ pub fn build_from(
         }
         (ReferenceArg::Motion(m), Some(rw)) => {
             let c = rw.0.curves();
-            let label = rw
-                .0
-                .recordings
-                .first()
-                .map_or_else(|| m.clone(), |w| w.label.clone());
+            let label =
+                rw.0.recordings
+                    .first()
+                    .map_or_else(|| m.clone(), |w| w.label.clone());
             Reference {
                 label,
                 speed: None,

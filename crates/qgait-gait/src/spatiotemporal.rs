@@ -47,7 +47,6 @@ fn mean(v: &[f64]) -> Option<f64> {
     (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
-
 /// One analysed recording: the trial, its direction of progression, its cycles and what the
 /// rules found ([`crate::rules`]).
 pub type Walk<'a> = (
@@ -56,7 +55,6 @@ pub type Walk<'a> = (
     &'a [Vec<Cycle>; 2],
     Option<&'a Gait>,
 );
-
 
 /// The note of a length from the speed: speed times a time.
 pub const FROM_SPEED: &str = "speed x stride time";
@@ -216,7 +214,9 @@ pub fn parameters_of(strides: &[Vec<Stride>; 2], rules: &[Option<&Gait>]) -> Vec
         // With a speed from the rules: speed x step time, whatever the pelvis does.
         let from_speed = cycles.iter().all(|c| c.speed.is_some());
         step_length[s] = if from_speed {
-            mean(&collect(&|c| Some(c.speed? * (c.duration - c.opposite_strike?))))
+            mean(&collect(&|c| {
+                Some(c.speed? * (c.duration - c.opposite_strike?))
+            }))
         } else {
             mean(&collect(&|c| Some(c.along)))
         };

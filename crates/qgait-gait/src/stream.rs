@@ -128,6 +128,9 @@ pub struct Recording {
     spans: Vec<(f64, f64, usize)>,
     /// The rules' local speeds of every window (their cores).
     local_speeds: Vec<(f64, f64, f64)>,
+    /// Over the windows the rules ran in, weighted by their strides: the sums of weight,
+    /// speed, duty factor (with its weight) and travel ratio (with its weight).
+    merged: [f64; 7],
 }
 
 impl Recording {
@@ -217,7 +220,10 @@ impl Running {
 /// Where `events.csv` goes: a file written as the events are found, or memory (a report built
 /// from walks in memory, [`crate::output::build`]).
 enum Sink {
-    File(std::path::PathBuf, csv::Writer<std::io::BufWriter<std::fs::File>>),
+    File(
+        std::path::PathBuf,
+        csv::Writer<std::io::BufWriter<std::fs::File>>,
+    ),
     Memory(csv::Writer<Vec<u8>>),
     None,
 }
@@ -338,6 +344,7 @@ impl Pool {
                 excerpt: excerpt(walk),
                 spans: Vec::new(),
                 local_speeds: Vec::new(),
+                merged: [0.0; 7],
             });
         }
         let several = self.several;
@@ -386,6 +393,25 @@ impl Pool {
                     .filter(|(a, _, _)| inside(*a))
                     .copied(),
             );
+        }
+        if let Some(g) = &walk.gait {
+            let w = walk
+                .cycles
+                .iter()
+                .flatten()
+                .filter(|c| inside(c.start))
+                .count() as f64;
+            let m = &mut rec.merged;
+            m[0] += w;
+            m[1] += w * g.speed;
+            if let Some(d) = g.duty {
+                m[2] += w;
+                m[3] += w * d;
+            }
+            if let Some(r) = g.travel_ratio {
+                m[4] += w;
+                m[5] += w * r;
+            }
         }
         // Strides.
         for s in 0..2 {
@@ -454,8 +480,7 @@ impl Pool {
 
     /// The mean percentage of the cycle at which each side's toe comes off.
     pub fn toe_off_percent(&self) -> [Option<f64>; 2] {
-        self.toe_off
-            .map(|(sum, n)| (n > 0).then(|| sum / n as f64))
+        self.toe_off.map(|(sum, n)| (n > 0).then(|| sum / n as f64))
     }
 
     /// The longest hip-to-ankle distance of either side over the recordings (m).
@@ -475,6 +500,19 @@ impl Pool {
     /// Ends the pool: the bouts of each recording, `events.csv` flushed.
     pub fn finish(mut self) -> Result<Finished, std::io::Error> {
         for r in &mut self.recordings {
+            // A long recording's rules: the first window's mode, ground and notes, the
+            // strides' mean of the windows' speed, duty factor and travel ratio.
+            let m = r.merged;
+            if let (Some(g), true) = (&mut r.gait, r.windows > 1 && m[0] > 0.0) {
+                g.speed = m[1] / m[0];
+                if m[2] > 0.0 {
+                    g.duty = Some(m[3] / m[2]);
+                }
+                if m[4] > 0.0 {
+                    g.travel_ratio = Some(m[5] / m[4]);
+                }
+                g.froude = g.speed * g.speed / (crate::rules::G * g.leg_length);
+            }
             r.bouts = crate::bouts::of(
                 std::mem::take(&mut r.spans),
                 &r.local_speeds,
@@ -528,6 +566,19 @@ pub fn analyse_into(
     settings: &Settings,
     warn: &mut dyn FnMut(Vec<Warning>),
 ) -> Result<(), StreamError> {
+    analyse_in_windows(pool, source, model, settings, WINDOW_ROWS, warn)
+}
+
+/// [`analyse_into`] with windows of at most `window_rows` rows (at least 2 × 100).
+pub fn analyse_in_windows(
+    pool: &mut Pool,
+    source: &str,
+    model: &Model,
+    settings: &Settings,
+    window_rows: usize,
+    warn: &mut dyn FnMut(Vec<Warning>),
+) -> Result<(), StreamError> {
+    let window_rows = window_rows.max(200);
     let mut seen = std::collections::HashSet::new();
     let mut warn_once = |w: Vec<Warning>| {
         let fresh: Vec<Warning> = w.into_iter().filter(|w| seen.insert(w.0.clone())).collect();
@@ -565,7 +616,7 @@ pub fn analyse_into(
         if let Some((row, _)) = next {
             buffer.push(row);
         }
-        if buffer.len() < WINDOW_ROWS && !done {
+        if buffer.len() < window_rows && !done {
             continue;
         }
         if buffer.is_empty() {
@@ -608,4 +659,188 @@ pub fn analyse_into(
     }
     warn_once(rows.take_warnings());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output;
+
+    #[test]
+    fn welford_is_the_two_pass_mean_and_sd() {
+        let curves: Vec<Vec<f64>> = (0..7)
+            .map(|k| {
+                (0..POINTS)
+                    .map(|p| (p as f64 * 0.1 + k as f64).sin() * 30.0 + 1e3)
+                    .collect()
+            })
+            .collect();
+        let mut r = Running::new();
+        for c in &curves {
+            r.add(c);
+        }
+        let (a, b) = (r.curve().unwrap(), Curve::of(&curves).unwrap());
+        assert_eq!(a.n, b.n);
+        for p in 0..POINTS {
+            assert!((a.mean[p] - b.mean[p]).abs() < 1e-9, "{p}");
+            assert!((a.sd[p] - b.sd[p]).abs() < 1e-9, "{p}");
+        }
+        assert!(Running::new().curve().is_none());
+    }
+
+    /// A straight walk of the built-in cycle repeated at 100 Hz for `walk` s, a stand of
+    /// `stand` s, and the walk again, as a `.mot`.
+    fn walk_stand_walk(path: &std::path::Path, walk: f64, stand: f64) {
+        let (table, _) = qgait_model::motion::source::load_motion("builtin:normal").unwrap();
+        let t = table.time();
+        let period = t[t.len() - 1] - t[0];
+        let labels = table.labels().to_vec();
+        let at = |c: usize, phase: f64| {
+            let x = t[0] + phase.rem_euclid(1.0) * period;
+            let k = t.partition_point(|&v| v <= x).clamp(1, t.len() - 1);
+            let w = (x - t[k - 1]) / (t[k] - t[k - 1]);
+            table.value(k - 1, c) * (1.0 - w) + table.value(k, c) * w
+        };
+        let mut f = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+        let rows = ((2.0 * walk + stand) * 100.0) as usize;
+        qgait_opensim::mot::write_mot_header(
+            &mut f,
+            "walk",
+            &labels,
+            table.in_degrees(),
+            Some(rows),
+            false,
+        )
+        .unwrap();
+        for i in 0..rows {
+            let time = i as f64 / 100.0;
+            // Standing: the pose at the end of the first walk.
+            let moving = if time < walk {
+                time
+            } else if time < walk + stand {
+                walk
+            } else {
+                time - stand
+            };
+            let mut row = vec![time];
+            row.extend((1..labels.len()).map(|c| at(c, 0.37 + moving / period)));
+            qgait_opensim::mot::write_mot_row(&mut f, &row).unwrap();
+        }
+    }
+
+    /// A recording analysed in windows of 40 s gives what it gives whole: every event once, the
+    /// same strides, bouts, parameters and curves.
+    #[test]
+    fn windows_give_what_the_whole_recording_gives() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("walk.mot");
+        walk_stand_walk(&path, 50.0, 15.0);
+        let source = path.to_str().unwrap();
+        let model = qgait_model::choice::Model::load("gait2392", None)
+            .unwrap()
+            .0;
+        let settings = Settings {
+            mode: CycleMode::Auto,
+            given_speed: None,
+            angles_in: None,
+            pelvis: CgmPelvis::Fixed,
+        };
+        let run = |window: usize| {
+            let mut pool = Pool::in_memory(false);
+            analyse_in_windows(&mut pool, source, &model, &settings, window, &mut |_| {}).unwrap();
+            output::finish(pool).unwrap()
+        };
+        let (whole, windowed) = (run(usize::MAX), run(4_000));
+        let (a, b) = (&whole.0.recordings[0], &windowed.0.recordings[0]);
+        assert_eq!(a.windows, 1);
+        assert!(b.windows >= 4, "{}", b.windows);
+        assert_eq!(a.frames, b.frames);
+        assert!(a.strides[0] > 50 && a.strides[1] > 50, "{:?}", a.strides);
+        assert_eq!(a.strides, b.strides);
+        // The one "stride" across the stand (heel strike to heel strike 16 s apart, left out
+        // whole as incomplete) is in no window whole: not counted.
+        for s in 0..2 {
+            let (x, y) = (a.dropped[s], b.dropped[s]);
+            assert_eq!((x.incomplete, x.duration, x.turning), (1, 0, 0), "{x:?}");
+            assert_eq!((y.incomplete, y.duration, y.turning), (0, 0, 0), "{y:?}");
+        }
+        assert_eq!(a.bouts.len(), 2, "{:?}", a.bouts);
+        assert_eq!(a.bouts.len(), b.bouts.len());
+        for (x, y) in a.bouts.iter().zip(&b.bouts) {
+            assert!(
+                (x.start - y.start).abs() < 1e-4 && (x.end - y.end).abs() < 1e-4,
+                "{x:?} {y:?}"
+            );
+            assert_eq!(x.strides, y.strides);
+        }
+        let events = |f: &Finished| -> Vec<(String, String, f64)> {
+            let EventsCsv::Text(text) = &f.1 else {
+                panic!("events in memory")
+            };
+            text.lines()
+                .skip(1)
+                .map(|l| {
+                    let v: Vec<&str> = l.split(',').collect();
+                    (v[0].to_string(), v[1].to_string(), v[2].parse().unwrap())
+                })
+                .collect()
+        };
+        let (ea, eb) = (events(&whole), events(&windowed));
+        assert_eq!(ea.len(), eb.len());
+        for (x, y) in ea.iter().zip(&eb) {
+            assert_eq!((&x.0, &x.1), (&y.0, &y.1));
+            assert!((x.2 - y.2).abs() < 1e-4, "{x:?} {y:?}");
+        }
+        let rules = |f: &Finished| -> Vec<Option<Gait>> {
+            f.0.recordings.iter().map(|r| r.gait.clone()).collect()
+        };
+        let (ra, rb) = (rules(&whole), rules(&windowed));
+        let pa = crate::spatiotemporal::parameters_of(
+            &whole.0.strides,
+            &ra.iter().map(Option::as_ref).collect::<Vec<_>>(),
+        );
+        let pb = crate::spatiotemporal::parameters_of(
+            &windowed.0.strides,
+            &rb.iter().map(Option::as_ref).collect::<Vec<_>>(),
+        );
+        assert_eq!(pa.len(), pb.len());
+        for (x, y) in pa.iter().zip(&pb) {
+            assert_eq!((x.name, x.side), (y.name, y.side));
+            // The rules' numbers of a recording (duty factor, Froude number) are each window's
+            // own, merged: within 1 %; the strides' means within 0.1 %.
+            let rules = ["duty_factor", "froude", "travel_ratio"].contains(&x.name);
+            let tolerance = if rules { 1e-2 } else { 1e-3 };
+            assert!(
+                (x.value - y.value).abs() <= tolerance * x.value.abs().max(1.0),
+                "{} {}: {} against {}",
+                x.name,
+                x.side,
+                x.value,
+                y.value
+            );
+        }
+        let (ca, cb) = (whole.0.curves(), windowed.0.curves());
+        for s in 0..2 {
+            for v in 0..9 {
+                let (x, y) = (ca[s][v].as_ref().unwrap(), cb[s][v].as_ref().unwrap());
+                assert_eq!(x.n, y.n);
+                for p in 0..POINTS {
+                    assert!(
+                        (x.mean[p] - y.mean[p]).abs() < 1e-3,
+                        "{} {}",
+                        x.mean[p],
+                        y.mean[p]
+                    );
+                    assert!((x.sd[p] - y.sd[p]).abs() < 1e-3, "{} {}", x.sd[p], y.sd[p]);
+                }
+            }
+        }
+        // The stride sample stays bounded.
+        assert!(windowed.0.stride_sample()[0].len() < 2 * STRIDE_SAMPLE);
+        assert!(!windowed.0.stride_sample()[0].is_empty());
+        // The excerpt is the first minute at most.
+        let x = &b.excerpt;
+        assert!(x.time[x.time.len() - 1] - x.time[0] <= EXCERPT + 1e-9);
+        assert!(!x.heel_strikes[0].is_empty());
+    }
 }
