@@ -579,9 +579,29 @@ pub fn analyse_in_windows(
     warn: &mut dyn FnMut(Vec<Warning>),
 ) -> Result<(), StreamError> {
     let window_rows = window_rows.max(200);
-    let mut seen = std::collections::HashSet::new();
+    // Each warning once: a row in two windows is warned about once, and a column's summary
+    // (`column `x`: 100 of 24000 values outside its range ...`) once per recording, from the
+    // first window that has it, the others counted.
+    let (mut exact, mut like) = (
+        std::collections::HashSet::new(),
+        std::collections::HashSet::new(),
+    );
+    let mut like_seen = 0usize;
     let mut warn_once = |w: Vec<Warning>| {
-        let fresh: Vec<Warning> = w.into_iter().filter(|w| seen.insert(w.0.clone())).collect();
+        let fresh: Vec<Warning> = w
+            .into_iter()
+            .filter(|w| {
+                let exact_new = exact.insert(w.0.clone());
+                if !w.0.contains(": column `") {
+                    return exact_new;
+                }
+                let like_new = like.insert(w.0.replace(|c: char| c.is_ascii_digit(), ""));
+                if !like_new && exact_new {
+                    like_seen += 1;
+                }
+                like_new
+            })
+            .collect();
         if !fresh.is_empty() {
             warn(fresh);
         }
@@ -658,6 +678,11 @@ pub fn analyse_in_windows(
         }
     }
     warn_once(rows.take_warnings());
+    if like_seen > 0 {
+        warn(vec![Warning(format!(
+            "{source}: {like_seen} more warnings about its columns in later windows of {window_rows} rows, like those above, not shown"
+        ))]);
+    }
     Ok(())
 }
 
