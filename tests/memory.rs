@@ -1,7 +1,7 @@
 //! Memory does not grow with the number of rows: `fk`, `export` and `packets` on a motion and on
 //! one ten times longer peak at about the same resident memory (the child's own peak, from
-//! `wait4`). Not timed. Whole-file reading held the text and every column: tens of MB more for
-//! the longer file.
+//! `wait4`), and `gait` on an hour of walking peaks as on ten minutes, under 100 MB. Not timed.
+//! Whole-file reading held the text and every column: tens of MB more for the longer file.
 
 use std::path::Path;
 use std::process::Command;
@@ -135,4 +135,104 @@ fn fk_export_and_packets_do_not_hold_the_rows() {
             "{name}: peak memory grew by {grew_mib:.1} MiB for a {long_mib:.1} MiB file"
         );
     }
+}
+
+/// The IMU walk (`qgait imu`'s joint angles of OpenSense's tutorial walk, 24.31 s at 100 Hz)
+/// repeated end to end to `minutes`, times continuing at 100 Hz, values rounded to 1e-4
+/// (`scripts/long_recording.py` builds the day of BENCHMARKS.md the same way).
+fn repeated_walk(walk: &Path, minutes: f64, path: &Path) -> usize {
+    use std::io::Write;
+    let text = std::fs::read_to_string(walk).unwrap();
+    let mut lines = text.lines();
+    lines
+        .by_ref()
+        .find(|l| l.trim().eq_ignore_ascii_case("endheader"))
+        .expect("a header");
+    let labels = lines.next().expect("column labels");
+    let rest: Vec<String> = lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            l.split('\t')
+                .skip(1)
+                .map(|v| format!("{:.4}", v.parse::<f64>().unwrap()))
+                .collect::<Vec<_>>()
+                .join("\t")
+        })
+        .collect();
+    let rows = (minutes * 60.0 * 100.0).round() as usize;
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    writeln!(
+        f,
+        "long_walk\nversion=1\nnRows={rows}\nnColumns={}\ninDegrees=yes\nendheader\n{labels}",
+        labels.split('\t').count()
+    )
+    .unwrap();
+    for i in 0..rows {
+        writeln!(f, "{:.2}\t{}", i as f64 / 100.0, rest[i % rest.len()]).unwrap();
+    }
+    rows
+}
+
+/// `gait` on the IMU walk repeated to 10 and to 60 minutes: the peak does not grow with the
+/// recording (it is read as rows and analysed in windows of at most 24,000 rows,
+/// `qgait_gait::stream`) and stays under 100 MB; both are analysed whole (six times the
+/// events and bouts). Whole-recording analysis held about 1.2 kB a row: 430 MB for the hour.
+#[test]
+fn gait_does_not_hold_the_recording() {
+    let Some(imu) = qgait_system_tests::imu_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let walk = dir.path().join("walk.mot");
+    qgait_system_tests::run_imu_tutorial(&imu, &walk, &[]);
+    let mut peaks = Vec::new();
+    let mut counts = Vec::new();
+    for minutes in [10.0, 60.0] {
+        let motion = dir.path().join(format!("walk_{minutes}.mot"));
+        let rows = repeated_walk(&walk, minutes, &motion);
+        let out = dir.path().join(format!("out_{minutes}"));
+        let peak = peak_kib(&[
+            "-q",
+            "gait",
+            motion.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let lines = |f: &str| {
+            std::fs::read_to_string(out.join(f))
+                .unwrap()
+                .lines()
+                .count()
+                - 1
+        };
+        let (events, bouts) = (lines("events.csv"), lines("bouts.csv"));
+        eprintln!(
+            "gait: peak {peak} KiB on {rows} rows ({minutes} min): {events} events, {bouts} bouts"
+        );
+        peaks.push(peak);
+        counts.push((events, bouts));
+        std::fs::remove_file(&motion).unwrap();
+    }
+    // The whole recording analysed: six times the events and bouts, give or take the ends.
+    let ratio = |a: usize, b: usize| b as f64 / a as f64;
+    for (name, a, b) in [
+        ("events", counts[0].0, counts[1].0),
+        ("bouts", counts[0].1, counts[1].1),
+    ] {
+        assert!(a > 0, "no {name}");
+        assert!(
+            (ratio(a, b) - 6.0).abs() < 0.1,
+            "{name}: {a} in 10 min, {b} in 60 min"
+        );
+    }
+    let grew_mib = (peaks[1] - peaks[0]) as f64 / 1024.0;
+    assert!(
+        grew_mib < 10.0,
+        "gait: peak memory grew by {grew_mib:.1} MiB from 10 to 60 minutes"
+    );
+    assert!(
+        peaks[1] < 100 * 1000 * 1000 / 1024,
+        "gait: peak {} KiB on an hour, over 100 MB",
+        peaks[1]
+    );
 }
