@@ -43,10 +43,6 @@ pub struct Parameter {
 /// Side names, [`qgait_kernel::Side::ALL`] order.
 pub const SIDES: [&str; 2] = ["right", "left"];
 
-fn mean(v: &[f64]) -> Option<f64> {
-    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
-}
-
 /// One analysed recording: the trial, its direction of progression, its cycles and what the
 /// rules found ([`crate::rules`]).
 pub type Walk<'a> = (
@@ -169,21 +165,96 @@ impl Stride {
     }
 }
 
-/// The parameters of the cycles of both sides, over every stride of every recording.
-pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
-    let strides: [Vec<Stride>; 2] = std::array::from_fn(|s| {
-        walks
-            .iter()
-            .flat_map(|(t, f, c, g)| c[s].iter().map(|c| Stride::of(t, f, c, *g)))
-            .collect()
-    });
-    let rules: Vec<Option<&Gait>> = walks.iter().map(|w| w.3).collect();
-    parameters_of(&strides, &rules)
+/// A sum and a count.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Sum(f64, usize);
+
+impl Sum {
+    fn add(&mut self, v: Option<f64>) {
+        if let Some(v) = v {
+            self.0 += v;
+            self.1 += 1;
+        }
+    }
+
+    fn mean(self) -> Option<f64> {
+        (self.1 > 0).then(|| self.0 / self.1 as f64)
+    }
 }
 
-/// The parameters of the strides of each side; `rules` holds what the rules found of each
-/// recording (`None` where they did not run).
-pub fn parameters_of(strides: &[Vec<Stride>; 2], rules: &[Option<&Gait>]) -> Vec<Parameter> {
+/// What the parameters need of a side's strides, summed stride by stride ([`Sums::add`]): its
+/// memory does not grow with the strides, and each mean is the sum in the strides' order over
+/// their number, as over a list of them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Sums {
+    n: usize,
+    with_speed: usize,
+    duration: Sum,
+    step_from_speed: Sum,
+    along: Sum,
+    across: Sum,
+    moved: Sum,
+    step_time: Sum,
+    stance: Sum,
+    flight: Sum,
+    double_support: Sum,
+    running: bool,
+    planar: bool,
+}
+
+impl Sums {
+    /// One more stride.
+    pub fn add(&mut self, c: &Stride) {
+        self.n += 1;
+        self.with_speed += usize::from(c.speed.is_some());
+        self.duration.add(Some(c.duration));
+        self.step_from_speed
+            .add((|| Some(c.speed? * (c.duration - c.opposite_strike?)))());
+        self.along.add(Some(c.along));
+        self.across.add(Some(c.across));
+        self.moved.add(c.moved);
+        self.step_time
+            .add(c.opposite_strike.map(|o| c.duration - o));
+        self.stance.add(c.toe_off.map(|t| c.percent(t)));
+        self.flight.add((|| {
+            let (to, ohs) = (c.toe_off?, c.opposite_strike?);
+            (ohs > to).then(|| c.percent(ohs - to))
+        })());
+        self.double_support
+            .add(match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+                (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
+                    Some(c.percent(oto) + c.percent(to - ohs))
+                }
+                _ => None,
+            });
+        self.running |= c.running;
+        self.planar |= c.planar;
+    }
+
+    /// The strides summed.
+    pub fn count(&self) -> usize {
+        self.n
+    }
+}
+
+/// The parameters of the cycles of both sides, over every stride of every recording.
+pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
+    let sums: [Sums; 2] = std::array::from_fn(|s| {
+        let mut sums = Sums::default();
+        for (t, f, c, g) in walks {
+            for c in &c[s] {
+                sums.add(&Stride::of(t, f, c, *g));
+            }
+        }
+        sums
+    });
+    let rules: Vec<Option<&Gait>> = walks.iter().map(|w| w.3).collect();
+    parameters_of(&sums, &rules)
+}
+
+/// The parameters of the strides of each side, summed; `rules` holds what the rules found of
+/// each recording (`None` where they did not run).
+pub fn parameters_of(sums: &[Sums; 2], rules: &[Option<&Gait>]) -> Vec<Parameter> {
     let mut out = Vec::new();
     let mut push = |name, side, value: Option<f64>, unit, note| {
         if let Some(value) = value.filter(|v: &f64| v.is_finite()) {
@@ -201,28 +272,22 @@ pub fn parameters_of(strides: &[Vec<Stride>; 2], rules: &[Option<&Gait>]) -> Vec
     let mut step_width = [None; 2];
     let mut stride_time = [None; 2];
     let mut displacement = [None; 2];
-    let mut all_durations = Vec::new();
+    let mut all_durations = Sum::default();
     let mut step_note = "heels at heel strike";
     for s in 0..2 {
-        let cycles = &strides[s];
-        let collect = |f: &dyn Fn(&Stride) -> Option<f64>| -> Vec<f64> {
-            cycles.iter().filter_map(f).collect()
-        };
-        let durations = collect(&|c| Some(c.duration));
-        all_durations.extend(&durations);
-        stride_time[s] = mean(&durations);
+        let c = &sums[s];
+        all_durations.0 += c.duration.0;
+        all_durations.1 += c.duration.1;
+        stride_time[s] = c.duration.mean();
         // With a speed from the rules: speed x step time, whatever the pelvis does.
-        let from_speed = cycles.iter().all(|c| c.speed.is_some());
+        let from_speed = c.with_speed == c.n;
         step_length[s] = if from_speed {
-            mean(&collect(&|c| {
-                Some(c.speed? * (c.duration - c.opposite_strike?))
-            }))
+            c.step_from_speed.mean()
         } else {
-            mean(&collect(&|c| Some(c.along)))
+            c.along.mean()
         };
-        let moved = collect(&|c| c.moved);
-        if moved.len() == cycles.len() {
-            displacement[s] = mean(&moved);
+        if c.moved.1 == c.n {
+            displacement[s] = c.moved.mean();
         }
         let side = SIDES[s];
         push(
@@ -233,45 +298,22 @@ pub fn parameters_of(strides: &[Vec<Stride>; 2], rules: &[Option<&Gait>]) -> Vec
             "",
         );
         push("stride_time", side, stride_time[s], "s", "");
-        push(
-            "step_time",
-            side,
-            mean(&collect(&|c| c.opposite_strike.map(|o| c.duration - o))),
-            "s",
-            "",
-        );
-        let stance = mean(&collect(&|c| c.toe_off.map(|t| c.percent(t))));
+        push("step_time", side, c.step_time.mean(), "s", "");
+        let stance = c.stance.mean();
         push("stance", side, stance, "%", "");
         push("swing", side, stance.map(|s| 100.0 - s), "%", "");
-        let running = cycles.iter().any(|c| c.running);
-        if running {
+        if c.running {
             // Running: no double support; the flight from the side's toe off to the other
             // foot's contact.
             push(
                 "flight",
                 side,
-                mean(&collect(&|c| {
-                    let (to, ohs) = (c.toe_off?, c.opposite_strike?);
-                    (ohs > to).then(|| c.percent(ohs - to))
-                })),
+                c.flight.mean(),
                 "%",
                 "the side's toe off to the other foot's heel strike (running)",
             );
         } else {
-            push(
-                "double_support",
-                side,
-                mean(&collect(
-                    &|c| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
-                        (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
-                            Some(c.percent(oto) + c.percent(to - ohs))
-                        }
-                        _ => None,
-                    },
-                )),
-                "%",
-                "",
-            );
+            push("double_support", side, c.double_support.mean(), "%", "");
         }
         push(
             "step_length",
@@ -285,9 +327,8 @@ pub fn parameters_of(strides: &[Vec<Stride>; 2], rules: &[Option<&Gait>]) -> Vec
                 step_note
             },
         );
-        let planar = cycles.iter().any(|c| c.planar);
-        if !planar {
-            step_width[s] = mean(&collect(&|c| Some(c.across)));
+        if !c.planar {
+            step_width[s] = c.across.mean();
             push(
                 "step_width",
                 side,
@@ -376,7 +417,7 @@ pub fn parameters_of(strides: &[Vec<Stride>; 2], rules: &[Option<&Gait>]) -> Vec
             );
         }
     }
-    let t = mean(&all_durations);
+    let t = all_durations.mean();
     push("cadence", "both", t.map(|t| 120.0 / t), "steps/min", "");
     push("stride_time", "both", t, "s", "");
     if let (Some(t), Some(&(_, note))) = (t, lengths.first()) {

@@ -33,7 +33,7 @@ use crate::bouts::Bout;
 use crate::cycles::{Curve, Dropped, POINTS};
 use crate::events::{self, Kind};
 use crate::rules::Gait;
-use crate::spatiotemporal::{Stride, SIDES};
+use crate::spatiotemporal::{Stride, Sums, SIDES};
 use crate::trial::{self, AngleUnit, TrialError};
 use crate::{AnalysisError, CycleMode, Walk, ONE_CYCLE_AT_MOST};
 
@@ -243,8 +243,8 @@ pub enum EventsCsv {
 pub struct Pool {
     /// The recordings, in order.
     pub recordings: Vec<Recording>,
-    /// Per-stride numbers of each side over every recording.
-    pub strides: [Vec<Stride>; 2],
+    /// The strides' numbers of each side over every recording, summed.
+    pub strides: [Sums; 2],
     running: [[Running; 9]; 2],
     toe_off: [(f64, usize); 2],
     sample: [Vec<[Vec<f64>; 9]>; 2],
@@ -418,7 +418,7 @@ impl Pool {
             for c in walk.cycles[s].iter().filter(|c| inside(c.start)) {
                 rec.strides[s] += 1;
                 rec.spans.push((c.start, c.start + c.duration, s));
-                self.strides[s].push(Stride::of(
+                self.strides[s].add(&Stride::of(
                     &walk.trial,
                     &walk.forward,
                     c,
