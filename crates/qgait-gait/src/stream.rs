@@ -124,10 +124,8 @@ pub struct Recording {
     pub bouts: Vec<Bout>,
     /// The events figure's excerpt.
     pub excerpt: Excerpt,
-    /// `(start, end, side)` of each stride, for the bouts.
-    spans: Vec<(f64, f64, usize)>,
-    /// The rules' local speeds of every window (their cores).
-    local_speeds: Vec<(f64, f64, f64)>,
+    /// The bouts, found as the strides come.
+    finder: crate::bouts::Finder,
     /// Over the windows the rules ran in, weighted by their strides: the sums of weight,
     /// speed, duty factor (with its weight) and travel ratio (with its weight).
     merged: [f64; 7],
@@ -342,8 +340,7 @@ impl Pool {
                 leg_length: None,
                 bouts: Vec::new(),
                 excerpt: excerpt(walk),
-                spans: Vec::new(),
-                local_speeds: Vec::new(),
+                finder: Default::default(),
                 merged: [0.0; 7],
             });
         }
@@ -386,13 +383,26 @@ impl Pool {
             (Some(a), Some(b)) => Some(a.max(b)),
             (a, b) => a.or(b),
         };
+        // The bouts: the local speeds first, then the strides in the order of their starts.
         if let Some(g) = &walk.gait {
-            rec.local_speeds.extend(
+            rec.finder.speeds(
                 g.local_speeds
                     .iter()
                     .filter(|(a, _, _)| inside(*a))
                     .copied(),
             );
+        }
+        let mut spans: Vec<(f64, f64, usize)> = (0..2)
+            .flat_map(|s| {
+                walk.cycles[s]
+                    .iter()
+                    .filter(|c| inside(c.start))
+                    .map(move |c| (c.start, c.start + c.duration, s))
+            })
+            .collect();
+        spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (start, end, side) in spans {
+            rec.finder.stride(start, end, side);
         }
         if let Some(g) = &walk.gait {
             let w = walk
@@ -417,7 +427,6 @@ impl Pool {
         for s in 0..2 {
             for c in walk.cycles[s].iter().filter(|c| inside(c.start)) {
                 rec.strides[s] += 1;
-                rec.spans.push((c.start, c.start + c.duration, s));
                 self.strides[s].add(&Stride::of(
                     &walk.trial,
                     &walk.forward,
@@ -513,12 +522,7 @@ impl Pool {
                 }
                 g.froude = g.speed * g.speed / (crate::rules::G * g.leg_length);
             }
-            r.bouts = crate::bouts::of(
-                std::mem::take(&mut r.spans),
-                &r.local_speeds,
-                r.gait.as_ref().map(|g| g.speed),
-            );
-            r.local_speeds = Vec::new();
+            r.bouts = std::mem::take(&mut r.finder).finish(r.gait.as_ref().map(|g| g.speed));
         }
         let events = match std::mem::replace(&mut self.sink, Sink::None) {
             Sink::File(path, w) => {
