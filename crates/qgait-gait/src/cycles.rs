@@ -110,6 +110,9 @@ impl Dropped {
     }
 }
 
+/// The start (s) and the reason of each stride left out, per side.
+pub type LeftOut = [Vec<(f64, Reason)>; 2];
+
 /// The strides of each side from detected events, with the start and the reason of each
 /// stride left out ([`strides`]).
 pub fn strides_and_left_out(
@@ -117,8 +120,8 @@ pub fn strides_and_left_out(
     events: &Events,
     forward: &[Vec3<f64>],
     segments: &[std::ops::Range<usize>],
-) -> ([Vec<Cycle>; 2], [Vec<(f64, Reason)>; 2]) {
-    let mut left_out: [Vec<(f64, Reason)>; 2] = Default::default();
+) -> ([Vec<Cycle>; 2], LeftOut) {
+    let mut left_out: LeftOut = Default::default();
     let out = strides_noting(time, events, forward, segments, &mut |s, t, r| {
         left_out[s].push((t, r))
     });
@@ -151,7 +154,7 @@ fn strides_noting(
 ) -> [Vec<Cycle>; 2] {
     let mut out: [Vec<Cycle>; 2] = Default::default();
     let segment_of = |frame: usize| segments.partition_point(|r| r.end <= frame);
-    for s in 0..2 {
+    for (s, kept) in out.iter_mut().enumerate() {
         let o = 1 - s;
         let hs = &events.heel_strike[s];
         let pairs: Vec<_> = hs
@@ -192,7 +195,7 @@ fn strides_noting(
             }
             let first = a.frame.saturating_sub(1).max(segment.start);
             let last = (b.frame + 1).min(segment.end - 1);
-            out[s].push(Cycle {
+            kept.push(Cycle {
                 side: s,
                 start: a.time,
                 duration: d,

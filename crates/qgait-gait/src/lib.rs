@@ -94,7 +94,7 @@ pub struct Walk {
     /// Strides left out, per side.
     pub dropped: [Dropped; 2],
     /// The start (s) and the reason of each stride left out, per side.
-    pub left_out: [Vec<(f64, cycles::Reason)>; 2],
+    pub left_out: cycles::LeftOut,
     /// The nine variables of each frame (`[side][variable][frame]`, degrees), when the
     /// recording has joint angles.
     pub angles: Option<[[Vec<f64>; 9]; 2]>,
