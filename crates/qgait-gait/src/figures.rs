@@ -477,7 +477,7 @@ impl Figure for EventsFigure<'_> {
         side_legend(&header, 16, 74)?;
         let rows = area.split_evenly((self.report.recordings.len().max(1), 1));
         for (w, row) in self.report.recordings.iter().zip(&rows) {
-            // A long recording: its first minute (crate::stream::EXCERPT), its bouts in words.
+            // A long recording: a minute of it (crate::stream::EXCERPT), its bouts in words.
             let x = &w.excerpt;
             let t = &x.time;
             let (heel, toe) = (&x.heel, &x.toe);
@@ -487,9 +487,10 @@ impl Figure for EventsFigure<'_> {
             let caption = if t1 - t0 < w.duration() - 1e-6 {
                 let walking: f64 = w.bouts.iter().map(|b| b.end - b.start).sum();
                 format!(
-                    "{}: its first {} s of {} h; {} walking bouts, {} min of walking (bouts.csv)",
+                    "{}: {} to {} s of {} h; {} walking bouts, {} min of walking (bouts.csv)",
                     w.label,
-                    crate::output::round(t1 - t0, 1),
+                    crate::output::round(t0, 1),
+                    crate::output::round(t1, 1),
                     crate::output::round(w.duration() / 3600.0, 2),
                     w.bouts.len(),
                     crate::output::round(walking / 60.0, 1)

@@ -48,6 +48,9 @@ pub const OVERLAP: f64 = 20.0;
 /// the first minute of a long one (a day's events on one axis would be a solid blob).
 pub const EXCERPT: f64 = 60.0;
 
+/// The seconds before a recording's first stride that the events figure shows.
+pub const LEAD_IN: f64 = 2.0;
+
 /// Individual strides' curves kept per side for the figures, at most (evenly spread over the
 /// recordings: every k-th stride, k doubling as they come).
 pub const STRIDE_SAMPLE: usize = 40;
@@ -122,7 +125,8 @@ pub struct Recording {
     pub leg_length: Option<f64>,
     /// Its walking bouts, in time order ([`Recording::bouts`] after [`Pool::finish`]).
     pub bouts: Vec<Bout>,
-    /// The events figure's excerpt.
+    /// The events figure's excerpt: [`EXCERPT`] seconds from its start, or from [`LEAD_IN`]
+    /// before its first stride when that comes more than half of [`EXCERPT`] after the start.
     pub excerpt: Excerpt,
     /// The bouts, found as the strides come.
     finder: crate::bouts::Finder,
@@ -339,7 +343,7 @@ impl Pool {
                 has_angles: walk.angles.is_some(),
                 leg_length: None,
                 bouts: Vec::new(),
-                excerpt: excerpt(walk),
+                excerpt: Excerpt::default(),
                 finder: Default::default(),
                 merged: [0.0; 7],
             });
@@ -383,6 +387,27 @@ impl Pool {
             (Some(a), Some(b)) => Some(a.max(b)),
             (a, b) => a.or(b),
         };
+        // The excerpt: from a little before the first stride kept, once there is one.
+        let first_stride = walk
+            .cycles
+            .iter()
+            .flatten()
+            .filter(|c| inside(c.start))
+            .map(|c| c.start)
+            .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.min(t))));
+        if rec.strides == [0, 0] {
+            if let Some(t) = first_stride {
+                // The recording's start when the walking starts early enough in it.
+                let from = if t - rec.start <= EXCERPT / 2.0 {
+                    rec.start
+                } else {
+                    t - LEAD_IN
+                };
+                rec.excerpt = excerpt(walk, from);
+            } else if first {
+                rec.excerpt = excerpt(walk, t[0]);
+            }
+        }
         // The bouts: the local speeds first, then the strides in the order of their starts.
         if let Some(g) = &walk.gait {
             rec.finder.speeds(
@@ -543,17 +568,22 @@ impl Pool {
 /// A pool whose recordings are complete ([`Pool::finish`]), and its `events.csv`.
 pub struct Finished(pub Pool, pub EventsCsv);
 
-/// The first [`EXCERPT`] seconds of a window.
-fn excerpt(walk: &Walk) -> Excerpt {
+/// The [`EXCERPT`] seconds of a window from `from` (s; its first frame at the earliest).
+fn excerpt(walk: &Walk, from: f64) -> Excerpt {
     let t = &walk.trial.time;
-    let n = t.partition_point(|&x| x <= t[0] + EXCERPT).max(1);
-    let frames = &walk.trial.frames[..n];
-    let forward = &walk.forward[..n];
+    let a = t.partition_point(|&x| x < from).min(t.len() - 1);
+    let n = t.partition_point(|&x| x <= t[a] + EXCERPT).max(a + 1);
+    let frames = &walk.trial.frames[a..n];
+    let forward = &walk.forward[a..n];
     let keep = |list: &[events::Event]| -> Vec<usize> {
-        list.iter().map(|e| e.frame).filter(|&f| f < n).collect()
+        list.iter()
+            .map(|e| e.frame)
+            .filter(|&f| f >= a && f < n)
+            .map(|f| f - a)
+            .collect()
     };
     Excerpt {
-        time: t[..n].to_vec(),
+        time: t[a..n].to_vec(),
         heel: [0, 1].map(|s| events::along(frames, forward, |f| f[s].heel)),
         toe: [0, 1].map(|s| events::along(frames, forward, |f| f[s].toe)),
         heel_strikes: [0, 1].map(|s| keep(&walk.events.heel_strike[s])),
@@ -867,8 +897,9 @@ mod tests {
         // The stride sample stays bounded.
         assert!(windowed.0.stride_sample()[0].len() < 2 * STRIDE_SAMPLE);
         assert!(!windowed.0.stride_sample()[0].is_empty());
-        // The excerpt is the first minute at most.
+        // The excerpt is a minute at most, from the start (the walk starts at once).
         let x = &b.excerpt;
+        assert_eq!(x.time[0], 0.0);
         assert!(x.time[x.time.len() - 1] - x.time[0] <= EXCERPT + 1e-9);
         assert!(!x.heel_strikes[0].is_empty());
     }
