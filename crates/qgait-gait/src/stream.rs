@@ -1,10 +1,11 @@
 //! `qgait gait` on recordings of any length in bounded memory: a recording is read as a stream
 //! of rows and analysed in windows of at most [`WINDOW_ROWS`] rows, each by the batch analysis
 //! ([`crate::analyse_with_pelvis`]), and what the report needs is folded into a [`Pool`] as each
-//! window is done: per-stride numbers ([`Stride`], a few dozen bytes each), the running mean
-//! and SD of the time-normalised curves (Welford), a bounded sample of individual stride
-//! curves, the events written to `events.csv` as they are found, and the first
-//! [`EXCERPT`] seconds of each recording for the events figure.
+//! window is done: the sums of the strides' numbers ([`Stride`] into [`Sums`]), the running
+//! mean and SD of the time-normalised curves (Welford), a bounded sample of individual stride
+//! curves, the events written to `events.csv` as they are found, the walking bouts as they
+//! close ([`crate::bouts::Finder`]), and [`EXCERPT`] seconds of each recording for the events
+//! figure.
 //!
 //! Consecutive windows overlap by [`OVERLAP`] seconds, and the boundary between them is the
 //! middle of the overlap: each window keeps the strides that start, and the events that
@@ -45,7 +46,7 @@ pub const WINDOW_ROWS: usize = 24_000;
 pub const OVERLAP: f64 = 20.0;
 
 /// The seconds of each recording drawn in the events figure: the whole of a short recording,
-/// the first minute of a long one (a day's events on one axis would be a solid blob).
+/// a minute of a long one (a day's events on one axis would be a solid blob).
 pub const EXCERPT: f64 = 60.0;
 
 /// The seconds before a recording's first stride that the events figure shows.
