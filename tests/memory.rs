@@ -176,7 +176,7 @@ fn repeated_walk(walk: &Path, minutes: f64, path: &Path) -> usize {
 /// `gait` on the IMU walk repeated to 10 and to 60 minutes: the peak does not grow with the
 /// recording (it is read as rows and analysed in windows of at most 24,000 rows,
 /// `qgait_gait::stream`) and stays under 100 MB; both are analysed whole (as many events and
-/// bouts per repetition of the walk). Whole-recording analysis held about 1.2 kB a row: 430 MB for the hour.
+/// bouts per repetition of the walk); the events figure shows a minute of either. Whole-recording analysis held about 1.2 kB a row: 430 MB for the hour.
 #[test]
 fn gait_does_not_hold_the_recording() {
     let Some(imu) = qgait_system_tests::imu_dir() else {
@@ -187,6 +187,7 @@ fn gait_does_not_hold_the_recording() {
     qgait_system_tests::run_imu_tutorial(&imu, &walk, &[]);
     let mut peaks = Vec::new();
     let mut counts = Vec::new();
+    let mut figures = Vec::new();
     for minutes in [10.0, 60.0] {
         let motion = dir.path().join(format!("walk_{minutes}.mot"));
         let rows = repeated_walk(&walk, minutes, &motion);
@@ -206,6 +207,10 @@ fn gait_does_not_hold_the_recording() {
                 - 1
         };
         let (events, bouts) = (lines("events.csv"), lines("bouts.csv"));
+        // The events figure: a minute of the recording, whatever its length (a marker for
+        // every event of the hour would be a solid blob).
+        let figure = std::fs::metadata(out.join("events.svg")).unwrap().len();
+        figures.push(figure);
         eprintln!(
             "gait: peak {peak} KiB on {rows} rows ({minutes} min): {events} events, {bouts} bouts"
         );
@@ -234,6 +239,12 @@ fn gait_does_not_hold_the_recording() {
             "{name}: {a} in 10 min, {b} in 60 min"
         );
     }
+    assert!(
+        figures[1] as f64 <= 1.1 * figures[0] as f64,
+        "events.svg: {} bytes for 10 minutes, {} for 60",
+        figures[0],
+        figures[1]
+    );
     let grew_mib = (peaks[1] - peaks[0]) as f64 / 1024.0;
     assert!(
         grew_mib < 10.0,
