@@ -9,7 +9,6 @@
 //! (turning, a missed event, a gap in the recording) count as pauses, which is how a long turn
 //! splits a bout.
 
-use crate::rules::Gait;
 use crate::Walk;
 
 /// The longest pause (s) between the end of a bout's strides and the next stride's start.
@@ -29,63 +28,122 @@ pub struct Bout {
     pub strides: [usize; 2],
     /// Steps per minute: 120 over the bout's mean stride time.
     pub cadence: f64,
-    /// Median of the speeds measured over the bout's strides ([`Gait::local_speeds`]), else
+    /// Median of the speeds measured over the bout's strides ([`crate::rules::Gait::local_speeds`]), else
     /// the recording's speed; `None` without a speed.
     pub speed: Option<f64>,
 }
 
 /// The bouts of a recording, in time order.
 pub fn bouts(walk: &Walk) -> Vec<Bout> {
-    let mut strides: Vec<(f64, f64, usize)> = (0..2)
+    let strides: Vec<(f64, f64, usize)> = (0..2)
         .flat_map(|s| {
             walk.cycles[s]
                 .iter()
                 .map(move |c| (c.start, c.start + c.duration, s))
         })
         .collect();
+    let (local, speed) = match &walk.gait {
+        Some(g) => (g.local_speeds.as_slice(), Some(g.speed)),
+        None => (&[][..], None),
+    };
+    of(strides, local, speed)
+}
+
+/// The bouts of the strides `(start, end, side)` of a recording (in any order), in time order;
+/// `local_speeds` are the speeds measured over spans of it ([`Gait::local_speeds`]), `speed`
+/// the recording's (`None`: no speed, the rules did not run).
+///
+/// [`Gait::local_speeds`]: crate::rules::Gait::local_speeds
+pub fn of(
+    mut strides: Vec<(f64, f64, usize)>,
+    local_speeds: &[(f64, f64, f64)],
+    speed: Option<f64>,
+) -> Vec<Bout> {
     strides.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut groups: Vec<Vec<(f64, f64, usize)>> = Vec::new();
-    for st in strides {
-        match groups.last_mut() {
-            Some(g) if st.0 <= g.iter().map(|x| x.1).fold(f64::MIN, f64::max) + MAX_PAUSE => {
-                g.push(st)
-            }
-            _ => groups.push(vec![st]),
-        }
+    let mut finder = Finder::default();
+    finder.speeds(local_speeds.iter().copied());
+    for (start, end, side) in strides {
+        finder.stride(start, end, side);
     }
-    groups
-        .into_iter()
-        .filter_map(|g| {
-            let strides = [0, 1].map(|s| g.iter().filter(|x| x.2 == s).count());
-            if strides.iter().all(|&n| n < MIN_STRIDES) {
-                return None;
+    finder.finish(speed)
+}
+
+/// The bouts of strides that come in the order of their starts, one at a time: what [`of`]
+/// finds, holding only the bout being formed and the local speeds not before it.
+#[derive(Clone, Debug, Default)]
+pub struct Finder {
+    /// The bout being formed: start, end (the latest stride end), strides per side, the sum
+    /// of the strides' durations and their number.
+    open: Option<(f64, f64, [usize; 2], f64, usize)>,
+    /// Local speeds that may still fall in a bout.
+    local: Vec<(f64, f64, f64)>,
+    /// Bouts found, each with the median of its local speeds.
+    found: Vec<(Bout, Option<f64>)>,
+}
+
+impl Finder {
+    /// Local speeds `(start, end, speed)` measured over spans of the recording: those that
+    /// start where a stride to come can still start.
+    pub fn speeds(&mut self, speeds: impl IntoIterator<Item = (f64, f64, f64)>) {
+        self.local.extend(speeds);
+    }
+
+    /// The next stride (from `start` to `end`, of `side`), its start not before the last's.
+    pub fn stride(&mut self, start: f64, end: f64, side: usize) {
+        if let Some(g) = &mut self.open {
+            if start <= g.1 + MAX_PAUSE {
+                g.1 = g.1.max(end);
+                g.2[side] += 1;
+                g.3 += end - start;
+                g.4 += 1;
+                return;
             }
-            let start = g.iter().map(|x| x.0).fold(f64::MAX, f64::min);
-            let end = g.iter().map(|x| x.1).fold(f64::MIN, f64::max);
-            let mean_stride = g.iter().map(|x| x.1 - x.0).sum::<f64>() / g.len() as f64;
-            Some(Bout {
+        }
+        self.close();
+        let mut strides = [0; 2];
+        strides[side] = 1;
+        self.open = Some((start, end, strides, end - start, 1));
+        // A local speed that starts before this bout falls in no bout to come.
+        self.local.retain(|(a, _, _)| *a >= start - 1e-9);
+    }
+
+    fn close(&mut self) {
+        let Some((start, end, strides, sum, n)) = self.open.take() else {
+            return;
+        };
+        if strides.iter().all(|&n| n < MIN_STRIDES) {
+            return;
+        }
+        let v: Vec<f64> = self
+            .local
+            .iter()
+            .filter(|(a, b, _)| *a >= start - 1e-9 && *b <= end + 1e-9)
+            .map(|x| x.2)
+            .collect();
+        self.found.push((
+            Bout {
                 start,
                 end,
                 strides,
-                cadence: 120.0 / mean_stride,
-                speed: walk
-                    .gait
-                    .as_ref()
-                    .and_then(|gait| speed_in(gait, start, end)),
-            })
-        })
-        .collect()
-}
+                cadence: 120.0 / (sum / n as f64),
+                speed: None,
+            },
+            crate::rules::median(v),
+        ));
+    }
 
-/// The median of the local speeds whose span lies in `[start, end]`, else the recording's.
-fn speed_in(gait: &Gait, start: f64, end: f64) -> Option<f64> {
-    let v: Vec<f64> = gait
-        .local_speeds
-        .iter()
-        .filter(|(a, b, _)| *a >= start - 1e-9 && *b <= end + 1e-9)
-        .map(|x| x.2)
-        .collect();
-    crate::rules::median(v).or_else(|| gait.speed.is_finite().then_some(gait.speed))
+    /// The bouts, in time order; `speed` is the recording's, a bout's where none of its local
+    /// speeds is (`None`: no speed, the rules did not run).
+    pub fn finish(mut self, speed: Option<f64>) -> Vec<Bout> {
+        self.close();
+        self.found
+            .into_iter()
+            .map(|(mut b, local)| {
+                b.speed = speed.and_then(|v| local.or_else(|| v.is_finite().then_some(v)));
+                b
+            })
+            .collect()
+    }
 }
 
 /// `bouts.csv`: `recording,start,end,duration,strides_right,strides_left,cadence,speed` (s,

@@ -88,6 +88,46 @@ pub struct Dropped {
     pub turning: usize,
 }
 
+/// Why a stride was left out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reason {
+    /// [`Dropped::incomplete`].
+    Incomplete,
+    /// [`Dropped::duration`].
+    Duration,
+    /// [`Dropped::turning`].
+    Turning,
+}
+
+impl Dropped {
+    /// One more stride left out for `reason`.
+    pub fn count(&mut self, reason: Reason) {
+        match reason {
+            Reason::Incomplete => self.incomplete += 1,
+            Reason::Duration => self.duration += 1,
+            Reason::Turning => self.turning += 1,
+        }
+    }
+}
+
+/// The start (s) and the reason of each stride left out, per side.
+pub type LeftOut = [Vec<(f64, Reason)>; 2];
+
+/// The strides of each side from detected events, with the start and the reason of each
+/// stride left out ([`strides`]).
+pub fn strides_and_left_out(
+    time: &[f64],
+    events: &Events,
+    forward: &[Vec3<f64>],
+    segments: &[std::ops::Range<usize>],
+) -> ([Vec<Cycle>; 2], LeftOut) {
+    let mut left_out: LeftOut = Default::default();
+    let out = strides_noting(time, events, forward, segments, &mut |s, t, r| {
+        left_out[s].push((t, r))
+    });
+    (out, left_out)
+}
+
 /// The strides of each side from detected events. `segments` are the stretches of frames
 /// between gaps ([`Trial::segments`](crate::trial::Trial::segments)): two heel strikes
 /// in different segments make no stride (what happened in the gap is unknown), and a
@@ -98,10 +138,23 @@ pub fn strides(
     forward: &[Vec3<f64>],
     segments: &[std::ops::Range<usize>],
 ) -> ([Vec<Cycle>; 2], [Dropped; 2]) {
-    let mut out: [Vec<Cycle>; 2] = Default::default();
     let mut dropped = [Dropped::default(); 2];
+    let out = strides_noting(time, events, forward, segments, &mut |s, _, r| {
+        dropped[s].count(r)
+    });
+    (out, dropped)
+}
+
+fn strides_noting(
+    time: &[f64],
+    events: &Events,
+    forward: &[Vec3<f64>],
+    segments: &[std::ops::Range<usize>],
+    drop: &mut dyn FnMut(usize, f64, Reason),
+) -> [Vec<Cycle>; 2] {
+    let mut out: [Vec<Cycle>; 2] = Default::default();
     let segment_of = |frame: usize| segments.partition_point(|r| r.end <= frame);
-    for s in 0..2 {
+    for (s, kept) in out.iter_mut().enumerate() {
         let o = 1 - s;
         let hs = &events.heel_strike[s];
         let pairs: Vec<_> = hs
@@ -127,22 +180,22 @@ pub fn strides(
             let ohs = within(&events.heel_strike[o], a.time, b.time);
             let oto = within(&events.toe_off[o], a.time, b.time);
             if to.len() != 1 || ohs.len() != 1 || oto.len() != 1 {
-                dropped[s].incomplete += 1;
+                drop(s, a.time, Reason::Incomplete);
                 continue;
             }
             let d = b.time - a.time;
             if d < DURATION_TOLERANCE * median || d * DURATION_TOLERANCE > median {
-                dropped[s].duration += 1;
+                drop(s, a.time, Reason::Duration);
                 continue;
             }
             let turn = angle_about_vertical(forward[a.frame], forward[b.frame]).to_degrees();
             if turn.abs() > MAX_TURN_DEG {
-                dropped[s].turning += 1;
+                drop(s, a.time, Reason::Turning);
                 continue;
             }
             let first = a.frame.saturating_sub(1).max(segment.start);
             let last = (b.frame + 1).min(segment.end - 1);
-            out[s].push(Cycle {
+            kept.push(Cycle {
                 side: s,
                 start: a.time,
                 duration: d,
@@ -155,7 +208,7 @@ pub fn strides(
             });
         }
     }
-    (out, dropped)
+    out
 }
 
 /// The whole recording as one cycle (a single-cycle file, `--cycle whole`), taken as periodic

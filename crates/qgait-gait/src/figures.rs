@@ -17,7 +17,6 @@ use plotters::prelude::*;
 
 use crate::angles::Variable;
 use crate::error::FigureError;
-use crate::events::along;
 use crate::output::Report;
 use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
 
@@ -260,7 +259,8 @@ impl Kinematics<'_> {
         let strides: Vec<(usize, Vec<Vec<f64>>)> = match v {
             Some(v) => (0..2)
                 .map(|s| {
-                    let all = crate::stride_curves(&r.walks, s, v);
+                    let all: Vec<Vec<f64>> =
+                        r.stride_sample[s].iter().map(|c| c[v].clone()).collect();
                     let pick = spread(all.len(), MAX_STRIDE_LINES);
                     (s, pick.into_iter().map(|k| all[k].clone()).collect())
                 })
@@ -631,7 +631,7 @@ impl Figure for EventsFigure<'_> {
     }
 
     fn size(&self) -> (u32, u32) {
-        (1200, 110 + 300 * self.report.walks.len() as u32)
+        (1200, 110 + 300 * self.report.recordings.len() as u32)
     }
 
     fn draw<DB: DrawingBackend>(
@@ -640,7 +640,7 @@ impl Figure for EventsFigure<'_> {
     ) -> Result<(), figure::PlotError> {
         root.fill(&WHITE).map_err(draw_err)?;
         let (header, area) = root.split_vertically(110);
-        let method = if self.report.walks.iter().all(|w| w.gait.is_some()) {
+        let method = if self.report.recordings.iter().all(|w| w.gait.is_some()) {
             "Gait events (foot-velocity rules R of docs/gait-analysis.md)"
         } else {
             "Gait events (Zeni et al. 2008 where a recording has too few strides for the rules)"
@@ -656,16 +656,31 @@ impl Figure for EventsFigure<'_> {
             )
             .map_err(draw_err)?;
         side_legend(&header, 16, 74)?;
-        let rows = area.split_evenly((self.report.walks.len().max(1), 1));
-        for (w, row) in self.report.walks.iter().zip(&rows) {
-            let t = &w.trial.time;
-            let heel = [0, 1].map(|s| along(&w.trial.frames, &w.forward, |f| f[s].heel));
-            let toe = [0, 1].map(|s| along(&w.trial.frames, &w.forward, |f| f[s].toe));
+        let rows = area.split_evenly((self.report.recordings.len().max(1), 1));
+        for (w, row) in self.report.recordings.iter().zip(&rows) {
+            // A long recording: a minute of it (crate::stream::EXCERPT), its bouts in words.
+            let x = &w.excerpt;
+            let t = &x.time;
+            let (heel, toe) = (&x.heel, &x.toe);
             let (y0, y1) =
-                figure::padded_range(heel.iter().chain(&toe).flatten().copied(), 0.05, 0.2);
+                figure::padded_range(heel.iter().chain(toe).flatten().copied(), 0.05, 0.2);
             let (t0, t1) = (t[0], *t.last().unwrap_or(&t[0]));
+            let caption = if t1 - t0 < w.duration() - 1e-6 {
+                let walking: f64 = w.bouts.iter().map(|b| b.end - b.start).sum();
+                format!(
+                    "{}: {} to {} s of {} h; {} walking bouts, {} min of walking (bouts.csv)",
+                    w.label,
+                    crate::output::round(t0, 1),
+                    crate::output::round(t1, 1),
+                    crate::output::round(w.duration() / 3600.0, 2),
+                    w.bouts.len(),
+                    crate::output::round(walking / 60.0, 1)
+                )
+            } else {
+                w.label.clone()
+            };
             let mut chart = ChartBuilder::on(row)
-                .caption(&w.trial.label, figure::bold(15))
+                .caption(&caption, figure::bold(15))
                 .margin(10)
                 .x_label_area_size(36)
                 .y_label_area_size(56)
@@ -691,19 +706,19 @@ impl Figure for EventsFigure<'_> {
                     );
                     figure::draw_polyline(chart.plotting_area(), &pts, color.stroke_width(width))?;
                 }
-                for e in &w.events.heel_strike[s] {
+                for &e in &x.heel_strikes[s] {
                     chart
                         .draw_series(std::iter::once(TriangleMarker::new(
-                            (t[e.frame], heel[s][e.frame]),
+                            (t[e], heel[s][e]),
                             6,
                             color.filled(),
                         )))
                         .map_err(draw_err)?;
                 }
-                for e in &w.events.toe_off[s] {
+                for &e in &x.toe_offs[s] {
                     chart
                         .draw_series(std::iter::once(Circle::new(
-                            (t[e.frame], toe[s][e.frame]),
+                            (t[e], toe[s][e]),
                             4,
                             color.filled(),
                         )))

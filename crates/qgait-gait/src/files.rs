@@ -30,7 +30,11 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
         files.push(p);
         Ok(())
     };
-    put(&mut files, "events.csv", events_csv(report)?)?;
+    match &report.events {
+        // Written as the recordings were read.
+        crate::stream::EventsCsv::File(path) => files.push(path.clone()),
+        _ => put(&mut files, "events.csv", events_csv(report)?)?,
+    }
     put(
         &mut files,
         "spatiotemporal.csv",
@@ -38,9 +42,9 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
     )?;
     put(&mut files, "summary.json", summary_json(report))?;
     let bouts: Vec<(&str, Vec<crate::bouts::Bout>)> = report
-        .walks
+        .recordings
         .iter()
-        .map(|w| (w.trial.source.as_str(), crate::bouts::bouts(w)))
+        .map(|w| (w.source.as_str(), w.bouts.clone()))
         .collect();
     put(
         &mut files,
@@ -96,27 +100,20 @@ fn csv_text(
     Ok(String::from_utf8_lossy(&bytes).into_owned())
 }
 
-/// `events.csv`: `side,event,time` (and `motion` with several recordings), in time order.
+/// `events.csv`: `side,event,time` (and `motion` with several recordings), in time order
+/// ([`crate::stream::Pool`] writes it as the events are found).
 pub fn events_csv(report: &Report) -> Result<String, ReportError> {
-    let several = report.walks.len() > 1;
-    csv_text("events.csv", |w| {
-        let mut head = vec!["side", "event", "time"];
-        if several {
-            head.push("motion");
+    match &report.events {
+        crate::stream::EventsCsv::Text(text) => Ok(text.clone()),
+        crate::stream::EventsCsv::File(path) => {
+            std::fs::read_to_string(path).map_err(|error| ReportError::Io {
+                path: path.display().to_string(),
+                action: "read",
+                error,
+            })
         }
-        w.write_record(&head)?;
-        for walk in &report.walks {
-            for (s, kind, t) in walk.event_list() {
-                let time = round(t, 6);
-                let mut row = vec![SIDES[s], kind.name(), time.as_str()];
-                if several {
-                    row.push(walk.trial.source.as_str());
-                }
-                w.write_record(&row)?;
-            }
-        }
-        Ok(())
-    })
+        crate::stream::EventsCsv::None => Ok("side,event,time\n".into()),
+    }
 }
 
 /// `summary.json`: the subject and session as given (`subject`, [`crate::session::Session::json`]);
@@ -125,11 +122,11 @@ pub fn events_csv(report: &Report) -> Result<String, ReportError> {
 /// and leg length; and the headline figures over all recordings (both sides).
 pub fn summary_json(report: &Report) -> String {
     let recordings: Vec<serde_json::Value> = report
-        .walks
+        .recordings
         .iter()
         .map(|w| match &w.gait {
             Some(g) => serde_json::json!({
-                "recording": w.trial.source,
+                "recording": w.source,
                 "mode": g.mode.name(),
                 "ground": g.ground.name(),
                 "speed": g.speed,
@@ -143,7 +140,7 @@ pub fn summary_json(report: &Report) -> String {
                 "notes": g.notes,
             }),
             None => serde_json::json!({
-                "recording": w.trial.source,
+                "recording": w.source,
                 "mode": serde_json::Value::Null,
                 "ground": "unknown",
                 "events": "Zeni et al. 2008 (too few strides for the rules)",
@@ -178,11 +175,11 @@ pub fn summary_json(report: &Report) -> String {
             );
         }
     }
-    let first = report.walks.first().and_then(|w| w.gait.as_ref());
+    let first = report.recordings.first().and_then(|w| w.gait.as_ref());
     let mut durations: Vec<f64> = report
-        .walks
+        .recordings
         .iter()
-        .flat_map(crate::bouts::bouts)
+        .flat_map(|r| &r.bouts)
         .map(|b| b.end - b.start)
         .collect();
     durations.sort_by(f64::total_cmp);
@@ -204,7 +201,7 @@ pub fn summary_json(report: &Report) -> String {
         "recordings": recordings,
         "headline": headline,
         "bouts": bouts,
-        "cgm_pelvis": report.walks.first().map(|w| w.pelvis.describe()),
+        "cgm_pelvis": report.recordings.first().map(|w| w.pelvis.describe()),
         "warnings": report.warnings,
     });
     serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"

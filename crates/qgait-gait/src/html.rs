@@ -29,9 +29,11 @@ pub struct Page<'a> {
     /// Section `warnings`: every warning of the run.
     warnings: &'a [String],
     /// Section `events`: one row per event of `events.csv`.
-    events: Vec<EventRow<'a>>,
+    events: Vec<EventRow>,
     /// Section `events`: whether the rows name their recording (several recordings).
     several: bool,
+    /// Section `events`: the number of events in `events.csv` (the table may list fewer).
+    events_total: usize,
     /// Section `recordings`: one row per recording.
     recordings: Vec<Recording<'a>>,
     /// Section `recordings`: the settings, name and value.
@@ -54,12 +56,48 @@ pub struct Page<'a> {
 }
 
 /// A row of the event table.
-struct EventRow<'a> {
-    side: &'static str,
-    event: &'static str,
+struct EventRow {
+    side: String,
+    event: String,
     /// Seconds, as in `events.csv`.
     time: String,
-    recording: &'a str,
+    recording: String,
+}
+
+/// The events table's rows: the first [`MAX_EVENT_ROWS`] of `events.csv`, and how many it holds.
+#[derive(Default)]
+pub struct EventRows {
+    rows: Vec<EventRow>,
+    total: usize,
+}
+
+/// The events the page lists at most: a clinical recording's every event; a day's recording
+/// (over 100,000 events) lists its first ones and leaves the rest to `events.csv`, so the page
+/// stays a size a browser opens.
+pub const MAX_EVENT_ROWS: usize = 2_000;
+
+/// The rows of `events.csv` (`side,event,time[,motion]`) for the events table.
+fn event_rows(r: &Report) -> Result<EventRows, crate::error::ReportError> {
+    let text = crate::files::events_csv(r)?;
+    let mut reader = csv::Reader::from_reader(text.as_bytes());
+    let mut out = EventRows::default();
+    for record in reader.records() {
+        let record = record.map_err(|e| crate::error::ReportError::Csv {
+            file: "events.csv",
+            error: e,
+        })?;
+        out.total += 1;
+        if out.rows.len() < MAX_EVENT_ROWS {
+            let field = |k: usize| record.get(k).unwrap_or("").to_string();
+            out.rows.push(EventRow {
+                side: field(0),
+                event: field(1).replace('_', " "),
+                time: field(2),
+                recording: field(3),
+            });
+        }
+    }
+    Ok(out)
 }
 
 /// A row of the recordings table.
@@ -170,35 +208,17 @@ pub fn outside(value: f64, range: crate::normative::Range) -> Option<&'static st
 
 impl<'a> Page<'a> {
     /// The page's fields from the report. `svgs`: the figures' stems and SVG texts.
-    pub fn new(r: &'a Report, svgs: &'a [(String, String)]) -> Self {
-        let names: Vec<&str> = r.walks.iter().map(|w| w.trial.label.as_str()).collect();
+    pub fn new(r: &'a Report, svgs: &'a [(String, String)], events: EventRows) -> Self {
+        let names: Vec<&str> = r.recordings.iter().map(|w| w.label.as_str()).collect();
         let recordings = r
-            .walks
+            .recordings
             .iter()
-            .map(|w| {
-                let t = &w.trial.time;
-                Recording {
-                    source: &w.trial.source,
-                    frames: t.len(),
-                    duration: round(t[t.len() - 1] - t[0], 3),
-                    strides: w.strides(),
-                    dropped: &w.dropped,
-                }
-            })
-            .collect();
-        let events = r
-            .walks
-            .iter()
-            .flat_map(|w| {
-                w.event_list().into_iter().map(|(s, kind, t)| EventRow {
-                    side: SIDES[s],
-                    event: match kind {
-                        crate::events::Kind::HeelStrike => "heel strike",
-                        crate::events::Kind::ToeOff => "toe off",
-                    },
-                    time: round(t, 6),
-                    recording: &w.trial.source,
-                })
+            .map(|w| Recording {
+                source: &w.source,
+                frames: w.frames,
+                duration: round(w.duration(), 3),
+                strides: w.strides(),
+                dropped: &w.dropped,
             })
             .collect();
         let figure = |stem: &str| {
@@ -223,8 +243,9 @@ impl<'a> Page<'a> {
                 .unwrap_or_else(|| names.join(", ")),
             header: header(r),
             warnings: &r.warnings,
-            events,
-            several: r.walks.len() > 1,
+            several: r.recordings.len() > 1,
+            events_total: events.total,
+            events: events.rows,
             recordings,
             settings: settings(r),
             parameters: parameters(r),
@@ -279,7 +300,7 @@ fn caption(r: &Report, stem: &str) -> String {
     match stem {
         "kinematics" => format!(
             "Joint angles (degrees) over the gait cycle (0-100 %, heel strike to the next heel strike of the same side): rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal and transverse planes. Each side's mean ± 1 SD over {} strides (right red, left blue; every stride a thin line), against {reference}: its mean ± 1 SD in grey. Vertical lines: each side's measured toe off (solid){}. Only the angles the model gives or the reference has are drawn.",
-            match r.walks.iter().map(|w| w.strides()).fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]]) {
+            match r.recordings.iter().map(|w| w.strides()).fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]]) {
                 [rt, lt] => format!("{rt} right and {lt} left"),
             },
             if r.reference.toe_off_from.is_empty() {
@@ -332,13 +353,13 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
     h.push(("Model", r.model.clone()));
     h.push((
         "Files",
-        r.walks
+        r.recordings
             .iter()
-            .map(|w| w.trial.source.as_str())
+            .map(|w| w.source.as_str())
             .collect::<Vec<_>>()
             .join(", "),
     ));
-    for w in &r.walks {
+    for w in &r.recordings {
         let text = match &w.gait {
             Some(g) => format!(
                 "{}, {}, {} m/s{}",
@@ -349,15 +370,15 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
                     other => other.name(),
                 },
                 round(g.speed, 2),
-                if r.walks.len() > 1 {
-                    format!(" ({})", w.trial.label)
+                if r.recordings.len() > 1 {
+                    format!(" ({})", w.label)
                 } else {
                     String::new()
                 }
             ),
             None => format!(
                 "not determined: too few strides for the rules ({})",
-                w.trial.label
+                w.label
             ),
         };
         h.push(("Condition (detected)", text));
@@ -366,7 +387,7 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
         h.push(("Condition (as given)", c.clone()));
     }
     let [rt, lt] = r
-        .walks
+        .recordings
         .iter()
         .map(|w| w.strides())
         .fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]]);
@@ -380,7 +401,7 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
 fn settings(r: &Report) -> Vec<(&'static str, String)> {
     let mut s = vec![("model", r.model.clone())];
     // (A `builtin:` gait is taken whole whatever `--cycle` says.)
-    let builtin_whole = r.walks.iter().any(|w| w.mode != r.mode);
+    let builtin_whole = r.recordings.iter().any(|w| w.mode != r.mode);
     s.push((
         "cycles",
         match r.mode {
@@ -393,11 +414,11 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
             crate::CycleMode::Whole => "whole: each recording is one cycle".into(),
         },
     ));
-    for w in &r.walks {
+    for w in &r.recordings {
         let text = match &w.gait {
             Some(g) => format!(
                 "{}: {} on {} ground ({}); speed {} m/s ({}); duty factor {}, Froude number {}, leg length {} m; events by the rules of docs/gait-analysis.md{}{}",
-                w.trial.label,
+                w.label,
                 g.mode.name(),
                 g.ground.name(),
                 match g.travel_ratio {
@@ -418,18 +439,18 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
             ),
             None => format!(
                 "{}: too few strides for the rules: Zeni's events, mode and ground unknown",
-                w.trial.label
+                w.label
             ),
         };
         s.push(("gait", text));
     }
-    if r.walks.iter().any(|w| w.trial.planar) {
+    if r.recordings.iter().any(|w| w.planar) {
         s.push((
             "planar model",
             "the model moves the legs in the sagittal plane only: no step width or other frontal or transverse quantity is reported".into(),
         ));
     }
-    if let Some(w) = r.walks.first() {
+    if let Some(w) = r.recordings.first() {
         s.push(("pelvis (CGM)", w.pelvis.describe()));
     }
     s.push(("reference", r.reference.label.clone()));
@@ -536,7 +557,8 @@ fn reference_value(params: &[Parameter], name: &str) -> String {
 
 /// The page. `svgs`: the figures' stems and SVG texts.
 pub fn page(r: &Report, svgs: &[(String, String)]) -> Result<String, askama::Error> {
-    Page::new(r, svgs).render()
+    let events = event_rows(r).map_err(|e| askama::Error::Custom(Box::new(e)))?;
+    Page::new(r, svgs, events).render()
 }
 
 #[cfg(test)]

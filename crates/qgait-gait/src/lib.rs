@@ -15,6 +15,7 @@ pub mod output;
 pub mod rules;
 pub mod session;
 pub mod spatiotemporal;
+pub mod stream;
 pub mod trial;
 
 use qgait_kernel::Vec3;
@@ -93,6 +94,8 @@ pub struct Walk {
     pub cycles: [Vec<Cycle>; 2],
     /// Strides left out, per side.
     pub dropped: [Dropped; 2],
+    /// The start (s) and the reason of each stride left out, per side.
+    pub left_out: cycles::LeftOut,
     /// The nine variables of each frame (`[side][variable][frame]`, degrees), when the
     /// recording has joint angles.
     pub angles: Option<[[Vec<f64>; 9]; 2]>,
@@ -115,6 +118,17 @@ pub fn analyse_with(
     trial: Trial,
     mode: CycleMode,
     given_speed: Option<f64>,
+) -> Result<Walk, AnalysisError> {
+    analyse_with_pelvis(trial, mode, given_speed, angles::CgmPelvis::Fixed)
+}
+
+/// [`analyse_with`], the joint angles in the CGM's pelvis frame `pelvis`
+/// ([`Walk::with_cgm_pelvis`], without computing them twice).
+pub fn analyse_with_pelvis(
+    trial: Trial,
+    mode: CycleMode,
+    given_speed: Option<f64>,
+    pelvis: angles::CgmPelvis,
 ) -> Result<Walk, AnalysisError> {
     let n = trial.time.len();
     if n < 3 {
@@ -161,25 +175,33 @@ pub fn analyse_with(
         Some((e, g)) => (e, Some(g)),
         None => (anchors, None),
     };
-    let (cycles, dropped) = match mode {
-        CycleMode::Auto => cycles::strides(&trial.time, &events, &forward, &segments),
+    let (cycles, left_out) = match mode {
+        CycleMode::Auto => cycles::strides_and_left_out(&trial.time, &events, &forward, &segments),
         CycleMode::Whole => {
             let heel = [0, 1].map(|s| events::along(&trial.frames, &forward, |f| f[s].heel));
             let [r, l] = cycles::whole(&trial.time, [&heel[0], &heel[1]], &events);
-            ([vec![r], vec![l]], [Dropped::default(); 2])
+            ([vec![r], vec![l]], Default::default())
         }
     };
-    let angles = angles::angles(&trial, &forward, &angles::CgmPelvis::Fixed);
+    let dropped = left_out.each_ref().map(|l| {
+        let mut d = Dropped::default();
+        for (_, r) in l {
+            d.count(*r);
+        }
+        d
+    });
+    let angles = angles::angles(&trial, &forward, &pelvis);
     Ok(Walk {
         trial,
         forward,
         events,
         cycles,
         dropped,
+        left_out,
         angles,
         mode,
         gait,
-        pelvis: angles::CgmPelvis::Fixed,
+        pelvis,
     })
 }
 

@@ -9,7 +9,8 @@ use crate::normative::{Band, Kinematics, NormativeError, Range, Speed, StpNormal
 use crate::rules::Mode;
 use crate::session::Session;
 use crate::spatiotemporal::{self, Parameter};
-use crate::{curves, leg_length, toe_off_percent, CycleMode, Walk};
+use crate::stream::{EventsCsv, Finished, Pool, Recording};
+use crate::{CycleMode, Walk};
 
 /// `--reference`.
 #[derive(Clone, Debug, PartialEq)]
@@ -74,7 +75,12 @@ impl Reference {
 /// Everything the report shows.
 pub struct Report {
     /// The recordings.
-    pub walks: Vec<Walk>,
+    pub recordings: Vec<Recording>,
+    /// `events.csv`: written as the recordings were read, or its text.
+    pub events: EventsCsv,
+    /// Individual strides' curves per side (`[variable][point]`, degrees): a bounded sample
+    /// ([`crate::stream::STRIDE_SAMPLE`]) spread over the recordings.
+    pub stride_sample: [Vec<[Vec<f64>; 9]>; 2],
     /// The model's name.
     pub model: String,
     /// `--cycle`.
@@ -124,7 +130,29 @@ fn sex_words(male: Option<bool>) -> &'static str {
     }
 }
 
-/// Builds the report from analysed walks.
+/// Folds walks in memory, each a whole recording, into a pool (`events.csv` kept as text).
+pub fn pool_of(walks: &[Walk]) -> Result<Finished, ReportError> {
+    let mut pool = Pool::in_memory(walks.len() > 1);
+    for w in walks {
+        pool.add(w, f64::NEG_INFINITY..f64::INFINITY, true)
+            .map_err(|error| ReportError::Csv {
+                file: "events.csv",
+                error,
+            })?;
+    }
+    finish(pool)
+}
+
+/// [`Pool::finish`] as a report's error.
+pub fn finish(pool: Pool) -> Result<Finished, ReportError> {
+    pool.finish().map_err(|error| ReportError::Io {
+        path: "events.csv".into(),
+        action: "write",
+        error,
+    })
+}
+
+/// Builds the report from analysed walks, each a whole recording held in memory.
 pub fn build(
     walks: Vec<Walk>,
     model: String,
@@ -134,22 +162,53 @@ pub fn build(
     normative: &crate::normative::Source,
     subject: Subject,
 ) -> Result<Report, ReportError> {
-    let curves = curves(&walks);
-    let toe_off = toe_off_percent(&walks);
-    let mut parameters = {
-        let list: Vec<spatiotemporal::Walk<'_>> = walks
-            .iter()
-            .map(|w| (&w.trial, w.forward.as_slice(), &w.cycles, w.gait.as_ref()))
-            .collect();
-        spatiotemporal::parameters(&list)
+    let pool = pool_of(&walks)?;
+    drop(walks);
+    let reference_pool = match reference_walks {
+        Some(rw) => Some(pool_of(&rw)?),
+        None => None,
     };
-    check_possible(&walks, &parameters)?;
+    build_from(
+        pool,
+        model,
+        mode,
+        reference,
+        reference_pool,
+        normative,
+        subject,
+    )
+}
+
+/// Builds the report from recordings folded into a pool ([`crate::stream`]); `reference_pool`
+/// holds the reference motion's (`--reference MOTION`).
+pub fn build_from(
+    pool: Finished,
+    model: String,
+    mode: CycleMode,
+    reference: &ReferenceArg,
+    reference_pool: Option<Finished>,
+    normative: &crate::normative::Source,
+    subject: Subject,
+) -> Result<Report, ReportError> {
+    let Finished(pool, events) = pool;
+    let curves = pool.curves();
+    let toe_off = pool.toe_off_percent();
+    let mut parameters = {
+        let rules: Vec<Option<&crate::rules::Gait>> = pool
+            .recordings
+            .iter()
+            .map(|r| r.gait.as_ref().filter(|_| r.rules_everywhere))
+            .collect();
+        spatiotemporal::parameters_of(&pool.strides, &rules)
+    };
+    let walks = &pool.recordings;
+    check_possible(walks, pool.leg_length(), &parameters)?;
     let running = walks
         .iter()
         .any(|w| w.gait.as_ref().is_some_and(|g| g.mode == Mode::Running));
     let speed = spatiotemporal::value(&parameters, "speed", "both");
     let speed_measured = speed;
-    let leg = leg_length(&walks);
+    let leg = pool.leg_length();
     let dimensionless_speed = match (speed, leg) {
         (Some(v), Some(l)) if l > 0.0 => Some((v / (9.81 * l).sqrt(), l)),
         _ => None,
@@ -228,7 +287,7 @@ pub fn build(
         }),
         _ => None,
     };
-    let reference = match (reference, reference_walks) {
+    let reference = match (reference, reference_pool) {
         (ReferenceArg::Normative(speed), _) => {
             let speed = speed.or(chosen).unwrap_or(Speed::Free);
             let mut r = normative_reference(normative, speed)?;
@@ -255,16 +314,20 @@ pub fn build(
             r
         }
         (ReferenceArg::Motion(m), Some(rw)) => {
-            let c = crate::curves(&rw);
-            let label = rw
-                .first()
-                .map_or_else(|| m.clone(), |w| w.trial.label.clone());
-            let list: Vec<spatiotemporal::Walk<'_>> = rw
-                .iter()
-                .map(|w| (&w.trial, w.forward.as_slice(), &w.cycles, w.gait.as_ref()))
-                .collect();
-            let reference_parameters = spatiotemporal::parameters(&list);
-            let toe_off = toe_off_percent(&rw);
+            let c = rw.0.curves();
+            let label =
+                rw.0.recordings
+                    .first()
+                    .map_or_else(|| m.clone(), |w| w.label.clone());
+            let reference_parameters = {
+                let rules: Vec<Option<&crate::rules::Gait>> =
+                    rw.0.recordings
+                        .iter()
+                        .map(|r| r.gait.as_ref().filter(|_| r.rules_everywhere))
+                        .collect();
+                spatiotemporal::parameters_of(&rw.0.strides, &rules)
+            };
+            let toe_off = rw.0.toe_off_percent();
             Reference {
                 toe_off_from: if toe_off.iter().any(Option::is_some) {
                     format!("{label}'s mean toe off")
@@ -297,14 +360,17 @@ pub fn build(
     let reference_curves: gps::Curves = std::array::from_fn(|s| {
         std::array::from_fn(|v| reference.bands[s][v].as_ref().map(|b| b.mean.clone()))
     });
-    let has_angles = walks.iter().any(|w| w.angles.is_some());
+    let has_angles = walks.iter().any(|w| w.has_angles);
     let scores = has_angles.then(|| gps::scores(&subject_curves, &reference_curves));
     let reference_sd: gps::Curves = std::array::from_fn(|s| {
         std::array::from_fn(|v| reference.bands[s][v].as_ref().map(|b| b.sd.clone()))
     });
     let normal_scores = has_angles.then(|| gps::normal_scores(&reference_sd));
+    let stride_sample = pool.stride_sample().clone();
     Ok(Report {
-        walks,
+        recordings: pool.recordings,
+        events,
+        stride_sample,
         model,
         mode,
         curves,
@@ -339,11 +405,16 @@ pub const POSSIBLE: [(&str, f64, f64); 9] = [
 pub const POSSIBLE_LEG: (f64, f64) = (0.3, 1.5);
 
 /// [`ReportError::Impossible`] for the first parameter outside [`POSSIBLE`] or a leg length
-/// outside [`POSSIBLE_LEG`].
-pub fn check_possible(walks: &[Walk], parameters: &[Parameter]) -> Result<(), ReportError> {
+/// outside [`POSSIBLE_LEG`]; `leg_length` is the longest hip-to-ankle distance of the
+/// recordings.
+pub fn check_possible(
+    walks: &[Recording],
+    leg_length: Option<f64>,
+    parameters: &[Parameter],
+) -> Result<(), ReportError> {
     let recordings = walks
         .iter()
-        .map(|w| w.trial.source.as_str())
+        .map(|w| w.source.as_str())
         .collect::<Vec<_>>()
         .join(", ");
     for p in parameters {
@@ -366,7 +437,7 @@ pub fn check_possible(walks: &[Walk], parameters: &[Parameter]) -> Result<(), Re
             let (_, min, max) = POSSIBLE[5];
             if !(g.speed >= min && g.speed <= max) {
                 return Err(ReportError::Impossible {
-                    recordings: w.trial.source.clone(),
+                    recordings: w.source.clone(),
                     what: format!("speed ({})", g.speed_method.note()),
                     value: round(g.speed, 3),
                     unit: "m/s",
@@ -379,7 +450,7 @@ pub fn check_possible(walks: &[Walk], parameters: &[Parameter]) -> Result<(), Re
     let legs = walks
         .iter()
         .filter_map(|w| w.gait.as_ref().map(|g| g.leg_length))
-        .chain(leg_length(walks).filter(|_| walks.iter().all(|w| w.gait.is_none())));
+        .chain(leg_length.filter(|_| walks.iter().all(|w| w.gait.is_none())));
     for l in legs {
         let (min, max) = POSSIBLE_LEG;
         if !(l >= min && l <= max) {

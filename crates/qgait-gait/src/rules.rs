@@ -646,12 +646,12 @@ mod possible {
             ("double_support", 131.7),
             ("stance", -1.0),
         ] {
-            let e = check_possible(&[], &[p("cadence", 100.0), p(name, v)]).unwrap_err();
+            let e = check_possible(&[], None, &[p("cadence", 100.0), p(name, v)]).unwrap_err();
             assert!(
                 matches!(&e, ReportError::Impossible { what, .. } if what.starts_with(name)),
                 "{e}"
             );
         }
-        assert!(check_possible(&[], &[p("cadence", 100.0), p("stance", 62.0)]).is_ok());
+        assert!(check_possible(&[], None, &[p("cadence", 100.0), p("stance", 62.0)]).is_ok());
     }
 }

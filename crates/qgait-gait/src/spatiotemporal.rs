@@ -43,14 +43,6 @@ pub struct Parameter {
 /// Side names, [`qgait_kernel::Side::ALL`] order.
 pub const SIDES: [&str; 2] = ["right", "left"];
 
-fn mean(v: &[f64]) -> Option<f64> {
-    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
-}
-
-/// A value of one cycle of a recording (with its direction of progression and what the rules
-/// found), if it has one.
-type PerCycle<'a> = dyn Fn(&Trial, &[Vec3<f64>], &Cycle, Option<&Gait>) -> Option<f64> + 'a;
-
 /// One analysed recording: the trial, its direction of progression, its cycles and what the
 /// rules found ([`crate::rules`]).
 pub type Walk<'a> = (
@@ -59,9 +51,6 @@ pub type Walk<'a> = (
     &'a [Vec<Cycle>; 2],
     Option<&'a Gait>,
 );
-
-/// One cycle with its recording, direction of progression and what the rules found.
-type OneCycle<'a> = (&'a Trial, &'a [Vec3<f64>], &'a Cycle, Option<&'a Gait>);
 
 /// The note of a length from the speed: speed times a time.
 pub const FROM_SPEED: &str = "speed x stride time";
@@ -105,8 +94,167 @@ pub fn stride_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
     horizontal_unit(moved)
 }
 
+/// What the parameters need of one stride, computed while its recording (or window of a long
+/// recording, [`crate::stream`]) is in memory: a few numbers, so that the strides of a day of
+/// data can be kept.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stride {
+    /// Its heel strike (s).
+    pub start: f64,
+    /// Duration (s).
+    pub duration: f64,
+    /// Toe off of the side, since the start (s).
+    pub toe_off: Option<f64>,
+    /// Heel strike of the other side, since the start (s).
+    pub opposite_strike: Option<f64>,
+    /// Toe off of the other side, since the start (s).
+    pub opposite_toe_off: Option<f64>,
+    /// At its heel strike, the heels' distance along the direction of travel (m).
+    pub along: f64,
+    /// At its heel strike, the heels' horizontal distance across it (m).
+    pub across: f64,
+    /// The distance travelled over the stride (m): the rules' speed times its duration, else
+    /// from the pelvis translation; `None` without either.
+    pub moved: Option<f64>,
+    /// The rules' speed of its recording (m/s), when the rules ran.
+    pub speed: Option<f64>,
+    /// The rules found running.
+    pub running: bool,
+    /// Its recording's model is planar.
+    pub planar: bool,
+}
+
+impl Stride {
+    /// The stride of cycle `c` (of side `c.side`) of `trial`.
+    pub fn of(trial: &Trial, forward: &[Vec3<f64>], c: &Cycle, g: Option<&Gait>) -> Self {
+        let (s, o) = (c.side, 1 - c.side);
+        let f = &trial.frames[c.strike_frame];
+        let d = stride_direction(trial, c).unwrap_or(forward[c.strike_frame]);
+        let between = f[s].heel - f[o].heel;
+        let across = Vec3::new(-d.z, 0.0, d.x);
+        let moved = match g {
+            Some(g) => Some(g.speed * c.duration),
+            None => trial.translation.as_ref().and_then(|tr| {
+                let (a, b) = (tr[c.span.0], tr[c.span.1]);
+                let t = trial.time[c.span.1] - trial.time[c.span.0];
+                // Per second of the frames spanned, times the stride's duration.
+                // A translation that is not a finite number (a column the model does not read)
+                // gives none: the step lengths are estimated instead.
+                let d = (b[0] - a[0]).hypot(b[1] - a[1]);
+                (t > 0.0 && d.is_finite()).then(|| d / t * c.duration)
+            }),
+        };
+        Self {
+            start: c.start,
+            duration: c.duration,
+            toe_off: c.toe_off,
+            opposite_strike: c.opposite_strike,
+            opposite_toe_off: c.opposite_toe_off,
+            along: between.dot(d),
+            across: between.dot(across).abs(),
+            moved,
+            speed: g.map(|g| g.speed),
+            running: g.is_some_and(|g| g.mode == Mode::Running),
+            planar: trial.planar,
+        }
+    }
+
+    /// An event time (s since the start) as a percentage of the stride.
+    pub fn percent(&self, since_start: f64) -> f64 {
+        100.0 * since_start / self.duration
+    }
+}
+
+/// A sum and a count.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Sum(f64, usize);
+
+impl Sum {
+    fn add(&mut self, v: Option<f64>) {
+        if let Some(v) = v {
+            self.0 += v;
+            self.1 += 1;
+        }
+    }
+
+    fn mean(self) -> Option<f64> {
+        (self.1 > 0).then(|| self.0 / self.1 as f64)
+    }
+}
+
+/// What the parameters need of a side's strides, summed stride by stride ([`Sums::add`]): its
+/// memory does not grow with the strides, and each mean is the sum in the strides' order over
+/// their number, as over a list of them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Sums {
+    n: usize,
+    with_speed: usize,
+    duration: Sum,
+    step_from_speed: Sum,
+    along: Sum,
+    across: Sum,
+    moved: Sum,
+    step_time: Sum,
+    stance: Sum,
+    flight: Sum,
+    double_support: Sum,
+    running: bool,
+    planar: bool,
+}
+
+impl Sums {
+    /// One more stride.
+    pub fn add(&mut self, c: &Stride) {
+        self.n += 1;
+        self.with_speed += usize::from(c.speed.is_some());
+        self.duration.add(Some(c.duration));
+        self.step_from_speed
+            .add((|| Some(c.speed? * (c.duration - c.opposite_strike?)))());
+        self.along.add(Some(c.along));
+        self.across.add(Some(c.across));
+        self.moved.add(c.moved);
+        self.step_time
+            .add(c.opposite_strike.map(|o| c.duration - o));
+        self.stance.add(c.toe_off.map(|t| c.percent(t)));
+        self.flight.add((|| {
+            let (to, ohs) = (c.toe_off?, c.opposite_strike?);
+            (ohs > to).then(|| c.percent(ohs - to))
+        })());
+        self.double_support
+            .add(match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
+                (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
+                    Some(c.percent(oto) + c.percent(to - ohs))
+                }
+                _ => None,
+            });
+        self.running |= c.running;
+        self.planar |= c.planar;
+    }
+
+    /// The strides summed.
+    pub fn count(&self) -> usize {
+        self.n
+    }
+}
+
 /// The parameters of the cycles of both sides, over every stride of every recording.
 pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
+    let sums: [Sums; 2] = std::array::from_fn(|s| {
+        let mut sums = Sums::default();
+        for (t, f, c, g) in walks {
+            for c in &c[s] {
+                sums.add(&Stride::of(t, f, c, *g));
+            }
+        }
+        sums
+    });
+    let rules: Vec<Option<&Gait>> = walks.iter().map(|w| w.3).collect();
+    parameters_of(&sums, &rules)
+}
+
+/// The parameters of the strides of each side, summed; `rules` holds what the rules found of
+/// each recording (`None` where they did not run).
+pub fn parameters_of(sums: &[Sums; 2], rules: &[Option<&Gait>]) -> Vec<Parameter> {
     let mut out = Vec::new();
     let mut push = |name, side, value: Option<f64>, unit, note| {
         if let Some(value) = value.filter(|v: &f64| v.is_finite()) {
@@ -124,55 +272,22 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     let mut step_width = [None; 2];
     let mut stride_time = [None; 2];
     let mut displacement = [None; 2];
-    let mut all_durations = Vec::new();
+    let mut all_durations = Sum::default();
     let mut step_note = "heels at heel strike";
     for s in 0..2 {
-        let o = 1 - s;
-        // Every cycle of the side with its recording.
-        let cycles: Vec<OneCycle> = walks
-            .iter()
-            .flat_map(|(t, f, c, g)| c[s].iter().map(move |c| (*t, *f, c, *g)))
-            .collect();
-        let collect = |f: &PerCycle| -> Vec<f64> {
-            cycles
-                .iter()
-                .filter_map(|(t, d, c, g)| f(t, d, c, *g))
-                .collect()
-        };
-        let at_strike = |trial: &Trial, forward: &[Vec3<f64>], c: &Cycle| {
-            let f = &trial.frames[c.strike_frame];
-            let d = stride_direction(trial, c).unwrap_or(forward[c.strike_frame]);
-            let between = f[s].heel - f[o].heel;
-            let across = Vec3::new(-d.z, 0.0, d.x);
-            (between.dot(d), between.dot(across).abs())
-        };
-        let durations = collect(&|_, _, c, _| Some(c.duration));
-        all_durations.extend(&durations);
-        stride_time[s] = mean(&durations);
+        let c = &sums[s];
+        all_durations.0 += c.duration.0;
+        all_durations.1 += c.duration.1;
+        stride_time[s] = c.duration.mean();
         // With a speed from the rules: speed x step time, whatever the pelvis does.
-        let from_speed = cycles.iter().all(|c| c.3.is_some());
+        let from_speed = c.with_speed == c.n;
         step_length[s] = if from_speed {
-            mean(&collect(&|_, _, c, g| {
-                Some(g?.speed * (c.duration - c.opposite_strike?))
-            }))
+            c.step_from_speed.mean()
         } else {
-            mean(&collect(&|t, d, c, _| Some(at_strike(t, d, c).0)))
+            c.along.mean()
         };
-        let moved = collect(&|trial, _, c, g| {
-            if let Some(g) = g {
-                return Some(g.speed * c.duration);
-            }
-            let tr = trial.translation.as_ref()?;
-            let (a, b) = (tr[c.span.0], tr[c.span.1]);
-            let t = trial.time[c.span.1] - trial.time[c.span.0];
-            // Per second of the frames spanned, times the stride's duration.
-            // A translation that is not a finite number (a column the model does not read)
-            // gives none: the step lengths are estimated instead.
-            let d = (b[0] - a[0]).hypot(b[1] - a[1]);
-            (t > 0.0 && d.is_finite()).then(|| d / t * c.duration)
-        });
-        if moved.len() == cycles.len() {
-            displacement[s] = mean(&moved);
+        if c.moved.1 == c.n {
+            displacement[s] = c.moved.mean();
         }
         let side = SIDES[s];
         push(
@@ -183,49 +298,22 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             "",
         );
         push("stride_time", side, stride_time[s], "s", "");
-        push(
-            "step_time",
-            side,
-            mean(&collect(&|_, _, c, _| {
-                c.opposite_strike.map(|o| c.duration - o)
-            })),
-            "s",
-            "",
-        );
-        let stance = mean(&collect(&|_, _, c, _| c.toe_off.map(|t| c.percent(t))));
+        push("step_time", side, c.step_time.mean(), "s", "");
+        let stance = c.stance.mean();
         push("stance", side, stance, "%", "");
         push("swing", side, stance.map(|s| 100.0 - s), "%", "");
-        let running = cycles
-            .iter()
-            .any(|c| c.3.is_some_and(|g| g.mode == Mode::Running));
-        if running {
+        if c.running {
             // Running: no double support; the flight from the side's toe off to the other
             // foot's contact.
             push(
                 "flight",
                 side,
-                mean(&collect(&|_, _, c, _| {
-                    let (to, ohs) = (c.toe_off?, c.opposite_strike?);
-                    (ohs > to).then(|| c.percent(ohs - to))
-                })),
+                c.flight.mean(),
                 "%",
                 "the side's toe off to the other foot's heel strike (running)",
             );
         } else {
-            push(
-                "double_support",
-                side,
-                mean(&collect(
-                    &|_, _, c, _| match (c.toe_off, c.opposite_strike, c.opposite_toe_off) {
-                        (Some(to), Some(ohs), Some(oto)) if ohs <= to => {
-                            Some(c.percent(oto) + c.percent(to - ohs))
-                        }
-                        _ => None,
-                    },
-                )),
-                "%",
-                "",
-            );
+            push("double_support", side, c.double_support.mean(), "%", "");
         }
         push(
             "step_length",
@@ -239,9 +327,8 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
                 step_note
             },
         );
-        let planar = cycles.iter().any(|c| c.0.planar);
-        if !planar {
-            step_width[s] = mean(&collect(&|t, d, c, _| Some(at_strike(t, d, c).1)));
+        if !c.planar {
+            step_width[s] = c.across.mean();
             push(
                 "step_width",
                 side,
@@ -253,9 +340,10 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
     }
     // Stride length and speed per side, then both.
     let estimated = "estimated: the two mean step lengths (no pelvis translation)";
-    let rules: Vec<&Gait> = walks.iter().filter_map(|w| w.3).collect();
+    let every = rules.len();
+    let rules: Vec<&Gait> = rules.iter().filter_map(|g| *g).collect();
     let measured = match rules.first() {
-        Some(g) if rules.len() == walks.len() => g.speed_method.note(),
+        Some(g) if rules.len() == every => g.speed_method.note(),
         _ => "pelvis_tx/pelvis_tz",
     };
     let stride_length = |s: usize| -> Option<(f64, &'static str)> {
@@ -329,7 +417,7 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
             );
         }
     }
-    let t = mean(&all_durations);
+    let t = all_durations.mean();
     push("cadence", "both", t.map(|t| 120.0 / t), "steps/min", "");
     push("stride_time", "both", t, "s", "");
     if let (Some(t), Some(&(_, note))) = (t, lengths.first()) {

@@ -104,13 +104,16 @@ pub fn check_units(
     let Some((column, value)) = worst.filter(|w| w.1 > MAX_RADIANS) else {
         return Ok(table);
     };
-    // The header's line that declares the unit.
-    let text = std::fs::read_to_string(source).unwrap_or_default();
-    let found = text
-        .lines()
-        .enumerate()
-        .take_while(|(_, l)| !l.trim().eq_ignore_ascii_case("endheader"))
-        .find(|(_, l)| l.trim_start().to_ascii_lowercase().starts_with("indegrees"));
+    // The header's line that declares the unit (the header only: the file may be a day long).
+    let found = std::fs::File::open(source).ok().and_then(|f| {
+        use std::io::BufRead;
+        std::io::BufReader::new(f)
+            .lines()
+            .map_while(Result::ok)
+            .enumerate()
+            .take_while(|(_, l)| !l.trim().eq_ignore_ascii_case("endheader"))
+            .find(|(_, l)| l.trim_start().to_ascii_lowercase().starts_with("indegrees"))
+    });
     let (at, declared) = match found {
         Some((i, l)) => (format!("{source}:{}", i + 1), l.trim().to_string()),
         None => (
@@ -294,7 +297,21 @@ pub fn load_with(
             warnings,
         ));
     }
-    let (table, mut warnings) = load_motion(source)?;
+    let (table, warnings) = load_motion(source)?;
+    from_table(source, label, table, warnings, model, angles_in)
+}
+
+/// The recording of the motion `table` read from `source` (the whole file, or one window of
+/// it: [`crate::stream`]), evaluated with `model`; `warnings` are the reader's so far, to which
+/// the loading's are added.
+pub fn from_table(
+    source: &str,
+    label: String,
+    table: MotionTable,
+    mut warnings: Vec<Warning>,
+    model: &Model,
+    angles_in: Option<AngleUnit>,
+) -> Result<(Trial, Vec<Warning>), TrialError> {
     let table = check_units(table, source, angles_in)?;
     if table.header().pelvis_heading_free {
         warnings.push(Warning(format!(

@@ -781,6 +781,39 @@ impl MotionTable {
         ))
     }
 
+    /// A table of some rows of a motion read with `header` (e.g. one window of a long
+    /// recording read by [`MotionReader::next_row`]), in the order given; rows of a generated
+    /// table (line 0) get no lines. The header's declared row count is dropped: the table is
+    /// not the whole file.
+    pub fn from_rows(header: &Header, rows: &[Row]) -> Self {
+        let n = header.labels.len();
+        let mut columns: Vec<Vec<f64>> = vec![Vec::with_capacity(rows.len()); n];
+        let mut lines = Vec::with_capacity(rows.len());
+        let mut non_finite: Vec<Vec<NonFinite>> = vec![Vec::new(); n];
+        for row in rows {
+            for (c, v) in row.values.iter().enumerate().take(n) {
+                columns[c].push(*v);
+            }
+            for (c, at) in &row.non_finite {
+                if let Some(list) = non_finite.get_mut(*c) {
+                    list.push(at.clone());
+                }
+            }
+            lines.push(row.line);
+        }
+        if lines.iter().all(|&l| l == 0) {
+            lines.clear();
+        }
+        let mut header = header.clone();
+        header.declared_rows = None;
+        Self {
+            header,
+            columns,
+            lines,
+            non_finite,
+        }
+    }
+
     /// Writes the table as a `.mot` file (`nRows=` header style, tab separated, values printed
     /// with the shortest representation that reads back to the same `f64`).
     pub fn write_mot<W: Write>(&self, mut w: W) -> io::Result<()> {

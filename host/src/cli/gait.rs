@@ -6,7 +6,9 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
+use anyhow::Context;
 use qgait_gait::output::{self, ReferenceArg, Subject};
+use qgait_gait::stream::{self, Pool, Settings};
 use qgait_gait::{self as gait, trial, CycleMode};
 use qgait_model::choice::Model;
 use qgait_opensim::diagnostics::Warning;
@@ -155,29 +157,25 @@ pub enum SexArg {
     Female,
 }
 
-/// Analyses `motions` with the model of `args`.
+/// Analyses `motions` with the model of `args` into `pool`, each read as a stream of rows
+/// and analysed window by window (`qgait_gait::stream`).
 fn analyse_all(
+    pool: &mut Pool,
     motions: &[String],
     model: &Model,
-    mode: CycleMode,
-    args: &GaitArgs,
+    settings: &Settings,
     warn: &dyn Fn(Vec<Warning>),
-) -> anyhow::Result<Vec<gait::Walk>> {
-    motions
-        .iter()
-        .map(|m| {
-            let (t, w) = trial::load_with(m, model, args.angles_in)?;
-            warn(w);
-            // A built-in gait is one cycle by construction: taken whole whatever `--cycle`
-            // says (its single pair of heel strikes holds no complete stride).
-            let mode = if m.starts_with("builtin:") {
-                CycleMode::Whole
-            } else {
-                mode
-            };
-            Ok(gait::analyse_with(t, mode, args.treadmill_speed)?)
-        })
-        .collect()
+) -> anyhow::Result<()> {
+    for m in motions {
+        // A built-in gait is one cycle by construction: taken whole whatever `--cycle`
+        // says (its single pair of heel strikes holds no complete stride).
+        let mut settings = settings.clone();
+        if m.starts_with("builtin:") {
+            settings.mode = CycleMode::Whole;
+        }
+        stream::analyse_into(pool, m, model, &settings, &mut |w| warn(w))?;
+    }
+    Ok(())
 }
 
 /// The CGM's pelvis frame from an `.osim` model's own pelvis markers (ASIS with PSIS or
@@ -219,54 +217,31 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
         CgmPelvisArg::Fixed => gait::angles::CgmPelvis::Fixed,
         CgmPelvisArg::ModelMarkers => cgm_pelvis(args.model.model.as_deref()),
     };
-    let walks: Vec<gait::Walk> = analyse_all(&args.motions, &model, mode, &args, &warn)?
-        .into_iter()
-        .map(|w| w.with_cgm_pelvis(pelvis.clone()))
-        .collect();
-    let reference_walks = match &reference {
-        ReferenceArg::Motion(m) => Some(
-            analyse_all(std::slice::from_ref(m), &model, mode, &args, &warn)?
-                .into_iter()
-                .map(|w| w.with_cgm_pelvis(pelvis.clone()))
-                .collect(),
-        ),
-        ReferenceArg::Normative(_) => None,
-    };
-    for w in walks.iter().chain(reference_walks.iter().flatten()) {
-        w.require_strides()?;
-    }
-    let normative = match &args.normative {
-        Some(dir) => gait::normative::Source::Dir(dir.clone()),
-        None => gait::normative::Source::default_for_run(),
-    };
-    let subject = Subject {
-        age: args.age,
-        male: args.sex.map(|s| s == SexArg::Male),
-    };
-    // Every recording taken whole (`builtin:` gaits are): the report says so.
-    let mode = if walks.iter().all(|w| w.mode == CycleMode::Whole) {
-        CycleMode::Whole
-    } else {
-        mode
-    };
-    let session = session(&args);
-    let mut report = output::build(
-        walks,
-        model.name().to_string(),
+    let settings = Settings {
         mode,
-        &reference,
-        reference_walks,
-        &normative,
-        subject,
-    )?;
-    report.session = session;
-    report.warnings = kept.into_inner();
-    let files = qgait_gait::files::write(&report, &args.output)?;
+        given_speed: args.treadmill_speed,
+        angles_in: args.angles_in,
+        pelvis,
+    };
+    // events.csv is written as the recordings are read.
+    let existed = args.output.exists();
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("{}: cannot create", args.output.display()))?;
+    let events = args.output.join("events.csv");
+    let result = analyse_and_write(&args, &reference, &model, &settings, &events, &warn, &kept);
+    if result.is_err() {
+        // No partial events.csv is left behind, nor a directory made for it.
+        let _ = std::fs::remove_file(&events);
+        if !existed {
+            let _ = std::fs::remove_dir(&args.output);
+        }
+    }
+    let (report, files) = result?;
     if !diagnostics.quiet() {
         let strides: usize = report
-            .walks
+            .recordings
             .iter()
-            .map(|w| w.cycles[0].len() + w.cycles[1].len())
+            .map(|w| w.strides[0] + w.strides[1])
             .sum();
         let gps = report
             .scores
@@ -307,4 +282,64 @@ fn session(args: &GaitArgs) -> gait::session::Session {
         mass: args.mass,
         condition: args.condition.clone(),
     }
+}
+
+/// The analysis of every recording, `events.csv` written to `events` as it goes, then the
+/// report and its files.
+fn analyse_and_write(
+    args: &GaitArgs,
+    reference: &ReferenceArg,
+    model: &Model,
+    settings: &Settings,
+    events: &std::path::Path,
+    warn: &dyn Fn(Vec<Warning>),
+    kept: &std::cell::RefCell<Vec<String>>,
+) -> anyhow::Result<(output::Report, Vec<PathBuf>)> {
+    let mut pool = Pool::to_file(events, args.motions.len() > 1)
+        .with_context(|| format!("{}: cannot write", events.display()))?;
+    analyse_all(&mut pool, &args.motions, model, settings, warn)?;
+    let pool = output::finish(pool)?;
+    let reference_pool = match reference {
+        ReferenceArg::Motion(m) => {
+            let mut pool = Pool::without_events();
+            analyse_all(&mut pool, std::slice::from_ref(m), model, settings, warn)?;
+            Some(output::finish(pool)?)
+        }
+        ReferenceArg::Normative(_) => None,
+    };
+    for w in pool
+        .0
+        .recordings
+        .iter()
+        .chain(reference_pool.iter().flat_map(|p| p.0.recordings.iter()))
+    {
+        w.require_strides()?;
+    }
+    let normative = match &args.normative {
+        Some(dir) => gait::normative::Source::Dir(dir.clone()),
+        None => gait::normative::Source::default_for_run(),
+    };
+    let subject = Subject {
+        age: args.age,
+        male: args.sex.map(|s| s == SexArg::Male),
+    };
+    // Every recording taken whole (`builtin:` gaits are): the report says so.
+    let mode = if pool.0.recordings.iter().all(|w| w.mode == CycleMode::Whole) {
+        CycleMode::Whole
+    } else {
+        settings.mode
+    };
+    let mut report = output::build_from(
+        pool,
+        model.name().to_string(),
+        mode,
+        reference,
+        reference_pool,
+        &normative,
+        subject,
+    )?;
+    report.session = session(args);
+    report.warnings = kept.borrow().clone();
+    let files = qgait_gait::files::write(&report, &args.output)?;
+    Ok((report, files))
 }
