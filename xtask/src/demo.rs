@@ -70,6 +70,10 @@ fn imu_step(exe: &Path, root: &Path, out: &Path) -> Result<(), String> {
         &[
             "gait",
             &s(out.join("walking_angles.mot")),
+            "--subject-id",
+            "OpenSense tutorial subject",
+            "--condition",
+            "Xsens IMUs (OpenSense tutorial)",
             "-o",
             &s(gait.clone()),
         ],
