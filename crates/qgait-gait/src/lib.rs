@@ -260,30 +260,48 @@ impl Walk {
             return Ok(());
         }
         let t = &self.trial.time;
-        let duration = t[t.len() - 1] - t[0];
-        let hint = if !self.trial.breaks.is_empty() {
-            format!(
-                "; its {} stretches between gaps in time are each too short for a stride (see the warnings about gaps)",
-                self.trial.breaks.len() + 1
-            )
-        } else if duration <= ONE_CYCLE_AT_MOST {
-            format!(
-                "; the recording is {duration:.2} s long: for a file that holds one gait cycle, use --cycle whole"
-            )
-        } else {
-            format!("; in {duration:.1} s without a gap, no stride whose events pair up: is it a walk or a run?")
-        };
-        Err(AnalysisError::NoStride {
-            recording: self.trial.source.clone(),
-            right: self.events.heel_strike[0].len(),
-            left: self.events.heel_strike[1].len(),
-            hint,
-        })
+        Err(no_stride(
+            &self.trial.source,
+            [
+                self.events.heel_strike[0].len(),
+                self.events.heel_strike[1].len(),
+            ],
+            self.trial.breaks.len(),
+            t[t.len() - 1] - t[0],
+        ))
     }
 
     /// The number of cycles of each side.
     pub fn strides(&self) -> [usize; 2] {
         [self.cycles[0].len(), self.cycles[1].len()]
+    }
+}
+
+/// [`AnalysisError::NoStride`] for a recording of `duration` seconds with `heel_strikes` per
+/// side and `breaks` gaps in time, with the hint that fits it.
+pub(crate) fn no_stride(
+    source: &str,
+    heel_strikes: [usize; 2],
+    breaks: usize,
+    duration: f64,
+) -> AnalysisError {
+    let hint = if breaks > 0 {
+        format!(
+            "; its {} stretches between gaps in time are each too short for a stride (see the warnings about gaps)",
+            breaks + 1
+        )
+    } else if duration <= ONE_CYCLE_AT_MOST {
+        format!(
+            "; the recording is {duration:.2} s long: for a file that holds one gait cycle, use --cycle whole"
+        )
+    } else {
+        format!("; in {duration:.1} s without a gap, no stride whose events pair up: is it a walk or a run?")
+    };
+    AnalysisError::NoStride {
+        recording: source.to_string(),
+        right: heel_strikes[0],
+        left: heel_strikes[1],
+        hint,
     }
 }
 

@@ -36,7 +36,7 @@ use crate::events::{self, Kind};
 use crate::rules::Gait;
 use crate::spatiotemporal::{Stride, Sums, SIDES};
 use crate::trial::{self, AngleUnit, TrialError};
-use crate::{AnalysisError, CycleMode, Walk, ONE_CYCLE_AT_MOST};
+use crate::{AnalysisError, CycleMode, Walk};
 
 /// The most rows of one window: 4 minutes at 100 Hz. The batch analysis holds about 1.2 kB
 /// per row, so a window peaks near 30 MB whatever the recording's length.
@@ -152,25 +152,12 @@ impl Recording {
         if self.strides.iter().any(|&n| n > 0) {
             return Ok(());
         }
-        let duration = self.duration();
-        let hint = if self.breaks > 0 {
-            format!(
-                "; its {} stretches between gaps in time are each too short for a stride (see the warnings about gaps)",
-                self.breaks + 1
-            )
-        } else if duration <= ONE_CYCLE_AT_MOST {
-            format!(
-                "; the recording is {duration:.2} s long: for a file that holds one gait cycle, use --cycle whole"
-            )
-        } else {
-            format!("; in {duration:.1} s without a gap, no stride whose events pair up: is it a walk or a run?")
-        };
-        Err(AnalysisError::NoStride {
-            recording: self.source.clone(),
-            right: self.heel_strikes[0],
-            left: self.heel_strikes[1],
-            hint,
-        })
+        Err(crate::no_stride(
+            &self.source,
+            self.heel_strikes,
+            self.breaks,
+            self.duration(),
+        ))
     }
 }
 
