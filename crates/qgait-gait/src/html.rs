@@ -78,8 +78,19 @@ pub const MAX_EVENT_ROWS: usize = 2_000;
 
 /// The rows of `events.csv` (`side,event,time[,motion]`) for the events table.
 fn event_rows(r: &Report) -> Result<EventRows, crate::error::ReportError> {
-    let text = crate::files::events_csv(r)?;
-    let mut reader = csv::Reader::from_reader(text.as_bytes());
+    // Read as a stream: a day's events.csv is not held whole.
+    let source: Box<dyn std::io::Read + '_> = match &r.events {
+        crate::stream::EventsCsv::File(path) => Box::new(std::fs::File::open(path).map_err(
+            |error| crate::error::ReportError::Io {
+                path: path.display().to_string(),
+                action: "read",
+                error,
+            },
+        )?),
+        crate::stream::EventsCsv::Text(text) => Box::new(text.as_bytes()),
+        crate::stream::EventsCsv::None => Box::new(&b"side,event,time\n"[..]),
+    };
+    let mut reader = csv::Reader::from_reader(std::io::BufReader::new(source));
     let mut out = EventRows::default();
     for record in reader.records() {
         let record = record.map_err(|e| crate::error::ReportError::Csv {
@@ -299,10 +310,11 @@ fn caption(r: &Report, stem: &str) -> String {
     let reference = r.reference.legend();
     match stem {
         "kinematics" => format!(
-            "Joint angles (degrees) over the gait cycle (0-100 %, heel strike to the next heel strike of the same side): rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal and transverse planes. Each side's mean ± 1 SD over {} strides (right red, left blue; every stride a thin line), against {reference}: its mean ± 1 SD in grey. Vertical lines: each side's measured toe off (solid){}. Only the angles the model gives or the reference has are drawn.",
+            "Joint angles (degrees) over the gait cycle (0-100 %, heel strike to the next heel strike of the same side): rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal and transverse planes. Each side's mean ± 1 SD over {} strides (right red, left blue; thin lines: up to {} strides a side, spread over the recording), against {reference}: its mean ± 1 SD in grey. Vertical lines: each side's measured toe off (solid){}. Only the angles the model gives or the reference has are drawn.",
             match r.recordings.iter().map(|w| w.strides()).fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]]) {
                 [rt, lt] => format!("{rt} right and {lt} left"),
             },
+            crate::figures::MAX_STRIDE_LINES,
             if r.reference.toe_off_from.is_empty() {
                 String::new()
             } else {

@@ -345,7 +345,13 @@ impl Pool {
         rec.frames += t.iter().filter(|&&x| inside(x)).count();
         rec.end = rec.end.max(*t.last().unwrap_or(&t[0]));
         rec.windows += 1;
-        rec.rules_everywhere &= walk.gait.is_some();
+        // The rules' findings from the first window that has them (a day may start at rest);
+        // a window without the rules matters only if it keeps strides.
+        if rec.gait.is_none() {
+            rec.gait = walk.gait.clone();
+        }
+        let keeps_strides = walk.cycles.iter().flatten().any(|c| inside(c.start));
+        rec.rules_everywhere &= walk.gait.is_some() || !keeps_strides;
         rec.breaks += walk
             .trial
             .breaks
@@ -522,8 +528,8 @@ impl Pool {
     /// Ends the pool: the bouts of each recording, `events.csv` flushed.
     pub fn finish(mut self) -> Result<Finished, std::io::Error> {
         for r in &mut self.recordings {
-            // A long recording's rules: the first window's mode, ground and notes, the
-            // strides' mean of the windows' speed, duty factor and travel ratio.
+            // A long recording's rules: the mode, ground and notes of the first window that
+            // has them, the strides' mean of the windows' speed, duty factor and travel ratio.
             let m = r.merged;
             if let (Some(g), true) = (&mut r.gait, r.windows > 1 && m[0] > 0.0) {
                 g.speed = m[1] / m[0];
@@ -736,8 +742,8 @@ mod tests {
     }
 
     /// A straight walk of the built-in cycle repeated at 100 Hz for `walk` s, a stand of
-    /// `stand` s, and the walk again, as a `.mot`.
-    fn walk_stand_walk(path: &std::path::Path, walk: f64, stand: f64) {
+    /// `stand` s, and the walk again for `again` s, as a `.mot`.
+    fn walk_stand_walk(path: &std::path::Path, walk: f64, stand: f64, again: f64) {
         let (table, _) = qgait_model::motion::source::load_motion("builtin:normal").unwrap();
         let t = table.time();
         let period = t[t.len() - 1] - t[0];
@@ -749,7 +755,7 @@ mod tests {
             table.value(k - 1, c) * (1.0 - w) + table.value(k, c) * w
         };
         let mut f = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
-        let rows = ((2.0 * walk + stand) * 100.0) as usize;
+        let rows = ((walk + stand + again) * 100.0) as usize;
         qgait_opensim::mot::write_mot_header(
             &mut f,
             "walk",
@@ -775,13 +781,43 @@ mod tests {
         }
     }
 
+    /// A recording that starts at rest (a day's first minutes): the rules' findings come from
+    /// the first window that walks, and the windows at rest do not mark the rules as missing.
+    #[test]
+    fn a_recording_that_starts_at_rest_has_the_rules_of_its_walk() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("rest_then_walk.mot");
+        walk_stand_walk(&path, 0.0, 60.0, 60.0);
+        let model = qgait_model::choice::Model::load("gait2392", None)
+            .unwrap()
+            .0;
+        let settings = Settings {
+            mode: CycleMode::Auto,
+            given_speed: None,
+            angles_in: None,
+            pelvis: CgmPelvis::Fixed,
+        };
+        let mut pool = Pool::in_memory(false);
+        let source = path.to_str().unwrap();
+        analyse_in_windows(&mut pool, source, &model, &settings, 4_000, &mut |_| {}).unwrap();
+        let finished = output::finish(pool).unwrap();
+        let r = &finished.0.recordings[0];
+        assert!(r.windows >= 3, "{}", r.windows);
+        assert!(r.strides[0] > 30 && r.strides[1] > 30, "{:?}", r.strides);
+        let gait = r.gait.as_ref().expect("the rules of the walk");
+        assert_eq!(gait.mode, crate::rules::Mode::Walking);
+        assert!(r.rules_everywhere);
+        assert_eq!(r.bouts.len(), 1, "{:?}", r.bouts);
+        assert!(r.bouts[0].start > 55.0, "{:?}", r.bouts[0]);
+    }
+
     /// A recording analysed in windows of 40 s gives what it gives whole: every event once, the
     /// same strides, bouts, parameters and curves.
     #[test]
     fn windows_give_what_the_whole_recording_gives() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("walk.mot");
-        walk_stand_walk(&path, 50.0, 15.0);
+        walk_stand_walk(&path, 50.0, 15.0, 50.0);
         let source = path.to_str().unwrap();
         let model = qgait_model::choice::Model::load("gait2392", None)
             .unwrap()

@@ -194,15 +194,51 @@ fn cgm_pelvis(model: Option<&str>) -> gait::angles::CgmPelvis {
     }
 }
 
+/// The warnings a report lists at most; the rest are counted in one line (a file with a fault
+/// in every row warns per row).
+const REPORT_WARNINGS: usize = 200;
+
+/// The run's warnings as the report lists them: the first [`REPORT_WARNINGS`], and how many
+/// more there were.
+#[derive(Default)]
+struct Kept {
+    list: std::cell::RefCell<Vec<String>>,
+    more: std::cell::Cell<usize>,
+}
+
+impl Kept {
+    fn keep(&self, warnings: &[Warning]) {
+        let mut list = self.list.borrow_mut();
+        for w in warnings {
+            if list.len() < REPORT_WARNINGS {
+                list.push(w.to_string());
+            } else {
+                self.more.set(self.more.get() + 1);
+            }
+        }
+    }
+
+    fn for_report(&self) -> Vec<String> {
+        let mut list = self.list.borrow().clone();
+        if self.more.get() > 0 {
+            list.push(format!(
+                "... and {} more warnings, as printed on the terminal",
+                self.more.get()
+            ));
+        }
+        list
+    }
+}
+
 /// Runs `qgait gait`.
 pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     if args.each {
         return crate::cli::gait_each::run(args, diagnostics);
     }
     // Every warning is shown as it comes and kept for the report's warnings section.
-    let kept: std::cell::RefCell<Vec<String>> = Default::default();
+    let kept = Kept::default();
     let warn = |w: Vec<Warning>| {
-        kept.borrow_mut().extend(w.iter().map(|w| w.to_string()));
+        kept.keep(&w);
         diagnostics.warn(w)
     };
     let mode = match args.cycle {
@@ -211,8 +247,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     };
     let reference = ReferenceArg::parse(&args.reference)?;
     let (model, model_warnings) = args.model.load_or_keeping("gait2392", diagnostics)?;
-    kept.borrow_mut()
-        .extend(model_warnings.iter().map(|w| w.to_string()));
+    kept.keep(&model_warnings);
     let pelvis = match args.cgm_pelvis {
         CgmPelvisArg::Fixed => gait::angles::CgmPelvis::Fixed,
         CgmPelvisArg::ModelMarkers => cgm_pelvis(args.model.model.as_deref()),
@@ -293,7 +328,7 @@ fn analyse_and_write(
     settings: &Settings,
     events: &std::path::Path,
     warn: &dyn Fn(Vec<Warning>),
-    kept: &std::cell::RefCell<Vec<String>>,
+    kept: &Kept,
 ) -> anyhow::Result<(output::Report, Vec<PathBuf>)> {
     let mut pool = Pool::to_file(events, args.motions.len() > 1)
         .with_context(|| format!("{}: cannot write", events.display()))?;
@@ -339,7 +374,7 @@ fn analyse_and_write(
         subject,
     )?;
     report.session = session(args);
-    report.warnings = kept.borrow().clone();
+    report.warnings = kept.for_report();
     let files = qgait_gait::files::write(&report, &args.output)?;
     Ok((report, files))
 }
