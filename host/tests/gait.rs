@@ -914,6 +914,58 @@ fn a_reference_recording_has_its_values_beside_the_subjects() {
     );
 }
 
+/// `--treadmill-speed` is the subject's belt: a `--reference MOTION` keeps the speed of its own
+/// analysis (the reference column's speed is what the reference alone gives, not the belt's).
+#[test]
+fn the_belt_speed_is_the_subjects_not_the_references() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("visit1.mot");
+    straight_walk(&shared, 8.0).write(&reference);
+    let subject = dir.path().join("visit2.mot");
+    straight_walk(&shared, 6.0).write(&subject);
+    let alone = dir.path().join("alone");
+    run_gait(&[
+        reference.to_str().unwrap(),
+        "-q",
+        "-o",
+        alone.to_str().unwrap(),
+    ]);
+    let speed_of = |dir: &Path| -> f64 {
+        let rows: Vec<HashMap<String, String>> = read_csv(&dir.join("spatiotemporal.csv"));
+        rows.iter()
+            .find(|r| r["parameter"] == "speed" && r["side"] == "both")
+            .unwrap()["value"]
+            .parse()
+            .unwrap()
+    };
+    let own = speed_of(&alone);
+    // A belt 10 % faster than the walk: the subject's events still found, its speed the belt's.
+    let belt = (own * 1.1 * 1000.0).round() / 1000.0;
+    let out = dir.path().join("out");
+    run_gait(&[
+        subject.to_str().unwrap(),
+        "-q",
+        "--treadmill-speed",
+        &belt.to_string(),
+        "--reference",
+        reference.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!((speed_of(&out) - belt).abs() < 1e-9);
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let row_at = html.find("<td class=\"l\">Speed</td>").unwrap();
+    let row = &html[row_at..row_at + html[row_at..].find("</tr>").unwrap()];
+    let cell = row
+        .split("<td class=\"ref\">")
+        .nth(1)
+        .map(|c| &c[..c.find("</td>").unwrap()])
+        .unwrap_or_else(|| panic!("no reference cell in {row}"));
+    let shown: f64 = cell.parse().unwrap_or_else(|_| panic!("{cell}"));
+    assert!((shown - own).abs() < 0.01, "{shown} vs {own}");
+}
+
 /// Errors name what is wrong.
 #[test]
 fn a_single_cycle_without_whole_and_a_bad_reference_are_clear_errors() {

@@ -741,6 +741,20 @@ mod tests {
         assert!(Running::new().curve().is_none());
     }
 
+    /// gait2392 and the default settings (`--cycle auto`, no belt speed, the fixed CGM pelvis).
+    fn gait2392_auto() -> (qgait_model::choice::Model, Settings) {
+        let model = qgait_model::choice::Model::load("gait2392", None)
+            .unwrap()
+            .0;
+        let settings = Settings {
+            mode: CycleMode::Auto,
+            given_speed: None,
+            angles_in: None,
+            pelvis: CgmPelvis::Fixed,
+        };
+        (model, settings)
+    }
+
     /// A straight walk of the built-in cycle repeated at 100 Hz for `walk` s, a stand of
     /// `stand` s, and the walk again for `again` s, as a `.mot`.
     fn walk_stand_walk(path: &std::path::Path, walk: f64, stand: f64, again: f64) {
@@ -788,15 +802,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("rest_then_walk.mot");
         walk_stand_walk(&path, 0.0, 60.0, 60.0);
-        let model = qgait_model::choice::Model::load("gait2392", None)
-            .unwrap()
-            .0;
-        let settings = Settings {
-            mode: CycleMode::Auto,
-            given_speed: None,
-            angles_in: None,
-            pelvis: CgmPelvis::Fixed,
-        };
+        let (model, settings) = gait2392_auto();
         let mut pool = Pool::in_memory(false);
         let source = path.to_str().unwrap();
         analyse_in_windows(&mut pool, source, &model, &settings, 4_000, &mut |_| {}).unwrap();
@@ -819,15 +825,7 @@ mod tests {
         let path = dir.path().join("walk.mot");
         walk_stand_walk(&path, 50.0, 15.0, 50.0);
         let source = path.to_str().unwrap();
-        let model = qgait_model::choice::Model::load("gait2392", None)
-            .unwrap()
-            .0;
-        let settings = Settings {
-            mode: CycleMode::Auto,
-            given_speed: None,
-            angles_in: None,
-            pelvis: CgmPelvis::Fixed,
-        };
+        let (model, settings) = gait2392_auto();
         let run = |window: usize| {
             let mut pool = Pool::in_memory(false);
             analyse_in_windows(&mut pool, source, &model, &settings, window, &mut |_| {}).unwrap();

@@ -67,8 +67,9 @@ pub struct GaitArgs {
     /// compiled into qgait (default: `$QGAIT_NORMATIVE`, else those compiled in).
     #[arg(long, value_name = "DIR")]
     pub normative: Option<PathBuf>,
-    /// A known belt speed (m/s): used for the event thresholds and the lengths instead of
-    /// the speed estimated from the feet.
+    /// A known belt speed (m/s) of the subject's recordings: used for their event thresholds
+    /// and lengths instead of the speed estimated from the feet (a `--reference MOTION` keeps
+    /// its own estimated speed).
     #[arg(long, value_name = "V", value_parser = parse_speed)]
     pub treadmill_speed: Option<f64>,
     /// The unit of the motions' angles whatever their headers say (OpenSim's CMC/RRA
@@ -337,7 +338,12 @@ fn analyse_and_write(
     let reference_pool = match reference {
         ReferenceArg::Motion(m) => {
             let mut pool = Pool::without_events();
-            analyse_all(&mut pool, std::slice::from_ref(m), model, settings, warn)?;
+            // The belt speed is the subject's: the reference is analysed with its own speed.
+            let own_speed = Settings {
+                given_speed: None,
+                ..settings.clone()
+            };
+            analyse_all(&mut pool, std::slice::from_ref(m), model, &own_speed, warn)?;
             Some(output::finish(pool)?)
         }
         ReferenceArg::Normative(_) => None,
