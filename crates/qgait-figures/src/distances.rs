@@ -40,25 +40,20 @@ impl Figure for DistanceFigure<'_> {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (header, grid) = root.split_vertically(HEADER);
-        header
-            .draw_text(
-                "Distance between the two legs' joint centres over the gait cycle",
-                &figure::bold(24),
-                (16, 10),
-            )
-            .map_err(draw_err)?;
-        header
-            .draw_text(
+        let (header, grid) = figure::titled(
+            root,
+            HEADER,
+            "Distance between the two legs' joint centres over the gait cycle",
+        )?;
+        figure::header_line(
+                &header,
                 &format!(
                     "{}; 3-D Euclidean distance (paper Eqs 18-20); dashed line: end of stance in normal gait (60 %)",
                     self.analysis.model
                 ),
-                &figure::text(16),
-                (16, 46),
-            )
-            .map_err(draw_err)?;
+                16,
+                46,
+            )?;
         figure::draw_gait_legend(&header, self.analysis, 16, 78)?;
         let panels = grid.split_evenly((MEASURES.len(), 1));
         for (panel, (title, measure)) in panels.iter().zip(MEASURES) {
@@ -76,18 +71,11 @@ impl Figure for DistanceFigure<'_> {
                 .y_label_area_size(70)
                 .build_cartesian_2d(0.0..100.0, y0..y1)
                 .map_err(draw_err)?;
-            chart
-                .configure_mesh()
+            figure::axes(&mut chart, "gait cycle (%)", "distance (m)", 13)
                 .x_labels(11)
                 .y_labels(6)
-                .x_desc("gait cycle (%)")
-                .y_desc("distance (m)")
-                .label_style(figure::text(13))
-                .axis_desc_style(figure::text(13))
                 .x_label_formatter(&|v| format!("{v:.0}"))
                 .y_label_formatter(&|v| figure::tick(*v, 2))
-                .light_line_style(WHITE.mix(0.0))
-                .bold_line_style(BLACK.mix(0.08))
                 .draw()
                 .map_err(draw_err)?;
             chart

@@ -3,6 +3,8 @@
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
+use plotters::chart::MeshStyle;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -76,6 +78,56 @@ pub fn save<F: Figure>(figure: &F, dir: &Path) -> Result<Vec<PathBuf>, FigureErr
 /// Keeps a plotters error's description.
 pub fn draw_err<E: std::fmt::Debug>(e: E) -> PlotError {
     PlotError(format!("{e:?}"))
+}
+
+/// A drawing area, as figures split them.
+pub type Area<DB> = DrawingArea<DB, Shift>;
+
+/// Clears `root` to white and splits off a header `height` pixels high with the figure's
+/// `title` in its top left corner (bold, 24 px): every figure starts so. Returns the header
+/// (for the figure's subtitle and legend) and the area below it.
+pub fn titled<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    height: u32,
+    title: &str,
+) -> Result<(Area<DB>, Area<DB>), PlotError> {
+    root.fill(&WHITE).map_err(draw_err)?;
+    let (header, rest) = root.split_vertically(height);
+    header
+        .draw_text(title, &bold(24), (16, 10))
+        .map_err(draw_err)?;
+    Ok((header, rest))
+}
+
+/// A line of plain `size`-pixel text in a header at `(16, y)`.
+pub fn header_line<DB: DrawingBackend>(
+    header: &DrawingArea<DB, Shift>,
+    line: &str,
+    size: u32,
+    y: i32,
+) -> Result<(), PlotError> {
+    header
+        .draw_text(line, &text(size), (16, y))
+        .map_err(draw_err)
+}
+
+/// A panel's axes in the figures' one style: axis titles `x` and `y`, labels and titles in
+/// `size`-pixel text, no light grid, a faint bold grid. The caller sets the label counts and
+/// formatters, then draws.
+pub fn axes<'a, 'b, DB: DrawingBackend>(
+    chart: &'b mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    x: &str,
+    y: &str,
+    size: u32,
+) -> MeshStyle<'a, 'b, RangedCoordf64, RangedCoordf64, DB> {
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x)
+        .y_desc(y)
+        .label_style(text(size))
+        .axis_desc_style(text(size))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(BLACK.mix(0.08));
+    mesh
 }
 
 /// Text style of a given size.

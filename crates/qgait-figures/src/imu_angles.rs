@@ -249,15 +249,7 @@ impl Figure for AnglesFigure<'_> {
         &self,
         root: &DrawingArea<DB, Shift>,
     ) -> Result<(), figure::PlotError> {
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (header, grid) = root.split_vertically(HEADER);
-        header
-            .draw_text(
-                "Joint angles from IMU orientations",
-                &figure::bold(24),
-                (16, 10),
-            )
-            .map_err(draw_err)?;
+        let (header, grid) = figure::titled(root, HEADER, "Joint angles from IMU orientations")?;
         for (k, label) in self.labels.iter().enumerate() {
             let x = 16 + 420 * k as i32;
             let color = gait_color(k);
@@ -291,18 +283,11 @@ impl Figure for AnglesFigure<'_> {
                 .y_label_area_size(56)
                 .build_cartesian_2d(t0..t1, y0..y1)
                 .map_err(draw_err)?;
-            chart
-                .configure_mesh()
+            figure::axes(&mut chart, "time (s)", self.unit, 12)
                 .x_labels(7)
                 .y_labels(5)
-                .x_desc("time (s)")
-                .y_desc(self.unit)
-                .label_style(figure::text(12))
-                .axis_desc_style(figure::text(12))
                 .x_label_formatter(&|v| format!("{v:.0}"))
                 .y_label_formatter(&|v| figure::tick(*v, 0))
-                .light_line_style(WHITE.mix(0.0))
-                .bold_line_style(BLACK.mix(0.08))
                 .draw()
                 .map_err(draw_err)?;
             // The reference first and wider, so that ours drawn on it leaves a rim of it.

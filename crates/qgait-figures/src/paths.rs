@@ -29,25 +29,20 @@ impl Figure for SagittalPaths<'_> {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (header, grid) = root.split_vertically(HEADER);
-        header
-            .draw_text(
-                "Sagittal paths of the joint centres over one gait cycle",
-                &figure::bold(24),
-                (16, 10),
-            )
-            .map_err(draw_err)?;
-        header
-            .draw_text(
+        let (header, grid) = figure::titled(
+            root,
+            HEADER,
+            "Sagittal paths of the joint centres over one gait cycle",
+        )?;
+        figure::header_line(
+                &header,
                 &format!(
                     "{}; x forward, y up; each panel has its own scale; dot = 0 % of the cycle; identical curves overlap",
                     self.analysis.model
                 ),
-                &figure::text(16),
-                (16, 44),
-            )
-            .map_err(draw_err)?;
+                16,
+                44,
+            )?;
         figure::draw_gait_legend(&header, self.analysis, 16, 78)?;
 
         let panels = grid.split_evenly((Joint::ALL.len(), 2));
@@ -76,18 +71,11 @@ impl Figure for SagittalPaths<'_> {
                     .y_label_area_size(70)
                     .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
                     .map_err(draw_err)?;
-                chart
-                    .configure_mesh()
+                figure::axes(&mut chart, "x, forward (m)", "y, up (m)", 13)
                     .x_labels(6)
                     .y_labels(5)
-                    .x_desc("x, forward (m)")
-                    .y_desc("y, up (m)")
-                    .label_style(figure::text(13))
-                    .axis_desc_style(figure::text(13))
                     .x_label_formatter(&|v| figure::tick(*v, 2))
                     .y_label_formatter(&|v| figure::tick(*v, 3))
-                    .light_line_style(WHITE.mix(0.0))
-                    .bold_line_style(BLACK.mix(0.08))
                     .draw()
                     .map_err(draw_err)?;
                 for (g, gait) in self.analysis.gaits.iter().enumerate() {

@@ -89,26 +89,21 @@ impl Figure for StickFigure<'_> {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (header, grid) = root.split_vertically(HEADER);
         let (title, x_desc, y_desc) = plane_text(self.plane);
-        header
-            .draw_text(
-                &format!("Stick figures of both legs, {title}"),
-                &figure::bold(24),
-                (16, 10),
-            )
-            .map_err(draw_err)?;
-        header
-            .draw_text(
-                &format!(
-                    "{}; same scale on both axes; one row per gait",
-                    self.analysis.model
-                ),
-                &figure::text(16),
-                (16, 44),
-            )
-            .map_err(draw_err)?;
+        let (header, grid) = figure::titled(
+            root,
+            HEADER,
+            &format!("Stick figures of both legs, {title}"),
+        )?;
+        figure::header_line(
+            &header,
+            &format!(
+                "{}; same scale on both axes; one row per gait",
+                self.analysis.model
+            ),
+            16,
+            44,
+        )?;
         draw_legend(&header, 16, 78)?;
 
         // One range for every panel, equal scale on both axes.
@@ -148,18 +143,11 @@ impl Figure for StickFigure<'_> {
                     .build_cartesian_2d(xr.clone(), yr.clone())
                     .map_err(draw_err)?;
                 let transverse = self.plane == Plane::Transverse;
-                chart
-                    .configure_mesh()
+                figure::axes(&mut chart, x_desc, y_desc, 12)
                     .x_labels(5)
                     .y_labels(5)
-                    .x_desc(x_desc)
-                    .y_desc(y_desc)
-                    .label_style(figure::text(12))
-                    .axis_desc_style(figure::text(12))
                     .x_label_formatter(&|v| figure::tick(*v, 1))
                     .y_label_formatter(&|v| figure::tick(if transverse { -v } else { *v }, 1))
-                    .light_line_style(WHITE.mix(0.0))
-                    .bold_line_style(BLACK.mix(0.08))
                     .draw()
                     .map_err(draw_err)?;
                 let pose = &self.poses[g][k];

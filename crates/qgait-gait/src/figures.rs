@@ -126,15 +126,7 @@ impl Figure for Kinematics<'_> {
         root: &DrawingArea<DB, Shift>,
     ) -> Result<(), figure::PlotError> {
         let r = self.report;
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (header, grid) = root.split_vertically(HEADER);
-        header
-            .draw_text(
-                "Joint angles over the gait cycle",
-                &figure::bold(24),
-                (16, 10),
-            )
-            .map_err(draw_err)?;
+        let (header, grid) = figure::titled(root, HEADER, "Joint angles over the gait cycle")?;
         // The legend: what the grey is, the sides, the thin lines, the toe-off lines.
         header
             .draw(&Rectangle::new(
@@ -163,20 +155,19 @@ impl Figure for Kinematics<'_> {
                 (300, 70),
             )
             .map_err(draw_err)?;
-        header
-            .draw_text(
-                &if r.reference.toe_off_from.is_empty() {
-                    "vertical lines: measured toe off (solid)".to_string()
-                } else {
-                    format!(
-                        "vertical lines: measured toe off (solid); reference toe off (dashed): {}",
-                        r.reference.toe_off_from
-                    )
-                },
-                &figure::text(18),
-                (16, 100),
-            )
-            .map_err(draw_err)?;
+        figure::header_line(
+            &header,
+            &if r.reference.toe_off_from.is_empty() {
+                "vertical lines: measured toe off (solid)".to_string()
+            } else {
+                format!(
+                    "vertical lines: measured toe off (solid); reference toe off (dashed): {}",
+                    r.reference.toe_off_from
+                )
+            },
+            18,
+            100,
+        )?;
         let rows = self.rows();
         let cells = grid.split_evenly((rows.len().max(1), 3));
         for (i, cell) in cells.iter().enumerate() {
@@ -293,18 +284,12 @@ impl Kinematics<'_> {
             .y_label_area_size(56)
             .build_cartesian_2d(0.0..100.0, y0..y1)
             .map_err(draw_err)?;
-        chart
-            .configure_mesh()
+        figure::axes(&mut chart, X_TITLE, Y_TITLE, 13)
+            .axis_desc_style(figure::text(14))
             .x_labels(6)
             .y_labels(5)
-            .x_desc(X_TITLE)
-            .y_desc(Y_TITLE)
-            .axis_desc_style(figure::text(14))
-            .label_style(figure::text(13))
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| figure::tick(*v, 0))
-            .light_line_style(WHITE.mix(0.0))
-            .bold_line_style(BLACK.mix(0.08))
             .draw()
             .map_err(draw_err)?;
         let step = |n: usize| 100.0 / (n - 1) as f64;
@@ -484,21 +469,16 @@ impl Figure for Map<'_> {
         let Some(s) = &self.report.scores else {
             return Ok(());
         };
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (header, area) = root.split_vertically(90);
-        header
-            .draw_text("Movement Analysis Profile", &figure::bold(24), (16, 10))
-            .map_err(draw_err)?;
-        header
-            .draw_text(
-                &format!(
-                    "Gait Variable Scores and Gait Profile Score (degrees) against {}",
-                    self.report.reference.legend()
-                ),
-                &figure::text(15),
-                (16, 42),
-            )
-            .map_err(draw_err)?;
+        let (header, area) = figure::titled(root, 90, "Movement Analysis Profile")?;
+        figure::header_line(
+            &header,
+            &format!(
+                "Gait Variable Scores and Gait Profile Score (degrees) against {}",
+                self.report.reference.legend()
+            ),
+            15,
+            42,
+        )?;
         side_legend(&header, 16, 64)?;
         header
             .draw(&PathElement::new(
@@ -638,23 +618,15 @@ impl Figure for EventsFigure<'_> {
         &self,
         root: &DrawingArea<DB, Shift>,
     ) -> Result<(), figure::PlotError> {
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (header, area) = root.split_vertically(110);
         let method = if self.report.recordings.iter().all(|w| w.gait.is_some()) {
             "Gait events (foot-velocity rules R of docs/gait-analysis.md)"
         } else {
             "Gait events (Zeni et al. 2008 where a recording has too few strides for the rules)"
         };
-        header
-            .draw_text(method, &figure::bold(24), (16, 10))
-            .map_err(draw_err)?;
-        header
-            .draw_text(
-                "heel (solid) and toe tip (thin) forward of the pelvis along the direction of progression; triangles: heel strikes, dots: toe offs",
-                &figure::text(15),
-                (16, 44),
-            )
-            .map_err(draw_err)?;
+        let (header, area) = figure::titled(root, 110, method)?;
+        let key = "heel (solid) and toe tip (thin) forward of the pelvis along the direction of \
+                   progression; triangles: heel strikes, dots: toe offs";
+        figure::header_line(&header, key, 15, 44)?;
         side_legend(&header, 16, 74)?;
         let rows = area.split_evenly((self.report.recordings.len().max(1), 1));
         for (w, row) in self.report.recordings.iter().zip(&rows) {
@@ -686,15 +658,8 @@ impl Figure for EventsFigure<'_> {
                 .y_label_area_size(56)
                 .build_cartesian_2d(t0..t1.max(t0 + 1e-6), y0..y1)
                 .map_err(draw_err)?;
-            chart
-                .configure_mesh()
-                .x_desc("time (s)")
-                .y_desc("forward (m)")
-                .label_style(figure::text(12))
-                .axis_desc_style(figure::text(12))
+            figure::axes(&mut chart, "time (s)", "forward (m)", 12)
                 .y_label_formatter(&|v| figure::tick(*v, 2))
-                .light_line_style(WHITE.mix(0.0))
-                .bold_line_style(BLACK.mix(0.08))
                 .draw()
                 .map_err(draw_err)?;
             for s in 0..2 {

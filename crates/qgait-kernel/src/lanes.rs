@@ -222,83 +222,59 @@ mod x86 {
         has_avx2() && std::is_x86_feature_detected!("avx512f")
     }
 
-    #[target_feature(enable = "avx2,fma")]
-    fn avx2_impl<
-        T: LaneScalar,
-        const N: usize,
-        const J: usize,
-        const P: usize,
-        const S: usize,
-        const L: usize,
-        const F: bool,
-    >(
-        chain: &Chain<T, N, J, P, S>,
-        frames: usize,
-        q: &impl Fn(usize) -> [T; N],
-        points: &mut impl FnMut(usize, [Vec3<T>; P]),
-    ) {
-        batch::<T, N, J, P, S, L, F>(chain, frames, q, points)
+    /// A level: `$name` runs the batch compiled with `$features` (`$inner`), after `$has`
+    /// confirms the CPU has them (it panics otherwise).
+    macro_rules! level {
+        ($(#[$doc:meta])* $name:ident, $inner:ident, $features:literal, $has:ident) => {
+            #[target_feature(enable = $features)]
+            fn $inner<
+                T: LaneScalar,
+                const N: usize,
+                const J: usize,
+                const P: usize,
+                const S: usize,
+                const L: usize,
+                const F: bool,
+            >(
+                chain: &Chain<T, N, J, P, S>,
+                frames: usize,
+                q: &impl Fn(usize) -> [T; N],
+                points: &mut impl FnMut(usize, [Vec3<T>; P]),
+            ) {
+                batch::<T, N, J, P, S, L, F>(chain, frames, q, points)
+            }
+
+            $(#[$doc])*
+            pub(super) fn $name<
+                T: LaneScalar,
+                const N: usize,
+                const J: usize,
+                const P: usize,
+                const S: usize,
+                const L: usize,
+                const F: bool,
+            >(
+                chain: &Chain<T, N, J, P, S>,
+                frames: usize,
+                q: &impl Fn(usize) -> [T; N],
+                points: &mut impl FnMut(usize, [Vec3<T>; P]),
+            ) {
+                assert!($has());
+                // SAFETY: the CPU has the level's features (checked just above), the only
+                // requirement for calling a function compiled with `target_feature` for them.
+                unsafe { $inner::<T, N, J, P, S, L, F>(chain, frames, q, points) }
+            }
+        };
     }
 
-    #[target_feature(enable = "avx512f,avx2,fma")]
-    fn avx512_impl<
-        T: LaneScalar,
-        const N: usize,
-        const J: usize,
-        const P: usize,
-        const S: usize,
-        const L: usize,
-        const F: bool,
-    >(
-        chain: &Chain<T, N, J, P, S>,
-        frames: usize,
-        q: &impl Fn(usize) -> [T; N],
-        points: &mut impl FnMut(usize, [Vec3<T>; P]),
-    ) {
-        batch::<T, N, J, P, S, L, F>(chain, frames, q, points)
-    }
-
-    /// The batch compiled for AVX2 + FMA. Panics unless [`has_avx2`].
-    pub(super) fn avx2<
-        T: LaneScalar,
-        const N: usize,
-        const J: usize,
-        const P: usize,
-        const S: usize,
-        const L: usize,
-        const F: bool,
-    >(
-        chain: &Chain<T, N, J, P, S>,
-        frames: usize,
-        q: &impl Fn(usize) -> [T; N],
-        points: &mut impl FnMut(usize, [Vec3<T>; P]),
-    ) {
-        assert!(has_avx2());
-        // SAFETY: the CPU has AVX2 and FMA (checked just above), the only requirement for
-        // calling a function compiled with `target_feature(enable = "avx2,fma")`.
-        unsafe { avx2_impl::<T, N, J, P, S, L, F>(chain, frames, q, points) }
-    }
-
-    /// The batch compiled for AVX-512F. Panics unless [`has_avx512`].
-    pub(super) fn avx512<
-        T: LaneScalar,
-        const N: usize,
-        const J: usize,
-        const P: usize,
-        const S: usize,
-        const L: usize,
-        const F: bool,
-    >(
-        chain: &Chain<T, N, J, P, S>,
-        frames: usize,
-        q: &impl Fn(usize) -> [T; N],
-        points: &mut impl FnMut(usize, [Vec3<T>; P]),
-    ) {
-        assert!(has_avx512());
-        // SAFETY: the CPU has AVX-512F, AVX2 and FMA (checked just above), the only
-        // requirement for calling a function compiled with those target features.
-        unsafe { avx512_impl::<T, N, J, P, S, L, F>(chain, frames, q, points) }
-    }
+    level!(
+        /// The batch compiled for AVX2 + FMA. Panics unless [`has_avx2`].
+        avx2, avx2_impl, "avx2,fma", has_avx2
+    );
+    level!(
+        /// The batch compiled for AVX-512F. Panics unless [`has_avx512`].
+        avx512, avx512_impl, "avx512f,avx2,fma", has_avx512
+    );
 }
 
 impl<T: Copy, const L: usize, const F: bool> Lanes<T, L, F> {
