@@ -141,12 +141,7 @@ impl<T: Real, const K: usize> Spline<T, K> {
             c = t.lt_select(xk, c, self.c[k]);
             d = t.lt_select(xk, d, self.d[k]);
         }
-        let dx = t - x;
-        let inside = y + dx * (b + dx * (c + dx * d));
-        let below = self.y[0] + (t - self.x[0]) * self.b[0];
-        let above = self.y[last] + (t - self.x[last]) * self.b[last];
-        let v = t.lt_select(self.x[0], below, inside);
-        self.x[last].lt_select(t, above, v)
+        self.between_or_outside(last, t, (x, y, b, c, d))
     }
 
     /// The value of [`eval`](Self::eval), the cubic found by counting the knots at or below
@@ -182,6 +177,12 @@ impl<T: Real, const K: usize> Spline<T, K> {
     pub fn eval_in(&self, k: usize, t: T) -> T {
         let last = self.last.min(K - 1);
         let (x, y, b, c, d) = (self.x[k], self.y[k], self.b[k], self.c[k], self.d[k]);
+        self.between_or_outside(last, t, (x, y, b, c, d))
+    }
+
+    /// The cubic `(x, y, b, c, d)` at `t` between the knots, the end lines outside them.
+    #[inline(always)]
+    fn between_or_outside(&self, last: usize, t: T, (x, y, b, c, d): (T, T, T, T, T)) -> T {
         let dx = t - x;
         let inside = y + dx * (b + dx * (c + dx * d));
         let below = self.y[0] + (t - self.x[0]) * self.b[0];

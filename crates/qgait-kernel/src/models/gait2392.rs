@@ -222,8 +222,10 @@ impl LegGeometry<f64> {
         }
     }
 
-    /// [`mirrored`](Self::mirrored), at compile time.
-    const fn mirrored_const(&self) -> Self {
+    /// This leg reflected through the sagittal plane: positions `(x, y, -z)`, rotation axes as
+    /// axial vectors `(-x, -y, z)`, at compile time. `generic_right().mirrored()` is gait2392's
+    /// left leg.
+    pub const fn mirrored(&self) -> Self {
         const fn p(v: [f64; 3]) -> [f64; 3] {
             [v[0], v[1], -v[2]]
         }
@@ -269,26 +271,6 @@ impl LegGeometry<f64> {
 }
 
 impl<T: Real> LegGeometry<T> {
-    /// This leg reflected through the sagittal plane: positions `(x, y, -z)`, rotation axes as
-    /// axial vectors `(-x, -y, z)`. `generic_right().mirrored()` is gait2392's left leg.
-    pub fn mirrored(&self) -> Self {
-        let p = |v: [T; 3]| [v[0], v[1], -v[2]];
-        let a = |v: [T; 3]| [-v[0], -v[1], v[2]];
-        Self {
-            hip_in_pelvis: p(self.hip_in_pelvis),
-            hip_axes: self.hip_axes.map(a),
-            knee_tx: self.knee_tx,
-            knee_ty: self.knee_ty,
-            ankle_in_tibia: p(self.ankle_in_tibia),
-            ankle_axis: a(self.ankle_axis),
-            subtalar_in_talus: p(self.subtalar_in_talus),
-            subtalar_axis: a(self.subtalar_axis),
-            mtp_in_calcn: p(self.mtp_in_calcn),
-            mtp_axis: a(self.mtp_axis),
-            toetip_in_toes: p(self.toetip_in_toes),
-        }
-    }
-
     /// In another precision (rounding to nearest for `f32`).
     pub fn cast<U: Real>(&self) -> LegGeometry<U> {
         let v = |a: [T; 3]| a.map(|c| U::from_f64(c.to_f64()));
@@ -314,7 +296,7 @@ impl Gait2392Geometry<f64> {
         let right = LegGeometry::generic_right();
         Self {
             right,
-            left: right.mirrored_const(),
+            left: right.mirrored(),
         }
     }
 
@@ -610,7 +592,7 @@ mod tests {
         let g = Gait2392Geometry::generic();
         assert_eq!(G32, g.cast::<f32>());
         assert_eq!(g.left, g.right.mirrored());
-        assert_eq!(G32.left, G32.right.mirrored());
+        assert_eq!(G32.left, g.right.mirrored().to_f32());
         assert_eq!(g.cast::<f32>().cast::<f64>().cast::<f32>(), G32);
     }
 

@@ -27,10 +27,8 @@ pub const RANGES_DEG: [(f64, f64); 17] = {
     const ANKLE: (f64, f64) = (-40.0, 30.0);
     const SUBTALAR: (f64, f64) = (-20.0, 20.0);
     const MTP: (f64, f64) = (-30.0, 30.0);
-    [
-        PELVIS,
-        PELVIS,
-        PELVIS,
+    // One leg, hip to MTP, as each side's coordinates follow the pelvis's three.
+    const LEG: [(f64, f64); 7] = [
         HIP_FLEXION,
         HIP_ADDUCTION,
         HIP_ROTATION,
@@ -38,14 +36,15 @@ pub const RANGES_DEG: [(f64, f64); 17] = {
         ANKLE,
         SUBTALAR,
         MTP,
-        HIP_FLEXION,
-        HIP_ADDUCTION,
-        HIP_ROTATION,
-        KNEE,
-        ANKLE,
-        SUBTALAR,
-        MTP,
-    ]
+    ];
+    let mut out = [PELVIS; 17];
+    let mut i = 0;
+    while i < 7 {
+        out[3 + i] = LEG[i];
+        out[10 + i] = LEG[i];
+        i += 1;
+    }
+    out
 };
 
 /// Tolerance added to both ends of every range (degrees), so that a good estimate near the end
