@@ -11,6 +11,16 @@ use crate::gps::Scores;
 use crate::output::{round, Report};
 use crate::spatiotemporal::{Parameter, SIDES};
 
+/// The headline figures of `summary.json` (both sides' values), in order.
+pub const HEADLINE: [&str; 6] = [
+    "speed",
+    "cadence",
+    "stride_time",
+    "stride_length",
+    "step_length",
+    "step_width",
+];
+
 /// Writes every file of the report to `dir` (created if needed); returns their paths.
 pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
     let io_error = |path: &Path, action: &'static str| {
@@ -148,14 +158,7 @@ pub fn summary_json(report: &Report) -> String {
         })
         .collect();
     let mut headline = serde_json::Map::new();
-    for name in [
-        "speed",
-        "cadence",
-        "stride_time",
-        "stride_length",
-        "step_length",
-        "step_width",
-    ] {
+    for name in HEADLINE {
         if let Some(p) = report
             .parameters
             .iter()

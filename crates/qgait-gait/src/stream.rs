@@ -634,18 +634,21 @@ pub fn analyse_in_windows(
             warn(fresh);
         }
     };
+    let analyse = |t| {
+        crate::analyse_with_pelvis(
+            t,
+            settings.mode,
+            settings.given_speed,
+            settings.pelvis.clone(),
+        )
+    };
     let whole = source.starts_with(BUILTIN_PREFIX)
         || qgait_device::frames_csv::is_frames_csv(source)
         || settings.mode == CycleMode::Whole;
     if whole {
         let (t, w) = trial::load_with(source, model, settings.angles_in)?;
         warn_once(w);
-        let walk = crate::analyse_with_pelvis(
-            t,
-            settings.mode,
-            settings.given_speed,
-            settings.pelvis.clone(),
-        )?;
+        let walk = analyse(t)?;
         pool.add(&walk, f64::NEG_INFINITY..f64::INFINITY, true)?;
         return Ok(());
     }
@@ -690,12 +693,7 @@ pub fn analyse_in_windows(
             settings.angles_in,
         )?;
         warn_once(w);
-        let walk = crate::analyse_with_pelvis(
-            t,
-            settings.mode,
-            settings.given_speed,
-            settings.pelvis.clone(),
-        )?;
+        let walk = analyse(t)?;
         pool.add(&walk, from..to, first)?;
         drop(walk);
         first = false;

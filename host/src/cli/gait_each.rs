@@ -15,14 +15,7 @@ use crate::cli::gait::{run_gait, GaitArgs};
 use crate::progress::Progress;
 
 /// The columns of `recordings.csv` after `recording,output,error`: `summary.json`'s figures.
-const FIGURES: [&str; 6] = [
-    "speed",
-    "cadence",
-    "stride_time",
-    "stride_length",
-    "step_length",
-    "step_width",
-];
+const FIGURES: [&str; 6] = qgait_gait::files::HEADLINE;
 
 /// One output folder per recording: its file stem, made unique by a number where two
 /// recordings share one.

@@ -3,7 +3,7 @@
 //! (`--raw`).
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
@@ -207,13 +207,8 @@ fn write_orientation_stream(
         .flatten()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    crate::cli::output::refuse_overwrite([args.output.as_path()], &inputs)?;
     let bytes = stream.bytes(4);
-    let mut file = crate::cli::output::OutputFile::create(&args.output)?;
-    file.writer()
-        .write_all(&bytes)
-        .map_err(|e| crate::cli::output::with_path(e.into(), &args.output))?;
-    file.commit()?;
+    write_stream(&args.output, &inputs, &bytes)?;
     if !quiet {
         eprintln!(
             "wrote the configuration (gait2392, {:?}), the calibration pose and {} samples of {} segments, {} bytes, to {}",
@@ -224,6 +219,17 @@ fn write_orientation_stream(
             args.output.display()
         );
     }
+    Ok(())
+}
+
+/// Writes a stream's `bytes` to `output`, which must not be one of the `inputs`.
+fn write_stream(output: &Path, inputs: &[String], bytes: &[u8]) -> anyhow::Result<()> {
+    crate::cli::output::refuse_overwrite([output], inputs)?;
+    let mut file = crate::cli::output::OutputFile::create(output)?;
+    file.writer()
+        .write_all(bytes)
+        .map_err(|e| crate::cli::output::with_path(e.into(), output))?;
+    file.commit()?;
     Ok(())
 }
 
@@ -239,13 +245,8 @@ fn write_raw_stream(
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    crate::cli::output::refuse_overwrite([args.output.as_path()], &inputs)?;
     let bytes = stream.bytes();
-    let mut file = crate::cli::output::OutputFile::create(&args.output)?;
-    file.writer()
-        .write_all(&bytes)
-        .map_err(|e| crate::cli::output::with_path(e.into(), &args.output))?;
-    file.commit()?;
+    write_stream(&args.output, &inputs, &bytes)?;
     if !quiet {
         let c = &stream.config;
         eprintln!(
