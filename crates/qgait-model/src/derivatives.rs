@@ -1,6 +1,6 @@
 //! Differential kinematics of a motion (`qgait fk --derivatives`, `qgait imu-signals`): the
 //! coordinates of every row with their speeds and accelerations ([`Series`]), and the kernel's
-//! evaluators of an OpenSim leg chain on them ([`MotionModel`]). All the maths is
+//! evaluators of a model on them ([`MotionModel`]: an OpenSim leg chain, HAK or PHAK). All the maths is
 //! `qgait_kernel::differential`'s; this module reads the motion and picks the numbers.
 //!
 //! **Where `q̇` and `q̈` come from.** A coordinate whose speed is in the file (an OpenSim 4
@@ -35,7 +35,7 @@ use crate::points::CHAIN_ORDER;
 pub const TRANSLATIONS: [&str; 3] = ["pelvis_tx", "pelvis_ty", "pelvis_tz"];
 
 /// The bodies of a leg chain, in the order of [`MotionModel::bodies`] (gait2392's bodies; an
-/// imported chain's joint frames are its bodies' frames).
+/// imported chain's joint frames are its bodies' frames). HAK's and PHAK's: [`STICK_BODIES`].
 pub const BODIES: [&str; 11] = [
     "pelvis", "femur_r", "tibia_r", "talus_r", "calcn_r", "toes_r", "femur_l", "tibia_l",
     "talus_l", "calcn_l", "toes_l",
