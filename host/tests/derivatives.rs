@@ -124,6 +124,23 @@ fn fk(test: &str, model: &str, motion: &Path, extra: &[&str]) -> Table {
 /// Runs `qgait imu-signals` on `motion` with `model` and the IMUs `placement` (TOML text):
 /// its orientations, gyroscope and accelerometer.
 fn imu_signals(test: &str, model: &str, motion: &Path, placement: &str) -> [Table; 3] {
+    let (o, dir) = run_imu_signals(test, model, motion, placement);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |f: &str| Table::sto(&std::fs::read_to_string(dir.join(f)).unwrap());
+    [
+        read("orientations.sto"),
+        read("angular_velocity.sto"),
+        read("linear_acceleration.sto"),
+    ]
+}
+
+/// Runs `qgait imu-signals` (the IMUs written to `placement.toml`): its output and directory.
+fn run_imu_signals(
+    test: &str,
+    model: &str,
+    motion: &Path,
+    placement: &str,
+) -> (std::process::Output, PathBuf) {
     let dir = scratch(test, "imu");
     let toml = scratch(test, "placement").join("placement.toml");
     std::fs::write(&toml, placement).unwrap();
@@ -137,13 +154,7 @@ fn imu_signals(test: &str, model: &str, motion: &Path, placement: &str) -> [Tabl
         "-o",
         dir.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let read = |f: &str| Table::sto(&std::fs::read_to_string(dir.join(f)).unwrap());
-    [
-        read("orientations.sto"),
-        read("angular_velocity.sto"),
-        read("linear_acceleration.sto"),
-    ]
+    (o, dir)
 }
 
 /// Runs `fk --derivatives` on `motion` and returns the largest velocity and acceleration
@@ -566,7 +577,7 @@ fn hak_is_independent_of_the_pelvis_angles() {
         let run = |motion: &Path, name: &str| {
             let test = format!("deriv_hak_pelvis_{model}_{name}");
             let f = fk(&test, model, motion, &["--derivatives"]);
-            let [o, g, a] = imu_signals(&test, model, motion, STICK_PLACEMENT);
+            let [o, g, a] = imu_signals(&test, model, motion, &stick_placement());
             [f.rows, o.rows, g.rows, a.rows]
         };
         let same = run(&tilted, "a") == run(&other, "b");
@@ -574,20 +585,11 @@ fn hak_is_independent_of_the_pelvis_angles() {
     }
 }
 
-/// IMUs on every body of HAK and PHAK (the tibia's at the knee centre).
-const STICK_PLACEMENT: &str = r#"
-[[imu]]
-name = "pelvis_imu"
-body = "pelvis"
-translation = [-0.14, 0.03, 0.0]
-orientation = [0.51, -0.70, 0.40]
-
-[[imu]]
-name = "femur_r_imu"
-body = "femur_r"
-translation = [0.02, -0.20, 0.06]
-orientation = [0.10, 0.30, -0.20]
-
+/// IMUs on every body of HAK and PHAK: [`PLACEMENT`]'s with its calcaneus IMU on the talus,
+/// and three more (the right tibia's at the knee centre).
+fn stick_placement() -> String {
+    PLACEMENT.replace("calcn_r", "talus_r")
+        + r#"
 [[imu]]
 name = "tibia_r_imu"
 body = "tibia_r"
@@ -595,29 +597,18 @@ translation = [0.0, 0.0, 0.0]
 orientation = [0.20, -0.10, 0.30]
 
 [[imu]]
-name = "talus_r_imu"
-body = "talus_r"
-translation = [0.10, 0.05, 0.0]
-orientation = [1.20, -0.40, 0.30]
-
-[[imu]]
 name = "femur_l_imu"
 body = "femur_l"
-translation = [0.03, -0.15, -0.05]
-orientation = [-0.30, 0.20, 0.60]
-
-[[imu]]
-name = "tibia_l_imu"
-body = "tibia_l"
-translation = [0.03, -0.15, -0.05]
-orientation = [-0.30, 0.20, 0.60]
+translation = [0.03, -0.12, -0.05]
+orientation = [-0.20, 0.40, 0.10]
 
 [[imu]]
 name = "talus_l_imu"
 body = "talus_l"
 translation = [0.05, -0.02, 0.01]
 orientation = [0.0, 0.0, 0.0]
-"#;
+"#
+}
 
 const STICK_IMUS: [&str; 7] = [
     "pelvis_imu",
@@ -646,7 +637,7 @@ fn quat(t: &Table, row: &[f64], name: &str) -> [f64; 4] {
 #[test]
 fn phak_imu_signals_are_the_derivatives_of_its_orientations() {
     let motion = stick_motion("deriv_phak_imu", 1.0, 1.0);
-    let [orient, gyro, acc] = imu_signals("deriv_phak_imu", "phak", &motion, STICK_PLACEMENT);
+    let [orient, gyro, acc] = imu_signals("deriv_phak_imu", "phak", &motion, &stick_placement());
     let n = orient.rows.len();
     assert_eq!(n, 401);
     let (mut worst_gyro, mut turning) = (0.0f64, 0.0f64);
@@ -722,8 +713,8 @@ fn phak_imu_signals_are_the_derivatives_of_its_orientations() {
     }
     // gait2392's pelvis, femurs and tibias turn as PHAK's without pelvis rotation.
     let level = stick_motion("deriv_phak_imu_g", 1.0, 0.0);
-    let [_, phak, _] = imu_signals("deriv_phak_imu_p", "phak", &level, STICK_PLACEMENT);
-    let [_, g2392, _] = imu_signals("deriv_phak_imu_g", "gait2392", &level, STICK_PLACEMENT);
+    let [_, phak, _] = imu_signals("deriv_phak_imu_p", "phak", &level, &stick_placement());
+    let [_, g2392, _] = imu_signals("deriv_phak_imu_g", "gait2392", &level, &stick_placement());
     let mut worst_shared = 0.0f64;
     for (p, g) in phak.rows.iter().zip(&g2392.rows) {
         for name in [
@@ -754,28 +745,12 @@ fn phak_imu_signals_are_the_derivatives_of_its_orientations() {
 /// the model's bodies.
 #[test]
 fn an_imu_on_a_body_phak_lacks_is_refused() {
-    let dir = scratch("deriv_phak_calcn", "in");
-    let toml = dir.join("feet.toml");
-    std::fs::write(
-        &toml,
-        "[[imu]]\nname = \"heel\"\nbody = \"calcn_r\"\ntranslation = [0, 0, 0]\norientation = [0, 0, 0]\n",
-    )
-    .unwrap();
-    let motion = fixture("gait2392.mot");
-    let o = qgait(&[
-        "imu-signals",
-        motion.to_str().unwrap(),
-        "--model",
-        "phak",
-        "--imus",
-        toml.to_str().unwrap(),
-        "-o",
-        dir.join("out").to_str().unwrap(),
-    ]);
+    let heel = "[[imu]]\nname = \"heel\"\nbody = \"calcn_r\"\ntranslation = [0, 0, 0]\norientation = [0, 0, 0]\n";
+    let (o, _) = run_imu_signals("deriv_phak_calcn", "phak", &fixture("gait2392.mot"), heel);
     assert!(!o.status.success());
     let e = stderr(&o);
     assert!(
-        e.contains("feet.toml: IMU `heel`: unknown body `calcn_r`: phak has the bodies pelvis, femur_r, tibia_r, talus_r, femur_l, tibia_l, talus_l"),
+        e.contains("placement.toml: IMU `heel`: unknown body `calcn_r`: phak has the bodies pelvis, femur_r, tibia_r, talus_r, femur_l, tibia_l, talus_l"),
         "{e}"
     );
 }
