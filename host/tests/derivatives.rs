@@ -110,6 +110,53 @@ impl Table {
     }
 }
 
+/// Runs `qgait fk` on `motion` with `model` and the `extra` arguments: its CSV.
+fn fk(test: &str, model: &str, motion: &Path, extra: &[&str]) -> Table {
+    let out = scratch(test, "fk").join("out.csv");
+    let mut args = vec!["fk", motion.to_str().unwrap(), "--model", model];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["-o", out.to_str().unwrap()]);
+    let o = qgait(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    Table::csv(&std::fs::read_to_string(&out).unwrap())
+}
+
+/// Runs `qgait imu-signals` on `motion` with `model` and the IMUs `placement` (TOML text):
+/// its orientations, gyroscope and accelerometer.
+fn imu_signals(test: &str, model: &str, motion: &Path, placement: &str) -> [Table; 3] {
+    let (o, dir) = run_imu_signals(test, model, motion, placement);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |f: &str| Table::sto(&std::fs::read_to_string(dir.join(f)).unwrap());
+    [
+        read("orientations.sto"),
+        read("angular_velocity.sto"),
+        read("linear_acceleration.sto"),
+    ]
+}
+
+/// Runs `qgait imu-signals` (the IMUs written to `placement.toml`): its output and directory.
+fn run_imu_signals(
+    test: &str,
+    model: &str,
+    motion: &Path,
+    placement: &str,
+) -> (std::process::Output, PathBuf) {
+    let dir = scratch(test, "imu");
+    let toml = scratch(test, "placement").join("placement.toml");
+    std::fs::write(&toml, placement).unwrap();
+    let o = qgait(&[
+        "imu-signals",
+        motion.to_str().unwrap(),
+        "--model",
+        model,
+        "--imus",
+        toml.to_str().unwrap(),
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    (o, dir)
+}
+
 /// Runs `fk --derivatives` on `motion` and returns the largest velocity and acceleration
 /// differences from OpenSim's (relative to the pelvis origin), over the reference rows the
 /// motion covers.
@@ -125,18 +172,7 @@ fn fk_against_opensim_where(
     reference: &Table,
     at: impl Fn(f64) -> bool,
 ) -> (f64, f64) {
-    let out = scratch(test, "fk").join("out.csv");
-    let o = qgait(&[
-        "fk",
-        motion.to_str().unwrap(),
-        "--model",
-        model,
-        "--derivatives",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let ours = Table::csv(&std::fs::read_to_string(&out).unwrap());
+    let ours = fk(test, model, motion, &["--derivatives"]);
     let (mut v, mut a, mut compared) = (0.0f64, 0.0f64, 0);
     for r in &reference.rows {
         let Some(row) = ours.row_at(r[0]).filter(|_| at(r[0])) else {
@@ -163,26 +199,7 @@ fn fk_against_opensim_where(
 /// Runs `imu-signals` on `motion`; the largest gyroscope, accelerometer and orientation
 /// differences from OpenSim's `IMU` components.
 fn imu_against_opensim(test: &str, model: &str, motion: &Path, reference: &Table) -> [f64; 3] {
-    let dir = scratch(test, "imu");
-    let placement = scratch(test, "placement").join("placement.toml");
-    std::fs::write(&placement, PLACEMENT).unwrap();
-    let o = qgait(&[
-        "imu-signals",
-        motion.to_str().unwrap(),
-        "--model",
-        model,
-        "--imus",
-        placement.to_str().unwrap(),
-        "-o",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let read = |f: &str| Table::sto(&std::fs::read_to_string(dir.join(f)).unwrap());
-    let (gyro, acc, orient) = (
-        read("angular_velocity.sto"),
-        read("linear_acceleration.sto"),
-        read("orientations.sto"),
-    );
+    let [orient, gyro, acc] = imu_signals(test, model, motion, PLACEMENT);
     let mut worst = [0.0f64; 3];
     for r in &reference.rows {
         let (Some(g), Some(a), Some(q)) =
@@ -438,4 +455,302 @@ fn lowpass_keeps_what_is_below_the_cut_off() {
     );
     assert!(worst[0].0 < 1e-4 && worst[0].1 < 1e-2, "{worst:?}");
     assert!(worst[1].0 > 1e-2, "{worst:?}");
+}
+
+/// HAK's and PHAK's analytic motion: 1 kHz, 0.4 s, PHAK's eight coordinates (degrees) each a
+/// mean and two sines (0.9 to 3.7 Hz), the pelvis list and rotation scaled by `list` and
+/// `rotation`, and a pelvis translation (walking forward at 1.2 m/s, with sways); no other
+/// gait2392 coordinate. Written at full precision.
+fn stick_motion(test: &str, list: f64, rotation: f64) -> PathBuf {
+    let tau = std::f64::consts::TAU;
+    // name, mean, two (amplitude, Hz)
+    type Sines = [(f64, f64); 2];
+    let coordinates: [(&str, f64, Sines); 8] = [
+        (
+            "pelvis_rotation",
+            0.0,
+            [(6.0 * rotation, 1.1), (2.0 * rotation, 2.3)],
+        ),
+        ("pelvis_list", 0.0, [(4.0 * list, 0.9), (1.5 * list, 2.7)]),
+        ("hip_flexion_r", 10.0, [(25.0, 1.0), (5.0, 3.1)]),
+        ("knee_angle_r", -35.0, [(25.0, 1.2), (6.0, 2.9)]),
+        ("ankle_angle_r", 0.0, [(12.0, 1.3), (3.0, 3.7)]),
+        ("hip_flexion_l", 5.0, [(22.0, 0.95), (4.0, 2.6)]),
+        ("knee_angle_l", -30.0, [(20.0, 1.05), (5.0, 3.3)]),
+        ("ankle_angle_l", 2.0, [(10.0, 1.4), (4.0, 3.5)]),
+    ];
+    let mut text =
+        String::from("stick\nversion=1\nnRows=401\nnColumns=12\ninDegrees=yes\nendheader\ntime");
+    for (name, ..) in coordinates {
+        text += &format!("\t{name}");
+    }
+    text += "\tpelvis_tx\tpelvis_ty\tpelvis_tz\n";
+    for r in 0..=400 {
+        let t = r as f64 * 1e-3;
+        text += &format!("{t}");
+        for (k, (_, mean, sines)) in coordinates.iter().enumerate() {
+            let v = mean
+                + sines
+                    .iter()
+                    .enumerate()
+                    .map(|(j, (a, f))| a * (tau * f * t + 0.3 * (k + j) as f64).sin())
+                    .sum::<f64>();
+            text += &format!("\t{v}");
+        }
+        let translation = [
+            1.2 * t + 0.02 * (tau * 1.8 * t).sin(),
+            0.95 + 0.01 * (tau * 2.0 * t).sin(),
+            0.01 * (tau * 0.9 * t).sin(),
+        ];
+        for v in translation {
+            text += &format!("\t{v}");
+        }
+        text += "\n";
+    }
+    let path = scratch(test, "motion").join(format!("stick_{list}_{rotation}.mot"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Five-point central differences at row `k` of rows `h` apart: first and second derivatives
+/// (errors `h⁴ f⁽⁵⁾/30` and `h⁴ f⁽⁶⁾/90`).
+fn five_point(f: impl Fn(usize) -> f64, k: usize, h: f64) -> (f64, f64) {
+    let [m2, m1, c, p1, p2] = [k - 2, k - 1, k, k + 1, k + 2].map(f);
+    (
+        (m2 - 8.0 * m1 + 8.0 * p1 - p2) / (12.0 * h),
+        (-m2 + 16.0 * m1 - 30.0 * c + 16.0 * p1 - p2) / (12.0 * h * h),
+    )
+}
+
+/// HAK and PHAK with `--derivatives`: the positions are plain `fk`'s, to the bit; the
+/// velocities and accelerations are their time derivatives: against five-point central
+/// differences of plain `fk`'s positions at 1 kHz (truncation about 1e-8 m/s and 1e-6 m/s²
+/// on this motion), velocities within 1e-6 m/s and accelerations within 1e-4 m/s² (three-point
+/// differences, printed, are 1e-4 and 1e-2 off: their own error).
+#[test]
+fn hak_and_phak_derivatives_are_the_derivatives_of_their_positions() {
+    let motion = stick_motion("deriv_stick", 1.0, 1.0);
+    for model in ["phak", "hak"] {
+        let test = format!("deriv_stick_{model}");
+        let plain = fk(&format!("{test}_plain"), model, &motion, &[]);
+        let ours = fk(&test, model, &motion, &["--derivatives"]);
+        assert_eq!(plain.rows.len(), ours.rows.len());
+        let (mut v5, mut a5, mut v3, mut a3, mut moving) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for p in POINTS {
+            for axis in ["x", "y", "z"] {
+                let c = format!("{p}_{axis}");
+                let at = |k: usize| plain.get(&plain.rows[k], &c);
+                for (k, row) in ours.rows.iter().enumerate() {
+                    assert_eq!(ours.get(row, &c), at(k), "{model} {c} row {k}");
+                    if k < 2 || k + 2 >= ours.rows.len() {
+                        continue;
+                    }
+                    let (v, a) = (
+                        ours.get(row, &format!("{p}_v{axis}")),
+                        ours.get(row, &format!("{p}_a{axis}")),
+                    );
+                    let (fv, fa) = five_point(at, k, 1e-3);
+                    v5 = v5.max((v - fv).abs());
+                    a5 = a5.max((a - fa).abs());
+                    v3 = v3.max((v - (at(k + 1) - at(k - 1)) / 2e-3).abs());
+                    a3 = a3.max((a - (at(k + 1) - 2.0 * at(k) + at(k - 1)) / 1e-6).abs());
+                    moving = moving.max(v.abs());
+                }
+            }
+        }
+        println!(
+            "{model}: |v - five-point| {v5:.1e} m/s, |a - five-point| {a5:.1e} m/s^2; \
+             three-point: {v3:.1e} m/s, {a3:.1e} m/s^2 (speeds up to {moving:.2} m/s)"
+        );
+        assert!(moving > 0.5, "{moving}");
+        assert!(v5 < 1e-6 && a5 < 1e-4, "{model}: {v5} {a5}");
+    }
+}
+
+/// HAK does not read the pelvis angles: a motion whose pelvis list and rotation differ gives
+/// the same `fk --derivatives` and `imu-signals`, to the byte; PHAK's differ.
+#[test]
+fn hak_is_independent_of_the_pelvis_angles() {
+    let tilted = stick_motion("deriv_hak_pelvis_a", 1.0, 1.0);
+    let other = stick_motion("deriv_hak_pelvis_b", -2.0, 0.5);
+    for model in ["hak", "phak"] {
+        let run = |motion: &Path, name: &str| {
+            let test = format!("deriv_hak_pelvis_{model}_{name}");
+            let f = fk(&test, model, motion, &["--derivatives"]);
+            let [o, g, a] = imu_signals(&test, model, motion, &stick_placement());
+            [f.rows, o.rows, g.rows, a.rows]
+        };
+        let same = run(&tilted, "a") == run(&other, "b");
+        assert_eq!(same, model == "hak", "{model}");
+    }
+}
+
+/// IMUs on every body of HAK and PHAK: [`PLACEMENT`]'s with its calcaneus IMU on the talus,
+/// and three more (the right tibia's at the knee centre).
+fn stick_placement() -> String {
+    PLACEMENT.replace("calcn_r", "talus_r")
+        + r#"
+[[imu]]
+name = "tibia_r_imu"
+body = "tibia_r"
+translation = [0.0, 0.0, 0.0]
+orientation = [0.20, -0.10, 0.30]
+
+[[imu]]
+name = "femur_l_imu"
+body = "femur_l"
+translation = [0.03, -0.12, -0.05]
+orientation = [-0.20, 0.40, 0.10]
+
+[[imu]]
+name = "talus_l_imu"
+body = "talus_l"
+translation = [0.05, -0.02, 0.01]
+orientation = [0.0, 0.0, 0.0]
+"#
+}
+
+const STICK_IMUS: [&str; 7] = [
+    "pelvis_imu",
+    "femur_r_imu",
+    "tibia_r_imu",
+    "talus_r_imu",
+    "femur_l_imu",
+    "tibia_l_imu",
+    "talus_l_imu",
+];
+
+/// A quaternion `w,x,y,z` as an array.
+fn quat(t: &Table, row: &[f64], name: &str) -> [f64; 4] {
+    [0, 1, 2, 3].map(|k| t.get(row, &format!("{name}_{k}")))
+}
+
+/// `imu-signals --model phak`, on PHAK's analytic motion at 1 kHz:
+/// - the gyroscope is the IMU frame's angular velocity in its own axes, `2 vec(q* q̇)` with
+///   `q̇` the five-point differences of the orientations written: within 1e-6 rad/s;
+/// - the accelerometer of the IMU at the knee centre is the knee's acceleration (five-point
+///   differences of plain `fk`'s knee plus the motion's pelvis translation) minus gravity, in
+///   the IMU's axes: within 1e-4 m/s²;
+/// - with no pelvis rotation (nor gait2392's tilt, hip adduction and rotation), PHAK's pelvis,
+///   femurs and tibias turn as gait2392's: the same gyroscope within 1e-9 rad/s (their origins
+///   differ, so their accelerometers do; the talus turns about gait2392's oblique ankle axis).
+#[test]
+fn phak_imu_signals_are_the_derivatives_of_its_orientations() {
+    let motion = stick_motion("deriv_phak_imu", 1.0, 1.0);
+    let [orient, gyro, acc] = imu_signals("deriv_phak_imu", "phak", &motion, &stick_placement());
+    let n = orient.rows.len();
+    assert_eq!(n, 401);
+    let (mut worst_gyro, mut turning) = (0.0f64, 0.0f64);
+    for name in STICK_IMUS {
+        // The same sign throughout (q and -q are the same turn).
+        let mut qs: Vec<[f64; 4]> = orient.rows.iter().map(|r| quat(&orient, r, name)).collect();
+        for k in 1..n {
+            if (0..4).map(|i| qs[k][i] * qs[k - 1][i]).sum::<f64>() < 0.0 {
+                qs[k] = qs[k].map(|v| -v);
+            }
+        }
+        for k in 2..n - 2 {
+            let qd: [f64; 4] = core::array::from_fn(|i| five_point(|j| qs[j][i], k, 1e-3).0);
+            let [w, x, y, z] = qs[k];
+            // 2 vec(conj(q) ⊗ q̇).
+            let omega = [
+                2.0 * (w * qd[1] - x * qd[0] - y * qd[3] + z * qd[2]),
+                2.0 * (w * qd[2] - y * qd[0] - z * qd[1] + x * qd[3]),
+                2.0 * (w * qd[3] - z * qd[0] - x * qd[2] + y * qd[1]),
+            ];
+            let row = &gyro.rows[k];
+            for (i, o) in omega.iter().enumerate() {
+                let g = gyro.get(row, &format!("{name}_{i}"));
+                worst_gyro = worst_gyro.max((g - o).abs());
+                turning = turning.max(g.abs());
+            }
+        }
+    }
+    // The tibia IMU sits at the knee centre: plain fk's knee, plus the pelvis translation.
+    let plain = fk("deriv_phak_imu_fk", "phak", &motion, &[]);
+    let text = std::fs::read_to_string(&motion).unwrap();
+    let translation: Vec<[f64; 3]> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("time"))
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split('\t').map(|v| v.parse().unwrap()).collect();
+            [v[9], v[10], v[11]]
+        })
+        .collect();
+    let mut worst_acc = 0.0f64;
+    for k in 2..n - 2 {
+        let a: [f64; 3] = core::array::from_fn(|i| {
+            let axis = ["x", "y", "z"][i];
+            let at =
+                |j: usize| plain.get(&plain.rows[j], &format!("knee_r_{axis}")) + translation[j][i];
+            five_point(at, k, 1e-3).1 - if i == 1 { -9.80665 } else { 0.0 }
+        });
+        // Into the IMU's axes: R(q)ᵀ a.
+        let [w, x, y, z] = quat(&orient, &orient.rows[k], "tibia_r_imu");
+        let r = [
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y - w * z),
+                2.0 * (x * z + w * y),
+            ],
+            [
+                2.0 * (x * y + w * z),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z - w * x),
+            ],
+            [
+                2.0 * (x * z - w * y),
+                2.0 * (y * z + w * x),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
+        ];
+        let expected = [0, 1, 2].map(|i| (0..3).map(|j| r[j][i] * a[j]).sum::<f64>());
+        for (i, expected) in expected.iter().enumerate() {
+            let got = acc.get(&acc.rows[k], &format!("tibia_r_imu_{i}"));
+            worst_acc = worst_acc.max((got - expected).abs());
+        }
+    }
+    // gait2392's pelvis, femurs and tibias turn as PHAK's without pelvis rotation.
+    let level = stick_motion("deriv_phak_imu_g", 1.0, 0.0);
+    let [_, phak, _] = imu_signals("deriv_phak_imu_p", "phak", &level, &stick_placement());
+    let [_, g2392, _] = imu_signals("deriv_phak_imu_g", "gait2392", &level, &stick_placement());
+    let mut worst_shared = 0.0f64;
+    for (p, g) in phak.rows.iter().zip(&g2392.rows) {
+        for name in [
+            "pelvis_imu",
+            "femur_r_imu",
+            "tibia_r_imu",
+            "femur_l_imu",
+            "tibia_l_imu",
+        ] {
+            for i in 0..3 {
+                let c = format!("{name}_{i}");
+                worst_shared = worst_shared.max((phak.get(p, &c) - g2392.get(g, &c)).abs());
+            }
+        }
+    }
+    println!(
+        "phak imu-signals: |gyroscope - 2 vec(q* dq/dt)| {worst_gyro:.1e} rad/s (up to \
+         {turning:.2} rad/s), |accelerometer - knee's| {worst_acc:.1e} m/s^2, gyroscope \
+         against gait2392's (shared bodies) {worst_shared:.1e} rad/s"
+    );
+    assert!(turning > 1.0, "{turning}");
+    assert!(worst_gyro < 1e-6, "{worst_gyro}");
+    assert!(worst_acc < 1e-4, "{worst_acc}");
+    assert!(worst_shared < 1e-9, "{worst_shared}");
+}
+
+/// An IMU on a body the model does not have: an error naming the placement file, the IMU and
+/// the model's bodies.
+#[test]
+fn an_imu_on_a_body_phak_lacks_is_refused() {
+    let heel = "[[imu]]\nname = \"heel\"\nbody = \"calcn_r\"\ntranslation = [0, 0, 0]\norientation = [0, 0, 0]\n";
+    let (o, _) = run_imu_signals("deriv_phak_calcn", "phak", &fixture("gait2392.mot"), heel);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("placement.toml: IMU `heel`: unknown body `calcn_r`: phak has the bodies pelvis, femur_r, tibia_r, talus_r, femur_l, tibia_l, talus_l"),
+        "{e}"
+    );
 }

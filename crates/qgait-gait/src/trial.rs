@@ -393,7 +393,7 @@ pub fn from_table(
     });
     warnings.extend(w);
     // The kernel's velocities need the model's own signs back.
-    let velocities = MotionModel::new(model, "gait").ok().and_then(|m| {
+    let velocities = MotionModel::new(model).ok().and_then(|m| {
         let own: Vec<[f64; 17]> = coordinates
             .iter()
             .map(|row| {
@@ -556,11 +556,15 @@ pub fn foot_velocities(
         }
         for i in 0..m {
             let p = model.points(&coordinates[start + i], &qd[i], &qdd[i]);
-            // gait2392's points: hip, knee, ankle, subtalar, MTP, toe tip per side.
-            out.push([0, 6].map(|b| FootVelocity {
-                heel: p[b + 3].velocity,
-                forefoot: p[b + 4].velocity,
-                toe: p[b + 5].velocity,
+            // `point_names(true)`: hip, knee, ankle, toe tip per side, then subtalar and MTP
+            // per side (HAK and PHAK have neither: no velocities of the heel and forefoot).
+            if p.len() < 12 {
+                return None;
+            }
+            out.push([0, 1].map(|s| FootVelocity {
+                heel: p[8 + 2 * s].velocity,
+                forefoot: p[9 + 2 * s].velocity,
+                toe: p[3 + 4 * s].velocity,
             }));
         }
         start = end;

@@ -1,6 +1,6 @@
 //! Differential kinematics of a motion (`qgait fk --derivatives`, `qgait imu-signals`): the
 //! coordinates of every row with their speeds and accelerations ([`Series`]), and the kernel's
-//! evaluators of an OpenSim leg chain on them ([`MotionModel`]). All the maths is
+//! evaluators of a model on them ([`MotionModel`]: an OpenSim leg chain, HAK or PHAK). All the maths is
 //! `qgait_kernel::differential`'s; this module reads the motion and picks the numbers.
 //!
 //! **Where `q̇` and `q̈` come from.** A coordinate whose speed is in the file (an OpenSim 4
@@ -22,19 +22,20 @@
 use biquad::{Biquad, Coefficients, DirectForm2Transposed, ToHertz, Type};
 use qgait_kernel::differential::{differentiate, FrameMotion, PointMotion};
 use qgait_kernel::models::gait2392::COORDINATES;
-use qgait_kernel::models::LowerLimb;
+use qgait_kernel::models::{LowerLimb, Phak, PhakAngles};
 use qgait_kernel::{Gait2392, Vec3};
 use qgait_opensim::diagnostics::{Location, Warning};
 use qgait_opensim::mot::{MotionTable, StateColumn};
 
 use crate::choice::Model;
 use crate::error::ModelError;
+use crate::points::CHAIN_ORDER;
 
 /// The pelvis translations (metres), after the 17 [`COORDINATES`].
 pub const TRANSLATIONS: [&str; 3] = ["pelvis_tx", "pelvis_ty", "pelvis_tz"];
 
 /// The bodies of a leg chain, in the order of [`MotionModel::bodies`] (gait2392's bodies; an
-/// imported chain's joint frames are its bodies' frames).
+/// imported chain's joint frames are its bodies' frames). HAK's and PHAK's: [`STICK_BODIES`].
 pub const BODIES: [&str; 11] = [
     "pelvis", "femur_r", "tibia_r", "talus_r", "calcn_r", "toes_r", "femur_l", "tibia_l",
     "talus_l", "calcn_l", "toes_l",
@@ -74,11 +75,14 @@ impl Series {
     /// The coordinates of `table` (a `.mot`, or an OpenSim 4 states `.sto` whose other states,
     /// muscles' and the like, are passed over), with speeds from the file where it has them and
     /// from [`differentiate`] otherwise; `lowpass` (Hz) filters coordinates that are
-    /// differentiated first ([`lowpass`]). A coordinate without a column is 0 (one warning).
-    /// Rows must be uniformly sampled (to 0.1 % of the step), at least five of them.
+    /// differentiated first ([`lowpass`]). Only the coordinates `model` reads
+    /// ([`MotionModel::reads`]) are read; a coordinate it does not read is 0 with its speed
+    /// and acceleration, and so is one without a column (one warning). Rows must be uniformly
+    /// sampled (to 0.1 % of the step), at least five of them.
     pub fn of(
         table: &MotionTable,
         lowpass_hz: Option<f64>,
+        model: &MotionModel,
     ) -> Result<(Self, Vec<Warning>), ModelError> {
         let n = table.rows();
         let time = table.time().to_vec();
@@ -128,8 +132,10 @@ impl Series {
                     }
                 }
                 let column = |c: usize| (0..n).map(|r| table.value(r, c)).collect::<Vec<f64>>();
-                let Some((c, state)) = values else {
-                    missing.push(*name);
+                let Some((c, state)) = values.filter(|_| model.reads(name)) else {
+                    if model.reads(name) {
+                        missing.push(*name);
+                    }
                     return Column {
                         values: vec![0.0; n],
                         speeds: None,
@@ -274,25 +280,54 @@ pub fn lowpass(x: &[f64], dt: f64, hz: f64) -> Vec<f64> {
     y[pad..pad + n].to_vec()
 }
 
-/// The kernel's differential kinematics of an OpenSim leg chain (a gait2392-family model or an
-/// imported chain; HAK and PHAK are not among them).
+/// The bodies of HAK and PHAK, in the order of [`MotionModel::bodies`]: their joint frames,
+/// named as the gait2392 bodies they stand for. `pelvis`: origin midway between the hip
+/// centres (not gait2392's pelvis origin), turned by pelvis rotation and list only (PHAK has no
+/// tilt; HAK's is level). `femur`, `tibia`: origins at the hip and knee centres, as gait2392's.
+/// `talus`: the whole foot, one rigid segment from the ankle centre (gait2392's talus origin)
+/// to the toe tip, turned by the ankle angle about the pelvis's z axis. There is no `calcn` or
+/// `toes`: the foot has no subtalar or MTP joint.
+pub const STICK_BODIES: [&str; 7] = [
+    "pelvis", "femur_r", "tibia_r", "talus_r", "femur_l", "tibia_l", "talus_l",
+];
+
+/// The kernel's differential kinematics of a model: an OpenSim leg chain (a gait2392-family
+/// model or an imported chain), or HAK or PHAK.
 pub enum MotionModel {
     /// A gait2392-family model.
     Gait2392(Box<Gait2392<f64>>),
     /// An imported chain.
     Chain(Box<LowerLimb<f64>>),
+    /// PHAK, or HAK (`hak`: PHAK with a level pelvis, [`Phak::fk_hak`]).
+    Stick {
+        /// The chain.
+        phak: Box<Phak<f64>>,
+        /// HAK: the pelvis angles are not read and count as 0, and so do their speeds.
+        hak: bool,
+    },
+}
+
+/// Where each of [`PhakAngles::NAMES`] is in [`COORDINATES`].
+fn phak_in_coordinates() -> [usize; 8] {
+    PhakAngles::<f64>::NAMES.map(|name| {
+        COORDINATES
+            .iter()
+            .position(|c| *c == name)
+            .expect("PHAK's coordinates are gait2392's")
+    })
 }
 
 impl MotionModel {
-    /// The evaluators of `model`; `what` names the command in the error for HAK and PHAK.
-    pub fn new(model: &Model, what: &'static str) -> Result<Self, ModelError> {
+    /// The evaluators of `model`.
+    pub fn new(model: &Model) -> Result<Self, ModelError> {
+        let rejected = |error| ModelError::Rejected {
+            name: model.name().to_string(),
+            error,
+        };
         Ok(match model {
-            Model::Gait2392 { geometry, name } => Self::Gait2392(Box::new(
-                Gait2392::<f64>::new(geometry).map_err(|error| ModelError::Rejected {
-                    name: name.clone(),
-                    error,
-                })?,
-            )),
+            Model::Gait2392 { geometry, .. } => {
+                Self::Gait2392(Box::new(Gait2392::<f64>::new(geometry).map_err(rejected)?))
+            }
             Model::Chain { chain, name } => {
                 Self::Chain(Box::new(chain.chain().map_err(|message| {
                     ModelError::File {
@@ -301,30 +336,75 @@ impl MotionModel {
                     }
                 })?))
             }
-            Model::Hak { .. } | Model::Phak { .. } => {
-                return Err(ModelError::NeedsChain {
-                    what,
-                    name: model.name().to_string(),
-                })
-            }
+            Model::Hak { .. } | Model::Phak { .. } => Self::Stick {
+                phak: Box::new(
+                    Phak::new(&model.lengths().expect("a stick model")).map_err(rejected)?,
+                ),
+                hak: matches!(model, Model::Hak { .. }),
+            },
         })
     }
 
-    /// The 12 points of [`POINTS`](qgait_kernel::models::gait2392::POINTS): positions,
-    /// velocities and accelerations in ground axes, relative to the pelvis origin.
-    pub fn points(&self, q: &[f64; 17], qd: &[f64; 17], qdd: &[f64; 17]) -> [PointMotion<f64>; 12] {
+    /// Whether the model reads coordinate `name` (of [`COORDINATES`] and [`TRANSLATIONS`]):
+    /// every one for a leg chain; PHAK's eight and the translations for PHAK; HAK's six leg
+    /// angles and the translations for HAK.
+    pub fn reads(&self, name: &str) -> bool {
         match self {
-            Self::Gait2392(g) => g.chain().forward_motion(q, qd, qdd),
-            Self::Chain(c) => c.forward_motion(q, qd, qdd),
+            Self::Gait2392(_) | Self::Chain(_) => true,
+            Self::Stick { hak, .. } => {
+                let names = &PhakAngles::<f64>::NAMES[if *hak { 2 } else { 0 }..];
+                names.contains(&name) || TRANSLATIONS.contains(&name)
+            }
         }
     }
 
-    /// The 11 [`BODIES`]' motions in ground (origins relative to the pelvis origin).
-    pub fn bodies(&self, q: &[f64; 17], qd: &[f64; 17], qdd: &[f64; 17]) -> [FrameMotion<f64>; 11] {
+    /// The points of [`point_names`](crate::points::point_names): positions, velocities and
+    /// accelerations in ground axes, relative to the pelvis origin (the positions `qgait fk`
+    /// writes for the model, and their time derivatives). A leg chain gives the 12 of
+    /// `point_names(true)`, HAK and PHAK the 8 of `point_names(false)`.
+    pub fn points(&self, q: &[f64; 17], qd: &[f64; 17], qdd: &[f64; 17]) -> Vec<PointMotion<f64>> {
+        let chain_points = |p: [PointMotion<f64>; 12]| CHAIN_ORDER.iter().map(|&i| p[i]).collect();
         match self {
-            Self::Gait2392(g) => g.chain().motions(q, qd, qdd),
-            Self::Chain(c) => c.motions(q, qd, qdd),
+            Self::Gait2392(g) => chain_points(g.chain().forward_motion(q, qd, qdd)),
+            Self::Chain(c) => chain_points(c.forward_motion(q, qd, qdd)),
+            Self::Stick { phak, .. } => {
+                let [q, qd, qdd] = self.stick([q, qd, qdd]);
+                phak.chain().forward_motion(&q, &qd, &qdd).to_vec()
+            }
         }
+    }
+
+    /// The names of the bodies [`MotionModel::bodies`] gives, in its order: [`BODIES`] for a
+    /// leg chain, [`STICK_BODIES`] for HAK and PHAK.
+    pub fn body_names(&self) -> &'static [&'static str] {
+        match self {
+            Self::Gait2392(_) | Self::Chain(_) => &BODIES,
+            Self::Stick { .. } => &STICK_BODIES,
+        }
+    }
+
+    /// The bodies' motions in ground (origins relative to the pelvis origin), in
+    /// [`MotionModel::body_names`] order.
+    pub fn bodies(&self, q: &[f64; 17], qd: &[f64; 17], qdd: &[f64; 17]) -> Vec<FrameMotion<f64>> {
+        match self {
+            Self::Gait2392(g) => g.chain().motions(q, qd, qdd).to_vec(),
+            Self::Chain(c) => c.motions(q, qd, qdd).to_vec(),
+            Self::Stick { phak, .. } => {
+                let [q, qd, qdd] = self.stick([q, qd, qdd]);
+                phak.chain().motions(&q, &qd, &qdd).to_vec()
+            }
+        }
+    }
+
+    /// PHAK's inputs (coordinates, speeds or accelerations) from gait2392's: HAK's pelvis
+    /// ones 0 ([`PhakAngles::level_pelvis`]).
+    fn stick(&self, rows: [&[f64; 17]; 3]) -> [[f64; 8]; 3] {
+        let hak = matches!(self, Self::Stick { hak: true, .. });
+        let at = phak_in_coordinates();
+        rows.map(|row| {
+            let a = PhakAngles::from_array(at.map(|i| row[i]));
+            if hak { a.level_pelvis() } else { a }.to_array()
+        })
     }
 }
 

@@ -11,9 +11,10 @@ use crate::cli::model_args::ModelArgs;
 use crate::cli::output::{refuse_overwrite, write_output_with};
 use crate::progress::Progress;
 use qgait_model::derivatives::{MotionModel, Series};
+use qgait_model::error::ModelError;
 use qgait_model::motion::source::load_motion;
 use qgait_model::motion::source::MotionRows;
-use qgait_model::points::{point_names, PointModel, PointsCsv, CHAIN_ORDER};
+use qgait_model::points::{point_names, PointModel, PointsCsv};
 
 /// `qgait fk` arguments.
 #[derive(Debug, Args)]
@@ -27,8 +28,8 @@ pub struct FkArgs {
     /// `subtalar_r_x..z, mtp_r_x..z, subtalar_l_x..z, mtp_l_x..z` after the standard ones.
     #[arg(long)]
     pub points: bool,
-    /// Also each point's velocity and acceleration (OpenSim leg chains: gait2392, SUBJECT.toml,
-    /// CHAIN.toml, MODEL.osim): after its `x,y,z` columns, `<point>_vx,_vy,_vz` (m/s) and
+    /// Also each point's velocity and acceleration (every model; HAK's pelvis angles and their
+    /// speeds count as 0): after its `x,y,z` columns, `<point>_vx,_vy,_vz` (m/s) and
     /// `_ax,_ay,_az` (m/s²), the time derivatives of the positions (ground axes, origin at the
     /// pelvis origin). Speeds come from an OpenSim states .sto's `/speed` columns when present,
     /// otherwise from five-point differences of the coordinates.
@@ -110,10 +111,13 @@ pub fn run_fk(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
 /// each row's points with their velocities and accelerations are written.
 fn run_fk_derivatives(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     refuse_overwrite(a.output.as_deref(), &inputs(&a.motion, &a.model))?;
-    let model = MotionModel::new(&a.model.load(diagnostics)?, "fk --derivatives")?;
+    let model = MotionModel::new(&a.model.load(diagnostics)?)?;
+    if a.points && matches!(model, MotionModel::Stick { .. }) {
+        return Err(ModelError::PointsNeedGait2392.into());
+    }
     let (table, w) = load_motion(&a.motion)?;
     diagnostics.warn(w);
-    let (series, w) = Series::of(&table, a.lowpass)?;
+    let (series, w) = Series::of(&table, a.lowpass, &model)?;
     diagnostics.warn(w);
     let names = point_names(a.points);
     let axes = ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"];
@@ -121,10 +125,9 @@ fn run_fk_derivatives(a: FkArgs, diagnostics: &Diagnostics) -> anyhow::Result<()
         let mut csv = PointsCsv::with_axes(out, &names, false, &axes).map_err(csv_error)?;
         for r in 0..series.time.len() {
             let points = model.points(&series.q[r], &series.qd[r], &series.qdd[r]);
-            let values = CHAIN_ORDER[..names.len()].iter().flat_map(|&i| {
-                let p = points[i];
-                [p.position, p.velocity, p.acceleration].map(|v| [v.x, v.y, v.z])
-            });
+            let values = points[..names.len()]
+                .iter()
+                .flat_map(|p| [p.position, p.velocity, p.acceleration].map(|v| [v.x, v.y, v.z]));
             csv.row(0, Some(series.time[r]), values)
                 .map_err(csv_error)?;
         }

@@ -22,7 +22,7 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_kernel::differential::{imu_signals, ImuMount};
 use qgait_kernel::Vec3;
-use qgait_model::derivatives::{MotionModel, Series, BODIES};
+use qgait_model::derivatives::{MotionModel, Series};
 use qgait_model::motion::source::load_motion;
 
 /// `qgait imu-signals` arguments.
@@ -30,11 +30,14 @@ use qgait_model::motion::source::load_motion;
 pub struct ImuSignalsArgs {
     /// Motion file (.mot, or an OpenSim 4 states .sto whose `/speed` columns are then used).
     pub motion: String,
-    /// The model (an OpenSim leg chain: gait2392, SUBJECT.toml, CHAIN.toml, MODEL.osim).
+    /// The model (default gait2392). HAK and PHAK have the bodies pelvis (origin midway
+    /// between the hips, not gait2392's), femur, tibia and talus (the whole foot, origin at the
+    /// ankle centre) per side, no calcn or toes; HAK's pelvis is level.
     #[command(flatten)]
     pub model: ModelArgs,
     /// The IMUs: TOML, `[[imu]]` tables with `name`, `body` (pelvis, femur_r, tibia_r, talus_r,
-    /// calcn_r, toes_r and the same _l), `translation` (m, body frame) and `orientation`
+    /// calcn_r, toes_r and the same _l; HAK and PHAK: pelvis, femur, tibia, talus), the
+    /// `translation` (m, body frame) and `orientation`
     /// (body-fixed X-Y-Z Euler angles, rad: R_body_imu = Rx Ry Rz), as an OpenSim
     /// PhysicalOffsetFrame carrying an IMU.
     #[arg(long, value_name = "PLACEMENT.toml")]
@@ -136,17 +139,20 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
     let text = std::fs::read_to_string(&a.imus).with_context(|| a.imus.display().to_string())?;
     let placement: Placement =
         toml::from_str(&text).with_context(|| format!("{}", a.imus.display()))?;
+    let model = MotionModel::new(&a.model.load_or("gait2392", diagnostics)?)?;
+    let bodies = model.body_names();
     let mounts = placement
         .imu
         .iter()
         .map(|e| {
-            let body = BODIES.iter().position(|b| *b == e.body).with_context(|| {
+            let body = bodies.iter().position(|b| *b == e.body).with_context(|| {
                 format!(
-                    "{}: IMU `{}`: unknown body `{}` (expected one of {})",
+                    "{}: IMU `{}`: unknown body `{}`: {} has the bodies {}",
                     a.imus.display(),
                     e.name,
                     e.body,
-                    BODIES.join(", ")
+                    a.model.name_or("gait2392"),
+                    bodies.join(", ")
                 )
             })?;
             Ok((
@@ -155,10 +161,9 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
             ))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let model = MotionModel::new(&a.model.load_or("gait2392", diagnostics)?, "imu-signals")?;
     let (table, w) = load_motion(&a.motion)?;
     diagnostics.warn(w);
-    let (series, w) = Series::of(&table, a.lowpass)?;
+    let (series, w) = Series::of(&table, a.lowpass, &model)?;
     diagnostics.warn(w);
     let input_rate = 1.0 / series.step();
     let every = match a.rate {
