@@ -19,49 +19,8 @@ use qgait_kernel::imu::math::three_axes;
 use qgait_kernel::{Quat, Vec3};
 
 use super::figure::{self, draw_err, gait_color, Figure};
+use super::ReportError;
 use qgait_opensim::mot::MotionTable;
-
-/// Why two solutions cannot be compared, or the figure not written.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum CompareError {
-    /// One file is in degrees and the other in radians.
-    #[error("{location}: in {theirs}, but the output is in {ours}")]
-    Units {
-        /// The reference's labels line.
-        location: String,
-        /// The reference's unit.
-        theirs: &'static str,
-        /// Ours.
-        ours: &'static str,
-    },
-    /// A reference time has no row of ours within 1 µs.
-    #[error("{location}: time {time} has no row in the output (the reference must be a solution of the same recording)")]
-    NoRow {
-        /// The reference's labels line.
-        location: String,
-        /// The reference's time.
-        time: f64,
-    },
-    /// No coordinate is in both files (with a reference not zero throughout).
-    #[error("{location}: no coordinate in common with the output")]
-    NothingInCommon {
-        /// The reference's labels line.
-        location: String,
-    },
-    /// The output directory cannot be created.
-    #[error("{}: cannot create directory", path.display())]
-    CreateDir {
-        /// The directory.
-        path: PathBuf,
-        /// Why.
-        #[source]
-        error: std::io::Error,
-    },
-    /// The figure cannot be drawn or written.
-    #[error(transparent)]
-    Figure(#[from] figure::FigureError),
-}
 
 fn unit(in_degrees: bool) -> &'static str {
     if in_degrees {
@@ -110,9 +69,9 @@ fn principal_pelvis(angles: [f64; 3], near: f64) -> [f64; 3] {
 }
 
 /// Compares `ours` with `theirs` (see the [module](self) docs).
-pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> Result<Comparison, CompareError> {
+pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> Result<Comparison, ReportError> {
     if ours.in_degrees() != theirs.in_degrees() {
-        return Err(CompareError::Units {
+        return Err(ReportError::Units {
             location: theirs.labels_location(),
             theirs: unit(theirs.in_degrees()),
             ours: unit(ours.in_degrees()),
@@ -126,7 +85,7 @@ pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> Result<Comparison, C
             j += 1;
         }
         if j == ours.rows() || (ours.time()[j] - t).abs() > 1e-6 {
-            return Err(CompareError::NoRow {
+            return Err(ReportError::NoRow {
                 location: theirs.labels_location(),
                 time: t,
             });
@@ -199,7 +158,7 @@ pub fn compare(ours: &MotionTable, theirs: &MotionTable) -> Result<Comparison, C
         });
     }
     if coordinates.is_empty() {
-        return Err(CompareError::NothingInCommon {
+        return Err(ReportError::NothingInCommon {
             location: theirs.labels_location(),
         });
     }
@@ -318,8 +277,8 @@ pub fn draw(
     labels: [&str; 2],
     unit: &str,
     dir: &Path,
-) -> Result<Vec<PathBuf>, CompareError> {
-    std::fs::create_dir_all(dir).map_err(|error| CompareError::CreateDir {
+) -> Result<Vec<PathBuf>, ReportError> {
+    std::fs::create_dir_all(dir).map_err(|error| ReportError::CreateDir {
         path: dir.to_path_buf(),
         error,
     })?;

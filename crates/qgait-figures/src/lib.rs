@@ -25,7 +25,7 @@ use qgait_model::points::PointModel;
 use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::mot::MotionTable;
 
-/// Why a report cannot be made or written.
+/// Why a report or a comparison of two solutions cannot be made or written.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum ReportError {
@@ -43,6 +43,30 @@ pub enum ReportError {
     FramesOutOfOrder {
         /// The frames CSV.
         file: String,
+    },
+    /// One file is in degrees and the other in radians.
+    #[error("{location}: in {theirs}, but the output is in {ours}")]
+    Units {
+        /// The reference's labels line.
+        location: String,
+        /// The reference's unit.
+        theirs: &'static str,
+        /// Ours.
+        ours: &'static str,
+    },
+    /// A reference time has no row of ours within 1 µs.
+    #[error("{location}: time {time} has no row in the output (the reference must be a solution of the same recording)")]
+    NoRow {
+        /// The reference's labels line.
+        location: String,
+        /// The reference's time.
+        time: f64,
+    },
+    /// No coordinate is in both files (with a reference not zero throughout).
+    #[error("{location}: no coordinate in common with the output")]
+    NothingInCommon {
+        /// The reference's labels line.
+        location: String,
     },
     /// The output directory cannot be created.
     #[error("{}: cannot create directory", path.display())]
