@@ -503,35 +503,25 @@ pub fn markdown(results: &[Fidelity]) -> String {
         }
         s.push('\n');
     };
+    // One row per ablation `rows`, one `mean / max` column per motion of `stat`.
+    let table = |s: &mut String, rows: &[usize], stat: fn(&AblationResult) -> &Stat| {
+        header(s);
+        for &i in rows {
+            s.push_str(&format!("| {} |", off_name(&r_off(results, i))));
+            for r in results {
+                let a = stat(&r.ablations[i]);
+                s.push_str(&format!(" {} / {} |", mm(a.mean), mm(a.max)));
+            }
+            s.push('\n');
+        }
+    };
     s.push_str("\n## Summary: what each gait2392 feature costs (mm, mean / max over all points and rows)\n\n");
     s.push_str("Own effect: how far switching the feature off moves gait2392's points (raw).\n\n");
-    header(&mut s);
-    for i in features.clone() {
-        s.push_str(&format!("| {} |", off_name(&r_off(results, i))));
-        for r in results {
-            let a = &r.ablations[i];
-            s.push_str(&format!(
-                " {} / {} |",
-                mm(a.own_effect.mean),
-                mm(a.own_effect.max)
-            ));
-        }
-        s.push('\n');
-    }
+    let own: Vec<usize> = features.clone().collect();
+    table(&mut s, &own, |a| &a.own_effect);
     s.push_str("\nHip-relative deviation from PHAK that remains with the feature off (full gait2392 first):\n\n");
-    header(&mut s);
-    for i in std::iter::once(0).chain(features) {
-        s.push_str(&format!("| {} |", off_name(&r_off(results, i))));
-        for r in results {
-            let a = &r.ablations[i];
-            s.push_str(&format!(
-                " {} / {} |",
-                mm(a.relative.mean),
-                mm(a.relative.max)
-            ));
-        }
-        s.push('\n');
-    }
+    let all: Vec<usize> = std::iter::once(0).chain(features).collect();
+    table(&mut s, &all, |a| &a.relative);
     for r in results {
         s.push_str(&format!("\n## {} ({} rows)\n\n", r.label, r.rows));
         s.push_str("Deviation of PHAK from gait2392 per point (mm):\n\n");
