@@ -31,6 +31,8 @@ pub use nrf52840::{exit, take, Serial, DEVICE_VECTORS, NAME};
 
 pub use systick_clock::SysTickClock;
 
+use core::sync::atomic::{AtomicBool, Ordering};
+
 /// The peripherals the application uses.
 pub struct Board {
     /// The serial port to the IMU nodes and the host.
@@ -38,3 +40,38 @@ pub struct Board {
     /// Milliseconds since boot.
     pub clock: SysTickClock,
 }
+
+/// The board's peripherals the first time it is called, `None` after: every device interrupt
+/// masked, the serial port `serial` makes, SysTick counting milliseconds of a `core_hz` clock.
+fn take_once(core_hz: u32, serial: impl FnOnce() -> Option<Serial>) -> Option<Board> {
+    static TAKEN: AtomicBool = AtomicBool::new(false);
+    if TAKEN.swap(true, Ordering::AcqRel) {
+        return None;
+    }
+    let mut core = cortex_m::Peripherals::take()?;
+    vectors::mask_all(&mut core.NVIC);
+    let serial = serial()?;
+    Some(Board {
+        serial,
+        clock: SysTickClock::start(core.SYST, core_hz),
+    })
+}
+
+/// The board's `DefaultHandler`: every device interrupt lands there (the board's vector table,
+/// `board::vectors`, points all of them at it). The UART's (`$uart` at `$base`, line `$irq`) is
+/// served; anything else is a bug that ends the run with a failure rather than looping.
+macro_rules! serve_uart_interrupt {
+    ($uart:ty, $base:expr, $irq:expr) => {
+        #[cortex_m_rt::exception]
+        unsafe fn DefaultHandler(irqn: i16) {
+            if irqn == $irq {
+                // SAFETY: `$base` is the UART created in `take` with this interrupt.
+                unsafe { <$uart>::on_interrupt($base) };
+            } else {
+                defmt::error!("unexpected interrupt {=i16}", irqn);
+                exit(crate::fault::UNEXPECTED_INTERRUPT_EXIT_CODE);
+            }
+        }
+    };
+}
+use serve_uart_interrupt;

@@ -2,14 +2,10 @@
 //! UART0 on the DK's interface-MCU pins (TX P0.06, RX P0.08), SysTick on the core clock, defmt
 //! over RTT (probe-rs). Built and linked by CI; it cannot run under QEMU.
 
-use core::sync::atomic::{AtomicBool, Ordering};
-
 use defmt_rtt as _;
 
-use cortex_m_rt::exception;
-
 use super::nrf_uart::{NrfUart, BAUD_115200};
-use super::{Board, SysTickClock};
+use super::Board;
 
 /// Board name, for logs.
 pub const NAME: &str = "nrf52840";
@@ -26,36 +22,16 @@ const TX_PIN: u32 = 6;
 const RX_PIN: u32 = 8;
 const CORE_HZ: u32 = 64_000_000;
 
-static TAKEN: AtomicBool = AtomicBool::new(false);
-
 /// The board's peripherals, the first time; `None` after.
 pub fn take() -> Option<Board> {
-    if TAKEN.swap(true, Ordering::AcqRel) {
-        return None;
-    }
-    let mut core = cortex_m::Peripherals::take()?;
-    super::vectors::mask_all(&mut core.NVIC);
-    // SAFETY: UART0 is used only through this driver, created once (guarded by TAKEN).
-    let serial =
-        unsafe { NrfUart::new(UART0_BASE, TX_PIN, RX_PIN, BAUD_115200, UART0_IRQ as u16) }?;
-    Some(Board {
-        serial,
-        clock: SysTickClock::start(core.SYST, CORE_HZ),
+    super::take_once(CORE_HZ, || {
+        // SAFETY: UART0 is used only through this driver, created once (`take_once` runs this
+        // at most once).
+        unsafe { NrfUart::new(UART0_BASE, TX_PIN, RX_PIN, BAUD_115200, UART0_IRQ as u16) }
     })
 }
 
-/// Every device interrupt lands here (the board's vector table, `board::vectors`, points all of
-/// them at `DefaultHandler`): UART0's is served, anything else is a bug that ends the run.
-#[exception]
-unsafe fn DefaultHandler(irqn: i16) {
-    if irqn == UART0_IRQ {
-        // SAFETY: UART0_BASE is the UART created in `take` with this interrupt.
-        unsafe { NrfUart::on_interrupt(UART0_BASE) };
-    } else {
-        defmt::error!("unexpected interrupt {=i16}", irqn);
-        exit(crate::fault::UNEXPECTED_INTERRUPT_EXIT_CODE);
-    }
-}
+super::serve_uart_interrupt!(NrfUart, UART0_BASE, UART0_IRQ);
 
 /// Ends the run. There is no host to report to: success idles, failure resets the MCU so the
 /// wearable comes back (probe-rs shows the defmt log leading to it).
