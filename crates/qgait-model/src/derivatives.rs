@@ -293,14 +293,7 @@ impl MotionModel {
                     error,
                 })?,
             )),
-            Model::Chain { chain, name } => {
-                Self::Chain(Box::new(chain.chain().map_err(|message| {
-                    ModelError::File {
-                        at: Location::file(name),
-                        message,
-                    }
-                })?))
-            }
+            Model::Chain { chain, name } => Self::Chain(Box::new(chain.chain(name)?)),
             Model::Hak { .. } | Model::Phak { .. } => {
                 return Err(ModelError::NeedsChain {
                     what,

@@ -46,6 +46,7 @@ use crate::diagnostics::Warning;
 /// A problem found while reading a motion file. Every variant names the file; the format
 /// variants also name the 1-based line (and, for numbers, the 1-based character column).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum MotError {
     /// The file could not be read.
     #[error("{path}: cannot read: {error}")]
@@ -78,6 +79,50 @@ pub enum MotError {
         name: String,
         /// The text that is not a number.
         text: String,
+    },
+    /// A cell of an orientation `.sto` is not a rotation `w,x,y,z`.
+    #[error("{path}:{line}: column {index} (`{name}`, character {column}): bad quaternion `{text}`: {why}")]
+    BadQuaternion {
+        /// The file.
+        path: String,
+        /// 1-based line number.
+        line: usize,
+        /// 1-based character column where the cell starts.
+        column: usize,
+        /// 1-based index of the column.
+        index: usize,
+        /// The column label.
+        name: String,
+        /// The cell as written.
+        text: String,
+        /// Why it is not a rotation.
+        why: Box<QuaternionFault>,
+    },
+}
+
+/// Why a cell `w,x,y,z` is not a rotation ([`MotError::BadQuaternion`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum QuaternionFault {
+    /// Not 4 components.
+    #[error("{0} components (expected 4: w,x,y,z)")]
+    Components(usize),
+    /// A component is not a number.
+    #[error("component {index} `{text}` is not a number")]
+    NotANumber {
+        /// 1-based index of the component.
+        index: usize,
+        /// The component as written.
+        text: String,
+    },
+    /// The norm is too far from 1.
+    #[error(
+        "norm {norm} is not within {} of 1 (not a rotation)",
+        qgait_kernel::imu::UNIT_TOLERANCE
+    )]
+    NotUnit {
+        /// The norm.
+        norm: f64,
     },
 }
 

@@ -353,22 +353,8 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
                     "--pelvis heading-free: for gait2392 and PHAK; --model {name} writes the pelvis as OpenSense does"
                 );
             }
-            let model = chain.chain().map_err(|message| ModelError::File {
-                at: qgait_opensim::diagnostics::Location {
-                    path: name.clone(),
-                    line: None,
-                    column: None,
-                },
-                message,
-            })?;
-            let (min, max) = chain.bounds().map_err(|message| ModelError::File {
-                at: qgait_opensim::diagnostics::Location {
-                    path: name.clone(),
-                    line: None,
-                    column: None,
-                },
-                message,
-            })?;
+            let model = chain.chain(name)?;
+            let (min, max) = chain.bounds(name)?;
             let mut solver = FitSolver::new();
             (solver.min, solver.max) = (min, max);
             solver.torso_on_pelvis = a.lumbar == Some(LumbarArg::Locked);
