@@ -130,7 +130,10 @@ impl Input {
     /// [`DEFAULT_BAUD`]), anything else a file. The warning says when `baud` does not apply.
     pub fn open(path: &str, baud: Option<u32>) -> Result<(Input, Option<Warning>), PortError> {
         let ignored = |what: &str| {
-            baud.map(|b| Warning(format!("--baud {b} ignored: {what} is not a serial port")))
+            baud.map(|b| Warning::OptionIgnored {
+                at: None,
+                detail: format!("--baud {b} ignored: {what} is not a serial port"),
+            })
         };
         if path == "-" {
             let input = Input {
@@ -452,9 +455,10 @@ mod tests {
         assert!(!input.is_serial());
         assert_eq!(
             warning,
-            Some(Warning(format!(
-                "--baud 9600 ignored: {name} is not a serial port"
-            )))
+            Some(Warning::OptionIgnored {
+                at: None,
+                detail: format!("--baud 9600 ignored: {name} is not a serial port"),
+            })
         );
         let mut decoder = LogDecoder::new();
         let mut seqs = Vec::new();

@@ -14,7 +14,7 @@ use std::path::Path;
 use qgait_kernel::imu::{unit, Orientations, Segment};
 use qgait_kernel::Quat;
 
-use crate::diagnostics::Warning;
+use crate::diagnostics::{Location, Warning};
 use crate::mot::{tokens, MotError, MotionReader, QuaternionFault};
 
 /// One row: its 1-based line, its time and each sensor's reading (raw, in the sensors' world
@@ -101,10 +101,10 @@ impl OrientationReader {
         }
         let mut warnings = Vec::new();
         if !ignored.is_empty() {
-            warnings.push(Warning(format!(
-                "{source}:{labels_line}: column(s) {} are not IMUs of the lower-body set (pelvis, femurs, tibias, calcanei, torso); ignored",
-                ignored.join(", ")
-            )));
+            warnings.push(Warning::Ignored {
+ at: Some(Location::line(source.to_string(), labels_line)),
+ detail: format!("column(s) {} are not IMUs of the lower-body set (pelvis, femurs, tibias, calcanei, torso); ignored", ignored.join(", ")),
+});
         }
         Ok(Self {
             reader,
@@ -129,6 +129,11 @@ impl OrientationReader {
     /// Where the column labels are (`file:line`), for messages.
     pub fn labels_location(&self) -> String {
         self.reader.header().labels_location()
+    }
+
+    /// Where the column labels are.
+    pub fn labels_at(&self) -> Location {
+        self.reader.header().labels_at()
     }
 
     /// Warnings so far (each returned once).
