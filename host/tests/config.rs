@@ -220,7 +220,7 @@ fn imported_chain_is_its_table_and_a_chain_table_config() {
     let text = std::fs::read_to_string(&toml).unwrap();
     let host = qgait_model::chain::ChainModel::parse(&text, "raj.toml")
         .unwrap()
-        .chain()
+        .chain("test")
         .unwrap();
     for k in 0..20 {
         let q: [f64; 17] = std::array::from_fn(|i| 0.6 * ((k * 17 + i) as f64 * 0.7).sin());

@@ -369,8 +369,8 @@ fn rajagopal_chain_solve_in_f32_follows_f64() {
     let osim = dir.join("../opensim/Rajagopal2015_opensense.osim");
     let text = std::fs::read_to_string(&osim).unwrap();
     let imported = qgait_model::leg_chain::import(&text, "raj", None).unwrap();
-    let (min, max) = imported.model.bounds().unwrap();
-    let chain = imported.model.chain().unwrap();
+    let (min, max) = imported.model.bounds("test").unwrap();
+    let chain = imported.model.chain("test").unwrap();
     let chain32 = chain.cast::<f32>();
     let settings = Settings::<f64>::opensense_tutorial();
     let mut pose = OrientationReader::open(&dir.join("placement_orientations.sto")).unwrap();

@@ -17,6 +17,7 @@
 //! `--no-host` skips the criterion benches (they take minutes and want a quiet machine);
 //! `--no-large` the large files; `--large-only` runs only those.
 
+use anyhow::anyhow;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
@@ -406,7 +407,7 @@ pub struct BenchArgs {
 }
 
 /// Runs every benchmark and prints the figures.
-pub fn run(args: &BenchArgs) -> Result<ExitCode, String> {
+pub fn run(args: &BenchArgs) -> anyhow::Result<ExitCode> {
     if args.large_only {
         large::run()?;
         return Ok(ExitCode::SUCCESS);
@@ -435,32 +436,33 @@ fn firmware_target_dir() -> PathBuf {
 }
 
 /// Device instruction counts: two runs of the bench binary, compared, then printed.
-fn device() -> Result<(), String> {
+fn device() -> anyhow::Result<()> {
     cargo(
         &repo_root().join("firmware"),
         &["build", "--release", "--bin", "bench"],
     )?;
     let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/bench");
-    let bytes = std::fs::read(&elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
+    let bytes = std::fs::read(&elf).map_err(|e| anyhow!("reading {}: {e}", elf.display()))?;
     let first = run_bench_elf(&elf)?;
     let second = run_bench_elf(&elf)?;
     for (key, name) in DEVICE {
         let key = format!("{key}.instructions_per_call");
         let (Some(&a), Some(&b)) = (first.get(&key), second.get(&key)) else {
-            return Err(format!("the bench binary printed no {key}"));
+            return Err(anyhow!("the bench binary printed no {key}"));
         };
         if (a - b).abs() > REPEATABILITY * a.abs().max(1.0) {
-            return Err(format!("{name}: runs differ by more than 1 %: {a} vs {b}"));
+            return Err(anyhow!("{name}: runs differ by more than 1 %: {a} vs {b}"));
         }
         eprintln!("{name}: run 1 {a}, run 2 {b}");
         figure(name, format!("{:.0}", (a + b) / 2.0));
     }
-    let empty = function_size(&bytes, "bench_empty").ok_or("no bench_empty in the bench ELF")?;
+    let empty = function_size(&bytes, "bench_empty")
+        .ok_or_else(|| anyhow!("no bench_empty in the bench ELF"))?;
     for (name, function, helpers) in CODE {
         let mut size = 0;
         if !function.is_empty() {
             size += function_size(&bytes, function)
-                .ok_or_else(|| format!("no {function} in the bench ELF"))?;
+                .ok_or_else(|| anyhow!("no {function} in the bench ELF"))?;
             size = size.saturating_sub(empty);
         }
         size += helpers
@@ -474,13 +476,13 @@ fn device() -> Result<(), String> {
 
 /// Runs the bench ELF once under QEMU with instruction counting (the shared runner,
 /// `qgait_emulate::qemu`); returns its `bench NAME VALUE` figures.
-fn run_bench_elf(elf: &Path) -> Result<BTreeMap<String, f64>, String> {
+fn run_bench_elf(elf: &Path) -> anyhow::Result<BTreeMap<String, f64>> {
     eprintln!(
         "==> qemu-system-arm -M mps2-an386 -icount shift=0,align=off -kernel {}",
         elf.display()
     );
     let finished = Qemu::start_with_args(elf, &["-icount", "shift=0,align=off"], Echo::Quiet)
-        .map_err(|e| e.to_string())?
+        .map_err(|e| anyhow!("{e}"))?
         .wait(QEMU_TIMEOUT);
     let mut figures = BTreeMap::new();
     for line in &finished.log {
@@ -496,8 +498,8 @@ fn run_bench_elf(elf: &Path) -> Result<BTreeMap<String, f64>, String> {
     }
     match finished.code {
         Some(0) => Ok(figures),
-        Some(c) => Err(format!("the bench binary exited with status {c}")),
-        None => Err(format!(
+        Some(c) => Err(anyhow!("the bench binary exited with status {c}")),
+        None => Err(anyhow!(
             "the bench binary did not finish within {QEMU_TIMEOUT:?}"
         )),
     }
@@ -513,24 +515,24 @@ fn function_size(elf: &[u8], name: &str) -> Option<u64> {
 }
 
 /// Flash, static RAM and peak stack of the release application firmware (mps2-an386).
-fn firmware_footprint() -> Result<(), String> {
+fn firmware_footprint() -> anyhow::Result<()> {
     cargo(
         &repo_root().join("firmware"),
         &["build", "--release", "--bin", "qgait-firmware"],
     )?;
     let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/qgait-firmware");
-    let bytes = std::fs::read(&elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
+    let bytes = std::fs::read(&elf).map_err(|e| anyhow!("reading {}: {e}", elf.display()))?;
     let f = footprint(&bytes)?;
     // The UART session (which logs the painted stack's peak) in a child xtask, so its log goes
     // to stderr and stdout keeps only the figures.
-    let exe = std::env::current_exe().map_err(|e| format!("locating xtask: {e}"))?;
+    let exe = std::env::current_exe().map_err(|e| anyhow!("locating xtask: {e}"))?;
     eprintln!("==> {} qemu-run {}", exe.display(), elf.display());
     let out = Command::new(exe)
         .arg("qemu-run")
         .arg(&elf)
         .stderr(Stdio::inherit())
         .output()
-        .map_err(|e| format!("running the UART session: {e}"))?;
+        .map_err(|e| anyhow!("running the UART session: {e}"))?;
     let log = String::from_utf8_lossy(&out.stdout);
     eprint!("{log}");
     if !out.status.success() {
@@ -551,7 +553,7 @@ fn firmware_footprint() -> Result<(), String> {
                 .ok()
         })
         .max()
-        .ok_or("the firmware logged no stack peak")?;
+        .ok_or_else(|| anyhow!("the firmware logged no stack peak"))?;
     figure("firmware.flash_bytes", f.flash);
     figure("firmware.static_ram_bytes", f.static_ram);
     figure("firmware.peak_stack_bytes", peak);
@@ -564,7 +566,7 @@ fn firmware_footprint() -> Result<(), String> {
 }
 
 /// Criterion benches of the root workspace, then their medians.
-fn host_benches() -> Result<(), String> {
+fn host_benches() -> anyhow::Result<()> {
     let root = repo_root();
     cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fk"])?;
     cargo(&root, &["bench", "-p", "qgait-kernel", "--bench", "fusion"])?;
@@ -584,20 +586,20 @@ fn host_benches() -> Result<(), String> {
 }
 
 /// Criterion's median estimate (ns per iteration) of one benchmark directory.
-fn criterion_median_ns(dir: &Path) -> Result<f64, String> {
+fn criterion_median_ns(dir: &Path) -> anyhow::Result<f64> {
     let path = dir.join("new/estimates.json");
     let text =
-        std::fs::read_to_string(&path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+        std::fs::read_to_string(&path).map_err(|e| anyhow!("reading {}: {e}", path.display()))?;
     // {"mean":{...},"median":{"confidence_interval":{...},"point_estimate":123.4,...},...}
     let median = text
         .split("\"median\"")
         .nth(1)
-        .ok_or_else(|| format!("no median in {}", path.display()))?;
+        .ok_or_else(|| anyhow!("no median in {}", path.display()))?;
     let value = median
         .split("\"point_estimate\":")
         .nth(1)
         .and_then(|v| v.split([',', '}']).next())
         .and_then(|v| v.trim().parse::<f64>().ok())
-        .ok_or_else(|| format!("no median point estimate in {}", path.display()))?;
+        .ok_or_else(|| anyhow!("no median point estimate in {}", path.display()))?;
     Ok(value)
 }

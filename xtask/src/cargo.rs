@@ -1,6 +1,7 @@
 //! Running cargo as a step of `cargo xtask test`, echoing its output and keeping the summary
 //! lines (libtest's `test result:`, the on-target `N passed, M failed`, the UART session's).
 
+use anyhow::anyhow;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -19,8 +20,8 @@ pub struct Step {
 
 /// The firmware's cargo runner for steps started from here: this very executable, so the
 /// firmware's own runner command (which builds xtask for the host first) is not needed.
-pub fn firmware_runner_env() -> Result<(&'static str, String), String> {
-    let exe = std::env::current_exe().map_err(|e| format!("locating xtask: {e}"))?;
+pub fn firmware_runner_env() -> anyhow::Result<(&'static str, String)> {
+    let exe = std::env::current_exe().map_err(|e| anyhow!("locating xtask: {e}"))?;
     Ok((
         "CARGO_TARGET_THUMBV7EM_NONE_EABIHF_RUNNER",
         format!("{} qemu-run", exe.display()),
@@ -40,7 +41,7 @@ fn is_summary(line: &str) -> bool {
 }
 
 /// `cargo ARGS` in `dir`, all of its output to stderr.
-pub fn cargo(dir: &Path, args: &[&str]) -> Result<(), String> {
+pub fn cargo(dir: &Path, args: &[&str]) -> anyhow::Result<()> {
     eprintln!("==> cargo {} (in {})", args.join(" "), dir.display());
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
@@ -48,18 +49,18 @@ pub fn cargo(dir: &Path, args: &[&str]) -> Result<(), String> {
         .current_dir(dir)
         .stdout(Stdio::from(std::io::stderr()))
         .status()
-        .map_err(|e| format!("starting cargo: {e}"))?;
+        .map_err(|e| anyhow!("starting cargo: {e}"))?;
     if status.success() {
         Ok(())
     } else {
-        Err(format!("cargo {} failed", args.join(" ")))
+        Err(anyhow!("cargo {} failed", args.join(" ")))
     }
 }
 
 /// Builds the release `qgait` binary (cargo's output on stderr) and returns its path: the
 /// tasks that need the CLI's work (packets of the built-in gait, hub configurations,
 /// `emulate`, `verify`, figures) run it rather than link the `qgait` library.
-pub fn qgait_binary() -> Result<PathBuf, String> {
+pub fn qgait_binary() -> anyhow::Result<PathBuf> {
     let root = crate::repo_root();
     cargo(
         &root,

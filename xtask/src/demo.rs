@@ -5,6 +5,7 @@
 //! against OpenSense (the accuracy table and `figures/imu_angles.png`) and its clinical gait
 //! report (`gait/report.html`), all with the release `qgait` binary.
 
+use anyhow::anyhow;
 use std::path::Path;
 use std::process::{Command, ExitCode};
 
@@ -15,16 +16,16 @@ use crate::repo_root;
 pub const OUT: &str = "out/demo";
 
 /// Runs `qgait ARGS`, its output through.
-fn qgait(exe: &Path, args: &[&str]) -> Result<(), String> {
+fn qgait(exe: &Path, args: &[&str]) -> anyhow::Result<()> {
     println!("\n==> qgait {}", args.join(" "));
     let status = Command::new(exe)
         .args(args)
         .status()
-        .map_err(|e| format!("starting {}: {e}", exe.display()))?;
+        .map_err(|e| anyhow!("starting {}: {e}", exe.display()))?;
     if status.success() {
         Ok(())
     } else {
-        Err(format!("qgait {} failed ({status})", args[0]))
+        Err(anyhow!("qgait {} failed ({status})", args[0]))
     }
 }
 
@@ -33,7 +34,7 @@ fn qgait(exe: &Path, args: &[&str]) -> Result<(), String> {
 /// with OpenSense's own gait2392 solution (the accuracy table on stdout, the joint-angle figure
 /// `figures/imu_angles.png`, the README's), then `qgait gait` on the angles: the clinical
 /// report in `gait/`.
-fn imu_step(exe: &Path, root: &Path, out: &Path) -> Result<(), String> {
+fn imu_step(exe: &Path, root: &Path, out: &Path) -> anyhow::Result<()> {
     let shared = std::env::var_os("QGAIT_SHARED")
         .map(std::path::PathBuf::from)
         .unwrap_or_else(|| root.join("../shared"));
@@ -87,7 +88,7 @@ fn imu_step(exe: &Path, root: &Path, out: &Path) -> Result<(), String> {
 }
 
 /// Runs the demo.
-pub fn run_demo() -> Result<ExitCode, String> {
+pub fn run_demo() -> anyhow::Result<ExitCode> {
     crate::toolchain::ensure()?;
     let root = repo_root();
     if !step(
@@ -98,11 +99,11 @@ pub fn run_demo() -> Result<ExitCode, String> {
     )
     .ok
     {
-        return Err("building the firmware failed".into());
+        return Err(anyhow!("building the firmware failed"));
     }
     let exe = qgait_binary()?;
     let out = root.join(OUT);
-    std::fs::create_dir_all(&out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+    std::fs::create_dir_all(&out).map_err(|e| anyhow!("creating {}: {e}", out.display()))?;
     let frames = out.join("frames.csv");
     let log = out.join("hub.bin");
     let figures = out.join("figures");

@@ -1,5 +1,6 @@
 //! Flash and static RAM of a firmware ELF, from its section headers.
 
+use anyhow::anyhow;
 use object::elf::SHF_ALLOC;
 use object::{Object, ObjectSection, SectionFlags, SectionKind};
 
@@ -16,8 +17,8 @@ pub struct Footprint {
 }
 
 /// Sums the allocated sections of `elf`.
-pub fn footprint(elf: &[u8]) -> Result<Footprint, String> {
-    let file = object::File::parse(elf).map_err(|e| format!("parsing the ELF: {e}"))?;
+pub fn footprint(elf: &[u8]) -> anyhow::Result<Footprint> {
+    let file = object::File::parse(elf).map_err(|e| anyhow!("parsing the ELF: {e}"))?;
     let mut f = Footprint::default();
     for section in file.sections() {
         let SectionFlags::Elf { sh_flags } = section.flags() else {

@@ -2,6 +2,7 @@
 //! peak stack measured by stack painting during the UART session under QEMU, and an upper
 //! bound of the stack from the disassembly.
 
+use anyhow::anyhow;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -15,7 +16,7 @@ fn elf_path() -> PathBuf {
     default_elf(&repo_root())
 }
 
-fn build_and_measure(name: &str, args: &[&str]) -> Result<Footprint, String> {
+fn build_and_measure(name: &str, args: &[&str]) -> anyhow::Result<Footprint> {
     let s = step(
         &format!("firmware build, {name}"),
         &repo_root().join("firmware"),
@@ -23,15 +24,15 @@ fn build_and_measure(name: &str, args: &[&str]) -> Result<Footprint, String> {
         &[],
     );
     if !s.ok {
-        return Err(format!("building for {name} failed"));
+        return Err(anyhow!("building for {name} failed"));
     }
     let bytes =
-        std::fs::read(elf_path()).map_err(|e| format!("reading {}: {e}", elf_path().display()))?;
+        std::fs::read(elf_path()).map_err(|e| anyhow!("reading {}: {e}", elf_path().display()))?;
     footprint(&bytes)
 }
 
 /// Builds, measures and prints; `chain`, `imu`: the mps2-an386 firmware with those features.
-pub fn run(chain: bool, imu: bool) -> Result<ExitCode, String> {
+pub fn run(chain: bool, imu: bool) -> anyhow::Result<ExitCode> {
     let nrf = build_and_measure(
         "nrf52840",
         &[
@@ -91,9 +92,9 @@ pub fn run(chain: bool, imu: bool) -> Result<ExitCode, String> {
 /// `cargo xtask footprint --node`: the IMU node's flash and static RAM on both boards and its
 /// stack bound from the disassembly (its peak stack is logged by the node under `qgait emulate
 /// --node`).
-pub fn run_node() -> Result<ExitCode, String> {
+pub fn run_node() -> anyhow::Result<ExitCode> {
     let node_elf = qgait_emulate::firmware::node_elf(&repo_root());
-    let measure = |name: &str, args: &[&str]| -> Result<Footprint, String> {
+    let measure = |name: &str, args: &[&str]| -> anyhow::Result<Footprint> {
         let s = step(
             &format!("node build, {name}"),
             &repo_root().join("firmware"),
@@ -101,10 +102,10 @@ pub fn run_node() -> Result<ExitCode, String> {
             &[],
         );
         if !s.ok {
-            return Err(format!("building the node for {name} failed"));
+            return Err(anyhow!("building the node for {name} failed"));
         }
         let bytes =
-            std::fs::read(&node_elf).map_err(|e| format!("reading {}: {e}", node_elf.display()))?;
+            std::fs::read(&node_elf).map_err(|e| anyhow!("reading {}: {e}", node_elf.display()))?;
         footprint(&bytes)
     };
     let node = ["--features", "node", "--bin", "qgait-node"];

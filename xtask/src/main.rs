@@ -28,6 +28,7 @@ mod stack_bound;
 mod test;
 mod toolchain;
 
+use anyhow::anyhow;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -90,7 +91,7 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(message) => {
-            eprintln!("xtask: {message}");
+            eprintln!("xtask: {message:#}");
             ExitCode::FAILURE
         }
     }
@@ -101,9 +102,9 @@ struct TempDir(PathBuf);
 
 impl TempDir {
     /// Creates `NAME-PID` in the system's temporary directory.
-    fn new(name: &str) -> Result<TempDir, String> {
+    fn new(name: &str) -> anyhow::Result<TempDir> {
         let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(&dir).map_err(|e| anyhow!("{}: {e}", dir.display()))?;
         Ok(TempDir(dir))
     }
 }

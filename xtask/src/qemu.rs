@@ -2,6 +2,7 @@
 //! in-process, always under a timeout) lives in the emulation harness (`qgait_emulate::qemu`),
 //! shared with `qgait emulate` and the end-to-end tests.
 
+use anyhow::anyhow;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Duration;
@@ -17,7 +18,7 @@ pub const TIMEOUT_EXIT_CODE: u8 = 124;
 /// The cargo runner: the application ELF gets the UART session, anything else (tests) runs
 /// to its semihosting exit; a defmt-test ELF's run is counted (see [`DefmtTestRun`]) and
 /// fails unless every test passed.
-pub fn run_elf(elf: &Path) -> Result<ExitCode, String> {
+pub fn run_elf(elf: &Path) -> anyhow::Result<ExitCode> {
     if elf.file_stem().is_some_and(|s| s == "qgait-firmware") {
         return crate::session::run(elf).map(|report| {
             if report.passed() {
@@ -28,7 +29,7 @@ pub fn run_elf(elf: &Path) -> Result<ExitCode, String> {
         });
     }
     let finished = Qemu::start(elf, None)
-        .map_err(|e| e.to_string())?
+        .map_err(|e| anyhow!("{e}"))?
         .wait(TIMEOUT);
     let summary = defmt_test_summary(&finished.log, finished.code);
     if let Some(run) = &summary {

@@ -12,6 +12,7 @@
 //! once and that every frame echoes the angles sent, and reads the stack peak from the
 //! firmware's log.
 
+use anyhow::anyhow;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -121,17 +122,17 @@ fn plan(samples: &[Vec<JointAngle>], switches: &[u8]) -> Plan {
 }
 
 /// Runs `qgait ARGS` in the repository root; its stdout and stderr.
-fn qgait(exe: &Path, args: &[&str]) -> Result<(String, String), String> {
+fn qgait(exe: &Path, args: &[&str]) -> anyhow::Result<(String, String)> {
     let out = Command::new(exe)
         .args(args)
         .current_dir(repo_root())
         .output()
-        .map_err(|e| format!("starting {}: {e}", exe.display()))?;
+        .map_err(|e| anyhow!("starting {}: {e}", exe.display()))?;
     let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
     let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
     // `emulate` fails when a check fails: that is reported with the session's own checks.
     if !out.status.success() && args[0] != "emulate" {
-        return Err(format!("qgait {} failed: {stderr}", args.join(" ")));
+        return Err(anyhow!("qgait {} failed: {stderr}", args.join(" ")));
     }
     Ok((stdout, stderr))
 }
@@ -248,13 +249,13 @@ fn evaluate(r: &Received, stdout: &str, plan: &Plan) -> Vec<String> {
 
 /// The packets of `qgait packets builtin:normal,rows=200` and the frames of the model
 /// switches, written in `dir`.
-fn inputs(exe: &Path, dir: &Path) -> Result<(Vec<Vec<JointAngle>>, Vec<u8>), String> {
+fn inputs(exe: &Path, dir: &Path) -> anyhow::Result<(Vec<Vec<JointAngle>>, Vec<u8>)> {
     let path = |name: &str| dir.join(name).to_string_lossy().into_owned();
     let clean = path("packets.bin");
     let motion = format!("builtin:normal,rows={SAMPLES}");
     qgait(exe, &["-q", "packets", &motion, "-o", &clean])?;
-    let bytes = std::fs::read(&clean).map_err(|e| format!("{clean}: {e}"))?;
-    let samples = samples_of_stream(&bytes).map_err(|e| format!("{clean}: {e}"))?;
+    let bytes = std::fs::read(&clean).map_err(|e| anyhow!("{clean}: {e}"))?;
+    let samples = samples_of_stream(&bytes).map_err(|e| anyhow!("{clean}: {e}"))?;
     let mut switches = Vec::new();
     for (i, model) in SWITCHES.iter().enumerate() {
         let out = path(&format!("switch{i}.bin"));
@@ -263,23 +264,23 @@ fn inputs(exe: &Path, dir: &Path) -> Result<(Vec<Vec<JointAngle>>, Vec<u8>), Str
         args.extend(["--window", "4", "--policy", "drop", "--no-status-request"]);
         args.extend(["-o", &out]);
         qgait(exe, &args)?;
-        switches.extend(std::fs::read(&out).map_err(|e| format!("{out}: {e}"))?);
+        switches.extend(std::fs::read(&out).map_err(|e| anyhow!("{out}: {e}"))?);
     }
     Ok((samples, switches))
 }
 
 /// Runs the session against `elf` and prints its report.
-pub fn run(elf: &Path) -> Result<Report, String> {
+pub fn run(elf: &Path) -> anyhow::Result<Report> {
     let exe = qgait_binary()?;
     let dir = TempDir::new("qgait-uart-session")?;
     let (samples, switches) = inputs(&exe, &dir.0)?;
     let plan = plan(&samples, &switches);
     let at = |name: &str| -> PathBuf { dir.0.join(name) };
     let (input, uart) = (at("session.bin"), at("uart.bin"));
-    std::fs::write(&input, &plan.bytes).map_err(|e| format!("{}: {e}", input.display()))?;
+    std::fs::write(&input, &plan.bytes).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     let elf = elf
         .canonicalize()
-        .map_err(|e| format!("{}: {e}", elf.display()))?;
+        .map_err(|e| anyhow!("{}: {e}", elf.display()))?;
     let s = |p: &Path| p.to_string_lossy().into_owned();
     let (stdout, stderr) = qgait(
         &exe,
@@ -300,7 +301,7 @@ pub fn run(elf: &Path) -> Result<Report, String> {
     print!("{stdout}");
     let received = match std::fs::read(&uart) {
         Ok(bytes) => receive(&bytes, &samples),
-        Err(e) => return Err(format!("qgait emulate wrote no UART log ({e}): {stderr}")),
+        Err(e) => return Err(anyhow!("qgait emulate wrote no UART log ({e}): {stderr}")),
     };
     let stack_peak = stderr
         .lines()

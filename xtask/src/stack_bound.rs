@@ -8,6 +8,7 @@
 //! cycle through the panic handler, a panic while logging a panic, is counted once: the run
 //! ends there either way).
 
+use anyhow::anyhow;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::process::Command;
@@ -69,7 +70,7 @@ pub const FLASH_LIMIT: u64 = 32 * 1024;
 /// [`FLASH_LIMIT`] and its static RAM plus stack bound within [`RAM_LIMIT`].
 pub fn budget_step(name: &str, elf: &Path) -> Step {
     let measured = std::fs::read(elf)
-        .map_err(|e| format!("reading {}: {e}", elf.display()))
+        .map_err(|e| anyhow!("reading {}: {e}", elf.display()))
         .and_then(|bytes| crate::elf_size::footprint(&bytes))
         .and_then(|f| Ok((f, bound(elf)?)));
     let (ok, line) = match measured {
@@ -84,7 +85,7 @@ pub fn budget_step(name: &str, elf: &Path) -> Step {
                 ),
             )
         }
-        Err(e) => (false, e),
+        Err(e) => (false, format!("{e:#}")),
     };
     println!("\n==> {name}\n{line}");
     Step {
@@ -95,29 +96,34 @@ pub fn budget_step(name: &str, elf: &Path) -> Step {
 }
 
 /// The bound for the ELF at `elf`.
-pub fn bound(elf: &Path) -> Result<StackBound, String> {
-    let tool = objdump().ok_or("llvm-objdump not found (Debian: apt-get install llvm)")?;
+pub fn bound(elf: &Path) -> anyhow::Result<StackBound> {
+    let tool = objdump()
+        .ok_or_else(|| anyhow!("llvm-objdump not found (Debian: apt-get install llvm)"))?;
     let out = Command::new(&tool)
         .args(["-d", "--no-show-raw-insn", "--demangle"])
         .arg(elf)
         .output()
-        .map_err(|e| format!("running {tool}: {e}"))?;
+        .map_err(|e| anyhow!("running {tool}: {e}"))?;
     if !out.status.success() {
-        return Err(format!(
+        return Err(anyhow!(
             "{tool} failed: {}",
             String::from_utf8_lossy(&out.stderr)
         ));
     }
     let (functions, by_address) = parse(&String::from_utf8_lossy(&out.stdout))?;
-    let bytes = std::fs::read(elf).map_err(|e| format!("reading {}: {e}", elf.display()))?;
+    let bytes = std::fs::read(elf).map_err(|e| anyhow!("reading {}: {e}", elf.display()))?;
     let vectors = vector_table(&bytes)?;
     let name_at = |address: u64| {
         by_address
             .get(&(address & !1))
             .cloned()
-            .ok_or(format!("no function at vector address {address:#x}"))
+            .ok_or_else(|| anyhow!("no function at vector address {address:#x}"))
     };
-    let reset = name_at(*vectors.first().ok_or("empty vector table")?)?;
+    let reset = name_at(
+        *vectors
+            .first()
+            .ok_or_else(|| anyhow!("empty vector table"))?,
+    )?;
     let mut memo = BTreeMap::new();
     let (main_bytes, main_path) = deepest(&functions, &reset, &mut Vec::new(), &mut memo)?;
     let mut handlers = BTreeSet::new();
@@ -140,12 +146,12 @@ pub fn bound(elf: &Path) -> Result<StackBound, String> {
 
 /// The exception vectors after the initial stack pointer: `Reset` first, then every handler
 /// (addresses with the Thumb bit).
-fn vector_table(elf: &[u8]) -> Result<Vec<u64>, String> {
-    let file = object::File::parse(elf).map_err(|e| format!("parsing the ELF: {e}"))?;
+fn vector_table(elf: &[u8]) -> anyhow::Result<Vec<u64>> {
+    let file = object::File::parse(elf).map_err(|e| anyhow!("parsing the ELF: {e}"))?;
     let section = file
         .section_by_name(".vector_table")
-        .ok_or("no .vector_table section")?;
-    let data = section.data().map_err(|e| e.to_string())?;
+        .ok_or_else(|| anyhow!("no .vector_table section"))?;
+    let data = section.data().map_err(|e| anyhow!("{e}"))?;
     let words: Vec<u64> = data
         .chunks_exact(4)
         .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]])))
@@ -160,7 +166,7 @@ fn deepest(
     f: &str,
     stack: &mut Vec<String>,
     memo: &mut BTreeMap<String, Deepest>,
-) -> Result<Deepest, String> {
+) -> anyhow::Result<Deepest> {
     if let Some(known) = memo.get(f) {
         return Ok(known.clone());
     }
@@ -171,13 +177,13 @@ fn deepest(
         if stack[start..].iter().any(|s| s.contains(PANIC_HANDLER)) {
             return Ok((0, Vec::new()));
         }
-        return Err(format!("recursion, no bound: {cycle}"));
+        return Err(anyhow!("recursion, no bound: {cycle}"));
     }
     let function = functions
         .get(f)
-        .ok_or(format!("call to {f}, which the disassembly does not have"))?;
+        .ok_or_else(|| anyhow!("call to {f}, which the disassembly does not have"))?;
     if let Some(why) = &function.unbounded {
-        return Err(format!("{f}: {why}"));
+        return Err(anyhow!("{f}: {why}"));
     }
     stack.push(f.to_string());
     let mut best = (function.frame, vec![(f.to_string(), function.frame)]);
@@ -211,7 +217,7 @@ fn deepest(
 
 /// Functions by name, and names by start address.
 #[allow(clippy::type_complexity)]
-fn parse(listing: &str) -> Result<(BTreeMap<String, Function>, BTreeMap<u64, String>), String> {
+fn parse(listing: &str) -> anyhow::Result<(BTreeMap<String, Function>, BTreeMap<u64, String>)> {
     let mut functions: BTreeMap<String, Function> = BTreeMap::new();
     let mut by_address: BTreeMap<u64, String> = BTreeMap::new();
     // Other names of a function (symbols at the same address, e.g. `Reset` and `__stext`).

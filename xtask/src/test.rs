@@ -21,7 +21,7 @@ fn budget(build: &Step, name: &str, elf: &std::path::Path) -> Step {
 }
 
 /// Runs the suites; fails if any did.
-pub fn run() -> Result<ExitCode, String> {
+pub fn run() -> anyhow::Result<ExitCode> {
     crate::toolchain::ensure()?;
     let root = repo_root();
     let firmware = root.join("firmware");

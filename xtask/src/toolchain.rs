@@ -1,21 +1,22 @@
 //! Making sure what the tests need is installed: the rustup target, clippy and rustfmt, and QEMU (installed when
 //! missing: `rustup target add`, and `apt-get install qemu-system-arm` when running as root).
 
+use anyhow::anyhow;
 use std::process::{Command, Stdio};
 
 use qgait_emulate::firmware::TARGET;
 use qgait_emulate::qemu;
 
-fn run(program: &str, args: &[&str]) -> Result<(), String> {
+fn run(program: &str, args: &[&str]) -> anyhow::Result<()> {
     println!("==> {program} {}", args.join(" "));
     let status = Command::new(program)
         .args(args)
         .status()
-        .map_err(|e| format!("starting {program}: {e}"))?;
+        .map_err(|e| anyhow!("starting {program}: {e}"))?;
     if status.success() {
         Ok(())
     } else {
-        Err(format!("`{program} {}` failed ({status})", args.join(" ")))
+        Err(anyhow!("`{program} {}` failed ({status})", args.join(" ")))
     }
 }
 
@@ -52,7 +53,7 @@ fn components_installed() -> bool {
 }
 
 /// Installs the firmware target, the lint tools (clippy, rustfmt) and QEMU if they are missing.
-pub fn ensure() -> Result<(), String> {
+pub fn ensure() -> anyhow::Result<()> {
     if !target_installed() {
         run("rustup", &["target", "add", TARGET])?;
     }
@@ -62,14 +63,14 @@ pub fn ensure() -> Result<(), String> {
     if crate::stack_bound::objdump().is_none() {
         // For the stack bound (`stack_bound`): Debian's llvm has llvm-objdump.
         if !is_root() {
-            return Err("llvm-objdump is not installed and this is not root: install it (Debian/Ubuntu: `sudo apt-get install -y llvm`) and run again".into());
+            return Err(anyhow!("llvm-objdump is not installed and this is not root: install it (Debian/Ubuntu: `sudo apt-get install -y llvm`) and run again"));
         }
         run("apt-get", &["update"])?;
         run("apt-get", &["install", "-y", "llvm"])?;
     }
     if !qemu::available() {
         if !is_root() {
-            return Err(format!(
+            return Err(anyhow!(
                 "{} is not installed and this is not root: install it (Debian/Ubuntu: `sudo apt-get install -y qemu-system-arm`) and run again",
                 qemu::QEMU
             ));
@@ -77,7 +78,7 @@ pub fn ensure() -> Result<(), String> {
         run("apt-get", &["update"])?;
         run("apt-get", &["install", "-y", "qemu-system-arm"])?;
         if !qemu::available() {
-            return Err(format!(
+            return Err(anyhow!(
                 "{} still does not start after installing it",
                 qemu::QEMU
             ));

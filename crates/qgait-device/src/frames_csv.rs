@@ -129,10 +129,10 @@ impl FramesTable {
                     });
                 }
                 if t == *p {
-                    warnings.push(Warning(format!(
-                        "{}: time {t} (seq {seq}) repeats the previous frame's (line {}, seq {before_seq}); this row replaces it, as in a .mot",
-                        at(here), before.0
-                    )));
+                    warnings.push(Warning::RowReplaced {
+ at: Some(at(here)),
+ detail: format!("time {t} (seq {seq}) repeats the previous frame's (line {}, seq {before_seq}); this row replaces it, as in a .mot", before.0),
+});
                     out.seq.pop();
                     out.time.pop();
                     out.points.pop();
@@ -313,7 +313,7 @@ mod tests {
         assert_eq!(t.at.iter().map(|a| a.0).collect::<Vec<_>>(), [2, 4, 5]);
         assert_eq!(w.len(), 1, "{w:?}");
         assert_eq!(
-            w[0].0,
+            w[0].to_string(),
             "f.csv:4:3: time 0.01 (seq 1) repeats the previous frame's (line 3, seq 1); this row replaces it, as in a .mot"
         );
         // Frames as a hub sends them (a sample that completes first, first): in sequence

@@ -283,7 +283,11 @@ mod tests {
         .unwrap();
         // The test angles put both knees and ankles out of range (40-80 degrees): warned only.
         assert_eq!(w.len(), 4, "{w:?}");
-        assert!(w.iter().all(|w| w.0.contains("outside its range")), "{w:?}");
+        assert!(
+            w.iter()
+                .all(|w| w.to_string().contains("outside its range")),
+            "{w:?}"
+        );
         let packets: Vec<JointAngle> = s.all_packets().collect();
         assert_eq!(packets.len(), 3 * 8);
         let bytes = stream(&packets);
@@ -329,16 +333,28 @@ mod tests {
         let knees = [at(JointId::KneeAngleR), at(JointId::KneeAngleL)];
         // The file's knees (40-72°) are flexed in this model's signs: in range, sent as they are.
         let (s, w) = from(&table(), KneeFlexion::Positive);
-        assert!(w.iter().all(|w| !w.0.contains("`knee_angle")), "{w:?}");
-        assert!(w.iter().any(|w| w.0.contains("`ankle_angle_r")), "{w:?}");
+        assert!(
+            w.iter().all(|w| !w.to_string().contains("`knee_angle")),
+            "{w:?}"
+        );
+        assert!(
+            w.iter().any(|w| w.to_string().contains("`ankle_angle_r")),
+            "{w:?}"
+        );
         assert_eq!(s.angles[0][knees[0]], 40f64.to_radians());
         let (_, w) = from(&table(), KneeFlexion::Negative);
-        assert!(w.iter().any(|w| w.0.contains("`knee_angle_r")), "{w:?}");
+        assert!(
+            w.iter().any(|w| w.to_string().contains("`knee_angle_r")),
+            "{w:?}"
+        );
         // A builtin motion (gait2392's signs) has its knees negated, nothing else changed.
         let (builtin, _) =
             qgait_model::motion::source::load_motion("builtin:crouch=0.5,rows=5").unwrap();
         let (positive, w) = from(&builtin, KneeFlexion::Positive);
-        assert!(w.iter().all(|w| !w.0.contains("outside")), "{w:?}");
+        assert!(
+            w.iter().all(|w| !w.to_string().contains("outside")),
+            "{w:?}"
+        );
         let (negative, _) = from(&builtin, KneeFlexion::Negative);
         for (p, n) in positive.angles.iter().zip(&negative.angles) {
             for (k, (a, b)) in p.iter().zip(n).enumerate() {

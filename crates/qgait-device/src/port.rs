@@ -130,7 +130,10 @@ impl Input {
     /// [`DEFAULT_BAUD`]), anything else a file. The warning says when `baud` does not apply.
     pub fn open(path: &str, baud: Option<u32>) -> Result<(Input, Option<Warning>), PortError> {
         let ignored = |what: &str| {
-            baud.map(|b| Warning(format!("--baud {b} ignored: {what} is not a serial port")))
+            baud.map(|b| Warning::OptionIgnored {
+                at: None,
+                detail: format!("--baud {b} ignored: {what} is not a serial port"),
+            })
         };
         if path == "-" {
             let input = Input {
@@ -388,36 +391,20 @@ pub mod interrupt {
         REQUESTED.load(Ordering::SeqCst)
     }
 
-    #[cfg(unix)]
-    extern "C" fn on_signal(_: libc::c_int) {
-        // Only an atomic store: async-signal-safe.
-        REQUESTED.store(true, Ordering::SeqCst);
-    }
-
-    /// Installs the handlers (once per process; later calls do nothing). Without
-    /// `SA_RESTART`, a blocked read returns at once with `Interrupted`; `SA_RESETHAND` puts the
-    /// default action back, so a second signal ends the process.
-    #[cfg(unix)]
-    #[allow(unsafe_code)]
+    /// Installs the handler ([`ctrlc`], for SIGINT and SIGTERM; once per process, later calls
+    /// do nothing): the first signal asks to stop, which the reading sees within a
+    /// [`POLL`](super::POLL) (no read waits longer); a second ends the process at once
+    /// (status 130). A program that has set its own handler keeps it.
     pub fn install() {
         static ONCE: std::sync::Once = std::sync::Once::new();
         ONCE.call_once(|| {
-            for signal in [libc::SIGINT, libc::SIGTERM] {
-                // SAFETY: a zeroed sigaction is valid; the handler only stores an atomic.
-                unsafe {
-                    let mut action: libc::sigaction = std::mem::zeroed();
-                    action.sa_sigaction = on_signal as extern "C" fn(libc::c_int) as usize;
-                    action.sa_flags = libc::SA_RESETHAND;
-                    libc::sigemptyset(&mut action.sa_mask);
-                    libc::sigaction(signal, &action, std::ptr::null_mut());
+            let _ = ctrlc::set_handler(|| {
+                if REQUESTED.swap(true, Ordering::SeqCst) {
+                    std::process::exit(130);
                 }
-            }
+            });
         });
     }
-
-    /// Does nothing off Unix (Ctrl-C ends the process).
-    #[cfg(not(unix))]
-    pub fn install() {}
 }
 
 #[cfg(test)]
@@ -452,9 +439,10 @@ mod tests {
         assert!(!input.is_serial());
         assert_eq!(
             warning,
-            Some(Warning(format!(
-                "--baud 9600 ignored: {name} is not a serial port"
-            )))
+            Some(Warning::OptionIgnored {
+                at: None,
+                detail: format!("--baud 9600 ignored: {name} is not a serial port"),
+            })
         );
         let mut decoder = LogDecoder::new();
         let mut seqs = Vec::new();

@@ -9,23 +9,25 @@
 
 use std::process::ExitCode;
 
+use anyhow::{anyhow, bail};
+
 use qgait_emulate::faults::{damage, samples_of_stream, Fate, FaultPlan};
 
-fn run(args: &[String]) -> Result<(), String> {
+fn run(args: &[String]) -> anyhow::Result<()> {
     let (input, output, seed) = match args {
         [i, o] => (i, o, 1),
         [i, o, seed] => (
             i,
             o,
             seed.parse()
-                .map_err(|_| format!("SEED `{seed}`: expected a whole number"))?,
+                .map_err(|_| anyhow!("SEED `{seed}`: expected a whole number"))?,
         ),
-        _ => return Err("usage: damage_stream CLEAN.bin DAMAGED.bin [SEED]".into()),
+        _ => bail!("usage: damage_stream CLEAN.bin DAMAGED.bin [SEED]"),
     };
-    let bytes = std::fs::read(input).map_err(|e| format!("{input}: cannot read: {e}"))?;
-    let samples = samples_of_stream(&bytes).map_err(|e| format!("{input}: {e}"))?;
+    let bytes = std::fs::read(input).map_err(|e| anyhow!("{input}: cannot read: {e}"))?;
+    let samples = samples_of_stream(&bytes).map_err(|e| anyhow!("{input}: {e}"))?;
     let d = damage(&samples, &FaultPlan::radio_link(seed, 4));
-    std::fs::write(output, &d.stream).map_err(|e| format!("{output}: cannot write: {e}"))?;
+    std::fs::write(output, &d.stream).map_err(|e| anyhow!("{output}: cannot write: {e}"))?;
     let a = d.accounting();
     eprintln!(
         "wrote {} bytes to {output}: of {} packets, {} delivered, {} dropped, {} damaged ({} bursts of noise, {} samples with two packets swapped)",
@@ -49,7 +51,7 @@ fn main() -> ExitCode {
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
     }

@@ -26,7 +26,7 @@ use std::io::Write;
 use qgait_kernel::Vec3;
 use qgait_model::choice::Model;
 use qgait_model::motion::source::{default_label, MotionRows, SourceError, BUILTIN_PREFIX};
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Location, Warning};
 use qgait_opensim::mot::{MotionTable, Row};
 
 use crate::angles::CgmPelvis;
@@ -619,11 +619,14 @@ pub fn analyse_in_windows(
         let fresh: Vec<Warning> = w
             .into_iter()
             .filter(|w| {
-                let exact_new = exact.insert(w.0.clone());
-                if !w.0.contains(": column `") {
+                let text = w.to_string();
+                let column_summary = text.contains(": column `");
+                let like_text = text.replace(|c: char| c.is_ascii_digit(), "");
+                let exact_new = exact.insert(text);
+                if !column_summary {
                     return exact_new;
                 }
-                let like_new = like.insert(w.0.replace(|c: char| c.is_ascii_digit(), ""));
+                let like_new = like.insert(like_text);
                 if !like_new && exact_new {
                     like_seen += 1;
                 }
@@ -705,9 +708,12 @@ pub fn analyse_in_windows(
     }
     warn_once(rows.take_warnings());
     if like_seen > 0 {
-        warn(vec![Warning(format!(
-            "{source}: {like_seen} more warnings about its columns in later windows of {window_rows} rows, like those above, not shown"
-        ))]);
+        warn(vec![Warning::Suppressed {
+            at: Some(Location::file(source)),
+            detail: format!(
+                "{like_seen} more warnings about its columns in later windows of {window_rows} rows, like those above, not shown"
+            ),
+        }]);
     }
     Ok(())
 }

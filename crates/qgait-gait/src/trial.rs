@@ -13,7 +13,7 @@ use crate::rules::FootVelocity;
 
 use qgait_device::frames_csv::FramesCsvError;
 use qgait_model::choice::Model;
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Location, Warning};
 
 use qgait_model::error::ModelError;
 use qgait_model::motion::source::{default_label, load_motion, MotionRows, SourceError};
@@ -208,13 +208,23 @@ pub const GAP_FACTOR: f64 = 1.5;
 /// 60 Hz (33 ms) is interpolated over like any other step.
 pub const MIN_GAP: f64 = 0.05;
 
+/// Where row `r` of a table from `source` is: its line (a file), or the file and `row N: ` to
+/// say before the rest (a generated table, which has no lines).
+pub fn row_at(source: &str, line: Option<usize>, r: usize) -> (Location, String) {
+    match line {
+        Some(line) => (Location::line(source, line), String::new()),
+        None => (Location::file(source), format!("row {}: ", r + 1)),
+    }
+}
+
 /// The frames that follow a gap in `time` ([`GAP_FACTOR`] and [`MIN_GAP`]), merged with the breaks `known`
 /// already (rows left out: not warned about again), in order; a warning for each new one.
-/// `at(i)` says where frame `i` is (`file:line`).
+/// `at(i)` says where frame `i` is: its location, and what to say before the rest when that is
+/// not all ([`row_at`]).
 pub fn gaps(
     time: &[f64],
     known: &[usize],
-    at: impl Fn(usize) -> String,
+    at: impl Fn(usize) -> (Location, String),
 ) -> (Vec<usize>, Vec<Warning>) {
     let mut breaks = known.to_vec();
     let mut warnings = Vec::new();
@@ -224,14 +234,17 @@ pub fn gaps(
             let step = time[i] - time[i - 1];
             if step > GAP_FACTOR * median && step > MIN_GAP && !known.contains(&i) {
                 breaks.push(i);
-                warnings.push(Warning(format!(
-                    "{}: time jumps from {} s to {} s, a gap of {} s (the median step is {} s): no event or stride is formed across it",
-                    at(i),
+                let (location, row) = at(i);
+                warnings.push(Warning::Gap {
+                    at: Some(location),
+                    detail: format!(
+                    "{row}time jumps from {} s to {} s, a gap of {} s (the median step is {} s): no event or stride is formed across it",
                     secs(time[i - 1]),
                     secs(time[i]),
                     secs(step),
                     secs(median)
-                )));
+                ),
+                });
             }
         }
     }
@@ -266,7 +279,9 @@ pub fn load_with(
         }
         let (table, mut warnings) = table.in_time_order(source)?;
         let time: Vec<f64> = table.time.iter().flatten().copied().collect();
-        let (breaks, w) = gaps(&time, &[], |i| format!("{source}:{}", table.at[i].0));
+        let (breaks, w) = gaps(&time, &[], |i| {
+            (Location::line(source, table.at[i].0), String::new())
+        });
         warnings.extend(w);
         let frames = table
             .points
@@ -314,9 +329,10 @@ pub fn from_table(
 ) -> Result<(Trial, Vec<Warning>), TrialError> {
     let table = check_units(table, source, angles_in)?;
     if table.header().pelvis_heading_free {
-        warnings.push(Warning(format!(
-            "{source}: its pelvis is heading-free (qgait imu --pelvis heading-free): the walking direction is not in it, so turns cannot be found and strides taken while turning are analysed as straight walking; for gait analysis, solve with the default pelvis"
-        )));
+        warnings.push(Warning::Limitation {
+            at: Some(Location::file(source)),
+            detail: "its pelvis is heading-free (qgait imu --pelvis heading-free): the walking direction is not in it, so turns cannot be found and strides taken while turning are analysed as straight walking; for gait analysis, solve with the default pelvis".to_string(),
+        });
     }
     let foot = model.lengths().is_none();
     let points = PointModel::new(model, foot)?;
@@ -387,10 +403,7 @@ pub fn from_table(
         }
         _ => None,
     };
-    let (breaks, w) = gaps(&time, &left_out, |i| match table.line(i) {
-        Some(line) => format!("{source}:{line}"),
-        None => format!("{source}: row {}", i + 1),
-    });
+    let (breaks, w) = gaps(&time, &left_out, |i| row_at(source, table.line(i), i));
     warnings.extend(w);
     // The kernel's velocities need the model's own signs back.
     let velocities = MotionModel::new(model).ok().and_then(|m| {
@@ -465,13 +478,19 @@ fn leave_out_non_finite(
         let end = (r..bad.len())
             .find(|&k| bad[k].is_none())
             .unwrap_or(bad.len());
-        let (at, text) = match table.non_finite_at(r, c) {
+        let (at, row, text) = match table.non_finite_at(r, c) {
             Some(nf) => (
-                format!("{source}:{}:{}", nf.line, nf.column),
+                Location {
+                    path: source.to_string(),
+                    line: Some(nf.line),
+                    column: Some(nf.column),
+                },
+                String::new(),
                 nf.text.clone(),
             ),
             None => (
-                format!("{source}: {}", row_at(r)),
+                Location::file(source),
+                format!("{}: ", row_at(r)),
                 table.value(r, c).to_string(),
             ),
         };
@@ -484,9 +503,12 @@ fn leave_out_non_finite(
                 row_at(end - 1)
             )
         };
-        warnings.push(Warning(format!(
-            "{at}: value `{text}` in column `{name}` is not a finite number: {rows}"
-        )));
+        warnings.push(Warning::RowsLeftOut {
+            at: Some(at),
+            detail: format!(
+                "{row}value `{text}` in column `{name}` is not a finite number: {rows}"
+            ),
+        });
         if kept > 0 && end < bad.len() {
             breaks.push(kept);
         }
@@ -598,15 +620,15 @@ mod tests {
         assert_eq!(breaks, [1, 2]);
         assert_eq!(w.len(), 3, "{w:?}");
         assert_eq!(
-            w[0].0,
+            w[0].to_string(),
             "m.mot:7:8: value `nan` in column `knee_angle_r` is not a finite number: this row and the next 1 to line 8 are left out, with the strides that include them"
         );
         assert!(
-            w[1].0
+            w[1].to_string()
                 .starts_with("m.mot:10:6: value `NaN` in column `hip_flexion_r`"),
             "{w:?}"
         );
-        assert!(w[2].0.starts_with("m.mot:12:8: value `nan` in column `knee_angle_r` is not a finite number: this row is left out"), "{w:?}");
+        assert!(w[2].to_string().starts_with("m.mot:12:8: value `nan` in column `knee_angle_r` is not a finite number: this row is left out"), "{w:?}");
         // A column the model does not read (an imported chain's locked one) does not matter.
         let mut reads = [true; 17];
         reads[coordinate("knee_angle_r")] = false;
@@ -626,15 +648,19 @@ mod tests {
         let mut time: Vec<f64> = (0..=800).map(|i| i as f64 * 0.01).collect();
         time.extend((1000..=1200).map(|i| i as f64 * 0.01));
         time[10] += 0.0002;
-        let (breaks, w) = gaps(&time, &[], |i| format!("w.mot:{}", i + 7));
+        let (breaks, w) = gaps(&time, &[], |i| {
+            (Location::line("w.mot", i + 7), String::new())
+        });
         assert_eq!(breaks, [801]);
         assert_eq!(w.len(), 1, "{w:?}");
         assert_eq!(
-            w[0].0,
+            w[0].to_string(),
             "w.mot:808: time jumps from 8 s to 10 s, a gap of 2 s (the median step is 0.01 s): no event or stride is formed across it"
         );
         // A break known already is not warned about again; others are merged in order.
-        let (breaks, w) = gaps(&time, &[801, 3], |i| i.to_string());
+        let (breaks, w) = gaps(&time, &[801, 3], |i| {
+            (Location::file(i.to_string()), String::new())
+        });
         assert_eq!(breaks, [3, 801]);
         assert!(w.is_empty(), "{w:?}");
         let trial = Trial {
@@ -650,7 +676,9 @@ mod tests {
         };
         assert_eq!(trial.segments(), [0..3, 3..801, 801..1002]);
         // Steady sampling: no gap.
-        let (breaks, w) = gaps(&time[..801], &[], |i| i.to_string());
+        let (breaks, w) = gaps(&time[..801], &[], |i| {
+            (Location::file(i.to_string()), String::new())
+        });
         assert!(breaks.is_empty() && w.is_empty());
         // A variable step (CMC output: 1 to 20 ms): no gap; a 0.3 s jump in it is one.
         let mut t = vec![0.0];
@@ -658,7 +686,7 @@ mod tests {
             let step = [0.001, 0.004, 0.02, 0.0025, 0.012][k % 5];
             t.push(t[k] + if k == 1000 { 0.3 } else { step });
         }
-        let (breaks, w) = gaps(&t, &[], |i| i.to_string());
+        let (breaks, w) = gaps(&t, &[], |i| (Location::file(i.to_string()), String::new()));
         assert_eq!(breaks, [1001], "{w:?}");
     }
 }

@@ -97,8 +97,8 @@ fn bench(c: &mut Criterion) {
     if let Ok(text) = std::fs::read_to_string(&osim) {
         let imported = qgait_model::leg_chain::import(&text, "Rajagopal2015_opensense", None)
             .expect("imports");
-        let chain = imported.model.chain().expect("a chain");
-        let (min, max) = imported.model.bounds().expect("ranges");
+        let chain = imported.model.chain("bench").expect("a chain");
+        let (min, max) = imported.model.bounds("bench").expect("ranges");
         let chain_calibration =
             Calibration::for_model(&chain, &pose.readings, &settings).expect("calibrates");
         let chain_frames = segments(&chain_calibration, &dir);

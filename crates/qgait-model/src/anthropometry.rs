@@ -23,7 +23,7 @@ use toml::Spanned;
 
 use super::toml_error;
 use crate::error::ModelError;
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Location, Warning};
 
 /// The file: each length for both sides, or per side (`_r`, `_l`); every key optional.
 #[derive(Debug, Default, Deserialize)]
@@ -151,10 +151,13 @@ pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warnin
     let mut warnings = Vec::new();
     for (s, side) in ["right", "left"].iter().enumerate() {
         if !missing[s].is_empty() {
-            warnings.push(Warning(format!(
-                "{source}: no {} for the {side} side; using the gait2392 value(s)",
-                missing[s].join(", ")
-            )));
+            warnings.push(Warning::MissingDefaulted {
+                at: Some(Location::file(source)),
+                detail: format!(
+                    "no {} for the {side} side; using the gait2392 value(s)",
+                    missing[s].join(", ")
+                ),
+            });
         }
     }
     let limb = |v: [f64; 4]| Limb {
@@ -194,7 +197,7 @@ mod tests {
         assert_eq!(a.right.femur, 1.0);
         assert_eq!(a.left.tibia, Limb::<f64>::gait2392().tibia);
         assert_eq!(w.len(), 2);
-        assert_eq!(w[0].0, "a.toml: no pelvis_half_width, tibia, foot for the right side; using the gait2392 value(s)");
+        assert_eq!(w[0].to_string(), "a.toml: no pelvis_half_width, tibia, foot for the right side; using the gait2392 value(s)");
     }
 
     #[test]

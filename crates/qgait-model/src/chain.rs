@@ -210,12 +210,13 @@ impl ChainModel {
     /// The kernel's table: points `hip, knee, ankle, subtalar, mtp` (the child frame origins of
     /// the joints moving femur, tibia, talus, calcn, toes) and `toetip` per side, right first
     /// ([`POINTS`](qgait_kernel::models::gait2392::POINTS) order).
-    pub fn chain(&self) -> Result<LowerLimb<f64>, String> {
-        self.build().map_err(|fault| fault.message)
+    /// `name` names the model in the error.
+    pub fn chain(&self, name: &str) -> Result<LowerLimb<f64>, ModelError> {
+        self.build().map_err(|fault| fault.in_model(name))
     }
 
     /// [`chain`](Self::chain), a refusal saying where in the file the value refused is.
-    fn build(&self) -> Result<LowerLimb<f64>, Fault> {
+    pub(crate) fn build(&self) -> Result<LowerLimb<f64>, Fault> {
         if self.joints.len() != BODIES.len() || self.toe_tips.len() != 2 {
             return Err(Fault::whole(format!(
                 "{} joints and {} toe tips; a lower-limb chain has {} joints ({}) and 2 toe tips",
@@ -387,9 +388,10 @@ impl ChainModel {
     }
 
     /// The clamped ranges by input coordinate ([`COORDINATES`] order; unbounded where none is
-    /// given), or the first range naming a coordinate that is not an input.
-    pub fn bounds(&self) -> Result<([f64; 17], [f64; 17]), String> {
-        self.checked_bounds().map_err(|fault| fault.message)
+    /// given), or the first range naming a coordinate that is not an input; `name` names the
+    /// model in the error.
+    pub fn bounds(&self, name: &str) -> Result<([f64; 17], [f64; 17]), ModelError> {
+        self.checked_bounds().map_err(|fault| fault.in_model(name))
     }
 
     /// [`bounds`](Self::bounds), a refusal saying where in the file the range refused is.

@@ -175,16 +175,7 @@ impl Model {
             Self::Gait2392 { geometry, .. } => {
                 Gait2392::<f64>::new(geometry).map(drop).map_err(rejected)
             }
-            Self::Chain { chain, name } => {
-                chain.chain().map(drop).map_err(|message| ModelError::File {
-                    at: qgait_opensim::diagnostics::Location {
-                        path: name.clone(),
-                        line: None,
-                        column: None,
-                    },
-                    message,
-                })
-            }
+            Self::Chain { chain, name } => chain.chain(name).map(drop),
             _ => qgait_kernel::models::Phak::<f64>::new(&self.lengths().expect("a stick model"))
                 .map(drop)
                 .map_err(rejected),

@@ -166,17 +166,16 @@ impl Series {
             })
             .collect();
         if !missing.is_empty() {
-            warnings.push(Warning(format!(
-                "{}: no column for {}: taken as 0",
-                table.labels_location(),
-                missing.join(", ")
-            )));
+            warnings.push(Warning::MissingDefaulted {
+                at: Some(table.labels_at()),
+                detail: format!("no column for {}: taken as 0", missing.join(", ")),
+            });
         }
         if filtered_with_speeds {
-            warnings.push(Warning(format!(
-                "{}: --lowpass not applied to the coordinates whose speeds are in the file (their values and speeds are used as they are)",
-                table.labels_location()
-            )));
+            warnings.push(Warning::OptionIgnored {
+ at: Some(table.labels_at()),
+ detail: "--lowpass not applied to the coordinates whose speeds are in the file (their values and speeds are used as they are)".to_string(),
+});
         }
         let mut d = vec![[0.0; 20]; n];
         let mut dd = vec![[0.0; 20]; n];
@@ -329,12 +328,7 @@ impl MotionModel {
                 Self::Gait2392(Box::new(Gait2392::<f64>::new(geometry).map_err(rejected)?))
             }
             Model::Chain { chain, name } => {
-                Self::Chain(Box::new(chain.chain().map_err(|message| {
-                    ModelError::File {
-                        at: Location::file(name),
-                        message,
-                    }
-                })?))
+                Self::Chain(Box::new(chain.chain(name)?))
             }
             Model::Hak { .. } | Model::Phak { .. } => Self::Stick {
                 phak: Box::new(

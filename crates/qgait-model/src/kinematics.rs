@@ -188,7 +188,10 @@ mod tests {
         let (a, w) = phak_angles(&table).unwrap();
         // Knees at 40 and 70 degrees, ankles at 50 and 10, pelvis rotation 80: out of range
         // only where the ranges say so (knee -120..10, ankle -40..30, each ± 10).
-        let out: Vec<&str> = w.iter().map(|w| w.0.split('`').nth(1).unwrap()).collect();
+        let out: Vec<&str> = w
+            .iter()
+            .map(|w| w.detail().split('`').nth(1).unwrap())
+            .collect();
         assert_eq!(
             out,
             ["knee_angle_r", "ankle_angle_r", "knee_angle_l"],

@@ -33,9 +33,10 @@ use roxmltree::Document;
 use crate::chain::{
     AxisData, ChainModel, CouplerData, FunctionData, JointData, PointData, RangeData, BODIES,
 };
+use qgait_opensim::diagnostics::Location;
 use qgait_opensim::osim::{
-    self, child, function, generic_toe_tip, name_of, read_coordinates, read_joints, text_of,
-    toe_marker, Coordinate, Function, ImportError, Joint,
+    self, child, function, generic_toe_tip, location_of, name_of, read_coordinates, read_joints,
+    text_of, toe_marker, Coordinate, Function, ImportError, Joint,
 };
 
 /// An imported chain and one line per choice made.
@@ -49,6 +50,8 @@ pub struct ImportedChain {
 
 struct Coupling {
     name: String,
+    /// Where its element is.
+    at: Location,
     dependent: String,
     independent: Vec<String>,
     function: Function,
@@ -62,16 +65,13 @@ pub fn import(
     markers: Option<(&str, &str)>,
 ) -> Result<ImportedChain, ImportError> {
     let (doc, version) = osim::document(text, source)?;
-    let err = |message: String| ImportError::Chain {
-        path: source.to_string(),
-        message,
-    };
+    let in_file = |e: ImportError| e.in_file(source);
     let mut notes = vec![format!(
         "imported from {source} (OpenSim Version={version}) by qgait model import as a general lower-limb chain"
     )];
-    let joints = read_joints(&doc).map_err(err)?;
+    let joints = read_joints(&doc).map_err(in_file)?;
     let coordinates = read_coordinates(&doc);
-    let couplings = read_couplings(&doc).map_err(err)?;
+    let couplings = read_couplings(&doc).map_err(in_file)?;
     let mut state = State {
         coordinates: &coordinates,
         couplings: &couplings,
@@ -87,7 +87,7 @@ pub fn import(
     };
     if let Some((side, other)) = missing {
         // leg39, leg6dof9musc: one leg on a pelvis.
-        return Err(err(format!(
+        return Err(ImportError::chain(Location::file(source), format!(
             "a single-leg model: no joint moves `{side}` (only `{other}`); qgait's lower-limb chains have both legs"
         )));
     }
@@ -98,10 +98,10 @@ pub fn import(
             1 | 6 => "pelvis",
             _ => BODIES[b - 1],
         };
-        let j = osim::joint_moving(&joints, parent, body).map_err(err)?;
+        let j = osim::joint_moving(&joints, parent, body).map_err(in_file)?;
         let before = state.notes.len();
         state.leg_body = (b > 0).then_some(*body);
-        let mut data = state.joint(j).map_err(err)?;
+        let mut data = state.joint(j).map_err(in_file)?;
         if b == 0 {
             // (What the dropped translations would have held is not worth a note.)
             let prefix = format!("joint `{}` translation", j.name);
@@ -134,23 +134,29 @@ pub fn import(
         }
         let what = format!("CoordinateCouplerConstraint `{}`", c.name);
         let [independent] = c.independent.as_slice() else {
-            return Err(err(format!(
-                "{what}: {} depends on [{}]; a chain coordinate may follow one input",
-                c.dependent,
-                c.independent.join(", ")
-            )));
+            return Err(ImportError::chain(
+                c.at.clone(),
+                format!(
+                    "{what}: {} depends on [{}]; a chain coordinate may follow one input",
+                    c.dependent,
+                    c.independent.join(", ")
+                ),
+            ));
         };
         if !COORDINATES.contains(&independent.as_str()) {
-            return Err(err(format!(
-                "{what}: {} follows `{independent}`, which is not a chain input ({})",
-                c.dependent,
-                COORDINATES.join(", ")
-            )));
+            return Err(ImportError::chain(
+                c.at.clone(),
+                format!(
+                    "{what}: {} follows `{independent}`, which is not a chain input ({})",
+                    c.dependent,
+                    COORDINATES.join(", ")
+                ),
+            ));
         }
         couplers.push(CouplerData {
             dependent: c.dependent.clone(),
             independent: independent.clone(),
-            function: function_data(&c.function, &what).map_err(err)?,
+            function: function_data(&c.function, &what, &c.at).map_err(in_file)?,
         });
         notes.push(format!(
             "{what}: {} evaluated as a function of {independent}",
@@ -168,7 +174,7 @@ pub fn import(
             unused.join(", ")
         ));
     }
-    check_other_constraints(&doc).map_err(err)?;
+    check_other_constraints(&doc).map_err(in_file)?;
     let others: Vec<String> = doc
         .descendants()
         .filter(|n| n.has_tag_name("Body"))
@@ -187,7 +193,7 @@ pub fn import(
     };
     let mut toe_tips = Vec::new();
     for s in ["r", "l"] {
-        let (tip, note) = toe_tip(&doc, source, marker_doc.as_ref(), s).map_err(err)?;
+        let (tip, note) = toe_tip(&doc, source, marker_doc.as_ref(), s).map_err(in_file)?;
         toe_tips.push(tip);
         notes.push(note);
     }
@@ -218,7 +224,9 @@ pub fn import(
         toe_tips,
         ranges,
     };
-    model.chain().map_err(err)?;
+    model
+        .build()
+        .map_err(|fault| ImportError::chain(Location::file(source), fault.message))?;
     Ok(ImportedChain { model, notes })
 }
 
@@ -235,16 +243,19 @@ struct State<'a> {
 }
 
 impl State<'_> {
-    fn joint(&mut self, j: &Joint) -> Result<JointData, String> {
+    fn joint(&mut self, j: &Joint) -> Result<JointData, ImportError> {
         let name = &j.name;
         if j.reverse {
-            return Err(format!(
+            return Err(ImportError::chain(j.at.clone(), format!(
                 "joint `{name}`: reverse=true is not supported (the chain runs from the pelvis down)"
-            ));
+            )));
         }
-        let line = |c: usize| -> Result<(String, Function), String> {
+        let line = |c: usize| -> Result<(String, Function), ImportError> {
             let coordinate = j.coordinates.get(c).ok_or_else(|| {
-                format!("joint `{name}` ({}): coordinate {} missing", j.kind, c + 1)
+                ImportError::chain(
+                    j.at.clone(),
+                    format!("joint `{name}` ({}): coordinate {} missing", j.kind, c + 1),
+                )
             })?;
             Ok((coordinate.clone(), Function::Linear(1.0, 0.0)))
         };
@@ -259,13 +270,13 @@ impl State<'_> {
                         [] => None,
                         [c] => Some(c.clone()),
                         many => {
-                            return Err(format!(
+                            return Err(ImportError::chain(j.at.clone(), format!(
                                 "{what}: a function of several coordinates [{}]; each axis must follow one",
                                 many.join(", ")
-                            ))
+                            )))
                         }
                     };
-                    let axis = self.axis(a.axis, coordinate, &a.function, &what)?;
+                    let axis = self.axis(a.axis, coordinate, &a.function, &what, &j.at)?;
                     if a.name.starts_with("rotation") {
                         r.push(axis);
                     } else {
@@ -276,13 +287,13 @@ impl State<'_> {
             }
             "PinJoint" => {
                 let (c, f) = line(0)?;
-                (vec![self.axis(z, Some(c), &f, name)?], vec![])
+                (vec![self.axis(z, Some(c), &f, name, &j.at)?], vec![])
             }
             "UniversalJoint" => {
                 let (c0, f0) = line(0)?;
                 let (c1, f1) = line(1)?;
                 (
-                    vec![self.axis(x, Some(c0), &f0, name)?, self.axis(y, Some(c1), &f1, name)?],
+                    vec![self.axis(x, Some(c0), &f0, name, &j.at)?, self.axis(y, Some(c1), &f1, name, &j.at)?],
                     vec![],
                 )
             }
@@ -290,28 +301,28 @@ impl State<'_> {
                 let mut r = Vec::new();
                 for (k, a) in [x, y, z].into_iter().enumerate() {
                     let (c, f) = line(k)?;
-                    r.push(self.axis(a, Some(c), &f, name)?);
+                    r.push(self.axis(a, Some(c), &f, name, &j.at)?);
                 }
                 (r, vec![])
             }
             "SliderJoint" => {
                 let (c, f) = line(0)?;
-                (vec![], vec![self.axis(x, Some(c), &f, name)?])
+                (vec![], vec![self.axis(x, Some(c), &f, name, &j.at)?])
             }
             "PlanarJoint" => {
                 let (c0, f0) = line(0)?;
                 let (c1, f1) = line(1)?;
                 let (c2, f2) = line(2)?;
                 (
-                    vec![self.axis(z, Some(c0), &f0, name)?],
-                    vec![self.axis(x, Some(c1), &f1, name)?, self.axis(y, Some(c2), &f2, name)?],
+                    vec![self.axis(z, Some(c0), &f0, name, &j.at)?],
+                    vec![self.axis(x, Some(c1), &f1, name, &j.at)?, self.axis(y, Some(c2), &f2, name, &j.at)?],
                 )
             }
             "WeldJoint" => (vec![], vec![]),
             other => {
-                return Err(format!(
+                return Err(ImportError::chain(j.at.clone(), format!(
                     "joint `{name}` is a {other}: its motion is not one function of one coordinate per axis, which is what a leg chain is made of (CustomJoint, PinJoint, UniversalJoint, GimbalJoint, SliderJoint, PlanarJoint, WeldJoint)"
-                ))
+                )))
             }
         };
         Ok(JointData {
@@ -334,12 +345,15 @@ impl State<'_> {
         coordinate: Option<String>,
         f: &Function,
         what: &str,
-    ) -> Result<AxisData, String> {
-        let function = function_data(f, what)?;
+        at: &Location,
+    ) -> Result<AxisData, ImportError> {
+        let function = function_data(f, what, at)?;
         let held = |value: f64, why: String, notes: &mut Vec<String>| {
-            let v = function.at(value).map_err(|e| format!("{what}: {e}"))?;
+            let v = function
+                .at(value)
+                .map_err(|e| ImportError::chain(at.clone(), format!("{what}: {e}")))?;
             notes.push(why);
-            Ok::<_, String>(AxisData {
+            Ok::<_, ImportError>(AxisData {
                 axis,
                 coordinate: None,
                 function: FunctionData::Constant { value: v },
@@ -397,10 +411,10 @@ impl State<'_> {
         }
         if let Some(body) = self.leg_body {
             // Held, the leg would not follow the motion's coordinate of that name.
-            return Err(format!(
+            return Err(ImportError::chain(at.clone(), format!(
                 "{what}: coordinate `{c}` moves `{body}` but is not one of the chain's inputs ({}): rename it in the model to the input it is (e.g. hip_flexion_r), or lock it to hold it at its default",
                 COORDINATES.join(", ")
-            ));
+            )));
         }
         held(
             default,
@@ -410,7 +424,7 @@ impl State<'_> {
     }
 }
 
-fn function_data(f: &Function, what: &str) -> Result<FunctionData, String> {
+fn function_data(f: &Function, what: &str, at: &Location) -> Result<FunctionData, ImportError> {
     Ok(match f {
         Function::Constant(value) => FunctionData::Constant { value: *value },
         Function::Linear(slope, intercept) => FunctionData::Linear {
@@ -429,14 +443,14 @@ fn function_data(f: &Function, what: &str) -> Result<FunctionData, String> {
             coefficients: coefficients.clone(),
         },
         Function::Other(t) => {
-            return Err(format!(
+            return Err(ImportError::chain(at.clone(), format!(
                 "{what}: function type {t} is not supported (Constant, LinearFunction, SimmSpline, PiecewiseLinearFunction, PolynomialFunction, MultiplierFunction of these)"
-            ))
+            )))
         }
     })
 }
 
-fn read_couplings(doc: &Document) -> Result<Vec<Coupling>, String> {
+fn read_couplings(doc: &Document) -> Result<Vec<Coupling>, ImportError> {
     let mut out = Vec::new();
     for c in doc
         .descendants()
@@ -446,7 +460,12 @@ fn read_couplings(doc: &Document) -> Result<Vec<Coupling>, String> {
         let what = format!("CoordinateCouplerConstraint `{name}`");
         let f = child(c, "coupled_coordinates_function")
             .and_then(|f| f.children().find(|e| e.is_element()))
-            .ok_or_else(|| format!("{what}: no coupled_coordinates_function"))?;
+            .ok_or_else(|| {
+                ImportError::chain(
+                    location_of(c),
+                    format!("{what}: no coupled_coordinates_function"),
+                )
+            })?;
         let words = |tag: &str| -> Vec<String> {
             text_of(c, tag)
                 .unwrap_or("")
@@ -459,20 +478,21 @@ fn read_couplings(doc: &Document) -> Result<Vec<Coupling>, String> {
             independent: words("independent_coordinate_names"),
             function: function(f, &what)?,
             name,
+            at: location_of(c),
         });
     }
     Ok(out)
 }
 
 /// Constraints other than couplers that name a chain body are refused.
-fn check_other_constraints(doc: &Document) -> Result<(), String> {
+fn check_other_constraints(doc: &Document) -> Result<(), ImportError> {
     let bodies: Vec<String> = BODIES.iter().map(|b| b.to_string()).collect();
     match osim::constraint_naming(doc, &bodies, Some("CoordinateCouplerConstraint")) {
-        Some((c, hit)) => Err(format!(
+        Some((c, hit)) => Err(ImportError::chain(location_of(c), format!(
             "{} `{}` constrains body `{hit}` of the leg chain; only CoordinateCouplerConstraint is supported",
             c.tag_name().name(),
             name_of(c)
-        )),
+        ))),
         None => Ok(()),
     }
 }
@@ -482,12 +502,13 @@ fn toe_tip(
     source: &str,
     markers: Option<&(Document, &str)>,
     s: &str,
-) -> Result<(PointData, String), String> {
+) -> Result<(PointData, String), ImportError> {
     let (name, found) = toe_marker(model, source, markers, s)?;
     if let Some(((body, location), file)) = found {
         if !BODIES[1..].contains(&body.as_str()) {
-            return Err(format!(
-                "marker `{name}` is on `{body}`; the toe tip must be on a leg body"
+            return Err(ImportError::chain(
+                Location::file(file),
+                format!("marker `{name}` is on `{body}`; the toe tip must be on a leg body"),
             ));
         }
         let note = format!("toe tip {s}: marker {name} from {file} on {body} at {location:?}");

@@ -52,14 +52,7 @@ pub fn imported_fk(model: &Model) -> Result<Option<ImportedFk>, ModelError> {
 
 /// The kernel table of a chain model `name`.
 fn chain_of(chain: &crate::chain::ChainModel, name: &str) -> Result<LowerLimb<f64>, ModelError> {
-    chain.chain().map_err(|message| ModelError::File {
-        at: qgait_opensim::diagnostics::Location {
-            path: name.to_string(),
-            line: None,
-            column: None,
-        },
-        message,
-    })
+    chain.chain(name)
 }
 
 /// Names of the points a [`PointModel`] gives: `hip_r, knee_r, ankle_r, toe_r, hip_l, ..., toe_l`,

@@ -32,6 +32,14 @@ impl Fault {
             message: self.message,
         }
     }
+
+    /// The refusal as an error of model `name`, its text not at hand (the file as a whole).
+    pub fn in_model(self, name: &str) -> ModelError {
+        ModelError::File {
+            at: Location::file(name),
+            message: self.message,
+        }
+    }
 }
 
 /// One step down a TOML document: a key of a table, or an index into an array of tables.

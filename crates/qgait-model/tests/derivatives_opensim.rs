@@ -99,7 +99,7 @@ fn rajagopal_velocities_accelerations_and_imu_signals_are_opensims() {
     let Model::Chain { chain, .. } = model else {
         panic!("Rajagopal 2015 imports as a chain");
     };
-    let chain = chain.chain().unwrap();
+    let chain = chain.chain("test").unwrap();
     // The hub's model slot's sizes (as tests/opensim_models.rs packs it), in f32.
     let device = PackedChain::<f32, 17, 11, 12, 8, 0, 24, 384>::pack(&chain).unwrap();
     let reference = Reference::load("rajagopal2015");

@@ -141,7 +141,7 @@ fn a_polynomial_knee_is_within_a_micrometre_of_opensim_and_not_sent_to_a_hub() {
     let Model::Chain { chain, .. } = &model else {
         panic!("a chain model")
     };
-    let table = chain.chain().unwrap();
+    let table = chain.chain("test").unwrap();
     assert_eq!(table.polynomials().len(), 8);
     assert!(table.splines().is_empty());
     let fk = points(&model);
@@ -309,7 +309,7 @@ fn rajagopal_in_f32_stays_within_ten_micrometres_of_f64() {
     let Model::Chain { chain, .. } = model else {
         panic!("Rajagopal is a chain model")
     };
-    let c64 = chain.chain().unwrap();
+    let c64 = chain.chain("test").unwrap();
     let c32 = c64.cast::<f32>();
     let mut worst = 0.0f64;
     // (Not `opensense`: OpenSense's pelvis angles there wander to hundreds of radians, equivalent
@@ -421,7 +421,7 @@ fn every_chain_model_packed_is_within_a_micrometre_of_opensim() {
         let Model::Chain { chain, .. } = model else {
             continue;
         };
-        let chain = chain.chain().unwrap();
+        let chain = chain.chain("test").unwrap();
         let packed = PackedChain::<f64, 17, 11, 12, 12, 12, 66, 1024>::pack(&chain).unwrap();
         let device = PackedChain::<f32, 17, 11, 12, 8, 0, 24, 384>::pack(&chain).unwrap();
         let (mut worst, mut worst32) = (0.0f64, 0.0f64);

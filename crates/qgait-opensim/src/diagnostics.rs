@@ -1,16 +1,160 @@
 //! What the library tells its caller besides results: [`Warning`]s about input that was
-//! accepted anyway. Library functions return them (never print); the CLI decides how to show
+//! accepted anyway (an enum of kinds, each with where and what), and the [`Location`] in a file
+//! that warnings and errors name. Library functions return them (never print); the CLI decides how to show
 //! them (`cli::Diagnostics`: on stderr as `warning: ...`, or not at all with `--quiet`).
 
 use std::fmt;
 
-/// A warning about input that was accepted anyway: where and what (one line).
+/// A warning about input that was accepted anyway: its kind, where (the file, and the line and
+/// column where there is one) and what (one line). Displayed as `where: what`.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Warning(pub String);
+#[non_exhaustive]
+pub enum Warning {
+    /// A line that is not UTF-8, read as Latin-1.
+    Encoding {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// The angles' units assumed (a header that does not say, or says it oddly).
+    UnitsAssumed {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// A header's declared count that disagrees with the file, or is not a count: ignored.
+    HeaderMismatch {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// A row whose time repeats the previous row's replaces it.
+    RowReplaced {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// Rows left out (values that are not finite, a calibration pose of several rows).
+    RowsLeftOut {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// A gap in time: nothing is formed across it.
+    Gap {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// Readings missing (`nan`): the values they determine are held.
+    ReadingsMissing {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// Columns or values missing, taken as 0 (or as gait2392's values).
+    MissingDefaulted {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// A column label that appears more than once.
+    DuplicateColumn {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// Columns or sensors ignored (not in the model, not an IMU of the lower-body set, ...).
+    Ignored {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// Values outside a coordinate's range.
+    OutOfRange {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// A command-line option that does not apply to this input: ignored.
+    OptionIgnored {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// A sign convention other than the one assumed.
+    SignConvention {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// What the analysis cannot do with this input (turns not found, one cycle drawn, ...).
+    Limitation {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+    /// Further warnings like those already given, not shown.
+    Suppressed {
+        /// Where.
+        at: Option<Location>,
+        /// What.
+        detail: String,
+    },
+}
+
+impl Warning {
+    /// Where: the file, and the line and column where there is one (`None`: no file).
+    pub fn at(&self) -> Option<&Location> {
+        self.parts().0
+    }
+
+    /// What, after the location.
+    pub fn detail(&self) -> &str {
+        self.parts().1
+    }
+
+    fn parts(&self) -> (Option<&Location>, &str) {
+        match self {
+            Self::Encoding { at, detail }
+            | Self::UnitsAssumed { at, detail }
+            | Self::HeaderMismatch { at, detail }
+            | Self::RowReplaced { at, detail }
+            | Self::RowsLeftOut { at, detail }
+            | Self::Gap { at, detail }
+            | Self::ReadingsMissing { at, detail }
+            | Self::MissingDefaulted { at, detail }
+            | Self::DuplicateColumn { at, detail }
+            | Self::Ignored { at, detail }
+            | Self::OutOfRange { at, detail }
+            | Self::OptionIgnored { at, detail }
+            | Self::SignConvention { at, detail }
+            | Self::Limitation { at, detail }
+            | Self::Suppressed { at, detail } => (at.as_ref(), detail),
+        }
+    }
+}
 
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+        match self.parts() {
+            (Some(at), detail) => write!(f, "{at}: {detail}"),
+            (None, detail) => f.write_str(detail),
+        }
     }
 }
 
@@ -31,6 +175,15 @@ impl Location {
         Self {
             path: path.into(),
             line: None,
+            column: None,
+        }
+    }
+
+    /// A line of a file.
+    pub fn line(path: impl Into<String>, line: usize) -> Self {
+        Self {
+            path: path.into(),
+            line: Some(line),
             column: None,
         }
     }

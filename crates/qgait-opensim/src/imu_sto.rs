@@ -14,8 +14,8 @@ use std::path::Path;
 use qgait_kernel::imu::{unit, Orientations, Segment};
 use qgait_kernel::Quat;
 
-use crate::diagnostics::Warning;
-use crate::mot::{tokens, MotError, MotionReader};
+use crate::diagnostics::{Location, Warning};
+use crate::mot::{tokens, MotError, MotionReader, QuaternionFault};
 
 /// One row: its 1-based line, its time and each sensor's reading (raw, in the sensors' world
 /// frame, normalised).
@@ -101,10 +101,10 @@ impl OrientationReader {
         }
         let mut warnings = Vec::new();
         if !ignored.is_empty() {
-            warnings.push(Warning(format!(
-                "{source}:{labels_line}: column(s) {} are not IMUs of the lower-body set (pelvis, femurs, tibias, calcanei, torso); ignored",
-                ignored.join(", ")
-            )));
+            warnings.push(Warning::Ignored {
+ at: Some(Location::line(source.to_string(), labels_line)),
+ detail: format!("column(s) {} are not IMUs of the lower-body set (pelvis, femurs, tibias, calcanei, torso); ignored", ignored.join(", ")),
+});
         }
         Ok(Self {
             reader,
@@ -129,6 +129,11 @@ impl OrientationReader {
     /// Where the column labels are (`file:line`), for messages.
     pub fn labels_location(&self) -> String {
         self.reader.header().labels_location()
+    }
+
+    /// Where the column labels are.
+    pub fn labels_at(&self) -> Location {
+        self.reader.header().labels_at()
     }
 
     /// Warnings so far (each returned once).
@@ -176,15 +181,14 @@ impl OrientationReader {
             };
             readings.set(
                 segment,
-                quaternion(cell, segment).map_err(|why| MotError::Format {
+                quaternion(cell, segment).map_err(|why| MotError::BadQuaternion {
                     path: self.source.clone(),
                     line,
-                    message: format!(
-                        "column {} (`{}`, character {}): bad quaternion `{cell}`: {why}",
-                        i + 1,
-                        labels[i],
-                        column(start)
-                    ),
+                    column: column(start),
+                    index: i + 1,
+                    name: labels[i].clone(),
+                    text: cell.to_string(),
+                    why: Box::new(why),
                 })?,
             );
         }
@@ -220,28 +224,27 @@ impl OrientationReader {
 
 /// A cell `w,x,y,z` as a unit quaternion (normalised: [`unit`]), `None` for `nan,nan,nan,nan`
 /// (no reading), or why not.
-fn quaternion(cell: &str, segment: Segment) -> Result<Option<Quat<f64>>, String> {
+fn quaternion(cell: &str, segment: Segment) -> Result<Option<Quat<f64>>, QuaternionFault> {
     let parts: Vec<&str> = cell.split(',').collect();
     if parts.len() != 4 {
-        return Err(format!("{} components (expected 4: w,x,y,z)", parts.len()));
+        return Err(QuaternionFault::Components(parts.len()));
     }
     let mut v = [0.0; 4];
     for (k, (p, slot)) in parts.iter().zip(&mut v).enumerate() {
         *slot = p
             .trim()
             .parse::<f64>()
-            .map_err(|_| format!("component {} `{p}` is not a number", k + 1))?;
+            .map_err(|_| QuaternionFault::NotANumber {
+                index: k + 1,
+                text: p.to_string(),
+            })?;
     }
     if v.iter().all(|c| c.is_nan()) {
         return Ok(None);
     }
     unit(Quat::new(v[0], v[1], v[2], v[3]), segment)
         .map(Some)
-        .map_err(|_| {
-            let n = (v.iter().map(|c| c * c).sum::<f64>()).sqrt();
-            format!(
-                "norm {n} is not within {} of 1 (not a rotation)",
-                qgait_kernel::imu::UNIT_TOLERANCE
-            )
+        .map_err(|_| QuaternionFault::NotUnit {
+            norm: (v.iter().map(|c| c * c).sum::<f64>()).sqrt(),
         })
 }

@@ -41,11 +41,12 @@
 use std::io::{self, BufRead, Write};
 use std::path::Path;
 
-use crate::diagnostics::Warning;
+use crate::diagnostics::{Location, Warning};
 
 /// A problem found while reading a motion file. Every variant names the file; the format
 /// variants also name the 1-based line (and, for numbers, the 1-based character column).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum MotError {
     /// The file could not be read.
     #[error("{path}: cannot read: {error}")]
@@ -78,6 +79,50 @@ pub enum MotError {
         name: String,
         /// The text that is not a number.
         text: String,
+    },
+    /// A cell of an orientation `.sto` is not a rotation `w,x,y,z`.
+    #[error("{path}:{line}: column {index} (`{name}`, character {column}): bad quaternion `{text}`: {why}")]
+    BadQuaternion {
+        /// The file.
+        path: String,
+        /// 1-based line number.
+        line: usize,
+        /// 1-based character column where the cell starts.
+        column: usize,
+        /// 1-based index of the column.
+        index: usize,
+        /// The column label.
+        name: String,
+        /// The cell as written.
+        text: String,
+        /// Why it is not a rotation.
+        why: Box<QuaternionFault>,
+    },
+}
+
+/// Why a cell `w,x,y,z` is not a rotation ([`MotError::BadQuaternion`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum QuaternionFault {
+    /// Not 4 components.
+    #[error("{0} components (expected 4: w,x,y,z)")]
+    Components(usize),
+    /// A component is not a number.
+    #[error("component {index} `{text}` is not a number")]
+    NotANumber {
+        /// 1-based index of the component.
+        index: usize,
+        /// The component as written.
+        text: String,
+    },
+    /// The norm is too far from 1.
+    #[error(
+        "norm {norm} is not within {} of 1 (not a rotation)",
+        qgait_kernel::imu::UNIT_TOLERANCE
+    )]
+    NotUnit {
+        /// The norm.
+        norm: f64,
     },
 }
 
@@ -180,9 +225,15 @@ impl Header {
     /// Where the column labels are, for messages: `file:line`, or just the source for a
     /// generated table.
     pub fn labels_location(&self) -> String {
-        match self.labels_line {
-            Some(line) => format!("{}:{line}", self.source),
-            None => self.source.clone(),
+        self.labels_at().to_string()
+    }
+
+    /// [`labels_location`](Self::labels_location) as a [`Location`].
+    pub fn labels_at(&self) -> Location {
+        Location {
+            path: self.source.clone(),
+            line: self.labels_line,
+            column: None,
         }
     }
 
@@ -321,10 +372,10 @@ impl<R: BufRead> MotionReader<R> {
             Err(_) => {
                 if !self.latin1_warned {
                     self.latin1_warned = true;
-                    self.warnings.push(Warning(format!(
-                        "{}:{}: not UTF-8; read as Latin-1",
-                        self.header.source, self.line_no
-                    )));
+                    self.warnings.push(Warning::Encoding {
+                        at: Some(Location::line(self.header.source.clone(), self.line_no)),
+                        detail: "not UTF-8; read as Latin-1".to_string(),
+                    });
                 }
                 self.buf.iter().map(|&b| char::from(b)).collect()
             }
@@ -386,9 +437,10 @@ impl<R: BufRead> MotionReader<R> {
                     "indegrees" => {
                         let yes = value.eq_ignore_ascii_case("yes");
                         if !yes && !value.eq_ignore_ascii_case("no") {
-                            self.warnings.push(Warning(format!(
-                                "{source}:{no}: inDegrees=`{value}` is neither yes nor no; read as no (radians), as OpenSim reads it"
-                            )));
+                            self.warnings.push(Warning::UnitsAssumed {
+ at: Some(Location::line(source.to_string(), no)),
+ detail: format!("inDegrees=`{value}` is neither yes nor no; read as no (radians), as OpenSim reads it"),
+});
                         }
                         in_degrees = Some(yes);
                     }
@@ -438,15 +490,17 @@ impl<R: BufRead> MotionReader<R> {
             (Some(d), _) => d,
             (None, _) if quaternions => false,
             (None, Some((v, text))) if *v >= 1.0 => {
-                self.warnings.push(Warning(format!(
-                    "{source}: header does not say inDegrees=yes/no; angles read as radians, as OpenSim reads a `version={text}` file"
-                )));
+                self.warnings.push(Warning::UnitsAssumed {
+ at: Some(Location::file(source.to_string())),
+ detail: format!("header does not say inDegrees=yes/no; angles read as radians, as OpenSim reads a `version={text}` file"),
+});
                 false
             }
             (None, _) => {
-                self.warnings.push(Warning(format!(
-                    "{source}: header does not say inDegrees=yes/no and has no version; angles read as degrees, as OpenSim reads such a file"
-                )));
+                self.warnings.push(Warning::UnitsAssumed {
+ at: Some(Location::file(source.to_string())),
+ detail: "header does not say inDegrees=yes/no and has no version; angles read as degrees, as OpenSim reads such a file".to_string(),
+});
                 true
             }
         };
@@ -487,19 +541,21 @@ impl<R: BufRead> MotionReader<R> {
                 if labels[..first].contains(l) || labels[first + 1..i].contains(l) {
                     continue;
                 }
-                self.warnings.push(Warning(format!(
-                    "{source}:{label_line}: column `{l}` appears more than once (columns {} and {}); only a model that needs it refuses the file",
-                    first + 1,
-                    i + 1
-                )));
+                self.warnings.push(Warning::DuplicateColumn {
+ at: Some(Location::line(source.to_string(), label_line)),
+ detail: format!("column `{l}` appears more than once (columns {} and {}); only a model that needs it refuses the file", first + 1, i + 1),
+});
             }
         }
         if let Some((n, key)) = declared_cols {
             if n != labels.len() {
-                self.warnings.push(Warning(format!(
-                    "{source}: header says {key}={n} but the file has {} columns",
-                    labels.len()
-                )));
+                self.warnings.push(Warning::HeaderMismatch {
+                    at: Some(Location::file(source.to_string())),
+                    detail: format!(
+                        "header says {key}={n} but the file has {} columns",
+                        labels.len()
+                    ),
+                });
             }
         }
         self.header.labels = labels;
@@ -601,10 +657,10 @@ impl<R: BufRead> MotionReader<R> {
                 ));
             }
             if t == p {
-                self.warnings.push(Warning(format!(
-                    "{}:{}: time {t} repeats the previous row's (line {}); this row replaces it, as in OpenSim",
-                    self.header.source, row.line, prev.line
-                )));
+                self.warnings.push(Warning::RowReplaced {
+ at: Some(Location::line(self.header.source.clone(), row.line)),
+ detail: format!("time {t} repeats the previous row's (line {}); this row replaces it, as in OpenSim", prev.line),
+});
                 self.pending = Some(row);
                 continue;
             }
@@ -625,10 +681,12 @@ impl<R: BufRead> MotionReader<R> {
         }
         if let Some((n, key)) = self.header.declared_rows {
             if n != rows {
-                self.warnings.push(Warning(format!(
-                    "{}: header says {key}={n} but the file has {rows} data rows; using {rows}",
-                    self.header.source
-                )));
+                self.warnings.push(Warning::HeaderMismatch {
+                    at: Some(Location::file(self.header.source.clone())),
+                    detail: format!(
+                        "header says {key}={n} but the file has {rows} data rows; using {rows}"
+                    ),
+                });
             }
         }
         Ok(())
@@ -850,6 +908,11 @@ impl MotionTable {
         self.header.labels_location()
     }
 
+    /// Where the column labels are, as a [`Location`].
+    pub fn labels_at(&self) -> Location {
+        self.header.labels_at()
+    }
+
     /// Whether angle columns are in degrees (`inDegrees=yes`).
     pub fn in_degrees(&self) -> bool {
         self.header.in_degrees
@@ -1011,9 +1074,10 @@ fn parse_count(
 ) -> Option<usize> {
     let parsed = value.trim().parse().ok();
     if parsed.is_none() {
-        warnings.push(Warning(format!(
-            "{source}:{line}: `{key}` is not a count (`{value}`); ignored"
-        )));
+        warnings.push(Warning::HeaderMismatch {
+            at: Some(Location::line(source.to_string(), line)),
+            detail: format!("`{key}` is not a count (`{value}`); ignored"),
+        });
     }
     parsed
 }
@@ -1032,7 +1096,7 @@ mod tests {
         assert!(wa.is_empty(), "{wa:?}");
         // The datarows style has no inDegrees: degrees assumed, with a warning.
         assert_eq!(wb.len(), 1, "{wb:?}");
-        assert!(wb[0].0.contains("inDegrees"));
+        assert!(wb[0].to_string().contains("inDegrees"));
         assert_eq!(a.header().name, "walk");
         assert!(a.in_degrees() && b.in_degrees());
         assert_eq!(a.labels(), b.labels());
@@ -1075,7 +1139,7 @@ mod tests {
         assert_eq!(t.rows(), 2);
         assert_eq!(w.len(), 1);
         assert!(
-            w[0].0.contains("nRows=7") && w[0].0.contains("2 data rows"),
+            w[0].to_string().contains("nRows=7") && w[0].to_string().contains("2 data rows"),
             "{}",
             w[0]
         );
@@ -1194,7 +1258,7 @@ mod tests {
             assert_eq!(w.is_empty(), said, "{header:?}: {w:?}");
             if !said {
                 let unit = if degrees { "degrees" } else { "radians" };
-                assert!(w[0].0.contains(unit), "{header:?}: {w:?}");
+                assert!(w[0].to_string().contains(unit), "{header:?}: {w:?}");
             }
         }
     }
@@ -1206,7 +1270,7 @@ mod tests {
         let (t, w) = MotionTable::parse(&repeated, "a.mot").unwrap();
         assert_eq!(t.time(), &[0.0, 0.5]);
         assert_eq!(t.column("knee_angle_r").unwrap(), &[-10.0, -21.0]);
-        assert!(w.iter().any(|w| w.0 == "a.mot:10: time 0.5 repeats the previous row's (line 9); this row replaces it, as in OpenSim"), "{w:?}");
+        assert!(w.iter().any(|w| w.to_string() == "a.mot:10: time 0.5 repeats the previous row's (line 9); this row replaces it, as in OpenSim"), "{w:?}");
         // A label twice: kept, with a warning.
         let dup = NROWS_STYLE.replace(
             "time\tknee_angle_r\tpelvis_ty",
@@ -1217,7 +1281,7 @@ mod tests {
         assert_eq!(t.column("knee_angle_r").unwrap(), &[-10.0, -20.5]);
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(
-            w[0].0.starts_with(
+            w[0].to_string().starts_with(
                 "a.mot:7: column `knee_angle_r` appears more than once (columns 2 and 3)"
             ),
             "{w:?}"
@@ -1231,13 +1295,13 @@ mod tests {
         let (t, w) = MotionTable::collect(MotionReader::new(&bytes[..], "a.mot").unwrap()).unwrap();
         assert_eq!(t.rows(), 2);
         assert_eq!(w.len(), 1, "{w:?}");
-        assert_eq!(w[0].0, "a.mot:3: not UTF-8; read as Latin-1");
+        assert_eq!(w[0].to_string(), "a.mot:3: not UTF-8; read as Latin-1");
         // Anything but yes/no for inDegrees: radians, as OpenSim reads it, with a warning.
         let maybe = NROWS_STYLE.replace("inDegrees=yes", "inDegrees=maybe");
         let (t, w) = MotionTable::parse(&maybe, "a.mot").unwrap();
         assert!(!t.in_degrees());
         assert!(
-            w[0].0
+            w[0].to_string()
                 .starts_with("a.mot:5: inDegrees=`maybe` is neither yes nor no"),
             "{w:?}"
         );

@@ -54,14 +54,77 @@ pub enum ImportError {
     /// The XML is not an OpenSim model (no `<OpenSimDocument Version=...>`).
     #[error("{0}: no <OpenSimDocument Version=...>: not an OpenSim model")]
     NotOpenSim(String),
+    /// A number in the model (or the marker file) is not a finite number.
+    #[error("{at}: {what}: bad number `{text}`")]
+    BadNumber {
+        /// The element holding it.
+        at: Location,
+        /// What the numbers are (e.g. joint `hip_r` rotation1).
+        what: String,
+        /// The text that is not a number.
+        text: String,
+    },
+    /// An element holds the wrong count of numbers (an offset needs 3).
+    #[error("{at}: {what}: expected {expected} numbers, found `{text}`")]
+    NumberCount {
+        /// The element.
+        at: Location,
+        /// What the numbers are.
+        what: String,
+        /// How many it must hold.
+        expected: usize,
+        /// Its text.
+        text: String,
+    },
     /// The model's leg chain is not one qgait evaluates: the joint (or constraint) and why.
-    #[error("{path}: {message}")]
+    #[error("{at}: {message}")]
     Chain {
-        /// The model file.
-        path: String,
+        /// The model file, and the element's line and column where one element is at fault.
+        at: Location,
         /// Which joint and why.
         message: String,
     },
+}
+
+impl ImportError {
+    /// The refusal of a chain at `at`: which joint (or constraint) and why.
+    pub fn chain(at: Location, message: impl Into<String>) -> Self {
+        Self::Chain {
+            at,
+            message: message.into(),
+        }
+    }
+
+    /// The error with its file named `path` where it has none yet: the functions that read a
+    /// parsed document ([`read_joints`], [`function`], ...) know the line and column of what
+    /// they refuse, not the file's name.
+    pub fn in_file(mut self, path: &str) -> Self {
+        if let Self::BadNumber { at, .. } | Self::NumberCount { at, .. } | Self::Chain { at, .. } =
+            &mut self
+        {
+            if at.path.is_empty() {
+                at.path = path.to_string();
+            }
+        }
+        self
+    }
+}
+
+/// Where element `n` starts in its document: line and column (the file is named later, by
+/// [`ImportError::in_file`]).
+pub fn location_of(n: Node) -> Location {
+    let pos = n.document().text_pos_at(n.range().start);
+    Location {
+        path: String::new(),
+        line: Some(pos.row as usize),
+        column: Some(pos.col as usize),
+    }
+}
+
+/// No element in particular: the model as a whole (the file is named by
+/// [`ImportError::in_file`]).
+fn whole() -> Location {
+    Location::file("")
 }
 
 /// Parses the XML of an `.osim` file named `source`; a file that is not XML is named as such.
@@ -109,35 +172,33 @@ pub fn import(
     markers: Option<(&str, &str)>,
 ) -> Result<Imported, ImportError> {
     let (doc, version) = document(text, source)?;
-    let err = |message: String| ImportError::Chain {
-        path: source.to_string(),
-        message,
-    };
-    let joints = read_joints(&doc).map_err(err)?;
-    check_constraints(&doc).map_err(err)?;
+    let in_file = |e: ImportError| e.in_file(source);
+    let joints = read_joints(&doc).map_err(in_file)?;
+    check_constraints(&doc).map_err(in_file)?;
     // gait2392's table moves every coordinate freely; a locked or clamped one takes the
     // general chain, which holds it at its default or keeps it in its range (`qgait imu`) as
     // OpenSim does.
     if let Some((c, how)) = held_coordinate(&doc) {
-        return Err(err(format!(
-            "coordinate {c} is {how} in the model; gait2392's table moves every coordinate freely"
-        )));
+        return Err(ImportError::chain(
+            Location::file(source),
+            format!("coordinate {c} is {how} in the model; gait2392's table moves every coordinate freely"),
+        ));
     }
     let mut notes = vec![format!(
         "imported from {source} (OpenSim {} format, Version={version}) by qgait model import",
         if version < 30000 { "3.x" } else { "4.x" }
     )];
     notes.extend(non_zero_defaults(&doc));
-    let pelvis = chain_joint(&joints, "ground", "pelvis").map_err(err)?;
-    check_pelvis(pelvis).map_err(err)?;
+    let pelvis = chain_joint(&joints, "ground", "pelvis").map_err(in_file)?;
+    check_pelvis(pelvis).map_err(in_file)?;
     let marker_doc = match markers {
         Some((t, s)) => Some((parse_xml(t, s)?, s)),
         None => None,
     };
     let mut legs = Vec::new();
     for s in ["r", "l"] {
-        let mut leg = read_leg(&joints, s).map_err(err)?;
-        let (tip, note) = toe_tip(&doc, source, marker_doc.as_ref(), s, &leg).map_err(err)?;
+        let mut leg = read_leg(&joints, s).map_err(in_file)?;
+        let (tip, note) = toe_tip(&doc, source, marker_doc.as_ref(), s, &leg).map_err(in_file)?;
         leg.toetip_in_toes = tip;
         notes.push(note);
         legs.push(leg);
@@ -219,6 +280,9 @@ pub struct Joint {
     pub axes: Vec<TransformAxis>,
     /// The joint's own coordinates, in order (what a `PinJoint` or `UniversalJoint` turns by).
     pub coordinates: Vec<String>,
+    /// Where its element starts (line and column; the file is named by
+    /// [`ImportError::in_file`]).
+    pub at: Location,
 }
 
 /// The first child element of `n` with tag `tag`.
@@ -231,26 +295,37 @@ pub fn text_of<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
     child(n, tag).map(|c| c.text().unwrap_or("").trim())
 }
 
-/// The whitespace-separated numbers of `s`; `what` names them in the error.
-pub fn numbers(s: &str, what: &str) -> Result<Vec<f64>, String> {
+/// The whitespace-separated numbers of `s`, the text of element `n`; `what` names them in the
+/// error.
+pub fn numbers(n: Node, s: &str, what: &str) -> Result<Vec<f64>, ImportError> {
     s.split_whitespace()
         .map(|v| {
             v.parse::<f64>()
                 .ok()
                 .filter(|x| x.is_finite())
-                .ok_or_else(|| format!("{what}: bad number `{v}`"))
+                .ok_or_else(|| ImportError::BadNumber {
+                    at: location_of(n),
+                    what: what.to_string(),
+                    text: v.to_string(),
+                })
         })
         .collect()
 }
 
 /// The three numbers of `n`'s child element `tag`; `what` names them in the error.
-pub fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], String> {
-    match text_of(n, tag) {
+pub fn vec3(n: Node, tag: &str, what: &str) -> Result<[f64; 3], ImportError> {
+    match child(n, tag) {
         None => Ok([0.0; 3]),
-        Some(t) => {
-            let v = numbers(t, &format!("{what} <{tag}>"))?;
-            <[f64; 3]>::try_from(v.as_slice())
-                .map_err(|_| format!("{what} <{tag}>: expected 3 numbers, found `{t}`"))
+        Some(c) => {
+            let t = c.text().unwrap_or("").trim();
+            let what = format!("{what} <{tag}>");
+            let v = numbers(c, t, &what)?;
+            <[f64; 3]>::try_from(v.as_slice()).map_err(|_| ImportError::NumberCount {
+                at: location_of(c),
+                what,
+                expected: 3,
+                text: t.to_string(),
+            })
         }
     }
 }
@@ -261,38 +336,48 @@ pub fn name_of(n: Node) -> String {
 }
 
 /// Parses a function element (`<Constant>`, `<LinearFunction>`, ...).
-pub fn function(n: Node, what: &str) -> Result<Function, String> {
+pub fn function(n: Node, what: &str) -> Result<Function, ImportError> {
     let tag = n.tag_name().name();
     Ok(match tag {
         "Constant" => Function::Constant(
-            numbers(text_of(n, "value").unwrap_or("0"), what)?
+            numbers(n, text_of(n, "value").unwrap_or("0"), what)?
                 .first()
                 .copied()
                 .unwrap_or(0.0),
         ),
         "LinearFunction" => {
-            let c = numbers(text_of(n, "coefficients").unwrap_or(""), what)?;
+            let c = numbers(n, text_of(n, "coefficients").unwrap_or(""), what)?;
             match c.as_slice() {
                 [a, b] => Function::Linear(*a, *b),
-                _ => return Err(format!("{what}: LinearFunction needs 2 coefficients")),
+                _ => {
+                    return Err(ImportError::chain(
+                        location_of(n),
+                        format!("{what}: LinearFunction needs 2 coefficients"),
+                    ))
+                }
             }
         }
         "SimmSpline" => Function::SimmSpline(
-            numbers(text_of(n, "x").unwrap_or(""), what)?,
-            numbers(text_of(n, "y").unwrap_or(""), what)?,
+            numbers(n, text_of(n, "x").unwrap_or(""), what)?,
+            numbers(n, text_of(n, "y").unwrap_or(""), what)?,
         ),
         "PiecewiseLinearFunction" => Function::PiecewiseLinear(
-            numbers(text_of(n, "x").unwrap_or(""), what)?,
-            numbers(text_of(n, "y").unwrap_or(""), what)?,
+            numbers(n, text_of(n, "x").unwrap_or(""), what)?,
+            numbers(n, text_of(n, "y").unwrap_or(""), what)?,
         ),
         "PolynomialFunction" => {
-            Function::Polynomial(numbers(text_of(n, "coefficients").unwrap_or(""), what)?)
+            Function::Polynomial(numbers(n, text_of(n, "coefficients").unwrap_or(""), what)?)
         }
         "MultiplierFunction" => {
             let inner = child(n, "function")
                 .and_then(|f| f.children().find(|c| c.is_element()))
-                .ok_or_else(|| format!("{what}: MultiplierFunction without a function"))?;
-            let scale = numbers(text_of(n, "scale").unwrap_or("1"), what)?
+                .ok_or_else(|| {
+                    ImportError::chain(
+                        location_of(n),
+                        format!("{what}: MultiplierFunction without a function"),
+                    )
+                })?;
+            let scale = numbers(n, text_of(n, "scale").unwrap_or("1"), what)?
                 .first()
                 .copied()
                 .unwrap_or(1.0);
@@ -315,7 +400,7 @@ pub fn function(n: Node, what: &str) -> Result<Function, String> {
     })
 }
 
-fn transform_axes(joint: Node, joint_name: &str) -> Result<Vec<TransformAxis>, String> {
+fn transform_axes(joint: Node, joint_name: &str) -> Result<Vec<TransformAxis>, ImportError> {
     let Some(st) = child(joint, "SpatialTransform") else {
         return Ok(Vec::new());
     };
@@ -341,7 +426,12 @@ fn transform_axes(joint: Node, joint_name: &str) -> Result<Vec<TransformAxis>, S
         let function = match f_node {
             Some(f) => function(f, &what)?,
             None if coordinates.is_empty() => Function::Constant(0.0),
-            None => return Err(format!("{what}: no function")),
+            None => {
+                return Err(ImportError::chain(
+                    location_of(ta),
+                    format!("{what}: no function"),
+                ))
+            }
         };
         axes.push(TransformAxis {
             name,
@@ -367,9 +457,13 @@ fn resolve_frame(
     joint: Node,
     socket: &str,
     joint_name: &str,
-) -> Result<(String, [f64; 3], [f64; 3]), String> {
-    let target =
-        text_of(joint, socket).ok_or_else(|| format!("joint `{joint_name}`: no <{socket}>"))?;
+) -> Result<(String, [f64; 3], [f64; 3]), ImportError> {
+    let target = text_of(joint, socket).ok_or_else(|| {
+        ImportError::chain(
+            location_of(joint),
+            format!("joint `{joint_name}`: no <{socket}>"),
+        )
+    })?;
     let frame_name = last_path_part(target);
     let offset = child(joint, "frames").and_then(|f| {
         f.children()
@@ -378,15 +472,21 @@ fn resolve_frame(
     match offset {
         Some(frame) => {
             if !frame.has_tag_name("PhysicalOffsetFrame") {
-                return Err(format!(
-                    "joint `{joint_name}`: frame `{frame_name}` is a {} (only PhysicalOffsetFrame is supported)",
-                    frame.tag_name().name()
+                return Err(ImportError::chain(
+                    location_of(frame),
+                    format!(
+                        "joint `{joint_name}`: frame `{frame_name}` is a {} (only PhysicalOffsetFrame is supported)",
+                        frame.tag_name().name()
+                    ),
                 ));
             }
             let parent = text_of(frame, "socket_parent").unwrap_or("");
             if !(parent.starts_with("/bodyset/") || parent == "/ground") {
-                return Err(format!(
-                    "joint `{joint_name}`: frame `{frame_name}` hangs on `{parent}` (only a body or ground is supported)"
+                return Err(ImportError::chain(
+                    location_of(frame),
+                    format!(
+                        "joint `{joint_name}`: frame `{frame_name}` hangs on `{parent}` (only a body or ground is supported)"
+                    ),
                 ));
             }
             let what = format!("joint `{joint_name}` frame `{frame_name}`");
@@ -401,7 +501,7 @@ fn resolve_frame(
 }
 
 /// Every joint of the model, in file order, its offset frames resolved to bodies.
-pub fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
+pub fn read_joints(doc: &Document) -> Result<Vec<Joint>, ImportError> {
     let mut joints = Vec::new();
     // 4.x: <JointSet><objects>...
     for set in doc.descendants().filter(|n| n.has_tag_name("JointSet")) {
@@ -424,6 +524,7 @@ pub fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
                 axes: transform_axes(j, &name)?,
                 coordinates: joint_coordinates(j),
                 name,
+                at: location_of(j),
             });
         }
     }
@@ -447,12 +548,13 @@ pub fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
             axes: transform_axes(j, &name)?,
             coordinates: joint_coordinates(j),
             name,
+            at: location_of(j),
         });
     }
     for j in &joints {
         for ax in &j.axes {
             if let Some(c) = ax.coordinates.iter().find(|c| !j.coordinates.contains(c)) {
-                return Err(format!(
+                return Err(ImportError::chain(j.at.clone(), format!(
                     "joint `{}` {} turns by coordinate `{c}`, which the joint does not declare (its coordinates: {}); OpenSim refuses such a model",
                     j.name,
                     ax.name,
@@ -461,7 +563,7 @@ pub fn read_joints(doc: &Document) -> Result<Vec<Joint>, String> {
                     } else {
                         j.coordinates.join(", ")
                     }
-                ));
+                )));
             }
         }
     }
@@ -482,34 +584,44 @@ pub fn joint_moving<'a>(
     joints: &'a [Joint],
     parent: &str,
     body: &str,
-) -> Result<&'a Joint, String> {
+) -> Result<&'a Joint, ImportError> {
     let found: Vec<&Joint> = joints.iter().filter(|j| j.child == body).collect();
     let j = match found.as_slice() {
         [j] => *j,
         [] => {
-            return Err(format!(
+            return Err(ImportError::chain(whole(), format!(
                 "no joint moves body `{body}` (a leg chain is ground-pelvis-femur-tibia-talus-calcn-toes)"
-            ))
+            )))
         }
-        _ => return Err(format!("several joints move body `{body}`")),
+        _ => return Err(ImportError::chain(whole(), format!("several joints move body `{body}`"))),
     };
     if j.parent != parent {
-        return Err(format!(
-            "joint `{}` connects `{}` to `{body}`; the leg chain needs `{parent}`",
-            j.name, j.parent
+        return Err(ImportError::chain(
+            j.at.clone(),
+            format!(
+                "joint `{}` connects `{}` to `{body}`; the leg chain needs `{parent}`",
+                j.name, j.parent
+            ),
         ));
     }
     Ok(j)
 }
 
 /// The joint moving `child`, checked to hang on `parent` and to be a plain `CustomJoint`.
-fn chain_joint<'a>(joints: &'a [Joint], parent: &str, child: &str) -> Result<&'a Joint, String> {
+fn chain_joint<'a>(
+    joints: &'a [Joint],
+    parent: &str,
+    child: &str,
+) -> Result<&'a Joint, ImportError> {
     let j = joint_moving(joints, parent, child)?;
     let name = &j.name;
     if j.kind != "CustomJoint" {
-        return Err(format!(
-            "joint `{name}` is a {} (only CustomJoint is supported)",
-            j.kind
+        return Err(ImportError::chain(
+            j.at.clone(),
+            format!(
+                "joint `{name}` is a {} (only CustomJoint is supported)",
+                j.kind
+            ),
         ));
     }
     for (what, v) in [
@@ -527,20 +639,24 @@ fn chain_joint<'a>(joints: &'a [Joint], parent: &str, child: &str) -> Result<&'a
         ),
     ] {
         if v != [0.0; 3] {
-            return Err(format!(
-                "joint `{name}`: non-zero {what} {v:?} is not supported"
+            return Err(ImportError::chain(
+                j.at.clone(),
+                format!("joint `{name}`: non-zero {what} {v:?} is not supported"),
             ));
         }
     }
     if j.reverse {
-        return Err(format!("joint `{name}`: reverse=true is not supported"));
+        return Err(ImportError::chain(
+            j.at.clone(),
+            format!("joint `{name}`: reverse=true is not supported"),
+        ));
     }
     Ok(j)
 }
 
 /// The rotations that move (Constant 0 ones dropped): (axis, coordinate), checked against the
 /// expected coordinates in order.
-fn rotations(j: &Joint, expected: &[String]) -> Result<Vec<[f64; 3]>, String> {
+fn rotations(j: &Joint, expected: &[String]) -> Result<Vec<[f64; 3]>, ImportError> {
     let mut out = Vec::new();
     let mut coords = Vec::new();
     for ax in j.axes.iter().filter(|a| a.name.starts_with("rotation")) {
@@ -548,49 +664,52 @@ fn rotations(j: &Joint, expected: &[String]) -> Result<Vec<[f64; 3]>, String> {
         match &ax.function {
             Function::Constant(c) if *c == 0.0 => {}
             Function::Constant(c) => {
-                return Err(format!(
+                return Err(ImportError::chain(j.at.clone(), format!(
                     "{what}: a constant rotation of {c} rad is not supported"
-                ))
+                )))
             }
             Function::Linear(a, b) if *a == 1.0 && *b == 0.0 && ax.coordinates.len() == 1 => {
                 out.push(ax.axis);
                 coords.push(ax.coordinates[0].clone());
             }
             Function::Linear(a, b) => {
-                return Err(format!(
+                return Err(ImportError::chain(j.at.clone(), format!(
                     "{what}: LinearFunction {a} {b} of {:?} is not supported on a rotation (only the identity 1 0 of one coordinate)",
                     ax.coordinates
-                ))
+                )))
             }
             Function::SimmSpline(..) | Function::PiecewiseLinear(..) => {
-                return Err(format!("{what}: a spline rotation is not supported"))
+                return Err(ImportError::chain(j.at.clone(), format!("{what}: a spline rotation is not supported")))
             }
             Function::Polynomial(..) => {
-                return Err(format!("{what}: a polynomial rotation is not supported"))
+                return Err(ImportError::chain(j.at.clone(), format!("{what}: a polynomial rotation is not supported")))
             }
             Function::Other(t) => {
-                return Err(format!("{what}: function type {t} is not supported"))
+                return Err(ImportError::chain(j.at.clone(), format!("{what}: function type {t} is not supported")))
             }
         }
     }
     if coords != expected {
-        return Err(format!(
-            "joint `{}` rotates by coordinates [{}]; gait2392's chain needs [{}] in that order",
-            j.name,
-            coords.join(", "),
-            expected.join(", ")
+        return Err(ImportError::chain(
+            j.at.clone(),
+            format!(
+                "joint `{}` rotates by coordinates [{}]; gait2392's chain needs [{}] in that order",
+                j.name,
+                coords.join(", "),
+                expected.join(", ")
+            ),
         ));
     }
     Ok(out)
 }
 
-fn no_translation(j: &Joint) -> Result<(), String> {
+fn no_translation(j: &Joint) -> Result<(), ImportError> {
     for ax in j.axes.iter().filter(|a| a.name.starts_with("translation")) {
         if ax.function != Function::Constant(0.0) {
-            return Err(format!(
+            return Err(ImportError::chain(j.at.clone(), format!(
                 "joint `{}` {}: a translation ({:?}) is not supported here (only the knee translates)",
                 j.name, ax.name, ax.function
-            ));
+            )));
         }
     }
     Ok(())
@@ -601,7 +720,7 @@ fn same_axis(a: [f64; 3], b: [f64; 3]) -> bool {
     n > 0.0 && (0..3).all(|i| (a[i] / n - b[i]).abs() < 1e-12)
 }
 
-fn check_pelvis(j: &Joint) -> Result<(), String> {
+fn check_pelvis(j: &Joint) -> Result<(), ImportError> {
     let names = ["pelvis_tilt", "pelvis_list", "pelvis_rotation"].map(String::from);
     let axes = rotations(j, &names)?;
     for (a, e) in axes
@@ -609,9 +728,12 @@ fn check_pelvis(j: &Joint) -> Result<(), String> {
         .zip([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     {
         if !same_axis(*a, e) {
-            return Err(format!(
-                "joint `{}`: pelvis axes {axes:?} are not gait2392's z, x, y",
-                j.name
+            return Err(ImportError::chain(
+                j.at.clone(),
+                format!(
+                    "joint `{}`: pelvis axes {axes:?} are not gait2392's z, x, y",
+                    j.name
+                ),
             ));
         }
     }
@@ -619,7 +741,7 @@ fn check_pelvis(j: &Joint) -> Result<(), String> {
     Ok(())
 }
 
-fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
+fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), ImportError> {
     let mut tx: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut ty: Option<(Vec<f64>, Vec<f64>)> = None;
     for ax in j.axes.iter().filter(|a| a.name.starts_with("translation")) {
@@ -628,20 +750,23 @@ fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
             continue;
         }
         if !matches!(ax.function, Function::Constant(_)) && ax.coordinates != [coordinate] {
-            return Err(format!(
-                "{what}: a function of {:?}; gait2392's knee translates with {coordinate} only",
-                ax.coordinates
+            return Err(ImportError::chain(
+                j.at.clone(),
+                format!(
+                    "{what}: a function of {:?}; gait2392's knee translates with {coordinate} only",
+                    ax.coordinates
+                ),
             ));
         }
         let knots = match &ax.function {
             Function::SimmSpline(x, y) => {
                 if x.len() != y.len() || x.len() < 2 || x.len() > qgait_kernel::spline::MAX_KNOTS {
-                    return Err(format!(
+                    return Err(ImportError::chain(j.at.clone(), format!(
                         "{what}: SimmSpline with {} x and {} y knots (qgait supports 2 to {})",
                         x.len(),
                         y.len(),
                         qgait_kernel::spline::MAX_KNOTS
-                    ));
+                    )));
                 }
                 (x.clone(), y.clone())
             }
@@ -649,19 +774,19 @@ fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
             Function::Linear(a, b) => (vec![-1.0, 1.0], vec![b - a, b + a]),
             Function::Constant(c) => (vec![-1.0, 1.0], vec![*c, *c]),
             Function::PiecewiseLinear(..) => {
-                return Err(format!(
+                return Err(ImportError::chain(j.at.clone(), format!(
                     "{what}: PiecewiseLinearFunction is not supported on gait2392's knee"
-                ))
+                )))
             }
             Function::Polynomial(..) => {
-                return Err(format!(
+                return Err(ImportError::chain(j.at.clone(), format!(
                     "{what}: PolynomialFunction is not supported on gait2392's knee"
-                ))
+                )))
             }
             Function::Other(t) => {
-                return Err(format!(
+                return Err(ImportError::chain(j.at.clone(), format!(
                     "{what}: function type {t} is not supported (the knee needs SimmSpline, LinearFunction or Constant)"
-                ))
+                )))
             }
         };
         let slot = if same_axis(ax.axis, [1.0, 0.0, 0.0]) {
@@ -669,21 +794,30 @@ fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
         } else if same_axis(ax.axis, [0.0, 1.0, 0.0]) {
             &mut ty
         } else {
-            return Err(format!(
-                "{what}: translation along {:?} is not supported (only the femur's x and y)",
-                ax.axis
+            return Err(ImportError::chain(
+                j.at.clone(),
+                format!(
+                    "{what}: translation along {:?} is not supported (only the femur's x and y)",
+                    ax.axis
+                ),
             ));
         };
         if slot.is_some() {
-            return Err(format!("{what}: two translations along the same axis"));
+            return Err(ImportError::chain(
+                j.at.clone(),
+                format!("{what}: two translations along the same axis"),
+            ));
         }
         *slot = Some(knots);
     }
     let l = j.location_in_parent;
     if l[2] != 0.0 {
-        return Err(format!(
-            "joint `{}`: a knee offset along z ({}) is not supported",
-            j.name, l[2]
+        return Err(ImportError::chain(
+            j.at.clone(),
+            format!(
+                "joint `{}`: a knee offset along z ({}) is not supported",
+                j.name, l[2]
+            ),
         ));
     }
     // The knee's parent offset adds to its translations (both are in the femur frame).
@@ -699,7 +833,7 @@ fn knee_knots(j: &Joint, coordinate: &str) -> Result<(Knots, Knots), String> {
     Ok((with_offset(tx, l[0]), with_offset(ty, l[1])))
 }
 
-fn read_leg(joints: &[Joint], s: &str) -> Result<LegGeometry, String> {
+fn read_leg(joints: &[Joint], s: &str) -> Result<LegGeometry, ImportError> {
     let names = |c: &[&str]| -> Vec<String> { c.iter().map(|n| format!("{n}_{s}")).collect() };
     let hip = chain_joint(joints, "pelvis", &format!("femur_{s}"))?;
     let knee = chain_joint(joints, &format!("femur_{s}"), &format!("tibia_{s}"))?;
@@ -713,13 +847,16 @@ fn read_leg(joints: &[Joint], s: &str) -> Result<LegGeometry, String> {
     no_translation(hip)?;
     let knee_axis = rotations(knee, &names(&["knee_angle"]))?;
     if !same_axis(knee_axis[0], [0.0, 0.0, 1.0]) {
-        return Err(format!(
-            "joint `{}`: knee axis {:?} is not gait2392's z",
-            knee.name, knee_axis[0]
+        return Err(ImportError::chain(
+            knee.at.clone(),
+            format!(
+                "joint `{}`: knee axis {:?} is not gait2392's z",
+                knee.name, knee_axis[0]
+            ),
         ));
     }
     let (knee_tx, knee_ty) = knee_knots(knee, &format!("knee_angle_{s}"))?;
-    let one_axis = |j: &Joint, coordinate: &str| -> Result<[f64; 3], String> {
+    let one_axis = |j: &Joint, coordinate: &str| -> Result<[f64; 3], ImportError> {
         no_translation(j)?;
         Ok(rotations(j, &names(&[coordinate]))?[0])
     };
@@ -740,7 +877,7 @@ fn read_leg(joints: &[Joint], s: &str) -> Result<LegGeometry, String> {
 }
 
 /// Constraints that touch the chain (its coordinates or bodies) are refused.
-fn check_constraints(doc: &Document) -> Result<(), String> {
+fn check_constraints(doc: &Document) -> Result<(), ImportError> {
     let mut chain: Vec<String> = COORDINATES.iter().map(|c| c.to_string()).collect();
     for s in ["r", "l"] {
         for b in ["femur", "tibia", "talus", "calcn", "toes"] {
@@ -749,10 +886,13 @@ fn check_constraints(doc: &Document) -> Result<(), String> {
     }
     chain.push("pelvis".into());
     match constraint_naming(doc, &chain, None) {
-        Some((c, hit)) => Err(format!(
-            "{} `{}` constrains `{hit}` of the leg chain; constraints are not supported",
-            c.tag_name().name(),
-            name_of(c)
+        Some((c, hit)) => Err(ImportError::chain(
+            location_of(c),
+            format!(
+                "{} `{}` constrains `{hit}` of the leg chain; constraints are not supported",
+                c.tag_name().name(),
+                name_of(c)
+            ),
         )),
         None => Ok(()),
     }
@@ -857,7 +997,7 @@ fn non_zero_defaults(doc: &Document) -> Vec<String> {
 }
 
 /// A marker `name` in a document: (body, location).
-pub fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, String> {
+pub fn marker(doc: &Document, name: &str) -> Result<Option<(String, [f64; 3])>, ImportError> {
     let Some(m) = doc
         .descendants()
         .find(|n| n.has_tag_name("Marker") && n.attribute("name") == Some(name))
@@ -890,8 +1030,7 @@ fn toes_scale(doc: &Document, s: &str) -> [f64; 3] {
                 .and_then(|g| g.children().find(|c| c.is_element()))
                 .and_then(|m| child(m, "scale_factors"))
         })
-        .and_then(|n| n.text())
-        .and_then(|t| numbers(t, "").ok())
+        .and_then(|n| numbers(n, n.text()?, "").ok())
         .and_then(|v| <[f64; 3]>::try_from(v.as_slice()).ok());
     scale.unwrap_or([1.0; 3])
 }
@@ -906,15 +1045,19 @@ pub fn toe_marker<'f>(
     source: &'f str,
     markers: Option<&(Document, &'f str)>,
     s: &str,
-) -> Result<(&'static str, FoundMarker<'f>), String> {
+) -> Result<(&'static str, FoundMarker<'f>), ImportError> {
     let name = if s == "r" { "R.Toe.Tip" } else { "L.Toe.Tip" };
     let found = match markers {
-        Some((doc, file)) => marker(doc, name)?.map(|m| (m, *file)),
+        Some((doc, file)) => marker(doc, name)
+            .map_err(|e| e.in_file(file))?
+            .map(|m| (m, *file)),
         None => None,
     };
     let found = match found {
         Some(f) => Some(f),
-        None => marker(model, name)?.map(|m| (m, source)),
+        None => marker(model, name)
+            .map_err(|e| e.in_file(source))?
+            .map(|m| (m, source)),
     };
     Ok((name, found))
 }
@@ -939,7 +1082,7 @@ fn toe_tip(
     markers: Option<&(Document, &str)>,
     s: &str,
     leg: &LegGeometry,
-) -> Result<([f64; 3], String), String> {
+) -> Result<([f64; 3], String), ImportError> {
     let (name, found) = toe_marker(model, source, markers, s)?;
     if let Some(((body, loc), file)) = found {
         let tip = if body == format!("toes_{s}") {
@@ -948,8 +1091,11 @@ fn toe_tip(
             // The MTP joint has no orientation offset (checked), so toes = calcn - MTP centre.
             [0, 1, 2].map(|i| loc[i] - leg.mtp_in_calcn[i])
         } else {
-            return Err(format!(
-                "marker `{name}` is on `{body}`; the toe tip must be on calcn_{s} or toes_{s}"
+            return Err(ImportError::chain(
+                Location::file(file),
+                format!(
+                    "marker `{name}` is on `{body}`; the toe tip must be on calcn_{s} or toes_{s}"
+                ),
             ));
         };
         return Ok((
@@ -990,6 +1136,23 @@ mod tests {
         assert_eq!(
             function(doc.root_element(), "t").unwrap(),
             Function::Other("NaturalCubicSpline".into())
+        );
+    }
+    #[test]
+    fn a_refusal_names_the_element_line_and_column() {
+        let xml = "<OpenSimDocument Version=\"40000\">\n<JointSet><objects>\n  <PinJoint name=\"hip_r\">\n    <socket_parent_frame>pelvis</socket_parent_frame>\n    <socket_child_frame>femur_r</socket_child_frame>\n    <frames><PhysicalOffsetFrame name=\"femur_r\"><socket_parent>/bodyset/femur_r</socket_parent>\n      <translation>0 1e</translation></PhysicalOffsetFrame></frames>\n  </PinJoint>\n</objects></JointSet></OpenSimDocument>";
+        let doc = Document::parse(xml).unwrap();
+        let e = read_joints(&doc).unwrap_err().in_file("m.osim");
+        assert_eq!(
+            e.to_string(),
+            "m.osim:7:7: joint `hip_r` frame `femur_r` <translation>: bad number `1e`"
+        );
+        let two = xml.replace("0 1e", "0 1");
+        let doc = Document::parse(&two).unwrap();
+        let e = read_joints(&doc).unwrap_err().in_file("m.osim");
+        assert_eq!(
+            e.to_string(),
+            "m.osim:7:7: joint `hip_r` frame `femur_r` <translation>: expected 3 numbers, found `0 1`"
         );
     }
 }

@@ -45,7 +45,7 @@ use qgait_kernel::imu::math::from_rotation_matrix;
 use qgait_kernel::imu::{unit, Orientations, Segment, UNIT_TOLERANCE};
 use qgait_kernel::Quat;
 
-use crate::diagnostics::Warning;
+use crate::diagnostics::{Location, Warning};
 use crate::imu_sto::{OrientationReader, OrientationRow};
 use crate::mot::MotError;
 
@@ -56,7 +56,11 @@ pub trait OrientationSource {
     /// The sensors that have a column.
     fn sensors(&self) -> Vec<Segment>;
     /// Where the column labels are (`file:line`), for messages.
-    fn labels_location(&self) -> String;
+    fn labels_location(&self) -> String {
+        self.labels_at().to_string()
+    }
+    /// Where the column labels are.
+    fn labels_at(&self) -> Location;
     /// Warnings so far (each returned once).
     fn take_warnings(&mut self) -> Vec<Warning>;
     /// The next row, or `None` after the last (an error if there is no row at all).
@@ -77,8 +81,8 @@ impl OrientationSource for OrientationReader {
     fn sensors(&self) -> Vec<Segment> {
         OrientationReader::sensors(self).collect()
     }
-    fn labels_location(&self) -> String {
-        OrientationReader::labels_location(self)
+    fn labels_at(&self) -> Location {
+        OrientationReader::labels_at(self)
     }
     fn take_warnings(&mut self) -> Vec<Warning> {
         OrientationReader::take_warnings(self)
@@ -177,10 +181,10 @@ impl Mapping {
             })?;
             let segment = Segment::from_name(&in_model);
             if segment.is_none() {
-                warnings.push(Warning(format!(
-                    "{source}:{at}: sensor `{name}` is `{in_model}`, not an IMU of the lower-body set ({}); ignored",
-                    Segment::ALL.map(Segment::imu_label).join(", ")
-                )));
+                warnings.push(Warning::Ignored {
+ at: Some(Location::line(source.to_string(), at)),
+ detail: format!("sensor `{name}` is `{in_model}`, not an IMU of the lower-body set ({}); ignored", Segment::ALL.map(Segment::imu_label).join(", ")),
+});
             }
             if sensors
                 .iter()
@@ -637,8 +641,8 @@ impl OrientationSource for XsensTrial {
     fn sensors(&self) -> Vec<Segment> {
         self.files.iter().map(|f| f.segment).collect()
     }
-    fn labels_location(&self) -> String {
-        format!("{}:{}", self.files[0].path, self.files[0].labels_line)
+    fn labels_at(&self) -> Location {
+        Location::line(self.files[0].path.clone(), self.files[0].labels_line)
     }
     fn take_warnings(&mut self) -> Vec<Warning> {
         std::mem::take(&mut self.warnings)
@@ -844,9 +848,10 @@ impl ApdmTrial {
                     sensors.push((segment, i, name.to_string()));
                 }
                 if mapping.is_none() && Segment::from_name(name).is_none() {
-                    warnings.push(Warning(format!(
-                        "{source}:3: sensor `{name}` is not an IMU of the lower-body set; ignored (map APDM sensors with --imu-mapping)"
-                    )));
+                    warnings.push(Warning::Ignored {
+ at: Some(Location::line(source.to_string(), 3)),
+ detail: format!("sensor `{name}` is not an IMU of the lower-body set; ignored (map APDM sensors with --imu-mapping)"),
+});
                 }
             }
             next(&mut lines, "the units line")?;
@@ -898,8 +903,8 @@ impl OrientationSource for ApdmTrial {
     fn sensors(&self) -> Vec<Segment> {
         self.sensors.iter().map(|s| s.0).collect()
     }
-    fn labels_location(&self) -> String {
-        format!("{}:{}", self.source, self.labels_line)
+    fn labels_at(&self) -> Location {
+        Location::line(self.source.clone(), self.labels_line)
     }
     fn take_warnings(&mut self) -> Vec<Warning> {
         std::mem::take(&mut self.warnings)

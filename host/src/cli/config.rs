@@ -63,8 +63,8 @@ pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubM
         Model::Chain { name, chain } => HubModel::Chain {
             chain: Box::new(
                 chain
-                    .chain()
-                    .map_err(|e| anyhow::anyhow!("--model {name}: {e}"))?,
+                    .chain(&name)
+                    .map_err(|e| anyhow::anyhow!("--model {e}"))?,
             ),
             upload,
         },

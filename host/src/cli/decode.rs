@@ -33,10 +33,10 @@ pub struct DecodeArgs {
 }
 
 /// `--rate`: a finite number of hertz above 0.
-fn positive_rate(s: &str) -> Result<f64, String> {
+fn positive_rate(s: &str) -> anyhow::Result<f64> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!(
+        _ => Err(anyhow::anyhow!(
             "`{s}` is not a sampling rate in Hz (a number above 0)"
         )),
     }

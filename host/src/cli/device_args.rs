@@ -113,14 +113,15 @@ pub(crate) fn warn_cut_off(log: &str, unterminated: usize) {
     }
 }
 
-pub(crate) fn micrometres(s: &str) -> Result<f64, String> {
-    crate::cli::amount(s, 0.0, true)
-        .ok_or_else(|| format!("`{s}` is not a tolerance in micrometres (a number, 0 or more)"))
+pub(crate) fn micrometres(s: &str) -> anyhow::Result<f64> {
+    crate::cli::amount(s, 0.0, true).ok_or_else(|| {
+        anyhow::anyhow!("`{s}` is not a tolerance in micrometres (a number, 0 or more)")
+    })
 }
 
-pub(crate) fn positive_seconds(s: &str) -> Result<f64, String> {
+pub(crate) fn positive_seconds(s: &str) -> anyhow::Result<f64> {
     crate::cli::amount(s, 0.0, false)
-        .ok_or_else(|| format!("`{s}` is not a positive number of seconds"))
+        .ok_or_else(|| anyhow::anyhow!("`{s}` is not a positive number of seconds"))
 }
 
 impl PortArgs {

@@ -113,11 +113,10 @@ pub(crate) fn run_fuse(a: FuseArgs, diagnostics: &Diagnostics) -> anyhow::Result
         .map(String::as_str)
         .collect();
     if !unknown.is_empty() {
-        diagnostics.warn([Warning(format!(
-            "column(s) {} are not IMUs of the lower-body set, which `qgait imu` reads ({}); name them with --name",
-            unknown.join(", "),
-            Segment::ALL.map(Segment::imu_label).join(", ")
-        ))]);
+        diagnostics.warn([Warning::Ignored {
+ at: None,
+ detail: format!("column(s) {} are not IMUs of the lower-body set, which `qgait imu` reads ({}); name them with --name", unknown.join(", "), Segment::ALL.map(Segment::imu_label).join(", ")),
+}]);
     }
     if !a.truth.is_empty() && a.truth.len() != a.inputs.len() {
         bail!(

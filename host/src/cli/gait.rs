@@ -94,41 +94,45 @@ pub struct GaitArgs {
 }
 
 /// `--treadmill-speed`: a finite speed above 0 m/s.
-fn parse_speed(text: &str) -> Result<f64, String> {
-    crate::cli::amount(text, 0.0, false)
-        .ok_or_else(|| format!("`{text}` is not a speed: expected a finite number of m/s above 0"))
+fn parse_speed(text: &str) -> anyhow::Result<f64> {
+    crate::cli::amount(text, 0.0, false).ok_or_else(|| {
+        anyhow::anyhow!("`{text}` is not a speed: expected a finite number of m/s above 0")
+    })
 }
 
 /// `--age`: a finite number of years, 0 or more.
-fn parse_age(text: &str) -> Result<f64, String> {
+fn parse_age(text: &str) -> anyhow::Result<f64> {
     crate::cli::amount(text, 0.0, true).ok_or_else(|| {
-        format!("`{text}` is not an age: expected a finite number of years, 0 or more")
+        anyhow::anyhow!("`{text}` is not an age: expected a finite number of years, 0 or more")
     })
 }
 
 /// `--date`: a calendar date, YYYY-MM-DD.
-fn parse_date(text: &str) -> Result<String, String> {
-    qgait_gait::session::parse_date(text)
-        .ok_or_else(|| format!("`{text}` is not a date: expected YYYY-MM-DD, a day that exists"))
+fn parse_date(text: &str) -> anyhow::Result<String> {
+    qgait_gait::session::parse_date(text).ok_or_else(|| {
+        anyhow::anyhow!("`{text}` is not a date: expected YYYY-MM-DD, a day that exists")
+    })
 }
 
 /// `--height`: a finite number of metres above 0 and at most 3.
-fn parse_height(text: &str) -> Result<f64, String> {
+fn parse_height(text: &str) -> anyhow::Result<f64> {
     crate::cli::amount(text, 0.0, false)
         .filter(|h| *h <= 3.0)
         .ok_or_else(|| {
-            format!(
+            anyhow::anyhow!(
                 "`{text}` is not a height: expected metres above 0 and at most 3 (1.75, not 175)"
             )
         })
 }
 
 /// `--mass`: a finite number of kilograms above 0 and at most 500.
-fn parse_mass(text: &str) -> Result<f64, String> {
+fn parse_mass(text: &str) -> anyhow::Result<f64> {
     crate::cli::amount(text, 0.0, false)
         .filter(|m| *m <= 500.0)
         .ok_or_else(|| {
-            format!("`{text}` is not a body mass: expected kilograms above 0 and at most 500")
+            anyhow::anyhow!(
+                "`{text}` is not a body mass: expected kilograms above 0 and at most 500"
+            )
         })
 }
 

@@ -21,7 +21,7 @@ use crate::progress::Progress;
 use qgait_figures::imu_angles;
 use qgait_model::choice::Model;
 use qgait_model::error::ModelError;
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Location, Warning};
 use qgait_opensim::mot::{write_mot_header, write_mot_row, MotionTable};
 use qgait_opensim::vendor::{self, Mapping};
 
@@ -353,22 +353,8 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
                     "--pelvis heading-free: for gait2392 and PHAK; --model {name} writes the pelvis as OpenSense does"
                 );
             }
-            let model = chain.chain().map_err(|message| ModelError::File {
-                at: qgait_opensim::diagnostics::Location {
-                    path: name.clone(),
-                    line: None,
-                    column: None,
-                },
-                message,
-            })?;
-            let (min, max) = chain.bounds().map_err(|message| ModelError::File {
-                at: qgait_opensim::diagnostics::Location {
-                    path: name.clone(),
-                    line: None,
-                    column: None,
-                },
-                message,
-            })?;
+            let model = chain.chain(name)?;
+            let (min, max) = chain.bounds(name)?;
             let mut solver = FitSolver::new();
             (solver.min, solver.max) = (min, max);
             solver.torso_on_pelvis = a.lumbar == Some(LumbarArg::Locked);
@@ -399,10 +385,10 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     )?;
     let mut reader = vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
     if let (Some(r), true) = (a.rate, reader.has_times()) {
-        warnings.push(Warning(format!(
-            "{}: --rate {r} ignored: the file has its own times (--rate is for an Xsens trial or an APDM file that gives none)",
-            reader.source()
-        )));
+        warnings.push(Warning::OptionIgnored {
+ at: Some(Location::file(reader.source())),
+ detail: format!("--rate {r} ignored: the file has its own times (--rate is for an Xsens trial or an APDM file that gives none)"),
+});
     }
     for s in &calibration.1 {
         if !reader.sensors().contains(s) {
@@ -415,11 +401,13 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     }
     for s in reader.sensors() {
         if !calibration.1.contains(&s) {
-            warnings.push(Warning(format!(
-                "{}: `{s}` has no reading in the calibration pose ({}); its column is ignored",
-                reader.labels_location(),
-                a.calibration.display()
-            )));
+            warnings.push(Warning::Ignored {
+                at: Some(reader.labels_at()),
+                detail: format!(
+                    "`{s}` has no reading in the calibration pose ({}); its column is ignored",
+                    a.calibration.display()
+                ),
+            });
         }
     }
     let present = calibration.1.clone();
@@ -480,10 +468,10 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     progress.finish();
     warnings.extend(reader.take_warnings());
     for (sensor, n, line) in gaps {
-        warnings.push(Warning(format!(
-            "{}:{line}: `{sensor}` has no reading (nan) in {n} of {rows} rows, the first here: what only it determines keeps its previous value there (0 before its first reading), not a measurement",
-            reader.source()
-        )));
+        warnings.push(Warning::ReadingsMissing {
+ at: Some(Location::line(reader.source(), line)),
+ detail: format!("`{sensor}` has no reading (nan) in {n} of {rows} rows, the first here: what only it determines keeps its previous value there (0 before its first reading), not a measurement"),
+});
     }
     diagnostics.warn(warnings);
     if let Some(reference) = &a.compare {
@@ -586,11 +574,13 @@ fn calibrate(
         .next_row()?
         .expect("the reader refuses a file without rows");
     if reader.next_row()?.is_some() {
-        warnings.push(Warning(format!(
-            "{}: the calibration pose has more than one row; the first (line {}) is used",
-            reader.source(),
-            row.line
-        )));
+        warnings.push(Warning::RowsLeftOut {
+            at: Some(Location::file(reader.source())),
+            detail: format!(
+                "the calibration pose has more than one row; the first (line {}) is used",
+                row.line
+            ),
+        });
     }
     warnings.extend(reader.take_warnings());
     let present: Vec<Segment> = Segment::ALL

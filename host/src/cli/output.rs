@@ -1,11 +1,12 @@
 //! Output files: never over an input, and written atomically (a temporary file beside the
-//! output, renamed when whole), or to standard output, where a closed pipe is not an error.
+//! output, `tempfile`'s, persisted when whole), or to standard output, where a closed pipe is not an error.
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
+use tempfile::TempPath;
 
 /// Refuses to write any of `outputs` over one of `inputs` (motion specs, model or other files
 /// given on the same command line): `qgait fk x.mot -o x.mot` would destroy its own input.
@@ -64,13 +65,14 @@ fn file_identity(path: &Path) -> Option<PathBuf> {
     }
 }
 
-/// A file being written: rows go to a temporary file beside it, renamed to `path` by
-/// [`OutputFile::commit`], so that an error half way (a bad row deep in a long motion) leaves no
-/// truncated output behind and an earlier file of that name untouched.
+/// A file being written: rows go to a temporary file beside it ([`tempfile`]), persisted as
+/// `path` by [`OutputFile::commit`], so that an error half way (a bad row deep in a long motion)
+/// leaves no truncated output behind and an earlier file of that name untouched; dropped
+/// uncommitted, the temporary file is removed.
 /// A path that is not a regular file (`/dev/null`, a named pipe) is written directly.
 pub(crate) struct OutputFile {
     path: PathBuf,
-    temp: Option<PathBuf>,
+    temp: Option<TempPath>,
     out: Option<BufWriter<File>>,
 }
 
@@ -78,15 +80,28 @@ impl OutputFile {
     /// Creates the temporary file for `path`.
     pub(crate) fn create(path: &Path) -> anyhow::Result<Self> {
         let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
-        let temp = (!special).then(|| {
+        let cannot = || format!("{}: cannot create", path.display());
+        let (file, temp) = if special {
+            (File::create(path).with_context(cannot)?, None)
+        } else {
             let name = path
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            path.with_file_name(format!(".{name}.qgait-partial"))
-        });
-        let file = File::create(temp.as_deref().unwrap_or(path))
-            .with_context(|| format!("{}: cannot create", path.display()))?;
+            let dir = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            let prefix = format!(".{name}.");
+            let mut builder = tempfile::Builder::new();
+            builder.prefix(&prefix).suffix(".qgait-partial");
+            // As `File::create`: read and write for all, less the umask (a temporary file
+            // is otherwise the owner's only).
+            #[cfg(unix)]
+            builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+            let (file, temp) = builder.tempfile_in(dir).with_context(cannot)?.into_parts();
+            (file, Some(temp))
+        };
         Ok(Self {
             path: path.to_path_buf(),
             temp,
@@ -104,24 +119,18 @@ impl OutputFile {
         &self.path
     }
 
-    /// Flushes and renames the temporary file to the final path.
+    /// Flushes the file and persists the temporary file as the final path.
     pub(crate) fn commit(mut self) -> anyhow::Result<()> {
         let out = self.out.take().expect("committed once");
         out.into_inner()
             .map_err(|e| e.into_error())
             .with_context(|| format!("{}: cannot write", self.path.display()))?;
-        match &self.temp {
-            Some(temp) => std::fs::rename(temp, &self.path)
+        match self.temp.take() {
+            Some(temp) => temp
+                .persist(&self.path)
+                .map_err(|e| e.error)
                 .with_context(|| format!("{}: cannot write", self.path.display())),
             None => Ok(()),
-        }
-    }
-}
-
-impl Drop for OutputFile {
-    fn drop(&mut self) {
-        if let (Some(_), Some(temp)) = (self.out.take(), &self.temp) {
-            let _ = std::fs::remove_file(temp);
         }
     }
 }

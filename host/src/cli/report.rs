@@ -10,7 +10,7 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::progress::Progress;
 use qgait_figures::{self as report, Analysis};
 use qgait_model::motion::source::{default_label, load_motion};
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Location, Warning};
 
 /// `qgait report` arguments.
 #[derive(Debug, Args)]
@@ -124,8 +124,9 @@ fn one_cycle(
     let (t0, t1) = (first.start, first.start + first.duration);
     let time = table.time().to_vec();
     let cut = table.without_rows(|r| time[r] < t0 - 1e-9 || time[r] > t1 + 1e-9);
-    let warning = Warning(format!(
-        "{spec}: {right} right and {left} left strides; the report draws one gait cycle per motion: the first right stride, heel strike at {t0:.3} s to the next at {t1:.3} s (`qgait gait` averages every stride)"
-    ));
+    let warning = Warning::Limitation {
+ at: Some(Location::file(spec.to_string())),
+ detail: format!("{right} right and {left} left strides; the report draws one gait cycle per motion: the first right stride, heel strike at {t0:.3} s to the next at {t1:.3} s (`qgait gait` averages every stride)"),
+};
     (cut, vec![warning])
 }

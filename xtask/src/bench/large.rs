@@ -8,6 +8,7 @@
 //! MB, 10^6 bytes) and `large.<command>.peak_rss_mb` (the child's maximum resident set from
 //! `wait4`). `report` adds the size of its largest SVG.
 
+use anyhow::anyhow;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -43,8 +44,8 @@ fn angles_deg(r: usize) -> [f64; 8] {
     ]
 }
 
-fn write_motion(path: &Path) -> Result<u64, String> {
-    let err = |e: std::io::Error| format!("{}: {e}", path.display());
+fn write_motion(path: &Path) -> anyhow::Result<u64> {
+    let err = |e: std::io::Error| anyhow!("{}: {e}", path.display());
     let mut f = BufWriter::new(File::create(path).map_err(err)?);
     writeln!(
         f,
@@ -80,16 +81,16 @@ fn write_motion(path: &Path) -> Result<u64, String> {
 
 /// The hub's log for the motion's samples: one PHAK `PoseFrame` per row (the hub's own
 /// [`Kinematics`], in `f32`), a `Status` every 100 samples.
-fn write_log(path: &Path) -> Result<u64, String> {
-    let err = |e: std::io::Error| format!("{}: {e}", path.display());
-    let hub = Kinematics::new(ModelId::Phak, None).map_err(|e| e.to_string())?;
+fn write_log(path: &Path) -> anyhow::Result<u64> {
+    let err = |e: std::io::Error| anyhow!("{}: {e}", path.display());
+    let hub = Kinematics::new(ModelId::Phak, None).map_err(|e| anyhow!("{e}"))?;
     let mut f = BufWriter::new(File::create(path).map_err(err)?);
     let mut buf = [0u8; MAX_FRAME_LEN];
     for r in 0..ROWS {
         let angles: [f32; 8] = angles_deg(r).map(|d| d.to_radians() as f32);
         let frame = hub.pose_frame(r as u32, &sample_angles(ModelId::Phak, &angles), 0);
         let bytes =
-            encode_frame(&Message::PoseFrame(frame), &mut buf).map_err(|e| format!("{e:?}"))?;
+            encode_frame(&Message::PoseFrame(frame), &mut buf).map_err(|e| anyhow!("{e:?}"))?;
         f.write_all(bytes).map_err(err)?;
         if r % 100 == 99 {
             let status = Status {
@@ -98,7 +99,7 @@ fn write_log(path: &Path) -> Result<u64, String> {
                 ..Status::default()
             };
             let bytes =
-                encode_frame(&Message::Status(status), &mut buf).map_err(|e| format!("{e:?}"))?;
+                encode_frame(&Message::Status(status), &mut buf).map_err(|e| anyhow!("{e:?}"))?;
             f.write_all(bytes).map_err(err)?;
         }
     }
@@ -114,10 +115,10 @@ struct Cost {
 
 /// Runs `exe args` (stdout to `stdout`), waits with `wait4` for its resource usage.
 #[allow(clippy::zombie_processes)] // waited for by wait4, which also gives its rusage
-fn measure(exe: &Path, args: &[&str], stdout: Option<&Path>) -> Result<Cost, String> {
+fn measure(exe: &Path, args: &[&str], stdout: Option<&Path>) -> anyhow::Result<Cost> {
     eprintln!("==> qgait {}", args.join(" "));
     let out = match stdout {
-        Some(p) => Stdio::from(File::create(p).map_err(|e| format!("{}: {e}", p.display()))?),
+        Some(p) => Stdio::from(File::create(p).map_err(|e| anyhow!("{}: {e}", p.display()))?),
         None => Stdio::null(),
     };
     let start = Instant::now();
@@ -125,7 +126,7 @@ fn measure(exe: &Path, args: &[&str], stdout: Option<&Path>) -> Result<Cost, Str
         .args(args)
         .stdout(out)
         .spawn()
-        .map_err(|e| format!("starting {}: {e}", exe.display()))?;
+        .map_err(|e| anyhow!("starting {}: {e}", exe.display()))?;
     let mut status = 0;
     // SAFETY: wait4 on our own child, with valid pointers to a status and an rusage.
     let (pid, usage) = unsafe {
@@ -135,14 +136,14 @@ fn measure(exe: &Path, args: &[&str], stdout: Option<&Path>) -> Result<Cost, Str
     };
     let seconds = start.elapsed().as_secs_f64();
     if pid != child.id() as libc::pid_t {
-        return Err(format!(
+        return Err(anyhow!(
             "wait4 on qgait {}: {}",
             args.join(" "),
             std::io::Error::last_os_error()
         ));
     }
     if !(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0) {
-        return Err(format!("qgait {} failed (status {status})", args.join(" ")));
+        return Err(anyhow!("qgait {} failed (status {status})", args.join(" ")));
     }
     // Linux reports ru_maxrss in KiB.
     Ok(Cost {
@@ -167,7 +168,7 @@ fn report(name: &str, cost: &Cost, rows: usize, input_bytes: u64) {
 }
 
 /// Generates the files, runs every command on them and prints the figures.
-pub fn run() -> Result<(), String> {
+pub fn run() -> anyhow::Result<()> {
     let exe = crate::cargo::qgait_binary()?;
     let dir = TempDir::new("qgait-bench-large")?;
     let at = |name: &str| dir.0.join(name);
@@ -222,7 +223,7 @@ pub fn run() -> Result<(), String> {
     let rep = measure(&exe, &["-q", "report", &m, "-o", &s(out.clone())], None)?;
     report("report", &rep, ROWS, motion_bytes);
     let largest_svg = std::fs::read_dir(&out)
-        .map_err(|e| format!("{}: {e}", out.display()))?
+        .map_err(|e| anyhow!("{}: {e}", out.display()))?
         .filter_map(|e| e.ok())
         .filter(|e| e.path().extension().is_some_and(|x| x == "svg"))
         .filter_map(|e| e.metadata().ok().map(|m| m.len()))
