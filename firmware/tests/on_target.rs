@@ -103,6 +103,11 @@ mod tests {
     }
 
     #[test]
+    fn velocities_follow_consecutive_poses(c: &mut SharedChecks) -> CheckResult {
+        c.run("velocities_follow_consecutive_poses")
+    }
+
+    #[test]
     fn packets_reordered_within_the_window_still_complete(c: &mut SharedChecks) -> CheckResult {
         c.run("packets_reordered_within_the_window_still_complete")
     }

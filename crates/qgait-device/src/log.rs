@@ -24,6 +24,8 @@ pub fn kind(message: &Message) -> &'static str {
         Message::RawImuSample(_) => "raw_imu_sample",
         Message::RawImuConfig(_) => "raw_imu_config",
         Message::RawImuStatus(_) => "raw_imu_status",
+        Message::VelocityConfig(_) => "velocity_config",
+        Message::PoseVelocities(_) => "pose_velocities",
     }
 }
 

@@ -1,11 +1,14 @@
 //! `qgait verify`: every `PoseFrame` recomputed from its echoed angles by the `f64` kernel, with
 //! the model and segment lengths the hub used; error statistics per point and missing samples.
+//! With the hub's velocities on (protocol.md 4.11), every `PoseVelocities` recomputed the same
+//! way: the backward difference of the echoed angles of its pose frame and the one before, in
+//! `f64`, then the `f64` kernel's forward velocities.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use qgait_kernel::metrics::distances;
-use qgait_proto::{ModelId, PoseFrame, PoseModels};
+use qgait_proto::{backward_difference, JointId, ModelId, PoseFrame, PoseModels, PoseVelocities};
 
 use qgait_model::points::point_names;
 
@@ -67,7 +70,28 @@ pub struct Verification {
     /// another model fails the verification (its points may all be right for the model it
     /// is of, but the hub did not compute what it was meant to).
     pub expected_model: Option<ModelId>,
+    /// `PoseVelocities` checked (each against its pose frame and the one before it).
+    pub velocity_frames: u64,
+    /// Per point, the distance between the hub's velocity and the f64 one (m/s).
+    pub velocity_errors: Vec<ErrorStat>,
+    /// The velocities with the largest error: (seq, error in m/s).
+    pub velocity_worst: Option<(u32, f64)>,
+    /// `PoseVelocities` that do not follow their pose frame and the one before it (`seq − 1`,
+    /// the same model) in the log: not recomputable, a failure.
+    pub velocity_unmatched: u64,
+    /// Pose frames that follow the one before by one `seq` and came without velocities, in a
+    /// log with velocities (the hub sends none after a configuration takes effect: not a
+    /// failure by itself).
+    pub velocity_absent: u64,
+    /// The tolerance on the velocities (m/s): [`VELOCITY_TOLERANCE`] unless set.
+    pub velocity_tolerance: f64,
 }
+
+/// The tolerance on the hub's velocities against the host's `f64` ones: 1 mm/s.
+pub const VELOCITY_TOLERANCE: f64 = 1e-3;
+
+/// A pose frame's `seq`, model and echoed angles, as a sample's (`f64`).
+type Posed = (u32, ModelId, [f64; JointId::COUNT]);
 
 /// How many missing sequence numbers a [`Verification`] lists.
 pub const MISSING_LISTED: usize = 10;
@@ -110,6 +134,12 @@ pub struct Verifier<'m> {
     /// Gaps between runs joined by the [`MAX_RUNS`] limit: how many numbers, and the lowest.
     joined_missing: u64,
     joined_first: Vec<i64>,
+    /// The last pose frame and the one before it, for the velocities that follow the last.
+    last: Option<Posed>,
+    before: Option<Posed>,
+    /// Whether the last pose frame follows the one before by one `seq`, and its velocities
+    /// have not come yet.
+    awaiting: bool,
 }
 
 impl<'m> Verifier<'m> {
@@ -120,6 +150,7 @@ impl<'m> Verifier<'m> {
             expected,
             v: Verification {
                 errors: vec![ErrorStat::default(); 11],
+                velocity_tolerance: VELOCITY_TOLERANCE,
                 ..Verification::default()
             },
             base: match expected {
@@ -129,7 +160,61 @@ impl<'m> Verifier<'m> {
             runs: BTreeMap::new(),
             joined_missing: 0,
             joined_first: Vec::new(),
+            last: None,
+            before: None,
+            awaiting: false,
         }
+    }
+
+    /// Checks the velocities of the last pose frame: recomputed in `f64` from its echoed
+    /// angles and those of the frame before it (`seq − 1`).
+    pub fn add_velocities(&mut self, velocities: &PoseVelocities) {
+        let v = &mut self.v;
+        if v.velocity_errors.is_empty() {
+            v.velocity_errors = vec![ErrorStat::default(); 8];
+        }
+        let want = match (&self.last, &self.before) {
+            (Some((seq, model, now)), Some((seq_before, model_before, before)))
+                if *seq == velocities.seq
+                    && seq_before.wrapping_add(1) == *seq
+                    && model == model_before =>
+            {
+                let rates = backward_difference(before, now, f64::from(velocities.dt_us) * 1e-6);
+                self.model.velocities(*model, now, &rates)
+            }
+            _ => None,
+        };
+        let Some(want) = want.filter(|_| self.awaiting) else {
+            v.velocity_unmatched += 1;
+            return;
+        };
+        self.awaiting = false;
+        v.velocity_frames += 1;
+        let mut worst = 0.0f64;
+        for (i, (got, want)) in velocities.velocities.iter().zip(want).enumerate() {
+            let d = (0..3)
+                .map(|k| (f64::from(got[k]) - want.to_array()[k]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            v.velocity_errors[i].add(d);
+            worst = worst.max(if d.is_finite() { d } else { f64::INFINITY });
+        }
+        if v.velocity_worst.is_none_or(|(_, w)| worst > w) {
+            v.velocity_worst = Some((velocities.seq, worst));
+        }
+    }
+
+    /// Records a pose frame as the last one, for the velocities that may follow.
+    fn posed(&mut self, frame: &PoseFrame) {
+        if self.awaiting {
+            self.v.velocity_absent += 1;
+        }
+        self.before = self.last.take();
+        self.last = Some((frame.seq, frame.model, frame.joint_angles()));
+        self.awaiting = self
+            .before
+            .as_ref()
+            .is_some_and(|(seq, _, _)| seq.wrapping_add(1) == frame.seq);
     }
 
     /// Frames checked so far.
@@ -145,6 +230,7 @@ impl<'m> Verifier<'m> {
 
     /// Checks one frame.
     pub fn add(&mut self, frame: &PoseFrame) {
+        self.posed(frame);
         let v = &mut self.v;
         v.frames += 1;
         match v.models.iter_mut().find(|(m, _)| *m == frame.model) {
@@ -268,6 +354,11 @@ impl<'m> Verifier<'m> {
 
     /// The result.
     pub fn finish(mut self) -> Verification {
+        if self.v.velocity_frames == 0 {
+            self.v.velocity_absent = 0;
+        } else if self.awaiting {
+            self.v.velocity_absent += 1;
+        }
         let Some((lo, hi)) = self.bounds() else {
             return self.v;
         };
@@ -324,6 +415,64 @@ impl Verification {
             && self.missing == 0
             && self.duplicates == 0
             && self.of_other_models() == 0
+            && self.velocity_max_error() <= self.velocity_tolerance
+            && self.velocity_unmatched == 0
+    }
+
+    /// The largest error of the velocities (m/s; 0 without any).
+    pub fn velocity_max_error(&self) -> f64 {
+        self.velocity_errors
+            .iter()
+            .map(|e| e.max)
+            .fold(0.0, f64::max)
+    }
+
+    /// The velocities' lines of the report (none in a log without velocities).
+    fn velocity_report(&self, s: &mut String) {
+        if self.velocity_frames == 0 && self.velocity_unmatched == 0 {
+            return;
+        }
+        let _ = writeln!(
+            s,
+            "{} velocity frames checked against the f64 kernel (the same backward difference              of the echoed angles)",
+            self.velocity_frames
+        );
+        let _ = writeln!(
+            s,
+            "{:<12} {:>12} {:>12}",
+            "velocity", "max (mm/s)", "mean (mm/s)"
+        );
+        for (name, e) in error_names().iter().zip(&self.velocity_errors) {
+            let _ = writeln!(
+                s,
+                "{:<12} {:>12.6} {:>12.6}",
+                name,
+                e.max * 1e3,
+                e.mean() * 1e3
+            );
+        }
+        if let Some((seq, w)) = self.velocity_worst {
+            let _ = writeln!(
+                s,
+                "largest velocity error {:.6} mm/s (seq {seq}); tolerance {} mm/s",
+                w * 1e3,
+                self.velocity_tolerance * 1e3
+            );
+        }
+        if self.velocity_absent > 0 {
+            let _ = writeln!(
+                s,
+                "pose frames following the one before without velocities: {} (none after a                  configuration takes effect)",
+                self.velocity_absent
+            );
+        }
+        if self.velocity_unmatched > 0 {
+            let _ = writeln!(
+                s,
+                "velocity frames not right after their pose frame and the one before it: {}                  (cannot be recomputed)",
+                self.velocity_unmatched
+            );
+        }
     }
 
     /// Frames not of the [`expected_model`](Self::expected_model).
@@ -407,6 +556,7 @@ impl Verification {
                 }
             );
         }
+        self.velocity_report(&mut s);
         let verdict = if self.passed(tolerance_m) {
             "ok"
         } else {
@@ -457,6 +607,52 @@ mod tests {
         f.points = pose.points().map(|p| p.to_array().map(|x| x as f32));
         f.distances = distances(&pose).to_array().map(|x| x as f32);
         f
+    }
+
+    /// The hub's velocities of `frame` after `before`, recomputed in `f32` as a hub does.
+    fn velocities(before: &PoseFrame, frame: &PoseFrame, dt_us: u32) -> PoseVelocities {
+        let f32s = PoseModels::<f32>::defaults();
+        let (a, b) = (before.joint_angles::<f32>(), frame.joint_angles::<f32>());
+        let rates = backward_difference(&a, &b, dt_us as f32 * 1e-6);
+        let v = f32s.velocities(frame.model, &b, &rates).expect("built in");
+        PoseVelocities {
+            seq: frame.seq,
+            dt_us,
+            velocities: v.map(|p| p.to_array()),
+        }
+    }
+
+    #[test]
+    fn velocities_are_checked_against_the_f64_difference() {
+        let model = PoseModels::defaults();
+        for m in [ModelId::Hak, ModelId::Phak, ModelId::Gait2392] {
+            let frames: Vec<PoseFrame> = (0..6).map(|s| frame(&model, m, s)).collect();
+            let mut v = Verifier::new(&model, Expected::FirstToLast);
+            v.add(&frames[0]);
+            for w in frames.windows(2) {
+                v.add(&w[1]);
+                v.add_velocities(&velocities(&w[0], &w[1], 10_000));
+            }
+            let r = v.finish();
+            let report = r.report(10e-6);
+            assert!(r.passed(10e-6), "{report}");
+            assert_eq!((r.velocity_frames, r.velocity_absent), (5, 0));
+            assert!(r.velocity_max_error() < 1e-5, "{report}");
+            assert!(report.contains("5 velocity frames checked"), "{report}");
+            // A wrong velocity fails; one whose frame before is not in the log is unmatched.
+            let mut v = Verifier::new(&model, Expected::FirstToLast);
+            v.add(&frames[0]);
+            v.add(&frames[1]);
+            let mut wrong = velocities(&frames[0], &frames[1], 10_000);
+            wrong.velocities[3][0] += 2e-3;
+            v.add_velocities(&wrong);
+            v.add(&frames[3]);
+            v.add_velocities(&velocities(&frames[2], &frames[3], 10_000));
+            let r = v.finish();
+            assert!(!r.passed(10e-6));
+            assert!((r.velocity_max_error() - 2e-3).abs() < 1e-5);
+            assert_eq!((r.velocity_frames, r.velocity_unmatched), (1, 1));
+        }
     }
 
     #[test]

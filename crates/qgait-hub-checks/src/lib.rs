@@ -9,8 +9,9 @@ use qgait_kernel::Gait2392Geometry;
 use qgait_proto::device_model::{pose_points, CHAIN_IMAGE_LEN};
 use qgait_proto::PoseModels;
 use qgait_proto::{
-    encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags, JointAngle, JointId, Message,
-    MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    backward_difference, encode_frame, encode_raw_frame, Config, FrameDecoder, FrameFlags,
+    JointAngle, JointId, Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig,
+    VelocityConfig, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 use qgait_hub::{
@@ -155,6 +156,10 @@ pub const ALL: &[NamedCheck] = &[
     (
         "random_orientation_messages_never_stop_the_pipeline",
         imu::random_orientation_messages_never_stop_the_pipeline,
+    ),
+    (
+        "velocities_follow_consecutive_poses",
+        velocities_follow_consecutive_poses,
     ),
 ];
 
@@ -343,6 +348,77 @@ pub fn pose_matches_the_kernel() -> CheckResult {
     // Legs of a standing-ish pose: hips at pelvis height, toes below the knees.
     ensure!(frame.points[0][1].abs() < 0.1 && frame.points[3][1] < frame.points[1][1]);
     ensure!(frame.distances.iter().all(|d| d.is_finite() && *d > 0.0));
+    Ok(())
+}
+
+/// The angles of sample `seq` as the checks send them (indexed by [`JointId::index`]).
+fn sample_angles(seq: u32) -> [f32; JointId::COUNT] {
+    core::array::from_fn(|i| JointId::ALL.get(i).map_or(0.0, |&j| gait_angle(j, seq)))
+}
+
+/// With velocities on (10 ms), a `PoseVelocities` follows each pose frame whose sample follows
+/// the last one posed: the kernel's PHAK velocities at the sample's angles with their backward
+/// difference. None for the first sample, after a gap (sample 5 never sent), or after a
+/// configuration that takes effect; a period of 0 is refused and counted.
+pub fn velocities_follow_consecutive_poses() -> CheckResult {
+    let clock = ManualClock::new(0);
+    let mut hub = new_hub(&clock)?;
+    let on = |period_us| {
+        Message::VelocityConfig(VelocityConfig {
+            enabled: true,
+            period_us,
+            request_status: false,
+        })
+    };
+    ensure!(send(hub.serial_mut(), &on(10_000)));
+    for seq in (0..5).chain(6..9) {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+    }
+    drain(&mut hub);
+    // A window change takes effect: 9 starts the differences again.
+    ensure!(send(
+        hub.serial_mut(),
+        &config(ModelId::Phak, MissingPolicy::Drop, 3, false)
+    ));
+    for seq in 9..11 {
+        ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
+    }
+    ensure!(send(hub.serial_mut(), &on(0)));
+    drain(&mut hub);
+    let Ok(phak) = qgait_kernel::Phak::<f32>::new(&qgait_kernel::Anthropometry::gait2392()) else {
+        return Err(CheckFailure {
+            what: "Phak::new",
+            line: line!(),
+        });
+    };
+    let (mut poses, mut with, mut last_pose, mut right) = (0u32, 0u32, None, true);
+    let bad = each_output(&mut hub, |m| match m {
+        Message::PoseFrame(p) => {
+            poses += 1;
+            last_pose = Some(p.seq);
+        }
+        Message::PoseVelocities(v) => {
+            with += 1;
+            let (now, before) = (sample_angles(v.seq), sample_angles(v.seq.wrapping_sub(1)));
+            let rates = backward_difference(&before, &now, 10_000.0 * 1e-6);
+            let expected =
+                qgait_proto::device_model::stick_velocities(&phak, ModelId::Phak, &now, &rates);
+            right &= last_pose == Some(v.seq)
+                && [1, 2, 3, 4, 7, 8, 10].contains(&v.seq)
+                && v.dt_us == 10_000
+                && expected
+                    .iter()
+                    .zip(&v.velocities)
+                    .all(|(e, g)| e.to_array() == *g);
+        }
+        _ => {}
+    });
+    ensure!(bad == 0);
+    ensure!(poses == 10 && with == 7);
+    ensure!(right);
+    let s = hub.status();
+    ensure!(s.config_rejected == 1 && s.frames_sent == 17);
+    ensure!(hub.velocity_config().period_us == 10_000);
     Ok(())
 }
 

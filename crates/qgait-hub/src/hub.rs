@@ -9,7 +9,7 @@ use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
     FrameFlags, HubMessage, ImuConfig, JointAngle, MissingPolicy, ModelId, SegmentOrientation,
-    Status, SubjectConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
+    Status, SubjectConfig, VelocityConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
 #[cfg(feature = "imu")]
@@ -20,6 +20,7 @@ use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
 #[cfg(feature = "imu")]
 use crate::orientation::{ImuInput, SegmentOutput};
+use crate::velocity::Differentiator;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
 #[cfg(feature = "chain")]
@@ -102,6 +103,8 @@ pub struct Hub<S, C> {
     /// The IMU settings, calibration and solver (kept whatever the input in force).
     #[cfg(feature = "imu")]
     imu: ImuInput,
+    /// The points' velocities: their setting and the last sample posed.
+    velocity: Differentiator,
     status: Status,
     started_ms: u32,
     last_status_ms: u32,
@@ -164,6 +167,7 @@ where
             addr_of_mut!((*hub).input).write(Input::Joints(assembler_for(&config)));
             #[cfg(feature = "imu")]
             addr_of_mut!((*hub).imu).write(ImuInput::new());
+            addr_of_mut!((*hub).velocity).write(Differentiator::OFF);
             addr_of_mut!((*hub).status).write(Status::default());
             addr_of_mut!((*hub).started_ms).write(now);
             addr_of_mut!((*hub).last_status_ms).write(now);
@@ -193,6 +197,7 @@ where
             input: _,
             #[cfg(feature = "imu")]
                 imu: _,
+            velocity: _,
             status: _,
             started_ms: _,
             last_status_ms: _,
@@ -219,6 +224,7 @@ where
             subject: None,
             subject_generation: 0,
             subject_parts: SubjectParts::new(),
+            velocity: Differentiator::OFF,
             status: Status::default(),
             started_ms: now,
             last_status_ms: now,
@@ -375,6 +381,7 @@ where
             HubMessage::SubjectConfig(config) => self.on_subject_config(&config),
             HubMessage::SegmentOrientation(packet) => self.on_orientation(&packet),
             HubMessage::ImuConfig(config) => self.on_imu_config(&config),
+            HubMessage::VelocityConfig(config) => self.on_velocity_config(&config),
             #[cfg(feature = "chain")]
             HubMessage::ChainTable(part) => self.on_chain_table(&part),
             #[cfg(feature = "chain")]
@@ -411,6 +418,7 @@ where
             status,
             serial,
             tx,
+            velocity,
             ..
         } = self;
         // The orientation input in force: a joint angle is not used, as a joint the model does
@@ -425,6 +433,7 @@ where
             status,
             serial,
             tx,
+            velocity,
         };
         let outcome = assembler.push(
             packet.seq,
@@ -516,6 +525,7 @@ where
         self.imu.set(config);
         if new_input {
             set_input(&mut self.input, &self.config, &self.imu);
+            self.velocity.reset();
         }
         Ok(())
     }
@@ -562,6 +572,21 @@ where
             )
         };
         self.after_config(result, config.request_status);
+    }
+
+    /// A [`VelocityConfig`]: the points' velocities on or off (protocol.md 4.11).
+    #[inline(never)]
+    fn on_velocity_config(&mut self, config: &VelocityConfig) {
+        let result = self
+            .velocity
+            .configure(config)
+            .map_err(|e| ConfigError::VelocityPeriod(e.0));
+        self.after_config(result, config.request_status);
+    }
+
+    /// The velocity setting in force.
+    pub fn velocity_config(&self) -> VelocityConfig {
+        self.velocity.config()
     }
 
     /// A part of a chain's table: written into the model slot, the model in force stopped
@@ -629,6 +654,7 @@ where
         set_input(&mut self.input, &self.config, &self.imu);
         #[cfg(not(feature = "imu"))]
         set_input(&mut self.input, &self.config);
+        self.velocity.reset();
         self.subject = None;
         Ok(())
     }
@@ -706,6 +732,7 @@ where
         set_input(&mut self.input, &self.config, &self.imu);
         #[cfg(not(feature = "imu"))]
         set_input(&mut self.input, &self.config);
+        self.velocity.reset();
         self.subject = subject;
         self.subject_generation = self.subject_parts.generation();
         Ok(())
@@ -731,6 +758,7 @@ where
             status,
             serial,
             tx,
+            velocity,
             #[cfg(feature = "imu")]
             imu,
             ..
@@ -742,6 +770,7 @@ where
                     status,
                     serial,
                     tx,
+                    velocity,
                 };
                 assembler.flush(&mut |e| output.on_sample(e));
             }
@@ -780,6 +809,7 @@ struct Output<'a, S> {
     status: &'a mut Status,
     serial: &'a mut S,
     tx: &'a mut [u8; MAX_FRAME_LEN],
+    velocity: &'a mut Differentiator,
 }
 
 impl<S: Write> Output<'_, S> {
@@ -812,6 +842,18 @@ impl<S: Write> Output<'_, S> {
             return;
         };
         write_frame(self.serial, self.status, frame);
+        // Then its points' velocities, if on and the sample follows the last one posed.
+        if let Some((rates, dt_us)) = self.velocity.next(sample.seq, &sample.angles) {
+            if let Ok(frame) = self.kinematics.encode_pose_velocities(
+                sample.seq,
+                dt_us,
+                &sample.angles,
+                &rates,
+                self.tx,
+            ) {
+                write_frame(self.serial, self.status, frame);
+            }
+        }
     }
 }
 

@@ -12,6 +12,7 @@ pub mod hub;
 pub mod limits;
 pub mod memory_serial;
 pub mod orientation;
+pub mod velocity;
 
 pub use crate::assembly::{
     Assembler, JointSet, PacketOutcome, Sample, SampleEvent, SegmentAssembler, SegmentSample,
@@ -22,4 +23,5 @@ pub use crate::hub::{
     Hub, PollSummary, DEFAULT_CONFIG, DEFAULT_STATUS_PERIOD_MS, MAX_BYTES_PER_POLL, READ_CHUNK,
 };
 pub use crate::memory_serial::MemorySerial;
+pub use crate::velocity::Differentiator;
 pub use qgait_proto::device_model::{parts_of, ChainUpload, ConfigError, Kinematics, SubjectParts};

@@ -68,9 +68,9 @@ fn raw_messages_are_counted_as_not_taken() {
         let frame = encode_raw_frame(payload, &mut out).expect("fits");
         assert_eq!(serial.receive(frame), frame.len());
     }
-    // Tag 14: unknown.
+    // Tag 16: unknown.
     len = 2;
-    body[..len].copy_from_slice(&[14, 0]);
+    body[..len].copy_from_slice(&[16, 0]);
     let frame = encode_raw_frame(&body[..len], &mut out).expect("fits");
     assert_eq!(serial.receive(frame), frame.len());
     assert!(qgait_hub_checks::send_sample(serial, ModelId::Phak, 2));

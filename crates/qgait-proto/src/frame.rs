@@ -2,12 +2,14 @@
 
 use crate::crc::{self, crc32c};
 use crate::wire::{
-    encode_pose_frame_message, encode_pose_frame_parts_message, encode_raw_imu_status_message,
-    encode_segment_orientation_message, encode_status_message, PoseFrameParts,
+    encode_pose_frame_message, encode_pose_frame_parts_message, encode_pose_velocities_message,
+    encode_raw_imu_status_message, encode_segment_orientation_message, encode_status_message,
+    PoseFrameParts,
 };
 use crate::{
     cobs, decode_message, encode_message, DecodeError, EncodeError, Message, PoseFrame,
-    RawImuStatus, SegmentOrientation, Status, CRC_LEN, MAX_MESSAGE_LEN, MIN_PAYLOAD_LEN,
+    PoseVelocities, RawImuStatus, SegmentOrientation, Status, CRC_LEN, MAX_MESSAGE_LEN,
+    MIN_PAYLOAD_LEN,
 };
 
 /// Encodes `msg` as one complete frame into `out` and returns it, trailing 0x00 included.
@@ -74,6 +76,17 @@ pub fn encode_raw_imu_status_frame<'a>(
 ) -> Result<&'a [u8], EncodeError> {
     encode_frame_with(out, |payload| {
         encode_raw_imu_status_message(status, payload)
+    })
+}
+
+/// [`encode_frame`] of `Message::PoseVelocities(velocities)`, without building the
+/// [`Message`]: the same bytes (the hub's path, which links no message serialiser).
+pub fn encode_pose_velocities_frame<'a>(
+    velocities: &PoseVelocities,
+    out: &'a mut [u8],
+) -> Result<&'a [u8], EncodeError> {
+    encode_frame_with(out, |payload| {
+        encode_pose_velocities_message(velocities, payload)
     })
 }
 

@@ -21,6 +21,7 @@ mod orientation;
 mod raw;
 mod sizes;
 mod subject;
+mod velocity;
 mod wire;
 
 pub use crate::chain::{
@@ -35,8 +36,9 @@ pub use crate::device_model::{ConfigError, Kinematics, PoseModels, SubjectParts}
 pub use crate::error::{DecodeError, EncodeError, ErrorKind};
 pub use crate::flags::{FrameFlags, QualityFlags};
 pub use crate::frame::{
-    decode_frame, encode_frame, encode_pose_frame, encode_pose_frame_parts, encode_raw_frame,
-    encode_raw_imu_status_frame, encode_segment_orientation_frame, encode_status_frame,
+    decode_frame, encode_frame, encode_pose_frame, encode_pose_frame_parts,
+    encode_pose_velocities_frame, encode_raw_frame, encode_raw_imu_status_frame,
+    encode_segment_orientation_frame, encode_status_frame,
 };
 pub use crate::joint::JointId;
 pub use crate::messages::{
@@ -55,12 +57,16 @@ pub use crate::raw::{
 pub use crate::sizes::{
     CHAIN_TABLE_CONFIG_MAX_LEN, CHAIN_TABLE_MAX_LEN, CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN,
     JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_MESSAGE_LEN,
-    MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, RAW_IMU_CONFIG_MAX_LEN, RAW_IMU_SAMPLE_MAX_LEN,
-    RAW_IMU_STATUS_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN,
-    SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    MIN_PAYLOAD_LEN, POSE_FRAME_MAX_LEN, POSE_VELOCITIES_MAX_LEN, RAW_IMU_CONFIG_MAX_LEN,
+    RAW_IMU_SAMPLE_MAX_LEN, RAW_IMU_STATUS_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN,
+    SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN, VELOCITY_CONFIG_MAX_LEN,
 };
 pub use crate::subject::{
     KneeDirection, Leg, SubjectConfig, SubjectKnee, SubjectLeg, MAX_KNEE_KNOTS, SUBJECT_PARTS,
+};
+pub use crate::velocity::{
+    backward_difference, PoseVelocities, VelocityConfig, MAX_VELOCITY_PERIOD_US,
+    POSE_VELOCITIES_TAG, VELOCITY_CONFIG_TAG,
 };
 pub use crate::wire::{
     decode_hub_message, decode_message, decode_node_message, decode_packet, encode_message,

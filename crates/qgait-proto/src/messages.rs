@@ -9,8 +9,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId, RawImuConfig, RawImuSample,
-    RawImuStatus, SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg,
+    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId, PoseVelocities, RawImuConfig,
+    RawImuSample, RawImuStatus, SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg,
+    VelocityConfig,
 };
 
 /// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for
@@ -206,7 +207,7 @@ pub struct Config {
     pub request_status: bool,
 }
 
-/// Every message of the protocol. The variant order is the wire tag (0 to 13): new variants
+/// Every message of the protocol. The variant order is the wire tag (0 to 15): new variants
 /// are only ever appended, existing ones never change.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -244,6 +245,12 @@ pub enum Message {
     /// Tag 13 ([`RAW_IMU_STATUS_TAG`](crate::RAW_IMU_STATUS_TAG)): the raw input's counters,
     /// to the host.
     RawImuStatus(RawImuStatus),
+    /// Tag 14 ([`VELOCITY_CONFIG_TAG`](crate::VELOCITY_CONFIG_TAG)): host to hub, the points'
+    /// velocities on or off.
+    VelocityConfig(VelocityConfig),
+    /// Tag 15 ([`POSE_VELOCITIES_TAG`](crate::POSE_VELOCITIES_TAG)): hub out, the velocities
+    /// of a pose frame's points.
+    PoseVelocities(PoseVelocities),
 }
 
 impl Status {
@@ -292,6 +299,8 @@ impl Message {
             Message::RawImuSample(_) => crate::RAW_IMU_SAMPLE_TAG,
             Message::RawImuConfig(_) => crate::RAW_IMU_CONFIG_TAG,
             Message::RawImuStatus(_) => crate::RAW_IMU_STATUS_TAG,
+            Message::VelocityConfig(_) => crate::VELOCITY_CONFIG_TAG,
+            Message::PoseVelocities(_) => crate::POSE_VELOCITIES_TAG,
         }
     }
 }
@@ -377,5 +386,17 @@ impl From<RawImuConfig> for Message {
 impl From<RawImuStatus> for Message {
     fn from(m: RawImuStatus) -> Self {
         Message::RawImuStatus(m)
+    }
+}
+
+impl From<VelocityConfig> for Message {
+    fn from(m: VelocityConfig) -> Self {
+        Message::VelocityConfig(m)
+    }
+}
+
+impl From<PoseVelocities> for Message {
+    fn from(m: PoseVelocities) -> Self {
+        Message::PoseVelocities(m)
     }
 }

@@ -90,6 +90,15 @@ pub const RAW_IMU_CONFIG_MAX_LEN: usize = TAG + 1 + 1 + VARINT_U16 + 1 + 3 * F32
 /// Largest postcard encoding of a [`RawImuStatus`](crate::RawImuStatus) message, tag included.
 pub const RAW_IMU_STATUS_MAX_LEN: usize = TAG + crate::RAW_IMU_STATUS_COUNTERS * VARINT_U32;
 
+/// Largest postcard encoding of a [`VelocityConfig`](crate::VelocityConfig) message, tag
+/// included: tag, enabled, period_us (a `u32` varint), request_status.
+pub const VELOCITY_CONFIG_MAX_LEN: usize = TAG + 1 + VARINT_U32 + 1;
+
+/// Largest postcard encoding of a [`PoseVelocities`](crate::PoseVelocities) message, tag
+/// included: tag, seq, dt_us, 8 × 3 `f32` velocities.
+pub const POSE_VELOCITIES_MAX_LEN: usize =
+    TAG + VARINT_U32 + VARINT_U32 + 3 * crate::point::COUNT * F32;
+
 const fn max(a: usize, b: usize) -> usize {
     if a > b {
         a
@@ -117,8 +126,11 @@ pub const MAX_MESSAGE_LEN: usize = max(
         ),
     ),
     max(
-        RAW_IMU_SAMPLE_MAX_LEN,
-        max(RAW_IMU_CONFIG_MAX_LEN, RAW_IMU_STATUS_MAX_LEN),
+        max(
+            RAW_IMU_SAMPLE_MAX_LEN,
+            max(RAW_IMU_CONFIG_MAX_LEN, RAW_IMU_STATUS_MAX_LEN),
+        ),
+        max(VELOCITY_CONFIG_MAX_LEN, POSE_VELOCITIES_MAX_LEN),
     ),
 );
 

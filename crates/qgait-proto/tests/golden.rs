@@ -178,7 +178,36 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
         ("raw-imu-sample", common::raw_imu_sample().into()),
         ("raw-imu-config", common::raw_imu_config().into()),
         ("raw-imu-status", common::raw_imu_status().into()),
+        (
+            "velocity-config",
+            qgait_proto::VelocityConfig {
+                enabled: true,
+                period_us: 10_000,
+                request_status: false,
+            }
+            .into(),
+        ),
+        ("pose-velocities", pose_velocities().into()),
     ]
+}
+
+/// The velocities of the golden pose frame's points (sample 300, 10 ms after sample 299):
+/// the right leg swinging forward, the left one back, numbers exact in binary.
+fn pose_velocities() -> qgait_proto::PoseVelocities {
+    qgait_proto::PoseVelocities {
+        seq: 300,
+        dt_us: 10_000,
+        velocities: [
+            [0.0, 0.0, 0.0],
+            [0.5, 0.125, 0.0],
+            [1.25, 0.25, 0.0],
+            [1.5, 0.5, 0.0],
+            [0.0, 0.0, 0.0],
+            [-0.25, 0.0625, 0.0],
+            [-0.75, 0.125, 0.0],
+            [-1.0, -0.5, 0.0],
+        ],
+    }
 }
 
 /// The tibia node's orientation of sample 300: a rotation of 60 degrees about z, in Q14
@@ -358,6 +387,20 @@ fn constants() -> Vec<String> {
         format!("RAW_IMU_SAMPLE_TAG = {}", qgait_proto::RAW_IMU_SAMPLE_TAG),
         format!("RAW_IMU_CONFIG_TAG = {}", qgait_proto::RAW_IMU_CONFIG_TAG),
         format!("RAW_IMU_STATUS_TAG = {}", qgait_proto::RAW_IMU_STATUS_TAG),
+        format!(
+            "VELOCITY_CONFIG_MAX_LEN = {}",
+            qgait_proto::VELOCITY_CONFIG_MAX_LEN
+        ),
+        format!(
+            "POSE_VELOCITIES_MAX_LEN = {}",
+            qgait_proto::POSE_VELOCITIES_MAX_LEN
+        ),
+        format!("VELOCITY_CONFIG_TAG = {}", qgait_proto::VELOCITY_CONFIG_TAG),
+        format!("POSE_VELOCITIES_TAG = {}", qgait_proto::POSE_VELOCITIES_TAG),
+        format!(
+            "MAX_VELOCITY_PERIOD_US = {}",
+            qgait_proto::MAX_VELOCITY_PERIOD_US
+        ),
         format!("MAX_REORDER_WINDOW = {}", qgait_proto::MAX_REORDER_WINDOW),
         format!("FRAME_CRC_CHECK = 0x{FRAME_CRC_CHECK:08X}"),
     ]

@@ -60,6 +60,7 @@ fn check_hub_decoding(bytes: &[u8]) -> Result<(), String> {
         }
         (Ok(Message::SubjectConfig(a)), Ok(HubMessage::SubjectConfig(b))) => a == b,
         (Ok(Message::SegmentOrientation(a)), Ok(HubMessage::SegmentOrientation(b))) => a == b,
+        (Ok(Message::VelocityConfig(a)), Ok(HubMessage::VelocityConfig(b))) => a == b,
         (Ok(Message::ImuConfig(a)), Ok(HubMessage::ImuConfig(b))) => {
             encoded(&Message::ImuConfig(*a)) == encoded(&Message::ImuConfig(*b))
         }
@@ -76,12 +77,15 @@ fn check_hub_decoding(bytes: &[u8]) -> Result<(), String> {
         // A pose frame or a status, well-formed or not, is reported by its tag.
         (Ok(Message::PoseFrame(_)), Ok(HubMessage::FromHub(1)))
         | (Ok(Message::Status(_)), Ok(HubMessage::FromHub(2)))
-        | (Ok(Message::RawImuStatus(_)), Ok(HubMessage::FromHub(13))) => true,
-        (Err(_), Ok(HubMessage::FromHub(t))) => matches!(*t, 1 | 2 | 13) && tag(bytes) == Some(*t),
+        | (Ok(Message::RawImuStatus(_)), Ok(HubMessage::FromHub(13)))
+        | (Ok(Message::PoseVelocities(_)), Ok(HubMessage::FromHub(15))) => true,
+        (Err(_), Ok(HubMessage::FromHub(t))) => {
+            matches!(*t, 1 | 2 | 13 | 15) && tag(bytes) == Some(*t)
+        }
         // Without the `chain` feature the chain tags never reach an error (`NotTaken`).
         (Err(a), Err(b)) => {
             a == b
-                && !matches!(tag(bytes), Some(1 | 2 | 11..=13))
+                && !matches!(tag(bytes), Some(1 | 2 | 11..=13 | 15))
                 && (cfg!(feature = "chain") || !matches!(tag(bytes), Some(9..=10)))
         }
         _ => false,
@@ -102,7 +106,10 @@ proptest! {
         check_hub_decoding(&bytes).map_err(TestCaseError::fail)?;
         let from_hub = matches!(
             msg,
-            Message::PoseFrame(_) | Message::Status(_) | Message::RawImuStatus(_)
+            Message::PoseFrame(_)
+                | Message::Status(_)
+                | Message::RawImuStatus(_)
+                | Message::PoseVelocities(_)
         );
         prop_assert_eq!(
             from_hub,

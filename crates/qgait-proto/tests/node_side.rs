@@ -33,9 +33,9 @@ fn check_node_decoding(bytes: &[u8]) -> Result<(), String> {
         }
         // Any other known tag, well-formed or not, by its tag alone.
         (_, Ok(NodeMessage::NotTaken(t))) => {
-            tag(bytes) == Some(*t) && *t <= 13 && !matches!(*t, 11 | 12)
+            tag(bytes) == Some(*t) && *t <= 15 && !matches!(*t, 11 | 12)
         }
-        (Err(a), Err(b)) => a == b && matches!(tag(bytes), Some(11 | 12) | None | Some(14..)),
+        (Err(a), Err(b)) => a == b && matches!(tag(bytes), Some(11 | 12) | None | Some(16..)),
         _ => false,
     };
     if ok {
@@ -70,6 +70,7 @@ proptest! {
         let fast = match &msg {
             Message::SegmentOrientation(p) => encode_segment_orientation_frame(p, &mut a),
             Message::RawImuStatus(s) => encode_raw_imu_status_frame(s, &mut a),
+            Message::PoseVelocities(v) => qgait_proto::encode_pose_velocities_frame(v, &mut a),
             _ => return Ok(()),
         }
         .map(|f| f.to_vec());

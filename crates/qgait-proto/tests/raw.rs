@@ -309,8 +309,8 @@ fn a_hub_does_not_decode_raw_messages() {
         assert_eq!(decode_hub_message(&bytes), Ok(expected));
     }
     assert_eq!(
-        decode_hub_message(&[14]),
-        Err(DecodeError::UnknownMessage(14))
+        decode_hub_message(&[16]),
+        Err(DecodeError::UnknownMessage(16))
     );
-    assert_eq!(decode_message(&[14]), Err(DecodeError::UnknownMessage(14)));
+    assert_eq!(decode_message(&[16]), Err(DecodeError::UnknownMessage(16)));
 }

@@ -46,6 +46,8 @@ fn kind_max_len(msg: &Message) -> usize {
         Message::RawImuSample(_) => qgait_proto::RAW_IMU_SAMPLE_MAX_LEN,
         Message::RawImuConfig(_) => qgait_proto::RAW_IMU_CONFIG_MAX_LEN,
         Message::RawImuStatus(_) => qgait_proto::RAW_IMU_STATUS_MAX_LEN,
+        Message::VelocityConfig(_) => qgait_proto::VELOCITY_CONFIG_MAX_LEN,
+        Message::PoseVelocities(_) => qgait_proto::POSE_VELOCITIES_MAX_LEN,
     }
 }
 

@@ -103,6 +103,8 @@ pub fn message(m: &Message) -> String {
         Message::ChainTableConfig(c) => fields(&mut line, c),
         Message::RawImuSample(r) => fields(&mut line, r),
         Message::RawImuConfig(c) => fields(&mut line, c),
+        Message::VelocityConfig(c) => fields(&mut line, c),
+        Message::PoseVelocities(v) => fields(&mut line, v),
     }
     to_line(&line)
 }

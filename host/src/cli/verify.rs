@@ -21,6 +21,12 @@ pub struct VerifyArgs {
     /// Largest accepted error per point (micrometres).
     #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
     pub tol_um: f64,
+    /// Largest accepted error of a point's velocity, when the hub sends velocities
+    /// (protocol.md 4.11), millimetres per second: each `PoseVelocities` is recomputed in f64
+    /// from the echoed angles of its pose frame and the one before (the same backward
+    /// difference).
+    #[arg(long, default_value_t = 1.0, value_name = "MM_S", value_parser = millimetres_per_second)]
+    pub tol_mm_s: f64,
     /// The model and lengths the hub was configured with.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -42,6 +48,14 @@ pub struct VerifyArgs {
     /// (degrees).
     #[arg(long, default_value_t = 0.1, value_name = "DEG", requires = "raw")]
     pub tol_deg: f64,
+}
+
+/// `--tol-mm-s`: a finite number of mm/s, at least 0.
+fn millimetres_per_second(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("{s}: not a finite number of mm/s, 0 or more")),
+    }
 }
 
 /// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
@@ -67,6 +81,13 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
                     if imu.is_some() {
                         poses.push(p.clone());
                     }
+                }
+                if let Record::Message {
+                    message: Message::PoseVelocities(v),
+                    ..
+                } = &record
+                {
+                    verifier.add_velocities(v);
                 }
                 if let Record::Message {
                     message: Message::SegmentOrientation(o),
@@ -104,6 +125,7 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
         bail!("{}: no pose frames", args.log);
     }
     let mut v = verifier.finish();
+    v.velocity_tolerance = args.tol_mm_s * 1e-3;
     if args.model.model.is_some() {
         v.expected_model = Some(model.hub.id());
     }

@@ -7,15 +7,15 @@ use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::models::LowerLimb;
 use qgait_kernel::{
     Anthropometry, BilateralPose, Gait2392, Gait2392Geometry, Gait2392Pose, Limb, ModelError, Phak,
-    PhakAngles, Real,
+    PhakAngles, Real, Vec3,
 };
 
 use crate::device_model::chain::chain_pose;
 #[cfg(feature = "chain")]
 use crate::device_model::chain::{table_crc, DeviceChain, CHAIN_IMAGE_LEN};
 use crate::{
-    encode_pose_frame_parts, point, segment, EncodeError, FrameFlags, JointId, KneeDirection,
-    ModelId, PoseFrame, PoseFrameParts,
+    encode_pose_frame_parts, encode_pose_velocities_frame, point, segment, EncodeError, FrameFlags,
+    JointId, KneeDirection, ModelId, PoseFrame, PoseFrameParts, PoseVelocities,
 };
 #[cfg(feature = "chain")]
 use crate::{ChainTable, ChainTableConfig};
@@ -85,6 +85,9 @@ pub enum ConfigError {
     /// An [`ImuConfig`](crate::ImuConfig) for the orientation input to a hub built without it
     /// (the firmware's `imu` feature).
     ImuNotBuiltIn,
+    /// A [`VelocityConfig`](crate::VelocityConfig) turning velocities on with this period
+    /// (µs): 0 or over [`MAX_VELOCITY_PERIOD_US`](crate::MAX_VELOCITY_PERIOD_US).
+    VelocityPeriod(u32),
 }
 
 impl core::fmt::Display for ConfigError {
@@ -150,6 +153,11 @@ impl core::fmt::Display for ConfigError {
             ConfigError::ImuNotBuiltIn => {
                 f.write_str("this hub was built without the orientation input")
             }
+            ConfigError::VelocityPeriod(p) => write!(
+                f,
+                "velocities over a sample period of {p} µs: not in 1..={} µs",
+                crate::MAX_VELOCITY_PERIOD_US
+            ),
         }
     }
 }
@@ -199,6 +207,35 @@ pub fn stick_pose<T: Real>(
     } else {
         q
     })
+}
+
+/// The velocities of HAK's or PHAK's (`model`) points on the PHAK chain `phak`, from a
+/// sample's angles and their speeds (both indexed by [`JointId::index`]): the kernel's
+/// `forward_velocities`, in [`point`] order. HAK's pelvis is level and still, as in
+/// [`stick_pose`].
+#[inline(always)]
+pub fn stick_velocities<T: Real>(
+    phak: &Phak<T>,
+    model: ModelId,
+    angles: &[T; JointId::COUNT],
+    rates: &[T; JointId::COUNT],
+) -> [Vec3<T>; point::COUNT] {
+    let (q, qd) = (phak_angles(angles), phak_angles(rates));
+    let (q, qd) = if model == ModelId::Hak {
+        (q.level_pelvis(), qd.level_pelvis())
+    } else {
+        (q, qd)
+    };
+    phak.chain()
+        .forward_velocities(&q.to_array(), &qd.to_array())
+        .1
+}
+
+/// The velocities of the pose's points of a 12-point model (gait2392, a chain): the 8 of
+/// [`Gait2392Pose::bilateral`] among the 12.
+#[inline(always)]
+fn bilateral_velocities<T: Real>(velocities: [Vec3<T>; 12]) -> [Vec3<T>; point::COUNT] {
+    Gait2392Pose { points: velocities }.bilateral().points()
 }
 
 /// The pose of gait2392 from a sample's angles: all 17 (its coordinates are in [`JointId`]
@@ -296,6 +333,29 @@ impl<T: Real> PoseModels<T> {
             ModelId::Hak | ModelId::Phak => stick_pose(&self.phak, model, angles),
             ModelId::Gait2392 => gait2392_pose(&self.gait2392, angles),
             ModelId::Chain => chain_pose(self.chain.as_ref()?, angles),
+        })
+    }
+
+    /// The velocities of `model`'s points ([`point`] order, m/s) from a sample's angles and
+    /// speeds (indexed by [`JointId::index`]); `None` for a chain without one.
+    pub fn velocities(
+        &self,
+        model: ModelId,
+        angles: &[T; JointId::COUNT],
+        rates: &[T; JointId::COUNT],
+    ) -> Option<[Vec3<T>; point::COUNT]> {
+        Some(match model {
+            ModelId::Hak | ModelId::Phak => stick_velocities(&self.phak, model, angles, rates),
+            ModelId::Gait2392 => {
+                bilateral_velocities(self.gait2392.chain().forward_velocities(angles, rates).1)
+            }
+            ModelId::Chain => bilateral_velocities(
+                self.chain
+                    .as_ref()?
+                    .table()
+                    .forward_velocities(angles, rates)
+                    .1,
+            ),
         })
     }
 
@@ -641,6 +701,33 @@ impl Kinematics {
             flags: flags & FrameFlags::ALL,
         };
         encode_pose_frame_parts(&parts, out)
+    }
+
+    /// The [`PoseVelocities`] of the sample `seq` with these angles and speeds (indexed by
+    /// [`JointId::index`]; the speeds over `dt_us`, which the message carries), framed into
+    /// `out`: the kernel's `forward_velocities` with the model in force.
+    pub fn encode_pose_velocities<'a>(
+        &self,
+        seq: u32,
+        dt_us: u32,
+        angles: &[f32; JointId::COUNT],
+        rates: &[f32; JointId::COUNT],
+        out: &'a mut [u8],
+    ) -> Result<&'a [u8], EncodeError> {
+        let velocities = match &self.chain {
+            ModelChain::Phak(phak) => stick_velocities(phak, self.model, angles, rates),
+            ModelChain::Gait2392(g) => {
+                bilateral_velocities(g.chain().forward_velocities(angles, rates).1)
+            }
+            #[cfg(feature = "chain")]
+            ModelChain::Chain(c) => bilateral_velocities(c.forward_velocities(angles, rates).1),
+        };
+        let message = PoseVelocities {
+            seq,
+            dt_us,
+            velocities: velocities.map(|v| v.to_array()),
+        };
+        encode_pose_velocities_frame(&message, out)
     }
 
     /// The kernel's pose of these angles with the model in force.

@@ -46,7 +46,7 @@ pub use imu::{
 pub use kinematics::CheckedChain;
 pub use kinematics::{
     gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose,
-    ConfigError, Kinematics, PoseModels, MAX_SEGMENT_M,
+    stick_velocities, ConfigError, Kinematics, PoseModels, MAX_SEGMENT_M,
 };
 #[cfg(feature = "std")]
 pub use model::HubModel;

@@ -18,6 +18,7 @@ use crate::{
     FusionMode, RawImuConfig, RawImuSample, RawImuStatus, RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,
     RAW_IMU_STATUS_TAG,
 };
+use crate::{PoseVelocities, VelocityConfig, POSE_VELOCITIES_TAG, VELOCITY_CONFIG_TAG};
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
 /// and the ones only a hub sends, not decoded.
@@ -44,13 +45,15 @@ pub enum HubMessage {
     /// Tag 10 (with the `chain` feature).
     #[cfg(feature = "chain")]
     ChainTableConfig(ChainTableConfig),
+    /// Tag 14.
+    VelocityConfig(VelocityConfig),
     /// A message this hub does not take, with its tag: a chain message (tag 9 or 10) to a hub
     /// built without the `chain` feature, or a raw IMU sample or configuration (tag 11 or 12:
     /// no hub of this crate takes raw input yet). Its body is not decoded (so such a hub links
     /// none of their decoders).
     NotTaken(u32),
     /// A message only a hub (or a raw input) sends ([`PoseFrame`], tag 1, [`Status`], tag 2,
-    /// or [`RawImuStatus`], tag 13), with this tag. Its body is not decoded: it may or may not
+    /// [`RawImuStatus`], tag 13, or [`PoseVelocities`], tag 15), with this tag. Its body is not decoded: it may or may not
     /// be well-formed.
     FromHub(u32),
 }
@@ -92,7 +95,8 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         #[cfg(not(feature = "chain"))]
         CHAIN_TABLE_TAG..=CHAIN_TABLE_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
         RAW_IMU_SAMPLE_TAG | RAW_IMU_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
-        RAW_IMU_STATUS_TAG => Ok(HubMessage::FromHub(tag)),
+        RAW_IMU_STATUS_TAG | POSE_VELOCITIES_TAG => Ok(HubMessage::FromHub(tag)),
+        VELOCITY_CONFIG_TAG => velocity_config(body).map(HubMessage::VelocityConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -106,7 +110,7 @@ pub enum NodeMessage {
     RawImuSample(RawImuSample),
     /// Tag 12.
     RawImuConfig(RawImuConfig),
-    /// A known message a node does not take (tags 0 to 10 and 13), with its tag. Its body is
+    /// A known message a node does not take (tags 0 to 10 and 13 to 15), with its tag. Its body is
     /// not decoded (so a node links none of their decoders).
     NotTaken(u32),
 }
@@ -120,7 +124,7 @@ pub fn decode_node_message(bytes: &[u8]) -> Result<NodeMessage, DecodeError> {
     match tag {
         RAW_IMU_SAMPLE_TAG => raw_imu_sample(body).map(NodeMessage::RawImuSample),
         RAW_IMU_CONFIG_TAG => raw_imu_config(body).map(NodeMessage::RawImuConfig),
-        0..=RAW_IMU_STATUS_TAG => Ok(NodeMessage::NotTaken(tag)),
+        0..=POSE_VELOCITIES_TAG => Ok(NodeMessage::NotTaken(tag)),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -407,6 +411,20 @@ pub(super) fn raw_imu_status(body: &[u8]) -> Result<RawImuStatus, DecodeError> {
     let (status, rest) = take(body)?;
     end(rest)?;
     Ok(status)
+}
+
+/// A [`VelocityConfig`]'s body: enabled, period_us, request_status.
+pub(super) fn velocity_config(body: &[u8]) -> Result<VelocityConfig, DecodeError> {
+    let (config, rest) = take(body)?;
+    end(rest)?;
+    Ok(config)
+}
+
+/// A [`PoseVelocities`]' body: seq, dt_us, the 8 × 3 velocities.
+pub(super) fn pose_velocities(body: &[u8]) -> Result<PoseVelocities, DecodeError> {
+    let (velocities, rest) = take(body)?;
+    end(rest)?;
+    Ok(velocities)
 }
 
 fn missing_policy(byte: u8) -> Result<MissingPolicy, DecodeError> {

@@ -8,8 +8,8 @@ use super::check_angle_count;
 use super::varint::{varint_u32, VARINT_U32_MAX};
 use crate::sizes::STATUS_COUNTERS;
 use crate::{
-    point, EncodeError, ModelId, PoseFrame, RawImuStatus, SegmentOrientation, Status,
-    MAX_MESSAGE_LEN,
+    point, EncodeError, ModelId, PoseFrame, PoseVelocities, RawImuStatus, SegmentOrientation,
+    Status, MAX_MESSAGE_LEN,
 };
 
 /// [`encode_message`] of `Message::PoseFrame(frame)`, without building the [`Message`]: the
@@ -249,6 +249,25 @@ pub(crate) fn encode_raw_imu_status_message(
         f.varint(value)?;
     }
     Ok(f.len)
+}
+
+/// [`encode_message`] of `Message::PoseVelocities(v)`, by hand (a hub links no message
+/// serialiser): the tag 15, seq, dt_us, the 24 `f32`s.
+pub(crate) fn encode_pose_velocities_message(
+    v: &PoseVelocities,
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
+    let mut f = Fields { out, len: 0 };
+    f.varint(crate::POSE_VELOCITIES_TAG)?;
+    f.varint(v.seq)?;
+    f.varint(v.dt_us)?;
+    let at = f.len;
+    let bytes = f
+        .out
+        .get_mut(at..at + 4 * 3 * point::COUNT)
+        .ok_or(Fields::TOO_SMALL)?;
+    put_f32s(bytes, v.velocities.as_flattened());
+    Ok(at + 4 * 3 * point::COUNT)
 }
 
 /// Writes `values` as postcard writes `f32`s (4 bytes, little-endian) into `out`.

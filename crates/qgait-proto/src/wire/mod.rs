@@ -18,8 +18,8 @@ mod varint;
 pub use decode::{decode_hub_message, decode_node_message, decode_packet, HubMessage, NodeMessage};
 pub use encode::PoseFrameParts;
 pub(crate) use encode::{
-    encode_pose_frame_message, encode_pose_frame_parts_message, encode_raw_imu_status_message,
-    encode_segment_orientation_message, encode_status_message,
+    encode_pose_frame_message, encode_pose_frame_parts_message, encode_pose_velocities_message,
+    encode_raw_imu_status_message, encode_segment_orientation_message, encode_status_message,
 };
 
 use crate::{DecodeError, EncodeError, Message, ModelId, MAX_MESSAGE_LEN};
@@ -64,6 +64,8 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         crate::RAW_IMU_SAMPLE_TAG => decode::raw_imu_sample(body).map(Message::RawImuSample),
         crate::RAW_IMU_CONFIG_TAG => decode::raw_imu_config(body).map(Message::RawImuConfig),
         crate::RAW_IMU_STATUS_TAG => decode::raw_imu_status(body).map(Message::RawImuStatus),
+        crate::VELOCITY_CONFIG_TAG => decode::velocity_config(body).map(Message::VelocityConfig),
+        crate::POSE_VELOCITIES_TAG => decode::pose_velocities(body).map(Message::PoseVelocities),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }

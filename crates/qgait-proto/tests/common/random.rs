@@ -35,7 +35,7 @@ fn count(rng: &mut Rng) -> i16 {
 
 /// Any valid message.
 pub fn message(rng: &mut Rng) -> Message {
-    match rng.below(14) {
+    match rng.below(16) {
         0 => Message::JointAngle(JointAngle {
             version: PROTOCOL_VERSION,
             node: rng.byte(),
@@ -167,6 +167,16 @@ pub fn message(rng: &mut Rng) -> Message {
             missing_magnetometer: varint_u32(rng),
             not_configured: varint_u32(rng),
         }),
+        14 => Message::VelocityConfig(qgait_proto::VelocityConfig {
+            enabled: rng.chance(50),
+            period_us: varint_u32(rng),
+            request_status: rng.chance(50),
+        }),
+        15 => Message::PoseVelocities(qgait_proto::PoseVelocities {
+            seq: varint_u32(rng),
+            dt_us: varint_u32(rng),
+            velocities: [[0.0f32; 3]; 8].map(|p| p.map(|_| float(rng))),
+        }),
         4 => Message::SubjectLeg(SubjectLeg {
             upload: rng.byte(),
             leg: Leg::ALL[rng.below(2)],
@@ -275,7 +285,7 @@ pub fn stream(rng: &mut Rng) -> (Vec<u8>, Vec<Message>) {
     let mut bytes = Vec::new();
     let mut goods = Vec::new();
     for _ in 0..1 + rng.below(12) {
-        match rng.below(14) {
+        match rng.below(16) {
             0 | 1 => {
                 let msg = message(rng);
                 bytes.push(0);

@@ -5,8 +5,9 @@ use proptest::prelude::*;
 use qgait_proto::{
     ChainTable, ChainTableConfig, Config, FusionMode, HeadingAxisId, ImuConfig, ImuHeading,
     InputMode, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
-    RawImuConfig, RawImuSample, RawImuStatus, SegmentId, SegmentOrientation, Status, SubjectConfig,
-    SubjectKnee, SubjectLeg, MAX_CHAIN_TABLE_BYTES, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
+    PoseVelocities, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, SegmentOrientation,
+    Status, SubjectConfig, SubjectKnee, SubjectLeg, VelocityConfig, MAX_CHAIN_TABLE_BYTES,
+    MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
 };
 
 /// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
@@ -146,7 +147,32 @@ pub fn message() -> impl Strategy<Value = Message> {
         raw_imu_sample().prop_map(Message::RawImuSample),
         raw_imu_config().prop_map(Message::RawImuConfig),
         raw_imu_status().prop_map(Message::RawImuStatus),
+        velocity_config().prop_map(Message::VelocityConfig),
+        pose_velocities().prop_map(Message::PoseVelocities),
     ]
+}
+
+pub fn velocity_config() -> impl Strategy<Value = VelocityConfig> {
+    (any::<bool>(), any_varint_u32(), any::<bool>()).prop_map(
+        |(enabled, period_us, request_status)| VelocityConfig {
+            enabled,
+            period_us,
+            request_status,
+        },
+    )
+}
+
+pub fn pose_velocities() -> impl Strategy<Value = PoseVelocities> {
+    (
+        any_varint_u32(),
+        any_varint_u32(),
+        proptest::array::uniform24(any_f32_bits()),
+    )
+        .prop_map(|(seq, dt_us, v)| PoseVelocities {
+            seq,
+            dt_us,
+            velocities: core::array::from_fn(|p| core::array::from_fn(|k| v[3 * p + k])),
+        })
 }
 
 pub fn chain_table() -> impl Strategy<Value = ChainTable> {
