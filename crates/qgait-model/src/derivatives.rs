@@ -327,9 +327,7 @@ impl MotionModel {
             Model::Gait2392 { geometry, .. } => {
                 Self::Gait2392(Box::new(Gait2392::<f64>::new(geometry).map_err(rejected)?))
             }
-            Model::Chain { chain, name } => {
-                Self::Chain(Box::new(chain.chain(name)?))
-            }
+            Model::Chain { chain, name } => Self::Chain(Box::new(chain.chain(name)?)),
             Model::Hak { .. } | Model::Phak { .. } => Self::Stick {
                 phak: Box::new(
                     Phak::new(&model.lengths().expect("a stick model")).map_err(rejected)?,
