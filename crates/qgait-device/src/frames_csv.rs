@@ -9,7 +9,7 @@ use std::io::{self, Write};
 use qgait_proto::PoseFrame;
 
 use qgait_model::points::{csv_header, point_names, PointsCsv};
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 
 /// Whether `path` names a frames CSV: its extension is `csv`, in any case (`FRAMES.CSV` too).
 pub fn is_frames_csv(path: &str) -> bool {
@@ -129,10 +129,10 @@ impl FramesTable {
                     });
                 }
                 if t == *p {
-                    warnings.push(Warning::RowReplaced {
+                    warnings.push(Warning::RowReplaced(WarningText {
  at: Some(at(here)),
  detail: format!("time {t} (seq {seq}) repeats the previous frame's (line {}, seq {before_seq}); this row replaces it, as in a .mot", before.0),
-});
+}));
                     out.seq.pop();
                     out.time.pop();
                     out.points.pop();
