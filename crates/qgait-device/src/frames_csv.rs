@@ -9,7 +9,7 @@ use std::io::{self, Write};
 use qgait_proto::PoseFrame;
 
 use qgait_model::points::{csv_header, point_names, PointsCsv};
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 
 /// Whether `path` names a frames CSV: its extension is `csv`, in any case (`FRAMES.CSV` too).
 pub fn is_frames_csv(path: &str) -> bool {
@@ -129,10 +129,10 @@ impl FramesTable {
                     });
                 }
                 if t == *p {
-                    warnings.push(Warning::RowReplaced {
+                    warnings.push(Warning::RowReplaced(WarningText {
  at: Some(at(here)),
  detail: format!("time {t} (seq {seq}) repeats the previous frame's (line {}, seq {before_seq}); this row replaces it, as in a .mot", before.0),
-});
+}));
                     out.seq.pop();
                     out.time.pop();
                     out.points.pop();
@@ -163,6 +163,14 @@ pub enum FramesCsvError {
         at: Location,
         /// The header a frames CSV starts with.
         expected: String,
+    },
+    /// The CSV reader refused the text.
+    #[error("{at}: not CSV: {message}")]
+    Unreadable {
+        /// Where it stopped.
+        at: Location,
+        /// Its reason.
+        message: String,
     },
     /// A row has another number of values.
     #[error("{at}: {found} values, expected 26")]
@@ -211,9 +219,20 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
     };
     // A UTF-8 byte order mark (a spreadsheet's "UTF-8 CSV") is not part of the header.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text.lines().enumerate();
-    match lines.next() {
-        Some((_, h)) if h.trim_end() == header() => {}
+    // Rows of any width (a wrong one is refused below, naming its line); blank lines skipped;
+    // spaces after a value (a trimmed line before) ignored.
+    let mut rows = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::Fields)
+        .from_reader(text.as_bytes())
+        .into_records();
+    let unreadable = |e: csv::Error| FramesCsvError::Unreadable {
+        at: Location::in_text(source, text, e.position().map_or(0, |p| p.byte() as usize)),
+        message: e.to_string(),
+    };
+    match rows.next().transpose().map_err(unreadable)? {
+        Some(h) if h.iter().collect::<Vec<_>>().join(",") == header() => {}
         _ => {
             return Err(FramesCsvError::Header {
                 at: line_at(1),
@@ -227,25 +246,33 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
         points: Vec::new(),
         at: Vec::new(),
     };
-    for (i, line) in lines {
-        let line = line.trim_end();
-        if line.is_empty() {
-            continue;
+    // The line of a row from its byte offset (the reader's own count leaves blank lines out).
+    let (mut counted_to, mut line) = (0, 1);
+    for row in rows {
+        let cells = row.map_err(unreadable)?;
+        let mut start = cells.position().map_or(counted_to, |p| p.byte() as usize);
+        // (The reader's offset is before the blank lines it skipped.)
+        while matches!(text.as_bytes().get(start), Some(b'\n' | b'\r')) {
+            start += 1;
         }
-        let cells: Vec<&str> = line.split(',').collect();
+        line += text.as_bytes()[counted_to..start]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        counted_to = start;
         if cells.len() != 26 {
             return Err(FramesCsvError::Width {
-                at: line_at(i + 1),
+                at: line_at(line),
                 found: cells.len(),
             });
         }
         let bad = |what: &'static str, v: &str| FramesCsvError::Value {
-            at: line_at(i + 1),
+            at: line_at(line),
             what,
             text: v.to_string(),
         };
         t.seq
-            .push(cells[0].parse().map_err(|_| bad("seq", cells[0]))?);
+            .push(cells[0].parse().map_err(|_| bad("seq", &cells[0]))?);
         t.time.push(if cells[1].is_empty() {
             None
         } else {
@@ -254,11 +281,11 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
                     .parse::<f64>()
                     .ok()
                     .filter(|x| x.is_finite())
-                    .ok_or_else(|| bad("time", cells[1]))?,
+                    .ok_or_else(|| bad("time", &cells[1]))?,
             )
         });
         let mut p = [[0.0; 3]; 8];
-        for (k, v) in cells[2..].iter().enumerate() {
+        for (k, v) in cells.iter().skip(2).enumerate() {
             p[k / 3][k % 3] = v
                 .parse::<f64>()
                 .ok()
@@ -266,7 +293,7 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
                 .ok_or_else(|| bad("number", v))?;
         }
         t.points.push(p);
-        t.at.push((i + 1, cells[0].chars().count() + 2));
+        t.at.push((line, cells[0].chars().count() + 2));
     }
     Ok(t)
 }
@@ -284,6 +311,21 @@ mod tests {
         assert!(!is_frames_csv("walk.mot"));
         assert!(!is_frames_csv("csv"));
         assert!(!is_frames_csv("walk.csv.mot"));
+    }
+
+    #[test]
+    fn errors_name_the_line_after_blank_lines() {
+        let points = vec!["0.5"; 24].join(",");
+        let text = format!("{}\n0,0,{points}\n\n1,0.01,{points},9\n", header());
+        assert_eq!(
+            parse(&text, "f.csv").unwrap_err().to_string(),
+            "f.csv:4: 27 values, expected 26"
+        );
+        let text = format!("{}\n0,0,{points}  \r\n\n1,x,{points}\n", header());
+        assert_eq!(
+            parse(&text, "f.csv").unwrap_err().to_string(),
+            "f.csv:4: bad time `x`"
+        );
     }
 
     #[test]

@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 use qgait_proto::Message;
 
 use crate::log::{LogDecoder, Record};
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Warning, WarningText};
 
 /// The hub's baud rate (both boards' UARTs run at 115200 8N1).
 pub const DEFAULT_BAUD: u32 = 115_200;
@@ -130,9 +130,11 @@ impl Input {
     /// [`DEFAULT_BAUD`]), anything else a file. The warning says when `baud` does not apply.
     pub fn open(path: &str, baud: Option<u32>) -> Result<(Input, Option<Warning>), PortError> {
         let ignored = |what: &str| {
-            baud.map(|b| Warning::OptionIgnored {
-                at: None,
-                detail: format!("--baud {b} ignored: {what} is not a serial port"),
+            baud.map(|b| {
+                Warning::OptionIgnored(WarningText {
+                    at: None,
+                    detail: format!("--baud {b} ignored: {what} is not a serial port"),
+                })
             })
         };
         if path == "-" {
@@ -439,10 +441,10 @@ mod tests {
         assert!(!input.is_serial());
         assert_eq!(
             warning,
-            Some(Warning::OptionIgnored {
+            Some(Warning::OptionIgnored(WarningText {
                 at: None,
                 detail: format!("--baud 9600 ignored: {name} is not a serial port"),
-            })
+            }))
         );
         let mut decoder = LogDecoder::new();
         let mut seqs = Vec::new();

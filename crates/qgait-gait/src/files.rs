@@ -126,56 +126,64 @@ pub fn events_csv(report: &Report) -> Result<String, ReportError> {
     }
 }
 
-/// `summary.json`: the subject and session as given (`subject`, [`crate::session::Session::json`]);
+/// `summary.json`: the subject and session as given (`subject`, [`crate::session::Session::summary`]);
 /// per recording its mode (`walking`/`running`), ground
 /// (`treadmill`/`overground`/`unknown`), speed and how it was found, duty factor, Froude number
 /// and leg length; and the headline figures over all recordings (both sides).
 pub fn summary_json(report: &Report) -> String {
-    let recordings: Vec<serde_json::Value> = report
+    let recordings: Vec<SummaryRecording> = report
         .recordings
         .iter()
         .map(|w| match &w.gait {
-            Some(g) => serde_json::json!({
-                "recording": w.source,
-                "mode": g.mode.name(),
-                "ground": g.ground.name(),
-                "speed": g.speed,
-                "speed_method": g.speed_method.note(),
-                "duty_factor": g.duty,
-                "first_pass_duty_factor": g.first_duty,
-                "froude": g.froude,
-                "leg_length": g.leg_length,
-                "travel_ratio": g.travel_ratio,
-                "events": "rules R (docs/gait-analysis.md)",
-                "notes": g.notes,
-            }),
-            None => serde_json::json!({
-                "recording": w.source,
-                "mode": serde_json::Value::Null,
-                "ground": "unknown",
-                "events": "Zeni et al. 2008 (too few strides for the rules)",
-            }),
+            Some(g) => SummaryRecording::Analysed {
+                recording: &w.source,
+                mode: g.mode.name(),
+                ground: g.ground.name(),
+                speed: g.speed,
+                speed_method: g.speed_method.note(),
+                duty_factor: g.duty,
+                first_pass_duty_factor: g.first_duty,
+                froude: g.froude,
+                leg_length: g.leg_length,
+                travel_ratio: g.travel_ratio,
+                events: "rules R (docs/gait-analysis.md)",
+                notes: &g.notes,
+            },
+            None => SummaryRecording::TooFewStrides {
+                recording: &w.source,
+                mode: None,
+                ground: "unknown",
+                events: "Zeni et al. 2008 (too few strides for the rules)",
+            },
         })
         .collect();
-    let mut headline = serde_json::Map::new();
+    let mut headline = Vec::new();
     for name in HEADLINE {
         if let Some(p) = report
             .parameters
             .iter()
             .find(|p| p.name == name && p.side == "both")
         {
-            headline.insert(
-                name.into(),
-                serde_json::json!({"value": p.value, "unit": p.unit, "method": p.note}),
-            );
+            headline.push((
+                name.to_string(),
+                Figure {
+                    value: p.value,
+                    unit: p.unit,
+                    method: Some(p.note),
+                },
+            ));
         }
     }
     for name in ["stance", "double_support", "flight"] {
         for p in report.parameters.iter().filter(|p| p.name == name) {
-            headline.insert(
+            headline.push((
                 format!("{name}_{}", p.side),
-                serde_json::json!({"value": p.value, "unit": p.unit}),
-            );
+                Figure {
+                    value: p.value,
+                    unit: p.unit,
+                    method: None,
+                },
+            ));
         }
     }
     let first = report.recordings.first().and_then(|w| w.gait.as_ref());
@@ -186,28 +194,94 @@ pub fn summary_json(report: &Report) -> String {
         .map(|b| b.end - b.start)
         .collect();
     durations.sort_by(f64::total_cmp);
-    let bouts = serde_json::json!({
-        "count": durations.len(),
-        "walking_time": durations.iter().sum::<f64>(),
-        "duration_median": durations.get(durations.len() / 2),
-        "duration_max": durations.last(),
-        "rule": format!(
-            "strides at most {} s apart, at least {} of one side (bouts.csv)",
-            crate::bouts::MAX_PAUSE,
-            crate::bouts::MIN_STRIDES
-        ),
-    });
-    let value = serde_json::json!({
-        "subject": report.session.json(),
-        "mode": first.map(|g| g.mode.name()),
-        "ground": first.map_or("unknown", |g| g.ground.name()),
-        "recordings": recordings,
-        "headline": headline,
-        "bouts": bouts,
-        "cgm_pelvis": report.recordings.first().map(|w| w.pelvis.describe()),
-        "warnings": report.warnings,
-    });
-    serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"
+    let summary = Summary {
+        subject: report.session.summary(),
+        mode: first.map(|g| g.mode.name()),
+        ground: first.map_or("unknown", |g| g.ground.name()),
+        recordings,
+        headline: Headline(headline),
+        bouts: Bouts {
+            count: durations.len(),
+            walking_time: durations.iter().sum::<f64>(),
+            duration_median: durations.get(durations.len() / 2).copied(),
+            duration_max: durations.last().copied(),
+            rule: format!(
+                "strides at most {} s apart, at least {} of one side (bouts.csv)",
+                crate::bouts::MAX_PAUSE,
+                crate::bouts::MIN_STRIDES
+            ),
+        },
+        cgm_pelvis: report.recordings.first().map(|w| w.pelvis.describe()),
+        warnings: &report.warnings,
+    };
+    serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n"
+}
+
+/// `summary.json`, its fields in the file's order.
+#[derive(serde::Serialize)]
+struct Summary<'a> {
+    subject: crate::session::SubjectSummary<'a>,
+    mode: Option<&'static str>,
+    ground: &'static str,
+    recordings: Vec<SummaryRecording<'a>>,
+    headline: Headline,
+    bouts: Bouts,
+    cgm_pelvis: Option<String>,
+    warnings: &'a [String],
+}
+
+/// A recording in `summary.json`: analysed by the rules, or too short for them.
+#[derive(serde::Serialize)]
+#[serde(untagged)]
+enum SummaryRecording<'a> {
+    Analysed {
+        recording: &'a str,
+        mode: &'static str,
+        ground: &'static str,
+        speed: f64,
+        speed_method: &'static str,
+        duty_factor: Option<f64>,
+        first_pass_duty_factor: f64,
+        froude: f64,
+        leg_length: f64,
+        travel_ratio: Option<f64>,
+        events: &'static str,
+        notes: &'a [String],
+    },
+    TooFewStrides {
+        recording: &'a str,
+        mode: Option<&'static str>,
+        ground: &'static str,
+        events: &'static str,
+    },
+}
+
+/// A headline figure: its value and unit, and how it was found (the spatiotemporal ones).
+#[derive(serde::Serialize)]
+struct Figure {
+    value: f64,
+    unit: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    method: Option<&'static str>,
+}
+
+/// The headline figures by name, in the order found.
+struct Headline(Vec<(String, Figure)>);
+
+impl serde::Serialize for Headline {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_map(self.0.iter().map(|(name, figure)| (name, figure)))
+    }
+}
+
+/// The walking bouts over all recordings.
+#[derive(serde::Serialize)]
+struct Bouts {
+    count: usize,
+    walking_time: f64,
+    duration_median: Option<f64>,
+    duration_max: Option<f64>,
+    rule: String,
 }
 
 /// `spatiotemporal.csv`: `parameter,side,value,unit,normal_min,normal_max,note`.

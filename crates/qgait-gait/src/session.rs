@@ -42,19 +42,43 @@ impl Session {
     }
 
     /// `summary.json`'s `subject` object: every field, `null` where not given.
-    pub fn json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "id": self.subject_id,
-            "date": self.date,
-            "date_from": self.date_from,
-            "age": self.age,
-            "sex": self.sex,
-            "height_m": self.height,
-            "mass_kg": self.mass,
-            "bmi": self.bmi(),
-            "condition": self.condition,
-        })
+    pub fn summary(&self) -> SubjectSummary<'_> {
+        SubjectSummary {
+            id: self.subject_id.as_deref(),
+            date: self.date.as_deref(),
+            date_from: self.date_from.as_deref(),
+            age: self.age,
+            sex: self.sex,
+            height_m: self.height,
+            mass_kg: self.mass,
+            bmi: self.bmi(),
+            condition: self.condition.as_deref(),
+        }
     }
+}
+
+/// `summary.json`'s `subject` object ([`Session::summary`]): every field, `null` where not
+/// given.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct SubjectSummary<'a> {
+    /// `--subject-id`.
+    pub id: Option<&'a str>,
+    /// The session's date, `YYYY-MM-DD`.
+    pub date: Option<&'a str>,
+    /// Where the date came from.
+    pub date_from: Option<&'a str>,
+    /// Age in years.
+    pub age: Option<f64>,
+    /// `male` or `female`.
+    pub sex: Option<&'static str>,
+    /// Height (m).
+    pub height_m: Option<f64>,
+    /// Body mass (kg).
+    pub mass_kg: Option<f64>,
+    /// The body mass index (kg/m²).
+    pub bmi: Option<f64>,
+    /// `--condition`.
+    pub condition: Option<&'a str>,
 }
 
 /// The proleptic Gregorian date `(year, month, day)` of a day counted from 1970-01-01 (day
@@ -200,8 +224,10 @@ mod tests {
         assert_eq!(s.bmi(), None);
         s.mass = Some(81.0);
         assert!((s.bmi().unwrap() - 25.0).abs() < 1e-12);
-        let j = s.json();
-        assert_eq!(j["height_m"], 1.8);
-        assert!(j["id"].is_null());
+        let j = s.summary();
+        assert_eq!(j.height_m, Some(1.8));
+        assert_eq!(j.id, None);
+        let text = serde_json::to_string(&j).unwrap();
+        assert!(text.starts_with(r#"{"id":null,"date":null"#), "{text}");
     }
 }

@@ -26,7 +26,7 @@ use std::io::Write;
 use qgait_kernel::Vec3;
 use qgait_model::choice::Model;
 use qgait_model::motion::source::{default_label, MotionRows, SourceError, BUILTIN_PREFIX};
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 use qgait_opensim::mot::{MotionTable, Row};
 
 use crate::angles::CgmPelvis;
@@ -708,12 +708,12 @@ pub fn analyse_in_windows(
     }
     warn_once(rows.take_warnings());
     if like_seen > 0 {
-        warn(vec![Warning::Suppressed {
+        warn(vec![Warning::Suppressed(WarningText {
             at: Some(Location::file(source)),
             detail: format!(
                 "{like_seen} more warnings about its columns in later windows of {window_rows} rows, like those above, not shown"
             ),
-        }]);
+        })]);
     }
     Ok(())
 }

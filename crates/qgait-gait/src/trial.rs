@@ -13,7 +13,7 @@ use crate::rules::FootVelocity;
 
 use qgait_device::frames_csv::FramesCsvError;
 use qgait_model::choice::Model;
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 
 use qgait_model::error::ModelError;
 use qgait_model::motion::source::{default_label, load_motion, MotionRows, SourceError};
@@ -235,7 +235,7 @@ pub fn gaps(
             if step > GAP_FACTOR * median && step > MIN_GAP && !known.contains(&i) {
                 breaks.push(i);
                 let (location, row) = at(i);
-                warnings.push(Warning::Gap {
+                warnings.push(Warning::Gap(WarningText {
                     at: Some(location),
                     detail: format!(
                     "{row}time jumps from {} s to {} s, a gap of {} s (the median step is {} s): no event or stride is formed across it",
@@ -244,7 +244,7 @@ pub fn gaps(
                     secs(step),
                     secs(median)
                 ),
-                });
+                }));
             }
         }
     }
@@ -329,10 +329,10 @@ pub fn from_table(
 ) -> Result<(Trial, Vec<Warning>), TrialError> {
     let table = check_units(table, source, angles_in)?;
     if table.header().pelvis_heading_free {
-        warnings.push(Warning::Limitation {
+        warnings.push(Warning::Limitation(WarningText {
             at: Some(Location::file(source)),
             detail: "its pelvis is heading-free (qgait imu --pelvis heading-free): the walking direction is not in it, so turns cannot be found and strides taken while turning are analysed as straight walking; for gait analysis, solve with the default pelvis".to_string(),
-        });
+        }));
     }
     let foot = model.lengths().is_none();
     let points = PointModel::new(model, foot)?;
@@ -503,12 +503,12 @@ fn leave_out_non_finite(
                 row_at(end - 1)
             )
         };
-        warnings.push(Warning::RowsLeftOut {
+        warnings.push(Warning::RowsLeftOut(WarningText {
             at: Some(at),
             detail: format!(
                 "{row}value `{text}` in column `{name}` is not a finite number: {rows}"
             ),
-        });
+        }));
         if kept > 0 && end < bad.len() {
             breaks.push(kept);
         }

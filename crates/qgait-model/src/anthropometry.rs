@@ -23,7 +23,7 @@ use toml::Spanned;
 
 use super::toml_error;
 use crate::error::ModelError;
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 
 /// The file: each length for both sides, or per side (`_r`, `_l`); every key optional.
 #[derive(Debug, Default, Deserialize)]
@@ -151,13 +151,13 @@ pub fn parse(text: &str, source: &str) -> Result<(Anthropometry<f64>, Vec<Warnin
     let mut warnings = Vec::new();
     for (s, side) in ["right", "left"].iter().enumerate() {
         if !missing[s].is_empty() {
-            warnings.push(Warning::MissingDefaulted {
+            warnings.push(Warning::MissingDefaulted(WarningText {
                 at: Some(Location::file(source)),
                 detail: format!(
                     "no {} for the {side} side; using the gait2392 value(s)",
                     missing[s].join(", ")
                 ),
-            });
+            }));
         }
     }
     let limb = |v: [f64; 4]| Limb {

@@ -16,7 +16,7 @@ use qgait_kernel::models::ranges;
 
 use crate::error::ModelError;
 use crate::motion::source::MotionRows;
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 use qgait_opensim::mot::{Header, NonFinite};
 
 /// Which sign of `knee_angle` flexes the knee in the model a motion is read for (the kernel's).
@@ -120,10 +120,10 @@ impl<const N: usize> Picker<N> {
             }
             let c = header.index_of(name);
             if c.is_none() {
-                warnings.push(Warning::MissingDefaulted {
+                warnings.push(Warning::MissingDefaulted(WarningText {
                     at: Some(Location::file(header.source.clone())),
                     detail: format!("no `{name}` column; taken as 0"),
-                });
+                }));
             }
             c
         });
@@ -243,20 +243,20 @@ impl<const N: usize> Picker<N> {
                 (lo, hi) if self.mirrored(k) => (-hi, -lo),
                 range => range,
             };
-            warnings.push(Warning::OutOfRange {
+            warnings.push(Warning::OutOfRange(WarningText {
  at: Some(Location::file(self.source.clone())),
  detail: format!("column `{}`: {} of {} values outside its range {lo}..{hi}° (± {}°), the first {}° at {at}", self.names[k], check.out, check.n, ranges::MARGIN_DEG, show_degrees(first.to_degrees())),
-});
+}));
             if !self.in_degrees && check.out_as_degrees == 0 {
                 look_like_degrees.push(format!("`{}`", self.names[k]));
             }
         }
         for (name, first) in self.names.iter().zip(&self.unread_first) {
             if let Some((first, at)) = first {
-                warnings.push(Warning::Ignored {
+                warnings.push(Warning::Ignored(WarningText {
  at: Some(Location::file(self.source.clone())),
  detail: format!("column `{name}` ignored: the model does not move with it (locked, or coupled to another coordinate), so its values are not used (the first other than 0: {}° at {at})", show_degrees(first.to_degrees())),
-});
+}));
             }
         }
         let moved: Vec<String> = self
@@ -271,16 +271,16 @@ impl<const N: usize> Picker<N> {
             })
             .collect();
         if !moved.is_empty() {
-            warnings.push(Warning::Ignored {
+            warnings.push(Warning::Ignored(WarningText {
  at: Some(Location::file(self.source.clone())),
  detail: format!("the motion moves {}, which the model does not have: they are ignored, so its joint centres differ from those of the motion's own model (gait2392 has them: `--model gait2392`, or the subject's scaled .osim)", moved.join(", ")),
-});
+}));
         }
         if !look_like_degrees.is_empty() {
-            warnings.push(Warning::UnitsAssumed {
+            warnings.push(Warning::UnitsAssumed(WarningText {
  at: Some(Location::file(self.source.clone())),
  detail: format!("the angles are read as radians (the header does not say inDegrees=yes), but {} would all be in range read as degrees: if the file is in degrees (as OpenSim's CMC and RRA write Kinematics_q.sto), set inDegrees=yes in its header", look_like_degrees.join(", ")),
-});
+}));
         }
         warnings
     }
@@ -356,6 +356,11 @@ mod tests {
     use super::*;
     use qgait_opensim::mot::MotionTable;
 
+    /// Whether a warning of `w` says `what` (after its location).
+    fn warns_about(w: &[Warning], what: &str) -> bool {
+        w.iter().any(|w| w.detail().contains(what))
+    }
+
     const NAMES: [&str; 8] = qgait_kernel::PhakAngles::<f64>::NAMES;
 
     fn table(text: &str) -> MotionTable {
@@ -406,11 +411,8 @@ mod tests {
             "{}",
             knee[0]
         );
-        assert!(
-            !w.iter().any(|w| w.detail().contains("knee_angle_l")),
-            "{w:?}"
-        );
-        assert!(!w.iter().any(|w| w.detail().contains("look")), "{w:?}");
+        assert!(!warns_about(&w, "knee_angle_l"), "{w:?}");
+        assert!(!warns_about(&w, "look"), "{w:?}");
     }
 
     #[test]
@@ -421,10 +423,7 @@ mod tests {
         let (rows, w) = pick_for(&table(&text), KneeFlexion::Positive).unwrap();
         // Values as read: only the check is mirrored.
         assert!((rows[0][3] - 60f64.to_radians()).abs() < 1e-15);
-        assert!(
-            !w.iter().any(|w| w.detail().contains("knee_angle_r")),
-            "{w:?}"
-        );
+        assert!(!warns_about(&w, "knee_angle_r"), "{w:?}");
         let left: Vec<&Warning> = w
             .iter()
             .filter(|w| w.detail().contains("knee_angle_l"))
@@ -440,27 +439,15 @@ mod tests {
         );
         // The same file for gait2392 the other way round.
         let (_, w) = pick_all(&table(&text)).unwrap();
-        assert!(
-            w.iter().any(|w| w.detail().contains("knee_angle_r")),
-            "{w:?}"
-        );
-        assert!(
-            !w.iter().any(|w| w.detail().contains("knee_angle_l")),
-            "{w:?}"
-        );
+        assert!(warns_about(&w, "knee_angle_r"), "{w:?}");
+        assert!(!warns_about(&w, "knee_angle_l"), "{w:?}");
         // A motion in gait2392's signs (a `builtin:`) for that model: its knee is turned into
         // the model's signs, and checked as gait2392's.
         let (rows, w) = pick_for(&table(&text).in_gait2392_signs(), KneeFlexion::Positive).unwrap();
         assert!((rows[0][3] + 60f64.to_radians()).abs() < 1e-15);
         assert!((rows[0][6] - 60f64.to_radians()).abs() < 1e-15);
-        assert!(
-            w.iter().any(|w| w.detail().contains("knee_angle_r")),
-            "{w:?}"
-        );
-        assert!(
-            !w.iter().any(|w| w.detail().contains("knee_angle_l")),
-            "{w:?}"
-        );
+        assert!(warns_about(&w, "knee_angle_r"), "{w:?}");
+        assert!(!warns_about(&w, "knee_angle_l"), "{w:?}");
     }
 
     #[test]
@@ -483,7 +470,7 @@ mod tests {
             "m\nversion=1\ninDegrees=no\nendheader\ntime\t{LEGS}\n0\t0.3\t-0.6\t0.1\t-0.05\t-0.2\t0\n1\t0.25\t-0.5\t0.05\t0\t-0.1\t0.02\n"
         );
         let (_, w) = pick_all(&table(&ok)).unwrap();
-        assert!(!w.iter().any(|w| w.detail().contains("range")), "{w:?}");
+        assert!(!warns_about(&w, "range"), "{w:?}");
     }
 
     #[test]

@@ -24,7 +24,7 @@ use qgait_kernel::differential::{differentiate, FrameMotion, PointMotion};
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::models::{LowerLimb, Phak, PhakAngles};
 use qgait_kernel::{Gait2392, Vec3};
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 use qgait_opensim::mot::{MotionTable, StateColumn};
 
 use crate::choice::Model;
@@ -166,16 +166,16 @@ impl Series {
             })
             .collect();
         if !missing.is_empty() {
-            warnings.push(Warning::MissingDefaulted {
+            warnings.push(Warning::MissingDefaulted(WarningText {
                 at: Some(table.labels_at()),
                 detail: format!("no column for {}: taken as 0", missing.join(", ")),
-            });
+            }));
         }
         if filtered_with_speeds {
-            warnings.push(Warning::OptionIgnored {
+            warnings.push(Warning::OptionIgnored(WarningText {
  at: Some(table.labels_at()),
  detail: "--lowpass not applied to the coordinates whose speeds are in the file (their values and speeds are used as they are)".to_string(),
-});
+}));
         }
         let mut d = vec![[0.0; 20]; n];
         let mut dd = vec![[0.0; 20]; n];

@@ -26,7 +26,7 @@ use crate::error::ModelError;
 use crate::kinematics;
 use crate::points::{gait2392_coordinates, point_names};
 use qgait_kernel::models::ranges::KNEES;
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 use qgait_opensim::mot::MotionTable;
 
 /// One gait2392 feature that PHAK lacks.
@@ -85,10 +85,10 @@ fn knees_flexing_positive(source: &str, q: &[[f64; 17]]) -> Option<Warning> {
     let at_or_above = values.iter().filter(|&&v| v >= 0.0).count();
     let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     (10 * at_or_above >= 9 * values.len() && max > 20f64.to_radians()).then(|| {
-        Warning::SignConvention {
+        Warning::SignConvention(WarningText {
  at: Some(Location::file(source)),
  detail: format!("{at_or_above} of {} knee angles are 0 or more, up to {:.1}°: the knees flex with positive angles, as in Rajagopal's models; fidelity reads a motion in gait2392's signs (knee flexion < 0), so these knees are hyperextended here: give the motion with its knee angles negated", values.len(), max.to_degrees()),
-}
+})
     })
 }
 

@@ -1,7 +1,8 @@
 //! What the library tells its caller besides results: [`Warning`]s about input that was
-//! accepted anyway (an enum of kinds, each with where and what), and the [`Location`] in a file
-//! that warnings and errors name. Library functions return them (never print); the CLI decides how to show
-//! them (`cli::Diagnostics`: on stderr as `warning: ...`, or not at all with `--quiet`).
+//! accepted anyway (an enum of kinds, each with a [`WarningText`]: where and what), and the
+//! [`Location`] in a file that warnings and errors name. Library functions return warnings
+//! (never print); the CLI decides how to show them (`cli::Diagnostics`: on stderr as
+//! `warning: ...`, or not at all with `--quiet`).
 
 use std::fmt;
 
@@ -11,149 +12,88 @@ use std::fmt;
 #[non_exhaustive]
 pub enum Warning {
     /// A line that is not UTF-8, read as Latin-1.
-    Encoding {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    Encoding(WarningText),
     /// The angles' units assumed (a header that does not say, or says it oddly).
-    UnitsAssumed {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    UnitsAssumed(WarningText),
     /// A header's declared count that disagrees with the file, or is not a count: ignored.
-    HeaderMismatch {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    HeaderMismatch(WarningText),
     /// A row whose time repeats the previous row's replaces it.
-    RowReplaced {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    RowReplaced(WarningText),
     /// Rows left out (values that are not finite, a calibration pose of several rows).
-    RowsLeftOut {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    RowsLeftOut(WarningText),
     /// A gap in time: nothing is formed across it.
-    Gap {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    Gap(WarningText),
     /// Readings missing (`nan`): the values they determine are held.
-    ReadingsMissing {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    ReadingsMissing(WarningText),
     /// Columns or values missing, taken as 0 (or as gait2392's values).
-    MissingDefaulted {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    MissingDefaulted(WarningText),
     /// A column label that appears more than once.
-    DuplicateColumn {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    DuplicateColumn(WarningText),
     /// Columns or sensors ignored (not in the model, not an IMU of the lower-body set, ...).
-    Ignored {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    Ignored(WarningText),
     /// Values outside a coordinate's range.
-    OutOfRange {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    OutOfRange(WarningText),
     /// A command-line option that does not apply to this input: ignored.
-    OptionIgnored {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    OptionIgnored(WarningText),
     /// A sign convention other than the one assumed.
-    SignConvention {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    SignConvention(WarningText),
     /// What the analysis cannot do with this input (turns not found, one cycle drawn, ...).
-    Limitation {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    Limitation(WarningText),
     /// Further warnings like those already given, not shown.
-    Suppressed {
-        /// Where.
-        at: Option<Location>,
-        /// What.
-        detail: String,
-    },
+    Suppressed(WarningText),
 }
 
 impl Warning {
     /// Where: the file, and the line and column where there is one (`None`: no file).
     pub fn at(&self) -> Option<&Location> {
-        self.parts().0
+        self.text().at.as_ref()
     }
 
     /// What, after the location.
     pub fn detail(&self) -> &str {
-        self.parts().1
+        &self.text().detail
     }
 
-    fn parts(&self) -> (Option<&Location>, &str) {
+    /// Where and what.
+    pub fn text(&self) -> &WarningText {
         match self {
-            Self::Encoding { at, detail }
-            | Self::UnitsAssumed { at, detail }
-            | Self::HeaderMismatch { at, detail }
-            | Self::RowReplaced { at, detail }
-            | Self::RowsLeftOut { at, detail }
-            | Self::Gap { at, detail }
-            | Self::ReadingsMissing { at, detail }
-            | Self::MissingDefaulted { at, detail }
-            | Self::DuplicateColumn { at, detail }
-            | Self::Ignored { at, detail }
-            | Self::OutOfRange { at, detail }
-            | Self::OptionIgnored { at, detail }
-            | Self::SignConvention { at, detail }
-            | Self::Limitation { at, detail }
-            | Self::Suppressed { at, detail } => (at.as_ref(), detail),
+            Self::Encoding(t)
+            | Self::UnitsAssumed(t)
+            | Self::HeaderMismatch(t)
+            | Self::RowReplaced(t)
+            | Self::RowsLeftOut(t)
+            | Self::Gap(t)
+            | Self::ReadingsMissing(t)
+            | Self::MissingDefaulted(t)
+            | Self::DuplicateColumn(t)
+            | Self::Ignored(t)
+            | Self::OutOfRange(t)
+            | Self::OptionIgnored(t)
+            | Self::SignConvention(t)
+            | Self::Limitation(t)
+            | Self::Suppressed(t) => t,
         }
     }
 }
 
+/// What a [`Warning`] says: where (the file, and the line and column where there is one;
+/// `None`: no file) and what.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WarningText {
+    /// Where.
+    pub at: Option<Location>,
+    /// What, after the location.
+    pub detail: String,
+}
+
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.parts() {
-            (Some(at), detail) => write!(f, "{at}: {detail}"),
-            (None, detail) => f.write_str(detail),
+        match self.text() {
+            WarningText {
+                at: Some(at),
+                detail,
+            } => write!(f, "{at}: {detail}"),
+            WarningText { at: None, detail } => f.write_str(detail),
         }
     }
 }

@@ -14,7 +14,7 @@ use std::path::Path;
 use qgait_kernel::imu::{unit, Orientations, Segment};
 use qgait_kernel::Quat;
 
-use crate::diagnostics::{Location, Warning};
+use crate::diagnostics::{Location, Warning, WarningText};
 use crate::mot::{tokens, MotError, MotionReader, QuaternionFault};
 
 /// One row: its 1-based line, its time and each sensor's reading (raw, in the sensors' world
@@ -101,10 +101,10 @@ impl OrientationReader {
         }
         let mut warnings = Vec::new();
         if !ignored.is_empty() {
-            warnings.push(Warning::Ignored {
+            warnings.push(Warning::Ignored(WarningText {
  at: Some(Location::line(source.to_string(), labels_line)),
  detail: format!("column(s) {} are not IMUs of the lower-body set (pelvis, femurs, tibias, calcanei, torso); ignored", ignored.join(", ")),
-});
+}));
         }
         Ok(Self {
             reader,

@@ -41,7 +41,7 @@
 use std::io::{self, BufRead, Write};
 use std::path::Path;
 
-use crate::diagnostics::{Location, Warning};
+use crate::diagnostics::{Location, Warning, WarningText};
 
 /// A problem found while reading a motion file. Every variant names the file; the format
 /// variants also name the 1-based line (and, for numbers, the 1-based character column).
@@ -372,10 +372,10 @@ impl<R: BufRead> MotionReader<R> {
             Err(_) => {
                 if !self.latin1_warned {
                     self.latin1_warned = true;
-                    self.warnings.push(Warning::Encoding {
+                    self.warnings.push(Warning::Encoding(WarningText {
                         at: Some(Location::line(self.header.source.clone(), self.line_no)),
                         detail: "not UTF-8; read as Latin-1".to_string(),
-                    });
+                    }));
                 }
                 self.buf.iter().map(|&b| char::from(b)).collect()
             }
@@ -437,10 +437,10 @@ impl<R: BufRead> MotionReader<R> {
                     "indegrees" => {
                         let yes = value.eq_ignore_ascii_case("yes");
                         if !yes && !value.eq_ignore_ascii_case("no") {
-                            self.warnings.push(Warning::UnitsAssumed {
+                            self.warnings.push(Warning::UnitsAssumed(WarningText {
  at: Some(Location::line(source.to_string(), no)),
  detail: format!("inDegrees=`{value}` is neither yes nor no; read as no (radians), as OpenSim reads it"),
-});
+}));
                         }
                         in_degrees = Some(yes);
                     }
@@ -490,17 +490,17 @@ impl<R: BufRead> MotionReader<R> {
             (Some(d), _) => d,
             (None, _) if quaternions => false,
             (None, Some((v, text))) if *v >= 1.0 => {
-                self.warnings.push(Warning::UnitsAssumed {
+                self.warnings.push(Warning::UnitsAssumed(WarningText {
  at: Some(Location::file(source.to_string())),
  detail: format!("header does not say inDegrees=yes/no; angles read as radians, as OpenSim reads a `version={text}` file"),
-});
+}));
                 false
             }
             (None, _) => {
-                self.warnings.push(Warning::UnitsAssumed {
+                self.warnings.push(Warning::UnitsAssumed(WarningText {
  at: Some(Location::file(source.to_string())),
  detail: "header does not say inDegrees=yes/no and has no version; angles read as degrees, as OpenSim reads such a file".to_string(),
-});
+}));
                 true
             }
         };
@@ -541,21 +541,21 @@ impl<R: BufRead> MotionReader<R> {
                 if labels[..first].contains(l) || labels[first + 1..i].contains(l) {
                     continue;
                 }
-                self.warnings.push(Warning::DuplicateColumn {
+                self.warnings.push(Warning::DuplicateColumn(WarningText {
  at: Some(Location::line(source.to_string(), label_line)),
  detail: format!("column `{l}` appears more than once (columns {} and {}); only a model that needs it refuses the file", first + 1, i + 1),
-});
+}));
             }
         }
         if let Some((n, key)) = declared_cols {
             if n != labels.len() {
-                self.warnings.push(Warning::HeaderMismatch {
+                self.warnings.push(Warning::HeaderMismatch(WarningText {
                     at: Some(Location::file(source.to_string())),
                     detail: format!(
                         "header says {key}={n} but the file has {} columns",
                         labels.len()
                     ),
-                });
+                }));
             }
         }
         self.header.labels = labels;
@@ -657,10 +657,10 @@ impl<R: BufRead> MotionReader<R> {
                 ));
             }
             if t == p {
-                self.warnings.push(Warning::RowReplaced {
+                self.warnings.push(Warning::RowReplaced(WarningText {
  at: Some(Location::line(self.header.source.clone(), row.line)),
  detail: format!("time {t} repeats the previous row's (line {}); this row replaces it, as in OpenSim", prev.line),
-});
+}));
                 self.pending = Some(row);
                 continue;
             }
@@ -681,12 +681,12 @@ impl<R: BufRead> MotionReader<R> {
         }
         if let Some((n, key)) = self.header.declared_rows {
             if n != rows {
-                self.warnings.push(Warning::HeaderMismatch {
+                self.warnings.push(Warning::HeaderMismatch(WarningText {
                     at: Some(Location::file(self.header.source.clone())),
                     detail: format!(
                         "header says {key}={n} but the file has {rows} data rows; using {rows}"
                     ),
-                });
+                }));
             }
         }
         Ok(())
@@ -1074,10 +1074,10 @@ fn parse_count(
 ) -> Option<usize> {
     let parsed = value.trim().parse().ok();
     if parsed.is_none() {
-        warnings.push(Warning::HeaderMismatch {
+        warnings.push(Warning::HeaderMismatch(WarningText {
             at: Some(Location::line(source.to_string(), line)),
             detail: format!("`{key}` is not a count (`{value}`); ignored"),
-        });
+        }));
     }
     parsed
 }

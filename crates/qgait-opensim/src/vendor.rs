@@ -45,7 +45,7 @@ use qgait_kernel::imu::math::from_rotation_matrix;
 use qgait_kernel::imu::{unit, Orientations, Segment, UNIT_TOLERANCE};
 use qgait_kernel::Quat;
 
-use crate::diagnostics::{Location, Warning};
+use crate::diagnostics::{Location, Warning, WarningText};
 use crate::imu_sto::{OrientationReader, OrientationRow};
 use crate::mot::MotError;
 
@@ -181,10 +181,10 @@ impl Mapping {
             })?;
             let segment = Segment::from_name(&in_model);
             if segment.is_none() {
-                warnings.push(Warning::Ignored {
+                warnings.push(Warning::Ignored(WarningText {
  at: Some(Location::line(source.to_string(), at)),
  detail: format!("sensor `{name}` is `{in_model}`, not an IMU of the lower-body set ({}); ignored", Segment::ALL.map(Segment::imu_label).join(", ")),
-});
+}));
             }
             if sensors
                 .iter()
@@ -848,10 +848,10 @@ impl ApdmTrial {
                     sensors.push((segment, i, name.to_string()));
                 }
                 if mapping.is_none() && Segment::from_name(name).is_none() {
-                    warnings.push(Warning::Ignored {
+                    warnings.push(Warning::Ignored(WarningText {
  at: Some(Location::line(source.to_string(), 3)),
  detail: format!("sensor `{name}` is not an IMU of the lower-body set; ignored (map APDM sensors with --imu-mapping)"),
-});
+}));
                 }
             }
             next(&mut lines, "the units line")?;

@@ -12,7 +12,7 @@ use crate::cli::output::{refuse_overwrite, with_path, OutputFile};
 use crate::progress::Progress;
 use qgait_kernel::Vec3;
 use qgait_model::motion::source::MotionRows;
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 use qgait_opensim::export;
 
 /// `qgait export` arguments.
@@ -68,9 +68,11 @@ impl Translation {
             .iter()
             .zip(columns)
             .filter(|(_, c)| c.is_none())
-            .map(|(name, _)| Warning::MissingDefaulted {
-                at: Some(Location::file(header.source.clone())),
-                detail: format!("no `{name}` column; taken as 0 in the lab frame"),
+            .map(|(name, _)| {
+                Warning::MissingDefaulted(WarningText {
+                    at: Some(Location::file(header.source.clone())),
+                    detail: format!("no `{name}` column; taken as 0 in the lab frame"),
+                })
             })
             .collect();
         Ok((Self { rows, columns }, warnings))

@@ -7,7 +7,7 @@ use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
 use qgait_fusion::{fuse, read_csv, read_xsens, score, write_orientations, Mode, RawRecording};
 use qgait_kernel::imu::Segment;
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Warning, WarningText};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::output::{refuse_overwrite, write_output_with};
@@ -113,10 +113,10 @@ pub(crate) fn run_fuse(a: FuseArgs, diagnostics: &Diagnostics) -> anyhow::Result
         .map(String::as_str)
         .collect();
     if !unknown.is_empty() {
-        diagnostics.warn([Warning::Ignored {
+        diagnostics.warn([Warning::Ignored(WarningText {
  at: None,
  detail: format!("column(s) {} are not IMUs of the lower-body set, which `qgait imu` reads ({}); name them with --name", unknown.join(", "), Segment::ALL.map(Segment::imu_label).join(", ")),
-}]);
+})]);
     }
     if !a.truth.is_empty() && a.truth.len() != a.inputs.len() {
         bail!(

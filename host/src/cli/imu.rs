@@ -21,7 +21,7 @@ use crate::progress::Progress;
 use qgait_figures::imu_angles;
 use qgait_model::choice::Model;
 use qgait_model::error::ModelError;
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 use qgait_opensim::mot::{write_mot_header, write_mot_row, MotionTable};
 use qgait_opensim::vendor::{self, Mapping};
 
@@ -385,10 +385,10 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     )?;
     let mut reader = vendor::open(&a.orientations, mapping.as_ref(), a.rate)?;
     if let (Some(r), true) = (a.rate, reader.has_times()) {
-        warnings.push(Warning::OptionIgnored {
+        warnings.push(Warning::OptionIgnored(WarningText {
  at: Some(Location::file(reader.source())),
  detail: format!("--rate {r} ignored: the file has its own times (--rate is for an Xsens trial or an APDM file that gives none)"),
-});
+}));
     }
     for s in &calibration.1 {
         if !reader.sensors().contains(s) {
@@ -401,13 +401,13 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     }
     for s in reader.sensors() {
         if !calibration.1.contains(&s) {
-            warnings.push(Warning::Ignored {
+            warnings.push(Warning::Ignored(WarningText {
                 at: Some(reader.labels_at()),
                 detail: format!(
                     "`{s}` has no reading in the calibration pose ({}); its column is ignored",
                     a.calibration.display()
                 ),
-            });
+            }));
         }
     }
     let present = calibration.1.clone();
@@ -468,10 +468,10 @@ pub fn run_imu(a: ImuArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     progress.finish();
     warnings.extend(reader.take_warnings());
     for (sensor, n, line) in gaps {
-        warnings.push(Warning::ReadingsMissing {
+        warnings.push(Warning::ReadingsMissing(WarningText {
  at: Some(Location::line(reader.source(), line)),
  detail: format!("`{sensor}` has no reading (nan) in {n} of {rows} rows, the first here: what only it determines keeps its previous value there (0 before its first reading), not a measurement"),
-});
+}));
     }
     diagnostics.warn(warnings);
     if let Some(reference) = &a.compare {
@@ -574,13 +574,13 @@ fn calibrate(
         .next_row()?
         .expect("the reader refuses a file without rows");
     if reader.next_row()?.is_some() {
-        warnings.push(Warning::RowsLeftOut {
+        warnings.push(Warning::RowsLeftOut(WarningText {
             at: Some(Location::file(reader.source())),
             detail: format!(
                 "the calibration pose has more than one row; the first (line {}) is used",
                 row.line
             ),
-        });
+        }));
     }
     warnings.extend(reader.take_warnings());
     let present: Vec<Segment> = Segment::ALL

@@ -10,7 +10,7 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::progress::Progress;
 use qgait_figures::{self as report, Analysis};
 use qgait_model::motion::source::{default_label, load_motion};
-use qgait_opensim::diagnostics::{Location, Warning};
+use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 
 /// `qgait report` arguments.
 #[derive(Debug, Args)]
@@ -124,9 +124,9 @@ fn one_cycle(
     let (t0, t1) = (first.start, first.start + first.duration);
     let time = table.time().to_vec();
     let cut = table.without_rows(|r| time[r] < t0 - 1e-9 || time[r] > t1 + 1e-9);
-    let warning = Warning::Limitation {
+    let warning = Warning::Limitation(WarningText {
  at: Some(Location::file(spec.to_string())),
  detail: format!("{right} right and {left} left strides; the report draws one gait cycle per motion: the first right stride, heel strike at {t0:.3} s to the next at {t1:.3} s (`qgait gait` averages every stride)"),
-};
+});
     (cut, vec![warning])
 }
