@@ -94,6 +94,21 @@ pub fn run() -> Result<ExitCode, String> {
             &["test", "--workspace"],
             &elf,
         ),
+        // The hub's raw input (feature `raw`, which no workspace crate turns on).
+        step(
+            "hub raw input tests",
+            &root,
+            &[
+                "test",
+                "-p",
+                "qgait-hub",
+                "--features",
+                "raw",
+                "--test",
+                "raw_input",
+            ],
+            &elf,
+        ),
         step(
             "firmware build, nrf52840",
             &firmware,
@@ -198,6 +213,12 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             "clippy, host workspace",
             root,
             &clippy(&["--workspace", "--all-targets"]),
+            &[],
+        ),
+        step(
+            "clippy, hub with raw input",
+            root,
+            &clippy(&["-p", "qgait-hub", "--features", "raw", "--all-targets"]),
             &[],
         ),
         step(

@@ -12,6 +12,8 @@ pub mod hub;
 pub mod limits;
 pub mod memory_serial;
 pub mod orientation;
+#[cfg(feature = "fusion")]
+pub mod raw;
 
 pub use crate::assembly::{
     Assembler, JointSet, PacketOutcome, Sample, SampleEvent, SegmentAssembler, SegmentSample,

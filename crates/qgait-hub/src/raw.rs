@@ -1,7 +1,9 @@
 //! [`RawInput`]: raw IMU samples to fused orientations, by the rules of `docs/protocol.md`
-//! section 4.10, for as many segments at once as its capacity `N`.
+//! section 4.10, for as many segments at once as its capacity `N`: one implementation for the
+//! IMU node (`qgait-node`, one segment) and the hub's raw input (up to eight), so both fuse a
+//! sensor's samples the same way, bit for bit.
 
-use qgait_hub::counters::bump;
+use crate::counters::bump;
 use qgait_kernel::fusion::{FusionReal, Vqf, VqfParams};
 use qgait_proto::{
     FusionMode, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, SegmentOrientation,
