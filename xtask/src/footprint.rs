@@ -30,8 +30,18 @@ fn build_and_measure(name: &str, args: &[&str]) -> Result<Footprint, String> {
     footprint(&bytes)
 }
 
-/// Builds, measures and prints; `chain`, `imu`: the mps2-an386 firmware with those features.
-pub fn run(chain: bool, imu: bool) -> Result<ExitCode, String> {
+/// Builds, measures and prints; `chain`, `imu`: the mps2-an386 firmware with those features;
+/// `raw`: both boards' with it and those.
+pub fn run(chain: bool, imu: bool, raw: bool) -> Result<ExitCode, String> {
+    let features: Vec<&str> = [("chain", chain), ("imu", imu), ("raw", raw)]
+        .into_iter()
+        .filter_map(|(f, on)| on.then_some(f))
+        .collect();
+    let nrf_features = if raw {
+        format!("nrf52840,{}", features.join(","))
+    } else {
+        "nrf52840".to_owned()
+    };
     let nrf = build_and_measure(
         "nrf52840",
         &[
@@ -39,13 +49,9 @@ pub fn run(chain: bool, imu: bool) -> Result<ExitCode, String> {
             "--release",
             "--no-default-features",
             "--features",
-            "nrf52840",
+            &nrf_features,
         ],
     )?;
-    let features: Vec<&str> = [("chain", chain), ("imu", imu)]
-        .into_iter()
-        .filter_map(|(f, on)| on.then_some(f))
-        .collect();
     let mps2 = if features.is_empty() {
         build_and_measure("mps2-an386", &["build", "--release"])?
     } else {
