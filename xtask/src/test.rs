@@ -233,5 +233,11 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             &clippy(&["--all-targets", "--features", "node"]),
             &[],
         ),
+        step(
+            "clippy, firmware, raw",
+            firmware,
+            &clippy(&["--all-targets", "--features", "imu,raw"]),
+            &[],
+        ),
     ]
 }

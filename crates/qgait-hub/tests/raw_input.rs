@@ -6,10 +6,11 @@
 
 use qgait_hub::raw::{orientation_packet, RawInput, RawOutcome};
 use qgait_hub::{Hub, ManualClock, MemorySerial};
+use qgait_hub_checks::{imu, XorShift};
 use qgait_proto::{
-    encode_frame, Config, FrameDecoder, FusionMode, HeadingAxisId, ImuConfig, ImuHeading,
-    InputMode, Message, MissingPolicy, ModelId, PoseFrame, RawImuConfig, RawImuSample,
-    RawImuStatus, SegmentId, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    encode_frame, FrameDecoder, FusionMode, ImuConfig, InputMode, Message, MissingPolicy,
+    PoseFrame, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, Status, MAX_FRAME_LEN,
+    PROTOCOL_VERSION,
 };
 
 type Serial = MemorySerial<8192, 65_536>;
@@ -56,17 +57,11 @@ fn poses(hub: &mut Hub<Serial, &ManualClock>) -> Vec<PoseFrame> {
 }
 
 fn imu_config(calibrate: bool) -> Message {
-    Message::ImuConfig(ImuConfig {
-        mode: InputMode::OrientationsLeastSquares,
-        segments: ImuConfig::ALL_SEGMENTS,
+    Message::ImuConfig(imu::imu_config(
+        InputMode::OrientationsLeastSquares,
         calibrate,
-        sensor_to_opensim: [-core::f32::consts::FRAC_PI_2, 0.0, 0.0],
-        heading: Some(ImuHeading {
-            base: SegmentId::Torso,
-            axis: HeadingAxisId::Z,
-        }),
-        request_status: false,
-    })
+        0,
+    ))
 }
 
 fn raw_config(segments: u8, fusion: FusionMode) -> RawImuConfig {
@@ -107,16 +102,7 @@ fn sample(segment: SegmentId, seq: u32) -> RawImuSample {
 
 fn hub_for_orientations(clock: &ManualClock) -> Hub<Serial, &ManualClock> {
     let mut hub = Hub::new(Serial::new(), clock, 0).unwrap();
-    send(
-        &mut hub,
-        &Message::Config(Config {
-            model: ModelId::Gait2392,
-            anthropometry: None,
-            missing_policy: MissingPolicy::Drop,
-            reorder_window: 4,
-            request_status: false,
-        }),
-    );
+    send(&mut hub, &imu::gait2392_config(MissingPolicy::Drop));
     send(&mut hub, &imu_config(false));
     hub
 }
@@ -222,17 +208,6 @@ fn raw_config_is_checked_and_answers_status_requests_body() {
     assert_eq!(hub.raw().status().not_configured, 1);
 }
 
-struct XorShift(u32);
-
-impl XorShift {
-    fn next(&mut self) -> u32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 17;
-        self.0 ^= self.0 << 5;
-        self.0
-    }
-}
-
 /// Raw samples with random segments, sequence numbers and timestamps, random (also unusable)
 /// raw configurations, and line noise between frames: the hub never panics, and every raw
 /// sample that arrives whole is counted once by the raw input (used, stale or not configured).
@@ -248,12 +223,12 @@ fn random_raw_streams_never_stop_the_pipeline_body() {
         let mut rng = XorShift(seed);
         let mut sent = 0;
         for _ in 0..200 {
-            let r = rng.next();
+            let r = rng.next_u32();
             if r.is_multiple_of(17) {
                 let config = RawImuConfig {
-                    segments: rng.next() as u8,
-                    rate_hz: (rng.next() % 300) as u16,
-                    output_every: (rng.next() % 4) as u8,
+                    segments: rng.next_u32() as u8,
+                    rate_hz: (rng.next_u32() % 300) as u16,
+                    output_every: (rng.next_u32() % 4) as u8,
                     fusion: if r.is_multiple_of(2) {
                         FusionMode::SixD
                     } else {
@@ -265,8 +240,8 @@ fn random_raw_streams_never_stop_the_pipeline_body() {
             } else if r.is_multiple_of(13) {
                 send(&mut hub, &imu_config(r.is_multiple_of(2)));
             } else if r.is_multiple_of(7) {
-                let noise: Vec<u8> = (0..rng.next() % 200)
-                    .map(|_| (rng.next() % 255 + 1) as u8)
+                let noise: Vec<u8> = (0..rng.next_u32() % 200)
+                    .map(|_| (rng.next_u32() % 255 + 1) as u8)
                     .collect();
                 hub.serial_mut().receive(&noise);
                 hub.serial_mut().receive(&[0]);
@@ -276,12 +251,21 @@ fn random_raw_streams_never_stop_the_pipeline_body() {
                 );
                 sent += 1;
             } else {
-                let segment = SegmentId::ALL[(rng.next() % 8) as usize];
-                let mut s = sample(segment, rng.next() % 64);
-                s.timestamp_us = rng.next();
-                s.gyro = [rng.next() as i16, rng.next() as i16, rng.next() as i16];
-                s.accel = [rng.next() as i16, rng.next() as i16, rng.next() as i16];
-                s.mag = (!r.is_multiple_of(3)).then(|| [rng.next() as i16, 0, rng.next() as i16]);
+                let segment = SegmentId::ALL[(rng.next_u32() % 8) as usize];
+                let mut s = sample(segment, rng.next_u32() % 64);
+                s.timestamp_us = rng.next_u32();
+                s.gyro = [
+                    rng.next_u32() as i16,
+                    rng.next_u32() as i16,
+                    rng.next_u32() as i16,
+                ];
+                s.accel = [
+                    rng.next_u32() as i16,
+                    rng.next_u32() as i16,
+                    rng.next_u32() as i16,
+                ];
+                s.mag = (!r.is_multiple_of(3))
+                    .then(|| [rng.next_u32() as i16, 0, rng.next_u32() as i16]);
                 send(&mut hub, &Message::RawImuSample(s));
                 sent += 1;
             }
