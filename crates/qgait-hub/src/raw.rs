@@ -14,6 +14,22 @@ use qgait_proto::{
 /// restarting the segment's fusion (protocol.md 4.10, rule 2).
 pub const MAX_SEQ_STEP: u32 = 1024;
 
+/// A [`RawImuConfig`] for `segments` of ICM-20948 sensors (±2000 °/s at 16.4 counts per °/s,
+/// ±16 g at 2048 counts per g, the AK09916's 0.15 µT per count) at 100 Hz, an orientation
+/// every sample, no status request.
+pub fn icm20948_config(segments: u8, fusion: FusionMode) -> RawImuConfig {
+    RawImuConfig {
+        segments,
+        fusion,
+        rate_hz: 100,
+        output_every: 1,
+        gyro_per_count: RawImuConfig::gyro_per_count_of(16.4),
+        accel_per_count: RawImuConfig::accel_per_count_of(2048.0),
+        mag_per_count: 0.15,
+        request_status: false,
+    }
+}
+
 /// What [`RawInput::push`] did with a sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RawOutcome<T> {

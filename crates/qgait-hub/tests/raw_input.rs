@@ -4,7 +4,7 @@
 //! mix of raw messages and line noise stops the pipeline.
 #![cfg(feature = "raw")]
 
-use qgait_hub::raw::{orientation_packet, RawInput, RawOutcome};
+use qgait_hub::raw::{icm20948_config, orientation_packet, RawInput, RawOutcome};
 use qgait_hub::{Hub, ManualClock, MemorySerial};
 use qgait_hub_checks::{imu, XorShift};
 use qgait_proto::{
@@ -65,16 +65,7 @@ fn imu_config(calibrate: bool) -> Message {
 }
 
 fn raw_config(segments: u8, fusion: FusionMode) -> RawImuConfig {
-    RawImuConfig {
-        segments,
-        fusion,
-        rate_hz: 100,
-        output_every: 1,
-        gyro_per_count: RawImuConfig::gyro_per_count_of(16.4),
-        accel_per_count: RawImuConfig::accel_per_count_of(2048.0),
-        mag_per_count: 0.15,
-        request_status: false,
-    }
+    icm20948_config(segments, fusion)
 }
 
 /// Sample `seq` of the sensor on `segment`: at rest but for a slow turn, tilted so that each

@@ -959,8 +959,7 @@ fn whole_sample(model: ModelId, name: &str) {
 #[cfg(feature = "raw")]
 fn raw_whole_sample() {
     use qgait_proto::{
-        FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, RawImuConfig, RawImuSample,
-        SegmentId,
+        FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, RawImuSample, SegmentId,
     };
     let imu = |calibrate| {
         Message::ImuConfig(ImuConfig {
@@ -1015,16 +1014,7 @@ fn raw_whole_sample() {
     };
     push(&mut rx, &Message::Config(config));
     push(&mut rx, &imu(false));
-    let raw = RawImuConfig {
-        segments: ImuConfig::ALL_SEGMENTS,
-        fusion: FusionMode::NineD,
-        rate_hz: 100,
-        output_every: 1,
-        gyro_per_count: RawImuConfig::gyro_per_count_of(16.4),
-        accel_per_count: RawImuConfig::accel_per_count_of(2048.0),
-        mag_per_count: 0.15,
-        request_status: false,
-    };
+    let raw = qgait_hub::raw::icm20948_config(ImuConfig::ALL_SEGMENTS, FusionMode::NineD);
     push(&mut rx, &Message::RawImuConfig(raw));
     for seq in 0..SAMPLES + 2 {
         if seq == 1 {
