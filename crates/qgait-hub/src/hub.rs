@@ -180,7 +180,7 @@ where
             #[cfg(feature = "imu")]
             addr_of_mut!((*hub).imu).write(ImuInput::new());
             #[cfg(feature = "raw")]
-            addr_of_mut!((*hub).raw).write(RawInput::new());
+            RawInput::write_new(addr_of_mut!((*hub).raw));
             addr_of_mut!((*hub).status).write(Status::default());
             addr_of_mut!((*hub).started_ms).write(now);
             addr_of_mut!((*hub).last_status_ms).write(now);

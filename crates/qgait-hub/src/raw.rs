@@ -90,6 +90,27 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
         }
     }
 
+    /// Writes [`new`](Self::new)'s value into `this` field by field, slot by slot, so that no
+    /// whole `RawInput` (eight filters, kilobytes) is a temporary on the stack on its way there
+    /// (`Hub::init`).
+    ///
+    /// # Safety
+    ///
+    /// `this` must be valid for writes of a `RawInput` and properly aligned.
+    #[allow(unsafe_code)]
+    pub(crate) unsafe fn write_new(this: *mut Self) {
+        // SAFETY: the caller's promise; each field is written once through a pointer to it,
+        // the slots one element at a time, and nothing is read.
+        unsafe {
+            core::ptr::addr_of_mut!((*this).config).write(UNCONFIGURED);
+            core::ptr::addr_of_mut!((*this).status).write(RawImuStatus::default());
+            let slots = core::ptr::addr_of_mut!((*this).slots).cast::<Option<Slot<T>>>();
+            for i in 0..N {
+                slots.add(i).write(None);
+            }
+        }
+    }
+
     /// The settings in force (`segments` 0 before any accepted configuration; its
     /// `request_status` always `false`).
     pub fn config(&self) -> RawImuConfig {

@@ -270,3 +270,26 @@ fn random_raw_streams_never_stop_the_pipeline_body() {
         let _ = outputs(&mut hub);
     }
 }
+
+/// A hub built in place (`Hub::init`, as the firmware builds it) starts with no raw segment
+/// and takes a raw configuration and samples.
+#[test]
+fn hub_built_in_place_takes_raw_input() {
+    with_stack(hub_built_in_place_takes_raw_input_body);
+}
+
+fn hub_built_in_place_takes_raw_input_body() {
+    let clock = ManualClock::new(0);
+    let mut slot = Box::new(core::mem::MaybeUninit::uninit());
+    let hub = Hub::init(&mut slot, Serial::new(), &clock, 0).unwrap();
+    assert_eq!(hub.raw().config().segments, 0);
+    assert_eq!(hub.raw().status(), RawImuStatus::default());
+    send(hub, &Message::RawImuSample(sample(SegmentId::Pelvis, 0)));
+    send(
+        hub,
+        &Message::RawImuConfig(raw_config(0b1, FusionMode::SixD)),
+    );
+    send(hub, &Message::RawImuSample(sample(SegmentId::Pelvis, 1)));
+    let status = hub.raw().status();
+    assert_eq!((status.not_configured, status.samples_accepted), (1, 1));
+}
