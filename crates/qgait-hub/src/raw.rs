@@ -97,6 +97,7 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
     /// # Safety
     ///
     /// `this` must be valid for writes of a `RawInput` and properly aligned.
+    #[cfg(feature = "raw")]
     #[allow(unsafe_code)]
     pub(crate) unsafe fn write_new(this: *mut Self) {
         // SAFETY: the caller's promise; each field is written once through a pointer to it,
