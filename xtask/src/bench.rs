@@ -404,12 +404,20 @@ pub struct BenchArgs {
     /// Only the large-file figures.
     #[arg(long)]
     pub large_only: bool,
+    /// Only the hub with raw input: the bench binary built with `imu,raw`, instructions per
+    /// 100 Hz sample of eight raw 9D sensors (fusion, least squares, pose frame).
+    #[arg(long)]
+    pub raw: bool,
 }
 
 /// Runs every benchmark and prints the figures.
 pub fn run(args: &BenchArgs) -> anyhow::Result<ExitCode> {
     if args.large_only {
         large::run()?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if args.raw {
+        device_raw()?;
         return Ok(ExitCode::SUCCESS);
     }
     device()?;
@@ -472,6 +480,33 @@ fn device() -> anyhow::Result<()> {
         figure(name, size);
     }
     Ok(())
+}
+
+/// The hub with raw input: the bench binary with `imu,raw`, its `raw_sample` figures.
+fn device_raw() -> anyhow::Result<()> {
+    cargo(
+        &repo_root().join("firmware"),
+        &[
+            "build",
+            "--release",
+            "--bin",
+            "bench",
+            "--features",
+            "imu,raw",
+        ],
+    )?;
+    let elf = firmware_target_dir().join("thumbv7em-none-eabihf/release/bench");
+    let figures = run_bench_elf(&elf)?;
+    let mut any = false;
+    for (key, value) in figures.iter().filter(|(k, _)| k.contains("raw_")) {
+        figure(key, value);
+        any = true;
+    }
+    if any {
+        Ok(())
+    } else {
+        Err(anyhow!("the bench binary printed no raw_sample figure"))
+    }
 }
 
 /// Runs the bench ELF once under QEMU with instruction counting (the shared runner,

@@ -31,8 +31,18 @@ fn build_and_measure(name: &str, args: &[&str]) -> anyhow::Result<Footprint> {
     footprint(&bytes)
 }
 
-/// Builds, measures and prints; `chain`, `imu`: the mps2-an386 firmware with those features.
-pub fn run(chain: bool, imu: bool) -> anyhow::Result<ExitCode> {
+/// Builds, measures and prints; `chain`, `imu`: the mps2-an386 firmware with those features;
+/// `raw`: both boards' with it and those.
+pub fn run(chain: bool, imu: bool, raw: bool) -> anyhow::Result<ExitCode> {
+    let features: Vec<&str> = [("chain", chain), ("imu", imu), ("raw", raw)]
+        .into_iter()
+        .filter_map(|(f, on)| on.then_some(f))
+        .collect();
+    let nrf_features = if raw {
+        format!("nrf52840,{}", features.join(","))
+    } else {
+        "nrf52840".to_owned()
+    };
     let nrf = build_and_measure(
         "nrf52840",
         &[
@@ -40,13 +50,9 @@ pub fn run(chain: bool, imu: bool) -> anyhow::Result<ExitCode> {
             "--release",
             "--no-default-features",
             "--features",
-            "nrf52840",
+            &nrf_features,
         ],
     )?;
-    let features: Vec<&str> = [("chain", chain), ("imu", imu)]
-        .into_iter()
-        .filter_map(|(f, on)| on.then_some(f))
-        .collect();
     let mps2 = if features.is_empty() {
         build_and_measure("mps2-an386", &["build", "--release"])?
     } else {

@@ -66,8 +66,12 @@ enum Task {
         /// `--chain`: both).
         #[arg(long)]
         imu: bool,
+        /// The firmware with its `raw` feature (raw IMU input fused on the hub; implies
+        /// `imu`), on both boards.
+        #[arg(long)]
+        raw: bool,
         /// The IMU node (`qgait-node`, the firmware's `node` feature) instead of the hub.
-        #[arg(long, conflicts_with_all = ["chain", "imu"])]
+        #[arg(long, conflicts_with_all = ["chain", "imu", "raw"])]
         node: bool,
     },
     /// Every benchmark figure (device, footprint, host), one `NAME VALUE` line each.
@@ -78,11 +82,16 @@ fn main() -> ExitCode {
     let result = match Xtask::parse().command {
         Task::Test => test::run(),
         Task::Demo => demo::run_demo(),
-        Task::Footprint { chain, imu, node } => {
+        Task::Footprint {
+            chain,
+            imu,
+            raw,
+            node,
+        } => {
             if node {
                 footprint::run_node()
             } else {
-                footprint::run(chain, imu)
+                footprint::run(chain, imu, raw)
             }
         }
         Task::Bench(args) => bench::run(&args),

@@ -94,6 +94,21 @@ pub fn run() -> anyhow::Result<ExitCode> {
             &["test", "--workspace"],
             &elf,
         ),
+        // The hub's raw input (feature `raw`, which no workspace crate turns on).
+        step(
+            "hub raw input tests",
+            &root,
+            &[
+                "test",
+                "-p",
+                "qgait-hub",
+                "--features",
+                "raw",
+                "--test",
+                "raw_input",
+            ],
+            &elf,
+        ),
         step(
             "firmware build, nrf52840",
             &firmware,
@@ -201,6 +216,12 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             &[],
         ),
         step(
+            "clippy, hub with raw input",
+            root,
+            &clippy(&["-p", "qgait-hub", "--features", "raw", "--all-targets"]),
+            &[],
+        ),
+        step(
             "clippy, firmware",
             firmware,
             &clippy(&["--all-targets"]),
@@ -210,6 +231,12 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             "clippy, firmware, node",
             firmware,
             &clippy(&["--all-targets", "--features", "node"]),
+            &[],
+        ),
+        step(
+            "clippy, firmware, raw",
+            firmware,
+            &clippy(&["--all-targets", "--features", "imu,raw"]),
             &[],
         ),
     ]

@@ -135,7 +135,8 @@ pub fn send_orientations(
         })
 }
 
-fn gait2392_config(policy: MissingPolicy) -> Message {
+/// The `Config` of the generic gait2392 with `policy` and a window of 4.
+pub fn gait2392_config(policy: MissingPolicy) -> Message {
     Message::Config(Config {
         model: ModelId::Gait2392,
         anthropometry: None,

@@ -45,6 +45,19 @@ macro_rules! ensure {
 
 pub mod imu;
 
+/// A xorshift32 generator: the pseudo-random streams of the hub's host tests.
+pub struct XorShift(pub u32);
+
+impl XorShift {
+    /// The next number (never 0 from a seed that is not 0).
+    pub fn next_u32(&mut self) -> u32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 17;
+        self.0 ^= self.0 << 5;
+        self.0
+    }
+}
+
 /// A check: its name and the function that runs it.
 pub type NamedCheck = (&'static str, fn() -> CheckResult);
 

@@ -20,9 +20,16 @@ use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
 #[cfg(feature = "imu")]
 use crate::orientation::{ImuInput, SegmentOutput};
+#[cfg(feature = "raw")]
+use crate::raw::{orientation_packet, RawInput, RawOutcome};
 use crate::velocity::Differentiator;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
+#[cfg(feature = "raw")]
+use qgait_proto::{
+    decode_node_message, encode_raw_imu_status_frame, NodeMessage, RawImuConfig, RawImuSample,
+    RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,
+};
 #[cfg(feature = "chain")]
 use qgait_proto::{ChainTable, ChainTableConfig};
 
@@ -31,6 +38,10 @@ pub const MAX_BYTES_PER_POLL: usize = 256;
 
 /// Bytes the hub asks the serial port for in one read (its receive buffer, in the hub).
 pub const READ_CHUNK: usize = 128;
+
+/// The raw segments a hub fuses at most: every segment (protocol.md 4.7's eight).
+#[cfg(feature = "raw")]
+pub const RAW_SEGMENTS: usize = 8;
 
 /// Default reorder window (samples).
 pub const DEFAULT_WINDOW: u8 = 4;
@@ -105,6 +116,10 @@ pub struct Hub<S, C> {
     imu: ImuInput,
     /// The points' velocities: their setting and the last sample posed.
     velocity: Differentiator,
+    /// The raw input: one kernel VQF per raw segment, whose orientations enter the
+    /// orientation input as `SegmentOrientation`s would.
+    #[cfg(feature = "raw")]
+    raw: RawInput<f32, RAW_SEGMENTS>,
     status: Status,
     started_ms: u32,
     last_status_ms: u32,
@@ -168,6 +183,8 @@ where
             #[cfg(feature = "imu")]
             addr_of_mut!((*hub).imu).write(ImuInput::new());
             addr_of_mut!((*hub).velocity).write(Differentiator::OFF);
+            #[cfg(feature = "raw")]
+            RawInput::write_new(addr_of_mut!((*hub).raw));
             addr_of_mut!((*hub).status).write(Status::default());
             addr_of_mut!((*hub).started_ms).write(now);
             addr_of_mut!((*hub).last_status_ms).write(now);
@@ -198,6 +215,8 @@ where
             #[cfg(feature = "imu")]
                 imu: _,
             velocity: _,
+            #[cfg(feature = "raw")]
+                raw: _,
             status: _,
             started_ms: _,
             last_status_ms: _,
@@ -220,6 +239,8 @@ where
             input: Input::Joints(assembler_for(&config)),
             #[cfg(feature = "imu")]
             imu: ImuInput::new(),
+            #[cfg(feature = "raw")]
+            raw: RawInput::new(),
             config,
             subject: None,
             subject_generation: 0,
@@ -303,8 +324,18 @@ where
                     Some(Ok(packet)) => self.on_packet(&packet),
                     Some(Err(error)) => self.status.count_decode_error(&error),
                     None => {
-                        let message = decode_hub_message(message);
-                        self.on_message(message)
+                        let decoded = decode_hub_message(message);
+                        // The raw IMU messages, which the hub's decoder leaves undecoded: the
+                        // node's decoder decodes them.
+                        #[cfg(feature = "raw")]
+                        if let Ok(HubMessage::NotTaken(RAW_IMU_SAMPLE_TAG | RAW_IMU_CONFIG_TAG)) =
+                            decoded
+                        {
+                            let raw = decode_node_message(message);
+                            self.on_raw(raw);
+                            continue;
+                        }
+                        self.on_message(decoded)
                     }
                 },
                 Some(Err(error)) => self.status.count_decode_error(&error),
@@ -351,6 +382,12 @@ where
     #[cfg(feature = "imu")]
     pub fn imu(&self) -> &ImuInput {
         &self.imu
+    }
+
+    /// The raw input: its settings and counters.
+    #[cfg(feature = "raw")]
+    pub fn raw(&self) -> &RawInput<f32, RAW_SEGMENTS> {
+        &self.raw
     }
 
     /// The serial port, e.g. to inspect a test double.
@@ -490,6 +527,52 @@ where
     #[cfg(not(feature = "imu"))]
     fn on_orientation(&mut self, _packet: &SegmentOrientation) {
         bump(&mut self.status.malformed);
+    }
+
+    /// A raw IMU message (decoded by the node's decoder: a sample or a configuration).
+    #[cfg(feature = "raw")]
+    #[inline(never)]
+    fn on_raw(&mut self, message: Result<NodeMessage, DecodeError>) {
+        match message {
+            Ok(NodeMessage::RawImuSample(sample)) => self.on_raw_sample(&sample),
+            Ok(NodeMessage::RawImuConfig(config)) => self.on_raw_config(&config),
+            // Not a raw tag: never, as only those are passed here.
+            Ok(NodeMessage::NotTaken(_)) => bump(&mut self.status.malformed),
+            Err(error) => self.status.count_decode_error(&error),
+        }
+    }
+
+    /// A raw sample, fused by the raw input (protocol.md 4.10, counted there); an orientation
+    /// it gives enters the orientation input as the `SegmentOrientation` a smart node would
+    /// send for it (the node's [`orientation_packet`]: Q14, same node, segment, `seq`).
+    #[cfg(feature = "raw")]
+    fn on_raw_sample(&mut self, sample: &RawImuSample) {
+        if let RawOutcome::Fused(Some(q)) = self.raw.push(sample) {
+            self.on_orientation(&orientation_packet(sample, q));
+        }
+    }
+
+    /// The raw input's settings: refused ones counted in `config_rejected`.
+    #[cfg(feature = "raw")]
+    fn on_raw_config(&mut self, config: &RawImuConfig) {
+        let result = if self.raw.configure(config) {
+            Ok(())
+        } else {
+            Err(ConfigError::ImuSettings)
+        };
+        self.after_config(result, config.request_status);
+        // In answer to a request, its counters even without raw segments (protocol.md 4.10).
+        if config.request_status && self.raw.config().segments == 0 {
+            self.send_raw_status();
+        }
+    }
+
+    /// The raw input's counters, as a `RawImuStatus` frame.
+    #[cfg(feature = "raw")]
+    fn send_raw_status(&mut self) {
+        if let Ok(frame) = encode_raw_imu_status_frame(&self.raw.status(), &mut self.tx) {
+            write_frame(&mut self.serial, &mut self.status, frame);
+        }
     }
 
     /// The input mode and IMU settings.
@@ -797,6 +880,11 @@ where
         // written.
         if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
             write_frame(&mut self.serial, &mut self.status, frame);
+        }
+        // Then the raw input's counters, while it has raw segments (protocol.md 4.10).
+        #[cfg(feature = "raw")]
+        if self.raw.config().segments != 0 {
+            self.send_raw_status();
         }
         self.status_frames = self.status_frames.wrapping_add(1);
     }

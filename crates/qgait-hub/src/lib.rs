@@ -1,7 +1,8 @@
 #![doc = include_str!("../README.md")]
 #![no_std]
 #![warn(missing_docs)]
-// One exception, allowed where it is with a SAFETY comment: `Hub::init` writing the hub's
+// Two exceptions, allowed where they are with a SAFETY comment: `Hub::init` (and
+// `RawInput::write_new` for it) writing the hub's
 // fields in place into its uninitialised static.
 #![deny(unsafe_code)]
 
@@ -12,6 +13,8 @@ pub mod hub;
 pub mod limits;
 pub mod memory_serial;
 pub mod orientation;
+#[cfg(feature = "fusion")]
+pub mod raw;
 pub mod velocity;
 
 pub use crate::assembly::{

@@ -3,19 +3,8 @@
 //! damaged one is counted as incomplete, and the hub never panics.
 
 use qgait_hub::{Hub, ManualClock};
-use qgait_hub_checks::{packet, send, CheckSerial};
+use qgait_hub_checks::{packet, send, CheckSerial, XorShift};
 use qgait_proto::{encode_frame, FrameDecoder, Message, ModelId, MAX_FRAME_LEN};
-
-struct XorShift(u32);
-
-impl XorShift {
-    fn next(&mut self) -> u32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 17;
-        self.0 ^= self.0 << 5;
-        self.0
-    }
-}
 
 /// Sends sample `seq`; if `damage` is `Some(i)`, its i-th packet is cut in half.
 fn send_sample(serial: &mut CheckSerial, seq: u32, damage: Option<usize>) {
@@ -37,21 +26,21 @@ fn run(seed: u32) {
     let clock = ManualClock::new(0);
     let mut hub = Hub::new(CheckSerial::new(), &clock, 0).unwrap();
     let mut rng = XorShift(seed.max(1));
-    let samples = 8 + rng.next() % 16;
+    let samples = 8 + rng.next_u32() % 16;
     let mut expected = Vec::new();
     let mut damaged = 0;
     for seq in 0..samples {
         // The last window's worth of samples is always clean so every damaged one is evicted.
-        let damage =
-            (seq + 4 < samples && rng.next().is_multiple_of(3)).then(|| (rng.next() % 8) as usize);
+        let damage = (seq + 4 < samples && rng.next_u32().is_multiple_of(3))
+            .then(|| (rng.next_u32() % 8) as usize);
         send_sample(hub.serial_mut(), seq, damage);
         match damage {
             Some(_) => damaged += 1,
             None => expected.push(seq),
         }
-        if rng.next().is_multiple_of(2) {
-            let noise: Vec<u8> = (0..rng.next() % 300)
-                .map(|_| (rng.next() % 255 + 1) as u8)
+        if rng.next_u32().is_multiple_of(2) {
+            let noise: Vec<u8> = (0..rng.next_u32() % 300)
+                .map(|_| (rng.next_u32() % 255 + 1) as u8)
                 .collect();
             hub.serial_mut().receive(&noise);
             hub.serial_mut().receive(&[0]);

@@ -47,6 +47,10 @@ fn raw_config() -> RawImuConfig {
 /// nothing else; a damaged one is counted where its damage is (its body undecoded); tag 14 is
 /// an unknown message. Joint-angle samples around them are computed as ever.
 #[test]
+#[cfg_attr(
+    feature = "raw",
+    ignore = "a hub with raw input takes them: tests/raw_input.rs"
+)]
 fn raw_messages_are_counted_as_not_taken() {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock);

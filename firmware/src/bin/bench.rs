@@ -217,6 +217,8 @@ fn main() -> ! {
     sample_sections(&phak_in);
     whole_sample(ModelId::Phak, "sample");
     whole_sample(ModelId::Gait2392, "sample_gait2392");
+    #[cfg(feature = "raw")]
+    raw_whole_sample();
 
     board::exit(0)
 }
@@ -947,6 +949,126 @@ fn whole_sample(model: ModelId, name: &str) {
     net(&named(".serial_double"), io_ticks, 0, SAMPLES);
     net(&named(".gross"), hub_ticks, 0, SAMPLES);
     net(&named(".net"), hub_ticks, io_ticks, SAMPLES);
+}
+
+/// The hub with raw input (`--features imu,raw`): eight raw sensors (9D, 100 Hz, as an
+/// ICM-20948 sends them) fused on the hub, then gait2392's least squares and the pose frame.
+/// After the configurations and the calibration (samples 0 and 1, not timed), [`SAMPLES`]
+/// samples of 8 `RawImuSample`s each, read from the serial double; the figure per sample is
+/// everything the hub does (the double's reads included: `raw_sample.gross`).
+#[cfg(feature = "raw")]
+fn raw_whole_sample() {
+    use qgait_proto::{
+        FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, RawImuSample, SegmentId,
+    };
+    let imu = |calibrate| {
+        Message::ImuConfig(ImuConfig {
+            mode: InputMode::OrientationsLeastSquares,
+            segments: ImuConfig::ALL_SEGMENTS,
+            calibrate,
+            sensor_to_opensim: [-core::f32::consts::FRAC_PI_2, 0.0, 0.0],
+            heading: Some(ImuHeading {
+                base: SegmentId::Torso,
+                axis: HeadingAxisId::Z,
+            }),
+            request_status: false,
+        })
+    };
+    let mut rng = Lcg(13);
+    // Each sensor at its own tilt (the torso's z horizontal), turning slowly and noisily.
+    let sample = |segment: SegmentId, seq: u32, rng: &mut Lcg| {
+        let i = segment as i16;
+        let mut noise = || (rng.angles::<1>()[0] * 4.0) as i16;
+        RawImuSample {
+            version: PROTOCOL_VERSION,
+            node: segment as u8,
+            segment,
+            seq,
+            timestamp_us: seq.wrapping_mul(10_000),
+            gyro: [40 - 9 * i + noise(), 25 + noise(), -30 + noise()],
+            accel: match segment {
+                SegmentId::Torso => [2048 + noise(), noise(), noise()],
+                _ => [
+                    300 * (i - 3) + noise(),
+                    200 - 60 * i + noise(),
+                    1900 + noise(),
+                ],
+            },
+            mag: Some([150 + 10 * i + noise(), -40 + noise(), 200 + noise()]),
+        }
+    };
+    let mut rx: heapless::Vec<u8, RX_CAPACITY> = heapless::Vec::new();
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let mut push = |rx: &mut heapless::Vec<u8, RX_CAPACITY>, m: &Message| {
+        let ok = encode_frame(m, &mut buf).is_ok_and(|frame| rx.extend_from_slice(frame).is_ok());
+        if !ok {
+            board::exit(PIPELINE_EXIT_CODE)
+        }
+    };
+    let config = Config {
+        model: ModelId::Gait2392,
+        anthropometry: None,
+        missing_policy: MissingPolicy::Drop,
+        reorder_window: 4,
+        request_status: false,
+    };
+    push(&mut rx, &Message::Config(config));
+    push(&mut rx, &imu(false));
+    let raw = qgait_hub::raw::icm20948_config(ImuConfig::ALL_SEGMENTS, FusionMode::NineD);
+    push(&mut rx, &Message::RawImuConfig(raw));
+    for seq in 0..SAMPLES + 2 {
+        if seq == 1 {
+            push(&mut rx, &imu(true));
+        }
+        for segment in SegmentId::ALL {
+            push(
+                &mut rx,
+                &Message::RawImuSample(sample(segment, seq, &mut rng)),
+            );
+        }
+    }
+    // The set-up: the configurations and samples 0 and 1 (the calibration).
+    let setup_len = {
+        let mut decoder = FrameDecoder::new();
+        let (mut frames, mut end) = (0, 0);
+        for (i, &b) in rx.iter().enumerate() {
+            if decoder.push(b).is_some() {
+                frames += 1;
+                if frames == 3 + 1 + 16 {
+                    end = i + 1;
+                    break;
+                }
+            }
+        }
+        end
+    };
+    let clock = ManualClock::new(0);
+    let Ok(mut hub) = Hub::new(StreamSerial::new(&rx[..setup_len]), &clock, 0) else {
+        board::exit(1)
+    };
+    defmt::println!(
+        "bench size.raw_hub_bytes {=usize}",
+        core::mem::size_of_val(&hub)
+    );
+    run_hub(&mut hub);
+    *hub.serial_mut() = StreamSerial::new(&rx[setup_len..]);
+    let hub_ticks = run_hub(&mut hub);
+    let status = hub.status();
+    let raw_status = hub.raw().status();
+    defmt::println!(
+        "bench raw_sample.check samples_completed {=u32} frames_sent {=u32} raw_samples {=u32} rx_bytes {=usize} calibrations {=u32} not_unit {=u32}",
+        status.samples_completed,
+        status.frames_sent,
+        raw_status.samples_accepted,
+        rx.len() - setup_len,
+        status.calibrations,
+        status.orientation_not_unit
+    );
+    if status.samples_completed != SAMPLES || status.frames_sent != SAMPLES {
+        defmt::error!("the raw hub did not turn every sample into a pose frame");
+        board::exit(PIPELINE_EXIT_CODE)
+    }
+    net("raw_sample.gross", hub_ticks, 0, SAMPLES);
 }
 
 #[inline(never)]

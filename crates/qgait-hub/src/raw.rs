@@ -1,7 +1,9 @@
 //! [`RawInput`]: raw IMU samples to fused orientations, by the rules of `docs/protocol.md`
-//! section 4.10, for as many segments at once as its capacity `N`.
+//! section 4.10, for as many segments at once as its capacity `N`: one implementation for the
+//! IMU node (`qgait-node`, one segment) and the hub's raw input (up to eight), so both fuse a
+//! sensor's samples the same way, bit for bit.
 
-use qgait_hub::counters::bump;
+use crate::counters::bump;
 use qgait_kernel::fusion::{FusionReal, Vqf, VqfParams};
 use qgait_proto::{
     FusionMode, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, SegmentOrientation,
@@ -11,6 +13,22 @@ use qgait_proto::{
 /// The farthest a sample may be ahead of or behind the previous one of its segment without
 /// restarting the segment's fusion (protocol.md 4.10, rule 2).
 pub const MAX_SEQ_STEP: u32 = 1024;
+
+/// A [`RawImuConfig`] for `segments` of ICM-20948 sensors (±2000 °/s at 16.4 counts per °/s,
+/// ±16 g at 2048 counts per g, the AK09916's 0.15 µT per count) at 100 Hz, an orientation
+/// every sample, no status request.
+pub fn icm20948_config(segments: u8, fusion: FusionMode) -> RawImuConfig {
+    RawImuConfig {
+        segments,
+        fusion,
+        rate_hz: 100,
+        output_every: 1,
+        gyro_per_count: RawImuConfig::gyro_per_count_of(16.4),
+        accel_per_count: RawImuConfig::accel_per_count_of(2048.0),
+        mag_per_count: 0.15,
+        request_status: false,
+    }
+}
 
 /// What [`RawInput::push`] did with a sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +87,28 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
             config: UNCONFIGURED,
             slots: [None; N],
             status: RawImuStatus::default(),
+        }
+    }
+
+    /// Writes [`new`](Self::new)'s value into `this` field by field, slot by slot, so that no
+    /// whole `RawInput` (eight filters, kilobytes) is a temporary on the stack on its way there
+    /// (`Hub::init`).
+    ///
+    /// # Safety
+    ///
+    /// `this` must be valid for writes of a `RawInput` and properly aligned.
+    #[cfg(feature = "raw")]
+    #[allow(unsafe_code)]
+    pub(crate) unsafe fn write_new(this: *mut Self) {
+        // SAFETY: the caller's promise; each field is written once through a pointer to it,
+        // the slots one element at a time, and nothing is read.
+        unsafe {
+            core::ptr::addr_of_mut!((*this).config).write(UNCONFIGURED);
+            core::ptr::addr_of_mut!((*this).status).write(RawImuStatus::default());
+            let slots = core::ptr::addr_of_mut!((*this).slots).cast::<Option<Slot<T>>>();
+            for i in 0..N {
+                slots.add(i).write(None);
+            }
         }
     }
 
