@@ -287,13 +287,17 @@ fn builtin_gait_clean_and_damaged() {
     );
 }
 
-/// Velocities on (10 ms, the built-in gait's 100 Hz): every pose frame but the first is
+/// Velocities on (10 ms, the built-in gait's 100 Hz), with the firmware built with them: every
+/// pose frame but the first is
 /// followed by its points' velocities, each within 1 mm/s of the host's f64 recomputation from
 /// the echoed angles (the same backward difference, protocol.md 4.11), and every pose frame
 /// still within 10 µm.
 #[test]
 fn builtin_gait_with_velocities() {
-    let Some(elf) = firmware_elf() else { return };
+    // The firmware with the points' velocities (its feature `velocity`, not the default build).
+    let Some(elf) = common::feature_firmware_elf("velocity", "QGAIT_VELOCITY_FIRMWARE_ELF") else {
+        return;
+    };
     let samples = builtin("builtin:normal");
     let stream = damage(
         &packets_by_sample(&samples),
