@@ -27,9 +27,9 @@ use std::sync::Mutex;
 use qgait_device::log::HubLog;
 use qgait_device::orientations::{OrientationCheck, OrientationStream};
 use qgait_emulate::faults::{damage, Fate, FaultPlan};
+use qgait_emulate::push_frame;
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
-use qgait_emulate::{firmware, push_frame, qemu};
 use qgait_kernel::imu::{Mode, Settings};
 use qgait_proto::{Message, MissingPolicy, PoseFrame, Status};
 
@@ -52,27 +52,7 @@ fn imu_elf() -> Option<PathBuf> {
 }
 
 fn find_or_build_imu_elf() -> Option<PathBuf> {
-    if !qemu::available() {
-        eprintln!("skipped: {} is not installed", qemu::QEMU);
-        return None;
-    }
-    if let Some(p) = std::env::var_os("QGAIT_IMU_FIRMWARE_ELF") {
-        return Some(PathBuf::from(p));
-    }
-    // Built (or brought up to date: cargo does nothing when it is) every run, so that a
-    // change of the hub is never tested on an old build.
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    eprintln!("building {}", firmware::imu_elf(&root).display());
-    match firmware::build_imu(&root) {
-        Ok(elf) => Some(elf),
-        Err(e) => {
-            eprintln!(
-                "skipped: {e} (build it: {})",
-                firmware::imu_build_command(&root)
-            );
-            None
-        }
-    }
+    qgait_system_tests::feature_firmware_elf("imu", "QGAIT_IMU_FIRMWARE_ELF")
 }
 
 /// Runs `input` (a stream beginning with its configuration) through the hub, then the closing

@@ -19,8 +19,9 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use qgait_device::log::HubLog;
+use qgait_device::log::{LogDecoder, Record};
 use qgait_device::packets::{Samples, Timing};
-use qgait_device::verify::{Expected, Verification};
+use qgait_device::verify::{Expected, Verification, Verifier};
 use qgait_emulate::faults::{damage, Arrivals, Damaged, Fate, FaultPlan, Noise};
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
@@ -29,6 +30,7 @@ use qgait_model::motion::source::load_motion;
 use qgait_opensim::mot::MotionTable;
 use qgait_proto::{
     Config, JointAngle, JointId, Message, MissingPolicy, ModelId, PoseModels, Status,
+    VelocityConfig,
 };
 
 /// Largest accepted error of a point or distance (metres).
@@ -54,14 +56,24 @@ struct Run {
     log: HubLog,
     status: Status,
     seconds: f64,
+    /// The hub's bytes.
+    uart: Vec<u8>,
 }
 
 /// Sends `stream` (framed packets) to the hub, after a PHAK configuration and before the
 /// closing request.
 fn run(elf: &Path, stream: &[u8], what: &str) -> Run {
+    run_after(elf, &[], stream, what)
+}
+
+/// [`run`] with the messages `before` sent after the PHAK configuration, before the stream.
+fn run_after(elf: &Path, before: &[Message], stream: &[u8], what: &str) -> Run {
     let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
     let mut input = vec![0u8];
     qgait_emulate::push_frame(&mut input, &Message::Config(config()));
+    for m in before {
+        qgait_emulate::push_frame(&mut input, m);
+    }
     input.extend_from_slice(stream);
     input.extend(closing_frames(&Message::Config(config())).unwrap());
     let expected = InputCounts::of(&input);
@@ -98,6 +110,7 @@ fn run(elf: &Path, stream: &[u8], what: &str) -> Run {
         log,
         status,
         seconds,
+        uart: out.uart,
     }
 }
 
@@ -271,6 +284,62 @@ fn builtin_gait_clean_and_damaged() {
         &builtin("builtin:normal,rows=400"),
         plan(1),
         "builtin:normal,rows=400 damaged (seed 1)",
+    );
+}
+
+/// Velocities on (10 ms, the built-in gait's 100 Hz), with the firmware built with them: every
+/// pose frame but the first is
+/// followed by its points' velocities, each within 1 mm/s of the host's f64 recomputation from
+/// the echoed angles (the same backward difference, protocol.md 4.11), and every pose frame
+/// still within 10 µm.
+#[test]
+fn builtin_gait_with_velocities() {
+    // The firmware with the points' velocities (its feature `velocity`, not the default build).
+    let Some(elf) = common::feature_firmware_elf("velocity", "QGAIT_VELOCITY_FIRMWARE_ELF") else {
+        return;
+    };
+    let samples = builtin("builtin:normal");
+    let stream = damage(
+        &packets_by_sample(&samples),
+        &FaultPlan::none(u32::from(WINDOW)),
+    )
+    .stream;
+    let on = Message::VelocityConfig(VelocityConfig {
+        enabled: true,
+        period_us: 10_000,
+        request_status: false,
+    });
+    let what = "builtin:normal with velocities";
+    let r = run_after(&elf, &[on], &stream, what);
+    let models = PoseModels::defaults();
+    let mut verifier = Verifier::new(&models, Expected::FirstToLast);
+    LogDecoder::new().feed(&r.uart, |record| match record {
+        Record::Message {
+            message: Message::PoseFrame(p),
+            ..
+        } => verifier.add(&p),
+        Record::Message {
+            message: Message::PoseVelocities(v),
+            ..
+        } => verifier.add_velocities(&v),
+        _ => {}
+    });
+    let v = verifier.finish();
+    let report = v.report(TOLERANCE_M);
+    let n = samples.len() as u64;
+    assert!(v.passed(TOLERANCE_M), "{what}:\n{report}");
+    assert_eq!((v.frames, v.missing), (n, 0), "{what}:\n{report}");
+    assert_eq!(
+        (v.velocity_frames, v.velocity_absent, v.velocity_unmatched),
+        (n - 1, 0, 0),
+        "{what}: velocities after every frame but the first\n{report}"
+    );
+    // The frames sent: the poses, their velocities, and the closing status.
+    assert_eq!(r.status.frames_sent as u64, 2 * n - 1 + 1, "{:?}", r.status);
+    eprintln!(
+        "{what}: {} velocity frames, largest error {:.6} mm/s (tolerance 1 mm/s)",
+        v.velocity_frames,
+        v.velocity_max_error() * 1e3
     );
 }
 

@@ -98,6 +98,37 @@ pub fn firmware_elf() -> Option<PathBuf> {
     Some(elf)
 }
 
+/// The firmware built with the cargo feature `feature` (its own target directory,
+/// `qgait_emulate::firmware::feature_elf`), or the ELF the environment variable `env` names;
+/// built (or brought up to date: cargo does nothing when it is) every time, so that a change of
+/// the hub is never tested on an old build. `None` (the reason printed) without QEMU or a
+/// build.
+pub fn feature_firmware_elf(feature: &str, env: &str) -> Option<PathBuf> {
+    use qgait_emulate::{firmware, qemu};
+    if !qemu::available() {
+        eprintln!("skipped: {} is not installed", qemu::QEMU);
+        return None;
+    }
+    if let Some(p) = std::env::var_os(env) {
+        return Some(PathBuf::from(p));
+    }
+    let root = root();
+    eprintln!(
+        "building {}",
+        firmware::feature_elf(&root, feature).display()
+    );
+    match firmware::build_feature(&root, feature) {
+        Ok(elf) => Some(elf),
+        Err(e) => {
+            eprintln!(
+                "skipped: {e} (build it: {})",
+                firmware::feature_build_command(&root, feature)
+            );
+            None
+        }
+    }
+}
+
 /// A fresh scratch directory for one test, `<temp>/qgait-<test>-<pid>-<name>`.
 pub fn scratch(test: &str, name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("qgait-{test}-{}-{name}", std::process::id()));

@@ -437,20 +437,7 @@ impl Verification {
             "{} velocity frames checked against the f64 kernel (the same backward difference              of the echoed angles)",
             self.velocity_frames
         );
-        let _ = writeln!(
-            s,
-            "{:<12} {:>12} {:>12}",
-            "velocity", "max (mm/s)", "mean (mm/s)"
-        );
-        for (name, e) in error_names().iter().zip(&self.velocity_errors) {
-            let _ = writeln!(
-                s,
-                "{:<12} {:>12.6} {:>12.6}",
-                name,
-                e.max * 1e3,
-                e.mean() * 1e3
-            );
-        }
+        error_table(s, ("velocity", "mm/s", 1e3, 6), &self.velocity_errors);
         if let Some((seq, w)) = self.velocity_worst {
             let _ = writeln!(
                 s,
@@ -511,16 +498,7 @@ impl Verification {
                 if self.without_chain == 1 { "" } else { "s" }
             );
         }
-        let _ = writeln!(s, "{:<12} {:>12} {:>12}", "point", "max (µm)", "mean (µm)");
-        for (name, e) in error_names().iter().zip(&self.errors) {
-            let _ = writeln!(
-                s,
-                "{:<12} {:>12.4} {:>12.4}",
-                name,
-                e.max * 1e6,
-                e.mean() * 1e6
-            );
-        }
+        error_table(&mut s, ("point", "µm", 1e6, 4), &self.errors);
         if let Some((seq, w)) = self.worst {
             let _ = writeln!(
                 s,
@@ -564,6 +542,26 @@ impl Verification {
         };
         let _ = write!(s, "verify: {verdict}");
         s
+    }
+}
+
+/// A table of max and mean error per row of [`error_names`]: `(first column's title, unit,
+/// the unit per SI unit, decimals)`.
+fn error_table(
+    s: &mut String,
+    (title, unit, scale, decimals): (&str, &str, f64, usize),
+    errors: &[ErrorStat],
+) {
+    let (max, mean) = (format!("max ({unit})"), format!("mean ({unit})"));
+    let _ = writeln!(s, "{title:<12} {max:>12} {mean:>12}");
+    for (name, e) in error_names().iter().zip(errors) {
+        let _ = writeln!(
+            s,
+            "{:<12} {:>12.decimals$} {:>12.decimals$}",
+            name,
+            e.max * scale,
+            e.mean() * scale
+        );
     }
 }
 

@@ -33,41 +33,58 @@ pub fn default_elf(root: &Path) -> PathBuf {
 /// own target directory (`firmware/target/imu`, or `imu` under `$CARGO_TARGET_DIR`), so that
 /// it never replaces the default build.
 pub fn imu_elf(root: &Path) -> PathBuf {
-    imu_target_dir(root)
-        .join(TARGET)
-        .join("release/qgait-firmware")
-}
-
-fn imu_target_dir(root: &Path) -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("firmware/target"))
-        .join("imu")
+    feature_elf(root, "imu")
 }
 
 /// The command that builds the firmware with the IMU orientation input, for messages.
 pub fn imu_build_command(root: &Path) -> String {
-    format!(
-        "cd {} && cargo build --release --features imu --target-dir {}",
-        root.join("firmware").display(),
-        imu_target_dir(root).display()
-    )
+    feature_build_command(root, "imu")
 }
 
 /// Builds the release firmware with the IMU orientation input ([`imu_elf`]).
 pub fn build_imu(root: &Path) -> Result<PathBuf, EmulateError> {
+    build_feature(root, "imu")
+}
+
+/// Where the firmware with the cargo feature `feature` is built: its own target directory
+/// (`firmware/target/<feature>`, or `<feature>` under `$CARGO_TARGET_DIR`), so that it never
+/// replaces the default build (`imu`; `velocity`, the points' velocities).
+pub fn feature_elf(root: &Path, feature: &str) -> PathBuf {
+    feature_target_dir(root, feature)
+        .join(TARGET)
+        .join("release/qgait-firmware")
+}
+
+fn feature_target_dir(root: &Path, feature: &str) -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("firmware/target"))
+        .join(feature)
+}
+
+/// The command that builds the firmware with `feature`, for messages.
+pub fn feature_build_command(root: &Path, feature: &str) -> String {
+    format!(
+        "cd {} && cargo build --release --features {feature} --target-dir {}",
+        root.join("firmware").display(),
+        feature_target_dir(root, feature).display()
+    )
+}
+
+/// Builds the release firmware with `feature` ([`feature_elf`]).
+pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
-        .args(["build", "--release", "--features", "imu", "--target-dir"])
-        .arg(imu_target_dir(root))
+        .args(["build", "--release", "--features", feature, "--target-dir"])
+        .arg(feature_target_dir(root, feature))
         .current_dir(root.join("firmware"))
         .status()
         .map_err(EmulateError::io("starting cargo"))?;
-    let elf = imu_elf(root);
+    let elf = feature_elf(root, feature);
     if !status.success() {
         return Err(EmulateError::BuildFailed {
             status,
-            command: imu_build_command(root),
+            command: feature_build_command(root, feature),
         });
     }
     if elf.is_file() {

@@ -660,10 +660,7 @@ where
     /// A [`VelocityConfig`]: the points' velocities on or off (protocol.md 4.11).
     #[inline(never)]
     fn on_velocity_config(&mut self, config: &VelocityConfig) {
-        let result = self
-            .velocity
-            .configure(config)
-            .map_err(|e| ConfigError::VelocityPeriod(e.0));
+        let result = self.velocity.configure(config);
         self.after_config(result, config.request_status);
     }
 

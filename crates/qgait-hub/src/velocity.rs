@@ -7,41 +7,82 @@
 //! start, a [`VelocityConfig`] that changes the setting, a configuration that takes effect
 //! ([`reset`](Differentiator::reset)), or a gap in `seq`.
 //!
+//! Only with the feature `velocity` (about 8.8 KB of flash on the Cortex-M4F); without it the
+//! differentiator holds nothing, refuses to turn velocities on
+//! ([`ConfigError::VelocitiesNotBuiltIn`]) and never gives a difference, so no velocity code is
+//! linked.
+//!
 //! [`Kinematics::encode_pose_velocities`]: qgait_proto::Kinematics::encode_pose_velocities
 
-use qgait_proto::{backward_difference, JointId, VelocityConfig};
+#[cfg(feature = "velocity")]
+use qgait_proto::backward_difference;
+use qgait_proto::{ConfigError, JointId, VelocityConfig};
 
 /// The velocity setting in force and the last sample posed under it.
 #[derive(Debug, Clone)]
 pub struct Differentiator {
+    #[cfg(feature = "velocity")]
     config: VelocityConfig,
     /// The `seq` and angles of the last sample posed since the last reset, if any.
+    #[cfg(feature = "velocity")]
     last: Option<(u32, [f32; JointId::COUNT])>,
 }
-
-/// Why a [`VelocityConfig`] was refused: its period (µs) is 0 or over
-/// [`MAX_VELOCITY_PERIOD_US`](qgait_proto::MAX_VELOCITY_PERIOD_US).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct BadPeriod(pub u32);
 
 impl Differentiator {
     /// Velocities off, nothing posed yet (the hub's start).
     pub const OFF: Differentiator = Differentiator {
+        #[cfg(feature = "velocity")]
         config: VelocityConfig::OFF,
+        #[cfg(feature = "velocity")]
         last: None,
     };
 
     /// The setting in force (`request_status` always false).
     pub fn config(&self) -> VelocityConfig {
-        self.config
+        #[cfg(feature = "velocity")]
+        {
+            self.config
+        }
+        #[cfg(not(feature = "velocity"))]
+        {
+            VelocityConfig::OFF
+        }
     }
 
+    /// Without the feature `velocity`: "off" is taken (it changes nothing), "on" refused.
+    #[cfg(not(feature = "velocity"))]
+    pub fn configure(&mut self, config: &VelocityConfig) -> Result<(), ConfigError> {
+        if config.enabled {
+            Err(ConfigError::VelocitiesNotBuiltIn)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Without the feature `velocity`: nothing to forget.
+    #[cfg(not(feature = "velocity"))]
+    pub fn reset(&mut self) {}
+
+    /// Without the feature `velocity`: never a difference.
+    #[cfg(not(feature = "velocity"))]
+    #[inline(always)]
+    pub fn next(
+        &mut self,
+        _seq: u32,
+        _angles: &[f32; JointId::COUNT],
+    ) -> Option<([f32; JointId::COUNT], u32)> {
+        None
+    }
+}
+
+#[cfg(feature = "velocity")]
+impl Differentiator {
     /// Takes `config` if a hub can use it ([`VelocityConfig::is_usable`]); a change of setting
-    /// forgets the last sample, the same setting changes nothing. Refused, the setting in
-    /// force stays.
-    pub fn configure(&mut self, config: &VelocityConfig) -> Result<(), BadPeriod> {
+    /// forgets the last sample, the same setting changes nothing. Refused
+    /// ([`ConfigError::VelocityPeriod`]), the setting in force stays.
+    pub fn configure(&mut self, config: &VelocityConfig) -> Result<(), ConfigError> {
         if !config.is_usable() {
-            return Err(BadPeriod(config.period_us));
+            return Err(ConfigError::VelocityPeriod(config.period_us));
         }
         let config = VelocityConfig {
             request_status: false,
@@ -85,7 +126,7 @@ impl Differentiator {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "velocity"))]
 mod tests {
     use super::*;
 
@@ -152,8 +193,11 @@ mod tests {
     fn unusable_periods_are_refused_and_the_setting_stays() {
         let mut d = Differentiator::OFF;
         d.configure(&on(10_000)).unwrap();
-        assert_eq!(d.configure(&on(0)), Err(BadPeriod(0)));
-        assert_eq!(d.configure(&on(1_000_001)), Err(BadPeriod(1_000_001)));
+        assert_eq!(d.configure(&on(0)), Err(ConfigError::VelocityPeriod(0)));
+        assert_eq!(
+            d.configure(&on(1_000_001)),
+            Err(ConfigError::VelocityPeriod(1_000_001))
+        );
         assert_eq!(d.config(), on(10_000));
         // Off takes any period.
         d.configure(&VelocityConfig {

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use qgait_proto::{MissingPolicy, ModelId};
+use qgait_proto::{MissingPolicy, ModelId, VelocityConfig};
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
@@ -32,6 +32,12 @@ pub struct ConfigArgs {
     /// configuration shows in its `config_rejected` counter).
     #[arg(long)]
     pub no_status_request: bool,
+    /// Turn on the hub's points' velocities (protocol.md 4.11) for nodes sampling at HZ: a
+    /// `VelocityConfig` with the period 1/HZ (rounded to the µs), sent first so that the status
+    /// asked for after the model shows a refusal (a hub built without the firmware's `velocity`
+    /// feature refuses it, `config_rejected`).
+    #[arg(long, value_name = "HZ", value_parser = sample_rate)]
+    pub velocities: Option<f64>,
     /// Output file: the frames, each after a 0x00.
     #[arg(short, long, value_name = "CONFIG.bin")]
     pub output: PathBuf,
@@ -75,6 +81,14 @@ pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubM
     Ok(hub)
 }
 
+/// `--velocities`: a rate whose period is 1 µs to 1 s.
+fn sample_rate(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(hz) if (1.0..=1e6).contains(&hz) => Ok(hz),
+        _ => Err(format!("{s}: not a sampling rate of 1 to 1,000,000 Hz")),
+    }
+}
+
 /// Runs `qgait config`.
 pub fn run_config(args: ConfigArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
     crate::cli::output::refuse_overwrite([args.output.as_path()], &args.model.inputs())?;
@@ -87,7 +101,15 @@ pub fn run_config(args: ConfigArgs, diagnostics: &Diagnostics) -> anyhow::Result
         reorder_window: args.window,
         request_status: !args.no_status_request,
     };
-    let sent = messages(&model, settings)?;
+    let mut sent = messages(&model, settings)?;
+    if let Some(hz) = args.velocities {
+        let velocities = VelocityConfig {
+            enabled: true,
+            period_us: (1e6 / hz).round() as u32,
+            request_status: false,
+        };
+        sent.insert(0, velocities.into());
+    }
     let bytes = frames(&sent)?;
     std::fs::write(&args.output, &bytes)
         .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", args.output.display()))?;

@@ -88,6 +88,9 @@ pub enum ConfigError {
     /// A [`VelocityConfig`](crate::VelocityConfig) turning velocities on with this period
     /// (µs): 0 or over [`MAX_VELOCITY_PERIOD_US`](crate::MAX_VELOCITY_PERIOD_US).
     VelocityPeriod(u32),
+    /// A [`VelocityConfig`](crate::VelocityConfig) turning velocities on, to a hub built
+    /// without them (the firmware's `velocity` feature).
+    VelocitiesNotBuiltIn,
 }
 
 impl core::fmt::Display for ConfigError {
@@ -158,6 +161,9 @@ impl core::fmt::Display for ConfigError {
                 "velocities over a sample period of {p} µs: not in 1..={} µs",
                 crate::MAX_VELOCITY_PERIOD_US
             ),
+            ConfigError::VelocitiesNotBuiltIn => {
+                f.write_str("this hub was built without the points' velocities")
+            }
         }
     }
 }
