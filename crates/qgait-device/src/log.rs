@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
-use qgait_proto::{DecodeError, FrameDecoder, Message, PoseFrame, Status};
+use qgait_proto::{DecodeError, ErrorKind, FrameDecoder, Message, PoseFrame, Status};
 
 /// The name of `message`'s kind, snake case (`"joint_angle"`, `"raw_imu_status"`, ...): the
 /// `type` of `qgait decode`'s JSON lines and the kinds of [`Counts`]' summary.
@@ -62,8 +62,8 @@ pub struct Counts {
     pub other: u64,
     /// The other messages by [`kind`].
     pub other_kinds: BTreeMap<&'static str, u64>,
-    /// Damaged frames by kind (`Crc`, `Cobs`, ...).
-    pub damaged: BTreeMap<String, u64>,
+    /// Damaged frames by kind (`Cobs`, `Crc`, ...).
+    pub damaged: BTreeMap<ErrorKind, u64>,
     /// Bytes at the end that no delimiter closed.
     pub unterminated: usize,
 }
@@ -90,7 +90,7 @@ impl fmt::Display for Counts {
             let kinds: Vec<String> = self
                 .damaged
                 .iter()
-                .map(|(k, n)| format!("{k} {n}"))
+                .map(|(k, n)| format!("{k:?} {n}"))
                 .collect();
             write!(f, " ({})", kinds.join(", "))?;
         }
@@ -145,11 +145,7 @@ impl LogDecoder {
                     on_record(Record::Message { offset, message });
                 }
                 Some(Err(error)) => {
-                    *self
-                        .counts
-                        .damaged
-                        .entry(format!("{:?}", error.kind()))
-                        .or_default() += 1;
+                    *self.counts.damaged.entry(error.kind()).or_default() += 1;
                     on_record(Record::Damaged { offset, error });
                 }
             }

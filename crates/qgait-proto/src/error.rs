@@ -44,8 +44,9 @@ pub enum DecodeError {
     Malformed,
 }
 
-/// The kind of a [`DecodeError`], without its payload: handy as a counter index.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// The kind of a [`DecodeError`], without its payload: handy as a counter index (ordered as
+/// declared: the decoder's stages, framing first).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum ErrorKind {
