@@ -94,10 +94,7 @@ impl AnthropometryFile {
 /// Reads an anthropometry file.
 pub fn read(path: &Path) -> Result<(Anthropometry<f64>, Vec<Warning>), ModelError> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
-        path: shown.clone(),
-        error,
-    })?;
+    let text = crate::error::read_text(path, &shown)?;
     parse(&text, &shown)
 }
 

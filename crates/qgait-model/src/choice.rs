@@ -70,19 +70,13 @@ impl Model {
                 Vec::new(),
             ),
             _ if is_osim => {
-                let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
-                    path: arg.to_string(),
-                    error,
-                })?;
+                let text = crate::error::read_text(path, arg)?;
                 // The first note says where it was imported from; the others are worth showing.
                 let (model, notes) = Self::import(&text, arg, None)?;
                 (model, notes.into_iter().skip(1).collect())
             }
             _ if arg.to_ascii_lowercase().ends_with(".toml") || path.is_file() => {
-                let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
-                    path: arg.to_string(),
-                    error,
-                })?;
+                let text = crate::error::read_text(path, arg)?;
                 let model = if ChainModel::is_chain_file(&text) {
                     Self::Chain {
                         chain: Box::new(ChainModel::parse(&text, arg)?),

@@ -90,3 +90,11 @@ pub enum ModelError {
     #[error(transparent)]
     Motion(#[from] qgait_opensim::mot::MotError),
 }
+
+/// The text of a model or lengths file, `shown` as the name its errors give.
+pub(crate) fn read_text(path: &std::path::Path, shown: &str) -> Result<String, ModelError> {
+    std::fs::read_to_string(path).map_err(|error| ModelError::Read {
+        path: shown.to_string(),
+        error,
+    })
+}

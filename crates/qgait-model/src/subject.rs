@@ -204,10 +204,7 @@ pub fn parse(text: &str, source: &str) -> Result<Gait2392Geometry, ModelError> {
 /// Reads a subject file.
 pub fn read(path: &Path) -> Result<Gait2392Geometry, ModelError> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| ModelError::Read {
-        path: shown.clone(),
-        error,
-    })?;
+    let text = crate::error::read_text(path, &shown)?;
     parse(&text, &shown)
 }
 
