@@ -96,25 +96,14 @@ fn run_node(args: &EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let mut input = stream.clone();
     input.extend(closing_frames(&Message::RawImuConfig(config))?);
     let expected = InputCounts::of(&input);
-    if !quiet {
-        eprintln!(
-            "running {} under QEMU mps2-an386: {} bytes into UART0",
-            elf.display(),
-            input.len()
-        );
-    }
-    let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
-    let out = session::run(
+    let out = run_session(
         &elf,
         input,
         expected,
-        echo,
-        Limits::for_stream(stream.len()),
+        stream.len(),
+        args.log.as_deref(),
+        quiet,
     )?;
-    if let Some(log) = &args.log {
-        std::fs::write(log, &out.uart)
-            .with_context(|| format!("{}: cannot write", log.display()))?;
-    }
     let mut orientations = Vec::new();
     let mut raw_status = None;
     for m in FrameDecoder::new().feed(&out.uart).flatten() {
@@ -282,25 +271,14 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         .context("no configuration message")?;
     input.extend(closing_frames(last)?);
     let expected = InputCounts::of(&input);
-    if !quiet {
-        eprintln!(
-            "running {} under QEMU mps2-an386: {} bytes into UART0",
-            elf.display(),
-            input.len()
-        );
-    }
-    let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
-    let out = session::run(
+    let out = run_session(
         &elf,
         input,
         expected,
-        echo,
-        Limits::for_stream(stream.len()),
+        stream.len(),
+        args.log.as_deref(),
+        quiet,
     )?;
-    if let Some(path) = &args.log {
-        std::fs::write(path, &out.uart)
-            .with_context(|| format!("{}: cannot write", path.display()))?;
-    }
     let log = HubLog::decode(&out.uart);
     eprintln!(
         "hub sent {} in {:.2} s",
@@ -405,6 +383,32 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         ok &= v.passed(tol);
     }
     Ok(ok)
+}
+
+/// Runs `elf` under QEMU on `input` (`expected`: what it holds; `stream_len` bytes of it the
+/// stream, for the time limits), writing what it sent to `log` if asked.
+fn run_session(
+    elf: &Path,
+    input: Vec<u8>,
+    expected: InputCounts,
+    stream_len: usize,
+    log: Option<&Path>,
+    quiet: bool,
+) -> anyhow::Result<session::SessionOutput> {
+    if !quiet {
+        eprintln!(
+            "running {} under QEMU mps2-an386: {} bytes into UART0",
+            elf.display(),
+            input.len()
+        );
+    }
+    let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
+    let out = session::run(elf, input, expected, echo, Limits::for_stream(stream_len))?;
+    if let Some(log) = log {
+        std::fs::write(log, &out.uart)
+            .with_context(|| format!("{}: cannot write", log.display()))?;
+    }
+    Ok(out)
 }
 
 fn write_file(
