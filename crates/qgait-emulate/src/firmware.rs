@@ -1,6 +1,7 @@
 //! Finding the hub firmware's ELF, and building it when it is missing.
 
 use crate::EmulateError;
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -73,18 +74,39 @@ pub fn feature_build_command(root: &Path, feature: &str) -> String {
 
 /// Builds the release firmware with `feature` ([`feature_elf`]).
 pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError> {
+    let target_dir = feature_target_dir(root, feature);
+    cargo_build(
+        root,
+        &[
+            "build".as_ref(),
+            "--release".as_ref(),
+            "--features".as_ref(),
+            feature.as_ref(),
+            "--target-dir".as_ref(),
+            target_dir.as_os_str(),
+        ],
+        feature_elf(root, feature),
+        || feature_build_command(root, feature),
+    )
+}
+
+/// Runs `cargo ARGS` in `firmware/` (output on stderr); `elf`, which it must make, on success.
+fn cargo_build(
+    root: &Path,
+    args: &[&OsStr],
+    elf: PathBuf,
+    command: impl FnOnce() -> String,
+) -> Result<PathBuf, EmulateError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
-        .args(["build", "--release", "--features", feature, "--target-dir"])
-        .arg(feature_target_dir(root, feature))
+        .args(args)
         .current_dir(root.join("firmware"))
         .status()
         .map_err(EmulateError::io("starting cargo"))?;
-    let elf = feature_elf(root, feature);
     if !status.success() {
         return Err(EmulateError::BuildFailed {
             status,
-            command: feature_build_command(root, feature),
+            command: command(),
         });
     }
     if elf.is_file() {
@@ -92,6 +114,32 @@ pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError
     } else {
         Err(EmulateError::BuildProducedNothing(elf))
     }
+}
+
+/// `elf` if given (it must exist), else `path`, built first by `build` (`what` it is, for the
+/// message) if it is missing and `firmware/` is there.
+fn locate_or_build(
+    elf: Option<&Path>,
+    path: PathBuf,
+    what: &str,
+    build: impl FnOnce(&Path) -> Result<PathBuf, EmulateError>,
+) -> Result<PathBuf, EmulateError> {
+    if let Some(p) = elf {
+        return if p.is_file() {
+            Ok(p.to_path_buf())
+        } else {
+            Err(EmulateError::NoElf(p.to_path_buf()))
+        };
+    }
+    if path.is_file() {
+        return Ok(path);
+    }
+    let root = repo_root();
+    if !root.join("firmware/Cargo.toml").is_file() {
+        return Err(EmulateError::NothingToBuild(path));
+    }
+    eprintln!("{} is missing: building {what}", path.display());
+    build(&root)
 }
 
 /// Where the IMU node's ELF is built (`cargo build --release --features node --bin
@@ -111,52 +159,25 @@ pub fn node_build_command(root: &Path) -> String {
 /// The IMU node's ELF to run: `elf` if given (it must exist), else [`node_elf`], built first if
 /// it is missing and `firmware/` is there.
 pub fn locate_node(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
-    if let Some(p) = elf {
-        return if p.is_file() {
-            Ok(p.to_path_buf())
-        } else {
-            Err(EmulateError::NoElf(p.to_path_buf()))
-        };
-    }
-    let root = repo_root();
-    let path = node_elf(&root);
-    if path.is_file() {
-        return Ok(path);
-    }
-    if !root.join("firmware/Cargo.toml").is_file() {
-        return Err(EmulateError::NothingToBuild(path));
-    }
-    eprintln!("{} is missing: building the IMU node", path.display());
-    build_node(&root)
+    locate_or_build(elf, node_elf(&repo_root()), "the IMU node", build_node)
 }
 
 /// Builds the IMU node ([`node_elf`]; cargo does nothing when it is up to date).
 pub fn build_node(root: &Path) -> Result<PathBuf, EmulateError> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
-        .args([
+    cargo_build(
+        root,
+        &[
             "build",
             "--release",
             "--features",
             "node",
             "--bin",
             "qgait-node",
-        ])
-        .current_dir(root.join("firmware"))
-        .status()
-        .map_err(EmulateError::io("starting cargo"))?;
-    let path = node_elf(root);
-    if !status.success() {
-        return Err(EmulateError::BuildFailed {
-            status,
-            command: node_build_command(root),
-        });
-    }
-    if path.is_file() {
-        Ok(path)
-    } else {
-        Err(EmulateError::BuildProducedNothing(path))
-    }
+        ]
+        .map(OsStr::new),
+        node_elf(root),
+        || node_build_command(root),
+    )
 }
 
 /// The command that builds the firmware, for messages.
@@ -167,47 +188,18 @@ pub fn build_command(root: &Path) -> String {
     )
 }
 
-/// Builds the release firmware with cargo (output on stderr).
-pub fn build(root: &Path) -> Result<(), EmulateError> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
-        .args(["build", "--release"])
-        .current_dir(root.join("firmware"))
-        .status()
-        .map_err(EmulateError::io("starting cargo"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(EmulateError::BuildFailed {
-            status,
-            command: build_command(root),
-        })
-    }
+/// Builds the release firmware with cargo (output on stderr); its ELF ([`default_elf`]).
+pub fn build(root: &Path) -> Result<PathBuf, EmulateError> {
+    cargo_build(
+        root,
+        &["build", "--release"].map(OsStr::new),
+        default_elf(root),
+        || build_command(root),
+    )
 }
 
 /// The ELF to run: `elf` if given (it must exist), else the default release build, built
 /// first if it is missing and `firmware/` is there.
 pub fn locate(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
-    if let Some(p) = elf {
-        return if p.is_file() {
-            Ok(p.to_path_buf())
-        } else {
-            Err(EmulateError::NoElf(p.to_path_buf()))
-        };
-    }
-    let root = repo_root();
-    let path = default_elf(&root);
-    if path.is_file() {
-        return Ok(path);
-    }
-    if !root.join("firmware/Cargo.toml").is_file() {
-        return Err(EmulateError::NothingToBuild(path));
-    }
-    eprintln!("{} is missing: building the firmware", path.display());
-    build(&root)?;
-    if path.is_file() {
-        Ok(path)
-    } else {
-        Err(EmulateError::BuildProducedNothing(path))
-    }
+    locate_or_build(elf, default_elf(&repo_root()), "the firmware", build)
 }
