@@ -577,17 +577,8 @@ fn firmware_footprint() -> anyhow::Result<()> {
             "xtask: warning: the UART session's checks failed; its stack peak is reported anyway"
         );
     }
-    let peak = log
-        .lines()
-        .filter_map(|l| {
-            l.split("stack peak ")
-                .nth(1)?
-                .split(' ')
-                .next()?
-                .parse::<u64>()
-                .ok()
-        })
-        .max()
+    let peak = crate::session::stack_peak(&log)
+        .map(u64::from)
         .ok_or_else(|| anyhow!("the firmware logged no stack peak"))?;
     figure("firmware.flash_bytes", f.flash);
     figure("firmware.static_ram_bytes", f.static_ram);

@@ -303,17 +303,7 @@ pub fn run(elf: &Path) -> anyhow::Result<Report> {
         Ok(bytes) => receive(&bytes, &samples),
         Err(e) => return Err(anyhow!("qgait emulate wrote no UART log ({e}): {stderr}")),
     };
-    let stack_peak = stderr
-        .lines()
-        .filter_map(|l| {
-            l.split("stack peak ")
-                .nth(1)?
-                .split(' ')
-                .next()?
-                .parse()
-                .ok()
-        })
-        .max();
+    let stack_peak = stack_peak(&stderr);
     let largest_um = stdout.lines().find_map(|l| {
         l.strip_prefix("largest error ")?
             .split(' ')
@@ -344,6 +334,20 @@ pub fn run(elf: &Path) -> anyhow::Result<Report> {
         failures,
         stack_peak,
     })
+}
+
+/// The largest "stack peak N" the firmware logged in `log`.
+pub fn stack_peak(log: &str) -> Option<u32> {
+    log.lines()
+        .filter_map(|l| {
+            l.split("stack peak ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .max()
 }
 
 #[cfg(test)]
