@@ -85,9 +85,11 @@ pub enum ConfigError {
     /// An [`ImuConfig`](crate::ImuConfig) for the orientation input to a hub built without it
     /// (the firmware's `imu` feature).
     ImuNotBuiltIn,
-    /// A [`VelocityConfig`](crate::VelocityConfig) turning velocities on with this period
-    /// (µs): 0 or over [`MAX_VELOCITY_PERIOD_US`](crate::MAX_VELOCITY_PERIOD_US).
-    VelocityPeriod(u32),
+    /// A [`VelocityConfig`](crate::VelocityConfig) turning velocities on with a period of 0
+    /// or over [`MAX_VELOCITY_PERIOD_US`](crate::MAX_VELOCITY_PERIOD_US) µs. No payload: a `u32`
+    /// here widens every `Result<_, ConfigError>` the hub's receive loop carries, and spilled
+    /// registers cost its frame 96 B of stack (the RAM budget's margin).
+    VelocityPeriod,
     /// A [`VelocityConfig`](crate::VelocityConfig) turning velocities on, to a hub built
     /// without them (the firmware's `velocity` feature).
     VelocitiesNotBuiltIn,
@@ -156,9 +158,9 @@ impl core::fmt::Display for ConfigError {
             ConfigError::ImuNotBuiltIn => {
                 f.write_str("this hub was built without the orientation input")
             }
-            ConfigError::VelocityPeriod(p) => write!(
+            ConfigError::VelocityPeriod => write!(
                 f,
-                "velocities over a sample period of {p} µs: not in 1..={} µs",
+                "velocities over a sample period not in 1..={} µs",
                 crate::MAX_VELOCITY_PERIOD_US
             ),
             ConfigError::VelocitiesNotBuiltIn => {
