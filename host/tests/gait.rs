@@ -880,21 +880,8 @@ fn a_reference_recording_has_its_values_beside_the_subjects() {
         "no reference column"
     );
     // The cadence row: the reference column holds the reference's own cadence.
-    let own: Vec<HashMap<String, String>> = read_csv(&alone.join("spatiotemporal.csv"));
-    let cadence = own
-        .iter()
-        .find(|r| r["parameter"] == "cadence" && r["side"] == "both")
-        .unwrap()["value"]
-        .parse::<f64>()
-        .unwrap();
-    let row_at = html.find("<td class=\"l\">Cadence</td>").unwrap();
-    let row = &html[row_at..row_at + html[row_at..].find("</tr>").unwrap()];
-    let cell = row
-        .split("<td class=\"ref\">")
-        .nth(1)
-        .map(|c| &c[..c.find("</td>").unwrap()])
-        .unwrap_or_else(|| panic!("no reference cell in {row}"));
-    let shown: f64 = cell.parse().unwrap_or_else(|_| panic!("{cell}"));
+    let cadence = both_sides(&alone, "cadence");
+    let shown = reference_cell(&html, "Cadence");
     assert!((shown - cadence).abs() < 1e-3, "{shown} vs {cadence}");
     assert!(html.contains("<th>typical of the reference (°)</th>"));
     let Some(dom) = browser_check(&out.join("report.html")) else {
@@ -914,6 +901,30 @@ fn a_reference_recording_has_its_values_beside_the_subjects() {
     );
 }
 
+/// The value of `parameter` for both sides in `dir`'s `spatiotemporal.csv`.
+fn both_sides(dir: &Path, parameter: &str) -> f64 {
+    let rows: Vec<HashMap<String, String>> = read_csv(&dir.join("spatiotemporal.csv"));
+    rows.iter()
+        .find(|r| r["parameter"] == parameter && r["side"] == "both")
+        .unwrap()["value"]
+        .parse()
+        .unwrap()
+}
+
+/// The reference column's number in the report's spatiotemporal row `label`.
+fn reference_cell(html: &str, label: &str) -> f64 {
+    let row_at = html
+        .find(&format!("<td class=\"l\">{label}</td>"))
+        .unwrap_or_else(|| panic!("no row {label}"));
+    let row = &html[row_at..row_at + html[row_at..].find("</tr>").unwrap()];
+    let cell = row
+        .split("<td class=\"ref\">")
+        .nth(1)
+        .map(|c| &c[..c.find("</td>").unwrap()])
+        .unwrap_or_else(|| panic!("no reference cell in {row}"));
+    cell.parse().unwrap_or_else(|_| panic!("{cell}"))
+}
+
 /// `--treadmill-speed` is the subject's belt: a `--reference MOTION` keeps the speed of its own
 /// analysis (the reference column's speed is what the reference alone gives, not the belt's).
 #[test]
@@ -931,14 +942,7 @@ fn the_belt_speed_is_the_subjects_not_the_references() {
         "-o",
         alone.to_str().unwrap(),
     ]);
-    let speed_of = |dir: &Path| -> f64 {
-        let rows: Vec<HashMap<String, String>> = read_csv(&dir.join("spatiotemporal.csv"));
-        rows.iter()
-            .find(|r| r["parameter"] == "speed" && r["side"] == "both")
-            .unwrap()["value"]
-            .parse()
-            .unwrap()
-    };
+    let speed_of = |dir: &Path| both_sides(dir, "speed");
     let own = speed_of(&alone);
     // A belt 10 % faster than the walk: the subject's events still found, its speed the belt's.
     let belt = (own * 1.1 * 1000.0).round() / 1000.0;
@@ -955,14 +959,7 @@ fn the_belt_speed_is_the_subjects_not_the_references() {
     ]);
     assert!((speed_of(&out) - belt).abs() < 1e-9);
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
-    let row_at = html.find("<td class=\"l\">Speed</td>").unwrap();
-    let row = &html[row_at..row_at + html[row_at..].find("</tr>").unwrap()];
-    let cell = row
-        .split("<td class=\"ref\">")
-        .nth(1)
-        .map(|c| &c[..c.find("</td>").unwrap()])
-        .unwrap_or_else(|| panic!("no reference cell in {row}"));
-    let shown: f64 = cell.parse().unwrap_or_else(|_| panic!("{cell}"));
+    let shown = reference_cell(&html, "Speed");
     assert!((shown - own).abs() < 0.01, "{shown} vs {own}");
 }
 
