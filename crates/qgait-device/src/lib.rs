@@ -8,4 +8,5 @@ pub mod orientations;
 pub mod packets;
 pub mod port;
 pub mod raw;
+pub mod raw_hub;
 pub mod verify;

@@ -14,6 +14,7 @@
 use std::path::Path;
 
 use qgait_kernel::imu::{Calibration, ImuError, Mode, Orientations, Segment, Settings, Solver};
+use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::{Gait2392, Gait2392Geometry, Quat};
 use qgait_proto::device_model::{
     input_mode, kernel_mode, kernel_settings, q14_quat, wire_segment, wire_settings,
@@ -85,7 +86,6 @@ impl OrientationStream {
         settings: &Settings<f64>,
         mode: Mode,
     ) -> OrientationStream {
-        let (sensor_to_opensim, heading) = wire_settings(settings);
         let segments = Segment::ALL
             .into_iter()
             .filter(|&s| calibration.get(s).is_some())
@@ -97,15 +97,25 @@ impl OrientationStream {
             .collect();
         OrientationStream {
             imu: ImuConfig {
-                mode: input_mode(mode),
                 segments,
-                calibrate: true,
-                sensor_to_opensim,
-                heading,
-                request_status: false,
+                ..Self::imu_config(settings, mode)
             },
             calibration: sample_of(calibration),
             rows,
+        }
+    }
+
+    /// The IMU configuration of `settings` and `mode`, asking for a calibration pose, with no
+    /// segment.
+    pub fn imu_config(settings: &Settings<f64>, mode: Mode) -> ImuConfig {
+        let (sensor_to_opensim, heading) = wire_settings(settings);
+        ImuConfig {
+            mode: input_mode(mode),
+            segments: 0,
+            calibrate: true,
+            sensor_to_opensim,
+            heading,
+            request_status: false,
         }
     }
 
@@ -142,6 +152,11 @@ impl OrientationStream {
 
     /// The configuration messages: gait2392 (with `policy` and `window`), then the IMU one.
     pub fn config_messages(&self, policy: MissingPolicy, window: u8) -> [Message; 2] {
+        Self::config_messages_of(self.imu, policy, window)
+    }
+
+    /// gait2392 (with `policy` and `window`), then `imu`.
+    pub fn config_messages_of(imu: ImuConfig, policy: MissingPolicy, window: u8) -> [Message; 2] {
         [
             Message::Config(Config {
                 model: ModelId::Gait2392,
@@ -150,7 +165,7 @@ impl OrientationStream {
                 reorder_window: window,
                 request_status: false,
             }),
-            Message::ImuConfig(self.imu),
+            Message::ImuConfig(imu),
         ]
     }
 
@@ -218,31 +233,43 @@ impl OrientationStream {
         &self,
         solved: impl Fn(u32) -> bool,
     ) -> Result<Vec<Option<[f64; 17]>>, OrientationStreamError> {
-        let model = Gait2392::<f64>::new(&Gait2392Geometry::generic())?;
-        let decode = |s: &Q14Sample| Orientations {
-            q: core::array::from_fn(|i| {
-                s[i].filter(|_| self.imu.segments & (1 << i) != 0)
-                    .map(q14_quat::<f64>)
-            }),
-        };
-        let calibration = Calibration::new(
-            &model,
-            &decode(&self.calibration),
-            &kernel_settings::<f64>(&self.imu),
-        )?;
-        let mode = kernel_mode(self.imu.mode).unwrap_or(Mode::LeastSquares);
-        let mut solver = Solver::<f64>::new();
-        (1u32..)
-            .zip(&self.rows)
-            .map(|(seq, (_, s))| {
-                if !solved(seq) {
-                    return Ok(None);
-                }
-                let segments = calibration.segments(&decode(s))?;
-                Ok(Some(solver.solve(&model, &segments, mode).coordinates))
-            })
-            .collect()
+        let rows = (1u32..).zip(self.rows.iter().map(|(_, s)| s));
+        Ok(solve_samples(&self.imu, &self.calibration, rows, solved)?
+            .into_iter()
+            .map(|(_, angles)| angles)
+            .collect())
     }
+}
+
+/// The host's `f64` IMU path of samples as a hub gets them: the Q14 readings of the segments
+/// `imu` selects decoded, the kernel's calibration on `calibration` with `imu`'s settings as
+/// sent, then its solver (in `imu`'s mode) on each of `rows` (`seq` and readings) in order whose
+/// `seq` `solved` holds, the others skipped (`None`).
+pub fn solve_samples<'a>(
+    imu: &ImuConfig,
+    calibration: &Q14Sample,
+    rows: impl IntoIterator<Item = (u32, &'a Q14Sample)>,
+    solved: impl Fn(u32) -> bool,
+) -> Result<Vec<(u32, Option<[f64; 17]>)>, OrientationStreamError> {
+    let model = Gait2392::<f64>::new(&Gait2392Geometry::generic())?;
+    let decode = |s: &Q14Sample| Orientations {
+        q: core::array::from_fn(|i| {
+            s[i].filter(|_| imu.segments & (1 << i) != 0)
+                .map(q14_quat::<f64>)
+        }),
+    };
+    let calibration = Calibration::new(&model, &decode(calibration), &kernel_settings::<f64>(imu))?;
+    let mode = kernel_mode(imu.mode).unwrap_or(Mode::LeastSquares);
+    let mut solver = Solver::<f64>::new();
+    rows.into_iter()
+        .map(|(seq, s)| {
+            if !solved(seq) {
+                return Ok((seq, None));
+            }
+            let segments = calibration.segments(&decode(s))?;
+            Ok((seq, Some(solver.solve(&model, &segments, mode).coordinates)))
+        })
+        .collect()
 }
 
 /// A hub's frames of an orientation stream against the host's `f64` computation of it.
@@ -260,6 +287,10 @@ pub struct OrientationCheck {
     pub max_point_m: f64,
     /// Largest difference of a hub angle from the host's (radians; MTP joints included).
     pub max_angle_rad: f64,
+    /// Root mean square of the differences of the hub's angles from the host's over every
+    /// frame compared and its 14 coordinates that sensors determine (not the MTP joints,
+    /// which are 0 on both sides), radians.
+    pub rms_angle_rad: f64,
     /// The frame with the largest point error: (seq, metres).
     pub worst: Option<(u32, f64)>,
 }
@@ -270,6 +301,7 @@ impl OrientationCheck {
     pub fn run(frames: &[PoseFrame], host: &[Option<[f64; 17]>]) -> OrientationCheck {
         let models = PoseModels::<f64>::defaults();
         let mut c = OrientationCheck::default();
+        let (mut squares, mut count) = (0.0, 0usize);
         for f in frames {
             if f.flags & FrameFlags::HELD != 0 {
                 c.held += 1;
@@ -281,11 +313,15 @@ impl OrientationCheck {
                 continue;
             };
             c.frames += 1;
-            for (got, want) in f.angles.iter().zip(want) {
+            for (i, (got, want)) in f.angles.iter().zip(want).enumerate() {
                 let e = (f64::from(*got) - want).abs();
-                c.max_angle_rad =
-                    c.max_angle_rad
-                        .max(if e.is_finite() { e } else { f64::INFINITY });
+                let e = if e.is_finite() { e } else { f64::INFINITY };
+                c.max_angle_rad = c.max_angle_rad.max(e);
+                // The MTP joints: no sensor determines them.
+                if !COORDINATES[i].starts_with("mtp") {
+                    squares += e * e;
+                    count += 1;
+                }
             }
             // gait2392 is always one of the models (only a chain can be missing).
             let Some(pose) = models.pose(ModelId::Gait2392, want) else {
@@ -304,7 +340,37 @@ impl OrientationCheck {
                 c.max_point_m = c.max_point_m.max(d);
             }
         }
+        if count > 0 {
+            c.rms_angle_rad = (squares / count as f64).sqrt();
+        }
         c
+    }
+
+    /// Whether every frame is a row's and the angles' RMS difference is within `tol_deg`
+    /// degrees (a hub fusing raw samples: its `f32` fusion's error is in every coordinate).
+    pub fn angles_passed(&self, tol_deg: f64) -> bool {
+        self.frames > 0 && self.unknown == 0 && self.rms_angle_rad.to_degrees() <= tol_deg
+    }
+
+    /// A short report of [`angles_passed`](Self::angles_passed).
+    pub fn angles_report(&self, tol_deg: f64) -> String {
+        format!(
+            "raw input: {} frames against the host's f64 fusion and IMU path of the same stream: angles RMS {:.4}°, largest {:.4}° (tolerance {tol_deg}° RMS){}{}: {}",
+            self.frames,
+            self.rms_angle_rad.to_degrees(),
+            self.max_angle_rad.to_degrees(),
+            if self.unknown > 0 {
+                format!(", {} frames of no sample", self.unknown)
+            } else {
+                String::new()
+            },
+            if self.held > 0 {
+                format!(", {} held frames not compared", self.held)
+            } else {
+                String::new()
+            },
+            if self.angles_passed(tol_deg) { "PASS" } else { "FAIL" }
+        )
     }
 
     /// Whether every frame is a row's and within `tol` metres of the host.

@@ -31,7 +31,8 @@ use crate::EmulateError;
 use std::collections::{BTreeMap, BTreeSet};
 
 use qgait_proto::{
-    FrameDecoder, ImuConfig, JointAngle, JointId, Message, ModelId, SegmentOrientation, Status,
+    FrameDecoder, ImuConfig, JointAngle, JointId, Message, ModelId, RawImuSample,
+    SegmentOrientation, Status,
 };
 
 use crate::push_frame;
@@ -150,8 +151,8 @@ pub enum Fate {
     Damaged,
 }
 
-/// A packet a node sends, as the link carries it: a [`JointAngle`] or, from an IMU node of the
-/// orientation input, a [`SegmentOrientation`].
+/// A packet a node sends, as the link carries it: a [`JointAngle`], from an IMU node of the
+/// orientation input a [`SegmentOrientation`], or from a raw node a [`RawImuSample`].
 pub trait NodePacket: Copy {
     /// The sample it belongs to.
     fn seq(&self) -> u32;
@@ -182,6 +183,18 @@ impl NodePacket for SegmentOrientation {
     }
     fn message(&self) -> Message {
         Message::SegmentOrientation(*self)
+    }
+}
+
+impl NodePacket for RawImuSample {
+    fn seq(&self) -> u32 {
+        self.seq
+    }
+    fn joint(&self) -> Option<JointId> {
+        None
+    }
+    fn message(&self) -> Message {
+        Message::RawImuSample(*self)
     }
 }
 

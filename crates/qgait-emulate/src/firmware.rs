@@ -203,3 +203,15 @@ pub fn build(root: &Path) -> Result<PathBuf, EmulateError> {
 pub fn locate(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
     locate_or_build(elf, default_elf(&repo_root()), "the firmware", build)
 }
+
+/// `elf` if given (it must exist), else the firmware with the cargo features `features`
+/// ([`feature_elf`]), built first if it is missing.
+pub fn locate_feature(elf: Option<&Path>, features: &str) -> Result<PathBuf, EmulateError> {
+    let root = repo_root();
+    locate_or_build(
+        elf,
+        feature_elf(&root, features),
+        &format!("the firmware with {features}"),
+        |root| build_feature(root, features),
+    )
+}

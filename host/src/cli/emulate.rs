@@ -19,7 +19,9 @@ use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};
 use qgait_device::frames_csv;
 use qgait_device::log::HubLog;
+use qgait_device::orientations::OrientationCheck;
 use qgait_device::packets::{Samples, Timing};
+use qgait_device::raw_hub::RawHubHost;
 use qgait_device::verify::{Expected, Verification, MISSING_LISTED};
 use qgait_model::motion::source::load_motion;
 
@@ -63,8 +65,10 @@ pub struct EmulateArgs {
     /// them against the host's f64 fusion of the same stream.
     #[arg(long, requires = "stream", conflicts_with_all = ["frames_csv", "motion"])]
     pub node: bool,
-    /// Tolerance of --node --verify: the RMS angle between the device's orientations and the
-    /// host's (degrees).
+    /// Tolerance of --verify on a raw stream (degrees): with --node, the RMS angle between the
+    /// device's orientations and the host's; a hub with raw input (a stream of `qgait packets
+    /// --raw --hub`), the RMS difference of its joint angles from the host's f64 fusion and IMU
+    /// path of the same stream.
     #[arg(long, default_value_t = 0.1, value_name = "DEG")]
     pub tol_deg: f64,
 }
@@ -253,7 +257,17 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         count,
         configuration,
     } = emulate_input(&args, &model.hub, quiet)?;
-    let elf = firmware::locate(args.elf.as_deref())?;
+    // A stream of raw samples is for a hub with raw input: the host's f64 path of it says
+    // which frames are due and what they hold.
+    let raw = FrameDecoder::new()
+        .feed(&stream)
+        .flatten()
+        .any(|m| matches!(m, Message::RawImuSample(_)));
+    let raw = raw.then(|| RawHubHost::of(&stream)).transpose()?;
+    let elf = match raw {
+        Some(_) => firmware::locate_feature(args.elf.as_deref(), RAW_HUB_FEATURES)?,
+        None => firmware::locate(args.elf.as_deref())?,
+    };
     let settings = HubSettings {
         missing_policy: MissingPolicy::Drop,
         reorder_window: args.window,
@@ -270,7 +284,17 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         .or(config.last())
         .context("no configuration message")?;
     input.extend(closing_frames(last)?);
-    let expected = InputCounts::of(&input);
+    let mut expected = InputCounts::of(&input);
+    if raw.is_some() {
+        // A hub counts no raw sample as a packet, but each orientation its raw input passes on.
+        let samples = FrameDecoder::new()
+            .feed(&input)
+            .flatten()
+            .filter(|m| matches!(m, Message::RawImuSample(_)))
+            .count();
+        expected.accepted = expected.accepted - samples as u32
+            + qgait_device::raw::host_orientations(&stream).len() as u32;
+    }
     let out = run_session(
         &elf,
         input,
@@ -348,7 +372,10 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         if args.stream.is_none() || args.model.model.is_some() {
             v.expected_model = Some(model.hub.id());
         }
-        let intact = arrivals().framed_samples(model.hub.id());
+        let intact = match &raw {
+            Some(host) => host.frames_due(),
+            None => arrivals().framed_samples(model.hub.id()),
+        };
         let seen: BTreeSet<u32> = log.poses.iter().map(|p| p.seq).collect();
         let missing: Vec<u32> = intact.difference(&seen).copied().collect();
         v.missing = missing.len() as u64;
@@ -356,7 +383,13 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         let unexpected = seen.difference(&intact).count();
         let all_intact = arrivals().intact_samples(model.hub.id()).len();
         let partial = arrivals().partial(model.hub.id());
-        if count.is_none() {
+        if let Some(host) = &raw {
+            println!(
+                "stream: {} samples with every sensor fused (the first, seq {}, the calibration pose, no frame)",
+                host.samples.len(),
+                host.calibration
+            );
+        } else if count.is_none() {
             println!(
                 "stream: {all_intact} samples with every packet intact{}, {} with packets lost, damaged or unusable",
                 if all_intact > intact.len() {
@@ -381,9 +414,17 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         let tol = args.tol_um * 1e-6;
         println!("{}", v.report(tol));
         ok &= v.passed(tol);
+        if let Some(host) = &raw {
+            let c = OrientationCheck::run(&log.poses, &host.angles_of(|seq| seen.contains(&seq))?);
+            println!("{}", c.angles_report(args.tol_deg));
+            ok &= c.angles_passed(args.tol_deg);
+        }
     }
     Ok(ok)
 }
+
+/// The firmware features of a hub with raw input.
+const RAW_HUB_FEATURES: &str = "imu,raw";
 
 /// Runs `elf` under QEMU on `input` (`expected`: what it holds; `stream_len` bytes of it the
 /// stream, for the time limits), writing what it sent to `log` if asked.

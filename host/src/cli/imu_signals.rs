@@ -7,7 +7,12 @@
 //! expressed in the IMU frame (rad/s); `linear_acceleration.sto` the accelerometer, the IMU
 //! origin's acceleration in ground minus gravity `(0, −9.80665, 0)`, expressed in the IMU frame
 //! (m/s²). One column per IMU, named as the IMU, each cell `x,y,z`. The pelvis translation of
-//! the motion is included (the accelerometer needs its acceleration).
+//! the motion is included (the accelerometer needs its acceleration). With a magnetic field
+//! (`--magnetic-field`), `magnetometer.sto` holds that field expressed in the IMU frame (µT).
+//!
+//! Each IMU's samples are also written as a raw recording in the shared CSV layout
+//! (`raw/NAME.csv`: `time`, `gyr_x..z`, `acc_x..z`, and `mag_x..z` with a field), the input
+//! of `qgait fuse` and of `qgait packets --raw`: what a raw IMU node would measure.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -78,6 +83,20 @@ pub struct ImuSignalsArgs {
     /// standard deviation walk·√Δt per sample and axis, from the constant bias.
     #[arg(long, value_name = "RAD/S/√S")]
     pub gyro_bias_walk: Option<f64>,
+    /// A homogeneous magnetic field in ground (µT, OpenSim axes: x forward, y up, z right),
+    /// `X,Y,Z`: adds the magnetometer (the field in the IMU frame, plus `--mag-noise-std`), so
+    /// that 9D fusion has a heading reference. Earth's is 25 to 65 µT, pointing down in the
+    /// northern hemisphere (y < 0).
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pub magnetic_field: Option<Vec<f64>>,
+    /// Magnetometer white noise as a standard deviation per sample and axis (µT).
+    #[arg(long, value_name = "UT", requires = "magnetic_field")]
+    pub mag_noise_std: Option<f64>,
     /// Seed of the noise (the same seed and qgait build give the same noise).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -127,6 +146,16 @@ fn write_sto(
     }
     w.flush()?;
     Ok(())
+}
+
+/// The three components `X,Y,Z` of `option`, if given.
+fn three(option: &str, values: Option<&[f64]>) -> anyhow::Result<Option<[f64; 3]>> {
+    values
+        .map(|v| {
+            <[f64; 3]>::try_from(v)
+                .map_err(|_| anyhow::anyhow!("{option}: {} values given, X,Y,Z needed", v.len()))
+        })
+        .transpose()
 }
 
 /// A standard deviation per sample from a density or a standard deviation.
@@ -182,10 +211,7 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
     let gyro_sd = per_sample(a.gyro_noise_density, a.gyro_noise_std, rate);
     let accel_sd = per_sample(a.accel_noise_density, a.accel_noise_std, rate);
     let walk_sd = a.gyro_bias_walk.unwrap_or(0.0) * dt.sqrt();
-    let bias0 = a
-        .gyro_bias
-        .as_deref()
-        .map_or([0.0; 3], |b| [b[0], b[1], b[2]]);
+    let bias0 = three("--gyro-bias", a.gyro_bias.as_deref())?.unwrap_or([0.0; 3]);
     let mut bias = vec![bias0; mounts.len()];
     let mut rng = rand::rngs::SmallRng::seed_from_u64(a.seed);
     let mut gauss = |sd: f64| -> f64 {
@@ -195,11 +221,15 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
             sd * rng.sample::<f64, _>(StandardNormal)
         }
     };
-    let (mut time, mut orientations, mut gyros, mut accels) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let field =
+        three("--magnetic-field", a.magnetic_field.as_deref())?.map(|[x, y, z]| Vec3::new(x, y, z));
+    let mag_sd = a.mag_noise_std.unwrap_or(0.0);
+    let (mut time, mut orientations, mut gyros, mut accels, mut mags) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for r in (0..series.time.len()).step_by(every) {
         let bodies = model.bodies(&series.q[r], &series.qd[r], &series.qdd[r]);
-        let (mut o_row, mut g_row, mut a_row) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut o_row, mut g_row, mut a_row, mut m_row) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for (i, (body, mount)) in mounts.iter().enumerate() {
             let s = imu_signals(&bodies[*body].moved_by(&series.pelvis[r]), mount);
             let q = s.orientation;
@@ -222,11 +252,17 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
                     .map(|v| v + gauss(accel_sd))
                     .collect(),
             );
+            if let Some(field) = field {
+                // The field in ground, seen from the IMU frame.
+                let m = q.conj().rotate(field);
+                m_row.push([m.x, m.y, m.z].iter().map(|v| v + gauss(mag_sd)).collect());
+            }
         }
         time.push(series.time[r]);
         orientations.push(o_row);
         gyros.push(g_row);
         accels.push(a_row);
+        mags.push(m_row);
     }
     std::fs::create_dir_all(&a.output).with_context(|| a.output.display().to_string())?;
     let names: Vec<String> = placement.imu.iter().map(|e| e.name.clone()).collect();
@@ -238,5 +274,56 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
     for (file, kind, cells) in files {
         write_sto(&a.output.join(file), kind, rate, &names, &time, cells)?;
     }
+    let mags = field.map(|_| &mags);
+    if let Some(mags) = mags {
+        write_sto(
+            &a.output.join("magnetometer.sto"),
+            "Vec3",
+            rate,
+            &names,
+            &time,
+            mags,
+        )?;
+    }
+    let raw = a.output.join("raw");
+    std::fs::create_dir_all(&raw).with_context(|| raw.display().to_string())?;
+    for (i, name) in names.iter().enumerate() {
+        let column = |rows: &[Vec<Vec<f64>>]| -> Vec<Vec<f64>> {
+            rows.iter().map(|row| row[i].clone()).collect()
+        };
+        write_raw_csv(
+            &raw.join(format!("{name}.csv")),
+            &time,
+            &column(&gyros),
+            &column(&accels),
+            mags.map(|m| column(m)).as_deref(),
+        )?;
+    }
+    Ok(())
+}
+
+/// Writes one IMU's samples as a raw recording in the shared CSV layout (`qgait fuse`'s).
+fn write_raw_csv(
+    path: &Path,
+    time: &[f64],
+    gyr: &[Vec<f64>],
+    acc: &[Vec<f64>],
+    mag: Option<&[Vec<f64>]>,
+) -> anyhow::Result<()> {
+    let mut w = csv::Writer::from_path(path).with_context(|| path.display().to_string())?;
+    let mut header = vec!["time", "gyr_x", "gyr_y", "gyr_z", "acc_x", "acc_y", "acc_z"];
+    if mag.is_some() {
+        header.extend(["mag_x", "mag_y", "mag_z"]);
+    }
+    w.write_record(&header)?;
+    for (k, t) in time.iter().enumerate() {
+        let mut row = vec![t.to_string()];
+        let cells = [Some(&gyr[k]), Some(&acc[k]), mag.map(|m| &m[k])];
+        for cell in cells.into_iter().flatten() {
+            row.extend(cell.iter().map(|v| v.to_string()));
+        }
+        w.write_record(&row)?;
+    }
+    w.flush().with_context(|| path.display().to_string())?;
     Ok(())
 }

@@ -66,6 +66,22 @@ pub struct RawArgs {
     /// The sampling rate (Hz) of Xsens files without a `// Update Rate` comment.
     #[arg(long = "raw-rate", value_name = "HZ", requires = "raw")]
     pub raw_rate: Option<f64>,
+    /// For a hub with raw input (firmware features `imu` and `raw`) instead of a node: the
+    /// stream starts with gait2392 and the IMU configuration (`--base-imu`,
+    /// `--base-heading-axis`, `--sensor-to-opensim`, `--mode`: the readings are the fusion's,
+    /// in its z-up world), so the first sample with every sensor fused is the calibration pose
+    /// (the subject standing in the model's default pose) and each later one a pose frame.
+    #[arg(long, requires = "raw")]
+    pub hub: bool,
+    /// With --hub: the time (s from the first sample) of the calibration pose, the IMU
+    /// configuration sent just before the first sample at or after it. The subject must stand
+    /// still in the model's default pose then, and the fusion must have settled: VQF starts
+    /// from the first samples' inclination and heading and corrects them over about a second
+    /// (its accelerometer low-pass averages the first samples; its magnetometer gain starts at
+    /// 1 and falls as 1/k), so a calibration on the very first sample is taken from an
+    /// unsettled fusion.
+    #[arg(long, default_value_t = 2.0, value_name = "S", requires = "hub")]
+    pub calibrate_at: f64,
 }
 
 impl RawArgs {
@@ -245,12 +261,37 @@ fn write_raw_stream(
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    let bytes = stream.bytes();
+    let bytes = if args.raw.hub {
+        let settings = args.imu.settings.settings()?;
+        let period = 1.0 / f64::from(stream.config.rate_hz);
+        let at = (args.raw.calibrate_at / period).ceil();
+        if !(0.0..stream.rows as f64).contains(&at) {
+            bail!(
+                "--calibrate-at {} s: the recordings have samples from 0 to {:.3} s",
+                args.raw.calibrate_at,
+                (stream.rows.max(1) - 1) as f64 * period
+            );
+        }
+        qgait_device::raw_hub::RawHubStream::new(
+            stream.clone(),
+            &settings,
+            args.imu.settings.mode(),
+            at as u32,
+        )
+        .bytes(4)
+    } else {
+        stream.bytes()
+    };
     write_stream(&args.output, &inputs, &bytes)?;
     if !quiet {
+        let hub = if args.raw.hub {
+            "gait2392 and the IMU configuration (for a hub with raw input), "
+        } else {
+            ""
+        };
         let c = &stream.config;
         eprintln!(
-            "wrote the raw input's configuration ({:?}, {} Hz, an orientation every {} samples) and {} samples of {} sensors, {} bytes, to {}",
+            "wrote {hub}the raw input's configuration ({:?}, {} Hz, an orientation every {} samples) and {} samples of {} sensors, {} bytes, to {}",
             c.fusion,
             c.rate_hz,
             c.output_every,

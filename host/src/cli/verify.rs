@@ -11,6 +11,7 @@ use qgait_device::log::{LogDecoder, Record};
 use qgait_device::orientations::OrientationCheck;
 use qgait_device::port;
 use qgait_device::raw::{host_orientations, RawCheck};
+use qgait_device::raw_hub::RawHubHost;
 use qgait_device::verify::{Expected, Verifier};
 
 /// `qgait verify` arguments.
@@ -39,13 +40,15 @@ pub struct VerifyArgs {
     /// not compared).
     #[command(flatten)]
     pub imu: OrientationArgs,
-    /// The raw stream a node (or a receiver with raw input) was sent (`qgait packets --raw`):
-    /// the log's segment orientations are checked against the host's f64 fusion of the same
-    /// stream, by the same rules (protocol.md 4.10), instead of pose frames.
+    /// The raw stream a node or a hub with raw input was sent (`qgait packets --raw`, `--raw
+    /// --hub`): a node's segment orientations are checked against the host's f64 fusion of the
+    /// same stream, by the same rules (protocol.md 4.10); a hub's pose frames as any (their
+    /// points against the echoed angles), and their angles against the host's f64 fusion and
+    /// IMU path of the stream.
     #[arg(long, value_name = "STREAM.bin", conflicts_with = "orientations")]
     pub raw: Option<std::path::PathBuf>,
-    /// Tolerance of --raw: the RMS angle between the device's orientations and the host's
-    /// (degrees).
+    /// Tolerance of --raw (degrees): the RMS angle between a node's orientations and the
+    /// host's, or the RMS difference of a hub's joint angles from the host's.
     #[arg(long, default_value_t = 0.1, value_name = "DEG", requires = "raw")]
     pub tol_deg: f64,
 }
@@ -78,7 +81,7 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
                 } = &record
                 {
                     verifier.add(p);
-                    if imu.is_some() {
+                    if imu.is_some() || args.raw.is_some() {
                         poses.push(p.clone());
                     }
                 }
@@ -111,13 +114,18 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
     if let port::End::Failed(e) = end {
         return Err(e.into());
     }
-    if let Some(path) = &args.raw {
-        let stream = std::fs::read(path)
-            .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", path.display()))?;
+    let raw = match &args.raw {
+        Some(path) => Some(
+            std::fs::read(path)
+                .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", path.display()))?,
+        ),
+        None => None,
+    };
+    if let Some(stream) = raw.as_ref().filter(|_| poses.is_empty()) {
         if orientations.is_empty() {
             bail!("{}: no segment orientations", args.log);
         }
-        let c = RawCheck::run(&orientations, &host_orientations(&stream));
+        let c = RawCheck::run(&orientations, &host_orientations(stream));
         println!("{}", c.report(args.tol_deg));
         return Ok(c.passed(args.tol_deg));
     }
@@ -139,6 +147,14 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
         let c = OrientationCheck::run(&poses, &host);
         println!("{}", c.report(tol));
         passed &= c.passed(tol);
+    }
+    if let Some(stream) = &raw {
+        // A hub with raw input: its angles against the host's f64 fusion and IMU path.
+        let host = RawHubHost::of(stream)?;
+        let solved: std::collections::HashSet<u32> = poses.iter().map(|p| p.seq).collect();
+        let c = OrientationCheck::run(&poses, &host.angles_of(|seq| solved.contains(&seq))?);
+        println!("{}", c.angles_report(args.tol_deg));
+        passed &= c.angles_passed(args.tol_deg);
     }
     Ok(passed)
 }

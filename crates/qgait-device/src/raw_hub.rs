@@ -1,0 +1,172 @@
+//! A hub with raw input (the firmware's features `imu` and `raw`, protocol.md 4.10 and 8.9)
+//! from the host's side: the stream that configures it and its raw nodes' samples
+//! (`qgait packets --raw --hub`), and the host's `f64` path of the same stream that its pose
+//! frames are checked against (`qgait verify --raw`, `qgait emulate --verify`).
+//!
+//! The stream is a `Config` selecting gait2392, an `ImuConfig` (the orientation input, the raw
+//! segments, the calibration and heading settings, "the next complete sample is the
+//! calibration pose"), then the [`RawStream`]: its `RawImuConfig` and every sample. The hub
+//! fuses each sample into the `SegmentOrientation` a smart node would send (Q14), so its
+//! first sample with every segment fused is the calibration pose and each later one a pose
+//! frame. The host does the same in `f64`: the raw input's rules ([`host_orientations`]),
+//! the orientations in Q14, then the kernel's calibration and solver
+//! ([`solve_samples`](crate::orientations::solve_samples)). The two differ by the hub's
+//! `f32` fusion, so their angles are compared in degrees (the fusion's error carries into
+//! every coordinate), not their points in micrometres.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use qgait_kernel::imu::{Mode, Settings};
+use qgait_proto::{
+    FrameDecoder, ImuConfig, Message, MissingPolicy, RawImuSample, SegmentOrientation,
+};
+
+use crate::orientations::{solve_samples, OrientationStream, OrientationStreamError, Q14Sample};
+use crate::raw::{host_orientations, RawStream};
+
+/// A raw stream for a hub with raw input.
+#[derive(Debug, Clone)]
+pub struct RawHubStream {
+    /// The raw nodes' stream.
+    pub raw: RawStream,
+    /// The IMU configuration: the raw stream's segments, `calibrate` set.
+    pub imu: ImuConfig,
+    /// The `seq` of the first sample after the IMU configuration: the calibration pose is the
+    /// first sample from it on with every segment fused.
+    pub calibrate_at: u32,
+}
+
+impl RawHubStream {
+    /// The hub's stream of `raw`, solved with `settings` in `mode`, the IMU configuration
+    /// sent before sample `calibrate_at`. Before it the hub fuses the samples and, in the
+    /// joint-angle input, uses none of their orientations: the fusion settles while the
+    /// subject stands still.
+    pub fn new(raw: RawStream, settings: &Settings<f64>, mode: Mode, calibrate_at: u32) -> Self {
+        let mut imu = OrientationStream::imu_config(settings, mode);
+        imu.segments = raw.config.segments;
+        RawHubStream {
+            raw,
+            imu,
+            calibrate_at,
+        }
+    }
+
+    /// The bytes (a 0x00 first): gait2392 (drop policy, reorder window `window`), the raw
+    /// input's configuration, the samples before `calibrate_at`, the IMU configuration, the
+    /// other samples.
+    pub fn bytes(&self, window: u8) -> Vec<u8> {
+        let mut out = vec![0u8];
+        let [config, imu] =
+            OrientationStream::config_messages_of(self.imu, MissingPolicy::Drop, window);
+        qgait_emulate::push_frame(&mut out, &config);
+        qgait_emulate::push_frame(&mut out, &Message::RawImuConfig(self.raw.config));
+        let (before, after): (Vec<&RawImuSample>, Vec<_>) = self
+            .raw
+            .samples
+            .iter()
+            .partition(|s| s.seq < self.calibrate_at);
+        for s in before {
+            qgait_emulate::push_frame(&mut out, &Message::RawImuSample(*s));
+        }
+        qgait_emulate::push_frame(&mut out, &imu);
+        for s in after {
+            qgait_emulate::push_frame(&mut out, &Message::RawImuSample(*s));
+        }
+        out
+    }
+}
+
+/// Why the host cannot compute a raw hub stream.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RawHubError {
+    /// The stream configures no orientation input.
+    #[error("no ImuConfig with an orientation mode: not a stream for a hub with raw input (`qgait packets --raw --hub`)")]
+    NoImuConfig,
+    /// No sample after the IMU configuration has every segment fused: no calibration pose.
+    #[error(
+        "no sample after the ImuConfig has an orientation of every segment: no calibration pose"
+    )]
+    NoCalibration,
+    /// The kernel refused the calibration pose or a sample.
+    #[error(transparent)]
+    Solve(#[from] OrientationStreamError),
+}
+
+/// What the host's `f64` path makes of a raw hub stream.
+#[derive(Debug, Clone)]
+pub struct RawHubHost {
+    /// The IMU configuration in force (the stream's last).
+    pub imu: ImuConfig,
+    /// The calibration pose's `seq`: the first sample with every segment fused.
+    pub calibration: u32,
+    /// Every sample from the calibration pose on with every segment fused, by `seq`: the
+    /// orientations in Q14, as the hub's raw input passes them on.
+    pub samples: BTreeMap<u32, Q14Sample>,
+}
+
+impl RawHubHost {
+    /// The host's fusion of `stream` (any bytes: damaged frames are skipped, as the hub skips
+    /// them), its complete samples and calibration pose.
+    pub fn of(stream: &[u8]) -> Result<RawHubHost, RawHubError> {
+        // The last IMU configuration with an orientation mode, and the first raw sample after
+        // it: the calibration pose is the first complete sample from there on.
+        let (mut imu, mut from) = (None, None);
+        for m in FrameDecoder::new().feed(stream).flatten() {
+            match m {
+                Message::ImuConfig(c) if c.mode.orientations() => (imu, from) = (Some(c), None),
+                Message::RawImuSample(s) if from.is_none() && imu.is_some() => from = Some(s.seq),
+                _ => {}
+            }
+        }
+        let imu = imu.ok_or(RawHubError::NoImuConfig)?;
+        let mut samples: BTreeMap<u32, Q14Sample> = BTreeMap::new();
+        for ((segment, seq), q) in host_orientations(stream) {
+            samples.entry(seq).or_default()[segment as usize] = Some(SegmentOrientation::q14_of(q));
+        }
+        let complete =
+            |s: &Q14Sample| (0..s.len()).all(|i| imu.segments & (1 << i) == 0 || s[i].is_some());
+        let from = from.ok_or(RawHubError::NoCalibration)?;
+        samples.retain(|seq, s| *seq >= from && complete(s));
+        let calibration = *samples.keys().next().ok_or(RawHubError::NoCalibration)?;
+        Ok(RawHubHost {
+            imu,
+            calibration,
+            samples,
+        })
+    }
+
+    /// The samples the hub owes a pose frame for: every complete one after the calibration
+    /// pose.
+    pub fn frames_due(&self) -> BTreeSet<u32> {
+        self.samples
+            .keys()
+            .copied()
+            .filter(|&seq| seq > self.calibration)
+            .collect()
+    }
+
+    /// The host's angles of the samples whose `seq` `solved` holds (the ones the hub sent a
+    /// frame for, so that the least squares' warm start is the same on both sides), indexed
+    /// by `seq - 1` as [`OrientationCheck::run`](crate::orientations::OrientationCheck::run)
+    /// takes them.
+    pub fn angles_of(
+        &self,
+        solved: impl Fn(u32) -> bool,
+    ) -> Result<Vec<Option<[f64; 17]>>, RawHubError> {
+        let calibration = &self.samples[&self.calibration];
+        let rows = self.samples.range(self.calibration + 1..);
+        let solved = solve_samples(
+            &self.imu,
+            calibration,
+            rows.map(|(seq, s)| (*seq, s)),
+            solved,
+        )?;
+        let last = self.samples.keys().last().copied().unwrap_or(0) as usize;
+        let mut out = vec![None; last];
+        for (seq, angles) in solved {
+            out[seq as usize - 1] = angles;
+        }
+        Ok(out)
+    }
+}
