@@ -406,6 +406,111 @@ fn imu_noise_bias_and_rate_are_as_stated() {
     assert_eq!(decimated.rows[1], clean.rows[10]);
 }
 
+/// `--magnetic-field`: the magnetometer is the field in ground seen from the IMU frame,
+/// `q* B q` with `q` the orientation written (within the orientation's printed digits), its
+/// norm the field's; and each IMU's `raw/NAME.csv` is `qgait fuse`'s layout of the same
+/// gyroscope, accelerometer and magnetometer numbers.
+#[test]
+fn magnetometer_and_raw_recordings_are_the_signals() {
+    let dir = scratch("deriv_mag", "in");
+    let placement = dir.join("placement.toml");
+    std::fs::write(&placement, PLACEMENT).unwrap();
+    let out = dir.join("out");
+    let o = qgait(&[
+        "imu-signals",
+        fixture("gait2392_states.sto").to_str().unwrap(),
+        "--imus",
+        placement.to_str().unwrap(),
+        "--magnetic-field",
+        "12,-44,16",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |f: &str| Table::sto(&std::fs::read_to_string(out.join(f)).unwrap());
+    let (orientations, gyro, accel, mag) = (
+        read("orientations.sto"),
+        read("angular_velocity.sto"),
+        read("linear_acceleration.sto"),
+        read("magnetometer.sto"),
+    );
+    let field = [12.0, -44.0, 16.0];
+    let norm = (12.0f64 * 12.0 + 44.0 * 44.0 + 16.0 * 16.0).sqrt();
+    let names = ["pelvis_imu", "femur_r_imu", "tibia_l_imu", "calcn_r_imu"];
+    for (k, (o, m)) in orientations.rows.iter().zip(&mag.rows).enumerate() {
+        for name in names {
+            let [w, x, y, z] = quat(&orientations, o, name);
+            // The rotation matrix of q; the field in the IMU frame is its transpose times B.
+            let r = [
+                [
+                    1.0 - 2.0 * (y * y + z * z),
+                    2.0 * (x * y - w * z),
+                    2.0 * (x * z + w * y),
+                ],
+                [
+                    2.0 * (x * y + w * z),
+                    1.0 - 2.0 * (x * x + z * z),
+                    2.0 * (y * z - w * x),
+                ],
+                [
+                    2.0 * (x * z - w * y),
+                    2.0 * (y * z + w * x),
+                    1.0 - 2.0 * (x * x + y * y),
+                ],
+            ];
+            let got = [0, 1, 2].map(|i| mag.get(m, &format!("{name}_{i}")));
+            for (i, g) in got.iter().enumerate() {
+                let want: f64 = (0..3).map(|j| r[j][i] * field[j]).sum();
+                assert!(
+                    (g - want).abs() < 1e-9 * norm,
+                    "row {k} {name}: {g} against {want}"
+                );
+            }
+            let n = got.iter().map(|v| v * v).sum::<f64>().sqrt();
+            assert!((n - norm).abs() < 1e-9 * norm, "row {k} {name}: |m| {n}");
+        }
+    }
+    for name in names {
+        let raw =
+            Table::csv(&std::fs::read_to_string(out.join(format!("raw/{name}.csv"))).unwrap());
+        assert_eq!(raw.rows.len(), gyro.rows.len(), "{name}");
+        for (k, row) in raw.rows.iter().enumerate() {
+            assert_eq!(raw.get(row, "time"), gyro.rows[k][0]);
+            for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+                let col = format!("{name}_{i}");
+                assert_eq!(
+                    raw.get(row, &format!("gyr_{axis}")),
+                    gyro.get(&gyro.rows[k], &col)
+                );
+                assert_eq!(
+                    raw.get(row, &format!("acc_{axis}")),
+                    accel.get(&accel.rows[k], &col)
+                );
+                assert_eq!(
+                    raw.get(row, &format!("mag_{axis}")),
+                    mag.get(&mag.rows[k], &col)
+                );
+            }
+        }
+    }
+    let o = qgait(&[
+        "imu-signals",
+        fixture("gait2392_states.sto").to_str().unwrap(),
+        "--imus",
+        placement.to_str().unwrap(),
+        "--magnetic-field",
+        "12,-44",
+        "-o",
+        dir.join("bad").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("--magnetic-field: 2 values given, X,Y,Z needed"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 /// `--lowpass`: a cut-off well above a motion's components changes its derivatives by what
 /// the filter's gain says away from the ends (the built-in gait at 1 kHz, harmonics of 1 Hz up
 /// to 6 Hz; a 30 Hz cut-off passes 6 Hz with a gain of 1 − 2.6e-6), and a cut-off below them

@@ -28,6 +28,9 @@ use qgait_opensim::diagnostics::Warning;
 use qgait_opensim::imu_sto::OrientationReader;
 use qgait_opensim::mot::MotError;
 
+/// gait2392's 17 coordinates, radians.
+pub type Angles = [f64; 17];
+
 /// One sample: the Q14 quaternion of each segment with a reading (by segment index).
 pub type Q14Sample = [Option<[i16; 4]>; SegmentId::COUNT];
 
@@ -250,7 +253,7 @@ pub fn solve_samples<'a>(
     calibration: &Q14Sample,
     rows: impl IntoIterator<Item = (u32, &'a Q14Sample)>,
     solved: impl Fn(u32) -> bool,
-) -> Result<Vec<(u32, Option<[f64; 17]>)>, OrientationStreamError> {
+) -> Result<Vec<(u32, Option<Angles>)>, OrientationStreamError> {
     let model = Gait2392::<f64>::new(&Gait2392Geometry::generic())?;
     let decode = |s: &Q14Sample| Orientations {
         q: core::array::from_fn(|i| {
