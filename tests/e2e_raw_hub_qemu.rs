@@ -12,9 +12,9 @@
 //! moves no lumbar joint). `qgait packets --raw --hub` makes the raw nodes' stream (the
 //! calibration pose 2 s in, while the subject still stands), then:
 //!
-//! - `qgait emulate --verify`: every frame's points within 10 µm of the `f64` kernel's for its
-//!   angles, a frame for every sample due, and the angles within 0.1° RMS of the host's `f64`
-//!   fusion and IMU path of the same stream;
+//! - `qgait emulate --verify` (and `qgait verify --raw` of its log): every frame's points
+//!   within 10 µm of the `f64` kernel's for its angles, a frame for every sample due, and the
+//!   angles within 0.1° RMS of the host's `f64` fusion and IMU path of the same stream;
 //! - the hub's joint angles within 2° RMS of the angles the signals were made from (the 14
 //!   coordinates sensors determine; the pelvis rotation compared modulo a turn);
 //! - through a radio link (flipped bits, lost and swapped packets, the fault tests' ledger): a
@@ -203,6 +203,11 @@ fn eight_raw_sensors_through_the_hub_give_the_walk_s_angles() {
     assert!(out.status.success(), "{stdout}\n{}", common::stderr(&out));
     assert!(stdout.contains("missing samples: 0"), "{stdout}");
     assert!(stdout.contains("PASS"), "{stdout}");
+    // The same check of the log on its own.
+    let out = common::qgait(&["verify", &p(&log), "--raw", &p(&stream)]);
+    let stdout = common::stdout(&out);
+    assert!(out.status.success(), "{stdout}\n{}", common::stderr(&out));
+    assert!(stdout.contains("raw input: 1000 frames"), "{stdout}");
 
     let poses = HubLog::decode(&std::fs::read(&log).expect("the log reads")).poses;
     let truth = truth_angles(&truth);
