@@ -31,7 +31,7 @@ use std::sync::OnceLock;
 
 use qgait_device::log::HubLog;
 use qgait_device::orientations::OrientationCheck;
-use qgait_device::raw_hub::RawHubHost;
+use qgait_device::raw_hub::{input_counts, RawHubHost};
 use qgait_emulate::faults::{damage, FaultPlan};
 use qgait_emulate::push_frame;
 use qgait_emulate::qemu::Echo;
@@ -293,15 +293,7 @@ fn raw_streams_through_a_radio_link() {
         .expect("a Config");
     let mut sent = input.clone();
     sent.extend(closing_frames(config).expect("closing frames"));
-    let mut expected = InputCounts::of(&sent);
-    // A hub counts no raw sample as a packet, but each orientation its raw input passes on.
-    let raw_samples = FrameDecoder::new()
-        .feed(&sent)
-        .flatten()
-        .filter(|m| matches!(m, Message::RawImuSample(_)))
-        .count() as u32;
-    expected.accepted =
-        expected.accepted - raw_samples + qgait_device::raw::host_orientations(&input).len() as u32;
+    let expected = input_counts(&sent);
     let limits = Limits::for_stream(sent.len());
     let out = session::run(&elf, sent, expected, Echo::Quiet, limits).expect("QEMU runs");
     let status = out

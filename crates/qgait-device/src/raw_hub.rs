@@ -16,6 +16,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use qgait_emulate::session::InputCounts;
 use qgait_kernel::imu::{Mode, Settings};
 use qgait_proto::{
     FrameDecoder, ImuConfig, Message, MissingPolicy, RawImuSample, SegmentOrientation,
@@ -169,4 +170,19 @@ impl RawHubHost {
         }
         Ok(out)
     }
+}
+
+/// What a hub with raw input counts of `input` (all it is sent, closing frames included):
+/// [`InputCounts::of`] the input, but no raw sample as an accepted packet, each orientation its
+/// raw input passes on instead (protocol.md 4.10: the hub counts the raw samples in its
+/// `RawImuStatus`).
+pub fn input_counts(input: &[u8]) -> InputCounts {
+    let mut counts = InputCounts::of(input);
+    let samples = FrameDecoder::new()
+        .feed(input)
+        .flatten()
+        .filter(|m| matches!(m, Message::RawImuSample(_)))
+        .count();
+    counts.accepted = counts.accepted - samples as u32 + host_orientations(input).len() as u32;
+    counts
 }

@@ -284,17 +284,10 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         .or(config.last())
         .context("no configuration message")?;
     input.extend(closing_frames(last)?);
-    let mut expected = InputCounts::of(&input);
-    if raw.is_some() {
-        // A hub counts no raw sample as a packet, but each orientation its raw input passes on.
-        let samples = FrameDecoder::new()
-            .feed(&input)
-            .flatten()
-            .filter(|m| matches!(m, Message::RawImuSample(_)))
-            .count();
-        expected.accepted = expected.accepted - samples as u32
-            + qgait_device::raw::host_orientations(&stream).len() as u32;
-    }
+    let expected = match raw {
+        Some(_) => qgait_device::raw_hub::input_counts(&input),
+        None => InputCounts::of(&input),
+    };
     let out = run_session(
         &elf,
         input,
