@@ -35,7 +35,8 @@ pub struct EmulateArgs {
     /// A byte stream to send as it is (e.g. from `qgait packets`).
     #[arg(long, value_name = "STREAM.bin")]
     pub stream: Option<PathBuf>,
-    /// Firmware ELF (default: the release build of firmware/, built if missing).
+    /// Firmware ELF (default: the release build of firmware/, built if missing; for a stream of
+    /// raw samples, the build with the features `imu` and `raw`).
     #[arg(long, value_name = "PATH")]
     pub elf: Option<PathBuf>,
     /// Samples per second for MOTION (default: its time column).
