@@ -11,7 +11,7 @@ use qgait_emulate::faults::Arrivals;
 use qgait_emulate::firmware;
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
-use qgait_proto::{FrameDecoder, Message, MissingPolicy};
+use qgait_proto::{FrameDecoder, Message, MissingPolicy, Status};
 
 use crate::cli::device_args::{micrometres, LoadedModel};
 use crate::cli::diagnostics::Diagnostics;
@@ -126,29 +126,11 @@ fn run_node(args: &EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let mut ok = true;
     match &out.status {
         Some(s) => {
-            println!("device status:");
-            for (k, v) in s.named_counters() {
-                println!("  {k:<20} {v}");
-            }
+            print_counters("device status", s.named_counters());
             if let Some(r) = raw_status {
-                println!("raw input:");
-                for (k, v) in r.named_counters() {
-                    println!("  {k:<20} {v}");
-                }
+                print_counters("raw input", r.named_counters());
             }
-            let (got, want) = (InputCounts::counted_by(s), expected);
-            if got == want {
-                println!(
-                    "input accounted for: {} raw samples taken, {} damaged frames counted",
-                    got.accepted, got.rejected
-                );
-            } else {
-                ok = false;
-                eprintln!(
-                    "error: the node counted {} raw samples and {} damaged frames; the input has {} and {}",
-                    got.accepted, got.rejected, want.accepted, want.rejected
-                );
-            }
+            ok &= accounted(s, expected, "node", "raw samples taken").is_ok();
             if s.config_rejected > 0 {
                 ok = false;
                 eprintln!(
@@ -316,24 +298,11 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let arrivals = || arrivals.get_or_init(|| Arrivals::of(&stream));
     match &out.status {
         Some(s) => {
-            println!("device status:");
-            for (k, v) in s.named_counters() {
-                println!("  {k:<20} {v}");
-            }
+            print_counters("device status", s.named_counters());
             // The hub decodes as the host does: its counters must account for every frame
             // of the input, damaged ones included.
-            let (got, want) = (InputCounts::counted_by(s), expected);
-            if got == want {
-                println!(
-                    "input accounted for: {} packets accepted, {} damaged frames counted",
-                    got.accepted, got.rejected
-                );
-            } else {
+            if let Err((got, want)) = accounted(s, expected, "hub", "packets accepted") {
                 ok = false;
-                eprintln!(
-                    "error: the hub counted {} packets accepted and {} damaged frames; the input has {} and {}",
-                    got.accepted, got.rejected, want.accepted, want.rejected
-                );
                 let orientations = !arrivals().segments.is_empty();
                 if orientations && s.malformed > 0 && got.accepted < want.accepted {
                     eprintln!(
@@ -419,6 +388,39 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
 
 /// The firmware features of a hub with raw input.
 const RAW_HUB_FEATURES: &str = "imu,raw";
+
+/// Prints `title:` and one line per counter.
+fn print_counters<'a>(title: &str, counters: impl IntoIterator<Item = (&'a str, u32)>) {
+    println!("{title}:");
+    for (k, v) in counters {
+        println!("  {k:<20} {v}");
+    }
+}
+
+/// Whether the `device`'s status `s` accounts for the `expected` input (its accepted count
+/// counting `taken`), said on standard output, or on standard error with what was counted and
+/// what was due.
+fn accounted(
+    s: &Status,
+    expected: InputCounts,
+    device: &str,
+    taken: &str,
+) -> Result<(), (InputCounts, InputCounts)> {
+    let got = InputCounts::counted_by(s);
+    if got == expected {
+        println!(
+            "input accounted for: {} {taken}, {} damaged frames counted",
+            got.accepted, got.rejected
+        );
+        Ok(())
+    } else {
+        eprintln!(
+            "error: the {device} counted {} {taken} and {} damaged frames; the input has {} and {}",
+            got.accepted, got.rejected, expected.accepted, expected.rejected
+        );
+        Err((got, expected))
+    }
+}
 
 /// Runs `elf` under QEMU on `input` (`expected`: what it holds; `stream_len` bytes of it the
 /// stream, for the time limits), writing what it sent to `log` if asked.
