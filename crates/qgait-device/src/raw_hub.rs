@@ -19,11 +19,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use qgait_emulate::session::InputCounts;
 use qgait_kernel::imu::{Mode, Settings};
 use qgait_proto::{
-    FrameDecoder, ImuConfig, Message, MissingPolicy, RawImuSample, SegmentOrientation,
+    FrameDecoder, ImuConfig, Message, MissingPolicy, RawImuSample, SegmentId, SegmentOrientation,
 };
 
 use crate::orientations::{solve_samples, OrientationStream, OrientationStreamError, Q14Sample};
-use crate::raw::{host_orientations, RawStream};
+use crate::raw::{host_orientations, segment_name, RawStream};
 
 /// A raw stream for a hub with raw input.
 #[derive(Debug, Clone)]
@@ -42,14 +42,28 @@ impl RawHubStream {
     /// sent before sample `calibrate_at`. Before it the hub fuses the samples and, in the
     /// joint-angle input, uses none of their orientations: the fusion settles while the
     /// subject stands still.
-    pub fn new(raw: RawStream, settings: &Settings<f64>, mode: Mode, calibrate_at: u32) -> Self {
+    ///
+    /// The hub solves nothing without the pelvis's sensor (every coordinate is relative to
+    /// it) and calibrates nothing without the heading's base sensor: both must be in `raw`.
+    pub fn new(
+        raw: RawStream,
+        settings: &Settings<f64>,
+        mode: Mode,
+        calibrate_at: u32,
+    ) -> Result<Self, RawHubError> {
         let mut imu = OrientationStream::imu_config(settings, mode);
         imu.segments = raw.config.segments;
-        RawHubStream {
+        if imu.segments & SegmentId::Pelvis.bit() == 0 {
+            return Err(RawHubError::NoPelvis);
+        }
+        if let Some(h) = imu.heading.filter(|h| imu.segments & h.base.bit() == 0) {
+            return Err(RawHubError::NoBase(segment_name(h.base)));
+        }
+        Ok(RawHubStream {
             raw,
             imu,
             calibrate_at,
-        }
+        })
     }
 
     /// The bytes (a 0x00 first): gait2392 (drop policy, reorder window `window`), the raw
@@ -81,6 +95,14 @@ impl RawHubStream {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum RawHubError {
+    /// No recording of the pelvis's sensor.
+    #[error("no recording of the pelvis's sensor: a hub solves every coordinate relative to it")]
+    NoPelvis,
+    /// No recording of the heading's base sensor.
+    #[error(
+        "no recording of {0}, the heading's base sensor (--base-imu): the hub could not calibrate"
+    )]
+    NoBase(&'static str),
     /// The stream configures no orientation input.
     #[error("no ImuConfig with an orientation mode: not a stream for a hub with raw input (`qgait packets --raw --hub`)")]
     NoImuConfig,
@@ -185,4 +207,82 @@ pub fn input_counts(input: &[u8]) -> InputCounts {
         .count();
     counts.accepted = counts.accepted - samples as u32 + host_orientations(input).len() as u32;
     counts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raw::Sensitivities;
+    use qgait_fusion::RawRecording;
+    use qgait_kernel::imu::{Heading, HeadingAxis, Segment};
+    use qgait_proto::FusionMode;
+
+    /// `n` samples at 100 Hz of a sensor at rest, z up.
+    fn still(n: usize) -> RawRecording {
+        RawRecording {
+            source: "still.csv".into(),
+            period: 0.01,
+            times: (0..n).map(|k| k as f64 * 0.01).collect(),
+            lines: (2..n + 2).collect(),
+            gyr: vec![[0.0; 3]; n],
+            acc: vec![[0.0, 0.0, 9.81]; n],
+            mag: Some(vec![[20.0, 0.0, -40.0]; n]),
+            truth: None,
+            movement: None,
+        }
+    }
+
+    fn raw(segments: &[SegmentId], n: usize) -> RawStream {
+        let r = still(n);
+        let sensors: Vec<_> = segments.iter().map(|s| (*s, &r)).collect();
+        RawStream::new(&sensors, FusionMode::NineD, 1, Sensitivities::default()).unwrap()
+    }
+
+    #[test]
+    fn the_calibration_pose_is_the_first_sample_after_the_imu_configuration() {
+        let settings = Settings::<f64>::default();
+        let stream = raw(&[SegmentId::Pelvis, SegmentId::FemurR], 50);
+        let hub = RawHubStream::new(stream, &settings, Mode::LeastSquares, 20).unwrap();
+        let bytes = hub.bytes(4);
+        let messages: Vec<Message> = FrameDecoder::new().feed(&bytes).flatten().collect();
+        // gait2392, the raw input's configuration, 20 samples of 2 sensors, the IMU
+        // configuration, the other 30.
+        assert!(matches!(messages[0], Message::Config(_)));
+        assert!(matches!(messages[1], Message::RawImuConfig(_)));
+        assert!(matches!(messages[42], Message::ImuConfig(c) if c.calibrate && c.segments == 0b11));
+        assert_eq!(messages.len(), 2 + 100 + 1);
+        let host = RawHubHost::of(&bytes).unwrap();
+        assert_eq!(host.calibration, 20);
+        assert_eq!(host.frames_due(), (21..50).collect());
+        // At rest in the calibration pose: every coordinate near zero.
+        let angles = host.angles_of(|_| true).unwrap();
+        assert_eq!(angles.len(), 49);
+        assert!(angles[..20].iter().all(Option::is_none));
+        for a in angles[20..].iter().flatten() {
+            assert!(a.iter().all(|x| x.abs() < 1e-3), "{a:?}");
+        }
+    }
+
+    #[test]
+    fn the_pelvis_and_the_base_sensor_are_needed() {
+        let settings = Settings::<f64>::default();
+        let femur = raw(&[SegmentId::FemurR], 5);
+        assert!(matches!(
+            RawHubStream::new(femur, &settings, Mode::LeastSquares, 0),
+            Err(RawHubError::NoPelvis)
+        ));
+        let torso = Settings {
+            heading: Some(Heading {
+                base: Segment::Torso,
+                axis: HeadingAxis::Z,
+            }),
+            ..settings
+        };
+        let pelvis = raw(&[SegmentId::Pelvis], 5);
+        assert!(matches!(
+            RawHubStream::new(pelvis, &torso, Mode::LeastSquares, 0),
+            Err(RawHubError::NoBase("torso"))
+        ));
+        assert!(matches!(RawHubHost::of(&[]), Err(RawHubError::NoImuConfig)));
+    }
 }

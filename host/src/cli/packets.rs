@@ -277,7 +277,7 @@ fn write_raw_stream(
             &settings,
             args.imu.settings.mode(),
             at as u32,
-        )
+        )?
         .bytes(4)
     } else {
         stream.bytes()
