@@ -48,9 +48,11 @@ fn main() {
 /// give them in f64 on the host (`qgait_node::RawInput<f64, 1>`).
 fn node_cases() -> String {
     use qgait_node::{RawInput, RawOutcome};
-    use qgait_proto::{FusionMode, RawImuConfig, RawImuSample, SegmentId, PROTOCOL_VERSION};
+    use qgait_proto::{
+        segment_bit, FusionMode, RawImuConfig, RawImuSample, SegmentId, PROTOCOL_VERSION,
+    };
     let config = RawImuConfig {
-        segments: SegmentId::TibiaL.bit(),
+        segments: segment_bit(SegmentId::TibiaL),
         fusion: FusionMode::NineD,
         rate_hz: 100,
         output_every: 2,

@@ -14,12 +14,14 @@ mod cases {
     include!(concat!(env!("OUT_DIR"), "/node_cases.rs"));
 }
 
-use qgait_proto::{FusionMode, RawImuConfig, RawImuSample, SegmentId, PROTOCOL_VERSION};
+use qgait_proto::{
+    segment_bit, FusionMode, RawImuConfig, RawImuSample, SegmentId, PROTOCOL_VERSION,
+};
 
 /// The configuration build.rs used.
 fn config() -> RawImuConfig {
     RawImuConfig {
-        segments: SegmentId::TibiaL.bit(),
+        segments: segment_bit(SegmentId::TibiaL),
         fusion: FusionMode::NineD,
         rate_hz: 100,
         output_every: 2,

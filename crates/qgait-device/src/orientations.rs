@@ -13,15 +13,17 @@
 
 use std::path::Path;
 
-use qgait_kernel::imu::{Calibration, ImuError, Mode, Orientations, Segment, Settings, Solver};
+use qgait_kernel::imu::{
+    Calibration, ImuError, Mode, Orientations, Segment, Settings, Solver, SENSORS,
+};
 use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::{Gait2392, Gait2392Geometry, Quat};
 use qgait_proto::device_model::{
-    input_mode, kernel_mode, kernel_settings, q14_quat, wire_segment, wire_settings,
+    input_mode, kernel_mode, kernel_settings, q14_quat, wire_settings,
 };
 use qgait_proto::{
-    Config, FrameFlags, ImuConfig, Message, MissingPolicy, ModelId, PoseFrame, PoseModels,
-    SegmentId, SegmentOrientation, PROTOCOL_VERSION,
+    segment_bit, Config, FrameFlags, ImuConfig, Message, MissingPolicy, ModelId, PoseFrame,
+    PoseModels, SegmentId, SegmentOrientation, WireByte, PROTOCOL_VERSION,
 };
 
 use qgait_opensim::diagnostics::Warning;
@@ -32,7 +34,7 @@ use qgait_opensim::mot::MotError;
 pub type Angles = [f64; 17];
 
 /// One sample: the Q14 quaternion of each segment with a reading (by segment index).
-pub type Q14Sample = [Option<[i16; 4]>; SegmentId::COUNT];
+pub type Q14Sample = [Option<[i16; 4]>; SENSORS];
 
 /// A recording as its segment nodes send it.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,7 +94,7 @@ impl OrientationStream {
         let segments = Segment::ALL
             .into_iter()
             .filter(|&s| calibration.get(s).is_some())
-            .fold(0u8, |bits, s| bits | wire_segment(s).bit());
+            .fold(0u8, |bits, s| bits | segment_bit(s));
         let mut t0 = None;
         let rows = rows
             .into_iter()
@@ -184,11 +186,11 @@ impl OrientationStream {
         };
         SegmentId::ALL
             .into_iter()
-            .filter(|s| self.imu.segments & s.bit() != 0)
+            .filter(|&s| self.imu.segments & segment_bit(s) != 0)
             .filter_map(|s| {
                 sample[s as usize].map(|q14| SegmentOrientation {
                     version: PROTOCOL_VERSION,
-                    node: s.index(),
+                    node: s.wire_byte(),
                     segment: s,
                     seq,
                     timestamp_us,

@@ -7,15 +7,14 @@ use std::collections::BTreeMap;
 
 use qgait_fusion::RawRecording;
 use qgait_node::{RawInput, RawOutcome};
-use qgait_proto::device_model::kernel_segment;
 use qgait_proto::{
-    FrameDecoder, FusionMode, Message, RawImuConfig, RawImuSample, SegmentId, SegmentOrientation,
-    PROTOCOL_VERSION,
+    segment_bit, FrameDecoder, FusionMode, Message, RawImuConfig, RawImuSample, SegmentId,
+    SegmentOrientation, WireByte, PROTOCOL_VERSION,
 };
 
 /// OpenSim's body name of a segment (`pelvis`, `femur_r`, ..., `torso`).
 pub fn segment_name(segment: SegmentId) -> &'static str {
-    kernel_segment(segment).body()
+    segment.body()
 }
 
 /// The segment of an OpenSim body name, if it is one of the eight.
@@ -110,11 +109,11 @@ impl RawStream {
     ) -> Result<RawStream, RawStreamError> {
         let (_, first) = sensors.first().ok_or(RawStreamError::Empty)?;
         let mut segments = 0u8;
-        for (segment, r) in sensors {
-            if segments & segment.bit() != 0 {
-                return Err(RawStreamError::DuplicateSegment(segment_name(*segment)));
+        for &(segment, r) in sensors {
+            if segments & segment_bit(segment) != 0 {
+                return Err(RawStreamError::DuplicateSegment(segment_name(segment)));
             }
-            segments |= segment.bit();
+            segments |= segment_bit(segment);
             if r.len() != first.len() || (r.period - first.period).abs() > 1e-9 * first.period {
                 return Err(RawStreamError::NotInStep {
                     first: first.source.clone(),
@@ -154,7 +153,7 @@ impl RawStream {
                 let micros = ((r.times[row] - t0) * 1e6).round();
                 samples.push(RawImuSample {
                     version: PROTOCOL_VERSION,
-                    node: segment.index(),
+                    node: segment.wire_byte(),
                     segment: *segment,
                     seq: row as u32,
                     // Wraps after 2^32 µs, as a sensor's clock.

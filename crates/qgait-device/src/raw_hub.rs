@@ -19,7 +19,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use qgait_emulate::session::InputCounts;
 use qgait_kernel::imu::{Mode, Settings};
 use qgait_proto::{
-    FrameDecoder, ImuConfig, Message, MissingPolicy, RawImuSample, SegmentId, SegmentOrientation,
+    segment_bit, FrameDecoder, ImuConfig, Message, MissingPolicy, RawImuSample, SegmentId,
+    SegmentOrientation,
 };
 
 use crate::orientations::{solve_samples, OrientationStream, OrientationStreamError, Q14Sample};
@@ -53,10 +54,13 @@ impl RawHubStream {
     ) -> Result<Self, RawHubError> {
         let mut imu = OrientationStream::imu_config(settings, mode);
         imu.segments = raw.config.segments;
-        if imu.segments & SegmentId::Pelvis.bit() == 0 {
+        if imu.segments & segment_bit(SegmentId::Pelvis) == 0 {
             return Err(RawHubError::NoPelvis);
         }
-        if let Some(h) = imu.heading.filter(|h| imu.segments & h.base.bit() == 0) {
+        if let Some(h) = imu
+            .heading
+            .filter(|h| imu.segments & segment_bit(h.base) == 0)
+        {
             return Err(RawHubError::NoBase(segment_name(h.base)));
         }
         Ok(RawHubStream {

@@ -31,7 +31,7 @@ use crate::EmulateError;
 use std::collections::{BTreeMap, BTreeSet};
 
 use qgait_proto::{
-    FrameDecoder, ImuConfig, JointAngle, JointId, Message, ModelId, RawImuSample,
+    segment_bit, FrameDecoder, ImuConfig, JointAngle, JointId, Message, ModelId, RawImuSample,
     SegmentOrientation, Status,
 };
 
@@ -425,7 +425,7 @@ impl Arrivals {
                 }
                 Ok(Message::SegmentOrientation(p)) => {
                     a.status.packets_accepted += 1;
-                    *a.segments.entry(p.seq).or_default() |= p.segment.bit();
+                    *a.segments.entry(p.seq).or_default() |= segment_bit(p.segment);
                 }
                 Ok(Message::ImuConfig(c)) => a.imu = Some(c),
                 Ok(_) => {}

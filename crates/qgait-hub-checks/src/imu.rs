@@ -15,8 +15,8 @@ use qgait_kernel::models::fixtures::{imu_walk, IMU_WALK_HEADING0};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Vec3};
 use qgait_proto::device_model::{kernel_settings, q14_quat};
 use qgait_proto::{
-    Config, FrameFlags, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointId, Message,
-    MissingPolicy, ModelId, SegmentId, SegmentOrientation, PROTOCOL_VERSION,
+    segment_bit, Config, FrameFlags, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointId,
+    Message, MissingPolicy, ModelId, SegmentId, SegmentOrientation, WireByte, PROTOCOL_VERSION,
 };
 
 use qgait_hub::{Kinematics, ManualClock};
@@ -108,7 +108,7 @@ pub fn imu_config(mode: InputMode, calibrate: bool, without: u8) -> ImuConfig {
 fn orientation(seq: u32, segment: SegmentId, q14: [i16; 4]) -> SegmentOrientation {
     SegmentOrientation {
         version: PROTOCOL_VERSION,
-        node: segment.index(),
+        node: segment.wire_byte(),
         segment,
         seq,
         timestamp_us: seq.wrapping_mul(10_000),
@@ -126,7 +126,7 @@ pub fn send_orientations(
 ) -> bool {
     SegmentId::ALL
         .into_iter()
-        .filter(|s| segments & s.bit() != 0)
+        .filter(|&s| segments & segment_bit(s) != 0)
         .all(|s| {
             send(
                 serial,
@@ -278,13 +278,13 @@ pub fn orientation_failures_are_counted() -> CheckResult {
     ensure!(send(serial, &Message::ImuConfig(imu_config(ls, true, 0))));
     ensure!(send(serial, &gait2392_config(MissingPolicy::Drop)));
     // No pelvis: refused.
-    let no_pelvis = SegmentId::Pelvis.bit();
+    let no_pelvis = segment_bit(SegmentId::Pelvis);
     ensure!(send(
         serial,
         &Message::ImuConfig(imu_config(ls, true, no_pelvis))
     ));
     // No torso, heading from the torso: the calibration pose is refused.
-    let no_torso = SegmentId::Torso.bit();
+    let no_torso = segment_bit(SegmentId::Torso);
     ensure!(send(
         serial,
         &Message::ImuConfig(imu_config(ls, true, no_torso))
@@ -470,7 +470,7 @@ pub fn random_orientation_messages_never_stop_the_pipeline() -> CheckResult {
             },
             heading: (r & 32 != 0).then(|| ImuHeading {
                 base: SegmentId::ALL[((r >> 6) % 8) as usize],
-                axis: HeadingAxisId::from_repr(((r >> 9) % 6) as u8).unwrap_or(HeadingAxisId::Z),
+                axis: HeadingAxisId::ALL[((r >> 9) % 6) as usize],
             }),
             request_status: false,
         };
@@ -514,7 +514,7 @@ pub fn incomplete_orientation_samples_follow_the_missing_policy() -> CheckResult
     };
     let cf = InputMode::OrientationsClosedForm;
     let all = ImuConfig::ALL_SEGMENTS;
-    let no_calcn_l = !SegmentId::CalcnL.bit();
+    let no_calcn_l = !segment_bit(SegmentId::CalcnL);
     for (policy, frames, flagged) in [(MissingPolicy::Drop, 2, 0), (MissingPolicy::HoldLast, 3, 1)]
     {
         let clock = ManualClock::new(0);

@@ -35,11 +35,11 @@ pub const RESYNC_DISTANCE: u32 = 1024;
 const JOINTS: usize = JointId::COUNT;
 
 /// A sample of the orientation input: each segment's Q14 quaternion (`w, x, y, z`), indexed
-/// by [`SegmentId::index`](qgait_proto::SegmentId::index).
-pub type SegmentSample = Sample<[i16; 4], { qgait_proto::SegmentId::COUNT }>;
+/// by the segment's wire byte ([`WireByte`](qgait_proto::WireByte)).
+pub type SegmentSample = Sample<[i16; 4], { qgait_kernel::imu::SENSORS }>;
 
 /// The orientation input's assembler: one Q14 quaternion per segment.
-pub type SegmentAssembler = Assembler<[i16; 4], { qgait_proto::SegmentId::COUNT }>;
+pub type SegmentAssembler = Assembler<[i16; 4], { qgait_kernel::imu::SENSORS }>;
 
 /// A set of joints, one bit per [`JointId::index`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

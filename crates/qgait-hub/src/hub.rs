@@ -12,8 +12,6 @@ use qgait_proto::{
     Status, SubjectConfig, VelocityConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
-#[cfg(feature = "imu")]
-use crate::assembly::SegmentAssembler;
 use crate::assembly::{Assembler, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::{bump, count_outcome};
@@ -32,6 +30,8 @@ use qgait_proto::{
 };
 #[cfg(feature = "chain")]
 use qgait_proto::{ChainTable, ChainTableConfig};
+#[cfg(feature = "imu")]
+use {crate::assembly::SegmentAssembler, qgait_proto::WireByte};
 
 /// Bytes read by one [`Hub::poll`] at most, so periodic work is never starved by a busy line.
 pub const MAX_BYTES_PER_POLL: usize = 256;
@@ -514,7 +514,7 @@ where
         };
         let outcome = assembler.push_key(
             packet.seq,
-            packet.segment.index(),
+            packet.segment.wire_byte(),
             packet.q14,
             false,
             &mut |e| output.on_sample(e),
@@ -592,7 +592,7 @@ where
             return Err(ConfigError::ImuSettings);
         }
         if orientations {
-            if config.segments & qgait_proto::SegmentId::Pelvis.bit() == 0 {
+            if config.segments & qgait_proto::segment_bit(qgait_proto::SegmentId::Pelvis) == 0 {
                 return Err(ConfigError::ImuWithoutPelvis);
             }
             if self.kinematics.gait2392_model().is_none() {

@@ -31,9 +31,9 @@ use {
     crate::assembly::{JointSet, SampleEvent, SegmentSample},
     crate::counters::bump,
     crate::Kinematics,
-    qgait_kernel::imu::{Calibration, Orientations, Solver},
-    qgait_proto::device_model::{kernel_mode, kernel_segment, kernel_settings, q14_quat},
-    qgait_proto::{FrameFlags, SegmentId, Status, MAX_FRAME_LEN},
+    qgait_kernel::imu::{Calibration, Orientations, Solver, SENSORS},
+    qgait_proto::device_model::{kernel_mode, kernel_settings, q14_quat},
+    qgait_proto::{FrameFlags, SegmentId, Status, WireByte, MAX_FRAME_LEN},
 };
 
 #[cfg(feature = "imu")]
@@ -131,7 +131,7 @@ impl<S: embedded_io::Write> SegmentOutput<'_, S> {
     // Never inlined: the solver's frame (its chain frames and normal equations) exists only
     // while a sample is solved.
     #[inline(never)]
-    pub(crate) fn on_sample(&mut self, event: SampleEvent<'_, [i16; 4], { SegmentId::COUNT }>) {
+    pub(crate) fn on_sample(&mut self, event: SampleEvent<'_, [i16; 4], { SENSORS }>) {
         let (sample, flags) = match event {
             SampleEvent::Complete(sample) => (sample, 0),
             SampleEvent::Held { sample, .. } => (sample, FrameFlags::MISSING | FrameFlags::HELD),
@@ -188,9 +188,10 @@ impl<S: embedded_io::Write> SegmentOutput<'_, S> {
 fn readings(sample: &SegmentSample, required: JointSet) -> Orientations<f32> {
     let mut out = Orientations::EMPTY;
     for segment in SegmentId::ALL {
-        if required.contains_index(segment.index()) {
-            let q14 = sample.angles[segment.index() as usize];
-            out.set(kernel_segment(segment), Some(q14_quat(q14)));
+        let byte = segment.wire_byte();
+        if required.contains_index(byte) {
+            let q14 = sample.angles[usize::from(byte)];
+            out.set(segment, Some(q14_quat(q14)));
         }
     }
     out

@@ -6,8 +6,8 @@
 use crate::counters::bump;
 use qgait_kernel::fusion::{FusionReal, Vqf, VqfParams};
 use qgait_proto::{
-    FusionMode, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, SegmentOrientation,
-    PROTOCOL_VERSION,
+    segment_bit, FusionMode, RawImuConfig, RawImuSample, RawImuStatus, SegmentId,
+    SegmentOrientation, PROTOCOL_VERSION,
 };
 
 /// The farthest a sample may be ahead of or behind the previous one of its segment without
@@ -133,7 +133,7 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
         let vqf = Vqf::new(&VqfParams::default(), 1.0 / f64::from(config.rate_hz));
         let mut segments = SegmentId::ALL
             .into_iter()
-            .filter(|s| config.segments & s.bit() != 0);
+            .filter(|&s| config.segments & segment_bit(s) != 0);
         for slot in self.slots.iter_mut() {
             *slot = segments.next().map(|segment| Slot {
                 segment,

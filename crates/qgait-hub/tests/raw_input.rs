@@ -8,9 +8,9 @@ use qgait_hub::raw::{icm20948_config, orientation_packet, RawInput, RawOutcome};
 use qgait_hub::{Hub, ManualClock, MemorySerial};
 use qgait_hub_checks::{imu, XorShift};
 use qgait_proto::{
-    encode_frame, FrameDecoder, FusionMode, ImuConfig, InputMode, Message, MissingPolicy,
-    PoseFrame, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, Status, MAX_FRAME_LEN,
-    PROTOCOL_VERSION,
+    encode_frame, segment_bit, FrameDecoder, FusionMode, ImuConfig, InputMode, Message,
+    MissingPolicy, PoseFrame, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, Status,
+    MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 type Serial = MemorySerial<8192, 65_536>;
@@ -118,7 +118,7 @@ fn raw_samples_give_the_frames_of_nodes_fusing_the_same_samples_body() {
             .iter()
             .map(|s| {
                 let mut node = RawInput::new();
-                assert!(node.configure(&raw_config(s.bit(), fusion)));
+                assert!(node.configure(&raw_config(segment_bit(*s), fusion)));
                 node
             })
             .collect();

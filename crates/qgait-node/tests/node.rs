@@ -4,8 +4,9 @@
 use qgait_hub::{ManualClock, MemorySerial};
 use qgait_node::{orientation_packet, Node, RawInput, RawOutcome};
 use qgait_proto::{
-    encode_frame, FrameDecoder, FusionMode, JointAngle, Message, RawImuConfig, RawImuSample,
-    RawImuStatus, SegmentId, SegmentOrientation, Status, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    encode_frame, segment_bit, FrameDecoder, FusionMode, JointAngle, Message, RawImuConfig,
+    RawImuSample, RawImuStatus, SegmentId, SegmentOrientation, Status, MAX_FRAME_LEN,
+    PROTOCOL_VERSION,
 };
 
 type TestNode<'a> = Node<MemorySerial<512, 65536>, &'a ManualClock>;
@@ -92,7 +93,7 @@ fn angle_deg(a: [f64; 4], b: [f64; 4]) -> f64 {
 fn orientations_every_output_every_th_sample_as_the_f64_rules_give_them() {
     let clock = ManualClock::new(0);
     let mut node: TestNode = Node::new(MemorySerial::new(), &clock, 0);
-    let c = icm20948(SegmentId::TibiaR.bit(), FusionMode::NineD, 4);
+    let c = icm20948(segment_bit(SegmentId::TibiaR), FusionMode::NineD, 4);
     let mut bytes = frame(Message::RawImuConfig(c));
     let mut reference = RawInput::<f64, 1>::new();
     assert!(reference.configure(&c));
@@ -146,7 +147,7 @@ fn orientations_every_output_every_th_sample_as_the_f64_rules_give_them() {
 
 #[test]
 fn the_rules_count_gaps_stale_samples_resyncs_timing_and_missing_magnetometers() {
-    let c = icm20948(SegmentId::Pelvis.bit(), FusionMode::NineD, 1);
+    let c = icm20948(segment_bit(SegmentId::Pelvis), FusionMode::NineD, 1);
     let mut input = RawInput::<f32, 1>::new();
     let s = |seq| sample(SegmentId::Pelvis, seq, 0.5, &c);
     // Before any configuration: not configured.
@@ -200,7 +201,7 @@ fn the_rules_count_gaps_stale_samples_resyncs_timing_and_missing_magnetometers()
 fn a_gap_is_integrated_over_its_length() {
     // 6D, turning at 1 rad/s about the vertical: after a gap the heading is where it would be
     // without one.
-    let c = icm20948(SegmentId::Pelvis.bit(), FusionMode::SixD, 1);
+    let c = icm20948(segment_bit(SegmentId::Pelvis), FusionMode::SixD, 1);
     let run = |skip: &dyn Fn(u32) -> bool| {
         let mut input = RawInput::<f64, 1>::new();
         assert!(input.configure(&c));
@@ -226,7 +227,7 @@ fn a_gap_is_integrated_over_its_length() {
 fn configurations_the_node_cannot_use_are_rejected() {
     let clock = ManualClock::new(0);
     let mut node: TestNode = Node::new(MemorySerial::new(), &clock, 0);
-    let good = icm20948(SegmentId::CalcnL.bit(), FusionMode::NineD, 1);
+    let good = icm20948(segment_bit(SegmentId::CalcnL), FusionMode::NineD, 1);
     let bad = [
         RawImuConfig { rate_hz: 0, ..good },
         RawImuConfig {
@@ -278,7 +279,7 @@ impl Rng {
 fn any_byte_stream_is_counted_and_never_stops_the_node() {
     let clock = ManualClock::new(0);
     let mut node: TestNode = Node::new(MemorySerial::new(), &clock, 0);
-    let c = icm20948(SegmentId::Pelvis.bit(), FusionMode::NineD, 1);
+    let c = icm20948(segment_bit(SegmentId::Pelvis), FusionMode::NineD, 1);
     let mut rng = Rng(0x6e6f_6465);
     let mut bytes = frame(Message::RawImuConfig(c));
     let mut good_samples = 0u32;
@@ -344,7 +345,7 @@ fn any_byte_stream_is_counted_and_never_stops_the_node() {
 
 #[test]
 fn the_orientation_packet_carries_the_sample_s_identity() {
-    let c = icm20948(SegmentId::Torso.bit(), FusionMode::NineD, 1);
+    let c = icm20948(segment_bit(SegmentId::Torso), FusionMode::NineD, 1);
     let s = sample(SegmentId::Torso, 77, 0.0, &c);
     let p = orientation_packet(&s, [0.5f32, -0.5, 0.5, -0.5]);
     assert_eq!(

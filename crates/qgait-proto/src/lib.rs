@@ -47,8 +47,8 @@ pub use crate::messages::{
 };
 pub use crate::model::ModelId;
 pub use crate::orientation::{
-    HeadingAxisId, ImuConfig, ImuHeading, InputMode, SegmentId, SegmentOrientation,
-    Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
+    segment_bit, HeadingAxisId, ImuConfig, ImuHeading, InputMode, SegmentId, SegmentOrientation,
+    WireByte, Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
 };
 pub use crate::raw::{
     FusionMode, RawImuConfig, RawImuSample, RawImuStatus, RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,

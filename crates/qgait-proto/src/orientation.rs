@@ -8,7 +8,7 @@
 //! lost to the rounding ([`Q14_MAX_ANGLE_ERROR_RAD`], measured by the crate's tests).
 
 use serde::{Deserialize, Serialize};
-use strum::{EnumCount, FromRepr};
+use strum::FromRepr;
 
 /// The scale of a Q14 quaternion component: the integer `16384` is `1.0`.
 pub const Q14_ONE: f32 = 16384.0;
@@ -19,75 +19,89 @@ pub const Q14_ONE: f32 = 16384.0;
 /// the actual largest over a million random rotations: 0.0069 degrees (mean 0.0033).
 pub const Q14_MAX_ANGLE_ERROR_RAD: f64 = 1.0 / 8192.0;
 
-/// A body segment carrying an IMU node, in OpenSense's lower-body set (the kernel's
-/// `imu::Segment`, same order).
-///
-/// On the wire it is one raw byte holding the discriminant; a byte with no matching segment is
-/// reported as [`DecodeError::UnknownSegment`](crate::DecodeError::UnknownSegment).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    Serialize,
-    Deserialize,
-    EnumCount,
-    FromRepr,
-)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[repr(u8)]
-pub enum SegmentId {
-    /// The pelvis.
-    Pelvis = 0,
-    /// Right thigh.
-    FemurR = 1,
-    /// Right shank.
-    TibiaR = 2,
-    /// Right foot (heel bone).
-    CalcnR = 3,
-    /// Left thigh.
-    FemurL = 4,
-    /// Left shank.
-    TibiaL = 5,
-    /// Left foot.
-    CalcnL = 6,
-    /// The trunk.
-    Torso = 7,
+/// A body segment carrying an IMU node, in OpenSense's lower-body set: the kernel's
+/// [`Segment`](qgait_kernel::imu::Segment), under the protocol's name. On the wire it is one
+/// byte, its [`WireByte`]; a byte with no segment is reported as
+/// [`DecodeError::UnknownSegment`](crate::DecodeError::UnknownSegment).
+pub use qgait_kernel::imu::Segment as SegmentId;
+
+/// An axis of a sensor's own frame, with its sign (OpenSense's `base_heading_axis`): the
+/// kernel's [`HeadingAxis`](qgait_kernel::imu::HeadingAxis), under the protocol's name. On the
+/// wire it is one byte, its [`WireByte`].
+pub use qgait_kernel::imu::HeadingAxis as HeadingAxisId;
+
+/// The protocol's stable numbering of a value the kernel defines: the byte that stands for it
+/// on the wire, in the hand-written encoders and decoders and in postcard's (docs/protocol.md
+/// section 4.7 for segments, 4.8 for heading axes). Human-readable formats (JSON) write the
+/// variant's name instead.
+pub trait WireByte: Copy + Sized {
+    /// The value's byte on the wire.
+    fn wire_byte(self) -> u8;
+
+    /// The value of wire byte `byte`, or `None`.
+    fn from_wire_byte(byte: u8) -> Option<Self>;
 }
 
-impl SegmentId {
-    /// Number of segments.
-    pub const COUNT: usize = <Self as EnumCount>::COUNT;
+/// [`WireByte`] of `$type` from its table of values and bytes, both ways (two matches the
+/// compiler turns into a range check and the identity where the numbering is the kernel's
+/// order, as it is today).
+macro_rules! wire_bytes {
+    ($type:ident { $($value:ident = $byte:literal,)* }) => {
+        impl WireByte for $type {
+            fn wire_byte(self) -> u8 {
+                match self {
+                    $($type::$value => $byte,)*
+                }
+            }
 
-    /// Every segment, in discriminant order.
-    pub const ALL: [SegmentId; Self::COUNT] = [
-        SegmentId::Pelvis,
-        SegmentId::FemurR,
-        SegmentId::TibiaR,
-        SegmentId::CalcnR,
-        SegmentId::FemurL,
-        SegmentId::TibiaL,
-        SegmentId::CalcnL,
-        SegmentId::Torso,
-    ];
+            fn from_wire_byte(byte: u8) -> Option<Self> {
+                match byte {
+                    $($byte => Some($type::$value),)*
+                    _ => None,
+                }
+            }
+        }
+    };
+}
 
-    /// The wire byte (the discriminant).
-    pub const fn index(self) -> u8 {
-        self as u8
+// protocol.md 4.7's table of segment ids, and 4.8's of heading axes.
+wire_bytes!(SegmentId { Pelvis = 0, FemurR = 1, TibiaR = 2, CalcnR = 3,
+    FemurL = 4, TibiaL = 5, CalcnL = 6, Torso = 7, });
+wire_bytes!(HeadingAxisId { X = 0, NegX = 1, Y = 2, NegY = 3, Z = 4, NegZ = 5, });
+
+/// The bit of `segment` in a set of segments on the wire ([`ImuConfig::segments`],
+/// [`RawImuConfig::segments`](crate::RawImuConfig::segments)): bit `i` for wire byte `i`.
+pub fn segment_bit(segment: SegmentId) -> u8 {
+    1 << segment.wire_byte()
+}
+
+/// serde of a [`WireByte`] field: its wire byte in a binary format (postcard), the kernel's own
+/// serde (the variant's name) in a human-readable one.
+pub(crate) mod wire_byte {
+    use serde::{de::Error, Deserialize, Deserializer, Serialize, Serializer};
+
+    use super::WireByte;
+
+    pub(crate) fn serialize<T: WireByte + Serialize, S: Serializer>(
+        value: &T,
+        serializer: S,
+    ) -> Result<S::Ok, S::Error> {
+        if serializer.is_human_readable() {
+            value.serialize(serializer)
+        } else {
+            serializer.serialize_u8(value.wire_byte())
+        }
     }
 
-    /// The segment of wire byte `index`, or `None`.
-    pub const fn from_index(index: u8) -> Option<SegmentId> {
-        Self::from_repr(index)
-    }
-
-    /// The bit of this segment in [`ImuConfig::segments`].
-    pub const fn bit(self) -> u8 {
-        1 << self as u8
+    pub(crate) fn deserialize<'de, T: WireByte + Deserialize<'de>, D: Deserializer<'de>>(
+        deserializer: D,
+    ) -> Result<T, D::Error> {
+        if deserializer.is_human_readable() {
+            T::deserialize(deserializer)
+        } else {
+            let byte = u8::deserialize(deserializer)?;
+            T::from_wire_byte(byte).ok_or_else(|| D::Error::custom("unknown wire byte"))
+        }
     }
 }
 
@@ -102,6 +116,7 @@ pub struct SegmentOrientation {
     /// Id of the sending node.
     pub node: u8,
     /// The segment it is strapped to.
+    #[serde(with = "wire_byte")]
     pub segment: SegmentId,
     /// Sample sequence number, wrapping at `u32::MAX`: the segments of one sample share it.
     pub seq: u32,
@@ -152,33 +167,16 @@ impl InputMode {
     }
 }
 
-/// An axis of a sensor's own frame, with its sign (OpenSense's `base_heading_axis`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, FromRepr)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[repr(u8)]
-pub enum HeadingAxisId {
-    /// +x
-    X = 0,
-    /// -x
-    NegX = 1,
-    /// +y
-    Y = 2,
-    /// -y
-    NegY = 3,
-    /// +z
-    Z = 4,
-    /// -z
-    NegZ = 5,
-}
-
 /// The heading correction of the calibration: which IMU's which axis points forward in the
 /// calibration pose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ImuHeading {
     /// OpenSense's `base_imu_label`.
+    #[serde(with = "wire_byte")]
     pub base: SegmentId,
     /// OpenSense's `base_heading_axis`.
+    #[serde(with = "wire_byte")]
     pub axis: HeadingAxisId,
 }
 
@@ -190,7 +188,7 @@ pub struct ImuHeading {
 pub struct ImuConfig {
     /// Joint angles or segment orientations.
     pub mode: InputMode,
-    /// The segments the nodes send, one bit per [`SegmentId`] ([`SegmentId::bit`]): a sample
+    /// The segments the nodes send, one bit per [`SegmentId`] ([`segment_bit`]): a sample
     /// is complete when each of them arrived. At least the pelvis.
     pub segments: u8,
     /// `true`: the next complete orientation sample is the calibration pose (the subject

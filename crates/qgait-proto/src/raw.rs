@@ -12,6 +12,7 @@
 use serde::{Deserialize, Serialize};
 use strum::FromRepr;
 
+use crate::orientation::wire_byte;
 use crate::SegmentId;
 
 /// Wire tag of [`RawImuSample`].
@@ -31,6 +32,7 @@ pub struct RawImuSample {
     /// Id of the sending node.
     pub node: u8,
     /// The segment the node is strapped to.
+    #[serde(with = "wire_byte")]
     pub segment: SegmentId,
     /// Sample number of the node's stream: one more per sample at the configured rate
     /// (samples the node knows it lost, e.g. to a FIFO overflow, advance it too); nodes
@@ -88,7 +90,7 @@ pub enum FusionMode {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RawImuConfig {
-    /// The segments these settings are for, one bit per [`SegmentId`] ([`SegmentId::bit`]):
+    /// The segments these settings are for, one bit per [`SegmentId`] ([`segment_bit`](crate::segment_bit)):
     /// a hub fuses their orientations from [`RawImuSample`]s (the others still come as
     /// [`SegmentOrientation`](crate::SegmentOrientation)s); 0: no raw input (the default).
     pub segments: u8,

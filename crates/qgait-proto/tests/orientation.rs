@@ -2,12 +2,12 @@
 //! decoder's errors, and the device model's mapping to the kernel.
 mod common;
 
-use qgait_kernel::imu::{ImuError, Segment, UNIT_TOLERANCE};
+use qgait_kernel::imu::{ImuError, UNIT_TOLERANCE};
 use qgait_kernel::Quat;
-use qgait_proto::device_model::{kernel_segment, kernel_settings, packet_quat, q14_quat};
+use qgait_proto::device_model::{kernel_settings, packet_quat, q14_quat};
 use qgait_proto::{
     decode_hub_message, decode_message, encode_message, DecodeError, HeadingAxisId, HubMessage,
-    ImuConfig, ImuHeading, InputMode, Message, SegmentId, SegmentOrientation, Status,
+    ImuConfig, ImuHeading, InputMode, Message, SegmentId, SegmentOrientation, Status, WireByte,
     MAX_MESSAGE_LEN, PROTOCOL_VERSION, Q14_MAX_ANGLE_ERROR_RAD,
 };
 
@@ -121,7 +121,7 @@ fn far_from_unit_length_is_refused_near_is_normalised() {
     assert_eq!(
         packet_quat::<f32>(&zero),
         Err(ImuError::NotUnit {
-            segment: Segment::FemurL
+            segment: SegmentId::FemurL
         })
     );
     let long = (16384.0 * (1.0 + UNIT_TOLERANCE) * 1.01) as i16;
@@ -203,12 +203,96 @@ fn imu_config_decodes_and_refuses_unknown_values() {
     assert_eq!(decode_message(&axis), Err(DecodeError::Malformed));
 }
 
+/// The protocol's stable numbering (protocol.md 4.7 and 4.8), whatever the kernel's order: each
+/// one's wire byte is its place here.
+const SEGMENTS_BY_BYTE: [SegmentId; 8] = {
+    use SegmentId::*;
+    [
+        Pelvis, FemurR, TibiaR, CalcnR, FemurL, TibiaL, CalcnL, Torso,
+    ]
+};
+const AXES_BY_BYTE: [HeadingAxisId; 6] = {
+    use HeadingAxisId::*;
+    [X, NegX, Y, NegY, Z, NegZ]
+};
+
+/// `message` encoded by the crate and by postcard itself (the reference): the same bytes, which
+/// decode back to it both ways.
+fn encoded_both_ways(message: &Message) -> Vec<u8> {
+    let mut buf = [0u8; MAX_MESSAGE_LEN];
+    let ours = encode_message(message, &mut buf).unwrap().to_vec();
+    let mut reference = [0u8; MAX_MESSAGE_LEN];
+    assert_eq!(
+        postcard::to_slice(message, &mut reference).unwrap(),
+        &ours[..]
+    );
+    assert_eq!(decode_message(&ours).as_ref(), Ok(message));
+    assert_eq!(postcard::from_bytes::<Message>(&ours).as_ref(), Ok(message));
+    ours
+}
+
 #[test]
-fn the_wire_maps_to_the_kernel_in_order() {
-    for (i, s) in SegmentId::ALL.into_iter().enumerate() {
-        assert_eq!(kernel_segment(s) as usize, i);
-        assert_eq!(kernel_segment(s).imu_label(), Segment::ALL[i].imu_label());
+fn segments_and_heading_axes_have_stable_wire_bytes() {
+    assert_eq!(SegmentId::ALL.len(), SEGMENTS_BY_BYTE.len());
+    assert_eq!(HeadingAxisId::ALL.len(), AXES_BY_BYTE.len());
+    for (byte, segment) in (0u8..).zip(SEGMENTS_BY_BYTE) {
+        assert_eq!(segment.wire_byte(), byte);
+        assert_eq!(SegmentId::from_wire_byte(byte), Some(segment));
+        // tag, version, node, segment: by hand and through postcard's serialiser.
+        let orientation = SegmentOrientation {
+            segment,
+            ..packet([16384, 0, 0, 0])
+        };
+        assert_eq!(
+            encoded_both_ways(&Message::SegmentOrientation(orientation))[3],
+            byte
+        );
+        let raw = qgait_proto::RawImuSample {
+            version: PROTOCOL_VERSION,
+            node: 0,
+            segment,
+            seq: 0,
+            timestamp_us: 0,
+            gyro: [0; 3],
+            accel: [0; 3],
+            mag: None,
+        };
+        assert_eq!(encoded_both_ways(&Message::RawImuSample(raw))[3], byte);
+        for (axis_byte, axis) in (0u8..).zip(AXES_BY_BYTE) {
+            assert_eq!(axis.wire_byte(), axis_byte);
+            assert_eq!(HeadingAxisId::from_wire_byte(axis_byte), Some(axis));
+            let config = ImuConfig {
+                mode: InputMode::OrientationsClosedForm,
+                segments: ImuConfig::ALL_SEGMENTS,
+                calibrate: false,
+                sensor_to_opensim: [0.0; 3],
+                heading: Some(ImuHeading {
+                    base: segment,
+                    axis,
+                }),
+                request_status: false,
+            };
+            // tag, mode, segments, calibrate, 12 bytes of angles, option tag, base, axis.
+            assert_eq!(
+                encoded_both_ways(&Message::ImuConfig(config))[17..19],
+                [byte, axis_byte]
+            );
+        }
     }
+    for byte in 8..=255 {
+        assert_eq!(SegmentId::from_wire_byte(byte), None);
+    }
+    for byte in 6..=255 {
+        assert_eq!(HeadingAxisId::from_wire_byte(byte), None);
+    }
+    // An unknown byte is refused by postcard's deserialiser too.
+    let mut bytes = encoded_both_ways(&Message::SegmentOrientation(packet([16384, 0, 0, 0])));
+    bytes[3] = 8;
+    assert!(postcard::from_bytes::<Message>(&bytes).is_err());
+}
+
+#[test]
+fn the_wire_settings_are_the_kernels() {
     let config = ImuConfig {
         mode: InputMode::OrientationsLeastSquares,
         segments: ImuConfig::ALL_SEGMENTS,

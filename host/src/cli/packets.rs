@@ -88,6 +88,7 @@ impl RawArgs {
     /// The raw stream the arguments describe, if `--raw` is given.
     pub fn stream(&self) -> anyhow::Result<Option<qgait_device::raw::RawStream>> {
         use qgait_device::raw::{segment_of_name, RawStream, Sensitivities};
+        use qgait_kernel::imu::SENSORS;
         use qgait_proto::{FusionMode, SegmentId};
         if self.raw.is_empty() {
             return Ok(None);
@@ -99,11 +100,8 @@ impl RawArgs {
                 self.raw.len()
             );
         }
-        if self.raw.len() > SegmentId::COUNT {
-            bail!(
-                "at most {} raw recordings (one per segment)",
-                SegmentId::COUNT
-            );
+        if self.raw.len() > SENSORS {
+            bail!("at most {} raw recordings (one per segment)", SENSORS);
         }
         let mut recordings = Vec::new();
         for (i, path) in self.raw.iter().enumerate() {

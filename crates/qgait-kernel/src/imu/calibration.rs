@@ -7,8 +7,12 @@ use super::math::{acos, space_fixed_xyz};
 use super::{unit, ImuError, Orientations, Segment, SENSORS};
 use crate::{Gait2392, Quat, Real, Vec3};
 
-/// An axis of a sensor's own frame, with its sign (OpenSense's `base_heading_axis`).
+/// An axis of a sensor's own frame, with its sign (OpenSense's `base_heading_axis`). The
+/// protocol crate carries it as it is (`qgait_proto::HeadingAxisId`), with its own stable wire
+/// byte for each axis; features `serde` and `defmt` derive those traits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum HeadingAxis {
     /// +x
     X,
@@ -25,6 +29,16 @@ pub enum HeadingAxis {
 }
 
 impl HeadingAxis {
+    /// All of them, in declaration order.
+    pub const ALL: [HeadingAxis; 6] = [
+        HeadingAxis::X,
+        HeadingAxis::NegX,
+        HeadingAxis::Y,
+        HeadingAxis::NegY,
+        HeadingAxis::Z,
+        HeadingAxis::NegZ,
+    ];
+
     /// The unit vector.
     pub fn vector<T: Real>(self) -> Vec3<T> {
         match self {

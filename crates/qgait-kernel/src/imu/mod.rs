@@ -94,7 +94,13 @@ pub const SENSORS: usize = 8;
 
 /// A body segment that carries an IMU, in OpenSense's lower-body set. The discriminant is the
 /// segment's index in [`Orientations`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+///
+/// The protocol crate carries it as it is (`qgait_proto::SegmentId`), with its own stable wire
+/// byte for each segment; features `serde` (by variant name, or index in a binary format) and
+/// `defmt` derive those traits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Segment {
     /// The pelvis (gait2392's root body).
     Pelvis = 0,

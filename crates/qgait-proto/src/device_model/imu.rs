@@ -1,46 +1,11 @@
-//! The IMU input's wire values as the kernel's: segments, heading axes, settings, modes and
-//! quaternions ([`SegmentOrientation`] and [`ImuConfig`] to `qgait_kernel::imu`).
+//! The IMU input's wire values as the kernel's: settings, modes and quaternions
+//! ([`SegmentOrientation`] and [`ImuConfig`] to `qgait_kernel::imu`; segments and heading axes
+//! are the kernel's own types).
 
-use qgait_kernel::imu::{self, HeadingAxis, ImuError, Mode, Segment, Settings};
+use qgait_kernel::imu::{self, ImuError, Mode, Settings};
 use qgait_kernel::{Quat, Real};
 
-use crate::{
-    HeadingAxisId, ImuConfig, ImuHeading, InputMode, SegmentId, SegmentOrientation, Q14_ONE,
-};
-
-/// The kernel's segment of a wire segment (the same order).
-pub const fn kernel_segment(segment: SegmentId) -> Segment {
-    Segment::ALL[segment as usize]
-}
-
-/// The wire segment of a kernel segment.
-pub const fn wire_segment(segment: Segment) -> SegmentId {
-    SegmentId::ALL[segment as usize]
-}
-
-/// The kernel's heading axis of a wire one.
-pub const fn kernel_heading_axis(axis: HeadingAxisId) -> HeadingAxis {
-    match axis {
-        HeadingAxisId::X => HeadingAxis::X,
-        HeadingAxisId::NegX => HeadingAxis::NegX,
-        HeadingAxisId::Y => HeadingAxis::Y,
-        HeadingAxisId::NegY => HeadingAxis::NegY,
-        HeadingAxisId::Z => HeadingAxis::Z,
-        HeadingAxisId::NegZ => HeadingAxis::NegZ,
-    }
-}
-
-/// The wire heading axis of a kernel one.
-pub const fn wire_heading_axis(axis: HeadingAxis) -> HeadingAxisId {
-    match axis {
-        HeadingAxis::X => HeadingAxisId::X,
-        HeadingAxis::NegX => HeadingAxisId::NegX,
-        HeadingAxis::Y => HeadingAxisId::Y,
-        HeadingAxis::NegY => HeadingAxisId::NegY,
-        HeadingAxis::Z => HeadingAxisId::Z,
-        HeadingAxis::NegZ => HeadingAxisId::NegZ,
-    }
-}
+use crate::{ImuConfig, ImuHeading, InputMode, SegmentOrientation, Q14_ONE};
 
 /// The kernel's solver mode of an input mode (`None` for joint angles).
 pub const fn kernel_mode(mode: InputMode) -> Option<Mode> {
@@ -65,8 +30,8 @@ pub fn kernel_settings<T: Real>(config: &ImuConfig) -> Settings<T> {
     Settings {
         sensor_to_opensim: config.sensor_to_opensim.map(|r| T::from_f64(f64::from(r))),
         heading: config.heading.map(|h| imu::Heading {
-            base: kernel_segment(h.base),
-            axis: kernel_heading_axis(h.axis),
+            base: h.base,
+            axis: h.axis,
         }),
     }
 }
@@ -78,8 +43,8 @@ pub fn wire_settings<T: Real>(settings: &Settings<T>) -> ([f32; 3], Option<ImuHe
     (
         settings.sensor_to_opensim.map(|r| r.to_f64() as f32),
         settings.heading.map(|h| ImuHeading {
-            base: wire_segment(h.base),
-            axis: wire_heading_axis(h.axis),
+            base: h.base,
+            axis: h.axis,
         }),
     )
 }
@@ -94,5 +59,5 @@ pub fn q14_quat<T: Real>(q14: [i16; 4]) -> Quat<T> {
 /// norm is within the kernel's [`UNIT_TOLERANCE`](imu::UNIT_TOLERANCE) of 1, the error of
 /// [`imu::unit`] otherwise.
 pub fn packet_quat<T: Real>(packet: &SegmentOrientation) -> Result<Quat<T>, ImuError> {
-    imu::unit(q14_quat(packet.q14), kernel_segment(packet.segment))
+    imu::unit(q14_quat(packet.q14), packet.segment)
 }

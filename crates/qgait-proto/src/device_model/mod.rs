@@ -12,9 +12,9 @@
 //! - [`SubjectParts`] and [`parts_of`]: a subject gait2392 geometry as the six
 //!   [`SubjectLeg`](crate::SubjectLeg)/[`SubjectKnee`](crate::SubjectKnee) parts it travels in,
 //!   and back.
-//! - the IMU input ([`kernel_segment`], [`kernel_settings`], [`kernel_mode`],
-//!   [`packet_quat`] and their inverses): the wire's segments, heading settings, modes and Q14
-//!   quaternions as the kernel's `imu` types, for the hub and the host alike.
+//! - the IMU input ([`kernel_settings`], [`kernel_mode`], [`packet_quat`] and their inverses):
+//!   the wire's heading settings, modes and Q14 quaternions as the kernel's `imu` types, for the
+//!   hub and the host alike (segments and heading axes are the kernel's own types).
 //! - [`ChainUpload`], [`DeviceChain`], [`table_crc`] and [`chain_pose`]: an imported lower-limb chain (the kernel's `CustomChain`) packed
 //!   into the hub's table (the kernel's `PackedChain` in `f32`), the
 //!   [`ChainTable`](crate::ChainTable) parts its image travels in, and its pose.
@@ -38,10 +38,7 @@ mod subject;
 pub use chain::{
     chain_pose, table_crc, ChainUpload, DeviceChain, LowerLimbChain, CHAIN_IMAGE_LEN, CHAIN_POINTS,
 };
-pub use imu::{
-    input_mode, kernel_heading_axis, kernel_mode, kernel_segment, kernel_settings, packet_quat,
-    q14_quat, wire_heading_axis, wire_segment, wire_settings,
-};
+pub use imu::{input_mode, kernel_mode, kernel_settings, packet_quat, q14_quat, wire_settings};
 #[cfg(feature = "chain")]
 pub use kinematics::CheckedChain;
 pub use kinematics::{

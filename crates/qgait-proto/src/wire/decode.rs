@@ -7,6 +7,7 @@
 
 use super::check_angle_count;
 use super::varint::{end, take, take_varint_u32};
+use crate::WireByte;
 use crate::{
     point, segment, Config, DecodeError, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
     JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, SegmentId,
@@ -281,7 +282,7 @@ pub(super) fn segment_orientation(body: &[u8]) -> Result<SegmentOrientation, Dec
     Ok(SegmentOrientation {
         version,
         node,
-        segment: SegmentId::from_index(segment).ok_or(DecodeError::UnknownSegment(segment))?,
+        segment: SegmentId::from_wire_byte(segment).ok_or(DecodeError::UnknownSegment(segment))?,
         seq,
         timestamp_us,
         q14,
@@ -303,8 +304,8 @@ pub(super) fn imu_config(body: &[u8]) -> Result<ImuConfig, DecodeError> {
     let heading = match heading {
         None => None,
         Some((base, axis)) => Some(ImuHeading {
-            base: SegmentId::from_index(base).ok_or(DecodeError::UnknownSegment(base))?,
-            axis: HeadingAxisId::from_repr(axis).ok_or(DecodeError::Malformed)?,
+            base: SegmentId::from_wire_byte(base).ok_or(DecodeError::UnknownSegment(base))?,
+            axis: HeadingAxisId::from_wire_byte(axis).ok_or(DecodeError::Malformed)?,
         }),
     };
     Ok(ImuConfig {
@@ -374,7 +375,7 @@ pub(super) fn raw_imu_sample(body: &[u8]) -> Result<RawImuSample, DecodeError> {
     Ok(RawImuSample {
         version,
         node,
-        segment: SegmentId::from_index(segment).ok_or(DecodeError::UnknownSegment(segment))?,
+        segment: SegmentId::from_wire_byte(segment).ok_or(DecodeError::UnknownSegment(segment))?,
         seq,
         timestamp_us,
         gyro,

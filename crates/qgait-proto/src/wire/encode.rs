@@ -7,6 +7,7 @@
 use super::check_angle_count;
 use super::varint::{varint_u32, VARINT_U32_MAX};
 use crate::sizes::STATUS_COUNTERS;
+use crate::WireByte;
 use crate::{
     point, EncodeError, ModelId, PoseFrame, PoseVelocities, RawImuStatus, SegmentOrientation,
     Status, MAX_MESSAGE_LEN,
@@ -227,7 +228,7 @@ pub(crate) fn encode_segment_orientation_message(
     f.byte(7)?;
     f.byte(p.version)?;
     f.byte(p.node)?;
-    f.byte(p.segment.index())?;
+    f.byte(p.segment.wire_byte())?;
     f.varint(p.seq)?;
     f.varint(p.timestamp_us)?;
     for c in p.q14 {

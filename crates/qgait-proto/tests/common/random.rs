@@ -89,7 +89,7 @@ pub fn message(rng: &mut Rng) -> Message {
         7 => Message::SegmentOrientation(SegmentOrientation {
             version: PROTOCOL_VERSION,
             node: rng.byte(),
-            segment: SegmentId::ALL[rng.below(SegmentId::COUNT)],
+            segment: SegmentId::ALL[rng.below(SegmentId::ALL.len())],
             seq: varint_u32(rng),
             timestamp_us: varint_u32(rng),
             q14: [0; 4].map(|_: i16| rng.next_u32() as i16),
@@ -101,8 +101,8 @@ pub fn message(rng: &mut Rng) -> Message {
             calibrate: rng.chance(50),
             sensor_to_opensim: [float(rng), float(rng), float(rng)],
             heading: rng.chance(50).then(|| ImuHeading {
-                base: SegmentId::ALL[rng.below(SegmentId::COUNT)],
-                axis: HeadingAxisId::from_repr(rng.below(6) as u8).expect("in range"),
+                base: SegmentId::ALL[rng.below(SegmentId::ALL.len())],
+                axis: HeadingAxisId::ALL[rng.below(6)],
             }),
             request_status: rng.chance(50),
         }),
@@ -135,7 +135,7 @@ pub fn message(rng: &mut Rng) -> Message {
         11 => Message::RawImuSample(RawImuSample {
             version: PROTOCOL_VERSION,
             node: rng.byte(),
-            segment: SegmentId::ALL[rng.below(SegmentId::COUNT)],
+            segment: SegmentId::ALL[rng.below(SegmentId::ALL.len())],
             seq: varint_u32(rng),
             timestamp_us: varint_u32(rng),
             gyro: [0; 3].map(|_: i16| count(rng)),

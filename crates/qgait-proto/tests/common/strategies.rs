@@ -214,7 +214,7 @@ pub fn chain_table_config() -> impl Strategy<Value = ChainTableConfig> {
 }
 
 pub fn segment_id() -> impl Strategy<Value = SegmentId> {
-    (0..SegmentId::COUNT as u8).prop_map(|i| SegmentId::from_index(i).expect("in range"))
+    proptest::sample::select(SegmentId::ALL.to_vec())
 }
 
 pub fn segment_orientation() -> impl Strategy<Value = SegmentOrientation> {
@@ -256,7 +256,7 @@ pub fn imu_config() -> impl Strategy<Value = ImuConfig> {
                 sensor_to_opensim,
                 heading: heading.map(|(base, axis)| ImuHeading {
                     base,
-                    axis: HeadingAxisId::from_repr(axis).expect("in range"),
+                    axis: HeadingAxisId::ALL[usize::from(axis)],
                 }),
                 request_status,
             },
