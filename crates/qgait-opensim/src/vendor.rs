@@ -949,3 +949,76 @@ impl OrientationSource for ApdmTrial {
         }))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LABELS: &[u8] = b"Time,pelvis/Orientation/Scalar,pelvis/Orientation/X,pelvis/Orientation/Y,pelvis/Orientation/Z";
+
+    /// `text` (its pieces) written as an APDM `.csv`, and that file opened (or the error).
+    fn apdm(name: &str, text: &[&[u8]]) -> (PathBuf, Result<ApdmTrial, MotError>) {
+        let path =
+            std::env::temp_dir().join(format!("qgait-vendor-{}-{name}.csv", std::process::id()));
+        std::fs::write(&path, text.concat()).unwrap();
+        let trial = ApdmTrial::open(&path, None, None);
+        (path, trial)
+    }
+
+    #[test]
+    fn apdm_rows_keep_their_lines_across_crlf_blank_and_empty_lines() {
+        let (path, trial) = apdm(
+            "lines",
+            &[
+                b"Test Name:,t\r\nSample Rate:,100,Hz\r\n",
+                LABELS,
+                b"\r\ns,,,,\r\n0,1,0,0,0\r\n \r\n\n0.01,0,1,0,0",
+            ],
+        );
+        let mut trial = trial.unwrap();
+        let mut rows = Vec::new();
+        while let Some(row) = trial.next_row().unwrap() {
+            rows.push((row.line, row.time));
+        }
+        assert_eq!(rows, [(5, 0.0), (8, 0.01)]);
+        std::fs::remove_file(path).unwrap();
+    }
+
+    #[test]
+    fn a_bad_apdm_value_is_named_by_file_line_and_character_column() {
+        // Line 6, after an empty line; `été` in Latin-1 is three characters; no `\n` at the end.
+        let (path, trial) = apdm(
+            "bad",
+            &[
+                b"Test Name:,t\nSample Rate:,100,Hz\n",
+                LABELS,
+                b"\ns,,,,\n\n\xe9t\xe9,1,0,0,w\r",
+            ],
+        );
+        let e = trial.unwrap().next_row().unwrap_err().to_string();
+        let at = format!(
+            "{}:6:11: bad number `w` in column `pelvis/Orientation/Z`",
+            path.display()
+        );
+        assert!(e.starts_with(&at), "{e}");
+        std::fs::remove_file(path).unwrap();
+    }
+
+    #[test]
+    fn a_blank_or_missing_apdm_header_line_is_named() {
+        let (path, trial) = apdm("blank", &[b"Test Name:,t\n\nSample Rate:,100,Hz\n"]);
+        let e = trial.err().unwrap().to_string();
+        assert_eq!(
+            e,
+            format!("{}:2: expected `Sample Rate:,<Hz>`", path.display())
+        );
+        std::fs::remove_file(path).unwrap();
+        let (path, trial) = apdm("short", &[b"Test Name:,t\n"]);
+        let e = trial.err().unwrap().to_string();
+        assert_eq!(
+            e,
+            format!("{}:1: ends before the `Sample Rate:` line", path.display())
+        );
+        std::fs::remove_file(path).unwrap();
+    }
+}
