@@ -37,10 +37,12 @@
 //! Orientation rows are read one at a time (constant memory). Errors name the file, the line and, for a
 //! value, its column.
 
+use std::borrow::Cow;
 use std::fs::File;
-use std::io::{BufRead, BufReader};
+use std::io::{self, BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
+use csv::ByteRecord;
 use qgait_kernel::imu::math::from_rotation_matrix;
 use qgait_kernel::imu::{unit, Orientations, Segment, UNIT_TOLERANCE};
 use qgait_kernel::Quat;
@@ -239,6 +241,14 @@ pub fn open(
     }
 }
 
+/// `path` opened for reading.
+fn open_file(path: &Path) -> Result<File, MotError> {
+    File::open(path).map_err(|error| MotError::Io {
+        path: path.display().to_string(),
+        error,
+    })
+}
+
 /// A text file read line by line with its line number (Latin-1 bytes kept as characters).
 struct Lines {
     reader: BufReader<File>,
@@ -248,10 +258,7 @@ struct Lines {
 
 impl Lines {
     fn open(path: &Path) -> Result<Self, MotError> {
-        let file = File::open(path).map_err(|error| MotError::Io {
-            path: path.display().to_string(),
-            error,
-        })?;
+        let file = open_file(path)?;
         Ok(Self {
             reader: BufReader::new(file),
             line: 0,
@@ -308,7 +315,7 @@ fn cells(line: &str, separator: char) -> Vec<(usize, &str)> {
 fn number(
     path: &str,
     line: usize,
-    cells: &[(usize, &str)],
+    cells: &[(usize, impl AsRef<str>)],
     index: usize,
     label: &str,
 ) -> Result<f64, MotError> {
@@ -323,6 +330,7 @@ fn number(
             ),
         ));
     };
+    let text = text.as_ref();
     text.trim()
         .parse::<f64>()
         .ok()
@@ -741,10 +749,132 @@ impl OrientationSource for XsensTrial {
     }
 }
 
+/// An APDM `.csv` read record by record with the `csv` crate: `,`-separated cells, a record a
+/// line (no quoting: APDM writes none, and OpenSim's reader reads none), its bytes kept (a line
+/// that is not UTF-8 is read as Latin-1), so that each record has its line and each cell its
+/// character column.
+struct ApdmRecords {
+    reader: csv::Reader<io::Chain<File, &'static [u8]>>,
+    record: ByteRecord,
+    /// The line of `record`.
+    line: usize,
+    /// `record` is read but not yet taken (the header line asked for was blank).
+    held: bool,
+}
+
+/// A line's cells, each with its 1-based character column.
+type Cells<'a> = Vec<(usize, Cow<'a, str>)>;
+
+impl ApdmRecords {
+    fn open(path: &Path) -> Result<Self, MotError> {
+        let file = open_file(path)?;
+        // Every line ends with `\n` (the last one too, with the `\n` added), so the reader's
+        // line after a record is the one after the record's, whatever empty lines it skipped
+        // before it (`ByteRecord::position()` is where the reader was before those).
+        let reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .quoting(false)
+            .terminator(csv::Terminator::Any(b'\n'))
+            .from_reader(file.chain(&b"\n"[..]));
+        Ok(Self {
+            reader,
+            record: ByteRecord::new(),
+            line: 0,
+            held: false,
+        })
+    }
+
+    /// The next record (the held one, if any); false at the end of the file.
+    fn advance(&mut self, path: &str) -> Result<bool, MotError> {
+        if std::mem::take(&mut self.held) {
+            return Ok(true);
+        }
+        // Bytes, no quoting, any number of cells: only reading the file can fail.
+        let read = self
+            .reader
+            .read_byte_record(&mut self.record)
+            .map_err(|e| MotError::Io {
+                path: path.to_string(),
+                error: e.into(),
+            })?;
+        if read {
+            self.line = self.reader.position().line() as usize - 1;
+        }
+        Ok(read)
+    }
+
+    /// The record's cells (the line's `\r` end dropped).
+    fn cells(&self) -> Cells<'_> {
+        let utf8 = self.record.iter().all(|b| std::str::from_utf8(b).is_ok());
+        let last = self.record.len().saturating_sub(1);
+        let mut column = 1;
+        let mut out = Vec::with_capacity(self.record.len());
+        for (i, mut bytes) in self.record.iter().enumerate() {
+            while i == last && bytes.last() == Some(&b'\r') {
+                bytes = &bytes[..bytes.len() - 1];
+            }
+            let text = match std::str::from_utf8(bytes) {
+                Ok(s) if utf8 => Cow::Borrowed(s),
+                _ => Cow::Owned(bytes.iter().map(|&b| b as char).collect()),
+            };
+            out.push((column, text));
+            column += out[i].1.chars().count() + 1;
+        }
+        out
+    }
+
+    /// The cells of header line `n` (one empty cell if it is blank), or an error if the file
+    /// ends before it (`what`).
+    fn header(
+        &mut self,
+        n: usize,
+        path: &str,
+        what: &str,
+    ) -> Result<Vec<(usize, String)>, MotError> {
+        let blank = || vec![(1, String::new())];
+        if !self.advance(path)? {
+            // The file's lines: up to the last record, or to the empty lines after it (the
+            // reader's line is 1 + the `\n`s, the added one too).
+            let lines = self
+                .line
+                .max((self.reader.position().line() as usize).saturating_sub(2));
+            if lines >= n {
+                return Ok(blank());
+            }
+            return Err(format_err(
+                path,
+                lines.max(1),
+                format!("ends before {what}"),
+            ));
+        }
+        if self.line > n {
+            self.held = true;
+            return Ok(blank());
+        }
+        Ok(self
+            .cells()
+            .into_iter()
+            .map(|(c, t)| (c, t.into_owned()))
+            .collect())
+    }
+
+    /// The next record that is not a blank line, with its line.
+    fn next_data(&mut self, path: &str) -> Result<Option<(usize, Cells<'_>)>, MotError> {
+        while self.advance(path)? {
+            let blank = self.record.len() == 1 && self.cells()[0].1.trim().is_empty();
+            if !blank {
+                return Ok(Some((self.line, self.cells())));
+            }
+        }
+        Ok(None)
+    }
+}
+
 /// An APDM `.csv` trial.
 pub struct ApdmTrial {
     source: String,
-    lines: Lines,
+    records: ApdmRecords,
     labels_line: usize,
     /// Per sensor: its segment, the column of its orientation's scalar (w), and its label.
     sensors: Vec<(Segment, usize, String)>,
@@ -756,14 +886,12 @@ pub struct ApdmTrial {
 impl ApdmTrial {
     fn open(path: &Path, mapping: Option<&Mapping>, rate: Option<f64>) -> Result<Self, MotError> {
         let source = path.display().to_string();
-        let mut lines = Lines::open(path)?;
-        let next = |lines: &mut Lines, what: &str| -> Result<String, MotError> {
-            lines.next(&source)?.ok_or_else(|| {
-                format_err(&source, lines.line.max(1), format!("ends before {what}"))
-            })
-        };
-        let first = next(&mut lines, "the header")?;
-        let first_cells: Vec<String> = first.split(',').map(|s| s.trim().to_string()).collect();
+        let mut records = ApdmRecords::open(path)?;
+        let first_cells: Vec<String> = records
+            .header(1, &source, "the header")?
+            .into_iter()
+            .map(|(_, s)| s.trim().to_string())
+            .collect();
         let mut warnings = mapping.map(|m| m.warnings.clone()).unwrap_or_default();
         // The sensors to read: the mapping's, or every label that names an IMU of the set.
         let wanted = |label: &str| -> Option<Option<Segment>> {
@@ -787,8 +915,8 @@ impl ApdmTrial {
                     sensors.push((segment, i + 7, name.clone()));
                 }
             }
-            next(&mut lines, "the second header line")?;
-            next(&mut lines, "the third header line")?;
+            records.header(2, &source, "the second header line")?;
+            records.header(3, &source, "the third header line")?;
             (sensors, 1, rate.unwrap_or(128.0))
         } else {
             if first_cells[0] != "Test Name:" {
@@ -801,8 +929,7 @@ impl ApdmTrial {
                     ),
                 ));
             }
-            let second = next(&mut lines, "the `Sample Rate:` line")?;
-            let c = cells(&second, ',');
+            let c = records.header(2, &source, "the `Sample Rate:` line")?;
             if c.first().map(|x| x.1.trim()) != Some("Sample Rate:") {
                 return Err(format_err(
                     &source,
@@ -818,8 +945,8 @@ impl ApdmTrial {
                     format!("sample rate {file_rate} Hz"),
                 ));
             }
-            let labels = next(&mut lines, "the labels")?;
-            let labels: Vec<&str> = labels.split(',').map(str::trim).collect();
+            let labels = records.header(3, &source, "the labels")?;
+            let labels: Vec<&str> = labels.iter().map(|(_, l)| l.trim()).collect();
             if labels.first() != Some(&"Time") {
                 return Err(format_err(
                     &source,
@@ -854,7 +981,7 @@ impl ApdmTrial {
 }));
                 }
             }
-            next(&mut lines, "the units line")?;
+            records.header(4, &source, "the units line")?;
             (sensors, 3, file_rate)
         };
         if let Some(m) = mapping {
@@ -886,7 +1013,7 @@ impl ApdmTrial {
         }
         Ok(Self {
             source,
-            lines,
+            records,
             labels_line,
             sensors,
             rate: file_rate,
@@ -910,7 +1037,7 @@ impl OrientationSource for ApdmTrial {
         std::mem::take(&mut self.warnings)
     }
     fn next_row(&mut self) -> Result<Option<OrientationRow>, MotError> {
-        let Some(text) = self.lines.next_data(&self.source)? else {
+        let Some((line, c)) = self.records.next_data(&self.source)? else {
             if self.rows == 0 {
                 return Err(format_err(
                     &self.source,
@@ -920,8 +1047,6 @@ impl OrientationSource for ApdmTrial {
             }
             return Ok(None);
         };
-        let line = self.lines.line;
-        let c = cells(&text, ',');
         let mut readings = Orientations::EMPTY;
         for (segment, index, name) in &self.sensors {
             let labels = ["Scalar", "X", "Y", "Z"].map(|a| format!("{name}/Orientation/{a}"));
@@ -947,5 +1072,78 @@ impl OrientationSource for ApdmTrial {
             time,
             readings,
         }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LABELS: &[u8] = b"Time,pelvis/Orientation/Scalar,pelvis/Orientation/X,pelvis/Orientation/Y,pelvis/Orientation/Z";
+
+    /// `text` (its pieces) written as an APDM `.csv`, and that file opened (or the error).
+    fn apdm(name: &str, text: &[&[u8]]) -> (PathBuf, Result<ApdmTrial, MotError>) {
+        let path =
+            std::env::temp_dir().join(format!("qgait-vendor-{}-{name}.csv", std::process::id()));
+        std::fs::write(&path, text.concat()).unwrap();
+        let trial = ApdmTrial::open(&path, None, None);
+        (path, trial)
+    }
+
+    #[test]
+    fn apdm_rows_keep_their_lines_across_crlf_blank_and_empty_lines() {
+        let (path, trial) = apdm(
+            "lines",
+            &[
+                b"Test Name:,t\r\nSample Rate:,100,Hz\r\n",
+                LABELS,
+                b"\r\ns,,,,\r\n0,1,0,0,0\r\n \r\n\n0.01,0,1,0,0",
+            ],
+        );
+        let mut trial = trial.unwrap();
+        let mut rows = Vec::new();
+        while let Some(row) = trial.next_row().unwrap() {
+            rows.push((row.line, row.time));
+        }
+        assert_eq!(rows, [(5, 0.0), (8, 0.01)]);
+        std::fs::remove_file(path).unwrap();
+    }
+
+    #[test]
+    fn a_bad_apdm_value_is_named_by_file_line_and_character_column() {
+        // Line 6, after an empty line; `été` in Latin-1 is three characters; no `\n` at the end.
+        let (path, trial) = apdm(
+            "bad",
+            &[
+                b"Test Name:,t\nSample Rate:,100,Hz\n",
+                LABELS,
+                b"\ns,,,,\n\n\xe9t\xe9,1,0,0,w\r",
+            ],
+        );
+        let e = trial.unwrap().next_row().unwrap_err().to_string();
+        let at = format!(
+            "{}:6:11: bad number `w` in column `pelvis/Orientation/Z`",
+            path.display()
+        );
+        assert!(e.starts_with(&at), "{e}");
+        std::fs::remove_file(path).unwrap();
+    }
+
+    #[test]
+    fn a_blank_or_missing_apdm_header_line_is_named() {
+        let (path, trial) = apdm("blank", &[b"Test Name:,t\n\nSample Rate:,100,Hz\n"]);
+        let e = trial.err().unwrap().to_string();
+        assert_eq!(
+            e,
+            format!("{}:2: expected `Sample Rate:,<Hz>`", path.display())
+        );
+        std::fs::remove_file(path).unwrap();
+        let (path, trial) = apdm("short", &[b"Test Name:,t\n"]);
+        let e = trial.err().unwrap().to_string();
+        assert_eq!(
+            e,
+            format!("{}:1: ends before the `Sample Rate:` line", path.display())
+        );
+        std::fs::remove_file(path).unwrap();
     }
 }
