@@ -26,7 +26,7 @@ use std::sync::Mutex;
 
 use qgait_device::log::HubLog;
 use qgait_device::orientations::{OrientationCheck, OrientationStream};
-use qgait_emulate::faults::{damage, Fate, FaultPlan};
+use qgait_emulate::faults::{damage, FaultPlan};
 use qgait_emulate::push_frame;
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
@@ -158,17 +158,7 @@ fn through_a_radio_link(elf: &Path, stream: &OrientationStream, what: &str) {
     input.extend_from_slice(&d.stream);
     let (frames, status) = run(elf, stream, input, what);
     // The samples whose packets were all delivered: exactly those have a frame.
-    let mut delivered: std::collections::BTreeMap<u32, (usize, usize)> = Default::default();
-    for (p, fate) in &d.packets {
-        let e = delivered.entry(p.seq).or_default();
-        e.0 += 1;
-        e.1 += usize::from(*fate == Fate::Delivered);
-    }
-    let intact: Vec<u32> = delivered
-        .iter()
-        .filter(|(_, (sent, got))| sent == got)
-        .map(|(s, _)| *s)
-        .collect();
+    let intact: Vec<u32> = d.intact_samples().into_iter().collect();
     assert!(
         intact.len() < rows.len(),
         "{what}: the link damaged nothing"

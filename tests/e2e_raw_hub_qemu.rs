@@ -25,14 +25,14 @@
 
 use qgait_system_tests as common;
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use qgait_device::log::HubLog;
 use qgait_device::orientations::OrientationCheck;
-use qgait_device::raw_hub::{input_counts, RawHubHost};
-use qgait_emulate::faults::{damage, Fate, FaultPlan};
+use qgait_device::raw_hub::RawHubHost;
+use qgait_emulate::faults::{damage, FaultPlan};
 use qgait_emulate::push_frame;
 use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
@@ -287,18 +287,11 @@ fn raw_streams_through_a_radio_link() {
     let due = host.frames_due();
     assert!(due.len() < rows.len(), "the link damaged nothing");
     // The ledger's view: the samples whose every raw sample was delivered are the ones due.
-    let mut delivered: BTreeMap<u32, (usize, usize)> = BTreeMap::new();
-    for (s, fate) in &d.packets {
-        let e = delivered.entry(s.seq).or_default();
-        e.0 += 1;
-        e.1 += usize::from(*fate == Fate::Delivered);
-    }
-    let intact: BTreeSet<u32> = delivered
-        .iter()
-        .filter(|(_, (sent, got))| sent == got)
-        .map(|(seq, _)| *seq)
-        .collect();
-    assert_eq!(due, intact, "the host's rules against the link's ledger");
+    assert_eq!(
+        due,
+        d.intact_samples(),
+        "the host's rules against the link's ledger"
+    );
 
     let config = messages
         .iter()
@@ -306,7 +299,7 @@ fn raw_streams_through_a_radio_link() {
         .expect("a Config");
     let mut sent = input.clone();
     sent.extend(closing_frames(config).expect("closing frames"));
-    let expected = input_counts(&sent);
+    let expected = host.input_counts(&sent);
     let limits = Limits::for_stream(sent.len());
     let out = session::run(&elf, sent, expected, Echo::Quiet, limits).expect("QEMU runs");
     let status = out

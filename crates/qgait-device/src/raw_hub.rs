@@ -130,6 +130,8 @@ pub struct RawHubHost {
     /// Every sample from the calibration pose on with every segment fused, by `seq`: the
     /// orientations in Q14, as the hub's raw input passes them on.
     pub samples: BTreeMap<u32, Q14Sample>,
+    /// The orientations the raw input passes on, complete samples or not.
+    pub fused: usize,
 }
 
 impl RawHubHost {
@@ -148,7 +150,9 @@ impl RawHubHost {
         }
         let imu = imu.ok_or(RawHubError::NoImuConfig)?;
         let mut samples: BTreeMap<u32, Q14Sample> = BTreeMap::new();
-        for ((segment, seq), q) in host_orientations(stream) {
+        let orientations = host_orientations(stream);
+        let fused = orientations.len();
+        for ((segment, seq), q) in orientations {
             samples.entry(seq).or_default()[segment as usize] = Some(SegmentOrientation::q14_of(q));
         }
         let complete =
@@ -160,7 +164,23 @@ impl RawHubHost {
             imu,
             calibration,
             samples,
+            fused,
         })
+    }
+
+    /// What the hub counts of `input`, all it is sent (this stream, closing frames
+    /// included): [`InputCounts::of`] the input, but no raw sample as an accepted packet, each
+    /// orientation its raw input passes on instead (protocol.md 4.10: the hub counts the raw
+    /// samples in its `RawImuStatus`).
+    pub fn input_counts(&self, input: &[u8]) -> InputCounts {
+        let mut counts = InputCounts::of(input);
+        let samples = FrameDecoder::new()
+            .feed(input)
+            .flatten()
+            .filter(|m| matches!(m, Message::RawImuSample(_)))
+            .count();
+        counts.accepted = counts.accepted - samples as u32 + self.fused as u32;
+        counts
     }
 
     /// The samples the hub owes a pose frame for: every complete one after the calibration
@@ -196,21 +216,6 @@ impl RawHubHost {
         }
         Ok(out)
     }
-}
-
-/// What a hub with raw input counts of `input` (all it is sent, closing frames included):
-/// [`InputCounts::of`] the input, but no raw sample as an accepted packet, each orientation its
-/// raw input passes on instead (protocol.md 4.10: the hub counts the raw samples in its
-/// `RawImuStatus`).
-pub fn input_counts(input: &[u8]) -> InputCounts {
-    let mut counts = InputCounts::of(input);
-    let samples = FrameDecoder::new()
-        .feed(input)
-        .flatten()
-        .filter(|m| matches!(m, Message::RawImuSample(_)))
-        .count();
-    counts.accepted = counts.accepted - samples as u32 + host_orientations(input).len() as u32;
-    counts
 }
 
 #[cfg(test)]

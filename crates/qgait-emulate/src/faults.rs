@@ -271,17 +271,31 @@ impl<P: NodePacket> Damaged<P> {
         self.packets.iter().filter(|(_, f)| *f == fate).count() as u32
     }
 
-    /// What a hub must count (see the module docs).
-    pub fn accounting(&self) -> Accounting {
-        let runs = self.stream.split(|&b| b == 0).filter(|r| !r.is_empty());
-        let delivered = self.count(Fate::Delivered);
-        // Per sample: packets sent, packets delivered.
+    /// Per sample (`seq`): its packets sent, and how many of them were delivered.
+    pub fn per_sample(&self) -> BTreeMap<u32, (u32, u32)> {
         let mut samples: BTreeMap<u32, (u32, u32)> = BTreeMap::new();
         for (p, fate) in &self.packets {
             let e = samples.entry(p.seq()).or_default();
             e.0 += 1;
             e.1 += u32::from(*fate == Fate::Delivered);
         }
+        samples
+    }
+
+    /// The samples whose packets were all delivered.
+    pub fn intact_samples(&self) -> BTreeSet<u32> {
+        self.per_sample()
+            .into_iter()
+            .filter(|(_, (sent, got))| sent == got)
+            .map(|(seq, _)| seq)
+            .collect()
+    }
+
+    /// What a hub must count (see the module docs).
+    pub fn accounting(&self) -> Accounting {
+        let runs = self.stream.split(|&b| b == 0).filter(|r| !r.is_empty());
+        let delivered = self.count(Fate::Delivered);
+        let samples = self.per_sample();
         let mut a = Accounting {
             delivered,
             dropped: self.count(Fate::Dropped),

@@ -267,8 +267,8 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         .or(config.last())
         .context("no configuration message")?;
     input.extend(closing_frames(last)?);
-    let expected = match raw {
-        Some(_) => qgait_device::raw_hub::input_counts(&input),
+    let expected = match &raw {
+        Some(host) => host.input_counts(&input),
         None => InputCounts::of(&input),
     };
     let out = run_session(
