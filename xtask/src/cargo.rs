@@ -16,6 +16,9 @@ pub struct Step {
     pub ok: bool,
     /// Summary lines seen in its output.
     pub summaries: Vec<String>,
+    /// How long it took (wall clock), shown in the summary so each step's share of CI's time
+    /// is visible.
+    pub seconds: f64,
 }
 
 /// The firmware's cargo runner for steps started from here: this very executable, so the
@@ -57,10 +60,21 @@ pub fn cargo(dir: &Path, args: &[&str]) -> anyhow::Result<()> {
     }
 }
 
-/// Builds the release `qgait` binary (cargo's output on stderr) and returns its path: the
-/// tasks that need the CLI's work (packets of the built-in gait, hub configurations,
-/// `emulate`, `verify`, figures) run it rather than link the `qgait` library.
+/// The environment variable naming a `qgait` binary to run instead of building the release
+/// one: `cargo xtask test` points it at the binary its host workspace step has just built, so
+/// the UART session does not build the whole CLI a second time in another profile.
+pub const QGAIT_BIN: &str = "QGAIT_BIN";
+
+/// Builds the release `qgait` binary (cargo's output on stderr) and returns its path, or the
+/// binary [`QGAIT_BIN`] names when that file exists: the tasks that need the CLI's work
+/// (packets of the built-in gait, hub configurations, `emulate`, `verify`, figures) run it
+/// rather than link the `qgait` library.
 pub fn qgait_binary() -> anyhow::Result<PathBuf> {
+    if let Some(exe) = std::env::var_os(QGAIT_BIN).map(PathBuf::from) {
+        if exe.is_file() {
+            return Ok(exe);
+        }
+    }
     let root = crate::repo_root();
     cargo(
         &root,
@@ -74,6 +88,7 @@ pub fn qgait_binary() -> anyhow::Result<PathBuf> {
 
 /// Runs `cargo ARGS` in `dir` with extra environment `env`, streaming its output.
 pub fn step(name: &str, dir: &Path, args: &[&str], env: &[(&str, String)]) -> Step {
+    let started = std::time::Instant::now();
     println!(
         "\n==> {name}: cargo {} (in {})",
         args.join(" "),
@@ -96,6 +111,7 @@ pub fn step(name: &str, dir: &Path, args: &[&str], env: &[(&str, String)]) -> St
                 name: name.into(),
                 ok: false,
                 summaries: Vec::new(),
+                seconds: started.elapsed().as_secs_f64(),
             };
         }
     };
@@ -129,6 +145,7 @@ pub fn step(name: &str, dir: &Path, args: &[&str], env: &[(&str, String)]) -> St
         name: name.into(),
         ok,
         summaries,
+        seconds: started.elapsed().as_secs_f64(),
     }
 }
 

@@ -69,6 +69,7 @@ pub const FLASH_LIMIT: u64 = 32 * 1024;
 /// The test step `name`: the release ELF at `elf` within the budget, its flash within
 /// [`FLASH_LIMIT`] and its static RAM plus stack bound within [`RAM_LIMIT`].
 pub fn budget_step(name: &str, elf: &Path) -> Step {
+    let started = std::time::Instant::now();
     let measured = std::fs::read(elf)
         .map_err(|e| anyhow!("reading {}: {e}", elf.display()))
         .and_then(|bytes| crate::elf_size::footprint(&bytes))
@@ -92,6 +93,7 @@ pub fn budget_step(name: &str, elf: &Path) -> Step {
         name: name.to_string(),
         ok,
         summaries: vec![line],
+        seconds: started.elapsed().as_secs_f64(),
     }
 }
 

@@ -16,6 +16,7 @@ fn budget(build: &Step, name: &str, elf: &std::path::Path) -> Step {
             name: name.into(),
             ok: false,
             summaries: vec!["not run: the firmware did not build".into()],
+            seconds: 0.0,
         }
     }
 }
@@ -67,6 +68,15 @@ pub fn run() -> anyhow::Result<ExitCode> {
     );
     let node_elf = qgait_emulate::firmware::node_elf(&root);
     let node_budget = budget(&node, "budget, node", &node_elf);
+    // The UART session runs the `qgait` binary the host workspace step builds (the system
+    // tests build it in the test profile), not a release build of its own.
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
+    let session_qgait = (
+        crate::cargo::QGAIT_BIN,
+        target.join("debug/qgait").display().to_string(),
+    );
     let steps: Vec<Step> = vec![
         mps2,
         default_budget,
@@ -145,24 +155,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
             "UART session under QEMU",
             &firmware,
             &["run", "--release"],
-            &runner,
-        ),
-        // #[ignore]d in plain `cargo test` (about 4 minutes under QEMU), run here so CI covers it.
-        step(
-            "100,000-sample recording",
-            &root,
-            &[
-                "test",
-                "-p",
-                "qgait-system-tests",
-                "--test",
-                "e2e_qemu",
-                "recording_of_100000",
-                "--",
-                "--ignored",
-                "--nocapture",
-            ],
-            &elf,
+            &[runner[0].clone(), session_qgait],
         ),
     ];
     let steps: Vec<Step> = steps
@@ -171,13 +164,24 @@ pub fn run() -> anyhow::Result<ExitCode> {
         .collect();
     println!("\n==> summary");
     for s in &steps {
-        println!("{:<28} {}", s.name, if s.ok { "ok" } else { "FAILED" });
+        println!(
+            "{:<34} {:<6} {:>5.0} s",
+            s.name,
+            if s.ok { "ok" } else { "FAILED" },
+            s.seconds
+        );
         for line in &s.summaries {
             println!("    {line}");
         }
     }
     let failed = steps.iter().filter(|s| !s.ok).count();
-    println!("{} of {} steps passed", steps.len() - failed, steps.len());
+    let total: f64 = steps.iter().map(|s| s.seconds).sum();
+    println!(
+        "{} of {} steps passed in {:.0} s",
+        steps.len() - failed,
+        steps.len(),
+        total
+    );
     Ok(if failed == 0 {
         ExitCode::SUCCESS
     } else {
