@@ -56,14 +56,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
     let node = step(
         "firmware build, node, mps2-an386",
         &firmware,
-        &[
-            "build",
-            "--release",
-            "--features",
-            "node",
-            "--bin",
-            "qgait-node",
-        ],
+        &qgait_emulate::firmware::NODE_BUILD_ARGS,
         &[],
     );
     let node_elf = qgait_emulate::firmware::node_elf(&root);

@@ -148,11 +148,22 @@ pub fn node_elf(root: &Path) -> PathBuf {
     default_elf(root).with_file_name("qgait-node")
 }
 
+/// cargo's arguments, in `firmware/`, that build the IMU node ([`node_elf`]).
+pub const NODE_BUILD_ARGS: [&str; 6] = [
+    "build",
+    "--release",
+    "--features",
+    "node",
+    "--bin",
+    "qgait-node",
+];
+
 /// The command that builds the IMU node, for messages.
 pub fn node_build_command(root: &Path) -> String {
     format!(
-        "cd {} && cargo build --release --features node --bin qgait-node",
-        root.join("firmware").display()
+        "cd {} && cargo {}",
+        root.join("firmware").display(),
+        NODE_BUILD_ARGS.join(" ")
     )
 }
 
@@ -166,15 +177,7 @@ pub fn locate_node(elf: Option<&Path>) -> Result<PathBuf, EmulateError> {
 pub fn build_node(root: &Path) -> Result<PathBuf, EmulateError> {
     cargo_build(
         root,
-        &[
-            "build",
-            "--release",
-            "--features",
-            "node",
-            "--bin",
-            "qgait-node",
-        ]
-        .map(OsStr::new),
+        &NODE_BUILD_ARGS.map(OsStr::new),
         node_elf(root),
         || node_build_command(root),
     )

@@ -124,9 +124,8 @@ fn run_node(args: &EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         out.elapsed.as_secs_f64()
     );
     let mut ok = true;
-    match &out.status {
+    match status_of(&out, "node") {
         Some(s) => {
-            print_counters("device status", s.named_counters());
             if let Some(r) = raw_status {
                 print_counters("raw input", r.named_counters());
             }
@@ -139,13 +138,7 @@ fn run_node(args: &EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 );
             }
         }
-        None => {
-            ok = false;
-            eprintln!(
-                "error: {}",
-                out.problem.as_deref().unwrap_or("no status from the node")
-            );
-        }
+        None => ok = false,
     }
     if args.verify {
         let c = RawCheck::run(&orientations, &host_orientations(&stream));
@@ -296,9 +289,8 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     // decoded once, when first needed.
     let arrivals = std::cell::OnceCell::new();
     let arrivals = || arrivals.get_or_init(|| Arrivals::of(&stream));
-    match &out.status {
+    match status_of(&out, "hub") {
         Some(s) => {
-            print_counters("device status", s.named_counters());
             // The hub decodes as the host does: its counters must account for every frame
             // of the input, damaged ones included.
             if let Err((got, want)) = accounted(s, expected, "hub", "packets accepted") {
@@ -313,13 +305,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
                 }
             }
         }
-        None => {
-            ok = false;
-            eprintln!(
-                "error: {}",
-                out.problem.as_deref().unwrap_or("no status from the hub")
-            );
-        }
+        None => ok = false,
     }
     if args.verify {
         // A frame is due for exactly the samples whose packets all arrived intact and usable
@@ -446,6 +432,25 @@ fn run_session(
             .with_context(|| format!("{}: cannot write", log.display()))?;
     }
     Ok(out)
+}
+
+/// The device's status at the end of the session, its counters printed; `None`, with why
+/// printed, when it sent none.
+fn status_of<'a>(out: &'a session::SessionOutput, device: &str) -> Option<&'a Status> {
+    match &out.status {
+        Some(s) => {
+            print_counters("device status", s.named_counters());
+            Some(s)
+        }
+        None => {
+            let why = out.problem.clone();
+            eprintln!(
+                "error: {}",
+                why.unwrap_or_else(|| format!("no status from the {device}"))
+            );
+            None
+        }
+    }
 }
 
 fn write_file(
