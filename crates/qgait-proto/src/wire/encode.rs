@@ -6,6 +6,7 @@
 
 use super::check_angle_count;
 use super::varint::{varint_u32, VARINT_U32_MAX};
+use crate::sizes::STATUS_COUNTERS;
 use crate::WireByte;
 use crate::{
     point, EncodeError, ModelId, PoseFrame, PoseVelocities, RawImuStatus, SegmentOrientation,
@@ -111,21 +112,78 @@ where
 }
 
 /// [`encode_message`] of `Message::Status(status)`, without building the [`Message`]: the same
-/// bytes as postcard's (the tag, then the 20 counters as varints in declaration order, as
-/// [`Status::named_counters`] lists them: the tests below hold the two to postcard), written by
-/// hand so that a hub, which encodes no other message with [`encode_message`], links no other
-/// message's serialiser.
+/// bytes as postcard's (the tag, then the 20 counters as varints in declaration order), written
+/// by hand so that a hub, which encodes no other message with [`encode_message`], links no
+/// other message's serialiser.
 pub(crate) fn encode_status_message<'a>(
     status: &Status,
     out: &'a mut [u8],
 ) -> Result<&'a mut [u8], EncodeError> {
-    let mut f = Fields { out, len: 0 };
-    f.byte(2)?; // Message::Status's tag
-    for (_, value) in status.named_counters() {
-        f.varint(value)?;
+    // Every field named (no `..`): a counter added to `Status` must be added here.
+    let Status {
+        packets_accepted,
+        crc_errors,
+        framing_errors,
+        oversize_frames,
+        unknown_version,
+        unknown_joint,
+        out_of_range,
+        samples_completed,
+        samples_incomplete,
+        frames_sent,
+        uart_overruns,
+        uptime_ms,
+        late_packets,
+        duplicate_packets,
+        malformed,
+        config_rejected,
+        orientation_not_unit,
+        uncalibrated_samples,
+        calibrations,
+        calibration_rejected,
+    } = *status;
+    let counters: [u32; STATUS_COUNTERS] = [
+        packets_accepted,
+        crc_errors,
+        framing_errors,
+        oversize_frames,
+        unknown_version,
+        unknown_joint,
+        out_of_range,
+        samples_completed,
+        samples_incomplete,
+        frames_sent,
+        uart_overruns,
+        uptime_ms,
+        late_packets,
+        duplicate_packets,
+        malformed,
+        config_rejected,
+        orientation_not_unit,
+        uncalibrated_samples,
+        calibrations,
+        calibration_rejected,
+    ];
+    let too_small = EncodeError::BufferTooSmall {
+        needed: MAX_MESSAGE_LEN,
+    };
+    *out.first_mut().ok_or(too_small)? = 2; // Message::Status's tag
+    let mut len = 1;
+    // The varints written straight into `out` (not with `varint_u32`, which the pose frame
+    // encoding then no longer has to itself: it would be a call there).
+    for mut value in counters {
+        loop {
+            let slot = out.get_mut(len).ok_or(too_small)?;
+            len += 1;
+            if value < 0x80 {
+                *slot = value as u8;
+                break;
+            }
+            *slot = (value as u8) | 0x80;
+            value >>= 7;
+        }
     }
-    let Fields { out, len } = f;
-    out.get_mut(..len).ok_or(Fields::TOO_SMALL)
+    out.get_mut(..len).ok_or(too_small)
 }
 
 /// A message written a field at a time as postcard writes it: `u8`s as bytes, `u32`s as
@@ -226,7 +284,6 @@ mod tests {
     extern crate std;
 
     use super::*;
-    use crate::sizes::STATUS_COUNTERS;
     use crate::{encode_message, Message};
     use proptest::prelude::*;
 
