@@ -43,6 +43,7 @@ pub enum ModelId {
     Chain = 3,
 }
 
+/// HAK's joints: the sagittal ones of the right leg, then the left.
 const HAK_JOINTS: [JointId; 6] = [
     JointId::HipFlexionR,
     JointId::KneeAngleR,
@@ -52,16 +53,20 @@ const HAK_JOINTS: [JointId; 6] = [
     JointId::AnkleAngleL,
 ];
 
-const PHAK_JOINTS: [JointId; 8] = [
-    JointId::PelvisRotation,
-    JointId::PelvisList,
-    JointId::HipFlexionR,
-    JointId::KneeAngleR,
-    JointId::AnkleAngleR,
-    JointId::HipFlexionL,
-    JointId::KneeAngleL,
-    JointId::AnkleAngleL,
-];
+/// PHAK's joints: the pelvis rotation and list, then HAK's.
+const PHAK_JOINTS: [JointId; 8] = {
+    let [h0, h1, h2, h3, h4, h5] = HAK_JOINTS;
+    [
+        JointId::PelvisRotation,
+        JointId::PelvisList,
+        h0,
+        h1,
+        h2,
+        h3,
+        h4,
+        h5,
+    ]
+};
 
 impl ModelId {
     /// Number of models.

@@ -1,5 +1,6 @@
-//! The decoders: one per message body, each reading the fields one at a time (the joint-angle
-//! packet by hand, the others through postcard's deserialiser per field), raw bytes for the
+//! The decoders: one per message body with values to check and one ([`plain`]) for the others,
+//! each reading the fields one at a time (the joint-angle packet by hand, the others through
+//! postcard's deserialiser per field; the parts several messages share, once), raw bytes for the
 //! joint and model fields so that an unknown joint or model is reported as its own
 //! [`DecodeError`]. [`decode_packet`] is the hub's per-packet fast path; [`decode_hub_message`]
 //! decodes the messages sent to a hub and only the tag of the others, so that a hub links no
@@ -11,15 +12,15 @@ use crate::WireByte;
 use crate::{
     point, segment, Config, DecodeError, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
     JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, SegmentId,
-    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_TABLE_CONFIG_TAG,
+    SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_TABLE_CONFIG_TAG,
     CHAIN_TABLE_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 use crate::{ChainTable, ChainTableConfig};
 use crate::{
-    FusionMode, RawImuConfig, RawImuSample, RawImuStatus, RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,
+    FusionMode, RawImuConfig, RawImuSample, RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,
     RAW_IMU_STATUS_TAG,
 };
-use crate::{PoseVelocities, VelocityConfig, POSE_VELOCITIES_TAG, VELOCITY_CONFIG_TAG};
+use crate::{VelocityConfig, POSE_VELOCITIES_TAG, VELOCITY_CONFIG_TAG};
 
 /// A message as a hub takes it ([`decode_hub_message`]): the messages sent to a hub, decoded,
 /// and the ones only a hub sends, not decoded.
@@ -97,7 +98,7 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         CHAIN_TABLE_TAG..=CHAIN_TABLE_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
         RAW_IMU_SAMPLE_TAG | RAW_IMU_CONFIG_TAG => Ok(HubMessage::NotTaken(tag)),
         RAW_IMU_STATUS_TAG | POSE_VELOCITIES_TAG => Ok(HubMessage::FromHub(tag)),
-        VELOCITY_CONFIG_TAG => velocity_config(body).map(HubMessage::VelocityConfig),
+        VELOCITY_CONFIG_TAG => plain(body).map(HubMessage::VelocityConfig),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
@@ -135,12 +136,7 @@ pub fn decode_node_message(bytes: &[u8]) -> Result<NodeMessage, DecodeError> {
 /// for the layout: the version first, then the layout (`Malformed`), then the joint.
 #[inline(always)]
 pub(super) fn joint_angle(body: &[u8]) -> Result<JointAngle, DecodeError> {
-    // The version is the first byte of the body: check it before anything else, so a packet of
-    // another version (whose layout may differ) is reported as such.
-    let (&version, rest) = body.split_first().ok_or(DecodeError::Malformed)?;
-    if version != PROTOCOL_VERSION {
-        return Err(DecodeError::UnknownVersion(version));
-    }
+    let (version, rest) = versioned(body)?;
     let [node, joint, rest @ ..] = rest else {
         return Err(DecodeError::Malformed);
     };
@@ -182,11 +178,14 @@ pub(super) fn pose_frame(body: &[u8]) -> Result<PoseFrame, DecodeError> {
     })
 }
 
-/// A [`Status`]'s body: its 20 varints.
-pub(super) fn status(body: &[u8]) -> Result<Status, DecodeError> {
-    let (status, rest) = take(body)?;
+/// The body of a message whose fields carry no value of their own to check
+/// ([`Status`](crate::Status), its 20 varints; [`RawImuStatus`](crate::RawImuStatus), its 9;
+/// [`VelocityConfig`]; [`PoseVelocities`](crate::PoseVelocities)): postcard's decoding of the
+/// whole, and nothing after.
+pub(super) fn plain<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, DecodeError> {
+    let (value, rest) = take(body)?;
     end(rest)?;
-    Ok(status)
+    Ok(value)
 }
 
 /// A [`Config`]'s body. The fields' values are checked in wire order (section 5 of the spec),
@@ -194,10 +193,7 @@ pub(super) fn status(body: &[u8]) -> Result<Status, DecodeError> {
 pub(super) fn config(body: &[u8]) -> Result<Config, DecodeError> {
     let (model, rest) = take::<u8>(body)?;
     let (anthropometry, rest) = take::<Option<[[f32; segment::COUNT]; 2]>>(rest)?;
-    let (policy, rest) = take::<u8>(rest)?;
-    let (reorder_window, rest) = take(rest)?;
-    let (request_status, rest) = take(rest)?;
-    end(rest)?;
+    let (policy, reorder_window, request_status) = sample_settings(rest)?;
     Ok(Config {
         model: ModelId::from_index(model).ok_or(DecodeError::UnknownModel(model))?,
         anthropometry,
@@ -252,10 +248,7 @@ pub(super) fn subject_knee(body: &[u8]) -> Result<SubjectKnee, DecodeError> {
 /// A [`SubjectConfig`]'s body.
 pub(super) fn subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> {
     let (upload, rest) = take(body)?;
-    let (policy, rest) = take::<u8>(rest)?;
-    let (reorder_window, rest) = take(rest)?;
-    let (request_status, rest) = take(rest)?;
-    end(rest)?;
+    let (policy, reorder_window, request_status) = sample_settings(rest)?;
     Ok(SubjectConfig {
         upload,
         missing_policy: missing_policy(policy)?,
@@ -267,24 +260,16 @@ pub(super) fn subject_config(body: &[u8]) -> Result<SubjectConfig, DecodeError> 
 /// A [`SegmentOrientation`]'s body: the version first (as a [`JointAngle`]'s), then the
 /// layout (`Malformed`), then the segment.
 pub(super) fn segment_orientation(body: &[u8]) -> Result<SegmentOrientation, DecodeError> {
-    let (&version, _) = body.split_first().ok_or(DecodeError::Malformed)?;
-    if version != PROTOCOL_VERSION {
-        return Err(DecodeError::UnknownVersion(version));
-    }
-    let (_, rest) = take::<u8>(body)?;
-    let (node, rest) = take(rest)?;
-    let (segment, rest) = take::<u8>(rest)?;
-    let (seq, rest) = take_varint_u32(rest)?;
-    let (timestamp_us, rest) = take_varint_u32(rest)?;
+    let (head, rest) = sample_head(body)?;
     let (q14, rest) = take(rest)?;
     let (quality, rest) = take(rest)?;
     end(rest)?;
     Ok(SegmentOrientation {
-        version,
-        node,
-        segment: SegmentId::from_wire_byte(segment).ok_or(DecodeError::UnknownSegment(segment))?,
-        seq,
-        timestamp_us,
+        version: head.version,
+        node: head.node,
+        segment: head.segment()?,
+        seq: head.seq,
+        timestamp_us: head.timestamp_us,
         q14,
         quality,
     })
@@ -341,10 +326,7 @@ pub(super) fn chain_table_config(body: &[u8]) -> Result<ChainTableConfig, Decode
     let (len, rest) = take::<u16>(rest)?;
     let (crc, rest) = take_varint_u32(rest)?;
     let (knee_flexes_positive, rest) = take(rest)?;
-    let (policy, rest) = take::<u8>(rest)?;
-    let (reorder_window, rest) = take(rest)?;
-    let (request_status, rest) = take(rest)?;
-    end(rest)?;
+    let (policy, reorder_window, request_status) = sample_settings(rest)?;
     Ok(ChainTableConfig {
         upload,
         len,
@@ -359,25 +341,17 @@ pub(super) fn chain_table_config(body: &[u8]) -> Result<ChainTableConfig, Decode
 /// A [`RawImuSample`]'s body: the version first (as a [`JointAngle`]'s), then the layout
 /// (`Malformed`), then the segment.
 pub(super) fn raw_imu_sample(body: &[u8]) -> Result<RawImuSample, DecodeError> {
-    let (&version, _) = body.split_first().ok_or(DecodeError::Malformed)?;
-    if version != PROTOCOL_VERSION {
-        return Err(DecodeError::UnknownVersion(version));
-    }
-    let (_, rest) = take::<u8>(body)?;
-    let (node, rest) = take(rest)?;
-    let (segment, rest) = take::<u8>(rest)?;
-    let (seq, rest) = take_varint_u32(rest)?;
-    let (timestamp_us, rest) = take_varint_u32(rest)?;
+    let (head, rest) = sample_head(body)?;
     let (gyro, rest) = take(rest)?;
     let (accel, rest) = take(rest)?;
     let (mag, rest) = take(rest)?;
     end(rest)?;
     Ok(RawImuSample {
-        version,
-        node,
-        segment: SegmentId::from_wire_byte(segment).ok_or(DecodeError::UnknownSegment(segment))?,
-        seq,
-        timestamp_us,
+        version: head.version,
+        node: head.node,
+        segment: head.segment()?,
+        seq: head.seq,
+        timestamp_us: head.timestamp_us,
         gyro,
         accel,
         mag,
@@ -407,25 +381,64 @@ pub(super) fn raw_imu_config(body: &[u8]) -> Result<RawImuConfig, DecodeError> {
     })
 }
 
-/// A [`RawImuStatus`]'s body: its 9 varints.
-pub(super) fn raw_imu_status(body: &[u8]) -> Result<RawImuStatus, DecodeError> {
-    let (status, rest) = take(body)?;
-    end(rest)?;
-    Ok(status)
+/// The version byte a [`JointAngle`], a [`SegmentOrientation`] and a [`RawImuSample`] start
+/// with, checked before anything else (a message of another version, whose layout may differ,
+/// is reported as such); returns it and the bytes after it.
+#[inline(always)]
+fn versioned(body: &[u8]) -> Result<(u8, &[u8]), DecodeError> {
+    let (&version, rest) = body.split_first().ok_or(DecodeError::Malformed)?;
+    if version != PROTOCOL_VERSION {
+        return Err(DecodeError::UnknownVersion(version));
+    }
+    Ok((version, rest))
 }
 
-/// A [`VelocityConfig`]'s body: enabled, period_us, request_status.
-pub(super) fn velocity_config(body: &[u8]) -> Result<VelocityConfig, DecodeError> {
-    let (config, rest) = take(body)?;
-    end(rest)?;
-    Ok(config)
+/// The fields a segment's sample starts with ([`SegmentOrientation`], [`RawImuSample`]).
+struct SampleHead {
+    version: u8,
+    node: u8,
+    /// The segment's wire byte: checked by [`SampleHead::segment`] after the layout.
+    segment: u8,
+    seq: u32,
+    timestamp_us: u32,
 }
 
-/// A [`PoseVelocities`]' body: seq, dt_us, the 8 × 3 velocities.
-pub(super) fn pose_velocities(body: &[u8]) -> Result<PoseVelocities, DecodeError> {
-    let (velocities, rest) = take(body)?;
+impl SampleHead {
+    /// The segment, or [`DecodeError::UnknownSegment`].
+    fn segment(&self) -> Result<SegmentId, DecodeError> {
+        SegmentId::from_wire_byte(self.segment).ok_or(DecodeError::UnknownSegment(self.segment))
+    }
+}
+
+/// A segment's sample's [`SampleHead`]: the version first ([`versioned`]), then node, segment,
+/// seq and timestamp (varints); returns it and the bytes after it.
+#[inline(always)]
+fn sample_head(body: &[u8]) -> Result<(SampleHead, &[u8]), DecodeError> {
+    let (version, rest) = versioned(body)?;
+    let (node, rest) = take(rest)?;
+    let (segment, rest) = take::<u8>(rest)?;
+    let (seq, rest) = take_varint_u32(rest)?;
+    let (timestamp_us, rest) = take_varint_u32(rest)?;
+    let head = SampleHead {
+        version,
+        node,
+        segment,
+        seq,
+        timestamp_us,
+    };
+    Ok((head, rest))
+}
+
+/// The settings a [`Config`], a [`SubjectConfig`] and a [`ChainTableConfig`] end with: the
+/// missing policy (its byte: checked with [`missing_policy`] in wire order, after the layout),
+/// the reorder window and the status request, and nothing after.
+#[inline(always)]
+fn sample_settings(rest: &[u8]) -> Result<(u8, u8, bool), DecodeError> {
+    let (policy, rest) = take::<u8>(rest)?;
+    let (reorder_window, rest) = take(rest)?;
+    let (request_status, rest) = take(rest)?;
     end(rest)?;
-    Ok(velocities)
+    Ok((policy, reorder_window, request_status))
 }
 
 fn missing_policy(byte: u8) -> Result<MissingPolicy, DecodeError> {

@@ -2,7 +2,8 @@
 //!
 //! - `encode.rs`: the hand-written encoders of a [`PoseFrame`] and a [`Status`] (every other
 //!   message goes through postcard's serialiser);
-//! - `decode.rs`: one decoder per message body, and the hub's entry points
+//! - `decode.rs`: the decoders of the message bodies (one for each body with values to check,
+//!   one for the plain ones), and the hub's entry points
 //!   ([`decode_packet`], [`decode_hub_message`]);
 //! - `varint.rs`: postcard's `u32` varint, and its deserialiser one field at a time.
 //!
@@ -50,7 +51,7 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
     match tag {
         0 => decode::joint_angle(body).map(Message::JointAngle),
         1 => decode::pose_frame(body).map(Message::PoseFrame),
-        2 => decode::status(body).map(Message::Status),
+        2 => decode::plain(body).map(Message::Status),
         3 => decode::config(body).map(Message::Config),
         4 => decode::subject_leg(body).map(Message::SubjectLeg),
         5 => decode::subject_knee(body).map(Message::SubjectKnee),
@@ -63,9 +64,9 @@ pub fn decode_message(bytes: &[u8]) -> Result<Message, DecodeError> {
         }
         crate::RAW_IMU_SAMPLE_TAG => decode::raw_imu_sample(body).map(Message::RawImuSample),
         crate::RAW_IMU_CONFIG_TAG => decode::raw_imu_config(body).map(Message::RawImuConfig),
-        crate::RAW_IMU_STATUS_TAG => decode::raw_imu_status(body).map(Message::RawImuStatus),
-        crate::VELOCITY_CONFIG_TAG => decode::velocity_config(body).map(Message::VelocityConfig),
-        crate::POSE_VELOCITIES_TAG => decode::pose_velocities(body).map(Message::PoseVelocities),
+        crate::RAW_IMU_STATUS_TAG => decode::plain(body).map(Message::RawImuStatus),
+        crate::VELOCITY_CONFIG_TAG => decode::plain(body).map(Message::VelocityConfig),
+        crate::POSE_VELOCITIES_TAG => decode::plain(body).map(Message::PoseVelocities),
         unknown => Err(DecodeError::UnknownMessage(unknown)),
     }
 }
