@@ -37,6 +37,7 @@
 //! (opensim-core #3366/#3367 report users reading OpenSim's gyroscope in other frames: these are
 //! the frames.)
 
+use crate::models::custom::BodyFrame;
 use crate::{Quat, Real, Vec3};
 
 /// Gravity in ground (m/s²): OpenSim's default, `(0, -9.80665, 0)` (y up).
@@ -238,25 +239,28 @@ pub(crate) struct Twist<T> {
     pub(crate) angular_velocity: Vec3<T>,
 }
 
-/// A frame's motion as an evaluator carries it: [`FrameMotion`] (with accelerations) or
-/// [`Twist`] (without: its accelerations read as zero and are dropped when set).
+/// A frame's motion as an evaluator carries it: [`FrameMotion`] (with accelerations),
+/// [`Twist`] (without: its accelerations read as zero and are dropped when set) or
+/// [`BodyFrame`] (the position alone: its rates read as zero and are dropped when set).
 pub(crate) trait Carried<T: Real>: Copy {
     /// Whether the accelerations are carried.
     const ACC: bool;
     /// Ground.
     const GROUND: Self;
     /// Orientation, origin, the origin's velocity, angular velocity.
-    fn twist(&self) -> (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>);
+    fn twist(&self) -> Twist<T>;
     /// The origin's acceleration and the angular acceleration (zero without them).
     fn accelerations(&self) -> (Vec3<T>, Vec3<T>);
-    /// From its parts (the accelerations ignored without them).
-    fn of(twist: (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>), accelerations: (Vec3<T>, Vec3<T>)) -> Self;
+    /// From its parts (what it does not carry ignored).
+    fn of(twist: Twist<T>, accelerations: (Vec3<T>, Vec3<T>)) -> Self;
 
     /// The origin itself: position, velocity, acceleration (no arithmetic on a zero offset:
     /// `0 · x` does not fold in floating point).
     #[inline(always)]
     fn origin_motion(&self) -> PointMotion<T> {
-        let (_, origin, velocity, _) = self.twist();
+        let Twist {
+            origin, velocity, ..
+        } = self.twist();
         PointMotion {
             position: origin,
             velocity,
@@ -271,7 +275,12 @@ pub(crate) trait Carried<T: Real>: Copy {
     /// The point `r` (ground axes) from the origin: position, velocity, acceleration.
     #[inline(always)]
     fn point_at(&self, r: Vec3<T>) -> PointMotion<T> {
-        let (_, origin, velocity, w) = self.twist();
+        let Twist {
+            origin,
+            velocity,
+            angular_velocity: w,
+            ..
+        } = self.twist();
         let mut acceleration = Vec3::zero();
         if Self::ACC {
             let (a, alpha) = self.accelerations();
@@ -289,23 +298,26 @@ impl<T: Real> Carried<T> for FrameMotion<T> {
     const ACC: bool = true;
     const GROUND: Self = FrameMotion::GROUND;
     #[inline(always)]
-    fn twist(&self) -> (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>) {
-        (
-            self.rotation,
-            self.origin,
-            self.velocity,
-            self.angular_velocity,
-        )
+    fn twist(&self) -> Twist<T> {
+        Twist {
+            rotation: self.rotation,
+            origin: self.origin,
+            velocity: self.velocity,
+            angular_velocity: self.angular_velocity,
+        }
     }
     #[inline(always)]
     fn accelerations(&self) -> (Vec3<T>, Vec3<T>) {
         (self.acceleration, self.angular_acceleration)
     }
     #[inline(always)]
-    fn of(
-        (rotation, origin, velocity, angular_velocity): (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>),
-        (acceleration, angular_acceleration): (Vec3<T>, Vec3<T>),
-    ) -> Self {
+    fn of(twist: Twist<T>, (acceleration, angular_acceleration): (Vec3<T>, Vec3<T>)) -> Self {
+        let Twist {
+            rotation,
+            origin,
+            velocity,
+            angular_velocity,
+        } = twist;
         Self {
             rotation,
             origin,
@@ -326,28 +338,40 @@ impl<T: Real> Carried<T> for Twist<T> {
         angular_velocity: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
     };
     #[inline(always)]
-    fn twist(&self) -> (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>) {
-        (
-            self.rotation,
-            self.origin,
-            self.velocity,
-            self.angular_velocity,
-        )
+    fn twist(&self) -> Twist<T> {
+        *self
     }
     #[inline(always)]
     fn accelerations(&self) -> (Vec3<T>, Vec3<T>) {
         (Vec3::zero(), Vec3::zero())
     }
     #[inline(always)]
-    fn of(
-        (rotation, origin, velocity, angular_velocity): (Quat<T>, Vec3<T>, Vec3<T>, Vec3<T>),
-        _: (Vec3<T>, Vec3<T>),
-    ) -> Self {
-        Self {
-            rotation,
-            origin,
-            velocity,
-            angular_velocity,
+    fn of(twist: Twist<T>, _: (Vec3<T>, Vec3<T>)) -> Self {
+        twist
+    }
+}
+
+impl<T: Real> Carried<T> for BodyFrame<T> {
+    const ACC: bool = false;
+    const GROUND: Self = BodyFrame::GROUND;
+    #[inline(always)]
+    fn twist(&self) -> Twist<T> {
+        Twist {
+            rotation: self.rotation,
+            origin: self.origin,
+            velocity: Vec3::zero(),
+            angular_velocity: Vec3::zero(),
+        }
+    }
+    #[inline(always)]
+    fn accelerations(&self) -> (Vec3<T>, Vec3<T>) {
+        (Vec3::zero(), Vec3::zero())
+    }
+    #[inline(always)]
+    fn of(twist: Twist<T>, _: (Vec3<T>, Vec3<T>)) -> Self {
+        BodyFrame {
+            rotation: twist.rotation,
+            origin: twist.origin,
         }
     }
 }
@@ -361,16 +385,62 @@ pub(crate) struct Jet<T> {
     pub(crate) accel: T,
 }
 
-impl<T: Real> Jet<T> {
-    pub(crate) const ZERO: Self = Self {
+/// What a coordinate-driven function passes on: the value alone (`T`, for positions) or a
+/// [`Jet`] (with its rates, by the chain rule).
+pub(crate) trait ChainRule<T: Real>: Copy {
+    /// Zero, not moving.
+    const ZERO: Self;
+    /// The value.
+    fn value(self) -> T;
+    /// The first time derivative (zero for a value alone).
+    fn rate(self) -> T;
+    /// The second time derivative (zero for a value alone).
+    fn accel(self) -> T;
+    /// `f(self)` given `f`'s value, first and second derivatives at `self.value()` (the
+    /// derivatives unread for a value alone).
+    fn through(self, f: T, df: T, ddf: T) -> Self;
+}
+
+impl<T: Real> ChainRule<T> for T {
+    const ZERO: Self = T::ZERO;
+    #[inline(always)]
+    fn value(self) -> T {
+        self
+    }
+    #[inline(always)]
+    fn rate(self) -> T {
+        T::ZERO
+    }
+    #[inline(always)]
+    fn accel(self) -> T {
+        T::ZERO
+    }
+    #[inline(always)]
+    fn through(self, f: T, _: T, _: T) -> Self {
+        f
+    }
+}
+
+impl<T: Real> ChainRule<T> for Jet<T> {
+    const ZERO: Self = Self {
         value: T::ZERO,
         rate: T::ZERO,
         accel: T::ZERO,
     };
-
-    /// `f(self)` given `f`'s value, first and second derivatives at `self.value`.
     #[inline(always)]
-    pub(crate) fn through(self, f: T, df: T, ddf: T) -> Self {
+    fn value(self) -> T {
+        self.value
+    }
+    #[inline(always)]
+    fn rate(self) -> T {
+        self.rate
+    }
+    #[inline(always)]
+    fn accel(self) -> T {
+        self.accel
+    }
+    #[inline(always)]
+    fn through(self, f: T, df: T, ddf: T) -> Self {
         Self {
             value: f,
             rate: df * self.rate,

@@ -25,22 +25,39 @@ use super::toml_error;
 use crate::error::ModelError;
 use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 
-/// The file: each length for both sides, or per side (`_r`, `_l`); every key optional.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct AnthropometryFile {
-    pelvis_half_width: Option<Spanned<Metres>>,
-    pelvis_half_width_r: Option<Spanned<Metres>>,
-    pelvis_half_width_l: Option<Spanned<Metres>>,
-    femur: Option<Spanned<Metres>>,
-    femur_r: Option<Spanned<Metres>>,
-    femur_l: Option<Spanned<Metres>>,
-    tibia: Option<Spanned<Metres>>,
-    tibia_r: Option<Spanned<Metres>>,
-    tibia_l: Option<Spanned<Metres>>,
-    foot: Option<Spanned<Metres>>,
-    foot_r: Option<Spanned<Metres>>,
-    foot_l: Option<Spanned<Metres>>,
+/// One length as the file gives it: for both sides, right, left.
+type Given<'a> = [&'a Option<Spanned<Metres>>; 3];
+
+/// Declares the file's struct, a field per key, and `lengths`, each length's three keys: `$key`
+/// for both sides, `$right`, `$left`. The keys are named once, here.
+macro_rules! anthropometry_file {
+    ($($key:ident, $right:ident, $left:ident;)*) => {
+        /// The file: each length for both sides, or per side (`_r`, `_l`); every key optional.
+        #[derive(Debug, Default, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct AnthropometryFile {
+            $(
+                $key: Option<Spanned<Metres>>,
+                $right: Option<Spanned<Metres>>,
+                $left: Option<Spanned<Metres>>,
+            )*
+        }
+
+        impl AnthropometryFile {
+            /// Each length's keys, in [`Limb`] order: the name and its three ways of being
+            /// given.
+            fn lengths(&self) -> [(&'static str, Given<'_>); 4] {
+                [$((stringify!($key), [&self.$key, &self.$right, &self.$left]),)*]
+            }
+        }
+    };
+}
+
+anthropometry_file! {
+    pelvis_half_width, pelvis_half_width_r, pelvis_half_width_l;
+    femur, femur_r, femur_l;
+    tibia, tibia_r, tibia_l;
+    foot, foot_r, foot_l;
 }
 
 /// A length in metres: a TOML float or integer (anything else is an error that says so).
@@ -66,28 +83,6 @@ impl<'de> Deserialize<'de> for Metres {
             }
         }
         d.deserialize_any(Number)
-    }
-}
-
-/// One length as the file gives it: for both sides, right, left.
-type Given<'a> = [&'a Option<Spanned<Metres>>; 3];
-
-impl AnthropometryFile {
-    /// Each length's keys, in [`Limb`] order: the name and its three ways of being given.
-    fn lengths(&self) -> [(&'static str, Given<'_>); 4] {
-        [
-            (
-                "pelvis_half_width",
-                [
-                    &self.pelvis_half_width,
-                    &self.pelvis_half_width_r,
-                    &self.pelvis_half_width_l,
-                ],
-            ),
-            ("femur", [&self.femur, &self.femur_r, &self.femur_l]),
-            ("tibia", [&self.tibia, &self.tibia_r, &self.tibia_l]),
-            ("foot", [&self.foot, &self.foot_r, &self.foot_l]),
-        ]
     }
 }
 

@@ -53,7 +53,7 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
         if self.at_origin[i] {
             f.origin_motion()
         } else {
-            f.point_at(self.point_kinds[i].rotate(f.twist().0, p.offset))
+            f.point_at(self.point_kinds[i].rotate(f.twist().rotation, p.offset))
         }
     }
 
@@ -93,7 +93,12 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
     ) -> K {
         let joint = &self.joints[j];
         let zero = Vec3::zero();
-        let (parent_rotation, parent_origin, parent_velocity, w) = parent.twist();
+        let Twist {
+            rotation: parent_rotation,
+            origin: parent_origin,
+            velocity: parent_velocity,
+            angular_velocity: w,
+        } = parent.twist();
         let (parent_acceleration, parent_alpha) = parent.accelerations();
         // The offset in the parent's frame and its rates (the splines'), then in ground.
         let mut offset = joint.offset;
@@ -156,9 +161,12 @@ impl<T: Real, const N: usize, const J: usize, const P: usize, const S: usize> Ch
             }
             omega += g * qd[c];
         }
-        K::of(
-            (rotation, parent_origin + r, velocity, omega),
-            (acceleration, alpha),
-        )
+        let twist = Twist {
+            rotation,
+            origin: parent_origin + r,
+            velocity,
+            angular_velocity: omega,
+        };
+        K::of(twist, (acceleration, alpha))
     }
 }

@@ -342,6 +342,21 @@ fn norm<T: Real>(v: &[T]) -> T {
     s.sqrt()
 }
 
+/// Rest detection's test of one sensor: its sample `x` low-pass filtered into `lp` (as
+/// [`filter_vec`]), and the squared distance of `x` from that.
+#[inline(always)]
+fn rest_deviation<T: FusionReal>(
+    x: &[T; 3],
+    tau: T,
+    ts: T,
+    c: &Lp<T::Acc>,
+    state: &mut [T::Acc],
+    lp: &mut [T; 3],
+) -> T {
+    filter_vec(x, tau, ts, c, state, lp);
+    square(x[0] - lp[0]) + square(x[1] - lp[1]) + square(x[2] - lp[2])
+}
+
 /// Divides by the norm unless it is below the epsilon.
 fn normalize<T: FusionReal>(v: &mut [T]) {
     let n = norm(v);
@@ -528,7 +543,7 @@ impl<T: FusionReal> Vqf<T> {
         let c = &self.coeffs;
         let s = &mut self.state;
         if c.rest_bias_est_enabled || c.mag_dist_rejection_enabled {
-            filter_vec(
+            s.rest_last_squared_deviations[0] = rest_deviation(
                 &gyr,
                 c.rest_filter_tau,
                 c.gyr_ts,
@@ -536,9 +551,6 @@ impl<T: FusionReal> Vqf<T> {
                 &mut s.rest_gyr_lp_state,
                 &mut s.rest_last_gyr_lp,
             );
-            s.rest_last_squared_deviations[0] = square(gyr[0] - s.rest_last_gyr_lp[0])
-                + square(gyr[1] - s.rest_last_gyr_lp[1])
-                + square(gyr[2] - s.rest_last_gyr_lp[2]);
             if s.rest_last_squared_deviations[0] >= c.rest_th_gyr_sq
                 || s.rest_last_gyr_lp[0].abs() > c.bias_clip
                 || s.rest_last_gyr_lp[1].abs() > c.bias_clip
@@ -577,7 +589,7 @@ impl<T: FusionReal> Vqf<T> {
 
         if c.rest_bias_est_enabled {
             let s = &mut self.state;
-            filter_vec(
+            s.rest_last_squared_deviations[1] = rest_deviation(
                 &acc,
                 c.rest_filter_tau,
                 c.acc_ts,
@@ -585,9 +597,6 @@ impl<T: FusionReal> Vqf<T> {
                 &mut s.rest_acc_lp_state,
                 &mut s.rest_last_acc_lp,
             );
-            s.rest_last_squared_deviations[1] = square(acc[0] - s.rest_last_acc_lp[0])
-                + square(acc[1] - s.rest_last_acc_lp[1])
-                + square(acc[2] - s.rest_last_acc_lp[2]);
             if s.rest_last_squared_deviations[1] >= c.rest_th_acc_sq {
                 s.rest_t = zero;
                 s.rest_detected = false;

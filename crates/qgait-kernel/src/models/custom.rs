@@ -378,7 +378,7 @@ impl<T: Real> Step<T> {
 
 impl<T: Real> BodyFrame<T> {
     /// The ground frame.
-    pub(super) const GROUND: Self = Self {
+    pub(crate) const GROUND: Self = Self {
         rotation: Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO),
         origin: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
     };

@@ -16,6 +16,11 @@
 //!   through the same abscissae (a knee's four) sharing them;
 //! - polynomials' coefficients and the output points.
 //!
+//! [`motions`](PackedChain::motions), [`forward_motion`](PackedChain::forward_motion) and
+//! [`forward_velocities`](PackedChain::forward_velocities) are its differential kinematics (see
+//! [`crate::differential`]): the same evaluator carrying each body's rates beside its frame,
+//! the drives' rates by the chain rule through their functions' analytic derivatives.
+//!
 //! Every read is bounded without panicking (a read past the pool reads its last numbers, an
 //! index past a table reads nothing), so a table of any content evaluates without panicking.
 //!
@@ -28,9 +33,8 @@
 use super::custom::{
     Argument, AxisKind, BodyFrame, CustomChain, Driven, Function, Shape, MAX_COUPLERS,
 };
+use crate::differential::{polynomial, Carried, ChainRule, FrameMotion, Jet, PointMotion, Twist};
 use crate::{Quat, Real, Vec3};
-
-mod motion;
 
 /// What drives one moving axis: its function byte and its argument byte.
 ///
@@ -209,14 +213,15 @@ pub struct PackedChain<
     words: [T; W],
 }
 
-/// Where a spline's cubic is, and the weights of its two knots' values and slopes at the
-/// argument: `y[k] + (y[k+1] − y[k]) w + m[k] a + m[k+1] b`.
-#[derive(Clone, Copy)]
-struct Weights<T> {
+/// A spline's cubic `k` and the weights of its knots' `[value difference, slope k, slope
+/// k+1]` at the argument (`w`: the value `y[k] + (y[k+1] − y[k]) w₀ + m[k] w₁ + m[k+1] w₂`),
+/// with their first (`d`) and second (`dd`) derivatives by it.
+#[derive(Clone, Copy, Default)]
+struct SplineWeights<T> {
     k: usize,
-    w: T,
-    a: T,
-    b: T,
+    w: [T; 3],
+    d: [T; 3],
+    dd: [T; 3],
 }
 
 impl<
@@ -485,13 +490,59 @@ impl<
 
     /// Every body's frame in ground for input coordinates `q`.
     pub fn frames(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
-        self.frames_inline(q)
+        self.carried(|i| q[i])
     }
 
     /// The output points in ground for input coordinates `q`: forward kinematics.
     #[inline]
     pub fn forward(&self, q: &[T; N]) -> [Vec3<T>; P] {
-        let frames = self.frames_inline(q);
+        let frames: [BodyFrame<T>; B] = self.carried(|i| q[i]);
+        self.points(&frames, |f, offset| match offset {
+            Some(offset) => f.origin + f.rotation.rotate(offset),
+            None => f.origin,
+        })
+    }
+
+    /// Every body's motion in ground ([`FrameMotion`]: orientation, origin, the origin's
+    /// velocity and acceleration, angular velocity and acceleration, ground axes) for input
+    /// coordinates `q`, speeds `qd` and accelerations `qdd`. The orientations and origins are
+    /// [`frames`](Self::frames)'.
+    pub fn motions(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [FrameMotion<T>; B] {
+        self.moving(q, qd, qdd)
+    }
+
+    /// The output points' positions, velocities and accelerations in ground (the time
+    /// derivatives of [`forward`](Self::forward)'s points).
+    #[inline]
+    pub fn forward_motion(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [PointMotion<T>; P] {
+        let frames: [FrameMotion<T>; B] = self.moving(q, qd, qdd);
+        self.points(&frames, point_motion)
+    }
+
+    /// The output points' positions and velocities (as [`forward_motion`](Self::forward_motion),
+    /// the accelerations neither computed nor carried): `(positions, velocities)`.
+    #[inline]
+    pub fn forward_velocities(&self, q: &[T; N], qd: &[T; N]) -> ([Vec3<T>; P], [Vec3<T>; P]) {
+        let frames: [Twist<T>; B] = self.moving(q, qd, qd);
+        let points = self.points(&frames, point_motion);
+        let mut positions = [Vec3::zero(); P];
+        let mut velocities = [Vec3::zero(); P];
+        for (i, p) in points.iter().enumerate() {
+            positions[i] = p.position;
+            velocities[i] = p.velocity;
+        }
+        (positions, velocities)
+    }
+
+    /// The output points on their bodies' frames as `K` carries them: each `place`d at its
+    /// body's origin (`None`) or at its offset in the body (`Some`, read in order from the
+    /// pool's points).
+    #[inline(always)]
+    fn points<K: Carried<T>, X: Default>(
+        &self,
+        frames: &[K; B],
+        place: impl Fn(&K, Option<Vec3<T>>) -> X,
+    ) -> [X; P] {
         let mut cursor = usize::from(u16::from_le_bytes([
             self.codes.counts[2],
             self.codes.counts[3],
@@ -500,22 +551,32 @@ impl<
             let [body, at_origin] = self.codes.points[k];
             // A body past the table reads the last one.
             let Some(f) = frames.get(usize::from(body).min(B.saturating_sub(1))) else {
-                return Vec3::zero();
+                return X::default();
             };
-            if at_origin != 0 {
-                f.origin
-            } else {
-                f.origin + f.rotation.rotate(self.vec(&mut cursor))
-            }
+            let offset = (at_origin == 0).then(|| self.vec(&mut cursor));
+            place(f, offset)
         })
     }
 
-    /// [`frames`](Self::frames): every drive's value first, then the frames joint by joint.
+    /// The bodies' motions for `q`, `qd`, `qdd`, with their accelerations if `K` carries them
+    /// (`qdd` unread otherwise).
     #[inline(always)]
-    fn frames_inline(&self, q: &[T; N]) -> [BodyFrame<T>; B] {
-        let mut values = [T::ZERO; D];
-        self.values(q, &mut values);
-        let mut frames = [BodyFrame::GROUND; B];
+    fn moving<K: Carried<T>>(&self, q: &[T; N], qd: &[T; N], qdd: &[T; N]) -> [K; B] {
+        self.carried(|i| Jet {
+            value: q[i],
+            rate: qd[i],
+            accel: qdd[i],
+        })
+    }
+
+    /// Every body's frame as `K` carries it (its position, or with its rates): every drive's
+    /// value first (with its rates if `V` carries them; coordinate `i` is `coordinate(i)`),
+    /// then the frames joint by joint.
+    #[inline(always)]
+    fn carried<K: Carried<T>, V: ChainRule<T>>(&self, coordinate: impl Fn(usize) -> V) -> [K; B] {
+        let mut values = [V::ZERO; D];
+        self.drive_values(coordinate, &mut values);
+        let mut frames = [K::GROUND; B];
         let mut rest = values
             .get(usize::from(self.codes.counts[1])..)
             .unwrap_or(&[]);
@@ -527,150 +588,214 @@ impl<
             let (done, todo) = frames.split_at_mut(b);
             let parent = match done.get(code.parent()) {
                 Some(p) if b > 0 => p,
-                _ => &BodyFrame::GROUND,
+                _ => &K::GROUND,
             };
             if let Some(f) = todo.first_mut() {
-                *f = self.frame(code, parent, v, nr, nt);
+                *f = self.body(code, parent, v, nr, nt);
             }
         }
         frames
     }
 
-    /// Every drive's value for `q`, in order (the coupled coordinates first, then the moving
-    /// axes'), the linear coefficients read in order from the pool's start. A coupled
-    /// coordinate is the value of an earlier drive (0 otherwise).
+    /// Every drive's value (with its rates if `V` carries them) for coordinate `i` at
+    /// `coordinate(i)`, in order (the coupled coordinates first, then the moving axes'), the
+    /// linear coefficients read in order from the pool's start. A coupled coordinate is the
+    /// value of an earlier drive (0 otherwise).
     #[inline(always)]
-    fn values(&self, q: &[T; N], values: &mut [T; D]) {
+    fn drive_values<V: ChainRule<T>>(&self, coordinate: impl Fn(usize) -> V, values: &mut [V; D]) {
         let mut cursor = 0;
-        let mut weights = Weights {
-            k: 0,
-            w: T::ZERO,
-            a: T::ZERO,
-            b: T::ZERO,
-        };
+        let mut weights = SplineWeights::default();
         let count = usize::from(self.codes.counts[0]).min(D);
         for i in 0..count {
             let [function, argument] = self.codes.drives[i];
             let index = usize::from(argument & Drive::INDEX);
             let x = match argument & Drive::KIND {
-                Drive::COORDINATE => q.get(index).copied().unwrap_or(T::ZERO),
+                Drive::COORDINATE if index < N => coordinate(index),
                 Drive::COUPLED if index < i => values[index],
-                _ => T::ZERO,
+                _ => V::ZERO,
             };
             values[i] = self.function(function, x, &mut cursor, &mut weights);
         }
     }
 
-    /// The frame of a joint's body on its parent's frame, as [`CustomChain`] computes it: `v`
-    /// its `nt` translations' values, then its `nr` rotations'.
+    /// The frame of a joint's body on its parent's frame, as [`CustomChain`] computes it, and
+    /// its rates if `K` carries them: `v` its `nt` translations' drives, then its `nr`
+    /// rotations'.
     #[inline(always)]
-    fn frame(
+    fn body<K: Carried<T>, V: ChainRule<T>>(
         &self,
         code: JointCode,
-        parent: &BodyFrame<T>,
-        v: &[T],
+        parent: &K,
+        v: &[V],
         nr: usize,
         nt: usize,
-    ) -> BodyFrame<T> {
+    ) -> K {
         let mut cursor = code.words();
         let shape = code.shape();
-        let mut origin = parent.origin;
+        let zero = Vec3::zero();
+        let Twist {
+            rotation: parent_rotation,
+            mut origin,
+            mut velocity,
+            angular_velocity: w,
+        } = parent.twist();
+        let (mut acceleration, parent_alpha) = parent.accelerations();
         if shape & Shape::START != 0 {
             let start = self.vec(&mut cursor);
-            let mut slide = Vec3::zero();
-            for &x in v.iter().take(nt) {
-                slide += self.vec(&mut cursor) * x;
+            let (mut slide, mut rate, mut accel) = (zero, zero, zero);
+            for x in v.iter().take(nt) {
+                let axis = self.vec(&mut cursor);
+                slide += axis * x.value();
+                rate += axis * x.rate();
+                if K::ACC {
+                    accel += axis * x.accel();
+                }
             }
-            origin += parent.rotation.rotate(start + slide);
+            let r = parent_rotation.rotate(start + slide);
+            let rate = parent_rotation.rotate(rate);
+            origin += r;
+            velocity += w.cross(r) + rate;
+            if K::ACC {
+                acceleration += parent_alpha.cross(r)
+                    + w.cross(w.cross(r) + rate * T::TWO)
+                    + parent_rotation.rotate(accel);
+            }
         }
-        let mut rotation = parent.rotation;
-        for (r, &x) in v.iter().skip(nt).take(nr).enumerate() {
-            let (s, c) = x.half_angle_sin_cos();
-            rotation = match code.kinds() >> (2 * r) & 3 {
-                1 => rotation.then_about_x(s, c),
-                2 => rotation.then_about_y(s, c),
-                3 => rotation.then_about_z(s, c),
-                _ => rotation * Quat::from_axis_half_sin_cos(self.vec(&mut cursor), s, c),
+        let mut rotation = parent_rotation;
+        let mut omega = w;
+        let mut alpha = parent_alpha;
+        let one = T::ONE;
+        for (r, x) in v.iter().skip(nt).take(nr).enumerate() {
+            let (s, c) = x.value().half_angle_sin_cos();
+            // The axis in ground (unmoved by its own rotation).
+            let g = match code.kinds() >> (2 * r) & 3 {
+                1 => {
+                    rotation = rotation.then_about_x(s, c);
+                    rotation.rotate_x(one)
+                }
+                2 => {
+                    rotation = rotation.then_about_y(s, c);
+                    rotation.rotate_y(one)
+                }
+                3 => {
+                    rotation = rotation.then_about_z(s, c);
+                    rotation.rotate_z(one)
+                }
+                _ => {
+                    let axis = self.vec(&mut cursor);
+                    rotation = rotation * Quat::from_axis_half_sin_cos(axis, s, c);
+                    rotation.rotate(axis)
+                }
             };
+            if K::ACC {
+                alpha += g * x.accel() + omega.cross(g) * x.rate();
+            }
+            omega += g * x.rate();
         }
         if shape & Shape::TURNS != 0 {
             rotation = rotation * self.quat(&mut cursor);
         }
+        let twist = Twist {
+            rotation,
+            origin,
+            velocity,
+            angular_velocity: omega,
+        };
+        let mut body = K::of(twist, (acceleration, alpha));
         if shape & Shape::ENDS_AWAY != 0 {
-            origin += rotation.rotate(self.vec(&mut cursor));
+            let end = body.point_at(rotation.rotate(self.vec(&mut cursor)));
+            let twist = Twist {
+                rotation,
+                origin: end.position,
+                velocity: end.velocity,
+                angular_velocity: omega,
+            };
+            body = K::of(twist, (end.acceleration, alpha));
         }
-        BodyFrame { rotation, origin }
+        body
     }
 
-    /// The value of function code `function` at `x`; linear coefficients read at `cursor`, a
-    /// spline's weights found (into `weights`) unless it [`Drive::SHARES`] them.
+    /// Function code `function` through `x` (with its derivatives if `V` carries rates, by the
+    /// chain rule); linear coefficients read at `cursor`, a spline's weights found (into
+    /// `weights`) unless it [`Drive::SHARES`] them.
     #[inline(always)]
-    fn function(&self, function: u8, x: T, cursor: &mut usize, weights: &mut Weights<T>) -> T {
+    fn function<V: ChainRule<T>>(
+        &self,
+        function: u8,
+        x: V,
+        cursor: &mut usize,
+        weights: &mut SplineWeights<T>,
+    ) -> V {
         let index = usize::from(function & Drive::FUNCTION_INDEX);
         let shared = function & Drive::SHARES != 0;
+        let zero = T::ZERO;
         match function & Drive::KIND {
             Drive::LINEAR => {
                 let [slope, intercept] = self.take::<2>(cursor);
-                slope * x + intercept
+                x.through(slope * x.value() + intercept, slope, zero)
             }
             Drive::SPLINE => {
                 let Some(&s) = self.codes.splines.get(index) else {
-                    return T::ZERO;
+                    return V::ZERO;
                 };
                 let s = SplineCode(s);
                 if !shared {
-                    *weights = self.weights(s, x);
+                    *weights = self.weights(s, x.value());
                 }
                 let at = s.values() + weights.k;
                 let n = s.knots();
                 let [y0, y1] = self.take::<2>(&mut at.clone());
                 let [m0, m1] = self.take::<2>(&mut (at + n));
-                y0 + (y1 - y0) * weights.w + m0 * weights.a + m1 * weights.b
+                let [w, a, b] = weights.w;
+                let [dw, da, db] = weights.d;
+                let [ddw, dda, ddb] = weights.dd;
+                let dy = y1 - y0;
+                x.through(
+                    y0 + dy * w + m0 * a + m1 * b,
+                    dy * dw + m0 * da + m1 * db,
+                    dy * ddw + m0 * dda + m1 * ddb,
+                )
             }
             Drive::POLYNOMIAL => {
                 let Some(&[s0, s1, len]) = self.codes.polynomials.get(index) else {
-                    return T::ZERO;
+                    return V::ZERO;
                 };
                 let start = usize::from(u16::from_le_bytes([s0, s1]));
                 let c = self.words.get(start..start + usize::from(len));
-                c.unwrap_or(&[])
-                    .iter()
-                    .fold(T::ZERO, |value, &c| value * x + c)
+                let (p, dp, ddp) = polynomial(c.unwrap_or(&[]), x.value());
+                x.through(p, dp, ddp)
             }
             _ => x,
         }
     }
 
-    /// The weights of spline `s`'s knots at `t`: the cubic of the last knot at or below `t`
-    /// (the first below the second knot), or the end lines outside the knots.
+    /// The Hermite weights of spline `s` at `t` and their first and second derivatives by
+    /// `t`: the cubic of the last knot at or below `t` (the first below the second knot), or
+    /// the end lines outside the knots.
     #[inline(always)]
-    fn weights(&self, s: SplineCode, t: T) -> Weights<T> {
+    fn weights(&self, s: SplineCode, t: T) -> SplineWeights<T> {
         let n = s.knots();
         let start = s.x();
-        let zero = T::ZERO;
+        let (zero, one) = (T::ZERO, T::ONE);
         let Some(x) = self.words.get(start..start + n).filter(|x| x.len() >= 2) else {
-            return Weights {
-                k: 0,
-                w: zero,
-                a: zero,
-                b: zero,
-            };
+            return SplineWeights::default();
         };
         let last = n - 1;
         if t < x[0] {
-            return Weights {
+            // The first knot's line: y0 + m0 (t - x0).
+            return SplineWeights {
                 k: 0,
-                w: zero,
-                a: t - x[0],
-                b: zero,
+                w: [zero, t - x[0], zero],
+                d: [zero, one, zero],
+                dd: [zero; 3],
             };
         }
         if x[last] < t {
-            return Weights {
+            return SplineWeights {
                 k: last - 1,
-                w: T::ONE,
-                a: zero,
-                b: t - x[last],
+                w: [one, zero, t - x[last]],
+                d: [zero, zero, one],
+                dd: [zero; 3],
             };
         }
         // The last knot at or below t, below the last knot (the knots increase), by bisection:
@@ -687,29 +812,39 @@ impl<
             }
         }
         let Some(&[xk, xk1]) = x.get(k..k + 2) else {
-            return Weights {
+            return SplineWeights {
                 k,
-                w: zero,
-                a: zero,
-                b: zero,
+                ..SplineWeights::default()
             };
         };
+        let h = xk1 - xk;
         let dx = t - xk;
-        let s_ = dx / (xk1 - xk);
+        let s_ = dx / h;
         if s.linear() {
-            return Weights {
+            return SplineWeights {
                 k,
-                w: s_,
-                a: zero,
-                b: zero,
+                w: [s_, zero, zero],
+                d: [one / h, zero, zero],
+                dd: [zero; 3],
             };
         }
-        let r = T::ONE - s_;
-        Weights {
+        // w = s²(3 - 2s), a = h s (1 - s)², b = -h s² (1 - s), s = (t - xₖ) / h.
+        let r = one - s_;
+        let (two, three) = (T::TWO, T::TWO + one);
+        let six = three * two;
+        SplineWeights {
             k,
-            w: s_ * s_ * (T::TWO + T::ONE - T::TWO * s_),
-            a: dx * r * r,
-            b: -(dx * s_ * r),
+            w: [s_ * s_ * (three - two * s_), dx * r * r, -(dx * s_ * r)],
+            d: [
+                six * s_ * r / h,
+                r * (one - three * s_),
+                s_ * (three * s_ - two),
+            ],
+            dd: [
+                six * (one - two * s_) / (h * h),
+                (six * s_ - two - two) / h,
+                (six * s_ - two) / h,
+            ],
         }
     }
 
@@ -735,6 +870,16 @@ impl<
     fn quat(&self, cursor: &mut usize) -> Quat<T> {
         let [w, x, y, z] = self.take::<4>(cursor);
         Quat::new(w, x, y, z)
+    }
+}
+
+/// A point's motion on its body's frame `f` (as `f` carries it): at the frame's origin
+/// (`None`) or at `offset` in the body.
+#[inline(always)]
+fn point_motion<T: Real, K: Carried<T>>(f: &K, offset: Option<Vec3<T>>) -> PointMotion<T> {
+    match offset {
+        Some(offset) => f.point_at(f.twist().rotation.rotate(offset)),
+        None => f.origin_motion(),
     }
 }
 
