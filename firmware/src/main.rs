@@ -7,7 +7,7 @@ use core::mem::MaybeUninit;
 
 use cortex_m_rt::entry;
 use qgait_firmware::board::{Board, Serial, SysTickClock};
-use qgait_firmware::{board, stack};
+use qgait_firmware::{app, board, stack};
 use qgait_hub::{Hub, DEFAULT_STATUS_PERIOD_MS};
 
 /// The application: the hub on this board's UART and clock.
@@ -15,21 +15,7 @@ type AppHub = Hub<Serial, SysTickClock>;
 
 #[entry]
 fn main() -> ! {
-    let Some(board) = board::take() else {
-        defmt::error!("board peripherals already taken");
-        board::exit(1)
-    };
-    defmt::info!(
-        "qgait hub on {=str}, stack region {=u32} bytes (painted)",
-        board::NAME,
-        stack::size()
-    );
-    let hub = init_hub(board);
-    defmt::info!(
-        "hub state {=usize} bytes (static)",
-        core::mem::size_of_val(hub)
-    );
-    serve(hub)
+    serve(app::start("hub", init_hub))
 }
 
 /// The main loop. Never inlined, so its frame (the per-poll temporaries) and `init_hub`'s are
@@ -41,11 +27,7 @@ fn serve(hub: &'static mut AppHub) -> ! {
         let summary = hub.poll();
         if summary.status_sent {
             defmt::info!("status {}", hub.status());
-            defmt::info!(
-                "stack peak {=u32} bytes of {=u32}",
-                stack::peak(),
-                stack::size()
-            );
+            stack::log_peak();
         }
     }
 }

@@ -8,7 +8,7 @@ use core::mem::MaybeUninit;
 
 use cortex_m_rt::entry;
 use qgait_firmware::board::{Board, Serial, SysTickClock};
-use qgait_firmware::{board, stack};
+use qgait_firmware::{app, board, stack};
 use qgait_node::{Node, DEFAULT_STATUS_PERIOD_MS};
 
 /// The application: the node on this board's UART and clock.
@@ -16,21 +16,7 @@ type AppNode = Node<Serial, SysTickClock>;
 
 #[entry]
 fn main() -> ! {
-    let Some(board) = board::take() else {
-        defmt::error!("board peripherals already taken");
-        board::exit(1)
-    };
-    defmt::info!(
-        "qgait node on {=str}, stack region {=u32} bytes (painted)",
-        board::NAME,
-        stack::size()
-    );
-    let node = init_node(board);
-    defmt::info!(
-        "node state {=usize} bytes (static)",
-        core::mem::size_of_val(node)
-    );
-    serve(node)
+    serve(app::start("node", init_node))
 }
 
 /// The main loop. Never inlined, so its frame and `init_node`'s are never on the stack at the
@@ -42,11 +28,7 @@ fn serve(node: &'static mut AppNode) -> ! {
         // The counters themselves go out on the UART (`Status`, `RawImuStatus`): the log has
         // only what the UART cannot say (formatting `Status` here would cost 0.2 KB of flash).
         if summary.status_sent {
-            defmt::info!(
-                "stack peak {=u32} bytes of {=u32}",
-                stack::peak(),
-                stack::size()
-            );
+            stack::log_peak();
         }
     }
 }
