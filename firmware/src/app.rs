@@ -1,28 +1,21 @@
-//! What the hub and the node do alike at start: take the board, log the start, build the
-//! application into its static, log its size.
+//! The start the hub and the node share: [`start!`](crate::start).
 
-use crate::board::{self, Board};
-use crate::stack;
-
-/// Starts the application `name` (`"hub"`, `"node"`): the board's peripherals taken (or the run
-/// ended), the start logged, `init` building the application into its static, its size logged.
-/// Returns the application, for the main loop.
-pub fn start<A>(name: &str, init: impl FnOnce(Board) -> &'static mut A) -> &'static mut A {
-    let Some(board) = board::take() else {
-        defmt::error!("board peripherals already taken");
-        board::exit(1)
-    };
-    defmt::info!(
-        "qgait {=str} on {=str}, stack region {=u32} bytes (painted)",
-        name,
-        board::NAME,
-        stack::size()
-    );
-    let app = init(board);
-    defmt::info!(
-        "{=str} state {=usize} bytes (static)",
-        name,
-        core::mem::size_of_val(app)
-    );
-    app
+/// Starts an application (the hub, the node): the board's peripherals taken (or the run
+/// ended), `$started` logged with the board's name and the stack region's size, `$init`
+/// building the application into its static from the board, `$state` logged with the
+/// application's size; evaluates to the application, for the main loop. A macro, not a
+/// function, so that each binary's log lines stay literal format strings: a name passed as a
+/// `str` would be encoded at run time (40 B more flash).
+#[macro_export]
+macro_rules! start {
+    ($init:expr, $started:tt, $state:tt) => {{
+        let Some(board) = $crate::board::take() else {
+            defmt::error!("board peripherals already taken");
+            $crate::board::exit(1)
+        };
+        defmt::info!($started, $crate::board::NAME, $crate::stack::size());
+        let app = $init(board);
+        defmt::info!($state, core::mem::size_of_val(app));
+        app
+    }};
 }

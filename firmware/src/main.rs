@@ -7,7 +7,7 @@ use core::mem::MaybeUninit;
 
 use cortex_m_rt::entry;
 use qgait_firmware::board::{Board, Serial, SysTickClock};
-use qgait_firmware::{app, board, stack};
+use qgait_firmware::{board, stack};
 use qgait_hub::{Hub, DEFAULT_STATUS_PERIOD_MS};
 
 /// The application: the hub on this board's UART and clock.
@@ -15,7 +15,12 @@ type AppHub = Hub<Serial, SysTickClock>;
 
 #[entry]
 fn main() -> ! {
-    serve(app::start("hub", init_hub))
+    let hub = qgait_firmware::start!(
+        init_hub,
+        "qgait hub on {=str}, stack region {=u32} bytes (painted)",
+        "hub state {=usize} bytes (static)"
+    );
+    serve(hub)
 }
 
 /// The main loop. Never inlined, so its frame (the per-poll temporaries) and `init_hub`'s are

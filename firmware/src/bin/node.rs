@@ -8,7 +8,7 @@ use core::mem::MaybeUninit;
 
 use cortex_m_rt::entry;
 use qgait_firmware::board::{Board, Serial, SysTickClock};
-use qgait_firmware::{app, board, stack};
+use qgait_firmware::{board, stack};
 use qgait_node::{Node, DEFAULT_STATUS_PERIOD_MS};
 
 /// The application: the node on this board's UART and clock.
@@ -16,7 +16,12 @@ type AppNode = Node<Serial, SysTickClock>;
 
 #[entry]
 fn main() -> ! {
-    serve(app::start("node", init_node))
+    let node = qgait_firmware::start!(
+        init_node,
+        "qgait node on {=str}, stack region {=u32} bytes (painted)",
+        "node state {=usize} bytes (static)"
+    );
+    serve(node)
 }
 
 /// The main loop. Never inlined, so its frame and `init_node`'s are never on the stack at the
