@@ -3,7 +3,7 @@
 use core::mem::MaybeUninit;
 use core::ptr::addr_of_mut;
 
-use embedded_hal_nb::serial::Error as LineError;
+use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
@@ -14,13 +14,12 @@ use qgait_proto::{
 
 use crate::assembly::{Assembler, SampleEvent};
 use crate::clock::Clock;
-use crate::counters::{bump, count_outcome, status_due};
+use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
 #[cfg(feature = "imu")]
 use crate::orientation::{ImuInput, SegmentOutput};
 #[cfg(feature = "raw")]
 use crate::raw::{orientation_packet, RawInput, RawOutcome};
-use crate::receive::Receiver;
 use crate::velocity::Differentiator;
 use crate::SubjectParts;
 use crate::{ConfigError, Kinematics};
@@ -262,12 +261,33 @@ where
     pub fn poll(&mut self) -> PollSummary {
         let sent_before = self.status.frames_sent;
         let status_before = self.status_frames;
-        let bytes = self.receive(MAX_BYTES_PER_POLL);
-        if status_due(
-            self.clock.now_ms(),
-            self.last_status_ms,
-            self.status_period_ms,
-        ) {
+        let mut bytes = 0;
+        while bytes < MAX_BYTES_PER_POLL {
+            // Only what is there: `read` would block on an empty port.
+            if !matches!(self.serial.read_ready(), Ok(true)) {
+                break;
+            }
+            let want = READ_CHUNK.min(MAX_BYTES_PER_POLL - bytes);
+            match self.serial.read(&mut self.rx[..want]) {
+                // Nothing after all (a port at its end): as if nothing was ready.
+                Ok(0) => break,
+                Ok(n) => {
+                    let n = n.min(want);
+                    bytes += n;
+                    self.on_bytes(n);
+                }
+                Err(e) => match e.kind() {
+                    LineErrorKind::Overrun => bump(&mut self.status.uart_overruns),
+                    // Parity, noise, line framing: the frame's CRC or COBS check will fail too;
+                    // count the line error as a framing error.
+                    _ => bump(&mut self.status.framing_errors),
+                },
+            }
+        }
+        let now = self.clock.now_ms();
+        if self.status_period_ms != 0
+            && now.wrapping_sub(self.last_status_ms) >= self.status_period_ms
+        {
             self.send_status();
         }
         PollSummary {
@@ -670,8 +690,14 @@ where
     #[cfg(feature = "chain")]
     #[inline(never)]
     fn on_chain_config(&mut self, config: &ChainTableConfig) {
-        let new =
-            self.keeping_lengths(ModelId::Chain, config.missing_policy, config.reorder_window);
+        let new = Config {
+            model: ModelId::Chain,
+            // Kept for a later HAK or PHAK.
+            anthropometry: self.config.anthropometry,
+            missing_policy: config.missing_policy,
+            reorder_window: config.reorder_window,
+            request_status: false,
+        };
         let result = self.switch_chain(new, config);
         self.after_config(result, config.request_status);
     }
@@ -703,38 +729,28 @@ where
         }
         self.close_open_samples();
         self.kinematics.take_chain(checked);
-        self.enter(new);
+        self.config = new;
+        #[cfg(feature = "imu")]
+        set_input(&mut self.input, &self.config, &self.imu);
+        #[cfg(not(feature = "imu"))]
+        set_input(&mut self.input, &self.config);
+        self.velocity.reset();
         self.subject = None;
         Ok(())
     }
 
     #[inline(never)]
     fn on_subject_config(&mut self, config: &SubjectConfig) {
-        let new = self.keeping_lengths(
-            ModelId::Gait2392,
-            config.missing_policy,
-            config.reorder_window,
-        );
+        let new = Config {
+            model: ModelId::Gait2392,
+            // Kept for a later HAK or PHAK.
+            anthropometry: self.config.anthropometry,
+            missing_policy: config.missing_policy,
+            reorder_window: config.reorder_window,
+            request_status: false,
+        };
         let result = self.apply(new, Some(config.upload));
         self.after_config(result, config.request_status);
-    }
-
-    /// The configuration of `model` with these settings, the lengths in force kept (for a
-    /// later HAK or PHAK).
-    #[inline(always)]
-    fn keeping_lengths(
-        &self,
-        model: ModelId,
-        missing_policy: MissingPolicy,
-        reorder_window: u8,
-    ) -> Config {
-        Config {
-            model,
-            anthropometry: self.config.anthropometry,
-            missing_policy,
-            reorder_window,
-            request_status: false,
-        }
     }
 
     /// Makes `new` with the subject model `subject` the configuration in force, unless it
@@ -791,21 +807,15 @@ where
         } else {
             self.switch_gait2392(subject)?;
         }
-        self.enter(new);
-        self.subject = subject;
-        self.subject_generation = self.subject_parts.generation();
-        Ok(())
-    }
-
-    /// `new` in force once its model is: the input it asks for, the velocities started again.
-    #[inline(always)]
-    fn enter(&mut self, new: Config) {
         self.config = new;
         #[cfg(feature = "imu")]
         set_input(&mut self.input, &self.config, &self.imu);
         #[cfg(not(feature = "imu"))]
         set_input(&mut self.input, &self.config);
         self.velocity.reset();
+        self.subject = subject;
+        self.subject_generation = self.subject_parts.generation();
+        Ok(())
     }
 
     /// The model part of [`switch`](Self::switch) for gait2392, generic or a subject's.
@@ -932,34 +942,10 @@ impl<S: Write> Output<'_, S> {
     }
 }
 
-impl<S, C> Receiver for Hub<S, C>
-where
-    S: Read + ReadReady + Write,
-    S::Error: LineError,
-    C: Clock,
-{
-    type Port = S;
-
-    #[inline(always)]
-    fn port_and_buffer(&mut self) -> (&mut S, &mut [u8]) {
-        (&mut self.serial, &mut self.rx)
-    }
-
-    #[inline(always)]
-    fn counters(&mut self) -> &mut Status {
-        &mut self.status
-    }
-
-    #[inline(always)]
-    fn on_received(&mut self, n: usize) {
-        self.on_bytes(n)
-    }
-}
-
 /// Writes `frame`, in one `write` call if the port takes it all (a UART driver does); counts
 /// it in `status` if the whole frame went out. A write that fails, or takes nothing, ends the
 /// frame there (uncounted): the receiver's decoder drops the partial frame at the next 0x00.
-pub fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
+pub(crate) fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
     while !frame.is_empty() {
         match serial.write(frame) {
             Ok(n) if n > 0 => frame = frame.get(n..).unwrap_or_default(),

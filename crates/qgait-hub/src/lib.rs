@@ -15,7 +15,6 @@ pub mod memory_serial;
 pub mod orientation;
 #[cfg(feature = "fusion")]
 pub mod raw;
-pub mod receive;
 pub mod velocity;
 
 pub use crate::assembly::{

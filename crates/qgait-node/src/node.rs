@@ -1,10 +1,8 @@
 //! The [`Node`]: serial bytes in, raw samples fused, segment orientations and status out.
 
-use embedded_hal_nb::serial::Error as LineError;
+use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
-use qgait_hub::counters::{bump, status_due};
-use qgait_hub::hub::write_frame;
-use qgait_hub::receive::Receiver;
+use qgait_hub::counters::bump;
 use qgait_hub::Clock;
 use qgait_proto::{
     cobs_max_encoded_len, decode_node_message, encode_raw_imu_status_frame,
@@ -97,12 +95,28 @@ where
     pub fn poll(&mut self) -> NodePoll {
         let sent_before = self.status.frames_sent;
         let status_before = self.status_frames;
-        let bytes = self.receive(MAX_BYTES_PER_POLL);
-        if status_due(
-            self.clock.now_ms(),
-            self.last_status_ms,
-            self.status_period_ms,
-        ) {
+        let mut bytes = 0;
+        while bytes < MAX_BYTES_PER_POLL {
+            if !matches!(self.serial.read_ready(), Ok(true)) {
+                break;
+            }
+            match self.serial.read(&mut self.rx) {
+                Ok(0) => break,
+                Ok(n) => {
+                    let n = n.min(READ_CHUNK);
+                    bytes += n;
+                    self.on_bytes(n);
+                }
+                Err(e) => match e.kind() {
+                    LineErrorKind::Overrun => bump(&mut self.status.uart_overruns),
+                    _ => bump(&mut self.status.framing_errors),
+                },
+            }
+        }
+        let now = self.clock.now_ms();
+        if self.status_period_ms != 0
+            && now.wrapping_sub(self.last_status_ms) >= self.status_period_ms
+        {
             self.send_status();
         }
         NodePoll {
@@ -193,26 +207,13 @@ where
     }
 }
 
-impl<S, C> Receiver for Node<S, C>
-where
-    S: Read + ReadReady + Write,
-    S::Error: LineError,
-    C: Clock,
-{
-    type Port = S;
-
-    #[inline(always)]
-    fn port_and_buffer(&mut self) -> (&mut S, &mut [u8]) {
-        (&mut self.serial, &mut self.rx)
+/// Writes all of `frame` (a port that takes nothing ends the attempt) and counts it.
+fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
+    while !frame.is_empty() {
+        match serial.write(frame) {
+            Ok(n) if n > 0 => frame = frame.get(n..).unwrap_or_default(),
+            _ => return,
+        }
     }
-
-    #[inline(always)]
-    fn counters(&mut self) -> &mut Status {
-        &mut self.status
-    }
-
-    #[inline(always)]
-    fn on_received(&mut self, n: usize) {
-        self.on_bytes(n)
-    }
+    bump(&mut status.frames_sent);
 }
