@@ -93,58 +93,123 @@ fn main() -> ! {
     let g = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap_or_else(|_| board::exit(1));
 
     report("empty_loop.ticks", bench_empty(&phak_in, CALLS) as f32, 1.0);
-    let (scalar, scalar_slow) = (
-        Figures::of(&scalars, CALLS),
-        Figures::of(&scalars, MATRIX_CALLS),
+    let scalar_base = bench_empty(&scalars, CALLS);
+    net(
+        "trig.half_angle_sin_cos",
+        bench_half_angle(&scalars, CALLS),
+        scalar_base,
+        CALLS,
     );
-    scalar.net("trig.half_angle_sin_cos", |n| bench_half_angle(&scalars, n));
-    scalar_slow.net("trig.libm_sincosf", |n| bench_libm_sincos(&scalars, n));
-    scalar.net("trig.sqrt_f32", |n| bench_sqrt(&scalars, n));
-
-    let (hak_fast, hak_slow) = (
-        Figures::of(&hak_in, CALLS),
-        Figures::of(&hak_in, MATRIX_CALLS),
+    net(
+        "trig.libm_sincosf",
+        bench_libm_sincos(&scalars, MATRIX_CALLS),
+        bench_empty(&scalars, MATRIX_CALLS),
+        MATRIX_CALLS,
     );
-    hak_fast.net("hak.quat", |n| bench_hak_quat(&hak, &hak_in, n));
-    hak_slow.net("hak.matrix", |n| bench_hak_matrix(&hak, &hak_in, n));
-
-    let (phak_fast, phak_slow) = (
-        Figures::of(&phak_in, CALLS),
-        Figures::of(&phak_in, MATRIX_CALLS),
+    net(
+        "trig.sqrt_f32",
+        bench_sqrt(&scalars, CALLS),
+        scalar_base,
+        CALLS,
     );
-    phak_fast.net("phak.quat", |n| bench_phak_quat(&phak, &phak_in, n));
-    phak_fast.net("phak.velocities", |n| {
-        bench_phak_velocities(&phak, &phak_in, &phak_rates, n)
-    });
-    phak_fast.net("phak.motion", |n| {
-        bench_phak_motion(&phak, &phak_in, &phak_rates, n)
-    });
-    phak_fast.net("phak.quat_frames", |n| {
-        bench_phak_frames(&phak, &phak_in, n)
-    });
-    phak_slow.net("phak.matrix", |n| bench_phak_matrix(&phak, &phak_in, n));
 
-    let (g_fast, g_slow) = (Figures::of(&g_in, CALLS), Figures::of(&g_in, MATRIX_CALLS));
-    g_fast.net("gait2392.quat", |n| bench_gait2392_quat(&g, &g_in, n));
-    g_fast.net("gait2392.quat_frames", |n| {
-        bench_gait2392_frames(&g, &g_in, n)
-    });
-    g_fast.net("gait2392.velocities", |n| {
-        bench_gait2392_velocities(&g, &g_in, &g_rates, n)
-    });
-    g_fast.net("gait2392.motion", |n| {
-        bench_gait2392_motion(&g, &g_in, &g_rates, n)
-    });
-    g_slow.net("gait2392.matrix", |n| bench_gait2392_matrix(&g, &g_in, n));
+    let hak_base = bench_empty(&hak_in, CALLS);
+    net(
+        "hak.quat",
+        bench_hak_quat(&hak, &hak_in, CALLS),
+        hak_base,
+        CALLS,
+    );
+    net(
+        "hak.matrix",
+        bench_hak_matrix(&hak, &hak_in, MATRIX_CALLS),
+        bench_empty(&hak_in, MATRIX_CALLS),
+        MATRIX_CALLS,
+    );
+
+    let phak_base = bench_empty(&phak_in, CALLS);
+    net(
+        "phak.quat",
+        bench_phak_quat(&phak, &phak_in, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.velocities",
+        bench_phak_velocities(&phak, &phak_in, &phak_rates, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.motion",
+        bench_phak_motion(&phak, &phak_in, &phak_rates, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.quat_frames",
+        bench_phak_frames(&phak, &phak_in, CALLS),
+        phak_base,
+        CALLS,
+    );
+    net(
+        "phak.matrix",
+        bench_phak_matrix(&phak, &phak_in, MATRIX_CALLS),
+        bench_empty(&phak_in, MATRIX_CALLS),
+        MATRIX_CALLS,
+    );
+
+    let g_base = bench_empty(&g_in, CALLS);
+    net(
+        "gait2392.quat",
+        bench_gait2392_quat(&g, &g_in, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.quat_frames",
+        bench_gait2392_frames(&g, &g_in, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.velocities",
+        bench_gait2392_velocities(&g, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.motion",
+        bench_gait2392_motion(&g, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "gait2392.matrix",
+        bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS),
+        bench_empty(&g_in, MATRIX_CALLS),
+        MATRIX_CALLS,
+    );
 
     let raj = rajagopal();
-    g_fast.net("rajagopal.quat", |n| bench_rajagopal_quat(&raj, &g_in, n));
-    g_fast.net("rajagopal.velocities", |n| {
-        bench_rajagopal_velocities(&raj, &g_in, &g_rates, n)
-    });
-    g_fast.net("rajagopal.motion", |n| {
-        bench_rajagopal_motion(&raj, &g_in, &g_rates, n)
-    });
+    net(
+        "rajagopal.quat",
+        bench_rajagopal_quat(&raj, &g_in, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "rajagopal.velocities",
+        bench_rajagopal_velocities(&raj, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
+    net(
+        "rajagopal.motion",
+        bench_rajagopal_motion(&raj, &g_in, &g_rates, CALLS),
+        g_base,
+        CALLS,
+    );
 
     imu_benches(&g, &mut rng);
     fusion_benches(&mut rng);
@@ -205,36 +270,6 @@ fn net(name: &str, ticks: u32, base: u32, n: u32) {
     );
 }
 
-/// Figures of `n` calls each net of the empty loop over the same inputs (its ticks: `base`).
-struct Figures {
-    base: u32,
-    n: u32,
-}
-
-impl Figures {
-    /// The empty loop over `inputs`, `n` times.
-    fn of<I, const N: usize>(inputs: &[I; N], n: u32) -> Self {
-        Figures {
-            base: bench_empty(inputs, n),
-            n,
-        }
-    }
-
-    /// Reports `name` from `measure(n)`, the ticks of `n` calls ([`net`]).
-    fn net(&self, name: &str, measure: impl FnOnce(u32) -> u32) {
-        net(name, measure(self.n), self.base, self.n)
-    }
-
-    /// [`Figures::net`] as `{name}_{what}`.
-    fn net_named(&self, name: &str, what: &str, measure: impl FnOnce(u32) -> u32) {
-        let mut full: heapless::String<48> = heapless::String::new();
-        if full.push_str(name).is_err() || full.push('_').is_err() || full.push_str(what).is_err() {
-            board::exit(1)
-        }
-        self.net(&full, measure)
-    }
-}
-
 /// A loop of `n` `subs`/`bne` pairs (2n instructions) must take 2n / 40 ticks: otherwise QEMU
 /// is not counting instructions (`-icount shift=0,align=off` missing) and the run fails.
 fn calibrate() {
@@ -275,117 +310,160 @@ impl Lcg {
 // ELF's symbol table (the kernel's share per model; see xtask/src/bench.rs).
 
 #[inline(never)]
-fn bench_empty<I, const N: usize>(inputs: &[I; N], n: u32) -> u32 {
+fn bench_empty<I>(inputs: &[I; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
-        black_box(&inputs[i % N]);
+        black_box(&inputs[i % INPUTS]);
     })
 }
 
-/// `n` calls of `call(model, input)`, the inputs cycled, model and input through `black_box`.
-#[inline(always)]
-fn each_input<M: ?Sized, I, R>(
-    model: &M,
-    inputs: &[I; INPUTS],
+#[inline(never)]
+fn bench_half_angle(x: &[f32; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(half_angle_sin_cos_f32(*black_box(&x[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_libm_sincos(x: &[f32; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(Real::sin_cos(*black_box(&x[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_sqrt(x: &[f32; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(Real::sqrt(black_box(&x[i % INPUTS]).abs()));
+    })
+}
+
+#[inline(never)]
+fn bench_hak_quat(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_hak_matrix(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(chain_by_matrices(
+            black_box(model).chain(),
+            &black_box(&q[i % INPUTS]).to_array(),
+        ));
+    })
+}
+
+#[inline(never)]
+fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+/// PHAK's points' positions and velocities from angles and speeds.
+#[inline(never)]
+fn bench_phak_velocities(
+    model: &Phak<f32>,
+    q: &[PhakAngles<f32>; INPUTS],
+    rates: &[[[f32; 8]; 2]; INPUTS],
     n: u32,
-    call: impl Fn(&M, &I) -> R,
 ) -> u32 {
     timed(n, |i| {
-        black_box(call(black_box(model), black_box(&inputs[i % INPUTS])));
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_velocities(&black_box(&q[i % INPUTS]).to_array(), qd),
+        );
     })
 }
 
-/// [`each_input`] with the speeds and accelerations (`rates[k] = [qd, qdd]`) of each input.
-#[inline(always)]
-fn each_input_in_motion<M: ?Sized, I, R, const N: usize>(
-    model: &M,
-    inputs: &[I; INPUTS],
-    rates: &[[[f32; N]; 2]; INPUTS],
+/// PHAK's points' positions, velocities and accelerations.
+#[inline(never)]
+fn bench_phak_motion(
+    model: &Phak<f32>,
+    q: &[PhakAngles<f32>; INPUTS],
+    rates: &[[[f32; 8]; 2]; INPUTS],
     n: u32,
-    call: impl Fn(&M, &I, &[f32; N], &[f32; N]) -> R,
 ) -> u32 {
     timed(n, |i| {
         let [qd, qdd] = black_box(&rates[i % INPUTS]);
-        black_box(call(
-            black_box(model),
-            black_box(&inputs[i % INPUTS]),
+        black_box(black_box(model).chain().forward_motion(
+            &black_box(&q[i % INPUTS]).to_array(),
             qd,
             qdd,
         ));
     })
 }
 
-/// `n` calls of `call(x)` on the inputs `x` cycled, each read through `black_box`.
-#[inline(always)]
-fn each_scalar<R>(x: &[f32; INPUTS], n: u32, call: impl Fn(f32) -> R) -> u32 {
+#[inline(never)]
+fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
-        black_box(call(*black_box(&x[i % INPUTS])));
+        black_box(
+            black_box(model)
+                .chain()
+                .frames(&black_box(&q[i % INPUTS]).to_array()),
+        );
     })
 }
 
-/// Declares the measured loops, each a function of its own (see above) timing `n` calls:
-/// `fn NAME(Model, Input) = CALL` of `CALL(model, input)` ([`each_input`]); with
-/// `in motion (N)`, of `CALL(model, input, qd, qdd)` ([`each_input_in_motion`]);
-/// `fn NAME(f32) = CALL` of `CALL(x)` ([`each_scalar`]).
-macro_rules! measured_loops {
-    () => {};
-    ($(#[$doc:meta])* fn $name:ident(f32) = $call:expr; $($rest:tt)*) => {
-        $(#[$doc])*
-        #[inline(never)]
-        fn $name(x: &[f32; INPUTS], n: u32) -> u32 {
-            each_scalar(x, n, $call)
-        }
-        measured_loops!($($rest)*);
-    };
-    ($(#[$doc:meta])* fn $name:ident($model:ty, $input:ty) = $call:expr; $($rest:tt)*) => {
-        $(#[$doc])*
-        #[inline(never)]
-        fn $name(model: &$model, q: &[$input; INPUTS], n: u32) -> u32 {
-            each_input(model, q, n, $call)
-        }
-        measured_loops!($($rest)*);
-    };
-    ($(#[$doc:meta])* fn $name:ident($model:ty, $input:ty, in motion ($dofs:expr)) = $call:expr; $($rest:tt)*) => {
-        $(#[$doc])*
-        #[inline(never)]
-        fn $name(
-            model: &$model,
-            q: &[$input; INPUTS],
-            rates: &[[[f32; $dofs]; 2]; INPUTS],
-            n: u32,
-        ) -> u32 {
-            each_input_in_motion(model, q, rates, n, $call)
-        }
-        measured_loops!($($rest)*);
-    };
+#[inline(never)]
+fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(chain_by_matrices(
+            black_box(model).chain(),
+            &black_box(&q[i % INPUTS]).to_array(),
+        ));
+    })
 }
 
-measured_loops! {
-    fn bench_half_angle(f32) = half_angle_sin_cos_f32;
-    fn bench_libm_sincos(f32) = Real::sin_cos;
-    fn bench_sqrt(f32) = |x| Real::sqrt(x.abs());
-    fn bench_hak_quat(Hak<f32>, HakAngles<f32>) = |m, q| m.fk(q);
-    fn bench_hak_matrix(Hak<f32>, HakAngles<f32>) = |m, q| chain_by_matrices(m.chain(), &q.to_array());
-    fn bench_phak_quat(Phak<f32>, PhakAngles<f32>) = |m, q| m.fk(q);
-    /// PHAK's points' positions and velocities from angles and speeds.
-    fn bench_phak_velocities(Phak<f32>, PhakAngles<f32>, in motion (8)) =
-        |m, q, qd, _| m.chain().forward_velocities(&q.to_array(), qd);
-    /// PHAK's points' positions, velocities and accelerations.
-    fn bench_phak_motion(Phak<f32>, PhakAngles<f32>, in motion (8)) =
-        |m, q, qd, qdd| m.chain().forward_motion(&q.to_array(), qd, qdd);
-    fn bench_phak_frames(Phak<f32>, PhakAngles<f32>) = |m, q| m.chain().frames(&q.to_array());
-    fn bench_phak_matrix(Phak<f32>, PhakAngles<f32>) = |m, q| chain_by_matrices(m.chain(), &q.to_array());
-    fn bench_gait2392_quat(Gait2392<f32>, [f32; 17]) = |m, q| m.fk(q);
-    fn bench_gait2392_velocities(Gait2392<f32>, [f32; 17], in motion (17)) =
-        |m, q, qd, _| m.chain().forward_velocities(q, qd);
-    fn bench_gait2392_motion(Gait2392<f32>, [f32; 17], in motion (17)) =
-        |m, q, qd, qdd| m.chain().forward_motion(q, qd, qdd);
-    fn bench_gait2392_frames(Gait2392<f32>, [f32; 17]) = |m, q| m.chain().frames(q);
-    fn bench_gait2392_matrix(Gait2392<f32>, [f32; 17]) = |m, q| chain_by_matrices(m.chain(), q);
-    fn bench_rajagopal_quat(DeviceChain, [f32; 17]) = |m, q| m.forward(q);
-    fn bench_rajagopal_velocities(DeviceChain, [f32; 17], in motion (17)) =
-        |m, q, qd, _| m.forward_velocities(q, qd);
-    fn bench_rajagopal_motion(DeviceChain, [f32; 17], in motion (17)) =
-        |m, q, qd, qdd| m.forward_motion(q, qd, qdd);
+#[inline(never)]
+fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_velocities(
+    model: &Gait2392<f32>,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_velocities(black_box(&q[i % INPUTS]), qd),
+        );
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_motion(
+    model: &Gait2392<f32>,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(
+            black_box(model)
+                .chain()
+                .forward_motion(black_box(&q[i % INPUTS]), qd, qdd),
+        );
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).chain().frames(black_box(&q[i % INPUTS])));
+    })
 }
 
 /// The imported Rajagopal 2015 (OpenSense) chain, as `qgait config --model` sends it: its
@@ -409,6 +487,49 @@ fn rajagopal() -> DeviceChain {
         Some(c) if table_crc(&table, usize::from(c.len)) == c.crc => table,
         _ => board::exit(5),
     }
+}
+
+#[inline(never)]
+fn bench_rajagopal_quat(model: &DeviceChain, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(black_box(model).forward(black_box(&q[i % INPUTS])));
+    })
+}
+
+#[inline(never)]
+fn bench_rajagopal_velocities(
+    model: &DeviceChain,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).forward_velocities(black_box(&q[i % INPUTS]), qd));
+    })
+}
+
+#[inline(never)]
+fn bench_rajagopal_motion(
+    model: &DeviceChain,
+    q: &[[f32; 17]; INPUTS],
+    rates: &[[[f32; 17]; 2]; INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(black_box(model).forward_motion(black_box(&q[i % INPUTS]), qd, qdd));
+    })
+}
+
+#[inline(never)]
+fn bench_gait2392_matrix(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(chain_by_matrices(
+            black_box(model).chain(),
+            black_box(&q[i % INPUTS]),
+        ));
+    })
 }
 
 /// The PHAK packet of `joint` in sample `seq`, with an angle that changes every sample.
@@ -446,7 +567,14 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         }
     }
     defmt::println!("bench sample.rx_bytes {=usize}", streams[0].len());
-    Figures::of(&streams, CALLS / 4).net("sample.decode_8_packets", |n| bench_decode(&streams, n));
+    let n = CALLS / 4;
+    let base = bench_empty(&streams, n);
+    net(
+        "sample.decode_8_packets",
+        bench_decode(&streams, n),
+        base,
+        n,
+    );
 
     let payloads: [heapless::Vec<u8, 32>; INPUTS] = core::array::from_fn(|i| {
         let mut out = [0u8; 32];
@@ -460,14 +588,25 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         "bench sample.packet_payload_bytes {=usize}",
         payloads[0].len()
     );
-    let payload = Figures::of(&payloads, CALLS);
-    payload.net("sample.crc32c_packet", |n| bench_crc(&payloads, n));
-    payload.net("sample.decode_message_packet", |n| {
-        bench_decode_message(&payloads, n)
-    });
-    payload.net("sample.decode_packet", |n| {
-        bench_decode_packet(&payloads, n)
-    });
+    let base = bench_empty(&payloads, CALLS);
+    net(
+        "sample.crc32c_packet",
+        bench_crc(&payloads, CALLS),
+        base,
+        CALLS,
+    );
+    net(
+        "sample.decode_message_packet",
+        bench_decode_message(&payloads, CALLS),
+        base,
+        CALLS,
+    );
+    net(
+        "sample.decode_packet",
+        bench_decode_packet(&payloads, CALLS),
+        base,
+        CALLS,
+    );
     // One packet frame's bytes into the decoder, then its delimiter (the frame checks): the
     // same bytes followed by a reset instead of the delimiter are the base, so the figure is
     // the checks alone; the base against the empty loop is the per-byte cost of 16 bytes.
@@ -479,14 +618,19 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
             .unwrap_or(1);
         heapless::Vec::from_slice(&out[..len - 1]).unwrap_or_default()
     });
-    let bytes_only = Figures {
-        base: bench_frame_bytes(&frames, CALLS, false),
-        n: CALLS,
-    };
-    Figures::of(&frames, CALLS).net("sample.packet_frame_bytes", |_| bytes_only.base);
-    bytes_only.net("sample.packet_frame_checks", |n| {
-        bench_frame_bytes(&frames, n, true)
-    });
+    let bytes_only = bench_frame_bytes(&frames, CALLS, false);
+    net(
+        "sample.packet_frame_bytes",
+        bytes_only,
+        bench_empty(&frames, CALLS),
+        CALLS,
+    );
+    net(
+        "sample.packet_frame_checks",
+        bench_frame_bytes(&frames, CALLS, true),
+        bytes_only,
+        CALLS,
+    );
 
     let kinematics = Kinematics::new(ModelId::Phak, None).unwrap_or_else(|_| board::exit(1));
     let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
@@ -504,13 +648,22 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         }
         s
     });
-    Figures::of(&samples, CALLS).net("sample.pose_frame", |n| {
-        bench_pose_frame(&kinematics, &samples, n)
-    });
+    let base = bench_empty(&samples, CALLS);
+    net(
+        "sample.pose_frame",
+        bench_pose_frame(&kinematics, &samples, CALLS),
+        base,
+        CALLS,
+    );
 
     let phak = Phak::<f32>::new(&Anthropometry::gait2392()).unwrap_or_else(|_| board::exit(1));
     let poses: [BilateralPose<f32>; INPUTS] = core::array::from_fn(|i| phak.fk(&phak_in[i]));
-    Figures::of(&poses, CALLS).net("sample.distances", |n| bench_distances(&poses, n));
+    net(
+        "sample.distances",
+        bench_distances(&poses, CALLS),
+        bench_empty(&poses, CALLS),
+        CALLS,
+    );
 
     let pose_frames: [PoseFrame; INPUTS] =
         core::array::from_fn(|i| kinematics.pose_frame(samples[i].seq, &samples[i].angles, 0));
@@ -520,12 +673,18 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         board::exit(PIPELINE_EXIT_CODE)
     };
     defmt::println!("bench sample.tx_bytes {=usize}", len);
-    Figures::of(&pose_frames, CALLS).net("sample.encode_pose_frame", |n| {
-        bench_encode(&pose_frames, n)
-    });
-    Figures::of(&frames, CALLS).net("sample.encode_message_pose_frame", |n| {
-        bench_encode_message(&frames, n)
-    });
+    net(
+        "sample.encode_pose_frame",
+        bench_encode(&pose_frames, CALLS),
+        bench_empty(&pose_frames, CALLS),
+        CALLS,
+    );
+    net(
+        "sample.encode_message_pose_frame",
+        bench_encode_message(&frames, CALLS),
+        bench_empty(&frames, CALLS),
+        CALLS,
+    );
     crc_cobs_beside_crates(&payloads, &frames);
     defmt::println!(
         "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize} phak {=usize} gait2392 {=usize}",
@@ -1020,7 +1179,7 @@ fn write_nothing(
 /// model (identity calibration pose, no heading). The solver warm-starts from the previous
 /// input, an unrelated pose, so the least-squares figures are a worst case for a recording.
 fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
-    use qgait_kernel::imu::{Calibration, Mode, Orientations, Segment, Settings};
+    use qgait_kernel::imu::{Calibration, Mode, Orientations, Segment, Settings, Solver};
     let joints = [0usize, 1, 2, 4, 6, 7, 9, 0];
     let readings: [Orientations<f32>; INPUTS] = core::array::from_fn(|_| {
         let q: [f32; 17] = rng.angles::<17>().map(|a| a * 0.3);
@@ -1044,57 +1203,65 @@ fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
         cal.segments(&readings[i])
             .unwrap_or_else(|_| board::exit(1))
     });
-    let imu = Figures::of(&readings, 256);
-    imu.net("imu.segments", |n| {
-        timed(n, |i| {
+    let base = bench_empty(&readings, 256);
+    net(
+        "imu.segments",
+        timed(256, |i| {
             black_box(
                 black_box(&cal)
                     .segments(black_box(&readings[i % INPUTS]))
                     .ok(),
             );
-        })
-    });
-    imu.net("imu.closed_form", |n| solves(g, &segs, Mode::ClosedForm, n));
-    imu.net("imu.least_squares", |n| {
-        solves(g, &segs, Mode::LeastSquares, n)
-    });
-    let whole = |mode, n| whole_imu_path(g, &cal, &readings, mode, n);
-    imu.net("imu.whole_ls", |n| whole(Mode::LeastSquares, n));
-    imu.net("imu.whole_cf", |n| whole(Mode::ClosedForm, n));
-}
-
-/// `n` solves in `mode` (a constant where inlined) of the segments `segs` cycled, by a new
-/// solver.
-#[inline(always)]
-fn solves(
-    g: &Gait2392<f32>,
-    segs: &[qgait_kernel::imu::Orientations<f32>; INPUTS],
-    mode: qgait_kernel::imu::Mode,
-    n: u32,
-) -> u32 {
-    let mut solver = qgait_kernel::imu::Solver::<f32>::new();
-    timed(n, |i| {
-        black_box(solver.solve(black_box(g), black_box(&segs[i % INPUTS]), mode));
-    })
-}
-
-/// `n` times the whole IMU path, by a new solver: the readings cycled to segment orientations,
-/// solved in `mode` (a constant where inlined), the coordinates' FK.
-#[inline(always)]
-fn whole_imu_path(
-    g: &Gait2392<f32>,
-    cal: &qgait_kernel::imu::Calibration<f32>,
-    readings: &[qgait_kernel::imu::Orientations<f32>; INPUTS],
-    mode: qgait_kernel::imu::Mode,
-    n: u32,
-) -> u32 {
-    let mut solver = qgait_kernel::imu::Solver::<f32>::new();
-    timed(n, |i| {
-        if let Ok(s) = black_box(cal).segments(black_box(&readings[i % INPUTS])) {
-            let a = solver.solve(black_box(g), &s, mode);
-            black_box(g.fk(&a.coordinates));
-        }
-    })
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.closed_form",
+        timed(256, |i| {
+            black_box(solver.solve(black_box(g), black_box(&segs[i % INPUTS]), Mode::ClosedForm));
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.least_squares",
+        timed(256, |i| {
+            black_box(solver.solve(
+                black_box(g),
+                black_box(&segs[i % INPUTS]),
+                Mode::LeastSquares,
+            ));
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.whole_ls",
+        timed(256, |i| {
+            if let Ok(s) = black_box(&cal).segments(black_box(&readings[i % INPUTS])) {
+                let a = solver.solve(black_box(g), &s, Mode::LeastSquares);
+                black_box(g.fk(&a.coordinates));
+            }
+        }),
+        base,
+        256,
+    );
+    let mut solver = Solver::<f32>::new();
+    net(
+        "imu.whole_cf",
+        timed(256, |i| {
+            if let Ok(s) = black_box(&cal).segments(black_box(&readings[i % INPUTS])) {
+                let a = solver.solve(black_box(g), &s, Mode::ClosedForm);
+                black_box(g.fk(&a.coordinates));
+            }
+        }),
+        base,
+        256,
+    );
 }
 
 // ---- Orientation estimation (the kernel's VQF, `qgait_kernel::fusion`) ----------------------
@@ -1151,7 +1318,7 @@ fn fusion_benches(rng: &mut Lcg) {
         "bench vqf.state_bytes {=usize}",
         core::mem::size_of::<Vqf<f32>>()
     );
-    let empty = Figures::of(&samples, CALLS);
+    let base = bench_vqf_empty(&samples, CALLS);
     for nine_d in [true, false] {
         let mut vqf = Vqf::<f32>::new_default(VQF_TS as f64);
         for i in 0..2000 {
@@ -1159,16 +1326,26 @@ fn fusion_benches(rng: &mut Lcg) {
             vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
         }
         if nine_d {
-            empty.net("vqf.update_9d", |n| bench_vqf_9d(&mut vqf, &samples, n));
+            net(
+                "vqf.update_9d",
+                bench_vqf_9d(&mut vqf, &samples, CALLS),
+                base,
+                CALLS,
+            );
             if vqf.mag_dist_detected() {
                 defmt::error!("the benchmark's magnetic field was not accepted");
                 board::exit(PIPELINE_EXIT_CODE)
             }
         } else {
-            empty.net("vqf.update_6d", |n| bench_vqf_6d(&mut vqf, &samples, n));
+            net(
+                "vqf.update_6d",
+                bench_vqf_6d(&mut vqf, &samples, CALLS),
+                base,
+                CALLS,
+            );
         }
     } // vqf-rs on the same samples (fewer calls: it is slower).
-    let base = bench_empty(&samples, VQF_RS_CALLS);
+    let base = bench_vqf_empty(&samples, VQF_RS_CALLS);
     for nine_d in [true, false] {
         let mut vqf = vqf_rs::VQF::new(VQF_TS, None, None, None);
         for i in 0..2000 {
@@ -1197,27 +1374,36 @@ fn bench_vqf_rs(vqf: &mut vqf_rs::VQF, x: &[ImuSample; VQF_INPUTS], n: u32, nine
     })
 }
 
-/// The kernel's VQF in `f32`.
-type KernelVqf = qgait_kernel::fusion::Vqf<f32>;
-
 #[inline(never)]
-fn bench_vqf_9d(vqf: &mut KernelVqf, x: &[ImuSample; VQF_INPUTS], n: u32) -> u32 {
-    vqf_updates(vqf, x, n, true)
+fn bench_vqf_empty(x: &[ImuSample; VQF_INPUTS], n: u32) -> u32 {
+    timed(n, |i| {
+        black_box(&x[i % VQF_INPUTS]);
+    })
 }
 
 #[inline(never)]
-fn bench_vqf_6d(vqf: &mut KernelVqf, x: &[ImuSample; VQF_INPUTS], n: u32) -> u32 {
-    vqf_updates(vqf, x, n, false)
-}
-
-/// `n` updates of `vqf` by the samples `x` cycled, 9D (with the magnetometer) or 6D (a
-/// constant where inlined), each followed by reading that orientation.
-#[inline(always)]
-fn vqf_updates(vqf: &mut KernelVqf, x: &[ImuSample; VQF_INPUTS], n: u32, nine_d: bool) -> u32 {
+fn bench_vqf_9d(
+    vqf: &mut qgait_kernel::fusion::Vqf<f32>,
+    x: &[ImuSample; VQF_INPUTS],
+    n: u32,
+) -> u32 {
     timed(n, |i| {
         let s = black_box(&x[i % VQF_INPUTS]);
-        vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
-        black_box(if nine_d { vqf.quat_9d() } else { vqf.quat_6d() });
+        vqf.update(s.gyr, s.acc, Some(s.mag));
+        black_box(vqf.quat_9d());
+    })
+}
+
+#[inline(never)]
+fn bench_vqf_6d(
+    vqf: &mut qgait_kernel::fusion::Vqf<f32>,
+    x: &[ImuSample; VQF_INPUTS],
+    n: u32,
+) -> u32 {
+    timed(n, |i| {
+        let s = black_box(&x[i % VQF_INPUTS]);
+        vqf.update(s.gyr, s.acc, None);
+        black_box(vqf.quat_6d());
     })
 }
 
@@ -1253,11 +1439,11 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
         if messages.iter().any(|m| m.is_empty()) {
             board::exit(PIPELINE_EXIT_CODE)
         }
-        let empty = Figures::of(messages, CALLS);
-        empty.net_named("crc.ours", what, |n| bench_crc_of(messages, n, crc32c));
-        empty.net_named("crc.crc_crate", what, |n| {
-            bench_crc_of(messages, n, |m| qgait_proto::FRAME_CRC.checksum(m))
-        });
+        let base = bench_empty(messages, CALLS);
+        let ours = bench_crc_of(messages, CALLS, crc32c);
+        let theirs = bench_crc_of(messages, CALLS, |m| qgait_proto::FRAME_CRC.checksum(m));
+        net_named("crc.ours", what, ours, base, CALLS);
+        net_named("crc.crc_crate", what, theirs, base, CALLS);
 
         // COBS input: the message and its CRC, as in a frame.
         let data: [heapless::Vec<u8, CODEC_MAX>; INPUTS] = core::array::from_fn(|i| {
@@ -1267,31 +1453,40 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
         });
         // Every encoder starts from a copy of the data in a scratch buffer (ours encodes in
         // place, at `buf[1..]`), so the copy alone is the base.
-        let copy = Figures {
-            base: bench_cobs_encode(&data, CALLS, |_, _| 0),
-            n: CALLS,
-        };
-        copy.net_named("cobs.encode_ours", what, |n| {
-            bench_cobs_encode(&data, n, |buf, len| {
+        let copy = bench_cobs_encode(&data, CALLS, |_, _| 0);
+        net_named(
+            "cobs.encode_ours",
+            what,
+            bench_cobs_encode(&data, CALLS, |buf, len| {
                 proto_cobs::encode_in_place(buf, len).unwrap_or(0)
-            })
-        });
-        copy.net_named("cobs.encode_cobs_crate", what, |n| {
-            bench_cobs_encode(&data, n, |buf, len| {
+            }),
+            copy,
+            CALLS,
+        );
+        net_named(
+            "cobs.encode_cobs_crate",
+            what,
+            bench_cobs_encode(&data, CALLS, |buf, len| {
                 let (src, dst) = buf.split_at_mut(CODEC_MAX);
                 cobs::try_encode(&src[1..=len], dst).unwrap_or(0)
-            })
-        });
-        copy.net_named("cobs.encode_postcard_flavour", what, |n| {
-            bench_cobs_encode(&data, n, |buf, len| {
+            }),
+            copy,
+            CALLS,
+        );
+        net_named(
+            "cobs.encode_postcard_flavour",
+            what,
+            bench_cobs_encode(&data, CALLS, |buf, len| {
                 use postcard::ser_flavors::{Cobs, Flavor, Slice};
                 let (src, dst) = buf.split_at_mut(CODEC_MAX);
                 Cobs::try_new(Slice::new(dst))
                     .and_then(|mut f| f.try_extend(&src[1..=len]).and_then(|()| f.finalize()))
                     .map(|out| out.len())
                     .unwrap_or(0)
-            })
-        });
+            }),
+            copy,
+            CALLS,
+        );
 
         // Decoders: the COBS bytes of each frame (no delimiter), copied into a scratch buffer
         // before each call (both decode in place); the copy alone is the base.
@@ -1300,19 +1495,35 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
             let n = proto_cobs::encode(data[i].iter().copied(), &mut out).unwrap_or(0);
             heapless::Vec::from_slice(&out[..n]).unwrap_or_default()
         });
-        let copy = Figures {
-            base: bench_cobs_decode(&encoded, CALLS, |_| 0),
-            n: CALLS,
-        };
-        copy.net_named("cobs.decode_ours", what, |n| {
-            bench_cobs_decode(&encoded, n, |buf| {
+        let copy = bench_cobs_decode(&encoded, CALLS, |_| 0);
+        net_named(
+            "cobs.decode_ours",
+            what,
+            bench_cobs_decode(&encoded, CALLS, |buf| {
                 proto_cobs::decode_in_place_unshifted(buf).map_or(0, |r| r.len())
-            })
-        });
-        copy.net_named("cobs.decode_cobs_crate", what, |n| {
-            bench_cobs_decode(&encoded, n, |buf| cobs::decode_in_place(buf).unwrap_or(0))
-        });
+            }),
+            copy,
+            CALLS,
+        );
+        net_named(
+            "cobs.decode_cobs_crate",
+            what,
+            bench_cobs_decode(&encoded, CALLS, |buf| {
+                cobs::decode_in_place(buf).unwrap_or(0)
+            }),
+            copy,
+            CALLS,
+        );
     }
+}
+
+/// [`net`] as `{name}_{what}`.
+fn net_named(name: &str, what: &str, ticks: u32, base: u32, n: u32) {
+    let mut full: heapless::String<48> = heapless::String::new();
+    if full.push_str(name).is_err() || full.push('_').is_err() || full.push_str(what).is_err() {
+        board::exit(1)
+    }
+    net(&full, ticks, base, n)
 }
 
 /// `crc` of each message in turn.
