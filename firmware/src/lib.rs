@@ -2,6 +2,7 @@
 #![no_std]
 #![warn(missing_docs)]
 
+pub mod app;
 pub mod board;
 pub mod fault;
 pub mod stack;

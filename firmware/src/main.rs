@@ -15,19 +15,10 @@ type AppHub = Hub<Serial, SysTickClock>;
 
 #[entry]
 fn main() -> ! {
-    let Some(board) = board::take() else {
-        defmt::error!("board peripherals already taken");
-        board::exit(1)
-    };
-    defmt::info!(
+    let hub = qgait_firmware::start!(
+        init_hub,
         "qgait hub on {=str}, stack region {=u32} bytes (painted)",
-        board::NAME,
-        stack::size()
-    );
-    let hub = init_hub(board);
-    defmt::info!(
-        "hub state {=usize} bytes (static)",
-        core::mem::size_of_val(hub)
+        "hub state {=usize} bytes (static)"
     );
     serve(hub)
 }
@@ -41,11 +32,7 @@ fn serve(hub: &'static mut AppHub) -> ! {
         let summary = hub.poll();
         if summary.status_sent {
             defmt::info!("status {}", hub.status());
-            defmt::info!(
-                "stack peak {=u32} bytes of {=u32}",
-                stack::peak(),
-                stack::size()
-            );
+            stack::log_peak();
         }
     }
 }

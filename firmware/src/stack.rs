@@ -42,3 +42,9 @@ pub fn peak() -> u32 {
     }
     (top - addr) as u32
 }
+
+/// Logs the stack's peak and size (`stack peak N bytes of M`, the figure `cargo xtask
+/// footprint` reads from the log).
+pub fn log_peak() {
+    defmt::info!("stack peak {=u32} bytes of {=u32}", peak(), size());
+}

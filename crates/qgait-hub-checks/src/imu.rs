@@ -22,8 +22,8 @@ use qgait_proto::{
 use qgait_hub::{Kinematics, ManualClock};
 
 use crate::{
-    drain, new_hub, poses, send, send_sample, send_subject, subject_config, CheckFailure,
-    CheckResult, CheckSerial,
+    config, drain, fail, new_hub, poses, send, send_sample, send_subject, subject_config,
+    CheckFailure, CheckResult, CheckSerial,
 };
 
 /// The names of the checks of this module in [`ALL`](crate::ALL) (their failures' lines are
@@ -137,17 +137,7 @@ pub fn send_orientations(
 
 /// The `Config` of the generic gait2392 with `policy` and a window of 4.
 pub fn gait2392_config(policy: MissingPolicy) -> Message {
-    Message::Config(Config {
-        model: ModelId::Gait2392,
-        anthropometry: None,
-        missing_policy: policy,
-        reorder_window: 4,
-        request_status: false,
-    })
-}
-
-fn fail(what: &'static str, line: u32) -> CheckFailure {
-    CheckFailure { what, line }
+    config(ModelId::Gait2392, policy, 4, false)
 }
 
 /// The kernel's own `f32` path on the same Q14 readings: calibration, solver, then the pose

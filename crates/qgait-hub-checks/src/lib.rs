@@ -32,13 +32,15 @@ pub struct CheckFailure {
 /// Result of one check.
 pub type CheckResult = Result<(), CheckFailure>;
 
+/// The failure of `what` at `line` (`line!()` where it is found).
+pub(crate) fn fail(what: &'static str, line: u32) -> CheckFailure {
+    CheckFailure { what, line }
+}
+
 macro_rules! ensure {
     ($cond:expr) => {
         if !$cond {
-            return Err(CheckFailure {
-                what: stringify!($cond),
-                line: line!(),
-            });
+            return Err(fail(stringify!($cond), line!()));
         }
     };
 }
@@ -232,10 +234,40 @@ pub fn send(serial: &mut CheckSerial, message: &Message) -> bool {
 
 /// Queues every packet of sample `seq` for `model`, in the model's joint order.
 pub fn send_sample(serial: &mut CheckSerial, model: ModelId, seq: u32) -> bool {
-    model
-        .required_joints()
-        .iter()
-        .all(|&j| send(serial, &Message::JointAngle(packet(seq, j))))
+    send_sample_edited(serial, model, seq, |_| true)
+}
+
+/// Queues the packets of sample `seq` for `model`, in the model's joint order, each as `edit`
+/// leaves it: `edit` may change the packet, or return false to leave it out.
+pub fn send_sample_edited(
+    serial: &mut CheckSerial,
+    model: ModelId,
+    seq: u32,
+    mut edit: impl FnMut(&mut JointAngle) -> bool,
+) -> bool {
+    model.required_joints().iter().all(|&j| {
+        let mut p = packet(seq, j);
+        !edit(&mut p) || send(serial, &Message::JointAngle(p))
+    })
+}
+
+/// An edit for [`send_sample_edited`]: `joint`'s angle set to `angle`.
+fn set_angle(joint: JointId, angle: f32) -> impl FnMut(&mut JointAngle) -> bool {
+    move |p| {
+        if p.joint == joint {
+            p.angle = angle;
+        }
+        true
+    }
+}
+
+/// Queues PHAK samples 0 to 9, sample 3 without its left ankle.
+fn send_samples_3_without_left_ankle(serial: &mut CheckSerial) -> bool {
+    (0..10).all(|seq| {
+        send_sample_edited(serial, ModelId::Phak, seq, |p| {
+            !(seq == 3 && p.joint == JointId::AnkleAngleL)
+        })
+    })
 }
 
 /// Polls until the serial port has nothing left to read.
@@ -285,10 +317,8 @@ fn last_status(hub: &mut CheckHub<'_>) -> Option<Status> {
 }
 
 fn new_hub(clock: &ManualClock) -> Result<CheckHub<'_>, CheckFailure> {
-    Hub::new(CheckSerial::new(), clock, STATUS_PERIOD_MS).map_err(|_| CheckFailure {
-        what: "Hub::new refused the default model",
-        line: line!(),
-    })
+    Hub::new(CheckSerial::new(), clock, STATUS_PERIOD_MS)
+        .map_err(|_| fail("Hub::new refused the default model", line!()))
 }
 
 fn config(model: ModelId, policy: MissingPolicy, window: u8, request_status: bool) -> Message {
@@ -337,22 +367,13 @@ pub fn pose_matches_the_kernel() -> CheckResult {
     drain(&mut hub);
     let mut frame = None;
     poses(&mut hub, |p| frame = Some(p.clone()))?;
-    let Some(frame) = frame else {
-        return Err(CheckFailure {
-            what: "no pose frame",
-            line: line!(),
-        });
-    };
+    let frame = frame.ok_or(fail("no pose frame", line!()))?;
     let mut angles = [0.0; JointId::COUNT];
     for j in JointId::ALL {
         angles[j.index() as usize] = gait_angle(j, 37);
     }
-    let Ok(kinematics) = Kinematics::new(ModelId::Phak, None) else {
-        return Err(CheckFailure {
-            what: "Kinematics::new",
-            line: line!(),
-        });
-    };
+    let kinematics =
+        Kinematics::new(ModelId::Phak, None).map_err(|_| fail("Kinematics::new", line!()))?;
     let expected = kinematics.pose_frame(37, &angles, 0);
     ensure!(frame == expected);
     for (a, j) in frame.angles.iter().zip(ModelId::Phak.required_joints()) {
@@ -398,12 +419,8 @@ pub fn velocities_follow_consecutive_poses() -> CheckResult {
     }
     ensure!(send(hub.serial_mut(), &on(0)));
     drain(&mut hub);
-    let Ok(phak) = qgait_kernel::Phak::<f32>::new(&qgait_kernel::Anthropometry::gait2392()) else {
-        return Err(CheckFailure {
-            what: "Phak::new",
-            line: line!(),
-        });
-    };
+    let phak = qgait_kernel::Phak::<f32>::new(&qgait_kernel::Anthropometry::gait2392())
+        .map_err(|_| fail("Phak::new", line!()))?;
     let (mut poses, mut with, mut last_pose, mut right) = (0u32, 0u32, None, true);
     let bad = each_output(&mut hub, |m| match m {
         Message::PoseFrame(p) => {
@@ -497,13 +514,7 @@ pub fn late_and_duplicate_packets_are_counted_and_dropped() -> CheckResult {
 pub fn incomplete_sample_is_dropped_and_counted() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    for seq in 0..10 {
-        for &j in ModelId::Phak.required_joints() {
-            if !(seq == 3 && j == JointId::AnkleAngleL) {
-                ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(seq, j))));
-            }
-        }
-    }
+    ensure!(send_samples_3_without_left_ankle(hub.serial_mut()));
     drain(&mut hub);
     let mut has_3 = false;
     let n = poses(&mut hub, |p| has_3 |= p.seq == 3)?;
@@ -521,13 +532,7 @@ pub fn hold_last_policy_sends_flagged_frames() -> CheckResult {
         hub.serial_mut(),
         &config(ModelId::Phak, MissingPolicy::HoldLast, 2, false)
     ));
-    for seq in 0..10 {
-        for &j in ModelId::Phak.required_joints() {
-            if !(seq == 3 && j == JointId::AnkleAngleL) {
-                ensure!(send(hub.serial_mut(), &Message::JointAngle(packet(seq, j))));
-            }
-        }
-    }
+    ensure!(send_samples_3_without_left_ankle(hub.serial_mut()));
     drain(&mut hub);
     let mut held = None;
     let mut others_clean = true;
@@ -539,12 +544,7 @@ pub fn hold_last_policy_sends_flagged_frames() -> CheckResult {
         }
     })?;
     ensure!(n == 10 && others_clean);
-    let Some(held) = held else {
-        return Err(CheckFailure {
-            what: "no frame for sample 3",
-            line: line!(),
-        });
-    };
+    let held = held.ok_or(fail("no frame for sample 3", line!()))?;
     ensure!(held.flags == FrameFlags::MISSING | FrameFlags::HELD);
     // ankle_angle_l is the last PHAK joint.
     ensure!(held.angles[7] == gait_angle(JointId::AnkleAngleL, 2));
@@ -564,17 +564,21 @@ pub fn held_angle_out_of_range_is_flagged() -> CheckResult {
     // Sample 3's right knee hyperextended; samples 4 and 6 lack the right knee (4 holds
     // sample 3's, 6 holds sample 5's, in range).
     for seq in 0..10 {
-        for &j in ModelId::Phak.required_joints() {
-            let mut p = packet(seq, j);
-            if j == JointId::KneeAngleR {
-                match seq {
-                    3 => p.angle = 1.5,
-                    4 | 6 => continue,
-                    _ => {}
+        ensure!(send_sample_edited(
+            hub.serial_mut(),
+            ModelId::Phak,
+            seq,
+            |p| {
+                if p.joint == JointId::KneeAngleR {
+                    match seq {
+                        3 => p.angle = 1.5,
+                        4 | 6 => return false,
+                        _ => {}
+                    }
                 }
+                true
             }
-            ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
-        }
+        ));
     }
     drain(&mut hub);
     let mut flags = [0xFFu8; 10];
@@ -608,15 +612,11 @@ pub fn corrupt_frames_are_counted_and_the_next_packet_is_processed() -> CheckRes
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
     let mut buf = [0u8; MAX_FRAME_LEN];
-    let Ok(frame) = encode_frame(
+    let frame = encode_frame(
         &Message::JointAngle(packet(0, JointId::HipFlexionR)),
         &mut buf,
-    ) else {
-        return Err(CheckFailure {
-            what: "encode",
-            line: line!(),
-        });
-    };
+    )
+    .map_err(|_| fail("encode", line!()))?;
     let len = frame.len();
     // Bad CRC: flip a bit of the body (keeping it non-zero).
     let mut bad_crc = [0u8; MAX_FRAME_LEN];
@@ -651,12 +651,8 @@ pub fn unknown_joint_and_version_are_counted() -> CheckResult {
     let unknown_joint = [0u8, PROTOCOL_VERSION, 1, 99, 5, 0, 0, 0, 0, 0, 0];
     let unknown_version = [0u8, PROTOCOL_VERSION + 7, 1, 3, 5, 0, 0, 0, 0, 0, 0];
     for payload in [&unknown_joint[..], &unknown_version[..]] {
-        let Ok(frame) = encode_raw_frame(payload, &mut buf) else {
-            return Err(CheckFailure {
-                what: "encode_raw_frame",
-                line: line!(),
-            });
-        };
+        let frame =
+            encode_raw_frame(payload, &mut buf).map_err(|_| fail("encode_raw_frame", line!()))?;
         let n = frame.len();
         ensure!(hub.serial_mut().receive(&buf[..n]) == n);
     }
@@ -675,28 +671,27 @@ pub fn unknown_joint_and_version_are_counted() -> CheckResult {
 pub fn angles_out_of_range_are_flagged_and_unusable_ones_dropped() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
-    for &j in ModelId::Phak.required_joints() {
-        let mut p = packet(0, j);
-        if j == JointId::KneeAngleR {
-            p.angle = 1.5; // knee hyperextended by 86 degrees
-        }
-        ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
-    }
-    for &j in ModelId::Phak.required_joints() {
-        let mut p = packet(1, j);
-        if j == JointId::HipFlexionL {
-            p.angle = f32::NAN;
-        }
-        ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
-    }
+    let serial = hub.serial_mut();
+    // The knee hyperextended by 86 degrees.
+    ensure!(send_sample_edited(
+        serial,
+        ModelId::Phak,
+        0,
+        set_angle(JointId::KneeAngleR, 1.5)
+    ));
+    ensure!(send_sample_edited(
+        serial,
+        ModelId::Phak,
+        1,
+        set_angle(JointId::HipFlexionL, f32::NAN)
+    ));
     // A finite angle too large to mean anything (10⁶ rad) is not used either.
-    for &j in ModelId::Phak.required_joints() {
-        let mut p = packet(2, j);
-        if j == JointId::AnkleAngleR {
-            p.angle = 1.0e6;
-        }
-        ensure!(send(hub.serial_mut(), &Message::JointAngle(p)));
-    }
+    ensure!(send_sample_edited(
+        serial,
+        ModelId::Phak,
+        2,
+        set_angle(JointId::AnkleAngleR, 1.0e6)
+    ));
     for seq in 3..7 {
         ensure!(send_sample(hub.serial_mut(), ModelId::Phak, seq));
     }
@@ -725,12 +720,8 @@ pub fn a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range() -> C
     let mut hub = new_hub(&clock)?;
     let chain = walker_chain();
     ensure!(KneeFlexion::of(|q| chain.forward(q)) == KneeFlexion::Positive);
-    let Ok(upload) = ChainUpload::of_chain(&chain, 6) else {
-        return Err(CheckFailure {
-            what: "ChainUpload::of_chain",
-            line: line!(),
-        });
-    };
+    let upload =
+        ChainUpload::of_chain(&chain, 6).map_err(|_| fail("ChainUpload::of_chain", line!()))?;
     ensure!(send_chain(hub.serial_mut(), &upload, 0));
     ensure!(send(
         hub.serial_mut(),
@@ -740,12 +731,11 @@ pub fn a_chains_knee_flexing_with_positive_angles_is_checked_in_its_range() -> C
     // all in range).
     let knees = [60.0 * DEG, -30.0 * DEG, 60.0 * DEG];
     let sample = |hub: &mut CheckHub<'_>, model: ModelId, seq: u32| {
-        model.required_joints().iter().all(|&j| {
-            let mut p = packet(seq, j);
-            if matches!(j, JointId::KneeAngleR | JointId::KneeAngleL) {
+        send_sample_edited(hub.serial_mut(), model, seq, |p| {
+            if matches!(p.joint, JointId::KneeAngleR | JointId::KneeAngleL) {
                 p.angle = knees[seq as usize];
             }
-            send(hub.serial_mut(), &Message::JointAngle(p))
+            true
         })
     };
     ensure!(sample(&mut hub, ModelId::Chain, 0) && sample(&mut hub, ModelId::Chain, 1));
@@ -798,12 +788,7 @@ pub fn config_switches_model_and_answers_status_request() -> CheckResult {
         hak_frames += u32::from(p.model == ModelId::Hak && p.angles.len() == 6)
     })?;
     ensure!(n == 1 && hak_frames == 1);
-    let Some(status) = last_status(&mut hub) else {
-        return Err(CheckFailure {
-            what: "no status",
-            line: line!(),
-        });
-    };
+    let status = last_status(&mut hub).ok_or(fail("no status", line!()))?;
     ensure!(status.frames_sent == 1 && status.packets_accepted == 0);
     // HAK legs hang from a level pelvis: the hips are on the z axis.
     let mut hips_on_axis = false;
@@ -1106,12 +1091,8 @@ pub fn gait2392_config_gives_frames_of_the_generic_model() -> CheckResult {
         ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, seq));
     }
     drain(&mut hub);
-    let Ok(generic) = Kinematics::gait2392(Kinematics::generic_gait2392()) else {
-        return Err(CheckFailure {
-            what: "Kinematics::gait2392(generic)",
-            line: line!(),
-        });
-    };
+    let generic = Kinematics::gait2392(Kinematics::generic_gait2392())
+        .map_err(|_| fail("Kinematics::gait2392(generic)", line!()))?;
     let mut all_equal = true;
     let mut seq = 0;
     let n = poses(&mut hub, |p| {
@@ -1145,20 +1126,15 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     ensure!(hub.status().config_rejected == 1);
     ensure!(hub.config().model == ModelId::Gait2392 && hub.subject() == Some(9));
     // What the hub holds is the subject rounded to f32 on the wire.
-    let Ok(held) = hub.subject_parts().geometry(9) else {
-        return Err(CheckFailure {
-            what: "the hub's parts make no model",
-            line: line!(),
-        });
-    };
+    let held = hub
+        .subject_parts()
+        .geometry(9)
+        .map_err(|_| fail("the hub's parts make no model", line!()))?;
     let (Ok(mine), Ok(generic)) = (
         Kinematics::gait2392(held),
         Kinematics::gait2392(Kinematics::generic_gait2392()),
     ) else {
-        return Err(CheckFailure {
-            what: "Kinematics::gait2392",
-            line: line!(),
-        });
+        return Err(fail("Kinematics::gait2392", line!()));
     };
     let (mut subject_frames, mut far_from_generic) = (0, true);
     poses(&mut hub, |p| {
@@ -1188,30 +1164,19 @@ pub fn subject_model_switches_only_when_complete() -> CheckResult {
     ensure!(send(hub.serial_mut(), &subject_config(9, false)));
     ensure!(send_sample(hub.serial_mut(), ModelId::Gait2392, 4));
     drain(&mut hub);
-    let Ok(held) = hub.subject_parts().geometry(9) else {
-        return Err(CheckFailure {
-            what: "the hub's parts make no model",
-            line: line!(),
-        });
-    };
-    let Ok(longer_kinematics) = Kinematics::gait2392(held) else {
-        return Err(CheckFailure {
-            what: "Kinematics::gait2392",
-            line: line!(),
-        });
-    };
+    let held = hub
+        .subject_parts()
+        .geometry(9)
+        .map_err(|_| fail("the hub's parts make no model", line!()))?;
+    let longer_kinematics =
+        Kinematics::gait2392(held).map_err(|_| fail("Kinematics::gait2392", line!()))?;
     let mut sample_4 = None;
     poses(&mut hub, |p| {
         if p.seq == 4 {
             sample_4 = Some(p.clone());
         }
     })?;
-    let Some(sample_4) = sample_4 else {
-        return Err(CheckFailure {
-            what: "no frame for sample 4",
-            line: line!(),
-        });
-    };
+    let sample_4 = sample_4.ok_or(fail("no frame for sample 4", line!()))?;
     ensure!(sample_4 == expected_frame(&longer_kinematics, 4));
     ensure!(sample_4 != expected_frame(&mine, 4));
     Ok(())
@@ -1277,12 +1242,8 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
     let clock = ManualClock::new(0);
     let mut hub = new_hub(&clock)?;
     let chain = walker_chain();
-    let Ok(upload) = ChainUpload::of_chain(&chain, 5) else {
-        return Err(CheckFailure {
-            what: "ChainUpload::of_chain",
-            line: line!(),
-        });
-    };
+    let upload =
+        ChainUpload::of_chain(&chain, 5).map_err(|_| fail("ChainUpload::of_chain", line!()))?;
     let config = upload.config(MissingPolicy::Drop, 4, true);
     ensure!(send_chain(hub.serial_mut(), &upload, 1));
     ensure!(send(
@@ -1300,11 +1261,15 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
     ));
     // The gait's knees in the chain's signs (it flexes with positive angles): in range.
     for seq in 1..4 {
-        ensure!(ModelId::Chain.required_joints().iter().all(|&j| {
-            let mut p = packet(seq, j);
-            p.angle = walker_angle(j, seq);
-            send(hub.serial_mut(), &Message::JointAngle(p))
-        }));
+        ensure!(send_sample_edited(
+            hub.serial_mut(),
+            ModelId::Chain,
+            seq,
+            |p| {
+                p.angle = walker_angle(p.joint, seq);
+                true
+            }
+        ));
     }
     drain(&mut hub);
     ensure!(hub.status().config_rejected == 1 && hub.config().model == ModelId::Chain);
@@ -1337,12 +1302,10 @@ pub fn chain_model_switches_only_when_complete() -> CheckResult {
         hub.serial_mut(),
         &self::config(ModelId::Chain, MissingPolicy::Drop, 4, false)
     ));
-    let Some(mut far) = upload.parts().next() else {
-        return Err(CheckFailure {
-            what: "ChainUpload::parts",
-            line: line!(),
-        });
-    };
+    let mut far = upload
+        .parts()
+        .next()
+        .ok_or(fail("ChainUpload::parts", line!()))?;
     far.at = (CHAIN_IMAGE_LEN + 1 - far.bytes.len()) as u16;
     ensure!(send(hub.serial_mut(), &Message::ChainTable(far)));
     ensure!(send_sample(hub.serial_mut(), ModelId::Chain, 4));

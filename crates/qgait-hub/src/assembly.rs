@@ -469,6 +469,14 @@ mod tests {
         }
     }
 
+    /// The event of sample `seq` dropped for lack of `missing`.
+    fn dropped(seq: u32, missing: &[JointId]) -> Event {
+        Event::Dropped {
+            seq,
+            missing: JointSet::of(missing),
+        }
+    }
+
     fn push(
         a: &mut Assembler,
         seq: u32,
@@ -539,14 +547,8 @@ mod tests {
         assert_eq!(
             events,
             [
-                Event::Dropped {
-                    seq: 10,
-                    missing: JointSet::of(&[JointId::KneeAngleR])
-                },
-                Event::Dropped {
-                    seq: 11,
-                    missing: JointSet::of(&[JointId::HipFlexionR])
-                },
+                dropped(10, &[JointId::KneeAngleR]),
+                dropped(11, &[JointId::HipFlexionR]),
             ]
         );
         assert_eq!(
@@ -636,13 +638,7 @@ mod tests {
         let mut a = Assembler::new(&TWO, 1, true);
         push(&mut a, 1, JointId::HipFlexionR, 0.1);
         let (_, events) = push(&mut a, 2, JointId::HipFlexionR, 0.1);
-        assert_eq!(
-            events,
-            [Event::Dropped {
-                seq: 1,
-                missing: JointSet::of(&[JointId::KneeAngleR])
-            }]
-        );
+        assert_eq!(events, [dropped(1, &[JointId::KneeAngleR])]);
     }
 
     #[test]
@@ -665,13 +661,7 @@ mod tests {
         let (_, events) = push(&mut a, 1, JointId::KneeAngleR, 0.0);
         assert_eq!(events, []);
         let (_, events) = push(&mut a, 2, JointId::KneeAngleR, 0.0);
-        assert_eq!(
-            events,
-            [Event::Dropped {
-                seq: 0,
-                missing: JointSet::of(&[JointId::KneeAngleR])
-            }]
-        );
+        assert_eq!(events, [dropped(0, &[JointId::KneeAngleR])]);
     }
 
     #[test]
@@ -680,13 +670,7 @@ mod tests {
         push(&mut a, 1_000_000, JointId::HipFlexionR, 0.0);
         let (outcome, events) = push(&mut a, 0, JointId::HipFlexionR, 0.0);
         assert_eq!(outcome, PacketOutcome::Resynced);
-        assert_eq!(
-            events,
-            [Event::Dropped {
-                seq: 1_000_000,
-                missing: JointSet::of(&[JointId::KneeAngleR])
-            }]
-        );
+        assert_eq!(events, [dropped(1_000_000, &[JointId::KneeAngleR])]);
         let (outcome, events) = push(&mut a, 0, JointId::KneeAngleR, 0.0);
         assert_eq!(outcome, PacketOutcome::Stored);
         assert!(matches!(events.as_slice(), [Event::Complete(s)] if s.seq == 0));

@@ -16,19 +16,10 @@ type AppNode = Node<Serial, SysTickClock>;
 
 #[entry]
 fn main() -> ! {
-    let Some(board) = board::take() else {
-        defmt::error!("board peripherals already taken");
-        board::exit(1)
-    };
-    defmt::info!(
+    let node = qgait_firmware::start!(
+        init_node,
         "qgait node on {=str}, stack region {=u32} bytes (painted)",
-        board::NAME,
-        stack::size()
-    );
-    let node = init_node(board);
-    defmt::info!(
-        "node state {=usize} bytes (static)",
-        core::mem::size_of_val(node)
+        "node state {=usize} bytes (static)"
     );
     serve(node)
 }
@@ -42,11 +33,7 @@ fn serve(node: &'static mut AppNode) -> ! {
         // The counters themselves go out on the UART (`Status`, `RawImuStatus`): the log has
         // only what the UART cannot say (formatting `Status` here would cost 0.2 KB of flash).
         if summary.status_sent {
-            defmt::info!(
-                "stack peak {=u32} bytes of {=u32}",
-                stack::peak(),
-                stack::size()
-            );
+            stack::log_peak();
         }
     }
 }
