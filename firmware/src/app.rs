@@ -5,7 +5,7 @@
 /// building the application into its static from the board, `$state` logged with the
 /// application's size; evaluates to the application, for the main loop. A macro, not a
 /// function, so that each binary's log lines stay literal format strings: a name passed as a
-/// `str` would be encoded at run time (40 B more flash).
+/// `str` would be encoded at run time (52 B more flash, measured with `cargo xtask footprint`).
 #[macro_export]
 macro_rules! start {
     ($init:expr, $started:tt, $state:tt) => {{
