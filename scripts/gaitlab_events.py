@@ -621,8 +621,9 @@ def recommended(K):
     mode = "running" if duty < RUN_DUTY_FACTOR and v0 * v0 / (9.81 * L) >= FROUDE_RUN_FLOOR else "walking"
     if mode == "walking":
         v = float(np.median([v for _, v in lowest_point_speed(K, first, ("subtalar", "mtp"))]))
+        # Ghoussayni's fixed heel level, Bruening & Ridge's speed-scaled toe level.
         ev, _ = velocity_events(K, base, vertical="rel", heel="subtalar", speed=v,
-                                hs_abs=GHOUSSAYNI_SPEED, to_abs=GHOUSSAYNI_SPEED)
+                                hs_abs=GHOUSSAYNI_SPEED)
     else:
         v = v0
         to = fellin_toe_off(K, base, speed=v)
@@ -750,6 +751,7 @@ def main():
         v_int = float(np.median([v for _, v in lowest_point_speed(K, ev_d, ("subtalar", "mtp"))]))
         summarise(f"E* E with the stride-integrated speed v={v_int:.3f}", velocity_events(K, base, vertical="rel", heel="subtalar", speed=v_int, hs_abs=0.5, to_abs=0.5)[0], plate, t0, t1, rows)
         summarise("E** E with the belt speed", velocity_events(K, base, vertical="rel", heel="subtalar", speed=vb, hs_abs=0.5, to_abs=0.5)[0], plate, t0, t1, rows)
+        summarise(f"G  E* heel strike, D toe off (0.66 v), v={v_int:.3f}", velocity_events(K, base, vertical="rel", heel="subtalar", speed=v_int, hs_abs=0.5)[0], plate, t0, t1, rows)
         rec, mode, vrec, duty1, froude, L = recommended(K)
         summarise(f"R  recommended ({mode})", rec, plate, t0, t1, rows)
         duty_r, flight_r = duty_and_flight(rec, t0, t1)

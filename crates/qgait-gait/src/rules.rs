@@ -5,8 +5,9 @@
 //! Zeni's events ([`crate::events`]) serve as cycle anchors only. A first pass finds contact
 //! where the heel's speed over the surface falls below 0.78 v and toe off where the toe tip's
 //! rises above 0.66 v (Bruening & Ridge 2014), v the mid-stance speed. Its duty factor and the
-//! Froude number say walking or running (Alexander 1989). Walking: the fixed 0.5 m/s
-//! thresholds of Ghoussayni et al. (2004) with the lowest-point stride-integral speed; running:
+//! Froude number say walking or running (Alexander 1989). Walking, with the lowest-point
+//! stride-integral speed v: heel strike where the heel's speed falls below the fixed 0.5 m/s
+//! of Ghoussayni et al. (2004), toe off where the toe tip's rises above 0.66 v; running:
 //! the first pass's heel strike and toe off at the peak knee extension late in stance (Fellin
 //! et al. 2010), the speed the mid-stance median.
 //!
@@ -28,7 +29,9 @@ pub const HS_FRACTION: f64 = 0.78;
 /// Bruening & Ridge 2014: the toe's sagittal speed is above this fraction of the walking speed
 /// after toe off.
 pub const TO_FRACTION: f64 = 0.66;
-/// Ghoussayni et al. 2004: the heel's and toe's threshold in walking (m/s).
+/// Ghoussayni et al. 2004: the heel's threshold at contact in walking (m/s). Their toe
+/// threshold is the same 0.5 m/s; walking's toe off uses [`TO_FRACTION`] of the speed instead
+/// (docs/gait-events-methods.md, "What the numbers say").
 pub const WALK_SPEED: f64 = 0.5;
 /// Alexander 1989: running is a duty factor below one half (a flight phase).
 pub const RUN_DUTY: f64 = 0.5;
@@ -517,7 +520,10 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
                 v
             }
         };
-        let events = threshold_pass(&s, anchors, v, WALK_SPEED, WALK_SPEED);
+        // Heel strike at Ghoussayni's fixed level, toe off at Bruening & Ridge's scaled one:
+        // each rule's better half on the plates (the scaled heel level is 15-18 ms early, the
+        // fixed toe level 8-11 ms early).
+        let events = threshold_pass(&s, anchors, v, WALK_SPEED, TO_FRACTION * v);
         (Mode::Walking, v, events)
     };
     // Step 6: checks.
