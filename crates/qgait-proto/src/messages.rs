@@ -253,31 +253,66 @@ pub enum Message {
     PoseVelocities(PoseVelocities),
 }
 
+/// `Status`'s counters' names, in wire order.
+const STATUS_NAMES: [&str; crate::sizes::STATUS_COUNTERS] = [
+    "packets_accepted",
+    "crc_errors",
+    "framing_errors",
+    "oversize_frames",
+    "unknown_version",
+    "unknown_joint",
+    "out_of_range",
+    "samples_completed",
+    "samples_incomplete",
+    "frames_sent",
+    "uart_overruns",
+    "uptime_ms",
+    "late_packets",
+    "duplicate_packets",
+    "malformed",
+    "config_rejected",
+    "orientation_not_unit",
+    "uncalibrated_samples",
+    "calibrations",
+    "calibration_rejected",
+];
+
+// Every field of `Status` is a `u32` counter in `counters()`: a counter added to `Status`
+// changes its size and stops the build here until it is added there (and to `STATUS_NAMES`).
+const _: () = assert!(core::mem::size_of::<Status>() == 4 * crate::sizes::STATUS_COUNTERS);
+
 impl Status {
+    /// Every counter, in wire order (the struct's declaration order).
+    #[inline]
+    pub fn counters(&self) -> [u32; crate::sizes::STATUS_COUNTERS] {
+        [
+            self.packets_accepted,
+            self.crc_errors,
+            self.framing_errors,
+            self.oversize_frames,
+            self.unknown_version,
+            self.unknown_joint,
+            self.out_of_range,
+            self.samples_completed,
+            self.samples_incomplete,
+            self.frames_sent,
+            self.uart_overruns,
+            self.uptime_ms,
+            self.late_packets,
+            self.duplicate_packets,
+            self.malformed,
+            self.config_rejected,
+            self.orientation_not_unit,
+            self.uncalibrated_samples,
+            self.calibrations,
+            self.calibration_rejected,
+        ]
+    }
+
     /// Every counter with its field name, in wire order.
     pub fn named_counters(&self) -> [(&'static str, u32); crate::sizes::STATUS_COUNTERS] {
-        [
-            ("packets_accepted", self.packets_accepted),
-            ("crc_errors", self.crc_errors),
-            ("framing_errors", self.framing_errors),
-            ("oversize_frames", self.oversize_frames),
-            ("unknown_version", self.unknown_version),
-            ("unknown_joint", self.unknown_joint),
-            ("out_of_range", self.out_of_range),
-            ("samples_completed", self.samples_completed),
-            ("samples_incomplete", self.samples_incomplete),
-            ("frames_sent", self.frames_sent),
-            ("uart_overruns", self.uart_overruns),
-            ("uptime_ms", self.uptime_ms),
-            ("late_packets", self.late_packets),
-            ("duplicate_packets", self.duplicate_packets),
-            ("malformed", self.malformed),
-            ("config_rejected", self.config_rejected),
-            ("orientation_not_unit", self.orientation_not_unit),
-            ("uncalibrated_samples", self.uncalibrated_samples),
-            ("calibrations", self.calibrations),
-            ("calibration_rejected", self.calibration_rejected),
-        ]
+        let counters = self.counters();
+        core::array::from_fn(|i| (STATUS_NAMES[i], counters[i]))
     }
 }
 

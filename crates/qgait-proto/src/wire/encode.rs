@@ -6,7 +6,6 @@
 
 use super::check_angle_count;
 use super::varint::{varint_u32, VARINT_U32_MAX};
-use crate::sizes::STATUS_COUNTERS;
 use crate::WireByte;
 use crate::{
     point, EncodeError, ModelId, PoseFrame, PoseVelocities, RawImuStatus, SegmentOrientation,
@@ -119,51 +118,7 @@ pub(crate) fn encode_status_message<'a>(
     status: &Status,
     out: &'a mut [u8],
 ) -> Result<&'a mut [u8], EncodeError> {
-    // Every field named (no `..`): a counter added to `Status` must be added here.
-    let Status {
-        packets_accepted,
-        crc_errors,
-        framing_errors,
-        oversize_frames,
-        unknown_version,
-        unknown_joint,
-        out_of_range,
-        samples_completed,
-        samples_incomplete,
-        frames_sent,
-        uart_overruns,
-        uptime_ms,
-        late_packets,
-        duplicate_packets,
-        malformed,
-        config_rejected,
-        orientation_not_unit,
-        uncalibrated_samples,
-        calibrations,
-        calibration_rejected,
-    } = *status;
-    let counters: [u32; STATUS_COUNTERS] = [
-        packets_accepted,
-        crc_errors,
-        framing_errors,
-        oversize_frames,
-        unknown_version,
-        unknown_joint,
-        out_of_range,
-        samples_completed,
-        samples_incomplete,
-        frames_sent,
-        uart_overruns,
-        uptime_ms,
-        late_packets,
-        duplicate_packets,
-        malformed,
-        config_rejected,
-        orientation_not_unit,
-        uncalibrated_samples,
-        calibrations,
-        calibration_rejected,
-    ];
+    let counters = status.counters();
     let too_small = EncodeError::BufferTooSmall {
         needed: MAX_MESSAGE_LEN,
     };
@@ -284,6 +239,7 @@ mod tests {
     extern crate std;
 
     use super::*;
+    use crate::sizes::STATUS_COUNTERS;
     use crate::{encode_message, Message};
     use proptest::prelude::*;
 
