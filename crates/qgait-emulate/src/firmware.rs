@@ -47,35 +47,59 @@ pub fn build_imu(root: &Path) -> Result<PathBuf, EmulateError> {
     build_feature(root, "imu")
 }
 
-/// Where the firmware with the cargo feature `feature` is built: its own target directory
+/// Where the firmware with the cargo feature `feature` is kept: its own directory
 /// (`firmware/target/<feature>`, or `<feature>` under `$CARGO_TARGET_DIR`), so that it never
 /// replaces the default build (`imu`; `velocity`, the points' velocities).
 pub fn feature_elf(root: &Path, feature: &str) -> PathBuf {
-    feature_target_dir(root, feature)
+    target_root()
+        .unwrap_or_else(|| root.join("firmware/target"))
+        .join(feature)
         .join(TARGET)
         .join("release/qgait-firmware")
 }
 
-fn feature_target_dir(root: &Path, feature: &str) -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
+fn target_root() -> Option<PathBuf> {
+    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from)
+}
+
+/// The target directory every feature set is built in (`firmware/target/features`, or
+/// `features` under `$CARGO_TARGET_DIR`): their common dependencies are compiled once, and
+/// cargo writes the ELF of the feature set it last built, which [`build_feature`] copies out.
+fn features_target_dir(root: &Path) -> PathBuf {
+    target_root()
         .unwrap_or_else(|| root.join("firmware/target"))
-        .join(feature)
+        .join("features")
 }
 
 /// The command that builds the firmware with `feature`, for messages.
 pub fn feature_build_command(root: &Path, feature: &str) -> String {
     format!(
-        "cd {} && cargo build --release --features {feature} --target-dir {}",
+        "cd {} && cargo build --release --features {feature} --target-dir {} && cp {} {}",
         root.join("firmware").display(),
-        feature_target_dir(root, feature).display()
+        features_target_dir(root).display(),
+        features_target_dir(root)
+            .join(TARGET)
+            .join("release/qgait-firmware")
+            .display(),
+        feature_elf(root, feature).display()
     )
 }
 
-/// Builds the release firmware with `feature` ([`feature_elf`]).
+/// Builds the release firmware with `feature` ([`feature_elf`]; cargo does nothing when it is
+/// up to date): in the shared [`features_target_dir`], then copied to the feature's own path.
+/// One build at a time, across processes (a lock file there), so that no other feature set's
+/// ELF is copied.
 pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError> {
-    let target_dir = feature_target_dir(root, feature);
-    cargo_build(
+    let target_dir = features_target_dir(root);
+    std::fs::create_dir_all(&target_dir)
+        .map_err(EmulateError::io("creating a target directory"))?;
+    let lock_file = std::fs::File::create(target_dir.join("qgait-build.lock"))
+        .map_err(EmulateError::io("creating the build lock"))?;
+    let mut lock = fd_lock::RwLock::new(lock_file);
+    let _turn = lock
+        .write()
+        .map_err(EmulateError::io("waiting for the build lock"))?;
+    let built = cargo_build(
         root,
         &[
             "build".as_ref(),
@@ -85,9 +109,18 @@ pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError
             "--target-dir".as_ref(),
             target_dir.as_os_str(),
         ],
-        feature_elf(root, feature),
+        target_dir.join(TARGET).join("release/qgait-firmware"),
         || feature_build_command(root, feature),
-    )
+    )?;
+    let elf = feature_elf(root, feature);
+    if let Some(dir) = elf.parent() {
+        std::fs::create_dir_all(dir).map_err(EmulateError::io("creating a target directory"))?;
+    }
+    // Through a temporary file, so that a reader never sees half an ELF.
+    let partial = elf.with_extension("partial");
+    std::fs::copy(&built, &partial).map_err(EmulateError::io("copying the ELF"))?;
+    std::fs::rename(&partial, &elf).map_err(EmulateError::io("copying the ELF"))?;
+    Ok(elf)
 }
 
 /// Runs `cargo ARGS` in `firmware/` (output on stderr); `elf`, which it must make, on success.
