@@ -373,6 +373,32 @@ fn at_51(time: &[f64], v: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// crouch4's wide steps (0.36 m right, 0.53 m left) are the file's: its pelvis is listed by
+/// up to 22° and turned 29-45° off the way the feet go (its lumbar columns undo both), and its
+/// right hip abducted by up to 20°. OpenSim itself puts the calcanei 0.335 m apart across the
+/// walk at the right heel strike (t = 0) and 0.540 m at the left one (t = 0.41)
+/// (`calcn_r` − `calcn_l` in ground, gait2392_simbody.osim; docs/gait-analysis.md gives the
+/// script). qgait measures them across the feet's direction of travel, which the feet give
+/// within 2.5° of OpenSim's x here (not the pelvis's heading, 40° off): so within
+/// 0.68 m × sin 2.5° = 0.03 m of OpenSim's.
+#[test]
+fn crouch4s_step_width_is_the_files() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    run_gait(&[
+        shared.join("data/opensim/crouch4.mot").to_str().unwrap(),
+        "-q",
+        "--cycle",
+        "whole",
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    for (side, opensim) in [("right", 0.335), ("left", 0.540)] {
+        let width = param(dir.path(), "step_width", side);
+        assert!((width - opensim).abs() < 0.03, "{side}: {width} vs {opensim}");
+    }
+}
+
 /// crouch1 and crouch4 against normal.mot, each one whole cycle: the right side's GVS of the
 /// joint angles match an RMS computed here from the files' columns.
 #[test]

@@ -6,8 +6,10 @@
 //! other side's heel strike to the side's toe off) as % of the stride. At the side's heel
 //! strike: step length, the heels' distance along the stride's direction of travel, and step
 //! width, their distance across it (horizontal). The direction of travel is the pelvis's
-//! horizontal displacement over the stride as the feet give it ([`stride_direction`]), else
-//! (a cycle without all four events) the direction the pelvis faces at the heel strike. Stride length: the pelvis's horizontal
+//! horizontal displacement over the stride as the feet give it ([`stride_direction`]); for a
+//! cycle without all four events, as the lower foot gives it ([`lowest_foot_direction`]);
+//! only without either, the direction the pelvis faces at the heel strike (a pelvis can face
+//! well away from the way the feet go: crouch4's, 35°). Stride length: the pelvis's horizontal
 //! displacement over the stride where the motion has `pelvis_tx`/`pelvis_tz`, else the sum of
 //! the two sides' mean step lengths (the FK positions are relative to the pelvis, and at heel
 //! strike both feet are down). Speed: stride length over stride time. Each is the mean over
@@ -94,6 +96,33 @@ pub fn stride_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
     horizontal_unit(moved)
 }
 
+/// The direction of travel over a cycle without the events [`stride_direction`] needs: as
+/// there, from the backward displacement of a foot on the ground relative to the pelvis, with
+/// the foot on the ground at each moment taken to be the lower one (of its heel and forefoot
+/// the lower point). `None` without a horizontal displacement.
+pub fn lowest_foot_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
+    let inside: Vec<usize> = c
+        .samples
+        .iter()
+        .filter(|(_, t)| (0.0..=c.duration).contains(t))
+        .map(|&(f, _)| f)
+        .collect();
+    let mut moved = Vec3::new(0.0, 0.0, 0.0);
+    for w in inside.windows(2) {
+        let (a, b) = (&trial.frames[w[0]], &trial.frames[w[1]]);
+        let lowest = |l: &crate::trial::Limb| l.heel.y.min(l.forefoot.y);
+        let foot = if lowest(&a[0]) <= lowest(&a[1]) { 0 } else { 1 };
+        let (heel, fore) = (&a[foot].heel, &a[foot].forefoot);
+        moved = moved
+            - if heel.y <= fore.y {
+                b[foot].heel - *heel
+            } else {
+                b[foot].forefoot - *fore
+            };
+    }
+    horizontal_unit(moved)
+}
+
 /// What the parameters need of one stride, computed while its recording (or window of a long
 /// recording, [`crate::stream`]) is in memory: a few numbers, so that the strides of a day of
 /// data can be kept.
@@ -129,7 +158,9 @@ impl Stride {
     pub fn of(trial: &Trial, forward: &[Vec3<f64>], c: &Cycle, g: Option<&Gait>) -> Self {
         let (s, o) = (c.side, 1 - c.side);
         let f = &trial.frames[c.strike_frame];
-        let d = stride_direction(trial, c).unwrap_or(forward[c.strike_frame]);
+        let d = stride_direction(trial, c)
+            .or_else(|| lowest_foot_direction(trial, c))
+            .unwrap_or(forward[c.strike_frame]);
         let between = f[s].heel - f[o].heel;
         let across = Vec3::new(-d.z, 0.0, d.x);
         let moved = match g {
@@ -518,6 +549,67 @@ mod tests {
         let width = value(&p, "step_width", "right").unwrap();
         assert!((length - 0.6).abs() < 1e-12, "{length}");
         assert!((width - 0.12).abs() < 1e-12, "{width}");
+    }
+
+    /// A cycle without its toe offs (as `--cycle whole` can give), the pelvis facing 35° off
+    /// the way the feet go (as crouch4's does): the lower foot gives the direction of travel,
+    /// and the step is measured along it, not along the pelvis.
+    #[test]
+    fn without_events_the_lower_foot_gives_the_direction_of_travel() {
+        let (len, width) = (0.6, 0.15);
+        let frames = 50;
+        let time: Vec<f64> = (0..=frames).map(|k| k as f64 / frames as f64).collect();
+        // Relative to the pelvis: the right foot on the ground sliding back along x over the
+        // first half, the left one 5 cm up; then the other way round.
+        let limb = |x: f64, y: f64, z: f64| Limb {
+            heel: Vec3::new(x - 0.2, y, z),
+            forefoot: Vec3::new(x, y, z),
+            ..Limb::default()
+        };
+        let trial = Trial {
+            label: "t".into(),
+            source: "t".into(),
+            frames: time
+                .iter()
+                .map(|&t| {
+                    let back = len * (0.5 - 2.0 * t.min(0.5));
+                    let later = len * (0.5 - 2.0 * (t - 0.5).max(0.0));
+                    let (ry, ly) = if t < 0.5 { (0.0, 0.05) } else { (0.05, 0.0) };
+                    [
+                        limb(back, ry, width / 2.0),
+                        limb(if t < 0.5 { -back } else { later }, ly, -width / 2.0),
+                    ]
+                })
+                .collect(),
+            time: time.clone(),
+            coordinates: None,
+            translation: None,
+            breaks: Vec::new(),
+            planar: false,
+            velocities: None,
+        };
+        let cycle = Cycle {
+            side: 0,
+            start: 0.0,
+            duration: 1.0,
+            strike_frame: 0,
+            samples: time.iter().enumerate().map(|(f, t)| (f, *t)).collect(),
+            toe_off: None,
+            opposite_strike: None,
+            opposite_toe_off: None,
+            span: (0, frames),
+        };
+        assert!(stride_direction(&trial, &cycle).is_none());
+        let d = lowest_foot_direction(&trial, &cycle).unwrap();
+        assert!(Vec3::distance(d, Vec3::unit_x()) < 1e-12, "{d:?}");
+        let off = 35f64.to_radians();
+        let facing = vec![Vec3::new(off.cos(), 0.0, off.sin()); time.len()];
+        let cycles = [vec![cycle], Vec::new()];
+        let p = parameters(&[(&trial, &facing, &cycles, None)]);
+        let length = value(&p, "step_length", "right").unwrap();
+        let step_width = value(&p, "step_width", "right").unwrap();
+        assert!((length - len).abs() < 1e-12, "{length}");
+        assert!((step_width - width).abs() < 1e-12, "{step_width}");
     }
 
     /// Feet 0.6 m apart along the walk and 0.15 m across it at each heel strike, seen along a
