@@ -164,6 +164,12 @@ pub enum FramesCsvError {
         /// The header a frames CSV starts with.
         expected: String,
     },
+    /// A motion (OpenSim's `endheader`, or `time` as the first column) written with commas.
+    #[error("{at}: a comma-separated motion, not a frames CSV: a motion (.mot/.sto) needs tab- or space-separated columns, the first `time` (save it with tabs and the .mot extension)")]
+    CommaSeparatedMotion {
+        /// The line that shows it (`endheader`, or the `time,...` labels).
+        at: Location,
+    },
     /// The CSV reader refused the text.
     #[error("{at}: not CSV: {message}")]
     Unreadable {
@@ -234,10 +240,19 @@ pub fn parse(text: &str, source: &str) -> Result<FramesTable, FramesCsvError> {
     match rows.next().transpose().map_err(unreadable)? {
         Some(h) if h.iter().collect::<Vec<_>>().join(",") == header() => {}
         _ => {
-            return Err(FramesCsvError::Header {
-                at: line_at(1),
-                expected: header(),
-            })
+            // What a motion has: OpenSim's header, or the labels line first.
+            let motion = text.lines().take(100).position(|l| {
+                let l = l.trim();
+                l.eq_ignore_ascii_case("endheader")
+                    || l.split(',').next().is_some_and(|f| f.trim() == "time") && l.contains(',')
+            });
+            return Err(match motion {
+                Some(k) => FramesCsvError::CommaSeparatedMotion { at: line_at(k + 1) },
+                None => FramesCsvError::Header {
+                    at: line_at(1),
+                    expected: header(),
+                },
+            });
         }
     }
     let mut t = FramesTable {
@@ -434,6 +449,21 @@ mod tests {
         assert_eq!(t.points[1][7], [1.75, -0.5, 4.0]);
         let e = parse("seq,time\n", "x.csv").unwrap_err().to_string();
         assert!(e.starts_with("x.csv:1: not a frames CSV"), "{e}");
+        // A motion saved with commas under a .csv name: said so, at the line that shows it.
+        for (motion, line) in [
+            (
+                "walk\nversion=1\ninDegrees=yes\nendheader\ntime,hip_flexion_r\n0,1\n",
+                4,
+            ),
+            ("time,pelvis_tilt,hip_flexion_r\n0,1,2\n", 1),
+        ] {
+            let e = parse(motion, "m.csv").unwrap_err();
+            assert!(
+                matches!(&e, FramesCsvError::CommaSeparatedMotion { at } if at.line == Some(line)),
+                "{e:?}"
+            );
+            assert!(e.to_string().contains("comma-separated motion"), "{e}");
+        }
         let e = parse(&text.replace("0.03", "abc"), "f.csv").unwrap_err();
         assert!(
             matches!(&e, FramesCsvError::Value { what: "time", text, .. } if text == "abc"),
