@@ -11,7 +11,7 @@ use qgait_gait::output::{self, ReferenceArg, Subject};
 use qgait_gait::stream::{self, Pool, Settings};
 use qgait_gait::{self as gait, trial, CycleMode};
 use qgait_model::choice::Model;
-use qgait_opensim::diagnostics::Warning;
+use qgait_opensim::diagnostics::{Warning, WarningText};
 
 /// Arguments of `qgait gait`.
 #[derive(Debug, Args, Clone)]
@@ -253,6 +253,9 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     let reference = ReferenceArg::parse(&args.reference)?;
     let (model, model_warnings) = args.model.load_or_keeping("gait2392", diagnostics)?;
     kept.keep(&model_warnings);
+    if let Some(w) = generic_model_warning(&args) {
+        warn(vec![w]);
+    }
     let pelvis = match args.cgm_pelvis {
         CgmPelvisArg::Fixed => gait::angles::CgmPelvis::Fixed,
         CgmPelvisArg::ModelMarkers => cgm_pelvis(args.model.model.as_deref()),
@@ -323,6 +326,26 @@ fn session(args: &GaitArgs) -> gait::session::Session {
         condition: args.condition.clone(),
     }
 }
+
+/// Without `--model` a motion's feet are placed by the generic gait2392, whose segments are
+/// an adult of 1.8 m's: the speed and the lengths the rules measure from the feet's motion
+/// relative to the pelvis scale with those segments, not the subject's (the gait-lab walk's
+/// speed reads 8.5 % low through it). Said unless the speed is given (`--treadmill-speed`:
+/// the lengths are then speed × time) or no recording is a motion file.
+fn generic_model_warning(args: &GaitArgs) -> Option<Warning> {
+    let motion =
+        |m: &String| !m.starts_with("builtin:") && !qgait_device::frames_csv::is_frames_csv(m);
+    let generic = args.model.model.is_none() && args.treadmill_speed.is_none();
+    (generic && args.motions.iter().any(motion)).then(|| {
+        Warning::Limitation(WarningText {
+            at: None,
+            detail: GENERIC_MODEL.to_string(),
+        })
+    })
+}
+
+/// [`generic_model_warning`]'s text.
+const GENERIC_MODEL: &str = "no --model: the generic gait2392 (an adult of 1.8 m) places the feet, so the speed, stride and step lengths scale with its segments, not the subject's; give the subject's scaled model (--model SUBJECT.osim) or the belt's speed (--treadmill-speed)";
 
 /// The analysis of every recording, `events.csv` written to `events` as it goes, then the
 /// report and its files.
