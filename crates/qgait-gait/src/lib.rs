@@ -119,7 +119,7 @@ pub fn analyse_with(
     mode: CycleMode,
     given_speed: Option<f64>,
 ) -> Result<Walk, AnalysisError> {
-    analyse_with_pelvis(trial, mode, given_speed, angles::CgmPelvis::Fixed)
+    analyse_with_pelvis(trial, mode, given_speed, angles::CgmPelvis::FIXED)
 }
 
 /// [`analyse_with`], the joint angles in the CGM's pelvis frame `pelvis`
