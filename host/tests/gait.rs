@@ -1780,3 +1780,126 @@ fn each_recording_on_its_own_with_a_table_of_all() {
         );
     }
 }
+
+/// Through the command line on the gait lab's walk: with the planar gait10dof18musc, `gps.csv`
+/// and `cycles/*.csv` hold the sagittal angles only, the GPS is over them, and
+/// `spatiotemporal.csv` and `summary.json` say why; with the subject's scaled model, which has
+/// pelvis markers (`R.ASIS`, `L.ASIS`, `V.Sacral`), the default `--cgm-pelvis fixed` says the
+/// fixed offset was used and that `model-markers` would use them, where gait10dof18musc, which
+/// has none, says so.
+#[test]
+fn a_planar_model_and_the_models_pelvis_markers_through_the_cli() {
+    let Some(shared) = shared_dir() else { return };
+    let walk = shared.join("data/gaitlab/subject01_walk1/subject01_walk1_ik.mot");
+    let planar = shared.join("data/opensim/gait10dof18musc.osim");
+    let scaled = shared.join("data/gaitlab/subject01_walk1/subject01_simbody.osim");
+    if !walk.is_file() || !planar.is_file() || !scaled.is_file() {
+        eprintln!(
+            "skipped: no gait-lab walk or its models under {}",
+            shared.display()
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let run = |model: &Path, name: &str, extra: &[&str]| -> PathBuf {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "-q",
+            "gait",
+            walk.to_str().unwrap(),
+            "--model",
+            model.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = qgait(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        out
+    };
+    let summary = |out: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+    };
+    let p = run(&planar, "planar", &[]);
+    let gps = read_csv(&p.join("gps.csv"));
+    let variables: Vec<&str> = gps.iter().map(|r| r["variable"].as_str()).collect();
+    for v in &variables {
+        assert!(
+            [
+                "pelvic_tilt",
+                "hip_flexion",
+                "knee_flexion",
+                "ankle_dorsiflexion",
+                "GPS"
+            ]
+            .contains(v),
+            "{variables:?}"
+        );
+    }
+    assert_eq!(variables.len(), 4 * 2 + 3, "{variables:?}");
+    let right: Vec<f64> = gps
+        .iter()
+        .filter(|r| r["side"] == "right" && r["variable"] != "GPS")
+        .map(|r| r["gvs_deg"].parse().unwrap())
+        .collect();
+    let rms = (right.iter().map(|x| x * x).sum::<f64>() / right.len() as f64).sqrt();
+    let gps_right: f64 = gps
+        .iter()
+        .find(|r| r["variable"] == "GPS" && r["side"] == "right")
+        .unwrap()["gvs_deg"]
+        .parse()
+        .unwrap();
+    assert!((gps_right - rms).abs() < 1e-3, "{gps_right} vs {rms}");
+    let cycles = std::fs::read_to_string(p.join("cycles/left.csv")).unwrap();
+    let head = cycles.lines().next().unwrap();
+    assert!(
+        !head.contains("hip_abduction") && !head.contains("foot_progression"),
+        "{head}"
+    );
+    assert!(head.contains("knee_flexion_mean"), "{head}");
+    // Where step width would be: no value, and why (a quoted field: it has commas).
+    let st = std::fs::read_to_string(p.join("spatiotemporal.csv")).unwrap();
+    let row = "step_width,both,,m,,,";
+    let width = st
+        .lines()
+        .find_map(|l| l.strip_prefix(row))
+        .unwrap_or_else(|| panic!("no {row}: {st}"))
+        .trim_matches('"');
+    assert!(width.starts_with("planar model: "), "{width}");
+    let s = summary(&p);
+    assert!(
+        s["recordings"][0]["notes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|n| n.as_str() == Some(width)),
+        "{s}"
+    );
+    let none = s["cgm_pelvis"].as_str().unwrap();
+    assert!(none.contains("the model has no pelvis markers"), "{none}");
+    // The subject's model: every angle, and its markers named.
+    let full = run(&scaled, "scaled", &[]);
+    let gps = std::fs::read_to_string(full.join("gps.csv")).unwrap();
+    assert!(gps.contains("hip_abduction,right,"), "{gps}");
+    let fixed = summary(&full)["cgm_pelvis"].as_str().unwrap().to_string();
+    assert!(!fixed.contains("no pelvis markers"), "{fixed}");
+    assert!(
+        fixed.contains("5.87°") && fixed.contains("the fixed offset"),
+        "{fixed}"
+    );
+    assert!(
+        fixed.contains("--cgm-pelvis model-markers would take it from the model's own markers R.ASIS, L.ASIS, V.Sacral"),
+        "{fixed}"
+    );
+    let page = std::fs::read_to_string(full.join("report.html")).unwrap();
+    assert!(
+        page.contains("--cgm-pelvis model-markers would take it"),
+        "not on the page"
+    );
+    let own = run(&scaled, "own", &["--cgm-pelvis", "model-markers"]);
+    let used = summary(&own)["cgm_pelvis"].as_str().unwrap().to_string();
+    assert!(
+        used.contains("from its own markers R.ASIS, L.ASIS, V.Sacral"),
+        "{used}"
+    );
+}

@@ -106,6 +106,29 @@ impl Variable {
         }
     }
 
+    /// The anatomical plane of the angle.
+    pub fn plane(self) -> Plane {
+        match self {
+            Variable::PelvicTilt
+            | Variable::HipFlexion
+            | Variable::KneeFlexion
+            | Variable::AnkleDorsiflexion => Plane::Sagittal,
+            Variable::PelvicObliquity | Variable::HipAbduction => Plane::Frontal,
+            Variable::PelvicRotation | Variable::HipRotation | Variable::FootProgression => {
+                Plane::Transverse
+            }
+        }
+    }
+
+    /// The variables a report of a model shows: all nine, or for a planar model
+    /// ([`crate::trial::Trial::planar`]) the sagittal four, in [`Variable::ALL`] order.
+    pub fn seen(planar: bool) -> Vec<Variable> {
+        Variable::ALL
+            .into_iter()
+            .filter(|v| !planar || v.plane() == Plane::Sagittal)
+            .collect()
+    }
+
     /// A pelvis variable (one pelvis for both sides).
     pub fn is_pelvis(self) -> bool {
         matches!(
@@ -114,6 +137,21 @@ impl Variable {
         )
     }
 }
+
+/// The anatomical plane an angle is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Plane {
+    /// Flexion and extension (the sagittal plane).
+    Sagittal,
+    /// Ab/adduction, obliquity (the frontal plane).
+    Frontal,
+    /// Rotation about the long axis, foot progression (the transverse plane).
+    Transverse,
+}
+
+/// What a report of a planar model ([`crate::trial::Trial::planar`]) says about what it leaves
+/// out, and why.
+pub const PLANAR_NOTE: &str = "planar model: it moves neither hip in adduction or rotation, so its legs move in the pelvis's sagittal plane only and no frontal or transverse quantity can be seen; step width, pelvic obliquity and rotation, hip abduction and rotation and foot progression are not reported, and the GPS is over the sagittal angles only (pelvic tilt, hip flexion, knee flexion, ankle dorsiflexion)";
 
 /// The mid-ASIS point in gait2392's pelvis frame (x forward, y up; metres): the `RASI` and
 /// `LASI` markers of Rajagopal et al.'s (2016) model, whose pelvis carries gait2392's bone
@@ -145,7 +183,12 @@ pub fn tilt_offset(mid_asis: [f64; 3], posterior: [f64; 3]) -> f64 {
 #[derive(Clone, Debug, PartialEq)]
 pub enum CgmPelvis {
     /// [`pelvis_tilt_offset`]: Rajagopal 2016's ASIS and PSIS markers on gait2392's pelvis.
-    Fixed,
+    /// `model_markers`: the model's own pelvis markers, which `--cgm-pelvis model-markers`
+    /// would take the offset from; `None` when the model has none.
+    Fixed {
+        /// The model's own pelvis markers, not used.
+        model_markers: Option<ModelMarkers>,
+    },
     /// From the model's own pelvis markers.
     Markers {
         /// [`tilt_offset`] of the markers (radians).
@@ -155,21 +198,44 @@ pub enum CgmPelvis {
     },
 }
 
+/// A model's own pelvis markers and the offset they give.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelMarkers {
+    /// [`tilt_offset`] of the markers (radians).
+    pub offset: f64,
+    /// The markers, as the model names them.
+    pub names: Vec<String>,
+}
+
 impl CgmPelvis {
+    /// The fixed offset for a model without pelvis markers.
+    pub const FIXED: CgmPelvis = CgmPelvis::Fixed {
+        model_markers: None,
+    };
+
     /// The tilt of the CGM's pelvis in the model's level pelvis frame (radians).
     pub fn offset(&self) -> f64 {
         match self {
-            CgmPelvis::Fixed => pelvis_tilt_offset(),
+            CgmPelvis::Fixed { .. } => pelvis_tilt_offset(),
             CgmPelvis::Markers { offset, .. } => *offset,
         }
     }
 
     /// What the report says.
     pub fn describe(&self) -> String {
+        let fixed = pelvis_tilt_offset().to_degrees();
         match self {
-            CgmPelvis::Fixed => format!(
-                "the model's pelvis frame turned {:.2}° anteriorly (the ASIS-PSIS line of Rajagopal 2016's markers; the model has no pelvis markers)",
-                pelvis_tilt_offset().to_degrees()
+            CgmPelvis::Fixed {
+                model_markers: None,
+            } => format!(
+                "the model's pelvis frame turned {fixed:.2}° anteriorly (the ASIS-PSIS line of Rajagopal 2016's markers; the model has no pelvis markers)"
+            ),
+            CgmPelvis::Fixed {
+                model_markers: Some(m),
+            } => format!(
+                "the model's pelvis frame turned {fixed:.2}° anteriorly, the fixed offset (the ASIS-PSIS line of Rajagopal 2016's markers, --cgm-pelvis fixed); --cgm-pelvis model-markers would take it from the model's own markers {} ({:.2}°)",
+                m.names.join(", "),
+                m.offset.to_degrees()
             ),
             CgmPelvis::Markers { offset, names } => format!(
                 "the model's pelvis frame turned {:.2}° anteriorly, from its own markers {}",
@@ -254,6 +320,42 @@ pub fn angles(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fixed offset says "no pelvis markers" only for a model without them; for one with
+    /// them it names them and the option that would use them.
+    #[test]
+    fn the_pelvis_text_says_whether_the_model_has_markers() {
+        let none = CgmPelvis::FIXED.describe();
+        assert!(
+            none.contains("5.87°") && none.contains("the model has no pelvis markers"),
+            "{none}"
+        );
+        let names = vec!["R.ASIS".to_string(), "L.ASIS".into(), "V.Sacral".into()];
+        let with = CgmPelvis::Fixed {
+            model_markers: Some(ModelMarkers {
+                offset: 2.45f64.to_radians(),
+                names: names.clone(),
+            }),
+        };
+        let text = with.describe();
+        assert!(!text.contains("no pelvis markers"), "{text}");
+        assert!(
+            text.contains("5.87°") && text.contains("the fixed offset"),
+            "{text}"
+        );
+        assert!(
+            text.contains("--cgm-pelvis model-markers would take it from the model's own markers R.ASIS, L.ASIS, V.Sacral (2.45°)"),
+            "{text}"
+        );
+        assert_eq!(with.offset(), pelvis_tilt_offset());
+        let used = CgmPelvis::Markers {
+            offset: 2.45f64.to_radians(),
+            names,
+        };
+        assert!(used
+            .describe()
+            .contains("2.45° anteriorly, from its own markers R.ASIS"));
+    }
 
     #[test]
     fn the_cgm_pelvis_is_tilted_forward_by_the_asis_psis_line() {

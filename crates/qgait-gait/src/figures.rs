@@ -5,8 +5,9 @@
 //!   mean ± SD in its colour over its strides drawn thin, each side's measured toe off as a
 //!   solid vertical line and the reference's (the normal range of the stance phase, or the
 //!   reference recording's) dashed; a panel with neither a curve nor a band is left out;
-//! - `map`: the Movement Analysis Profile, the nine GVS per side and the GPS as bars, with the
-//!   scores of a typical member of the reference as ticks;
+//! - `map`: the Movement Analysis Profile, the nine GVS per side (a planar model's four
+//!   sagittal ones) and the GPS as bars, with the scores of a typical member of the reference as
+//!   ticks;
 //! - `events`: the heel's and toe's forward position relative to the pelvis over time with the
 //!   detected events, to check them.
 
@@ -473,8 +474,13 @@ impl Figure for Map<'_> {
         figure::header_line(
             &header,
             &format!(
-                "Gait Variable Scores and Gait Profile Score (degrees) against {}",
-                self.report.reference.legend()
+                "Gait Variable Scores and Gait Profile Score (degrees) against {}{}",
+                self.report.reference.legend(),
+                if self.report.planar {
+                    "; sagittal angles only (planar model)"
+                } else {
+                    ""
+                }
             ),
             15,
             42,
@@ -505,29 +511,44 @@ impl Figure for Map<'_> {
                 ))
                 .map_err(draw_err)?;
         }
-        // Groups: the nine variables, then GPS (right, left, overall).
-        let labels: Vec<String> = Variable::ALL
+        // Groups: the variables scored (a planar model's sagittal ones), then GPS (right,
+        // left, overall).
+        let scored: Vec<usize> = Variable::ALL
             .iter()
-            .map(|v| v.title().split(" (").next().unwrap_or("").to_string())
+            .enumerate()
+            .filter(|(_, v)| s.variables.contains(v))
+            .map(|(i, _)| i)
+            .collect();
+        let gps_group = scored.len();
+        let labels: Vec<String> = scored
+            .iter()
+            .map(|&v| {
+                Variable::ALL[v]
+                    .title()
+                    .split(" (")
+                    .next()
+                    .unwrap_or("")
+                    .to_string()
+            })
             .chain(["GPS".to_string()])
             .collect();
         // Bars: (group, slot, value, colour, the reference member's value).
         let mut bars: Vec<(usize, usize, f64, RGBColor, Option<f64>)> = Vec::new();
-        for (v, _) in Variable::ALL.iter().enumerate() {
+        for (group, &v) in scored.iter().enumerate() {
             for (side, color) in SIDE_COLORS.iter().enumerate() {
                 if let Some(g) = s.gvs[side][v] {
-                    bars.push((v, side, g, *color, normal.and_then(|n| n.gvs[side][v])));
+                    bars.push((group, side, g, *color, normal.and_then(|n| n.gvs[side][v])));
                 }
             }
         }
         for (side, color) in SIDE_COLORS.iter().enumerate() {
             if let Some(g) = s.gps[side] {
-                bars.push((9, side, g, *color, normal.and_then(|n| n.gps[side])));
+                bars.push((gps_group, side, g, *color, normal.and_then(|n| n.gps[side])));
             }
         }
         if let Some(g) = s.overall {
             bars.push((
-                9,
+                gps_group,
                 2,
                 g,
                 RGBColor(60, 60, 60),
@@ -559,7 +580,7 @@ impl Figure for Map<'_> {
             .draw()
             .map_err(draw_err)?;
         for (g, side, value, color, typical) in &bars {
-            let width = if *g == 9 { 0.27 } else { 0.38 };
+            let width = if *g == gps_group { 0.27 } else { 0.38 };
             let x0 = *g as f64 + 0.1 + *side as f64 * width;
             chart
                 .draw_series(std::iter::once(Rectangle::new(

@@ -129,12 +129,26 @@ pub fn events_csv(report: &Report) -> Result<String, ReportError> {
 /// `summary.json`: the subject and session as given (`subject`, [`crate::session::Session::summary`]);
 /// per recording its mode (`walking`/`running`), ground
 /// (`treadmill`/`overground`/`unknown`), speed and how it was found, duty factor, Froude number
-/// and leg length; and the headline figures over all recordings (both sides).
+/// and leg length, how its events were found, and its notes (the rules' doubts, a planar
+/// model's [`crate::angles::PLANAR_NOTE`]); and the headline figures over all recordings (both
+/// sides), each with its method.
 pub fn summary_json(report: &Report) -> String {
     let recordings: Vec<SummaryRecording> = report
         .recordings
         .iter()
-        .map(|w| match &w.gait {
+        .map(|w| {
+            let events = w.event_method().map_or_else(
+                || crate::spatiotemporal::MIXED_EVENTS.to_string(),
+                |m| m.describe(),
+            );
+            // The rules' doubts, and what a planar model cannot see.
+            let mut notes = w.gait.as_ref().map_or_else(Vec::new, |g| g.notes.clone());
+            if w.planar {
+                notes.push(crate::angles::PLANAR_NOTE.to_string());
+            }
+            (w, events, notes)
+        })
+        .map(|(w, events, notes)| match &w.gait {
             Some(g) => SummaryRecording::Analysed {
                 recording: &w.source,
                 mode: g.mode.name(),
@@ -146,14 +160,15 @@ pub fn summary_json(report: &Report) -> String {
                 froude: g.froude,
                 leg_length: g.leg_length,
                 travel_ratio: g.travel_ratio,
-                events: "rules R (docs/gait-analysis.md)",
-                notes: &g.notes,
+                events,
+                notes,
             },
             None => SummaryRecording::TooFewStrides {
                 recording: &w.source,
                 mode: None,
                 ground: "unknown",
-                events: "Zeni et al. 2008 (too few strides for the rules)",
+                events,
+                notes,
             },
         })
         .collect();
@@ -169,7 +184,7 @@ pub fn summary_json(report: &Report) -> String {
                 Figure {
                     value: p.value,
                     unit: p.unit,
-                    method: Some(p.note),
+                    method: &p.note,
                 },
             ));
         }
@@ -181,7 +196,7 @@ pub fn summary_json(report: &Report) -> String {
                 Figure {
                     value: p.value,
                     unit: p.unit,
-                    method: None,
+                    method: &p.note,
                 },
             ));
         }
@@ -224,7 +239,7 @@ struct Summary<'a> {
     mode: Option<&'static str>,
     ground: &'static str,
     recordings: Vec<SummaryRecording<'a>>,
-    headline: Headline,
+    headline: Headline<'a>,
     bouts: Bouts,
     cgm_pelvis: Option<String>,
     warnings: &'a [String],
@@ -245,30 +260,31 @@ enum SummaryRecording<'a> {
         froude: f64,
         leg_length: f64,
         travel_ratio: Option<f64>,
-        events: &'static str,
-        notes: &'a [String],
+        events: String,
+        notes: Vec<String>,
     },
     TooFewStrides {
         recording: &'a str,
         mode: Option<&'static str>,
         ground: &'static str,
-        events: &'static str,
+        events: String,
+        notes: Vec<String>,
     },
 }
 
-/// A headline figure: its value and unit, and how it was found (the spatiotemporal ones).
+/// A headline figure: its value (`null` where the model cannot see it) and unit, and how it
+/// was found (or why it has no value).
 #[derive(serde::Serialize)]
-struct Figure {
-    value: f64,
+struct Figure<'a> {
+    value: Option<f64>,
     unit: &'static str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    method: Option<&'static str>,
+    method: &'a str,
 }
 
 /// The headline figures by name, in the order found.
-struct Headline(Vec<(String, Figure)>);
+struct Headline<'a>(Vec<(String, Figure<'a>)>);
 
-impl serde::Serialize for Headline {
+impl serde::Serialize for Headline<'_> {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         serializer.collect_map(self.0.iter().map(|(name, figure)| (name, figure)))
     }
@@ -300,7 +316,8 @@ pub fn spatiotemporal_csv(params: &[Parameter]) -> Result<String, ReportError> {
             let (lo, hi) = p.range.map_or((String::new(), String::new()), |r| {
                 (round(r.min, 4), round(r.max, 4))
             });
-            w.write_record([p.name, p.side, &round(p.value, 4), p.unit, &lo, &hi, p.note])?;
+            let value = p.value.map_or(String::new(), |v| round(v, 4));
+            w.write_record([p.name, p.side, &value, p.unit, &lo, &hi, &p.note])?;
         }
         Ok(())
     })

@@ -4,7 +4,8 @@
 //! 0, 2, ..., 100 % of the cycle; a side's GPS is the root mean square of its nine GVS (the
 //! pelvis included); the overall GPS is the root mean square of fifteen GVS: the six hip, knee,
 //! ankle and foot variables of each side and the three pelvic ones once, from the left side
-//! (Baker's choice: the pelvis is one segment, and its left-cycle curves stand for it).
+//! (Baker's choice: the pelvis is one segment, and its left-cycle curves stand for it). A
+//! planar model's scores are over its sagittal variables only ([`scores_over`]).
 
 use crate::angles::Variable;
 
@@ -18,12 +19,16 @@ pub type Curves = [[Option<Vec<f64>>; 9]; 2];
 /// The scores.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scores {
-    /// GVS per side and variable (degrees), [`Variable::ALL`] order.
+    /// GVS per side and variable (degrees), [`Variable::ALL`] order; `None` for a variable
+    /// not scored.
     pub gvs: [[Option<f64>; 9]; 2],
-    /// GPS per side (degrees), when all nine GVS of the side are known.
+    /// GPS per side (degrees), when the GVS of every variable scored are known.
     pub gps: [Option<f64>; 2],
-    /// Overall GPS (degrees), when all fifteen GVS are known.
+    /// Overall GPS (degrees), when every GVS it takes is known.
     pub overall: Option<f64>,
+    /// The variables scored, [`Variable::ALL`] order: all nine, or a planar model's sagittal
+    /// four ([`Variable::seen`]).
+    pub variables: Vec<Variable>,
 }
 
 /// The 51 points of a curve at 0, 1, ..., 100 % (101 points): every other one.
@@ -48,17 +53,32 @@ fn rms(values: &[f64]) -> f64 {
     (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt()
 }
 
-/// The scores of `subject` against `reference` (both 51-point curves).
+/// The scores of `subject` against `reference` (both 51-point curves) over all nine variables.
 pub fn scores(subject: &Curves, reference: &Curves) -> Scores {
+    scores_over(subject, reference, &Variable::ALL)
+}
+
+/// The scores of `subject` against `reference` over `variables` only: each side's GPS is the
+/// RMS of their GVS, the overall GPS of each side's and, for a pelvic one, the left side's
+/// alone (a planar model's: pelvic tilt, hip flexion, knee flexion, ankle dorsiflexion, so
+/// seven GVS overall).
+pub fn scores_over(subject: &Curves, reference: &Curves, variables: &[Variable]) -> Scores {
     let mut gvs_all = [[None; 9]; 2];
     for s in 0..2 {
-        for v in 0..9 {
+        for v in indices(variables) {
             if let (Some(a), Some(b)) = (&subject[s][v], &reference[s][v]) {
                 gvs_all[s][v] = Some(gvs(a, b));
             }
         }
     }
-    from_gvs(gvs_all)
+    from_gvs(gvs_all, variables)
+}
+
+/// The [`Variable::ALL`] indices of `variables`.
+fn indices(variables: &[Variable]) -> impl Iterator<Item = usize> + '_ {
+    variables
+        .iter()
+        .filter_map(|v| Variable::ALL.iter().position(|x| x == v))
 }
 
 /// The scores a subject drawn from the reference population has, the MAP's normal reference:
@@ -69,31 +89,42 @@ pub fn scores(subject: &Curves, reference: &Curves) -> Scores {
 /// same rules as a subject's. With another recording as the reference, its SD is its own
 /// stride-to-stride spread, and these are the scores of one of its strides.
 pub fn normal_scores(sd: &Curves) -> Scores {
-    from_gvs(std::array::from_fn(|s| {
-        std::array::from_fn(|v| sd[s][v].as_ref().map(|sd| rms(sd)))
-    }))
+    normal_scores_over(sd, &Variable::ALL)
 }
 
-/// The GPS of each side and overall from the nine GVS of each side ([`Variable::ALL`] order).
-fn from_gvs(gvs_all: [[Option<f64>; 9]; 2]) -> Scores {
-    let side_gps = |s: usize| -> Option<f64> {
-        let all: Option<Vec<f64>> = gvs_all[s].iter().copied().collect();
-        all.map(|v| rms(&v))
-    };
-    let mut fifteen = Vec::with_capacity(15);
-    for (v, var) in Variable::ALL.iter().enumerate() {
-        if var.is_pelvis() {
-            fifteen.push(gvs_all[1][v]);
-        } else {
-            fifteen.push(gvs_all[0][v]);
-            fifteen.push(gvs_all[1][v]);
+/// [`normal_scores`] over `variables` only, as [`scores_over`].
+pub fn normal_scores_over(sd: &Curves, variables: &[Variable]) -> Scores {
+    let mut gvs_all = [[None; 9]; 2];
+    for s in 0..2 {
+        for v in indices(variables) {
+            gvs_all[s][v] = sd[s][v].as_ref().map(|sd| rms(sd));
         }
     }
-    let overall: Option<Vec<f64>> = fifteen.into_iter().collect();
+    from_gvs(gvs_all, variables)
+}
+
+/// The GPS of each side and overall from the GVS of `variables` of each side
+/// ([`Variable::ALL`] order).
+fn from_gvs(gvs_all: [[Option<f64>; 9]; 2], variables: &[Variable]) -> Scores {
+    let side_gps = |s: usize| -> Option<f64> {
+        let all: Option<Vec<f64>> = indices(variables).map(|v| gvs_all[s][v]).collect();
+        all.filter(|v| !v.is_empty()).map(|v| rms(&v))
+    };
+    let mut overall = Vec::with_capacity(15);
+    for v in indices(variables) {
+        if Variable::ALL[v].is_pelvis() {
+            overall.push(gvs_all[1][v]);
+        } else {
+            overall.push(gvs_all[0][v]);
+            overall.push(gvs_all[1][v]);
+        }
+    }
+    let overall: Option<Vec<f64>> = overall.into_iter().collect();
     Scores {
         gvs: gvs_all,
         gps: [side_gps(0), side_gps(1)],
-        overall: overall.map(|v| rms(&v)),
+        overall: overall.filter(|v| !v.is_empty()).map(|v| rms(&v)),
+        variables: variables.to_vec(),
     }
 }
 
@@ -192,6 +223,56 @@ mod tests {
             "{simulated} vs {expected}"
         );
         assert_eq!(normal_scores(&population).gps[0], None);
+    }
+
+    /// A planar model's scores: only the sagittal four variables have a GVS, whatever curves
+    /// the others have; each side's GPS is the RMS of its four, the overall of seven (the
+    /// pelvic tilt once, from the left); the normal scores likewise.
+    #[test]
+    fn a_planar_model_is_scored_on_the_sagittal_angles_only() {
+        let sagittal = Variable::seen(true);
+        assert_eq!(
+            sagittal,
+            [
+                Variable::PelvicTilt,
+                Variable::HipFlexion,
+                Variable::KneeFlexion,
+                Variable::AnkleDorsiflexion
+            ]
+        );
+        assert_eq!(Variable::seen(false), Variable::ALL);
+        let reference = curves(shape);
+        // Every variable off by its index + 1 on the right, + 11 on the left.
+        let subject = curves(|s, v, p| shape(s, v, p) + (v + 1 + 10 * s) as f64);
+        let sc = scores_over(&subject, &reference, &sagittal);
+        assert_eq!(sc.variables, sagittal);
+        for (v, var) in Variable::ALL.iter().enumerate() {
+            for s in 0..2 {
+                let want = sagittal.contains(var).then(|| (v + 1 + 10 * s) as f64);
+                let got = sc.gvs[s][v];
+                assert!(
+                    got.zip(want)
+                        .map_or(got.is_none() && want.is_none(), |(g, w)| (g - w).abs()
+                            < 1e-12),
+                    "{var:?} {s}: {got:?}"
+                );
+            }
+        }
+        // Right: 1, 4, 7, 8; left: 11, 14, 17, 18; overall: the left tilt (11) and the six others.
+        let rms_of = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+        assert!((sc.gps[0].unwrap() - rms_of(&[1.0, 4.0, 7.0, 8.0])).abs() < 1e-12);
+        assert!((sc.gps[1].unwrap() - rms_of(&[11.0, 14.0, 17.0, 18.0])).abs() < 1e-12);
+        let seven = [11.0, 4.0, 14.0, 7.0, 17.0, 8.0, 18.0];
+        assert!((sc.overall.unwrap() - rms_of(&seven)).abs() < 1e-12);
+        // All nine: the full sets.
+        let all = scores(&subject, &reference);
+        assert!(all.gvs[0].iter().all(Option::is_some));
+        assert_eq!(all.variables, Variable::ALL);
+        let n = normal_scores_over(&curves(|s, _, _| 2.0 + s as f64), &sagittal);
+        assert_eq!(n.gvs[0][1], None);
+        assert_eq!(n.gps, [Some(2.0), Some(3.0)]);
+        let want = ((9.0 + 3.0 * 4.0 + 3.0 * 9.0) / 7.0f64).sqrt();
+        assert!((n.overall.unwrap() - want).abs() < 1e-12);
     }
 
     #[test]

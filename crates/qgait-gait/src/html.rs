@@ -137,7 +137,7 @@ struct ParameterRow {
     range: String,
     /// The sides outside the normal range, in words (`below: right, left`), or empty.
     flag: String,
-    note: &'static str,
+    note: String,
 }
 
 /// A value cell: `in` or `out` of the normal range when there is one (an arrow says which
@@ -156,6 +156,23 @@ struct GpsTable {
     gps: [String; 3],
     /// Overall GPS, and a member of the reference's.
     overall: [String; 2],
+    /// What the overall GPS is over, in words.
+    over: String,
+}
+
+/// What the overall GPS over `variables` is over: `15 variables, the pelvis once` for all
+/// nine; for a planar model's sagittal four, `7 sagittal variables, the pelvic tilt once`.
+fn over(variables: &[Variable]) -> String {
+    let pelvis = variables.iter().filter(|v| v.is_pelvis()).count();
+    let n = pelvis + 2 * (variables.len() - pelvis);
+    if variables.len() == Variable::ALL.len() {
+        format!("{n} variables, the pelvis once")
+    } else {
+        format!(
+            "{n} sagittal variables, the pelvic tilt once; {}",
+            crate::angles::PLANAR_NOTE
+        )
+    }
 }
 
 /// An inline figure with its caption.
@@ -277,6 +294,7 @@ impl<'a> Page<'a> {
                     rows: Variable::ALL
                         .iter()
                         .enumerate()
+                        .filter(|(_, var)| s.variables.contains(var))
                         .map(|(v, var)| {
                             (
                                 var.title(),
@@ -295,6 +313,7 @@ impl<'a> Page<'a> {
                         cell(s.overall),
                         n.map_or(String::new(), |n| cell(n.overall)),
                     ],
+                    over: over(&s.variables),
                 }
             }),
             kinematics: figure("kinematics"),
@@ -310,7 +329,7 @@ fn caption(r: &Report, stem: &str) -> String {
     let reference = r.reference.legend();
     match stem {
         "kinematics" => format!(
-            "Joint angles (degrees) over the gait cycle (0-100 %, heel strike to the next heel strike of the same side): rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal and transverse planes. Each side's mean ± 1 SD over {} strides (right red, left blue; thin lines: up to {} strides a side, spread over the recording), against {reference}: its mean ± 1 SD in grey. Vertical lines: each side's measured toe off (solid){}. Only the angles the model gives or the reference has are drawn.",
+            "Joint angles (degrees) over the gait cycle (0-100 %, heel strike to the next heel strike of the same side): rows pelvis, hip, knee, ankle and foot; columns sagittal, frontal and transverse planes. Each side's mean ± 1 SD over {} strides (right red, left blue; thin lines: up to {} strides a side, spread over the recording), against {reference}: its mean ± 1 SD in grey. Vertical lines: each side's measured toe off (solid){}. Only the angles the model gives or the reference has are drawn{}.",
             match r.recordings.iter().map(|w| w.strides()).fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]]) {
                 [rt, lt] => format!("{rt} right and {lt} left"),
             },
@@ -319,6 +338,11 @@ fn caption(r: &Report, stem: &str) -> String {
                 String::new()
             } else {
                 format!(" and the reference's (dashed: {})", r.reference.toe_off_from)
+            },
+            if r.planar {
+                format!("; the sagittal ones only: {}", crate::angles::PLANAR_NOTE)
+            } else {
+                String::new()
             }
         ),
         "map" => format!(
@@ -456,11 +480,8 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
         };
         s.push(("gait", text));
     }
-    if r.recordings.iter().any(|w| w.planar) {
-        s.push((
-            "planar model",
-            "the model moves the legs in the sagittal plane only: no step width or other frontal or transverse quantity is reported".into(),
-        ));
+    if r.planar {
+        s.push(("planar model", crate::angles::PLANAR_NOTE.into()));
     }
     if let Some(w) = r.recordings.first() {
         s.push(("pelvis (CGM)", w.pelvis.describe()));
@@ -507,17 +528,18 @@ fn parameters(r: &Report) -> Vec<ParameterRow> {
             let cells = ["right", "left", "both"].map(|side| {
                 ps.iter()
                     .find(|p| p.side == side)
-                    .map_or_else(Cell::default, |p| {
-                        let off = p.range.and_then(|rg| outside(p.value, rg));
+                    .and_then(|p| p.value.map(|v| (p, v)))
+                    .map_or_else(Cell::default, |(p, value)| {
+                        let off = p.range.and_then(|rg| outside(value, rg));
                         if let Some(way) = off {
                             out.push((way, side));
                         }
                         Cell {
                             class: p.range.map(|_| if off.is_some() { "out" } else { "in" }),
                             value: match off {
-                                Some("below") => format!("{} ↓", round(p.value, 3)),
-                                Some(_) => format!("{} ↑", round(p.value, 3)),
-                                None => round(p.value, 3),
+                                Some("below") => format!("{} ↓", round(value, 3)),
+                                Some(_) => format!("{} ↑", round(value, 3)),
+                                None => round(value, 3),
                             },
                         }
                     })
@@ -532,7 +554,7 @@ fn parameters(r: &Report) -> Vec<ParameterRow> {
                 reference: reference_value(&r.reference.parameters, name),
                 range,
                 flag: flag(&out),
-                note: ps[0].note,
+                note: ps[0].note.clone(),
             }
         })
         .collect()
@@ -558,7 +580,7 @@ fn reference_value(params: &[Parameter], name: &str) -> String {
         params
             .iter()
             .find(|p| p.name == name && p.side == side)
-            .map(|p| round(p.value, 3))
+            .and_then(|p| p.value.map(|v| round(v, 3)))
     };
     match (get("both"), get("right"), get("left")) {
         (Some(b), _, _) => b,

@@ -119,7 +119,7 @@ pub fn analyse_with(
     mode: CycleMode,
     given_speed: Option<f64>,
 ) -> Result<Walk, AnalysisError> {
-    analyse_with_pelvis(trial, mode, given_speed, angles::CgmPelvis::Fixed)
+    analyse_with_pelvis(trial, mode, given_speed, angles::CgmPelvis::FIXED)
 }
 
 /// [`analyse_with`], the joint angles in the CGM's pelvis frame `pelvis`
@@ -535,6 +535,96 @@ mod tests {
         );
         let files = files::write(&report, &dir.path().join("out")).unwrap();
         assert!(files.iter().any(|f| f.ends_with("report.html")));
+    }
+
+    /// A recording too short for the rules (one cycle) names Zeni's events in every note of
+    /// its events; recordings whose events' methods differ say each recording's own were
+    /// used; one method is named when all share it.
+    #[test]
+    fn the_notes_name_the_events_method() {
+        use crate::rules::EventMethod;
+        use crate::spatiotemporal::{one_method, MIXED_EVENTS};
+        let walk = builtin_walk("one.mot");
+        assert!(walk.gait.is_none());
+        let report = output::build(
+            vec![walk],
+            "gait2392".into(),
+            CycleMode::Whole,
+            &ReferenceArg::Motion("ref.mot".into()),
+            Some(vec![builtin_walk("ref.mot")]),
+            &crate::normative::Source::Dir("/nonexistent".into()),
+            Subject::default(),
+        )
+        .unwrap();
+        for name in [
+            "cadence",
+            "stride_time",
+            "stance",
+            "swing",
+            "double_support",
+        ] {
+            let p = report.parameters.iter().find(|p| p.name == name).unwrap();
+            assert!(
+                p.note.contains(EventMethod::Zeni.heel_strike()),
+                "{name}: {}",
+                p.note
+            );
+        }
+        let stance = report
+            .parameters
+            .iter()
+            .find(|p| p.name == "stance")
+            .unwrap();
+        assert!(
+            stance.note.contains(EventMethod::Zeni.toe_off()),
+            "{}",
+            stance.note
+        );
+        let summary: serde_json::Value =
+            serde_json::from_str(&files::summary_json(&report)).unwrap();
+        assert_eq!(
+            summary["recordings"][0]["events"],
+            EventMethod::Zeni.describe(),
+            "{summary}"
+        );
+        assert!(EventMethod::Zeni
+            .describe()
+            .contains("too few strides for the rules"));
+        // One method for all, or none when they differ (or a recording's own differ).
+        let (w, r) = (Some(EventMethod::Walking), Some(EventMethod::RunningKnee));
+        assert_eq!(one_method([w, w]), w);
+        assert_eq!(one_method([w, r]), None);
+        assert_eq!(one_method([w, None]), None);
+        assert_eq!(one_method(std::iter::empty()), None);
+        let mut sums: [crate::spatiotemporal::Sums; 2] = Default::default();
+        let stride = crate::spatiotemporal::Stride {
+            start: 0.0,
+            duration: 1.0,
+            toe_off: Some(0.6),
+            opposite_strike: Some(0.5),
+            opposite_toe_off: Some(0.1),
+            along: 0.6,
+            across: 0.1,
+            moved: None,
+            speed: None,
+            running: false,
+            planar: false,
+        };
+        sums[0].add(&stride);
+        let p = crate::spatiotemporal::parameters_of(&sums, &[None, None], None);
+        for name in ["cadence", "stance", "double_support"] {
+            let p = p.iter().find(|p| p.name == name).unwrap();
+            assert!(p.note.ends_with(MIXED_EVENTS), "{name}: {}", p.note);
+        }
+        // Running without knee angles: the first pass's toe off.
+        assert_eq!(
+            EventMethod::RunningFirstPass.toe_off(),
+            EventMethod::Walking.toe_off()
+        );
+        assert_ne!(
+            EventMethod::RunningKnee.toe_off(),
+            EventMethod::Walking.toe_off()
+        );
     }
 
     /// Against the normative data: the normal toe off is the centre of the stance range of

@@ -104,12 +104,23 @@ pub struct Report {
     /// The scores a member of the reference population has ([`gps::normal_scores`]), when the
     /// subject has scores: the MAP's normal reference.
     pub normal_scores: Option<Scores>,
+    /// A recording's (or the reference's) model is planar ([`crate::trial::Trial::planar`]):
+    /// the report leaves out every frontal and transverse angle, and says why
+    /// ([`crate::angles::PLANAR_NOTE`]).
+    pub planar: bool,
     /// The subject and the session, for the header ([`build`] leaves it empty: the caller
     /// fills it in).
     pub session: Session,
     /// Every warning the run emitted about its inputs, in order (the caller's: [`build`]
     /// leaves it empty).
     pub warnings: Vec<String>,
+}
+
+impl Report {
+    /// The joint angles the report shows ([`Variable::seen`]).
+    pub fn variables(&self) -> Vec<Variable> {
+        Variable::seen(self.planar)
+    }
 }
 
 /// Subject details for the normal ranges.
@@ -191,16 +202,24 @@ pub fn build_from(
     subject: Subject,
 ) -> Result<Report, ReportError> {
     let Finished(pool, events) = pool;
-    let curves = pool.curves();
+    // A planar model's report leaves out every frontal and transverse angle (its curves are
+    // flat: the model cannot move them), the reference's too.
+    let planar = pool.recordings.iter().any(|r| r.planar)
+        || reference_pool
+            .as_ref()
+            .is_some_and(|p| p.0.recordings.iter().any(|r| r.planar));
+    let variables = Variable::seen(planar);
+    let shown = |v: usize| variables.contains(&Variable::ALL[v]);
+    let mut curves = pool.curves();
+    for side in &mut curves {
+        for (v, c) in side.iter_mut().enumerate() {
+            if !shown(v) {
+                *c = None;
+            }
+        }
+    }
     let toe_off = pool.toe_off_percent();
-    let mut parameters = {
-        let rules: Vec<Option<&crate::rules::Gait>> = pool
-            .recordings
-            .iter()
-            .map(|r| r.gait.as_ref().filter(|_| r.rules_everywhere))
-            .collect();
-        spatiotemporal::parameters_of(&pool.strides, &rules)
-    };
+    let mut parameters = parameters_of_pool(&pool);
     let walks = &pool.recordings;
     check_possible(walks, pool.leg_length(), &parameters)?;
     let running = walks
@@ -319,14 +338,7 @@ pub fn build_from(
                 rw.0.recordings
                     .first()
                     .map_or_else(|| m.clone(), |w| w.label.clone());
-            let reference_parameters = {
-                let rules: Vec<Option<&crate::rules::Gait>> =
-                    rw.0.recordings
-                        .iter()
-                        .map(|r| r.gait.as_ref().filter(|_| r.rules_everywhere))
-                        .collect();
-                spatiotemporal::parameters_of(&rw.0.strides, &rules)
-            };
+            let reference_parameters = parameters_of_pool(&rw.0);
             let toe_off = rw.0.toe_off_percent();
             Reference {
                 toe_off_from: if toe_off.iter().any(Option::is_some) {
@@ -354,6 +366,18 @@ pub fn build_from(
             return Err(ReportError::ReferenceNotAnalysed(m.clone()))
         }
     };
+    let mut reference = reference;
+    if planar {
+        for side in &mut reference.bands {
+            for (v, b) in side.iter_mut().enumerate() {
+                if !shown(v) {
+                    *b = None;
+                }
+            }
+        }
+        // Knee varus and rotation: frontal and transverse.
+        reference.extra.clear();
+    }
     let subject_curves: gps::Curves = std::array::from_fn(|s| {
         std::array::from_fn(|v| curves[s][v].as_ref().map(|c| every_2_percent(&c.mean)))
     });
@@ -361,11 +385,12 @@ pub fn build_from(
         std::array::from_fn(|v| reference.bands[s][v].as_ref().map(|b| b.mean.clone()))
     });
     let has_angles = walks.iter().any(|w| w.has_angles);
-    let scores = has_angles.then(|| gps::scores(&subject_curves, &reference_curves));
+    let scores =
+        has_angles.then(|| gps::scores_over(&subject_curves, &reference_curves, &variables));
     let reference_sd: gps::Curves = std::array::from_fn(|s| {
         std::array::from_fn(|v| reference.bands[s][v].as_ref().map(|b| b.sd.clone()))
     });
-    let normal_scores = has_angles.then(|| gps::normal_scores(&reference_sd));
+    let normal_scores = has_angles.then(|| gps::normal_scores_over(&reference_sd, &variables));
     let stride_sample = pool.stride_sample().clone();
     Ok(Report {
         recordings: pool.recordings,
@@ -382,9 +407,22 @@ pub fn build_from(
         dimensionless_speed,
         speed_choice,
         normal_scores,
+        planar,
         session: Session::default(),
         warnings: Vec::new(),
     })
+}
+
+/// The spatiotemporal parameters of a pool's strides, with the rules' findings of each
+/// recording that had them in every window and the events' method.
+fn parameters_of_pool(pool: &Pool) -> Vec<Parameter> {
+    let rules: Vec<Option<&crate::rules::Gait>> = pool
+        .recordings
+        .iter()
+        .map(|r| r.gait.as_ref().filter(|_| r.rules_everywhere))
+        .collect();
+    let events = spatiotemporal::one_method(pool.recordings.iter().map(Recording::event_method));
+    spatiotemporal::parameters_of(&pool.strides, &rules, events)
 }
 
 /// What a human can do, per parameter: `(name, least, most)`; the leg length is checked
@@ -418,12 +456,17 @@ pub fn check_possible(
         .collect::<Vec<_>>()
         .join(", ");
     for p in parameters {
-        if let Some(&(_, min, max)) = POSSIBLE.iter().find(|c| c.0 == p.name) {
-            if !(p.value >= min && p.value <= max) {
+        let (Some(&(_, min, max)), Some(value)) =
+            (POSSIBLE.iter().find(|c| c.0 == p.name), p.value)
+        else {
+            continue;
+        };
+        {
+            if !(value >= min && value <= max) {
                 return Err(ReportError::Impossible {
                     recordings,
                     what: format!("{} ({})", p.name, p.side),
-                    value: round(p.value, 3),
+                    value: round(value, 3),
                     unit: p.unit,
                     min,
                     max,

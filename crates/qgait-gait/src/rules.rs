@@ -124,6 +124,71 @@ impl SpeedMethod {
     }
 }
 
+/// How a recording's heel strikes and toe offs were found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EventMethod {
+    /// Walking (step 6 of R): heel strike at Ghoussayni's fixed 0.5 m/s, toe off at 0.66 v.
+    Walking,
+    /// Running with knee angles: the first pass's heel strike (0.78 v), toe off at the peak knee
+    /// extension late in stance.
+    RunningKnee,
+    /// Running without knee angles (a device's points): the first pass's heel strike and toe
+    /// off.
+    RunningFirstPass,
+    /// Too few strides for the rules: Zeni et al.'s extrema.
+    Zeni,
+}
+
+impl EventMethod {
+    /// The method of the events of a recording the rules found `gait` of (`None`: they did not
+    /// run).
+    pub fn of(gait: Option<&Gait>) -> Self {
+        gait.map_or(EventMethod::Zeni, |g| g.events)
+    }
+
+    /// How the heel strikes were found, for the files' notes.
+    pub fn heel_strike(self) -> &'static str {
+        match self {
+            EventMethod::Walking => {
+                "heel strike: the heel's speed over the surface falls through 0.5 m/s (Ghoussayni et al. 2004)"
+            }
+            EventMethod::RunningKnee | EventMethod::RunningFirstPass => {
+                "heel strike: the heel's speed over the surface falls through 0.78 x speed (Bruening & Ridge 2014)"
+            }
+            EventMethod::Zeni => {
+                "heel strike: the heel furthest in front of the pelvis (Zeni et al. 2008)"
+            }
+        }
+    }
+
+    /// How the toe offs were found, for the files' notes.
+    pub fn toe_off(self) -> &'static str {
+        match self {
+            EventMethod::Walking | EventMethod::RunningFirstPass => {
+                "toe off: the toe tip's speed over the surface rises through 0.66 x speed (Bruening & Ridge 2014)"
+            }
+            EventMethod::RunningKnee => {
+                "toe off: the peak knee extension late in stance (Fellin et al. 2010)"
+            }
+            EventMethod::Zeni => {
+                "toe off: the toe tip furthest behind the pelvis (Zeni et al. 2008)"
+            }
+        }
+    }
+
+    /// Both, and which rules, for `summary.json`.
+    pub fn describe(self) -> String {
+        let rules = match self {
+            EventMethod::Walking => "rules R, walking (docs/gait-analysis.md)",
+            EventMethod::RunningKnee | EventMethod::RunningFirstPass => {
+                "rules R, running (docs/gait-analysis.md)"
+            }
+            EventMethod::Zeni => "Zeni et al. 2008 (too few strides for the rules)",
+        };
+        format!("{rules}: {}; {}", self.heel_strike(), self.toe_off())
+    }
+}
+
 /// What the rules found about a recording.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Gait {
@@ -146,6 +211,8 @@ pub struct Gait {
     /// Median pelvis travel per stride over speed × stride time, when the motion has a changing
     /// pelvis translation.
     pub travel_ratio: Option<f64>,
+    /// How the events were found.
+    pub events: EventMethod,
     /// Doubts about the mode (a slow jog, a fast walk, a duty factor against the mode).
     pub notes: Vec<String>,
     /// The speed measured over each stride (walking) or stance (running) the speed came from:
@@ -453,13 +520,16 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
         / 2.0;
     let running = first_duty < RUN_DUTY && v0 * v0 / (G * leg_length) >= FROUDE_FLOOR;
     let mut local = Vec::new();
+    let mut method_of_events = EventMethod::Walking;
     let (mode, speed, events) = if running {
         // Step 5b.
         let mut events = Events {
             heel_strike: first.heel_strike.clone(),
             toe_off: first.toe_off.clone(),
         };
+        method_of_events = EventMethod::RunningFirstPass;
         if let Some(knee) = &input.knee {
+            method_of_events = EventMethod::RunningKnee;
             for (side, knee) in knee.iter().enumerate() {
                 let fore = |i: usize| s.over(i, s.vel[i][side].forefoot, v0);
                 let mut list = Vec::new();
@@ -580,6 +650,7 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
             leg_length,
             froude,
             travel_ratio,
+            events: method_of_events,
             notes,
             local_speeds: local,
         },
@@ -637,10 +708,10 @@ mod possible {
         Parameter {
             name,
             side: "both",
-            value,
+            value: Some(value),
             unit: "steps/min",
             range: None,
-            note: "",
+            note: String::new(),
         }
     }
 

@@ -15,14 +15,17 @@
 //! strike both feet are down). Speed: stride length over stride time. Each is the mean over
 //! the side's strides; `both` is over all strides, except the step width's, the mean of the
 //! two sides' (a direction of progression a few degrees off the feet's path widens one side's
-//! steps and narrows the other's by the same amount, to first order).
+//! steps and narrows the other's by the same amount, to first order). A planar model
+//! ([`Trial::planar`]) has no step width: a `both` row without a value says why. Each
+//! parameter's note says how it was found, those of the events with the events' method
+//! ([`EventMethod`]).
 
 use qgait_kernel::progression::horizontal_unit;
 use qgait_kernel::Vec3;
 
 use crate::cycles::Cycle;
 use crate::normative::Range;
-use crate::rules::{Gait, Mode};
+use crate::rules::{EventMethod, Gait, Mode};
 use crate::trial::Trial;
 
 /// One parameter of one side.
@@ -32,14 +35,14 @@ pub struct Parameter {
     pub name: &'static str,
     /// `right`, `left` or `both`.
     pub side: &'static str,
-    /// Value.
-    pub value: f64,
+    /// Value; `None` for a parameter the model cannot see (the note says why).
+    pub value: Option<f64>,
     /// Unit.
     pub unit: &'static str,
     /// Normal range, where known.
     pub range: Option<Range>,
-    /// How it was obtained, where that needs saying.
-    pub note: &'static str,
+    /// How it was obtained (or why it has no value).
+    pub note: String,
 }
 
 /// Side names, [`qgait_kernel::Side::ALL`] order.
@@ -280,25 +283,54 @@ pub fn parameters(walks: &[Walk<'_>]) -> Vec<Parameter> {
         sums
     });
     let rules: Vec<Option<&Gait>> = walks.iter().map(|w| w.3).collect();
-    parameters_of(&sums, &rules)
+    let events = one_method(rules.iter().map(|g| Some(EventMethod::of(*g))));
+    parameters_of(&sums, &rules, events)
 }
 
+/// The one method of the events of every recording (each `None` where a recording's own
+/// differ between its windows); `None` when they differ.
+pub fn one_method(each: impl IntoIterator<Item = Option<EventMethod>>) -> Option<EventMethod> {
+    let mut all = each.into_iter();
+    let first = all.next()??;
+    all.all(|m| m == Some(first)).then_some(first)
+}
+
+/// The note of the events' method when the recordings' (or a long recording's windows')
+/// differ.
+pub const MIXED_EVENTS: &str =
+    "events: each recording's own (the rules R where they applied, else Zeni et al. 2008; summary.json's recordings say which)";
+
 /// The parameters of the strides of each side, summed; `rules` holds what the rules found of
-/// each recording (`None` where they did not run).
-pub fn parameters_of(sums: &[Sums; 2], rules: &[Option<&Gait>]) -> Vec<Parameter> {
+/// each recording (`None` where they did not run), `events` the one method of every
+/// recording's events (`None` when they differ: [`one_method`]).
+pub fn parameters_of(
+    sums: &[Sums; 2],
+    rules: &[Option<&Gait>],
+    events: Option<EventMethod>,
+) -> Vec<Parameter> {
     let mut out = Vec::new();
-    let mut push = |name, side, value: Option<f64>, unit, note| {
+    let mut push = |name, side, value: Option<f64>, unit, note: &str| {
         if let Some(value) = value.filter(|v: &f64| v.is_finite()) {
             out.push(Parameter {
                 name,
                 side,
-                value,
+                value: Some(value),
                 unit,
                 range: None,
-                note,
+                note: note.to_string(),
             });
         }
     };
+    // The events' method: of the heel strikes alone, and of both.
+    let (strikes, both_events) = match events {
+        Some(m) => (
+            m.heel_strike().to_string(),
+            format!("{}; {}", m.heel_strike(), m.toe_off()),
+        ),
+        None => (MIXED_EVENTS.to_string(), MIXED_EVENTS.to_string()),
+    };
+    let cadence_note = format!("120 / stride time; {strikes}");
+    let stride_note = format!("heel strike to the next of the same side; {strikes}");
     let mut step_length = [None; 2];
     let mut step_width = [None; 2];
     let mut stride_time = [None; 2];
@@ -326,13 +358,31 @@ pub fn parameters_of(sums: &[Sums; 2], rules: &[Option<&Gait>]) -> Vec<Parameter
             side,
             stride_time[s].map(|t| 120.0 / t),
             "steps/min",
-            "",
+            &cadence_note,
         );
-        push("stride_time", side, stride_time[s], "s", "");
-        push("step_time", side, c.step_time.mean(), "s", "");
+        push("stride_time", side, stride_time[s], "s", &stride_note);
+        push(
+            "step_time",
+            side,
+            c.step_time.mean(),
+            "s",
+            &format!("the other side's heel strike to this side's next; {strikes}"),
+        );
         let stance = c.stance.mean();
-        push("stance", side, stance, "%", "");
-        push("swing", side, stance.map(|s| 100.0 - s), "%", "");
+        push(
+            "stance",
+            side,
+            stance,
+            "%",
+            &format!("heel strike to toe off; {both_events}"),
+        );
+        push(
+            "swing",
+            side,
+            stance.map(|s| 100.0 - s),
+            "%",
+            &format!("toe off to the next heel strike; {both_events}"),
+        );
         if c.running {
             // Running: no double support; the flight from the side's toe off to the other
             // foot's contact.
@@ -341,10 +391,18 @@ pub fn parameters_of(sums: &[Sums; 2], rules: &[Option<&Gait>]) -> Vec<Parameter
                 side,
                 c.flight.mean(),
                 "%",
-                "the side's toe off to the other foot's heel strike (running)",
+                &format!(
+                    "the side's toe off to the other foot's heel strike (running); {both_events}"
+                ),
             );
         } else {
-            push("double_support", side, c.double_support.mean(), "%", "");
+            push(
+                "double_support",
+                side,
+                c.double_support.mean(),
+                "%",
+                &format!("both feet down: heel strike to the other side's toe off, and the other side's heel strike to this side's toe off; {both_events}"),
+            );
         }
         push(
             "step_length",
@@ -403,6 +461,7 @@ pub fn parameters_of(sums: &[Sums; 2], rules: &[Option<&Gait>]) -> Vec<Parameter
             "the mean of the two sides",
         );
     }
+    let planar = sums.iter().any(|c| c.planar && c.n > 0);
     // What the rules found (one recording's, or the first's of several).
     if let Some(g) = rules.first() {
         push(
@@ -449,12 +508,36 @@ pub fn parameters_of(sums: &[Sums; 2], rules: &[Option<&Gait>]) -> Vec<Parameter
         }
     }
     let t = all_durations.mean();
-    push("cadence", "both", t.map(|t| 120.0 / t), "steps/min", "");
-    push("stride_time", "both", t, "s", "");
+    push(
+        "cadence",
+        "both",
+        t.map(|t| 120.0 / t),
+        "steps/min",
+        &cadence_note,
+    );
+    push("stride_time", "both", t, "s", &stride_note);
     if let (Some(t), Some(&(_, note))) = (t, lengths.first()) {
         let l = lengths.iter().map(|x| x.0).sum::<f64>() / lengths.len() as f64;
         push("stride_length", "both", Some(l), "m", length_note(note));
         push("speed", "both", Some(l / t), "m/s", note);
+    }
+    if planar {
+        // Where the step width would be (after the step length): why there is none.
+        let at = out
+            .iter()
+            .position(|p| p.name == "step_length" && p.side == "both")
+            .map_or(out.len(), |i| i + 1);
+        out.insert(
+            at,
+            Parameter {
+                name: "step_width",
+                side: "both",
+                value: None,
+                unit: "m",
+                range: None,
+                note: crate::angles::PLANAR_NOTE.to_string(),
+            },
+        );
     }
     out
 }
@@ -473,7 +556,7 @@ pub fn value(params: &[Parameter], name: &str, side: &str) -> Option<f64> {
     params
         .iter()
         .find(|p| p.name == name && p.side == side)
-        .map(|p| p.value)
+        .and_then(|p| p.value)
 }
 
 #[cfg(test)]

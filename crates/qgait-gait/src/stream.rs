@@ -142,6 +142,16 @@ impl Recording {
         self.strides
     }
 
+    /// How its events were found; `None` when its windows differ (the rules in some, Zeni's
+    /// in others).
+    pub fn event_method(&self) -> Option<crate::rules::EventMethod> {
+        if self.rules_everywhere || self.gait.is_none() {
+            Some(crate::rules::EventMethod::of(self.gait.as_ref()))
+        } else {
+            None
+        }
+    }
+
     /// Its duration (s).
     pub fn duration(&self) -> f64 {
         self.end - self.start
@@ -754,7 +764,7 @@ mod tests {
             mode: CycleMode::Auto,
             given_speed: None,
             angles_in: None,
-            pelvis: CgmPelvis::Fixed,
+            pelvis: CgmPelvis::FIXED,
         };
         (model, settings)
     }
@@ -880,28 +890,34 @@ mod tests {
             f.0.recordings.iter().map(|r| r.gait.clone()).collect()
         };
         let (ra, rb) = (rules(&whole), rules(&windowed));
+        let method = |f: &Finished| {
+            crate::spatiotemporal::one_method(f.0.recordings.iter().map(Recording::event_method))
+        };
         let pa = crate::spatiotemporal::parameters_of(
             &whole.0.strides,
             &ra.iter().map(Option::as_ref).collect::<Vec<_>>(),
+            method(&whole),
         );
         let pb = crate::spatiotemporal::parameters_of(
             &windowed.0.strides,
             &rb.iter().map(Option::as_ref).collect::<Vec<_>>(),
+            method(&windowed),
         );
         assert_eq!(pa.len(), pb.len());
         for (x, y) in pa.iter().zip(&pb) {
-            assert_eq!((x.name, x.side), (y.name, y.side));
+            assert_eq!((x.name, x.side, &x.note), (y.name, y.side, &y.note));
+            let (x_value, y_value) = (x.value.unwrap(), y.value.unwrap());
             // The rules' numbers of a recording (duty factor, Froude number) are each window's
             // own, merged: within 1 %; the strides' means within 0.1 %.
             let rules = ["duty_factor", "froude", "travel_ratio"].contains(&x.name);
             let tolerance = if rules { 1e-2 } else { 1e-3 };
             assert!(
-                (x.value - y.value).abs() <= tolerance * x.value.abs().max(1.0),
+                (x_value - y_value).abs() <= tolerance * x_value.abs().max(1.0),
                 "{} {}: {} against {}",
                 x.name,
                 x.side,
-                x.value,
-                y.value
+                x_value,
+                y_value
             );
         }
         let (ca, cb) = (whole.0.curves(), windowed.0.curves());

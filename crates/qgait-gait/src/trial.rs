@@ -170,9 +170,10 @@ pub struct Trial {
     /// The frames that begin a new stretch of the recording, in order: after a gap in time
     /// ([`gaps`]) or after rows left out. No event or stride spans one.
     pub breaks: Vec<usize>,
-    /// The model moves the legs in the sagittal plane only (no hip adduction or rotation, no
-    /// pelvis list or rotation, e.g. gait10dof18musc): no frontal or transverse quantity
-    /// (step width) can be seen.
+    /// The model moves neither hip in adduction or rotation (a planar model, e.g.
+    /// gait10dof18musc, which has no pelvis list or rotation either): its legs move in the
+    /// pelvis's sagittal plane only, and no frontal or transverse quantity (step width, the
+    /// frontal and transverse angles) can be seen ([`crate::angles::PLANAR_NOTE`]).
     pub planar: bool,
     /// The feet's velocities relative to the pelvis of each frame, from the kernel's
     /// differential kinematics ([`foot_velocities`]); `None` where they cannot be had that way

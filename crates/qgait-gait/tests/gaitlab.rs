@@ -6,6 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
+use qgait_gait::angles::PLANAR_NOTE;
 use qgait_gait::events::Kind;
 use qgait_gait::rules::{Ground, Mode};
 use qgait_gait::spatiotemporal::value;
@@ -495,9 +496,12 @@ fn the_report_says_mode_and_ground() {
     }
 }
 
-/// A planar model (gait10dof18musc) cannot see step width: none is reported.
+/// A planar model (gait10dof18musc) cannot see step width or any frontal or transverse angle:
+/// the report leaves them out of the scores, `gps.csv`, `cycles/*.csv` and the figures, its
+/// GPS is over the sagittal angles, and `spatiotemporal.csv` (where step width would be),
+/// `summary.json`'s notes and the page say why. The 3-D subject's model reports them all.
 #[test]
-fn a_planar_model_gives_no_step_width() {
+fn a_planar_model_reports_the_sagittal_plane_only() {
     let Some(root) = dir() else { return };
     let osim = root.join("../opensim/gait10dof18musc.osim");
     if !osim.is_file() {
@@ -510,11 +514,189 @@ fn a_planar_model_gives_no_step_width() {
     assert!(t.planar);
     let walk = analyse_with(t, CycleMode::Auto, None).unwrap();
     let p = walk_parameters(&walk);
-    assert!(p.iter().all(|p| p.name != "step_width"), "{p:?}");
+    assert_eq!(value(&p, "step_width", "both"), None);
+    assert!(p
+        .iter()
+        .filter(|p| p.name == "step_width")
+        .all(|p| p.side == "both" && p.value.is_none() && p.note == PLANAR_NOTE));
     assert!(value(&p, "step_length", "both").is_some());
-    // The 3-D subject's model does report it.
+    let planar = report(vec![walk], &root).expect("report");
+    // The 3-D subject's model, the same walk.
     let (walk, ..) = run(&CASES[0], &root, true);
+    assert!(!walk.trial.planar);
     assert!(value(&walk_parameters(&walk), "step_width", "both").is_some());
+    let full = report(vec![walk], &root).expect("report");
+    let unseen = [
+        "pelvic_obliquity",
+        "pelvic_rotation",
+        "hip_abduction",
+        "hip_rotation",
+        "foot_progression",
+    ];
+    let seen = [
+        "pelvic_tilt",
+        "hip_flexion",
+        "knee_flexion",
+        "ankle_dorsiflexion",
+    ];
+    for (r, is_planar) in [(&planar, true), (&full, false)] {
+        assert_eq!(r.planar, is_planar);
+        let scores = r.scores.as_ref().expect("scores");
+        let gps = qgait_gait::files::gps_csv(scores).unwrap();
+        let cycles = qgait_gait::files::cycles_csv(&r.curves[0]).unwrap();
+        let head = cycles.lines().next().unwrap().to_string();
+        for name in unseen {
+            assert_eq!(gps.contains(&format!("{name},")), !is_planar, "{gps}");
+            assert_eq!(head.contains(&format!("{name}_mean")), !is_planar, "{head}");
+        }
+        for name in seen {
+            assert!(gps.contains(&format!("{name},right,")), "{gps}");
+            assert!(head.contains(&format!("{name}_mean")), "{head}");
+        }
+        // The GPS: the RMS of the GVS scored, over seven (planar) or fifteen.
+        let g: Vec<f64> = scores.gvs[0].iter().flatten().copied().collect();
+        assert_eq!(g.len(), if is_planar { 4 } else { 9 });
+        let rms = (g.iter().map(|x| x * x).sum::<f64>() / g.len() as f64).sqrt();
+        assert!((scores.gps[0].unwrap() - rms).abs() < 1e-12);
+        let mut all: Vec<f64> = Vec::new();
+        for (v, var) in qgait_gait::angles::Variable::ALL.iter().enumerate() {
+            if var.is_pelvis() {
+                all.extend(scores.gvs[1][v]);
+            } else {
+                all.extend(scores.gvs[0][v]);
+                all.extend(scores.gvs[1][v]);
+            }
+        }
+        assert_eq!(all.len(), if is_planar { 7 } else { 15 });
+        let overall = (all.iter().map(|x| x * x).sum::<f64>() / all.len() as f64).sqrt();
+        assert!((scores.overall.unwrap() - overall).abs() < 1e-12);
+        assert!(r.normal_scores.as_ref().unwrap().gvs[0][1].is_some() != is_planar);
+        // The files: the note where step width would be, in summary.json's notes, on the page;
+        // the figures without the frontal and transverse panels and bars.
+        let tmp = tempfile::tempdir().unwrap();
+        qgait_gait::files::write(r, tmp.path()).unwrap();
+        let read = |name: &str| std::fs::read_to_string(tmp.path().join(name)).unwrap();
+        let st = read("spatiotemporal.csv");
+        let summary: serde_json::Value = serde_json::from_str(&read("summary.json")).unwrap();
+        let notes = summary["recordings"][0]["notes"]
+            .as_array()
+            .unwrap()
+            .clone();
+        let page = read("report.html");
+        let kinematics = read("kinematics.svg");
+        let map = read("map.svg");
+        if is_planar {
+            assert!(
+                st.lines().any(|l| l.starts_with("step_width,both,,m,,,")
+                    && l.contains("planar model: it moves neither hip")),
+                "{st}"
+            );
+            assert!(notes.iter().any(|n| n == PLANAR_NOTE), "{notes:?}");
+            assert!(
+                summary["headline"]["step_width"]["value"].is_null(),
+                "{summary}"
+            );
+            assert_eq!(summary["headline"]["step_width"]["method"], PLANAR_NOTE);
+            assert!(
+                page.contains("overall GPS over 7 sagittal variables"),
+                "{page}"
+            );
+        } else {
+            assert!(!st.contains("planar"), "{st}");
+            assert!(notes.iter().all(|n| n != PLANAR_NOTE), "{notes:?}");
+            assert!(page.contains("overall GPS over 15 variables"), "{page}");
+        }
+        assert_eq!(page.contains("planar model"), is_planar);
+        for text in ["Pelvic obliquity", "Hip rotation", "Foot progression"] {
+            assert_eq!(kinematics.contains(text), !is_planar, "{text}");
+        }
+        assert!(kinematics.contains("Knee flexion"));
+        for word in ["obliquity", "progression"] {
+            assert_eq!(map.contains(word), !is_planar, "{word}");
+        }
+        assert!(map.contains("flexion"));
+    }
+}
+
+/// Every number names its method: no spatiotemporal note and no headline method is empty,
+/// and those of the events name the events' method actually used: walking's thresholds on
+/// the walk, running's knee-extension toe off on the run.
+#[test]
+fn every_number_names_its_method() {
+    let Some(root) = dir() else { return };
+    for (case, heel, toe) in [
+        (
+            &CASES[0],
+            "falls through 0.5 m/s (Ghoussayni",
+            "rises through 0.66 x speed",
+        ),
+        (
+            &CASES[1],
+            "falls through 0.78 x speed",
+            "peak knee extension late in stance (Fellin",
+        ),
+    ] {
+        let (walk, ..) = run(case, &root, true);
+        let r = report(vec![walk], &root).expect("report");
+        for p in &r.parameters {
+            assert!(
+                !p.note.is_empty(),
+                "{}: {} {} has no note",
+                case.dir,
+                p.name,
+                p.side
+            );
+        }
+        let csv = qgait_gait::files::spatiotemporal_csv(&r.parameters).unwrap();
+        for line in csv.lines().skip(1) {
+            assert!(!line.ends_with(','), "{}: {line}", case.dir);
+        }
+        // Every side's row of a parameter.
+        let notes = |name: &str| -> Vec<String> {
+            let n: Vec<String> = r
+                .parameters
+                .iter()
+                .filter(|p| p.name == name)
+                .map(|p| p.note.clone())
+                .collect();
+            assert!(!n.is_empty(), "{}: no {name}", case.dir);
+            n
+        };
+        for name in ["cadence", "stride_time", "step_time"] {
+            for n in notes(name) {
+                assert!(n.contains(heel) && !n.contains("toe off:"), "{name}: {n}");
+            }
+        }
+        let contact = if case.mode == Mode::Running {
+            "flight"
+        } else {
+            "double_support"
+        };
+        for name in ["stance", "swing", contact] {
+            for n in notes(name) {
+                assert!(n.contains(heel) && n.contains(toe), "{name}: {n}");
+            }
+        }
+        assert!(notes("stance")[0].starts_with("heel strike to toe off; "));
+        let summary: serde_json::Value =
+            serde_json::from_str(&qgait_gait::files::summary_json(&r)).unwrap();
+        let headline = summary["headline"].as_object().unwrap();
+        assert!(headline.contains_key("cadence") && headline.contains_key("stance_right"));
+        for (name, figure) in headline {
+            let method = figure["method"].as_str().unwrap_or("");
+            assert!(
+                !method.is_empty(),
+                "{}: headline {name} has no method",
+                case.dir
+            );
+        }
+        assert!(headline["cadence"]["method"]
+            .as_str()
+            .unwrap()
+            .contains(heel));
+        let events = summary["recordings"][0]["events"].as_str().unwrap();
+        assert!(events.contains(heel) && events.contains(toe), "{events}");
+    }
 }
 
 /// The CGM's pelvic tilt against the lab's own pelvis markers (`R.ASIS`, `L.ASIS`,

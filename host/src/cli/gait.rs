@@ -183,19 +183,24 @@ fn analyse_all(
     Ok(())
 }
 
-/// The CGM's pelvis frame from an `.osim` model's own pelvis markers (ASIS with PSIS or
-/// sacrum) where it has them, else the fixed offset.
-fn cgm_pelvis(model: Option<&str>) -> gait::angles::CgmPelvis {
-    let landmarks = model
+/// The CGM's pelvis frame `chosen` for `model`: for `model-markers`, from an `.osim` model's
+/// own pelvis markers (ASIS with PSIS or sacrum) where it has them, else the fixed offset; for
+/// `fixed`, the fixed offset, naming the model's markers where it has them.
+fn cgm_pelvis(chosen: CgmPelvisArg, model: Option<&str>) -> gait::angles::CgmPelvis {
+    let markers = model
         .filter(|m| m.to_ascii_lowercase().ends_with(".osim"))
         .and_then(|m| std::fs::read_to_string(m).ok())
-        .and_then(|text| qgait_opensim::pelvis_markers::pelvis_landmarks(&text));
-    match landmarks {
-        Some(l) => gait::angles::CgmPelvis::Markers {
+        .and_then(|text| qgait_opensim::pelvis_markers::pelvis_landmarks(&text))
+        .map(|l| gait::angles::ModelMarkers {
             offset: gait::angles::tilt_offset(l.mid_asis, l.posterior),
             names: l.names,
+        });
+    match (chosen, markers) {
+        (CgmPelvisArg::ModelMarkers, Some(m)) => gait::angles::CgmPelvis::Markers {
+            offset: m.offset,
+            names: m.names,
         },
-        None => gait::angles::CgmPelvis::Fixed,
+        (_, model_markers) => gait::angles::CgmPelvis::Fixed { model_markers },
     }
 }
 
@@ -256,10 +261,7 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
     if let Some(w) = generic_model_warning(&args) {
         warn(vec![w]);
     }
-    let pelvis = match args.cgm_pelvis {
-        CgmPelvisArg::Fixed => gait::angles::CgmPelvis::Fixed,
-        CgmPelvisArg::ModelMarkers => cgm_pelvis(args.model.model.as_deref()),
-    };
+    let pelvis = cgm_pelvis(args.cgm_pelvis, args.model.model.as_deref());
     let settings = Settings {
         mode,
         given_speed: args.treadmill_speed,
