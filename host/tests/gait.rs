@@ -1034,6 +1034,90 @@ fn the_belt_speed_is_the_subjects_not_the_references() {
 }
 
 /// Errors name what is wrong.
+/// normal.mot's rows from `from` (a row index) for `rows` rows, around its end (its last row
+/// is its first's next cycle), re-timed from 0, as a tab-separated motion at `path`.
+fn cut_of_normal(shared: &Path, path: &Path, from: usize, rows: usize) {
+    let text = std::fs::read_to_string(shared.join("data/opensim/normal.mot")).unwrap();
+    let (head, body) = text.split_at(text.find("endheader").unwrap());
+    let mut lines = body.lines().skip(1).filter(|l| !l.trim().is_empty());
+    let labels = lines.next().unwrap();
+    let data: Vec<Vec<f64>> = lines
+        .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
+        .collect();
+    // One cycle: every row but the last (the next cycle's first).
+    let cycle = &data[..data.len() - 1];
+    let dt = data[1][0] - data[0][0];
+    let mut out = String::from(head.replace("nRows=51", &format!("nRows={rows}")));
+    out.push_str("endheader\n");
+    out.push_str(labels);
+    out.push('\n');
+    for k in 0..rows {
+        let row = &cycle[(from + k) % cycle.len()];
+        let mut values = vec![format!("{:.6}", k as f64 * dt)];
+        values.extend(row[1..].iter().map(|v| v.to_string()));
+        out.push_str(&values.join("\t"));
+        out.push('\n');
+    }
+    std::fs::write(path, out).unwrap();
+}
+
+/// `--cycle whole` is suggested only for a recording that can be one cycle: one that ends
+/// where it starts. A cycle and a fifth from mid-swing (normal.mot's rows from 70 %) gets no
+/// such hint, and `--cycle whole` on it warns that its percentages are of the recording;
+/// 0.18 s is said to be shorter than any gait cycle.
+#[test]
+fn the_cycle_whole_hint_is_given_only_where_it_helps() {
+    let Some(shared) = shared_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let more = dir.path().join("a_cycle_and_a_fifth.mot");
+    cut_of_normal(&shared, &more, 35, 61);
+    let out = dir.path().join("out");
+    let o = qgait(&["gait", more.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert!(!o.status.success(), "{e}");
+    assert!(e.contains("does not end where it starts"), "{e}");
+    assert!(!e.contains("use --cycle whole"), "{e}");
+    let o = qgait(&[
+        "gait",
+        more.to_str().unwrap(),
+        "--cycle",
+        "whole",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("--cycle whole takes the recording as one gait cycle, but it does not end where it starts"),
+        "{e}"
+    );
+    // The same rows, one whole cycle from mid-swing: it ends where it starts.
+    let one = dir.path().join("one_cycle_from_mid_swing.mot");
+    cut_of_normal(&shared, &one, 35, 51);
+    let o = qgait(&["gait", one.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(stderr(&o).contains("use --cycle whole"), "{}", stderr(&o));
+    let o = qgait(&[
+        "gait",
+        one.to_str().unwrap(),
+        "--cycle",
+        "whole",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        !stderr(&o).contains("does not end where it starts"),
+        "{}",
+        stderr(&o)
+    );
+    let short = dir.path().join("short.mot");
+    cut_of_normal(&shared, &short, 0, 10);
+    let o = qgait(&["gait", short.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert!(e.contains("shorter than any gait cycle"), "{e}");
+    assert!(!e.contains("use --cycle whole"), "{e}");
+}
+
 #[test]
 fn a_single_cycle_without_whole_and_a_bad_reference_are_clear_errors() {
     let Some(shared) = shared_dir() else { return };

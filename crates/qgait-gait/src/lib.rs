@@ -62,6 +62,10 @@ pub enum AnalysisError {
 /// 0.6 s (a run) to 1.6 s (a slow walk); a recording of 2 s or more would hold strides.
 pub const ONE_CYCLE_AT_MOST: f64 = 2.0;
 
+/// The shortest gait cycle (s): a stride at 300 steps/min, the highest cadence a result may
+/// have ([`output`]'s checks).
+pub const ONE_CYCLE_AT_LEAST: f64 = 0.4;
+
 /// How the cycles are found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
@@ -268,6 +272,7 @@ impl Walk {
             ],
             self.trial.breaks.len(),
             t[t.len() - 1] - t[0],
+            self.trial.wrap(),
         ))
     }
 
@@ -284,16 +289,27 @@ pub(crate) fn no_stride(
     heel_strikes: [usize; 2],
     breaks: usize,
     duration: f64,
+    wrap: Option<trial::Wrap>,
 ) -> AnalysisError {
     let hint = if breaks > 0 {
         format!(
             "; its {} stretches between gaps in time are each too short for a stride (see the warnings about gaps)",
             breaks + 1
         )
-    } else if duration <= ONE_CYCLE_AT_MOST {
+    } else if duration < ONE_CYCLE_AT_LEAST {
         format!(
-            "; the recording is {duration:.2} s long: for a file that holds one gait cycle, use --cycle whole"
+            "; the recording is {duration:.2} s long, shorter than any gait cycle ({ONE_CYCLE_AT_LEAST} s at 300 steps/min)"
         )
+    } else if duration <= ONE_CYCLE_AT_MOST {
+        match wrap.filter(|w| !w.leads_back()) {
+            None => format!(
+                "; the recording is {duration:.2} s long: for a file that holds one gait cycle, use --cycle whole"
+            ),
+            Some(w) => format!(
+                "; the recording is {duration:.2} s long, but {}: it may hold part of a cycle or more than one, which --cycle whole would take as one",
+                w.describe()
+            ),
+        }
     } else {
         format!("; in {duration:.1} s without a gap, no stride whose events pair up: is it a walk or a run?")
     };

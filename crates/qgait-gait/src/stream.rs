@@ -109,6 +109,9 @@ pub struct Recording {
     pub heel_strikes: [usize; 2],
     /// Its gaps in time and runs of rows left out.
     pub breaks: usize,
+    /// How its last row leads back into its first (`None` when it was read in several
+    /// windows: too long to be one cycle).
+    pub wrap: Option<crate::trial::Wrap>,
     /// How its cycles were taken.
     pub mode: CycleMode,
     /// What the rules found in its first window ([`crate::rules`]); `None` when they did not run
@@ -167,6 +170,7 @@ impl Recording {
             self.heel_strikes,
             self.breaks,
             self.duration(),
+            self.wrap,
         ))
     }
 }
@@ -333,6 +337,7 @@ impl Pool {
                 dropped: [Dropped::default(); 2],
                 heel_strikes: [0; 2],
                 breaks: 0,
+                wrap: walk.trial.wrap(),
                 mode: walk.mode,
                 gait: walk.gait.clone(),
                 rules_everywhere: true,
@@ -355,6 +360,9 @@ impl Pool {
         rec.frames += t.iter().filter(|&&x| inside(x)).count();
         rec.end = rec.end.max(*t.last().unwrap_or(&t[0]));
         rec.windows += 1;
+        if rec.windows > 1 {
+            rec.wrap = None;
+        }
         // The rules' findings from the first window that has them (a day may start at rest);
         // a window without the rules matters only if it keeps strides.
         if rec.gait.is_none() {
@@ -661,6 +669,18 @@ pub fn analyse_in_windows(
     if whole {
         let (t, w) = trial::load_with(source, model, settings.angles_in)?;
         warn_once(w);
+        if settings.mode == CycleMode::Whole {
+            if let Some(w) = t.wrap().filter(|w| !w.leads_back()) {
+                warn_once(vec![Warning::Limitation(WarningText {
+                    at: Some(Location::file(source)),
+                    detail: format!(
+                        "--cycle whole takes the recording as one gait cycle, but {}: its percentages are of the recording's {:.2} s",
+                        w.describe(),
+                        t.time[t.time.len() - 1] - t.time[0]
+                    ),
+                })]);
+            }
+        }
         let walk = analyse(t)?;
         pool.add(&walk, f64::NEG_INFINITY..f64::INFINITY, true)?;
         return Ok(());

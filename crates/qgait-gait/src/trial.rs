@@ -182,7 +182,70 @@ pub struct Trial {
     pub velocities: Option<Vec<[FootVelocity; 2]>>,
 }
 
+/// How a recording's last row leads back into its first: a file of one gait cycle, which
+/// `--cycle whole` takes as periodic, ends where it starts, up to the stride-to-stride
+/// variability of a cycle cut from a walk (OpenSim's single-cycle examples: 4-14 % of the
+/// range the legs' points move through); a file that ends a tenth of a cycle or more away in
+/// phase from its start (part of a cycle, or a cycle and a bit) leaves the swinging foot about
+/// a third of that range or more from where it started.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wrap {
+    /// The largest distance any point of the legs has from the last row to the first (m).
+    pub jump: f64,
+    /// The largest range any point of the legs moves through along an axis (m).
+    pub range: f64,
+}
+
+impl Wrap {
+    /// The jump back is at most a quarter of the range: the recording can be one cycle.
+    pub fn leads_back(&self) -> bool {
+        self.jump <= 0.25 * self.range
+    }
+
+    /// Its words, for a message.
+    pub fn describe(&self) -> String {
+        format!(
+            "it does not end where it starts as a single cycle does (a point of the legs ends {:.1} cm from where it starts; the legs' points move through {:.1} cm)",
+            100.0 * self.jump,
+            100.0 * self.range
+        )
+    }
+}
+
 impl Trial {
+    /// [`Wrap`]: how the last row leads back into the first; `None` with fewer than 3 rows.
+    pub fn wrap(&self) -> Option<Wrap> {
+        let f = &self.frames;
+        if f.len() < 3 {
+            return None;
+        }
+        let points = |fr: &Frame| {
+            fr.iter()
+                .flat_map(|l| [l.hip, l.heel, l.ankle, l.forefoot, l.toe])
+                .collect::<Vec<_>>()
+        };
+        let (first, last) = (points(&f[0]), points(&f[f.len() - 1]));
+        let jump = first
+            .iter()
+            .zip(&last)
+            .map(|(p, q)| Vec3::distance(*p, *q))
+            .fold(0.0f64, f64::max);
+        let mut lo = first.clone();
+        let mut hi = first;
+        for fr in f {
+            for (k, p) in points(fr).into_iter().enumerate() {
+                lo[k] = Vec3::new(lo[k].x.min(p.x), lo[k].y.min(p.y), lo[k].z.min(p.z));
+                hi[k] = Vec3::new(hi[k].x.max(p.x), hi[k].y.max(p.y), hi[k].z.max(p.z));
+            }
+        }
+        let range = lo
+            .iter()
+            .zip(&hi)
+            .map(|(a, b)| (b.x - a.x).max(b.y - a.y).max(b.z - a.z))
+            .fold(0.0f64, f64::max);
+        Some(Wrap { jump, range })
+    }
+
     /// The stretches of frames between [`Trial::breaks`], in order (one when there is none).
     pub fn segments(&self) -> Vec<std::ops::Range<usize>> {
         let n = self.time.len();
