@@ -211,6 +211,62 @@ fn report_on_the_shared_motions() {
     assert!(max("SC", "ankle-ankle") < max("N", "ankle-ankle") - 0.1);
 }
 
+/// A recording of many strides (the gait-lab walk) is drawn over one gait cycle: its first
+/// right stride as `qgait gait` finds it, heel strike to heel strike, said in a warning; the
+/// metrics are of that stride's rows.
+#[test]
+fn a_recording_of_many_strides_is_cut_to_its_first_right_stride() {
+    let Some(shared) = shared_dir() else { return };
+    let walk = shared.join("data/gaitlab/subject01_walk1/subject01_walk1_ik.mot");
+    let walk = walk.to_str().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = qgait(&["report", walk, "-o", dir.path().join("r").to_str().unwrap()]);
+    let e = stderr(&out);
+    assert!(out.status.success(), "{e}");
+    let said = e
+        .split("the first right stride, heel strike at ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no cut said: {e}"));
+    let times: Vec<f64> = said
+        .split(" s")
+        .take(2)
+        .map(|t| t.trim_start_matches(" to the next at ").parse().unwrap())
+        .collect();
+    let gait = dir.path().join("g");
+    let o = qgait(&["-q", "gait", walk, "-o", gait.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let strikes: Vec<f64> = csv(&gait.join("events.csv"))
+        .iter()
+        .filter(|r| r["side"] == "right" && r["event"] == "heel_strike")
+        .map(|r| num(r, "time"))
+        .collect();
+    let k = strikes
+        .iter()
+        .position(|t| (t - times[0]).abs() < 1e-3)
+        .unwrap_or_else(|| panic!("{} not among {strikes:?}", times[0]));
+    assert!(
+        (strikes[k + 1] - times[1]).abs() < 1e-3,
+        "{times:?} {strikes:?}"
+    );
+    // The metrics count the stride's rows only.
+    let text = std::fs::read_to_string(walk).unwrap();
+    let rows = text
+        .split("endheader")
+        .nth(1)
+        .unwrap()
+        .lines()
+        .skip(2)
+        .filter_map(|l| l.split_whitespace().next()?.parse::<f64>().ok())
+        .filter(|t| *t >= times[0] - 1e-3 && *t <= times[1] + 1e-3)
+        .count();
+    let metrics = csv(&dir.path().join("r/metrics.csv"));
+    let n = num(&metrics[0], "n") as usize;
+    assert!(
+        n.abs_diff(rows) <= 1,
+        "{n} rows in the metrics, {rows} in the stride"
+    );
+}
+
 #[test]
 fn the_figures_of_a_long_recording_stay_the_size_of_the_picture() {
     let dir = tempfile::tempdir().unwrap();

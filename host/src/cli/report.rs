@@ -124,9 +124,12 @@ fn one_cycle(
     let (t0, t1) = (first.start, first.start + first.duration);
     let time = table.time().to_vec();
     let cut = table.without_rows(|r| time[r] < t0 - 1e-9 || time[r] > t1 + 1e-9);
+    let detail = format!(
+        "{right} right and {left} left strides; the report draws one gait cycle per motion: the first right stride, heel strike at {t0:.3} s to the next at {t1:.3} s (`qgait gait` averages every stride)"
+    );
     let warning = Warning::Limitation(WarningText {
- at: Some(Location::file(spec.to_string())),
- detail: format!("{right} right and {left} left strides; the report draws one gait cycle per motion: the first right stride, heel strike at {t0:.3} s to the next at {t1:.3} s (`qgait gait` averages every stride)"),
-});
+        at: Some(Location::file(spec.to_string())),
+        detail,
+    });
     (cut, vec![warning])
 }
