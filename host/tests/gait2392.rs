@@ -747,4 +747,24 @@ fn export_in_the_lab_frame_matches_opensims_ground_positions() {
         err.contains("--lab-frame needs the pelvis translation"),
         "{err}"
     );
+    // Without --lab-frame the translation the motion has is said to be left out.
+    let (_, err) = run_ok(&[
+        "export",
+        s(&motion),
+        "--model",
+        "gait2392",
+        "--sto",
+        s(&dir.path().join("rel.sto")),
+    ]);
+    assert!(
+        err.contains("pelvis_ty not applied") && err.contains("--lab-frame adds the translation"),
+        "{err}"
+    );
+    let (_, err) = run_ok(&[
+        "export",
+        "builtin:normal",
+        "--sto",
+        s(&dir.path().join("b.sto")),
+    ]);
+    assert!(!err.contains("not applied"), "{err}");
 }

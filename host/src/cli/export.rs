@@ -89,6 +89,28 @@ impl Translation {
     }
 }
 
+/// Without `--lab-frame`: a warning naming the motion's pelvis translation columns, which the
+/// points then leave out (none when it has none).
+fn translation_not_applied(motion: &str) -> anyhow::Result<Vec<Warning>> {
+    let (rows, _) = MotionRows::open(motion)?;
+    let header = rows.header();
+    let present: Vec<&str> = TRANSLATION
+        .into_iter()
+        .filter(|c| header.index_of(c).is_some())
+        .collect();
+    Ok(if present.is_empty() {
+        Vec::new()
+    } else {
+        vec![Warning::Ignored(WarningText {
+            at: Some(header.labels_at()),
+            detail: format!(
+                "{} not applied: the points are relative to the pelvis origin (ground axes); --lab-frame adds the translation, for positions in the lab frame",
+                present.join(", ")
+            ),
+        })]
+    })
+}
+
 /// Runs `qgait export`: rows are written as they are computed; for a `.trc` a first pass over
 /// the motion counts its rows and reads its first and last time (the header needs them).
 pub fn run_export(a: ExportArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
@@ -135,6 +157,7 @@ pub fn run_export(a: ExportArgs, diagnostics: &Diagnostics) -> anyhow::Result<()
         diagnostics.warn(w);
         Some(t)
     } else {
+        diagnostics.warn(translation_not_applied(&a.motion)?);
         None
     };
     let mut frame = 0;
