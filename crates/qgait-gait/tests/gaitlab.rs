@@ -209,32 +209,75 @@ const CASES: [Case; 2] = [
     },
 ];
 
-fn run(case: &Case, root: &Path, pelvis: bool) -> (Walk, Plate, (f64, f64), f64) {
+/// How a recording's pelvis translation is given to the analysis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Translation {
+    /// As recorded (on the treadmill: the pelvis stays put).
+    Recorded,
+    /// Zeroed, as an IMU solution has it.
+    Zeroed,
+    /// The belt's travel added to `pelvis_tx`: the same steps made overground.
+    Overground,
+}
+
+impl Translation {
+    const ALL: [Self; 3] = [Self::Recorded, Self::Zeroed, Self::Overground];
+
+    fn label(self) -> &'static str {
+        match self {
+            Self::Recorded => "with pelvis translation",
+            Self::Zeroed => "without",
+            Self::Overground => "overground",
+        }
+    }
+
+    /// What the rules must say of the ground.
+    fn ground(self) -> Ground {
+        match self {
+            Self::Recorded => Ground::Treadmill,
+            Self::Zeroed => Ground::Unknown,
+            Self::Overground => Ground::Overground,
+        }
+    }
+}
+
+fn run(case: &Case, root: &Path, translation: Translation) -> (Walk, Plate, (f64, f64), f64) {
     let d = root.join(case.dir);
     let (model, _) = Model::load(d.join(case.model).to_str().unwrap(), None).expect("model");
     let ik = d.join(case.ik);
+    let plate = plate_events(&d.join(case.grf));
+    let belt = belt_speed(&d.join(case.trc), &plate);
     // Each call its own directory: the tests run in parallel.
     let tmp = tempfile::tempdir().unwrap();
-    let source = if pelvis {
+    let source = if translation == Translation::Recorded {
         ik.to_str().unwrap().to_string()
     } else {
-        // The same motion without its pelvis translation (as an IMU solution has it).
         let (table, _) = MotionTable::read(&ik).unwrap();
         let labels: Vec<String> = table.labels().to_vec();
+        let time = table.column("time").unwrap().to_vec();
         let columns: Vec<Vec<f64>> = labels
             .iter()
             .map(|l| {
                 let c = table.column(l).unwrap();
-                if ["pelvis_tx", "pelvis_ty", "pelvis_tz"].contains(&l.as_str()) {
-                    vec![0.0; c.len()]
-                } else {
-                    c.to_vec()
+                match (translation, l.as_str()) {
+                    (Translation::Zeroed, "pelvis_tx" | "pelvis_ty" | "pelvis_tz") => {
+                        vec![0.0; c.len()]
+                    }
+                    // The belt carries the feet back at `belt`: overground the body goes
+                    // forward at it instead.
+                    (Translation::Overground, "pelvis_tx") => c
+                        .iter()
+                        .zip(&time)
+                        .map(|(x, t)| x + belt * (t - time[0]))
+                        .collect(),
+                    _ => c.to_vec(),
                 }
             })
             .collect();
-        let t =
-            MotionTable::new("no_translation", "mem", table.in_degrees(), labels, columns).unwrap();
-        let out = tmp.path().join(format!("{}_still.mot", case.dir));
+        let t = MotionTable::new("changed", "mem", table.in_degrees(), labels, columns).unwrap();
+        let out = tmp
+            .path()
+            .join(format!("{}_{:?}.mot", case.dir, translation));
         let mut f = std::fs::File::create(&out).unwrap();
         t.write_mot(&mut f).unwrap();
         out.to_str().unwrap().to_string()
@@ -242,13 +285,11 @@ fn run(case: &Case, root: &Path, pelvis: bool) -> (Walk, Plate, (f64, f64), f64)
     let (t, _) = trial::load(&source, &model).expect("loads");
     let ik_span = (t.time[0], *t.time.last().unwrap());
     let walk = analyse_with(t, CycleMode::Auto, None).expect("analyses");
-    let plate = plate_events(&d.join(case.grf));
     let (mtime, _) = markers(&d.join(case.trc), &["R.Heel"]);
     let span = (
         ik_span.0.max(plate.2 .0).max(mtime[0]) + MARGIN,
         ik_span.1.min(plate.2 .1).min(*mtime.last().unwrap()) - MARGIN,
     );
-    let belt = belt_speed(&d.join(case.trc), &plate);
     (walk, plate, span, belt)
 }
 
@@ -264,28 +305,12 @@ fn events_of(walk: &Walk, side: usize, kind: Kind) -> Vec<f64> {
 fn events_speed_and_lengths_match_the_plates_and_markers() {
     let Some(root) = dir() else { return };
     for case in &CASES {
-        for pelvis in [true, false] {
-            let (walk, plate, span, belt) = run(case, &root, pelvis);
-            let label = format!(
-                "{} ({})",
-                case.dir,
-                if pelvis {
-                    "with pelvis translation"
-                } else {
-                    "without"
-                }
-            );
+        for translation in Translation::ALL {
+            let (walk, plate, span, belt) = run(case, &root, translation);
+            let label = format!("{} ({})", case.dir, translation.label());
             let gait = walk.gait.as_ref().expect("the rules apply");
             assert_eq!(gait.mode, case.mode, "{label}: {gait:?}");
-            assert_eq!(
-                gait.ground,
-                if pelvis {
-                    Ground::Treadmill
-                } else {
-                    Ground::Unknown
-                },
-                "{label}"
-            );
+            assert_eq!(gait.ground, translation.ground(), "{label}");
             // Each kind's errors, both sides pooled: the issue's "heel strike and toe off
             // within 10 ms mean".
             let mut by_kind = [Vec::new(), Vec::new()];
@@ -465,12 +490,13 @@ fn report(
 #[test]
 fn the_report_says_mode_and_ground() {
     let Some(root) = dir() else { return };
-    for (case, pelvis, mode, ground) in [
-        (&CASES[0], true, "walking", "treadmill"),
-        (&CASES[1], true, "running", "treadmill"),
-        (&CASES[1], false, "running", "unknown"),
+    for (case, translation, mode, ground) in [
+        (&CASES[0], Translation::Recorded, "walking", "treadmill"),
+        (&CASES[0], Translation::Overground, "walking", "overground"),
+        (&CASES[1], Translation::Recorded, "running", "treadmill"),
+        (&CASES[1], Translation::Zeroed, "running", "unknown"),
     ] {
-        let (walk, ..) = run(case, &root, pelvis);
+        let (walk, ..) = run(case, &root, translation);
         let r = report(vec![walk], &root).expect("report");
         let summary: serde_json::Value =
             serde_json::from_str(&qgait_gait::files::summary_json(&r)).unwrap();
@@ -522,7 +548,7 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
     assert!(value(&p, "step_length", "both").is_some());
     let planar = report(vec![walk], &root).expect("report");
     // The 3-D subject's model, the same walk.
-    let (walk, ..) = run(&CASES[0], &root, true);
+    let (walk, ..) = run(&CASES[0], &root, Translation::Recorded);
     assert!(!walk.trial.planar);
     assert!(value(&walk_parameters(&walk), "step_width", "both").is_some());
     let full = report(vec![walk], &root).expect("report");
@@ -636,7 +662,7 @@ fn every_number_names_its_method() {
             "peak knee extension late in stance (Fellin",
         ),
     ] {
-        let (walk, ..) = run(case, &root, true);
+        let (walk, ..) = run(case, &root, Translation::Recorded);
         let r = report(vec![walk], &root).expect("report");
         for p in &r.parameters {
             assert!(
@@ -708,7 +734,7 @@ fn every_number_names_its_method() {
 fn the_pelvic_tilt_is_the_lab_markers() {
     let Some(root) = dir() else { return };
     for case in &CASES {
-        let (walk, _, _, _) = run(case, &root, true);
+        let (walk, _, _, _) = run(case, &root, Translation::Recorded);
         let d = root.join(case.dir);
         let (time, m) = markers(&d.join(case.trc), &["R.ASIS", "L.ASIS", "V.Sacral"]);
         let lab: Vec<f64> = (0..time.len())
