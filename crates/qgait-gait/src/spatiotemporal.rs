@@ -562,7 +562,22 @@ pub fn value(params: &[Parameter], name: &str, side: &str) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::trial::Limb;
+    use crate::trial::{Frame, Limb};
+
+    /// A trial of `frames` at `time`, nothing else.
+    fn trial_of(time: Vec<f64>, frames: Vec<Frame>) -> Trial {
+        Trial {
+            label: "t".into(),
+            source: "t".into(),
+            time,
+            frames,
+            coordinates: None,
+            translation: None,
+            breaks: Vec::new(),
+            planar: false,
+            velocities: None,
+        }
+    }
 
     /// A stride along a direction 20° off x, the pelvis swaying 3 cm side to side and facing
     /// elsewhere: the feet give the direction of travel exactly, and the step is measured
@@ -592,24 +607,16 @@ mod tests {
             forefoot: p,
             ..Limb::default()
         };
-        let trial = Trial {
-            label: "t".into(),
-            source: "t".into(),
-            frames: time
-                .iter()
+        let trial = trial_of(
+            time.clone(),
+            time.iter()
                 .map(|&t| {
                     let swing = u * (1.4 * (t - to)) + Vec3::new(0.0, 0.1, 0.0);
                     let r = if t <= to { right } else { right + swing };
                     [limb(r - pelvis(t)), limb(left(t) - pelvis(t))]
                 })
                 .collect(),
-            time: time.clone(),
-            coordinates: None,
-            translation: None,
-            breaks: Vec::new(),
-            planar: false,
-            velocities: None,
-        };
+        );
         let cycle = Cycle {
             side: 0,
             start: 0.0,
@@ -649,11 +656,9 @@ mod tests {
             forefoot: Vec3::new(x, y, z),
             ..Limb::default()
         };
-        let trial = Trial {
-            label: "t".into(),
-            source: "t".into(),
-            frames: time
-                .iter()
+        let trial = trial_of(
+            time.clone(),
+            time.iter()
                 .map(|&t| {
                     let back = len * (0.5 - 2.0 * t.min(0.5));
                     let later = len * (0.5 - 2.0 * (t - 0.5).max(0.0));
@@ -664,13 +669,7 @@ mod tests {
                     ]
                 })
                 .collect(),
-            time: time.clone(),
-            coordinates: None,
-            translation: None,
-            breaks: Vec::new(),
-            planar: false,
-            velocities: None,
-        };
+        );
         let cycle = Cycle {
             side: 0,
             start: 0.0,
@@ -710,17 +709,7 @@ mod tests {
             [heel(len / 2.0, width / 2.0), heel(-len / 2.0, -width / 2.0)],
             [heel(-len / 2.0, width / 2.0), heel(len / 2.0, -width / 2.0)],
         ];
-        let trial = Trial {
-            label: "t".into(),
-            source: "t".into(),
-            time: vec![0.0, 0.5],
-            frames,
-            coordinates: None,
-            translation: None,
-            breaks: Vec::new(),
-            planar: false,
-            velocities: None,
-        };
+        let trial = trial_of(vec![0.0, 0.5], frames);
         let forward = vec![Vec3::new(off.cos(), 0.0, off.sin()); 2];
         let cycle = |side: usize, frame: usize| Cycle {
             side,
