@@ -1047,7 +1047,7 @@ fn cut_of_normal(shared: &Path, path: &Path, from: usize, rows: usize) {
     // One cycle: every row but the last (the next cycle's first).
     let cycle = &data[..data.len() - 1];
     let dt = data[1][0] - data[0][0];
-    let mut out = String::from(head.replace("nRows=51", &format!("nRows={rows}")));
+    let mut out = head.replace("nRows=51", &format!("nRows={rows}"));
     out.push_str("endheader\n");
     out.push_str(labels);
     out.push('\n');
