@@ -372,6 +372,11 @@ mod tests {
     use crate::output::{self, ReferenceArg, Subject};
     use crate::trial::{Limb, TrialError};
 
+    /// The `both`-or-first parameter `name` of `report`.
+    fn parameter<'a>(report: &'a output::Report, name: &str) -> &'a spatiotemporal::Parameter {
+        report.parameters.iter().find(|p| p.name == name).unwrap()
+    }
+
     fn gait2392() -> qgait_model::choice::Model {
         qgait_model::choice::Model::load("gait2392", None)
             .expect("gait2392")
@@ -579,18 +584,14 @@ mod tests {
             "swing",
             "double_support",
         ] {
-            let p = report.parameters.iter().find(|p| p.name == name).unwrap();
+            let p = parameter(&report, name);
             assert!(
                 p.note.contains(EventMethod::Zeni.heel_strike()),
                 "{name}: {}",
                 p.note
             );
         }
-        let stance = report
-            .parameters
-            .iter()
-            .find(|p| p.name == "stance")
-            .unwrap();
+        let stance = parameter(&report, "stance");
         assert!(
             stance.note.contains(EventMethod::Zeni.toe_off()),
             "{}",
@@ -685,12 +686,7 @@ mod tests {
             r.toe_off_from
         );
         // The stance row of the table has the same range.
-        let stance = report
-            .parameters
-            .iter()
-            .find(|p| p.name == "stance")
-            .and_then(|p| p.range)
-            .unwrap();
+        let stance = parameter(&report, "stance").range.unwrap();
         assert_eq!(stance, range);
         // Without an age: the adults'.
         assert!(build(None).reference.toe_off_from.contains("male adults"));
