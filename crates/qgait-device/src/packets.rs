@@ -238,17 +238,10 @@ mod tests {
     use qgait_proto::{FrameDecoder, JointId};
 
     fn table() -> MotionTable {
-        let labels = [
-            "time",
-            "pelvis_list",
-            "pelvis_rotation",
-            "hip_flexion_r",
-            "knee_angle_r",
-            "ankle_angle_r",
-            "hip_flexion_l",
-            "knee_angle_l",
-            "ankle_angle_l",
-        ];
+        // PHAK's columns with the pelvis's two swapped: columns are read by name.
+        let mut labels = vec!["time"];
+        labels.extend(qgait_kernel::PhakAngles::<f64>::NAMES);
+        labels.swap(1, 2);
         let cols = (0..9)
             .map(|c| {
                 (0..3)
