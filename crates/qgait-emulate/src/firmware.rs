@@ -24,9 +24,19 @@ pub fn repo_root() -> PathBuf {
 /// Where `cargo build --release` in `firmware/` puts the hub's ELF: under `$CARGO_TARGET_DIR`
 /// when it is set, else `firmware/target`.
 pub fn default_elf(root: &Path) -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
+    release_elf(&target_dir(root))
+}
+
+/// The firmware's target directory: `$CARGO_TARGET_DIR` when it is set, else
+/// `firmware/target`.
+fn target_dir(root: &Path) -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("firmware/target"));
+        .unwrap_or_else(|| root.join("firmware/target"))
+}
+
+/// The release hub ELF cargo writes under the target directory `target`.
+fn release_elf(target: &Path) -> PathBuf {
     target.join(TARGET).join("release/qgait-firmware")
 }
 
@@ -51,24 +61,14 @@ pub fn build_imu(root: &Path) -> Result<PathBuf, EmulateError> {
 /// (`firmware/target/<feature>`, or `<feature>` under `$CARGO_TARGET_DIR`), so that it never
 /// replaces the default build (`imu`; `velocity`, the points' velocities).
 pub fn feature_elf(root: &Path, feature: &str) -> PathBuf {
-    target_root()
-        .unwrap_or_else(|| root.join("firmware/target"))
-        .join(feature)
-        .join(TARGET)
-        .join("release/qgait-firmware")
-}
-
-fn target_root() -> Option<PathBuf> {
-    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from)
+    release_elf(&target_dir(root).join(feature))
 }
 
 /// The target directory every feature set is built in (`firmware/target/features`, or
 /// `features` under `$CARGO_TARGET_DIR`): their common dependencies are compiled once, and
 /// cargo writes the ELF of the feature set it last built, which [`build_feature`] copies out.
 fn features_target_dir(root: &Path) -> PathBuf {
-    target_root()
-        .unwrap_or_else(|| root.join("firmware/target"))
-        .join("features")
+    target_dir(root).join("features")
 }
 
 /// The command that builds the firmware with `feature`, for messages.
@@ -77,10 +77,7 @@ pub fn feature_build_command(root: &Path, feature: &str) -> String {
         "cd {} && cargo build --release --features {feature} --target-dir {} && cp {} {}",
         root.join("firmware").display(),
         features_target_dir(root).display(),
-        features_target_dir(root)
-            .join(TARGET)
-            .join("release/qgait-firmware")
-            .display(),
+        release_elf(&features_target_dir(root)).display(),
         feature_elf(root, feature).display()
     )
 }
@@ -90,10 +87,9 @@ pub fn feature_build_command(root: &Path, feature: &str) -> String {
 /// One build at a time, across processes (a lock file there), so that no other feature set's
 /// ELF is copied.
 pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError> {
-    let target_dir = features_target_dir(root);
-    std::fs::create_dir_all(&target_dir)
-        .map_err(EmulateError::io("creating a target directory"))?;
-    let lock_file = std::fs::File::create(target_dir.join("qgait-build.lock"))
+    let shared = features_target_dir(root);
+    std::fs::create_dir_all(&shared).map_err(EmulateError::io("creating a target directory"))?;
+    let lock_file = std::fs::File::create(shared.join("qgait-build.lock"))
         .map_err(EmulateError::io("creating the build lock"))?;
     let mut lock = fd_lock::RwLock::new(lock_file);
     let _turn = lock
@@ -107,9 +103,9 @@ pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError
             "--features".as_ref(),
             feature.as_ref(),
             "--target-dir".as_ref(),
-            target_dir.as_os_str(),
+            shared.as_os_str(),
         ],
-        target_dir.join(TARGET).join("release/qgait-firmware"),
+        release_elf(&shared),
         || feature_build_command(root, feature),
     )?;
     let elf = feature_elf(root, feature);
