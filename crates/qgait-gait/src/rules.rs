@@ -21,7 +21,7 @@
 use qgait_kernel::Vec3;
 
 use crate::events::{refine, Event, Events};
-use crate::trial::Frame;
+use crate::trial::{lowest_point, FootPoint, Frame};
 
 /// Bruening & Ridge 2014: the heel's sagittal speed is below this fraction of the walking speed
 /// at contact.
@@ -229,6 +229,16 @@ pub struct FootVelocity {
     pub forefoot: Vec3<f64>,
     /// Toe tip.
     pub toe: Vec3<f64>,
+}
+
+impl FootVelocity {
+    /// The velocity of `point`.
+    pub fn at(&self, point: FootPoint) -> Vec3<f64> {
+        match point {
+            FootPoint::Heel => self.heel,
+            FootPoint::Forefoot => self.forefoot,
+        }
+    }
 }
 
 /// The velocity of each frame's heel, forefoot and toe tip relative to the pelvis (ground
@@ -565,19 +575,9 @@ pub fn apply(input: &Input, anchors: &Events) -> Option<(Events, Gait)> {
                         let r = s.frames(event(time, a).frame, a, b);
                         let values: Vec<f64> = r
                             .map(|i| {
-                                let f = &input.frames[i];
-                                let (side, p) = [
-                                    (0, f[0].heel, 0),
-                                    (0, f[0].forefoot, 1),
-                                    (1, f[1].heel, 0),
-                                    (1, f[1].forefoot, 1),
-                                ]
-                                .into_iter()
-                                .min_by(|a, b| a.1.y.total_cmp(&b.1.y))
-                                .map(|(side, _, which)| (side, which))
-                                .unwrap_or((0, 0));
+                                let (side, point) = lowest_point(&input.frames[i]);
                                 let vel = s.vel[i][side];
-                                -s.fwd(i, if p == 0 { vel.heel } else { vel.forefoot })
+                                -s.fwd(i, vel.at(point))
                             })
                             .collect();
                         (!values.is_empty())

@@ -26,7 +26,7 @@ use qgait_kernel::Vec3;
 use crate::cycles::Cycle;
 use crate::normative::Range;
 use crate::rules::{EventMethod, Gait, Mode};
-use crate::trial::Trial;
+use crate::trial::{lowest_point, Trial};
 
 /// One parameter of one side.
 #[derive(Clone, Debug, PartialEq)]
@@ -101,8 +101,8 @@ pub fn stride_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
 
 /// The direction of travel over a cycle without the events [`stride_direction`] needs: as
 /// there, from the backward displacement of a foot on the ground relative to the pelvis, with
-/// the foot on the ground at each moment taken to be the lower one (of its heel and forefoot
-/// the lower point). `None` without a horizontal displacement.
+/// the point on the ground at each moment taken to be the lowest ([`lowest_point`]). `None`
+/// without a horizontal displacement.
 pub fn lowest_foot_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
     let inside: Vec<usize> = c
         .samples
@@ -113,15 +113,8 @@ pub fn lowest_foot_direction(trial: &Trial, c: &Cycle) -> Option<Vec3<f64>> {
     let mut moved = Vec3::new(0.0, 0.0, 0.0);
     for w in inside.windows(2) {
         let (a, b) = (&trial.frames[w[0]], &trial.frames[w[1]]);
-        let lowest = |l: &crate::trial::Limb| l.heel.y.min(l.forefoot.y);
-        let foot = if lowest(&a[0]) <= lowest(&a[1]) { 0 } else { 1 };
-        let (heel, fore) = (&a[foot].heel, &a[foot].forefoot);
-        moved = moved
-            - if heel.y <= fore.y {
-                b[foot].heel - *heel
-            } else {
-                b[foot].forefoot - *fore
-            };
+        let (side, point) = lowest_point(a);
+        moved = moved - (b[side].at(point) - a[side].at(point));
     }
     horizontal_unit(moved)
 }

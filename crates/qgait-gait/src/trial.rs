@@ -150,6 +150,40 @@ pub struct Limb {
 /// One frame: right limb, then left ([`qgait_kernel::Side::ALL`] order).
 pub type Frame = [Limb; 2];
 
+/// The point of a foot that bears the weight as the foot rolls: its heel, then its forefoot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FootPoint {
+    /// [`Limb::heel`].
+    Heel,
+    /// [`Limb::forefoot`].
+    Forefoot,
+}
+
+impl Limb {
+    /// Its `point`.
+    pub fn at(&self, point: FootPoint) -> Vec3<f64> {
+        match point {
+            FootPoint::Heel => self.heel,
+            FootPoint::Forefoot => self.forefoot,
+        }
+    }
+}
+
+/// Of both feet's heels and forefeet, the lowest relative to the pelvis in `frame`: the point
+/// on the ground as the feet roll from heel to forefoot. Its side and which point; of equals,
+/// the right before the left and the heel before the forefoot.
+pub fn lowest_point(frame: &Frame) -> (usize, FootPoint) {
+    [
+        (0, FootPoint::Heel),
+        (0, FootPoint::Forefoot),
+        (1, FootPoint::Heel),
+        (1, FootPoint::Forefoot),
+    ]
+    .into_iter()
+    .min_by(|a, b| frame[a.0].at(a.1).y.total_cmp(&frame[b.0].at(b.1).y))
+    .unwrap_or((0, FootPoint::Heel))
+}
+
 /// One recording.
 pub struct Trial {
     /// Label (the file stem).
