@@ -615,6 +615,12 @@ pub fn analyse_into(
     analyse_in_windows(pool, source, model, settings, WINDOW_ROWS, warn)
 }
 
+/// A recording read from a motion file: not a `builtin:` gait (one cycle by construction) nor a
+/// device's frames CSV (points only, read whole).
+pub fn is_motion_file(source: &str) -> bool {
+    !source.starts_with(BUILTIN_PREFIX) && !qgait_device::frames_csv::is_frames_csv(source)
+}
+
 /// [`analyse_into`] with windows of at most `window_rows` rows (at least 2 × 100).
 pub fn analyse_in_windows(
     pool: &mut Pool,
@@ -663,9 +669,7 @@ pub fn analyse_in_windows(
             settings.pelvis.clone(),
         )
     };
-    let whole = source.starts_with(BUILTIN_PREFIX)
-        || qgait_device::frames_csv::is_frames_csv(source)
-        || settings.mode == CycleMode::Whole;
+    let whole = !is_motion_file(source) || settings.mode == CycleMode::Whole;
     if whole {
         let (t, w) = trial::load_with(source, model, settings.angles_in)?;
         warn_once(w);

@@ -196,10 +196,7 @@ fn cgm_pelvis(chosen: CgmPelvisArg, model: Option<&str>) -> gait::angles::CgmPel
             names: l.names,
         });
     match (chosen, markers) {
-        (CgmPelvisArg::ModelMarkers, Some(m)) => gait::angles::CgmPelvis::Markers {
-            offset: m.offset,
-            names: m.names,
-        },
+        (CgmPelvisArg::ModelMarkers, Some(m)) => gait::angles::CgmPelvis::Markers(m),
         (_, model_markers) => gait::angles::CgmPelvis::Fixed { model_markers },
     }
 }
@@ -335,10 +332,8 @@ fn session(args: &GaitArgs) -> gait::session::Session {
 /// speed reads 8.5 % low through it). Said unless the speed is given (`--treadmill-speed`:
 /// the lengths are then speed × time) or no recording is a motion file.
 fn generic_model_warning(args: &GaitArgs) -> Option<Warning> {
-    let motion =
-        |m: &String| !m.starts_with("builtin:") && !qgait_device::frames_csv::is_frames_csv(m);
     let generic = args.model.model.is_none() && args.treadmill_speed.is_none();
-    (generic && args.motions.iter().any(motion)).then(|| {
+    (generic && args.motions.iter().any(|m| stream::is_motion_file(m))).then(|| {
         Warning::Limitation(WarningText {
             at: None,
             detail: GENERIC_MODEL.to_string(),
