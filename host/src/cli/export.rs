@@ -14,6 +14,7 @@ use qgait_kernel::Vec3;
 use qgait_model::motion::source::MotionRows;
 use qgait_opensim::diagnostics::{Location, Warning, WarningText};
 use qgait_opensim::export;
+use qgait_opensim::mot::Header;
 
 /// `qgait export` arguments.
 #[derive(Debug, Args)]
@@ -91,14 +92,12 @@ impl Translation {
 
 /// Without `--lab-frame`: a warning naming the motion's pelvis translation columns, which the
 /// points then leave out (none when it has none).
-fn translation_not_applied(motion: &str) -> anyhow::Result<Vec<Warning>> {
-    let (rows, _) = MotionRows::open(motion)?;
-    let header = rows.header();
+fn translation_not_applied(header: &Header) -> Vec<Warning> {
     let present: Vec<&str> = TRANSLATION
         .into_iter()
         .filter(|c| header.index_of(c).is_some())
         .collect();
-    Ok(if present.is_empty() {
+    if present.is_empty() {
         Vec::new()
     } else {
         vec![Warning::Ignored(WarningText {
@@ -108,7 +107,7 @@ fn translation_not_applied(motion: &str) -> anyhow::Result<Vec<Warning>> {
                 present.join(", ")
             ),
         })]
-    })
+    }
 }
 
 /// Runs `qgait export`: rows are written as they are computed; for a `.trc` a first pass over
@@ -157,7 +156,7 @@ pub fn run_export(a: ExportArgs, diagnostics: &Diagnostics) -> anyhow::Result<()
         diagnostics.warn(w);
         Some(t)
     } else {
-        diagnostics.warn(translation_not_applied(&a.motion)?);
+        diagnostics.warn(translation_not_applied(rows.header()));
         None
     };
     let mut frame = 0;
