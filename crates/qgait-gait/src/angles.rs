@@ -190,12 +190,7 @@ pub enum CgmPelvis {
         model_markers: Option<ModelMarkers>,
     },
     /// From the model's own pelvis markers.
-    Markers {
-        /// [`tilt_offset`] of the markers (radians).
-        offset: f64,
-        /// The markers, as the model names them.
-        names: Vec<String>,
-    },
+    Markers(ModelMarkers),
 }
 
 /// A model's own pelvis markers and the offset they give.
@@ -217,7 +212,7 @@ impl CgmPelvis {
     pub fn offset(&self) -> f64 {
         match self {
             CgmPelvis::Fixed { .. } => pelvis_tilt_offset(),
-            CgmPelvis::Markers { offset, .. } => *offset,
+            CgmPelvis::Markers(m) => m.offset,
         }
     }
 
@@ -237,10 +232,10 @@ impl CgmPelvis {
                 m.names.join(", "),
                 m.offset.to_degrees()
             ),
-            CgmPelvis::Markers { offset, names } => format!(
+            CgmPelvis::Markers(m) => format!(
                 "the model's pelvis frame turned {:.2}° anteriorly, from its own markers {}",
-                offset.to_degrees(),
-                names.join(", ")
+                m.offset.to_degrees(),
+                m.names.join(", ")
             ),
         }
     }
@@ -348,10 +343,10 @@ mod tests {
             "{text}"
         );
         assert_eq!(with.offset(), pelvis_tilt_offset());
-        let used = CgmPelvis::Markers {
+        let used = CgmPelvis::Markers(ModelMarkers {
             offset: 2.45f64.to_radians(),
             names,
-        };
+        });
         assert!(used
             .describe()
             .contains("2.45° anteriorly, from its own markers R.ASIS"));

@@ -753,10 +753,12 @@ fn the_pelvic_tilt_is_the_lab_markers() {
         let text = std::fs::read_to_string(d.join(case.model)).unwrap();
         let l = qgait_opensim::pelvis_markers::pelvis_landmarks(&text).expect("markers");
         let offset = qgait_gait::angles::tilt_offset(l.mid_asis, l.posterior);
-        let walk = walk.with_cgm_pelvis(qgait_gait::angles::CgmPelvis::Markers {
-            offset,
-            names: l.names,
-        });
+        let walk = walk.with_cgm_pelvis(qgait_gait::angles::CgmPelvis::Markers(
+            qgait_gait::angles::ModelMarkers {
+                offset,
+                names: l.names,
+            },
+        ));
         let own = mean_tilt(&walk);
         println!(
             "{}: pelvic tilt mean {fixed:.2}° (fixed offset), {own:.2}° (the model's markers, {:.2}°), lab markers {lab:.2}°",
