@@ -18,6 +18,7 @@ const PATIENCE: Duration = Duration::from_secs(60);
 fn pose(seq: u32) -> Message {
     Message::PoseFrame(PoseFrame {
         seq,
+        timestamp_us: seq * 10_000,
         model: ModelId::Hak,
         angles: heapless::Vec::from_slice(&[0.0; 6]).unwrap(),
         points: [[0.25; 3]; 8],

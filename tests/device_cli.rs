@@ -16,6 +16,7 @@ fn hub_log(seqs: impl IntoIterator<Item = u32>) -> Vec<u8> {
             heapless::Vec::from_slice(&[0.05, -0.02, 0.3, -0.6, 0.1, -0.1, -0.2, 0.05]).unwrap();
         let mut f = PoseFrame {
             seq,
+            timestamp_us: seq * 10_000,
             model: ModelId::Phak,
             angles,
             points: [[0.0; 3]; 8],
@@ -62,7 +63,7 @@ fn packets_then_decode_gives_one_packet_per_joint_per_row() {
     assert_eq!(
         stdout(&o)
             .lines()
-            .filter(|l| l.starts_with(r#"{"type":"joint_angle","version":2,"#))
+            .filter(|l| l.starts_with(r#"{"type":"joint_angle","version":3,"#))
             .count(),
         30
     );
@@ -161,27 +162,43 @@ fn decode_of_what_is_not_a_log_says_nothing_was_found() {
     }
 }
 
-/// `decode --rate HZ` gives each frame its time, `seq / HZ` (a hub's frames carry the sample's
-/// sequence number), so that `gait` can read the CSV; without it the column is empty and
-/// `gait` says how to get the times. A rate that is not above 0 is refused.
+/// `decode` writes each frame's time, the sample's sensor time it carries; `--rate HZ` writes
+/// `seq / HZ` instead. A frames CSV without times (an older qgait's) is refused by `gait`,
+/// which says how to get them. A rate that is not above 0 is refused.
 #[test]
-fn decode_with_the_sampling_rate_writes_each_frames_time() {
+fn decode_writes_each_frames_time() {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("hub.bin");
     std::fs::write(&log, hub_log([100, 101, 103])).unwrap();
     let log = log.to_str().unwrap();
+    let times = |o: &std::process::Output| -> Vec<String> {
+        stdout(o)
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(1).unwrap().to_string())
+            .collect()
+    };
+    let o = qgait(&["decode", log]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(times(&o), ["1", "1.01", "1.03"]);
     let o = qgait(&["decode", log, "--rate", "50"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let times: Vec<String> = stdout(&o)
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').nth(1).unwrap().to_string())
-        .collect();
-    assert_eq!(times, ["2", "2.02", "2.06"]);
+    assert_eq!(times(&o), ["2", "2.02", "2.06"]);
 
     let o = qgait(&["decode", log]);
+    let no_times: String = stdout(&o)
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let mut cells: Vec<&str> = l.split(',').collect();
+            if i > 0 {
+                cells[1] = "";
+            }
+            cells.join(",") + "\n"
+        })
+        .collect();
     let csv = dir.path().join("frames.csv");
-    std::fs::write(&csv, stdout(&o)).unwrap();
+    std::fs::write(&csv, no_times).unwrap();
     let o = qgait(&[
         "gait",
         csv.to_str().unwrap(),
@@ -190,7 +207,7 @@ fn decode_with_the_sampling_rate_writes_each_frames_time() {
     ]);
     assert!(!o.status.success());
     assert!(
-        stderr(&o).contains("qgait decode --rate HZ"),
+        stderr(&o).contains("`qgait decode` writes the times a hub's frames carry"),
         "{}",
         stderr(&o)
     );

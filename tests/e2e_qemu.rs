@@ -570,6 +570,60 @@ fn emulate_command_verifies_and_writes_the_frames_csv() {
     );
 }
 
+/// A hub's log decoded is a recording `gait` reads: the firmware's frames carry their samples'
+/// times (the nodes' `timestamp_us`), so `decode` writes each frame's time with no `--rate`,
+/// the motion's own time, and `gait` finds the events of the cycle in it.
+#[test]
+fn a_decoded_hub_log_is_a_recording_gait_reads() {
+    let Some(elf) = firmware_elf() else { return };
+    let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hub.bin");
+    let o = common::qgait(&[
+        "-q",
+        "emulate",
+        "builtin:normal",
+        "--model",
+        "phak",
+        "--elf",
+        elf.to_str().unwrap(),
+        "--log",
+        log.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let o = common::qgait(&["-q", "decode", log.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let text = common::stdout(&o);
+    let table = qgait_device::frames_csv::parse(&text, "frames.csv").unwrap();
+    assert_eq!(table.seq, (0..101).collect::<Vec<u32>>());
+    // 101 rows over 1 s: 10 ms apart, in whole µs.
+    for (seq, time) in table.seq.iter().zip(&table.time) {
+        assert_eq!(*time, Some(f64::from(*seq) * 0.01), "seq {seq}");
+    }
+    let csv = dir.path().join("frames.csv");
+    std::fs::write(&csv, text).unwrap();
+    let out = dir.path().join("gait");
+    let o = common::qgait(&[
+        "-q",
+        "gait",
+        csv.to_str().unwrap(),
+        "--cycle",
+        "whole",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let events = std::fs::read_to_string(out.join("events.csv")).unwrap();
+    for event in [
+        "right,heel_strike",
+        "right,toe_off",
+        "left,heel_strike",
+        "left,toe_off",
+    ] {
+        assert!(events.contains(event), "{event} in {events}");
+    }
+}
+
 /// A motion holding an angle the hub does not use (finite, but beyond `JointAngle::MAX_ANGLE`):
 /// the hub drops that sample and `emulate --verify` expects no frame for it; every other frame
 /// is a rigid pose within tolerance.

@@ -140,6 +140,7 @@ fn expected_points(model: &PoseModels<f64>, samples: &Samples, row: usize) -> [[
     let angles: Vec<f32> = samples.packets(row).map(|p| p.angle).collect();
     let frame = PoseFrame {
         seq: row as u32,
+        timestamp_us: row as u32 * 10_000,
         model: ModelId::Phak,
         angles: heapless::Vec::from_slice(&angles).unwrap(),
         points: [[0.0; 3]; 8],

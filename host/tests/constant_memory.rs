@@ -68,6 +68,7 @@ fn write_log(path: &Path) -> u64 {
     let model = PoseModels::<f64>::defaults();
     let mut frame = PoseFrame {
         seq: 0,
+        timestamp_us: 0,
         model: ModelId::Phak,
         angles: heapless::Vec::from_slice(&[0.05, -0.02, 0.3, -0.6, 0.1, -0.1, -0.2, 0.05])
             .unwrap(),
@@ -82,6 +83,7 @@ fn write_log(path: &Path) -> u64 {
     let mut bytes = vec![0u8];
     for seq in 0..FRAMES {
         frame.seq = seq;
+        frame.timestamp_us = seq * 10_000;
         push_frame(&mut bytes, &Message::PoseFrame(frame.clone()));
         if seq % 100 == 99 {
             push_frame(&mut bytes, &Message::Status(Status::default()));

@@ -407,6 +407,7 @@ mod tests {
         let s = samples();
         let frame = |seq: u32, angles: Vec<f32>| PoseFrame {
             seq,
+            timestamp_us: seq * 10_000,
             model: ModelId::Phak,
             angles: heapless::Vec::from_slice(&angles).unwrap(),
             points: [[0.0; 3]; qgait_proto::point::COUNT],

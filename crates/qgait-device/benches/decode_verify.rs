@@ -29,7 +29,7 @@ fn log() -> Vec<u8> {
     for seq in 0..SAMPLES {
         let angles: [f32; 8] =
             core::array::from_fn(|c| 0.6 * ((seq as f32 * 0.05) + c as f32).sin());
-        let frame = hub.pose_frame(seq, &sample_angles(ModelId::Phak, &angles), 0);
+        let frame = hub.pose_frame(seq, seq * 10_000, &sample_angles(ModelId::Phak, &angles), 0);
         bytes.extend_from_slice(encode_frame(&Message::PoseFrame(frame), &mut buf).expect("fits"));
         if seq % 100 == 99 {
             let status = Status {

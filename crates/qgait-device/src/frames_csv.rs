@@ -1,9 +1,10 @@
 //! The frames CSV of `qgait emulate --frames-csv` and `qgait decode --format csv`: the `qgait fk`
 //! columns (`time`, then hip/knee/ankle/toe × x,y,z, right leg then left) with `seq` in front,
-//! one row per `PoseFrame`. `time` is the sample's sensor time in seconds when it is known (from
-//! the stream that was sent), else empty. Points as the hub sent them (f32, printed as f64).
+//! one row per `PoseFrame`. `time` is the frame's sample time in seconds: its `timestamp_us`, the
+//! nodes' sensor clock, which wraps after 2³² µs (71.6 min; [`FramesTable::in_time_order`]
+//! continues across the wrap). A CSV of older hubs' frames, which carried no time, has it empty.
+//! Points as the hub sent them (f32, printed as f64).
 
-use std::collections::HashMap;
 use std::io::{self, Write};
 
 use qgait_proto::PoseFrame;
@@ -33,10 +34,11 @@ impl<W: Write> FramesCsv<W> {
         Ok(Self(PointsCsv::new(w, &point_names(false), true)?))
     }
 
-    /// Writes the row of one frame, with its time (s) if known.
-    pub fn row(&mut self, f: &PoseFrame, time_s: Option<f64>) -> io::Result<()> {
+    /// Writes the row of one frame at `time_s` (s): its [`sample_time`] unless the caller
+    /// knows better (`qgait decode --rate`).
+    pub fn row(&mut self, f: &PoseFrame, time_s: f64) -> io::Result<()> {
         let points = f.points.iter().map(|p| p.map(f64::from));
-        Ok(self.0.row(f.seq, time_s, points)?)
+        Ok(self.0.row(f.seq, Some(time_s), points)?)
     }
 
     /// Passes every row written on to the writer and flushes it.
@@ -45,15 +47,16 @@ impl<W: Write> FramesCsv<W> {
     }
 }
 
-/// Writes the header and one row per frame; `time_s` gives the time of a sequence number.
-pub fn write<W: Write + ?Sized>(
-    w: &mut W,
-    frames: &[PoseFrame],
-    time_s: &HashMap<u32, f64>,
-) -> io::Result<()> {
+/// The time of `frame`'s sample (s): its `timestamp_us`, the nodes' sensor clock (wrapping).
+pub fn sample_time(frame: &PoseFrame) -> f64 {
+    f64::from(frame.timestamp_us) * 1e-6
+}
+
+/// Writes the header and one row per frame, each at its [`sample_time`].
+pub fn write<W: Write + ?Sized>(w: &mut W, frames: &[PoseFrame]) -> io::Result<()> {
     let mut csv = FramesCsv::new(w)?;
     for f in frames {
-        csv.row(f, time_s.get(&f.seq).copied())?;
+        csv.row(f, sample_time(f))?;
     }
     csv.flush()
 }
@@ -424,6 +427,7 @@ mod tests {
     fn frames_round_trip_through_the_csv() {
         let frame = |seq: u32| PoseFrame {
             seq,
+            timestamp_us: seq * 10_000,
             model: ModelId::Hak,
             angles: heapless::Vec::from_slice(&[0.0; 6]).unwrap(),
             points: core::array::from_fn(|i| [i as f32 * 0.25, -0.5, seq as f32]),
@@ -431,10 +435,10 @@ mod tests {
             flags: 0,
         };
         let mut out = Vec::new();
-        write(&mut out, &[frame(3), frame(4)], &HashMap::from([(3, 0.03)])).unwrap();
+        write(&mut out, &[frame(3), frame(4)]).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.starts_with("seq,time,hip_r_x,"));
-        // Numbers as Rust's `{}` prints the f32 widened to f64; an unknown time is empty.
+        // Numbers as Rust's `{}` prints the f32 widened to f64; the time is the frame's.
         let rows: Vec<&str> = text.lines().collect();
         assert_eq!(rows.len(), 3);
         assert_eq!(rows[0], header());
@@ -442,10 +446,10 @@ mod tests {
             rows[1],
             "3,0.03,0,-0.5,3,0.25,-0.5,3,0.5,-0.5,3,0.75,-0.5,3,1,-0.5,3,1.25,-0.5,3,1.5,-0.5,3,1.75,-0.5,3"
         );
-        assert!(rows[2].starts_with("4,,0,-0.5,4,0.25,"), "{}", rows[2]);
+        assert!(rows[2].starts_with("4,0.04,0,-0.5,4,0.25,"), "{}", rows[2]);
         let t = parse(&text, "f.csv").unwrap();
         assert_eq!(t.seq, [3, 4]);
-        assert_eq!(t.time, [Some(0.03), None]);
+        assert_eq!(t.time, [Some(0.03), Some(0.04)]);
         assert_eq!(t.points[1][7], [1.75, -0.5, 4.0]);
         let e = parse("seq,time\n", "x.csv").unwrap_err().to_string();
         assert!(e.starts_with("x.csv:1: not a frames CSV"), "{e}");
@@ -475,7 +479,7 @@ mod tests {
         odd.points[0] = [0.1, f32::NAN, f32::INFINITY];
         let mut out = Vec::new();
         let mut csv = FramesCsv::new(&mut out).unwrap();
-        csv.row(&odd, Some(1e-7)).unwrap();
+        csv.row(&odd, 1e-7).unwrap();
         csv.flush().unwrap();
         drop(csv);
         let odd_text = String::from_utf8(out).unwrap();

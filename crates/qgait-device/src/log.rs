@@ -204,6 +204,7 @@ mod tests {
         }
         Message::PoseFrame(PoseFrame {
             seq,
+            timestamp_us: seq * 10_000,
             model: ModelId::Phak,
             angles,
             points: [[0.5; 3]; 8],

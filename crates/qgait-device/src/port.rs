@@ -418,6 +418,7 @@ mod tests {
     fn pose(seq: u32) -> Message {
         Message::PoseFrame(PoseFrame {
             seq,
+            timestamp_us: seq * 10_000,
             model: ModelId::Hak,
             angles: heapless::Vec::from_slice(&[0.0; 6]).unwrap(),
             points: [[0.5; 3]; 8],

@@ -595,6 +595,7 @@ mod tests {
         }
         let mut f = PoseFrame {
             seq,
+            timestamp_us: seq * 10_000,
             model: m,
             angles,
             points: [[0.0; 3]; 8],

@@ -36,7 +36,7 @@ pub enum TrialError {
     #[error(transparent)]
     Frames(#[from] FramesCsvError),
     /// A device's frames CSV has no times.
-    #[error("{0}: the frames have no times (a `time` column is needed for events and cadence: `qgait decode --rate HZ` writes them from the nodes' sampling rate)")]
+    #[error("{0}: the frames have no times (a `time` column is needed for events and cadence: `qgait decode` writes the times a hub's frames carry, `qgait decode --rate HZ` times from the nodes' sampling rate)")]
     NoTimes(String),
     /// The motion cannot be read.
     #[error(transparent)]

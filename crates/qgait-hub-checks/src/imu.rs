@@ -111,7 +111,7 @@ fn orientation(seq: u32, segment: SegmentId, q14: [i16; 4]) -> SegmentOrientatio
         node: segment.wire_byte(),
         segment,
         seq,
-        timestamp_us: seq.wrapping_mul(10_000),
+        timestamp_us: crate::sample_time(seq),
         q14,
         quality: 0,
     }
@@ -238,7 +238,7 @@ pub fn orientation_input_calibrates_then_sends_kernel_poses() -> CheckResult {
                 same = false;
                 return;
             };
-            same &= *p == generic.pose_frame(seq, &angles, 0);
+            same &= *p == generic.pose_frame(seq, crate::sample_time(seq), &angles, 0);
             let want = truth(seq);
             for (i, (got, want)) in p.angles.iter().zip(want).enumerate() {
                 let mtp = i == JointId::MtpAngleR.index() as usize
@@ -404,7 +404,13 @@ pub fn calibration_is_kept_across_model_and_input_switches() -> CheckResult {
         }
         if p.seq >= 3 {
             let angles = p.joint_angles::<f32>();
-            subject_frames &= *p == subject_kinematics.pose_frame(p.seq, &angles, p.flags);
+            subject_frames &= *p
+                == subject_kinematics.pose_frame(
+                    p.seq,
+                    crate::sample_time(p.seq),
+                    &angles,
+                    p.flags,
+                );
         }
         i += 1;
     })?;

@@ -210,6 +210,11 @@ pub fn gait_angle(joint: JointId, seq: u32) -> f32 {
     mid + amp * tri
 }
 
+/// The sensor time of sample `seq` in the checks' packets: 100 Hz from 0 (µs, wrapping).
+pub fn sample_time(seq: u32) -> u32 {
+    seq.wrapping_mul(10_000)
+}
+
 /// The `JointAngle` packet of `joint` in sample `seq`.
 pub fn packet(seq: u32, joint: JointId) -> JointAngle {
     JointAngle {
@@ -217,7 +222,7 @@ pub fn packet(seq: u32, joint: JointId) -> JointAngle {
         node: joint.index(),
         joint,
         seq,
-        timestamp_us: seq.wrapping_mul(10_000),
+        timestamp_us: sample_time(seq),
         angle: gait_angle(joint, seq),
         quality: 0,
     }
@@ -374,7 +379,7 @@ pub fn pose_matches_the_kernel() -> CheckResult {
     }
     let kinematics =
         Kinematics::new(ModelId::Phak, None).map_err(|_| fail("Kinematics::new", line!()))?;
-    let expected = kinematics.pose_frame(37, &angles, 0);
+    let expected = kinematics.pose_frame(37, sample_time(37), &angles, 0);
     ensure!(frame == expected);
     for (a, j) in frame.angles.iter().zip(ModelId::Phak.required_joints()) {
         ensure!(*a == gait_angle(*j, 37));
@@ -1067,7 +1072,7 @@ fn expected_frame_of(
     for j in JointId::ALL {
         angles[j.index() as usize] = angle(j, seq);
     }
-    kinematics.pose_frame(seq, &angles, 0)
+    kinematics.pose_frame(seq, sample_time(seq), &angles, 0)
 }
 
 /// [`gait_angle`] in the signs of a chain whose knee flexes with positive angles (Rajagopal's):

@@ -114,6 +114,9 @@ impl JointSet {
 pub struct Sample<V = f32, const N: usize = JOINTS> {
     /// Sequence number shared by the sample's packets.
     pub seq: u32,
+    /// Sensor time of the sample (µs): the `timestamp_us` of the packet that opened it (a
+    /// sample's packets share theirs).
+    pub timestamp_us: u32,
     /// Angles in radians indexed by [`JointId::index`]; only the model's joints are meaningful
     /// (the orientation input: quaternions by segment index).
     pub angles: [V; N],
@@ -187,6 +190,7 @@ impl<V: Copy + Default, const N: usize> Slot<V, N> {
             present: JointSet::EMPTY,
             sample: Sample {
                 seq: 0,
+                timestamp_us: 0,
                 angles: [V::default(); N],
                 out_of_range: JointSet::EMPTY,
             },
@@ -224,7 +228,8 @@ impl Assembler {
         Assembler::with_keys(JointSet::of(required), window, hold_last)
     }
 
-    /// Takes one packet: the angle of `joint` in sample `seq`, and whether the caller found it
+    /// Takes one packet: the angle of `joint` in sample `seq` taken at `timestamp_us` (kept as
+    /// the sample's if the packet opens it), and whether the caller found it
     /// out of range (carried to the sample's [`Sample::out_of_range`], and to later samples
     /// that hold this angle). Samples that complete or leave the window are reported to
     /// `on_event` in sequence order (evictions first, then the packet's own sample if it
@@ -233,12 +238,20 @@ impl Assembler {
     pub fn push(
         &mut self,
         seq: u32,
+        timestamp_us: u32,
         joint: JointId,
         angle: f32,
         out_of_range: bool,
         on_event: &mut impl FnMut(SampleEvent),
     ) -> PacketOutcome {
-        self.push_key(seq, joint.index(), angle, out_of_range, on_event)
+        self.push_key(
+            seq,
+            timestamp_us,
+            joint.index(),
+            angle,
+            out_of_range,
+            on_event,
+        )
     }
 }
 
@@ -279,10 +292,11 @@ impl<V: Copy + Default, const N: usize> Assembler<V, N> {
     }
 
     /// [`Assembler::push`] for any key: the value of key `key` (a joint's or a segment's
-    /// index) in sample `seq`.
+    /// index) in sample `seq` taken at `timestamp_us`.
     pub fn push_key(
         &mut self,
         seq: u32,
+        timestamp_us: u32,
         key: u8,
         angle: V,
         out_of_range: bool,
@@ -320,6 +334,7 @@ impl<V: Copy + Default, const N: usize> Assembler<V, N> {
             // completes with every required joint present, a held one overwrites the missing
             // ones), and joints the model does not use are never stored, so stay 0.0.
             slot.sample.seq = seq;
+            slot.sample.timestamp_us = timestamp_us;
             slot.sample.out_of_range = JointSet::EMPTY;
         } else if slot.sample.seq != seq {
             // Unreachable by the invariant above; refused rather than mixed into another sample.
@@ -494,7 +509,7 @@ mod tests {
         out_of_range: bool,
     ) -> (PacketOutcome, Vec<Event>) {
         let mut events = Vec::new();
-        let outcome = a.push(seq, joint, angle, out_of_range, &mut |e| {
+        let outcome = a.push(seq, 10_000 * seq, joint, angle, out_of_range, &mut |e| {
             events.push(own(e))
         });
         (outcome, events)
@@ -706,6 +721,8 @@ mod tests {
         struct Slot {
             state: SlotState,
             seq: u32,
+            /// The timestamp of the packet that opened it.
+            time: u32,
             present: JointSet,
             angles: [f32; JOINTS],
             /// Whether each joint's packet was out of range.
@@ -716,6 +733,7 @@ mod tests {
             const FREE: Slot = Slot {
                 state: SlotState::Free,
                 seq: 0,
+                time: 0,
                 present: JointSet::EMPTY,
                 angles: [0.0; JOINTS],
                 bad: [false; JOINTS],
@@ -782,6 +800,7 @@ mod tests {
             pub fn push(
                 &mut self,
                 seq: u32,
+                time: u32,
                 joint: JointId,
                 angle: f32,
                 out_of_range: bool,
@@ -822,6 +841,7 @@ mod tests {
                             self.slots[i] = Slot {
                                 state: SlotState::Open,
                                 seq,
+                                time,
                                 ..Slot::FREE
                             };
                             i
@@ -840,6 +860,7 @@ mod tests {
                     slot.state = SlotState::Done;
                     on_event(SampleEvent::Complete(&Sample {
                         seq,
+                        timestamp_us: slot.time,
                         angles: slot.angles,
                         out_of_range: bad_set(&slot.bad),
                     }));
@@ -893,6 +914,7 @@ mod tests {
                         on_event(SampleEvent::Held {
                             sample: &Sample {
                                 seq: slot.seq,
+                                timestamp_us: slot.time,
                                 angles,
                                 out_of_range,
                             },
@@ -953,8 +975,14 @@ mod tests {
                 let angle = next(1000) as f32 / 1000.0;
                 let out_of_range = next(4) == 0;
                 let (mut ea, mut er) = (Vec::new(), Vec::new());
-                let oa = a.push(s, joint, angle, out_of_range, &mut |e| ea.push(own(e)));
-                let or = r.push(s, joint, angle, out_of_range, &mut |e| er.push(own(e)));
+                // A sample's packets share a timestamp, but the first one's is what counts.
+                let time = next(1 << 20);
+                let oa = a.push(s, time, joint, angle, out_of_range, &mut |e| {
+                    ea.push(own(e))
+                });
+                let or = r.push(s, time, joint, angle, out_of_range, &mut |e| {
+                    er.push(own(e))
+                });
                 assert_eq!((oa, &ea), (or, &er), "round {round} seq {s} {joint:?}");
                 assert_eq!(a.open_samples(), r.open_samples());
                 compared += ea.len();

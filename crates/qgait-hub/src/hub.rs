@@ -474,6 +474,7 @@ where
         };
         let outcome = assembler.push(
             packet.seq,
+            packet.timestamp_us,
             packet.joint,
             packet.angle,
             out_of_range,
@@ -514,6 +515,7 @@ where
         };
         let outcome = assembler.push_key(
             packet.seq,
+            packet.timestamp_us,
             packet.segment.wire_byte(),
             packet.q14,
             false,
@@ -920,10 +922,13 @@ impl<S: Write> Output<'_, S> {
             flags |= FrameFlags::OUT_OF_RANGE;
         }
         // Encoded straight from the sample and the pose: no `PoseFrame` built and copied.
-        let Ok(frame) =
-            self.kinematics
-                .encode_pose_frame(sample.seq, &sample.angles, flags, self.tx)
-        else {
+        let Ok(frame) = self.kinematics.encode_pose_frame(
+            sample.seq,
+            sample.timestamp_us,
+            &sample.angles,
+            flags,
+            self.tx,
+        ) else {
             return;
         };
         write_frame(self.serial, self.status, frame);

@@ -174,10 +174,13 @@ impl<S: embedded_io::Write> SegmentOutput<'_, S> {
         };
         let angles = self.imu.solver.solve(model, &segments, mode);
         bump(&mut self.status.samples_completed);
-        if let Ok(frame) =
-            self.kinematics
-                .encode_pose_frame(sample.seq, &angles.coordinates, flags, self.tx)
-        {
+        if let Ok(frame) = self.kinematics.encode_pose_frame(
+            sample.seq,
+            sample.timestamp_us,
+            &angles.coordinates,
+            flags,
+            self.tx,
+        ) {
             crate::hub::write_frame(self.serial, self.status, frame);
         }
     }

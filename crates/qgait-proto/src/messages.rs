@@ -20,7 +20,7 @@ pub const MAX_REORDER_WINDOW: u8 = 8;
 
 /// The protocol version written in every [`JointAngle`]. See `docs/protocol.md` for the
 /// versioning rules.
-pub const PROTOCOL_VERSION: u8 = 2;
+pub const PROTOCOL_VERSION: u8 = 3;
 
 /// One joint angle of one sample, sent by an IMU node to the hub.
 ///
@@ -91,6 +91,9 @@ pub mod point {
 pub struct PoseFrame {
     /// Sample sequence number (the `seq` of the [`JointAngle`]s it was computed from).
     pub seq: u32,
+    /// Sensor time of that sample, microseconds: the `timestamp_us` of its packets (wraps after
+    /// about 71.6 minutes, as theirs).
+    pub timestamp_us: u32,
     /// The model used.
     pub model: ModelId,
     /// The input angles actually used (radians), in `model.required_joints()` order, so the host

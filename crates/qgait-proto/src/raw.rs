@@ -159,7 +159,7 @@ impl RawImuConfig {
 /// right after each [`Status`](crate::Status) while raw input is configured. Every counter
 /// wraps at `u32::MAX`; all are zero at start.
 ///
-/// A message of its own, not more counters in [`Status`](crate::Status): a version-2 decoder
+/// A message of its own, not more counters in [`Status`](crate::Status): a decoder of this version
 /// reads exactly 20 counters and rejects a longer `Status` (protocol.md section 6).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

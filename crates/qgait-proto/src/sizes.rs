@@ -20,9 +20,17 @@ const TAG: usize = 1;
 pub const JOINT_ANGLE_MAX_LEN: usize = TAG + 1 + 1 + 1 + VARINT_U32 + VARINT_U32 + F32 + 1;
 
 /// Largest postcard encoding of a [`PoseFrame`](crate::PoseFrame) message, tag included:
-/// tag, seq, model, angle count (1 byte, <= 17), 17 angles, 8 points of 3, 3 distances, flags.
-pub const POSE_FRAME_MAX_LEN: usize =
-    TAG + VARINT_U32 + 1 + 1 + JointId::COUNT * F32 + point::COUNT * 3 * F32 + 3 * F32 + 1;
+/// tag, seq, timestamp_us, model, angle count (1 byte, <= 17), 17 angles, 8 points of 3, 3
+/// distances, flags.
+pub const POSE_FRAME_MAX_LEN: usize = TAG
+    + VARINT_U32
+    + VARINT_U32
+    + 1
+    + 1
+    + JointId::COUNT * F32
+    + point::COUNT * 3 * F32
+    + 3 * F32
+    + 1;
 
 /// Number of `u32` counters in a [`Status`](crate::Status).
 pub const STATUS_COUNTERS: usize = 20;

@@ -450,7 +450,8 @@ fn bad_contents_with_a_good_crc_are_reported_by_kind() {
 
 /// Message bytes of a pose frame with `count` angles, all values 0.
 fn pose_payload(model: u8, count: u8) -> Vec<u8> {
-    let mut p = vec![0x01, 0x05, model, count];
+    // tag, seq 5, timestamp 50 000 µs (`d0 86 03`), model, angle count
+    let mut p = vec![0x01, 0x05, 0xd0, 0x86, 0x03, model, count];
     p.extend(std::iter::repeat_n(
         0u8,
         4 * count as usize + 4 * 24 + 4 * 3,

@@ -88,6 +88,7 @@ fn golden_messages() -> Vec<(&'static str, Message)> {
             "pose-frame",
             PoseFrame {
                 seq: 300,
+                timestamp_us: 1_234_567,
                 model: ModelId::Hak,
                 angles: heapless::Vec::from_slice(&[0.5, -0.25, 0.125, -0.5, 0.0, 0.25])
                     .expect("6 fit"),

@@ -159,7 +159,7 @@ fn hub_decoding_errors_are_decode_messages() {
     for (bytes, error) in [
         (&[][..], DecodeError::Malformed),
         (&[0x14][..], DecodeError::UnknownMessage(20)),
-        (&[0x80, 0x00, 0x03][..], DecodeError::UnknownVersion(3)),
+        (&[0x80, 0x00, 0x04][..], DecodeError::UnknownVersion(4)),
         (&[0x03, 0x09][..], DecodeError::Malformed),
     ] {
         assert_eq!(decode_hub_message(bytes), Err(error), "{bytes:02x?}");

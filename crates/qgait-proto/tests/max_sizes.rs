@@ -36,6 +36,7 @@ fn worst_joint_angle(seq: u32) -> JointAngle {
 fn worst_pose_frame(seq: u32) -> PoseFrame {
     PoseFrame {
         seq,
+        timestamp_us: u32::MAX,
         model: ModelId::Gait2392,
         angles: heapless::Vec::from_slice(&[ANGLE; JointId::COUNT]).expect("17 fit"),
         points: [[ANGLE; 3]; 8],

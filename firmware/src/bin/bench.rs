@@ -636,6 +636,7 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
     let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
         let mut s = Sample {
             seq: i as u32,
+            timestamp_us: i as u32 * 10_000,
             angles: [0.0; JointId::COUNT],
             out_of_range: JointSet::EMPTY,
         };
@@ -665,8 +666,14 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         CALLS,
     );
 
-    let pose_frames: [PoseFrame; INPUTS] =
-        core::array::from_fn(|i| kinematics.pose_frame(samples[i].seq, &samples[i].angles, 0));
+    let pose_frames: [PoseFrame; INPUTS] = core::array::from_fn(|i| {
+        kinematics.pose_frame(
+            samples[i].seq,
+            samples[i].timestamp_us,
+            &samples[i].angles,
+            0,
+        )
+    });
     let frames: [Message; INPUTS] =
         core::array::from_fn(|i| Message::PoseFrame(pose_frames[i].clone()));
     let Ok(len) = encode_frame(&frames[0], &mut buf).map(|f| f.len()) else {
@@ -765,7 +772,7 @@ fn bench_decode(streams: &[heapless::Vec<u8, 192>; INPUTS], n: u32) -> u32 {
 fn bench_pose_frame(k: &Kinematics, samples: &[Sample; INPUTS], n: u32) -> u32 {
     timed(n, |i| {
         let s = black_box(&samples[i % INPUTS]);
-        black_box(black_box(k).pose_frame(s.seq, &s.angles, 0));
+        black_box(black_box(k).pose_frame(s.seq, s.timestamp_us, &s.angles, 0));
     })
 }
 

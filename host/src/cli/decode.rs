@@ -23,8 +23,8 @@ pub struct DecodeArgs {
     #[arg(long, value_enum, default_value = "csv")]
     pub format: Format,
     /// The nodes' sampling rate (Hz): the CSV's `time` is then each frame's sample `seq` over
-    /// it. A hub's frames carry the sample's sequence number, not its time; nodes sample at a
-    /// fixed rate, so this gives every frame its time and `qgait gait` can read the CSV.
+    /// it, instead of the sample's sensor time the frame carries (for nodes whose clocks are
+    /// not to be trusted: a sample's `seq` counts the samples the nodes took).
     #[arg(long, value_name = "HZ", value_parser = positive_rate)]
     pub rate: Option<f64>,
     /// Reading a live hub: baud rate, when to stop, live view.
@@ -56,7 +56,7 @@ fn damage_message(offset: u64, error: &qgait_proto::DecodeError) -> String {
 /// `qgait decode --format`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
-    /// One row per pose frame: seq, time (`seq / --rate`, empty without it), the `fk` columns
+    /// One row per pose frame: seq, time (the sample's sensor time, or `seq / --rate`), the `fk` columns
     /// (other messages are only counted, by kind, in the summary on standard error).
     Csv,
     /// One JSON object per frame, every kind of message with its fields, and per damaged frame.
@@ -93,9 +93,11 @@ impl<'a> DecodeOut<'a> {
                 Record::Message {
                     message: Message::PoseFrame(p),
                     ..
-                } => csv
-                    .row(p, rate.map(|r| f64::from(p.seq) / r))
-                    .map(|()| true),
+                } => {
+                    let time =
+                        rate.map_or_else(|| frames_csv::sample_time(p), |r| f64::from(p.seq) / r);
+                    csv.row(p, time).map(|()| true)
+                }
                 _ => Ok(false),
             },
             DecodeOut::Jsonl(out) => writeln!(out, "{}", jsonl_line(record)).map(|()| true),

@@ -1,6 +1,6 @@
 //! `qgait emulate`: the hub firmware under QEMU with a motion streamed into its UART.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::BTreeSet;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -148,19 +148,17 @@ fn run_node(args: &EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     Ok(ok)
 }
 
-/// What `qgait emulate` sends: the stream, the time (s) of each sample, the number of
-/// samples when it made the stream itself (sequence numbers 0..n), and the configuration the
-/// stream carries.
+/// What `qgait emulate` sends: the stream, the number of samples when it made the stream
+/// itself (sequence numbers 0..n), and the configuration the stream carries.
 struct EmulateInput {
     stream: Vec<u8>,
-    times: HashMap<u32, f64>,
     count: Option<u32>,
     /// The last model configuration (`Config`, `SubjectConfig`, `ChainTableConfig`) the stream
     /// carries, if any.
     configuration: Option<Message>,
 }
 
-/// The stream and its packets' times for `qgait emulate`.
+/// The stream for `qgait emulate`.
 fn emulate_input(
     args: &EmulateArgs,
     model: &HubModel,
@@ -185,24 +183,14 @@ fn emulate_input(
         ),
         _ => bail!("give either MOTION or --stream STREAM.bin"),
     };
-    let mut times = HashMap::new();
     let mut configuration = None;
     for m in FrameDecoder::new().feed(&stream).flatten() {
-        match m {
-            Message::JointAngle(p) => {
-                times
-                    .entry(p.seq)
-                    .or_insert(f64::from(p.timestamp_us) * 1e-6);
-            }
-            Message::Config(_) | Message::SubjectConfig(_) | Message::ChainTableConfig(_) => {
-                configuration = Some(m);
-            }
-            _ => {}
+        if let Message::Config(_) | Message::SubjectConfig(_) | Message::ChainTableConfig(_) = m {
+            configuration = Some(m);
         }
     }
     Ok(EmulateInput {
         stream,
-        times,
         count,
         configuration,
     })
@@ -229,7 +217,6 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let model = LoadedModel::load(&args.model, quiet)?;
     let EmulateInput {
         stream,
-        times,
         count,
         configuration,
     } = emulate_input(&args, &model.hub, quiet)?;
@@ -279,7 +266,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         out.elapsed.as_secs_f64()
     );
     if let Some(path) = &args.frames_csv {
-        write_file(path, |w| frames_csv::write(w, &log.poses, &times))?;
+        write_file(path, |w| frames_csv::write(w, &log.poses))?;
         if !quiet {
             eprintln!("wrote {} frames to {}", log.poses.len(), path.display());
         }

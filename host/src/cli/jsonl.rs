@@ -1,6 +1,6 @@
 //! `qgait decode --format jsonl`: one JSON object per line for each frame of a log (what a hub
 //! sends, what nodes send it, what the host sends it), with `serde_json`. Objects:
-//! `{"type":"pose","seq","model","flags","angles","points","distances"}`,
+//! `{"type":"pose","seq","timestamp_us","model","flags","angles","points","distances"}`,
 //! `{"type":"status", <counter>: n, ...}` (the counters in wire order),
 //! `{"type":"damaged","offset","error"}`, and every other message as
 //! `{"type": <its kind>, <field>: value, ...}`: the kind is
@@ -24,6 +24,7 @@ use qgait_proto::{DecodeError, Message, PoseFrame, Status};
 struct Pose {
     r#type: &'static str,
     seq: u32,
+    timestamp_us: u32,
     model: String,
     flags: u8,
     angles: Vec<f64>,
@@ -37,6 +38,7 @@ pub fn pose(p: &PoseFrame) -> String {
     to_line(&Pose {
         r#type: "pose",
         seq: p.seq,
+        timestamp_us: p.timestamp_us,
         model: p.model.to_string(),
         flags: p.flags,
         angles: p.angles.iter().map(|&a| f64::from(a)).collect(),
@@ -181,6 +183,7 @@ mod tests {
         );
         let mut frame = PoseFrame {
             seq: 3,
+            timestamp_us: 30_000,
             model: qgait_proto::ModelId::Hak,
             angles: heapless::Vec::new(),
             points: [[0.5; 3]; qgait_proto::point::COUNT],
@@ -191,6 +194,7 @@ mod tests {
         let v: serde_json::Value = serde_json::from_str(&pose(&frame)).unwrap();
         assert_eq!(v["type"], "pose");
         assert_eq!(v["seq"], 3);
+        assert_eq!(v["timestamp_us"], 30_000);
         assert!(v["distances"][0].is_null());
         assert_eq!(v["distances"][1], 0.25);
         assert_eq!(v["points"][7][2], 0.5);

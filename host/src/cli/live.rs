@@ -203,6 +203,7 @@ mod tests {
                 offset: 0,
                 message: Message::PoseFrame(PoseFrame {
                     seq,
+                    timestamp_us: seq * 10_000,
                     model: ModelId::Hak,
                     angles: heapless::Vec::from_slice(&[0.0; 6]).unwrap(),
                     points: [[0.0; 3]; 8],

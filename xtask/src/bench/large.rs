@@ -88,7 +88,12 @@ fn write_log(path: &Path) -> anyhow::Result<u64> {
     let mut buf = [0u8; MAX_FRAME_LEN];
     for r in 0..ROWS {
         let angles: [f32; 8] = angles_deg(r).map(|d| d.to_radians() as f32);
-        let frame = hub.pose_frame(r as u32, &sample_angles(ModelId::Phak, &angles), 0);
+        let frame = hub.pose_frame(
+            r as u32,
+            r as u32 * 10_000,
+            &sample_angles(ModelId::Phak, &angles),
+            0,
+        );
         let bytes =
             encode_frame(&Message::PoseFrame(frame), &mut buf).map_err(|e| anyhow!("{e:?}"))?;
         f.write_all(bytes).map_err(err)?;

@@ -662,10 +662,16 @@ impl Kinematics {
         self.model
     }
 
-    /// The pose frame of the sample `seq` with these angles (indexed by [`JointId::index`]),
-    /// with `flags` ([`FrameFlags`] bits) set by the caller: the angles the model takes, the
-    /// points and distances of its pose ([`stick_pose`], [`gait2392_pose`]).
-    pub fn pose_frame(&self, seq: u32, angles: &[f32; JointId::COUNT], flags: u8) -> PoseFrame {
+    /// The pose frame of the sample `seq` taken at `timestamp_us` with these angles (indexed
+    /// by [`JointId::index`]), with `flags` ([`FrameFlags`] bits) set by the caller: the angles
+    /// the model takes, the points and distances of its pose ([`stick_pose`], [`gait2392_pose`]).
+    pub fn pose_frame(
+        &self,
+        seq: u32,
+        timestamp_us: u32,
+        angles: &[f32; JointId::COUNT],
+        flags: u8,
+    ) -> PoseFrame {
         let pose = self.pose(angles);
         let mut used = heapless::Vec::new();
         for &joint in self.model.required_joints() {
@@ -674,6 +680,7 @@ impl Kinematics {
         }
         PoseFrame {
             seq,
+            timestamp_us,
             model: self.model,
             angles: used,
             points: pose_points(&pose),
@@ -682,13 +689,14 @@ impl Kinematics {
         }
     }
 
-    /// The frame of [`pose_frame`](Self::pose_frame)`(seq, angles, flags)`, encoded into `out`
+    /// The frame of [`pose_frame`](Self::pose_frame)`(seq, timestamp_us, angles, flags)`, encoded into `out`
     /// ([`encode_pose_frame_parts`]: the same bytes as `encode_pose_frame` of it) without
     /// building the [`PoseFrame`]: the angles are read from `angles` and the points from the
     /// kernel's pose as they are written.
     pub fn encode_pose_frame<'a>(
         &self,
         seq: u32,
+        timestamp_us: u32,
         angles: &[f32; JointId::COUNT],
         flags: u8,
         out: &'a mut [u8],
@@ -698,6 +706,7 @@ impl Kinematics {
         let points = pose.points();
         let parts = PoseFrameParts {
             seq,
+            timestamp_us,
             model: self.model,
             angle: |i: usize| {
                 joints
@@ -791,7 +800,7 @@ mod tests {
             // Ignored by HAK.
             (JointId::PelvisList, 0.3),
         ]);
-        let frame = k.pose_frame(1, &s, 0);
+        let frame = k.pose_frame(1, 10_000, &s, 0);
         for (leg, (offset, sign)) in [(0usize, 1.0f32), (4, -1.0)].into_iter().enumerate() {
             let limb = Limb::from_array(lengths[leg]);
             let q = |j: JointId| s[j.index() as usize];
@@ -852,7 +861,7 @@ mod tests {
         for (i, a) in angles.iter_mut().enumerate() {
             *a = 0.05 * (i as f32 - 8.0);
         }
-        let frame = k.pose_frame(3, &angles, 0);
+        let frame = k.pose_frame(3, 30_000, &angles, 0);
         let want = Gait2392::<f32>::from_geometry(&Gait2392Geometry::generic().to_f32())
             .unwrap()
             .fk(&angles);
@@ -896,7 +905,7 @@ mod tests {
         assert!(models.pose(ModelId::Chain, &angles).is_none());
         for model in [ModelId::Hak, ModelId::Phak, ModelId::Gait2392] {
             let k = Kinematics::new(model, None).unwrap();
-            let frame = k.pose_frame(9, &angles, 0);
+            let frame = k.pose_frame(9, 90_000, &angles, 0);
             let pose = models.frame_pose(&frame).unwrap();
             let hub_points = frame.points;
             let host_points = pose_points(&pose);

@@ -159,6 +159,7 @@ pub(super) fn joint_angle(body: &[u8]) -> Result<JointAngle, DecodeError> {
 /// A [`PoseFrame`]'s body: the layout first (`Malformed`), then the model, then the angle count.
 pub(super) fn pose_frame(body: &[u8]) -> Result<PoseFrame, DecodeError> {
     let (seq, rest) = take(body)?;
+    let (timestamp_us, rest) = take(rest)?;
     let (model, rest) = take::<u8>(rest)?;
     let (angles, rest) = take::<heapless::Vec<f32, MAX_POSE_ANGLES>>(rest)?;
     let (points, rest) = take::<[[f32; 3]; point::COUNT]>(rest)?;
@@ -170,6 +171,7 @@ pub(super) fn pose_frame(body: &[u8]) -> Result<PoseFrame, DecodeError> {
         .map_err(|(expected, got)| DecodeError::AngleCount { expected, got })?;
     Ok(PoseFrame {
         seq,
+        timestamp_us,
         model,
         angles,
         points,

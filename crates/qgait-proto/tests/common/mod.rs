@@ -20,7 +20,7 @@ pub fn joint_angle(seq: u32, joint: JointId, angle: f32) -> JointAngle {
     }
 }
 
-/// A pose frame of `model` with angles `0.1, 0.2, ...` and made-up points.
+/// A pose frame of `model` at 100 Hz (`seq` × 10 ms) with angles `0.1, 0.2, ...` and made-up points.
 pub fn pose_frame(seq: u32, model: ModelId) -> PoseFrame {
     let mut angles = heapless::Vec::new();
     for i in 0..model.required_joints().len() {
@@ -38,6 +38,7 @@ pub fn pose_frame(seq: u32, model: ModelId) -> PoseFrame {
     }
     PoseFrame {
         seq,
+        timestamp_us: seq.wrapping_mul(10_000),
         model,
         angles,
         points,

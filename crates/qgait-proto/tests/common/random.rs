@@ -57,6 +57,7 @@ pub fn message(rng: &mut Rng) -> Message {
             }
             Message::PoseFrame(PoseFrame {
                 seq: varint_u32(rng),
+                timestamp_us: varint_u32(rng),
                 model,
                 angles,
                 points,
@@ -310,7 +311,7 @@ pub fn stream(rng: &mut Rng) -> (Vec<u8>, Vec<Message>) {
                 match &msg {
                     Message::PoseFrame(p) if rng.chance(30) => {
                         // Another model's id over these angles: an angle count mismatch.
-                        let at = 1 + varint_len(p.seq);
+                        let at = 1 + varint_len(p.seq) + varint_len(p.timestamp_us);
                         payload[at] = (payload[at] + 1 + rng.below(2) as u8) % 3;
                     }
                     _ => mutate(rng, &mut payload),

@@ -59,12 +59,13 @@ pub fn joint_angle() -> impl Strategy<Value = JointAngle> {
 pub fn pose_frame() -> impl Strategy<Value = PoseFrame> {
     (
         any_varint_u32(),
+        any_varint_u32(),
         model_id(),
         proptest::collection::vec(any_f32_bits(), MAX_POSE_ANGLES),
         proptest::collection::vec(any_f32_bits(), 24 + 3),
         any::<u8>(),
     )
-        .prop_map(|(seq, model, angles, coords, flags)| {
+        .prop_map(|(seq, timestamp_us, model, angles, coords, flags)| {
             let n = model.required_joints().len();
             let angles = heapless::Vec::from_slice(&angles[..n]).expect("n <= 17");
             let mut points = [[0.0f32; 3]; 8];
@@ -73,6 +74,7 @@ pub fn pose_frame() -> impl Strategy<Value = PoseFrame> {
             }
             PoseFrame {
                 seq,
+                timestamp_us,
                 model,
                 angles,
                 points,
