@@ -509,9 +509,14 @@ mod tests {
         out_of_range: bool,
     ) -> (PacketOutcome, Vec<Event>) {
         let mut events = Vec::new();
-        let outcome = a.push(seq, 10_000 * seq, joint, angle, out_of_range, &mut |e| {
-            events.push(own(e))
-        });
+        let outcome = a.push(
+            seq,
+            seq.wrapping_mul(10_000),
+            joint,
+            angle,
+            out_of_range,
+            &mut |e| events.push(own(e)),
+        );
         (outcome, events)
     }
 

@@ -5,7 +5,7 @@
 //! messages in buffers of every size.
 
 use super::check_angle_count;
-use super::varint::{varint_u32, VARINT_U32_MAX};
+use super::varint::VARINT_U32_MAX;
 use crate::WireByte;
 use crate::{
     point, EncodeError, ModelId, PoseFrame, PoseVelocities, RawImuStatus, SegmentOrientation,
@@ -76,27 +76,38 @@ where
     P: Fn(usize) -> [f32; 3],
 {
     let count = parts.model.required_joints().len();
-    let mut seq = [0u8; VARINT_U32_MAX];
-    let seq = varint_u32(parts.seq, &mut seq);
-    let mut time = [0u8; VARINT_U32_MAX];
-    let time = varint_u32(parts.timestamp_us, &mut time);
-    // tag, seq, timestamp, model, angle count (< 128: one varint byte), angles, points,
-    // distances, flags
-    let varints = seq.len() + time.len();
-    let len = 1 + varints + 2 + 4 * (count + 3 * point::COUNT + 3) + 1;
+    // The tag, then seq and timestamp as varints: 3 to 11 bytes, written first since the rest
+    // starts after them. The same loop as the status encoder's, which the hub also links.
+    let mut varints = [0u8; 1 + 2 * VARINT_U32_MAX];
+    varints[0] = 1; // Message::PoseFrame's tag
+    let mut n = 1;
+    for mut value in [parts.seq, parts.timestamp_us] {
+        while let Some(slot) = varints.get_mut(n) {
+            n += 1;
+            if value < 0x80 {
+                *slot = value as u8;
+                break;
+            }
+            *slot = (value as u8) | 0x80;
+            value >>= 7;
+        }
+    }
+    // then model, angle count (< 128: one varint byte), angles, points, distances, flags
+    let len = n + 2 + 4 * (count + 3 * point::COUNT + 3) + 1;
     let Some(out) = out.get_mut(..len) else {
         return Err(EncodeError::BufferTooSmall {
             needed: MAX_MESSAGE_LEN,
         });
     };
-    let (head, rest) = out.split_at_mut(1 + varints + 2);
-    head[0] = 1; // Message::PoseFrame's tag
-                 // A byte loop: two to ten bytes, fewer instructions than a memcpy call.
-    for (slot, &byte) in head[1..].iter_mut().zip(seq.iter().chain(time.iter())) {
+    let (head, rest) = out.split_at_mut(n + 2);
+    // A byte loop: 3 to 11 bytes, fewer instructions than a memcpy call.
+    for (slot, &byte) in head.iter_mut().zip(&varints).take(n) {
         *slot = byte;
     }
-    head[1 + varints] = parts.model.index();
-    head[2 + varints] = count as u8;
+    if let [.., model, angle_count] = head {
+        *model = parts.model.index();
+        *angle_count = count as u8;
+    }
     let (angle_bytes, rest) = rest.split_at_mut(4 * count);
     for (i, slot) in angle_bytes.chunks_exact_mut(4).enumerate() {
         slot.copy_from_slice(&(parts.angle)(i).to_le_bytes());
@@ -131,8 +142,7 @@ pub(crate) fn encode_status_message<'a>(
     };
     *out.first_mut().ok_or(too_small)? = 2; // Message::Status's tag
     let mut len = 1;
-    // The varints written straight into `out` (not with `varint_u32`, which the pose frame
-    // encoding then no longer has to itself: it would be a call there).
+    // The varints written straight into `out`, as the pose frame's are.
     for mut value in counters {
         loop {
             let slot = out.get_mut(len).ok_or(too_small)?;
