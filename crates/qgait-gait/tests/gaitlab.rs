@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use qgait_gait::angles::PLANAR_NOTE;
+use qgait_gait::angles::{Seen, PLANAR_NOTE};
 use qgait_gait::events::Kind;
 use qgait_gait::rules::{Ground, Mode};
 use qgait_gait::spatiotemporal::value;
@@ -537,7 +537,7 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
     let model = Model::load(osim.to_str().unwrap(), None).unwrap().0;
     let ik = root.join("subject01_walk1/subject01_walk1_ik.mot");
     let (t, _) = trial::load(ik.to_str().unwrap(), &model).unwrap();
-    assert!(t.planar);
+    assert_eq!(t.seen, Seen::SAGITTAL);
     let walk = analyse_with(t, CycleMode::Auto, None).unwrap();
     let p = walk_parameters(&walk);
     assert_eq!(value(&p, "step_width", "both"), None);
@@ -549,7 +549,7 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
     let planar = report(vec![walk], &root).expect("report");
     // The 3-D subject's model, the same walk.
     let (walk, ..) = run(&CASES[0], &root, Translation::Recorded);
-    assert!(!walk.trial.planar);
+    assert_eq!(walk.trial.seen, Seen::ALL);
     assert!(value(&walk_parameters(&walk), "step_width", "both").is_some());
     let full = report(vec![walk], &root).expect("report");
     let unseen = [
@@ -566,7 +566,7 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
         "ankle_dorsiflexion",
     ];
     for (r, is_planar) in [(&planar, true), (&full, false)] {
-        assert_eq!(r.planar, is_planar);
+        assert_eq!(r.seen == Seen::SAGITTAL, is_planar);
         let scores = r.scores.as_ref().expect("scores");
         let gps = qgait_gait::files::gps_csv(scores).unwrap();
         let cycles = qgait_gait::files::cycles_csv(&r.curves[0]).unwrap();
