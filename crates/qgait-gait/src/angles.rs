@@ -188,11 +188,13 @@ pub const STEP_WIDTH_MOVERS: [&str; 4] = [
 ///
 /// - Pelvic tilt, obliquity and rotation: `pelvis_tilt`, `pelvis_list`, `pelvis_rotation`.
 ///   The three are re-expressed against the direction of progression and in the CGM's pelvis
-///   frame (gait2392's turned about its lateral axis by [`pelvis_tilt_offset`], 5.87°), which
-///   couples them: a rotation without list reads as an obliquity of about sin 5.87° ≈ 0.1 of
-///   it, and a list without rotation as a rotation likewise. That tenth is the frame's
-///   convention, not a movement of the model's (gait2392's own sequence has none), so it does
-///   not count: each angle needs its own coordinate.
+///   frame (gait2392's turned about its lateral axis by [`pelvis_tilt_offset`], 5.87°), then
+///   decomposed again: that couples them through the frame's forward tilt (the offset plus
+///   `pelvis_tilt`), so a rotation without list reads as an obliquity of about the sine of
+///   that tilt times the rotation, and a list without rotation as a rotation likewise (the gait
+///   lab's walk with `pelvis_list` locked: 0.9° of obliquity for 3.8° of rotation). That
+///   fraction is the re-expression's, not a list the model makes (its own tilt-list-rotation
+///   sequence has none), so it does not count: each pelvic angle needs its own coordinate.
 /// - Hip flexion, abduction (adduction positive) and rotation, knee flexion, ankle
 ///   dorsiflexion: the coordinates themselves (`hip_flexion`, `hip_adduction`,
 ///   `hip_rotation`, `knee_angle`, `ankle_angle`; the hip flexion plus the fixed offset).
