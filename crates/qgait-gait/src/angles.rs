@@ -16,6 +16,9 @@
 //! - Foot progression: from the FK, the foot's long axis (heel to MTP joint: gait2392's
 //!   calcaneus origin to its MTP centre, nearly horizontal standing) in the horizontal plane
 //!   against the direction of progression ([`foot_progression`]), internal positive.
+//!
+//! Which of the nine a model can move, from the coordinates it reads, and so which a report
+//! shows: [`Seen`].
 
 use qgait_kernel::imu::heading_free_pelvis;
 use qgait_kernel::imu::math::three_axes;
