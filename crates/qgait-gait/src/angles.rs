@@ -16,9 +16,13 @@
 //! - Foot progression: from the FK, the foot's long axis (heel to MTP joint: gait2392's
 //!   calcaneus origin to its MTP centre, nearly horizontal standing) in the horizontal plane
 //!   against the direction of progression ([`foot_progression`]), internal positive.
+//!
+//! Which of the nine a model can move, from the coordinates it reads, and so which a report
+//! shows: [`Seen`].
 
 use qgait_kernel::imu::heading_free_pelvis;
 use qgait_kernel::imu::math::three_axes;
+use qgait_kernel::models::gait2392::COORDINATES;
 use qgait_kernel::progression::{foot_progression, heading};
 use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Side, Vec3};
 
@@ -120,13 +124,26 @@ impl Variable {
         }
     }
 
-    /// The variables a report of a model shows: all nine, or for a planar model
-    /// ([`crate::trial::Trial::planar`]) the sagittal four, in [`Variable::ALL`] order.
-    pub fn seen(planar: bool) -> Vec<Variable> {
-        Variable::ALL
-            .into_iter()
-            .filter(|v| !planar || v.plane() == Plane::Sagittal)
-            .collect()
+    /// The gait2392 coordinates (without the side's `_r`/`_l`) any one of which, read by the
+    /// model, lets it move the variable ([`Seen`] says why each).
+    pub fn movers(self) -> &'static [&'static str] {
+        match self {
+            Variable::PelvicTilt => &["pelvis_tilt"],
+            Variable::PelvicObliquity => &["pelvis_list"],
+            Variable::PelvicRotation => &["pelvis_rotation"],
+            Variable::HipFlexion => &["hip_flexion"],
+            Variable::HipAbduction => &["hip_adduction"],
+            Variable::HipRotation => &["hip_rotation"],
+            Variable::KneeFlexion => &["knee_angle"],
+            Variable::AnkleDorsiflexion => &["ankle_angle"],
+            Variable::FootProgression => &[
+                "pelvis_list",
+                "pelvis_rotation",
+                "hip_adduction",
+                "hip_rotation",
+                "subtalar_angle",
+            ],
+        }
     }
 
     /// A pelvis variable (one pelvis for both sides).
@@ -149,9 +166,215 @@ pub enum Plane {
     Transverse,
 }
 
-/// What a report of a planar model ([`crate::trial::Trial::planar`]) says about what it leaves
-/// out, and why.
-pub const PLANAR_NOTE: &str = "planar model: it moves neither hip in adduction or rotation, so its legs move in the pelvis's sagittal plane only and no frontal or transverse quantity can be seen; step width, pelvic obliquity and rotation, hip abduction and rotation and foot progression are not reported, and the GPS is over the sagittal angles only (pelvic tilt, hip flexion, knee flexion, ankle dorsiflexion)";
+/// What a report of a planar model ([`Seen::is_planar`]: it moves none of the coordinates
+/// that could move a frontal or transverse quantity) says about what it leaves out, and why
+/// ([`Seen::note`]).
+pub const PLANAR_NOTE: &str = "planar model: it moves neither hip in adduction or rotation, nor the pelvis in list or rotation, nor a subtalar joint, so its legs move in the pelvis's sagittal plane only and no frontal or transverse quantity can be seen; step width, pelvic obliquity and rotation, hip abduction and rotation and foot progression are not reported, and the GPS is over the sagittal angles only (pelvic tilt, hip flexion, knee flexion, ankle dorsiflexion)";
+
+/// The coordinates (without the side's `_r`/`_l`) any one of which, read by the model, lets it
+/// move one foot sideways relative to the other: step width ([`Seen::step_width`]).
+pub const STEP_WIDTH_MOVERS: [&str; 4] = [
+    "pelvis_list",
+    "pelvis_rotation",
+    "hip_adduction",
+    "hip_rotation",
+];
+
+/// Which of the nine variables ([`Variable::ALL`] order) a model can move, from the gait2392
+/// coordinates it reads ([`Seen::from_reads`]); a report leaves out the others and step width
+/// when the model cannot move it, and says which and why ([`Seen::note`]).
+///
+/// The rule, from how [`angles`] and the step width ([`crate::spatiotemporal`]) are computed:
+/// a variable is seen when the model reads any coordinate of [`Variable::movers`]; a side's
+/// coordinate counts when either side's is read (a model reads both sides in practice, and the
+/// report shows both sides' curves of a variable or neither).
+///
+/// - Pelvic tilt, obliquity and rotation: `pelvis_tilt`, `pelvis_list`, `pelvis_rotation`.
+///   The three are re-expressed against the direction of progression and in the CGM's pelvis
+///   frame (gait2392's turned about its lateral axis by [`pelvis_tilt_offset`], 5.87°), then
+///   decomposed again: that couples them through the frame's forward tilt (the offset plus
+///   `pelvis_tilt`), so a rotation without list reads as an obliquity of about the sine of
+///   that tilt times the rotation, and a list without rotation as a rotation likewise (the gait
+///   lab's walk with `pelvis_list` locked: 0.9° of obliquity for 3.8° of rotation). That
+///   fraction is the re-expression's, not a list the model makes (its own tilt-list-rotation
+///   sequence has none), so it does not count: each pelvic angle needs its own coordinate.
+/// - Hip flexion, abduction (adduction positive) and rotation, knee flexion, ankle
+///   dorsiflexion: the coordinates themselves (`hip_flexion`, `hip_adduction`,
+///   `hip_rotation`, `knee_angle`, `ankle_angle`; the hip flexion plus the fixed offset).
+/// - Foot progression: from the FK, the heel-to-MTP line in the lab's horizontal plane, so any
+///   coordinate that turns the foot about the vertical moves it: `pelvis_rotation` and
+///   `hip_rotation` directly; `pelvis_list` and `hip_adduction`, about the forward axis, turn
+///   a pitched foot's horizontal line (by about tan(pitch) × sin(angle): a few degrees in
+///   swing, where knee and ankle pitch the foot); `subtalar_angle`, whose axis is about 37°
+///   from the vertical, turns the MTP about the heel. The sagittal coordinates turn about
+///   lateral axes: alone they leave the foot's line where the model's geometry sets it (its
+///   built-in toe-out; gait2392's ankle axis, 10° off the lateral, adds a fixed sixth of the
+///   dorsiflexion), which is not a transverse movement and does not count.
+/// - Step width ([`STEP_WIDTH_MOVERS`]): the heels' (subtalar centres') distance across the
+///   direction of travel at one instant, so any coordinate that moves one heel sideways
+///   relative to the other: `pelvis_rotation` turns the step (its length along, its width
+///   across) about the vertical; `pelvis_list` turns it about the forward axis, moving the
+///   heels across by their height difference; `hip_adduction` swings a leg sideways;
+///   `hip_rotation` turns the heel, which is off the femur's long axis (behind the ankle,
+///   below a flexed knee), about it. `subtalar_angle` does not: the heel point is on its
+///   axis. The sagittal coordinates alone keep the heels at the model's fixed hip width (its
+///   pelvis translation is not part of the distance, taken at one instant). Step width is
+///   seen exactly when pelvic obliquity, pelvic rotation, hip abduction or hip rotation is.
+///
+/// gait2392 reads all seventeen: everything is seen. gait10dof18musc reads only the sagittal
+/// coordinates: the sagittal four, no step width (a planar model, [`PLANAR_NOTE`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Seen(pub [bool; 9]);
+
+impl Default for Seen {
+    fn default() -> Self {
+        Seen::ALL
+    }
+}
+
+impl Seen {
+    /// All nine (a model that reads every coordinate; also a source without joint angles).
+    pub const ALL: Seen = Seen([true; 9]);
+
+    /// The sagittal four: a planar model's.
+    pub const SAGITTAL: Seen = Seen([true, false, false, true, false, false, true, true, false]);
+
+    /// What a model that reads the gait2392 coordinates `reads` ([`COORDINATES`] order) can
+    /// move ([`Seen`]'s rule).
+    ///
+    /// [`COORDINATES`]: qgait_kernel::models::gait2392::COORDINATES
+    pub fn from_reads(reads: [bool; 17]) -> Seen {
+        Seen(Variable::ALL.map(|v| v.movers().iter().any(|c| reads_any(reads, c))))
+    }
+
+    /// The variables seen, [`Variable::ALL`] order.
+    pub fn variables(self) -> Vec<Variable> {
+        Variable::ALL
+            .into_iter()
+            .filter(|v| self.sees(*v))
+            .collect()
+    }
+
+    /// The variables not seen, [`Variable::ALL`] order.
+    pub fn not_seen(self) -> Vec<Variable> {
+        Variable::ALL
+            .into_iter()
+            .filter(|v| !self.sees(*v))
+            .collect()
+    }
+
+    /// Whether `v` is seen.
+    pub fn sees(self, v: Variable) -> bool {
+        Variable::ALL
+            .iter()
+            .position(|x| *x == v)
+            .is_some_and(|i| self.0[i])
+    }
+
+    /// Whether step width can be seen: exactly when a coordinate of [`STEP_WIDTH_MOVERS`] is
+    /// read, i.e. when pelvic obliquity, pelvic rotation, hip abduction or hip rotation is seen.
+    pub fn step_width(self) -> bool {
+        [
+            Variable::PelvicObliquity,
+            Variable::PelvicRotation,
+            Variable::HipAbduction,
+            Variable::HipRotation,
+        ]
+        .into_iter()
+        .any(|v| self.sees(v))
+    }
+
+    /// Every variable seen (and so step width).
+    pub fn is_all(self) -> bool {
+        self == Seen::ALL
+    }
+
+    /// No frontal or transverse variable seen and no step width: a planar model.
+    pub fn is_planar(self) -> bool {
+        !self.step_width()
+            && Variable::ALL
+                .into_iter()
+                .all(|v| v.plane() == Plane::Sagittal || !self.sees(v))
+    }
+
+    /// What both see: a report of several recordings (and a reference recording) shows only
+    /// what every one of their models can move.
+    pub fn and(self, other: Seen) -> Seen {
+        Seen(std::array::from_fn(|i| self.0[i] && other.0[i]))
+    }
+
+    /// The names of what is left out, for `summary.json`'s `not_seen`: the variables'
+    /// ([`Variable::name`]), then `step_width` when it is not seen.
+    pub fn not_seen_names(self) -> Vec<&'static str> {
+        let mut names: Vec<&'static str> =
+            self.not_seen().into_iter().map(Variable::name).collect();
+        if !self.step_width() {
+            names.push("step_width");
+        }
+        names
+    }
+
+    /// What a report says about what it leaves out, and why; `None` when it leaves out
+    /// nothing. A planar model's is [`PLANAR_NOTE`]; otherwise, e.g. `the model cannot move:
+    /// pelvic obliquity (no pelvis_list), pelvic rotation (no pelvis_rotation), hip rotation
+    /// (no hip_rotation_r/l); these are not reported, and the GPS is over the 6 variables it
+    /// can move (...)`.
+    pub fn note(self) -> Option<String> {
+        if self.is_all() {
+            return None;
+        }
+        if self == Seen::SAGITTAL {
+            return Some(PLANAR_NOTE.to_string());
+        }
+        let mut out: Vec<String> = self
+            .not_seen()
+            .into_iter()
+            .map(|v| format!("{} ({})", lower(v), without(v.movers())))
+            .collect();
+        if !self.step_width() {
+            out.push(format!("step width ({})", without(&STEP_WIDTH_MOVERS)));
+        }
+        let seen = self.variables();
+        Some(format!(
+            "the model cannot move: {}; {} not reported, and the GPS is over the {} variables it can move ({})",
+            out.join(", "),
+            if out.len() == 1 { "it is" } else { "these are" },
+            seen.len(),
+            seen.iter().map(|v| lower(*v)).collect::<Vec<_>>().join(", ")
+        ))
+    }
+}
+
+/// Whether `reads` has the coordinate `stem`, or either side's `stem_r`/`stem_l`.
+fn reads_any(reads: [bool; 17], stem: &str) -> bool {
+    COORDINATES.iter().zip(reads).any(|(name, r)| {
+        r && (*name == stem
+            || name.strip_suffix("_r").or_else(|| name.strip_suffix("_l")) == Some(stem))
+    })
+}
+
+/// A variable's name in words: `pelvic obliquity`.
+fn lower(v: Variable) -> String {
+    v.name().replace('_', " ")
+}
+
+/// Why a variable is not seen: `no pelvis_list`, `none of pelvis_list, hip_adduction_r/l`.
+fn without(stems: &[&str]) -> String {
+    let named: Vec<String> = stems
+        .iter()
+        .map(|s| {
+            if s.starts_with("pelvis") {
+                s.to_string()
+            } else {
+                format!("{s}_r/l")
+            }
+        })
+        .collect();
+    match named.as_slice() {
+        [one] => format!("no {one}"),
+        _ => format!("none of {}", named.join(", ")),
+    }
+}
 
 /// The mid-ASIS point in gait2392's pelvis frame (x forward, y up; metres): the `RASI` and
 /// `LASI` markers of Rajagopal et al.'s (2016) model, whose pelvis carries gait2392's bone
@@ -350,6 +573,109 @@ mod tests {
         assert!(used
             .describe()
             .contains("2.45° anteriorly, from its own markers R.ASIS"));
+    }
+
+    /// The coordinates of [`COORDINATES`] named (a side's stem counts both sides).
+    fn reading(names: &[&str]) -> [bool; 17] {
+        COORDINATES.map(|c| {
+            names
+                .iter()
+                .any(|n| c == *n || c.strip_suffix("_r").or(c.strip_suffix("_l")) == Some(n))
+        })
+    }
+
+    /// The visibility rule from sets of coordinates: gait2392 sees everything, gait10dof18musc
+    /// the sagittal four without step width; a model with hip adduction but no hip rotation
+    /// and no pelvis list or rotation loses the pelvic obliquity and rotation and the hip
+    /// rotation, but its adduction still moves a foot sideways (step width) and turns a
+    /// pitched foot (foot progression); either side's coordinate counts; the subtalar joint
+    /// turns the foot, not the heel.
+    #[test]
+    fn a_variable_is_seen_when_the_model_reads_a_coordinate_that_moves_it() {
+        let sagittal = ["pelvis_tilt", "hip_flexion", "knee_angle", "ankle_angle"];
+        let gait2392 = Seen::from_reads([true; 17]);
+        assert_eq!(gait2392, Seen::ALL);
+        assert!(gait2392.step_width() && gait2392.note().is_none());
+        assert!(gait2392.not_seen_names().is_empty());
+
+        let planar = Seen::from_reads(reading(&sagittal));
+        assert_eq!(planar, Seen::SAGITTAL);
+        assert_eq!(
+            planar.variables(),
+            [
+                Variable::PelvicTilt,
+                Variable::HipFlexion,
+                Variable::KneeFlexion,
+                Variable::AnkleDorsiflexion
+            ]
+        );
+        assert!(planar.is_planar() && !planar.step_width());
+        assert_eq!(planar.note().as_deref(), Some(PLANAR_NOTE));
+        assert_eq!(
+            planar.not_seen_names(),
+            [
+                "pelvic_obliquity",
+                "pelvic_rotation",
+                "hip_abduction",
+                "hip_rotation",
+                "foot_progression",
+                "step_width"
+            ]
+        );
+
+        let adduction = Seen::from_reads(reading(&[&sagittal[..], &["hip_adduction"]].concat()));
+        assert_eq!(
+            adduction.not_seen(),
+            [
+                Variable::PelvicObliquity,
+                Variable::PelvicRotation,
+                Variable::HipRotation
+            ]
+        );
+        assert!(adduction.sees(Variable::FootProgression) && adduction.step_width());
+        assert!(!adduction.is_planar() && !adduction.is_all());
+        assert_eq!(
+            adduction.note().unwrap(),
+            "the model cannot move: pelvic obliquity (no pelvis_list), pelvic rotation (no pelvis_rotation), hip rotation (no hip_rotation_r/l); these are not reported, and the GPS is over the 6 variables it can move (pelvic tilt, hip flexion, hip abduction, knee flexion, ankle dorsiflexion, foot progression)"
+        );
+        // One side's coordinate is enough.
+        let right = Seen::from_reads(reading(&[&sagittal[..], &["hip_adduction_r"]].concat()));
+        assert_eq!(right, adduction);
+
+        // Pelvis rotation alone: the pelvic rotation, foot progression and step width.
+        let rotation = Seen::from_reads(reading(&[&sagittal[..], &["pelvis_rotation"]].concat()));
+        assert_eq!(
+            rotation.not_seen(),
+            [
+                Variable::PelvicObliquity,
+                Variable::HipAbduction,
+                Variable::HipRotation
+            ]
+        );
+        assert!(rotation.step_width());
+
+        // The subtalar joint alone: the foot progression, no step width; the note says both.
+        let subtalar = Seen::from_reads(reading(&[&sagittal[..], &["subtalar_angle"]].concat()));
+        assert_eq!(subtalar.variables().len(), 5);
+        assert!(subtalar.sees(Variable::FootProgression) && !subtalar.step_width());
+        assert!(!subtalar.is_planar());
+        let note = subtalar.note().unwrap();
+        assert!(
+            note.contains("step width (none of pelvis_list, pelvis_rotation, hip_adduction_r/l, hip_rotation_r/l)"),
+            "{note}"
+        );
+        assert_eq!(subtalar.not_seen_names().last(), Some(&"step_width"));
+
+        // A locked ankle: a sagittal variable too.
+        let no_ankle = Seen::from_reads(reading(&["pelvis_tilt", "hip_flexion", "knee_angle"]));
+        assert_eq!(no_ankle.variables().len(), 3);
+        assert!(no_ankle
+            .note()
+            .unwrap()
+            .contains("ankle dorsiflexion (no ankle_angle_r/l)"));
+        // What two models both see.
+        assert_eq!(gait2392.and(adduction), adduction);
+        assert_eq!(adduction.and(planar), planar);
     }
 
     #[test]

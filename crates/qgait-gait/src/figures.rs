@@ -5,8 +5,8 @@
 //!   mean ± SD in its colour over its strides drawn thin, each side's measured toe off as a
 //!   solid vertical line and the reference's (the normal range of the stance phase, or the
 //!   reference recording's) dashed; a panel with neither a curve nor a band is left out;
-//! - `map`: the Movement Analysis Profile, the nine GVS per side (a planar model's four
-//!   sagittal ones) and the GPS as bars, with the scores of a typical member of the reference as
+//! - `map`: the Movement Analysis Profile, the nine GVS per side (those the model can
+//!   move: a planar model's four sagittal ones) and the GPS as bars, with the scores of a typical member of the reference as
 //!   ticks;
 //! - `events`: the heel's and toe's forward position relative to the pelvis over time with the
 //!   detected events, to check them.
@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::angles::Variable;
+use crate::angles::{Seen, Variable};
 use crate::error::FigureError;
 use crate::output::Report;
 use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
@@ -476,10 +476,15 @@ impl Figure for Map<'_> {
             &format!(
                 "Gait Variable Scores and Gait Profile Score (degrees) against {}{}",
                 self.report.reference.legend(),
-                if self.report.planar {
-                    "; sagittal angles only (planar model)"
+                if self.report.seen == Seen::SAGITTAL {
+                    "; sagittal angles only (planar model)".to_string()
+                } else if self.report.seen.is_all() {
+                    String::new()
                 } else {
-                    ""
+                    format!(
+                        "; the {} angles the model can move",
+                        self.report.seen.variables().len()
+                    )
                 }
             ),
             15,
@@ -511,7 +516,7 @@ impl Figure for Map<'_> {
                 ))
                 .map_err(draw_err)?;
         }
-        // Groups: the variables scored (a planar model's sagittal ones), then GPS (right,
+        // Groups: the variables scored (those the model can move), then GPS (right,
         // left, overall).
         let scored: Vec<usize> = Variable::ALL
             .iter()

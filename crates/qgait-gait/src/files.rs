@@ -129,9 +129,11 @@ pub fn events_csv(report: &Report) -> Result<String, ReportError> {
 /// `summary.json`: the subject and session as given (`subject`, [`crate::session::Session::summary`]);
 /// per recording its mode (`walking`/`running`), ground
 /// (`treadmill`/`overground`/`unknown`), speed and how it was found, duty factor, Froude number
-/// and leg length, how its events were found, and its notes (the rules' doubts, a planar
-/// model's [`crate::angles::PLANAR_NOTE`]); and the headline figures over all recordings (both
-/// sides), each with its method.
+/// and leg length, how its events were found, its notes (the rules' doubts, and what its
+/// model cannot move: [`crate::angles::Seen::note`]) and `not_seen`, the names of what its
+/// model cannot move ([`crate::angles::Seen::not_seen_names`]: variables, then `step_width`);
+/// the report's `not_seen` (what it leaves out: what any recording's model cannot move); and
+/// the headline figures over all recordings (both sides), each with its method.
 pub fn summary_json(report: &Report) -> String {
     let recordings: Vec<SummaryRecording> = report
         .recordings
@@ -141,11 +143,9 @@ pub fn summary_json(report: &Report) -> String {
                 || crate::spatiotemporal::MIXED_EVENTS.to_string(),
                 |m| m.describe(),
             );
-            // The rules' doubts, and what a planar model cannot see.
+            // The rules' doubts, and what the model cannot move.
             let mut notes = w.gait.as_ref().map_or_else(Vec::new, |g| g.notes.clone());
-            if w.planar {
-                notes.push(crate::angles::PLANAR_NOTE.to_string());
-            }
+            notes.extend(w.seen.note());
             (w, events, notes)
         })
         .map(|(w, events, notes)| match &w.gait {
@@ -162,6 +162,7 @@ pub fn summary_json(report: &Report) -> String {
                 travel_ratio: g.travel_ratio,
                 events,
                 notes,
+                not_seen: w.seen.not_seen_names(),
             },
             None => SummaryRecording::TooFewStrides {
                 recording: &w.source,
@@ -169,6 +170,7 @@ pub fn summary_json(report: &Report) -> String {
                 ground: "unknown",
                 events,
                 notes,
+                not_seen: w.seen.not_seen_names(),
             },
         })
         .collect();
@@ -213,6 +215,7 @@ pub fn summary_json(report: &Report) -> String {
         subject: report.session.summary(),
         mode: first.map(|g| g.mode.name()),
         ground: first.map_or("unknown", |g| g.ground.name()),
+        not_seen: report.seen.not_seen_names(),
         recordings,
         headline: Headline(headline),
         bouts: Bouts {
@@ -238,6 +241,8 @@ struct Summary<'a> {
     subject: crate::session::SubjectSummary<'a>,
     mode: Option<&'static str>,
     ground: &'static str,
+    /// What the report leaves out ([`crate::angles::Seen::not_seen_names`]).
+    not_seen: Vec<&'static str>,
     recordings: Vec<SummaryRecording<'a>>,
     headline: Headline<'a>,
     bouts: Bouts,
@@ -262,6 +267,7 @@ enum SummaryRecording<'a> {
         travel_ratio: Option<f64>,
         events: String,
         notes: Vec<String>,
+        not_seen: Vec<&'static str>,
     },
     TooFewStrides {
         recording: &'a str,
@@ -269,6 +275,7 @@ enum SummaryRecording<'a> {
         ground: &'static str,
         events: String,
         notes: Vec<String>,
+        not_seen: Vec<&'static str>,
     },
 }
 

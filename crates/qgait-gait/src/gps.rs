@@ -5,7 +5,8 @@
 //! pelvis included); the overall GPS is the root mean square of fifteen GVS: the six hip, knee,
 //! ankle and foot variables of each side and the three pelvic ones once, from the left side
 //! (Baker's choice: the pelvis is one segment, and its left-cycle curves stand for it). A
-//! planar model's scores are over its sagittal variables only ([`scores_over`]).
+//! model's scores are over the variables it can move only ([`scores_over`],
+//! [`crate::angles::Seen`]): a planar model's sagittal ones.
 
 use crate::angles::Variable;
 
@@ -26,8 +27,8 @@ pub struct Scores {
     pub gps: [Option<f64>; 2],
     /// Overall GPS (degrees), when every GVS it takes is known.
     pub overall: Option<f64>,
-    /// The variables scored, [`Variable::ALL`] order: all nine, or a planar model's sagittal
-    /// four ([`Variable::seen`]).
+    /// The variables scored, [`Variable::ALL`] order: all nine, or those the model can move
+    /// ([`crate::angles::Seen::variables`]; a planar model's sagittal four).
     pub variables: Vec<Variable>,
 }
 
@@ -131,6 +132,7 @@ fn from_gvs(gvs_all: [[Option<f64>; 9]; 2], variables: &[Variable]) -> Scores {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::angles::Seen;
 
     fn curves(f: impl Fn(usize, usize, usize) -> f64) -> Curves {
         std::array::from_fn(|s| {
@@ -230,7 +232,7 @@ mod tests {
     /// pelvic tilt once, from the left); the normal scores likewise.
     #[test]
     fn a_planar_model_is_scored_on_the_sagittal_angles_only() {
-        let sagittal = Variable::seen(true);
+        let sagittal = Seen::SAGITTAL.variables();
         assert_eq!(
             sagittal,
             [
@@ -240,7 +242,7 @@ mod tests {
                 Variable::AnkleDorsiflexion
             ]
         );
-        assert_eq!(Variable::seen(false), Variable::ALL);
+        assert_eq!(Seen::ALL.variables(), Variable::ALL);
         let reference = curves(shape);
         // Every variable off by its index + 1 on the right, + 11 on the left.
         let subject = curves(|s, v, p| shape(s, v, p) + (v + 1 + 10 * s) as f64);

@@ -13,7 +13,7 @@
 
 use askama::Template;
 
-use crate::angles::Variable;
+use crate::angles::{Plane, Seen, Variable};
 use crate::cycles::Dropped;
 use crate::output::{round, Report};
 use crate::spatiotemporal::{Parameter, SIDES};
@@ -160,18 +160,37 @@ struct GpsTable {
     over: String,
 }
 
-/// What the overall GPS over `variables` is over: `15 variables, the pelvis once` for all
-/// nine; for a planar model's sagittal four, `7 sagittal variables, the pelvic tilt once`.
-fn over(variables: &[Variable]) -> String {
-    let pelvis = variables.iter().filter(|v| v.is_pelvis()).count();
-    let n = pelvis + 2 * (variables.len() - pelvis);
-    if variables.len() == Variable::ALL.len() {
-        format!("{n} variables, the pelvis once")
+/// What the overall GPS over `variables` (of a report that sees `seen`) is over: `15
+/// variables, the pelvis once` for all nine; for a planar model's sagittal four, `7 sagittal
+/// variables, the pelvic tilt once` and why ([`Seen::note`]); for others, e.g. `11 variables,
+/// the pelvic tilt once` and why.
+fn over(variables: &[Variable], seen: Seen) -> String {
+    let pelvis: Vec<Variable> = variables
+        .iter()
+        .copied()
+        .filter(|v| v.is_pelvis())
+        .collect();
+    let n = pelvis.len() + 2 * (variables.len() - pelvis.len());
+    let once = match pelvis.len() {
+        0 => "no pelvic variable".to_string(),
+        3 => "the pelvis once".to_string(),
+        _ => format!(
+            "the {} once",
+            pelvis
+                .iter()
+                .map(|v| v.name().replace('_', " "))
+                .collect::<Vec<_>>()
+                .join(" and ")
+        ),
+    };
+    let sagittal = if variables.iter().all(|v| v.plane() == Plane::Sagittal) {
+        " sagittal"
     } else {
-        format!(
-            "{n} sagittal variables, the pelvic tilt once; {}",
-            crate::angles::PLANAR_NOTE
-        )
+        ""
+    };
+    match seen.note() {
+        None => format!("{n} variables, {once}"),
+        Some(note) => format!("{n}{sagittal} variables, {once}; {note}"),
     }
 }
 
@@ -313,7 +332,7 @@ impl<'a> Page<'a> {
                         cell(s.overall),
                         n.map_or(String::new(), |n| cell(n.overall)),
                     ],
-                    over: over(&s.variables),
+                    over: over(&s.variables, r.seen),
                 }
             }),
             kinematics: figure("kinematics"),
@@ -339,10 +358,10 @@ fn caption(r: &Report, stem: &str) -> String {
             } else {
                 format!(" and the reference's (dashed: {})", r.reference.toe_off_from)
             },
-            if r.planar {
-                format!("; the sagittal ones only: {}", crate::angles::PLANAR_NOTE)
-            } else {
-                String::new()
+            match r.seen.note() {
+                Some(note) if r.seen == Seen::SAGITTAL => format!("; the sagittal ones only: {note}"),
+                Some(note) => format!("; only those the model can move: {note}"),
+                None => String::new(),
             }
         ),
         "map" => format!(
@@ -480,8 +499,13 @@ fn settings(r: &Report) -> Vec<(&'static str, String)> {
         };
         s.push(("gait", text));
     }
-    if r.planar {
-        s.push(("planar model", crate::angles::PLANAR_NOTE.into()));
+    if let Some(note) = r.seen.note() {
+        let label = if r.seen == Seen::SAGITTAL {
+            "planar model"
+        } else {
+            "not seen"
+        };
+        s.push((label, note));
     }
     if let Some(w) = r.recordings.first() {
         s.push(("pelvis (CGM)", w.pelvis.describe()));

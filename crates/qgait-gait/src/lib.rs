@@ -477,7 +477,7 @@ mod tests {
             coordinates: None,
             translation: None,
             breaks: Vec::new(),
-            planar: false,
+            seen: angles::Seen::ALL,
             velocities: None,
         };
         let e = analyse(still(2), CycleMode::Auto).err().unwrap();
@@ -625,7 +625,7 @@ mod tests {
             moved: None,
             speed: None,
             running: false,
-            planar: false,
+            seen: angles::Seen::ALL,
         };
         sums[0].add(&stride);
         let p = crate::spatiotemporal::parameters_of(&sums, &[None, None], None);

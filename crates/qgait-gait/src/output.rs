@@ -1,7 +1,7 @@
 //! The whole analysis of `qgait gait` and the files it writes: `events.csv`,
 //! `spatiotemporal.csv`, `gps.csv`, `cycles/*.csv`, the figures and `report.html`.
 
-use crate::angles::Variable;
+use crate::angles::{Seen, Variable};
 use crate::cycles::Curve;
 use crate::error::ReportError;
 use crate::gps::{self, every_2_percent, Scores};
@@ -104,10 +104,10 @@ pub struct Report {
     /// The scores a member of the reference population has ([`gps::normal_scores`]), when the
     /// subject has scores: the MAP's normal reference.
     pub normal_scores: Option<Scores>,
-    /// A recording's (or the reference's) model is planar ([`crate::trial::Trial::planar`]):
-    /// the report leaves out every frontal and transverse angle, and says why
-    /// ([`crate::angles::PLANAR_NOTE`]).
-    pub planar: bool,
+    /// What every recording's (and the reference recording's) model can move
+    /// ([`crate::trial::Trial::seen`]): the report leaves out the other variables (and step
+    /// width when it cannot be seen), and says why ([`Seen::note`]).
+    pub seen: Seen,
     /// The subject and the session, for the header ([`build`] leaves it empty: the caller
     /// fills it in).
     pub session: Session,
@@ -117,9 +117,9 @@ pub struct Report {
 }
 
 impl Report {
-    /// The joint angles the report shows ([`Variable::seen`]).
+    /// The joint angles the report shows ([`Seen::variables`]).
     pub fn variables(&self) -> Vec<Variable> {
-        Variable::seen(self.planar)
+        self.seen.variables()
     }
 }
 
@@ -202,13 +202,14 @@ pub fn build_from(
     subject: Subject,
 ) -> Result<Report, ReportError> {
     let Finished(pool, events) = pool;
-    // A planar model's report leaves out every frontal and transverse angle (its curves are
-    // flat: the model cannot move them), the reference's too.
-    let planar = pool.recordings.iter().any(|r| r.planar)
-        || reference_pool
-            .as_ref()
-            .is_some_and(|p| p.0.recordings.iter().any(|r| r.planar));
-    let variables = Variable::seen(planar);
+    // The report leaves out each angle a model cannot move (its curves are flat), the
+    // reference's too: what every recording's model and the reference recording's can move.
+    let seen = pool
+        .recordings
+        .iter()
+        .chain(reference_pool.iter().flat_map(|p| &p.0.recordings))
+        .fold(Seen::ALL, |a, r| a.and(r.seen));
+    let variables = seen.variables();
     let shown = |v: usize| variables.contains(&Variable::ALL[v]);
     let mut curves = pool.curves();
     for side in &mut curves {
@@ -367,7 +368,7 @@ pub fn build_from(
         }
     };
     let mut reference = reference;
-    if planar {
+    if !seen.is_all() {
         for side in &mut reference.bands {
             for (v, b) in side.iter_mut().enumerate() {
                 if !shown(v) {
@@ -375,8 +376,11 @@ pub fn build_from(
                 }
             }
         }
-        // Knee varus and rotation: frontal and transverse.
-        reference.extra.clear();
+        // Knee varus and rotation: frontal and transverse, drawn only where the model moves
+        // some frontal or transverse quantity.
+        if seen.is_planar() {
+            reference.extra.clear();
+        }
     }
     let subject_curves: gps::Curves = std::array::from_fn(|s| {
         std::array::from_fn(|v| curves[s][v].as_ref().map(|c| every_2_percent(&c.mean)))
@@ -407,7 +411,7 @@ pub fn build_from(
         dimensionless_speed,
         speed_choice,
         normal_scores,
-        planar,
+        seen,
         session: Session::default(),
         warnings: Vec::new(),
     })

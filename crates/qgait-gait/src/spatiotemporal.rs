@@ -15,14 +15,17 @@
 //! strike both feet are down). Speed: stride length over stride time. Each is the mean over
 //! the side's strides; `both` is over all strides, except the step width's, the mean of the
 //! two sides' (a direction of progression a few degrees off the feet's path widens one side's
-//! steps and narrows the other's by the same amount, to first order). A planar model
-//! ([`Trial::planar`]) has no step width: a `both` row without a value says why. Each
+//! steps and narrows the other's by the same amount, to first order). A model that
+//! cannot move a foot sideways relative to the other ([`Trial::seen`],
+//! [`crate::angles::Seen::step_width`]: a planar one) has no step width: a `both` row without a
+//! value says why. Each
 //! parameter's note says how it was found, those of the events with the events' method
 //! ([`EventMethod`]).
 
 use qgait_kernel::progression::horizontal_unit;
 use qgait_kernel::Vec3;
 
+use crate::angles::Seen;
 use crate::cycles::Cycle;
 use crate::normative::Range;
 use crate::rules::{EventMethod, Gait, Mode};
@@ -145,8 +148,8 @@ pub struct Stride {
     pub speed: Option<f64>,
     /// The rules found running.
     pub running: bool,
-    /// Its recording's model is planar.
-    pub planar: bool,
+    /// What its recording's model can move ([`Trial::seen`]).
+    pub seen: Seen,
 }
 
 impl Stride {
@@ -182,7 +185,7 @@ impl Stride {
             moved,
             speed: g.map(|g| g.speed),
             running: g.is_some_and(|g| g.mode == Mode::Running),
-            planar: trial.planar,
+            seen: trial.seen,
         }
     }
 
@@ -226,7 +229,8 @@ pub struct Sums {
     flight: Sum,
     double_support: Sum,
     running: bool,
-    planar: bool,
+    /// What every stride's model can move.
+    seen: Seen,
 }
 
 impl Sums {
@@ -255,7 +259,7 @@ impl Sums {
                 _ => None,
             });
         self.running |= c.running;
-        self.planar |= c.planar;
+        self.seen = self.seen.and(c.seen);
     }
 
     /// The strides summed.
@@ -409,7 +413,7 @@ pub fn parameters_of(
                 step_note
             },
         );
-        if !c.planar {
+        if c.seen.step_width() {
             step_width[s] = c.across.mean();
             push(
                 "step_width",
@@ -454,7 +458,10 @@ pub fn parameters_of(
             "the mean of the two sides",
         );
     }
-    let planar = sums.iter().any(|c| c.planar && c.n > 0);
+    let seen = sums
+        .iter()
+        .filter(|c| c.n > 0)
+        .fold(Seen::ALL, |a, c| a.and(c.seen));
     // What the rules found (one recording's, or the first's of several).
     if let Some(g) = rules.first() {
         push(
@@ -514,7 +521,7 @@ pub fn parameters_of(
         push("stride_length", "both", Some(l), "m", length_note(note));
         push("speed", "both", Some(l / t), "m/s", note);
     }
-    if planar {
+    if !seen.step_width() {
         // Where the step width would be (after the step length): why there is none.
         let at = out
             .iter()
@@ -528,7 +535,7 @@ pub fn parameters_of(
                 value: None,
                 unit: "m",
                 range: None,
-                note: crate::angles::PLANAR_NOTE.to_string(),
+                note: seen.note().unwrap_or_default(),
             },
         );
     }
@@ -567,7 +574,7 @@ mod tests {
             coordinates: None,
             translation: None,
             breaks: Vec::new(),
-            planar: false,
+            seen: Seen::ALL,
             velocities: None,
         }
     }

@@ -119,8 +119,8 @@ pub struct Recording {
     pub gait: Option<Gait>,
     /// The rules ran in every window.
     pub rules_everywhere: bool,
-    /// The model is planar.
-    pub planar: bool,
+    /// What the model can move ([`crate::trial::Trial::seen`]).
+    pub seen: crate::angles::Seen,
     /// The CGM's pelvis frame.
     pub pelvis: CgmPelvis,
     /// It has joint angles.
@@ -341,7 +341,7 @@ impl Pool {
                 mode: walk.mode,
                 gait: walk.gait.clone(),
                 rules_everywhere: true,
-                planar: walk.trial.planar,
+                seen: walk.trial.seen,
                 pelvis: walk.pelvis.clone(),
                 has_angles: walk.angles.is_some(),
                 leg_length: None,

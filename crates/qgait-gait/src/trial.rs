@@ -9,6 +9,7 @@ use qgait_kernel::models::ranges::KNEES;
 use qgait_kernel::Vec3;
 use qgait_model::derivatives::MotionModel;
 
+use crate::angles::Seen;
 use crate::rules::FootVelocity;
 
 use qgait_device::frames_csv::FramesCsvError;
@@ -204,11 +205,10 @@ pub struct Trial {
     /// The frames that begin a new stretch of the recording, in order: after a gap in time
     /// ([`gaps`]) or after rows left out. No event or stride spans one.
     pub breaks: Vec<usize>,
-    /// The model moves neither hip in adduction or rotation (a planar model, e.g.
-    /// gait10dof18musc, which has no pelvis list or rotation either): its legs move in the
-    /// pelvis's sagittal plane only, and no frontal or transverse quantity (step width, the
-    /// frontal and transverse angles) can be seen ([`crate::angles::PLANAR_NOTE`]).
-    pub planar: bool,
+    /// Which variables (and whether step width) the model can move, from the coordinates it
+    /// reads ([`Seen::from_reads`]): the report leaves out the others and says why
+    /// ([`Seen::note`]). A planar model (gait10dof18musc) sees the sagittal four only.
+    pub seen: Seen,
     /// The feet's velocities relative to the pelvis of each frame, from the kernel's
     /// differential kinematics ([`foot_velocities`]); `None` where they cannot be had that way
     /// (a device's frames, HAK or PHAK, a variable-step file): the rules then differentiate the
@@ -404,7 +404,7 @@ pub fn load_with(
                 coordinates: None,
                 translation: None,
                 breaks,
-                planar: false,
+                seen: Seen::ALL,
                 velocities: None,
             },
             warnings,
@@ -434,17 +434,7 @@ pub fn from_table(
     }
     let foot = model.lengths().is_none();
     let points = PointModel::new(model, foot)?;
-    let planar = {
-        let reads = points.reads();
-        [
-            "hip_adduction_r",
-            "hip_adduction_l",
-            "hip_rotation_r",
-            "hip_rotation_l",
-        ]
-        .iter()
-        .all(|c| !reads[coordinate(c)])
-    };
+    let seen = Seen::from_reads(points.reads());
     let (table, left_out, w) = leave_out_non_finite(table, points.reads());
     warnings.extend(w);
     let mut time = Vec::with_capacity(table.rows());
@@ -526,7 +516,7 @@ pub fn from_table(
             coordinates: Some(coordinates),
             translation,
             breaks,
-            planar,
+            seen,
             velocities,
         },
         warnings,
@@ -769,7 +759,7 @@ mod tests {
             coordinates: None,
             translation: None,
             breaks,
-            planar: false,
+            seen: Seen::ALL,
             velocities: None,
         };
         assert_eq!(trial.segments(), [0..3, 3..801, 801..1002]);

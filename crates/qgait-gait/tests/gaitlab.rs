@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use qgait_gait::angles::PLANAR_NOTE;
+use qgait_gait::angles::{Seen, PLANAR_NOTE};
 use qgait_gait::events::Kind;
 use qgait_gait::rules::{Ground, Mode};
 use qgait_gait::spatiotemporal::value;
@@ -537,7 +537,7 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
     let model = Model::load(osim.to_str().unwrap(), None).unwrap().0;
     let ik = root.join("subject01_walk1/subject01_walk1_ik.mot");
     let (t, _) = trial::load(ik.to_str().unwrap(), &model).unwrap();
-    assert!(t.planar);
+    assert_eq!(t.seen, Seen::SAGITTAL);
     let walk = analyse_with(t, CycleMode::Auto, None).unwrap();
     let p = walk_parameters(&walk);
     assert_eq!(value(&p, "step_width", "both"), None);
@@ -549,7 +549,7 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
     let planar = report(vec![walk], &root).expect("report");
     // The 3-D subject's model, the same walk.
     let (walk, ..) = run(&CASES[0], &root, Translation::Recorded);
-    assert!(!walk.trial.planar);
+    assert_eq!(walk.trial.seen, Seen::ALL);
     assert!(value(&walk_parameters(&walk), "step_width", "both").is_some());
     let full = report(vec![walk], &root).expect("report");
     let unseen = [
@@ -566,7 +566,7 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
         "ankle_dorsiflexion",
     ];
     for (r, is_planar) in [(&planar, true), (&full, false)] {
-        assert_eq!(r.planar, is_planar);
+        assert_eq!(r.seen == Seen::SAGITTAL, is_planar);
         let scores = r.scores.as_ref().expect("scores");
         let gps = qgait_gait::files::gps_csv(scores).unwrap();
         let cycles = qgait_gait::files::cycles_csv(&r.curves[0]).unwrap();
@@ -641,6 +641,178 @@ fn a_planar_model_reports_the_sagittal_plane_only() {
             assert_eq!(map.contains(word), !is_planar, "{word}");
         }
         assert!(map.contains("flexion"));
+    }
+}
+
+/// `text` (an `.osim`) with the coordinates `names` locked: the model no longer moves them
+/// (imported as a general chain that holds each at its default).
+fn locking(text: &str, names: &[&str]) -> String {
+    let mut text = text.to_string();
+    for name in names {
+        let at = text
+            .find(&format!("<Coordinate name=\"{name}\">"))
+            .unwrap_or_else(|| panic!("no coordinate {name}"));
+        let end = at + text[at..].find("</Coordinate>").expect("its end");
+        let body = text[at..end].replace("<locked>false</locked>", "<locked>true</locked>");
+        assert!(body.contains("<locked>true</locked>"), "{name} not locked");
+        text.replace_range(at..end, &body);
+    }
+    text
+}
+
+/// A model that moves only some frontal and transverse coordinates: the subject's gait2392
+/// with its pelvis list and rotation and both hip rotations locked, hip adduction free. Its
+/// report leaves out exactly the pelvic obliquity, the pelvic rotation and the hip rotation
+/// (scores, `gps.csv`, `cycles/*.csv`, figures), keeps the foot progression and the step width
+/// (the adduction moves them), its GPS is over six variables a side (eleven overall), and
+/// `summary.json` (`not_seen`, notes), `spatiotemporal.csv` and the page say which and why.
+/// The same model with the pelvis rotation free instead of the hip adduction loses the hip
+/// abduction instead of the pelvic rotation (ten overall: two pelvic variables once).
+#[test]
+fn a_model_that_moves_some_frontal_and_transverse_coordinates_reports_those_only() {
+    use qgait_gait::angles::Variable::{self, *};
+    let Some(root) = dir() else { return };
+    let d = root.join(CASES[0].dir);
+    let text = std::fs::read_to_string(d.join(CASES[0].model)).unwrap();
+    let ik = d.join(CASES[0].ik);
+    for (locked, not_seen) in [
+        (
+            &[
+                "pelvis_list",
+                "pelvis_rotation",
+                "hip_rotation_r",
+                "hip_rotation_l",
+            ][..],
+            [PelvicObliquity, PelvicRotation, HipRotation],
+        ),
+        (
+            &[
+                "pelvis_list",
+                "hip_adduction_r",
+                "hip_adduction_l",
+                "hip_rotation_r",
+                "hip_rotation_l",
+            ][..],
+            [PelvicObliquity, HipAbduction, HipRotation],
+        ),
+    ] {
+        let (model, _) = Model::import(&locking(&text, locked), "locked.osim", None).unwrap();
+        assert!(matches!(model, Model::Chain { .. }));
+        let (t, _) = trial::load(ik.to_str().unwrap(), &model).unwrap();
+        assert_eq!(t.seen.not_seen(), not_seen);
+        assert!(t.seen.step_width());
+        let walk = analyse_with(t, CycleMode::Auto, None).unwrap();
+        // A locked hip's curves are flat; every variable seen moves.
+        let angles = walk.angles.as_ref().unwrap();
+        for (v, var) in Variable::ALL.iter().enumerate() {
+            let c = &angles[0][v];
+            let range = c.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b))
+                - c.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+            if [HipRotation, HipAbduction].contains(var) && not_seen.contains(var) {
+                assert!(range < 1e-9, "{var:?} moves {range}");
+            } else if !not_seen.contains(var) {
+                assert!(range > 1.0, "{var:?} moves {range} only");
+            }
+        }
+        let p = walk_parameters(&walk);
+        assert!(value(&p, "step_width", "both").is_some());
+        let r = report(vec![walk], &root).expect("report");
+        let seen: Vec<Variable> = Variable::ALL
+            .into_iter()
+            .filter(|v| !not_seen.contains(v))
+            .collect();
+        assert_eq!(r.variables(), seen);
+        let scores = r.scores.as_ref().expect("scores");
+        assert_eq!(scores.variables, seen);
+        let gps = qgait_gait::files::gps_csv(scores).unwrap();
+        let cycles = qgait_gait::files::cycles_csv(&r.curves[0]).unwrap();
+        let head = cycles.lines().next().unwrap();
+        for (v, var) in Variable::ALL.into_iter().enumerate() {
+            let shown = !not_seen.contains(&var);
+            assert_eq!(gps.contains(&format!("{},", var.name())), shown, "{gps}");
+            assert_eq!(
+                head.contains(&format!("{}_mean", var.name())),
+                shown,
+                "{head}"
+            );
+            for s in 0..2 {
+                assert_eq!(scores.gvs[s][v].is_some(), shown, "{var:?}");
+            }
+        }
+        // Six GVS a side; overall, the others of both sides and the pelvic ones once: eleven
+        // (the pelvic tilt) or ten (the pelvic tilt and rotation).
+        let pelvic = seen.iter().filter(|v| v.is_pelvis()).count();
+        let n = pelvic + 2 * (6 - pelvic);
+        assert_eq!(n, if pelvic == 1 { 11 } else { 10 });
+        for s in 0..2 {
+            let g: Vec<f64> = scores.gvs[s].iter().flatten().copied().collect();
+            assert_eq!(g.len(), 6);
+            let rms = (g.iter().map(|x| x * x).sum::<f64>() / 6.0).sqrt();
+            assert!((scores.gps[s].unwrap() - rms).abs() < 1e-12);
+        }
+        let mut all: Vec<f64> = Vec::new();
+        for (v, var) in Variable::ALL.iter().enumerate() {
+            all.extend(scores.gvs[1][v]);
+            if !var.is_pelvis() {
+                all.extend(scores.gvs[0][v]);
+            }
+        }
+        assert_eq!(all.len(), n);
+        let overall = (all.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt();
+        assert!((scores.overall.unwrap() - overall).abs() < 1e-12);
+        // The files say which and why.
+        let note = r.seen.note().unwrap();
+        assert!(
+            note.starts_with("the model cannot move: pelvic obliquity (no pelvis_list), "),
+            "{note}"
+        );
+        assert!(
+            note.contains("the GPS is over the 6 variables it can move"),
+            "{note}"
+        );
+        let tmp = tempfile::tempdir().unwrap();
+        qgait_gait::files::write(&r, tmp.path()).unwrap();
+        let read = |name: &str| std::fs::read_to_string(tmp.path().join(name)).unwrap();
+        let summary: serde_json::Value = serde_json::from_str(&read("summary.json")).unwrap();
+        let names: Vec<&str> = not_seen.iter().map(|v| v.name()).collect();
+        assert_eq!(summary["not_seen"], serde_json::json!(names), "{summary}");
+        assert_eq!(
+            summary["recordings"][0]["not_seen"],
+            serde_json::json!(names)
+        );
+        let notes = summary["recordings"][0]["notes"].as_array().unwrap();
+        assert!(notes.iter().any(|n| n == note.as_str()), "{notes:?}");
+        assert!(summary["headline"]["step_width"]["value"]
+            .as_f64()
+            .is_some());
+        let st = read("spatiotemporal.csv");
+        assert!(st.contains("step_width,both,0."), "{st}");
+        assert!(!st.contains("planar"), "{st}");
+        let page = read("report.html");
+        assert!(!page.contains("planar model"));
+        let over = if pelvic == 1 {
+            "overall GPS over 11 variables, the pelvic tilt once; the model cannot move"
+        } else {
+            "overall GPS over 10 variables, the pelvic tilt and pelvic rotation once; the model cannot move"
+        };
+        assert!(page.contains(over), "{page}");
+        let kinematics = read("kinematics.svg");
+        let map = read("map.svg");
+        for var in Variable::ALL {
+            let shown = !not_seen.contains(&var);
+            let title = var.title().split(" (").next().unwrap();
+            assert_eq!(kinematics.contains(title), shown, "{title}");
+            // The map's labels, a word a line: the pelvis's second words, the others' first
+            // (the hip's first word is also the knee's and ankle's).
+            let word = match var {
+                PelvicTilt | PelvicObliquity | PelvicRotation => title.split(' ').nth(1),
+                HipFlexion | HipAbduction | HipRotation => None,
+                _ => title.split(' ').next(),
+            };
+            if let Some(word) = word {
+                assert_eq!(map.contains(&format!("\n{word}\n")), shown, "{word}");
+            }
+        }
     }
 }
 
