@@ -5,7 +5,6 @@
 //! messages in buffers of every size.
 
 use super::check_angle_count;
-use super::varint::VARINT_U32_MAX;
 use crate::WireByte;
 use crate::{
     point, EncodeError, ModelId, PoseFrame, PoseVelocities, RawImuStatus, SegmentOrientation,
@@ -76,35 +75,22 @@ where
     P: Fn(usize) -> [f32; 3],
 {
     let count = parts.model.required_joints().len();
-    // The tag, then seq and timestamp as varints: 3 to 11 bytes, written first since the rest
-    // starts after them. The same loop as the status encoder's, which the hub also links.
-    let mut varints = [0u8; 1 + 2 * VARINT_U32_MAX];
-    varints[0] = 1; // Message::PoseFrame's tag
-    let mut n = 1;
-    for mut value in [parts.seq, parts.timestamp_us] {
-        while let Some(slot) = varints.get_mut(n) {
-            n += 1;
-            if value < 0x80 {
-                *slot = value as u8;
-                break;
-            }
-            *slot = (value as u8) | 0x80;
-            value >>= 7;
-        }
-    }
-    // then model, angle count (< 128: one varint byte), angles, points, distances, flags
-    let len = n + 2 + 4 * (count + 3 * point::COUNT + 3) + 1;
+    // tag, seq, timestamp, model, angle count (< 128: one varint byte), angles, points,
+    // distances, flags; the varints' lengths first, so that each is written in place.
+    let (seq_len, time_len) = (varint_len(parts.seq), varint_len(parts.timestamp_us));
+    let head_len = 1 + seq_len + time_len + 2;
+    let len = head_len + 4 * (count + 3 * point::COUNT + 3) + 1;
     let Some(out) = out.get_mut(..len) else {
         return Err(EncodeError::BufferTooSmall {
             needed: MAX_MESSAGE_LEN,
         });
     };
-    let (head, rest) = out.split_at_mut(n + 2);
-    // A byte loop: 3 to 11 bytes, fewer instructions than a memcpy call.
-    for (slot, &byte) in head.iter_mut().zip(&varints).take(n) {
-        *slot = byte;
-    }
-    if let [.., model, angle_count] = head {
+    let (head, rest) = out.split_at_mut(head_len);
+    if let [tag, varints @ .., model, angle_count] = head {
+        *tag = 1; // Message::PoseFrame's tag
+        let (seq, time) = varints.split_at_mut(seq_len);
+        put_varint(seq, parts.seq);
+        put_varint(time, parts.timestamp_us);
         *model = parts.model.index();
         *angle_count = count as u8;
     }
@@ -128,6 +114,24 @@ where
     Ok(out)
 }
 
+/// The length of `value`'s varint: 1 to 5 bytes, 7 bits each.
+#[inline(always)]
+fn varint_len(value: u32) -> usize {
+    ((32 - (value | 1).leading_zeros() + 6) / 7) as usize
+}
+
+/// Writes `value`'s varint into `slots`, which [`varint_len`] sized.
+#[inline(always)]
+fn put_varint(slots: &mut [u8], mut value: u32) {
+    for slot in slots.iter_mut() {
+        *slot = (value as u8) | 0x80;
+        value >>= 7;
+    }
+    if let Some(last) = slots.last_mut() {
+        *last &= 0x7F;
+    }
+}
+
 /// [`encode_message`] of `Message::Status(status)`, without building the [`Message`]: the same
 /// bytes as postcard's (the tag, then the 20 counters as varints in declaration order), written
 /// by hand so that a hub, which encodes no other message with [`encode_message`], links no
@@ -142,7 +146,7 @@ pub(crate) fn encode_status_message<'a>(
     };
     *out.first_mut().ok_or(too_small)? = 2; // Message::Status's tag
     let mut len = 1;
-    // The varints written straight into `out`, as the pose frame's are.
+    // The varints written straight into `out`, their length found as they are written.
     for mut value in counters {
         loop {
             let slot = out.get_mut(len).ok_or(too_small)?;

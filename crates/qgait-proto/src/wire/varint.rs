@@ -6,6 +6,7 @@ use serde::de::DeserializeOwned;
 use crate::DecodeError;
 
 /// Most bytes of a `u32` varint.
+#[cfg(test)]
 pub(super) const VARINT_U32_MAX: usize = 5;
 
 /// postcard's varint of `value` (LEB128, 7 bits per byte, least significant first), in `buf`
