@@ -235,7 +235,7 @@ fn the_raw_imu_golden_frames_are_their_fields() {
     };
     // The values the protocol spells out field by field (section 4.10's examples).
     assert_eq!(sample["type"], "raw_imu_sample");
-    assert_eq!(sample["version"], 2);
+    assert_eq!(sample["version"], 3);
     assert_eq!(sample["node"], 4);
     assert_eq!(sample["segment"], "TibiaR");
     assert_eq!(sample["seq"], 300);
