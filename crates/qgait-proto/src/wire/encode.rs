@@ -117,7 +117,7 @@ where
 /// The length of `value`'s varint: 1 to 5 bytes, 7 bits each.
 #[inline(always)]
 fn varint_len(value: u32) -> usize {
-    ((32 - (value | 1).leading_zeros() + 6) / 7) as usize
+    (32 - (value | 1).leading_zeros()).div_ceil(7) as usize
 }
 
 /// Writes `value`'s varint into `slots`, which [`varint_len`] sized.
