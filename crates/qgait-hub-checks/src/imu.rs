@@ -93,15 +93,8 @@ pub fn model_f64() -> Option<Gait2392<f64>> {
 /// segments but those cleared in `without`.
 pub fn imu_config(mode: InputMode, calibrate: bool, without: u8) -> ImuConfig {
     ImuConfig {
-        mode,
         segments: ImuConfig::ALL_SEGMENTS & !without,
-        calibrate,
-        sensor_to_opensim: [-core::f32::consts::FRAC_PI_2, 0.0, 0.0],
-        heading: Some(ImuHeading {
-            base: SegmentId::Torso,
-            axis: HeadingAxisId::Z,
-        }),
-        request_status: false,
+        ..ImuConfig::opensense_tutorial(mode, calibrate)
     }
 }
 

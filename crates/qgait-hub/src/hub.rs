@@ -3,7 +3,7 @@
 use core::mem::MaybeUninit;
 use core::ptr::addr_of_mut;
 
-use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
+use embedded_hal_nb::serial::Error as LineError;
 use embedded_io::{Read, ReadReady, Write};
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
@@ -16,8 +16,9 @@ use crate::assembly::{Assembler, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
+use crate::line::{next_frame, read_some, write_frame, StatusSchedule};
 #[cfg(feature = "imu")]
-use crate::orientation::{ImuInput, SegmentOutput};
+use crate::orientation::ImuInput;
 #[cfg(feature = "raw")]
 use crate::raw::{orientation_packet, RawInput, RawOutcome};
 use crate::velocity::Differentiator;
@@ -121,10 +122,7 @@ pub struct Hub<S, C> {
     #[cfg(feature = "raw")]
     raw: RawInput<f32, RAW_SEGMENTS>,
     status: Status,
-    started_ms: u32,
-    last_status_ms: u32,
-    status_period_ms: u32,
-    status_frames: u32,
+    schedule: StatusSchedule,
     tx: [u8; MAX_FRAME_LEN],
     /// The bytes of the last read, handled before the next.
     rx: [u8; READ_CHUNK],
@@ -186,10 +184,7 @@ where
             #[cfg(feature = "raw")]
             RawInput::write_new(addr_of_mut!((*hub).raw));
             addr_of_mut!((*hub).status).write(Status::default());
-            addr_of_mut!((*hub).started_ms).write(now);
-            addr_of_mut!((*hub).last_status_ms).write(now);
-            addr_of_mut!((*hub).status_period_ms).write(status_period_ms);
-            addr_of_mut!((*hub).status_frames).write(0);
+            addr_of_mut!((*hub).schedule).write(StatusSchedule::new(now, status_period_ms));
             addr_of_mut!((*hub).tx).write([0; MAX_FRAME_LEN]);
             addr_of_mut!((*hub).rx).write([0; READ_CHUNK]);
             slot.assume_init_mut()
@@ -218,10 +213,7 @@ where
             #[cfg(feature = "raw")]
                 raw: _,
             status: _,
-            started_ms: _,
-            last_status_ms: _,
-            status_period_ms: _,
-            status_frames: _,
+            schedule: _,
             tx: _,
             rx: _,
         } = self;
@@ -247,10 +239,7 @@ where
             subject_parts: SubjectParts::new(),
             velocity: Differentiator::OFF,
             status: Status::default(),
-            started_ms: now,
-            last_status_ms: now,
-            status_period_ms,
-            status_frames: 0,
+            schedule: StatusSchedule::new(now, status_period_ms),
             tx: [0; MAX_FRAME_LEN],
             rx: [0; READ_CHUNK],
         }
@@ -260,40 +249,24 @@ where
     /// sends a periodic status frame when due.
     pub fn poll(&mut self) -> PollSummary {
         let sent_before = self.status.frames_sent;
-        let status_before = self.status_frames;
+        let status_before = self.schedule.sent();
         let mut bytes = 0;
         while bytes < MAX_BYTES_PER_POLL {
-            // Only what is there: `read` would block on an empty port.
-            if !matches!(self.serial.read_ready(), Ok(true)) {
-                break;
-            }
             let want = READ_CHUNK.min(MAX_BYTES_PER_POLL - bytes);
-            match self.serial.read(&mut self.rx[..want]) {
-                // Nothing after all (a port at its end): as if nothing was ready.
-                Ok(0) => break,
-                Ok(n) => {
-                    let n = n.min(want);
-                    bytes += n;
-                    self.on_bytes(n);
-                }
-                Err(e) => match e.kind() {
-                    LineErrorKind::Overrun => bump(&mut self.status.uart_overruns),
-                    // Parity, noise, line framing: the frame's CRC or COBS check will fail too;
-                    // count the line error as a framing error.
-                    _ => bump(&mut self.status.framing_errors),
-                },
-            }
+            let Some(n) = read_some(&mut self.serial, &mut self.rx[..want], &mut self.status)
+            else {
+                break;
+            };
+            bytes += n;
+            self.on_bytes(n);
         }
-        let now = self.clock.now_ms();
-        if self.status_period_ms != 0
-            && now.wrapping_sub(self.last_status_ms) >= self.status_period_ms
-        {
+        if self.schedule.due(self.clock.now_ms()) {
             self.send_status();
         }
         PollSummary {
             bytes: bytes as u32,
             frames_sent: self.status.frames_sent.wrapping_sub(sent_before),
-            status_sent: self.status_frames != status_before,
+            status_sent: self.schedule.sent() != status_before,
         }
     }
 
@@ -304,21 +277,12 @@ where
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
         while pos < n {
-            let (run, oversize) = self
-                .decoder
-                .push_run(self.rx.get(pos..n).unwrap_or_default());
-            if let Some(error) = oversize {
-                self.status.count_decode_error(&error);
-            }
-            pos += run;
-            if pos >= n {
-                break;
-            }
-            // The 0x00 delimiter. The frame checks (COBS, CRC) in the decoder; joint-angle
-            // packets, one per frame on a busy line, decoded straight from its buffer; anything
-            // else through the general decoder, out of line.
-            pos += 1;
-            match self.decoder.end_frame() {
+            let bytes = self.rx.get(pos..n).unwrap_or_default();
+            let (taken, frame) = next_frame(&mut self.decoder, bytes, &mut self.status);
+            pos += taken;
+            // Joint-angle packets, one per frame on a busy line, decoded straight from the
+            // decoder's buffer; anything else through the general decoder, out of line.
+            match frame {
                 None => {}
                 Some(Ok(message)) => match decode_packet(message) {
                     Some(Ok(packet)) => self.on_packet(&packet),
@@ -346,7 +310,7 @@ where
     /// The counters, with the current uptime.
     pub fn status(&self) -> Status {
         Status {
-            uptime_ms: self.clock.now_ms().wrapping_sub(self.started_ms),
+            uptime_ms: self.schedule.uptime_ms(self.clock.now_ms()),
             ..self.status
         }
     }
@@ -449,28 +413,13 @@ where
         // The samples the packet completes or pushes out of the window are handled as the
         // assembler reports them (it and the output are disjoint parts of the hub), not
         // collected first: no copies of the events.
-        let Hub {
-            input,
-            kinematics,
-            status,
-            serial,
-            tx,
-            velocity,
-            ..
-        } = self;
+        let (input, mut output) = self.split();
         // The orientation input in force: a joint angle is not used, as a joint the model does
         // not use is not.
         #[allow(irrefutable_let_patterns)]
         let Input::Joints(assembler) = input
         else {
             return;
-        };
-        let mut output = Output {
-            kinematics,
-            status,
-            serial,
-            tx,
-            velocity,
         };
         let outcome = assembler.push(
             packet.seq,
@@ -493,25 +442,10 @@ where
             return;
         }
         bump(&mut self.status.packets_accepted);
-        let Hub {
-            input,
-            kinematics,
-            status,
-            serial,
-            tx,
-            imu,
-            ..
-        } = self;
+        let (input, mut output) = self.split();
         // The joint-angle input in force: not used, as a joint the model does not use is not.
         let Input::Segments(assembler) = input else {
             return;
-        };
-        let mut output = SegmentOutput {
-            kinematics,
-            status,
-            serial,
-            tx,
-            imu,
         };
         let outcome = assembler.push_key(
             packet.seq,
@@ -519,7 +453,7 @@ where
             packet.segment.wire_byte(),
             packet.q14,
             false,
-            &mut |e| output.on_sample(e),
+            &mut |e| output.on_segment_sample(e),
         );
         count_outcome(&mut self.status, outcome);
     }
@@ -692,14 +626,7 @@ where
     #[cfg(feature = "chain")]
     #[inline(never)]
     fn on_chain_config(&mut self, config: &ChainTableConfig) {
-        let new = Config {
-            model: ModelId::Chain,
-            // Kept for a later HAK or PHAK.
-            anthropometry: self.config.anthropometry,
-            missing_policy: config.missing_policy,
-            reorder_window: config.reorder_window,
-            request_status: false,
-        };
+        let new = self.uploaded_model(ModelId::Chain, config.missing_policy, config.reorder_window);
         let result = self.switch_chain(new, config);
         self.after_config(result, config.request_status);
     }
@@ -743,16 +670,31 @@ where
 
     #[inline(never)]
     fn on_subject_config(&mut self, config: &SubjectConfig) {
-        let new = Config {
-            model: ModelId::Gait2392,
-            // Kept for a later HAK or PHAK.
-            anthropometry: self.config.anthropometry,
-            missing_policy: config.missing_policy,
-            reorder_window: config.reorder_window,
-            request_status: false,
-        };
+        let new = self.uploaded_model(
+            ModelId::Gait2392,
+            config.missing_policy,
+            config.reorder_window,
+        );
         let result = self.apply(new, Some(config.upload));
         self.after_config(result, config.request_status);
+    }
+
+    /// The configuration of an uploaded `model` (a subject's gait2392, a chain table) with its
+    /// own settings: the HAK and PHAK lengths in force are kept for a later HAK or PHAK.
+    #[inline(always)]
+    fn uploaded_model(
+        &self,
+        model: ModelId,
+        missing_policy: MissingPolicy,
+        reorder_window: u8,
+    ) -> Config {
+        Config {
+            model,
+            anthropometry: self.config.anthropometry,
+            missing_policy,
+            reorder_window,
+            request_status: false,
+        }
     }
 
     /// Makes `new` with the subject model `subject` the configuration in force, unless it
@@ -834,6 +776,18 @@ where
     #[inline(never)]
     fn close_open_samples(&mut self) {
         // As in `on_packet`: the samples are handled as the assembler reports them.
+        let (input, mut output) = self.split();
+        match input {
+            Input::Joints(assembler) => assembler.flush(&mut |e| output.on_sample(e)),
+            #[cfg(feature = "imu")]
+            Input::Segments(assembler) => assembler.flush(&mut |e| output.on_segment_sample(e)),
+        }
+    }
+
+    /// The hub borrowed apart: the input, whose assembler reports the samples, and the parts
+    /// that turn them into frames.
+    #[inline(always)]
+    fn split(&mut self) -> (&mut Input, Output<'_, S>) {
         let Hub {
             input,
             kinematics,
@@ -845,33 +799,20 @@ where
             imu,
             ..
         } = self;
-        match input {
-            Input::Joints(assembler) => {
-                let mut output = Output {
-                    kinematics,
-                    status,
-                    serial,
-                    tx,
-                    velocity,
-                };
-                assembler.flush(&mut |e| output.on_sample(e));
-            }
+        let output = Output {
+            kinematics,
+            status,
+            serial,
+            tx,
+            velocity,
             #[cfg(feature = "imu")]
-            Input::Segments(assembler) => {
-                let mut output = SegmentOutput {
-                    kinematics,
-                    status,
-                    serial,
-                    tx,
-                    imu,
-                };
-                assembler.flush(&mut |e| output.on_sample(e));
-            }
-        }
+            imu,
+        };
+        (input, output)
     }
 
     fn send_status(&mut self) {
-        self.last_status_ms = self.clock.now_ms();
+        self.schedule.sent_at(self.clock.now_ms());
         // Counts itself: the status says how many frames were sent including this one.
         let mut status = self.status();
         status.frames_sent = status.frames_sent.wrapping_add(1);
@@ -885,18 +826,21 @@ where
         if self.raw.config().segments != 0 {
             self.send_raw_status();
         }
-        self.status_frames = self.status_frames.wrapping_add(1);
     }
 }
 
-/// The parts of the hub that turn samples into pose frames on the serial port: borrowed apart
+/// The parts of the hub that turn samples (joint angles, or segment orientations in
+/// [`orientation`](crate::orientation)) into pose frames on the serial port: borrowed apart
 /// from the assembler, which reports the samples.
-struct Output<'a, S> {
-    kinematics: &'a Kinematics,
-    status: &'a mut Status,
-    serial: &'a mut S,
-    tx: &'a mut [u8; MAX_FRAME_LEN],
-    velocity: &'a mut Differentiator,
+pub(crate) struct Output<'a, S> {
+    pub(crate) kinematics: &'a Kinematics,
+    pub(crate) status: &'a mut Status,
+    pub(crate) serial: &'a mut S,
+    pub(crate) tx: &'a mut [u8; MAX_FRAME_LEN],
+    pub(crate) velocity: &'a mut Differentiator,
+    /// The orientation input's settings, calibration and solver.
+    #[cfg(feature = "imu")]
+    pub(crate) imu: &'a mut ImuInput,
 }
 
 impl<S: Write> Output<'_, S> {
@@ -945,19 +889,6 @@ impl<S: Write> Output<'_, S> {
             }
         }
     }
-}
-
-/// Writes `frame`, in one `write` call if the port takes it all (a UART driver does); counts
-/// it in `status` if the whole frame went out. A write that fails, or takes nothing, ends the
-/// frame there (uncounted): the receiver's decoder drops the partial frame at the next 0x00.
-pub(crate) fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
-    while !frame.is_empty() {
-        match serial.write(frame) {
-            Ok(n) if n > 0 => frame = frame.get(n..).unwrap_or_default(),
-            _ => return,
-        }
-    }
-    bump(&mut status.frames_sent);
 }
 
 /// The gait2392 numbers asked for: the generic model's, or by reference the subject's upload

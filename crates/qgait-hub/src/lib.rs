@@ -11,6 +11,7 @@ pub mod clock;
 pub mod counters;
 pub mod hub;
 pub mod limits;
+pub mod line;
 pub mod memory_serial;
 pub mod orientation;
 #[cfg(feature = "fusion")]

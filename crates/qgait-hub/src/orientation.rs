@@ -30,10 +30,10 @@ use qgait_proto::{ImuConfig, InputMode};
 use {
     crate::assembly::{JointSet, SampleEvent, SegmentSample},
     crate::counters::bump,
-    crate::Kinematics,
+    crate::hub::Output,
     qgait_kernel::imu::{Calibration, Orientations, Solver, SENSORS},
     qgait_proto::device_model::{kernel_mode, kernel_settings, q14_quat},
-    qgait_proto::{FrameFlags, SegmentId, Status, WireByte, MAX_FRAME_LEN},
+    qgait_proto::{FrameFlags, SegmentId, WireByte},
 };
 
 #[cfg(feature = "imu")]
@@ -115,23 +115,12 @@ impl Default for ImuInput {
 }
 
 #[cfg(feature = "imu")]
-/// The parts of the hub that turn orientation samples into pose frames: borrowed apart from
-/// the assembler, which reports the samples.
-pub(crate) struct SegmentOutput<'a, S> {
-    pub(crate) kinematics: &'a Kinematics,
-    pub(crate) status: &'a mut Status,
-    pub(crate) serial: &'a mut S,
-    pub(crate) tx: &'a mut [u8; MAX_FRAME_LEN],
-    pub(crate) imu: &'a mut ImuInput,
-}
-
-#[cfg(feature = "imu")]
-impl<S: embedded_io::Write> SegmentOutput<'_, S> {
+impl<S: embedded_io::Write> Output<'_, S> {
     /// One orientation sample leaving the window (see the [module](self) docs).
     // Never inlined: the solver's frame (its chain frames and normal equations) exists only
     // while a sample is solved.
     #[inline(never)]
-    pub(crate) fn on_sample(&mut self, event: SampleEvent<'_, [i16; 4], { SENSORS }>) {
+    pub(crate) fn on_segment_sample(&mut self, event: SampleEvent<'_, [i16; 4], { SENSORS }>) {
         let (sample, flags) = match event {
             SampleEvent::Complete(sample) => (sample, 0),
             SampleEvent::Held { sample, .. } => (sample, FrameFlags::MISSING | FrameFlags::HELD),
@@ -181,7 +170,7 @@ impl<S: embedded_io::Write> SegmentOutput<'_, S> {
             flags,
             self.tx,
         ) {
-            crate::hub::write_frame(self.serial, self.status, frame);
+            crate::line::write_frame(self.serial, self.status, frame);
         }
     }
 }

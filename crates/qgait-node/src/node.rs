@@ -1,9 +1,10 @@
 //! The [`Node`]: serial bytes in, raw samples fused, segment orientations and status out.
 
-use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
+use embedded_hal_nb::serial::Error as LineError;
 use embedded_io::{Read, ReadReady, Write};
 use qgait_hub::counters::bump;
-use qgait_hub::Clock;
+use qgait_hub::line::{next_frame, read_some, write_frame, StatusSchedule};
+use qgait_hub::{Clock, PollSummary};
 use qgait_proto::{
     cobs_max_encoded_len, decode_node_message, encode_raw_imu_status_frame,
     encode_segment_orientation_frame, encode_status_frame, FrameDecoder, NodeMessage, RawImuConfig,
@@ -28,17 +29,9 @@ pub const NODE_SEGMENTS: usize = 1;
 /// Default period of unsolicited status frames (milliseconds), as the hub's.
 pub const DEFAULT_STATUS_PERIOD_MS: u32 = qgait_hub::DEFAULT_STATUS_PERIOD_MS;
 
-/// What one [`Node::poll`] did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct NodePoll {
-    /// Bytes read from the serial port.
-    pub bytes: u32,
-    /// Frames written (orientations and status).
-    pub frames_sent: u32,
-    /// Whether a status was among them (periodic or requested).
-    pub status_sent: bool,
-}
+/// What one [`Node::poll`] did, as a hub's poll says it: bytes read, frames written
+/// (orientations and status), and whether a status was among them.
+pub type NodePoll = PollSummary;
 
 /// A node fusing its own IMU, generic over its serial port and clock, as the hub is
 /// (`qgait_hub::Hub`): feed it by calling [`poll`](Node::poll) in the main loop.
@@ -57,10 +50,7 @@ pub struct Node<S, C> {
     decoder: FrameDecoder,
     input: RawInput<f32, NODE_SEGMENTS>,
     status: Status,
-    started_ms: u32,
-    last_status_ms: u32,
-    status_period_ms: u32,
-    status_frames: u32,
+    schedule: StatusSchedule,
     tx: [u8; TX_LEN],
     rx: [u8; READ_CHUNK],
 }
@@ -81,10 +71,7 @@ where
             decoder: FrameDecoder::new(),
             input: RawInput::new(),
             status: Status::default(),
-            started_ms: now,
-            last_status_ms: now,
-            status_period_ms,
-            status_frames: 0,
+            schedule: StatusSchedule::new(now, status_period_ms),
             tx: [0; TX_LEN],
             rx: [0; READ_CHUNK],
         }
@@ -94,35 +81,22 @@ where
     /// sends a periodic status when due.
     pub fn poll(&mut self) -> NodePoll {
         let sent_before = self.status.frames_sent;
-        let status_before = self.status_frames;
+        let status_before = self.schedule.sent();
         let mut bytes = 0;
         while bytes < MAX_BYTES_PER_POLL {
-            if !matches!(self.serial.read_ready(), Ok(true)) {
+            let Some(n) = read_some(&mut self.serial, &mut self.rx, &mut self.status) else {
                 break;
-            }
-            match self.serial.read(&mut self.rx) {
-                Ok(0) => break,
-                Ok(n) => {
-                    let n = n.min(READ_CHUNK);
-                    bytes += n;
-                    self.on_bytes(n);
-                }
-                Err(e) => match e.kind() {
-                    LineErrorKind::Overrun => bump(&mut self.status.uart_overruns),
-                    _ => bump(&mut self.status.framing_errors),
-                },
-            }
+            };
+            bytes += n;
+            self.on_bytes(n);
         }
-        let now = self.clock.now_ms();
-        if self.status_period_ms != 0
-            && now.wrapping_sub(self.last_status_ms) >= self.status_period_ms
-        {
+        if self.schedule.due(self.clock.now_ms()) {
             self.send_status();
         }
-        NodePoll {
+        PollSummary {
             bytes: bytes as u32,
             frames_sent: self.status.frames_sent.wrapping_sub(sent_before),
-            status_sent: self.status_frames != status_before,
+            status_sent: self.schedule.sent() != status_before,
         }
     }
 
@@ -130,18 +104,10 @@ where
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
         while pos < n {
-            let (run, oversize) = self
-                .decoder
-                .push_run(self.rx.get(pos..n).unwrap_or_default());
-            if let Some(error) = oversize {
-                self.status.count_decode_error(&error);
-            }
-            pos += run;
-            if pos >= n {
-                break;
-            }
-            pos += 1;
-            match self.decoder.end_frame() {
+            let bytes = self.rx.get(pos..n).unwrap_or_default();
+            let (taken, frame) = next_frame(&mut self.decoder, bytes, &mut self.status);
+            pos += taken;
+            match frame {
                 None => {}
                 Some(Ok(message)) => match decode_node_message(message) {
                     Ok(NodeMessage::RawImuSample(sample)) => self.on_sample(&sample),
@@ -177,7 +143,7 @@ where
     /// The counters, with the current uptime.
     pub fn status(&self) -> Status {
         Status {
-            uptime_ms: self.clock.now_ms().wrapping_sub(self.started_ms),
+            uptime_ms: self.schedule.uptime_ms(self.clock.now_ms()),
             ..self.status
         }
     }
@@ -194,7 +160,7 @@ where
 
     /// A `Status` (counting itself in `frames_sent`), then the raw input's `RawImuStatus`.
     fn send_status(&mut self) {
-        self.last_status_ms = self.clock.now_ms();
+        self.schedule.sent_at(self.clock.now_ms());
         let mut status = self.status();
         status.frames_sent = status.frames_sent.wrapping_add(1);
         if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
@@ -203,17 +169,5 @@ where
         if let Ok(frame) = encode_raw_imu_status_frame(&self.input.status(), &mut self.tx) {
             write_frame(&mut self.serial, &mut self.status, frame);
         }
-        self.status_frames = self.status_frames.wrapping_add(1);
     }
-}
-
-/// Writes all of `frame` (a port that takes nothing ends the attempt) and counts it.
-fn write_frame<S: Write>(serial: &mut S, status: &mut Status, mut frame: &[u8]) {
-    while !frame.is_empty() {
-        match serial.write(frame) {
-            Ok(n) if n > 0 => frame = frame.get(n..).unwrap_or_default(),
-            _ => return,
-        }
-    }
-    bump(&mut status.frames_sent);
 }

@@ -207,4 +207,20 @@ pub struct ImuConfig {
 impl ImuConfig {
     /// All eight segments.
     pub const ALL_SEGMENTS: u8 = 0xff;
+
+    /// OpenSense's IMU tutorial settings in `mode` for all eight segments: the sensors' z-up
+    /// world turned to OpenSim's by `(-pi/2, 0, 0)`, the heading from the torso IMU's z axis.
+    pub const fn opensense_tutorial(mode: InputMode, calibrate: bool) -> Self {
+        ImuConfig {
+            mode,
+            segments: Self::ALL_SEGMENTS,
+            calibrate,
+            sensor_to_opensim: [-core::f32::consts::FRAC_PI_2, 0.0, 0.0],
+            heading: Some(ImuHeading {
+                base: SegmentId::Torso,
+                axis: HeadingAxisId::Z,
+            }),
+            request_status: false,
+        }
+    }
 }

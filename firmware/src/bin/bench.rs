@@ -965,21 +965,12 @@ fn whole_sample(model: ModelId, name: &str) {
 /// everything the hub does (the double's reads included: `raw_sample.gross`).
 #[cfg(feature = "raw")]
 fn raw_whole_sample() {
-    use qgait_proto::{
-        FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, RawImuSample, SegmentId,
-    };
+    use qgait_proto::{FusionMode, ImuConfig, InputMode, RawImuSample, SegmentId};
     let imu = |calibrate| {
-        Message::ImuConfig(ImuConfig {
-            mode: InputMode::OrientationsLeastSquares,
-            segments: ImuConfig::ALL_SEGMENTS,
+        Message::ImuConfig(ImuConfig::opensense_tutorial(
+            InputMode::OrientationsLeastSquares,
             calibrate,
-            sensor_to_opensim: [-core::f32::consts::FRAC_PI_2, 0.0, 0.0],
-            heading: Some(ImuHeading {
-                base: SegmentId::Torso,
-                axis: HeadingAxisId::Z,
-            }),
-            request_status: false,
-        })
+        ))
     };
     let mut rng = Lcg(13);
     // Each sensor at its own tilt (the torso's z horizontal), turning slowly and noisily.
