@@ -16,7 +16,7 @@ use crate::assembly::{Assembler, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
-use crate::line::{next_frame, read_some, write_frame, StatusSchedule};
+use crate::line::{frame_end, read_some, write_frame, StatusSchedule};
 #[cfg(feature = "imu")]
 use crate::orientation::ImuInput;
 #[cfg(feature = "raw")]
@@ -277,12 +277,12 @@ where
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
         while pos < n {
-            let bytes = self.rx.get(pos..n).unwrap_or_default();
-            let (taken, frame) = next_frame(&mut self.decoder, bytes, &mut self.status);
-            pos += taken;
+            if !frame_end(&mut self.decoder, &self.rx, &mut pos, n, &mut self.status) {
+                break;
+            }
             // Joint-angle packets, one per frame on a busy line, decoded straight from the
             // decoder's buffer; anything else through the general decoder, out of line.
-            match frame {
+            match self.decoder.end_frame() {
                 None => {}
                 Some(Ok(message)) => match decode_packet(message) {
                     Some(Ok(packet)) => self.on_packet(&packet),
@@ -543,8 +543,7 @@ where
         }
         self.imu.set(config);
         if new_input {
-            set_input(&mut self.input, &self.config, &self.imu);
-            self.velocity.reset();
+            self.restart_input();
         }
         Ok(())
     }
@@ -659,11 +658,7 @@ where
         self.close_open_samples();
         self.kinematics.take_chain(checked);
         self.config = new;
-        #[cfg(feature = "imu")]
-        set_input(&mut self.input, &self.config, &self.imu);
-        #[cfg(not(feature = "imu"))]
-        set_input(&mut self.input, &self.config);
-        self.velocity.reset();
+        self.restart_input();
         self.subject = None;
         Ok(())
     }
@@ -752,14 +747,20 @@ where
             self.switch_gait2392(subject)?;
         }
         self.config = new;
+        self.restart_input();
+        self.subject = subject;
+        self.subject_generation = self.subject_parts.generation();
+        Ok(())
+    }
+
+    /// An empty window for the input and configuration in force, and no velocity across the
+    /// change.
+    fn restart_input(&mut self) {
         #[cfg(feature = "imu")]
         set_input(&mut self.input, &self.config, &self.imu);
         #[cfg(not(feature = "imu"))]
         set_input(&mut self.input, &self.config);
         self.velocity.reset();
-        self.subject = subject;
-        self.subject_generation = self.subject_parts.generation();
-        Ok(())
     }
 
     /// The model part of [`switch`](Self::switch) for gait2392, generic or a subject's.
@@ -788,27 +789,16 @@ where
     /// that turn them into frames.
     #[inline(always)]
     fn split(&mut self) -> (&mut Input, Output<'_, S>) {
-        let Hub {
-            input,
-            kinematics,
-            status,
-            serial,
-            tx,
-            velocity,
-            #[cfg(feature = "imu")]
-            imu,
-            ..
-        } = self;
         let output = Output {
-            kinematics,
-            status,
-            serial,
-            tx,
-            velocity,
+            kinematics: &self.kinematics,
+            status: &mut self.status,
+            serial: &mut self.serial,
+            tx: &mut self.tx,
+            velocity: &mut self.velocity,
             #[cfg(feature = "imu")]
-            imu,
+            imu: &mut self.imu,
         };
-        (input, output)
+        (&mut self.input, output)
     }
 
     fn send_status(&mut self) {

@@ -4,7 +4,7 @@
 
 use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
-use qgait_proto::{DecodeError, FrameDecoder, Status};
+use qgait_proto::{FrameDecoder, Status};
 
 use crate::counters::bump;
 
@@ -37,26 +37,28 @@ where
     }
 }
 
-/// Takes `bytes` into `decoder` up to the end of the next frame: how many bytes it took (the
-/// frame's 0x00 included) and the frame, if one ended there, as
-/// [`FrameDecoder::end_frame`] gives it. Data bytes go straight into the decoder's buffer in
-/// runs; a frame that spans reads stays there until its 0x00 arrives. An oversize frame is
-/// counted in `status` once.
+/// Takes the data bytes of `rx[*pos..n]` from `*pos` on into `decoder`, straight into its
+/// buffer, and moves `*pos` past them: `true` if a 0x00 ends them (`*pos` then past it too),
+/// after which [`FrameDecoder::end_frame`] gives the frame; `false` if they run to `n`, the
+/// frame going on in the next read. An oversize frame is counted in `status` once.
 #[inline(always)]
-pub fn next_frame<'d>(
-    decoder: &'d mut FrameDecoder,
-    bytes: &[u8],
+pub fn frame_end(
+    decoder: &mut FrameDecoder,
+    rx: &[u8],
+    pos: &mut usize,
+    n: usize,
     status: &mut Status,
-) -> (usize, Option<Result<&'d [u8], DecodeError>>) {
-    let (run, oversize) = decoder.push_run(bytes);
+) -> bool {
+    let (run, oversize) = decoder.push_run(rx.get(*pos..n).unwrap_or_default());
     if let Some(error) = oversize {
         status.count_decode_error(&error);
     }
-    if run >= bytes.len() {
-        return (run, None);
+    *pos += run;
+    if *pos >= n {
+        return false;
     }
-    // The 0x00 delimiter: the frame checks (COBS, CRC) in the decoder.
-    (run + 1, decoder.end_frame())
+    *pos += 1;
+    true
 }
 
 /// Writes `frame`, in one `write` call if the port takes it all (a UART driver does); counts

@@ -3,7 +3,7 @@
 use embedded_hal_nb::serial::Error as LineError;
 use embedded_io::{Read, ReadReady, Write};
 use qgait_hub::counters::bump;
-use qgait_hub::line::{next_frame, read_some, write_frame, StatusSchedule};
+use qgait_hub::line::{frame_end, read_some, write_frame, StatusSchedule};
 use qgait_hub::{Clock, PollSummary};
 use qgait_proto::{
     cobs_max_encoded_len, decode_node_message, encode_raw_imu_status_frame,
@@ -104,10 +104,10 @@ where
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
         while pos < n {
-            let bytes = self.rx.get(pos..n).unwrap_or_default();
-            let (taken, frame) = next_frame(&mut self.decoder, bytes, &mut self.status);
-            pos += taken;
-            match frame {
+            if !frame_end(&mut self.decoder, &self.rx, &mut pos, n, &mut self.status) {
+                break;
+            }
+            match self.decoder.end_frame() {
                 None => {}
                 Some(Ok(message)) => match decode_node_message(message) {
                     Ok(NodeMessage::RawImuSample(sample)) => self.on_sample(&sample),
