@@ -16,7 +16,7 @@ use crate::assembly::{Assembler, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
-use crate::line::{frame_end, read_some, write_frame, StatusSchedule};
+use crate::line::{self, write_frame, Line, LineDevice, PollSummary, StatusSchedule};
 #[cfg(feature = "imu")]
 use crate::orientation::ImuInput;
 #[cfg(feature = "raw")]
@@ -76,18 +76,6 @@ enum Input {
     Segments(SegmentAssembler),
 }
 
-/// What one [`Hub::poll`] did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct PollSummary {
-    /// Bytes read from the serial port.
-    pub bytes: u32,
-    /// Frames (poses and status) written.
-    pub frames_sent: u32,
-    /// Whether one of them was a status frame (periodic or requested).
-    pub status_sent: bool,
-}
-
 /// The hub application, generic over its serial port and clock.
 ///
 /// The serial port is an `embedded-io` one: the hub reads what it has in blocks of up to
@@ -101,9 +89,8 @@ pub struct PollSummary {
 /// resumes at the next frame delimiter. It does block while writing a frame, as a UART
 /// always drains.
 pub struct Hub<S, C> {
-    serial: S,
-    clock: C,
-    decoder: FrameDecoder,
+    /// The serial port, clock, frame decoder, counters, status schedule, receive buffer.
+    line: Line<S, C, READ_CHUNK>,
     config: Config,
     /// The upload of the subject model in force, if the model is a subject's gait2392.
     subject: Option<u8>,
@@ -121,11 +108,7 @@ pub struct Hub<S, C> {
     /// orientation input as `SegmentOrientation`s would.
     #[cfg(feature = "raw")]
     raw: RawInput<f32, RAW_SEGMENTS>,
-    status: Status,
-    schedule: StatusSchedule,
     tx: [u8; MAX_FRAME_LEN],
-    /// The bytes of the last read, handled before the next.
-    rx: [u8; READ_CHUNK],
 }
 
 impl<S, C> Hub<S, C>
@@ -169,9 +152,12 @@ where
         // compile.
         #[allow(unsafe_code)]
         let hub = unsafe {
-            addr_of_mut!((*hub).serial).write(serial);
-            addr_of_mut!((*hub).clock).write(clock);
-            addr_of_mut!((*hub).decoder).write(FrameDecoder::new());
+            addr_of_mut!((*hub).line.serial).write(serial);
+            addr_of_mut!((*hub).line.clock).write(clock);
+            addr_of_mut!((*hub).line.decoder).write(FrameDecoder::new());
+            addr_of_mut!((*hub).line.status).write(Status::default());
+            addr_of_mut!((*hub).line.schedule).write(StatusSchedule::new(now, status_period_ms));
+            addr_of_mut!((*hub).line.rx).write([0; READ_CHUNK]);
             addr_of_mut!((*hub).config).write(config);
             addr_of_mut!((*hub).subject).write(None);
             addr_of_mut!((*hub).subject_generation).write(0);
@@ -183,10 +169,7 @@ where
             addr_of_mut!((*hub).velocity).write(Differentiator::OFF);
             #[cfg(feature = "raw")]
             RawInput::write_new(addr_of_mut!((*hub).raw));
-            addr_of_mut!((*hub).status).write(Status::default());
-            addr_of_mut!((*hub).schedule).write(StatusSchedule::new(now, status_period_ms));
             addr_of_mut!((*hub).tx).write([0; MAX_FRAME_LEN]);
-            addr_of_mut!((*hub).rx).write([0; READ_CHUNK]);
             slot.assume_init_mut()
         };
         hub.kinematics.set_phak(config.model, &anthropometry)?;
@@ -198,9 +181,15 @@ where
     #[allow(dead_code)]
     fn every_field_is_written(self) {
         let Hub {
-            serial: _,
-            clock: _,
-            decoder: _,
+            line:
+                Line {
+                    serial: _,
+                    clock: _,
+                    decoder: _,
+                    status: _,
+                    schedule: _,
+                    rx: _,
+                },
             config: _,
             subject: _,
             subject_generation: _,
@@ -212,21 +201,15 @@ where
             velocity: _,
             #[cfg(feature = "raw")]
                 raw: _,
-            status: _,
-            schedule: _,
             tx: _,
-            rx: _,
         } = self;
     }
 
     #[inline(always)]
     fn with_kinematics(serial: S, clock: C, status_period_ms: u32, kinematics: Kinematics) -> Self {
-        let now = clock.now_ms();
         let config = DEFAULT_CONFIG;
         Hub {
-            serial,
-            clock,
-            decoder: FrameDecoder::new(),
+            line: Line::new(serial, clock, status_period_ms),
             kinematics,
             input: Input::Joints(assembler_for(&config)),
             #[cfg(feature = "imu")]
@@ -238,36 +221,14 @@ where
             subject_generation: 0,
             subject_parts: SubjectParts::new(),
             velocity: Differentiator::OFF,
-            status: Status::default(),
-            schedule: StatusSchedule::new(now, status_period_ms),
             tx: [0; MAX_FRAME_LEN],
-            rx: [0; READ_CHUNK],
         }
     }
 
     /// Reads what the serial port has (at most [`MAX_BYTES_PER_POLL`] bytes), handles it, and
     /// sends a periodic status frame when due.
     pub fn poll(&mut self) -> PollSummary {
-        let sent_before = self.status.frames_sent;
-        let status_before = self.schedule.sent();
-        let mut bytes = 0;
-        while bytes < MAX_BYTES_PER_POLL {
-            let want = READ_CHUNK.min(MAX_BYTES_PER_POLL - bytes);
-            let Some(n) = read_some(&mut self.serial, &mut self.rx[..want], &mut self.status)
-            else {
-                break;
-            };
-            bytes += n;
-            self.on_bytes(n);
-        }
-        if self.schedule.due(self.clock.now_ms()) {
-            self.send_status();
-        }
-        PollSummary {
-            bytes: bytes as u32,
-            frames_sent: self.status.frames_sent.wrapping_sub(sent_before),
-            status_sent: self.schedule.sent() != status_before,
-        }
+        line::poll(self, MAX_BYTES_PER_POLL)
     }
 
     /// Handles the first `n` bytes of the receive buffer: runs of data bytes straight into the
@@ -277,16 +238,16 @@ where
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
         while pos < n {
-            if !frame_end(&mut self.decoder, &self.rx, &mut pos, n, &mut self.status) {
+            if !self.line.frame_end(&mut pos, n) {
                 break;
             }
             // Joint-angle packets, one per frame on a busy line, decoded straight from the
             // decoder's buffer; anything else through the general decoder, out of line.
-            match self.decoder.end_frame() {
+            match self.line.decoder.end_frame() {
                 None => {}
                 Some(Ok(message)) => match decode_packet(message) {
                     Some(Ok(packet)) => self.on_packet(&packet),
-                    Some(Err(error)) => self.status.count_decode_error(&error),
+                    Some(Err(error)) => self.line.status.count_decode_error(&error),
                     None => {
                         let decoded = decode_hub_message(message);
                         // The raw IMU messages, which the hub's decoder leaves undecoded: the
@@ -302,17 +263,14 @@ where
                         self.on_message(decoded)
                     }
                 },
-                Some(Err(error)) => self.status.count_decode_error(&error),
+                Some(Err(error)) => self.line.status.count_decode_error(&error),
             }
         }
     }
 
     /// The counters, with the current uptime.
     pub fn status(&self) -> Status {
-        Status {
-            uptime_ms: self.schedule.uptime_ms(self.clock.now_ms()),
-            ..self.status
-        }
+        self.line.status()
     }
 
     /// The configuration in force (its `request_status` is always `false`). With a subject
@@ -356,12 +314,12 @@ where
 
     /// The serial port, e.g. to inspect a test double.
     pub fn serial_mut(&mut self) -> &mut S {
-        &mut self.serial
+        &mut self.line.serial
     }
 
     /// The clock.
     pub fn clock(&self) -> &C {
-        &self.clock
+        &self.line.clock
     }
 
     /// A frame that is not a joint-angle packet (rare: configuration, or errors).
@@ -369,7 +327,7 @@ where
     fn on_message(&mut self, message: Result<HubMessage, DecodeError>) {
         match message {
             Ok(message) => self.handle(message),
-            Err(error) => self.status.count_decode_error(&error),
+            Err(error) => self.line.status.count_decode_error(&error),
         }
     }
 
@@ -389,26 +347,26 @@ where
             HubMessage::ChainTableConfig(config) => self.on_chain_config(&config),
             // Messages this hub does not take: the chain messages without chain support, the
             // raw IMU sample and configuration (no raw input yet).
-            HubMessage::NotTaken(_) => bump(&mut self.status.malformed),
+            HubMessage::NotTaken(_) => bump(&mut self.line.status.malformed),
             // A pose frame, a status or a raw input's status (well-formed or not: its body is
             // not decoded): only a hub or a raw input sends these, nothing to do with them
             // here.
-            HubMessage::FromHub(_) => bump(&mut self.status.malformed),
+            HubMessage::FromHub(_) => bump(&mut self.line.status.malformed),
         }
     }
 
     #[inline(always)]
     fn on_packet(&mut self, packet: &JointAngle) {
         if !packet.usable() {
-            bump(&mut self.status.out_of_range);
+            bump(&mut self.line.status.out_of_range);
             return;
         }
-        bump(&mut self.status.packets_accepted);
+        bump(&mut self.line.status.packets_accepted);
         // Judged here, once per packet: the assembler carries the judgement to the samples
         // that use this angle (held ones included), so no sample re-checks its angles.
         let out_of_range = !in_range(packet.joint, packet.angle, self.kinematics.knee_flexion());
         if out_of_range {
-            bump(&mut self.status.out_of_range);
+            bump(&mut self.line.status.out_of_range);
         }
         // The samples the packet completes or pushes out of the window are handled as the
         // assembler reports them (it and the output are disjoint parts of the hub), not
@@ -429,7 +387,7 @@ where
             out_of_range,
             &mut |e| output.on_sample(e),
         );
-        count_outcome(&mut self.status, outcome);
+        count_outcome(&mut self.line.status, outcome);
     }
 
     /// A segment orientation: unit-length checked, then placed in its sample, as a joint
@@ -438,10 +396,10 @@ where
     #[inline(never)]
     fn on_orientation(&mut self, packet: &SegmentOrientation) {
         if qgait_proto::device_model::packet_quat::<f32>(packet).is_err() {
-            bump(&mut self.status.orientation_not_unit);
+            bump(&mut self.line.status.orientation_not_unit);
             return;
         }
-        bump(&mut self.status.packets_accepted);
+        bump(&mut self.line.status.packets_accepted);
         let (input, mut output) = self.split();
         // The joint-angle input in force: not used, as a joint the model does not use is not.
         let Input::Segments(assembler) = input else {
@@ -455,14 +413,14 @@ where
             false,
             &mut |e| output.on_segment_sample(e),
         );
-        count_outcome(&mut self.status, outcome);
+        count_outcome(&mut self.line.status, outcome);
     }
 
     /// A segment orientation to a hub built without the orientation input: a message it does
     /// not take.
     #[cfg(not(feature = "imu"))]
     fn on_orientation(&mut self, _packet: &SegmentOrientation) {
-        bump(&mut self.status.malformed);
+        bump(&mut self.line.status.malformed);
     }
 
     /// A raw IMU message (decoded by the node's decoder: a sample or a configuration).
@@ -473,8 +431,8 @@ where
             Ok(NodeMessage::RawImuSample(sample)) => self.on_raw_sample(&sample),
             Ok(NodeMessage::RawImuConfig(config)) => self.on_raw_config(&config),
             // Not a raw tag: never, as only those are passed here.
-            Ok(NodeMessage::NotTaken(_)) => bump(&mut self.status.malformed),
-            Err(error) => self.status.count_decode_error(&error),
+            Ok(NodeMessage::NotTaken(_)) => bump(&mut self.line.status.malformed),
+            Err(error) => self.line.status.count_decode_error(&error),
         }
     }
 
@@ -507,7 +465,7 @@ where
     #[cfg(feature = "raw")]
     fn send_raw_status(&mut self) {
         if let Ok(frame) = encode_raw_imu_status_frame(&self.raw.status(), &mut self.tx) {
-            write_frame(&mut self.serial, &mut self.status, frame);
+            write_frame(&mut self.line.serial, &mut self.line.status, frame);
         }
     }
 
@@ -611,7 +569,7 @@ where
     #[inline(never)]
     fn on_chain_table(&mut self, part: &ChainTable) {
         if !Kinematics::takes_chain_part(part) {
-            bump(&mut self.status.malformed);
+            bump(&mut self.line.status.malformed);
             return;
         }
         if self.kinematics.computes() {
@@ -705,7 +663,7 @@ where
 
     fn after_config(&mut self, result: Result<(), ConfigError>, request_status: bool) {
         if result.is_err() {
-            bump(&mut self.status.config_rejected);
+            bump(&mut self.line.status.config_rejected);
         }
         if request_status {
             self.send_status();
@@ -791,8 +749,8 @@ where
     fn split(&mut self) -> (&mut Input, Output<'_, S>) {
         let output = Output {
             kinematics: &self.kinematics,
-            status: &mut self.status,
-            serial: &mut self.serial,
+            status: &mut self.line.status,
+            serial: &mut self.line.serial,
             tx: &mut self.tx,
             velocity: &mut self.velocity,
             #[cfg(feature = "imu")]
@@ -802,20 +760,41 @@ where
     }
 
     fn send_status(&mut self) {
-        self.schedule.sent_at(self.clock.now_ms());
+        self.line.schedule.sent_at(self.line.clock.now_ms());
         // Counts itself: the status says how many frames were sent including this one.
         let mut status = self.status();
         status.frames_sent = status.frames_sent.wrapping_add(1);
         // A status fits MAX_FRAME_LEN, so encoding cannot fail; if it ever did, nothing is
         // written.
         if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
-            write_frame(&mut self.serial, &mut self.status, frame);
+            write_frame(&mut self.line.serial, &mut self.line.status, frame);
         }
         // Then the raw input's counters, while it has raw segments (protocol.md 4.10).
         #[cfg(feature = "raw")]
         if self.raw.config().segments != 0 {
             self.send_raw_status();
         }
+    }
+}
+
+impl<S, C> LineDevice<S, C, READ_CHUNK> for Hub<S, C>
+where
+    S: Read + ReadReady + Write,
+    S::Error: LineError,
+    C: Clock,
+{
+    #[inline(always)]
+    fn line(&mut self) -> &mut Line<S, C, READ_CHUNK> {
+        &mut self.line
+    }
+
+    #[inline(always)]
+    fn on_bytes(&mut self, n: usize) {
+        Hub::on_bytes(self, n)
+    }
+
+    fn send_status(&mut self) {
+        Hub::send_status(self)
     }
 }
 

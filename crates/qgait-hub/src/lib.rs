@@ -24,8 +24,9 @@ pub use crate::assembly::{
 };
 pub use crate::clock::{Clock, ManualClock};
 pub use crate::hub::{
-    Hub, PollSummary, DEFAULT_CONFIG, DEFAULT_STATUS_PERIOD_MS, MAX_BYTES_PER_POLL, READ_CHUNK,
+    Hub, DEFAULT_CONFIG, DEFAULT_STATUS_PERIOD_MS, MAX_BYTES_PER_POLL, READ_CHUNK,
 };
+pub use crate::line::PollSummary;
 pub use crate::memory_serial::MemorySerial;
 pub use crate::velocity::Differentiator;
 pub use qgait_proto::device_model::{parts_of, ChainUpload, ConfigError, Kinematics, SubjectParts};

@@ -1,12 +1,131 @@
-//! The serial line's side of a device, the same for the hub and the IMU node
-//! (`qgait-node`): a read that never blocks and counts line errors, a frame written whole and
-//! counted, and the schedule of unsolicited status frames.
+//! A device's end of the serial line, the same for the hub and the IMU node (`qgait-node`):
+//! the [`Line`] (port, clock, frame decoder, counters, status schedule, receive buffer), the
+//! [`poll`] that reads what the port has and hands it to the device ([`LineDevice`]), a read
+//! that never blocks and counts line errors, a frame written whole and counted.
 
 use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{Read, ReadReady, Write};
 use qgait_proto::{FrameDecoder, Status};
 
+use crate::clock::Clock;
 use crate::counters::bump;
+
+/// What one poll did ([`Hub::poll`](crate::Hub::poll), the node's `poll`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PollSummary {
+    /// Bytes read from the serial port.
+    pub bytes: u32,
+    /// Frames written (poses or orientations, and status).
+    pub frames_sent: u32,
+    /// Whether one of them was a status frame (periodic or requested).
+    pub status_sent: bool,
+}
+
+/// A device's end of the serial line: its port and clock, the frames being received, its
+/// counters and status schedule, and the bytes of the last read (`RX` of them at most).
+pub struct Line<S, C, const RX: usize> {
+    /// The serial port.
+    pub serial: S,
+    /// The device's millisecond clock.
+    pub clock: C,
+    /// The frame being received.
+    pub decoder: FrameDecoder,
+    /// The counters (their `uptime_ms` is filled in by [`status`](Line::status)).
+    pub status: Status,
+    /// When the next unsolicited status is due.
+    pub schedule: StatusSchedule,
+    /// The bytes of the last read, handled before the next.
+    pub rx: [u8; RX],
+}
+
+impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
+    /// A line with nothing received, a status every `status_period_ms` (0: only on request).
+    pub fn new(serial: S, clock: C, status_period_ms: u32) -> Self {
+        let now = clock.now_ms();
+        Line {
+            serial,
+            clock,
+            decoder: FrameDecoder::new(),
+            status: Status::default(),
+            schedule: StatusSchedule::new(now, status_period_ms),
+            rx: [0; RX],
+        }
+    }
+
+    /// The counters, with the current uptime.
+    pub fn status(&self) -> Status {
+        Status {
+            uptime_ms: self.schedule.uptime_ms(self.clock.now_ms()),
+            ..self.status
+        }
+    }
+
+    /// Takes the data bytes of `rx[*pos..n]` into the decoder, straight into its buffer, and
+    /// moves `*pos` past them: `true` if a 0x00 ends them (`*pos` then past it too), after
+    /// which [`FrameDecoder::end_frame`] gives the frame; `false` if they run to `n`, the
+    /// frame going on in the next read. An oversize frame is counted once.
+    #[inline(always)]
+    pub fn frame_end(&mut self, pos: &mut usize, n: usize) -> bool {
+        let (run, oversize) = self
+            .decoder
+            .push_run(self.rx.get(*pos..n).unwrap_or_default());
+        if let Some(error) = oversize {
+            self.status.count_decode_error(&error);
+        }
+        *pos += run;
+        if *pos >= n {
+            return false;
+        }
+        *pos += 1;
+        true
+    }
+}
+
+/// A device on a [`Line`], as [`poll`] drives it: the hub and the IMU node.
+pub trait LineDevice<S, C, const RX: usize> {
+    /// Its line.
+    fn line(&mut self) -> &mut Line<S, C, RX>;
+    /// Handles the first `n` bytes of the line's receive buffer.
+    fn on_bytes(&mut self, n: usize);
+    /// Sends its status now (noting it in the line's schedule).
+    fn send_status(&mut self);
+}
+
+/// Reads what the device's port has, at most `max_bytes` in reads of at most `RX`, hands
+/// each read to the device, then has it send its periodic status if due.
+#[inline(always)]
+pub fn poll<D, S, C, const RX: usize>(device: &mut D, max_bytes: usize) -> PollSummary
+where
+    D: LineDevice<S, C, RX>,
+    S: Read + ReadReady,
+    S::Error: LineError,
+    C: Clock,
+{
+    let line = device.line();
+    let sent_before = line.status.frames_sent;
+    let statuses_before = line.schedule.sent();
+    let mut bytes = 0;
+    while bytes < max_bytes {
+        let line = device.line();
+        let want = RX.min(max_bytes - bytes);
+        let Some(n) = read_some(&mut line.serial, &mut line.rx[..want], &mut line.status) else {
+            break;
+        };
+        bytes += n;
+        device.on_bytes(n);
+    }
+    let line = device.line();
+    if line.schedule.due(line.clock.now_ms()) {
+        device.send_status();
+    }
+    let line = device.line();
+    PollSummary {
+        bytes: bytes as u32,
+        frames_sent: line.status.frames_sent.wrapping_sub(sent_before),
+        status_sent: line.schedule.sent() != statuses_before,
+    }
+}
 
 /// Reads into `rx` what the port has, without blocking: `Some(n)` for `n` bytes read (0 after
 /// a line error, which is counted in `status`), `None` when the port has nothing.
@@ -35,30 +154,6 @@ where
             Some(0)
         }
     }
-}
-
-/// Takes the data bytes of `rx[*pos..n]` from `*pos` on into `decoder`, straight into its
-/// buffer, and moves `*pos` past them: `true` if a 0x00 ends them (`*pos` then past it too),
-/// after which [`FrameDecoder::end_frame`] gives the frame; `false` if they run to `n`, the
-/// frame going on in the next read. An oversize frame is counted in `status` once.
-#[inline(always)]
-pub fn frame_end(
-    decoder: &mut FrameDecoder,
-    rx: &[u8],
-    pos: &mut usize,
-    n: usize,
-    status: &mut Status,
-) -> bool {
-    let (run, oversize) = decoder.push_run(rx.get(*pos..n).unwrap_or_default());
-    if let Some(error) = oversize {
-        status.count_decode_error(&error);
-    }
-    *pos += run;
-    if *pos >= n {
-        return false;
-    }
-    *pos += 1;
-    true
 }
 
 /// Writes `frame`, in one `write` call if the port takes it all (a UART driver does); counts

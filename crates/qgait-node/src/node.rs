@@ -3,12 +3,12 @@
 use embedded_hal_nb::serial::Error as LineError;
 use embedded_io::{Read, ReadReady, Write};
 use qgait_hub::counters::bump;
-use qgait_hub::line::{frame_end, read_some, write_frame, StatusSchedule};
+use qgait_hub::line::{self, write_frame, Line, LineDevice};
 use qgait_hub::{Clock, PollSummary};
 use qgait_proto::{
     cobs_max_encoded_len, decode_node_message, encode_raw_imu_status_frame,
-    encode_segment_orientation_frame, encode_status_frame, FrameDecoder, NodeMessage, RawImuConfig,
-    RawImuSample, Status, CRC_LEN, STATUS_MAX_LEN,
+    encode_segment_orientation_frame, encode_status_frame, NodeMessage, RawImuConfig, RawImuSample,
+    Status, CRC_LEN, STATUS_MAX_LEN,
 };
 
 use crate::raw_input::{orientation_packet, RawInput, RawOutcome};
@@ -45,14 +45,10 @@ pub type NodePoll = PollSummary;
 /// errors as a hub counts them) and its raw input's counters
 /// ([`RawImuStatus`](qgait_proto::RawImuStatus)).
 pub struct Node<S, C> {
-    serial: S,
-    clock: C,
-    decoder: FrameDecoder,
+    /// The serial port, clock, frame decoder, counters, status schedule, receive buffer.
+    line: Line<S, C, READ_CHUNK>,
     input: RawInput<f32, NODE_SEGMENTS>,
-    status: Status,
-    schedule: StatusSchedule,
     tx: [u8; TX_LEN],
-    rx: [u8; READ_CHUNK],
 }
 
 impl<S, C> Node<S, C>
@@ -64,76 +60,53 @@ where
     /// A node with no raw segment until a [`RawImuConfig`], sending a status every
     /// `status_period_ms` (0: only on request).
     pub fn new(serial: S, clock: C, status_period_ms: u32) -> Self {
-        let now = clock.now_ms();
         Node {
-            serial,
-            clock,
-            decoder: FrameDecoder::new(),
+            line: Line::new(serial, clock, status_period_ms),
             input: RawInput::new(),
-            status: Status::default(),
-            schedule: StatusSchedule::new(now, status_period_ms),
             tx: [0; TX_LEN],
-            rx: [0; READ_CHUNK],
         }
     }
 
     /// Reads what the serial port has (at most [`MAX_BYTES_PER_POLL`] bytes), handles it, and
     /// sends a periodic status when due.
     pub fn poll(&mut self) -> NodePoll {
-        let sent_before = self.status.frames_sent;
-        let status_before = self.schedule.sent();
-        let mut bytes = 0;
-        while bytes < MAX_BYTES_PER_POLL {
-            let Some(n) = read_some(&mut self.serial, &mut self.rx, &mut self.status) else {
-                break;
-            };
-            bytes += n;
-            self.on_bytes(n);
-        }
-        if self.schedule.due(self.clock.now_ms()) {
-            self.send_status();
-        }
-        PollSummary {
-            bytes: bytes as u32,
-            frames_sent: self.status.frames_sent.wrapping_sub(sent_before),
-            status_sent: self.schedule.sent() != status_before,
-        }
+        line::poll(self, MAX_BYTES_PER_POLL)
     }
 
     /// The first `n` bytes of the receive buffer, through the frame decoder.
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
         while pos < n {
-            if !frame_end(&mut self.decoder, &self.rx, &mut pos, n, &mut self.status) {
+            if !self.line.frame_end(&mut pos, n) {
                 break;
             }
-            match self.decoder.end_frame() {
+            match self.line.decoder.end_frame() {
                 None => {}
                 Some(Ok(message)) => match decode_node_message(message) {
                     Ok(NodeMessage::RawImuSample(sample)) => self.on_sample(&sample),
                     Ok(NodeMessage::RawImuConfig(config)) => self.on_config(&config),
-                    Ok(NodeMessage::NotTaken(_)) => bump(&mut self.status.malformed),
-                    Err(error) => self.status.count_decode_error(&error),
+                    Ok(NodeMessage::NotTaken(_)) => bump(&mut self.line.status.malformed),
+                    Err(error) => self.line.status.count_decode_error(&error),
                 },
-                Some(Err(error)) => self.status.count_decode_error(&error),
+                Some(Err(error)) => self.line.status.count_decode_error(&error),
             }
         }
     }
 
     fn on_sample(&mut self, sample: &RawImuSample) {
-        bump(&mut self.status.packets_accepted);
+        bump(&mut self.line.status.packets_accepted);
         if let RawOutcome::Fused(Some(q)) = self.input.push(sample) {
             let packet = orientation_packet(sample, q);
             if let Ok(frame) = encode_segment_orientation_frame(&packet, &mut self.tx) {
-                write_frame(&mut self.serial, &mut self.status, frame);
-                bump(&mut self.status.samples_completed);
+                write_frame(&mut self.line.serial, &mut self.line.status, frame);
+                bump(&mut self.line.status.samples_completed);
             }
         }
     }
 
     fn on_config(&mut self, config: &RawImuConfig) {
         if !self.input.configure(config) {
-            bump(&mut self.status.config_rejected);
+            bump(&mut self.line.status.config_rejected);
         }
         if config.request_status {
             self.send_status();
@@ -142,10 +115,7 @@ where
 
     /// The counters, with the current uptime.
     pub fn status(&self) -> Status {
-        Status {
-            uptime_ms: self.schedule.uptime_ms(self.clock.now_ms()),
-            ..self.status
-        }
+        self.line.status()
     }
 
     /// The raw input: its settings and counters.
@@ -155,19 +125,38 @@ where
 
     /// The serial port, e.g. to inspect a test double.
     pub fn serial_mut(&mut self) -> &mut S {
-        &mut self.serial
+        &mut self.line.serial
     }
 
     /// A `Status` (counting itself in `frames_sent`), then the raw input's `RawImuStatus`.
     fn send_status(&mut self) {
-        self.schedule.sent_at(self.clock.now_ms());
+        self.line.schedule.sent_at(self.line.clock.now_ms());
         let mut status = self.status();
         status.frames_sent = status.frames_sent.wrapping_add(1);
         if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
-            write_frame(&mut self.serial, &mut self.status, frame);
+            write_frame(&mut self.line.serial, &mut self.line.status, frame);
         }
         if let Ok(frame) = encode_raw_imu_status_frame(&self.input.status(), &mut self.tx) {
-            write_frame(&mut self.serial, &mut self.status, frame);
+            write_frame(&mut self.line.serial, &mut self.line.status, frame);
         }
+    }
+}
+
+impl<S, C> LineDevice<S, C, READ_CHUNK> for Node<S, C>
+where
+    S: Read + ReadReady + Write,
+    S::Error: LineError,
+    C: Clock,
+{
+    fn line(&mut self) -> &mut Line<S, C, READ_CHUNK> {
+        &mut self.line
+    }
+
+    fn on_bytes(&mut self, n: usize) {
+        Node::on_bytes(self, n)
+    }
+
+    fn send_status(&mut self) {
+        Node::send_status(self)
     }
 }
