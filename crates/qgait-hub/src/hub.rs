@@ -237,33 +237,29 @@ where
     #[inline(always)]
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
-        while pos < n {
-            if !self.line.frame_end(&mut pos, n) {
-                break;
-            }
+        while let Some(frame) = self.line.next_frame(&mut pos, n) {
+            let Some(message) = frame else {
+                continue;
+            };
             // Joint-angle packets, one per frame on a busy line, decoded straight from the
             // decoder's buffer; anything else through the general decoder, out of line.
-            match self.line.decoder.end_frame() {
-                None => {}
-                Some(Ok(message)) => match decode_packet(message) {
-                    Some(Ok(packet)) => self.on_packet(&packet),
-                    Some(Err(error)) => self.line.status.count_decode_error(&error),
-                    None => {
-                        let decoded = decode_hub_message(message);
-                        // The raw IMU messages, which the hub's decoder leaves undecoded: the
-                        // node's decoder decodes them.
-                        #[cfg(feature = "raw")]
-                        if let Ok(HubMessage::NotTaken(RAW_IMU_SAMPLE_TAG | RAW_IMU_CONFIG_TAG)) =
-                            decoded
-                        {
-                            let raw = decode_node_message(message);
-                            self.on_raw(raw);
-                            continue;
-                        }
-                        self.on_message(decoded)
-                    }
-                },
+            match decode_packet(message) {
+                Some(Ok(packet)) => self.on_packet(&packet),
                 Some(Err(error)) => self.line.status.count_decode_error(&error),
+                None => {
+                    let decoded = decode_hub_message(message);
+                    // The raw IMU messages, which the hub's decoder leaves undecoded: the
+                    // node's decoder decodes them.
+                    #[cfg(feature = "raw")]
+                    if let Ok(HubMessage::NotTaken(RAW_IMU_SAMPLE_TAG | RAW_IMU_CONFIG_TAG)) =
+                        decoded
+                    {
+                        let raw = decode_node_message(message);
+                        self.on_raw(raw);
+                        continue;
+                    }
+                    self.on_message(decoded)
+                }
             }
         }
     }

@@ -61,12 +61,16 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
         }
     }
 
-    /// Takes the data bytes of `rx[*pos..n]` into the decoder, straight into its buffer, and
-    /// moves `*pos` past them: `true` if a 0x00 ends them (`*pos` then past it too), after
-    /// which [`FrameDecoder::end_frame`] gives the frame; `false` if they run to `n`, the
-    /// frame going on in the next read. An oversize frame is counted once.
+    /// The next frame in the first `n` bytes of the receive buffer, from `*pos` on: `None` when
+    /// they end without a 0x00 (a frame's start stays in the decoder until the next read);
+    /// else, with `*pos` past the 0x00, `Some` of the frame's message if its checks (COBS, CRC)
+    /// pass, `Some(None)` if there was none (an empty frame) or it failed them (counted). The
+    /// data bytes go straight into the decoder's buffer; an oversize frame is counted once.
     #[inline(always)]
-    pub fn frame_end(&mut self, pos: &mut usize, n: usize) -> bool {
+    pub fn next_frame(&mut self, pos: &mut usize, n: usize) -> Option<Option<&[u8]>> {
+        if *pos >= n {
+            return None;
+        }
         let (run, oversize) = self
             .decoder
             .push_run(self.rx.get(*pos..n).unwrap_or_default());
@@ -75,10 +79,17 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
         }
         *pos += run;
         if *pos >= n {
-            return false;
+            return None;
         }
         *pos += 1;
-        true
+        match self.decoder.end_frame() {
+            None => Some(None),
+            Some(Ok(message)) => Some(Some(message)),
+            Some(Err(error)) => {
+                self.status.count_decode_error(&error);
+                Some(None)
+            }
+        }
     }
 }
 

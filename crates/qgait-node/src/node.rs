@@ -76,18 +76,12 @@ where
     /// The first `n` bytes of the receive buffer, through the frame decoder.
     fn on_bytes(&mut self, n: usize) {
         let mut pos = 0;
-        while pos < n {
-            if !self.line.frame_end(&mut pos, n) {
-                break;
-            }
-            match self.line.decoder.end_frame() {
+        while let Some(frame) = self.line.next_frame(&mut pos, n) {
+            match frame.map(decode_node_message) {
                 None => {}
-                Some(Ok(message)) => match decode_node_message(message) {
-                    Ok(NodeMessage::RawImuSample(sample)) => self.on_sample(&sample),
-                    Ok(NodeMessage::RawImuConfig(config)) => self.on_config(&config),
-                    Ok(NodeMessage::NotTaken(_)) => bump(&mut self.line.status.malformed),
-                    Err(error) => self.line.status.count_decode_error(&error),
-                },
+                Some(Ok(NodeMessage::RawImuSample(sample))) => self.on_sample(&sample),
+                Some(Ok(NodeMessage::RawImuConfig(config))) => self.on_config(&config),
+                Some(Ok(NodeMessage::NotTaken(_))) => bump(&mut self.line.status.malformed),
                 Some(Err(error)) => self.line.status.count_decode_error(&error),
             }
         }
