@@ -3,8 +3,7 @@
 use core::mem::MaybeUninit;
 use core::ptr::addr_of_mut;
 
-use embedded_hal_nb::serial::Error as LineError;
-use embedded_io::{Read, ReadReady, Write};
+use embedded_io::Write;
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
     decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
@@ -16,7 +15,7 @@ use crate::assembly::{Assembler, SampleEvent};
 use crate::clock::Clock;
 use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
-use crate::line::{self, write_frame, Line, LineDevice, PollSummary, StatusSchedule};
+use crate::line::{self, write_frame, Line, LineDevice, PollSummary, SerialPort, StatusSchedule};
 #[cfg(feature = "imu")]
 use crate::orientation::ImuInput;
 #[cfg(feature = "raw")]
@@ -111,12 +110,7 @@ pub struct Hub<S, C> {
     tx: [u8; MAX_FRAME_LEN],
 }
 
-impl<S, C> Hub<S, C>
-where
-    S: Read + ReadReady + Write,
-    S::Error: LineError,
-    C: Clock,
-{
+impl<S: SerialPort, C: Clock> Hub<S, C> {
     /// A hub with [`DEFAULT_CONFIG`] sending a status frame every `status_period_ms`
     /// (0 disables the periodic status).
     ///
@@ -773,12 +767,7 @@ where
     }
 }
 
-impl<S, C> LineDevice<S, C, READ_CHUNK> for Hub<S, C>
-where
-    S: Read + ReadReady + Write,
-    S::Error: LineError,
-    C: Clock,
-{
+impl<S: SerialPort, C: Clock> LineDevice<S, C, READ_CHUNK> for Hub<S, C> {
     #[inline(always)]
     fn line(&mut self) -> &mut Line<S, C, READ_CHUNK> {
         &mut self.line

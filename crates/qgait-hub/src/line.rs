@@ -4,11 +4,18 @@
 //! that never blocks and counts line errors, a frame written whole and counted.
 
 use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
-use embedded_io::{Read, ReadReady, Write};
+use embedded_io::{ErrorType, Read, ReadReady, Write};
 use qgait_proto::{FrameDecoder, Status};
 
 use crate::clock::Clock;
 use crate::counters::bump;
+
+/// A serial port as the hub and the node take it: `embedded-io` reads that can say whether
+/// they would block, and writes; its errors classify themselves as `embedded-hal-nb` serial
+/// errors do (an overrun is counted as such, any other line error as a framing error).
+pub trait SerialPort: Read + ReadReady + Write + ErrorType<Error: LineError> {}
+
+impl<T: Read + ReadReady + Write + ErrorType<Error: LineError>> SerialPort for T {}
 
 /// What one poll did ([`Hub::poll`](crate::Hub::poll), the node's `poll`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -109,8 +116,7 @@ pub trait LineDevice<S, C, const RX: usize> {
 pub fn poll<D, S, C, const RX: usize>(device: &mut D, max_bytes: usize) -> PollSummary
 where
     D: LineDevice<S, C, RX>,
-    S: Read + ReadReady,
-    S::Error: LineError,
+    S: SerialPort,
     C: Clock,
 {
     let line = device.line();

@@ -1,9 +1,7 @@
 //! The [`Node`]: serial bytes in, raw samples fused, segment orientations and status out.
 
-use embedded_hal_nb::serial::Error as LineError;
-use embedded_io::{Read, ReadReady, Write};
 use qgait_hub::counters::bump;
-use qgait_hub::line::{self, write_frame, Line, LineDevice};
+use qgait_hub::line::{self, write_frame, Line, LineDevice, SerialPort};
 use qgait_hub::{Clock, PollSummary};
 use qgait_proto::{
     cobs_max_encoded_len, decode_node_message, encode_raw_imu_status_frame,
@@ -51,12 +49,7 @@ pub struct Node<S, C> {
     tx: [u8; TX_LEN],
 }
 
-impl<S, C> Node<S, C>
-where
-    S: Read + ReadReady + Write,
-    S::Error: LineError,
-    C: Clock,
-{
+impl<S: SerialPort, C: Clock> Node<S, C> {
     /// A node with no raw segment until a [`RawImuConfig`], sending a status every
     /// `status_period_ms` (0: only on request).
     pub fn new(serial: S, clock: C, status_period_ms: u32) -> Self {
@@ -136,12 +129,7 @@ where
     }
 }
 
-impl<S, C> LineDevice<S, C, READ_CHUNK> for Node<S, C>
-where
-    S: Read + ReadReady + Write,
-    S::Error: LineError,
-    C: Clock,
-{
+impl<S: SerialPort, C: Clock> LineDevice<S, C, READ_CHUNK> for Node<S, C> {
     fn line(&mut self) -> &mut Line<S, C, READ_CHUNK> {
         &mut self.line
     }
