@@ -6,9 +6,9 @@ use core::ptr::addr_of_mut;
 use embedded_io::Write;
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
-    decode_hub_message, decode_packet, encode_status_frame, Config, DecodeError, FrameDecoder,
-    FrameFlags, HubMessage, ImuConfig, JointAngle, MissingPolicy, ModelId, SegmentOrientation,
-    Status, SubjectConfig, VelocityConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
+    decode_hub_message, decode_packet, Config, DecodeError, FrameDecoder, FrameFlags, HubMessage,
+    ImuConfig, JointAngle, MissingPolicy, ModelId, SegmentOrientation, Status, SubjectConfig,
+    VelocityConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
 use crate::assembly::{Assembler, SampleEvent};
@@ -750,15 +750,8 @@ impl<S: SerialPort, C: Clock> Hub<S, C> {
     }
 
     fn send_status(&mut self) {
-        self.line.schedule.sent_at(self.line.clock.now_ms());
-        // Counts itself: the status says how many frames were sent including this one.
-        let mut status = self.status();
-        status.frames_sent = status.frames_sent.wrapping_add(1);
-        // A status fits MAX_FRAME_LEN, so encoding cannot fail; if it ever did, nothing is
-        // written.
-        if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
-            write_frame(&mut self.line.serial, &mut self.line.status, frame);
-        }
+        // A status fits MAX_FRAME_LEN.
+        self.line.send_status(&mut self.tx);
         // Then the raw input's counters, while it has raw segments (protocol.md 4.10).
         #[cfg(feature = "raw")]
         if self.raw.config().segments != 0 {

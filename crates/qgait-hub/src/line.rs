@@ -5,7 +5,7 @@
 
 use embedded_hal_nb::serial::{Error as LineError, ErrorKind as LineErrorKind};
 use embedded_io::{ErrorType, Read, ReadReady, Write};
-use qgait_proto::{FrameDecoder, Status};
+use qgait_proto::{encode_status_frame, FrameDecoder, Status};
 
 use crate::clock::Clock;
 use crate::counters::bump;
@@ -65,6 +65,21 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
         Status {
             uptime_ms: self.schedule.uptime_ms(self.clock.now_ms()),
             ..self.status
+        }
+    }
+
+    /// Sends the counters as a `Status` frame, encoded in `tx` (a status counts itself in
+    /// `frames_sent`), and notes it in the schedule. A `tx` too short for a status (which the
+    /// devices' buffers rule out) sends nothing.
+    pub fn send_status(&mut self, tx: &mut [u8])
+    where
+        S: Write,
+    {
+        self.schedule.sent_at(self.clock.now_ms());
+        let mut status = self.status();
+        status.frames_sent = status.frames_sent.wrapping_add(1);
+        if let Ok(frame) = encode_status_frame(&status, tx) {
+            write_frame(&mut self.serial, &mut self.status, frame);
         }
     }
 

@@ -5,8 +5,8 @@ use qgait_hub::line::{self, write_frame, Line, LineDevice, SerialPort};
 use qgait_hub::{Clock, PollSummary};
 use qgait_proto::{
     cobs_max_encoded_len, decode_node_message, encode_raw_imu_status_frame,
-    encode_segment_orientation_frame, encode_status_frame, NodeMessage, RawImuConfig, RawImuSample,
-    Status, CRC_LEN, STATUS_MAX_LEN,
+    encode_segment_orientation_frame, NodeMessage, RawImuConfig, RawImuSample, Status, CRC_LEN,
+    STATUS_MAX_LEN,
 };
 
 use crate::raw_input::{orientation_packet, RawInput, RawOutcome};
@@ -117,12 +117,7 @@ impl<S: SerialPort, C: Clock> Node<S, C> {
 
     /// A `Status` (counting itself in `frames_sent`), then the raw input's `RawImuStatus`.
     fn send_status(&mut self) {
-        self.line.schedule.sent_at(self.line.clock.now_ms());
-        let mut status = self.status();
-        status.frames_sent = status.frames_sent.wrapping_add(1);
-        if let Ok(frame) = encode_status_frame(&status, &mut self.tx) {
-            write_frame(&mut self.line.serial, &mut self.line.status, frame);
-        }
+        self.line.send_status(&mut self.tx);
         if let Ok(frame) = encode_raw_imu_status_frame(&self.input.status(), &mut self.tx) {
             write_frame(&mut self.line.serial, &mut self.line.status, frame);
         }
