@@ -163,42 +163,46 @@ impl Simd {
     }
 }
 
-/// The batch loop at `L` lanes, to be inlined into each level's entry point (so it is compiled
-/// with that level's target features).
-#[inline(always)]
-fn batch<
-    T: LaneScalar,
-    const N: usize,
-    const J: usize,
-    const P: usize,
-    const S: usize,
-    const L: usize,
-    const F: bool,
->(
-    chain: &Chain<T, N, J, P, S>,
-    frames: usize,
-    q: &impl Fn(usize) -> [T; N],
-    points: &mut impl FnMut(usize, [Vec3<T>; P]),
-) {
-    let lanes: Chain<Lanes<T, L, F>, N, J, P, S> = chain.cast();
-    let mut start = 0;
-    while start < frames {
-        let n = (frames - start).min(L);
-        // Gather: lane l holds frame start + l (the last frame repeated to fill the batch).
-        let inputs: [[T; N]; L] = core::array::from_fn(|l| q(start + l.min(n - 1)));
-        let ql: [Lanes<T, L, F>; N] =
-            core::array::from_fn(|c| Lanes(core::array::from_fn(|l| inputs[l][c])));
-        let out = lanes.forward(&ql);
-        // Scatter, reading each lane in place (a by-value `out.map` copies every point's lane
-        // arrays once per lane).
-        for l in 0..n {
-            let frame: [Vec3<T>; P] = core::array::from_fn(|i| {
-                let p = &out[i];
-                Vec3::new(p.x.0[l], p.y.0[l], p.z.0[l])
-            });
-            points(start + l, frame);
+/// A function with the batch loop's signature, generic over the chain and the lanes (`L`
+/// lanes, fused multiply-add if `F`): the chain, how many frames, frame `i`'s coordinates and
+/// the sink of each frame's points, their names given by the caller.
+macro_rules! batch_fn {
+    ($(#[$attr:meta])* $vis:vis fn $name:ident($chain:ident, $frames:ident, $q:ident, $points:ident) $body:block) => {
+        $(#[$attr])*
+        $vis fn $name<T: LaneScalar, const N: usize, const J: usize, const P: usize, const S: usize, const L: usize, const F: bool>(
+            $chain: &Chain<T, N, J, P, S>,
+            $frames: usize,
+            $q: &impl Fn(usize) -> [T; N],
+            $points: &mut impl FnMut(usize, [Vec3<T>; P]),
+        ) $body
+    };
+}
+
+batch_fn! {
+    /// The batch loop at `L` lanes, to be inlined into each level's entry point (so it is
+    /// compiled with that level's target features).
+    #[inline(always)]
+    fn batch(chain, frames, q, points) {
+        let lanes: Chain<Lanes<T, L, F>, N, J, P, S> = chain.cast();
+        let mut start = 0;
+        while start < frames {
+            let n = (frames - start).min(L);
+            // Gather: lane l holds frame start + l (the last frame repeated to fill the batch).
+            let inputs: [[T; N]; L] = core::array::from_fn(|l| q(start + l.min(n - 1)));
+            let ql: [Lanes<T, L, F>; N] =
+                core::array::from_fn(|c| Lanes(core::array::from_fn(|l| inputs[l][c])));
+            let out = lanes.forward(&ql);
+            // Scatter, reading each lane in place (a by-value `out.map` copies every point's
+            // lane arrays once per lane).
+            for l in 0..n {
+                let frame: [Vec3<T>; P] = core::array::from_fn(|i| {
+                    let p = &out[i];
+                    Vec3::new(p.x.0[l], p.y.0[l], p.z.0[l])
+                });
+                points(start + l, frame);
+            }
+            start += n;
         }
-        start += n;
     }
 }
 
@@ -226,43 +230,22 @@ mod x86 {
     /// confirms the CPU has them (it panics otherwise).
     macro_rules! level {
         ($(#[$doc:meta])* $name:ident, $inner:ident, $features:literal, $has:ident) => {
-            #[target_feature(enable = $features)]
-            fn $inner<
-                T: LaneScalar,
-                const N: usize,
-                const J: usize,
-                const P: usize,
-                const S: usize,
-                const L: usize,
-                const F: bool,
-            >(
-                chain: &Chain<T, N, J, P, S>,
-                frames: usize,
-                q: &impl Fn(usize) -> [T; N],
-                points: &mut impl FnMut(usize, [Vec3<T>; P]),
-            ) {
-                batch::<T, N, J, P, S, L, F>(chain, frames, q, points)
+            batch_fn! {
+                #[target_feature(enable = $features)]
+                fn $inner(chain, frames, q, points) {
+                    batch::<T, N, J, P, S, L, F>(chain, frames, q, points)
+                }
             }
 
-            $(#[$doc])*
-            pub(super) fn $name<
-                T: LaneScalar,
-                const N: usize,
-                const J: usize,
-                const P: usize,
-                const S: usize,
-                const L: usize,
-                const F: bool,
-            >(
-                chain: &Chain<T, N, J, P, S>,
-                frames: usize,
-                q: &impl Fn(usize) -> [T; N],
-                points: &mut impl FnMut(usize, [Vec3<T>; P]),
-            ) {
-                assert!($has());
-                // SAFETY: the CPU has the level's features (checked just above), the only
-                // requirement for calling a function compiled with `target_feature` for them.
-                unsafe { $inner::<T, N, J, P, S, L, F>(chain, frames, q, points) }
+            batch_fn! {
+                $(#[$doc])*
+                pub(super) fn $name(chain, frames, q, points) {
+                    assert!($has());
+                    // SAFETY: the CPU has the level's features (checked just above), the only
+                    // requirement for calling a function compiled with `target_feature` for
+                    // them.
+                    unsafe { $inner::<T, N, J, P, S, L, F>(chain, frames, q, points) }
+                }
             }
         };
     }
