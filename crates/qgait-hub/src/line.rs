@@ -264,6 +264,63 @@ mod tests {
         assert_eq!(s.uptime_ms(89), 100);
     }
 
+    use crate::ManualClock;
+    use qgait_proto::{decode_message, Message, MAX_FRAME_LEN};
+
+    /// A line whose receive buffer holds `bytes` (no port: `next_frame` reads none).
+    fn line_holding(bytes: &[u8]) -> Line<(), ManualClock, 256> {
+        let mut line = Line::new((), ManualClock::new(0), 0);
+        line.rx[..bytes.len()].copy_from_slice(bytes);
+        line
+    }
+
+    #[test]
+    fn frames_come_whole_and_failed_ones_are_counted() {
+        let mut good = [0; MAX_FRAME_LEN];
+        let sent = Status {
+            frames_sent: 7,
+            ..Status::default()
+        };
+        let good = encode_status_frame(&sent, &mut good).unwrap();
+        // A good frame, an empty one, a damaged copy of the good one, and half of the good one.
+        let mut bytes = [0u8; 256];
+        let mut len = 0;
+        for part in [good, &[0][..], good, &good[..good.len() / 2]] {
+            bytes[len..len + part.len()].copy_from_slice(part);
+            len += part.len();
+        }
+        let damaged = good.len() + 1 + 2;
+        bytes[damaged] ^= 0x40;
+        let mut line = line_holding(&bytes[..len]);
+        let mut pos = 0;
+        let first = line.next_frame(&mut pos, len).unwrap().unwrap();
+        assert_eq!(decode_message(first), Ok(Message::Status(sent)));
+        assert_eq!(pos, good.len());
+        assert_eq!(
+            line.next_frame(&mut pos, len),
+            Some(None),
+            "the empty frame"
+        );
+        assert_eq!(
+            line.next_frame(&mut pos, len),
+            Some(None),
+            "the damaged frame"
+        );
+        assert_eq!(
+            line.status.crc_errors + line.status.framing_errors + line.status.malformed,
+            1
+        );
+        assert_eq!(line.next_frame(&mut pos, len), None, "half a frame waits");
+        assert_eq!(pos, len);
+        // Its other half, in the next read, completes it.
+        let rest = &good[good.len() / 2..];
+        line.rx[..rest.len()].copy_from_slice(rest);
+        let mut pos = 0;
+        let last = line.next_frame(&mut pos, rest.len()).unwrap().unwrap();
+        assert_eq!(decode_message(last), Ok(Message::Status(sent)));
+        assert_eq!(line.next_frame(&mut pos, rest.len()), None);
+    }
+
     #[test]
     fn a_zero_period_is_never_due() {
         let s = StatusSchedule::new(0, 0);
