@@ -1,4 +1,4 @@
-//! The hub's counters: every [`Status`](qgait_proto::Status) counter wraps. Which counter a
+//! The hub's counters: every [`Status`] counter wraps. Which counter a
 //! decode error goes to is the protocol's
 //! [`Status::count_decode_error`](qgait_proto::Status::count_decode_error).
 
