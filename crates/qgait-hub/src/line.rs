@@ -83,15 +83,15 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
         }
     }
 
-    /// The next frame in the first `n` bytes of the receive buffer, from `*pos` on: `None` when
-    /// they end without a 0x00 (a frame's start stays in the decoder until the next read);
-    /// else, with `*pos` past the 0x00, `Some` of the frame's message if its checks (COBS, CRC)
-    /// pass, `Some(None)` if there was none (an empty frame) or it failed them (counted). The
-    /// data bytes go straight into the decoder's buffer; an oversize frame is counted once.
+    /// Takes the data bytes of the receive buffer's first `n` from `*pos` on into the decoder,
+    /// straight into its buffer, and moves `*pos` past them: `true` if a 0x00 ends them
+    /// (`*pos` then past it too), after which [`FrameDecoder::end_frame`] gives the frame;
+    /// `false` if they run to `n`, a frame's start staying in the decoder until the next read.
+    /// An oversize frame is counted once.
     #[inline(always)]
-    pub fn next_frame(&mut self, pos: &mut usize, n: usize) -> Option<Option<&[u8]>> {
+    pub fn frame_end(&mut self, pos: &mut usize, n: usize) -> bool {
         if *pos >= n {
-            return None;
+            return false;
         }
         let (run, oversize) = self
             .decoder
@@ -101,9 +101,21 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
         }
         *pos += run;
         if *pos >= n {
-            return None;
+            return false;
         }
         *pos += 1;
+        true
+    }
+
+    /// The next frame in the receive buffer's first `n` bytes, from `*pos` on, as
+    /// [`frame_end`](Self::frame_end) finds it: `None` if there is none, else `Some` of the
+    /// frame's message if its checks (COBS, CRC) pass, `Some(None)` if it was empty or failed
+    /// them (counted).
+    #[inline(always)]
+    pub fn next_frame(&mut self, pos: &mut usize, n: usize) -> Option<Option<&[u8]>> {
+        if !self.frame_end(pos, n) {
+            return None;
+        }
         match self.decoder.end_frame() {
             None => Some(None),
             Some(Ok(message)) => Some(Some(message)),
