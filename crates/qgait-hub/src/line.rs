@@ -90,6 +90,8 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
     /// An oversize frame is counted once.
     #[inline(always)]
     pub fn frame_end(&mut self, pos: &mut usize, n: usize) -> bool {
+        // No further than the buffer, whatever `n` a caller gives.
+        let n = n.min(RX);
         if *pos >= n {
             return false;
         }
@@ -110,7 +112,7 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
     /// The next frame in the receive buffer's first `n` bytes, from `*pos` on, as
     /// [`frame_end`](Self::frame_end) finds it: `None` if there is none, else `Some` of the
     /// frame's message if its checks (COBS, CRC) pass, `Some(None)` if it was empty or failed
-    /// them (counted).
+    /// them (the failure counted).
     #[inline(always)]
     pub fn next_frame(&mut self, pos: &mut usize, n: usize) -> Option<Option<&[u8]>> {
         if !self.frame_end(pos, n) {
@@ -127,18 +129,21 @@ impl<S, C: Clock, const RX: usize> Line<S, C, RX> {
     }
 }
 
-/// A device on a [`Line`], as [`poll`] drives it: the hub and the IMU node.
+/// A device on a [`Line`], as [`poll`] drives it: the hub and the IMU node. Its methods are
+/// `poll`'s steps, public because the node is another crate; an application calls the
+/// device's own `poll`.
 pub trait LineDevice<S, C, const RX: usize> {
     /// Its line.
     fn line(&mut self) -> &mut Line<S, C, RX>;
-    /// Handles the first `n` bytes of the line's receive buffer.
+    /// Handles the first `n` bytes of the line's receive buffer (`n` ≤ `RX`).
     fn on_bytes(&mut self, n: usize);
     /// Sends its status now (noting it in the line's schedule).
     fn send_status(&mut self);
 }
 
 /// Reads what the device's port has, at most `max_bytes` in reads of at most `RX`, hands
-/// each read to the device, then has it send its periodic status if due.
+/// each read to the device, then has it send its periodic status if due. A line error is
+/// counted and the reads go on (it is not a byte).
 #[inline(always)]
 pub fn poll<D, S, C, const RX: usize>(device: &mut D, max_bytes: usize) -> PollSummary
 where
@@ -279,7 +284,7 @@ mod tests {
     use crate::ManualClock;
     use qgait_proto::{decode_message, Message, MAX_FRAME_LEN};
 
-    /// A line whose receive buffer holds `bytes` (no port: `next_frame` reads none).
+    /// A line whose receive buffer holds `bytes`, with `()` as its port.
     fn line_holding(bytes: &[u8]) -> Line<(), ManualClock, 256> {
         let mut line = Line::new((), ManualClock::new(0), 0);
         line.rx[..bytes.len()].copy_from_slice(bytes);
@@ -331,6 +336,16 @@ mod tests {
         let last = line.next_frame(&mut pos, rest.len()).unwrap().unwrap();
         assert_eq!(decode_message(last), Ok(Message::Status(sent)));
         assert_eq!(line.next_frame(&mut pos, rest.len()), None);
+    }
+
+    #[test]
+    fn frames_end_within_the_buffer_whatever_the_count() {
+        let mut line: Line<(), ManualClock, 8> = Line::new((), ManualClock::new(0), 0);
+        line.rx = [0x55; 8];
+        let mut pos = 0;
+        assert!(!line.frame_end(&mut pos, usize::MAX));
+        assert_eq!(pos, 8);
+        assert_eq!(line.next_frame(&mut pos, usize::MAX), None);
     }
 
     #[test]

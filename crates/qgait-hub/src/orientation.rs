@@ -52,12 +52,8 @@ pub struct ImuInput {
 /// calibration asked for, OpenSense's default sensor-to-OpenSim rotation (-pi/2, 0, 0), no
 /// heading correction.
 pub const DEFAULT_IMU_CONFIG: ImuConfig = ImuConfig {
-    mode: InputMode::JointAngles,
-    segments: ImuConfig::ALL_SEGMENTS,
-    calibrate: false,
-    sensor_to_opensim: [-core::f32::consts::FRAC_PI_2, 0.0, 0.0],
     heading: None,
-    request_status: false,
+    ..ImuConfig::opensense_tutorial(InputMode::JointAngles, false)
 };
 
 #[cfg(feature = "imu")]
