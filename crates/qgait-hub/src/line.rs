@@ -182,7 +182,7 @@ where
 /// An overrun counts as such; any other line error (parity, noise, line framing) as a
 /// framing error: the frame's CRC or COBS check would fail too.
 #[inline(always)]
-pub fn read_some<S>(serial: &mut S, rx: &mut [u8], status: &mut Status) -> Option<usize>
+fn read_some<S>(serial: &mut S, rx: &mut [u8], status: &mut Status) -> Option<usize>
 where
     S: Read + ReadReady,
     S::Error: LineError,
