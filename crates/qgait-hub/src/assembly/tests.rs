@@ -347,18 +347,21 @@ mod reference {
             match self.newest {
                 None => self.newest = Some(seq),
                 Some(newest) => {
-                    let ahead = seq.wrapping_sub(newest);
-                    let behind = newest.wrapping_sub(seq);
-                    if ahead != 0 && ahead <= RESYNC_DISTANCE {
-                        self.advance_to(seq, on_event);
-                    } else if ahead == 0 || behind < self.window {
-                        // Inside the window.
-                    } else if behind <= RESYNC_DISTANCE {
-                        return PacketOutcome::Late;
-                    } else {
-                        self.flush(on_event);
-                        self.newest = Some(seq);
-                        outcome = PacketOutcome::Resynced;
+                    // The module docs' rule read as a signed distance from the newest sample
+                    // (the assembler works with two unsigned ones): up to RESYNC_DISTANCE ahead
+                    // moves the window, less than the window behind is inside it, up to
+                    // RESYNC_DISTANCE behind is late, farther either way restarts.
+                    let distance = seq.wrapping_sub(newest) as i32;
+                    let resync = RESYNC_DISTANCE as i32;
+                    match distance {
+                        d if d <= 0 && d.unsigned_abs() < self.window => {}
+                        d if (1..=resync).contains(&d) => self.advance_to(seq, on_event),
+                        d if (-resync..0).contains(&d) => return PacketOutcome::Late,
+                        _ => {
+                            self.flush(on_event);
+                            self.newest = Some(seq);
+                            outcome = PacketOutcome::Resynced;
+                        }
                     }
                 }
             }
@@ -422,12 +425,18 @@ mod reference {
         /// The used slot with the oldest sequence number among those `leaving` selects.
         fn oldest_slot(&self, leaving: impl Fn(u32) -> bool) -> Option<usize> {
             let newest = self.newest.unwrap_or(0);
-            self.slots
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| s.state != SlotState::Free && leaving(s.seq))
-                .max_by_key(|(_, s)| newest.wrapping_sub(s.seq))
-                .map(|(i, _)| i)
+            // (slot, how far behind the newest sample), the farthest so far.
+            let mut oldest: Option<(usize, u32)> = None;
+            for (i, slot) in self.slots.iter().enumerate() {
+                if slot.state == SlotState::Free || !leaving(slot.seq) {
+                    continue;
+                }
+                let behind = newest.wrapping_sub(slot.seq);
+                if oldest.is_none_or(|(_, farthest)| behind > farthest) {
+                    oldest = Some((i, behind));
+                }
+            }
+            oldest.map(|(i, _)| i)
         }
 
         /// Frees slot `i`: an open sample is completed with held values or dropped; then its
