@@ -505,7 +505,8 @@ fn magnetometer_and_raw_recordings_are_the_signals() {
     ]);
     assert!(!o.status.success());
     assert!(
-        stderr(&o).contains("--magnetic-field: 2 values given, X,Y,Z needed"),
+        stderr(&o)
+            .contains("'12,-44' for '--magnetic-field <X,Y,Z>': three numbers X,Y,Z are needed"),
         "{}",
         stderr(&o)
     );

@@ -17,6 +17,7 @@ use qgait_kernel::Gait2392;
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use crate::cli::output::{refuse_overwrite, write_output_with};
+use crate::cli::three_numbers;
 use crate::progress::Progress;
 use qgait_figures::imu_angles;
 use qgait_model::choice::Model;
@@ -118,9 +119,10 @@ pub struct ImuSettingsArgs {
         long,
         default_value = "z",
         value_name = "x|-x|y|-y|z|-z",
+        value_parser = heading_axis,
         allow_hyphen_values = true
     )]
-    pub base_heading_axis: String,
+    pub base_heading_axis: HeadingAxis,
     /// Rotation from the sensors' world frame to OpenSim's (y up): space-fixed X, Y, Z Euler
     /// angles in radians, as OpenSense's `sensor_to_opensim_rotations` (the default turns a
     /// z-up world, Xsens or APDM, to OpenSim's y up).
@@ -128,44 +130,24 @@ pub struct ImuSettingsArgs {
         long,
         default_value = "-1.5707963267948966,0,0",
         value_name = "RX,RY,RZ",
+        value_parser = three_numbers,
         allow_hyphen_values = true
     )]
-    pub sensor_to_opensim: String,
+    pub sensor_to_opensim: [f64; 3],
     /// The solver: per-leg least squares (OpenSense's problem) or the per-joint closed form.
     #[arg(long, value_enum, default_value_t = ModeArg::LeastSquares)]
     pub mode: ModeArg,
 }
 
+/// `--base-heading-axis`.
+fn heading_axis(text: &str) -> anyhow::Result<HeadingAxis> {
+    text.parse()
+        .map_err(|()| anyhow::anyhow!("expected x, -x, y, -y, z or -z"))
+}
+
 impl ImuSettingsArgs {
     /// The kernel's calibration settings.
     pub(crate) fn settings(&self) -> anyhow::Result<Settings<f64>> {
-        let parts: Vec<&str> = self.sensor_to_opensim.split(',').collect();
-        let mut r = [0.0; 3];
-        if parts.len() != 3 {
-            bail!(
-                "--sensor-to-opensim `{}`: expected three angles in radians, RX,RY,RZ",
-                self.sensor_to_opensim
-            );
-        }
-        for (p, slot) in parts.iter().zip(&mut r) {
-            *slot = p
-                .trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .with_context(|| {
-                    format!(
-                        "--sensor-to-opensim `{}`: `{p}` is not a number (radians)",
-                        self.sensor_to_opensim
-                    )
-                })?;
-        }
-        let axis: HeadingAxis = self.base_heading_axis.parse().map_err(|()| {
-            anyhow::anyhow!(
-                "--base-heading-axis `{}`: expected x, -x, y, -y, z or -z",
-                self.base_heading_axis
-            )
-        })?;
         let heading = match &self.base_imu {
             None => None,
             Some(name) => Some(Heading {
@@ -175,11 +157,11 @@ impl ImuSettingsArgs {
                         Segment::ALL.map(Segment::imu_label).join(", ")
                     )
                 })?,
-                axis,
+                axis: self.base_heading_axis,
             }),
         };
         Ok(Settings {
-            sensor_to_opensim: r,
+            sensor_to_opensim: self.sensor_to_opensim,
             heading,
         })
     }

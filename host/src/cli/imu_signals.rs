@@ -25,6 +25,7 @@ use serde::Deserialize;
 
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
+use crate::cli::three_numbers;
 use qgait_kernel::differential::{imu_signals, ImuMount};
 use qgait_kernel::Vec3;
 use qgait_model::derivatives::{MotionModel, Series};
@@ -72,13 +73,8 @@ pub struct ImuSignalsArgs {
     #[arg(long, value_name = "M/S²")]
     pub accel_noise_std: Option<f64>,
     /// Gyroscope constant bias, the same for every IMU, in the IMU frame (rad/s): `X,Y,Z`.
-    #[arg(
-        long,
-        value_name = "X,Y,Z",
-        value_delimiter = ',',
-        allow_negative_numbers = true
-    )]
-    pub gyro_bias: Option<Vec<f64>>,
+    #[arg(long, value_name = "X,Y,Z", value_parser = three_numbers, allow_hyphen_values = true)]
+    pub gyro_bias: Option<[f64; 3]>,
     /// Gyroscope bias random walk (rad/s/√s): each IMU's bias moves by a Gaussian step of
     /// standard deviation walk·√Δt per sample and axis, from the constant bias.
     #[arg(long, value_name = "RAD/S/√S")]
@@ -87,13 +83,8 @@ pub struct ImuSignalsArgs {
     /// `X,Y,Z`: adds the magnetometer (the field in the IMU frame, plus `--mag-noise-std`), so
     /// that 9D fusion has a heading reference. Earth's is 25 to 65 µT, pointing down in the
     /// northern hemisphere (y < 0).
-    #[arg(
-        long,
-        value_name = "X,Y,Z",
-        value_delimiter = ',',
-        allow_negative_numbers = true
-    )]
-    pub magnetic_field: Option<Vec<f64>>,
+    #[arg(long, value_name = "X,Y,Z", value_parser = three_numbers, allow_hyphen_values = true)]
+    pub magnetic_field: Option<[f64; 3]>,
     /// Magnetometer white noise as a standard deviation per sample and axis (µT).
     #[arg(long, value_name = "UT", requires = "magnetic_field")]
     pub mag_noise_std: Option<f64>,
@@ -146,16 +137,6 @@ fn write_sto(
     }
     w.flush()?;
     Ok(())
-}
-
-/// The three components `X,Y,Z` of `option`, if given.
-fn three(option: &str, values: Option<&[f64]>) -> anyhow::Result<Option<[f64; 3]>> {
-    values
-        .map(|v| {
-            <[f64; 3]>::try_from(v)
-                .map_err(|_| anyhow::anyhow!("{option}: {} values given, X,Y,Z needed", v.len()))
-        })
-        .transpose()
 }
 
 /// A standard deviation per sample from a density or a standard deviation.
@@ -211,7 +192,7 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
     let gyro_sd = per_sample(a.gyro_noise_density, a.gyro_noise_std, rate);
     let accel_sd = per_sample(a.accel_noise_density, a.accel_noise_std, rate);
     let walk_sd = a.gyro_bias_walk.unwrap_or(0.0) * dt.sqrt();
-    let bias0 = three("--gyro-bias", a.gyro_bias.as_deref())?.unwrap_or([0.0; 3]);
+    let bias0 = a.gyro_bias.unwrap_or([0.0; 3]);
     let mut bias = vec![bias0; mounts.len()];
     let mut rng = rand::rngs::SmallRng::seed_from_u64(a.seed);
     let mut gauss = |sd: f64| -> f64 {
@@ -221,8 +202,7 @@ pub fn run_imu_signals(a: ImuSignalsArgs, diagnostics: &Diagnostics) -> anyhow::
             sd * rng.sample::<f64, _>(StandardNormal)
         }
     };
-    let field =
-        three("--magnetic-field", a.magnetic_field.as_deref())?.map(|[x, y, z]| Vec3::new(x, y, z));
+    let field = a.magnetic_field.map(|[x, y, z]| Vec3::new(x, y, z));
     let mag_sd = a.mag_noise_std.unwrap_or(0.0);
     let (mut time, mut orientations, mut gyros, mut accels, mut mags) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());

@@ -119,3 +119,32 @@ pub(crate) fn amount(text: &str, min: f64, or_equal: bool) -> Option<f64> {
     let x: f64 = text.trim().parse().ok()?;
     (x.is_finite() && (x > min || or_equal && x == min)).then_some(x)
 }
+
+/// `text` as three finite numbers `X,Y,Z`: what the options that take a vector or three angles
+/// (`--gyro-bias`, `--magnetic-field`, `--sensor-to-opensim`) accept.
+pub(crate) fn three_numbers(text: &str) -> anyhow::Result<[f64; 3]> {
+    let mut numbers = [0.0; 3];
+    let mut parts = text.split(',');
+    for slot in &mut numbers {
+        let part = parts
+            .next()
+            .ok_or_else(|| anyhow::anyhow!("three numbers X,Y,Z are needed"))?;
+        *slot = amount(part, f64::NEG_INFINITY, false)
+            .ok_or_else(|| anyhow::anyhow!("`{}` is not a number", part.trim()))?;
+    }
+    anyhow::ensure!(parts.next().is_none(), "three numbers X,Y,Z are needed");
+    Ok(numbers)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::three_numbers;
+
+    #[test]
+    fn three_numbers_take_exactly_three_finite_numbers() {
+        assert_eq!(three_numbers("-1.25, 0,2e-3").unwrap(), [-1.25, 0.0, 2e-3]);
+        for bad in ["", "1,2", "1,2,3,4", "1,,3", "1,x,3", "1,inf,3", "NaN,0,0"] {
+            assert!(three_numbers(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+}
