@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use qgait_proto::{MissingPolicy, ModelId, VelocityConfig};
 
+use crate::cli::device_args::ReorderWindow;
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};
@@ -21,9 +22,9 @@ pub struct ConfigArgs {
     /// What the hub does with a sample missing a joint.
     #[arg(long, value_enum, default_value = "drop")]
     pub policy: Policy,
-    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
-    #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
-    pub window: u8,
+    /// The hub's reorder window.
+    #[command(flatten)]
+    pub reorder: ReorderWindow,
     /// Upload id of a subject model's or a chain's parts (default: derived from the model's
     /// numbers).
     #[arg(long, value_name = "ID")]
@@ -82,11 +83,10 @@ pub(crate) fn hub_model(model: Model, upload: Option<u8>) -> anyhow::Result<HubM
 }
 
 /// `--velocities`: a rate whose period is 1 µs to 1 s.
-fn sample_rate(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(hz) if (1.0..=1e6).contains(&hz) => Ok(hz),
-        _ => Err(format!("{s}: not a sampling rate of 1 to 1,000,000 Hz")),
-    }
+fn sample_rate(s: &str) -> anyhow::Result<f64> {
+    crate::cli::amount(s, 1.0, true)
+        .filter(|hz| *hz <= 1e6)
+        .ok_or_else(|| anyhow::anyhow!("`{s}` is not a sampling rate of 1 to 1,000,000 Hz"))
 }
 
 /// Runs `qgait config`.
@@ -98,7 +98,7 @@ pub fn run_config(args: ConfigArgs, diagnostics: &Diagnostics) -> anyhow::Result
             Policy::Drop => MissingPolicy::Drop,
             Policy::Hold => MissingPolicy::HoldLast,
         },
-        reorder_window: args.window,
+        reorder_window: args.reorder.window,
         request_status: !args.no_status_request,
     };
     let mut sent = messages(&model, settings)?;

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::{Args, ValueEnum};
-use qgait_proto::PoseModels;
+use qgait_proto::{PoseModels, MAX_REORDER_WINDOW};
 
 use crate::cli::config::hub_model;
 use crate::cli::diagnostics::Diagnostics;
@@ -113,10 +113,55 @@ pub(crate) fn warn_cut_off(log: &str, unterminated: usize) {
     }
 }
 
-pub(crate) fn micrometres(s: &str) -> anyhow::Result<f64> {
+/// The hub's reorder window (`qgait config`, `emulate`).
+#[derive(Debug, Args, Clone, Copy)]
+pub struct ReorderWindow {
+    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
+    #[arg(
+        long,
+        default_value_t = 4,
+        value_name = "N",
+        value_parser = clap::value_parser!(u8).range(1..=i64::from(MAX_REORDER_WINDOW))
+    )]
+    pub window: u8,
+}
+
+/// How far the hub's frames may be from the `f64` kernel's: the tolerances of `verify` and
+/// `emulate --verify`.
+#[derive(Debug, Args, Clone, Copy)]
+pub struct FrameTolerances {
+    /// Largest accepted error per point (micrometres).
+    #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
+    pub tol_um: f64,
+    /// Largest accepted error of a point's velocity, when the hub sends velocities
+    /// (protocol.md 4.11), millimetres per second: each `PoseVelocities` is recomputed in f64
+    /// from the echoed angles of its pose frame and the one before (the same backward
+    /// difference).
+    #[arg(long, default_value_t = 1.0, value_name = "MM_S", value_parser = millimetres_per_second)]
+    pub tol_mm_s: f64,
+}
+
+impl FrameTolerances {
+    /// The points' tolerance, metres.
+    pub(crate) fn points_m(&self) -> f64 {
+        self.tol_um * 1e-6
+    }
+
+    /// The velocities' tolerance, metres per second.
+    pub(crate) fn velocities_m_s(&self) -> f64 {
+        self.tol_mm_s * 1e-3
+    }
+}
+
+fn micrometres(s: &str) -> anyhow::Result<f64> {
     crate::cli::amount(s, 0.0, true).ok_or_else(|| {
         anyhow::anyhow!("`{s}` is not a tolerance in micrometres (a number, 0 or more)")
     })
+}
+
+fn millimetres_per_second(s: &str) -> anyhow::Result<f64> {
+    crate::cli::amount(s, 0.0, true)
+        .ok_or_else(|| anyhow::anyhow!("`{s}` is not a tolerance in mm/s (a number, 0 or more)"))
 }
 
 pub(crate) fn positive_seconds(s: &str) -> anyhow::Result<f64> {

@@ -13,7 +13,7 @@ use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, Status};
 
-use crate::cli::device_args::{micrometres, LoadedModel};
+use crate::cli::device_args::{FrameTolerances, LoadedModel, ReorderWindow};
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};
@@ -45,9 +45,9 @@ pub struct EmulateArgs {
     /// The hub's configuration, sent before the stream.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
-    #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=8))]
-    pub window: u8,
+    /// The hub's reorder window.
+    #[command(flatten)]
+    pub reorder: ReorderWindow,
     /// Write the frames (the `fk` columns plus `seq`) to this CSV.
     #[arg(long, value_name = "OUT.csv")]
     pub frames_csv: Option<PathBuf>,
@@ -58,9 +58,9 @@ pub struct EmulateArgs {
     /// a frame for exactly the samples whose packets all arrived intact).
     #[arg(long)]
     pub verify: bool,
-    /// Tolerance of --verify (micrometres).
-    #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
-    pub tol_um: f64,
+    /// The tolerances of --verify.
+    #[command(flatten)]
+    pub tolerances: FrameTolerances,
     /// Run the IMU node firmware (`qgait-node`) instead of the hub, with --stream a raw stream
     /// (`qgait packets --raw`): it fuses the samples and sends orientations; --verify checks
     /// them against the host's f64 fusion of the same stream.
@@ -233,7 +233,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     };
     let settings = HubSettings {
         missing_policy: MissingPolicy::Drop,
-        reorder_window: args.window,
+        reorder_window: args.reorder.window,
         request_status: false,
     };
     let config = messages(&model.hub, settings)?;
@@ -347,7 +347,8 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             ok = false;
             println!("frames for samples with packets lost, damaged or unusable: {unexpected}");
         }
-        let tol = args.tol_um * 1e-6;
+        v.velocity_tolerance = args.tolerances.velocities_m_s();
+        let tol = args.tolerances.points_m();
         println!("{}", v.report(tol));
         ok &= v.passed(tol);
         if let Some(host) = &raw {

@@ -5,7 +5,9 @@ use anyhow::bail;
 use clap::Args;
 use qgait_proto::Message;
 
-use crate::cli::device_args::{micrometres, warn_cut_off, LoadedModel, OrientationArgs, PortArgs};
+use crate::cli::device_args::{
+    warn_cut_off, FrameTolerances, LoadedModel, OrientationArgs, PortArgs,
+};
 use crate::cli::model_args::ModelArgs;
 use qgait_device::log::{LogDecoder, Record};
 use qgait_device::orientations::OrientationCheck;
@@ -19,15 +21,9 @@ use qgait_device::verify::{Expected, Verifier};
 pub struct VerifyArgs {
     /// Hub log (what the hub sent): a file, `-` for standard input, or a serial port.
     pub log: String,
-    /// Largest accepted error per point (micrometres).
-    #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
-    pub tol_um: f64,
-    /// Largest accepted error of a point's velocity, when the hub sends velocities
-    /// (protocol.md 4.11), millimetres per second: each `PoseVelocities` is recomputed in f64
-    /// from the echoed angles of its pose frame and the one before (the same backward
-    /// difference).
-    #[arg(long, default_value_t = 1.0, value_name = "MM_S", value_parser = millimetres_per_second)]
-    pub tol_mm_s: f64,
+    /// The tolerances on the frames.
+    #[command(flatten)]
+    pub tolerances: FrameTolerances,
     /// The model and lengths the hub was configured with.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -51,14 +47,6 @@ pub struct VerifyArgs {
     /// host's, or the RMS difference of a hub's joint angles from the host's.
     #[arg(long, default_value_t = 0.1, value_name = "DEG", requires = "raw")]
     pub tol_deg: f64,
-}
-
-/// `--tol-mm-s`: a finite number of mm/s, at least 0.
-fn millimetres_per_second(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("{s}: not a finite number of mm/s, 0 or more")),
-    }
 }
 
 /// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
@@ -133,11 +121,11 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
         bail!("{}: no pose frames", args.log);
     }
     let mut v = verifier.finish();
-    v.velocity_tolerance = args.tol_mm_s * 1e-3;
+    v.velocity_tolerance = args.tolerances.velocities_m_s();
     if args.model.model.is_some() {
         v.expected_model = Some(model.hub.id());
     }
-    let tol = args.tol_um * 1e-6;
+    let tol = args.tolerances.points_m();
     println!("{}", v.report(tol));
     let mut passed = v.passed(tol);
     if let Some(imu) = &imu {
