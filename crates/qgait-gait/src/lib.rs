@@ -17,6 +17,7 @@ pub mod session;
 pub mod spatiotemporal;
 pub mod stream;
 pub mod trial;
+pub mod variables;
 
 use qgait_kernel::Vec3;
 

@@ -21,7 +21,7 @@
 use qgait_kernel::Vec3;
 
 use crate::events::{refine, Event, Events};
-use crate::trial::{lowest_point, FootPoint, Frame};
+use crate::trial::{lowest_point, FootVelocity, Frame};
 
 /// Bruening & Ridge 2014: the heel's sagittal speed is below this fraction of the walking speed
 /// at contact.
@@ -218,27 +218,6 @@ pub struct Gait {
     /// The speed measured over each stride (walking) or stance (running) the speed came from:
     /// `(start, end, speed)` in s, s, m/s, in no particular order (none for a given speed).
     pub local_speeds: Vec<(f64, f64, f64)>,
-}
-
-/// Velocities (m/s) relative to the pelvis origin, in ground axes, of one foot's points.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FootVelocity {
-    /// Heel (gait2392's subtalar centre).
-    pub heel: Vec3<f64>,
-    /// Forefoot (gait2392's MTP centre).
-    pub forefoot: Vec3<f64>,
-    /// Toe tip.
-    pub toe: Vec3<f64>,
-}
-
-impl FootVelocity {
-    /// The velocity of `point`.
-    pub fn at(&self, point: FootPoint) -> Vec3<f64> {
-        match point {
-            FootPoint::Heel => self.heel,
-            FootPoint::Forefoot => self.forefoot,
-        }
-    }
 }
 
 /// The velocity of each frame's heel, forefoot and toe tip relative to the pelvis (ground

@@ -9,8 +9,7 @@ use qgait_kernel::models::ranges::KNEES;
 use qgait_kernel::Vec3;
 use qgait_model::derivatives::MotionModel;
 
-use crate::angles::Seen;
-use crate::rules::FootVelocity;
+use crate::variables::Seen;
 
 use qgait_device::frames_csv::FramesCsvError;
 use qgait_model::choice::Model;
@@ -158,6 +157,27 @@ pub enum FootPoint {
     Heel,
     /// [`Limb::forefoot`].
     Forefoot,
+}
+
+/// Velocities (m/s) relative to the pelvis origin, in ground axes, of one foot's points.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FootVelocity {
+    /// Heel (gait2392's subtalar centre).
+    pub heel: Vec3<f64>,
+    /// Forefoot (gait2392's MTP centre).
+    pub forefoot: Vec3<f64>,
+    /// Toe tip.
+    pub toe: Vec3<f64>,
+}
+
+impl FootVelocity {
+    /// The velocity of `point`.
+    pub fn at(&self, point: FootPoint) -> Vec3<f64> {
+        match point {
+            FootPoint::Heel => self.heel,
+            FootPoint::Forefoot => self.forefoot,
+        }
+    }
 }
 
 impl Limb {

@@ -3,21 +3,23 @@
 use core::mem::MaybeUninit;
 use core::ptr::addr_of_mut;
 
-use embedded_io::Write;
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
-    decode_hub_message, decode_packet, Config, DecodeError, FrameDecoder, FrameFlags, HubMessage,
-    ImuConfig, JointAngle, MissingPolicy, ModelId, SegmentOrientation, Status, SubjectConfig,
-    VelocityConfig, MAX_FRAME_LEN, MAX_REORDER_WINDOW,
+    decode_hub_message, decode_packet, Config, DecodeError, FrameDecoder, HubMessage, ImuConfig,
+    JointAngle, MissingPolicy, ModelId, SegmentOrientation, Status, SubjectConfig, VelocityConfig,
+    MAX_FRAME_LEN, MAX_REORDER_WINDOW,
 };
 
-use crate::assembly::{Assembler, SampleEvent};
+use crate::assembly::Assembler;
 use crate::clock::Clock;
 use crate::counters::{bump, count_outcome};
 use crate::limits::in_range;
-use crate::line::{self, write_frame, Line, LineDevice, PollSummary, SerialPort, StatusSchedule};
+#[cfg(feature = "raw")]
+use crate::line::write_frame;
+use crate::line::{self, Line, LineDevice, PollSummary, SerialPort, StatusSchedule};
 #[cfg(feature = "imu")]
 use crate::orientation::ImuInput;
+use crate::output::Output;
 #[cfg(feature = "raw")]
 use crate::raw::{orientation_packet, RawInput, RawOutcome};
 use crate::velocity::Differentiator;
@@ -773,68 +775,6 @@ impl<S: SerialPort, C: Clock> LineDevice<S, C, READ_CHUNK> for Hub<S, C> {
 
     fn send_status(&mut self) {
         Hub::send_status(self)
-    }
-}
-
-/// The parts of the hub that turn samples (joint angles, or segment orientations in
-/// [`orientation`](crate::orientation)) into pose frames on the serial port: borrowed apart
-/// from the assembler, which reports the samples.
-pub(crate) struct Output<'a, S> {
-    pub(crate) kinematics: &'a Kinematics,
-    pub(crate) status: &'a mut Status,
-    pub(crate) serial: &'a mut S,
-    pub(crate) tx: &'a mut [u8; MAX_FRAME_LEN],
-    pub(crate) velocity: &'a mut Differentiator,
-    /// The orientation input's settings, calibration and solver.
-    #[cfg(feature = "imu")]
-    pub(crate) imu: &'a mut ImuInput,
-}
-
-impl<S: Write> Output<'_, S> {
-    fn on_sample(&mut self, event: SampleEvent<'_>) {
-        // The sample stays in the assembler's slot: lent, not copied.
-        let (sample, mut flags) = match event {
-            SampleEvent::Complete(sample) => (sample, 0),
-            SampleEvent::Held { sample, .. } => (sample, FrameFlags::MISSING | FrameFlags::HELD),
-            SampleEvent::Dropped { .. } => {
-                bump(&mut self.status.samples_incomplete);
-                return;
-            }
-        };
-        // No model while a chain's table is being written.
-        if !self.kinematics.computes() {
-            bump(&mut self.status.samples_incomplete);
-            return;
-        }
-        bump(&mut self.status.samples_completed);
-        // The joints judged out of range as their packets arrived (a held angle as its packet
-        // was): the angles are not checked again here.
-        if !sample.out_of_range.is_empty() {
-            flags |= FrameFlags::OUT_OF_RANGE;
-        }
-        // Encoded straight from the sample and the pose: no `PoseFrame` built and copied.
-        let Ok(frame) = self.kinematics.encode_pose_frame(
-            sample.seq,
-            sample.timestamp_us,
-            &sample.angles,
-            flags,
-            self.tx,
-        ) else {
-            return;
-        };
-        write_frame(self.serial, self.status, frame);
-        // Then its points' velocities, if on and the sample follows the last one posed.
-        if let Some((rates, dt_us)) = self.velocity.next(sample.seq, &sample.angles) {
-            if let Ok(frame) = self.kinematics.encode_pose_velocities(
-                sample.seq,
-                dt_us,
-                &sample.angles,
-                &rates,
-                self.tx,
-            ) {
-                write_frame(self.serial, self.status, frame);
-            }
-        }
     }
 }
 

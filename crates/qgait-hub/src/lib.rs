@@ -14,6 +14,7 @@ pub mod limits;
 pub mod line;
 pub mod memory_serial;
 pub mod orientation;
+mod output;
 #[cfg(feature = "fusion")]
 pub mod raw;
 pub mod velocity;

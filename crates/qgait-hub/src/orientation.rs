@@ -28,12 +28,8 @@
 use qgait_proto::{ImuConfig, InputMode};
 #[cfg(feature = "imu")]
 use {
-    crate::assembly::{JointSet, SampleEvent, SegmentSample},
-    crate::counters::bump,
-    crate::hub::Output,
-    qgait_kernel::imu::{Calibration, Orientations, Solver, SENSORS},
-    qgait_proto::device_model::{kernel_mode, kernel_settings, q14_quat},
-    qgait_proto::{FrameFlags, SegmentId, WireByte},
+    crate::assembly::JointSet,
+    qgait_kernel::imu::{Calibration, Solver},
 };
 
 #[cfg(feature = "imu")]
@@ -41,11 +37,11 @@ use {
 #[derive(Debug, Clone)]
 pub struct ImuInput {
     /// In force (`calibrate` and `request_status` are always `false` here).
-    config: ImuConfig,
+    pub(crate) config: ImuConfig,
     /// Whether the next complete orientation sample is the calibration pose.
-    calibrate: bool,
-    calibration: Option<Calibration<f32>>,
-    solver: Solver<f32>,
+    pub(crate) calibrate: bool,
+    pub(crate) calibration: Option<Calibration<f32>>,
+    pub(crate) solver: Solver<f32>,
 }
 
 /// The IMU configuration a hub starts with: joint-angle input, all eight segments, no
@@ -108,79 +104,4 @@ impl Default for ImuInput {
     fn default() -> Self {
         Self::new()
     }
-}
-
-#[cfg(feature = "imu")]
-impl<S: embedded_io::Write> Output<'_, S> {
-    /// One orientation sample leaving the window (see the [module](self) docs).
-    // Never inlined: the solver's frame (its chain frames and normal equations) exists only
-    // while a sample is solved.
-    #[inline(never)]
-    pub(crate) fn on_segment_sample(&mut self, event: SampleEvent<'_, [i16; 4], { SENSORS }>) {
-        let (sample, flags) = match event {
-            SampleEvent::Complete(sample) => (sample, 0),
-            SampleEvent::Held { sample, .. } => (sample, FrameFlags::MISSING | FrameFlags::HELD),
-            SampleEvent::Dropped { .. } => {
-                bump(&mut self.status.samples_incomplete);
-                return;
-            }
-        };
-        // The orientation input is only ever in force with gait2392 (the hub refuses the
-        // configurations that would make it otherwise); without it, nothing can be computed.
-        let (Some(model), Some(mode)) = (
-            self.kinematics.gait2392_model(),
-            kernel_mode(self.imu.config.mode),
-        ) else {
-            bump(&mut self.status.uncalibrated_samples);
-            return;
-        };
-        let readings = readings(sample, self.imu.required());
-        if self.imu.calibrate && flags == 0 {
-            let settings = kernel_settings(&self.imu.config);
-            match Calibration::new(model, &readings, &settings) {
-                Ok(calibration) => {
-                    self.imu.calibration = Some(calibration);
-                    self.imu.calibrate = false;
-                    self.imu.solver.reset();
-                    bump(&mut self.status.calibrations);
-                }
-                Err(_) => bump(&mut self.status.calibration_rejected),
-            }
-            return;
-        }
-        let Some(calibration) = &self.imu.calibration else {
-            bump(&mut self.status.uncalibrated_samples);
-            return;
-        };
-        // Every reading passed the unit-length check when its packet arrived.
-        let Ok(segments) = calibration.segments(&readings) else {
-            bump(&mut self.status.orientation_not_unit);
-            return;
-        };
-        let angles = self.imu.solver.solve(model, &segments, mode);
-        bump(&mut self.status.samples_completed);
-        if let Ok(frame) = self.kinematics.encode_pose_frame(
-            sample.seq,
-            sample.timestamp_us,
-            &angles.coordinates,
-            flags,
-            self.tx,
-        ) {
-            crate::line::write_frame(self.serial, self.status, frame);
-        }
-    }
-}
-
-#[cfg(feature = "imu")]
-/// The kernel's readings of a sample: the quaternion of each required segment.
-fn readings(sample: &SegmentSample, required: JointSet) -> Orientations<f32> {
-    let mut out = Orientations::EMPTY;
-    for segment in SegmentId::ALL {
-        let byte = segment.wire_byte();
-        if required.contains_index(byte) {
-            let q14 = sample.angles[usize::from(byte)];
-            out.set(segment, Some(q14_quat(q14)));
-        }
-    }
-    out
 }

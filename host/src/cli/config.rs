@@ -4,9 +4,8 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use qgait_proto::{MissingPolicy, ModelId, VelocityConfig};
+use qgait_proto::{MissingPolicy, ModelId, VelocityConfig, MAX_REORDER_WINDOW};
 
-use crate::cli::device_args::ReorderWindow;
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};
@@ -42,6 +41,19 @@ pub struct ConfigArgs {
     /// Output file: the frames, each after a 0x00.
     #[arg(short, long, value_name = "CONFIG.bin")]
     pub output: PathBuf,
+}
+
+/// The hub's reorder window (`qgait config`, `emulate`).
+#[derive(Debug, Args, Clone, Copy)]
+pub struct ReorderWindow {
+    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
+    #[arg(
+        long,
+        default_value_t = 4,
+        value_name = "N",
+        value_parser = clap::value_parser!(u8).range(1..=i64::from(MAX_REORDER_WINDOW))
+    )]
+    pub window: u8,
 }
 
 /// `--policy`.

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::{Args, ValueEnum};
-use qgait_proto::{PoseModels, MAX_REORDER_WINDOW};
+use qgait_proto::PoseModels;
 
 use crate::cli::config::hub_model;
 use crate::cli::diagnostics::Diagnostics;
@@ -111,19 +111,6 @@ pub(crate) fn warn_cut_off(log: &str, unterminated: usize) {
             "warning: {log}: the log ends inside a frame ({unterminated} bytes without a delimiter): that frame is lost"
         );
     }
-}
-
-/// The hub's reorder window (`qgait config`, `emulate`).
-#[derive(Debug, Args, Clone, Copy)]
-pub struct ReorderWindow {
-    /// Samples the hub waits for late packets: 1 to 8 (a hub rejects another).
-    #[arg(
-        long,
-        default_value_t = 4,
-        value_name = "N",
-        value_parser = clap::value_parser!(u8).range(1..=i64::from(MAX_REORDER_WINDOW))
-    )]
-    pub window: u8,
 }
 
 /// How far the hub's frames may be from the `f64` kernel's: the tolerances of `verify` and

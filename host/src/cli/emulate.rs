@@ -13,7 +13,8 @@ use qgait_emulate::qemu::Echo;
 use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, Status};
 
-use crate::cli::device_args::{FrameTolerances, LoadedModel, ReorderWindow};
+use crate::cli::config::ReorderWindow;
+use crate::cli::device_args::{FrameTolerances, LoadedModel};
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};

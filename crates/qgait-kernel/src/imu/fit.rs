@@ -22,7 +22,7 @@
 //! (and after [`FitSolver::reset`]) from the default pose with [`FIRST_ITERATIONS`] iterations.
 //! `no_std`, no allocation, `f32` and `f64`.
 
-use super::math::{rotation_vector, three_axes, twist};
+use super::math::{rotation_vector, three_axes, twist, unwrap_turns};
 use super::solve::NormalEquations;
 use super::{Orientations, Segment, SENSORS};
 use crate::models::custom::{Argument, CustomChain};
@@ -328,18 +328,6 @@ impl<T: Real, const N: usize> FitSolver<T, N> {
             held,
         }
     }
-}
-
-/// `value` moved by whole turns to within half a turn of `previous` (unchanged if either is not
-/// finite).
-pub(crate) fn unwrap_turns<T: Real>(value: T, previous: T) -> T {
-    let d = previous - value;
-    if !d.is_finite() || d.abs() <= T::from_f64(core::f64::consts::PI) {
-        return value;
-    }
-    // In `T` (no `f64` arithmetic on the device).
-    let turn = T::from_f64(core::f64::consts::TAU);
-    value + (d / turn).round() * turn
 }
 
 #[cfg(test)]

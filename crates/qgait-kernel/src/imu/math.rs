@@ -190,3 +190,15 @@ pub fn from_rotation_matrix<T: Real>(m: [[T; 3]; 3]) -> Quat<T> {
     let n = q.norm();
     positive(Quat::new(q.w / n, q.x / n, q.y / n, q.z / n))
 }
+
+/// `value` moved by whole turns to within half a turn of `previous` (unchanged if either is not
+/// finite).
+pub(crate) fn unwrap_turns<T: Real>(value: T, previous: T) -> T {
+    let d = previous - value;
+    if !d.is_finite() || d.abs() <= T::from_f64(core::f64::consts::PI) {
+        return value;
+    }
+    // In `T` (no `f64` arithmetic on the device).
+    let turn = T::from_f64(core::f64::consts::TAU);
+    value + (d / turn).round() * turn
+}

@@ -1,7 +1,6 @@
 //! Segment orientations to gait2392 coordinates: the closed form and the per-leg least squares.
 
-use super::fit::unwrap_turns;
-use super::math::{rotation_vector, three_axes, twist, two_axes};
+use super::math::{rotation_vector, three_axes, twist, two_axes, unwrap_turns};
 use super::{Orientations, Segment};
 use crate::chain::Frame;
 use crate::{Gait2392, Quat, Real, Vec3};
