@@ -37,7 +37,7 @@
 //! (opensim-core #3366/#3367 report users reading OpenSim's gyroscope in other frames: these are
 //! the frames.)
 
-use crate::models::custom::BodyFrame;
+use crate::models::parts::BodyFrame;
 use crate::{Quat, Real, Vec3};
 
 /// Gravity in ground (m/s²): OpenSim's default, `(0, -9.80665, 0)` (y up).
@@ -140,7 +140,7 @@ impl<T: Real> ImuMount<T> {
     /// As an OpenSim `PhysicalOffsetFrame`'s `translation` and `orientation`: body-fixed X-Y-Z
     /// angles (radians), `R_body_imu = Rx(o₀) Ry(o₁) Rz(o₂)`.
     pub fn from_xyz(translation: Vec3<T>, orientation: [T; 3]) -> Self {
-        let offset = crate::models::custom::Offset::from_xyz(translation, orientation);
+        let offset = crate::models::parts::Offset::from_xyz(translation, orientation);
         Self {
             translation,
             rotation: offset.rotation,

@@ -15,7 +15,6 @@ use std::collections::HashMap;
 use common::shared_dir;
 use qgait_kernel::differential::{imu_signals, ImuMount, PointMotion};
 use qgait_kernel::models::gait2392::{COORDINATES, POINTS};
-use qgait_kernel::models::packed::PackedChain;
 use qgait_kernel::Vec3;
 use qgait_model::choice::Model;
 
@@ -101,7 +100,7 @@ fn rajagopal_velocities_accelerations_and_imu_signals_are_opensims() {
     };
     let chain = chain.chain("test").unwrap();
     // The hub's model slot's sizes (as tests/opensim_models.rs packs it), in f32.
-    let device = PackedChain::<f32, 17, 11, 12, 8, 0, 24, 384>::pack(&chain).unwrap();
+    let device = chain.packed::<f32, 8, 0, 24, 384>().unwrap();
     let reference = Reference::load("rajagopal2015");
     // [velocity, acceleration, angular velocity, angular acceleration, gyroscope,
     // accelerometer], f64 then the device's f32.

@@ -413,7 +413,6 @@ fn an_axis_naming_a_coordinate_its_joint_does_not_declare_is_refused() {
 /// size a hub's model slot has room for.
 #[test]
 fn every_chain_model_packed_is_within_a_micrometre_of_opensim() {
-    use qgait_kernel::models::packed::PackedChain;
     let Some(shared) = shared_dir() else { return };
     for (name, file) in MODELS {
         let path = shared.join("data/opensim").join(file);
@@ -422,8 +421,8 @@ fn every_chain_model_packed_is_within_a_micrometre_of_opensim() {
             continue;
         };
         let chain = chain.chain("test").unwrap();
-        let packed = PackedChain::<f64, 17, 11, 12, 12, 12, 66, 1024>::pack(&chain).unwrap();
-        let device = PackedChain::<f32, 17, 11, 12, 8, 0, 24, 384>::pack(&chain).unwrap();
+        let packed = chain.packed::<f64, 12, 12, 66, 1024>().unwrap();
+        let device = chain.packed::<f32, 8, 0, 24, 384>().unwrap();
         let (mut worst, mut worst32) = (0.0f64, 0.0f64);
         for motion in ["normal", "sweep"] {
             for (q, expected) in reference(name, motion) {

@@ -17,6 +17,7 @@ pub mod fixtures;
 pub mod gait2392;
 mod hak;
 pub mod packed;
+pub(crate) mod parts;
 mod phak;
 pub mod ranges;
 

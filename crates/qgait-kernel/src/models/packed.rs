@@ -1,12 +1,13 @@
-//! A [`CustomChain`] packed for a device: the same forward kinematics from a table that holds
-//! only what is not the identity. [`PackedChain::pack`] builds it (on the host, from the
+//! A [`CustomChain`](super::CustomChain) packed for a device: the same forward kinematics from
+//! a table that holds only what is not the identity.
+//! [`CustomChain::packed`](super::CustomChain::packed) builds it (on the host, from the
 //! validated chain); [`PackedChain::forward`] evaluates it; in `f32` its bytes
 //! ([`PackedChain::IMAGE_LEN`], [`read_image`](PackedChain::read_image),
 //! [`write_image`](PackedChain::write_image)) are what a host uploads into a hub's model slot.
 //!
 //! The table is byte codes and a pool of numbers:
 //! - per joint a [`JointCode`]: its parent, how many rotations and translations move, which
-//!   parts of the joint are not the identity ([`CustomChain`]'s evaluation steps), each
+//!   parts of the joint are not the identity (the chain's evaluation steps), each
 //!   rotation's axis kind, and where its numbers start in the pool (in a fixed order, see
 //!   [`JointCode`]);
 //! - per coupled coordinate, then per moving axis, joint by joint, a [`Drive`]: its function
@@ -30,8 +31,8 @@
 //! coordinates, where the points' offsets start and how many numbers are in use, the last two
 //! `u16` little-endian), then the `W` numbers, each `f32` little-endian.
 
-use super::custom::{
-    Argument, AxisKind, BodyFrame, CustomChain, Driven, Function, Shape, MAX_COUPLERS,
+use super::parts::{
+    Argument, AxisKind, BodyFrame, ChainParts, Driven, Function, Shape, MAX_COUPLERS,
 };
 use crate::differential::{polynomial, Carried, ChainRule, FrameMotion, Jet, PointMotion, Twist};
 use crate::{Quat, Real, Vec3};
@@ -179,7 +180,7 @@ struct Codes<const B: usize, const P: usize, const S: usize, const Q: usize, con
     counts: [u8; 6],
 }
 
-/// What [`PackedChain::pack`] cannot pack.
+/// What [`CustomChain::packed`](super::CustomChain::packed) cannot pack.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum PackError {
@@ -253,15 +254,8 @@ impl<
         JointCode::LEN * B + 2 * D + 2 * P + SplineCode::LEN * S + 3 * Q + 6;
 
     /// Packs `chain`, its numbers rounded to `T`.
-    pub fn pack<
-        U: Real,
-        const S2: usize,
-        const K: usize,
-        const Q2: usize,
-        const D2: usize,
-        const W2: usize,
-    >(
-        chain: &CustomChain<U, N, B, P, S2, K, Q2, D2, W2>,
+    pub(super) fn pack<U: Real, const K: usize>(
+        chain: &ChainParts<'_, U, K>,
     ) -> Result<Self, PackError> {
         let mut table = Self::EMPTY;
         let codes = &mut table.codes;
@@ -306,11 +300,11 @@ impl<
                 Function::Polynomial(k) => Drive::POLYNOMIAL | index(k, Q)?,
             })
         };
-        let couplers = chain.couplers();
+        let couplers = chain.couplers;
         codes.counts[1] = couplers.len() as u8;
         // Abscissae first seen (their pool position) for each spline, to share them.
-        let splines = chain.splines();
-        if splines.len() > S || chain.polynomials().len() > Q {
+        let splines = chain.splines;
+        if splines.len() > S || chain.polynomials.len() > Q {
             return Err(PackError::Functions);
         }
         let mut previous: Option<(u8, u8)> = None;
@@ -324,9 +318,9 @@ impl<
             argument: Argument::Coordinate(c.independent),
         });
         let moving = chain
-            .joints()
+            .joints
             .iter()
-            .zip(chain.steps())
+            .zip(chain.steps)
             .flat_map(|(joint, step)| {
                 let (nr, nt) = step.moving;
                 joint.translations[..usize::from(nt)]
@@ -361,7 +355,7 @@ impl<
             }
         }
         codes.counts[0] = count as u8;
-        for (b, (joint, step)) in chain.joints().iter().zip(chain.steps()).enumerate() {
+        for (b, (joint, step)) in chain.joints.iter().zip(chain.steps).enumerate() {
             let code = &mut codes.joints[b];
             code[0] = joint.parent.unwrap_or(0) as u8;
             [code[4], code[5]] = (pool.len as u16).to_le_bytes();
@@ -404,7 +398,7 @@ impl<
             }
         }
         [codes.counts[2], codes.counts[3]] = (pool.len as u16).to_le_bytes();
-        for (code, p) in codes.points.iter_mut().zip(chain.points()) {
+        for (code, p) in codes.points.iter_mut().zip(chain.points) {
             let at_origin = p.offset == Vec3::zero();
             *code = [p.body as u8, u8::from(at_origin)];
             if !at_origin {
@@ -436,7 +430,7 @@ impl<
             pool.push(y);
             pool.push(s.slopes());
         }
-        for (code, p) in codes.polynomials.iter_mut().zip(chain.polynomials()) {
+        for (code, p) in codes.polynomials.iter_mut().zip(chain.polynomials) {
             let [s0, s1] = (pool.len as u16).to_le_bytes();
             *code = [s0, s1, p.coefficients().len() as u8];
             pool.push(p.coefficients());
@@ -461,7 +455,7 @@ impl<
         &self.words[..self.used().min(W)]
     }
 
-    /// Whether the table's counts are within its sizes, as [`pack`](Self::pack) makes them:
+    /// Whether the table's counts are within its sizes, as [`CustomChain::packed`](super::CustomChain::packed) makes them:
     /// its drives at most `D`, its coupled coordinates at most [`MAX_COUPLERS`] and its drives,
     /// its numbers in use at most `W`. (Any table evaluates without panicking; this is what a
     /// hub checks of an uploaded one beside its CRC.)
@@ -618,7 +612,7 @@ impl<
         }
     }
 
-    /// The frame of a joint's body on its parent's frame, as [`CustomChain`] computes it, and
+    /// The frame of a joint's body on its parent's frame, as [`CustomChain`](super::CustomChain) computes it, and
     /// its rates if `K` carries them: `v` its `nt` translations' drives, then its `nr`
     /// rotations'.
     #[inline(always)]
@@ -960,7 +954,7 @@ impl<
     }
 }
 
-/// The pool as [`PackedChain::pack`] fills it (numbers past `W` counted, not written).
+/// The pool as `PackedChain::pack` fills it (numbers past `W` counted, not written).
 struct Pool<'a, T, const W: usize> {
     words: &'a mut [T; W],
     len: usize,
@@ -1022,7 +1016,7 @@ mod tests {
         // the same abscissae, a coupler, welds: the chain's own table (of the host's sizes)
         // and one of just the sizes it needs give the same frames and points.
         let chain = walker_chain();
-        let packed = Packed::<f64>::pack(&chain).unwrap();
+        let packed = chain.packed::<f64, 12, 12, 66, 512>().unwrap();
         assert_same(&packed, &chain, 0.0);
         for q in poses() {
             for (p, r) in packed.frames(&q).iter().zip(&chain.frames(&q)) {
@@ -1045,7 +1039,7 @@ mod tests {
     #[test]
     fn a_packed_chain_in_f32_is_its_chain_within_f32_rounding() {
         let chain = walker_chain();
-        let packed = Packed::<f32>::pack(&chain).unwrap();
+        let packed = chain.packed::<f32, 12, 12, 66, 512>().unwrap();
         for q in poses() {
             let q32 = q.map(|v| v as f32);
             for (p, r) in packed.forward(&q32).iter().zip(&chain.forward(&q)) {
@@ -1057,23 +1051,23 @@ mod tests {
     #[test]
     fn a_pool_too_small_is_refused_saying_how_much_it_needs() {
         let chain = walker_chain();
-        let full = Packed::<f64>::pack(&chain).unwrap();
-        let small = PackedChain::<f64, 17, 11, 12, 12, 12, 66, 16>::pack(&chain);
+        let full = chain.packed::<f64, 12, 12, 66, 512>().unwrap();
+        let small = chain.packed::<f64, 12, 12, 66, 16>();
         assert_eq!(
             small,
             Err(PackError::Words {
                 needed: full.used()
             })
         );
-        let no_splines = PackedChain::<f64, 17, 11, 12, 1, 12, 66, 512>::pack(&chain);
+        let no_splines = chain.packed::<f64, 1, 12, 66, 512>();
         assert_eq!(no_splines, Err(PackError::Functions));
-        let few_drives = PackedChain::<f64, 17, 11, 12, 12, 12, 4, 512>::pack(&chain);
+        let few_drives = chain.packed::<f64, 12, 12, 4, 512>();
         assert_eq!(few_drives, Err(PackError::Drives));
     }
 
     #[test]
     fn an_image_written_in_any_pieces_is_the_table() {
-        let packed = Packed::<f32>::pack(&walker_chain()).unwrap();
+        let packed = walker_chain().packed::<f32, 12, 12, 66, 512>().unwrap();
         let mut image = [0u8; Packed::<f32>::IMAGE_LEN];
         packed.read_image(0, &mut image);
         // The numbers are the pool's, little-endian, after the codes.
@@ -1103,7 +1097,7 @@ mod tests {
 
     #[test]
     fn a_table_with_counts_past_its_sizes_is_not_usable() {
-        let packed = Packed::<f32>::pack(&walker_chain()).unwrap();
+        let packed = walker_chain().packed::<f32, 12, 12, 66, 512>().unwrap();
         assert!(packed.is_usable());
         let counts = Packed::<f32>::CODES_LEN - 6;
         let mut bad = packed;
@@ -1124,7 +1118,7 @@ mod tests {
     #[test]
     fn any_table_evaluates_without_panicking() {
         // Codes pointing past the pool, past the tables, at bodies that do not exist.
-        let packed = Packed::<f32>::pack(&walker_chain()).unwrap();
+        let packed = walker_chain().packed::<f32, 12, 12, 66, 512>().unwrap();
         let mut image = [0u8; Packed::<f32>::CODES_LEN];
         packed.read_image(0, &mut image);
         let mut state = 0x2545_f491u32;

@@ -106,7 +106,7 @@ impl ChainUpload {
         if !chain.polynomials().is_empty() {
             return Err(ConfigError::ChainPolynomial);
         }
-        let table = DeviceChain::pack(chain).map_err(|_| ConfigError::ChainTooLarge)?;
+        let table: DeviceChain = chain.packed().map_err(|_| ConfigError::ChainTooLarge)?;
         let len = DeviceChain::CODES_LEN + 4 * table.used();
         Ok(ChainUpload {
             upload,
