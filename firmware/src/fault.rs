@@ -3,14 +3,7 @@
 
 use cortex_m_rt::{exception, ExceptionFrame};
 
-use crate::board;
-
-/// Exit status after a panic.
-pub const PANIC_EXIT_CODE: i32 = 101;
-/// Exit status after a HardFault.
-pub const HARDFAULT_EXIT_CODE: i32 = 102;
-/// Exit status after an interrupt or exception that nothing handles.
-pub const UNEXPECTED_INTERRUPT_EXIT_CODE: i32 = 103;
+use crate::board::{self, HARDFAULT_EXIT_CODE, PANIC_EXIT_CODE};
 
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {

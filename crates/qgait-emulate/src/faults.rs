@@ -423,6 +423,18 @@ pub struct Arrivals {
     pub status: Status,
 }
 
+/// Whether a hub takes node packet `m` (`packets_accepted`): a joint angle it can use
+/// ([`JointAngle::usable`](qgait_proto::JointAngle::usable)), a segment orientation whose
+/// quaternion is of unit length (protocol.md 8.3, 8.9). Other messages are not packets:
+/// `false`.
+pub(crate) fn accepted(m: &Message) -> bool {
+    match m {
+        Message::JointAngle(p) => p.usable(),
+        Message::SegmentOrientation(p) => qgait_proto::device_model::packet_quat::<f32>(p).is_ok(),
+        _ => false,
+    }
+}
+
 impl Arrivals {
     /// Decodes `stream`.
     pub fn of(stream: &[u8]) -> Arrivals {
@@ -432,7 +444,7 @@ impl Arrivals {
                 // (A packet the hub does not take, an unusable angle or a quaternion not of
                 // unit length, leaves its sample incomplete.)
                 Ok(ref m @ (Message::JointAngle(_) | Message::SegmentOrientation(_)))
-                    if !crate::session::accepted(m) => {}
+                    if !accepted(m) => {}
                 Ok(Message::JointAngle(p)) => {
                     a.status.packets_accepted += 1;
                     a.packets.entry(p.seq).or_default().push(p);

@@ -37,7 +37,7 @@ use std::time::{Duration, Instant};
 
 use qgait_proto::{FrameDecoder, Message, Status};
 
-use crate::faults::Accounting;
+use crate::faults::{accepted, Accounting};
 use crate::push_frame;
 use crate::qemu::{escape, Echo, Qemu};
 
@@ -90,17 +90,6 @@ impl Limits {
             connect: Duration::from_secs(10),
             grace: Duration::from_millis(500),
         }
-    }
-}
-
-/// Whether a hub takes node packet `m` (`packets_accepted`): a joint angle it can use
-/// ([`JointAngle::usable`](qgait_proto::JointAngle::usable)), a segment orientation whose quaternion is of unit length (protocol.md 8.3, 8.9). Other
-/// messages are not packets: `false`.
-pub(crate) fn accepted(m: &Message) -> bool {
-    match m {
-        Message::JointAngle(p) => p.usable(),
-        Message::SegmentOrientation(p) => qgait_proto::device_model::packet_quat::<f32>(p).is_ok(),
-        _ => false,
     }
 }
 

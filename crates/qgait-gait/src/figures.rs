@@ -668,11 +668,11 @@ impl Figure for EventsFigure<'_> {
                 format!(
                     "{}: {} to {} s of {} h; {} walking bouts, {} min of walking (bouts.csv)",
                     w.label,
-                    crate::output::round(t0, 1),
-                    crate::output::round(t1, 1),
-                    crate::output::round(w.duration() / 3600.0, 2),
+                    crate::number::round(t0, 1),
+                    crate::number::round(t1, 1),
+                    crate::number::round(w.duration() / 3600.0, 2),
                     w.bouts.len(),
-                    crate::output::round(walking / 60.0, 1)
+                    crate::number::round(walking / 60.0, 1)
                 )
             } else {
                 w.label.clone()

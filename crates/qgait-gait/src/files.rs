@@ -8,7 +8,8 @@ use crate::angles::Variable;
 use crate::cycles::{Curve, POINTS};
 use crate::error::ReportError;
 use crate::gps::Scores;
-use crate::output::{round, Report};
+use crate::number::round;
+use crate::output::Report;
 use crate::spatiotemporal::{Parameter, SIDES};
 
 /// The headline figures of `summary.json` (both sides' values), in order.

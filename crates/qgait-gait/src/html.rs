@@ -15,7 +15,8 @@ use askama::Template;
 
 use crate::angles::{Plane, Seen, Variable};
 use crate::cycles::Dropped;
-use crate::output::{round, Report};
+use crate::number::round;
+use crate::output::Report;
 use crate::spatiotemporal::{Parameter, SIDES};
 
 /// The page's fields, one group per section (`templates/report/*.html`).

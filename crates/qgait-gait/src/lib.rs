@@ -11,6 +11,7 @@ pub mod files;
 pub mod gps;
 pub mod html;
 pub mod normative;
+pub mod number;
 pub mod output;
 pub mod rules;
 pub mod session;

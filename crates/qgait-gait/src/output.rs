@@ -6,6 +6,7 @@ use crate::cycles::Curve;
 use crate::error::ReportError;
 use crate::gps::{self, every_2_percent, Scores};
 use crate::normative::{Band, Kinematics, NormativeError, Range, Speed, StpNormals, STP_COLUMNS};
+use crate::number::round;
 use crate::rules::Mode;
 use crate::session::Session;
 use crate::spatiotemporal::{self, Parameter};
@@ -550,19 +551,4 @@ pub fn normative_reference(
         toe_off_range: None,
         toe_off_from: String::new(),
     })
-}
-
-/// A number with at most `decimals` decimals, without trailing zeros.
-pub fn round(v: f64, decimals: usize) -> String {
-    let s = format!("{v:.decimals$}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    if s == "-0" {
-        "0".into()
-    } else {
-        s
-    }
 }

@@ -499,7 +499,7 @@ impl Pool {
         // Events, in time order.
         let source = walk.trial.source.as_str();
         let mut write = |side: usize, kind: Kind, time: f64| -> Result<(), csv::Error> {
-            let time = crate::output::round(time, 6);
+            let time = crate::number::round(time, 6);
             let mut row = vec![SIDES[side], kind.name(), time.as_str()];
             if several {
                 row.push(source);

@@ -2,7 +2,8 @@
 //! Exactly one board feature is enabled: `mps2-an386` (QEMU, the default) or `nrf52840`.
 //!
 //! Every board module offers the same items: `Serial`, `take() -> Option<Board>`,
-//! `exit(code) -> !` and `DEVICE_VECTORS` (how many device interrupt vectors it needs).
+//! `exit(code) -> !` and `DEVICE_VECTORS` (how many device interrupt vectors it needs); the
+//! exit statuses of a failed run are here too.
 
 #[cfg(all(feature = "mps2-an386", feature = "nrf52840"))]
 compile_error!("enable exactly one board feature: `mps2-an386` or `nrf52840`");
@@ -30,6 +31,13 @@ pub mod nrf_uart;
 pub use nrf52840::{exit, take, Serial, DEVICE_VECTORS, NAME};
 
 pub use systick_clock::SysTickClock;
+
+/// Exit status after a panic ([`fault`](crate::fault)).
+pub const PANIC_EXIT_CODE: i32 = 101;
+/// Exit status after a HardFault ([`fault`](crate::fault)).
+pub const HARDFAULT_EXIT_CODE: i32 = 102;
+/// Exit status after an interrupt or exception that nothing handles.
+pub const UNEXPECTED_INTERRUPT_EXIT_CODE: i32 = 103;
 
 use core::sync::atomic::{AtomicBool, Ordering};
 
@@ -69,7 +77,7 @@ macro_rules! serve_uart_interrupt {
                 unsafe { <$uart>::on_interrupt($base) };
             } else {
                 defmt::error!("unexpected interrupt {=i16}", irqn);
-                exit(crate::fault::UNEXPECTED_INTERRUPT_EXIT_CODE);
+                exit($crate::board::UNEXPECTED_INTERRUPT_EXIT_CODE);
             }
         }
     };

@@ -237,11 +237,9 @@ impl Kept {
     }
 }
 
-/// Runs `qgait gait`.
+/// Runs `qgait gait` on one recording, or several analysed together (`--each`, each on its
+/// own, is [`gait_each::run`](crate::cli::gait_each::run)).
 pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()> {
-    if args.each {
-        return crate::cli::gait_each::run(args, diagnostics);
-    }
     // Every warning is shown as it comes and kept for the report's warnings section.
     let kept = Kept::default();
     let warn = |w: Vec<Warning>| {
@@ -289,7 +287,9 @@ pub fn run_gait(args: GaitArgs, diagnostics: &Diagnostics) -> anyhow::Result<()>
             .scores
             .as_ref()
             .and_then(|s| s.overall)
-            .map_or(String::new(), |g| format!(", GPS {}°", output::round(g, 2)));
+            .map_or(String::new(), |g| {
+                format!(", GPS {}°", qgait_gait::number::round(g, 2))
+            });
         eprintln!(
             "{strides} stride{}{gps}; wrote {} files to {}",
             if strides == 1 { "" } else { "s" },

@@ -90,6 +90,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fuse(args) => crate::cli::fuse::run_fuse(args, &diagnostics)?,
         Command::Imu(args) => crate::cli::imu::run_imu(args, &diagnostics)?,
         Command::ImuSignals(args) => crate::cli::imu_signals::run_imu_signals(args, &diagnostics)?,
+        Command::Gait(args) if args.each => crate::cli::gait_each::run(args, &diagnostics)?,
         Command::Gait(args) => crate::cli::gait::run_gait(args, &diagnostics)?,
         Command::Report(args) => crate::cli::report::run_report(args, &diagnostics)?,
         Command::Motion(args) => crate::cli::motion::run_motion(args, &diagnostics)?,
