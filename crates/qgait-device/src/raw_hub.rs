@@ -10,7 +10,7 @@
 //! first sample with every segment fused is the calibration pose and each later one a pose
 //! frame. The host does the same in `f64`: the raw input's rules ([`host_orientations`]),
 //! the orientations in Q14, then the kernel's calibration and solver
-//! ([`solve_samples`](crate::orientations::solve_samples)). The two differ by the hub's
+//! ([`solve_samples`]). The two differ by the hub's
 //! `f32` fusion, so their angles are compared in degrees (the fusion's error carries into
 //! every coordinate), not their points in micrometres.
 

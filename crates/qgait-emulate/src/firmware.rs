@@ -83,7 +83,7 @@ pub fn feature_build_command(root: &Path, feature: &str) -> String {
 }
 
 /// Builds the release firmware with `feature` ([`feature_elf`]; cargo does nothing when it is
-/// up to date): in the shared [`features_target_dir`], then copied to the feature's own path.
+/// up to date): in the shared `features_target_dir`, then copied to the feature's own path.
 /// One build at a time, across processes (a lock file there), so that no other feature set's
 /// ELF is copied.
 pub fn build_feature(root: &Path, feature: &str) -> Result<PathBuf, EmulateError> {

@@ -81,8 +81,8 @@ impl<const N: usize> Picker<N> {
     /// with one warning; a needed label that names two columns is an error. `knee`: the sign of
     /// flexion of the model's `knee_angle` (the range checked). Only the names with `read`
     /// true are read: the others are taken as 0 without a warning when absent, and a column of
-    /// one with a value other than 0 (beyond [`UNREAD_NOISE_RAD`]) gets one warning at the end
-    /// ([`finish`](Self::finish)): the model ignores it.
+    /// one with a value other than 0 (beyond the noise `UNREAD_NOISE_RAD`) gets one warning at
+    /// the end ([`finish`](Self::finish)): the model ignores it.
     pub fn new(
         header: &Header,
         names: &[&'static str; N],

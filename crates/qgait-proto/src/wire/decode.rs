@@ -54,9 +54,10 @@ pub enum HubMessage {
     /// no hub of this crate takes raw input yet). Its body is not decoded (so such a hub links
     /// none of their decoders).
     NotTaken(u32),
-    /// A message only a hub (or a raw input) sends ([`PoseFrame`], tag 1, [`Status`], tag 2,
-    /// [`RawImuStatus`], tag 13, or [`PoseVelocities`], tag 15), with this tag. Its body is not decoded: it may or may not
-    /// be well-formed.
+    /// A message only a hub (or a raw input) sends ([`PoseFrame`], tag 1,
+    /// [`Status`](crate::Status), tag 2, [`RawImuStatus`](crate::RawImuStatus), tag 13, or
+    /// [`PoseVelocities`](crate::PoseVelocities), tag 15), with this tag. Its body is not decoded:
+    /// it may or may not be well-formed.
     FromHub(u32),
 }
 
@@ -74,8 +75,9 @@ pub fn decode_packet(bytes: &[u8]) -> Option<Result<JointAngle, DecodeError>> {
 
 /// [`decode_message`](crate::decode_message) for a hub: the messages sent to a hub are decoded
 /// exactly as `decode_message` decodes them (the same values, the same errors); a
-/// [`PoseFrame`] or a [`Status`] is reported as [`HubMessage::FromHub`] without decoding its
-/// body, so their decoders are not linked into a hub that does not call `decode_message`.
+/// [`PoseFrame`] or a [`Status`](crate::Status) is reported as [`HubMessage::FromHub`] without
+/// decoding its body, so their decoders are not linked into a hub that does not call
+/// `decode_message`.
 pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
     if let Some(packet) = decode_packet(bytes) {
         return packet.map(HubMessage::JointAngle);
