@@ -182,9 +182,9 @@ pub fn run() -> anyhow::Result<ExitCode> {
     })
 }
 
-/// Formatting and lints, in both workspaces: `cargo fmt --check` and clippy on every target
-/// with warnings denied (the root workspace on the host, the hub and its checks included; the
-/// firmware for its own target, its on-target tests included).
+/// Formatting, lints and docs, in both workspaces: `cargo fmt --check`, clippy on every target
+/// and `cargo doc` with warnings denied (the root workspace on the host, the hub and its checks
+/// included; the firmware for its own target, its on-target tests included).
 fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
     const DENY: [&str; 2] = ["--", "-Dwarnings"];
     let clippy = |extra: &[&'static str]| -> Vec<&'static str> {
@@ -235,6 +235,19 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             firmware,
             &clippy(&["--all-targets", "--features", "imu,raw"]),
             &[],
+        ),
+        // The crate docs (each crate's README among them) with their links resolved.
+        step(
+            "docs, host workspace",
+            root,
+            &["doc", "--workspace", "--no-deps"],
+            &[("RUSTDOCFLAGS", "-Dwarnings".to_string())],
+        ),
+        step(
+            "docs, firmware",
+            firmware,
+            &["doc", "--no-deps"],
+            &[("RUSTDOCFLAGS", "-Dwarnings".to_string())],
         ),
     ]
 }
