@@ -14,7 +14,7 @@ use qgait_emulate::session::{self, closing_frames, InputCounts, Limits};
 use qgait_proto::{FrameDecoder, Message, MissingPolicy, Status};
 
 use crate::cli::config::ReorderWindow;
-use crate::cli::device_args::{FrameTolerances, LoadedModel};
+use crate::cli::device_args::{LoadedModel, PointTolerance};
 use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};
@@ -59,9 +59,9 @@ pub struct EmulateArgs {
     /// a frame for exactly the samples whose packets all arrived intact).
     #[arg(long)]
     pub verify: bool,
-    /// The tolerances of --verify.
+    /// The tolerance of --verify on the points.
     #[command(flatten)]
-    pub tolerances: FrameTolerances,
+    pub points: PointTolerance,
     /// Run the IMU node firmware (`qgait-node`) instead of the hub, with --stream a raw stream
     /// (`qgait packets --raw`): it fuses the samples and sends orientations; --verify checks
     /// them against the host's f64 fusion of the same stream.
@@ -348,8 +348,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             ok = false;
             println!("frames for samples with packets lost, damaged or unusable: {unexpected}");
         }
-        v.velocity_tolerance = args.tolerances.velocities_m_s();
-        let tol = args.tolerances.points_m();
+        let tol = args.points.metres();
         println!("{}", v.report(tol));
         ok &= v.passed(tol);
         if let Some(host) = &raw {

@@ -6,7 +6,7 @@ use clap::Args;
 use qgait_proto::Message;
 
 use crate::cli::device_args::{
-    warn_cut_off, FrameTolerances, LoadedModel, OrientationArgs, PortArgs,
+    warn_cut_off, LoadedModel, OrientationArgs, PointTolerance, PortArgs,
 };
 use crate::cli::model_args::ModelArgs;
 use qgait_device::log::{LogDecoder, Record};
@@ -21,9 +21,15 @@ use qgait_device::verify::{Expected, Verifier};
 pub struct VerifyArgs {
     /// Hub log (what the hub sent): a file, `-` for standard input, or a serial port.
     pub log: String,
-    /// The tolerances on the frames.
+    /// The tolerance on the points.
     #[command(flatten)]
-    pub tolerances: FrameTolerances,
+    pub points: PointTolerance,
+    /// Largest accepted error of a point's velocity, when the hub sends velocities
+    /// (protocol.md 4.11), millimetres per second: each `PoseVelocities` is recomputed in f64
+    /// from the echoed angles of its pose frame and the one before (the same backward
+    /// difference).
+    #[arg(long, default_value_t = 1.0, value_name = "MM_S", value_parser = millimetres_per_second)]
+    pub tol_mm_s: f64,
     /// The model and lengths the hub was configured with.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -47,6 +53,12 @@ pub struct VerifyArgs {
     /// host's, or the RMS difference of a hub's joint angles from the host's.
     #[arg(long, default_value_t = 0.1, value_name = "DEG", requires = "raw")]
     pub tol_deg: f64,
+}
+
+/// `--tol-mm-s`: a finite number of mm/s, at least 0.
+fn millimetres_per_second(s: &str) -> anyhow::Result<f64> {
+    crate::cli::amount(s, 0.0, true)
+        .ok_or_else(|| anyhow::anyhow!("`{s}` is not a tolerance in mm/s (a number, 0 or more)"))
 }
 
 /// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
@@ -121,11 +133,11 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
         bail!("{}: no pose frames", args.log);
     }
     let mut v = verifier.finish();
-    v.velocity_tolerance = args.tolerances.velocities_m_s();
+    v.velocity_tolerance = args.tol_mm_s * 1e-3;
     if args.model.model.is_some() {
         v.expected_model = Some(model.hub.id());
     }
-    let tol = args.tolerances.points_m();
+    let tol = args.points.metres();
     println!("{}", v.report(tol));
     let mut passed = v.passed(tol);
     if let Some(imu) = &imu {
