@@ -68,8 +68,7 @@ fn paths(tokens: TokenStream, out: &mut Vec<Vec<String>>) {
         match &tokens[i] {
             TokenTree::Ident(id)
                 if matches!(id.to_string().as_str(), "crate" | "super" | "self")
-                    && is_path_sep(&tokens, i + 1)
-                    && !is_path_sep(&tokens, i.wrapping_sub(2)) =>
+                    && is_path_sep(&tokens, i + 1) =>
             {
                 i = path_at(&tokens, i, Vec::new(), out);
             }
