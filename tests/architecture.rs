@@ -2,10 +2,11 @@
 //! others (issue 27: "no import circles between files").
 //!
 //! A file depends on another when it names an item of it: a `use` of a `crate::`, `super::` or
-//! `self::` path, or such a path in its code (`crate::output::round(x, 1)`). Comments, strings
-//! and `#[cfg(test)]` items are not read (tests may use anything); a module's own children and
-//! ancestors do not count (a parent declares and re-exports its children, which use its
-//! items: Rust's module tree, not a circle). Each crate's `src/` is read, without `src/bin/`
+//! `self::` path, or such a path in its code (`crate::number::round(x, 1)`), followed through
+//! re-exports (`crate::Polynomial`, which `lib.rs` re-exports, is `polynomial.rs`'s; globs are
+//! not followed). Comments, strings and `#[cfg(test)]` items are not read (tests may use
+//! anything); a module's own children and ancestors do not count (a parent declares and
+//! re-exports its children, which use its items: Rust's module tree, not a circle). Each crate's `src/` is read, without `src/bin/`
 //! (separate crates). The files are lexed with `proc-macro2`, Rust's own token rules, so a path
 //! in a comment or a string is never taken for a dependency.
 
@@ -153,39 +154,161 @@ fn path_at(
     i
 }
 
+/// A re-export's leaves in `tokens` (a `pub use` tree after `use`): each path with the name it
+/// is exported under (globs are not followed).
+fn reexported(tokens: &[TokenTree], mut prefix: Vec<String>, out: &mut Vec<(Vec<String>, String)>) {
+    let mut i = 0;
+    loop {
+        match tokens.get(i) {
+            Some(TokenTree::Ident(id)) => {
+                prefix.push(id.to_string());
+                i += 1;
+            }
+            Some(TokenTree::Group(g)) if g.delimiter() == Delimiter::Brace => {
+                let inner: Vec<TokenTree> = g.stream().into_iter().collect();
+                let comma = |t: &TokenTree| matches!(t, TokenTree::Punct(p) if p.as_char() == ',');
+                for part in inner.split(comma).filter(|p| !p.is_empty()) {
+                    reexported(part, prefix.clone(), out);
+                }
+                return;
+            }
+            _ => return,
+        }
+        if is_path_sep(tokens, i) {
+            i += 2;
+        } else {
+            break;
+        }
+    }
+    let alias = match (tokens.get(i), tokens.get(i + 1)) {
+        (Some(TokenTree::Ident(a)), Some(TokenTree::Ident(b))) if a == "as" => Some(b.to_string()),
+        _ => None,
+    };
+    if prefix.last().is_some_and(|s| s == "self") {
+        prefix.pop();
+    }
+    if let Some(name) = alias.or_else(|| prefix.last().cloned()) {
+        out.push((prefix, name));
+    }
+}
+
+/// The `pub use` (and `pub(crate) use`) trees at the top of a file's `tokens`.
+fn pub_uses(tokens: &[TokenTree]) -> Vec<Vec<TokenTree>> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < tokens.len() {
+        if is_cfg_test(tokens, i) {
+            i = item_end(tokens, i + 2);
+            continue;
+        }
+        let is = |k: usize, word: &str| matches!(tokens.get(k), Some(TokenTree::Ident(id)) if id == word);
+        if is(i, "pub") {
+            let after = match tokens.get(i + 1) {
+                Some(TokenTree::Group(g)) if g.delimiter() == Delimiter::Parenthesis => i + 2,
+                _ => i + 1,
+            };
+            if is(after, "use") {
+                let end = item_end(tokens, after + 1);
+                let tree: Vec<TokenTree> = tokens[after + 1..end]
+                    .iter()
+                    .filter(|t| !matches!(t, TokenTree::Punct(p) if p.as_char() == ';'))
+                    .cloned()
+                    .collect();
+                out.push(tree);
+                i = end;
+                continue;
+            }
+        }
+        i += 1;
+    }
+    out
+}
+
+/// `segments` (a path as written in `module`) from the crate root, if it is this crate's.
+fn absolute(
+    segments: &[String],
+    module: &Module,
+    files: &BTreeMap<Module, PathBuf>,
+) -> Option<Module> {
+    let first = segments.first()?;
+    let (mut target, mut rest): (Module, &[String]) = match first.as_str() {
+        "crate" => (Vec::new(), &segments[1..]),
+        "self" => (module.clone(), &segments[1..]),
+        "super" => (module.clone(), segments),
+        // A child module of this one (a `pub use child::Item` in a `mod.rs` or `lib.rs`).
+        child if files.contains_key(&[module.as_slice(), &[child.to_string()]].concat()) => {
+            (module.clone(), segments)
+        }
+        _ => return None,
+    };
+    // `super` in `a/b.rs` (module a::b) is `a`; in `a/mod.rs` (module a), the root.
+    while rest.first().is_some_and(|s| s == "super") {
+        target.pop();
+        rest = &rest[1..];
+    }
+    target.extend(rest.iter().cloned());
+    Some(target)
+}
+
 /// The file-to-file dependencies of the crate at `src`: for each module, the modules it
-/// names and, for each, the first path that names it.
+/// names and, for each, the first path that names it. A path to an item a module re-exports
+/// (`crate::Polynomial`, re-exported by `lib.rs`) is followed to the file that holds it.
 fn dependencies(src: &Path) -> BTreeMap<Module, BTreeMap<Module, String>> {
     let files = modules(src);
-    let mut deps: BTreeMap<Module, BTreeMap<Module, String>> = BTreeMap::new();
+    let mut named: BTreeMap<Module, Vec<Vec<String>>> = BTreeMap::new();
+    // For each file, what it re-exports: a name and the path it stands for.
+    let mut reexports: BTreeMap<Module, BTreeMap<String, Module>> = BTreeMap::new();
     for (module, path) in &files {
         let text = std::fs::read_to_string(path).unwrap();
         let tokens = TokenStream::from_str(&text)
             .unwrap_or_else(|e| panic!("{}: not Rust tokens: {e:?}", path.display()));
-        let mut named = Vec::new();
-        paths(tokens, &mut named);
-        for segments in named {
-            // Where the path starts: the crate root, this module, or its parents.
-            let mut target: Module = match segments[0].as_str() {
-                "crate" => Vec::new(),
-                _ => module.clone(),
-            };
-            let mut rest = &segments[1..];
-            if segments[0] == "super" {
-                // `super` in `a/b.rs` (module a::b) is `a`; in `a/mod.rs` (module a), the root.
-                target.pop();
-                while rest.first().is_some_and(|s| s == "super") {
-                    target.pop();
-                    rest = &rest[1..];
+        let top: Vec<TokenTree> = tokens.clone().into_iter().collect();
+        for tree in pub_uses(&top) {
+            let mut leaves = Vec::new();
+            reexported(&tree, Vec::new(), &mut leaves);
+            for (segments, name) in leaves {
+                if let Some(target) = absolute(&segments, module, &files) {
+                    reexports
+                        .entry(module.clone())
+                        .or_default()
+                        .insert(name, target);
                 }
             }
-            target.extend(rest.iter().cloned());
-            // The file that holds it: the longest prefix that is a file.
-            let Some(file) = (0..=target.len())
+        }
+        paths(tokens, named.entry(module.clone()).or_default());
+    }
+    // The file that holds what `target` names: the longest prefix that is a file, through
+    // the re-exports on the way.
+    let holder = |mut target: Module| -> Option<Module> {
+        for _ in 0..16 {
+            let file = (0..=target.len())
                 .rev()
                 .map(|k| target[..k].to_vec())
-                .find(|m| files.contains_key(m))
-            else {
+                .find(|m| files.contains_key(m))?;
+            let through = target[file.len()..]
+                .first()
+                .and_then(|name| reexports.get(&file)?.get(name));
+            match through {
+                Some(path) => {
+                    let next: Module = path
+                        .iter()
+                        .chain(&target[file.len() + 1..])
+                        .cloned()
+                        .collect();
+                    if next == target {
+                        return Some(file);
+                    }
+                    target = next;
+                }
+                None => return Some(file),
+            }
+        }
+        None
+    };
+    let mut deps: BTreeMap<Module, BTreeMap<Module, String>> = BTreeMap::new();
+    for (module, paths) in &named {
+        for segments in paths {
+            let Some(file) = absolute(segments, module, &files).and_then(&holder) else {
                 continue;
             };
             let related = file.starts_with(module) || module.starts_with(&file);
@@ -287,8 +410,8 @@ fn no_file_depends_on_itself_through_others() {
     );
 }
 
-/// The check finds a circle where there is one, through a `use` group, a `super::` path and a
-/// path in code, and none in comments, strings or test modules.
+/// The check finds a circle where there is one, through a `use` group, a `super::` path, a
+/// path in code and re-exports, and none in comments, strings or test modules.
 #[test]
 fn the_check_sees_circles_and_only_circles() {
     let dir = tempfile::tempdir().unwrap();
@@ -317,4 +440,17 @@ fn the_check_sees_circles_and_only_circles() {
     // Without the path in code, no circle.
     write("b.rs", "pub struct Y;\n");
     assert!(circles(&dependencies(&src)).is_empty());
+    // A circle through re-exports: `d` names `Y` at the root, which re-exports `b`'s, and
+    // `b` names `Z` through `c`'s re-export of `d`'s.
+    write(
+        "lib.rs",
+        "pub mod a;\npub mod b;\npub mod c;\npub mod d;\npub use b::{Y as Why};\n",
+    );
+    write("c.rs", "pub use crate::d::Z;\npub fn g() {}\n");
+    write("d.rs", "pub struct Z;\nfn f(_: crate::Why) {}\n");
+    write("b.rs", "pub struct Y;\nuse super::c::Z;\n");
+    assert_eq!(
+        circles(&dependencies(&src)),
+        vec![[m("b"), m("d")].into_iter().collect()]
+    );
 }

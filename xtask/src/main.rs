@@ -4,8 +4,8 @@
 //!   it under QEMU on the built-in normal gait, verifies every frame and draws them (`out/demo`).
 //! - `test`: every test suite — host workspace, hub host tests, firmware builds for both
 //!   boards, the firmware's RAM bound (static RAM plus the stack bound of [`stack_bound`]
-//!   within 8 KiB), on-target tests and the UART end-to-end session under QEMU, formatting
-//!   and lints — then a summary with each step's time.
+//!   within 8 KiB), on-target tests and the UART end-to-end session under QEMU, formatting,
+//!   lints and docs — then a summary with each step's time.
 //! - `qemu-run ELF`: the firmware's cargo runner (firmware/.cargo/config.toml): runs `ELF` on
 //!   QEMU mps2-an386, decodes its defmt logs, exits with QEMU's status. The application ELF
 //!   (`qgait-firmware`) gets the end-to-end UART session of [`session`]; any other ELF (the

@@ -448,16 +448,3 @@ impl<T: Real> ChainRule<T> for Jet<T> {
         }
     }
 }
-
-/// A polynomial's value and first and second derivatives at `x` (coefficients highest power
-/// first; Horner's rule for all three).
-#[inline(always)]
-pub(crate) fn polynomial<T: Real>(coefficients: &[T], x: T) -> (T, T, T) {
-    let (mut p, mut dp, mut half_ddp) = (T::ZERO, T::ZERO, T::ZERO);
-    for &c in coefficients {
-        half_ddp = half_ddp * x + dp;
-        dp = dp * x + p;
-        p = p * x + c;
-    }
-    (p, dp, half_ddp * T::TWO)
-}

@@ -66,11 +66,10 @@ impl fmt::Display for ModelError {
             Self::TableSize => {
                 f.write_str("the chain has more moving axes or numbers than its table holds")
             }
-            Self::PolynomialCoefficients => write!(
-                f,
-                "a polynomial needs 1 to {} finite coefficients",
-                crate::polynomial::MAX_COEFFICIENTS
-            ),
+            // The number is `polynomial::MAX_COEFFICIENTS` (a test there holds them equal).
+            Self::PolynomialCoefficients => {
+                f.write_str("a polynomial needs 1 to 8 finite coefficients")
+            }
         }
     }
 }

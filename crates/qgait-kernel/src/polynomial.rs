@@ -56,7 +56,7 @@ impl<T: Real> Polynomial<T> {
     /// The value at `x` and the first and second derivatives there.
     #[inline]
     pub fn eval_derivatives(&self, x: T) -> (T, T, T) {
-        crate::differential::polynomial(self.coefficients(), x)
+        with_derivatives(self.coefficients(), x)
     }
 
     /// The same polynomial in another precision.
@@ -68,9 +68,36 @@ impl<T: Real> Polynomial<T> {
     }
 }
 
+/// A polynomial's value and first and second derivatives at `x` (coefficients highest power
+/// first; Horner's rule for all three).
+#[inline(always)]
+pub(crate) fn with_derivatives<T: Real>(coefficients: &[T], x: T) -> (T, T, T) {
+    let (mut p, mut dp, mut half_ddp) = (T::ZERO, T::ZERO, T::ZERO);
+    for &c in coefficients {
+        half_ddp = half_ddp * x + dp;
+        dp = dp * x + p;
+        p = p * x + c;
+    }
+    (p, dp, half_ddp * T::TWO)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    extern crate std;
+    use std::string::ToString;
+
+    /// `ModelError`'s message states the most coefficients in words (the error module does not
+    /// depend on this one): it must be this module's.
+    #[test]
+    fn the_error_states_the_most_coefficients() {
+        let message = ModelError::PolynomialCoefficients.to_string();
+        assert!(
+            message.contains(&std::format!("1 to {MAX_COEFFICIENTS} ")),
+            "{message}"
+        );
+    }
 
     #[test]
     fn evaluates_highest_power_first() {

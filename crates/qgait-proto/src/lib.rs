@@ -14,10 +14,12 @@ pub mod device_model;
 mod error;
 mod flags;
 mod frame;
+mod indices;
 mod joint;
 mod messages;
 mod model;
 mod orientation;
+mod policy;
 mod raw;
 mod sizes;
 mod subject;
@@ -40,16 +42,18 @@ pub use crate::frame::{
     encode_pose_velocities_frame, encode_raw_frame, encode_raw_imu_status_frame,
     encode_segment_orientation_frame, encode_status_frame,
 };
+pub use crate::indices::{point, segment};
 pub use crate::joint::JointId;
 pub use crate::messages::{
-    point, segment, Config, JointAngle, Message, MissingPolicy, PoseFrame, Status, MAX_POSE_ANGLES,
-    MAX_REORDER_WINDOW, PROTOCOL_VERSION,
+    Config, JointAngle, Message, PoseFrame, Status, MAX_POSE_ANGLES, MAX_REORDER_WINDOW,
+    PROTOCOL_VERSION,
 };
 pub use crate::model::ModelId;
 pub use crate::orientation::{
     segment_bit, HeadingAxisId, ImuConfig, ImuHeading, InputMode, SegmentId, SegmentOrientation,
     WireByte, Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
 };
+pub use crate::policy::MissingPolicy;
 pub use crate::raw::{
     FusionMode, RawImuConfig, RawImuSample, RawImuStatus, RAW_IMU_CONFIG_TAG, RAW_IMU_SAMPLE_TAG,
     RAW_IMU_STATUS_COUNTERS, RAW_IMU_STATUS_TAG,

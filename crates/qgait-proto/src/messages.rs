@@ -9,9 +9,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    ChainTable, ChainTableConfig, ImuConfig, JointId, ModelId, PoseVelocities, RawImuConfig,
-    RawImuSample, RawImuStatus, SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg,
-    VelocityConfig,
+    point, segment, ChainTable, ChainTableConfig, ImuConfig, JointId, MissingPolicy, ModelId,
+    PoseVelocities, RawImuConfig, RawImuSample, RawImuStatus, SegmentOrientation, SubjectConfig,
+    SubjectKnee, SubjectLeg, VelocityConfig,
 };
 
 /// The deepest reorder window a hub supports (samples): a `Config` or `SubjectConfig` asks for
@@ -62,28 +62,6 @@ impl JointAngle {
 
 /// Maximum number of input angles in a [`PoseFrame`]: one per [`JointId`].
 pub const MAX_POSE_ANGLES: usize = JointId::COUNT;
-
-/// Indices into [`PoseFrame::points`].
-pub mod point {
-    /// Right hip joint centre.
-    pub const HIP_R: usize = 0;
-    /// Right knee joint centre.
-    pub const KNEE_R: usize = 1;
-    /// Right ankle joint centre.
-    pub const ANKLE_R: usize = 2;
-    /// Right toe.
-    pub const TOE_R: usize = 3;
-    /// Left hip joint centre.
-    pub const HIP_L: usize = 4;
-    /// Left knee joint centre.
-    pub const KNEE_L: usize = 5;
-    /// Left ankle joint centre.
-    pub const ANKLE_L: usize = 6;
-    /// Left toe.
-    pub const TOE_L: usize = 7;
-    /// Number of points.
-    pub const COUNT: usize = 8;
-}
 
 /// One computed pose, sent by the hub.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -164,31 +142,6 @@ pub struct Status {
     /// Calibration poses refused (the heading's base IMU missing, its heading axis vertical):
     /// the calibration in force stays, and the next complete sample is tried.
     pub calibration_rejected: u32,
-}
-
-/// What the hub does when a sample is incomplete when its reorder window closes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[repr(u8)]
-pub enum MissingPolicy {
-    /// Drop the sample: no pose frame is sent.
-    Drop = 0,
-    /// Use the last received angle of each missing joint and set [`FrameFlags::HELD`](crate::FrameFlags::HELD).
-    HoldLast = 1,
-}
-
-/// Anthropometry of one leg, metres, in the order of [`Config::anthropometry`]'s inner array.
-pub mod segment {
-    /// Half the distance between the hip joint centres.
-    pub const PELVIS_HALF_WIDTH: usize = 0;
-    /// Hip to knee.
-    pub const FEMUR: usize = 1;
-    /// Knee to ankle.
-    pub const TIBIA: usize = 2;
-    /// Ankle to toe.
-    pub const FOOT: usize = 3;
-    /// Number of segment lengths per leg.
-    pub const COUNT: usize = 4;
 }
 
 /// Configuration sent by the host to the hub.

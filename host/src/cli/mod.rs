@@ -1,6 +1,6 @@
 //! The `qgait` command line: argument definitions and the commands.
 
-pub(crate) mod config;
+pub mod config;
 pub mod decode;
 pub mod device_args;
 pub(crate) mod diagnostics;

@@ -34,7 +34,8 @@
 use super::parts::{
     Argument, AxisKind, BodyFrame, ChainParts, Driven, Function, Shape, MAX_COUPLERS,
 };
-use crate::differential::{polynomial, Carried, ChainRule, FrameMotion, Jet, PointMotion, Twist};
+use crate::differential::{Carried, ChainRule, FrameMotion, Jet, PointMotion, Twist};
+use crate::polynomial::with_derivatives;
 use crate::{Quat, Real, Vec3};
 
 /// What drives one moving axis: its function byte and its argument byte.
@@ -756,7 +757,7 @@ impl<
                 };
                 let start = usize::from(u16::from_le_bytes([s0, s1]));
                 let c = self.words.get(start..start + usize::from(len));
-                let (p, dp, ddp) = polynomial(c.unwrap_or(&[]), x.value());
+                let (p, dp, ddp) = with_derivatives(c.unwrap_or(&[]), x.value());
                 x.through(p, dp, ddp)
             }
             _ => x,

@@ -9,7 +9,7 @@ use qgait_kernel::models::packed::PackedChain;
 use qgait_kernel::models::ranges::KneeFlexion;
 use qgait_kernel::{BilateralPose, Gait2392Pose, Real};
 
-use crate::device_model::ConfigError;
+use crate::device_model::error::ConfigError;
 use crate::{
     ChainTable, ChainTableConfig, JointId, MissingPolicy, CHAIN_BODIES, MAX_CHAIN_DRIVES,
     MAX_CHAIN_SPLINES, MAX_CHAIN_TABLE_BYTES, MAX_CHAIN_WORDS,

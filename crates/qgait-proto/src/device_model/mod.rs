@@ -29,6 +29,7 @@
 //! one more manifest. It is `no_std` and allocates nothing (but `HubModel`, host-only).
 
 mod chain;
+mod error;
 mod imu;
 mod kinematics;
 #[cfg(feature = "std")]
@@ -38,12 +39,13 @@ mod subject;
 pub use chain::{
     chain_pose, table_crc, ChainUpload, DeviceChain, LowerLimbChain, CHAIN_IMAGE_LEN, CHAIN_POINTS,
 };
+pub use error::{ConfigError, MAX_SEGMENT_M};
 pub use imu::{input_mode, kernel_mode, kernel_settings, packet_quat, q14_quat, wire_settings};
 #[cfg(feature = "chain")]
 pub use kinematics::CheckedChain;
 pub use kinematics::{
     gait2392_pose, phak_angles, pose_distances, pose_points, sample_angles, stick_pose,
-    stick_velocities, ConfigError, Kinematics, PoseModels, MAX_SEGMENT_M,
+    stick_velocities, Kinematics, PoseModels,
 };
 #[cfg(feature = "std")]
 pub use model::HubModel;
