@@ -57,8 +57,8 @@ fn modules(src: &Path) -> BTreeMap<Module, PathBuf> {
 }
 
 /// The `crate::`, `super::` and `self::` paths named in `tokens` (use trees expanded), each
-/// as its segments; `#[cfg(test)]` items skipped.
-fn paths(tokens: TokenStream, out: &mut Vec<Vec<String>>) {
+/// with the name it goes by; `#[cfg(test)]` items skipped.
+fn paths(tokens: TokenStream, out: &mut Vec<Leaf>) {
     let tokens: Vec<TokenTree> = tokens.into_iter().collect();
     let mut i = 0;
     while i < tokens.len() {
@@ -117,13 +117,16 @@ fn item_end(tokens: &[TokenTree], mut i: usize) -> usize {
     i
 }
 
+/// A path's segments and the name it goes by (its last segment, or its `as` alias).
+type Leaf = (Vec<String>, String);
+
 /// Reads the path starting at `tokens[i]` (after `prefix`), pushing each path it names (a
-/// `{a, b::c}` group gives several); returns the index after it.
+/// `{a, b::c}` group gives several; `a::{self}` is `a`); returns the index after it.
 fn path_at(
     tokens: &[TokenTree],
     mut i: usize,
     mut prefix: Vec<String>,
-    out: &mut Vec<Vec<String>>,
+    out: &mut Vec<Leaf>,
 ) -> usize {
     loop {
         match tokens.get(i) {
@@ -134,45 +137,13 @@ fn path_at(
             Some(TokenTree::Group(g)) if g.delimiter() == Delimiter::Brace => {
                 // A use tree's group: each comma-separated part continues the prefix.
                 let inner: Vec<TokenTree> = g.stream().into_iter().collect();
-                for part in inner.split(|t| matches!(t, TokenTree::Punct(p) if p.as_char() == ','))
-                {
-                    if !part.is_empty() {
-                        path_at(part, 0, prefix.clone(), out);
-                    }
+                let comma = |t: &TokenTree| matches!(t, TokenTree::Punct(p) if p.as_char() == ',');
+                for part in inner.split(comma).filter(|p| !p.is_empty()) {
+                    path_at(part, 0, prefix.clone(), out);
                 }
                 return i + 1;
             }
             _ => break,
-        }
-        if is_path_sep(tokens, i) {
-            i += 2;
-        } else {
-            break;
-        }
-    }
-    out.push(prefix);
-    i
-}
-
-/// A re-export's leaves in `tokens` (a `pub use` tree after `use`): each path with the name it
-/// is exported under (globs are not followed).
-fn reexported(tokens: &[TokenTree], mut prefix: Vec<String>, out: &mut Vec<(Vec<String>, String)>) {
-    let mut i = 0;
-    loop {
-        match tokens.get(i) {
-            Some(TokenTree::Ident(id)) => {
-                prefix.push(id.to_string());
-                i += 1;
-            }
-            Some(TokenTree::Group(g)) if g.delimiter() == Delimiter::Brace => {
-                let inner: Vec<TokenTree> = g.stream().into_iter().collect();
-                let comma = |t: &TokenTree| matches!(t, TokenTree::Punct(p) if p.as_char() == ',');
-                for part in inner.split(comma).filter(|p| !p.is_empty()) {
-                    reexported(part, prefix.clone(), out);
-                }
-                return;
-            }
-            _ => return,
         }
         if is_path_sep(tokens, i) {
             i += 2;
@@ -190,6 +161,7 @@ fn reexported(tokens: &[TokenTree], mut prefix: Vec<String>, out: &mut Vec<(Vec<
     if let Some(name) = alias.or_else(|| prefix.last().cloned()) {
         out.push((prefix, name));
     }
+    i
 }
 
 /// The `pub use` (and `pub(crate) use`) trees at the top of a file's `tokens`.
@@ -255,7 +227,7 @@ fn absolute(
 /// (`crate::Polynomial`, re-exported by `lib.rs`) is followed to the file that holds it.
 fn dependencies(src: &Path) -> BTreeMap<Module, BTreeMap<Module, String>> {
     let files = modules(src);
-    let mut named: BTreeMap<Module, Vec<Vec<String>>> = BTreeMap::new();
+    let mut named: BTreeMap<Module, Vec<Leaf>> = BTreeMap::new();
     // For each file, what it re-exports: a name and the path it stands for.
     let mut reexports: BTreeMap<Module, BTreeMap<String, Module>> = BTreeMap::new();
     for (module, path) in &files {
@@ -265,7 +237,7 @@ fn dependencies(src: &Path) -> BTreeMap<Module, BTreeMap<Module, String>> {
         let top: Vec<TokenTree> = tokens.clone().into_iter().collect();
         for tree in pub_uses(&top) {
             let mut leaves = Vec::new();
-            reexported(&tree, Vec::new(), &mut leaves);
+            path_at(&tree, 0, Vec::new(), &mut leaves);
             for (segments, name) in leaves {
                 if let Some(target) = absolute(&segments, module, &files) {
                     reexports
@@ -307,7 +279,7 @@ fn dependencies(src: &Path) -> BTreeMap<Module, BTreeMap<Module, String>> {
     };
     let mut deps: BTreeMap<Module, BTreeMap<Module, String>> = BTreeMap::new();
     for (module, paths) in &named {
-        for segments in paths {
+        for (segments, _) in paths {
             let Some(file) = absolute(segments, module, &files).and_then(&holder) else {
                 continue;
             };
