@@ -83,6 +83,28 @@ impl Drive {
     }
 }
 
+/// A code's `LEN` and its fields at their bytes, as the code's docs lay them out: `u8` and
+/// `u16` (little-endian) fields are read as indices, `byte` fields as they are.
+macro_rules! code_fields {
+    ($code:ident, $len:literal, { $($field:ident: $kind:ident @ $at:literal),* $(,)? }) => {
+        impl $code {
+            /// Bytes of one code.
+            pub const LEN: usize = $len;
+            $(
+                #[inline(always)]
+                fn $field(self) -> code_fields!(@type $kind) {
+                    code_fields!(@read $kind, self.0, $at)
+                }
+            )*
+        }
+    };
+    (@type byte) => { u8 };
+    (@type $kind:ident) => { usize };
+    (@read byte, $code:expr, $at:literal) => { $code[$at] };
+    (@read u8, $code:expr, $at:literal) => { usize::from($code[$at]) };
+    (@read u16, $code:expr, $at:literal) => { le16(&$code, $at) };
+}
+
 /// One joint: `[parent, moving, shape, kinds, words (u16 little-endian)]`.
 ///
 /// - `parent`: the parent body (ignored for body 0, which hangs on ground);
@@ -101,34 +123,13 @@ impl Drive {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct JointCode(pub [u8; JointCode::LEN]);
 
+code_fields!(JointCode, 6, { parent: u8 @ 0, shape: byte @ 2, kinds: byte @ 3, words: u16 @ 4 });
+
 impl JointCode {
-    /// Bytes of one joint's code.
-    pub const LEN: usize = 6;
-
-    #[inline(always)]
-    fn parent(self) -> usize {
-        usize::from(self.0[0])
-    }
-
     /// Moving rotations and translations.
     #[inline(always)]
     fn moving(self) -> (usize, usize) {
         (usize::from(self.0[1] & 3), usize::from(self.0[1] >> 2 & 3))
-    }
-
-    #[inline(always)]
-    fn shape(self) -> u8 {
-        self.0[2]
-    }
-
-    #[inline(always)]
-    fn kinds(self) -> u8 {
-        self.0[3]
-    }
-
-    #[inline(always)]
-    fn words(self) -> usize {
-        usize::from(u16::from_le_bytes([self.0[4], self.0[5]]))
     }
 }
 
@@ -140,29 +141,19 @@ impl JointCode {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SplineCode(pub [u8; SplineCode::LEN]);
 
+code_fields!(SplineCode, 6, { x: u16 @ 0, values: u16 @ 2, knots: u8 @ 4 });
+
 impl SplineCode {
-    /// Bytes of one spline's code.
-    pub const LEN: usize = 6;
-
-    #[inline(always)]
-    fn x(self) -> usize {
-        usize::from(u16::from_le_bytes([self.0[0], self.0[1]]))
-    }
-
-    #[inline(always)]
-    fn values(self) -> usize {
-        usize::from(u16::from_le_bytes([self.0[2], self.0[3]]))
-    }
-
-    #[inline(always)]
-    fn knots(self) -> usize {
-        usize::from(self.0[4])
-    }
-
     #[inline(always)]
     fn linear(self) -> bool {
         self.0[5] != 0
     }
+}
+
+/// The index a code's little-endian `u16` at byte `at` holds.
+#[inline(always)]
+fn le16(code: &[u8], at: usize) -> usize {
+    usize::from(u16::from_le_bytes([code[at], code[at + 1]]))
 }
 
 /// The table's codes, in image order, and its numbers.
@@ -445,10 +436,7 @@ impl<
 
     /// How many of the pool's numbers are in use.
     pub fn used(&self) -> usize {
-        usize::from(u16::from_le_bytes([
-            self.codes.counts[4],
-            self.codes.counts[5],
-        ]))
+        le16(&self.codes.counts, 4)
     }
 
     /// The pool's numbers in use.
@@ -538,10 +526,7 @@ impl<
         frames: &[K; B],
         place: impl Fn(&K, Option<Vec3<T>>) -> X,
     ) -> [X; P] {
-        let mut cursor = usize::from(u16::from_le_bytes([
-            self.codes.counts[2],
-            self.codes.counts[3],
-        ]));
+        let mut cursor = le16(&self.codes.counts, 2);
         core::array::from_fn(|k| {
             let [body, at_origin] = self.codes.points[k];
             // A body past the table reads the last one.
@@ -752,11 +737,11 @@ impl<
                 )
             }
             Drive::POLYNOMIAL => {
-                let Some(&[s0, s1, len]) = self.codes.polynomials.get(index) else {
+                let Some(code) = self.codes.polynomials.get(index) else {
                     return V::ZERO;
                 };
-                let start = usize::from(u16::from_le_bytes([s0, s1]));
-                let c = self.words.get(start..start + usize::from(len));
+                let start = le16(code, 0);
+                let c = self.words.get(start..start + usize::from(code[2]));
                 let (p, dp, ddp) = with_derivatives(c.unwrap_or(&[]), x.value());
                 x.through(p, dp, ddp)
             }
