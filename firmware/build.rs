@@ -49,7 +49,7 @@ fn main() {
 fn node_cases() -> String {
     use qgait_node::{RawInput, RawOutcome};
     use qgait_proto::{
-        segment_bit, FusionMode, RawImuConfig, RawImuSample, SegmentId, PROTOCOL_VERSION,
+        segment_bit, FusionMode, RawImuConfig, RawImuSample, SampleHeader, SegmentId,
     };
     let config = RawImuConfig {
         segments: segment_bit(SegmentId::TibiaL),
@@ -89,11 +89,7 @@ fn node_cases() -> String {
         let count = |v: [f64; 3], per: f32| v.map(|x| RawImuSample::count_of(x, f64::from(per)));
         let timestamp_us = seq * 10_000 + if seq == 300 { 7_000 } else { 0 };
         let sample = RawImuSample {
-            version: PROTOCOL_VERSION,
-            node: 5,
-            segment: SegmentId::TibiaL,
-            seq,
-            timestamp_us,
+            header: SampleHeader::new(5, SegmentId::TibiaL, seq, timestamp_us),
             gyro: count(gyro, config.gyro_per_count),
             accel: count(accel, config.accel_per_count),
             mag: Some(count(mag, config.mag_per_count)),

@@ -107,7 +107,7 @@ fn a_broad_trial_through_the_node_matches_the_host_s_fusion() {
     let mut device = vec![None; ROWS];
     for m in FrameDecoder::new().feed(&bytes).flatten() {
         if let Message::SegmentOrientation(o) = m {
-            device[o.seq as usize] = Some(o.quaternion().map(f64::from));
+            device[o.header.seq as usize] = Some(o.quaternion().map(f64::from));
         }
     }
     let device: Vec<[f64; 4]> = device

@@ -271,7 +271,7 @@ fn raw_streams_through_a_radio_link() {
     for m in &messages[imu_at + 1..] {
         if let Message::RawImuSample(s) = m {
             match rows.last_mut() {
-                Some(row) if row[0].seq == s.seq => row.push(*s),
+                Some(row) if row[0].header.seq == s.header.seq => row.push(*s),
                 _ => rows.push(vec![*s]),
             }
         }

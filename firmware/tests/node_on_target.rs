@@ -14,9 +14,7 @@ mod cases {
     include!(concat!(env!("OUT_DIR"), "/node_cases.rs"));
 }
 
-use qgait_proto::{
-    segment_bit, FusionMode, RawImuConfig, RawImuSample, SegmentId, PROTOCOL_VERSION,
-};
+use qgait_proto::{segment_bit, FusionMode, RawImuConfig, RawImuSample, SampleHeader, SegmentId};
 
 /// The configuration build.rs used.
 fn config() -> RawImuConfig {
@@ -34,11 +32,7 @@ fn config() -> RawImuConfig {
 
 fn sample(case: &cases::Case) -> RawImuSample {
     RawImuSample {
-        version: PROTOCOL_VERSION,
-        node: 5,
-        segment: SegmentId::TibiaL,
-        seq: case.0,
-        timestamp_us: case.1,
+        header: SampleHeader::new(5, SegmentId::TibiaL, case.0, case.1),
         gyro: case.2,
         accel: case.3,
         mag: Some(case.4),
@@ -145,7 +139,7 @@ mod tests {
         for m in FrameDecoder::new().feed(node.serial_mut().transmitted()) {
             match m {
                 Ok(Message::SegmentOrientation(o)) => {
-                    defmt::assert_eq!(o.seq % 2, 0);
+                    defmt::assert_eq!(o.header.seq % 2, 0);
                     orientations += 1;
                 }
                 Ok(Message::Status(s)) => last = Some(s),

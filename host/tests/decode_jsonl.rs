@@ -180,9 +180,9 @@ fn an_orientation_stream_is_its_imu_configuration_and_quaternions() {
             Message::SegmentOrientation(q) => {
                 orientations += 1;
                 assert_eq!(line["type"], "segment_orientation");
-                assert_eq!(line["seq"], q.seq);
-                assert_eq!(line["node"], q.node);
-                assert_eq!(line["timestamp_us"], q.timestamp_us);
+                assert_eq!(line["seq"], q.header.seq);
+                assert_eq!(line["node"], q.header.node);
+                assert_eq!(line["timestamp_us"], q.header.timestamp_us);
                 let q14: Vec<i64> = line["q14"]
                     .as_array()
                     .unwrap()

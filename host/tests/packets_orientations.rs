@@ -53,7 +53,10 @@ fn the_stream_is_the_configuration_the_calibration_pose_then_the_rows() {
         let Message::SegmentOrientation(p) = m else {
             panic!("packet {i}: {m:?}");
         };
-        assert_eq!((p.seq, p.segment), ((i / 8) as u32, SegmentId::ALL[i % 8]));
+        assert_eq!(
+            (p.header.seq, p.header.segment),
+            ((i / 8) as u32, SegmentId::ALL[i % 8])
+        );
         let n: f64 = p
             .q14
             .iter()

@@ -23,7 +23,7 @@ use qgait_proto::device_model::{
 };
 use qgait_proto::{
     segment_bit, Config, FrameFlags, ImuConfig, Message, MissingPolicy, ModelId, PoseFrame,
-    PoseModels, SegmentId, SegmentOrientation, WireByte, PROTOCOL_VERSION,
+    PoseModels, SampleHeader, SegmentId, SegmentOrientation, WireByte,
 };
 
 use qgait_opensim::diagnostics::Warning;
@@ -189,11 +189,7 @@ impl OrientationStream {
             .filter(|&s| self.imu.segments & segment_bit(s) != 0)
             .filter_map(|s| {
                 sample[s as usize].map(|q14| SegmentOrientation {
-                    version: PROTOCOL_VERSION,
-                    node: s.wire_byte(),
-                    segment: s,
-                    seq,
-                    timestamp_us,
+                    header: SampleHeader::new(s.wire_byte(), s, seq, timestamp_us),
                     q14,
                     quality: 0,
                 })

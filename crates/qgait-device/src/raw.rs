@@ -8,8 +8,8 @@ use std::collections::BTreeMap;
 use qgait_fusion::RawRecording;
 use qgait_node::{RawInput, RawOutcome};
 use qgait_proto::{
-    segment_bit, FrameDecoder, FusionMode, Message, RawImuConfig, RawImuSample, SegmentId,
-    SegmentOrientation, WireByte, PROTOCOL_VERSION,
+    segment_bit, FrameDecoder, FusionMode, Message, RawImuConfig, RawImuSample, SampleHeader,
+    SegmentId, SegmentOrientation, WireByte,
 };
 
 /// OpenSim's body name of a segment (`pelvis`, `femur_r`, ..., `torso`).
@@ -151,13 +151,15 @@ impl RawStream {
         for row in 0..first.len() {
             for (segment, r) in sensors {
                 let micros = ((r.times[row] - t0) * 1e6).round();
+                // Wraps after 2^32 µs, as a sensor's clock.
+                let timestamp_us = (micros as u64) as u32;
                 samples.push(RawImuSample {
-                    version: PROTOCOL_VERSION,
-                    node: segment.wire_byte(),
-                    segment: *segment,
-                    seq: row as u32,
-                    // Wraps after 2^32 µs, as a sensor's clock.
-                    timestamp_us: (micros as u64) as u32,
+                    header: SampleHeader::new(
+                        segment.wire_byte(),
+                        *segment,
+                        row as u32,
+                        timestamp_us,
+                    ),
                     gyro: counts(r.gyr[row], scales.gyro),
                     accel: counts(r.acc[row], scales.accel),
                     mag: r.mag.as_ref().map(|m| counts(m[row], scales.mag)),
@@ -198,7 +200,7 @@ pub fn host_orientations(stream: &[u8]) -> HostOrientations {
             }
             Message::RawImuSample(s) => {
                 if let RawOutcome::Fused(Some(q)) = input.push(&s) {
-                    out.insert((s.segment, s.seq), q);
+                    out.insert((s.header.segment, s.header.seq), q);
                 }
             }
             _ => {}
@@ -238,7 +240,7 @@ impl RawCheck {
         let mut sum = 0.0;
         let mut seen = std::collections::BTreeSet::new();
         for o in device {
-            let key = (o.segment, o.seq);
+            let key = (o.header.segment, o.header.seq);
             let Some(q) = host.get(&key) else {
                 c.unexpected += 1;
                 continue;

@@ -83,7 +83,7 @@ impl RawHubStream {
             .raw
             .samples
             .iter()
-            .partition(|s| s.seq < self.calibrate_at);
+            .partition(|s| s.header.seq < self.calibrate_at);
         for s in before {
             qgait_emulate::push_frame(&mut out, &Message::RawImuSample(*s));
         }
@@ -144,7 +144,9 @@ impl RawHubHost {
         for m in FrameDecoder::new().feed(stream).flatten() {
             match m {
                 Message::ImuConfig(c) if c.mode.orientations() => (imu, from) = (Some(c), None),
-                Message::RawImuSample(s) if from.is_none() && imu.is_some() => from = Some(s.seq),
+                Message::RawImuSample(s) if from.is_none() && imu.is_some() => {
+                    from = Some(s.header.seq)
+                }
                 _ => {}
             }
         }

@@ -2,9 +2,7 @@
 
 use qgait_device::raw::{host_orientations, RawCheck, RawStream, RawStreamError, Sensitivities};
 use qgait_fusion::RawRecording;
-use qgait_proto::{
-    FrameDecoder, FusionMode, Message, SegmentId, SegmentOrientation, PROTOCOL_VERSION,
-};
+use qgait_proto::{FrameDecoder, FusionMode, Message, SampleHeader, SegmentId, SegmentOrientation};
 
 /// `n` samples at 285.714 Hz (BROAD's) of a sensor turning about z at 1 rad/s, level.
 fn recording(name: &str, n: usize, mag: bool) -> RawRecording {
@@ -55,10 +53,10 @@ fn a_stream_carries_the_configuration_then_every_sample_in_seq_order() {
     };
     // Row 1 of the first sensor: timestamps from the first sample, the counts rounded.
     assert_eq!(
-        (third.seq, third.segment, third.node),
+        (third.header.seq, third.header.segment, third.header.node),
         (1, SegmentId::FemurL, 4)
     );
-    assert_eq!(third.timestamp_us, 3500);
+    assert_eq!(third.header.timestamp_us, 3500);
     assert_eq!(third.gyro[2], 940); // 1 rad/s at 1.0642e-3 rad/s per count
     assert_eq!(third.accel[2], 2049); // 9.81 m/s² at 4.7884e-3
                                       // The host's fusion: every fifth sample of each segment.
@@ -79,11 +77,7 @@ fn the_check_finds_differences_missing_and_unexpected_orientations() {
     .expect("a stream");
     let host = host_orientations(&s.bytes());
     let packet = |seq: u32, q: [f64; 4]| SegmentOrientation {
-        version: PROTOCOL_VERSION,
-        node: 2,
-        segment: SegmentId::TibiaR,
-        seq,
-        timestamp_us: 0,
+        header: SampleHeader::new(2, SegmentId::TibiaR, seq, 0),
         q14: SegmentOrientation::q14_of(q),
         quality: 0,
     };

@@ -176,7 +176,7 @@ impl NodePacket for JointAngle {
 
 impl NodePacket for SegmentOrientation {
     fn seq(&self) -> u32 {
-        self.seq
+        self.header.seq
     }
     fn joint(&self) -> Option<JointId> {
         None
@@ -188,7 +188,7 @@ impl NodePacket for SegmentOrientation {
 
 impl NodePacket for RawImuSample {
     fn seq(&self) -> u32 {
-        self.seq
+        self.header.seq
     }
     fn joint(&self) -> Option<JointId> {
         None
@@ -451,7 +451,7 @@ impl Arrivals {
                 }
                 Ok(Message::SegmentOrientation(p)) => {
                     a.status.packets_accepted += 1;
-                    *a.segments.entry(p.seq).or_default() |= segment_bit(p.segment);
+                    *a.segments.entry(p.header.seq).or_default() |= segment_bit(p.header.segment);
                 }
                 Ok(Message::ImuConfig(c)) => a.imu = Some(c),
                 Ok(_) => {}

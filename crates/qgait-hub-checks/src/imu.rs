@@ -16,7 +16,7 @@ use qgait_kernel::{Gait2392, Gait2392Geometry, Quat, Vec3};
 use qgait_proto::device_model::{kernel_settings, q14_quat};
 use qgait_proto::{
     segment_bit, Config, FrameFlags, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointId,
-    Message, MissingPolicy, ModelId, SegmentId, SegmentOrientation, WireByte, PROTOCOL_VERSION,
+    Message, MissingPolicy, ModelId, SampleHeader, SegmentId, SegmentOrientation, WireByte,
 };
 
 use qgait_hub::{Kinematics, ManualClock};
@@ -100,11 +100,7 @@ pub fn imu_config(mode: InputMode, calibrate: bool, without: u8) -> ImuConfig {
 
 fn orientation(seq: u32, segment: SegmentId, q14: [i16; 4]) -> SegmentOrientation {
     SegmentOrientation {
-        version: PROTOCOL_VERSION,
-        node: segment.wire_byte(),
-        segment,
-        seq,
-        timestamp_us: crate::sample_time(seq),
+        header: SampleHeader::new(segment.wire_byte(), segment, seq, crate::sample_time(seq)),
         q14,
         quality: 0,
     }

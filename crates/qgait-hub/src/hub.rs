@@ -398,9 +398,9 @@ impl<S: SerialPort, C: Clock> Hub<S, C> {
             return;
         };
         let outcome = assembler.push_key(
-            packet.seq,
-            packet.timestamp_us,
-            packet.segment.wire_byte(),
+            packet.header.seq,
+            packet.header.timestamp_us,
+            packet.header.segment.wire_byte(),
             packet.q14,
             false,
             &mut |e| output.on_segment_sample(e),

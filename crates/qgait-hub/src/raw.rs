@@ -6,7 +6,7 @@
 use crate::counters::bump;
 use qgait_kernel::fusion::{FusionReal, Vqf, VqfParams};
 use qgait_proto::{
-    segment_bit, FusionMode, RawImuConfig, RawImuSample, RawImuStatus, SegmentId,
+    segment_bit, FusionMode, RawImuConfig, RawImuSample, RawImuStatus, SampleHeader, SegmentId,
     SegmentOrientation, PROTOCOL_VERSION,
 };
 
@@ -157,7 +157,7 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
             .slots
             .iter_mut()
             .flatten()
-            .find(|s| s.segment == sample.segment)
+            .find(|s| s.segment == sample.header.segment)
         else {
             bump(&mut status.not_configured);
             return RawOutcome::NotConfigured;
@@ -168,7 +168,7 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
         match slot.last {
             None => slot.vqf.reset_state(),
             Some((seq, timestamp)) => {
-                let d = sample.seq.wrapping_sub(seq);
+                let d = sample.header.seq.wrapping_sub(seq);
                 if d == 0 || d >= 0u32.wrapping_sub(MAX_SEQ_STEP) {
                     bump(&mut status.stale_samples);
                     return RawOutcome::Stale;
@@ -181,11 +181,11 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
                         status.samples_lost = status.samples_lost.wrapping_add(d - 1);
                     }
                     steps = d;
-                    dt_us = Some(sample.timestamp_us.wrapping_sub(timestamp));
+                    dt_us = Some(sample.header.timestamp_us.wrapping_sub(timestamp));
                 }
             }
         }
-        slot.last = Some((sample.seq, sample.timestamp_us));
+        slot.last = Some((sample.header.seq, sample.header.timestamp_us));
         // Rule 3.
         bump(&mut status.samples_accepted);
         if sample.saturated() {
@@ -228,13 +228,19 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
             .filter(|_| nine_d)
             .map(|m| m.map(|m| f(m.into()) * f(c.mag_per_count)));
         slot.vqf.update(gyr, acc, mag);
-        RawOutcome::Fused(sample.seq.is_multiple_of(c.output_every.into()).then(|| {
-            if nine_d {
-                slot.vqf.quat_9d()
-            } else {
-                slot.vqf.quat_6d()
-            }
-        }))
+        RawOutcome::Fused(
+            sample
+                .header
+                .seq
+                .is_multiple_of(c.output_every.into())
+                .then(|| {
+                    if nine_d {
+                        slot.vqf.quat_9d()
+                    } else {
+                        slot.vqf.quat_6d()
+                    }
+                }),
+        )
     }
 }
 
@@ -242,11 +248,10 @@ impl<T: FusionReal, const N: usize> RawInput<T, N> {
 /// segment, `seq` and timestamp, `q` in Q14 (protocol.md 4.7), quality 0.
 pub fn orientation_packet<T: FusionReal>(sample: &RawImuSample, q: [T; 4]) -> SegmentOrientation {
     SegmentOrientation {
-        version: PROTOCOL_VERSION,
-        node: sample.node,
-        segment: sample.segment,
-        seq: sample.seq,
-        timestamp_us: sample.timestamp_us,
+        header: SampleHeader {
+            version: PROTOCOL_VERSION,
+            ..sample.header
+        },
         q14: SegmentOrientation::q14_of(q.map(T::to_f64)),
         quality: 0,
     }

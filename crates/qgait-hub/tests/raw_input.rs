@@ -9,8 +9,8 @@ use qgait_hub::{Hub, ManualClock, MemorySerial};
 use qgait_hub_checks::{imu, XorShift};
 use qgait_proto::{
     encode_frame, segment_bit, FrameDecoder, FusionMode, ImuConfig, InputMode, Message,
-    MissingPolicy, PoseFrame, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, Status,
-    MAX_FRAME_LEN, PROTOCOL_VERSION,
+    MissingPolicy, PoseFrame, RawImuConfig, RawImuSample, RawImuStatus, SampleHeader, SegmentId,
+    Status, MAX_FRAME_LEN,
 };
 
 type Serial = MemorySerial<8192, 65_536>;
@@ -78,13 +78,13 @@ fn sample(segment: SegmentId, seq: u32) -> RawImuSample {
         _ => [300 * (i - 3), 200 - 60 * i, 1900],
     };
     RawImuSample {
-        version: PROTOCOL_VERSION,
-        node: segment as u8,
-        segment,
-        seq,
-        timestamp_us: seq
-            .wrapping_mul(10_000)
-            .wrapping_add(u32::from(seq.is_multiple_of(3)) * 7),
+        header: SampleHeader::new(
+            segment as u8,
+            segment,
+            seq,
+            seq.wrapping_mul(10_000)
+                .wrapping_add(u32::from(seq.is_multiple_of(3)) * 7),
+        ),
         gyro: [3 - i, 2, (seq % 5) as i16 - 2],
         accel: up,
         mag: Some([150 + 10 * i, -40, 200]),
@@ -244,7 +244,7 @@ fn random_raw_streams_never_stop_the_pipeline_body() {
             } else {
                 let segment = SegmentId::ALL[(rng.next_u32() % 8) as usize];
                 let mut s = sample(segment, rng.next_u32() % 64);
-                s.timestamp_us = rng.next_u32();
+                s.header.timestamp_us = rng.next_u32();
                 s.gyro = [
                     rng.next_u32() as i16,
                     rng.next_u32() as i16,

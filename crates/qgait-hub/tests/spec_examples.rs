@@ -13,7 +13,8 @@ use std::path::PathBuf;
 use qgait_hub::{Hub, ManualClock, MemorySerial};
 use qgait_proto::{
     encode_frame, encode_raw_frame, Config, FrameDecoder, JointAngle, JointId, Message,
-    MissingPolicy, ModelId, PoseFrame, RawImuSample, SegmentId, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    MissingPolicy, ModelId, PoseFrame, RawImuSample, SampleHeader, SegmentId, MAX_FRAME_LEN,
+    PROTOCOL_VERSION,
 };
 
 type Serial = MemorySerial<4096, 65536>;
@@ -448,11 +449,7 @@ fn examples() -> Vec<(&'static str, Vec<Step>)> {
                 ),
                 Step::Frame(
                     Message::RawImuSample(RawImuSample {
-                        version: PROTOCOL_VERSION,
-                        node: 4,
-                        segment: SegmentId::TibiaR,
-                        seq: 300,
-                        timestamp_us: 1_234_567,
+                        header: SampleHeader::new(4, SegmentId::TibiaR, 300, 1_234_567),
                         gyro: [-188, 47, 3289],
                         accel: [251, 2005, -84],
                         mag: Some([133, -233, 80]),

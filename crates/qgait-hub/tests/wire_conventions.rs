@@ -8,8 +8,8 @@ use qgait_hub_checks::imu::{
 use qgait_hub_checks::{drain, each_output, send, CheckSerial, STATUS_PERIOD_MS};
 use qgait_proto::{
     encode_raw_frame, Config, FusionMode, ImuConfig, InputMode, Message, MissingPolicy, ModelId,
-    PoseFrame, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, Status, MAX_FRAME_LEN,
-    PROTOCOL_VERSION,
+    PoseFrame, RawImuConfig, RawImuSample, RawImuStatus, SampleHeader, SegmentId, Status,
+    MAX_FRAME_LEN,
 };
 
 fn new_hub(clock: &ManualClock) -> Hub<CheckSerial, &ManualClock> {
@@ -18,11 +18,7 @@ fn new_hub(clock: &ManualClock) -> Hub<CheckSerial, &ManualClock> {
 
 fn raw_sample(seq: u32) -> RawImuSample {
     RawImuSample {
-        version: PROTOCOL_VERSION,
-        node: 3,
-        segment: SegmentId::TibiaR,
-        seq,
-        timestamp_us: seq * 10_000,
+        header: SampleHeader::new(3, SegmentId::TibiaR, seq, seq * 10_000),
         gyro: [-188, 47, 3289],
         accel: [251, 2005, -84],
         mag: None,

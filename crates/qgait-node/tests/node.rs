@@ -5,7 +5,7 @@ use qgait_hub::{ManualClock, MemorySerial};
 use qgait_node::{orientation_packet, Node, RawInput, RawOutcome};
 use qgait_proto::{
     encode_frame, segment_bit, FrameDecoder, FusionMode, JointAngle, Message, RawImuConfig,
-    RawImuSample, RawImuStatus, SegmentId, SegmentOrientation, Status, MAX_FRAME_LEN,
+    RawImuSample, RawImuStatus, SampleHeader, SegmentId, SegmentOrientation, Status, MAX_FRAME_LEN,
     PROTOCOL_VERSION,
 };
 
@@ -33,11 +33,7 @@ fn sample(segment: SegmentId, seq: u32, wz: f64, c: &RawImuConfig) -> RawImuSamp
     let (n, down) = (20.0, -40.0);
     let mag = [n * yaw.sin(), n * yaw.cos(), down];
     RawImuSample {
-        version: PROTOCOL_VERSION,
-        node: 3,
-        segment,
-        seq,
-        timestamp_us: seq.wrapping_mul(10_000),
+        header: SampleHeader::new(3, segment, seq, seq.wrapping_mul(10_000)),
         gyro: [0.0, 0.0, wz].map(|w| count(w, c.gyro_per_count)),
         accel: [0.0, 0.0, 9.81].map(|a| count(a, c.accel_per_count)),
         mag: Some(mag.map(|m| count(m, c.mag_per_count))),
@@ -116,9 +112,12 @@ fn orientations_every_output_every_th_sample_as_the_f64_rules_give_them() {
     assert_eq!(expected.len(), 100);
     let mut worst: f64 = 0.0;
     for (o, (s, q)) in got.iter().zip(&expected) {
-        assert_eq!(o.seq % 4, 0);
-        assert_eq!((o.seq, o.node, o.segment), (s.seq, 3, SegmentId::TibiaR));
-        assert_eq!(o.timestamp_us, s.timestamp_us);
+        assert_eq!(o.header.seq % 4, 0);
+        assert_eq!(
+            (o.header.seq, o.header.node, o.header.segment),
+            (s.header.seq, 3, SegmentId::TibiaR)
+        );
+        assert_eq!(o.header.timestamp_us, s.header.timestamp_us);
         let device = o.quaternion().map(f64::from);
         worst = worst.max(angle_deg(device, *q));
     }
@@ -162,11 +161,11 @@ fn the_rules_count_gaps_stale_samples_resyncs_timing_and_missing_magnetometers()
     assert_eq!(input.push(&s(12)), RawOutcome::Stale);
     // A timestamp off by more than half a period: the nominal step.
     let mut late = s(16);
-    late.timestamp_us += 6_000;
+    late.header.timestamp_us += 6_000;
     assert!(matches!(input.push(&late), RawOutcome::Fused(_)));
     // Within half a period: its own step.
     let mut near = s(17);
-    near.timestamp_us += 4_000;
+    near.header.timestamp_us += 4_000;
     input.push(&near);
     // No magnetometer in 9D; a saturated axis.
     let mut no_mag = s(18);
@@ -289,8 +288,8 @@ fn any_byte_stream_is_counted_and_never_stops_the_node() {
         if rng.next().is_multiple_of(7) {
             s.gyro = [0; 3].map(|_| rng.next() as i16);
             s.accel = [0; 3].map(|_| rng.next() as i16);
-            s.seq = rng.next() as u32;
-            s.timestamp_us = rng.next() as u32;
+            s.header.seq = rng.next() as u32;
+            s.header.timestamp_us = rng.next() as u32;
         }
         let mut f = frame(Message::RawImuSample(s));
         match rng.next() % 10 {
@@ -349,7 +348,12 @@ fn the_orientation_packet_carries_the_sample_s_identity() {
     let s = sample(SegmentId::Torso, 77, 0.0, &c);
     let p = orientation_packet(&s, [0.5f32, -0.5, 0.5, -0.5]);
     assert_eq!(
-        (p.node, p.segment, p.seq, p.timestamp_us),
+        (
+            p.header.node,
+            p.header.segment,
+            p.header.seq,
+            p.header.timestamp_us
+        ),
         (3, SegmentId::Torso, 77, 770_000)
     );
     assert_eq!(p.q14, [8192, -8192, 8192, -8192]);

@@ -50,8 +50,8 @@ pub use crate::messages::{
 };
 pub use crate::model::ModelId;
 pub use crate::orientation::{
-    segment_bit, HeadingAxisId, ImuConfig, ImuHeading, InputMode, SegmentId, SegmentOrientation,
-    WireByte, Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
+    segment_bit, HeadingAxisId, ImuConfig, ImuHeading, InputMode, SampleHeader, SegmentId,
+    SegmentOrientation, WireByte, Q14_MAX_ANGLE_ERROR_RAD, Q14_ONE,
 };
 pub use crate::policy::MissingPolicy;
 pub use crate::raw::{

@@ -105,23 +105,48 @@ pub(crate) mod wire_byte {
     }
 }
 
+/// The fields a node's sample starts with, in this order on the wire:
+/// [`SegmentOrientation`] and [`RawImuSample`](crate::RawImuSample) share them (postcard writes
+/// a nested struct's fields in place, so the header adds no byte of its own).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SampleHeader {
+    /// Protocol version of the sender; [`PROTOCOL_VERSION`](crate::PROTOCOL_VERSION).
+    pub version: u8,
+    /// Id of the sending node.
+    pub node: u8,
+    /// The segment the node is strapped to.
+    #[serde(with = "wire_byte")]
+    pub segment: SegmentId,
+    /// Sample number, wrapping at `u32::MAX`: one more per sample of the node's stream (samples
+    /// the node knows it lost, e.g. to a FIFO overflow, advance it too); the segments of one
+    /// sample, from nodes sampling in step, share it.
+    pub seq: u32,
+    /// Sensor timestamp of the sample, microseconds (wraps after about 71.6 minutes).
+    pub timestamp_us: u32,
+}
+
+impl SampleHeader {
+    /// The header of this protocol version ([`PROTOCOL_VERSION`](crate::PROTOCOL_VERSION)).
+    pub const fn new(node: u8, segment: SegmentId, seq: u32, timestamp_us: u32) -> Self {
+        SampleHeader {
+            version: crate::PROTOCOL_VERSION,
+            node,
+            segment,
+            seq,
+            timestamp_us,
+        }
+    }
+}
+
 /// One segment's orientation in one sample, sent by an IMU node to the hub: the node's
 /// sensor frame to its world frame, as its sensor fusion reports it (the hub's calibration
 /// turns it into the segment's orientation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SegmentOrientation {
-    /// Protocol version of the sender; [`PROTOCOL_VERSION`](crate::PROTOCOL_VERSION).
-    pub version: u8,
-    /// Id of the sending node.
-    pub node: u8,
-    /// The segment it is strapped to.
-    #[serde(with = "wire_byte")]
-    pub segment: SegmentId,
-    /// Sample sequence number, wrapping at `u32::MAX`: the segments of one sample share it.
-    pub seq: u32,
-    /// Sensor timestamp of the sample, microseconds (wraps after about 71.6 minutes).
-    pub timestamp_us: u32,
+    /// Sender, segment, sample number and time.
+    pub header: SampleHeader,
     /// The unit quaternion `w, x, y, z`, Q14 (each component times 16384, rounded).
     pub q14: [i16; 4],
     /// [`QualityFlags`](crate::QualityFlags) bits.

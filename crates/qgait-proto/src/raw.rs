@@ -12,8 +12,7 @@
 use serde::{Deserialize, Serialize};
 use strum::FromRepr;
 
-use crate::orientation::wire_byte;
-use crate::SegmentId;
+use crate::SampleHeader;
 
 /// Wire tag of [`RawImuSample`].
 pub const RAW_IMU_SAMPLE_TAG: u32 = 11;
@@ -27,20 +26,8 @@ pub const RAW_IMU_STATUS_TAG: u32 = 13;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RawImuSample {
-    /// Protocol version of the sender; [`PROTOCOL_VERSION`](crate::PROTOCOL_VERSION).
-    pub version: u8,
-    /// Id of the sending node.
-    pub node: u8,
-    /// The segment the node is strapped to.
-    #[serde(with = "wire_byte")]
-    pub segment: SegmentId,
-    /// Sample number of the node's stream: one more per sample at the configured rate
-    /// (samples the node knows it lost, e.g. to a FIFO overflow, advance it too); nodes
-    /// sampling in step share it, as the segments of one [`SegmentOrientation`](crate::SegmentOrientation)
-    /// sample do.
-    pub seq: u32,
-    /// Sensor time of the sample, microseconds (wraps after about 71.6 minutes).
-    pub timestamp_us: u32,
+    /// Sender, segment, sample number and time.
+    pub header: SampleHeader,
     /// Angular rate, x, y, z, counts ([`RawImuConfig::gyro_per_count`] rad/s each).
     pub gyro: [i16; 3],
     /// Specific force (reads +g along the axis pointing up at rest), x, y, z, counts
@@ -90,7 +77,7 @@ pub enum FusionMode {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RawImuConfig {
-    /// The segments these settings are for, one bit per [`SegmentId`] ([`segment_bit`](crate::segment_bit)):
+    /// The segments these settings are for, one bit per [`SegmentId`](crate::SegmentId) ([`segment_bit`](crate::segment_bit)):
     /// a hub fuses their orientations from [`RawImuSample`]s (the others still come as
     /// [`SegmentOrientation`](crate::SegmentOrientation)s); 0: no raw input (the default).
     pub segments: u8,

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use qgait_proto::{
     crc32c, encode_message, encode_raw_frame, Config, DecodeError, FrameDecoder, FrameFlags,
     HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId, Message, MissingPolicy,
-    ModelId, PoseFrame, QualityFlags, SegmentId, SegmentOrientation, Status, CRC_LEN,
+    ModelId, PoseFrame, QualityFlags, SampleHeader, SegmentId, SegmentOrientation, Status, CRC_LEN,
     FRAME_CRC_CHECK, MAX_FRAME_LEN, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
 };
 
@@ -215,11 +215,7 @@ fn pose_velocities() -> qgait_proto::PoseVelocities {
 /// (cos 30 = 0.8660 -> 14189, sin 30 = 0.5 -> 8192).
 fn segment_orientation() -> SegmentOrientation {
     SegmentOrientation {
-        version: PROTOCOL_VERSION,
-        node: 3,
-        segment: SegmentId::TibiaR,
-        seq: 300,
-        timestamp_us: 1_234_567,
+        header: SampleHeader::new(3, SegmentId::TibiaR, 300, 1_234_567),
         q14: SegmentOrientation::q14_of([0.75f64.sqrt(), 0.0, 0.0, 0.5]),
         quality: 0,
     }

@@ -6,11 +6,12 @@ use qgait_proto::{
     cobs_max_encoded_len, encode_frame, encode_message, Config, DecodeError, FrameDecoder,
     FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId,
     KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, RawImuConfig, RawImuSample,
-    RawImuStatus, SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg,
-    CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN, JOINT_ANGLE_MAX_FRAME_LEN, JOINT_ANGLE_MAX_LEN,
-    MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN, RAW_IMU_CONFIG_MAX_LEN,
-    RAW_IMU_SAMPLE_MAX_LEN, RAW_IMU_STATUS_MAX_LEN, SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN,
-    SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN, SUBJECT_LEG_MAX_LEN,
+    RawImuStatus, SampleHeader, SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee,
+    SubjectLeg, CONFIG_MAX_LEN, CRC_LEN, IMU_CONFIG_MAX_LEN, JOINT_ANGLE_MAX_FRAME_LEN,
+    JOINT_ANGLE_MAX_LEN, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, POSE_FRAME_MAX_LEN,
+    RAW_IMU_CONFIG_MAX_LEN, RAW_IMU_SAMPLE_MAX_LEN, RAW_IMU_STATUS_MAX_LEN,
+    SEGMENT_ORIENTATION_MAX_LEN, STATUS_MAX_LEN, SUBJECT_CONFIG_MAX_LEN, SUBJECT_KNEE_MAX_LEN,
+    SUBJECT_LEG_MAX_LEN,
 };
 
 /// Any float: an f32 is always 4 bytes.
@@ -114,12 +115,16 @@ fn per_message_maxima_are_reached_exactly() {
     assert_eq!(message_len(&leg.into()), SUBJECT_LEG_MAX_LEN);
     assert_eq!(message_len(&knee.into()), SUBJECT_KNEE_MAX_LEN);
     assert_eq!(message_len(&subject_config.into()), SUBJECT_CONFIG_MAX_LEN);
-    let orientation = SegmentOrientation {
+    // A node sample's longest header.
+    let header = SampleHeader {
         version: 0xFF,
         node: 0xFF,
         segment: SegmentId::Torso,
         seq: u32::MAX,
         timestamp_us: u32::MAX,
+    };
+    let orientation = SegmentOrientation {
+        header,
         // Zigzag: -16384 and 16383 take 3 bytes as much as i16::MIN does.
         q14: [i16::MIN, -16384, 16383, i16::MAX],
         quality: 0xFF,
@@ -141,11 +146,7 @@ fn per_message_maxima_are_reached_exactly() {
     };
     assert_eq!(message_len(&imu_config.into()), IMU_CONFIG_MAX_LEN);
     let raw_sample = RawImuSample {
-        version: 0xFF,
-        node: 0xFF,
-        segment: SegmentId::Torso,
-        seq: u32::MAX,
-        timestamp_us: u32::MAX,
+        header,
         // Zigzag: every count of magnitude 8192 or more takes 3 bytes.
         gyro: [i16::MIN, i16::MAX, -8193],
         accel: [8192, -32767, 20000],
@@ -182,8 +183,11 @@ fn per_message_maxima_are_reached_exactly() {
     assert_eq!(message_len(&raw_status.into()), RAW_IMU_STATUS_MAX_LEN);
     // The smallest: 6D, every number under 64 in magnitude, 7-bit seq and timestamp.
     let raw_small = RawImuSample {
-        seq: 1,
-        timestamp_us: 100,
+        header: SampleHeader {
+            seq: 1,
+            timestamp_us: 100,
+            ..raw_6d.header
+        },
         gyro: [0, -1, 63],
         accel: [-64, 0, 1],
         ..raw_6d

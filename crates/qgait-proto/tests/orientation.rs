@@ -7,17 +7,13 @@ use qgait_kernel::Quat;
 use qgait_proto::device_model::{kernel_settings, packet_quat, q14_quat};
 use qgait_proto::{
     decode_hub_message, decode_message, encode_message, DecodeError, HeadingAxisId, HubMessage,
-    ImuConfig, ImuHeading, InputMode, Message, SegmentId, SegmentOrientation, Status, WireByte,
-    MAX_MESSAGE_LEN, PROTOCOL_VERSION, Q14_MAX_ANGLE_ERROR_RAD,
+    ImuConfig, ImuHeading, InputMode, Message, SampleHeader, SegmentId, SegmentOrientation, Status,
+    WireByte, MAX_MESSAGE_LEN, Q14_MAX_ANGLE_ERROR_RAD,
 };
 
 fn packet(q14: [i16; 4]) -> SegmentOrientation {
     SegmentOrientation {
-        version: PROTOCOL_VERSION,
-        node: 1,
-        segment: SegmentId::FemurL,
-        seq: 7,
-        timestamp_us: 70_000,
+        header: SampleHeader::new(1, SegmentId::FemurL, 7, 70_000),
         q14,
         quality: 0,
     }
@@ -239,20 +235,14 @@ fn segments_and_heading_axes_have_stable_wire_bytes() {
         assert_eq!(segment.wire_byte(), byte);
         assert_eq!(SegmentId::from_wire_byte(byte), Some(segment));
         // tag, version, node, segment: by hand and through postcard's serialiser.
-        let orientation = SegmentOrientation {
-            segment,
-            ..packet([16384, 0, 0, 0])
-        };
+        let mut orientation = packet([16384, 0, 0, 0]);
+        orientation.header.segment = segment;
         assert_eq!(
             encoded_both_ways(&Message::SegmentOrientation(orientation))[3],
             byte
         );
         let raw = qgait_proto::RawImuSample {
-            version: PROTOCOL_VERSION,
-            node: 0,
-            segment,
-            seq: 0,
-            timestamp_us: 0,
+            header: SampleHeader::new(0, segment, 0, 0),
             gyro: [0; 3],
             accel: [0; 3],
             mag: None,

@@ -965,7 +965,7 @@ fn whole_sample(model: ModelId, name: &str) {
 /// everything the hub does (the double's reads included: `raw_sample.gross`).
 #[cfg(feature = "raw")]
 fn raw_whole_sample() {
-    use qgait_proto::{FusionMode, ImuConfig, InputMode, RawImuSample, SegmentId};
+    use qgait_proto::{FusionMode, ImuConfig, InputMode, RawImuSample, SampleHeader, SegmentId};
     let imu = |calibrate| {
         Message::ImuConfig(ImuConfig::opensense_tutorial(
             InputMode::OrientationsLeastSquares,
@@ -978,11 +978,7 @@ fn raw_whole_sample() {
         let i = segment as i16;
         let mut noise = || (rng.angles::<1>()[0] * 4.0) as i16;
         RawImuSample {
-            version: PROTOCOL_VERSION,
-            node: segment as u8,
-            segment,
-            seq,
-            timestamp_us: seq.wrapping_mul(10_000),
+            header: SampleHeader::new(segment as u8, segment, seq, seq.wrapping_mul(10_000)),
             gyro: [40 - 9 * i + noise(), 25 + noise(), -30 + noise()],
             accel: match segment {
                 SegmentId::Torso => [2048 + noise(), noise(), noise()],

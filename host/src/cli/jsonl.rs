@@ -112,12 +112,20 @@ pub fn message(m: &Message) -> String {
 }
 
 /// Appends the fields of `value` (a struct whose numbers are integers and `f32`s) to `line`, in
-/// their order, each `f32` as the `f64` of the same value.
+/// their order, each `f32` as the `f64` of the same value; a node sample's `header`
+/// ([`SampleHeader`](qgait_proto::SampleHeader)) as its fields, in place, as on the wire.
 fn fields(line: &mut Map<String, Value>, value: &impl Serialize) {
     match serde_json::to_value(value).expect("the messages serialise to JSON") {
-        Value::Object(mut o) => {
-            o.values_mut().for_each(widen);
-            line.extend(o);
+        Value::Object(o) => {
+            for (name, mut value) in o {
+                widen(&mut value);
+                match value {
+                    Value::Object(header) if name == "header" => line.extend(header),
+                    value => {
+                        line.insert(name, value);
+                    }
+                }
+            }
         }
         other => unreachable!("a message is a struct, not {other}"),
     }

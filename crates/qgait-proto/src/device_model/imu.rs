@@ -59,5 +59,5 @@ pub fn q14_quat<T: Real>(q14: [i16; 4]) -> Quat<T> {
 /// norm is within the kernel's [`UNIT_TOLERANCE`](imu::UNIT_TOLERANCE) of 1, the error of
 /// [`imu::unit`] otherwise.
 pub fn packet_quat<T: Real>(packet: &SegmentOrientation) -> Result<Quat<T>, ImuError> {
-    imu::unit(q14_quat(packet.q14), packet.segment)
+    imu::unit(q14_quat(packet.q14), packet.header.segment)
 }

@@ -11,8 +11,8 @@ use super::varint::{end, take, take_varint_u32};
 use crate::WireByte;
 use crate::{
     point, segment, Config, DecodeError, HeadingAxisId, ImuConfig, ImuHeading, InputMode,
-    JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, SegmentId,
-    SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_TABLE_CONFIG_TAG,
+    JointAngle, JointId, KneeDirection, Leg, MissingPolicy, ModelId, PoseFrame, SampleHeader,
+    SegmentId, SegmentOrientation, SubjectConfig, SubjectKnee, SubjectLeg, CHAIN_TABLE_CONFIG_TAG,
     CHAIN_TABLE_TAG, MAX_KNEE_KNOTS, MAX_POSE_ANGLES, PROTOCOL_VERSION,
 };
 use crate::{ChainTable, ChainTableConfig};
@@ -269,11 +269,7 @@ pub(super) fn segment_orientation(body: &[u8]) -> Result<SegmentOrientation, Dec
     let (quality, rest) = take(rest)?;
     end(rest)?;
     Ok(SegmentOrientation {
-        version: head.version,
-        node: head.node,
-        segment: head.segment()?,
-        seq: head.seq,
-        timestamp_us: head.timestamp_us,
+        header: head.checked()?,
         q14,
         quality,
     })
@@ -351,11 +347,7 @@ pub(super) fn raw_imu_sample(body: &[u8]) -> Result<RawImuSample, DecodeError> {
     let (mag, rest) = take(rest)?;
     end(rest)?;
     Ok(RawImuSample {
-        version: head.version,
-        node: head.node,
-        segment: head.segment()?,
-        seq: head.seq,
-        timestamp_us: head.timestamp_us,
+        header: head.checked()?,
         gyro,
         accel,
         mag,
@@ -397,25 +389,32 @@ fn versioned(body: &[u8]) -> Result<(u8, &[u8]), DecodeError> {
     Ok((version, rest))
 }
 
-/// The fields a segment's sample starts with ([`SegmentOrientation`], [`RawImuSample`]).
+/// A [`SampleHeader`] as read, its segment's wire byte not yet checked: a sample's errors
+/// are the layout's (`Malformed`) before the segment's.
 struct SampleHead {
     version: u8,
     node: u8,
-    /// The segment's wire byte: checked by [`SampleHead::segment`] after the layout.
     segment: u8,
     seq: u32,
     timestamp_us: u32,
 }
 
 impl SampleHead {
-    /// The segment, or [`DecodeError::UnknownSegment`].
-    fn segment(&self) -> Result<SegmentId, DecodeError> {
-        SegmentId::from_wire_byte(self.segment).ok_or(DecodeError::UnknownSegment(self.segment))
+    /// The header, or [`DecodeError::UnknownSegment`].
+    fn checked(self) -> Result<SampleHeader, DecodeError> {
+        Ok(SampleHeader {
+            version: self.version,
+            node: self.node,
+            segment: SegmentId::from_wire_byte(self.segment)
+                .ok_or(DecodeError::UnknownSegment(self.segment))?,
+            seq: self.seq,
+            timestamp_us: self.timestamp_us,
+        })
     }
 }
 
-/// A segment's sample's [`SampleHead`]: the version first ([`versioned`]), then node, segment,
-/// seq and timestamp (varints); returns it and the bytes after it.
+/// A sample's [`SampleHead`]: the version first ([`versioned`]), then node, segment, seq and
+/// timestamp (varints); returns it and the bytes after it.
 #[inline(always)]
 fn sample_head(body: &[u8]) -> Result<(SampleHead, &[u8]), DecodeError> {
     let (version, rest) = versioned(body)?;

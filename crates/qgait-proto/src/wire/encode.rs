@@ -206,11 +206,11 @@ pub(crate) fn encode_segment_orientation_message(
 ) -> Result<usize, EncodeError> {
     let mut f = Fields { out, len: 0 };
     f.byte(7)?;
-    f.byte(p.version)?;
-    f.byte(p.node)?;
-    f.byte(p.segment.wire_byte())?;
-    f.varint(p.seq)?;
-    f.varint(p.timestamp_us)?;
+    f.byte(p.header.version)?;
+    f.byte(p.header.node)?;
+    f.byte(p.header.segment.wire_byte())?;
+    f.varint(p.header.seq)?;
+    f.varint(p.header.timestamp_us)?;
     for c in p.q14 {
         f.zigzag(c)?;
     }

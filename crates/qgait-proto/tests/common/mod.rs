@@ -3,8 +3,8 @@
 
 use qgait_proto::{
     encode_frame, Config, DecodeError, FrameDecoder, JointAngle, JointId, KneeDirection, Leg,
-    Message, MissingPolicy, ModelId, PoseFrame, Status, SubjectConfig, SubjectKnee, SubjectLeg,
-    MAX_FRAME_LEN, PROTOCOL_VERSION,
+    Message, MissingPolicy, ModelId, PoseFrame, SampleHeader, Status, SubjectConfig, SubjectKnee,
+    SubjectLeg, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 
 /// A typical joint-angle packet.
@@ -95,11 +95,7 @@ pub fn every_message() -> Vec<Message> {
         subject_knee().into(),
         subject_config().into(),
         qgait_proto::SegmentOrientation {
-            version: qgait_proto::PROTOCOL_VERSION,
-            node: 4,
-            segment: qgait_proto::SegmentId::CalcnR,
-            seq: 7,
-            timestamp_us: 70_000,
+            header: SampleHeader::new(4, qgait_proto::SegmentId::CalcnR, 7, 70_000),
             q14: [16384, 0, -8, 3],
             quality: 0,
         }
@@ -123,11 +119,7 @@ pub fn every_message() -> Vec<Message> {
 /// (gyroscope at ±2000 °/s, accelerometer at ±16 g, AK09916 magnetometer).
 pub fn raw_imu_sample() -> qgait_proto::RawImuSample {
     qgait_proto::RawImuSample {
-        version: qgait_proto::PROTOCOL_VERSION,
-        node: 4,
-        segment: qgait_proto::SegmentId::TibiaR,
-        seq: 300,
-        timestamp_us: 1_234_567,
+        header: SampleHeader::new(4, qgait_proto::SegmentId::TibiaR, 300, 1_234_567),
         gyro: [-188, 47, 3289],
         accel: [251, 2005, -84],
         mag: Some([133, -233, 80]),

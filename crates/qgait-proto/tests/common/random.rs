@@ -5,8 +5,9 @@ use qgait_proto::{
     encode_frame, encode_message, encode_raw_frame, ChainTable, ChainTableConfig, Config,
     FusionMode, HeadingAxisId, ImuConfig, ImuHeading, InputMode, JointAngle, JointId,
     KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame, RawImuConfig, RawImuSample,
-    RawImuStatus, SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg,
-    MAX_CHAIN_TABLE_BYTES, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN, PROTOCOL_VERSION,
+    RawImuStatus, SampleHeader, SegmentId, SegmentOrientation, Status, SubjectConfig, SubjectKnee,
+    SubjectLeg, MAX_CHAIN_TABLE_BYTES, MAX_FRAME_LEN, MAX_KNEE_KNOTS, MAX_MESSAGE_LEN,
+    PROTOCOL_VERSION,
 };
 
 /// A float that is usually ordinary and sometimes any bit pattern (NaN, inf, subnormal).
@@ -88,11 +89,12 @@ pub fn message(rng: &mut Rng) -> Message {
             calibration_rejected: varint_u32(rng),
         }),
         7 => Message::SegmentOrientation(SegmentOrientation {
-            version: PROTOCOL_VERSION,
-            node: rng.byte(),
-            segment: SegmentId::ALL[rng.below(SegmentId::ALL.len())],
-            seq: varint_u32(rng),
-            timestamp_us: varint_u32(rng),
+            header: SampleHeader::new(
+                rng.byte(),
+                SegmentId::ALL[rng.below(SegmentId::ALL.len())],
+                varint_u32(rng),
+                varint_u32(rng),
+            ),
             q14: [0; 4].map(|_: i16| rng.next_u32() as i16),
             quality: rng.byte(),
         }),
@@ -134,11 +136,12 @@ pub fn message(rng: &mut Rng) -> Message {
             request_status: rng.chance(50),
         }),
         11 => Message::RawImuSample(RawImuSample {
-            version: PROTOCOL_VERSION,
-            node: rng.byte(),
-            segment: SegmentId::ALL[rng.below(SegmentId::ALL.len())],
-            seq: varint_u32(rng),
-            timestamp_us: varint_u32(rng),
+            header: SampleHeader::new(
+                rng.byte(),
+                SegmentId::ALL[rng.below(SegmentId::ALL.len())],
+                varint_u32(rng),
+                varint_u32(rng),
+            ),
             gyro: [0; 3].map(|_: i16| count(rng)),
             accel: [0; 3].map(|_: i16| count(rng)),
             mag: rng.chance(50).then(|| [0; 3].map(|_: i16| count(rng))),

@@ -5,9 +5,9 @@ use proptest::prelude::*;
 use qgait_proto::{
     ChainTable, ChainTableConfig, Config, FusionMode, HeadingAxisId, ImuConfig, ImuHeading,
     InputMode, JointAngle, JointId, KneeDirection, Leg, Message, MissingPolicy, ModelId, PoseFrame,
-    PoseVelocities, RawImuConfig, RawImuSample, RawImuStatus, SegmentId, SegmentOrientation,
-    Status, SubjectConfig, SubjectKnee, SubjectLeg, VelocityConfig, MAX_CHAIN_TABLE_BYTES,
-    MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
+    PoseVelocities, RawImuConfig, RawImuSample, RawImuStatus, SampleHeader, SegmentId,
+    SegmentOrientation, Status, SubjectConfig, SubjectKnee, SubjectLeg, VelocityConfig,
+    MAX_CHAIN_TABLE_BYTES, MAX_KNEE_KNOTS, MAX_POSE_ANGLES,
 };
 
 /// Any f32 bit pattern: NaNs, infinities, subnormals, signed zeros.
@@ -230,11 +230,7 @@ pub fn segment_orientation() -> impl Strategy<Value = SegmentOrientation> {
     )
         .prop_map(
             |(node, segment, seq, timestamp_us, q14, quality)| SegmentOrientation {
-                version: qgait_proto::PROTOCOL_VERSION,
-                node,
-                segment,
-                seq,
-                timestamp_us,
+                header: SampleHeader::new(node, segment, seq, timestamp_us),
                 q14,
                 quality,
             },
@@ -358,11 +354,7 @@ pub fn raw_imu_sample() -> impl Strategy<Value = RawImuSample> {
     )
         .prop_map(
             |(node, segment, seq, timestamp_us, gyro, accel, mag)| RawImuSample {
-                version: qgait_proto::PROTOCOL_VERSION,
-                node,
-                segment,
-                seq,
-                timestamp_us,
+                header: SampleHeader::new(node, segment, seq, timestamp_us),
                 gyro,
                 accel,
                 mag,
