@@ -93,123 +93,49 @@ fn main() -> ! {
     let g = Gait2392::<f32>::new(&Gait2392Geometry::generic()).unwrap_or_else(|_| board::exit(1));
 
     report("empty_loop.ticks", bench_empty(&phak_in, CALLS) as f32, 1.0);
-    let scalar_base = bench_empty(&scalars, CALLS);
-    net(
-        "trig.half_angle_sin_cos",
-        bench_half_angle(&scalars, CALLS),
-        scalar_base,
-        CALLS,
-    );
-    net(
-        "trig.libm_sincosf",
-        bench_libm_sincos(&scalars, MATRIX_CALLS),
-        bench_empty(&scalars, MATRIX_CALLS),
-        MATRIX_CALLS,
-    );
-    net(
-        "trig.sqrt_f32",
-        bench_sqrt(&scalars, CALLS),
-        scalar_base,
-        CALLS,
-    );
+    let scalar = Base::of(&scalars, CALLS);
+    scalar.net("trig.half_angle_sin_cos", |n| bench_half_angle(&scalars, n));
+    Base::of(&scalars, MATRIX_CALLS).net("trig.libm_sincosf", |n| bench_libm_sincos(&scalars, n));
+    scalar.net("trig.sqrt_f32", |n| bench_sqrt(&scalars, n));
 
-    let hak_base = bench_empty(&hak_in, CALLS);
-    net(
-        "hak.quat",
-        bench_hak_quat(&hak, &hak_in, CALLS),
-        hak_base,
-        CALLS,
-    );
-    net(
-        "hak.matrix",
-        bench_hak_matrix(&hak, &hak_in, MATRIX_CALLS),
-        bench_empty(&hak_in, MATRIX_CALLS),
-        MATRIX_CALLS,
-    );
+    let base = Base::of(&hak_in, CALLS);
+    base.net("hak.quat", |n| bench_hak_quat(&hak, &hak_in, n));
+    Base::of(&hak_in, MATRIX_CALLS).net("hak.matrix", |n| bench_hak_matrix(&hak, &hak_in, n));
 
-    let phak_base = bench_empty(&phak_in, CALLS);
-    net(
-        "phak.quat",
-        bench_phak_quat(&phak, &phak_in, CALLS),
-        phak_base,
-        CALLS,
-    );
-    net(
-        "phak.velocities",
-        bench_phak_velocities(&phak, &phak_in, &phak_rates, CALLS),
-        phak_base,
-        CALLS,
-    );
-    net(
-        "phak.motion",
-        bench_phak_motion(&phak, &phak_in, &phak_rates, CALLS),
-        phak_base,
-        CALLS,
-    );
-    net(
-        "phak.quat_frames",
-        bench_phak_frames(&phak, &phak_in, CALLS),
-        phak_base,
-        CALLS,
-    );
-    net(
-        "phak.matrix",
-        bench_phak_matrix(&phak, &phak_in, MATRIX_CALLS),
-        bench_empty(&phak_in, MATRIX_CALLS),
-        MATRIX_CALLS,
-    );
+    let base = Base::of(&phak_in, CALLS);
+    base.net("phak.quat", |n| bench_phak_quat(&phak, &phak_in, n));
+    base.net("phak.velocities", |n| {
+        bench_phak_velocities(&phak, &phak_in, &phak_rates, n)
+    });
+    base.net("phak.motion", |n| {
+        bench_phak_motion(&phak, &phak_in, &phak_rates, n)
+    });
+    base.net("phak.quat_frames", |n| {
+        bench_phak_frames(&phak, &phak_in, n)
+    });
+    Base::of(&phak_in, MATRIX_CALLS).net("phak.matrix", |n| bench_phak_matrix(&phak, &phak_in, n));
 
-    let g_base = bench_empty(&g_in, CALLS);
-    net(
-        "gait2392.quat",
-        bench_gait2392_quat(&g, &g_in, CALLS),
-        g_base,
-        CALLS,
-    );
-    net(
-        "gait2392.quat_frames",
-        bench_gait2392_frames(&g, &g_in, CALLS),
-        g_base,
-        CALLS,
-    );
-    net(
-        "gait2392.velocities",
-        bench_gait2392_velocities(&g, &g_in, &g_rates, CALLS),
-        g_base,
-        CALLS,
-    );
-    net(
-        "gait2392.motion",
-        bench_gait2392_motion(&g, &g_in, &g_rates, CALLS),
-        g_base,
-        CALLS,
-    );
-    net(
-        "gait2392.matrix",
-        bench_gait2392_matrix(&g, &g_in, MATRIX_CALLS),
-        bench_empty(&g_in, MATRIX_CALLS),
-        MATRIX_CALLS,
-    );
+    let base = Base::of(&g_in, CALLS);
+    base.net("gait2392.quat", |n| bench_gait2392_quat(&g, &g_in, n));
+    base.net("gait2392.quat_frames", |n| {
+        bench_gait2392_frames(&g, &g_in, n)
+    });
+    base.net("gait2392.velocities", |n| {
+        bench_gait2392_velocities(&g, &g_in, &g_rates, n)
+    });
+    base.net("gait2392.motion", |n| {
+        bench_gait2392_motion(&g, &g_in, &g_rates, n)
+    });
+    Base::of(&g_in, MATRIX_CALLS).net("gait2392.matrix", |n| bench_gait2392_matrix(&g, &g_in, n));
 
     let raj = rajagopal();
-    net(
-        "rajagopal.quat",
-        bench_rajagopal_quat(&raj, &g_in, CALLS),
-        g_base,
-        CALLS,
-    );
-    net(
-        "rajagopal.velocities",
-        bench_rajagopal_velocities(&raj, &g_in, &g_rates, CALLS),
-        g_base,
-        CALLS,
-    );
-    net(
-        "rajagopal.motion",
-        bench_rajagopal_motion(&raj, &g_in, &g_rates, CALLS),
-        g_base,
-        CALLS,
-    );
+    base.net("rajagopal.quat", |n| bench_rajagopal_quat(&raj, &g_in, n));
+    base.net("rajagopal.velocities", |n| {
+        bench_rajagopal_velocities(&raj, &g_in, &g_rates, n)
+    });
+    base.net("rajagopal.motion", |n| {
+        bench_rajagopal_motion(&raj, &g_in, &g_rates, n)
+    });
 
     imu_benches(&g, &mut rng);
     fusion_benches(&mut rng);
@@ -270,6 +196,42 @@ fn net(name: &str, ticks: u32, base: u32, n: u32) {
     );
 }
 
+/// The empty loop's ticks over some inputs for `calls` calls: what the figures measured on
+/// those inputs with as many calls subtract.
+#[derive(Clone, Copy)]
+struct Base {
+    ticks: u32,
+    calls: u32,
+}
+
+// Inlined, so that each measured loop sees its call count as the constant it is (as when it
+// is called with the constant).
+impl Base {
+    #[inline(always)]
+    fn of<I>(inputs: &[I; INPUTS], calls: u32) -> Self {
+        Base {
+            ticks: bench_empty(inputs, calls),
+            calls,
+        }
+    }
+
+    /// [`net`] of `measure(calls)`, the ticks of a measured loop of `calls` calls.
+    #[inline(always)]
+    fn net(self, name: &str, measure: impl FnOnce(u32) -> u32) {
+        net(name, measure(self.calls), self.ticks, self.calls)
+    }
+
+    /// [`Base::net`] as `{name}_{what}`.
+    #[inline(always)]
+    fn net_named(self, name: &str, what: &str, measure: impl FnOnce(u32) -> u32) {
+        let mut full: heapless::String<48> = heapless::String::new();
+        if full.push_str(name).is_err() || full.push('_').is_err() || full.push_str(what).is_err() {
+            board::exit(1)
+        }
+        self.net(&full, measure)
+    }
+}
+
 /// A loop of `n` `subs`/`bne` pairs (2n instructions) must take 2n / 40 ticks: otherwise QEMU
 /// is not counting instructions (`-icount shift=0,align=off` missing) and the run fails.
 fn calibrate() {
@@ -316,155 +278,64 @@ fn bench_empty<I>(inputs: &[I; INPUTS], n: u32) -> u32 {
     })
 }
 
-#[inline(never)]
-fn bench_half_angle(x: &[f32; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(half_angle_sin_cos_f32(*black_box(&x[i % INPUTS])));
-    })
+/// A measured loop: `fn $name($args.., n: u32) -> u32`, never inlined, the ticks of `n`
+/// calls of `$body` (its value kept with `black_box`) for `i` in `0..n`.
+macro_rules! measured {
+    ($(#[$doc:meta])* fn $name:ident($($arg:ident: $ty:ty),*) |$i:ident| $body:expr) => {
+        $(#[$doc])*
+        #[inline(never)]
+        fn $name($($arg: $ty,)* n: u32) -> u32 {
+            timed(n, |$i| {
+                black_box($body);
+            })
+        }
+    };
 }
 
-#[inline(never)]
-fn bench_libm_sincos(x: &[f32; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(Real::sin_cos(*black_box(&x[i % INPUTS])));
-    })
-}
+measured!(fn bench_half_angle(x: &[f32; INPUTS]) |i| half_angle_sin_cos_f32(*black_box(&x[i % INPUTS])));
+measured!(fn bench_libm_sincos(x: &[f32; INPUTS]) |i| Real::sin_cos(*black_box(&x[i % INPUTS])));
+measured!(fn bench_sqrt(x: &[f32; INPUTS]) |i| Real::sqrt(black_box(&x[i % INPUTS]).abs()));
 
-#[inline(never)]
-fn bench_sqrt(x: &[f32; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(Real::sqrt(black_box(&x[i % INPUTS]).abs()));
-    })
-}
+measured!(fn bench_hak_quat(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS])
+    |i| black_box(model).fk(black_box(&q[i % INPUTS])));
+measured!(fn bench_hak_matrix(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS])
+    |i| chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
 
-#[inline(never)]
-fn bench_hak_quat(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
-    })
-}
-
-#[inline(never)]
-fn bench_hak_matrix(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(chain_by_matrices(
-            black_box(model).chain(),
-            &black_box(&q[i % INPUTS]).to_array(),
-        ));
-    })
-}
-
-#[inline(never)]
-fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
-    })
-}
-
+measured!(fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS])
+    |i| black_box(model).fk(black_box(&q[i % INPUTS])));
+measured!(
 /// PHAK's points' positions and velocities from angles and speeds.
-#[inline(never)]
-fn bench_phak_velocities(
-    model: &Phak<f32>,
-    q: &[PhakAngles<f32>; INPUTS],
-    rates: &[[[f32; 8]; 2]; INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let [qd, _] = black_box(&rates[i % INPUTS]);
-        black_box(
-            black_box(model)
-                .chain()
-                .forward_velocities(&black_box(&q[i % INPUTS]).to_array(), qd),
-        );
-    })
-}
-
+fn bench_phak_velocities(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], rates: &[[[f32; 8]; 2]; INPUTS])
+|i| {
+    let [qd, _] = black_box(&rates[i % INPUTS]);
+    black_box(model).chain().forward_velocities(&black_box(&q[i % INPUTS]).to_array(), qd)
+});
+measured!(
 /// PHAK's points' positions, velocities and accelerations.
-#[inline(never)]
-fn bench_phak_motion(
-    model: &Phak<f32>,
-    q: &[PhakAngles<f32>; INPUTS],
-    rates: &[[[f32; 8]; 2]; INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let [qd, qdd] = black_box(&rates[i % INPUTS]);
-        black_box(black_box(model).chain().forward_motion(
-            &black_box(&q[i % INPUTS]).to_array(),
-            qd,
-            qdd,
-        ));
-    })
-}
+fn bench_phak_motion(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], rates: &[[[f32; 8]; 2]; INPUTS])
+|i| {
+    let [qd, qdd] = black_box(&rates[i % INPUTS]);
+    black_box(model).chain().forward_motion(&black_box(&q[i % INPUTS]).to_array(), qd, qdd)
+});
+measured!(fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS])
+    |i| black_box(model).chain().frames(&black_box(&q[i % INPUTS]).to_array()));
+measured!(fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS])
+    |i| chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
 
-#[inline(never)]
-fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(
-            black_box(model)
-                .chain()
-                .frames(&black_box(&q[i % INPUTS]).to_array()),
-        );
-    })
-}
-
-#[inline(never)]
-fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(chain_by_matrices(
-            black_box(model).chain(),
-            &black_box(&q[i % INPUTS]).to_array(),
-        ));
-    })
-}
-
-#[inline(never)]
-fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(black_box(model).fk(black_box(&q[i % INPUTS])));
-    })
-}
-
-#[inline(never)]
-fn bench_gait2392_velocities(
-    model: &Gait2392<f32>,
-    q: &[[f32; 17]; INPUTS],
-    rates: &[[[f32; 17]; 2]; INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let [qd, _] = black_box(&rates[i % INPUTS]);
-        black_box(
-            black_box(model)
-                .chain()
-                .forward_velocities(black_box(&q[i % INPUTS]), qd),
-        );
-    })
-}
-
-#[inline(never)]
-fn bench_gait2392_motion(
-    model: &Gait2392<f32>,
-    q: &[[f32; 17]; INPUTS],
-    rates: &[[[f32; 17]; 2]; INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let [qd, qdd] = black_box(&rates[i % INPUTS]);
-        black_box(
-            black_box(model)
-                .chain()
-                .forward_motion(black_box(&q[i % INPUTS]), qd, qdd),
-        );
-    })
-}
-
-#[inline(never)]
-fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(black_box(model).chain().frames(black_box(&q[i % INPUTS])));
-    })
-}
+measured!(fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS])
+    |i| black_box(model).fk(black_box(&q[i % INPUTS])));
+measured!(fn bench_gait2392_velocities(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
+|i| {
+    let [qd, _] = black_box(&rates[i % INPUTS]);
+    black_box(model).chain().forward_velocities(black_box(&q[i % INPUTS]), qd)
+});
+measured!(fn bench_gait2392_motion(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
+|i| {
+    let [qd, qdd] = black_box(&rates[i % INPUTS]);
+    black_box(model).chain().forward_motion(black_box(&q[i % INPUTS]), qd, qdd)
+});
+measured!(fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS])
+    |i| black_box(model).chain().frames(black_box(&q[i % INPUTS])));
 
 /// The imported Rajagopal 2015 (OpenSense) chain, as `qgait config --model` sends it: its
 /// table's parts written into the hub's table, checked against its config's CRC.
@@ -489,48 +360,21 @@ fn rajagopal() -> DeviceChain {
     }
 }
 
-#[inline(never)]
-fn bench_rajagopal_quat(model: &DeviceChain, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(black_box(model).forward(black_box(&q[i % INPUTS])));
-    })
-}
+measured!(fn bench_rajagopal_quat(model: &DeviceChain, q: &[[f32; 17]; INPUTS])
+    |i| black_box(model).forward(black_box(&q[i % INPUTS])));
+measured!(fn bench_rajagopal_velocities(model: &DeviceChain, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
+|i| {
+    let [qd, _] = black_box(&rates[i % INPUTS]);
+    black_box(model).forward_velocities(black_box(&q[i % INPUTS]), qd)
+});
+measured!(fn bench_rajagopal_motion(model: &DeviceChain, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
+|i| {
+    let [qd, qdd] = black_box(&rates[i % INPUTS]);
+    black_box(model).forward_motion(black_box(&q[i % INPUTS]), qd, qdd)
+});
 
-#[inline(never)]
-fn bench_rajagopal_velocities(
-    model: &DeviceChain,
-    q: &[[f32; 17]; INPUTS],
-    rates: &[[[f32; 17]; 2]; INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let [qd, _] = black_box(&rates[i % INPUTS]);
-        black_box(black_box(model).forward_velocities(black_box(&q[i % INPUTS]), qd));
-    })
-}
-
-#[inline(never)]
-fn bench_rajagopal_motion(
-    model: &DeviceChain,
-    q: &[[f32; 17]; INPUTS],
-    rates: &[[[f32; 17]; 2]; INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let [qd, qdd] = black_box(&rates[i % INPUTS]);
-        black_box(black_box(model).forward_motion(black_box(&q[i % INPUTS]), qd, qdd));
-    })
-}
-
-#[inline(never)]
-fn bench_gait2392_matrix(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(chain_by_matrices(
-            black_box(model).chain(),
-            black_box(&q[i % INPUTS]),
-        ));
-    })
-}
+measured!(fn bench_gait2392_matrix(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS])
+    |i| chain_by_matrices(black_box(model).chain(), black_box(&q[i % INPUTS])));
 
 /// The PHAK packet of `joint` in sample `seq`, with an angle that changes every sample.
 fn packet(seq: u32, joint: JointId, rng: &mut Lcg) -> JointAngle {
@@ -567,14 +411,7 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         }
     }
     defmt::println!("bench sample.rx_bytes {=usize}", streams[0].len());
-    let n = CALLS / 4;
-    let base = bench_empty(&streams, n);
-    net(
-        "sample.decode_8_packets",
-        bench_decode(&streams, n),
-        base,
-        n,
-    );
+    Base::of(&streams, CALLS / 4).net("sample.decode_8_packets", |n| bench_decode(&streams, n));
 
     let payloads: [heapless::Vec<u8, 32>; INPUTS] = core::array::from_fn(|i| {
         let mut out = [0u8; 32];
@@ -588,25 +425,14 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         "bench sample.packet_payload_bytes {=usize}",
         payloads[0].len()
     );
-    let base = bench_empty(&payloads, CALLS);
-    net(
-        "sample.crc32c_packet",
-        bench_crc(&payloads, CALLS),
-        base,
-        CALLS,
-    );
-    net(
-        "sample.decode_message_packet",
-        bench_decode_message(&payloads, CALLS),
-        base,
-        CALLS,
-    );
-    net(
-        "sample.decode_packet",
-        bench_decode_packet(&payloads, CALLS),
-        base,
-        CALLS,
-    );
+    let base = Base::of(&payloads, CALLS);
+    base.net("sample.crc32c_packet", |n| bench_crc(&payloads, n));
+    base.net("sample.decode_message_packet", |n| {
+        bench_decode_message(&payloads, n)
+    });
+    base.net("sample.decode_packet", |n| {
+        bench_decode_packet(&payloads, n)
+    });
     // One packet frame's bytes into the decoder, then its delimiter (the frame checks): the
     // same bytes followed by a reset instead of the delimiter are the base, so the figure is
     // the checks alone; the base against the empty loop is the per-byte cost of 16 bytes.
@@ -619,18 +445,14 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         heapless::Vec::from_slice(&out[..len - 1]).unwrap_or_default()
     });
     let bytes_only = bench_frame_bytes(&frames, CALLS, false);
-    net(
-        "sample.packet_frame_bytes",
-        bytes_only,
-        bench_empty(&frames, CALLS),
-        CALLS,
-    );
-    net(
-        "sample.packet_frame_checks",
-        bench_frame_bytes(&frames, CALLS, true),
-        bytes_only,
-        CALLS,
-    );
+    Base::of(&frames, CALLS).net("sample.packet_frame_bytes", |_| bytes_only);
+    let bytes_only = Base {
+        ticks: bytes_only,
+        calls: CALLS,
+    };
+    bytes_only.net("sample.packet_frame_checks", |n| {
+        bench_frame_bytes(&frames, n, true)
+    });
 
     let kinematics = Kinematics::new(ModelId::Phak, None).unwrap_or_else(|_| board::exit(1));
     let samples: [Sample; INPUTS] = core::array::from_fn(|i| {
@@ -649,22 +471,13 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         }
         s
     });
-    let base = bench_empty(&samples, CALLS);
-    net(
-        "sample.pose_frame",
-        bench_pose_frame(&kinematics, &samples, CALLS),
-        base,
-        CALLS,
-    );
+    Base::of(&samples, CALLS).net("sample.pose_frame", |n| {
+        bench_pose_frame(&kinematics, &samples, n)
+    });
 
     let phak = Phak::<f32>::new(&Anthropometry::gait2392()).unwrap_or_else(|_| board::exit(1));
     let poses: [BilateralPose<f32>; INPUTS] = core::array::from_fn(|i| phak.fk(&phak_in[i]));
-    net(
-        "sample.distances",
-        bench_distances(&poses, CALLS),
-        bench_empty(&poses, CALLS),
-        CALLS,
-    );
+    Base::of(&poses, CALLS).net("sample.distances", |n| bench_distances(&poses, n));
 
     let pose_frames: [PoseFrame; INPUTS] = core::array::from_fn(|i| {
         kinematics.pose_frame(
@@ -680,18 +493,12 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
         board::exit(PIPELINE_EXIT_CODE)
     };
     defmt::println!("bench sample.tx_bytes {=usize}", len);
-    net(
-        "sample.encode_pose_frame",
-        bench_encode(&pose_frames, CALLS),
-        bench_empty(&pose_frames, CALLS),
-        CALLS,
-    );
-    net(
-        "sample.encode_message_pose_frame",
-        bench_encode_message(&frames, CALLS),
-        bench_empty(&frames, CALLS),
-        CALLS,
-    );
+    Base::of(&pose_frames, CALLS).net("sample.encode_pose_frame", |n| {
+        bench_encode(&pose_frames, n)
+    });
+    Base::of(&frames, CALLS).net("sample.encode_message_pose_frame", |n| {
+        bench_encode_message(&frames, n)
+    });
     crc_cobs_beside_crates(&payloads, &frames);
     defmt::println!(
         "bench size.message_bytes {=usize} pose_frame {=usize} kinematics {=usize} frame_decoder {=usize} phak {=usize} gait2392 {=usize}",
@@ -1197,65 +1004,53 @@ fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
         cal.segments(&readings[i])
             .unwrap_or_else(|_| board::exit(1))
     });
-    let base = bench_empty(&readings, 256);
-    net(
-        "imu.segments",
-        timed(256, |i| {
+    let base = Base::of(&readings, 256);
+    base.net("imu.segments", |n| {
+        timed(n, |i| {
             black_box(
                 black_box(&cal)
                     .segments(black_box(&readings[i % INPUTS]))
                     .ok(),
             );
-        }),
-        base,
-        256,
-    );
+        })
+    });
     let mut solver = Solver::<f32>::new();
-    net(
-        "imu.closed_form",
-        timed(256, |i| {
+    base.net("imu.closed_form", |n| {
+        timed(n, |i| {
             black_box(solver.solve(black_box(g), black_box(&segs[i % INPUTS]), Mode::ClosedForm));
-        }),
-        base,
-        256,
-    );
+        })
+    });
     let mut solver = Solver::<f32>::new();
-    net(
-        "imu.least_squares",
-        timed(256, |i| {
-            black_box(solver.solve(
-                black_box(g),
-                black_box(&segs[i % INPUTS]),
-                Mode::LeastSquares,
-            ));
-        }),
-        base,
-        256,
-    );
-    let mut solver = Solver::<f32>::new();
-    net(
-        "imu.whole_ls",
-        timed(256, |i| {
-            if let Ok(s) = black_box(&cal).segments(black_box(&readings[i % INPUTS])) {
-                let a = solver.solve(black_box(g), &s, Mode::LeastSquares);
-                black_box(g.fk(&a.coordinates));
-            }
-        }),
-        base,
-        256,
-    );
-    let mut solver = Solver::<f32>::new();
-    net(
-        "imu.whole_cf",
-        timed(256, |i| {
-            if let Ok(s) = black_box(&cal).segments(black_box(&readings[i % INPUTS])) {
-                let a = solver.solve(black_box(g), &s, Mode::ClosedForm);
-                black_box(g.fk(&a.coordinates));
-            }
-        }),
-        base,
-        256,
-    );
+    base.net("imu.least_squares", |n| {
+        timed(n, |i| {
+            let segments = black_box(&segs[i % INPUTS]);
+            black_box(solver.solve(black_box(g), segments, Mode::LeastSquares));
+        })
+    });
+    base.net("imu.whole_ls", |n| {
+        imu_whole(g, &cal, &readings, Mode::LeastSquares, n)
+    });
+    base.net("imu.whole_cf", |n| {
+        imu_whole(g, &cal, &readings, Mode::ClosedForm, n)
+    });
+}
+
+/// `n` times the whole IMU path: readings to segments, angles by `mode` (a new solver), FK.
+#[inline(always)]
+fn imu_whole(
+    g: &Gait2392<f32>,
+    cal: &qgait_kernel::imu::Calibration<f32>,
+    readings: &[qgait_kernel::imu::Orientations<f32>; INPUTS],
+    mode: qgait_kernel::imu::Mode,
+    n: u32,
+) -> u32 {
+    let mut solver = qgait_kernel::imu::Solver::<f32>::new();
+    timed(n, |i| {
+        if let Ok(s) = black_box(cal).segments(black_box(&readings[i % INPUTS])) {
+            let a = solver.solve(black_box(g), &s, mode);
+            black_box(g.fk(&a.coordinates));
+        }
+    })
 }
 
 // ---- Orientation estimation (the kernel's VQF, `qgait_kernel::fusion`) ----------------------
@@ -1312,7 +1107,10 @@ fn fusion_benches(rng: &mut Lcg) {
         "bench vqf.state_bytes {=usize}",
         core::mem::size_of::<Vqf<f32>>()
     );
-    let base = bench_vqf_empty(&samples, CALLS);
+    let base = Base {
+        ticks: bench_vqf_empty(&samples, CALLS),
+        calls: CALLS,
+    };
     for nine_d in [true, false] {
         let mut vqf = Vqf::<f32>::new_default(VQF_TS as f64);
         for i in 0..2000 {
@@ -1320,86 +1118,53 @@ fn fusion_benches(rng: &mut Lcg) {
             vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
         }
         if nine_d {
-            net(
-                "vqf.update_9d",
-                bench_vqf_9d(&mut vqf, &samples, CALLS),
-                base,
-                CALLS,
-            );
+            base.net("vqf.update_9d", |n| bench_vqf_9d(&mut vqf, &samples, n));
             if vqf.mag_dist_detected() {
                 defmt::error!("the benchmark's magnetic field was not accepted");
                 board::exit(PIPELINE_EXIT_CODE)
             }
         } else {
-            net(
-                "vqf.update_6d",
-                bench_vqf_6d(&mut vqf, &samples, CALLS),
-                base,
-                CALLS,
-            );
+            base.net("vqf.update_6d", |n| bench_vqf_6d(&mut vqf, &samples, n));
         }
     } // vqf-rs on the same samples (fewer calls: it is slower).
-    let base = bench_vqf_empty(&samples, VQF_RS_CALLS);
+    let base = Base {
+        ticks: bench_vqf_empty(&samples, VQF_RS_CALLS),
+        calls: VQF_RS_CALLS,
+    };
     for nine_d in [true, false] {
         let mut vqf = vqf_rs::VQF::new(VQF_TS, None, None, None);
         for i in 0..2000 {
             let s = &samples[i % VQF_INPUTS];
             vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
         }
-        let ticks = bench_vqf_rs(&mut vqf, &samples, VQF_RS_CALLS, nine_d);
         let name = if nine_d {
             "vqf_rs.update_9d"
         } else {
             "vqf_rs.update_6d"
         };
-        net(name, ticks, base, VQF_RS_CALLS);
+        base.net(name, |n| bench_vqf_rs(&mut vqf, &samples, nine_d, n));
     }
 }
 
 /// Calls per measurement of vqf-rs.
 const VQF_RS_CALLS: u32 = 512;
 
-#[inline(never)]
-fn bench_vqf_rs(vqf: &mut vqf_rs::VQF, x: &[ImuSample; VQF_INPUTS], n: u32, nine_d: bool) -> u32 {
-    timed(n, |i| {
-        let s = black_box(&x[i % VQF_INPUTS]);
-        vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
-        black_box(if nine_d { vqf.quat_9d() } else { vqf.quat_6d() });
-    })
-}
-
-#[inline(never)]
-fn bench_vqf_empty(x: &[ImuSample; VQF_INPUTS], n: u32) -> u32 {
-    timed(n, |i| {
-        black_box(&x[i % VQF_INPUTS]);
-    })
-}
-
-#[inline(never)]
-fn bench_vqf_9d(
-    vqf: &mut qgait_kernel::fusion::Vqf<f32>,
-    x: &[ImuSample; VQF_INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let s = black_box(&x[i % VQF_INPUTS]);
-        vqf.update(s.gyr, s.acc, Some(s.mag));
-        black_box(vqf.quat_9d());
-    })
-}
-
-#[inline(never)]
-fn bench_vqf_6d(
-    vqf: &mut qgait_kernel::fusion::Vqf<f32>,
-    x: &[ImuSample; VQF_INPUTS],
-    n: u32,
-) -> u32 {
-    timed(n, |i| {
-        let s = black_box(&x[i % VQF_INPUTS]);
-        vqf.update(s.gyr, s.acc, None);
-        black_box(vqf.quat_6d());
-    })
-}
+measured!(fn bench_vqf_rs(vqf: &mut vqf_rs::VQF, x: &[ImuSample; VQF_INPUTS], nine_d: bool) |i| {
+    let s = black_box(&x[i % VQF_INPUTS]);
+    vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
+    if nine_d { vqf.quat_9d() } else { vqf.quat_6d() }
+});
+measured!(fn bench_vqf_empty(x: &[ImuSample; VQF_INPUTS]) |i| &x[i % VQF_INPUTS]);
+measured!(fn bench_vqf_9d(vqf: &mut qgait_kernel::fusion::Vqf<f32>, x: &[ImuSample; VQF_INPUTS]) |i| {
+    let s = black_box(&x[i % VQF_INPUTS]);
+    vqf.update(s.gyr, s.acc, Some(s.mag));
+    vqf.quat_9d()
+});
+measured!(fn bench_vqf_6d(vqf: &mut qgait_kernel::fusion::Vqf<f32>, x: &[ImuSample; VQF_INPUTS]) |i| {
+    let s = black_box(&x[i % VQF_INPUTS]);
+    vqf.update(s.gyr, s.acc, None);
+    vqf.quat_6d()
+});
 
 // ---- The protocol crate's CRC-32C and COBS beside the crates ----------------------------------
 //
@@ -1433,11 +1198,11 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
         if messages.iter().any(|m| m.is_empty()) {
             board::exit(PIPELINE_EXIT_CODE)
         }
-        let base = bench_empty(messages, CALLS);
-        let ours = bench_crc_of(messages, CALLS, crc32c);
-        let theirs = bench_crc_of(messages, CALLS, |m| qgait_proto::FRAME_CRC.checksum(m));
-        net_named("crc.ours", what, ours, base, CALLS);
-        net_named("crc.crc_crate", what, theirs, base, CALLS);
+        let base = Base::of(messages, CALLS);
+        base.net_named("crc.ours", what, |n| bench_crc_of(messages, n, crc32c));
+        base.net_named("crc.crc_crate", what, |n| {
+            bench_crc_of(messages, n, |m| qgait_proto::FRAME_CRC.checksum(m))
+        });
 
         // COBS input: the message and its CRC, as in a frame.
         let data: [heapless::Vec<u8, CODEC_MAX>; INPUTS] = core::array::from_fn(|i| {
@@ -1447,40 +1212,31 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
         });
         // Every encoder starts from a copy of the data in a scratch buffer (ours encodes in
         // place, at `buf[1..]`), so the copy alone is the base.
-        let copy = bench_cobs_encode(&data, CALLS, |_, _| 0);
-        net_named(
-            "cobs.encode_ours",
-            what,
-            bench_cobs_encode(&data, CALLS, |buf, len| {
+        let copy = Base {
+            ticks: bench_cobs_encode(&data, CALLS, |_, _| 0),
+            calls: CALLS,
+        };
+        copy.net_named("cobs.encode_ours", what, |n| {
+            bench_cobs_encode(&data, n, |buf, len| {
                 proto_cobs::encode_in_place(buf, len).unwrap_or(0)
-            }),
-            copy,
-            CALLS,
-        );
-        net_named(
-            "cobs.encode_cobs_crate",
-            what,
-            bench_cobs_encode(&data, CALLS, |buf, len| {
+            })
+        });
+        copy.net_named("cobs.encode_cobs_crate", what, |n| {
+            bench_cobs_encode(&data, n, |buf, len| {
                 let (src, dst) = buf.split_at_mut(CODEC_MAX);
                 cobs::try_encode(&src[1..=len], dst).unwrap_or(0)
-            }),
-            copy,
-            CALLS,
-        );
-        net_named(
-            "cobs.encode_postcard_flavour",
-            what,
-            bench_cobs_encode(&data, CALLS, |buf, len| {
+            })
+        });
+        copy.net_named("cobs.encode_postcard_flavour", what, |n| {
+            bench_cobs_encode(&data, n, |buf, len| {
                 use postcard::ser_flavors::{Cobs, Flavor, Slice};
                 let (src, dst) = buf.split_at_mut(CODEC_MAX);
                 Cobs::try_new(Slice::new(dst))
                     .and_then(|mut f| f.try_extend(&src[1..=len]).and_then(|()| f.finalize()))
                     .map(|out| out.len())
                     .unwrap_or(0)
-            }),
-            copy,
-            CALLS,
-        );
+            })
+        });
 
         // Decoders: the COBS bytes of each frame (no delimiter), copied into a scratch buffer
         // before each call (both decode in place); the copy alone is the base.
@@ -1489,35 +1245,19 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
             let n = proto_cobs::encode(data[i].iter().copied(), &mut out).unwrap_or(0);
             heapless::Vec::from_slice(&out[..n]).unwrap_or_default()
         });
-        let copy = bench_cobs_decode(&encoded, CALLS, |_| 0);
-        net_named(
-            "cobs.decode_ours",
-            what,
-            bench_cobs_decode(&encoded, CALLS, |buf| {
+        let copy = Base {
+            ticks: bench_cobs_decode(&encoded, CALLS, |_| 0),
+            calls: CALLS,
+        };
+        copy.net_named("cobs.decode_ours", what, |n| {
+            bench_cobs_decode(&encoded, n, |buf| {
                 proto_cobs::decode_in_place_unshifted(buf).map_or(0, |r| r.len())
-            }),
-            copy,
-            CALLS,
-        );
-        net_named(
-            "cobs.decode_cobs_crate",
-            what,
-            bench_cobs_decode(&encoded, CALLS, |buf| {
-                cobs::decode_in_place(buf).unwrap_or(0)
-            }),
-            copy,
-            CALLS,
-        );
+            })
+        });
+        copy.net_named("cobs.decode_cobs_crate", what, |n| {
+            bench_cobs_decode(&encoded, n, |buf| cobs::decode_in_place(buf).unwrap_or(0))
+        });
     }
-}
-
-/// [`net`] as `{name}_{what}`.
-fn net_named(name: &str, what: &str, ticks: u32, base: u32, n: u32) {
-    let mut full: heapless::String<48> = heapless::String::new();
-    if full.push_str(name).is_err() || full.push('_').is_err() || full.push_str(what).is_err() {
-        board::exit(1)
-    }
-    net(&full, ticks, base, n)
 }
 
 /// `crc` of each message in turn.
