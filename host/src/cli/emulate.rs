@@ -26,7 +26,8 @@ use qgait_device::raw_hub::RawHubHost;
 use qgait_device::verify::{Expected, Verification, MISSING_LISTED};
 use qgait_model::motion::source::load_motion;
 
-/// `qgait emulate` arguments.
+/// `qgait emulate` arguments, in the order `--help` lists them: what runs on what input, the
+/// hub's settings, what is written, what is checked.
 #[derive(Debug, Args)]
 pub struct EmulateArgs {
     /// Motion file (.mot/.sto) or `builtin:...` to stream (its packets as `qgait packets`
@@ -36,13 +37,18 @@ pub struct EmulateArgs {
     /// A byte stream to send as it is (e.g. from `qgait packets`).
     #[arg(long, value_name = "STREAM.bin")]
     pub stream: Option<PathBuf>,
+    /// Samples per second for MOTION (default: its time column).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
     /// Firmware ELF (default: the release build of firmware/, built if missing; for a stream of
     /// raw samples, the build with the features `imu` and `raw`).
     #[arg(long, value_name = "PATH")]
     pub elf: Option<PathBuf>,
-    /// Samples per second for MOTION (default: its time column).
-    #[arg(long, value_name = "HZ")]
-    pub rate: Option<f64>,
+    /// Run the IMU node firmware (`qgait-node`) instead of the hub, with --stream a raw stream
+    /// (`qgait packets --raw`): it fuses the samples and sends orientations; --verify checks
+    /// them against the host's f64 fusion of the same stream.
+    #[arg(long, requires = "stream", conflicts_with_all = ["frames_csv", "motion"])]
+    pub node: bool,
     /// The hub's configuration, sent before the stream.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -62,11 +68,6 @@ pub struct EmulateArgs {
     /// The tolerance of --verify on the points.
     #[command(flatten)]
     pub points: PointTolerance,
-    /// Run the IMU node firmware (`qgait-node`) instead of the hub, with --stream a raw stream
-    /// (`qgait packets --raw`): it fuses the samples and sends orientations; --verify checks
-    /// them against the host's f64 fusion of the same stream.
-    #[arg(long, requires = "stream", conflicts_with_all = ["frames_csv", "motion"])]
-    pub node: bool,
     /// Tolerance of --verify on a raw stream (degrees): with --node, the RMS angle between the
     /// device's orientations and the host's; a hub with raw input (a stream of `qgait packets
     /// --raw --hub`), the RMS difference of its joint angles from the host's f64 fusion and IMU
@@ -102,14 +103,7 @@ fn run_node(args: &EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
     let mut input = stream.clone();
     input.extend(closing_frames(&Message::RawImuConfig(config))?);
     let expected = InputCounts::of(&input);
-    let out = run_session(
-        &elf,
-        input,
-        expected,
-        stream.len(),
-        args.log.as_deref(),
-        quiet,
-    )?;
+    let out = run_session(&elf, input, expected, stream.len(), args, quiet)?;
     let mut orientations = Vec::new();
     let mut raw_status = None;
     for m in FrameDecoder::new().feed(&out.uart).flatten() {
@@ -252,14 +246,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         Some(host) => host.input_counts(&input),
         None => InputCounts::of(&input),
     };
-    let out = run_session(
-        &elf,
-        input,
-        expected,
-        stream.len(),
-        args.log.as_deref(),
-        quiet,
-    )?;
+    let out = run_session(&elf, input, expected, stream.len(), &args, quiet)?;
     let log = HubLog::decode(&out.uart);
     eprintln!(
         "hub sent {} in {:.2} s",
@@ -403,7 +390,7 @@ fn run_session(
     input: Vec<u8>,
     expected: InputCounts,
     stream_len: usize,
-    log: Option<&Path>,
+    args: &EmulateArgs,
     quiet: bool,
 ) -> anyhow::Result<session::SessionOutput> {
     if !quiet {
@@ -415,7 +402,7 @@ fn run_session(
     }
     let echo = if quiet { Echo::Quiet } else { Echo::Stderr };
     let out = session::run(elf, input, expected, echo, Limits::for_stream(stream_len))?;
-    if let Some(log) = log {
+    if let Some(log) = &args.log {
         std::fs::write(log, &out.uart)
             .with_context(|| format!("{}: cannot write", log.display()))?;
     }
