@@ -24,6 +24,7 @@ mod raw;
 mod sizes;
 mod subject;
 mod velocity;
+mod version;
 mod wire;
 
 pub use crate::chain::{
@@ -46,7 +47,6 @@ pub use crate::indices::{point, segment};
 pub use crate::joint::JointId;
 pub use crate::messages::{
     Config, JointAngle, Message, PoseFrame, Status, MAX_POSE_ANGLES, MAX_REORDER_WINDOW,
-    PROTOCOL_VERSION,
 };
 pub use crate::model::ModelId;
 pub use crate::orientation::{
@@ -72,6 +72,7 @@ pub use crate::velocity::{
     backward_difference, PoseVelocities, VelocityConfig, MAX_VELOCITY_PERIOD_US,
     POSE_VELOCITIES_TAG, VELOCITY_CONFIG_TAG,
 };
+pub use crate::version::PROTOCOL_VERSION;
 pub use crate::wire::{
     decode_hub_message, decode_message, decode_node_message, decode_packet, encode_message,
     HubMessage, NodeMessage, PoseFrameParts,

@@ -18,10 +18,6 @@ use crate::{
 /// `1..=MAX_REORDER_WINDOW`.
 pub const MAX_REORDER_WINDOW: u8 = 8;
 
-/// The protocol version written in every [`JointAngle`]. See `docs/protocol.md` for the
-/// versioning rules.
-pub const PROTOCOL_VERSION: u8 = 3;
-
 /// One joint angle of one sample, sent by an IMU node to the hub.
 ///
 /// One packet carries exactly one joint; a node measuring several joints sends one packet per
@@ -29,7 +25,7 @@ pub const PROTOCOL_VERSION: u8 = 3;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct JointAngle {
-    /// Protocol version of the sender; [`PROTOCOL_VERSION`] for this crate.
+    /// Protocol version of the sender; [`PROTOCOL_VERSION`](crate::PROTOCOL_VERSION) for this crate.
     pub version: u8,
     /// Id of the sending node.
     pub node: u8,
