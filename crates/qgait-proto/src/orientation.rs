@@ -118,9 +118,10 @@ pub struct SampleHeader {
     /// The segment the node is strapped to.
     #[serde(with = "wire_byte")]
     pub segment: SegmentId,
-    /// Sample number, wrapping at `u32::MAX`: one more per sample of the node's stream (samples
-    /// the node knows it lost, e.g. to a FIFO overflow, advance it too); the segments of one
-    /// sample, from nodes sampling in step, share it.
+    /// Sample number, wrapping at `u32::MAX`: the segments of one sample (from nodes sampling
+    /// in step) share it. A raw node's ([`RawImuSample`](crate::RawImuSample)) is one more per
+    /// sample at the configured rate, samples it knows it lost (e.g. to a FIFO overflow)
+    /// included (protocol.md 4.7, 4.10).
     pub seq: u32,
     /// Sensor timestamp of the sample, microseconds (wraps after about 71.6 minutes).
     pub timestamp_us: u32,

@@ -384,7 +384,7 @@ fn accounted(
 }
 
 /// Runs `elf` under QEMU on `input` (`expected`: what it holds; `stream_len` bytes of it the
-/// stream, for the time limits), writing what it sent to `log` if asked.
+/// stream, for the time limits), writing what it sent to `--log` if `args` ask.
 fn run_session(
     elf: &Path,
     input: Vec<u8>,
