@@ -21,6 +21,8 @@ use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use qgait_firmware::board;
 use qgait_hub::{Hub, JointSet, Kinematics, ManualClock, Sample, READ_CHUNK};
+use qgait_kernel::fusion::Vqf;
+use qgait_kernel::imu::{Calibration, Mode, Orientations, Segment, Settings, Solver};
 use qgait_kernel::metrics::distances;
 use qgait_kernel::reference::chain_by_matrices;
 use qgait_kernel::trig::half_angle_sin_cos_f32;
@@ -207,12 +209,19 @@ struct Base {
 // Inlined, so that each measured loop sees its call count as the constant it is (as when it
 // is called with the constant).
 impl Base {
+    /// The ticks of `measure(calls)`, a loop standing for the empty one.
     #[inline(always)]
-    fn of<I>(inputs: &[I; INPUTS], calls: u32) -> Self {
+    fn with(calls: u32, measure: impl FnOnce(u32) -> u32) -> Self {
         Base {
-            ticks: bench_empty(inputs, calls),
+            ticks: measure(calls),
             calls,
         }
+    }
+
+    /// The empty loop over `inputs`.
+    #[inline(always)]
+    fn of<I>(inputs: &Inputs<I>, calls: u32) -> Self {
+        Base::with(calls, |n| bench_empty(inputs, n))
     }
 
     /// [`net`] of `measure(calls)`, the ticks of a measured loop of `calls` calls.
@@ -292,50 +301,70 @@ macro_rules! measured {
     };
 }
 
-measured!(fn bench_half_angle(x: &[f32; INPUTS]) |i| half_angle_sin_cos_f32(*black_box(&x[i % INPUTS])));
-measured!(fn bench_libm_sincos(x: &[f32; INPUTS]) |i| Real::sin_cos(*black_box(&x[i % INPUTS])));
-measured!(fn bench_sqrt(x: &[f32; INPUTS]) |i| Real::sqrt(black_box(&x[i % INPUTS]).abs()));
+/// Angles of each of the [`INPUTS`] input sets.
+type Inputs<A> = [A; INPUTS];
+/// Speeds and accelerations of `N` coordinates for each input set.
+type Rates<const N: usize> = [[[f32; N]; 2]; INPUTS];
 
-measured!(fn bench_hak_quat(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS])
-    |i| black_box(model).fk(black_box(&q[i % INPUTS])));
-measured!(fn bench_hak_matrix(model: &Hak<f32>, q: &[HakAngles<f32>; INPUTS])
-    |i| chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
+measured!(fn bench_half_angle(x: &Inputs<f32>) |i| {
+    half_angle_sin_cos_f32(*black_box(&x[i % INPUTS]))
+});
+measured!(fn bench_libm_sincos(x: &Inputs<f32>) |i| Real::sin_cos(*black_box(&x[i % INPUTS])));
+measured!(fn bench_sqrt(x: &Inputs<f32>) |i| Real::sqrt(black_box(&x[i % INPUTS]).abs()));
 
-measured!(fn bench_phak_quat(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS])
-    |i| black_box(model).fk(black_box(&q[i % INPUTS])));
+measured!(fn bench_hak_quat(model: &Hak<f32>, q: &Inputs<HakAngles<f32>>) |i| {
+    black_box(model).fk(black_box(&q[i % INPUTS]))
+});
+measured!(fn bench_hak_matrix(model: &Hak<f32>, q: &Inputs<HakAngles<f32>>) |i| {
+    chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array())
+});
+
+measured!(fn bench_phak_quat(model: &Phak<f32>, q: &Inputs<PhakAngles<f32>>) |i| {
+    black_box(model).fk(black_box(&q[i % INPUTS]))
+});
 measured!(
-/// PHAK's points' positions and velocities from angles and speeds.
-fn bench_phak_velocities(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], rates: &[[[f32; 8]; 2]; INPUTS])
-|i| {
-    let [qd, _] = black_box(&rates[i % INPUTS]);
-    black_box(model).chain().forward_velocities(&black_box(&q[i % INPUTS]).to_array(), qd)
+    /// PHAK's points' positions and velocities from angles and speeds.
+    fn bench_phak_velocities(model: &Phak<f32>, q: &Inputs<PhakAngles<f32>>, rates: &Rates<8>)
+    |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(model).chain().forward_velocities(&black_box(&q[i % INPUTS]).to_array(), qd)
+    }
+);
+measured!(
+    /// PHAK's points' positions, velocities and accelerations.
+    fn bench_phak_motion(model: &Phak<f32>, q: &Inputs<PhakAngles<f32>>, rates: &Rates<8>)
+    |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(model).chain().forward_motion(&black_box(&q[i % INPUTS]).to_array(), qd, qdd)
+    }
+);
+measured!(fn bench_phak_frames(model: &Phak<f32>, q: &Inputs<PhakAngles<f32>>) |i| {
+    black_box(model).chain().frames(&black_box(&q[i % INPUTS]).to_array())
+});
+measured!(fn bench_phak_matrix(model: &Phak<f32>, q: &Inputs<PhakAngles<f32>>) |i| {
+    chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array())
+});
+
+measured!(fn bench_gait2392_quat(model: &Gait2392<f32>, q: &Inputs<[f32; 17]>) |i| {
+    black_box(model).fk(black_box(&q[i % INPUTS]))
 });
 measured!(
-/// PHAK's points' positions, velocities and accelerations.
-fn bench_phak_motion(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS], rates: &[[[f32; 8]; 2]; INPUTS])
-|i| {
-    let [qd, qdd] = black_box(&rates[i % INPUTS]);
-    black_box(model).chain().forward_motion(&black_box(&q[i % INPUTS]).to_array(), qd, qdd)
+    fn bench_gait2392_velocities(model: &Gait2392<f32>, q: &Inputs<[f32; 17]>, rates: &Rates<17>)
+    |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(model).chain().forward_velocities(black_box(&q[i % INPUTS]), qd)
+    }
+);
+measured!(
+    fn bench_gait2392_motion(model: &Gait2392<f32>, q: &Inputs<[f32; 17]>, rates: &Rates<17>)
+    |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(model).chain().forward_motion(black_box(&q[i % INPUTS]), qd, qdd)
+    }
+);
+measured!(fn bench_gait2392_frames(model: &Gait2392<f32>, q: &Inputs<[f32; 17]>) |i| {
+    black_box(model).chain().frames(black_box(&q[i % INPUTS]))
 });
-measured!(fn bench_phak_frames(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS])
-    |i| black_box(model).chain().frames(&black_box(&q[i % INPUTS]).to_array()));
-measured!(fn bench_phak_matrix(model: &Phak<f32>, q: &[PhakAngles<f32>; INPUTS])
-    |i| chain_by_matrices(black_box(model).chain(), &black_box(&q[i % INPUTS]).to_array()));
-
-measured!(fn bench_gait2392_quat(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS])
-    |i| black_box(model).fk(black_box(&q[i % INPUTS])));
-measured!(fn bench_gait2392_velocities(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
-|i| {
-    let [qd, _] = black_box(&rates[i % INPUTS]);
-    black_box(model).chain().forward_velocities(black_box(&q[i % INPUTS]), qd)
-});
-measured!(fn bench_gait2392_motion(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
-|i| {
-    let [qd, qdd] = black_box(&rates[i % INPUTS]);
-    black_box(model).chain().forward_motion(black_box(&q[i % INPUTS]), qd, qdd)
-});
-measured!(fn bench_gait2392_frames(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS])
-    |i| black_box(model).chain().frames(black_box(&q[i % INPUTS])));
 
 /// The imported Rajagopal 2015 (OpenSense) chain, as `qgait config --model` sends it: its
 /// table's parts written into the hub's table, checked against its config's CRC.
@@ -360,21 +389,27 @@ fn rajagopal() -> DeviceChain {
     }
 }
 
-measured!(fn bench_rajagopal_quat(model: &DeviceChain, q: &[[f32; 17]; INPUTS])
-    |i| black_box(model).forward(black_box(&q[i % INPUTS])));
-measured!(fn bench_rajagopal_velocities(model: &DeviceChain, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
-|i| {
-    let [qd, _] = black_box(&rates[i % INPUTS]);
-    black_box(model).forward_velocities(black_box(&q[i % INPUTS]), qd)
+measured!(fn bench_rajagopal_quat(model: &DeviceChain, q: &Inputs<[f32; 17]>) |i| {
+    black_box(model).forward(black_box(&q[i % INPUTS]))
 });
-measured!(fn bench_rajagopal_motion(model: &DeviceChain, q: &[[f32; 17]; INPUTS], rates: &[[[f32; 17]; 2]; INPUTS])
-|i| {
-    let [qd, qdd] = black_box(&rates[i % INPUTS]);
-    black_box(model).forward_motion(black_box(&q[i % INPUTS]), qd, qdd)
-});
+measured!(
+    fn bench_rajagopal_velocities(model: &DeviceChain, q: &Inputs<[f32; 17]>, rates: &Rates<17>)
+    |i| {
+        let [qd, _] = black_box(&rates[i % INPUTS]);
+        black_box(model).forward_velocities(black_box(&q[i % INPUTS]), qd)
+    }
+);
+measured!(
+    fn bench_rajagopal_motion(model: &DeviceChain, q: &Inputs<[f32; 17]>, rates: &Rates<17>)
+    |i| {
+        let [qd, qdd] = black_box(&rates[i % INPUTS]);
+        black_box(model).forward_motion(black_box(&q[i % INPUTS]), qd, qdd)
+    }
+);
 
-measured!(fn bench_gait2392_matrix(model: &Gait2392<f32>, q: &[[f32; 17]; INPUTS])
-    |i| chain_by_matrices(black_box(model).chain(), black_box(&q[i % INPUTS])));
+measured!(fn bench_gait2392_matrix(model: &Gait2392<f32>, q: &Inputs<[f32; 17]>) |i| {
+    chain_by_matrices(black_box(model).chain(), black_box(&q[i % INPUTS]))
+});
 
 /// The PHAK packet of `joint` in sample `seq`, with an angle that changes every sample.
 fn packet(seq: u32, joint: JointId, rng: &mut Lcg) -> JointAngle {
@@ -444,12 +479,8 @@ fn sample_sections(phak_in: &[PhakAngles<f32>; INPUTS]) {
             .unwrap_or(1);
         heapless::Vec::from_slice(&out[..len - 1]).unwrap_or_default()
     });
-    let bytes_only = bench_frame_bytes(&frames, CALLS, false);
-    Base::of(&frames, CALLS).net("sample.packet_frame_bytes", |_| bytes_only);
-    let bytes_only = Base {
-        ticks: bytes_only,
-        calls: CALLS,
-    };
+    let bytes_only = Base::with(CALLS, |n| bench_frame_bytes(&frames, n, false));
+    Base::of(&frames, CALLS).net("sample.packet_frame_bytes", |_| bytes_only.ticks);
     bytes_only.net("sample.packet_frame_checks", |n| {
         bench_frame_bytes(&frames, n, true)
     });
@@ -980,7 +1011,6 @@ fn write_nothing(
 /// model (identity calibration pose, no heading). The solver warm-starts from the previous
 /// input, an unrelated pose, so the least-squares figures are a worst case for a recording.
 fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
-    use qgait_kernel::imu::{Calibration, Mode, Orientations, Segment, Settings, Solver};
     let joints = [0usize, 1, 2, 4, 6, 7, 9, 0];
     let readings: [Orientations<f32>; INPUTS] = core::array::from_fn(|_| {
         let q: [f32; 17] = rng.angles::<17>().map(|a| a * 0.3);
@@ -1039,12 +1069,12 @@ fn imu_benches(g: &Gait2392<f32>, rng: &mut Lcg) {
 #[inline(always)]
 fn imu_whole(
     g: &Gait2392<f32>,
-    cal: &qgait_kernel::imu::Calibration<f32>,
-    readings: &[qgait_kernel::imu::Orientations<f32>; INPUTS],
-    mode: qgait_kernel::imu::Mode,
+    cal: &Calibration<f32>,
+    readings: &Inputs<Orientations<f32>>,
+    mode: Mode,
     n: u32,
 ) -> u32 {
-    let mut solver = qgait_kernel::imu::Solver::<f32>::new();
+    let mut solver = Solver::<f32>::new();
     timed(n, |i| {
         if let Ok(s) = black_box(cal).segments(black_box(&readings[i % INPUTS])) {
             let a = solver.solve(black_box(g), &s, mode);
@@ -1101,16 +1131,12 @@ fn imu_samples(rng: &mut Lcg) -> [ImuSample; VQF_INPUTS] {
 }
 
 fn fusion_benches(rng: &mut Lcg) {
-    use qgait_kernel::fusion::Vqf;
     let samples = imu_samples(rng);
     defmt::println!(
         "bench vqf.state_bytes {=usize}",
         core::mem::size_of::<Vqf<f32>>()
     );
-    let base = Base {
-        ticks: bench_vqf_empty(&samples, CALLS),
-        calls: CALLS,
-    };
+    let base = Base::with(CALLS, |n| bench_vqf_empty(&samples, n));
     for nine_d in [true, false] {
         let mut vqf = Vqf::<f32>::new_default(VQF_TS as f64);
         for i in 0..2000 {
@@ -1127,10 +1153,7 @@ fn fusion_benches(rng: &mut Lcg) {
             base.net("vqf.update_6d", |n| bench_vqf_6d(&mut vqf, &samples, n));
         }
     } // vqf-rs on the same samples (fewer calls: it is slower).
-    let base = Base {
-        ticks: bench_vqf_empty(&samples, VQF_RS_CALLS),
-        calls: VQF_RS_CALLS,
-    };
+    let base = Base::with(VQF_RS_CALLS, |n| bench_vqf_empty(&samples, n));
     for nine_d in [true, false] {
         let mut vqf = vqf_rs::VQF::new(VQF_TS, None, None, None);
         for i in 0..2000 {
@@ -1149,18 +1172,25 @@ fn fusion_benches(rng: &mut Lcg) {
 /// Calls per measurement of vqf-rs.
 const VQF_RS_CALLS: u32 = 512;
 
-measured!(fn bench_vqf_rs(vqf: &mut vqf_rs::VQF, x: &[ImuSample; VQF_INPUTS], nine_d: bool) |i| {
+/// The inputs of the fusion benchmarks, one turn.
+type Turn = [ImuSample; VQF_INPUTS];
+
+measured!(fn bench_vqf_rs(vqf: &mut vqf_rs::VQF, x: &Turn, nine_d: bool) |i| {
     let s = black_box(&x[i % VQF_INPUTS]);
     vqf.update(s.gyr, s.acc, nine_d.then_some(s.mag));
-    if nine_d { vqf.quat_9d() } else { vqf.quat_6d() }
+    if nine_d {
+        vqf.quat_9d()
+    } else {
+        vqf.quat_6d()
+    }
 });
-measured!(fn bench_vqf_empty(x: &[ImuSample; VQF_INPUTS]) |i| &x[i % VQF_INPUTS]);
-measured!(fn bench_vqf_9d(vqf: &mut qgait_kernel::fusion::Vqf<f32>, x: &[ImuSample; VQF_INPUTS]) |i| {
+measured!(fn bench_vqf_empty(x: &Turn) |i| &x[i % VQF_INPUTS]);
+measured!(fn bench_vqf_9d(vqf: &mut Vqf<f32>, x: &Turn) |i| {
     let s = black_box(&x[i % VQF_INPUTS]);
     vqf.update(s.gyr, s.acc, Some(s.mag));
     vqf.quat_9d()
 });
-measured!(fn bench_vqf_6d(vqf: &mut qgait_kernel::fusion::Vqf<f32>, x: &[ImuSample; VQF_INPUTS]) |i| {
+measured!(fn bench_vqf_6d(vqf: &mut Vqf<f32>, x: &Turn) |i| {
     let s = black_box(&x[i % VQF_INPUTS]);
     vqf.update(s.gyr, s.acc, None);
     vqf.quat_6d()
@@ -1212,10 +1242,7 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
         });
         // Every encoder starts from a copy of the data in a scratch buffer (ours encodes in
         // place, at `buf[1..]`), so the copy alone is the base.
-        let copy = Base {
-            ticks: bench_cobs_encode(&data, CALLS, |_, _| 0),
-            calls: CALLS,
-        };
+        let copy = Base::with(CALLS, |n| bench_cobs_encode(&data, n, |_, _| 0));
         copy.net_named("cobs.encode_ours", what, |n| {
             bench_cobs_encode(&data, n, |buf, len| {
                 proto_cobs::encode_in_place(buf, len).unwrap_or(0)
@@ -1245,10 +1272,7 @@ fn crc_cobs_beside_crates(packets: &[heapless::Vec<u8, 32>; INPUTS], poses: &[Me
             let n = proto_cobs::encode(data[i].iter().copied(), &mut out).unwrap_or(0);
             heapless::Vec::from_slice(&out[..n]).unwrap_or_default()
         });
-        let copy = Base {
-            ticks: bench_cobs_decode(&encoded, CALLS, |_| 0),
-            calls: CALLS,
-        };
+        let copy = Base::with(CALLS, |n| bench_cobs_decode(&encoded, n, |_| 0));
         copy.net_named("cobs.decode_ours", what, |n| {
             bench_cobs_decode(&encoded, n, |buf| {
                 proto_cobs::decode_in_place_unshifted(buf).map_or(0, |r| r.len())
