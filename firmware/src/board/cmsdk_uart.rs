@@ -17,7 +17,7 @@ use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m::peripheral::NVIC;
 
 use super::mmio::Registers;
-use super::rx_ring::{HandlerSlot, Irq, RxConsumer, RxProducer, RxRing};
+use super::rx_ring::{HandlerSlot, RxConsumer, RxProducer, RxRing};
 
 const DATA: usize = 0x00;
 const STATE: usize = 0x04;
@@ -33,6 +33,17 @@ const CTRL_TXEN: u32 = 1 << 0;
 const CTRL_RXEN: u32 = 1 << 1;
 const CTRL_RXIE: u32 = 1 << 3;
 const INT_RX: u32 = 1 << 1;
+
+/// An interrupt number for [`cortex_m::peripheral::NVIC`] (the MPS2 board has no PAC).
+#[derive(Debug, Clone, Copy)]
+struct Irq(u16);
+
+// SAFETY: the number is a device interrupt line of the board that creates it.
+unsafe impl cortex_m::interrupt::InterruptNumber for Irq {
+    fn number(self) -> u16 {
+        self.0
+    }
+}
 
 static RX: RxRing<Overrun> = RxRing::new();
 /// The ring's producer end, used by the interrupt handler alone.

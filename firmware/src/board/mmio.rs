@@ -1,4 +1,5 @@
-//! A peripheral's memory-mapped 32-bit registers, for the UART drivers.
+//! A peripheral's memory-mapped 32-bit registers, for the CMSDK UART driver (the nRF52840's come
+//! from its PAC).
 
 use core::ptr::{read_volatile, write_volatile};
 

@@ -1,9 +1,10 @@
 //! The board: memory layout (`memory.x`), the UART, the millisecond clock and how a run ends.
 //! Exactly one board feature is enabled: `mps2-an386` (QEMU, the default) or `nrf52840`.
 //!
-//! Every board module offers the same items: `Serial`, `take() -> Option<Board>`,
-//! `exit(code) -> !` and `DEVICE_VECTORS` (how many device interrupt vectors it needs); the
-//! exit statuses of a failed run are here too.
+//! Every board module offers the same items: `NAME`, `Serial`, `take() -> Option<Board>`,
+//! `exit(code) -> !` and `UART_IRQ` (its serial port's interrupt line, which sets how many
+//! device interrupt vectors it needs: [`DEVICE_VECTORS`]); the exit statuses of a failed run
+//! are here too.
 
 #[cfg(all(feature = "mps2-an386", feature = "nrf52840"))]
 compile_error!("enable exactly one board feature: `mps2-an386` or `nrf52840`");
@@ -11,6 +12,7 @@ compile_error!("enable exactly one board feature: `mps2-an386` or `nrf52840`");
 compile_error!("enable one board feature: `mps2-an386` (default) or `nrf52840`");
 
 mod embedded_io_impl;
+#[cfg(feature = "mps2-an386")]
 mod mmio;
 pub mod rx_ring;
 pub mod systick_clock;
@@ -21,16 +23,19 @@ pub mod cmsdk_uart;
 #[cfg(feature = "mps2-an386")]
 mod mps2_an386;
 #[cfg(feature = "mps2-an386")]
-pub use mps2_an386::{exit, take, Serial, DEVICE_VECTORS, NAME};
+pub use mps2_an386::{exit, take, Serial, NAME, UART_IRQ};
 
 #[cfg(feature = "nrf52840")]
 mod nrf52840;
 #[cfg(feature = "nrf52840")]
 pub mod nrf_uart;
 #[cfg(feature = "nrf52840")]
-pub use nrf52840::{exit, take, Serial, DEVICE_VECTORS, NAME};
+pub use nrf52840::{exit, take, Serial, NAME, UART_IRQ};
 
 pub use systick_clock::SysTickClock;
+
+/// Device interrupt vectors the board needs: up to its UART's line (`board::vectors`).
+pub const DEVICE_VECTORS: usize = UART_IRQ as usize + 1;
 
 /// Exit status after a panic ([`fault`](crate::fault)).
 pub const PANIC_EXIT_CODE: i32 = 101;
@@ -66,15 +71,16 @@ fn take_once(core_hz: u32, serial: impl FnOnce() -> Option<Serial>) -> Option<Bo
 }
 
 /// The board's `DefaultHandler`: every device interrupt lands there (the board's vector table,
-/// `board::vectors`, points all of them at it). The UART's (`$uart` at `$base`, line `$irq`) is
-/// served; anything else is a bug that ends the run with a failure rather than looping.
+/// `board::vectors`, points all of them at it). The UART's (line `$irq`) is served by
+/// `$serve`, an unsafe call that must be that UART's interrupt work; anything else is a bug
+/// that ends the run with a failure rather than looping.
 macro_rules! serve_uart_interrupt {
-    ($uart:ty, $base:expr, $irq:expr) => {
+    ($irq:expr, $serve:expr) => {
         #[cortex_m_rt::exception]
         unsafe fn DefaultHandler(irqn: i16) {
-            if irqn == $irq {
-                // SAFETY: `$base` is the UART created in `take` with this interrupt.
-                unsafe { <$uart>::on_interrupt($base) };
+            if irqn == $irq as i16 {
+                // SAFETY: the board's word at the macro's call: `$serve` is this line's work.
+                unsafe { $serve };
             } else {
                 defmt::error!("unexpected interrupt {=i16}", irqn);
                 exit($crate::board::UNEXPECTED_INTERRUPT_EXIT_CODE);

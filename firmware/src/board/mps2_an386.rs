@@ -13,10 +13,8 @@ pub const NAME: &str = "mps2-an386";
 pub type Serial = CmsdkUart;
 
 const UART0_BASE: usize = 0x4000_4000;
-/// UART0 receive interrupt line.
-const UART0_RX_IRQ: i16 = 0;
-/// Device interrupt vectors: up to the UART's line (`board::vectors`).
-pub const DEVICE_VECTORS: usize = UART0_RX_IRQ as usize + 1;
+/// The UART's (UART0's receive) interrupt line.
+pub const UART_IRQ: u16 = 0;
 const CORE_HZ: u32 = 25_000_000;
 /// 25 MHz / 217 = 115200 baud (QEMU ignores the rate; hardware honours it).
 const BAUDDIV_115200: u32 = 217;
@@ -26,11 +24,12 @@ pub fn take() -> Option<Board> {
     super::take_once(CORE_HZ, || {
         // SAFETY: UART0 is used only through this driver, created once (`take_once` runs this
         // at most once).
-        unsafe { CmsdkUart::new(UART0_BASE, BAUDDIV_115200, UART0_RX_IRQ as u16) }
+        unsafe { CmsdkUart::new(UART0_BASE, BAUDDIV_115200, UART_IRQ) }
     })
 }
 
-super::serve_uart_interrupt!(CmsdkUart, UART0_BASE, UART0_RX_IRQ);
+// SAFETY: `UART0_BASE` is the UART `take` creates with this interrupt.
+super::serve_uart_interrupt!(UART_IRQ, CmsdkUart::on_interrupt(UART0_BASE));
 
 /// Ends the run: QEMU exits with `code` (semihosting `SYS_EXIT_EXTENDED`).
 pub fn exit(code: i32) -> ! {

@@ -4,7 +4,9 @@
 
 use defmt_rtt as _;
 
-use super::nrf_uart::{NrfUart, BAUD_115200};
+use nrf52840_pac::uart0::baudrate::BAUDRATE_A;
+
+use super::nrf_uart::{self, NrfUart};
 use super::Board;
 
 /// Board name, for logs.
@@ -13,25 +15,24 @@ pub const NAME: &str = "nrf52840";
 /// The board's serial port.
 pub type Serial = NrfUart;
 
-const UART0_BASE: usize = 0x4000_2000;
-/// The UARTE0_UART0 interrupt line.
-const UART0_IRQ: i16 = 2;
-/// Device interrupt vectors: up to the UART's line (`board::vectors`).
-pub const DEVICE_VECTORS: usize = UART0_IRQ as usize + 1;
-const TX_PIN: u32 = 6;
-const RX_PIN: u32 = 8;
+/// The UART's interrupt line.
+pub const UART_IRQ: u16 = nrf_uart::INTERRUPT as u16;
+const TX_PIN: u8 = 6;
+const RX_PIN: u8 = 8;
 const CORE_HZ: u32 = 64_000_000;
 
 /// The board's peripherals, the first time; `None` after.
 pub fn take() -> Option<Board> {
     super::take_once(CORE_HZ, || {
-        // SAFETY: UART0 is used only through this driver, created once (`take_once` runs this
-        // at most once).
-        unsafe { NrfUart::new(UART0_BASE, TX_PIN, RX_PIN, BAUD_115200, UART0_IRQ as u16) }
+        // SAFETY: `take_once` runs this at most once, and nothing else takes the PAC's
+        // peripherals: UART0 is used only through this driver.
+        let device = unsafe { nrf52840_pac::Peripherals::steal() };
+        NrfUart::new(device.UART0, TX_PIN, RX_PIN, BAUDRATE_A::BAUD115200)
     })
 }
 
-super::serve_uart_interrupt!(NrfUart, UART0_BASE, UART0_IRQ);
+// SAFETY: the call is the UART's interrupt's.
+super::serve_uart_interrupt!(UART_IRQ, NrfUart::on_interrupt());
 
 /// Ends the run. There is no host to report to: success idles, failure resets the MCU so the
 /// wearable comes back (probe-rs shows the defmt log leading to it).

@@ -6,43 +6,17 @@
 //! ring is a static).
 
 use cortex_m::peripheral::NVIC;
+use nrf52840_pac::uart0::baudrate::BAUDRATE_A;
+use nrf52840_pac::{uart0, Interrupt, UART0};
 
-use super::mmio::Registers;
-use super::rx_ring::{HandlerSlot, Irq, RxConsumer, RxProducer, RxRing};
-
-const TASKS_STARTRX: usize = 0x000;
-const TASKS_STARTTX: usize = 0x008;
-const EVENTS_RXDRDY: usize = 0x108;
-const EVENTS_TXDRDY: usize = 0x11C;
-const EVENTS_ERROR: usize = 0x124;
-const INTENSET: usize = 0x304;
-const INTENCLR: usize = 0x308;
-const ERRORSRC: usize = 0x480;
-const ENABLE: usize = 0x500;
-const PSEL_RTS: usize = 0x508;
-const PSEL_TXD: usize = 0x50C;
-const PSEL_CTS: usize = 0x510;
-const PSEL_RXD: usize = 0x514;
-const RXD: usize = 0x518;
-const TXD: usize = 0x51C;
-const BAUDRATE: usize = 0x524;
-const CONFIG: usize = 0x56C;
-
-const ENABLE_UART: u32 = 4;
-const PSEL_DISCONNECTED: u32 = 1 << 31;
-const ERRORSRC_OVERRUN: u32 = 1 << 0;
-const ERRORSRC_PARITY: u32 = 1 << 1;
-const INT_RXDRDY: u32 = 1 << 2;
-const INT_ERROR: u32 = 1 << 9;
+use super::rx_ring::{HandlerSlot, RxConsumer, RxProducer, RxRing};
 
 static RX: RxRing<UartError> = RxRing::new();
 /// The ring's producer end, used by the interrupt handler alone.
 static RX_PRODUCER: HandlerSlot<RxProducer<UartError>> = HandlerSlot::new();
 
-/// BAUDRATE register value for 115200 baud.
-pub const BAUD_115200: u32 = 0x01D7_E000;
-/// BAUDRATE register value for 1 Mbaud.
-pub const BAUD_1M: u32 = 0x1000_0000;
+/// The interrupt line of UART0 (shared with UARTE0, which this driver does not use).
+pub const INTERRUPT: Interrupt = Interrupt::UARTE0_UART0;
 
 /// A receive error reported by ERRORSRC.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, defmt::Format)]
@@ -75,47 +49,41 @@ impl embedded_io::Error for UartError {
 /// UART0 with its receiver and transmitter started.
 #[derive(Debug)]
 pub struct NrfUart {
-    regs: Registers,
+    uart: UART0,
     tx_busy: bool,
     rx: RxConsumer<UartError>,
 }
 
 impl NrfUart {
-    /// Enables the UART at `base` on GPIO `tx_pin` / `rx_pin` (port 0 pin numbers) at
-    /// `baudrate` (a BAUDRATE register value such as [`BAUD_115200`]), with its interrupt
-    /// `irq`, whose handler must call [`on_interrupt`](Self::on_interrupt). `None` if an
-    /// `NrfUart` was made before (the receive ring is a static, split once).
-    ///
-    /// # Safety
-    /// `base` must be the address of an nRF52 UART that nothing else uses and `irq` its
-    /// interrupt.
-    pub unsafe fn new(
-        base: usize,
-        tx_pin: u32,
-        rx_pin: u32,
-        baudrate: u32,
-        irq: u16,
-    ) -> Option<NrfUart> {
+    /// Enables `uart` on GPIO `tx_pin` / `rx_pin` (port 0 pin numbers, below 32) at
+    /// `baudrate`, with its interrupt ([`INTERRUPT`]) unmasked, whose handler must call
+    /// [`on_interrupt`](Self::on_interrupt). `None` if an `NrfUart` was made before (the
+    /// receive ring is a static, split once).
+    pub fn new(uart: UART0, tx_pin: u8, rx_pin: u8, baudrate: BAUDRATE_A) -> Option<NrfUart> {
         let (producer, rx) = RX.split()?;
         // SAFETY: the interrupt is still masked (unmasked below, once), and `split` let only
         // this call get here.
         unsafe { RX_PRODUCER.put(producer) };
-        // SAFETY: the contract above: `base` is this driver's UART.
-        let uart = unsafe { Registers::at(base) };
-        uart.write_reg(PSEL_TXD, tx_pin & 0x3F);
-        uart.write_reg(PSEL_RXD, rx_pin & 0x3F);
-        uart.write_reg(PSEL_RTS, PSEL_DISCONNECTED);
-        uart.write_reg(PSEL_CTS, PSEL_DISCONNECTED);
-        uart.write_reg(BAUDRATE, baudrate);
-        uart.write_reg(CONFIG, 0);
-        uart.write_reg(ENABLE, ENABLE_UART);
-        uart.write_reg(INTENSET, INT_RXDRDY | INT_ERROR);
-        uart.write_reg(TASKS_STARTRX, 1);
-        uart.write_reg(TASKS_STARTTX, 1);
+        // SAFETY (the pin writes): PSEL's PIN field takes any 5-bit value; `& 0x1F` keeps it
+        // there.
+        uart.psel
+            .txd
+            .write(|w| unsafe { w.pin().bits(tx_pin & 0x1F) }.connect().connected());
+        uart.psel
+            .rxd
+            .write(|w| unsafe { w.pin().bits(rx_pin & 0x1F) }.connect().connected());
+        uart.psel.rts.write(|w| w.connect().disconnected());
+        uart.psel.cts.write(|w| w.connect().disconnected());
+        uart.baudrate.write(|w| w.baudrate().variant(baudrate));
+        uart.config.reset();
+        uart.enable.write(|w| w.enable().enabled());
+        uart.intenset.write(|w| w.rxdrdy().set().error().set());
+        uart.tasks_startrx.write(|w| w.tasks_startrx().set_bit());
+        uart.tasks_starttx.write(|w| w.tasks_starttx().set_bit());
         // SAFETY: the handler only touches the ring's producer end, which is its own.
-        unsafe { NVIC::unmask(Irq(irq)) };
+        unsafe { NVIC::unmask(INTERRUPT) };
         Some(NrfUart {
-            regs: uart,
+            uart,
             tx_busy: false,
             rx,
         })
@@ -125,42 +93,44 @@ impl NrfUart {
     /// (the FIFO holds up to six) into the ring.
     ///
     /// # Safety
-    /// `base` must be the UART given to [`new`](Self::new); call it only from its interrupt.
-    pub unsafe fn on_interrupt(base: usize) {
-        // SAFETY: the contract above: `base` is this driver's UART.
-        let uart = unsafe { Registers::at(base) };
+    /// Call it only from UART0's interrupt ([`INTERRUPT`]).
+    pub unsafe fn on_interrupt() {
+        // SAFETY: the handler's accesses are the ones `NrfUart` leaves to it (events, RXD,
+        // ERRORSRC, INTENCLR); the application's `NrfUart` only writes TXD and its event.
+        let uart: &uart0::RegisterBlock = unsafe { &*UART0::ptr() };
         // SAFETY: called from the UART's interrupt only (the contract above), the slot's owner.
         let Some(rx) = (unsafe { RX_PRODUCER.get() }) else {
             // No ring end (the interrupt was enabled by something other than `new`): stop
             // receiving rather than interrupt forever.
-            uart.write_reg(INTENCLR, INT_RXDRDY | INT_ERROR);
+            uart.intenclr.write(|w| w.rxdrdy().clear().error().clear());
             return;
         };
-        if uart.read_reg(EVENTS_ERROR) != 0 {
-            uart.write_reg(EVENTS_ERROR, 0);
-            let source = uart.read_reg(ERRORSRC);
-            uart.write_reg(ERRORSRC, source); // write 1 to clear
-            rx.push_error(if source & ERRORSRC_OVERRUN != 0 {
+        if uart.events_error.read().bits() != 0 {
+            uart.events_error.reset();
+            let source = uart.errorsrc.read();
+            // SAFETY: ERRORSRC's bits are cleared by writing them back as read (1 clears).
+            uart.errorsrc.write(|w| unsafe { w.bits(source.bits()) });
+            rx.push_error(if source.overrun().is_present() {
                 UartError::Overrun
-            } else if source & ERRORSRC_PARITY != 0 {
+            } else if source.parity().is_present() {
                 UartError::Parity
             } else {
                 UartError::Framing
             });
         }
-        while uart.read_reg(EVENTS_RXDRDY) != 0 {
+        while uart.events_rxdrdy.read().bits() != 0 {
             // Clear the event before reading RXD, as the reference manual requires; it is set
             // again while the FIFO holds more.
-            uart.write_reg(EVENTS_RXDRDY, 0);
-            rx.push(uart.read_reg(RXD) as u8, UartError::Overrun);
+            uart.events_rxdrdy.reset();
+            rx.push(uart.rxd.read().rxd().bits(), UartError::Overrun);
         }
         // Read back so the cleared events reach the peripheral before the handler returns
         // (otherwise the interrupt fires again at once).
-        let _ = uart.read_reg(EVENTS_ERROR);
+        let _ = uart.events_error.read();
     }
 
     fn tx_ready(&mut self) -> bool {
-        if self.tx_busy && self.regs.read_reg(EVENTS_TXDRDY) != 0 {
+        if self.tx_busy && self.uart.events_txdrdy.read().bits() != 0 {
             self.tx_busy = false;
         }
         !self.tx_busy
@@ -168,8 +138,9 @@ impl NrfUart {
 
     /// Writes `byte` to TXD (which has room: [`tx_ready`](Self::tx_ready)).
     fn put(&mut self, byte: u8) {
-        self.regs.write_reg(EVENTS_TXDRDY, 0);
-        self.regs.write_reg(TXD, byte as u32);
+        self.uart.events_txdrdy.reset();
+        // SAFETY: TXD's field takes any byte.
+        self.uart.txd.write(|w| unsafe { w.txd().bits(byte) });
         self.tx_busy = true;
     }
 

@@ -195,14 +195,3 @@ impl<T> Default for HandlerSlot<T> {
         Self::new()
     }
 }
-
-/// An interrupt number for [`cortex_m::peripheral::NVIC`] (the boards have no PAC here).
-#[derive(Debug, Clone, Copy)]
-pub struct Irq(pub u16);
-
-// SAFETY: the number is a device interrupt line of the board that creates it.
-unsafe impl cortex_m::interrupt::InterruptNumber for Irq {
-    fn number(self) -> u16 {
-        self.0
-    }
-}
