@@ -64,13 +64,8 @@ impl Figure for DistanceFigure<'_> {
                 .flat_map(|g| g.distances.iter().map(measure));
             let (y0, y1) = figure::padded_range(values, 0.08, 0.02);
             let (y0, y1) = (y0.max(0.0), y1);
-            let mut chart = ChartBuilder::on(panel)
-                .caption(title, figure::bold(17))
-                .margin(10)
-                .x_label_area_size(44)
-                .y_label_area_size(70)
-                .build_cartesian_2d(0.0..100.0, y0..y1)
-                .map_err(draw_err)?;
+            let mut chart =
+                figure::METRE_PANEL.chart(panel, Some((title, 17)), 0.0..100.0, y0..y1)?;
             figure::axes(&mut chart, "gait cycle (%)", "distance (m)", 13)
                 .x_labels(11)
                 .y_labels(6)

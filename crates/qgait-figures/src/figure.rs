@@ -1,6 +1,7 @@
 //! Drawing one figure to both PNG and SVG, and the styles shared by all figures.
 
 use std::collections::HashSet;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use plotters::chart::MeshStyle;
@@ -111,11 +112,70 @@ pub fn header_line<DB: DrawingBackend>(
         .map_err(draw_err)
 }
 
+/// The room around a panel's plot, in pixels: `margin` on every side, then `x_labels` below
+/// the plot (the x axis's labels and title) and `y_labels` to its left (the y axis's).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Frame {
+    /// On every side.
+    pub margin: u32,
+    /// Below the plot.
+    pub x_labels: u32,
+    /// Left of the plot.
+    pub y_labels: u32,
+}
+
+/// The frame of a panel whose y axis is in metres (tick labels to the centimetre, a title
+/// beside them): the paper's joint paths and distances.
+pub const METRE_PANEL: Frame = Frame::new(10, 44, 70);
+
+/// A panel's chart: x and y in `f64`, as every figure has them.
+pub type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+impl Frame {
+    /// `margin` on every side, `x_labels` below the plot, `y_labels` left of it.
+    pub const fn new(margin: u32, x_labels: u32, y_labels: u32) -> Frame {
+        Frame {
+            margin,
+            x_labels,
+            y_labels,
+        }
+    }
+
+    /// A chart on `area` in this frame, `x` across and `y` up, under `caption` (its text and
+    /// its bold size) if one is given.
+    pub fn chart<'a, DB: DrawingBackend>(
+        self,
+        area: &'a Area<DB>,
+        caption: Option<(&str, u32)>,
+        x: Range<f64>,
+        y: Range<f64>,
+    ) -> Result<Chart<'a, DB>, PlotError> {
+        let mut builder = ChartBuilder::on(area);
+        if let Some((text, size)) = caption {
+            builder.caption(text, bold(size));
+        }
+        builder
+            .margin(self.margin)
+            .x_label_area_size(self.x_labels)
+            .y_label_area_size(self.y_labels)
+            .build_cartesian_2d(x, y)
+            .map_err(draw_err)
+    }
+
+    /// The plot's width and height inside an area of `width` × `height` pixels.
+    pub fn plot_size(self, width: u32, height: u32) -> (f64, f64) {
+        (
+            f64::from(width - 2 * self.margin - self.y_labels),
+            f64::from(height - 2 * self.margin - self.x_labels),
+        )
+    }
+}
+
 /// A panel's axes in the figures' one style: axis titles `x` and `y`, labels and titles in
 /// `size`-pixel text, no light grid, a faint bold grid. The caller sets the label counts and
 /// formatters, then draws.
 pub fn axes<'a, 'b, DB: DrawingBackend>(
-    chart: &'b mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    chart: &'b mut Chart<'a, DB>,
     x: &str,
     y: &str,
     size: u32,

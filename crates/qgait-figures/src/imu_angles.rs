@@ -18,7 +18,7 @@ use plotters::prelude::*;
 use qgait_kernel::imu::math::three_axes;
 use qgait_kernel::{Quat, Vec3};
 
-use super::figure::{self, draw_err, gait_color, Figure};
+use super::figure::{self, draw_err, gait_color, Figure, Frame};
 use super::ReportError;
 use qgait_opensim::mot::MotionTable;
 
@@ -186,6 +186,7 @@ const COLUMNS: usize = 3;
 const PANEL_W: u32 = 520;
 const PANEL_H: u32 = 250;
 const HEADER: u32 = 96;
+const FRAME: Frame = Frame::new(8, 34, 56);
 
 /// Both solutions of every compared coordinate over time.
 struct AnglesFigure<'a> {
@@ -235,13 +236,7 @@ impl Figure for AnglesFigure<'_> {
         for (panel, c) in panels.iter().zip(&self.comparison.coordinates) {
             let (y0, y1) = figure::padded_range(c.ours.iter().chain(&c.theirs).copied(), 0.08, 1.0);
             let title = format!("{}  (RMSE {:.2}, max {:.2})", c.name, c.rmse, c.max);
-            let mut chart = ChartBuilder::on(panel)
-                .caption(title, figure::bold(15))
-                .margin(8)
-                .x_label_area_size(34)
-                .y_label_area_size(56)
-                .build_cartesian_2d(t0..t1, y0..y1)
-                .map_err(draw_err)?;
+            let mut chart = FRAME.chart(panel, Some((&title, 15)), t0..t1, y0..y1)?;
             figure::axes(&mut chart, "time (s)", self.unit, 12)
                 .x_labels(7)
                 .y_labels(5)

@@ -64,13 +64,13 @@ impl Figure for SagittalPaths<'_> {
                     Side::Right => "right",
                     Side::Left => "left",
                 };
-                let mut chart = ChartBuilder::on(&panels[2 * j + s])
-                    .caption(format!("{} {}", side_name, joint.name()), figure::bold(17))
-                    .margin(10)
-                    .x_label_area_size(44)
-                    .y_label_area_size(70)
-                    .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-                    .map_err(draw_err)?;
+                let title = format!("{} {}", side_name, joint.name());
+                let mut chart = figure::METRE_PANEL.chart(
+                    &panels[2 * j + s],
+                    Some((&title, 17)),
+                    xr.0..xr.1,
+                    yr.0..yr.1,
+                )?;
                 figure::axes(&mut chart, "x, forward (m)", "y, up (m)", 13)
                     .x_labels(6)
                     .y_labels(5)

@@ -6,15 +6,13 @@ use plotters::prelude::*;
 use qgait_kernel::metrics::Plane;
 use qgait_kernel::{BilateralPose, Joint, Side, Vec3};
 
-use super::figure::{self, draw_err, Figure, PlotError, LEFT_LEG, PELVIS, RIGHT_LEG};
+use super::figure::{self, draw_err, Figure, Frame, PlotError, LEFT_LEG, PELVIS, RIGHT_LEG};
 use super::{Analysis, STICK_PERCENTS};
 
 const PANEL: u32 = 300;
 const HEADER: u32 = 110;
-const MARGIN: u32 = 8;
-const X_LABEL_AREA: u32 = 42;
-const Y_LABEL_AREA: u32 = 62;
 const PANEL_TITLE: u32 = 26;
+const FRAME: Frame = Frame::new(8, 42, 62);
 
 /// The stick-figure grid of one plane.
 pub struct StickFigure<'a> {
@@ -117,8 +115,7 @@ impl Figure for StickFigure<'_> {
         let (xs, ys): (Vec<f64>, Vec<f64>) = points.unzip();
         let (x0, x1) = figure::padded_range(xs, 0.06, 0.1);
         let (y0, y1) = figure::padded_range(ys, 0.06, 0.1);
-        let plot_w = (PANEL - 2 * MARGIN - Y_LABEL_AREA) as f64;
-        let plot_h = (PANEL - PANEL_TITLE - 2 * MARGIN - X_LABEL_AREA) as f64;
+        let (plot_w, plot_h) = FRAME.plot_size(PANEL, PANEL - PANEL_TITLE);
         let scale = ((x1 - x0) / plot_w).max((y1 - y0) / plot_h); // metres per pixel
         let (xc, yc) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
         let (xr, yr) = (
@@ -136,12 +133,7 @@ impl Figure for StickFigure<'_> {
                         figure::bold(15),
                     )
                     .map_err(draw_err)?;
-                let mut chart = ChartBuilder::on(&area)
-                    .margin(MARGIN)
-                    .x_label_area_size(X_LABEL_AREA)
-                    .y_label_area_size(Y_LABEL_AREA)
-                    .build_cartesian_2d(xr.clone(), yr.clone())
-                    .map_err(draw_err)?;
+                let mut chart = FRAME.chart(&area, None, xr.clone(), yr.clone())?;
                 let transverse = self.plane == Plane::Transverse;
                 figure::axes(&mut chart, x_desc, y_desc, 12)
                     .x_labels(5)

@@ -19,7 +19,7 @@ use plotters::prelude::*;
 use crate::angles::{Seen, Variable};
 use crate::error::FigureError;
 use crate::output::Report;
-use qgait_figures::figure::{self, draw_err, Figure, LEFT_LEG, RIGHT_LEG};
+use qgait_figures::figure::{self, draw_err, Figure, Frame, LEFT_LEG, RIGHT_LEG};
 
 /// Side colours, right first.
 pub const SIDE_COLORS: [RGBColor; 2] = [RIGHT_LEG, LEFT_LEG];
@@ -278,13 +278,8 @@ impl Kinematics<'_> {
                     .flat_map(|(_, c)| c.iter().flatten().copied()),
             );
         let (y0, y1) = figure::padded_range(values, 0.05, 10.0);
-        let mut chart = ChartBuilder::on(area)
-            .caption(title, figure::bold(17))
-            .margin(8)
-            .x_label_area_size(44)
-            .y_label_area_size(56)
-            .build_cartesian_2d(0.0..100.0, y0..y1)
-            .map_err(draw_err)?;
+        let mut chart =
+            Frame::new(8, 44, 56).chart(area, Some((&title, 17)), 0.0..100.0, y0..y1)?;
         figure::axes(&mut chart, X_TITLE, Y_TITLE, 13)
             .axis_desc_style(figure::text(14))
             .x_labels(6)
@@ -565,12 +560,8 @@ impl Figure for Map<'_> {
             .flat_map(|b| [b.2, b.4.unwrap_or(0.0)])
             .fold(5.0f64, f64::max)
             * 1.15;
-        let mut chart = ChartBuilder::on(&area)
-            .margin(12)
-            .x_label_area_size(60)
-            .y_label_area_size(50)
-            .build_cartesian_2d(0.0..labels.len() as f64, 0.0..top)
-            .map_err(draw_err)?;
+        let mut chart =
+            Frame::new(12, 60, 50).chart(&area, None, 0.0..labels.len() as f64, 0.0..top)?;
         chart
             .configure_mesh()
             .disable_x_mesh()
@@ -677,13 +668,9 @@ impl Figure for EventsFigure<'_> {
             } else {
                 w.label.clone()
             };
-            let mut chart = ChartBuilder::on(row)
-                .caption(&caption, figure::bold(15))
-                .margin(10)
-                .x_label_area_size(36)
-                .y_label_area_size(56)
-                .build_cartesian_2d(t0..t1.max(t0 + 1e-6), y0..y1)
-                .map_err(draw_err)?;
+            let frame = Frame::new(10, 36, 56);
+            let mut chart =
+                frame.chart(row, Some((&caption, 15)), t0..t1.max(t0 + 1e-6), y0..y1)?;
             figure::axes(&mut chart, "time (s)", "forward (m)", 12)
                 .y_label_formatter(&|v| figure::tick(*v, 2))
                 .draw()
