@@ -97,6 +97,15 @@ pub fn run() -> anyhow::Result<ExitCode> {
             &["test", "--workspace"],
             &elf,
         ),
+        // The protocol crate as the default hub links it: without `orientation` and `chain`
+        // (which the workspace turns on), so `decode_hub_message` reports those messages
+        // undecoded.
+        step(
+            "protocol tests, the default hub's decoders",
+            &root,
+            &["test", "-p", "qgait-proto"],
+            &elf,
+        ),
         // The hub's raw input (feature `raw`, which no workspace crate turns on).
         step(
             "hub raw input tests",

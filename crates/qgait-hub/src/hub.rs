@@ -6,8 +6,8 @@ use core::ptr::addr_of_mut;
 use qgait_kernel::{Gait2392Geometry, Limb};
 use qgait_proto::{
     decode_hub_message, decode_packet, Config, DecodeError, FrameDecoder, HubMessage, ImuConfig,
-    JointAngle, MissingPolicy, ModelId, SegmentOrientation, Status, SubjectConfig, VelocityConfig,
-    MAX_FRAME_LEN, MAX_REORDER_WINDOW,
+    JointAngle, MissingPolicy, ModelId, Status, SubjectConfig, VelocityConfig, MAX_FRAME_LEN,
+    MAX_REORDER_WINDOW,
 };
 
 use crate::assembly::Assembler;
@@ -330,6 +330,7 @@ impl<S: SerialPort, C: Clock> Hub<S, C> {
             HubMessage::SubjectLeg(part) => self.subject_parts.add_leg(&part),
             HubMessage::SubjectKnee(part) => self.subject_parts.add_knee(&part),
             HubMessage::SubjectConfig(config) => self.on_subject_config(&config),
+            #[cfg(feature = "imu")]
             HubMessage::SegmentOrientation(packet) => self.on_orientation(&packet),
             HubMessage::ImuConfig(config) => self.on_imu_config(&config),
             HubMessage::VelocityConfig(config) => self.on_velocity_config(&config),
@@ -386,7 +387,7 @@ impl<S: SerialPort, C: Clock> Hub<S, C> {
     /// angle is (see [`orientation`](crate::orientation)).
     #[cfg(feature = "imu")]
     #[inline(never)]
-    fn on_orientation(&mut self, packet: &SegmentOrientation) {
+    fn on_orientation(&mut self, packet: &qgait_proto::SegmentOrientation) {
         if qgait_proto::device_model::packet_quat::<f32>(packet).is_err() {
             bump(&mut self.line.status.orientation_not_unit);
             return;
@@ -406,13 +407,6 @@ impl<S: SerialPort, C: Clock> Hub<S, C> {
             &mut |e| output.on_segment_sample(e),
         );
         count_outcome(&mut self.line.status, outcome);
-    }
-
-    /// A segment orientation to a hub built without the orientation input: a message it does
-    /// not take.
-    #[cfg(not(feature = "imu"))]
-    fn on_orientation(&mut self, _packet: &SegmentOrientation) {
-        bump(&mut self.line.status.malformed);
     }
 
     /// A raw IMU message (decoded by the node's decoder: a sample or a configuration).

@@ -37,7 +37,8 @@ pub enum HubMessage {
     SubjectKnee(SubjectKnee),
     /// Tag 6.
     SubjectConfig(SubjectConfig),
-    /// Tag 7.
+    /// Tag 7 (with the `orientation` feature).
+    #[cfg(feature = "orientation")]
     SegmentOrientation(SegmentOrientation),
     /// Tag 8.
     ImuConfig(ImuConfig),
@@ -49,8 +50,9 @@ pub enum HubMessage {
     ChainTableConfig(ChainTableConfig),
     /// Tag 14.
     VelocityConfig(VelocityConfig),
-    /// A message this hub does not take, with its tag: a chain message (tag 9 or 10) to a hub
-    /// built without the `chain` feature, or a raw IMU sample or configuration (tag 11 or 12:
+    /// A message this hub does not take, with its tag: a segment orientation (tag 7) to a hub
+    /// built without the `orientation` feature, a chain message (tag 9 or 10) to a hub built
+    /// without the `chain` feature, or a raw IMU sample or configuration (tag 11 or 12:
     /// no hub of this crate takes raw input yet). Its body is not decoded (so such a hub links
     /// none of their decoders).
     NotTaken(u32),
@@ -90,7 +92,10 @@ pub fn decode_hub_message(bytes: &[u8]) -> Result<HubMessage, DecodeError> {
         4 => subject_leg(body).map(HubMessage::SubjectLeg),
         5 => subject_knee(body).map(HubMessage::SubjectKnee),
         6 => subject_config(body).map(HubMessage::SubjectConfig),
+        #[cfg(feature = "orientation")]
         7 => segment_orientation(body).map(HubMessage::SegmentOrientation),
+        #[cfg(not(feature = "orientation"))]
+        7 => Ok(HubMessage::NotTaken(tag)),
         8 => imu_config(body).map(HubMessage::ImuConfig),
         #[cfg(feature = "chain")]
         CHAIN_TABLE_TAG => chain_table(body).map(HubMessage::ChainTable),
