@@ -24,8 +24,9 @@ fn main() {
         "memory.x"
     };
     fs::copy(memory, out.join("memory.x")).expect("copy the board's memory layout");
-    // cortex-m-rt's `device` feature includes `device.x` (a PAC's weak handler names): the
-    // firmware has no PAC, its vector table (`board::vectors`) names its handlers itself.
+    // cortex-m-rt's `device` feature includes `device.x` (a PAC's weak handler names): no
+    // PAC's `rt` feature is on (the nRF52840's PAC gives registers only), and the firmware's
+    // vector table (`board::vectors`) names its handlers itself.
     fs::write(out.join("device.x"), "").expect("write device.x");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
