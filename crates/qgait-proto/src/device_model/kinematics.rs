@@ -473,7 +473,7 @@ impl Kinematics {
     }
 
     /// Whether there is a model to compute poses with: not while a chain's table is being
-    /// written ([`write_chain`](Self::write_chain)).
+    /// written (`write_chain`, with the `chain` feature); always without it.
     #[inline(always)]
     pub fn computes(&self) -> bool {
         #[cfg(feature = "chain")]
