@@ -310,19 +310,13 @@ fn builtin_gait_with_velocities() {
         request_status: false,
     });
     let what = "builtin:normal with velocities";
-    let r = run_after(&elf, &[on], &stream, what);
+    let r = run_after(&elf, std::slice::from_ref(&on), &stream, what);
     let models = PoseModels::defaults();
     let mut verifier = Verifier::new(&models, Expected::FirstToLast);
-    LogDecoder::new().feed(&r.uart, |record| match record {
-        Record::Message {
-            message: Message::PoseFrame(p),
-            ..
-        } => verifier.add(&p),
-        Record::Message {
-            message: Message::PoseVelocities(v),
-            ..
-        } => verifier.add_velocities(&v),
-        _ => {}
+    LogDecoder::new().feed(&r.uart, |record| {
+        if let Record::Message { message, .. } = record {
+            verifier.add_message(&message);
+        }
     });
     let v = verifier.finish();
     let report = v.report(TOLERANCE_M);
@@ -340,6 +334,33 @@ fn builtin_gait_with_velocities() {
         "{what}: {} velocity frames, largest error {:.6} mm/s (tolerance 1 mm/s)",
         v.velocity_frames,
         v.velocity_max_error() * 1e3
+    );
+    // `qgait emulate --verify` checks them too: the same stream, the velocities turned on in it.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("velocities.bin");
+    let mut with_on = Vec::new();
+    qgait_emulate::push_frame(&mut with_on, &on);
+    with_on.extend_from_slice(&stream);
+    std::fs::write(&path, &with_on).unwrap();
+    let emulate = |tol_mm_s: &str| {
+        let _turn = QEMU_TURN.lock().unwrap_or_else(|e| e.into_inner());
+        let (path, elf) = (path.to_str().unwrap(), elf.to_str().unwrap());
+        let args = ["-q", "emulate", "--stream", path, "--verify", "--elf", elf];
+        common::qgait(&[&args[..], &["--tol-mm-s", tol_mm_s]].concat())
+    };
+    let o = emulate("1");
+    let (out, err) = (common::stdout(&o), common::stderr(&o));
+    assert!(o.status.success(), "{out}{err}");
+    assert!(
+        out.contains(&format!("{} velocity frames checked", n - 1)) && out.contains("verify: ok"),
+        "{out}"
+    );
+    // A tolerance no f32 velocity meets: the same run fails the check.
+    let o = emulate("0");
+    let out = common::stdout(&o);
+    assert!(
+        !o.status.success() && out.contains("tolerance 0 mm/s"),
+        "{out}"
     );
 }
 

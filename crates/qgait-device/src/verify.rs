@@ -8,7 +8,9 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use qgait_kernel::metrics::distances;
-use qgait_proto::{backward_difference, JointId, ModelId, PoseFrame, PoseModels, PoseVelocities};
+use qgait_proto::{
+    backward_difference, JointId, Message, ModelId, PoseFrame, PoseModels, PoseVelocities,
+};
 
 use qgait_model::points::point_names;
 
@@ -201,6 +203,16 @@ impl<'m> Verifier<'m> {
         }
         if v.velocity_worst.is_none_or(|(_, w)| worst > w) {
             v.velocity_worst = Some((velocities.seq, worst));
+        }
+    }
+
+    /// Checks what a hub sent, message by message in the order it sent them: a pose frame, or
+    /// the velocities that follow one. Any other message is not the verifier's.
+    pub fn add_message(&mut self, message: &Message) {
+        match message {
+            Message::PoseFrame(frame) => self.add(frame),
+            Message::PoseVelocities(velocities) => self.add_velocities(velocities),
+            _ => {}
         }
     }
 
@@ -434,7 +446,7 @@ impl Verification {
         }
         let _ = writeln!(
             s,
-            "{} velocity frames checked against the f64 kernel (the same backward difference              of the echoed angles)",
+            "{} velocity frames checked against the f64 kernel (the same backward difference of the echoed angles)",
             self.velocity_frames
         );
         error_table(s, ("velocity", "mm/s", 1e3, 6), &self.velocity_errors);
@@ -449,14 +461,14 @@ impl Verification {
         if self.velocity_absent > 0 {
             let _ = writeln!(
                 s,
-                "pose frames following the one before without velocities: {} (none after a                  configuration takes effect)",
+                "pose frames following the one before without velocities: {} (none after a configuration takes effect)",
                 self.velocity_absent
             );
         }
         if self.velocity_unmatched > 0 {
             let _ = writeln!(
                 s,
-                "velocity frames not right after their pose frame and the one before it: {}                  (cannot be recomputed)",
+                "velocity frames not right after their pose frame and the one before it: {} (cannot be recomputed)",
                 self.velocity_unmatched
             );
         }

@@ -113,20 +113,37 @@ pub(crate) fn warn_cut_off(log: &str, unterminated: usize) {
     }
 }
 
-/// How far the hub's points may be from the `f64` kernel's: the tolerance of `verify` and
-/// `emulate --verify`.
+/// How far the hub's points and their velocities may be from the `f64` kernel's: the
+/// tolerances of `verify` and `emulate --verify`.
 #[derive(Debug, Args, Clone, Copy)]
 pub struct PointTolerance {
     /// Largest accepted error per point (micrometres).
     #[arg(long, default_value_t = 10.0, value_name = "UM", value_parser = micrometres)]
     pub tol_um: f64,
+    /// Largest accepted error of a point's velocity, when the hub sends velocities
+    /// (protocol.md 4.11), millimetres per second: each `PoseVelocities` is recomputed in f64
+    /// from the echoed angles of its pose frame and the one before (the same backward
+    /// difference).
+    #[arg(long, default_value_t = 1.0, value_name = "MM_S", value_parser = millimetres_per_second)]
+    pub tol_mm_s: f64,
 }
 
 impl PointTolerance {
-    /// The tolerance, metres.
+    /// The points' tolerance, metres.
     pub(crate) fn metres(&self) -> f64 {
         self.tol_um * 1e-6
     }
+
+    /// The velocities' tolerance, metres per second.
+    pub(crate) fn metres_per_second(&self) -> f64 {
+        self.tol_mm_s * 1e-3
+    }
+}
+
+/// `--tol-mm-s`: a finite number of mm/s, at least 0.
+fn millimetres_per_second(s: &str) -> anyhow::Result<f64> {
+    crate::cli::amount(s, 0.0, true)
+        .ok_or_else(|| anyhow::anyhow!("`{s}` is not a tolerance in mm/s (a number, 0 or more)"))
 }
 
 fn micrometres(s: &str) -> anyhow::Result<f64> {

@@ -19,11 +19,11 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};
 use qgait_device::frames_csv;
-use qgait_device::log::HubLog;
+use qgait_device::log::{HubLog, LogDecoder, Record};
 use qgait_device::orientations::OrientationCheck;
 use qgait_device::packets::{Samples, Timing};
 use qgait_device::raw_hub::RawHubHost;
-use qgait_device::verify::{Expected, Verification, MISSING_LISTED};
+use qgait_device::verify::{Expected, Verifier, MISSING_LISTED};
 use qgait_model::motion::source::load_motion;
 
 /// `qgait emulate` arguments, in the order `--help` lists them: what runs on what input, the
@@ -290,7 +290,15 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
             Some(n) => Expected::Range { first: 0, count: n },
             None => Expected::FirstToLast,
         };
-        let mut v = Verification::run(&model.device, &log.poses, expected);
+        // The pose frames, and the velocities after them, in the order the hub sent them.
+        let mut verifier = Verifier::new(&model.device, expected);
+        LogDecoder::new().feed(&out.uart, |record| {
+            if let Record::Message { message, .. } = record {
+                verifier.add_message(&message);
+            }
+        });
+        let mut v = verifier.finish();
+        v.velocity_tolerance = args.points.metres_per_second();
         // (A stream carries its own configuration: its model is checked against --model only
         // when that is given.)
         if args.stream.is_none() || args.model.model.is_some() {

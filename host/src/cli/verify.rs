@@ -24,12 +24,6 @@ pub struct VerifyArgs {
     /// The tolerance on the points.
     #[command(flatten)]
     pub points: PointTolerance,
-    /// Largest accepted error of a point's velocity, when the hub sends velocities
-    /// (protocol.md 4.11), millimetres per second: each `PoseVelocities` is recomputed in f64
-    /// from the echoed angles of its pose frame and the one before (the same backward
-    /// difference).
-    #[arg(long, default_value_t = 1.0, value_name = "MM_S", value_parser = millimetres_per_second)]
-    pub tol_mm_s: f64,
     /// The model and lengths the hub was configured with.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -55,12 +49,6 @@ pub struct VerifyArgs {
     pub tol_deg: f64,
 }
 
-/// `--tol-mm-s`: a finite number of mm/s, at least 0.
-fn millimetres_per_second(s: &str) -> anyhow::Result<f64> {
-    crate::cli::amount(s, 0.0, true)
-        .ok_or_else(|| anyhow::anyhow!("`{s}` is not a tolerance in mm/s (a number, 0 or more)"))
-}
-
 /// Runs `qgait verify`; `Ok(false)` when the check failed. Frames are checked as they arrive
 /// ([`Verifier`]): memory is independent of the log's length.
 pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
@@ -75,29 +63,15 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
         match event {
             port::Event::Record(record) => {
                 view.record(&record);
-                if let Record::Message {
-                    message: Message::PoseFrame(p),
-                    ..
-                } = &record
-                {
-                    verifier.add(p);
-                    if imu.is_some() || args.raw.is_some() {
-                        poses.push(p.clone());
+                if let Record::Message { message, .. } = &record {
+                    verifier.add_message(message);
+                    match message {
+                        Message::PoseFrame(p) if imu.is_some() || args.raw.is_some() => {
+                            poses.push(p.clone())
+                        }
+                        Message::SegmentOrientation(o) => orientations.push(*o),
+                        _ => {}
                     }
-                }
-                if let Record::Message {
-                    message: Message::PoseVelocities(v),
-                    ..
-                } = &record
-                {
-                    verifier.add_velocities(v);
-                }
-                if let Record::Message {
-                    message: Message::SegmentOrientation(o),
-                    ..
-                } = &record
-                {
-                    orientations.push(*o);
                 }
             }
             port::Event::Chunk => view.refresh(),
@@ -133,7 +107,7 @@ pub fn run_verify(args: VerifyArgs, quiet: bool) -> anyhow::Result<bool> {
         bail!("{}: no pose frames", args.log);
     }
     let mut v = verifier.finish();
-    v.velocity_tolerance = args.tol_mm_s * 1e-3;
+    v.velocity_tolerance = args.points.metres_per_second();
     if args.model.model.is_some() {
         v.expected_model = Some(model.hub.id());
     }
