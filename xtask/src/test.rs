@@ -245,6 +245,19 @@ fn lint_steps(root: &std::path::Path, firmware: &std::path::Path) -> Vec<Step> {
             &clippy(&["--all-targets", "--features", "imu,raw"]),
             &[],
         ),
+        // The wearable's board (its UART on the nRF52840's PAC), with every option it builds
+        // with.
+        step(
+            "clippy, firmware, nrf52840",
+            firmware,
+            &clippy(&[
+                "--all-targets",
+                "--no-default-features",
+                "--features",
+                "nrf52840,chain,imu",
+            ]),
+            &[],
+        ),
         // The crate docs (each crate's README among them) with their links resolved.
         step(
             "docs, host workspace",

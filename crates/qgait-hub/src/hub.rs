@@ -338,13 +338,20 @@ impl<S: SerialPort, C: Clock> Hub<S, C> {
             HubMessage::ChainTable(part) => self.on_chain_table(&part),
             #[cfg(feature = "chain")]
             HubMessage::ChainTableConfig(config) => self.on_chain_config(&config),
-            // Messages this hub does not take: the chain messages without chain support, the
-            // raw IMU sample and configuration (no raw input yet).
+            // Messages this hub does not take: a segment orientation without the orientation
+            // input, the chain messages without chain support, the raw IMU sample and
+            // configuration (taken by `on_raw` before they get here, with raw input).
             HubMessage::NotTaken(_) => bump(&mut self.line.status.malformed),
             // A pose frame, a status or a raw input's status (well-formed or not: its body is
             // not decoded): only a hub or a raw input sends these, nothing to do with them
             // here.
             HubMessage::FromHub(_) => bump(&mut self.line.status.malformed),
+            // A message the protocol crate decodes because another crate of the build turned
+            // on its `orientation` or `chain` feature, but this hub's build does not take (its
+            // `imu` or `chain` off): not taken, as above. Features add: no feature set of the
+            // two crates fails to build.
+            #[allow(unreachable_patterns)]
+            _ => bump(&mut self.line.status.malformed),
         }
     }
 

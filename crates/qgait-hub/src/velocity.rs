@@ -7,7 +7,7 @@
 //! start, a [`VelocityConfig`] that changes the setting, a configuration that takes effect
 //! ([`reset`](Differentiator::reset)), or a gap in `seq`.
 //!
-//! Only with the feature `velocity` (about 8.8 KB of flash on the Cortex-M4F); without it the
+//! Only with the feature `velocity` (about 8.6 KB of flash on the Cortex-M4F); without it the
 //! differentiator holds nothing, refuses to turn velocities on
 //! ([`ConfigError::VelocitiesNotBuiltIn`]) and never gives a difference, so no velocity code is
 //! linked.

@@ -72,15 +72,14 @@ fn take_once(core_hz: u32, serial: impl FnOnce() -> Option<Serial>) -> Option<Bo
 
 /// The board's `DefaultHandler`: every device interrupt lands there (the board's vector table,
 /// `board::vectors`, points all of them at it). The UART's (line `$irq`) is served by
-/// `$serve`, an unsafe call that must be that UART's interrupt work; anything else is a bug
-/// that ends the run with a failure rather than looping.
+/// `$serve`, the board's `unsafe` block calling that UART's interrupt work; anything else is a
+/// bug that ends the run with a failure rather than looping.
 macro_rules! serve_uart_interrupt {
     ($irq:expr, $serve:expr) => {
         #[cortex_m_rt::exception]
         unsafe fn DefaultHandler(irqn: i16) {
             if irqn == $irq as i16 {
-                // SAFETY: the board's word at the macro's call: `$serve` is this line's work.
-                unsafe { $serve };
+                $serve;
             } else {
                 defmt::error!("unexpected interrupt {=i16}", irqn);
                 exit($crate::board::UNEXPECTED_INTERRUPT_EXIT_CODE);

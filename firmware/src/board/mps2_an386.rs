@@ -28,8 +28,12 @@ pub fn take() -> Option<Board> {
     })
 }
 
-// SAFETY: `UART0_BASE` is the UART `take` creates with this interrupt.
-super::serve_uart_interrupt!(UART_IRQ, CmsdkUart::on_interrupt(UART0_BASE));
+super::serve_uart_interrupt!(
+    UART_IRQ,
+    // SAFETY: `UART0_BASE` is the UART `take` creates with this interrupt, and this is its
+    // interrupt's handler.
+    unsafe { CmsdkUart::on_interrupt(UART0_BASE) }
+);
 
 /// Ends the run: QEMU exits with `code` (semihosting `SYS_EXIT_EXTENDED`).
 pub fn exit(code: i32) -> ! {

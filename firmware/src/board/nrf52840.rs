@@ -31,8 +31,11 @@ pub fn take() -> Option<Board> {
     })
 }
 
-// SAFETY: the call is the UART's interrupt's.
-super::serve_uart_interrupt!(UART_IRQ, NrfUart::on_interrupt());
+super::serve_uart_interrupt!(
+    UART_IRQ,
+    // SAFETY: this is UART0's interrupt's handler.
+    unsafe { NrfUart::on_interrupt() }
+);
 
 /// Ends the run. There is no host to report to: success idles, failure resets the MCU so the
 /// wearable comes back (probe-rs shows the defmt log leading to it).

@@ -64,19 +64,24 @@ impl NrfUart {
         // SAFETY: the interrupt is still masked (unmasked below, once), and `split` let only
         // this call get here.
         unsafe { RX_PRODUCER.put(producer) };
-        // Port 0, said explicitly: `write` starts from PSEL's reset value, all ones (port 1).
-        // SAFETY (the pin writes): PSEL's PIN field takes any 5-bit value; `& 0x1F` keeps it
-        // there.
-        uart.psel.txd.write(|w| {
-            let w = unsafe { w.pin().bits(tx_pin & 0x1F) };
-            w.port().clear_bit().connect().connected()
-        });
-        uart.psel.rxd.write(|w| {
-            let w = unsafe { w.pin().bits(rx_pin & 0x1F) };
-            w.port().clear_bit().connect().connected()
-        });
-        uart.psel.rts.write(|w| w.connect().disconnected());
-        uart.psel.cts.write(|w| w.connect().disconnected());
+        // From zero, not from PSEL's reset value (all ones: port 1, reserved bits set): PIN,
+        // PORT 0 and CONNECT are all a PSEL register holds.
+        // SAFETY: zero is a valid value of every PSEL field, and PIN takes any 5-bit value
+        // (`& 0x1F` keeps it there).
+        unsafe {
+            uart.psel
+                .txd
+                .write_with_zero(|w| w.pin().bits(tx_pin & 0x1F).connect().connected());
+            uart.psel
+                .rxd
+                .write_with_zero(|w| w.pin().bits(rx_pin & 0x1F).connect().connected());
+            uart.psel
+                .rts
+                .write_with_zero(|w| w.connect().disconnected());
+            uart.psel
+                .cts
+                .write_with_zero(|w| w.connect().disconnected());
+        }
         uart.baudrate.write(|w| w.baudrate().variant(baudrate));
         uart.config.reset();
         uart.enable.write(|w| w.enable().enabled());

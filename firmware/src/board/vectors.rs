@@ -1,8 +1,8 @@
 //! The device interrupt vectors (cortex-m-rt's `__INTERRUPTS`): as many as the board's highest
 //! interrupt line in use needs, each `DefaultHandler` (the board's, which serves its UART).
-//! cortex-m-rt without a PAC's table would give all 240 a Cortex-M4 can have (the nRF52840's PAC
-//! is used without its `rt` feature, which would bring its whole table): 960 B of flash for
-//! lines that are never enabled. A line past the table is never unmasked (only the UART's is, and
+//! cortex-m-rt without a PAC's table would give all 240 a Cortex-M4 can have: 960 B of flash for
+//! lines that are never enabled (the nRF52840's PAC is used without its `rt` feature, whose
+//! table has all 48 of that chip's lines). A line past the table is never unmasked (only the UART's is, and
 //! [`mask_all`] masks every line at boot first), so the core never fetches a vector beyond it.
 
 use super::DEVICE_VECTORS;

@@ -62,10 +62,11 @@ pub struct EmulateArgs {
     #[arg(long, value_name = "LOG.bin")]
     pub log: Option<PathBuf>,
     /// Check every frame against the f64 kernel and that no sample is missing (with --stream:
-    /// a frame for exactly the samples whose packets all arrived intact).
+    /// a frame for exactly the samples whose packets all arrived intact), and the points'
+    /// velocities when the hub sends them.
     #[arg(long)]
     pub verify: bool,
-    /// The tolerance of --verify on the points.
+    /// The tolerances of --verify on the points and their velocities.
     #[command(flatten)]
     pub points: PointTolerance,
     /// Tolerance of --verify on a raw stream (degrees): with --node, the RMS angle between the
