@@ -175,10 +175,18 @@ pub struct HubLog {
 impl HubLog {
     /// Decodes `bytes`.
     pub fn decode(bytes: &[u8]) -> HubLog {
+        Self::decode_with(bytes, |_| {})
+    }
+
+    /// Decodes `bytes`, showing `on_message` every message in the order the hub sent them
+    /// (e.g. to a [`Verifier`](crate::verify::Verifier), which takes the velocities after
+    /// their pose frames) in the same pass.
+    pub fn decode_with(bytes: &[u8], mut on_message: impl FnMut(&Message)) -> HubLog {
         let mut decoder = LogDecoder::new();
         let mut log = HubLog::default();
         decoder.feed(bytes, |record| {
             if let Record::Message { message, .. } = record {
+                on_message(&message);
                 match message {
                     Message::PoseFrame(p) => log.poses.push(p),
                     Message::Status(s) => log.statuses.push(s),

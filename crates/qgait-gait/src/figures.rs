@@ -668,9 +668,12 @@ impl Figure for EventsFigure<'_> {
             } else {
                 w.label.clone()
             };
-            let frame = Frame::new(10, 36, 56);
-            let mut chart =
-                frame.chart(row, Some((&caption, 15)), t0..t1.max(t0 + 1e-6), y0..y1)?;
+            let mut chart = Frame::new(10, 36, 56).chart(
+                row,
+                Some((&caption, 15)),
+                t0..t1.max(t0 + 1e-6),
+                y0..y1,
+            )?;
             figure::axes(&mut chart, "time (s)", "forward (m)", 12)
                 .y_label_formatter(&|v| figure::tick(*v, 2))
                 .draw()

@@ -19,7 +19,7 @@ use crate::cli::diagnostics::Diagnostics;
 use crate::cli::model_args::ModelArgs;
 use qgait_device::config::{frames, messages, HubModel, HubSettings};
 use qgait_device::frames_csv;
-use qgait_device::log::{HubLog, LogDecoder, Record};
+use qgait_device::log::HubLog;
 use qgait_device::orientations::OrientationCheck;
 use qgait_device::packets::{Samples, Timing};
 use qgait_device::raw_hub::RawHubHost;
@@ -248,7 +248,23 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         None => InputCounts::of(&input),
     };
     let out = run_session(&elf, input, expected, stream.len(), &args, quiet)?;
-    let log = HubLog::decode(&out.uart);
+    // --verify's checker sees the pose frames, and the velocities after them, in the order the
+    // hub sent them, as the log is decoded. A frame is due for exactly the samples whose
+    // packets all arrived intact and usable (a stream may have lost packets on the way, a
+    // radio link; a motion may hold an angle the hub does not use, protocol.md 8.3), but an
+    // orientation stream's calibration pose.
+    let mut verifier = args.verify.then(|| {
+        let due = match count {
+            Some(n) => Expected::Range { first: 0, count: n },
+            None => Expected::FirstToLast,
+        };
+        Verifier::new(&model.device, due)
+    });
+    let log = HubLog::decode_with(&out.uart, |message| {
+        if let Some(verifier) = &mut verifier {
+            verifier.add_message(message);
+        }
+    });
     eprintln!(
         "hub sent {} in {:.2} s",
         log.counts,
@@ -283,21 +299,7 @@ pub fn run_emulate(args: EmulateArgs, quiet: bool) -> anyhow::Result<bool> {
         }
         None => ok = false,
     }
-    if args.verify {
-        // A frame is due for exactly the samples whose packets all arrived intact and usable
-        // (a stream may have lost packets on the way, a radio link; a motion may hold an angle
-        // the hub does not use, protocol.md 8.3), but an orientation stream's calibration pose.
-        let expected = match count {
-            Some(n) => Expected::Range { first: 0, count: n },
-            None => Expected::FirstToLast,
-        };
-        // The pose frames, and the velocities after them, in the order the hub sent them.
-        let mut verifier = Verifier::new(&model.device, expected);
-        LogDecoder::new().feed(&out.uart, |record| {
-            if let Record::Message { message, .. } = record {
-                verifier.add_message(&message);
-            }
-        });
+    if let Some(verifier) = verifier {
         let mut v = verifier.finish();
         v.velocity_tolerance = args.points.metres_per_second();
         // (A stream carries its own configuration: its model is checked against --model only
